@@ -1,0 +1,60 @@
+"""illuknit: computational illusion knitting.
+
+The pipeline, one module per stage::
+
+    image(s) -> quantise_image -> compile_single_view / assign_tiles / solve / optimise
+             -> LogicalPattern -> can_see, render -> lower_to_stitches -> schedule -> write_knitout
+             -> check_knitout
+
+The public API is re-exported here and imported lazily, so ``import illuknit`` stays fast.
+"""
+
+from __future__ import annotations
+
+import importlib
+from typing import Any
+
+__version__ = "0.1.0"
+
+# public name -> module that defines it
+_API: dict[str, str] = {
+    # model
+    "LogicalPattern": "illuknit.pattern",
+    "Yarn": "illuknit.pattern",
+    "parse_yarns": "illuknit.pattern",
+    "save_pattern": "illuknit.pattern",
+    "load_pattern": "illuknit.pattern",
+    # boolean views
+    "can_see": "illuknit.views",
+    "view_a": "illuknit.views",
+    "view_b": "illuknit.views",
+    "view_headon": "illuknit.views",
+    "logical_error": "illuknit.views",
+    # image input
+    "load_image": "illuknit.images",
+    "resize_to_units": "illuknit.images",
+    "quantise_image": "illuknit.images",
+    "QuantisedImage": "illuknit.images",
+    # single-view compiler
+    "compile_single_view": "illuknit.single_view",
+    # previews, charts
+    "write_previews": "illuknit.previews",
+    "written_instructions": "illuknit.chart",
+    # errors
+    "IlluknitError": "illuknit.errors",
+}
+
+__all__ = ["__version__", *_API]
+
+
+def __getattr__(name: str) -> Any:
+    module = _API.get(name)
+    if module is None:
+        raise AttributeError(f"module 'illuknit' has no attribute {name!r}")
+    value = getattr(importlib.import_module(module), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(__all__)

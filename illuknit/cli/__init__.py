@@ -1,0 +1,97 @@
+"""The ``illuknit`` command line.
+
+Each command lives in its own module of this package and is imported only when it runs, so
+``illuknit --help`` stays fast and a command's heavy dependencies load only for that command. Add a
+command by writing its module and one line in ``COMMANDS``.
+
+Every error that is the user's (bad input, bad options) becomes one line on stderr and exit code 2;
+tracebacks are for bugs only.
+"""
+
+from __future__ import annotations
+
+import importlib
+import sys
+from typing import Any
+
+import click
+
+from illuknit import __version__
+from illuknit.errors import IlluknitError
+
+__all__ = ["COMMANDS", "cli", "main"]
+
+#: command name -> "module:function" (a click.Command), listed in the order ``--help`` shows them.
+COMMANDS: dict[str, str] = {
+    "demo": "illuknit.cli.demo:demo",
+    "single": "illuknit.cli.single:single",
+    "view": "illuknit.cli.view:view",
+}
+
+_HELP = {
+    "demo": "Make a single-view illusion from the bundled sample picture.",
+    "single": "Compile a 2- or 3-colour picture into a single-view illusion.",
+    "view": "Write previews, chart and instructions of a saved pattern.",
+}
+
+
+class LazyGroup(click.Group):
+    """A click group whose subcommands are imported on first use."""
+
+    def list_commands(self, ctx: click.Context) -> list[str]:
+        return list(COMMANDS)
+
+    def get_command(self, ctx: click.Context, cmd_name: str) -> click.Command | None:
+        target = COMMANDS.get(cmd_name)
+        if target is None:
+            return None
+        module, _, attr = target.partition(":")
+        cmd = getattr(importlib.import_module(module), attr)
+        if not isinstance(cmd, click.Command):  # pragma: no cover - programming error
+            raise TypeError(f"{target} is not a click command")
+        return cmd
+
+    def format_commands(self, ctx: click.Context, formatter: click.HelpFormatter) -> None:
+        # Short help without importing every command module.
+        rows = [(name, _HELP.get(name, "")) for name in COMMANDS]
+        with formatter.section("Commands"):
+            formatter.write_dl(rows)
+
+
+@click.group(cls=LazyGroup, context_settings={"help_option_names": ["-h", "--help"]})
+@click.version_option(__version__, "--version", prog_name="illuknit")
+def cli() -> None:
+    """illuknit: computational illusion (shadow) knitting.
+
+    Turn pictures into illusion patterns, preview them, and compile them to knitout for V-bed
+    knitting machines. Run ``illuknit COMMAND --help`` for each command.
+    """
+
+
+def fail(message: str) -> None:
+    """Print one error line and exit with code 2 (for commands that detect a problem themselves)."""
+    raise click.UsageError(message)
+
+
+def main(argv: list[str] | None = None) -> Any:
+    """Console-script entry point: run the CLI, turning user errors into one line and exit code 2."""
+    try:
+        return cli.main(args=argv, prog_name="illuknit", standalone_mode=False)
+    except click.exceptions.Exit as e:
+        sys.exit(e.exit_code)
+    except click.exceptions.Abort:
+        click.echo("illuknit: interrupted", err=True)
+        sys.exit(130)
+    except click.ClickException as e:
+        click.echo(f"illuknit: error: {e.format_message()}", err=True)
+        sys.exit(2)
+    except IlluknitError as e:
+        click.echo(f"illuknit: error: {_one_line(str(e))}", err=True)
+        sys.exit(2)
+    except KeyboardInterrupt:
+        click.echo("illuknit: interrupted", err=True)
+        sys.exit(130)
+
+
+def _one_line(text: str) -> str:
+    return " ".join(text.split())

@@ -1,0 +1,115 @@
+"""Every exception illuknit raises on purpose.
+
+All of them derive from :class:`IlluknitError`, so a caller (and the CLI, which turns them into one
+line on stderr and exit code 2) can catch the family at once. Machine-rule violations carry the
+offending needle, carrier or racking values as attributes, not only in the message.
+"""
+
+from __future__ import annotations
+
+__all__ = [
+    "BackendUnavailableError",
+    "IlluknitError",
+    "ImageInputError",
+    "InfeasibleError",
+    "KnitoutParseError",
+    "MachineRuleError",
+    "PatternFormatError",
+    "PatternValidationError",
+    "SchedulingError",
+    "SolverError",
+    "TileBankError",
+    "TileAssignmentError",
+    "UnknownNameError",
+    "YarnSpecError",
+]
+
+
+class IlluknitError(Exception):
+    """Base class of every error raised deliberately by illuknit."""
+
+
+class PatternValidationError(IlluknitError, ValueError):
+    """An in-memory pattern, palette or array argument does not have the expected shape or values."""
+
+
+class PatternFormatError(IlluknitError, ValueError):
+    """A pattern file is malformed, of another format version, or inconsistent."""
+
+
+class ImageInputError(IlluknitError, ValueError):
+    """An input image is missing, unreadable, too small, or cannot be mapped to the yarns."""
+
+
+class YarnSpecError(IlluknitError, ValueError):
+    """A yarn colour string is unknown, or the yarn list is invalid (e.g. duplicate colours)."""
+
+
+class UnknownNameError(IlluknitError, KeyError):
+    """A name (solver, model, instance, method, preset) is not one of the valid ones.
+
+    The message lists the valid names.
+    """
+
+    def __init__(self, kind: str, name: str, valid: list[str] | tuple[str, ...]) -> None:
+        self.kind = kind
+        self.name = name
+        self.valid = tuple(valid)
+        super().__init__(f"unknown {kind} {name!r}; valid: {', '.join(self.valid) or '(none)'}")
+
+    def __str__(self) -> str:  # KeyError would quote the message
+        return str(self.args[0])
+
+
+class BackendUnavailableError(IlluknitError, ImportError):
+    """A solver backend (or other optional feature) needs a library that is not installed."""
+
+
+class SolverError(IlluknitError, RuntimeError):
+    """A solver backend failed (crashed, printed something unparseable, or was misconfigured)."""
+
+
+class InfeasibleError(IlluknitError, ValueError):
+    """Hard constraints cannot all hold; the message names the constraint family."""
+
+
+class TileBankError(IlluknitError, ValueError):
+    """A tile bank is malformed, or declares a fill that can_see contradicts."""
+
+
+class TileAssignmentError(IlluknitError, ValueError):
+    """No assignment of fills to colours exists; the message says which overlaps fail and why."""
+
+
+class SchedulingError(IlluknitError, ValueError):
+    """A pattern cannot be scheduled on the given machine (too wide, too many colour runs, ...)."""
+
+
+class MachineRuleError(IlluknitError, ValueError):
+    """An operation breaks a knitting-machine rule.
+
+    Attributes hold whichever of the offending values are known.
+    """
+
+    def __init__(
+        self,
+        message: str,
+        *,
+        needle: str | None = None,
+        carrier: str | None = None,
+        racking: float | None = None,
+        line: int | None = None,
+    ) -> None:
+        self.needle = needle
+        self.carrier = carrier
+        self.racking = racking
+        self.line = line
+        super().__init__(message)
+
+
+class KnitoutParseError(IlluknitError, ValueError):
+    """A knitout file cannot be parsed; carries the 1-based line number."""
+
+    def __init__(self, message: str, *, line: int | None = None) -> None:
+        self.line = line
+        super().__init__(f"line {line}: {message}" if line is not None else message)

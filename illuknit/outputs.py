@@ -1,0 +1,63 @@
+"""Writing results so that a failure never leaves half-written output.
+
+Single files go to a temporary name in the same folder and are renamed into place. Output folders
+are assembled in a hidden sibling folder and renamed into place when complete (an existing folder
+of the same name is replaced only then).
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import tempfile
+from collections.abc import Iterator
+from contextlib import contextmanager
+from pathlib import Path
+
+__all__ = ["atomic_write_bytes", "atomic_write_text", "staged_dir"]
+
+
+def atomic_write_bytes(path: str | os.PathLike[str], data: bytes) -> Path:
+    """Write ``data`` to ``path`` via a temporary file and a rename."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    try:
+        with os.fdopen(fd, "wb") as f:
+            f.write(data)
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+    return path
+
+
+def atomic_write_text(path: str | os.PathLike[str], text: str) -> Path:
+    """Write UTF-8 text (LF line endings) to ``path`` via a temporary file and a rename."""
+    return atomic_write_bytes(path, text.encode("utf-8"))
+
+
+@contextmanager
+def staged_dir(outdir: str | os.PathLike[str]) -> Iterator[Path]:
+    """Yield a temporary folder that becomes ``outdir`` only if the block finishes without error.
+
+    >>> with staged_dir("out") as tmp:   # doctest: +SKIP
+    ...     (tmp / "pattern.json").write_text("...")
+    """
+    outdir = Path(outdir)
+    parent = outdir.resolve().parent
+    parent.mkdir(parents=True, exist_ok=True)
+    tmp = Path(tempfile.mkdtemp(prefix=f".{outdir.name}.", suffix=".partial", dir=parent))
+    try:
+        yield tmp
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise
+    final = parent / outdir.name
+    if final.exists():
+        old = parent / f".{outdir.name}.old-{os.getpid()}"
+        os.replace(final, old)
+        os.replace(tmp, final)
+        shutil.rmtree(old, ignore_errors=True)
+    else:
+        os.replace(tmp, final)
