@@ -35,6 +35,10 @@ _API: dict[str, str] = {
     "resize_to_units": "illuknit.images",
     "quantise_image": "illuknit.images",
     "QuantisedImage": "illuknit.images",
+    # code-drawn inputs (benchmarks, demos)
+    "draw_text": "illuknit.drawings",
+    "draw_shape": "illuknit.drawings",
+    "skimage_image": "illuknit.drawings",
     # single-view compiler
     "compile_single_view": "illuknit.single_view",
     # previews, charts
