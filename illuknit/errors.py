@@ -8,7 +8,9 @@ offending needle, carrier or racking values as attributes, not only in the messa
 from __future__ import annotations
 
 __all__ = [
+    "AppRequestError",
     "BackendUnavailableError",
+    "CalibrationError",
     "IlluknitError",
     "ImageInputError",
     "InfeasibleError",
@@ -16,10 +18,11 @@ __all__ = [
     "MachineRuleError",
     "PatternFormatError",
     "PatternValidationError",
+    "RenderParamsError",
     "SchedulingError",
     "SolverError",
-    "TileBankError",
     "TileAssignmentError",
+    "TileBankError",
     "UnknownNameError",
     "YarnSpecError",
 ]
@@ -113,3 +116,27 @@ class KnitoutParseError(IlluknitError, ValueError):
     def __init__(self, message: str, *, line: int | None = None) -> None:
         self.line = line
         super().__init__(f"line {line}: {message}" if line is not None else message)
+
+
+class AppRequestError(IlluknitError, ValueError):
+    """A request to the design app is invalid; ``field`` names the page control that caused it.
+
+    ``status`` is the HTTP status the app answers with; ``code`` a short machine-readable reason.
+    """
+
+    def __init__(
+        self, message: str, *, field: str | None = None, code: str = "invalid", status: int = 422
+    ) -> None:
+        self.field = field
+        self.code = code
+        self.status = status
+        super().__init__(message)
+
+
+class RenderParamsError(IlluknitError, ValueError):
+    """Renderer parameters are invalid: an unknown key, a wrong type, a non-positive size, or an
+    angle outside (0, 90] degrees."""
+
+
+class CalibrationError(IlluknitError, ValueError):
+    """Calibration measurements are malformed or cannot determine a bump height."""

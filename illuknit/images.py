@@ -29,7 +29,9 @@ from illuknit.pattern import MAX_UNITS, Yarn
 
 __all__ = [
     "QuantisedImage",
+    "check_image",
     "load_image",
+    "prepare_image",
     "quantise_image",
     "resize_to_units",
     "units_for_width",
@@ -157,8 +159,12 @@ def resize_to_units(
     if (height, width) == (h0, w0):
         return a
     out = resize(
-        a, (height, width), order=1 if smooth else 0, anti_aliasing=smooth and (height < h0 or width < w0),
-        preserve_range=True, mode="edge",
+        a,
+        (height, width),
+        order=1 if smooth else 0,
+        anti_aliasing=smooth and (height < h0 or width < w0),
+        preserve_range=True,
+        mode="edge",
     )
     return np.clip(np.asarray(out, dtype=np.float64), 0.0, 1.0)
 
@@ -332,7 +338,9 @@ def _auto_yarns(colors8: NDArray[np.uint8]) -> tuple[Yarn, ...]:
     for c in colors8:
         n = color_name(c)
         names.append(n if n not in names else f"{n} {names.count(n) + 1}")
-    return tuple(Yarn(n, (int(c[0]), int(c[1]), int(c[2]))) for n, c in zip(names, colors8, strict=True))
+    return tuple(
+        Yarn(n, (int(c[0]), int(c[1]), int(c[2]))) for n, c in zip(names, colors8, strict=True)
+    )
 
 
 def _kmeans_lab(
@@ -367,8 +375,47 @@ def _kmeans_lab(
     # Drop empty clusters; centres in sRGB are the weighted mean of member colours.
     used = np.unique(assign)
     srgb = np.array(
-        [np.average(uniq[assign == j].astype(np.float64), axis=0, weights=weights[assign == j]) for j in used]
+        [
+            np.average(uniq[assign == j].astype(np.float64), axis=0, weights=weights[assign == j])
+            for j in used
+        ]
     )
     relabel = np.full(len(c), -1)
     relabel[used] = np.arange(len(used))
     return srgb, relabel[assign][inverse]
+
+
+def prepare_image(
+    source: str | os.PathLike[str] | ArrayLike,
+    *,
+    width: int | None = None,
+    height: int | None = None,
+    width_cm: float | None = None,
+    gauge: float | None = None,
+    n_colors: int | None = None,
+    yarns: Sequence[Yarn] | None = None,
+    allow_quantise: bool = True,
+    default_width: int = 80,
+    smooth: bool | None = None,
+) -> QuantisedImage:
+    """Load (if a path), resize to units and quantise a picture in one call.
+
+    The grid width is ``width`` units, else ``width_cm`` at ``gauge`` stitches per inch, else the
+    picture's own width capped at ``default_width``. Pictures with few colours (pixel art, charts)
+    are resized with nearest-neighbour so no blend colours appear; others are smoothed.
+    """
+    if isinstance(source, (str, os.PathLike)):
+        rgb = load_image(source)
+    else:
+        rgb = check_image(source)
+    if width is not None and width_cm is not None:
+        raise ImageInputError("give either a width in units or a physical width, not both")
+    if width_cm is not None:
+        width = units_for_width(width_cm=width_cm, gauge=gauge if gauge is not None else 7.0)
+    if width is None and height is None:
+        width = min(rgb.shape[1], default_width)
+    if smooth is None:
+        distinct = len(np.unique(np.round(rgb.reshape(-1, 3) * 255).astype(np.uint8), axis=0))
+        smooth = distinct > 16
+    small = resize_to_units(rgb, width=width, height=height, smooth=smooth)
+    return quantise_image(small, n_colors=n_colors, yarns=yarns, allow_quantise=allow_quantise)

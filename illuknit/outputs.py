@@ -39,12 +39,18 @@ def atomic_write_text(path: str | os.PathLike[str], text: str) -> Path:
 
 @contextmanager
 def staged_dir(outdir: str | os.PathLike[str]) -> Iterator[Path]:
-    """Yield a temporary folder that becomes ``outdir`` only if the block finishes without error.
+    """Yield a temporary folder whose contents land in ``outdir`` only if the block succeeds.
+
+    The files are written into a hidden sibling folder; on success each entry is renamed into
+    ``outdir`` (created if needed; other files already there are left alone, same-named ones are
+    replaced). On any error the temporary folder is removed and ``outdir`` is untouched.
 
     >>> with staged_dir("out") as tmp:   # doctest: +SKIP
     ...     (tmp / "pattern.json").write_text("...")
     """
     outdir = Path(outdir)
+    if outdir.exists() and not outdir.is_dir():
+        raise FileExistsError(f"output path exists and is not a folder: {outdir}")
     parent = outdir.resolve().parent
     parent.mkdir(parents=True, exist_ok=True)
     tmp = Path(tempfile.mkdtemp(prefix=f".{outdir.name}.", suffix=".partial", dir=parent))
@@ -54,10 +60,12 @@ def staged_dir(outdir: str | os.PathLike[str]) -> Iterator[Path]:
         shutil.rmtree(tmp, ignore_errors=True)
         raise
     final = parent / outdir.name
-    if final.exists():
-        old = parent / f".{outdir.name}.old-{os.getpid()}"
-        os.replace(final, old)
+    if not final.exists():
         os.replace(tmp, final)
-        shutil.rmtree(old, ignore_errors=True)
-    else:
-        os.replace(tmp, final)
+        return
+    for entry in sorted(tmp.iterdir()):
+        target = final / entry.name
+        if target.is_dir() and not target.is_symlink():
+            shutil.rmtree(target)
+        os.replace(entry, target)
+    shutil.rmtree(tmp, ignore_errors=True)

@@ -65,7 +65,9 @@ class Yarn:
             raise YarnSpecError("yarn name must be a non-empty string")
         rgb = tuple(int(v) for v in self.rgb)
         if len(rgb) != 3 or any(v < 0 or v > 255 for v in rgb):
-            raise YarnSpecError(f"yarn {self.name!r}: rgb must be 3 integers in 0..255, got {self.rgb!r}")
+            raise YarnSpecError(
+                f"yarn {self.name!r}: rgb must be 3 integers in 0..255, got {self.rgb!r}"
+            )
         object.__setattr__(self, "rgb", rgb)
 
     @property
@@ -160,7 +162,9 @@ class LogicalPattern:
                 f"`raised` must have the shape of `yarn` {yarn.shape}, got {raised.shape}"
             )
         if yarn.size == 0:
-            raise PatternValidationError(f"pattern must have at least one unit, got shape {yarn.shape}")
+            raise PatternValidationError(
+                f"pattern must have at least one unit, got shape {yarn.shape}"
+            )
         if max(yarn.shape) > MAX_UNITS:
             raise PatternValidationError(
                 f"pattern of {yarn.shape[0]} x {yarn.shape[1]} units exceeds the {MAX_UNITS}-unit limit"
@@ -214,7 +218,12 @@ class LogicalPattern:
 
     def replace(self, **changes: Any) -> LogicalPattern:
         """A copy with some fields replaced (the pattern itself is immutable)."""
-        kw = {"yarn": self.yarn, "raised": self.raised, "yarns": self.yarns, "meta": dict(self.meta)}
+        kw = {
+            "yarn": self.yarn,
+            "raised": self.raised,
+            "yarns": self.yarns,
+            "meta": dict(self.meta),
+        }
         kw.update(changes)
         return LogicalPattern(**kw)
 
@@ -237,6 +246,7 @@ class LogicalPattern:
 
 
 # -- JSON format ------------------------------------------------------------------------------
+
 
 def pattern_to_json(pattern: LogicalPattern) -> dict[str, Any]:
     """The pattern as a JSON-ready dict (format ``illuknit-pattern`` version 1).
@@ -283,7 +293,9 @@ def pattern_from_json(doc: Any) -> LogicalPattern:
     except (KeyError, TypeError, ValueError) as e:
         raise PatternFormatError(f"malformed pattern file: {e}") from None
     if len(rows_y) != n or len(rows_r) != n:
-        raise PatternFormatError(f"pattern declares {n} rows but holds {len(rows_y)} / {len(rows_r)}")
+        raise PatternFormatError(
+            f"pattern declares {n} rows but holds {len(rows_y)} / {len(rows_r)}"
+        )
     lookup = np.full(128, -1, dtype=np.int16)
     for i, ch in enumerate(_DIGITS):
         lookup[ord(ch)] = i

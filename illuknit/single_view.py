@@ -32,7 +32,12 @@ from illuknit.errors import ImageInputError
 from illuknit.images import QuantisedImage
 from illuknit.pattern import LogicalPattern, Yarn
 
-__all__ = ["compile_single_view", "single_view_roles"]
+__all__ = [
+    "compile_single_view",
+    "prepare_single_view_image",
+    "single_view_errors",
+    "single_view_roles",
+]
 
 
 def single_view_roles(
@@ -41,7 +46,9 @@ def single_view_roles(
     """(c1, c2, middle) yarn indices: c1 is the first stripe colour; middle only with 3 yarns."""
     k = len(yarns)
     if k not in (2, 3):
-        raise ImageInputError(f"a single-view illusion needs a 2- or 3-colour picture, got {k} colour(s)")
+        raise ImageInputError(
+            f"a single-view illusion needs a 2- or 3-colour picture, got {k} colour(s)"
+        )
     if first not in ("dark", "light"):
         raise ImageInputError(f"`first` must be 'dark' or 'light', got {first!r}")
     lum = luminance(np.array([y.rgb for y in yarns], dtype=np.float64))
@@ -91,7 +98,9 @@ def compile_single_view(
         idx = np.asarray(image)
         yarns = tuple(yarns)
         if idx.ndim != 2 or not np.issubdtype(idx.dtype, np.integer):
-            raise ImageInputError(f"`image` must be a 2-D integer array, got {idx.dtype} {idx.shape}")
+            raise ImageInputError(
+                f"`image` must be a 2-D integer array, got {idx.dtype} {idx.shape}"
+            )
         if idx.size and (idx.min() < 0 or idx.max() >= len(yarns)):
             raise ImageInputError(f"picture indices must lie in 0..{len(yarns) - 1}")
     if idx.shape[0] < 2 or idx.shape[1] < 1:
@@ -116,3 +125,82 @@ def compile_single_view(
         "view_shift": "view A shows picture row i-1 at row i; view B shows picture row i+1 at row i",
     }
     return LogicalPattern(remap[yarn], raised, tuple(yarns[i] for i in used), meta)
+
+
+def single_view_errors(picture: QuantisedImage, pattern: LogicalPattern) -> tuple[float, float]:
+    """Logical error of views A and B against the picture shifted by one row.
+
+    Only pixels of the two stripe colours are compared (a middle colour is seen as stripes by
+    design). Boundary rows, which show the stripe colour, are excluded. 0.0 means exact.
+    """
+    from illuknit.views import can_see
+
+    pic = picture.palette[picture.indices].astype(np.int16)
+    va = pattern.palette[can_see(pattern, "A")].astype(np.int16)
+    vb = pattern.palette[can_see(pattern, "B")].astype(np.int16)
+    pal = pattern.palette.astype(np.int16)
+    outer = ((pic[..., None, :] == pal[None, None]).all(-1)).any(-1)
+    wrong_a = (va[1:] != pic[:-1]).any(-1) & outer[:-1]
+    wrong_b = (vb[:-1] != pic[1:]).any(-1) & outer[1:]
+    na, nb = int(outer[:-1].sum()), int(outer[1:].sum())
+    return (float(wrong_a.sum()) / na if na else 0.0, float(wrong_b.sum()) / nb if nb else 0.0)
+
+
+def prepare_single_view_image(
+    source: object,
+    *,
+    yarns: tuple[Yarn, ...] | None = None,
+    n_colors: int | None = None,
+    **resize: object,
+) -> QuantisedImage:
+    """Load, resize and quantise a picture for the single-view compiler.
+
+    A single-view illusion is knitted with two yarns but can show a third, middle colour as their
+    stripe. So the picture keeps up to 3 colours (``n_colors``, default: its own count if it has
+    at most 3, else 3); with two user yarns the darkest picture colour becomes the darker yarn, the
+    lightest the lighter yarn, and a middle colour stays a picture colour (never knitted). With
+    three user yarns, picture colours map one-to-one to the nearest yarns.
+    """
+    from illuknit.images import check_image, load_image, prepare_image
+
+    if isinstance(source, (str, bytes)) or hasattr(source, "__fspath__"):
+        rgb = load_image(source)  # type: ignore[arg-type]
+    else:
+        rgb = check_image(source)  # type: ignore[arg-type]
+    if n_colors is not None and n_colors not in (2, 3):
+        raise ImageInputError(
+            f"a single-view illusion shows 2 or 3 colours, got --colors {n_colors}"
+        )
+    if yarns is not None and len(yarns) not in (2, 3):
+        raise ImageInputError(
+            f"a single-view illusion is knitted with 2 yarns (3 with a middle colour), got {len(yarns)}"
+        )
+    if n_colors is None:
+        distinct = len(np.unique(np.round(rgb.reshape(-1, 3) * 255).astype(np.uint8), axis=0))
+        n_colors = (
+            2
+            if distinct <= 2
+            or (yarns is not None and len(yarns) == 2 and not resize.get("allow_quantise", True))
+            else 3
+        )
+        if yarns is not None and len(yarns) == 3:
+            n_colors = 3
+    if yarns is not None and len(yarns) == n_colors:
+        return prepare_image(rgb, yarns=yarns, n_colors=n_colors, **resize)  # type: ignore[arg-type]
+    q = prepare_image(rgb, yarns=None, n_colors=n_colors, **resize)  # type: ignore[arg-type]
+    if yarns is None:
+        return q
+    # Two yarns for a 3-colour picture: outer colours by brightness, middle kept as the picture's.
+    lum = luminance(np.array([y.rgb for y in yarns], dtype=np.float64))
+    dark, light = (yarns[0], yarns[1]) if lum[0] <= lum[1] else (yarns[1], yarns[0])
+    if len(q.yarns) < 3:
+        mapped = (dark, light)[: len(q.yarns)] if len(q.yarns) == 2 else (dark,)
+    else:
+        mid = q.yarns[1]
+        mid_rgb = (
+            mid.rgb
+            if mid.rgb not in (dark.rgb, light.rgb)
+            else tuple(int(v) for v in np.round((np.array(dark.rgb) + np.array(light.rgb)) / 2))
+        )
+        mapped = (dark, Yarn(f"mix of {dark.name} and {light.name}", mid_rgb), light)  # type: ignore[arg-type]
+    return QuantisedImage(q.indices, mapped, q.colors)

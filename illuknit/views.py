@@ -109,7 +109,9 @@ def view_b(p: LogicalPattern | ArrayLike, raised: ArrayLike | None = None) -> ND
     return can_see(p, "B", raised)
 
 
-def view_headon(p: LogicalPattern | ArrayLike, raised: ArrayLike | None = None) -> NDArray[np.int16]:
+def view_headon(
+    p: LogicalPattern | ArrayLike, raised: ArrayLike | None = None
+) -> NDArray[np.int16]:
     """Yarn indices seen head-on (every unit)."""
     return can_see(p, "headon", raised)
 

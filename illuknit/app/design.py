@@ -1,0 +1,487 @@
+"""The app's design pipeline: the library stages the page drives, in the order a designer uses them.
+
+    uploaded file -> decode_upload -> prepare_inputs (resize to units, quantise to yarns, legend)
+                  -> make_candidates (single view: both stripe orders; double view / head-on:
+                     ranked tile mappings) -> pattern_for (with per-pair tile overrides)
+                  -> render_view (angled renderer when installed, boolean can_see otherwise)
+                  -> downloads (pattern JSON, previews, chart, instructions, knitout + check)
+
+Everything here is a plain function of its inputs (no session, no HTTP), so the server stays a thin
+layer and these functions are testable on their own. Library errors are re-raised as
+:class:`AppRequestError` naming the page control (``field``) that caused them, which is what lets
+the page show the message next to that control.
+
+Parts of the library are optional in an install (the tile bank, the angled renderer, the knitout
+compiler and checker); :func:`capabilities` says which are present and the page adapts.
+"""
+
+from __future__ import annotations
+
+import importlib
+import io
+import os
+import tempfile
+import zipfile
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from illuknit.errors import AppRequestError, IlluknitError
+from illuknit.pattern import LogicalPattern, Yarn, parse_yarns, pattern_to_json
+
+__all__ = [
+    "MAX_UPLOAD_BYTES",
+    "Candidate",
+    "KnitResult",
+    "Prepared",
+    "capabilities",
+    "decode_upload",
+    "make_candidates",
+    "pattern_for",
+    "prepare_inputs",
+    "render_view",
+]
+
+#: Largest accepted upload (bytes). Pictures are resized to at most 1000 units across, so anything
+#: bigger is a photograph far beyond what a knitted piece can show.
+MAX_UPLOAD_BYTES = 12 * 1024 * 1024
+#: Largest accepted picture (pixels), checked after decoding the header only.
+MAX_UPLOAD_PIXELS = 40_000_000
+
+YARN_PRESETS: dict[str, tuple[str, ...]] = {
+    "Charcoal & cream": ("#1b1b1b", "#f4f0e8"),
+    "Navy & white": ("#1d2b53", "#f7f7f2"),
+    "Red & ecru": ("#a4161a", "#efe6d2"),
+    "Forest & oat": ("#1f4d3a", "#e9e1cc"),
+    "Black, grey, white": ("#1b1b1b", "#8a8a8a", "#f4f0e8"),
+    "Plum, rose, cream": ("#4a1942", "#c97b84", "#f6efe4"),
+    "Teal, mustard, cream": ("#0f5257", "#d9a62e", "#f4f0e8"),
+    "Black, red, grey, white": ("#1b1b1b", "#b3202a", "#9a9a9a", "#f4f0e8"),
+}
+
+
+@contextmanager
+def blame(field_name: str | None) -> Iterator[None]:
+    """Re-raise library errors inside the block as AppRequestError naming the page control."""
+    try:
+        yield
+    except AppRequestError:
+        raise
+    except IlluknitError as e:
+        raise AppRequestError(str(e), field=field_name, code=type(e).__name__) from None
+
+
+def _optional(module: str) -> Any | None:
+    try:
+        return importlib.import_module(module)
+    except ImportError:
+        return None
+
+
+def capabilities() -> dict[str, bool]:
+    """Which optional parts of the library this install has (the page greys out the others)."""
+    tiles = _optional("illuknit.tiles")
+    render = _optional("illuknit.render")
+    knit = _optional("illuknit.knit")
+    check = _optional("illuknit.check")
+    chart = _optional("illuknit.chart")
+    return {
+        "single": True,
+        "double": tiles is not None and hasattr(tiles, "assign_tiles"),
+        "headon": tiles is not None and hasattr(tiles, "compile_headon"),
+        "render": render is not None and hasattr(render, "render_views"),
+        "knit": knit is not None and hasattr(knit, "knit_pattern"),
+        "check": check is not None and hasattr(check, "check_knitout"),
+        "chart": chart is not None,
+        "dat": False,
+    }
+
+
+# -- input -------------------------------------------------------------------------------------
+
+def decode_upload(data: bytes, filename: str, *, field: str) -> NDArray[np.float64]:
+    """Decode an uploaded picture to float RGB (H, W, 3) with the library's loader.
+
+    Raises AppRequestError (``field``) for an empty, oversized, non-image or too-small file.
+    """
+    from illuknit.images import load_image
+
+    if not data:
+        raise AppRequestError("the file is empty", field=field, code="empty")
+    if len(data) > MAX_UPLOAD_BYTES:
+        raise AppRequestError(
+            f"the file is {len(data) / 1e6:.1f} MB; the limit is {MAX_UPLOAD_BYTES / 1e6:.0f} MB",
+            field=field, code="too_large", status=413,
+        )
+    _check_header(data, field)
+    suffix = os.path.splitext(filename)[1][:8] if filename else ""
+    fd, path = tempfile.mkstemp(suffix=suffix or ".img", prefix="illuknit-upload-")
+    try:
+        with os.fdopen(fd, "wb") as f:
+            f.write(data)
+        try:
+            rgb = load_image(path)
+        except IlluknitError as e:
+            msg = str(e).replace(path, repr(filename or "the file"))
+            raise AppRequestError(msg, field=field, code="not_an_image", status=415) from None
+    finally:
+        os.unlink(path)
+    return rgb
+
+
+def _check_header(data: bytes, field: str) -> None:
+    """Refuse non-images and decompression bombs from the header alone (before decoding)."""
+    from PIL import Image, UnidentifiedImageError
+
+    try:
+        with Image.open(io.BytesIO(data)) as im:
+            w, h = im.size
+    except UnidentifiedImageError:
+        raise AppRequestError(
+            "this file is not a picture; upload a PNG, JPEG, GIF or BMP image",
+            field=field, code="not_an_image", status=415,
+        ) from None
+    except Exception as e:  # truncated headers and the like
+        raise AppRequestError(
+            f"cannot read this picture: {e}", field=field, code="not_an_image", status=415
+        ) from None
+    if w * h > MAX_UPLOAD_PIXELS:
+        raise AppRequestError(
+            f"the picture is {w} x {h} pixels; the limit is {MAX_UPLOAD_PIXELS // 1_000_000} megapixels",
+            field=field, code="too_large", status=413,
+        )
+
+
+@dataclass(frozen=True, eq=False)
+class Prepared:
+    """The inputs resized to the grid and quantised to yarns (what the page shows as "quantised")."""
+
+    mode: str
+    yarns: tuple[Yarn, ...]
+    quantised: dict[str, Any]  # slot -> QuantisedImage
+    shape: tuple[int, int]  # (rows N, cols M)
+    notes: tuple[str, ...] = ()
+
+    def legend(self) -> dict[str, list[dict[str, Any]]]:
+        return {slot: q.legend() for slot, q in self.quantised.items()}
+
+
+def slots_for(mode: str) -> tuple[str, ...]:
+    """Image slots a mode needs: one picture for single view, two for double view and head-on."""
+    return ("a",) if mode == "single" else ("a", "b")
+
+
+def prepare_inputs(images: dict[str, Any], settings: Any) -> Prepared:
+    """Resize and quantise the session's pictures under ``settings`` (a DesignSettings).
+
+    Raises AppRequestError naming the control at fault: a missing picture (``image_a``/``image_b``),
+    pictures of different sizes in double view (``image_b``, code ``size_mismatch``, with the
+    offer to resize), a width out of range (``width_units``/``width_cm``), bad yarns (``yarns``),
+    colour count issues (``n_colors``).
+    """
+    from illuknit.images import quantise_image, resize_to_units, units_for_width
+
+    mode = settings.mode
+    slots = slots_for(mode)
+    for slot in slots:
+        if slot not in images:
+            which = "the picture" if len(slots) == 1 else f"picture {slot.upper()}"
+            raise AppRequestError(f"upload {which} first", field=f"image_{slot}", code="missing")
+    with blame("yarns"):
+        yarns = parse_yarns(list(settings.yarns))
+    if settings.n_colors > len(yarns):
+        raise AppRequestError(
+            f"{settings.n_colors} colours need at least {settings.n_colors} yarns; add a yarn or "
+            "use fewer colours",
+            field="n_colors", code="too_few_yarns",
+        )
+    if mode == "single" and settings.n_colors not in (2, 3):
+        raise AppRequestError(
+            "a single-view illusion takes a 2- or 3-colour picture", field="n_colors", code="range"
+        )
+    if settings.size_mode == "physical":
+        with blame("width_cm"):
+            width = units_for_width(width_cm=settings.width_cm, gauge=settings.gauge)
+        size_field = "width_cm"
+    else:
+        width = settings.width_units
+        size_field = "width_units"
+    from illuknit.pattern import MAX_UNITS
+
+    if width < 2 or width > MAX_UNITS:
+        raise AppRequestError(
+            f"the piece would be {width} units wide; it must be 2..{MAX_UNITS} units",
+            field=size_field, code="range",
+        )
+    notes: list[str] = []
+    a = images["a"].rgb
+    resized: dict[str, NDArray[np.float64]] = {}
+    with blame(size_field):
+        resized["a"] = resize_to_units(a, width=width, smooth=settings.smooth)
+    if "b" in slots:
+        b = images["b"].rgb
+        if a.shape[:2] != b.shape[:2]:
+            if not settings.resize:
+                raise AppRequestError(
+                    f"picture A is {a.shape[1]} x {a.shape[0]} pixels but picture B is "
+                    f"{b.shape[1]} x {b.shape[0]}; both views must cover the same piece. "
+                    "Resize B to A's size, or upload pictures of equal size.",
+                    field="image_b", code="size_mismatch", status=409,
+                )
+            notes.append(f"picture B stretched from {b.shape[1]} x {b.shape[0]} to A's size")
+        n, m = resized["a"].shape[:2]
+        with blame(size_field):
+            resized["b"] = resize_to_units(b, width=m, height=n, smooth=settings.smooth)
+    n, m = resized["a"].shape[:2]
+    if n < 2:
+        raise AppRequestError(
+            f"the picture is only {n} unit tall at this width; use a wider piece",
+            field=size_field, code="range",
+        )
+    quantised = {}
+    for slot in slots:
+        with blame("n_colors"):
+            quantised[slot] = quantise_image(resized[slot], n_colors=settings.n_colors, yarns=yarns)
+    return Prepared(mode=mode, yarns=yarns, quantised=quantised, shape=(n, m), notes=tuple(notes))
+
+
+# -- candidates --------------------------------------------------------------------------------
+
+@dataclass(eq=False)
+class Candidate:
+    """One ranked design the designer can pick: a pattern plus what produced it.
+
+    ``source`` is what :func:`pattern_for` needs to recompile with tile overrides (the tile
+    assignment for double view; None for single view, which has no tiles).
+    """
+
+    rank: int
+    label: str
+    score: float | None
+    pattern: LogicalPattern
+    details: dict[str, Any] = field(default_factory=dict)
+    source: Any = None
+
+    def to_json(self) -> dict[str, Any]:
+        n, m = self.pattern.shape
+        return {
+            "rank": self.rank,
+            "label": self.label,
+            "score": None if self.score is None else round(float(self.score), 4),
+            "rows": n,
+            "cols": m,
+            "yarns": [{"name": y.name, "rgb": y.hex} for y in self.pattern.yarns],
+            "raised": int(self.pattern.raised.sum()),
+            "details": self.details,
+            "editable": self.source is not None,
+        }
+
+
+Progress = Callable[[float, str], None]
+
+
+def make_candidates(prepared: Prepared, *, count: int, progress: Progress) -> list[Candidate]:
+    """Ranked candidates for the prepared inputs; ``progress(fraction, message)`` may cancel."""
+    if prepared.mode == "single":
+        return _single_candidates(prepared, progress)
+    return _tile_candidates(prepared, count=count, progress=progress)
+
+
+def _single_candidates(prepared: Prepared, progress: Progress) -> list[Candidate]:
+    from illuknit.single_view import compile_single_view
+
+    q = prepared.quantised["a"]
+    out = []
+    for k, first in enumerate(("dark", "light")):
+        progress(k / 2, f"compiling single view ({first} stripe first)")
+        with blame("n_colors"):
+            pattern = compile_single_view(q, first=first)  # type: ignore[arg-type]
+        err = _single_error(pattern, q.indices, q.yarns)
+        out.append(
+            Candidate(
+                rank=k + 1,
+                label=f"{first} stripe first",
+                score=None,
+                pattern=pattern,
+                details={"first": first, "mismatch_A": err[0], "mismatch_B": err[1]},
+            )
+        )
+    return out
+
+
+def _single_error(pattern: LogicalPattern, target: NDArray[Any], yarns: tuple[Yarn, ...]) -> tuple[float, float]:
+    """Share of units whose seen yarn differs from the (shifted) picture, per side view."""
+    from illuknit.views import can_see
+
+    # picture index -> pattern yarn index by colour (a middle colour has no yarn: skip it)
+    lookup = {y.rgb: i for i, y in enumerate(pattern.yarns)}
+    remap = np.array([lookup.get(y.rgb, -1) for y in yarns])
+    t = remap[np.asarray(target)]
+    va, vb = can_see(pattern, "A"), can_see(pattern, "B")
+    ma, mb = t[:-1] >= 0, t[1:] >= 0
+    ea = float(np.mean(va[1:][ma] != t[:-1][ma])) if ma.any() else 0.0
+    eb = float(np.mean(vb[:-1][mb] != t[1:][mb])) if mb.any() else 0.0
+    return round(ea, 4), round(eb, 4)
+
+
+def _tile_candidates(prepared: Prepared, *, count: int, progress: Progress) -> list[Candidate]:
+    tiles = _optional("illuknit.tiles")
+    if tiles is None or not hasattr(tiles, "assign_tiles"):
+        raise AppRequestError(
+            "double-view design needs the tile bank (illuknit.tiles), which this install lacks",
+            field="mode", code="unavailable", status=501,
+        )
+    raise AppRequestError("tile candidates are not wired yet", field="mode", code="unavailable", status=501)
+
+
+def pattern_for(candidate: Candidate, overrides: dict[tuple[int, int], str], prepared: Prepared) -> LogicalPattern:
+    """The candidate's pattern with the designer's per-pair tile overrides applied."""
+    if not overrides or candidate.source is None:
+        return candidate.pattern
+    raise AppRequestError("tile overrides are not wired yet", field="tiles", code="unavailable", status=501)
+
+
+# -- rendering ---------------------------------------------------------------------------------
+
+def render_view(pattern: LogicalPattern, view: str, *, angle: float) -> NDArray[np.uint8]:
+    """(H, W, 3) uint8 picture of ``view`` ("A", "B", "headon") at elevation ``angle`` degrees.
+
+    Uses the angled renderer when installed; otherwise the boolean can_see view (which does not
+    depend on the angle).
+    """
+    if not 0 < angle <= 90:
+        raise AppRequestError(
+            f"the viewing angle must be in (0, 90] degrees, got {angle}", field="angle", code="range"
+        )
+    render = _optional("illuknit.render")
+    if render is not None and hasattr(render, "render_views"):
+        with blame("angle"):
+            out = render.render_views(pattern, angle=angle)
+        img = out[view] if isinstance(out, dict) else getattr(out, _VIEW_ATTR[view])
+        a = np.asarray(img)
+        if a.dtype != np.uint8:
+            a = np.clip(np.round(a * 255 if a.max() <= 1.0 else a), 0, 255).astype(np.uint8)
+        return a
+    from illuknit.previews import view_rgb
+
+    return view_rgb(pattern, view)  # type: ignore[arg-type]
+
+
+_VIEW_ATTR = {"A": "a", "B": "b", "headon": "headon"}
+
+
+def png_bytes(rgb: NDArray[np.uint8]) -> bytes:
+    """Fast PNG encoding for live previews (low compression: these are tiny and short-lived)."""
+    from PIL import Image
+
+    buf = io.BytesIO()
+    Image.fromarray(np.ascontiguousarray(rgb, dtype=np.uint8)).save(buf, format="PNG", compress_level=1)
+    return buf.getvalue()
+
+
+# -- downloads ---------------------------------------------------------------------------------
+
+def pattern_json_bytes(pattern: LogicalPattern) -> bytes:
+    import json
+
+    return (json.dumps(pattern_to_json(pattern), indent=1) + "\n").encode()
+
+
+def previews_zip(pattern: LogicalPattern, prepared: Prepared | None, *, angle: float) -> bytes:
+    """A zip of the library's previews (chart, side views, contact sheet) plus angled renders."""
+    from illuknit.previews import upscale, write_previews
+
+    targets = {}
+    if prepared is not None:
+        for slot, q in prepared.quantised.items():
+            targets[f"quantised {slot.upper()}"] = q.rgb()
+    buf = io.BytesIO()
+    with tempfile.TemporaryDirectory(prefix="illuknit-previews-") as tmp:
+        paths = write_previews(pattern, tmp, targets=targets)
+        with zipfile.ZipFile(buf, "w", zipfile.ZIP_DEFLATED) as zf:
+            for name, path in paths.items():
+                zf.write(path, f"previews/{os.path.basename(path) or name}")
+            if capabilities()["render"]:
+                s = max(2, 640 // max(pattern.shape))
+                for view in ("A", "B"):
+                    img = upscale(render_view(pattern, view, angle=angle), s)
+                    zf.writestr(f"previews/render_{view}_{angle:g}deg.png", png_bytes(img))
+    return buf.getvalue()
+
+
+def chart_png(pattern: LogicalPattern) -> bytes:
+    chart = _optional("illuknit.chart")
+    if chart is not None and hasattr(chart, "chart_png"):
+        return bytes(chart.chart_png(pattern))
+    from illuknit.previews import chart_rgb
+
+    return png_bytes(chart_rgb(pattern))
+
+
+def instructions_text(pattern: LogicalPattern) -> str:
+    chart = _optional("illuknit.chart")
+    if chart is None or not hasattr(chart, "written_instructions"):
+        raise AppRequestError(
+            "written instructions need illuknit.chart, which this install lacks",
+            field="downloads", code="unavailable", status=501,
+        )
+    return str(chart.written_instructions(pattern))
+
+
+@dataclass(frozen=True)
+class KnitResult:
+    """Knitout for one pattern and the checker's report on it."""
+
+    key: str  # identifies the pattern it was made from
+    knitout: str
+    stats: dict[str, Any]
+    report: dict[str, Any] | None
+    report_text: str | None
+
+
+def knit_and_check(doc: dict[str, Any], check: bool) -> dict[str, Any]:
+    """Compile a pattern (as JSON) to knitout and check it. Runs in a spawned worker process."""
+    from illuknit.pattern import pattern_from_json
+
+    pattern = pattern_from_json(doc)
+    knit = importlib.import_module("illuknit.knit")
+    out = knit.knit_pattern(pattern)
+    text, stats = _knit_parts(out)
+    report = report_text = None
+    if check:
+        checker = importlib.import_module("illuknit.check")
+        rep = checker.check_knitout(text)
+        report = rep.to_json() if hasattr(rep, "to_json") else dict(rep)
+        report_text = rep.to_text() if hasattr(rep, "to_text") else str(rep)
+    return {"knitout": text, "stats": stats, "report": report, "report_text": report_text}
+
+
+def _knit_parts(out: Any) -> tuple[str, dict[str, Any]]:
+    if isinstance(out, str):
+        return out, {}
+    if isinstance(out, tuple) and len(out) == 2:
+        return str(out[0]), dict(out[1] or {})
+    text = getattr(out, "text", None) or getattr(out, "knitout", None)
+    if text is None and hasattr(out, "to_text"):
+        text = out.to_text()
+    stats = getattr(out, "stats", {}) or {}
+    if hasattr(stats, "to_json"):
+        stats = stats.to_json()
+    elif not isinstance(stats, dict):
+        stats = dict(vars(stats))
+    return str(text), stats
+
+
+def pattern_key(pattern: LogicalPattern) -> str:
+    import hashlib
+
+    h = hashlib.sha1()
+    h.update(np.ascontiguousarray(pattern.yarn).tobytes())
+    h.update(np.ascontiguousarray(pattern.raised).tobytes())
+    h.update(repr(pattern.shape).encode())
+    h.update(repr([y.rgb for y in pattern.yarns]).encode())
+    return h.hexdigest()[:16]

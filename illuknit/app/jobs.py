@@ -1,0 +1,258 @@
+"""Background jobs of the design app: long work with progress, cancellable from the page.
+
+A :class:`Job` wraps one function ``fn(job) -> result`` run on a small thread pool. The function
+reports progress with :meth:`Job.report`, which is also where a cancellation request takes effect
+(cooperative cancellation: it raises :class:`JobCancelled` between stages). Work that is one long
+library call with no stages of its own (compiling knitout, simulating it) goes through
+:meth:`Job.run_isolated`, which runs the call in a separate *spawned* process that is killed when the
+job is cancelled, so cancelling really stops the CPU work instead of abandoning a thread.
+
+Jobs never raise into the server: a failure is stored as ``error`` (message, and the input
+``field`` that caused it when the failure is the user's) and shown by the page.
+"""
+
+from __future__ import annotations
+
+import multiprocessing as mp
+import threading
+import time
+import traceback
+import uuid
+from collections.abc import Callable
+from concurrent.futures import ThreadPoolExecutor
+from typing import Any, Literal
+
+from illuknit.errors import AppRequestError, IlluknitError
+
+__all__ = ["Job", "JobCancelled", "JobRunner", "JobStatus"]
+
+JobStatus = Literal["queued", "running", "done", "failed", "cancelled"]
+_FINAL = ("done", "failed", "cancelled")
+
+
+class JobCancelled(Exception):
+    """Raised inside a job function when the job has been cancelled (never escapes the runner)."""
+
+
+def _isolated_entry(conn: Any, fn: Callable[..., Any], args: tuple[Any, ...]) -> None:
+    # Runs in the spawned child: send back ("ok", result) or ("err", kind, message).
+    try:
+        result = fn(*args)
+        conn.send(("ok", result))
+    except IlluknitError as e:
+        conn.send(("err", type(e).__name__, str(e)))
+    except BaseException as e:  # a bug in the library: report it, the parent decides
+        conn.send(("bug", type(e).__name__, f"{e}\n{traceback.format_exc()}"))
+    finally:
+        conn.close()
+
+
+class Job:
+    """One unit of background work with progress, status and a result.
+
+    Attributes
+    ----------
+    id : str
+        Random id, unique per server.
+    kind : str
+        What the job does (``"candidates"``, ``"knit"``); at most one live job per kind per session.
+    status : {"queued", "running", "done", "failed", "cancelled"}
+    progress : float
+        0..1, monotone while running.
+    message : str
+        What the job is doing now (shown next to the progress bar).
+    error : dict or None
+        ``{"message": ..., "field": ...}`` when the job failed.
+    result : object
+        Whatever the job function returned (kept server-side; endpoints expose views of it).
+    """
+
+    def __init__(self, kind: str, *, revision: int = 0) -> None:
+        self.id = uuid.uuid4().hex[:12]
+        self.kind = kind
+        self.revision = revision
+        self.status: JobStatus = "queued"
+        self.progress = 0.0
+        self.message = "queued"
+        self.error: dict[str, Any] | None = None
+        self.result: Any = None
+        self.created = time.time()
+        self.started: float | None = None
+        self.finished: float | None = None
+        self._cancel = threading.Event()
+        self._done = threading.Event()
+        self._lock = threading.Lock()
+
+    # -- used by job functions ---------------------------------------------------------------
+    @property
+    def cancelled(self) -> bool:
+        return self._cancel.is_set()
+
+    def report(self, fraction: float, message: str | None = None) -> None:
+        """Record progress; raise :class:`JobCancelled` if cancellation was requested."""
+        if self._cancel.is_set():
+            raise JobCancelled
+        with self._lock:
+            self.progress = max(self.progress, min(1.0, max(0.0, float(fraction))))
+            if message is not None:
+                self.message = message
+
+    def run_isolated(self, fn: Callable[..., Any], *args: Any, poll: float = 0.05) -> Any:
+        """Run ``fn(*args)`` in a spawned process; kill it if the job is cancelled.
+
+        ``fn`` must be importable at module level and its arguments and result picklable.
+        Library errors raised in the child come back as :class:`AppRequestError` with the
+        original message.
+        """
+        self.report(self.progress)
+        ctx = mp.get_context("spawn")
+        parent, child = ctx.Pipe(duplex=False)
+        proc = ctx.Process(target=_isolated_entry, args=(child, fn, args), daemon=True)
+        proc.start()
+        child.close()
+        try:
+            while True:
+                if self._cancel.is_set():
+                    raise JobCancelled
+                if parent.poll(poll):
+                    try:
+                        msg = parent.recv()
+                    except EOFError:
+                        msg = ("bug", "EOFError", "worker process ended without an answer")
+                    break
+                if not proc.is_alive() and not parent.poll(0):
+                    msg = ("bug", "Exit", f"worker process died (exit code {proc.exitcode})")
+                    break
+        finally:
+            if proc.is_alive():
+                proc.kill()
+            proc.join(timeout=5)
+            parent.close()
+        if msg[0] == "ok":
+            return msg[1]
+        if msg[0] == "err":
+            raise AppRequestError(msg[2], code=msg[1])
+        raise RuntimeError(f"{msg[1]}: {msg[2]}")
+
+    # -- used by the runner and the server ---------------------------------------------------
+    def cancel(self) -> bool:
+        """Request cancellation; True if the job was still live."""
+        if self.status in _FINAL:
+            return False
+        self._cancel.set()
+        if self.status == "queued":
+            self._finish("cancelled", message="cancelled")
+        return True
+
+    def wait(self, timeout: float | None = None) -> bool:
+        """Block until the job ends (for tests and the CLI); True if it ended."""
+        return self._done.wait(timeout)
+
+    @property
+    def live(self) -> bool:
+        return self.status not in _FINAL
+
+    def _finish(self, status: JobStatus, *, message: str, error: dict[str, Any] | None = None) -> None:
+        with self._lock:
+            if self.status in _FINAL:
+                return
+            self.status = status
+            self.message = message
+            self.error = error
+            self.finished = time.time()
+            if status == "done":
+                self.progress = 1.0
+        self._done.set()
+
+    def to_json(self) -> dict[str, Any]:
+        with self._lock:
+            return {
+                "id": self.id,
+                "kind": self.kind,
+                "status": self.status,
+                "progress": round(self.progress, 4),
+                "message": self.message,
+                "error": self.error,
+                "revision": self.revision,
+                "elapsed": round((self.finished or time.time()) - (self.started or self.created), 3),
+            }
+
+
+class JobRunner:
+    """A small thread pool running :class:`Job` functions.
+
+    Parameters
+    ----------
+    workers : int
+        Threads; two is right for a designer's laptop (one long job plus one quick one).
+    """
+
+    def __init__(self, workers: int = 2) -> None:
+        self._pool = ThreadPoolExecutor(max_workers=workers, thread_name_prefix="illuknit-job")
+        self._jobs: dict[str, Job] = {}
+        self._lock = threading.Lock()
+
+    def submit(
+        self,
+        kind: str,
+        fn: Callable[[Job], Any],
+        *,
+        revision: int = 0,
+        on_done: Callable[[Job], None] | None = None,
+    ) -> Job:
+        """Queue ``fn(job)``; ``on_done(job)`` runs (in the worker) when the job ends successfully."""
+        job = Job(kind, revision=revision)
+        with self._lock:
+            self._jobs[job.id] = job
+            # forget old finished jobs so a long-running server does not grow
+            if len(self._jobs) > 500:
+                for jid in [j.id for j in self._jobs.values() if not j.live][:250]:
+                    del self._jobs[jid]
+        self._pool.submit(self._run, job, fn, on_done)
+        return job
+
+    def get(self, job_id: str) -> Job | None:
+        with self._lock:
+            return self._jobs.get(job_id)
+
+    def _run(self, job: Job, fn: Callable[[Job], Any], on_done: Callable[[Job], None] | None) -> None:
+        if job.cancelled:
+            job._finish("cancelled", message="cancelled")
+            return
+        job.status = "running"
+        job.started = time.time()
+        job.message = "running"
+        try:
+            result = fn(job)
+            if job.cancelled:
+                raise JobCancelled
+            job.result = result
+            if on_done is not None:
+                on_done(job)
+            job._finish("done", message="done")
+        except JobCancelled:
+            job._finish("cancelled", message="cancelled")
+        except AppRequestError as e:
+            job._finish(
+                "failed", message="failed", error={"message": str(e), "field": e.field, "code": e.code}
+            )
+        except IlluknitError as e:
+            job._finish(
+                "failed",
+                message="failed",
+                error={"message": str(e), "field": None, "code": type(e).__name__},
+            )
+        except Exception as e:  # a bug: the page still gets a message, the log the traceback
+            traceback.print_exc()
+            job._finish(
+                "failed",
+                message="failed",
+                error={"message": f"internal error: {type(e).__name__}: {e}", "field": None, "code": "internal"},
+            )
+
+    def shutdown(self) -> None:
+        with self._lock:
+            jobs = list(self._jobs.values())
+        for job in jobs:
+            job.cancel()
+        self._pool.shutdown(wait=False, cancel_futures=True)

@@ -1,0 +1,70 @@
+"""Click options shared by the commands that read pictures."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any
+
+import click
+
+from illuknit.pattern import Yarn, parse_yarns
+
+__all__ = ["image_options", "parse_yarn_option"]
+
+
+def image_options(func: Callable[..., Any]) -> Callable[..., Any]:
+    """--width/--height/--width-cm/--gauge/--yarns/--colors/--no-quantise."""
+    opts = [
+        click.option(
+            "--width",
+            type=int,
+            default=None,
+            help="Pattern width in units (1 unit = 2 stitches). Default: picture width, at most 80.",
+        ),
+        click.option(
+            "--height",
+            type=int,
+            default=None,
+            help="Pattern height in units. Default: keeps the picture's aspect ratio.",
+        ),
+        click.option(
+            "--width-cm",
+            type=float,
+            default=None,
+            help="Physical width in cm (with --gauge) instead of --width.",
+        ),
+        click.option(
+            "--gauge",
+            type=float,
+            default=7.0,
+            show_default=True,
+            help="Machine or hand gauge in stitches per inch, used with --width-cm.",
+        ),
+        click.option(
+            "--yarns",
+            default=None,
+            metavar="LIST",
+            help="Yarn colours, e.g. '#1b1b1b,#f4f0e8' or 'navy,white' or 'Dark=#222,Light=#eee'. "
+            "Default: chosen from the picture.",
+        ),
+        click.option(
+            "--colors",
+            "n_colors",
+            type=click.IntRange(1, 10),
+            default=None,
+            help="Number of picture colours to keep.",
+        ),
+        click.option(
+            "--quantise/--no-quantise",
+            default=True,
+            show_default=True,
+            help="Cluster a picture with more colours than yarns (else it is an error).",
+        ),
+    ]
+    for opt in reversed(opts):
+        func = opt(func)
+    return func
+
+
+def parse_yarn_option(value: str | None) -> tuple[Yarn, ...] | None:
+    return None if value is None else parse_yarns(value)

@@ -1,0 +1,133 @@
+"""``illuknit single``: a picture in, a single-view illusion pattern and its previews out."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import click
+
+from illuknit.cli.options import image_options, parse_yarn_option
+from illuknit.cli.summary import print_written, summarise_pattern
+
+__all__ = ["run_single", "single"]
+
+
+def run_single(
+    image: str | Path,
+    outdir: str | Path,
+    *,
+    width: int | None = None,
+    height: int | None = None,
+    width_cm: float | None = None,
+    gauge: float = 7.0,
+    yarns: str | None = None,
+    n_colors: int | None = None,
+    quantise: bool = True,
+    first: str = "dark",
+    knitout: bool = False,
+    title: str | None = None,
+) -> dict[str, Path]:
+    """Compile ``image`` and write the whole bundle into ``outdir`` (atomically)."""
+    from illuknit.export import export_pattern
+    from illuknit.outputs import staged_dir
+    from illuknit.single_view import (
+        compile_single_view,
+        prepare_single_view_image,
+        single_view_errors,
+    )
+
+    q = prepare_single_view_image(
+        image,
+        width=width,
+        height=height,
+        width_cm=width_cm,
+        gauge=gauge,
+        n_colors=n_colors,
+        yarns=parse_yarn_option(yarns),
+        allow_quantise=quantise,
+    )
+    pattern = compile_single_view(q, first=first)  # type: ignore[arg-type]
+    err_a, err_b = single_view_errors(q, pattern)
+    report = {
+        "source": str(image),
+        "compiler": "single-view",
+        "legend": q.legend(),
+        "logical_error": {
+            "A": err_a,
+            "B": err_b,
+            "note": "fraction of outer-colour pixels whose view colour differs from "
+            "the picture shifted by one row (middle-colour pixels are seen as "
+            "stripes by design and are not counted)",
+        },
+    }
+    with staged_dir(outdir) as tmp:
+        paths = export_pattern(
+            pattern,
+            tmp,
+            quantised={"picture": q},
+            report=report,
+            title=title or f"Single-view illusion of {Path(str(image)).name}",
+        )
+        if knitout:
+            from illuknit.cli.knitout_bridge import write_program
+
+            paths.update(write_program(pattern, tmp))
+    return {k: Path(outdir) / p.name for k, p in paths.items()}
+
+
+@click.command("single")
+@click.argument("image", type=click.Path(dir_okay=False, path_type=Path))
+@image_options
+@click.option(
+    "--first",
+    type=click.Choice(["dark", "light"]),
+    default="dark",
+    show_default=True,
+    help="Colour of the top stripe row.",
+)
+@click.option(
+    "--knitout", is_flag=True, help="Also write a knitout program (program.k) and its check."
+)
+@click.option(
+    "-o",
+    "--outdir",
+    type=click.Path(file_okay=False, path_type=Path),
+    required=True,
+    help="Folder to write into (created; same-named files are replaced).",
+)
+def single(
+    image: Path,
+    width: int | None,
+    height: int | None,
+    width_cm: float | None,
+    gauge: float,
+    yarns: str | None,
+    n_colors: int | None,
+    quantise: bool,
+    first: str,
+    knitout: bool,
+    outdir: Path,
+) -> None:
+    """Compile a 2- or 3-colour picture into a single-view illusion.
+
+    Rows alternate two yarns; the picture appears from either end at an angle. A third (middle)
+    colour is shown as a stripe of the two yarns. Writes pattern.json, previews, a hand-knitting
+    chart and written instructions into OUTDIR.
+    """
+    from illuknit.pattern import load_pattern
+
+    paths = run_single(
+        image,
+        outdir,
+        width=width,
+        height=height,
+        width_cm=width_cm,
+        gauge=gauge,
+        yarns=yarns,
+        n_colors=n_colors,
+        quantise=quantise,
+        first=first,
+        knitout=knitout,
+    )
+    summarise_pattern(load_pattern(paths["pattern"]), legend_path=paths.get("legend"))
+    print_written(outdir, paths)

@@ -1,0 +1,34 @@
+"""``illuknit view``: previews, chart and instructions of a saved pattern."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import click
+
+from illuknit.cli.summary import print_written, summarise_pattern
+
+__all__ = ["view"]
+
+
+@click.command("view")
+@click.argument("pattern_file", metavar="PATTERN", type=click.Path(dir_okay=False, path_type=Path))
+@click.option(
+    "-o",
+    "--outdir",
+    type=click.Path(file_okay=False, path_type=Path),
+    required=True,
+    help="Folder to write into.",
+)
+def view(pattern_file: Path, outdir: Path) -> None:
+    """Write previews (head-on, view A, view B, contact sheet), the hand-knitting chart and written
+    instructions of a pattern file."""
+    from illuknit.export import export_pattern
+    from illuknit.outputs import staged_dir
+    from illuknit.pattern import load_pattern
+
+    pattern = load_pattern(pattern_file)
+    with staged_dir(outdir) as tmp:
+        paths = export_pattern(pattern, tmp, report={"source": str(pattern_file)})
+    summarise_pattern(pattern)
+    print_written(outdir, {k: outdir / p.name for k, p in paths.items()})

@@ -1,0 +1,156 @@
+"""Preview pictures of a pattern: the head-on chart, the side views, and a contact sheet.
+
+Side views come from the boolean model (:mod:`illuknit.views`): each cell shows the yarn of the unit
+a viewer sees. Every picture is upscaled with nearest-neighbour so one unit is a visible square.
+"""
+
+from __future__ import annotations
+
+import io
+import os
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from illuknit.colors import luminance
+from illuknit.outputs import atomic_write_bytes
+from illuknit.pattern import LogicalPattern
+from illuknit.views import View, can_see
+
+__all__ = [
+    "chart_rgb",
+    "contact_sheet",
+    "png_bytes",
+    "save_png",
+    "unit_scale",
+    "upscale",
+    "view_rgb",
+    "write_previews",
+]
+
+
+def view_rgb(pattern: LogicalPattern, view: View) -> NDArray[np.uint8]:
+    """ndarray of shape (N, M, 3): colours seen from ``view`` ("A", "B", "headon"), one per unit."""
+    return pattern.palette[can_see(pattern, view)]
+
+
+def unit_scale(shape: tuple[int, int], *, target: int = 640, max_px: int = 2400) -> int:
+    """Pixels per unit so that the longer side is about ``target`` pixels (at least 1)."""
+    longest = max(shape)
+    return int(max(1, min(max_px // max(longest, 1), round(target / max(longest, 1)))))
+
+
+def upscale(rgb: ArrayLike, scale: int) -> NDArray[np.uint8]:
+    """Nearest-neighbour upscaling of an (N, M, 3) image by an integer factor."""
+    a = np.asarray(rgb, dtype=np.uint8)
+    return np.repeat(np.repeat(a, scale, axis=0), scale, axis=1)
+
+
+def chart_rgb(pattern: LogicalPattern, *, scale: int | None = None) -> NDArray[np.uint8]:
+    """The head-on chart: yarn colours, each raised unit marked with a centred square.
+
+    The mark is drawn in a contrasting tone of the unit's own colour so raised units read at a
+    glance without hiding the colour.
+    """
+    n, m = pattern.shape
+    s = scale or max(4, unit_scale((n, m)))
+    img = upscale(pattern.rgb(), s).astype(np.int16)
+    pal = pattern.palette.astype(np.int16)
+    dark = luminance(pattern.palette) > 0.35
+    mark = np.where(dark[:, None], pal * 0.45, pal + (255 - pal) * 0.55).astype(np.int16)
+    lo, hi = s // 4, s - s // 4
+    if hi > lo:
+        ii, jj = np.nonzero(pattern.raised)
+        block = mark[pattern.yarn[ii, jj]]
+        for dy in range(lo, hi):
+            for dx in range(lo, hi):
+                img[ii * s + dy, jj * s + dx] = block
+    return img.clip(0, 255).astype(np.uint8)
+
+
+def png_bytes(rgb: ArrayLike) -> bytes:
+    """Encode an (H, W, 3) uint8 image as PNG."""
+    from PIL import Image
+
+    buf = io.BytesIO()
+    Image.fromarray(np.asarray(rgb, dtype=np.uint8)).save(buf, format="PNG", optimize=True)
+    return buf.getvalue()
+
+
+def save_png(rgb: ArrayLike, path: str | os.PathLike[str]) -> Path:
+    """Write an image as PNG atomically."""
+    return atomic_write_bytes(path, png_bytes(rgb))
+
+
+def contact_sheet(
+    panels: Sequence[tuple[str, ArrayLike]], *, columns: int | None = None, pad: int = 12
+) -> NDArray[np.uint8]:
+    """Lay titled images side by side on white (``columns`` per row; default all in one row)."""
+    from PIL import Image, ImageDraw, ImageFont
+
+    if not panels:
+        raise ValueError("contact_sheet needs at least one panel")
+    ims = [np.asarray(p, dtype=np.uint8) for _, p in panels]
+    cols = columns or len(ims)
+    rows = (len(ims) + cols - 1) // cols
+    cell_w = max(i.shape[1] for i in ims)
+    cell_h = max(i.shape[0] for i in ims)
+    try:
+        font = ImageFont.load_default(size=16)
+    except TypeError:  # Pillow < 10.1
+        font = ImageFont.load_default()
+    title_h = 24
+    W = cols * cell_w + (cols + 1) * pad
+    H = rows * (cell_h + title_h) + (rows + 1) * pad
+    sheet = Image.new("RGB", (W, H), (255, 255, 255))
+    draw = ImageDraw.Draw(sheet)
+    for k, ((title, _), im) in enumerate(zip(panels, ims, strict=True)):
+        r, c = divmod(k, cols)
+        x = pad + c * (cell_w + pad)
+        y = pad + r * (cell_h + title_h + pad)
+        draw.text((x, y), title, fill=(30, 30, 30), font=font)
+        sheet.paste(Image.fromarray(im), (x, y + title_h))
+    return np.asarray(sheet)
+
+
+def write_previews(
+    pattern: LogicalPattern,
+    outdir: str | os.PathLike[str],
+    *,
+    targets: Mapping[str, ArrayLike] | None = None,
+    scale: int | None = None,
+) -> dict[str, Path]:
+    """Write ``headon.png`` (chart), ``view_a.png``, ``view_b.png`` and ``contact.png``.
+
+    Parameters
+    ----------
+    targets : mapping of title -> (N, M, 3) uint8, optional
+        Input pictures to show first on the contact sheet (e.g. the quantised picture).
+
+    Returns
+    -------
+    dict of name -> path
+    """
+    out = Path(outdir)
+    s = scale or max(2, unit_scale(pattern.shape))
+    chart = chart_rgb(pattern, scale=max(s, 4))
+    va = upscale(view_rgb(pattern, "A"), s)
+    vb = upscale(view_rgb(pattern, "B"), s)
+    paths = {
+        "headon": save_png(chart, out / "headon.png"),
+        "view_a": save_png(va, out / "view_a.png"),
+        "view_b": save_png(vb, out / "view_b.png"),
+    }
+    panels: list[tuple[str, ArrayLike]] = []
+    for title, img in (targets or {}).items():
+        panels.append((title, upscale(np.asarray(img, dtype=np.uint8), s)))
+    chart_small = chart_rgb(pattern, scale=s) if s >= 4 else upscale(pattern.rgb(), s)
+    panels += [
+        ("head-on (raised marked)", chart_small),
+        ("view A (from above)", va),
+        ("view B (from below)", vb),
+    ]
+    paths["contact"] = save_png(contact_sheet(panels), out / "contact.png")
+    return paths

@@ -1,0 +1,52 @@
+"""Tiles, tile banks, tile assignment and compilation: the double-view design framework.
+
+Pipeline (paper sections 4.2 and 6)::
+
+    canonical_bank(yarns) -> assign_tiles(qa, qb, bank=...) -> [TileAssignment, ...]
+                          -> compile_tiles(assignment) -> (LogicalPattern, TileReport)
+
+The head-on variant (Fig. 17) is :func:`illuknit.tiles.headon.assign_headon`.
+"""
+
+from __future__ import annotations
+
+import importlib
+from typing import Any
+
+_API: dict[str, str] = {
+    "Fill": "illuknit.tiles.tile",
+    "Tile": "illuknit.tiles.tile",
+    "tile_fills": "illuknit.tiles.tile",
+    "tile_seen": "illuknit.tiles.tile",
+    "TileBank": "illuknit.tiles.bank",
+    "canonical_bank": "illuknit.tiles.bank",
+    "extend_bank": "illuknit.tiles.bank",
+    "load_bank": "illuknit.tiles.bank",
+    "save_bank": "illuknit.tiles.bank",
+    "bank_from_json": "illuknit.tiles.bank",
+    "bank_to_json": "illuknit.tiles.bank",
+    "TileAssignment": "illuknit.tiles.assign",
+    "assign_tiles": "illuknit.tiles.assign",
+    "explain_infeasible": "illuknit.tiles.assign",
+    "TileReport": "illuknit.tiles.compile",
+    "compile_tiles": "illuknit.tiles.compile",
+    "repainted_indices": "illuknit.tiles.compile",
+    "repainted_rgb": "illuknit.tiles.compile",
+    "assign_headon": "illuknit.tiles.headon",
+    "headon_bank": "illuknit.tiles.headon",
+}
+
+__all__ = list(_API)
+
+
+def __getattr__(name: str) -> Any:
+    module = _API.get(name)
+    if module is None:
+        raise AttributeError(f"module 'illuknit.tiles' has no attribute {name!r}")
+    value = getattr(importlib.import_module(module), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(__all__)
