@@ -220,11 +220,6 @@ def canonical_bank(
 def _canonical_bank(
     ys: tuple[Yarn, ...], max_height: int, views: ViewPair, one_sided_stripes: bool
 ) -> TileBank:
-    if False:
-        raise TileBankError(f"`max_height` must be an integer in 1..6, got {max_height!r}")
-    for v in views:
-        if v not in FILL_VIEWS:
-            raise TileBankError(f"`views` must name two of {FILL_VIEWS}, got {views!r}")
     n_y = len(ys)
     best: dict[tuple[Any, Any], Tile] = {}
     units = [(y, r) for r in (False, True) for y in range(n_y)]
@@ -285,13 +280,17 @@ def _parse_fill(doc: Any, where: str) -> dict[int, Fraction]:
         try:
             out[int(k, 36) if isinstance(k, str) else int(k)] = Fraction(str(v))
         except (ValueError, ZeroDivisionError):
-            raise TileBankError(f"{where}: bad fill entry {k!r}: {v!r} (expected e.g. \"0\": \"1/2\")") from None
+            raise TileBankError(
+                f'{where}: bad fill entry {k!r}: {v!r} (expected e.g. "0": "1/2")'
+            ) from None
     if sum(out.values()) != 1 or any(q <= 0 for q in out.values()):
         raise TileBankError(f"{where}: fill proportions must be positive and sum to 1, got {doc!r}")
     return out
 
 
-def bank_from_json(doc: Any, *, yarns: Sequence[Yarn] | None = None, source: str = "bank") -> TileBank:
+def bank_from_json(
+    doc: Any, *, yarns: Sequence[Yarn] | None = None, source: str = "bank"
+) -> TileBank:
     """Build a bank from its JSON document (see the module docstring and ``docs/tiles.md``).
 
     ``yarns`` replaces the file's yarns (by position) when given; one of the two is required.
@@ -301,13 +300,19 @@ def bank_from_json(doc: Any, *, yarns: Sequence[Yarn] | None = None, source: str
     if not isinstance(doc, dict):
         raise TileBankError(f"{source}: a tile bank must be a JSON object")
     if doc.get("format") != BANK_FORMAT:
-        raise TileBankError(f"{source}: not a tile bank (format is {doc.get('format')!r}, expected {BANK_FORMAT!r})")
+        raise TileBankError(
+            f"{source}: not a tile bank (format is {doc.get('format')!r}, expected {BANK_FORMAT!r})"
+        )
     if doc.get("version") != BANK_VERSION:
-        raise TileBankError(f"{source}: tile bank version {doc.get('version')!r} is not supported (expected {BANK_VERSION})")
+        raise TileBankError(
+            f"{source}: tile bank version {doc.get('version')!r} is not supported (expected {BANK_VERSION})"
+        )
     file_yarns: tuple[Yarn, ...] | None = None
     if "yarns" in doc:
         try:
-            file_yarns = tuple(Yarn(str(y["name"]), parse_color(str(y["rgb"]))) for y in doc["yarns"])
+            file_yarns = tuple(
+                Yarn(str(y["name"]), parse_color(str(y["rgb"]))) for y in doc["yarns"]
+            )
         except (KeyError, TypeError, YarnSpecError) as e:
             raise TileBankError(f"{source}: bad `yarns` entry: {e}") from None
     if yarns is not None:
@@ -329,7 +334,7 @@ def bank_from_json(doc: Any, *, yarns: Sequence[Yarn] | None = None, source: str
         if not isinstance(td, dict) or not isinstance(td.get("rows"), list) or not td["rows"]:
             raise TileBankError(f"{where}: expected an object with a non-empty `rows` list")
         if not all(isinstance(r, str) for r in td["rows"]):
-            raise TileBankError(f"{where}: `rows` must be strings like \"0\" or \"1^\"")
+            raise TileBankError(f'{where}: `rows` must be strings like "0" or "1^"')
         name = str(td.get("name", ""))
         where = f"{source}: tile {name or k}"
         try:
@@ -337,14 +342,18 @@ def bank_from_json(doc: Any, *, yarns: Sequence[Yarn] | None = None, source: str
         except TileBankError as e:
             raise TileBankError(f"{where}: {e}") from None
         if int(tile.yarn.max()) >= len(ys):
-            raise TileBankError(f"{where}: uses yarn {int(tile.yarn.max())}, but there are {len(ys)} yarn(s)")
+            raise TileBankError(
+                f"{where}: uses yarn {int(tile.yarn.max())}, but there are {len(ys)} yarn(s)"
+            )
         declared = td.get("fills", {})
         if not isinstance(declared, dict):
             raise TileBankError(f"{where}: `fills` must be an object keyed by view")
         computed = tile_fills(tile, ys)
         for view, fd in declared.items():
             if view not in FILL_VIEWS:
-                raise TileBankError(f"{where}: unknown view {view!r} in `fills` (valid: {', '.join(FILL_VIEWS)})")
+                raise TileBankError(
+                    f"{where}: unknown view {view!r} in `fills` (valid: {', '.join(FILL_VIEWS)})"
+                )
             want = fill_from_parts(sorted(_parse_fill(fd, f"{where} fill {view}").items()), ys)
             got = computed[view]  # type: ignore[index]
             if got != want:
@@ -355,7 +364,7 @@ def bank_from_json(doc: Any, *, yarns: Sequence[Yarn] | None = None, source: str
         tiles.append(tile)
     extends = doc.get("extends")
     if extends not in (None, "canonical"):
-        raise TileBankError(f"{source}: `extends` must be \"canonical\" or absent, got {extends!r}")
+        raise TileBankError(f'{source}: `extends` must be "canonical" or absent, got {extends!r}')
     if extends == "canonical":
         return extend_bank(canonical_bank(ys), tiles)
     if not tiles:
@@ -363,7 +372,9 @@ def bank_from_json(doc: Any, *, yarns: Sequence[Yarn] | None = None, source: str
     return TileBank(ys, tuple(tiles), name=Path(source).name)
 
 
-def bank_to_json(bank: TileBank, *, views: Sequence[FillView] = ("A", "B", "headon")) -> dict[str, Any]:
+def bank_to_json(
+    bank: TileBank, *, views: Sequence[FillView] = ("A", "B", "headon")
+) -> dict[str, Any]:
     """The bank as a JSON-ready dict, with each tile's computed fills declared (so an edited copy
     is checked when loaded back)."""
     tiles = []
@@ -410,7 +421,10 @@ def bank_summary(bank: TileBank, views: ViewPair = ("A", "B")) -> list[Mapping[s
                 "name": t.name,
                 "height": t.height,
                 "width": t.width,
-                **{v: (f[v].label(bank.yarns) if f[v] is not None else "-") for v in ("A", "B", "headon")},
+                **{
+                    v: (f[v].label(bank.yarns) if f[v] is not None else "-")
+                    for v in ("A", "B", "headon")
+                },
             }
         )
     return rows

@@ -131,7 +131,9 @@ def fill_from_parts(parts: Sequence[tuple[int, Fraction]], yarns: Sequence[Yarn]
     cols = np.array([yarns[i].rgb for i, _ in parts], dtype=np.float64)
     w = np.array([float(q) for _, q in parts])
     rgb = mix_rgb(cols, w)
-    return Fill(parts, rgb=(float(rgb[0]), float(rgb[1]), float(rgb[2])), brightness=float(luminance(rgb)))
+    return Fill(
+        parts, rgb=(float(rgb[0]), float(rgb[1]), float(rgb[2])), brightness=float(luminance(rgb))
+    )
 
 
 def fill_from_seen(seen: ArrayLike, yarns: Sequence[Yarn]) -> Fill:
@@ -187,7 +189,9 @@ class Tile:
         if r.ndim == 1:
             r = r[:, None]
         if y.ndim != 2 or y.size == 0:
-            raise TileBankError(f"tile `yarn` must be a non-empty (h, w) array, got shape {y.shape}")
+            raise TileBankError(
+                f"tile `yarn` must be a non-empty (h, w) array, got shape {y.shape}"
+            )
         if r.shape != y.shape:
             raise TileBankError(f"tile `raised` must have shape {y.shape}, got {r.shape}")
         if not np.issubdtype(y.dtype, np.integer) or int(y.min()) < 0:
@@ -214,13 +218,17 @@ class Tile:
                 bump = tok.endswith("^")
                 digit = tok.rstrip("^")
                 if len(digit) != 1 or not digit.isalnum():
-                    raise TileBankError(f"tile row {k}: bad unit {tok!r} (expected e.g. '0' or '1^')")
+                    raise TileBankError(
+                        f"tile row {k}: bad unit {tok!r} (expected e.g. '0' or '1^')"
+                    )
                 yr.append(int(digit, 36))
                 rr.append(bump)
             yarn.append(yr)
             raised.append(rr)
         if not yarn or len({len(r) for r in yarn}) != 1:
-            raise TileBankError(f"tile rows must be non-empty and of equal width, got {list(rows)!r}")
+            raise TileBankError(
+                f"tile rows must be non-empty and of equal width, got {list(rows)!r}"
+            )
         return cls(np.array(yarn), np.array(raised), name=name)
 
     @property
