@@ -1,2 +1,196 @@
-"""y"""
-VALUE = 1
+"""Pluggable solver backends (installed as ``illuknit.solvers``).
+
+One module per backend, one small contract (:mod:`illuknit.solvers.base`), and a registry in
+preference order. Backends are imported only when used, so ``import illuknit.solvers`` stays light.
+
+=========  ===============================================================  ==================
+name       what                                                             handles
+=========  ===============================================================  ==================
+dp         exact dynamic programming per wale (illusion models only)         per-wale models
+cpsat      OR-Tools CP-SAT, native cardinality/linear, 2 workers             every model
+rc2        pysat RC2 core-guided MaxSAT (exact)                              every model
+lsu        pysat linear SAT-UNSAT search (anytime upper bounds)              every model
+wcnf:CMD   any MaxSAT solver binary via a WCNF file (``wcnf:"maxhs {}"``)    every model
+=========  ===============================================================  ==================
+
+Third parties add a backend through the entry-point group ``illuknit.solvers``; the entry point
+loads either a Backend instance, a Backend class, or a zero-argument factory.
+
+Examples
+--------
+>>> from illuknit.model import Model
+>>> from illuknit.solvers import solve
+>>> m = Model("tiny")
+>>> a, b = m.var("a"), m.var("b")
+>>> m.add_hard([a, b]); m.add_soft([-a], 1); m.add_soft([-b], 2)
+>>> sol = solve(m, solver="rc2")
+>>> (sol.status.value, sol.objective, sol.value("a"))
+('optimal', 1, True)
+"""
+
+from __future__ import annotations
+
+import importlib
+import time
+from collections.abc import Callable
+from importlib.metadata import entry_points
+from typing import TYPE_CHECKING, Any
+
+from illuknit.errors import BackendUnavailableError, UnknownNameError
+from illuknit.solvers.base import Backend, ProgressCallback, ProgressEvent, Solution, Status
+
+if TYPE_CHECKING:
+    from illuknit.model import Model
+
+__all__ = [
+    "ENTRY_POINT_GROUP",
+    "REGISTRY",
+    "Backend",
+    "ProgressEvent",
+    "Solution",
+    "Status",
+    "available_backends",
+    "backend_names",
+    "get_backend",
+    "register_backend",
+    "solve",
+]
+
+ENTRY_POINT_GROUP = "illuknit.solvers"
+
+#: backend name -> "module:attribute" (a Backend class or factory), in preference order.
+REGISTRY: dict[str, str] = {
+    "cpsat": "illuknit.solvers.cpsat:CPSATBackend",
+    "rc2": "illuknit.solvers.rc2:RC2Backend",
+    "lsu": "illuknit.solvers.lsu:LSUBackend",
+}
+
+#: pseudo-backend prefix: ``wcnf:COMMAND`` runs an external MaxSAT binary.
+EXTERNAL_PREFIX = "wcnf:"
+
+_registered: dict[str, Callable[[], Backend] | Backend] = {}
+
+
+def register_backend(name: str, backend: Backend | Callable[[], Backend] | str) -> None:
+    """Register a backend under ``name`` (an instance, a factory, or "module:attr")."""
+    if isinstance(backend, str):
+        REGISTRY[name] = backend
+    else:
+        _registered[name] = backend
+
+
+def _entry_points() -> dict[str, Any]:
+    try:
+        return {ep.name: ep for ep in entry_points(group=ENTRY_POINT_GROUP)}
+    except Exception:  # a broken third-party distribution must not break the registry
+        return {}
+
+
+def backend_names() -> list[str]:
+    """Every known backend name (registry order, then registered, then entry points)."""
+    names = list(REGISTRY) + [n for n in _registered if n not in REGISTRY]
+    names += [n for n in _entry_points() if n not in names]
+    return names
+
+
+def _instantiate(obj: Any) -> Backend:
+    if isinstance(obj, type) or (callable(obj) and not isinstance(obj, Backend)):
+        obj = obj()
+    return obj  # type: ignore[no-any-return]
+
+
+def _lookup(name: str) -> Backend:
+    if name.startswith(EXTERNAL_PREFIX):
+        from illuknit.solvers.wcnf import ExternalWCNFBackend
+
+        return ExternalWCNFBackend(name[len(EXTERNAL_PREFIX) :])
+    if name in _registered:
+        return _instantiate(_registered[name])
+    if name in REGISTRY:
+        module, _, attr = REGISTRY[name].partition(":")
+        return _instantiate(getattr(importlib.import_module(module), attr))
+    eps = _entry_points()
+    if name in eps:
+        return _instantiate(eps[name].load())
+    raise UnknownNameError("solver", name, [*backend_names(), "wcnf:COMMAND", "auto"])
+
+
+def get_backend(name: str, *, check_available: bool = True) -> Backend:
+    """The backend called ``name``.
+
+    Raises
+    ------
+    UnknownNameError
+        ``name`` is not a known backend; the message lists the valid names.
+    BackendUnavailableError
+        The backend's library (or binary) is missing; the message names the extra to install.
+    """
+    backend = _lookup(name)
+    if check_available and not backend.is_available():
+        extra = getattr(backend, "extra", None)
+        how = f"pip install 'illuknit[{extra}]'" if extra else "see docs/solvers.md"
+        raise BackendUnavailableError(f"solver {name!r} is not available in this install ({how})")
+    return backend
+
+
+def available_backends() -> list[str]:
+    """Names of the backends whose dependencies are installed, in preference order."""
+    out = []
+    for n in backend_names():
+        try:
+            if _lookup(n).is_available():
+                out.append(n)
+        except Exception:  # an unimportable third-party backend is simply unavailable
+            continue
+    return out
+
+
+def pick_backend(model: Model) -> Backend:
+    """The first available backend, in preference order, that handles ``model``."""
+    for n in available_backends():
+        b = _lookup(n)
+        if b.handles(model):
+            return b
+    raise BackendUnavailableError("no installed solver backend handles this model")
+
+
+def solve(
+    model: Model,
+    *,
+    solver: str = "cpsat",
+    time_limit: float | None = None,
+    seed: int = 0,
+    progress: ProgressCallback | None = None,
+) -> Solution:
+    """Solve ``model`` with the backend named ``solver`` ("auto" picks the first that handles it).
+
+    A backend that does not handle the model raises :class:`UnknownNameError`-free
+    :class:`illuknit.errors.SolverError` explaining why. Infeasible models come back with
+    ``status == "infeasible"`` and ``stats["infeasible_families"]`` naming the conflicting
+    hard-constraint families.
+    """
+    from illuknit.errors import PatternValidationError, SolverError
+
+    if time_limit is not None and not time_limit > 0:
+        raise PatternValidationError(f"`time_limit` must be positive seconds, got {time_limit!r}")
+    backend = pick_backend(model) if solver == "auto" else get_backend(solver)
+    if not backend.handles(model):
+        why = getattr(backend, "why_not", lambda m: "")(model)
+        raise SolverError(
+            f"solver {backend.name!r} cannot solve model {model.name!r}{': ' + why if why else ''}"
+        )
+    t0 = time.perf_counter()
+    sol = backend.solve(model, time_limit=time_limit, seed=seed, progress=progress)
+    if sol.status is Status.INFEASIBLE and "infeasible_families" not in sol.stats:
+        fams = model.infeasible_families()
+        sol = Solution(
+            sol.status,
+            sol.values,
+            sol.objective,
+            sol.bound,
+            time.perf_counter() - t0,
+            {**sol.stats, "infeasible_families": fams},
+            sol.backend,
+            sol.pool,
+        )
+    return sol

@@ -1,0 +1,214 @@
+"""The contract every solver backend implements: ``Status``, ``Solution``, ``Backend``.
+
+A backend takes an :class:`illuknit.model.Model` (solver-neutral data) and returns a frozen
+:class:`Solution`:
+
+* ``status`` — :class:`Status`: ``optimal`` (proven), ``feasible`` (an assignment, optimality not
+  proven, e.g. interrupted by Ctrl-C), ``timeout`` (time limit reached; ``values`` holds the best
+  assignment found if any, ``bound`` the best proven lower bound), ``infeasible`` (the hard
+  constraints cannot hold; ``stats["infeasible_families"]`` may name the conflicting families),
+  ``error`` (the backend failed; ``stats["message"]`` says why).
+* ``values`` — bool ndarray indexed by variable id (index 0 unused, length ``pool.top + 1``), or
+  ``None`` when nothing was found. ``solution.value(key)`` and ``solution.block(name)`` read it
+  through the model's pool.
+* ``objective`` — total weight of violated soft clauses (+ ``model.offset``) of ``values``.
+* ``bound`` — proven lower bound on the optimum (equals ``objective`` when optimal).
+* ``wall_time`` (seconds) and backend-specific ``stats``.
+
+Backends must honour ``time_limit`` (seconds, ``None`` = no limit) and return the best assignment
+found when it expires — never nothing when something was found — and should catch
+``KeyboardInterrupt`` the same way (status ``feasible``/``timeout``, ``stats["interrupted"]``).
+``progress``, when given, is called with a :class:`ProgressEvent` whenever the objective or bound
+improves.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Hashable, Mapping
+from dataclasses import dataclass, field
+from enum import StrEnum
+from types import MappingProxyType
+from typing import TYPE_CHECKING, Any, Protocol, runtime_checkable
+
+import numpy as np
+from numpy.typing import NDArray
+
+if TYPE_CHECKING:
+    from illuknit.model import Model, VarPool
+
+__all__ = [
+    "Backend",
+    "ProgressCallback",
+    "ProgressEvent",
+    "Solution",
+    "Status",
+    "assignment_from_lits",
+    "fallback_assignment",
+]
+
+
+class Status(StrEnum):
+    """Outcome of a solve."""
+
+    OPTIMAL = "optimal"
+    FEASIBLE = "feasible"
+    TIMEOUT = "timeout"
+    INFEASIBLE = "infeasible"
+    ERROR = "error"
+
+
+@dataclass(frozen=True)
+class ProgressEvent:
+    """A progress report: elapsed seconds, best objective so far, best lower bound so far."""
+
+    elapsed: float
+    objective: float | None = None
+    bound: float | None = None
+    message: str = ""
+
+
+ProgressCallback = Callable[[ProgressEvent], None]
+
+
+@dataclass(frozen=True, eq=False)
+class Solution:
+    """The answer of one backend on one model (see the module docstring for each field)."""
+
+    status: Status
+    values: NDArray[np.bool_] | None
+    objective: int | float | None
+    bound: float | None
+    wall_time: float
+    stats: Mapping[str, Any] = field(default_factory=dict)
+    backend: str = ""
+    pool: VarPool | None = field(default=None, repr=False)
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "status", Status(self.status))
+        if self.values is not None:
+            v = np.asarray(self.values, dtype=bool)
+            v.setflags(write=False)
+            object.__setattr__(self, "values", v)
+        object.__setattr__(self, "stats", MappingProxyType(dict(self.stats)))
+
+    @property
+    def has_values(self) -> bool:
+        """True when an assignment was found (optimal, feasible, or timeout with a solution)."""
+        return self.values is not None
+
+    @property
+    def gap(self) -> float | None:
+        """Relative optimality gap ``(objective - bound) / max(1, objective)``, if both known."""
+        if self.objective is None or self.bound is None:
+            return None
+        return max(0.0, float(self.objective) - float(self.bound)) / max(1.0, float(self.objective))
+
+    def value(self, key: Hashable) -> bool:
+        """Truth value of the variable named ``key`` (or of a literal given as an int)."""
+        if self.values is None:
+            raise ValueError(f"no assignment (status {self.status.value})")
+        if isinstance(key, int | np.integer):
+            lit = int(key)
+            return bool(self.values[abs(lit)]) == (lit > 0)
+        if self.pool is None:
+            raise ValueError("this solution has no variable pool; look values up by id")
+        vid = self.pool.get(key)
+        if vid is None:
+            raise KeyError(f"no variable named {key!r}")
+        return bool(self.values[vid])
+
+    def block(self, name: Hashable) -> NDArray[np.bool_]:
+        """Truth values of a variable block, in the block's shape."""
+        if self.values is None:
+            raise ValueError(f"no assignment (status {self.status.value})")
+        if self.pool is None:
+            raise ValueError("this solution has no variable pool")
+        return self.values[self.pool.block_ids(name)]
+
+    def summary(self) -> dict[str, Any]:
+        """JSON-ready summary (no assignment)."""
+        return {
+            "backend": self.backend,
+            "status": self.status.value,
+            "objective": self.objective,
+            "bound": self.bound,
+            "gap": self.gap,
+            "wall_time": round(self.wall_time, 4),
+            "stats": {k: v for k, v in self.stats.items() if _jsonable(v)},
+        }
+
+
+def _jsonable(v: Any) -> bool:
+    return isinstance(v, str | int | float | bool | list | tuple | dict) or v is None
+
+
+@runtime_checkable
+class Backend(Protocol):
+    """What every solver backend provides.
+
+    ``extra`` names the optional dependency set (``pip install 'illuknit[EXTRA]'``) that makes an
+    unavailable backend available, or ``None`` when it needs only the runtime dependencies.
+    """
+
+    name: str
+    extra: str | None
+
+    def handles(self, model: Model) -> bool:
+        """Whether this backend can solve ``model`` (e.g. the DP needs an illusion problem)."""
+        ...
+
+    def is_available(self) -> bool:
+        """Whether the libraries (or binaries) it needs are installed."""
+        ...
+
+    def solve(
+        self,
+        model: Model,
+        *,
+        time_limit: float | None = None,
+        seed: int = 0,
+        progress: ProgressCallback | None = None,
+    ) -> Solution:
+        """Solve ``model``; see the module docstring for the meaning of the result."""
+        ...
+
+
+def assignment_from_lits(lits: Any, top: int) -> NDArray[np.bool_]:
+    """Bool array (top + 1,) indexed by variable id from a DIMACS model (list of literals)."""
+    v = np.zeros(top + 1, dtype=bool)
+    a = np.asarray(list(lits) if lits is not None else [], dtype=np.int64)
+    a = a[(a > 0) & (a <= top)]
+    v[a] = True
+    return v
+
+
+def fallback_assignment(
+    model: Model, *, budget: float = 5.0
+) -> tuple[NDArray[np.bool_] | None, int | None]:
+    """A feasible assignment when an optimiser found none in time: the model's hint if it is
+    feasible, else one plain SAT call on the hard constraints (at most ``budget`` seconds).
+
+    Returns (values, objective) or (None, None).
+    """
+    hint = getattr(model, "hint", None)
+    if hint is not None:
+        ok, cost = model.evaluate(hint)
+        if ok:
+            return np.asarray(hint, dtype=bool), cost
+    from threading import Timer
+
+    from pysat.solvers import Solver
+
+    cs = model.to_clauses()
+    with Solver(name="g4", bootstrap_with=cs.hard) as s:
+        timer = Timer(max(0.1, budget), s.interrupt)
+        timer.start()
+        try:
+            res = s.solve_limited(expect_interrupt=True)
+        finally:
+            timer.cancel()
+        if not res:
+            return None, None
+        v = assignment_from_lits(s.get_model(), model.pool.top)
+    ok, cost = model.evaluate(v)
+    return (v, cost) if ok else (None, None)

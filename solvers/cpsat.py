@@ -1,0 +1,165 @@
+"""OR-Tools CP-SAT on the native model.
+
+Translation: one Boolean per pool variable (created in id order, so the response's flat solution
+vector maps straight back to ids); hard clauses -> ``AddBoolOr``; exactly-one / at-most-k /
+at-least-k / linear <= kept as native constraints; a unit soft clause ``[l]`` with weight ``w``
+contributes ``w * (1 - l)`` to the objective, a wider one gets a violation Boolean ``b`` with
+``AddBoolOr(clause + [b])`` and contributes ``w * b``. The model's hint becomes a CP-SAT hint.
+
+Runs with 2 workers (both cores of the reference machine), honours ``time_limit`` (returning the
+best assignment and CP-SAT's best bound with status ``timeout``), and catches SIGINT the same way.
+"""
+
+from __future__ import annotations
+
+import time
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from illuknit.solvers.base import ProgressCallback, ProgressEvent, Solution, Status
+
+if TYPE_CHECKING:
+    from illuknit.model import Model
+
+__all__ = ["CPSATBackend"]
+
+
+class CPSATBackend:
+    """OR-Tools CP-SAT (``num_workers`` workers, default 2)."""
+
+    name = "cpsat"
+    extra: str | None = None
+
+    def __init__(self, num_workers: int = 2) -> None:
+        self.num_workers = num_workers
+
+    def handles(self, model: Model) -> bool:
+        return True
+
+    def is_available(self) -> bool:
+        try:
+            from ortools.sat.python import cp_model  # noqa: F401
+        except ImportError:
+            return False
+        return True
+
+    def solve(
+        self,
+        model: Model,
+        *,
+        time_limit: float | None = None,
+        seed: int = 0,
+        progress: ProgressCallback | None = None,
+    ) -> Solution:
+        from ortools.sat.python import cp_model
+
+        t0 = time.perf_counter()
+        cp = cp_model.CpModel()
+        top = model.pool.top
+        xs = [cp.NewBoolVar("") for _ in range(top)]
+        lit_of: list[Any] = [None, *xs]
+        neg_of: list[Any] = [None, *(x.Not() for x in xs)]
+
+        def lit(v: int) -> Any:
+            return lit_of[v] if v > 0 else neg_of[-v]
+
+        for block, _family in model.hard_blocks():
+            for row in block.tolist():
+                cp.AddBoolOr([lit(v) for v in row if v])
+        for c in model.cards:
+            ls = [lit(v) for v in c.lits]
+            if c.op == "==" and c.k == 1:
+                cp.AddExactlyOne(ls)
+            elif c.op == "<=" and c.k == 1:
+                cp.AddAtMostOne(ls)
+            elif c.op == "<=":
+                cp.Add(sum(ls) <= c.k)
+            elif c.op == ">=":
+                cp.Add(sum(ls) >= c.k)
+            else:
+                cp.Add(sum(ls) == c.k)
+        for lc in model.linears:
+            cp.Add(sum(cf * lit(v) for v, cf in zip(lc.lits, lc.coeffs, strict=True)) <= lc.bound)
+
+        obj_vars: list[Any] = []
+        obj_coefs: list[int] = []
+        offset = model.offset
+        for block, weights in model.soft_blocks():
+            for row, w in zip(block.tolist(), weights.tolist(), strict=True):
+                ls = [v for v in row if v]
+                if len(ls) == 1:
+                    # violated <=> not l: w * (1 - l)
+                    offset += w
+                    obj_vars.append(lit(ls[0]))
+                    obj_coefs.append(-w)
+                else:
+                    b = cp.NewBoolVar("")
+                    cp.AddBoolOr([*(lit(v) for v in ls), b])
+                    obj_vars.append(b)
+                    obj_coefs.append(w)
+        if obj_vars:
+            cp.Minimize(cp_model.LinearExpr.WeightedSum(obj_vars, obj_coefs) + offset)
+        if model.hint is not None:
+            h = np.asarray(model.hint, dtype=bool)
+            for i, x in enumerate(xs, start=1):
+                cp.AddHint(x, bool(h[i]))
+
+        solver = cp_model.CpSolver()
+        solver.parameters.num_workers = self.num_workers
+        solver.parameters.random_seed = int(seed)
+        solver.parameters.catch_sigint_signal = True
+        if time_limit is not None:
+            remaining = time_limit - (time.perf_counter() - t0)
+            solver.parameters.max_time_in_seconds = max(0.05, remaining)
+        build = time.perf_counter() - t0
+
+        cb = _Progress(progress, t0) if progress else None
+        status = solver.Solve(cp, cb) if cb else solver.Solve(cp)
+        wall = time.perf_counter() - t0
+        stats = {
+            "build_time": round(build, 4),
+            "cpsat_status": solver.StatusName(status),
+            "conflicts": int(solver.NumConflicts()),
+            "branches": int(solver.NumBranches()),
+            "num_workers": self.num_workers,
+        }
+        limited = time_limit is not None and wall >= 0.95 * time_limit
+        if status == cp_model.INFEASIBLE:
+            return Solution(Status.INFEASIBLE, None, None, None, wall, stats, self.name, model.pool)
+        if status in (cp_model.OPTIMAL, cp_model.FEASIBLE):
+            sol = np.fromiter(solver.ResponseProto().solution, dtype=np.int64)[:top].astype(bool)
+            v = np.concatenate([[False], sol])
+            _, cost = model.evaluate(v)
+            bound = float(solver.BestObjectiveBound()) if obj_vars else float(cost)
+            if status == cp_model.OPTIMAL:
+                st = Status.OPTIMAL
+                bound = float(cost)
+            else:
+                st = Status.TIMEOUT if limited else Status.FEASIBLE
+                stats["interrupted"] = not limited
+            return Solution(st, v, cost, bound, wall, stats, self.name, model.pool)
+        if status == cp_model.UNKNOWN:
+            bound = float(solver.BestObjectiveBound()) if obj_vars else None
+            return Solution(Status.TIMEOUT, None, None, bound, wall, stats, self.name, model.pool)
+        stats["message"] = f"CP-SAT returned {solver.StatusName(status)}"
+        return Solution(Status.ERROR, None, None, None, wall, stats, self.name, model.pool)
+
+
+class _Progress:
+    """Solution callback forwarding improvements to a progress function (built lazily)."""
+
+    def __new__(cls, fn: ProgressCallback, t0: float) -> Any:
+        from ortools.sat.python import cp_model
+
+        class _CB(cp_model.CpSolverSolutionCallback):
+            def on_solution_callback(self) -> None:
+                fn(
+                    ProgressEvent(
+                        time.perf_counter() - t0,
+                        float(self.ObjectiveValue()),
+                        float(self.BestObjectiveBound()),
+                    )
+                )
+
+        return _CB()

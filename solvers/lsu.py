@@ -1,0 +1,170 @@
+"""Linear SAT-UNSAT search (LSU) on pysat: an anytime MaxSAT algorithm.
+
+Each soft clause gets a selector literal ``s`` (a unit soft clause ``[l]`` uses ``-l`` itself) and
+the hard formula gains ``clause + [s]``. After each model of cost ``c`` (computed with numpy over
+the original model), the constraint ``sum w_i s_i <= c - 1`` is added through an incremental
+totalizer over the selectors, each repeated ``w_i`` times (fine for the small integer weights of
+the illusion models; :meth:`LSUBackend.handles` refuses total weights above ``MAX_TOTAL_WEIGHT``).
+UNSAT after a model proves it optimal. Upper bounds improve over time, so a time limit or Ctrl-C
+returns the best model so far (status ``timeout`` / ``feasible``); the lower bound is 0 until
+optimality is proven.
+
+Unlike pysat's own ``LSU`` class this handles weights and keeps the best model's phases so each
+SAT call starts near the incumbent.
+"""
+
+from __future__ import annotations
+
+import time
+from threading import Timer
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from illuknit.solvers.base import (
+    ProgressCallback,
+    ProgressEvent,
+    Solution,
+    Status,
+    assignment_from_lits,
+)
+
+if TYPE_CHECKING:
+    from illuknit.model import Model
+
+__all__ = ["MAX_TOTAL_WEIGHT", "LSUBackend"]
+
+#: The totalizer repeats each selector by its weight; beyond this the encoding gets too large.
+MAX_TOTAL_WEIGHT = 200_000
+#: Above this many totalizer clauses (inputs x bound, roughly) the search stops with its incumbent.
+MAX_TOTALIZER_SIZE = 30_000_000
+
+
+class LSUBackend:
+    """pysat linear search from above (SAT-UNSAT), weighted via a repeated-selector totalizer."""
+
+    name = "lsu"
+    extra: str | None = None
+
+    def handles(self, model: Model) -> bool:
+        return model.total_soft_weight() <= MAX_TOTAL_WEIGHT
+
+    def why_not(self, model: Model) -> str:
+        return f"total soft weight {model.total_soft_weight()} exceeds {MAX_TOTAL_WEIGHT}"
+
+    def is_available(self) -> bool:
+        try:
+            import pysat.card
+            import pysat.solvers  # noqa: F401
+        except ImportError:
+            return False
+        return True
+
+    def solve(
+        self,
+        model: Model,
+        *,
+        time_limit: float | None = None,
+        seed: int = 0,
+        progress: ProgressCallback | None = None,
+    ) -> Solution:
+        from pysat.card import ITotalizer
+        from pysat.solvers import Solver
+
+        t0 = time.perf_counter()
+        cs = model.to_clauses()
+        top = model.pool.top
+        nv = cs.nv
+        sels: list[int] = []
+        wts: list[int] = []
+        oracle = Solver(name="g4", bootstrap_with=cs.hard)
+        for cl, w in zip(cs.soft, cs.weights, strict=True):
+            if len(cl) == 1:
+                sels.append(-cl[0])
+            else:
+                nv += 1
+                oracle.add_clause([*cl, nv])
+                sels.append(nv)
+            wts.append(w)
+        if model.hint is not None:
+            h = np.asarray(model.hint, dtype=bool)
+            oracle.set_phases([i if h[i] else -i for i in range(1, top + 1)])
+        deadline = None if time_limit is None else t0 + time_limit
+        best_v = None
+        best_cost: int | None = None
+        proven = False
+        interrupted = False
+        calls = 0
+        tot = None
+        stats_note = ""
+        try:
+            while True:
+                budget = None if deadline is None else deadline - time.perf_counter()
+                if budget is not None and budget <= 0:
+                    break
+                timer = Timer(budget, oracle.interrupt) if budget is not None else None
+                if timer is not None:
+                    timer.start()
+                try:
+                    res = oracle.solve_limited(expect_interrupt=True)
+                finally:
+                    if timer is not None:
+                        timer.cancel()
+                    oracle.clear_interrupt()
+                calls += 1
+                if res is None:
+                    break
+                if res is False:
+                    proven = True
+                    break
+                lits = oracle.get_model()
+                v = assignment_from_lits(lits, top)
+                _, cost = model.evaluate(v)
+                best_v, best_cost = v, cost
+                oracle.set_phases(lits[:top])
+                if progress:
+                    progress(ProgressEvent(time.perf_counter() - t0, cost, None))
+                raw = cost - model.offset
+                if raw == 0:
+                    proven = True
+                    break
+                if tot is None:
+                    if sum(wts) * raw > MAX_TOTALIZER_SIZE:
+                        stats_note = "bound encoding too large; stopped at the first model"
+                        break
+                    expanded = [s for s, w in zip(sels, wts, strict=True) for _ in range(w)]
+                    tot = ITotalizer(lits=expanded, ubound=raw, top_id=nv)
+                    oracle.append_formula(tot.cnf.clauses)
+                # sum < raw  <=>  not (sum >= raw)  <=>  -rhs[raw - 1]
+                oracle.add_clause([-tot.rhs[raw - 1]])
+        except KeyboardInterrupt:
+            interrupted = True
+        finally:
+            oracle.delete()
+            if tot is not None:
+                tot.delete()
+        wall = time.perf_counter() - t0
+        stats = {"sat_calls": calls, "interrupted": interrupted}
+        if stats_note:
+            stats["message"] = stats_note
+        if best_v is None:
+            if proven:
+                return Solution(
+                    Status.INFEASIBLE, None, None, None, wall, stats, self.name, model.pool
+                )
+            return Solution(Status.TIMEOUT, None, None, None, wall, stats, self.name, model.pool)
+        if proven:
+            return Solution(
+                Status.OPTIMAL,
+                best_v,
+                best_cost,
+                float(best_cost),
+                wall,
+                stats,
+                self.name,
+                model.pool,
+            )
+        st = Status.FEASIBLE if interrupted else Status.TIMEOUT
+        return Solution(
+            st, best_v, best_cost, float(model.offset), wall, stats, self.name, model.pool
+        )
