@@ -15,9 +15,11 @@ __all__ = [
     "ImageInputError",
     "InfeasibleError",
     "KnitoutParseError",
+    "ManifestError",
     "MachineRuleError",
     "PatternFormatError",
     "PatternValidationError",
+    "ResultsVersionError",
     "RenderParamsError",
     "SchedulingError",
     "SolverError",
@@ -140,3 +142,11 @@ class RenderParamsError(IlluknitError, ValueError):
 
 class CalibrationError(IlluknitError, ValueError):
     """Calibration measurements are malformed or cannot determine a bump height."""
+
+
+class ManifestError(IlluknitError, ValueError):
+    """A benchmark manifest is missing, not TOML, or has an invalid entry (named in the message)."""
+
+
+class ResultsVersionError(IlluknitError, ValueError):
+    """A benchmark results folder holds results of another illuknit version (or is not one)."""
