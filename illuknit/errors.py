@@ -17,6 +17,7 @@ __all__ = [
     "KnitoutParseError",
     "ManifestError",
     "MachineRuleError",
+    "MixedColourworkError",
     "PatternFormatError",
     "PatternValidationError",
     "ResultsVersionError",
@@ -88,6 +89,10 @@ class TileAssignmentError(IlluknitError, ValueError):
 
 class SchedulingError(IlluknitError, ValueError):
     """A pattern cannot be scheduled on the given machine (too wide, too many colour runs, ...)."""
+
+
+class MixedColourworkError(SchedulingError):
+    """A course changes colour, which only the mixed-colourwork scheduler can knit."""
 
 
 class MachineRuleError(IlluknitError, ValueError):
