@@ -1,0 +1,62 @@
+import re
+
+import numpy as np
+from hypothesis import given
+from hypothesis import strategies as st
+from hypothesis.extra.numpy import arrays
+
+from illuknit.chart import chart_png_rgb, hand_rows, written_instructions
+from illuknit.pattern import LogicalPattern, parse_yarns
+
+Y = parse_yarns("Dark=#1b1b1b,Light=#f4f0e8")
+
+
+@st.composite
+def patterns(draw):
+    n, m = draw(st.integers(1, 6)), draw(st.integers(1, 6))
+    return LogicalPattern(draw(arrays(np.int16, (n, m), elements=st.integers(0, 1))),
+                          draw(arrays(np.bool_, (n, m))), Y)
+
+
+def _parse_row(line):
+    """Expand 'Row k (WS): with Dark, k2, p4.' or runs with colours into (op, yarn-name) stitches."""
+    body = line.split(": ", 1)[1].rstrip(".")
+    if body.startswith("with "):
+        yarn, _, rest = body[5:].partition(", ")
+        if rest.startswith(("knit across", "purl across")):
+            count = int(re.search(r"\((\d+) sts\)", rest).group(1))
+            return [(rest[0], yarn)] * count
+        return [(tok[0], yarn) for tok in rest.split(", ") for _ in range(int(tok[1:]))]
+    out = []
+    for tok in body.split(", "):
+        op_count, yarn = tok.split(" ", 1)
+        out += [(op_count[0], yarn)] * int(op_count[1:])
+    return out
+
+
+@given(patterns())
+def test_instructions_rebuild_the_pattern(p):
+    """Reading the written instructions back gives the pattern's yarns and bumps."""
+    n, m = p.shape
+    lines = [ln for ln in written_instructions(p).splitlines() if ln.startswith("Row ")]
+    assert len(lines) == 2 * n
+    names = [y.name for y in p.yarns]
+    for k, line in enumerate(lines):
+        stitches = _parse_row(line)
+        assert len(stitches) == 2 * m
+        unit_row = n - 1 - k // 2
+        if k % 2 == 0:  # RS, right to left: all knit
+            stitches = stitches[::-1]
+            assert all(op == "k" for op, _ in stitches)
+        else:  # WS, left to right: knit where raised
+            assert [op == "k" for op, _ in stitches] == np.repeat(p.raised[unit_row], 2).tolist()
+        assert [names.index(y) for _, y in stitches] == np.repeat(p.yarn[unit_row], 2).tolist()
+
+
+def test_rows_and_chart_image():
+    p = LogicalPattern(np.array([[0, 1], [1, 1]]), np.array([[1, 0], [0, 0]]), Y)
+    rows = hand_rows(p)
+    assert [r.side for r in rows] == ["RS", "WS", "RS", "WS"]
+    assert rows[3].purl_on_rs.tolist() == [True, True, False, False]
+    img = chart_png_rgb(p)
+    assert img.ndim == 3 and img.shape[2] == 3
