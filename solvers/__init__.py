@@ -60,6 +60,7 @@ ENTRY_POINT_GROUP = "illuknit.solvers"
 
 #: backend name -> "module:attribute" (a Backend class or factory), in preference order.
 REGISTRY: dict[str, str] = {
+    "dp": "illuknit.solvers.dp:DPBackend",
     "cpsat": "illuknit.solvers.cpsat:CPSATBackend",
     "rc2": "illuknit.solvers.rc2:RC2Backend",
     "lsu": "illuknit.solvers.lsu:LSUBackend",
