@@ -30,6 +30,7 @@ from illuknit.pattern import MAX_UNITS, Yarn
 __all__ = [
     "QuantisedImage",
     "check_image",
+    "count_colors",
     "load_image",
     "prepare_image",
     "quantise_image",
@@ -279,8 +280,7 @@ def quantise_image(
     a = check_image(rgb)
     h, w = a.shape[:2]
     pix8 = np.round(a.reshape(-1, 3) * 255).astype(np.uint8)
-    uniq, inverse = np.unique(pix8, axis=0, return_inverse=True)
-    inverse = inverse.reshape(-1)
+    uniq, inverse = _unique_colors(pix8)
     if yarns is not None:
         yarns = tuple(yarns)
         if not yarns:
@@ -333,6 +333,20 @@ def quantise_image(
     return QuantisedImage(idx.reshape(h, w).astype(np.int16), chosen, colors8)
 
 
+def _unique_colors(pix8: NDArray[np.uint8]) -> tuple[NDArray[np.uint8], NDArray[np.intp]]:
+    """Distinct colours of (P, 3) uint8 pixels and each pixel's index into them (fast 1-D unique)."""
+    key = (pix8[:, 0].astype(np.int32) << 16) | (pix8[:, 1].astype(np.int32) << 8) | pix8[:, 2]
+    keys, inverse = np.unique(key, return_inverse=True)
+    uniq = np.stack([(keys >> 16) & 255, (keys >> 8) & 255, keys & 255], axis=1).astype(np.uint8)
+    return uniq, inverse.reshape(-1)
+
+
+def count_colors(rgb: ArrayLike) -> int:
+    """Number of distinct 8-bit colours in an image."""
+    a = check_image(rgb)
+    return len(_unique_colors(np.round(a.reshape(-1, 3) * 255).astype(np.uint8))[0])
+
+
 def _auto_yarns(colors8: NDArray[np.uint8]) -> tuple[Yarn, ...]:
     names: list[str] = []
     for c in colors8:
@@ -346,40 +360,49 @@ def _auto_yarns(colors8: NDArray[np.uint8]) -> tuple[Yarn, ...]:
 def _kmeans_lab(
     pix8: NDArray[np.uint8], uniq: NDArray[np.uint8], inverse: NDArray[np.intp], k: int, seed: int
 ) -> tuple[NDArray[np.float64], NDArray[np.intp]]:
-    """k-means on the distinct colours (weighted by pixel count) in CIELAB; returns sRGB centres."""
-    lab = lab_from_rgb(uniq.astype(np.float64))
-    weights = np.bincount(inverse, minlength=len(uniq)).astype(np.float64)
+    """k-means on the distinct colours (weighted by pixel count) in CIELAB; returns sRGB centres.
+
+    Photographs have tens of thousands of distinct colours; the centres are fitted on colours
+    binned to 5 bits per channel (at most 32768 bins, weighted), then every distinct colour is
+    assigned to its nearest centre.
+    """
+    weights_u = np.bincount(inverse, minlength=len(uniq)).astype(np.float64)
+    if len(uniq) > 4096:
+        binned = (uniq >> 3).astype(np.int64)
+        key = (binned[:, 0] << 10) | (binned[:, 1] << 5) | binned[:, 2]
+        keys, bin_of = np.unique(key, return_inverse=True)
+        bin_of = bin_of.reshape(-1)
+        fit_w = np.bincount(bin_of, weights=weights_u)
+        fit_rgb = np.stack([np.bincount(bin_of, weights=weights_u * uniq[:, c]) for c in range(3)], 1)
+        fit_rgb /= fit_w[:, None]
+    else:
+        fit_rgb, fit_w = uniq.astype(np.float64), weights_u
+    lab = lab_from_rgb(fit_rgb)
     rng = np.random.default_rng(seed)
     # k-means++ initialisation, weighted by pixel count.
-    centres = [lab[rng.choice(len(lab), p=weights / weights.sum())]]
+    centres = [lab[rng.choice(len(lab), p=fit_w / fit_w.sum())]]
     for _ in range(1, k):
         d2 = np.min(((lab[:, None, :] - np.array(centres)[None]) ** 2).sum(-1), axis=1)
-        p = d2 * weights
+        p = d2 * fit_w
         if p.sum() <= 0:
             break
         centres.append(lab[rng.choice(len(lab), p=p / p.sum())])
     c = np.array(centres)
     for _ in range(100):
-        d = ((lab[:, None, :] - c[None]) ** 2).sum(-1)
-        assign = d.argmin(axis=1)
-        new = c.copy()
-        for j in range(len(c)):
-            m = assign == j
-            if m.any():
-                new[j] = np.average(lab[m], axis=0, weights=weights[m])
-        if np.allclose(new, c):
+        assign = ((lab[:, None, :] - c[None]) ** 2).sum(-1).argmin(axis=1)
+        tot = np.bincount(assign, weights=fit_w, minlength=len(c))
+        new = np.stack([np.bincount(assign, weights=fit_w * lab[:, d], minlength=len(c)) for d in range(3)], 1)
+        new = np.where(tot[:, None] > 0, new / np.maximum(tot, 1e-12)[:, None], c)
+        if np.allclose(new, c, atol=1e-6):
             break
         c = new
-    d = ((lab[:, None, :] - c[None]) ** 2).sum(-1)
-    assign = d.argmin(axis=1)
+    lab_u = lab_from_rgb(uniq.astype(np.float64)) if fit_rgb is not uniq else lab
+    assign = ((lab_u[:, None, :] - c[None]) ** 2).sum(-1).argmin(axis=1)
     # Drop empty clusters; centres in sRGB are the weighted mean of member colours.
     used = np.unique(assign)
-    srgb = np.array(
-        [
-            np.average(uniq[assign == j].astype(np.float64), axis=0, weights=weights[assign == j])
-            for j in used
-        ]
-    )
+    tot = np.bincount(assign, weights=weights_u, minlength=len(c))
+    srgb = np.stack([np.bincount(assign, weights=weights_u * uniq[:, d], minlength=len(c)) for d in range(3)], 1)
+    srgb = srgb[used] / tot[used][:, None]
     relabel = np.full(len(c), -1)
     relabel[used] = np.arange(len(used))
     return srgb, relabel[assign][inverse]
@@ -415,7 +438,6 @@ def prepare_image(
     if width is None and height is None:
         width = min(rgb.shape[1], default_width)
     if smooth is None:
-        distinct = len(np.unique(np.round(rgb.reshape(-1, 3) * 255).astype(np.uint8), axis=0))
-        smooth = distinct > 16
+        smooth = count_colors(rgb) > 16
     small = resize_to_units(rgb, width=width, height=height, smooth=smooth)
     return quantise_image(small, n_colors=n_colors, yarns=yarns, allow_quantise=allow_quantise)

@@ -161,7 +161,7 @@ def prepare_single_view_image(
     lightest the lighter yarn, and a middle colour stays a picture colour (never knitted). With
     three user yarns, picture colours map one-to-one to the nearest yarns.
     """
-    from illuknit.images import check_image, load_image, prepare_image
+    from illuknit.images import check_image, count_colors, load_image, prepare_image
 
     if isinstance(source, (str, bytes)) or hasattr(source, "__fspath__"):
         rgb = load_image(source)  # type: ignore[arg-type]
@@ -176,7 +176,7 @@ def prepare_single_view_image(
             f"a single-view illusion is knitted with 2 yarns (3 with a middle colour), got {len(yarns)}"
         )
     if n_colors is None:
-        distinct = len(np.unique(np.round(rgb.reshape(-1, 3) * 255).astype(np.uint8), axis=0))
+        distinct = count_colors(rgb)
         n_colors = (
             2
             if distinct <= 2
