@@ -1,0 +1,100 @@
+"""The whole knitting path in one call: pattern -> stitches -> schedule -> knitout (+ stats).
+
+:func:`knit_pattern` is what ``illuknit knit`` and the ``--knitout`` options of the other commands
+call. It does not run the checker (that is :func:`illuknit.check.check_knitout`, slower); callers
+that want a verdict pass the returned text to it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+from illuknit.errors import PatternValidationError
+from illuknit.knit.knitout import write_knitout
+from illuknit.knit.machine import DEFAULT_MACHINE, MachineSpec
+from illuknit.knit.schedule import Schedule, ScheduleStats, schedule_courses
+from illuknit.knit.stitches import StitchPattern, lower_to_stitches
+from illuknit.knit.timing import TimeEstimate, estimate_knit_time
+from illuknit.pattern import LogicalPattern
+
+__all__ = ["KnitResult", "knit_pattern"]
+
+
+@dataclass(frozen=True, eq=False)
+class KnitResult:
+    """A knitout program and what it took to make it.
+
+    Attributes
+    ----------
+    text : str
+        The knitout-2 program.
+    stitches : StitchPattern
+    schedule : Schedule
+    stats : ScheduleStats
+        Pass counts, lower bound and ratio.
+    time : TimeEstimate
+    machine : MachineSpec
+    """
+
+    text: str
+    stitches: StitchPattern
+    schedule: Schedule
+    stats: ScheduleStats
+    time: TimeEstimate
+    machine: MachineSpec
+
+    def summary(self) -> dict[str, Any]:
+        """JSON-ready numbers: size, passes, bound, ratio, time."""
+        c, w = self.stitches.shape
+        wcm, hcm = self.stitches.size_cm
+        return {
+            "machine": self.machine.name,
+            "gauge": self.machine.gauge,
+            "wales": w,
+            "courses": c,
+            "width_cm": round(wcm, 1),
+            "height_cm": round(hcm, 1),
+            **self.stats.as_dict(),
+            "time_seconds": round(self.time.seconds, 1),
+            "time": str(self.time),
+            "lines": self.text.count("\n"),
+        }
+
+
+def knit_pattern(
+    pattern: LogicalPattern,
+    *,
+    machine: MachineSpec | None = None,
+    cast_on_courses: int = 2,
+) -> KnitResult:
+    """Compile a logical pattern to a knitout program.
+
+    Parameters
+    ----------
+    pattern : LogicalPattern
+    machine : MachineSpec, optional
+        Defaults to the paper's 7-gauge SWG091N2 (:data:`DEFAULT_MACHINE`).
+    cast_on_courses : int
+        Plain courses between the cast-on and the pattern.
+
+    Returns
+    -------
+    KnitResult
+
+    Raises
+    ------
+    MixedColourworkError
+        If a course changes colour (needs the mixed-colourwork scheduler).
+    SchedulingError
+        If the pattern is wider than the bed or has more yarns than carriers.
+    """
+    if not isinstance(pattern, LogicalPattern):
+        raise PatternValidationError(
+            f"`pattern` must be a LogicalPattern, got {type(pattern).__name__}"
+        )
+    m = DEFAULT_MACHINE if machine is None else machine
+    stitches = lower_to_stitches(pattern, machine=m, cast_on_courses=cast_on_courses)
+    schedule = schedule_courses(stitches, machine=m)
+    text = write_knitout(schedule, machine=m)
+    return KnitResult(text, stitches, schedule, schedule.stats, estimate_knit_time(schedule), m)

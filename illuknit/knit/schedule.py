@@ -1,0 +1,537 @@
+"""Scheduling: stitches -> carriage passes, for patterns with one colour per course.
+
+The :class:`Schedule` IR is a sequence of *steps*: carriage passes (:class:`Pass`) and carrier
+actions (:class:`CarrierAction`: ``inhook``/``releasehook``/``outhook``/``in``/``out``). A pass has
+one kind (``knit`` -- knits, tucks, misses and splits with yarn --, ``xfer`` or ``drop``), one
+direction (knit passes), one carrier tuple (plated stitches list the primary carrier first), one
+racking, and its needle operations in execution order. The IR is deliberately more general than
+this scheduler needs: the mixed-colourwork scheduler emits passes over part of the bed, plated
+carrier tuples, float-avoidance transfer passes and anchoring stitches in the same form, and the
+knitout writer and the time model work on any schedule.
+
+:func:`schedule_courses` handles every course knitted with a single yarn (all single-view
+illusions):
+
+* **cast-on**: the first carrier comes in on the yarn-inserting hook; alternating tucks leftward
+  from the right edge, the remaining needles tucked rightward, ``releasehook``, one ``miss`` pass
+  to park the carrier right of the fabric, then ``cast_on_courses`` plain courses;
+* **each course**: one transfer pass first if any loop must change bed (front -> back where a purl
+  follows a knit in its wale, back -> front where a knit follows a purl; both directions merge
+  into one pass at racking 0), then one knit pass in which purls (back bed) are knit together
+  with their front neighbours. The carrier starts from the side where it is parked, so every
+  carrier alternates direction and no kickback pass is ever needed; the pass ends with a ``miss``
+  ``park_distance`` needles beyond the fabric edge, which parks the carrier out of the way of the
+  others at no extra pass. A carrier enters with ``inhook`` at its first course (leftward from the
+  right edge, as the hook requires) and the hook is released right after that pass; a carrier
+  leaves with ``outhook`` right after its last course;
+* **bind-off**: every loop back on the front bed, then a chain bind-off from the side where the
+  last carrier is parked: knit a needle, move its loop onto the next needle (front -> back at
+  racking 0, back -> front at racking +/-1), knit that one; directions alternate and a ``miss``
+  places the carrier so that each stitch is made from the correct side. A short tail of knits on
+  the last needle, ``outhook``, and the last loop is dropped.
+
+**Lower bound.** Each course needs at least one knit pass (its stitches depend on the previous
+course's loops, and one pass runs one way), and a course in which some loop changes bed needs a
+transfer pass between the two knit passes (transfers never share a pass with stitches). So
+``sum over courses of 1 + [some loop changes bed]`` bounds the body; the cast-on and bind-off
+recipes are counted at their own length. This scheduler meets the bound exactly; the mixed
+scheduler reports against the same definition extended with per-course carrier sets.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from types import MappingProxyType
+from typing import Any, Literal
+
+import numpy as np
+
+from illuknit.errors import MixedColourworkError, PatternValidationError, SchedulingError
+from illuknit.knit.machine import DEFAULT_MACHINE, MachineSpec
+from illuknit.knit.stitches import StitchPattern
+from illuknit.pattern import Yarn
+
+__all__ = [
+    "CarrierAction",
+    "Op",
+    "Pass",
+    "Schedule",
+    "ScheduleStats",
+    "schedule_courses",
+]
+
+Direction = Literal["+", "-"]
+_OPS_WITH_YARN = ("knit", "tuck", "miss", "split")
+_PASS_KINDS = ("knit", "xfer", "drop")
+_ACTIONS = ("in", "inhook", "releasehook", "out", "outhook")
+#: Pass roles, used for reporting and comments in the knitout.
+ROLES = ("cast-on", "park", "body", "transfer", "bind-off", "tail", "float-avoidance", "anchor")
+
+
+@dataclass(frozen=True, slots=True)
+class Op:
+    """One needle operation.
+
+    ``op`` is ``knit``, ``tuck``, ``miss``, ``split`` (these use the pass's carriers and
+    direction), ``xfer`` or ``drop``. ``bed`` is ``"f"`` or ``"b"``; ``to_bed``/``to_needle`` name
+    the receiving needle of ``xfer`` and ``split``.
+    """
+
+    op: str
+    bed: str
+    needle: int
+    to_bed: str | None = None
+    to_needle: int | None = None
+
+
+@dataclass(frozen=True)
+class Pass:
+    """One carriage pass.
+
+    Parameters
+    ----------
+    kind : {"knit", "xfer", "drop"}
+        ``knit`` passes carry yarn (knit/tuck/miss/split ops); ``xfer`` passes move loops;
+        ``drop`` passes release loops.
+    ops : tuple of Op
+        In execution order (for knit passes: in ``direction`` order).
+    direction : {"+", "-"} or None
+        Carriage direction of a knit pass; None for xfer/drop passes.
+    carriers : tuple of str
+        Carriers of a knit pass, primary first (more than one = plating).
+    racking : float
+        An integer or an integer + 0.25.
+    role : str
+        What the pass is for (one of ``ROLES``).
+    course : int or None
+        Stitch course the pass belongs to (None for cast-on/bind-off).
+    stitch_number : int or None
+        ``x-stitch-number`` for the pass (None: machine default).
+    """
+
+    kind: str
+    ops: tuple[Op, ...]
+    direction: Direction | None = None
+    carriers: tuple[str, ...] = ()
+    racking: float = 0.0
+    role: str = "body"
+    course: int | None = None
+    stitch_number: int | None = None
+
+    def __post_init__(self) -> None:
+        if self.kind not in _PASS_KINDS:
+            raise PatternValidationError(
+                f"pass `kind` must be one of {_PASS_KINDS}, got {self.kind!r}"
+            )
+        if self.role not in ROLES:
+            raise PatternValidationError(f"pass `role` must be one of {ROLES}, got {self.role!r}")
+        if not self.ops:
+            raise PatternValidationError("a pass needs at least one operation")
+        if self.kind == "knit":
+            if self.direction not in ("+", "-"):
+                raise PatternValidationError(
+                    f"knit pass needs direction '+' or '-', got {self.direction!r}"
+                )
+            if not self.carriers:
+                raise PatternValidationError("knit pass needs at least one carrier")
+            if any(o.op not in _OPS_WITH_YARN for o in self.ops):
+                raise PatternValidationError(f"knit pass ops must be {_OPS_WITH_YARN}")
+            # Ops must advance strictly in the pass direction (front and back of one needle are
+            # the same slot at racking 0, so they cannot share a pass then).
+            slots = [
+                o.needle + (int(np.floor(self.racking)) if o.bed == "b" else 0) for o in self.ops
+            ]
+            step = np.diff(slots) if self.direction == "+" else -np.diff(slots)
+            if len(slots) > 1 and not (step > 0).all():
+                raise PatternValidationError(
+                    f"knit pass ops must advance strictly in direction {self.direction}"
+                )
+        else:
+            if self.direction is not None or self.carriers:
+                raise PatternValidationError(f"{self.kind} pass takes no direction and no carriers")
+            if any(o.op != self.kind for o in self.ops):
+                raise PatternValidationError(f"{self.kind} pass may only hold {self.kind} ops")
+        r = float(self.racking)
+        if not (r == int(r) or r - np.floor(r) == 0.25):
+            raise PatternValidationError(f"racking must be an integer or integer + 0.25, got {r}")
+
+    @property
+    def needle_span(self) -> tuple[int, int]:
+        """(leftmost, rightmost) needle touched, targets included."""
+        ns = [o.needle for o in self.ops] + [
+            o.to_needle for o in self.ops if o.to_needle is not None
+        ]
+        return (min(ns), max(ns))
+
+
+@dataclass(frozen=True)
+class CarrierAction:
+    """Bring carriers in or out: ``in``, ``inhook``, ``releasehook``, ``out`` or ``outhook``."""
+
+    action: str
+    carriers: tuple[str, ...]
+
+    def __post_init__(self) -> None:
+        if self.action not in _ACTIONS:
+            raise PatternValidationError(
+                f"carrier action must be one of {_ACTIONS}, got {self.action!r}"
+            )
+        if not self.carriers:
+            raise PatternValidationError("carrier action needs at least one carrier")
+
+
+Step = Pass | CarrierAction
+
+
+@dataclass(frozen=True)
+class ScheduleStats:
+    """Pass counts of a schedule.
+
+    ``passes`` counts carriage passes in the schedule; ``hook_passes`` the extra empty passes the
+    SWG backend adds for each ``releasehook`` and ``outhook`` (counted apart because they are the
+    backend's, not the schedule's). ``ratio`` is ``passes / lower_bound``.
+    """
+
+    passes: int
+    knit_passes: int
+    transfer_passes: int
+    miss_passes: int
+    cast_on_passes: int
+    bind_off_passes: int
+    body_passes: int
+    body_lower_bound: int
+    lower_bound: int
+    hook_passes: int
+
+    @property
+    def ratio(self) -> float:
+        return self.passes / self.lower_bound if self.lower_bound else 1.0
+
+    def as_dict(self) -> dict[str, Any]:
+        d = {k: getattr(self, k) for k in self.__dataclass_fields__}
+        d["ratio"] = round(self.ratio, 4)
+        return d
+
+
+@dataclass(frozen=True, eq=False)
+class Schedule:
+    """Carriage passes and carrier actions for one piece, in execution order.
+
+    Parameters
+    ----------
+    steps : tuple of Pass or CarrierAction
+    machine : MachineSpec
+    yarns : tuple of Yarn
+        The palette of the stitch pattern.
+    carrier_of_yarn : mapping of int to tuple of str
+        Carrier(s) knitting each used yarn (more than one for a yarn knit by several carriers).
+    left : int
+        Needle of wale 0.
+    wales, courses : int
+        Size of the body in stitches.
+    lower_bound : int
+        Lower bound on ``len(passes)`` (see the module docstring).
+    body_lower_bound : int
+        The same bound for the body courses alone.
+    """
+
+    steps: tuple[Step, ...]
+    machine: MachineSpec
+    yarns: tuple[Yarn, ...]
+    carrier_of_yarn: Mapping[int, tuple[str, ...]]
+    left: int
+    wales: int
+    courses: int
+    lower_bound: int
+    body_lower_bound: int
+    meta: Mapping[str, Any] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        m = self.machine
+        carriers = set(m.carriers)
+        for i, step in enumerate(self.steps):
+            if isinstance(step, CarrierAction):
+                bad = [c for c in step.carriers if c not in carriers]
+                if bad:
+                    raise SchedulingError(f"step {i}: carrier {bad[0]!r} is not on the machine")
+                continue
+            if not isinstance(step, Pass):
+                raise PatternValidationError(f"step {i} is neither a Pass nor a CarrierAction")
+            if abs(step.racking) > m.max_racking:
+                raise SchedulingError(
+                    f"step {i}: racking {step.racking} exceeds +/-{m.max_racking}"
+                )
+            lo, hi = step.needle_span
+            if lo < 0 or hi >= m.needles:
+                raise SchedulingError(
+                    f"step {i}: needles {lo}..{hi} outside the bed 0..{m.needles - 1}"
+                )
+            bad = [c for c in step.carriers if c not in carriers]
+            if bad:
+                raise SchedulingError(f"step {i}: carrier {bad[0]!r} is not on the machine")
+            if step.kind == "xfer" or any(o.op == "split" for o in step.ops):
+                for o in step.ops:
+                    if o.op not in ("xfer", "split"):
+                        continue
+                    if o.to_bed is None or o.to_needle is None or o.to_bed == o.bed:
+                        raise SchedulingError(
+                            f"step {i}: {o.op} {o.bed}{o.needle} needs a target on the other bed"
+                        )
+                    front, back = (
+                        (o.needle, o.to_needle) if o.bed == "f" else (o.to_needle, o.needle)
+                    )
+                    # Knitout alignment: front needle k + R faces back needle k.
+                    if front - back != step.racking:
+                        raise SchedulingError(
+                            f"step {i}: {o.op} f{front} <-> b{back} is not aligned at racking {step.racking}"
+                        )
+        object.__setattr__(self, "steps", tuple(self.steps))
+        object.__setattr__(
+            self,
+            "carrier_of_yarn",
+            MappingProxyType({int(k): tuple(v) for k, v in self.carrier_of_yarn.items()}),
+        )
+        object.__setattr__(self, "meta", MappingProxyType(dict(self.meta)))
+
+    @property
+    def passes(self) -> list[Pass]:
+        return [s for s in self.steps if isinstance(s, Pass)]
+
+    @property
+    def stats(self) -> ScheduleStats:
+        ps = self.passes
+        acts = [s for s in self.steps if isinstance(s, CarrierAction)]
+        return ScheduleStats(
+            passes=len(ps),
+            knit_passes=sum(p.kind == "knit" and any(o.op != "miss" for o in p.ops) for p in ps),
+            transfer_passes=sum(p.kind == "xfer" for p in ps),
+            miss_passes=sum(p.kind == "knit" and all(o.op == "miss" for o in p.ops) for p in ps),
+            cast_on_passes=sum(p.role in ("cast-on", "park") for p in ps),
+            bind_off_passes=sum(p.role in ("bind-off", "tail") for p in ps),
+            body_passes=sum(
+                p.role in ("body", "transfer", "float-avoidance", "anchor") for p in ps
+            ),
+            body_lower_bound=self.body_lower_bound,
+            lower_bound=self.lower_bound,
+            hook_passes=sum(a.action in ("releasehook", "outhook", "out") for a in acts),
+        )
+
+
+def _knit_ops(needles: Sequence[int], beds: Sequence[str], op: str = "knit") -> list[Op]:
+    return [Op(op, b, n) for n, b in zip(needles, beds, strict=True)]
+
+
+def schedule_courses(
+    stitches: StitchPattern,
+    *,
+    machine: MachineSpec = DEFAULT_MACHINE,
+    tail_stitches: int = 4,
+) -> Schedule:
+    """Schedule a stitch pattern with one yarn per course (see the module docstring).
+
+    Parameters
+    ----------
+    stitches : StitchPattern
+        n_courses courses x n_wales wales; every course must use a single yarn.
+    machine : MachineSpec
+        Bed width, carriers, parking distance, stitch numbers.
+    tail_stitches : int
+        Knits on the last needle after the bind-off, so the final loop cannot unravel.
+
+    Returns
+    -------
+    Schedule
+
+    Raises
+    ------
+    MixedColourworkError
+        If a course uses more than one yarn (the mixed-colourwork scheduler's job).
+    SchedulingError
+        If the piece is wider than the bed or uses more yarns than the machine has carriers.
+    """
+    if not isinstance(stitches, StitchPattern):
+        raise PatternValidationError(
+            f"`stitches` must be a StitchPattern, got {type(stitches).__name__}"
+        )
+    if tail_stitches < 1:
+        raise PatternValidationError(f"`tail_stitches` must be >= 1, got {tail_stitches}")
+    n_courses, n_wales = stitches.shape
+    if n_wales > machine.max_fabric_width:
+        raise SchedulingError(
+            f"piece is {n_wales} stitches wide but the {machine.name} bed of {machine.needles} needles holds "
+            f"at most {machine.max_fabric_width} (use a narrower pattern or a wider --machine-width)"
+        )
+    mixed = stitches.mixed_courses()
+    if mixed.size:
+        c = int(mixed[0])
+        units = stitches.meta.get("units")
+        where = f" (pattern row {int(units[0]) - 1 - c // 2})" if units else ""
+        raise MixedColourworkError(
+            f"{mixed.size} course(s) change colour, first course {c}{where} uses yarns "
+            f"{list(stitches.course_yarns(c))}; this needs the mixed-colourwork scheduler "
+            f"(one colour per course is all the current scheduler knits)"
+        )
+    used = stitches.used_yarns()
+    if len(used) > len(machine.carriers):
+        raise SchedulingError(
+            f"pattern uses {len(used)} yarns but the {machine.name} has {len(machine.carriers)} carriers"
+        )
+    carrier_of = {y: machine.carriers[i] for i, y in enumerate(used)}
+    course_carrier = [carrier_of[int(stitches.yarn[c, 0])] for c in range(n_courses)]
+    last_course = {car: c for c, car in enumerate(course_carrier)}
+
+    left = machine.fabric_left
+    right = left + n_wales - 1
+    park = {"+": right + machine.park_distance, "-": left - machine.park_distance}
+    needles_up = list(range(left, right + 1))
+    needles_down = needles_up[::-1]
+    body_sn = machine.stitch_number
+    cast_sn = (
+        machine.cast_on_stitch_number if machine.cast_on_stitch_number is not None else body_sn
+    )
+
+    steps: list[Step] = []
+    # Side where each live carrier is parked: the direction its next pass must run.
+    next_dir: dict[str, Direction] = {}
+
+    def knit_course(
+        car: str, beds: Sequence[str], role: str, course: int | None, sn: int | None
+    ) -> None:
+        d = next_dir.get(car, "-")
+        order = needles_up if d == "+" else needles_down
+        b = list(beds) if d == "+" else list(beds)[::-1]
+        ops = _knit_ops(order, b)
+        ops.append(Op("miss", "f", park[d]))
+        steps.append(Pass("knit", tuple(ops), d, (car,), 0.0, role, course, sn))
+        next_dir[car] = "-" if d == "+" else "+"
+
+    # -- cast-on -----------------------------------------------------------------------------
+    c0 = course_carrier[0]
+    steps.append(CarrierAction("inhook", (c0,)))
+    first = [n for n in needles_down if (right - n) % 2 == 0]
+    second = [n for n in needles_up if (right - n) % 2 == 1]
+    steps.append(
+        Pass(
+            "knit",
+            tuple(Op("tuck", "f", n) for n in first),
+            "-",
+            (c0,),
+            0.0,
+            "cast-on",
+            None,
+            cast_sn,
+        )
+    )
+    if second:
+        steps.append(
+            Pass(
+                "knit",
+                tuple(Op("tuck", "f", n) for n in second),
+                "+",
+                (c0,),
+                0.0,
+                "cast-on",
+                None,
+                cast_sn,
+            )
+        )
+        steps.append(CarrierAction("releasehook", (c0,)))
+        # Nothing may happen at or right of the hook while it holds the yarn, so the carrier is
+        # parked right of the fabric only now.
+        steps.append(
+            Pass("knit", (Op("miss", "f", park["+"]),), "+", (c0,), 0.0, "park", None, cast_sn)
+        )
+        next_dir[c0] = "-"
+    else:
+        steps.append(CarrierAction("releasehook", (c0,)))
+        next_dir[c0] = "+"
+    cast_on_fixed = sum(isinstance(s, Pass) for s in steps)
+    for _ in range(stitches.cast_on_courses):
+        knit_course(c0, ["f"] * n_wales, "cast-on", None, cast_sn)
+    cast_on_fixed += stitches.cast_on_courses
+
+    # -- body --------------------------------------------------------------------------------
+    bed = np.zeros(n_wales, dtype=np.uint8)  # which bed holds each wale's loop: 0 front, 1 back
+    bed_letter = np.array(["f", "b"])
+    transfer_courses = 0
+    for c in range(n_courses):
+        need = stitches.kind[c]
+        moving = np.flatnonzero(need != bed)
+        if moving.size:
+            transfer_courses += 1
+            ops = tuple(
+                Op("xfer", "b", left + int(w), "f", left + int(w))
+                if bed[w]
+                else Op("xfer", "f", left + int(w), "b", left + int(w))
+                for w in moving
+            )
+            steps.append(Pass("xfer", ops, None, (), 0.0, "transfer", c))
+            bed = need.copy()
+        car = course_carrier[c]
+        hooked = car not in next_dir
+        if hooked:
+            steps.append(CarrierAction("inhook", (car,)))
+        knit_course(car, bed_letter[need].tolist(), "body", c, body_sn)
+        if hooked:
+            # Release at once: while the hook holds the yarn nothing may touch the right edge.
+            steps.append(CarrierAction("releasehook", (car,)))
+        if last_course[car] == c and c != n_courses - 1:
+            steps.append(CarrierAction("outhook", (car,)))
+            del next_dir[car]
+    body_bound = n_courses + transfer_courses
+
+    # -- bind-off ----------------------------------------------------------------------------
+    bind_fixed = 0
+    back = np.flatnonzero(bed)
+    if back.size:
+        steps.append(
+            Pass(
+                "xfer",
+                tuple(Op("xfer", "b", left + int(w), "f", left + int(w)) for w in back),
+                None,
+                (),
+                0.0,
+                "bind-off",
+            )
+        )
+        bind_fixed += 1
+    cb = course_carrier[n_courses - 1]
+    d0 = next_dir[cb]
+    order = needles_up if d0 == "+" else needles_down
+    shift = 1 if d0 == "+" else -1
+    d: Direction = d0
+    for n in order[:-1]:
+        ops = [Op("knit", "f", n)]
+        if d == d0:
+            # Carry the yarn past the next needle so the next, opposite-direction stitch is made
+            # with the carrier behind the carriage.
+            ops.append(Op("miss", "f", n + 2 * shift))
+        steps.append(Pass("knit", tuple(ops), d, (cb,), 0.0, "bind-off", None, body_sn))
+        steps.append(Pass("xfer", (Op("xfer", "f", n, "b", n),), None, (), 0.0, "bind-off"))
+        steps.append(
+            Pass("xfer", (Op("xfer", "b", n, "f", n + shift),), None, (), float(shift), "bind-off")
+        )
+        bind_fixed += 3
+        d = "-" if d == "+" else "+"
+    last = order[-1]
+    for _ in range(1 + tail_stitches):
+        steps.append(Pass("knit", (Op("knit", "f", last),), d, (cb,), 0.0, "tail", None, body_sn))
+        d = "-" if d == "+" else "+"
+        bind_fixed += 1
+    steps.append(CarrierAction("outhook", (cb,)))
+    steps.append(Pass("drop", (Op("drop", "f", last),), None, (), 0.0, "tail"))
+    bind_fixed += 1
+
+    return Schedule(
+        steps=tuple(steps),
+        machine=machine,
+        yarns=stitches.yarns,
+        carrier_of_yarn={y: (c,) for y, c in carrier_of.items()},
+        left=left,
+        wales=n_wales,
+        courses=n_courses,
+        lower_bound=cast_on_fixed + body_bound + bind_fixed,
+        body_lower_bound=body_bound,
+        meta={"units": stitches.meta.get("units"), "scheduler": "one-colour-per-course"},
+    )

@@ -1,0 +1,84 @@
+"""Knitting-time estimate from a schedule.
+
+Model (documented in ``docs/knitting.md``)::
+
+    time = sum over carriage passes of (needles crossed x seconds_per_needle + seconds_per_turn)
+         + hook passes x seconds_per_turn
+
+*Needles crossed* is the span of the pass: rightmost minus leftmost needle it touches, plus one
+(transfer targets and parking misses included). *Hook passes* are the empty passes the SWG backend
+adds for each ``releasehook`` and ``outhook``. The defaults (0.01 s per needle, about 0.36 m/s at
+7 gauge's 3.63 mm needle pitch, and 1.5 s per pass for turning and clearing the carriage) come from
+:class:`~illuknit.knit.machine.MachineSpec` and can be overridden per call. They are rough: real
+machines run transfers, knitting and the yarn-inserting hook at different speeds set by the
+operator; treat the estimate as a way to compare programs, not a promise.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from illuknit.errors import PatternValidationError
+from illuknit.knit.schedule import Schedule
+
+__all__ = ["TimeEstimate", "estimate_knit_time", "format_duration"]
+
+
+@dataclass(frozen=True)
+class TimeEstimate:
+    """Estimated knitting time and the quantities it was computed from."""
+
+    seconds: float
+    passes: int
+    hook_passes: int
+    needles_crossed: int
+    seconds_per_needle: float
+    seconds_per_turn: float
+
+    def __str__(self) -> str:
+        return format_duration(self.seconds)
+
+
+def format_duration(seconds: float) -> str:
+    """``"2 h 05 min"``, ``"12 min 30 s"`` or ``"40 s"``."""
+    s = round(seconds)
+    h, rem = divmod(s, 3600)
+    m, sec = divmod(rem, 60)
+    if h:
+        return f"{h} h {m:02d} min"
+    if m:
+        return f"{m} min {sec:02d} s"
+    return f"{sec} s"
+
+
+def estimate_knit_time(
+    schedule: Schedule,
+    *,
+    seconds_per_needle: float | None = None,
+    seconds_per_turn: float | None = None,
+) -> TimeEstimate:
+    """Estimate how long the machine takes to knit a schedule.
+
+    Parameters
+    ----------
+    schedule : Schedule
+    seconds_per_needle, seconds_per_turn : float, optional
+        Override the schedule machine's time model.
+
+    Returns
+    -------
+    TimeEstimate
+    """
+    m = schedule.machine
+    spn = m.seconds_per_needle if seconds_per_needle is None else float(seconds_per_needle)
+    spt = m.seconds_per_turn if seconds_per_turn is None else float(seconds_per_turn)
+    if spn < 0 or spt < 0:
+        raise PatternValidationError("`seconds_per_needle` and `seconds_per_turn` must be >= 0")
+    passes = schedule.passes
+    crossed = 0
+    for p in passes:
+        lo, hi = p.needle_span
+        crossed += hi - lo + 1
+    hooks = schedule.stats.hook_passes
+    seconds = crossed * spn + (len(passes) + hooks) * spt
+    return TimeEstimate(seconds, len(passes), hooks, crossed, spn, spt)
