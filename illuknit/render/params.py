@@ -121,7 +121,9 @@ def params_to_json(params: RenderParams) -> dict[str, Any]:
 def params_from_json(doc: Any) -> RenderParams:
     """Parse a parameters object; raises :class:`RenderParamsError` naming the bad key."""
     if not isinstance(doc, dict):
-        raise RenderParamsError(f"render parameters must be a JSON object, got {type(doc).__name__}")
+        raise RenderParamsError(
+            f"render parameters must be a JSON object, got {type(doc).__name__}"
+        )
     doc = dict(doc)
     fmt = doc.pop("format", PARAMS_FORMAT)
     if fmt != PARAMS_FORMAT:

@@ -1,0 +1,83 @@
+"""Gradient-descent design through the renderer."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from illuknit.drawings import draw_text
+from illuknit.errors import PatternValidationError
+from illuknit.pattern import LogicalPattern, parse_yarns
+from illuknit.render.optimise import DesignStep, optimise_design, targets_to_indices
+from illuknit.render.params import RenderParams
+from illuknit.views import can_see, logical_error
+
+YARNS = parse_yarns("white,black")
+
+
+def _texts(shape=(12, 16)):
+    return draw_text("HI", shape=shape).astype(int), draw_text("OK", shape=shape).astype(int)
+
+
+def test_optimiser_lowers_the_loss_on_a_text_pair():
+    ta, tb = _texts()
+    params = RenderParams()
+    steps: list[DesignStep] = []
+    res = optimise_design(
+        ta, tb, YARNS, params=params.with_angle(params.exact_angle), steps=80, callback=steps.append
+    )
+    assert len(steps) == 80 == len(res.history)
+    assert res.history[-1] < 0.6 * res.history[0]
+    assert isinstance(res.pattern, LogicalPattern) and res.pattern.shape == ta.shape
+    after = res.report["after"]
+    # The reported logical error is can_see's, and beats a blank pattern (all white, flat).
+    ea = logical_error(can_see(res.pattern, "A"), ta)
+    eb = logical_error(can_see(res.pattern, "B"), tb)
+    assert after["logical_error"] == pytest.approx((ea + eb) / 2)
+    blank = (ta.mean() + tb.mean()) / 2
+    assert after["logical_error"] < 0.7 * blank
+    for part in ("before", "after"):
+        assert set(res.report[part]) >= {"loss", "render_error", "logical_error"}
+
+
+def test_rgb_targets_and_colour_change_penalty_reduce_changes():
+    ta, tb = _texts((10, 12))
+    pal = np.array([y.rgb for y in YARNS], dtype=np.uint8)
+    free = optimise_design(pal[ta], pal[tb], YARNS, steps=40, seed=1)
+    calm = optimise_design(pal[ta], pal[tb], YARNS, steps=40, seed=1, change_weight=2.0)
+
+    def changes(p):
+        return int((p.yarn[:, 1:] != p.yarn[:, :-1]).sum())
+
+    assert changes(calm.pattern) <= changes(free.pattern)
+
+
+def test_targets_to_indices_maps_rgb_to_nearest_yarn():
+    rgb = np.array([[[250, 250, 250], [10, 10, 10]]], dtype=np.uint8)
+    assert targets_to_indices(rgb, YARNS).tolist() == [[0, 1]]
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "message"),
+    [
+        ({"target_b": np.zeros((3, 4), int)}, "same"),
+        ({"target_a": np.full((4, 4), 5)}, "0..1"),
+        ({"target_a": np.zeros((4, 4), float)}, "integers"),
+        ({"target_a": np.zeros((4, 4, 4), np.uint8)}, "shape"),
+        ({"yarns": YARNS[:1]}, "two"),
+        ({"steps": 0}, "steps"),
+        ({"learning_rate": -1.0}, "learning_rate"),
+        ({"final_temperature": 0.0}, "final_temperature"),
+    ],
+)
+def test_bad_design_input(kwargs, message):
+    args = {"target_a": np.zeros((4, 4), int), "target_b": np.zeros((4, 4), int), "yarns": YARNS}
+    args.update(kwargs)
+    with pytest.raises(PatternValidationError, match=message):
+        optimise_design(
+            args.pop("target_a"),
+            args.pop("target_b"),
+            args.pop("yarns"),
+            steps=args.pop("steps", 2),
+            **args,
+        )
