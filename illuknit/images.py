@@ -370,7 +370,7 @@ def _kmeans_lab(
     if len(uniq) > 4096:
         binned = (uniq >> 3).astype(np.int64)
         key = (binned[:, 0] << 10) | (binned[:, 1] << 5) | binned[:, 2]
-        keys, bin_of = np.unique(key, return_inverse=True)
+        _, bin_of = np.unique(key, return_inverse=True)
         bin_of = bin_of.reshape(-1)
         fit_w = np.bincount(bin_of, weights=weights_u)
         fit_rgb = np.stack([np.bincount(bin_of, weights=weights_u * uniq[:, c]) for c in range(3)], 1)
@@ -427,10 +427,7 @@ def prepare_image(
     picture's own width capped at ``default_width``. Pictures with few colours (pixel art, charts)
     are resized with nearest-neighbour so no blend colours appear; others are smoothed.
     """
-    if isinstance(source, (str, os.PathLike)):
-        rgb = load_image(source)
-    else:
-        rgb = check_image(source)
+    rgb = load_image(source) if isinstance(source, (str, os.PathLike)) else check_image(source)
     if width is not None and width_cm is not None:
         raise ImageInputError("give either a width in units or a physical width, not both")
     if width_cm is not None:

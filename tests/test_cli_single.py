@@ -85,7 +85,7 @@ def _bad_pattern(tmp_path, **changes):
     ],
 )
 def test_bad_input_one_line_exit_2(make_args, message, tmp_path, picture, capsys):
-    code, out, err = run(make_args(tmp_path, picture), capsys)
+    code, _, err = run(make_args(tmp_path, picture), capsys)
     assert code == 2
     assert message in err
     assert err.startswith("illuknit: error:") and err.count("\n") == 1

@@ -66,7 +66,7 @@ def test_wrong_colour_counts():
         compile_single_view(np.zeros((3, 3), int), yarns=parse_yarns("black"))
     with pytest.raises(ImageInputError, match="2- or 3-colour"):
         compile_single_view(np.zeros((3, 3), int), yarns=parse_yarns("black,white,red,blue"))
-    with pytest.raises(ImageInputError, match="0..1"):
+    with pytest.raises(ImageInputError, match=r"0\.\.1"):
         compile_single_view(np.full((3, 3), 2), yarns=Y2)
 
 
