@@ -3,7 +3,13 @@ import pytest
 from PIL import Image
 
 from illuknit.errors import ImageInputError
-from illuknit.images import load_image, prepare_image, quantise_image, resize_to_units, units_for_width
+from illuknit.images import (
+    load_image,
+    prepare_image,
+    quantise_image,
+    resize_to_units,
+    units_for_width,
+)
 from illuknit.pattern import parse_yarns
 
 
