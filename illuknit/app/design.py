@@ -82,26 +82,33 @@ def _optional(module: str) -> Any | None:
         return None
 
 
+def _has(module: str, name: str) -> bool:
+    """Whether ``module.name`` exists and imports (parts of the library may be absent or lazy)."""
+    mod = _optional(module)
+    if mod is None:
+        return False
+    try:
+        return getattr(mod, name, None) is not None
+    except Exception:  # a lazy attribute whose module is missing or broken
+        return False
+
+
 def capabilities() -> dict[str, bool]:
     """Which optional parts of the library this install has (the page greys out the others)."""
-    tiles = _optional("illuknit.tiles")
-    render = _optional("illuknit.render")
-    knit = _optional("illuknit.knit")
-    check = _optional("illuknit.check")
-    chart = _optional("illuknit.chart")
     return {
         "single": True,
-        "double": tiles is not None and hasattr(tiles, "assign_tiles"),
-        "headon": tiles is not None and hasattr(tiles, "compile_headon"),
-        "render": render is not None and hasattr(render, "render_views"),
-        "knit": knit is not None and hasattr(knit, "knit_pattern"),
-        "check": check is not None and hasattr(check, "check_knitout"),
-        "chart": chart is not None,
+        "double": _has("illuknit.tiles", "assign_tiles"),
+        "headon": _has("illuknit.tiles", "compile_headon"),
+        "render": _has("illuknit.render", "render_views"),
+        "knit": _has("illuknit.knit", "knit_pattern"),
+        "check": _has("illuknit.check", "check_knitout"),
+        "chart": _has("illuknit.chart", "written_instructions"),
         "dat": False,
     }
 
 
 # -- input -------------------------------------------------------------------------------------
+
 
 def decode_upload(data: bytes, filename: str, *, field: str) -> NDArray[np.float64]:
     """Decode an uploaded picture to float RGB (H, W, 3) with the library's loader.
@@ -115,7 +122,9 @@ def decode_upload(data: bytes, filename: str, *, field: str) -> NDArray[np.float
     if len(data) > MAX_UPLOAD_BYTES:
         raise AppRequestError(
             f"the file is {len(data) / 1e6:.1f} MB; the limit is {MAX_UPLOAD_BYTES / 1e6:.0f} MB",
-            field=field, code="too_large", status=413,
+            field=field,
+            code="too_large",
+            status=413,
         )
     _check_header(data, field)
     suffix = os.path.splitext(filename)[1][:8] if filename else ""
@@ -143,7 +152,9 @@ def _check_header(data: bytes, field: str) -> None:
     except UnidentifiedImageError:
         raise AppRequestError(
             "this file is not a picture; upload a PNG, JPEG, GIF or BMP image",
-            field=field, code="not_an_image", status=415,
+            field=field,
+            code="not_an_image",
+            status=415,
         ) from None
     except Exception as e:  # truncated headers and the like
         raise AppRequestError(
@@ -152,7 +163,9 @@ def _check_header(data: bytes, field: str) -> None:
     if w * h > MAX_UPLOAD_PIXELS:
         raise AppRequestError(
             f"the picture is {w} x {h} pixels; the limit is {MAX_UPLOAD_PIXELS // 1_000_000} megapixels",
-            field=field, code="too_large", status=413,
+            field=field,
+            code="too_large",
+            status=413,
         )
 
 
@@ -197,7 +210,8 @@ def prepare_inputs(images: dict[str, Any], settings: Any) -> Prepared:
         raise AppRequestError(
             f"{settings.n_colors} colours need at least {settings.n_colors} yarns; add a yarn or "
             "use fewer colours",
-            field="n_colors", code="too_few_yarns",
+            field="n_colors",
+            code="too_few_yarns",
         )
     if mode == "single" and settings.n_colors not in (2, 3):
         raise AppRequestError(
@@ -215,7 +229,8 @@ def prepare_inputs(images: dict[str, Any], settings: Any) -> Prepared:
     if width < 2 or width > MAX_UNITS:
         raise AppRequestError(
             f"the piece would be {width} units wide; it must be 2..{MAX_UNITS} units",
-            field=size_field, code="range",
+            field=size_field,
+            code="range",
         )
     notes: list[str] = []
     a = images["a"].rgb
@@ -230,7 +245,9 @@ def prepare_inputs(images: dict[str, Any], settings: Any) -> Prepared:
                     f"picture A is {a.shape[1]} x {a.shape[0]} pixels but picture B is "
                     f"{b.shape[1]} x {b.shape[0]}; both views must cover the same piece. "
                     "Resize B to A's size, or upload pictures of equal size.",
-                    field="image_b", code="size_mismatch", status=409,
+                    field="image_b",
+                    code="size_mismatch",
+                    status=409,
                 )
             notes.append(f"picture B stretched from {b.shape[1]} x {b.shape[0]} to A's size")
         n, m = resized["a"].shape[:2]
@@ -240,7 +257,8 @@ def prepare_inputs(images: dict[str, Any], settings: Any) -> Prepared:
     if n < 2:
         raise AppRequestError(
             f"the picture is only {n} unit tall at this width; use a wider piece",
-            field=size_field, code="range",
+            field=size_field,
+            code="range",
         )
     quantised = {}
     for slot in slots:
@@ -250,6 +268,7 @@ def prepare_inputs(images: dict[str, Any], settings: Any) -> Prepared:
 
 
 # -- candidates --------------------------------------------------------------------------------
+
 
 @dataclass(eq=False)
 class Candidate:
@@ -313,7 +332,9 @@ def _single_candidates(prepared: Prepared, progress: Progress) -> list[Candidate
     return out
 
 
-def _single_error(pattern: LogicalPattern, target: NDArray[Any], yarns: tuple[Yarn, ...]) -> tuple[float, float]:
+def _single_error(
+    pattern: LogicalPattern, target: NDArray[Any], yarns: tuple[Yarn, ...]
+) -> tuple[float, float]:
     """Share of units whose seen yarn differs from the (shifted) picture, per side view."""
     from illuknit.views import can_see
 
@@ -333,45 +354,77 @@ def _tile_candidates(prepared: Prepared, *, count: int, progress: Progress) -> l
     if tiles is None or not hasattr(tiles, "assign_tiles"):
         raise AppRequestError(
             "double-view design needs the tile bank (illuknit.tiles), which this install lacks",
-            field="mode", code="unavailable", status=501,
+            field="mode",
+            code="unavailable",
+            status=501,
         )
-    raise AppRequestError("tile candidates are not wired yet", field="mode", code="unavailable", status=501)
+    raise AppRequestError(
+        "tile candidates are not wired yet", field="mode", code="unavailable", status=501
+    )
 
 
-def pattern_for(candidate: Candidate, overrides: dict[tuple[int, int], str], prepared: Prepared) -> LogicalPattern:
+def pattern_for(
+    candidate: Candidate, overrides: dict[tuple[int, int], str], prepared: Prepared
+) -> LogicalPattern:
     """The candidate's pattern with the designer's per-pair tile overrides applied."""
     if not overrides or candidate.source is None:
         return candidate.pattern
-    raise AppRequestError("tile overrides are not wired yet", field="tiles", code="unavailable", status=501)
+    raise AppRequestError(
+        "tile overrides are not wired yet", field="tiles", code="unavailable", status=501
+    )
+
+
+def pairs_json(
+    candidate: Candidate, overrides: dict[tuple[int, int], str], prepared: Prepared
+) -> dict[str, Any]:
+    """The overlap pairs of a candidate with their tiles and the bank's alternatives."""
+    if candidate.source is None:
+        return {
+            "editable": False,
+            "pairs": [],
+            "reason": "single-view patterns are compiled row by row, not from tiles",
+        }
+    raise AppRequestError(
+        "tile editing is not wired yet", field="tiles", code="unavailable", status=501
+    )
+
+
+def tile_png(tile_id: str, prepared: Prepared) -> bytes:
+    """A picture of one bank tile (top-down chart with raised units marked)."""
+    raise AppRequestError(
+        f"no tile {tile_id!r} in the bank", field="tiles", code="unknown", status=404
+    )
 
 
 # -- rendering ---------------------------------------------------------------------------------
 
+
 def render_view(pattern: LogicalPattern, view: str, *, angle: float) -> NDArray[np.uint8]:
     """(H, W, 3) uint8 picture of ``view`` ("A", "B", "headon") at elevation ``angle`` degrees.
 
-    Uses the angled renderer when installed; otherwise the boolean can_see view (which does not
-    depend on the angle).
+    Uses the angled renderer when installed, supersampled along the wales and widened by the same
+    factor so that the picture has square pixels and shows sub-unit coverage; otherwise the boolean
+    can_see view (which does not depend on the angle).
     """
     if not 0 < angle <= 90:
         raise AppRequestError(
-            f"the viewing angle must be in (0, 90] degrees, got {angle}", field="angle", code="range"
+            f"the viewing angle must be in (0, 90] degrees, got {angle}",
+            field="angle",
+            code="range",
         )
-    render = _optional("illuknit.render")
-    if render is not None and hasattr(render, "render_views"):
+    if view not in ("A", "B", "headon"):
+        raise AppRequestError(
+            f"view must be A, B or headon, got {view!r}", field="view", code="range"
+        )
+    if _has("illuknit.render", "render_pattern"):
+        render = importlib.import_module("illuknit.render")
+        ss = int(min(6, max(1, round(360 / max(pattern.shape)))))
         with blame("angle"):
-            out = render.render_views(pattern, angle=angle)
-        img = out[view] if isinstance(out, dict) else getattr(out, _VIEW_ATTR[view])
-        a = np.asarray(img)
-        if a.dtype != np.uint8:
-            a = np.clip(np.round(a * 255 if a.max() <= 1.0 else a), 0, 255).astype(np.uint8)
-        return a
+            img = render.render_pattern(pattern, view=view, angle=angle, supersample=ss)
+        return np.repeat(np.asarray(img, dtype=np.uint8), ss, axis=1)
     from illuknit.previews import view_rgb
 
     return view_rgb(pattern, view)  # type: ignore[arg-type]
-
-
-_VIEW_ATTR = {"A": "a", "B": "b", "headon": "headon"}
 
 
 def png_bytes(rgb: NDArray[np.uint8]) -> bytes:
@@ -379,11 +432,14 @@ def png_bytes(rgb: NDArray[np.uint8]) -> bytes:
     from PIL import Image
 
     buf = io.BytesIO()
-    Image.fromarray(np.ascontiguousarray(rgb, dtype=np.uint8)).save(buf, format="PNG", compress_level=1)
+    Image.fromarray(np.ascontiguousarray(rgb, dtype=np.uint8)).save(
+        buf, format="PNG", compress_level=1
+    )
     return buf.getvalue()
 
 
 # -- downloads ---------------------------------------------------------------------------------
+
 
 def pattern_json_bytes(pattern: LogicalPattern) -> bytes:
     import json
@@ -406,29 +462,33 @@ def previews_zip(pattern: LogicalPattern, prepared: Prepared | None, *, angle: f
             for name, path in paths.items():
                 zf.write(path, f"previews/{os.path.basename(path) or name}")
             if capabilities()["render"]:
-                s = max(2, 640 // max(pattern.shape))
                 for view in ("A", "B"):
-                    img = upscale(render_view(pattern, view, angle=angle), s)
-                    zf.writestr(f"previews/render_{view}_{angle:g}deg.png", png_bytes(img))
+                    img = render_view(pattern, view, angle=angle)
+                    s = max(1, 640 // max(img.shape[:2]))
+                    zf.writestr(
+                        f"previews/render_{view}_{angle:g}deg.png", png_bytes(upscale(img, s))
+                    )
     return buf.getvalue()
 
 
 def chart_png(pattern: LogicalPattern) -> bytes:
-    chart = _optional("illuknit.chart")
-    if chart is not None and hasattr(chart, "chart_png"):
-        return bytes(chart.chart_png(pattern))
+    if _has("illuknit.chart", "chart_png_rgb"):
+        chart = importlib.import_module("illuknit.chart")
+        return png_bytes(chart.chart_png_rgb(pattern))
     from illuknit.previews import chart_rgb
 
     return png_bytes(chart_rgb(pattern))
 
 
 def instructions_text(pattern: LogicalPattern) -> str:
-    chart = _optional("illuknit.chart")
-    if chart is None or not hasattr(chart, "written_instructions"):
+    if not _has("illuknit.chart", "written_instructions"):
         raise AppRequestError(
             "written instructions need illuknit.chart, which this install lacks",
-            field="downloads", code="unavailable", status=501,
+            field="downloads",
+            code="unavailable",
+            status=501,
         )
+    chart = importlib.import_module("illuknit.chart")
     return str(chart.written_instructions(pattern))
 
 

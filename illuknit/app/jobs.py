@@ -152,7 +152,9 @@ class Job:
     def live(self) -> bool:
         return self.status not in _FINAL
 
-    def _finish(self, status: JobStatus, *, message: str, error: dict[str, Any] | None = None) -> None:
+    def _finish(
+        self, status: JobStatus, *, message: str, error: dict[str, Any] | None = None
+    ) -> None:
         with self._lock:
             if self.status in _FINAL:
                 return
@@ -174,7 +176,9 @@ class Job:
                 "message": self.message,
                 "error": self.error,
                 "revision": self.revision,
-                "elapsed": round((self.finished or time.time()) - (self.started or self.created), 3),
+                "elapsed": round(
+                    (self.finished or time.time()) - (self.started or self.created), 3
+                ),
             }
 
 
@@ -215,7 +219,9 @@ class JobRunner:
         with self._lock:
             return self._jobs.get(job_id)
 
-    def _run(self, job: Job, fn: Callable[[Job], Any], on_done: Callable[[Job], None] | None) -> None:
+    def _run(
+        self, job: Job, fn: Callable[[Job], Any], on_done: Callable[[Job], None] | None
+    ) -> None:
         if job.cancelled:
             job._finish("cancelled", message="cancelled")
             return
@@ -234,7 +240,9 @@ class JobRunner:
             job._finish("cancelled", message="cancelled")
         except AppRequestError as e:
             job._finish(
-                "failed", message="failed", error={"message": str(e), "field": e.field, "code": e.code}
+                "failed",
+                message="failed",
+                error={"message": str(e), "field": e.field, "code": e.code},
             )
         except IlluknitError as e:
             job._finish(
@@ -247,7 +255,11 @@ class JobRunner:
             job._finish(
                 "failed",
                 message="failed",
-                error={"message": f"internal error: {type(e).__name__}: {e}", "field": None, "code": "internal"},
+                error={
+                    "message": f"internal error: {type(e).__name__}: {e}",
+                    "field": None,
+                    "code": "internal",
+                },
             )
 
     def shutdown(self) -> None:

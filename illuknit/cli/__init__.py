@@ -23,12 +23,14 @@ __all__ = ["COMMANDS", "cli", "main"]
 
 #: command name -> "module:function" (a click.Command), listed in the order ``--help`` shows them.
 COMMANDS: dict[str, str] = {
+    "app": "illuknit.cli.app:app",
     "demo": "illuknit.cli.demo:demo",
     "single": "illuknit.cli.single:single",
     "view": "illuknit.cli.view:view",
 }
 
 _HELP = {
+    "app": "Start the design app: a local web page for designing illusions.",
     "demo": "Make a single-view illusion from the bundled sample picture.",
     "single": "Compile a 2- or 3-colour picture into a single-view illusion.",
     "view": "Write previews, chart and instructions of a saved pattern.",

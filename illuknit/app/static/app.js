@@ -1,0 +1,754 @@
+// illuknit design app. Plain JavaScript, no build step, no network beyond this server.
+// One session per tab (sessionStorage is per tab), so tabs never share state.
+"use strict";
+
+const $ = (sel, root = document) => root.querySelector(sel);
+const $$ = (sel, root = document) => Array.from(root.querySelectorAll(sel));
+
+const state = {
+  sid: null,
+  info: null,
+  settings: null,
+  revision: 0,
+  inputs: null, // last good /inputs answer
+  candidates: [],
+  selected: null,
+  candRevision: -1,
+  angle: 30,
+  jobs: {}, // kind -> job id being polled
+  knitReady: false,
+};
+
+// ---------------------------------------------------------------------------------------------
+// API helpers: every error answers {"error": {"message", "field", "code"}}
+
+class ApiError extends Error {
+  constructor(status, body) {
+    const e = (body && body.error) || {};
+    super(e.message || `request failed (HTTP ${status})`);
+    this.status = status;
+    this.field = e.field || null;
+    this.code = e.code || null;
+  }
+}
+
+async function api(method, path, body, { raw = false } = {}) {
+  const opts = { method, headers: {} };
+  if (body instanceof FormData) opts.body = body;
+  else if (body !== undefined) {
+    opts.body = JSON.stringify(body);
+    opts.headers["Content-Type"] = "application/json";
+  }
+  let res;
+  try {
+    res = await fetch(path, opts);
+  } catch (err) {
+    throw new ApiError(0, { error: { message: "the illuknit server is not answering; is `illuknit app` still running?" } });
+  }
+  if (!res.ok) {
+    let payload = null;
+    try { payload = await res.json(); } catch (_) { /* not JSON */ }
+    throw new ApiError(res.status, payload);
+  }
+  if (raw) return res;
+  const type = res.headers.get("content-type") || "";
+  return type.includes("application/json") ? res.json() : res;
+}
+
+const sapi = (method, path, body, opts) => api(method, `/api/sessions/${state.sid}${path}`, body, opts);
+
+// ---------------------------------------------------------------------------------------------
+// errors next to the control that caused them
+
+const FIELD_ALIASES = { slot: "image_a", session: null, job: null, candidate: "candidates", view: "angle" };
+
+function showError(field, message, extra) {
+  if (field in FIELD_ALIASES) field = FIELD_ALIASES[field];
+  const box = field ? $(`[data-error-for="${field}"]`) : null;
+  if (!box) {
+    $("#banner-text").textContent = message;
+    $("#banner").hidden = false;
+    return;
+  }
+  box.textContent = message;
+  if (extra) box.appendChild(extra);
+  const control = document.getElementById(field);
+  if (control) control.setAttribute("aria-invalid", "true");
+  const drop = field.startsWith("image_") ? document.getElementById(`drop-${field.slice(6)}`) : null;
+  if (drop) drop.classList.add("invalid");
+}
+
+function clearError(...fields) {
+  for (const field of fields) {
+    const box = $(`[data-error-for="${field}"]`);
+    if (box) box.textContent = "";
+    const control = document.getElementById(field);
+    if (control) control.removeAttribute("aria-invalid");
+    if (field.startsWith("image_")) {
+      const drop = document.getElementById(`drop-${field.slice(6)}`);
+      if (drop) drop.classList.remove("invalid");
+    }
+  }
+}
+
+const INPUT_FIELDS = ["image_a", "image_b", "width_units", "width_cm", "gauge", "n_colors", "yarns", "mode"];
+
+function report(err, fallbackField) {
+  if (!(err instanceof ApiError)) {
+    console.error(err);
+    showError(null, String(err && err.message ? err.message : err));
+    return;
+  }
+  if (err.code === "no_session") {
+    sessionStorage.removeItem("illuknit.sid");
+    showError(null, "This session expired; reload the page to start a new one.");
+    return;
+  }
+  if (err.code === "size_mismatch") {
+    const fix = document.createElement("button");
+    fix.type = "button";
+    fix.textContent = "Stretch B to A's size";
+    fix.addEventListener("click", () => { $("#resize").checked = true; saveSettings({ resize: true }); });
+    showError("image_b", err.message, fix);
+    $("#resize-row").hidden = false;
+    return;
+  }
+  showError(err.field || fallbackField || null, err.message);
+}
+
+// ---------------------------------------------------------------------------------------------
+// session
+
+async function startSession() {
+  state.info = await api("GET", "/api/info");
+  $("#version").textContent = `v${state.info.version}`;
+  const caps = state.info.capabilities;
+  for (const b of $$("#modes button")) {
+    if (!caps[b.dataset.mode]) {
+      b.disabled = true;
+      b.title += " (not available in this install)";
+    }
+  }
+  const preset = $("#preset");
+  for (const name of Object.keys(state.info.presets)) {
+    const o = document.createElement("option");
+    o.value = name;
+    o.textContent = name;
+    preset.appendChild(o);
+  }
+  let s = null;
+  const saved = sessionStorage.getItem("illuknit.sid");
+  if (saved) {
+    try { s = await api("GET", `/api/sessions/${saved}`); } catch (_) { s = null; }
+  }
+  if (!s) s = await api("POST", "/api/sessions");
+  state.sid = s.id;
+  sessionStorage.setItem("illuknit.sid", s.id);
+  document.body.dataset.session = s.id;
+  applyState(s);
+  if (!caps[s.settings.mode]) await saveSettings({ mode: "single" });
+  await refreshInputs({ autorun: false });
+  if (s.candidates) await loadCandidates();
+}
+
+function applyState(s) {
+  state.settings = s.settings;
+  state.revision = s.revision;
+  state.knitReady = s.knit_ready;
+  const st = s.settings;
+  for (const b of $$("#modes button")) b.setAttribute("aria-checked", String(b.dataset.mode === st.mode));
+  for (const b of $$("#size-mode button")) b.setAttribute("aria-checked", String(b.dataset.size === st.size_mode));
+  $("#row-units").hidden = st.size_mode !== "units";
+  $("#row-physical").hidden = st.size_mode !== "physical";
+  setValue("#width_units", st.width_units);
+  setValue("#width_cm", st.width_cm);
+  setValue("#gauge", st.gauge);
+  setValue("#n_colors", st.n_colors);
+  setValue("#candidates", st.candidates);
+  $("#resize").checked = st.resize;
+  if (st.resize) $("#resize-row").hidden = false;
+  renderYarns(st.yarns);
+  const single = st.mode === "single";
+  $("#drop-b").hidden = single;
+  $(".drops").classList.toggle("one", single);
+  $("#title-a").textContent = single ? "Seen from both sides" : st.mode === "headon" ? "Seen head-on" : "Seen from above";
+  $("#title-b").textContent = st.mode === "headon" ? "Seen at an angle" : "Seen from below";
+  for (const slot of ["a", "b"]) {
+    const im = s.images[slot];
+    const thumb = $(`#thumb-${slot}`);
+    if (im) {
+      thumb.src = `${im.url}`;
+      thumb.hidden = false;
+      $(`#hint-${slot}`).hidden = true;
+      $(`#drop-${slot}`).classList.add("has");
+      $(`#meta-${slot}`).textContent = `${im.filename} · ${im.width}×${im.height}px`;
+      $(`#meta-${slot}`).title = im.filename;
+    } else {
+      thumb.hidden = true;
+      thumb.removeAttribute("src");
+      $(`#hint-${slot}`).hidden = false;
+      $(`#drop-${slot}`).classList.remove("has");
+      $(`#meta-${slot}`).textContent = "";
+    }
+  }
+  updateKnitButtons();
+}
+
+function setValue(sel, v) {
+  const el = $(sel);
+  if (document.activeElement !== el) el.value = v;
+}
+
+// ---------------------------------------------------------------------------------------------
+// settings
+
+let settingsTimer = null;
+let pendingSettings = {};
+
+function queueSettings(change, delay = 350) {
+  Object.assign(pendingSettings, change);
+  clearTimeout(settingsTimer);
+  settingsTimer = setTimeout(() => { const c = pendingSettings; pendingSettings = {}; saveSettings(c); }, delay);
+}
+
+async function saveSettings(change) {
+  const fields = Object.keys(change);
+  try {
+    const s = await sapi("PUT", "/settings", change);
+    clearError(...fields, "mode");
+    const changed = s.revision !== state.revision;
+    applyState(s);
+    if (changed) await refreshInputs({ autorun: true });
+  } catch (err) {
+    report(err, fields[0]);
+  }
+}
+
+function renderYarns(yarns) {
+  const box = $("#yarns");
+  box.textContent = "";
+  yarns.forEach((hex, i) => {
+    const chip = document.createElement("div");
+    chip.className = "yarn";
+    const pick = document.createElement("input");
+    pick.type = "color";
+    pick.value = toHex(hex);
+    pick.setAttribute("aria-label", `yarn ${i + 1} colour`);
+    const code = document.createElement("code");
+    code.textContent = pick.value;
+    pick.addEventListener("input", () => { code.textContent = pick.value; });
+    pick.addEventListener("change", () => {
+      const ys = state.settings.yarns.slice();
+      ys[i] = pick.value;
+      $("#preset").value = "";
+      saveSettings({ yarns: ys });
+    });
+    const rm = document.createElement("button");
+    rm.type = "button";
+    rm.textContent = "×";
+    rm.title = "Remove this yarn";
+    rm.disabled = yarns.length <= 2;
+    rm.addEventListener("click", () => {
+      const ys = state.settings.yarns.filter((_, k) => k !== i);
+      $("#preset").value = "";
+      saveSettings({ yarns: ys });
+    });
+    chip.append(pick, code, rm);
+    box.appendChild(chip);
+  });
+  $("#add-yarn").disabled = yarns.length >= 6;
+}
+
+function toHex(c) {
+  if (/^#[0-9a-f]{6}$/i.test(c)) return c.toLowerCase();
+  const ctx = document.createElement("canvas").getContext("2d");
+  ctx.fillStyle = c;
+  return ctx.fillStyle;
+}
+
+// ---------------------------------------------------------------------------------------------
+// uploads (file picker and drag and drop)
+
+async function upload(slot, file) {
+  clearError(`image_${slot}`);
+  const limit = state.info.limits.max_upload_bytes;
+  if (file.size > limit) {
+    showError(`image_${slot}`, `${file.name} is ${(file.size / 1e6).toFixed(1)} MB; pictures are limited to ${(limit / 1e6).toFixed(0)} MB.`);
+    return;
+  }
+  const form = new FormData();
+  form.append("file", file, file.name);
+  $(`#meta-${slot}`).textContent = `uploading ${file.name}…`;
+  try {
+    const s = await sapi("PUT", `/images/${slot}`, form);
+    applyState(s);
+    await refreshInputs({ autorun: true });
+  } catch (err) {
+    const s = await sapi("GET", "").catch(() => null);
+    if (s) applyState(s);
+    report(err, `image_${slot}`);
+  }
+}
+
+function wireDrop(slot) {
+  const drop = $(`#drop-${slot}`);
+  const input = $(`#file-${slot}`);
+  drop.addEventListener("click", () => input.click());
+  drop.addEventListener("keydown", (e) => { if (e.key === "Enter" || e.key === " ") { e.preventDefault(); input.click(); } });
+  input.addEventListener("change", () => {
+    if (input.files && input.files[0]) upload(slot, input.files[0]);
+    input.value = "";
+  });
+  drop.addEventListener("dragover", (e) => { e.preventDefault(); drop.classList.add("over"); });
+  drop.addEventListener("dragleave", () => drop.classList.remove("over"));
+  drop.addEventListener("drop", (e) => {
+    e.preventDefault();
+    drop.classList.remove("over");
+    const f = e.dataTransfer && e.dataTransfer.files && e.dataTransfer.files[0];
+    if (f) upload(slot, f);
+  });
+}
+
+// ---------------------------------------------------------------------------------------------
+// quantised inputs and legend
+
+function slotsNeeded() { return state.settings.mode === "single" ? ["a"] : ["a", "b"]; }
+
+async function refreshInputs({ autorun }) {
+  const quant = $("#quant");
+  const missing = slotsNeeded().filter((slot) => !$(`#drop-${slot}`).classList.contains("has"));
+  clearError(...INPUT_FIELDS);
+  if (missing.length) {
+    state.inputs = null;
+    quant.className = "quant one";
+    quant.innerHTML = `<p class="empty">Upload ${missing.length === 2 ? "two pictures" : "picture " + missing[0].toUpperCase()} to see ${missing.length === 2 ? "them" : "it"} in yarn colours.</p>`;
+    $("#notes").textContent = "";
+    clearCandidates();
+    return;
+  }
+  let inp;
+  try {
+    inp = await sapi("GET", "/inputs");
+  } catch (err) {
+    state.inputs = null;
+    quant.className = "quant one";
+    quant.innerHTML = `<p class="empty">Fix the problem marked in red to see the quantised pictures.</p>`;
+    clearCandidates();
+    report(err);
+    return;
+  }
+  state.inputs = inp;
+  quant.className = "quant" + (Object.keys(inp.images).length === 1 ? " one" : "");
+  quant.textContent = "";
+  for (const [slot, url] of Object.entries(inp.images)) {
+    const fig = document.createElement("figure");
+    const img = document.createElement("img");
+    img.src = url;
+    img.alt = `quantised picture ${slot.toUpperCase()}`;
+    const cap = document.createElement("figcaption");
+    cap.textContent = `${slot.toUpperCase()} · ${inp.cols}×${inp.rows} units`;
+    const ul = document.createElement("ul");
+    ul.className = "legend";
+    for (const e of inp.legend[slot]) {
+      const li = document.createElement("li");
+      li.innerHTML = `<span class="sw" style="background:${e.image_color}"></span><span class="arrow">→</span>` +
+        `<span class="sw" style="background:${e.yarn_color}"></span><span></span><span class="pct">${(100 * e.share).toFixed(0)}%</span>`;
+      li.children[3].textContent = e.yarn;
+      li.title = `picture colour ${e.image_color} becomes yarn ${e.yarn} (${e.yarn_color})`;
+      ul.appendChild(li);
+    }
+    fig.append(img, cap, ul);
+    quant.appendChild(fig);
+  }
+  $("#notes").textContent = inp.notes.join(" ");
+  const w = inp.cols, h = inp.rows;
+  $("#grid-info").textContent = `${w} × ${h} units = ${2 * w} stitches × ${2 * h} rows. 1 unit = 2 stitches × 2 rows.`;
+  if (autorun) runCandidates();
+}
+
+// ---------------------------------------------------------------------------------------------
+// jobs with progress and cancel
+
+async function startJob(kind) {
+  clearError(kind === "knit" ? "knit" : "candidates");
+  const job = await sapi("POST", "/jobs", { kind });
+  state.jobs[kind] = job.id;
+  showJob(kind, job);
+  return pollJob(kind, job.id);
+}
+
+function showJob(kind, job) {
+  const box = $(`#job-${kind}`);
+  box.hidden = !(job.status === "queued" || job.status === "running");
+  $(".bar i", box).style.width = `${Math.round(100 * job.progress)}%`;
+  $(".job-msg", box).textContent = job.message;
+  if (kind === "candidates") $("#run").disabled = !box.hidden;
+  if (kind === "knit") $("#make-knit").disabled = !box.hidden;
+}
+
+async function pollJob(kind, id) {
+  for (;;) {
+    if (state.jobs[kind] !== id) return null; // superseded
+    let job;
+    try {
+      job = await sapi("GET", `/jobs/${id}`);
+    } catch (err) {
+      report(err, kind === "knit" ? "knit" : "candidates");
+      showJob(kind, { status: "failed", progress: 0, message: "" });
+      return null;
+    }
+    showJob(kind, job);
+    if (job.status === "done") return job;
+    if (job.status === "failed") {
+      const e = job.error || {};
+      showError(e.field || (kind === "knit" ? "knit" : "candidates"), e.message || "the job failed");
+      return null;
+    }
+    if (job.status === "cancelled") return null;
+    await new Promise((r) => setTimeout(r, 200));
+  }
+}
+
+async function cancelJob(kind) {
+  const id = state.jobs[kind];
+  if (!id) return;
+  state.jobs[kind] = null;
+  try {
+    const job = await sapi("DELETE", `/jobs/${id}`);
+    showJob(kind, job);
+  } catch (err) { report(err); }
+}
+
+async function runCandidates() {
+  if (!state.inputs) return;
+  clearCandidates("Finding candidates…");
+  try {
+    const job = await startJob("candidates");
+    if (job) await loadCandidates();
+  } catch (err) {
+    report(err, "candidates");
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// candidates, picking, live preview
+
+function clearCandidates(message) {
+  state.candidates = [];
+  state.selected = null;
+  $("#cands").innerHTML = `<p class="empty"></p>`;
+  $("#cands .empty").textContent = message || "Candidates appear here: each is shown from side A, head-on and from side B.";
+  for (const v of ["A", "headon", "B"]) $(`#pv-${v}`).removeAttribute("src");
+  $("#preview-label").textContent = "";
+  $("#pairs").textContent = "";
+  $("#knit-summary").textContent = "";
+  state.knitReady = false;
+  updateKnitButtons();
+}
+
+function renderUrl(view, rank, angle) {
+  const q = new URLSearchParams({ view, angle: String(angle), r: `${state.candRevision}.${state.editTick || 0}` });
+  if (rank) q.set("candidate", String(rank));
+  return `/api/sessions/${state.sid}/render?${q}`;
+}
+
+async function loadCandidates() {
+  const c = await sapi("GET", "/candidates");
+  state.candidates = c.candidates;
+  state.selected = c.selected;
+  state.candRevision = c.revision;
+  const box = $("#cands");
+  box.textContent = "";
+  if (!c.candidates.length) {
+    box.innerHTML = `<p class="empty">No candidates.</p>`;
+    return;
+  }
+  for (const cand of c.candidates) {
+    const card = document.createElement("button");
+    card.type = "button";
+    card.className = "cand";
+    card.dataset.rank = cand.rank;
+    const head = document.createElement("div");
+    head.className = "cand-head";
+    head.innerHTML = `<span class="rank">#${cand.rank}</span>${cand.rank === 1 ? '<span class="badge">default</span>' : ""}<span class="cand-label"></span><span class="score"></span>`;
+    $(".cand-label", head).textContent = cand.label;
+    $(".score", head).textContent = cand.score == null ? "" : `score ${cand.score}`;
+    const triple = document.createElement("div");
+    triple.className = "triple";
+    for (const [view, cap] of [["A", "side A"], ["headon", "head-on"], ["B", "side B"]]) {
+      const fig = document.createElement("figure");
+      const img = document.createElement("img");
+      img.dataset.view = view;
+      img.alt = `candidate ${cand.rank}, ${cap}`;
+      img.src = renderUrl(view, cand.rank, state.angle);
+      const fc = document.createElement("figcaption");
+      fc.textContent = cap;
+      fig.append(img, fc);
+      triple.appendChild(fig);
+    }
+    card.append(head, triple);
+    const fills = cand.details && cand.details.fills;
+    if (fills) {
+      const f = document.createElement("div");
+      f.className = "fills";
+      f.textContent = fills;
+      card.appendChild(f);
+    }
+    card.addEventListener("click", () => pick(cand.rank));
+    box.appendChild(card);
+  }
+  markSelected();
+  updatePreview();
+  await loadPairs();
+  await refreshKnit();
+}
+
+function markSelected() {
+  for (const card of $$(".cand")) card.classList.toggle("sel", Number(card.dataset.rank) === state.selected);
+  const cand = state.candidates.find((c) => c.rank === state.selected);
+  $("#preview-label").textContent = cand ? `· candidate #${cand.rank} · ${cand.cols}×${cand.rows} units` : "";
+}
+
+async function pick(rank) {
+  if (rank === state.selected) return;
+  try {
+    await sapi("PUT", "/selection", { candidate: rank });
+    state.selected = rank;
+    state.knitReady = false;
+    markSelected();
+    updatePreview();
+    await loadPairs();
+    await refreshKnit();
+  } catch (err) { report(err, "candidates"); }
+}
+
+// Live preview: at most one request per picture in flight; the latest angle wins.
+const live = {};
+
+function updatePreview() {
+  if (!state.selected) return;
+  for (const view of ["A", "headon", "B"]) loadLive(view);
+}
+
+function loadLive(view) {
+  const img = $(`#pv-${view}`);
+  const want = renderUrl(view, null, state.angle);
+  const slot = live[view] || (live[view] = { busy: false, next: null });
+  if (slot.busy) { slot.next = want; return; }
+  slot.busy = true;
+  const done = () => {
+    slot.busy = false;
+    if (slot.next && slot.next !== img.dataset.want) { const n = slot.next; slot.next = null; img.dataset.want = n; slot.busy = true; img.src = n; }
+    else { slot.next = null; img.dataset.loadedAngle = String(state.angle); document.body.dataset.previewAngle = String(state.angle); }
+  };
+  img.onload = done;
+  img.onerror = () => { done(); showError("angle", "the preview could not be rendered"); };
+  img.dataset.want = want;
+  img.src = want;
+}
+
+function onAngle(final) {
+  state.angle = Number($("#angle").value);
+  $("#angle-out").textContent = `${state.angle}°`;
+  clearError("angle");
+  updatePreview();
+  if (final) {
+    for (const img of $$(".cand img")) {
+      if (img.dataset.view === "headon") continue;
+      img.src = renderUrl(img.dataset.view, Number(img.closest(".cand").dataset.rank), state.angle);
+    }
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// tiles per overlap pair
+
+async function loadPairs() {
+  const box = $("#pairs");
+  box.textContent = "";
+  clearError("tiles");
+  if (!state.selected) return;
+  let p;
+  try { p = await sapi("GET", "/pairs"); } catch (err) { report(err, "tiles"); return; }
+  $("#tiles-hint").textContent = p.editable
+    ? "Each row is a place where a colour of A lies over a colour of B. Choose another tile from the bank to change how it looks; the preview updates."
+    : (p.reason || "This candidate has no tiles to edit.");
+  for (const pair of p.pairs || []) box.appendChild(pairRow(pair));
+}
+
+function pairRow(pair) {
+  const row = document.createElement("div");
+  row.className = "pair" + (pair.overridden ? " edited" : "");
+  const img = document.createElement("img");
+  img.src = `/api/sessions/${state.sid}/tiles/${encodeURIComponent(pair.tile)}.png`;
+  img.alt = `tile ${pair.tile}`;
+  const right = document.createElement("div");
+  const over = document.createElement("div");
+  over.className = "over";
+  over.innerHTML = `<span class="sw"></span> A over <span class="sw"></span> B <span class="muted"></span>`;
+  const sws = $$(".sw", over);
+  sws[0].style.background = pair.a_color;
+  sws[1].style.background = pair.b_color;
+  $(".muted", over).textContent = `· ${(100 * pair.share).toFixed(1)}% of units`;
+  const sel = document.createElement("select");
+  sel.setAttribute("aria-label", `tile for A colour ${pair.a} over B colour ${pair.b}`);
+  for (const opt of pair.options) {
+    const o = document.createElement("option");
+    o.value = opt.id;
+    o.textContent = opt.label;
+    if (opt.id === pair.tile) o.selected = true;
+    sel.appendChild(o);
+  }
+  sel.addEventListener("change", async () => {
+    try {
+      const tile = sel.value === pair.default ? null : sel.value;
+      const res = await sapi("PUT", `/pairs/${pair.a}/${pair.b}`, { tile });
+      state.editTick = (state.editTick || 0) + 1;
+      clearError("tiles");
+      const box = $("#pairs");
+      box.textContent = "";
+      for (const p of res.pairs) box.appendChild(pairRow(p));
+      updatePreview();
+      await refreshKnit();
+    } catch (err) { report(err, "tiles"); sel.value = pair.tile; }
+  });
+  right.append(over, sel);
+  const meta = document.createElement("div");
+  meta.className = "meta";
+  meta.textContent = pair.fills || "";
+  row.append(img, right, meta);
+  return row;
+}
+
+// ---------------------------------------------------------------------------------------------
+// downloads and knitout
+
+function updateKnitButtons() {
+  for (const b of $$("[data-needs-knit]")) b.disabled = !state.knitReady;
+  const none = !state.selected;
+  for (const b of $$(".downloads button[data-dl]")) if (!b.hasAttribute("data-needs-knit") && !b.classList.contains("unavail")) b.disabled = none;
+  $("#make-knit").disabled = none || !(state.info && state.info.capabilities.knit) || !$("#job-knit").hidden;
+  if (state.info && !state.info.capabilities.knit) $("#make-knit").title = "the knitout compiler is not in this install";
+}
+
+async function refreshKnit() {
+  state.knitReady = false;
+  $("#knit-summary").textContent = "";
+  if (state.selected) {
+    try {
+      const k = await sapi("GET", "/knit");
+      state.knitReady = k.ready;
+      if (k.ready) showKnitSummary(k);
+    } catch (err) { report(err, "knit"); }
+  }
+  updateKnitButtons();
+}
+
+function showKnitSummary(k) {
+  const box = $("#knit-summary");
+  box.textContent = "";
+  const parts = [];
+  const st = k.stats || {};
+  for (const key of ["passes", "knit_passes", "transfer_passes", "carriage_passes", "estimated_minutes", "estimated_time"]) {
+    if (st[key] != null) parts.push(`${key.replace(/_/g, " ")}: ${typeof st[key] === "number" ? Math.round(st[key] * 10) / 10 : st[key]}`);
+  }
+  parts.push(`${k.lines} lines`);
+  const line = document.createElement("div");
+  line.textContent = `Knitout ready · ${parts.join(" · ")}`;
+  box.appendChild(line);
+  if (k.report) {
+    const r = k.report;
+    const blocking = r.blocking != null ? r.blocking : (r.summary && r.summary.blocking);
+    const st2 = document.createElement("div");
+    const ok = blocking === 0 || r.ok === true;
+    st2.className = ok ? "ok" : "bad";
+    st2.textContent = ok ? "Checker: no blocking problems" : `Checker: ${blocking != null ? blocking : "some"} blocking problem(s) — see the check report`;
+    box.appendChild(st2);
+  }
+}
+
+async function makeKnit() {
+  try {
+    const job = await startJob("knit");
+    if (job) await refreshKnit();
+  } catch (err) { report(err, "knit"); }
+}
+
+async function download(name, button) {
+  const field = button.hasAttribute("data-needs-knit") || name === "pattern.dat" ? "knit" : "downloads";
+  clearError("downloads", "knit");
+  button.disabled = true;
+  try {
+    const res = await sapi("GET", `/download/${name}?angle=${state.angle}`, undefined, { raw: true });
+    const blob = await res.blob();
+    const cd = res.headers.get("content-disposition") || "";
+    const m = /filename="([^"]+)"/.exec(cd);
+    const a = document.createElement("a");
+    a.href = URL.createObjectURL(blob);
+    a.download = m ? m[1] : name;
+    document.body.appendChild(a);
+    a.click();
+    setTimeout(() => { URL.revokeObjectURL(a.href); a.remove(); }, 1000);
+  } catch (err) {
+    report(err, field);
+  } finally {
+    button.disabled = false;
+    updateKnitButtons();
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// wiring
+
+function wire() {
+  wireDrop("a");
+  wireDrop("b");
+  for (const b of $$("#modes button")) b.addEventListener("click", () => { if (!b.disabled) saveSettings({ mode: b.dataset.mode }); });
+  for (const b of $$("#size-mode button")) b.addEventListener("click", () => saveSettings({ size_mode: b.dataset.size }));
+  const num = (id, parse) => {
+    const el = $(`#${id}`);
+    el.addEventListener("input", () => {
+      if (el.value === "") return;
+      queueSettings({ [id]: parse(el.value) }, 600);
+    });
+  };
+  num("width_units", (v) => Math.round(Number(v)));
+  num("width_cm", Number);
+  num("gauge", Number);
+  $("#n_colors").addEventListener("change", () => saveSettings({ n_colors: Number($("#n_colors").value) }));
+  $("#candidates").addEventListener("change", () => saveSettings({ candidates: Math.round(Number($("#candidates").value)) }));
+  $("#resize").addEventListener("change", () => saveSettings({ resize: $("#resize").checked }));
+  $("#preset").addEventListener("change", () => {
+    const name = $("#preset").value;
+    if (!name) return;
+    const yarns = state.info.presets[name];
+    const change = { yarns };
+    if (state.settings.n_colors > yarns.length) change.n_colors = yarns.length;
+    saveSettings(change);
+  });
+  $("#add-yarn").addEventListener("click", () => {
+    const spare = ["#8a8a8a", "#b3202a", "#1d2b53", "#d9a62e", "#1f4d3a", "#c97b84"];
+    const ys = state.settings.yarns.slice();
+    const next = spare.find((c) => !ys.includes(c)) || "#777777";
+    ys.push(next);
+    $("#preset").value = "";
+    saveSettings({ yarns: ys });
+  });
+  $("#run").addEventListener("click", runCandidates);
+  for (const b of $$("[data-cancel]")) b.addEventListener("click", () => cancelJob(b.dataset.cancel));
+  const angle = $("#angle");
+  angle.addEventListener("input", () => onAngle(false));
+  angle.addEventListener("change", () => onAngle(true));
+  $("#make-knit").addEventListener("click", makeKnit);
+  for (const b of $$("[data-dl]")) b.addEventListener("click", () => download(b.dataset.dl, b));
+  $("#banner-close").addEventListener("click", () => { $("#banner").hidden = true; });
+  // a file dropped outside a drop zone must not replace the page
+  window.addEventListener("dragover", (e) => e.preventDefault());
+  window.addEventListener("drop", (e) => e.preventDefault());
+}
+
+wire();
+updateKnitButtons();
+startSession()
+  .then(() => { document.body.dataset.ready = "1"; })
+  .catch((err) => report(err));
