@@ -27,6 +27,7 @@ COMMANDS: dict[str, str] = {
     "demo": "illuknit.cli.demo:demo",
     "single": "illuknit.cli.single:single",
     "view": "illuknit.cli.view:view",
+    "knit": "illuknit.cli.knit:knit",
 }
 
 _HELP = {
@@ -34,6 +35,7 @@ _HELP = {
     "demo": "Make a single-view illusion from the bundled sample picture.",
     "single": "Compile a 2- or 3-colour picture into a single-view illusion.",
     "view": "Write previews, chart and instructions of a saved pattern.",
+    "knit": "Compile a saved pattern to a knitout program (passes, time, check).",
 }
 
 

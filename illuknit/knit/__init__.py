@@ -1,1 +1,47 @@
+"""Knitting: a logical pattern -> stitches -> carriage passes -> knitout, for V-bed machines.
 
+One module per stage::
+
+    LogicalPattern -> stitches.lower_to_stitches -> StitchPattern
+                   -> schedule.schedule_courses  -> Schedule
+                   -> knitout.write_knitout      -> knitout-2 text
+                      timing.estimate_knit_time  -> TimeEstimate
+
+``machine.MachineSpec`` holds every machine limit; ``pipeline.knit_pattern`` runs the whole path.
+"""
+
+from __future__ import annotations
+
+from illuknit.knit.knitout import write_knitout
+from illuknit.knit.machine import DEFAULT_MACHINE, MachineSpec
+from illuknit.knit.pipeline import KnitResult, knit_pattern
+from illuknit.knit.schedule import (
+    CarrierAction,
+    Op,
+    Pass,
+    Schedule,
+    ScheduleStats,
+    schedule_courses,
+)
+from illuknit.knit.stitches import KNIT, PURL, StitchPattern, lower_to_stitches
+from illuknit.knit.timing import TimeEstimate, estimate_knit_time
+
+__all__ = [
+    "DEFAULT_MACHINE",
+    "KNIT",
+    "PURL",
+    "CarrierAction",
+    "KnitResult",
+    "MachineSpec",
+    "Op",
+    "Pass",
+    "Schedule",
+    "ScheduleStats",
+    "StitchPattern",
+    "TimeEstimate",
+    "estimate_knit_time",
+    "knit_pattern",
+    "lower_to_stitches",
+    "schedule_courses",
+    "write_knitout",
+]

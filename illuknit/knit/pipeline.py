@@ -44,6 +44,11 @@ class KnitResult:
     time: TimeEstimate
     machine: MachineSpec
 
+    @property
+    def program(self) -> str:
+        """The knitout text (same as ``text``)."""
+        return self.text
+
     def summary(self) -> dict[str, Any]:
         """JSON-ready numbers: size, passes, bound, ratio, time."""
         c, w = self.stitches.shape

@@ -13,7 +13,8 @@ knitout writer and the time model work on any schedule.
 illusions):
 
 * **cast-on**: the first carrier comes in on the yarn-inserting hook; alternating tucks leftward
-  from the right edge, the remaining needles tucked rightward, ``releasehook``, one ``miss`` pass
+  from the right edge (running on to park left of the fabric), the remaining needles tucked
+  rightward, ``releasehook``, one ``miss`` pass
   to park the carrier right of the fabric, then ``cast_on_courses`` plain courses;
 * **each course**: one transfer pass first if any loop must change bed (front -> back where a purl
   follows a knit in its wale, back -> front where a knit follows a purl; both directions merge
@@ -333,7 +334,7 @@ def schedule_courses(
     Parameters
     ----------
     stitches : StitchPattern
-        n_courses courses x n_wales wales; every course must use a single yarn.
+        C courses x W wales; every course must use a single yarn.
     machine : MachineSpec
         Bed width, carriers, parking distance, stitch numbers.
     tail_stitches : int
@@ -411,41 +412,21 @@ def schedule_courses(
     steps.append(CarrierAction("inhook", (c0,)))
     first = [n for n in needles_down if (right - n) % 2 == 0]
     second = [n for n in needles_up if (right - n) % 2 == 1]
-    steps.append(
-        Pass(
-            "knit",
-            tuple(Op("tuck", "f", n) for n in first),
-            "-",
-            (c0,),
-            0.0,
-            "cast-on",
-            None,
-            cast_sn,
-        )
-    )
+    # The first pass runs on to the left parking spot, so that the rightward tucks start with the
+    # carrier behind the carriage (left of the leftmost needle).
+    tucks = (*(Op("tuck", "f", n) for n in first), Op("miss", "f", park["-"]))
+    steps.append(Pass("knit", tucks, "-", (c0,), role="cast-on", stitch_number=cast_sn))
+    next_dir[c0] = "+"
     if second:
-        steps.append(
-            Pass(
-                "knit",
-                tuple(Op("tuck", "f", n) for n in second),
-                "+",
-                (c0,),
-                0.0,
-                "cast-on",
-                None,
-                cast_sn,
-            )
-        )
-        steps.append(CarrierAction("releasehook", (c0,)))
+        tucks = tuple(Op("tuck", "f", n) for n in second)
+        steps.append(Pass("knit", tucks, "+", (c0,), role="cast-on", stitch_number=cast_sn))
+    steps.append(CarrierAction("releasehook", (c0,)))
+    if second:
         # Nothing may happen at or right of the hook while it holds the yarn, so the carrier is
         # parked right of the fabric only now.
-        steps.append(
-            Pass("knit", (Op("miss", "f", park["+"]),), "+", (c0,), 0.0, "park", None, cast_sn)
-        )
+        park_op = (Op("miss", "f", park["+"]),)
+        steps.append(Pass("knit", park_op, "+", (c0,), role="park", stitch_number=cast_sn))
         next_dir[c0] = "-"
-    else:
-        steps.append(CarrierAction("releasehook", (c0,)))
-        next_dir[c0] = "+"
     cast_on_fixed = sum(isinstance(s, Pass) for s in steps)
     for _ in range(stitches.cast_on_courses):
         knit_course(c0, ["f"] * n_wales, "cast-on", None, cast_sn)

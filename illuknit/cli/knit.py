@@ -1,0 +1,173 @@
+"""``illuknit knit``: compile a saved pattern to a knitout program and check it."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any
+
+import click
+
+__all__ = ["knit", "run_knit"]
+
+
+def run_knit(
+    pattern_path: str | Path,
+    output: str | Path,
+    *,
+    gauge: float | None = None,
+    machine_width: int | None = None,
+    cast_on_courses: int = 2,
+    seconds_per_needle: float | None = None,
+    seconds_per_turn: float | None = None,
+    check: bool = True,
+) -> dict[str, Any]:
+    """Compile ``pattern_path`` to knitout at ``output``; return the summary (and checker verdict).
+
+    Nothing is written when compilation fails.
+    """
+    from dataclasses import replace
+
+    from illuknit.knit import DEFAULT_MACHINE, knit_pattern
+    from illuknit.outputs import atomic_write_text
+    from illuknit.pattern import load_pattern
+
+    pattern = load_pattern(pattern_path)
+    machine = DEFAULT_MACHINE
+    changes: dict[str, Any] = {}
+    if gauge is not None:
+        changes["gauge"] = gauge
+    if machine_width is not None:
+        changes["needles"] = machine_width
+    if seconds_per_needle is not None:
+        changes["seconds_per_needle"] = seconds_per_needle
+    if seconds_per_turn is not None:
+        changes["seconds_per_turn"] = seconds_per_turn
+    if changes:
+        machine = replace(machine, **changes)
+    result = knit_pattern(pattern, machine=machine, cast_on_courses=cast_on_courses)
+    summary = result.summary()
+    if check:
+        try:
+            from illuknit.check import check_knitout
+        except ImportError:  # pragma: no cover - only in a partial install
+            summary["check"] = None
+        else:
+            report = check_knitout(
+                result.text,
+                float_limit=machine.float_limit,
+                max_racking=machine.max_racking,
+                bed_width=machine.needles,
+            )
+            summary["check"] = {
+                "errors": len(report.blocking),
+                "warnings": len(report.findings) - len(report.blocking),
+                "pieces": report.pieces,
+                "findings": [
+                    {"line": f.line, "code": f.code, "severity": f.severity, "message": f.message}
+                    for f in report.findings[:20]
+                ],
+            }
+    atomic_write_text(output, result.text)
+    summary["output"] = str(output)
+    return summary
+
+
+@click.command(context_settings={"help_option_names": ["-h", "--help"]})
+@click.argument("pattern", type=click.Path(dir_okay=False, path_type=Path))
+@click.option(
+    "-o",
+    "--output",
+    required=True,
+    type=click.Path(dir_okay=False, path_type=Path),
+    help="Knitout file to write (e.g. prog.k).",
+)
+@click.option(
+    "--gauge",
+    type=click.FloatRange(min=0, min_open=True),
+    default=None,
+    help="Needles per inch [7].",
+)
+@click.option(
+    "--machine-width",
+    type=click.IntRange(min=8),
+    default=None,
+    help="Needles per bed [540, as the reference tools model the SWG091N2].",
+)
+@click.option(
+    "--cast-on-courses",
+    type=click.IntRange(min=0, max=100),
+    default=2,
+    show_default=True,
+    help="Plain courses between the cast-on and the pattern.",
+)
+@click.option(
+    "--seconds-per-needle",
+    type=click.FloatRange(min=0),
+    default=None,
+    help="Time model: carriage time per needle crossed [0.01].",
+)
+@click.option(
+    "--seconds-per-turn",
+    type=click.FloatRange(min=0),
+    default=None,
+    help="Time model: fixed time per carriage pass [1.5].",
+)
+@click.option("--no-check", is_flag=True, help="Skip the knitout checker.")
+@click.option("--json", "as_json", is_flag=True, help="Print the summary as JSON.")
+def knit(
+    pattern: Path,
+    output: Path,
+    gauge: float | None,
+    machine_width: int | None,
+    cast_on_courses: int,
+    seconds_per_needle: float | None,
+    seconds_per_turn: float | None,
+    no_check: bool,
+    as_json: bool,
+) -> None:
+    """Compile a saved PATTERN (JSON) to a knitout program for a V-bed machine.
+
+    Prints carriage passes, their lower bound, the estimated knitting time and the checker's
+    verdict. Exit code 1 when the checker finds a blocking problem, 2 on bad input (including
+    patterns that change colour inside a course, which need the mixed-colourwork scheduler).
+    """
+    summary = run_knit(
+        pattern,
+        output,
+        gauge=gauge,
+        machine_width=machine_width,
+        cast_on_courses=cast_on_courses,
+        seconds_per_needle=seconds_per_needle,
+        seconds_per_turn=seconds_per_turn,
+        check=not no_check,
+    )
+    if as_json:
+        click.echo(json.dumps(summary, indent=1))
+    else:
+        s = summary
+        click.echo(f"wrote {s['output']} ({s['lines']} lines)")
+        click.echo(
+            f"stitches: {s['wales']} wales x {s['courses']} courses "
+            f"(about {s['width_cm']} x {s['height_cm']} cm at gauge {s['gauge']:g})"
+        )
+        click.echo(
+            f"passes: {s['passes']} (knit {s['knit_passes']}, transfer {s['transfer_passes']}, "
+            f"cast-on {s['cast_on_passes']}, bind-off {s['bind_off_passes']}); "
+            f"lower bound {s['lower_bound']}, ratio {s['ratio']:.2f}"
+        )
+        click.echo(
+            f"estimated knitting time: {s['time']} (+{s['hook_passes']} hook passes counted)"
+        )
+        chk = s.get("check", False)
+        if chk is None:
+            click.echo("check: checker not available in this install")
+        elif chk:
+            click.echo(
+                f"check: {chk['errors']} error(s), {chk['warnings']} warning(s), {chk['pieces']} piece(s)"
+            )
+            for f in chk["findings"][:10]:
+                click.echo(f"  line {f['line']}: {f['severity']} [{f['code']}] {f['message']}")
+    chk = summary.get("check")
+    if chk and chk["errors"]:
+        raise click.exceptions.Exit(1)
