@@ -28,6 +28,9 @@ COMMANDS: dict[str, str] = {
     "single": "illuknit.cli.single:single",
     "view": "illuknit.cli.view:view",
     "knit": "illuknit.cli.knit:knit",
+    "tiles": "illuknit.cli.tiles:tiles",
+    "double": "illuknit.cli.double:double",
+    "headon": "illuknit.cli.headon:headon",
 }
 
 _HELP = {
@@ -36,6 +39,9 @@ _HELP = {
     "single": "Compile a 2- or 3-colour picture into a single-view illusion.",
     "view": "Write previews, chart and instructions of a saved pattern.",
     "knit": "Compile a saved pattern to a knitout program (passes, time, check).",
+    "tiles": "List a tile bank with its fills and draw each tile.",
+    "double": "Design a double-view illusion from two pictures with tiles (ranked candidates).",
+    "headon": "Design a picture seen head-on that disappears at an angle.",
 }
 
 

@@ -132,11 +132,14 @@ def repainted_rgb(
 
 def boundary_mask(assignment: TileAssignment, *, reach: int | None = None) -> NDArray[np.bool_]:
     """ndarray of shape (N, M), True where a pixel lies within ``reach`` rows (default: the
-    tallest tile used) of a pixel of another overlap pair in the same column."""
+    tallest tile used) of a pixel of another overlap pair in the same column, or of the top or
+    bottom edge (where the first and last rows have no neighbour to be hidden by)."""
     code, _ = _pair_code(assignment)
     if reach is None:
         reach = max(t.height for t in assignment.tiles.values())
     near = np.zeros(code.shape, dtype=bool)
+    near[:reach] = True
+    near[-reach:] = True
     for d in range(1, reach + 1):
         diff = code[d:] != code[:-d]
         near[d:] |= diff

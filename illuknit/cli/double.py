@@ -1,0 +1,289 @@
+"""``illuknit double``: two pictures in, ranked tile-based double-view candidates out.
+
+For each candidate ``candidate_K/`` holds the pattern, its previews (head-on, view A, view B,
+contact sheet), the repainted inputs (``repainted_a.png``/``repainted_b.png`` course by course,
+``*_average.png`` as seen from afar), ``fills.json`` (the legend: which fill each picture colour
+became and which tile each overlap pair uses), a chart and written instructions. The top folder
+holds ``summary.txt``/``summary.json`` (a ranked table, the default candidate marked) and the
+default candidate's ``pattern.json``.
+"""
+
+from __future__ import annotations
+
+import json
+import shutil
+from pathlib import Path
+from typing import Any
+
+import click
+import numpy as np
+
+__all__ = ["double", "run_design"]
+
+
+def _load_pair(
+    path_a: Path, path_b: Path | None, *, width: int | None, resize: bool
+) -> tuple[np.ndarray, np.ndarray | None]:
+    from illuknit.errors import ImageInputError
+    from illuknit.images import load_image, resize_to_units
+
+    a = load_image(path_a)
+    b = load_image(path_b) if path_b is not None else None
+    smooth_a = len(np.unique(np.round(a.reshape(-1, 3) * 255), axis=0)) > 16
+    if width is not None or max(a.shape[:2]) > 400:
+        a = resize_to_units(a, width=width or 200, smooth=smooth_a)
+    if b is None:
+        return a, None
+    smooth_b = len(np.unique(np.round(b.reshape(-1, 3) * 255), axis=0)) > 16
+    if b.shape[:2] != a.shape[:2]:
+        same_aspect = abs(b.shape[0] / b.shape[1] - a.shape[0] / a.shape[1]) < 0.02
+        if not (resize or same_aspect):
+            raise ImageInputError(
+                f"the pictures have different sizes ({path_a.name}: {a.shape[1]} x {a.shape[0]}, "
+                f"{path_b.name}: {b.shape[1]} x {b.shape[0]} after sizing); make them the same "
+                "size or pass --resize to stretch the second onto the first"
+            )
+        b = resize_to_units(b, width=a.shape[1], height=a.shape[0], smooth=smooth_b)
+    return a, b
+
+
+def _choose_yarns(spec: str | None, n_colors: int, pictures: list[np.ndarray]) -> tuple[Any, ...]:
+    from illuknit.images import quantise_image
+    from illuknit.pattern import parse_yarns
+
+    if spec is not None and not spec.strip().isdigit():
+        return parse_yarns(spec)
+    n = int(spec) if spec is not None else n_colors
+    if not 1 <= n <= 8:
+        from illuknit.errors import YarnSpecError
+
+        raise YarnSpecError(f"--yarns N must be between 1 and 8, got {n}")
+    both = np.concatenate(pictures, axis=0)  # same width: the second was fitted to the first
+    return quantise_image(both, n_colors=n).yarns
+
+
+def run_design(
+    path_a: Path,
+    path_b: Path | None,
+    outdir: Path,
+    *,
+    mode: str = "double",
+    n_colors: int = 2,
+    yarns: str | None = None,
+    width: int | None = None,
+    resize: bool = False,
+    candidates: int = 5,
+    bank_file: Path | None = None,
+    pick: int = 1,
+    solver: str = "cpsat",
+    soft_brightness: bool = False,
+    one_sided: bool = False,
+) -> dict[str, Any]:
+    """Load, quantise, assign, compile and write every candidate (atomically into ``outdir``).
+
+    ``mode`` is ``"double"`` (A from above, B from below) or ``"headon"`` (A head-on, B from
+    both sides; B may be None for a plain side view). Returns the summary dict.
+    """
+    from illuknit.errors import TileAssignmentError
+    from illuknit.export import export_pattern
+    from illuknit.images import quantise_image
+    from illuknit.outputs import atomic_write_text, staged_dir
+    from illuknit.previews import save_png, unit_scale, upscale
+    from illuknit.tiles.assign import assign_tiles
+    from illuknit.tiles.bank import canonical_bank, load_bank
+    from illuknit.tiles.compile import compile_tiles, repainted_rgb
+    from illuknit.tiles.headon import HEADON_VIEWS, uniform_side
+
+    if candidates < 1:
+        raise TileAssignmentError(f"--candidates must be at least 1, got {candidates}")
+    a, b = _load_pair(path_a, path_b, width=width, resize=resize)
+    pictures = [a] if b is None else [a, b]
+    ys = _choose_yarns(yarns, n_colors, pictures)
+    qa = quantise_image(a, n_colors=n_colors)
+    qb = quantise_image(b, n_colors=n_colors) if b is not None else None
+    views = ("A", "B") if mode == "double" else HEADON_VIEWS
+    if bank_file is not None:
+        bank = load_bank(bank_file, yarns=ys)
+    else:
+        bank = canonical_bank(ys, views=views, one_sided_stripes=one_sided)  # type: ignore[arg-type]
+    second = qb if qb is not None else uniform_side(qa)
+    found = assign_tiles(
+        qa,
+        second,
+        bank=bank,
+        candidates=candidates,
+        brightness="soft" if soft_brightness else "hard",
+        solver=solver,
+        views=views,  # type: ignore[arg-type]
+    )
+    if not 1 <= pick <= len(found):
+        raise TileAssignmentError(
+            f"--pick must be between 1 and {len(found)} (candidates found), got {pick}"
+        )
+    names = (
+        ("front (head-on)", "side") if mode == "headon" else ("A (from above)", "B (from below)")
+    )
+    rows = []
+    with staged_dir(outdir) as tmp:
+        for cand in found:
+            pattern, report = compile_tiles(cand)
+            sub = tmp / f"candidate_{cand.rank}"
+            s = max(2, unit_scale(pattern.shape))
+            rep = {
+                "mode": mode,
+                "sources": [str(path_a), str(path_b) if path_b else None],
+                "assignment": cand.to_json(),
+                "tiles_report": report.to_json(),
+                "default": cand.rank == pick,
+            }
+            ra = repainted_rgb(cand, 0)
+            rb = repainted_rgb(cand, 1)
+            quantised = {"A": qa} if qb is None else {"A": qa, "B": qb}
+            export_pattern(
+                pattern,
+                sub,
+                quantised=quantised,
+                report=rep,
+                title=f"{mode}-view illusion, candidate {cand.rank}",
+                targets={f"{names[0]} repainted": ra, f"{names[1]} repainted": rb},
+            )
+            save_png(upscale(ra, s), sub / "repainted_a.png")
+            save_png(upscale(rb, s), sub / "repainted_b.png")
+            save_png(
+                upscale(repainted_rgb(cand, 0, mode="average"), s), sub / "repainted_a_average.png"
+            )
+            save_png(
+                upscale(repainted_rgb(cand, 1, mode="average"), s), sub / "repainted_b_average.png"
+            )
+            legend = {
+                "views": list(views),
+                "fills": cand.describe(),
+                "tiles": cand.to_json()["tiles"],
+            }
+            atomic_write_text(sub / "fills.json", json.dumps(legend, indent=1) + "\n")
+            rows.append(
+                {
+                    "rank": cand.rank,
+                    "default": cand.rank == pick,
+                    "score": round(cand.score, 2),
+                    "fills_a": [f["fill"] for f in cand.describe() if f["input"] == "A"],
+                    "fills_b": [f["fill"] for f in cand.describe() if f["input"] == "B"],
+                    "error_repainted": report.to_json()["error_repainted"],
+                    "error_repainted_interior": report.to_json()["error_repainted_interior"],
+                    "color_changes_per_course_max": int(report.color_changes.max(initial=0)),
+                    "folder": sub.name,
+                }
+            )
+        shutil.copyfile(tmp / f"candidate_{pick}" / "pattern.json", tmp / "pattern.json")
+        summary = {
+            "mode": mode,
+            "yarns": [{"name": y.name, "rgb": y.hex} for y in ys],
+            "size": {"rows": int(qa.shape[0]), "cols": int(qa.shape[1])},
+            "bank": {"name": bank.name, "tiles": len(bank)},
+            "solver": solver,
+            "default": pick,
+            "candidates": rows,
+        }
+        atomic_write_text(tmp / "summary.json", json.dumps(summary, indent=1) + "\n")
+        atomic_write_text(tmp / "summary.txt", _summary_text(summary))
+    return summary
+
+
+def _summary_text(summary: dict[str, Any]) -> str:
+    lines = [
+        f"{summary['mode']}-view tile design, {summary['size']['cols']} x {summary['size']['rows']} units, "
+        f"yarns: {', '.join(y['name'] + ' ' + y['rgb'] for y in summary['yarns'])}",
+        f"bank {summary['bank']['name']} ({summary['bank']['tiles']} tiles), solver {summary['solver']}",
+        "",
+        "rank  default  score    fills of input A | fills of input B",
+    ]
+    for r in summary["candidates"]:
+        mark = "  *    " if r["default"] else "       "
+        lines.append(
+            f"{r['rank']:>4}  {mark}  {r['score']:>7.2f}  {'; '.join(r['fills_a'])} | {'; '.join(r['fills_b'])}"
+        )
+    lines.append("")
+    lines.append(
+        "* = default candidate (its pattern is also ./pattern.json); each is in candidate_K/"
+    )
+    return "\n".join(lines) + "\n"
+
+
+def print_summary(summary: dict[str, Any], outdir: Path) -> None:
+    from rich.console import Console
+    from rich.table import Table
+
+    con = Console(highlight=False, soft_wrap=True)
+    t = Table(
+        title=f"{summary['mode']}-view candidates ({summary['size']['cols']} x {summary['size']['rows']} units)",
+        header_style="bold",
+    )
+    for col in (
+        "rank",
+        "",
+        "score",
+        "fills A",
+        "fills B",
+        "error vs repainted (interior)",
+        "max changes/course",
+    ):
+        t.add_column(col)
+    for r in summary["candidates"]:
+        err = ", ".join(f"{k} {v:.3f}" for k, v in r["error_repainted_interior"].items())
+        t.add_row(
+            str(r["rank"]),
+            "default" if r["default"] else "",
+            f"{r['score']:.1f}",
+            "; ".join(r["fills_a"]),
+            "; ".join(r["fills_b"]),
+            err,
+            str(r["color_changes_per_course_max"]),
+        )
+    con.print(t)
+    con.print(
+        f"wrote {len(summary['candidates'])} candidate(s) to [bold]{outdir}[/] (default: candidate_{summary['default']})"
+    )
+
+
+def design_options(func):  # type: ignore[no-untyped-def]
+    """Options shared by ``double`` and ``headon``."""
+    opts = [
+        click.option("--colors", "n_colors", type=click.IntRange(2, 4), default=2, show_default=True,
+                     help="Colours each picture is quantised to."),
+        click.option("--yarns", default=None, metavar="N|LIST",
+                     help="Number of yarns chosen from the pictures, or a list like 'black,white,#c03030'. Default: --colors."),
+        click.option("--width", type=click.IntRange(2, 1000), default=None,
+                     help="Pattern width in units (pictures are resized; default: picture size, at most 400)."),
+        click.option("--resize", is_flag=True, help="Stretch the second picture onto the first when sizes differ."),
+        click.option("--candidates", type=click.IntRange(1, 50), default=5, show_default=True,
+                     help="How many ranked candidates to write."),
+        click.option("--bank", "bank_file", type=click.Path(dir_okay=False, path_type=Path), default=None,
+                     help="Custom tile bank (JSON; see docs/tiles.md)."),
+        click.option("--pick", type=click.IntRange(1, 50), default=1, show_default=True,
+                     help="Which candidate is the default (copied to OUTDIR/pattern.json)."),
+        click.option("--solver", default="cpsat", show_default=True, help="Solver backend: cpsat, rc2, ..."),
+        click.option("--soft-brightness", is_flag=True,
+                     help="Prefer, rather than require, keeping each picture's brightness order."),
+        click.option("--one-sided", is_flag=True, help="Only tiles that are solid from at least one side."),
+        click.option("-o", "--outdir", type=click.Path(file_okay=False, path_type=Path), required=True,
+                     help="Folder to write into (replaced as a whole on success)."),
+    ]  # fmt: skip
+    for opt in reversed(opts):
+        func = opt(func)
+    return func
+
+
+@click.command("double")
+@click.argument("image_a", type=click.Path(dir_okay=False, path_type=Path))
+@click.argument("image_b", type=click.Path(dir_okay=False, path_type=Path))
+@design_options
+def double(image_a: Path, image_b: Path, outdir: Path, **kw: Any) -> None:
+    """Design a double-view illusion: IMAGE_A seen from above, IMAGE_B from below.
+
+    Each picture colour is repainted with a solid or striped fill so that every place where a
+    colour of A lies over a colour of B can be knit with a tile of the bank. Writes the ranked
+    candidates, each with pattern, previews and repainted inputs, and a summary table.
+    Exit code 2 with an explanation when no assignment exists.
+    """
+    summary = run_design(image_a, image_b, outdir, mode="double", **kw)
+    print_summary(summary, outdir)

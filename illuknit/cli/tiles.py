@@ -1,0 +1,122 @@
+"""``illuknit tiles``: list a tile bank with its fills and draw every tile."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import click
+import numpy as np
+from numpy.typing import NDArray
+
+__all__ = ["tile_picture", "tiles"]
+
+DEFAULT_YARNS = "black=#1b1b1b,white=#f4f0e8"
+
+
+def tile_picture(tile, bank, *, periods: int = 2, cell: int = 20) -> NDArray[np.uint8]:  # type: ignore[no-untyped-def]
+    """One picture of a tile (Fig. 10 style): top-down with bumps marked, height map, view A,
+    view B; each over ``periods`` repeats."""
+    from illuknit.pattern import LogicalPattern
+    from illuknit.previews import chart_rgb, contact_sheet, upscale
+    from illuknit.tiles.tile import tile_seen
+
+    yarn = np.tile(tile.yarn, (periods, 1))
+    raised = np.tile(tile.raised, (periods, 1))
+    p = LogicalPattern(yarn, raised, bank.yarns)
+    pal = p.palette
+    height = np.where(raised[..., None], 235, 60).astype(np.uint8).repeat(3, axis=2)
+    va = pal[np.tile(tile_seen(tile, "A"), (periods, 1))]
+    vb = pal[np.tile(tile_seen(tile, "B"), (periods, 1))]
+    panels = [
+        ("top-down", chart_rgb(p, scale=cell)),
+        ("height", upscale(height, cell)),
+        ("view A", upscale(va, cell)),
+        ("view B", upscale(vb, cell)),
+    ]
+    return contact_sheet(panels, pad=8)
+
+
+@click.command("tiles")
+@click.option(
+    "--yarns",
+    default=DEFAULT_YARNS,
+    show_default=True,
+    metavar="LIST",
+    help="Yarn colours the bank is generated for (or that a --bank file's indices refer to).",
+)
+@click.option(
+    "--bank",
+    "bank_file",
+    type=click.Path(dir_okay=False, path_type=Path),
+    default=None,
+    help="A custom tile bank (JSON, see docs/tiles.md) instead of the canonical one.",
+)
+@click.option(
+    "--headon", is_flag=True, help="The bank of the head-on variant (fills head-on / both sides)."
+)
+@click.option("--one-sided", is_flag=True, help="Only tiles that are solid from at least one side.")
+@click.option(
+    "--max-height", type=click.IntRange(1, 6), default=4, show_default=True, help="Tallest tile."
+)
+@click.option(
+    "-o",
+    "--outdir",
+    type=click.Path(file_okay=False, path_type=Path),
+    default=None,
+    help="Write bank.json and one picture per tile (top-down, height map, both side views) here.",
+)
+def tiles(
+    yarns: str,
+    bank_file: Path | None,
+    headon: bool,
+    one_sided: bool,
+    max_height: int,
+    outdir: Path | None,
+) -> None:
+    """Print a tile bank with the fills of every tile, and draw the tiles.
+
+    Fills are computed with can_see over the tile's periodic extension: "black 2/3 + white 1/3"
+    is a stripe with two black courses for one white one.
+    """
+    from rich.console import Console
+    from rich.table import Table
+
+    from illuknit.outputs import atomic_write_text, staged_dir
+    from illuknit.pattern import parse_yarns
+    from illuknit.previews import save_png
+    from illuknit.tiles.bank import bank_to_json, canonical_bank, load_bank
+
+    ys = parse_yarns(yarns)
+    views = ("headon", "side") if headon else ("A", "B")
+    if bank_file is not None:
+        bank = load_bank(bank_file, yarns=ys)
+    else:
+        bank = canonical_bank(ys, max_height=max_height, views=views, one_sided_stripes=one_sided)  # type: ignore[arg-type]
+    con = Console(highlight=False, soft_wrap=True)
+    table = Table(title=f"tile bank {bank.name!r}: {len(bank)} tiles", header_style="bold")
+    for col in (
+        "#",
+        "tile (top row first, ^ = bump)",
+        "h",
+        "fill A (from above)",
+        "fill B (from below)",
+        "head-on",
+    ):
+        table.add_column(col)
+    for k, (t, f) in enumerate(zip(bank.tiles, bank.fills, strict=True)):
+        table.add_row(
+            str(k),
+            t.code(),
+            str(t.height),
+            *(f[v].label(bank.yarns) if f[v] is not None else "-" for v in ("A", "B", "headon")),  # type: ignore[union-attr]
+        )
+    con.print(table)
+    if outdir is None:
+        return
+    with staged_dir(outdir) as tmp:
+        atomic_write_text(tmp / "bank.json", json.dumps(bank_to_json(bank), indent=1) + "\n")
+        for k, t in enumerate(bank.tiles):
+            code = t.code().replace("/", "-").replace("^", "b").replace(" ", "")
+            save_png(tile_picture(t, bank), tmp / f"tile_{k:03d}_{code}.png")
+    con.print(f"wrote bank.json and {len(bank)} tile pictures to [bold]{outdir}[/]")
