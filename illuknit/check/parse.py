@@ -14,6 +14,7 @@ it as a finding together with every other problem of the file.
 
 from __future__ import annotations
 
+import itertools
 import math
 import re
 from dataclasses import dataclass, field
@@ -178,7 +179,7 @@ class KnitoutProgram:
         if self.n_lines < 1:
             raise ValueError(f"`n_lines` must be >= 1, got {self.n_lines}")
         lines = [op.line for op in self.operations]
-        if any(b <= a for a, b in zip(lines, lines[1:], strict=False)):
+        if any(b <= a for a, b in itertools.pairwise(lines)):
             raise ValueError("`operations` must be in strictly increasing line order")
         # first occurrence wins, as in the converter
         hm: dict[str, tuple[str, int]] = {}
@@ -249,14 +250,14 @@ def _parse_operation(body: str, line: int) -> Operation:
         pos += 1
     carriers = tuple(rest[pos:])
     if carrier_rule == "none" and carriers:
-        raise KnitoutParseError(
-            f"{op} takes no carriers (got {' '.join(carriers)!r})", line=line
-        )
+        raise KnitoutParseError(f"{op} takes no carriers (got {' '.join(carriers)!r})", line=line)
     if carrier_rule == "some" and not carriers:
         raise KnitoutParseError(f"{op} needs at least one carrier", line=line)
     for c in carriers:
         if parse_needle(c) is not None or c in ("+", "-"):
-            raise KnitoutParseError(f"{op}: unexpected {c!r} where a carrier name belongs", line=line)
+            raise KnitoutParseError(
+                f"{op}: unexpected {c!r} where a carrier name belongs", line=line
+            )
     return Operation(
         line, op, direction=direction, needles=tuple(needles), carriers=carriers, tabs=tabs
     )

@@ -1,0 +1,149 @@
+"""illuknit's own fabric checks: failures a machine accepts but a knitter would not.
+
+Neither the SWG converter nor the PyPI simulator reports these (paper section 7, Figs. 14-16,
+20, 21); :func:`fabric_findings` derives them from a :class:`Simulation`:
+
+``face-float`` (error)
+    A carrier moved across needle slots whose loops sit on the back bed (purls) without stitching
+    there and with no front loop in that slot to hide it: the yarn lies between the beds, so on the
+    technical face it floats over the purls (Fig. 14). Fix: knit the purls in the same pass, or
+    transfer them to the front before the move and back after (Algorithm 1).
+``wrong-side-carrier`` (error)
+    A stitch made while its carrier's logical position was ahead of the needle in the pass
+    direction (a ``+`` stitch at needle n with the carrier parked right of n, or a ``-`` stitch
+    with it left of n). The carriage meets the needle before the yarn does, so no yarn is laid and
+    the stitch is not formed (Fig. 16, 21); converters that insert a kickback instead leave a loop
+    of yarn across the fabric. Fix: alternate directions, or park the carrier with ``miss``.
+``pieces`` (error)
+    The loop/yarn graph has more than one connected component: the program knits separate pieces
+    (for example intarsia blocks whose yarns never share a loop, Fig. 15, 20 right).
+``long-float`` (warning)
+    Yarn carried across more needle slots than the float limit between two consecutive loops.
+``loops-left`` (error)
+    Loops still on needles when the program ends; end with a bind-off, or knit waste and ``drop``
+    deliberately.
+``carrier-left-in`` / ``hook-left`` (error)
+    A carrier never taken out (``outhook``/``out``), or the inserting hook still holding a yarn.
+"""
+
+from __future__ import annotations
+
+from illuknit.check.report import Finding
+from illuknit.check.simulate import Simulation
+
+__all__ = ["FABRIC_RULES", "fabric_findings"]
+
+#: code -> (severity, what it means)
+FABRIC_RULES: dict[str, tuple[str, str]] = {
+    "face-float": ("error", "yarn floats in front of back-bed (purl) loops"),
+    "wrong-side-carrier": ("error", "stitch made with the carrier ahead of the carriage"),
+    "pieces": ("error", "the fabric falls apart into separate pieces"),
+    "long-float": ("warning", "float longer than the float limit"),
+    "loops-left": ("error", "loops left on needles at the end"),
+    "carrier-left-in": ("error", "carrier never taken out"),
+    "hook-left": ("error", "inserting hook still holds a yarn at the end"),
+}
+
+_MAX_LISTED = 200
+
+
+def _finding(line: int, code: str, message: str) -> Finding:
+    return Finding(line, code, FABRIC_RULES[code][0], message)
+
+
+def _side(x: float, d: str) -> str:
+    return f"{x:g}{d}"
+
+
+def fabric_findings(sim: Simulation, *, float_limit: int) -> tuple[list[Finding], dict[str, int]]:
+    """Fabric findings of a simulation.
+
+    Parameters
+    ----------
+    sim : Simulation
+    float_limit : int, keyword-only
+        Longest allowed float, in needle slots crossed.
+
+    Returns
+    -------
+    findings : list of Finding
+    suppressed : dict of str to int
+        Findings per code beyond the listing cap.
+    """
+    out: list[Finding] = []
+    counts: dict[str, int] = {}
+
+    def add(line: int, code: str, message: str) -> None:
+        n = counts.get(code, 0)
+        counts[code] = n + 1
+        if n < _MAX_LISTED:
+            out.append(_finding(line, code, message))
+
+    for ff in sim.face_floats:
+        shown = ", ".join(ff.needles[:6]) + (" ..." if len(ff.needles) > 6 else "")
+        add(
+            ff.line,
+            "face-float",
+            f"carrier {ff.carrier} moves across {len(ff.needles)} back-bed loop(s) ({shown}) "
+            "without stitching them: the yarn floats over the purls on the face; knit them in "
+            "this pass or move them to the front first",
+        )
+    for ws in sim.wrong_sides:
+        where = "right" if ws.direction == "+" else "left"
+        add(
+            ws.line,
+            "wrong-side-carrier",
+            f"{ws.direction} stitch at {ws.needle} but carrier {ws.carrier} sits at "
+            f"{_side(ws.carrier_location, ws.carrier_direction)}, {where} of it (ahead of the "
+            "carriage): the stitch will not form; alternate direction or park it with miss",
+        )
+    for fl in sim.floats:
+        if fl.length > float_limit:
+            add(
+                fl.line,
+                "long-float",
+                f"carrier {fl.carrier} floats across {fl.length} needles "
+                f"(slot {fl.from_slot} to {fl.to_slot}); limit {float_limit}",
+            )
+    if sim.pieces > 1:
+        first: dict[int, int] = {}
+        for lid, comp in enumerate(sim.components):
+            first.setdefault(comp, lid)
+        carriers: dict[int, set[str]] = {}
+        for lid, comp in enumerate(sim.components):
+            carriers.setdefault(comp, set()).add(sim.loop_carriers[lid])
+        for comp in range(1, sim.pieces):
+            lid = first[comp]
+            add(
+                sim.loop_lines[lid],
+                "pieces",
+                f"piece {comp + 1} of {sim.pieces} starts here (carrier(s) "
+                f"{' '.join(sorted(carriers[comp]))}) and never shares a loop or yarn with piece 1: "
+                "the fabric falls apart; catch the yarns (e.g. a plated stitch at the colour change)",
+            )
+    if sim.loops_left:
+        total = sum(n for _, n in sim.loops_left)
+        shown = ", ".join(n for n, _ in sim.loops_left[:6]) + (
+            " ..." if len(sim.loops_left) > 6 else ""
+        )
+        add(
+            sim.last_line,
+            "loops-left",
+            f"{total} loop(s) left on {len(sim.loops_left)} needle(s) at the end ({shown}); "
+            "bind off, or knit waste and drop them deliberately",
+        )
+    for ce in sim.carriers_left:
+        add(
+            ce.last_line,
+            "carrier-left-in",
+            f"carrier {ce.carrier} (brought in at line {ce.in_line}) is never taken out; "
+            f"add 'outhook {ce.carrier}' after its last use",
+        )
+    if sim.hook_left:
+        add(
+            sim.last_line,
+            "hook-left",
+            f"the inserting hook still holds {' '.join(sim.hook_left)} at the end",
+        )
+    suppressed = {k: n - _MAX_LISTED for k, n in counts.items() if n > _MAX_LISTED}
+    return out, suppressed

@@ -1,0 +1,131 @@
+"""Machine-rule findings: what the SWG091N2 (and its knitout converter) would refuse.
+
+Two sources: the header and file form of the program (:func:`check_header`), and the events the
+simulation recorded while running it (:func:`machine_findings`). ``RULES`` maps every code to its
+severity and a one-line explanation; ``docs/checker.md`` lists the same table.
+"""
+
+from __future__ import annotations
+
+from illuknit.check.parse import KnitoutProgram
+from illuknit.check.report import Finding
+from illuknit.check.simulate import Simulation
+
+__all__ = ["RULES", "SWG_CARRIERS", "check_header", "machine_findings"]
+
+#: the only ;;Carriers: value the SWG converter accepts
+SWG_CARRIERS = "1 2 3 4 5 6 7 8 9 10"
+
+#: code -> (severity, what it means)
+RULES: dict[str, tuple[str, str]] = {
+    "header-version": ("warning", "magic line names a knitout version above 2"),
+    "header-carriers": ("error", ";;Carriers: missing or not exactly '1 2 3 4 5 6 7 8 9 10'"),
+    "header-value": ("error", "bad ;;Gauge, ;;Width or ;;Position value"),
+    "header-machine": ("warning", ";;Machine is not the SWG091N2 the checker models"),
+    "crlf": ("warning", "CRLF line endings (the converter warns)"),
+    "tab-separator": ("error", "tokens separated by tabs (the SWG converter accepts spaces only)"),
+    "carrier-unknown": ("error", "carrier not listed in the ;;Carriers: header"),
+    "carrier-not-in": ("error", "carrier used without in/inhook (never brought in, or after out)"),
+    "in-active-carrier": ("error", "in/inhook of a carrier that is already in"),
+    "first-use-mismatch": ("error", "first use of a carrier not with exactly its in/inhook set"),
+    "duplicate-carrier": ("error", "a carrier set names a carrier twice"),
+    "hook-busy": ("error", "inhook while the inserting hook still holds another carrier"),
+    "hook-rightward": ("error", "first stitch of a hooked carrier goes '+'"),
+    "hook-blocked": ("error", "carrier operation at or right of the held inserting hook"),
+    "release-empty": ("error", "releasehook while the hook holds nothing"),
+    "release-wrong-set": ("error", "releasehook names a set other than what the hook holds"),
+    "release-before-stitch": ("error", "releasehook before the hooked carrier stitched"),
+    "outhook-hook-busy": ("error", "outhook while the hook holds another carrier"),
+    "out-hooked": ("error", "out/outhook of a carrier still on the inserting hook"),
+    "out-inactive": ("error", "out/outhook of a carrier that is not in"),
+    "out-unused": ("error", "out/outhook of a carrier that never stitched"),
+    "miss-without-carriers": ("error", "miss with no carrier"),
+    "rack-range": ("error", "|racking| beyond the machine limit"),
+    "rack-fraction": ("error", "racking not an integer or integer + 0.25"),
+    "xfer-misaligned": ("error", "xfer/split between needles not aligned at the current racking"),
+    "xfer-same-bed": ("error", "xfer/split between two needles of one bed"),
+    "xfer-slider-slider": ("error", "xfer between two slider needles"),
+    "stitch-on-slider": ("error", "knit/tuck/split on a slider needle (sliders cannot form loops)"),
+    "too-many-loops": ("error", "a needle holds more loops than the machine allows"),
+    "too-wide": ("error", "needles outside the bed width"),
+    "knit-empty": ("warning", "knit on a needle that holds no loop"),
+}
+
+
+def _finding(line: int, code: str, message: str) -> Finding:
+    return Finding(line, code, RULES[code][0], message)
+
+
+def check_header(program: KnitoutProgram) -> list[Finding]:
+    """Findings about the magic line, the header and the file's form."""
+    out: list[Finding] = []
+    if program.version > 2:
+        out.append(
+            _finding(1, "header-version", f"knitout-{program.version}: the converter knows up to 2")
+        )
+    hc = program.header("Carriers")
+    if hc is None:
+        out.append(
+            _finding(
+                1,
+                "header-carriers",
+                f"no ';;Carriers: {SWG_CARRIERS}' header (the SWG converter requires exactly this)",
+            )
+        )
+    elif hc[0] != SWG_CARRIERS:
+        out.append(
+            _finding(
+                hc[1],
+                "header-carriers",
+                f";;Carriers: {hc[0]!r}; the SWG converter requires exactly {SWG_CARRIERS!r}",
+            )
+        )
+    g = program.header("Gauge")
+    if g is not None and not _positive_number(g[0]):
+        out.append(
+            _finding(g[1], "header-value", f";;Gauge must be a positive number, got {g[0]!r}")
+        )
+    w = program.header("Width")
+    if w is not None and not (w[0].isdigit() and int(w[0]) > 0):
+        out.append(
+            _finding(w[1], "header-value", f";;Width must be a positive integer, got {w[0]!r}")
+        )
+    p = program.header("Position")
+    if p is not None and p[0] not in ("Left", "Right", "Center", "Keep"):
+        out.append(
+            _finding(
+                p[1],
+                "header-value",
+                f";;Position must be Left, Right, Center or Keep, got {p[0]!r}",
+            )
+        )
+    m = program.header("Machine")
+    if m is not None and m[0] != "SWG091N2":
+        out.append(
+            _finding(m[1], "header-machine", f";;Machine {m[0]!r}: the checker models the SWG091N2")
+        )
+    if program.crlf:
+        out.append(_finding(1, "crlf", "CRLF line endings; write LF"))
+    tabbed = [op.line for op in program.operations if op.tabs]
+    if tabbed:
+        more = f" (and {len(tabbed) - 1} more lines)" if len(tabbed) > 1 else ""
+        out.append(
+            _finding(
+                tabbed[0],
+                "tab-separator",
+                f"tab between tokens{more}; the SWG converter accepts single spaces only",
+            )
+        )
+    return out
+
+
+def _positive_number(s: str) -> bool:
+    try:
+        return float(s) > 0
+    except ValueError:
+        return False
+
+
+def machine_findings(sim: Simulation) -> list[Finding]:
+    """Findings from the machine-rule events of a simulation."""
+    return [_finding(e.line, e.code, e.message) for e in sim.events]

@@ -1,0 +1,669 @@
+"""illuknit's own simulation of a knitout program on a V-bed machine.
+
+The second stage of the checker: :func:`simulate_program` runs a parsed :class:`KnitoutProgram`
+operation by operation and records what a real machine would do, without judging severity
+(``rules.py`` and ``fabric.py`` do that). The machine state it tracks:
+
+* **needles**: which loops (integer ids) each needle of the four beds (f, b, fs, bs) holds;
+* **racking** R: back needle ``b k`` faces front needle ``f (k+R)``; its *location* on the common
+  axis is ``k + R`` and its *slot* ``k + floor(R)`` (front needles: location = slot = index);
+* **carriers**: active or not, the set named on their ``in``/``inhook`` (awaiting first use),
+  their logical position (location of their last op and its direction: just right of it after
+  ``+``, just left after ``-``), and the last loop they made;
+* **the yarn-inserting hook**: which carrier set it holds and, once the first stitch is made, its
+  slot (one right of that stitch, as in the SWG091N2 model of ``virtual-knitting-machine``);
+* **the loop graph**: every loop made is a node; *stitch edges* join a new loop to the loops it was
+  pulled through, *yarn edges* join consecutive loops of one carrier. A union-find keeps its
+  connected components: each component is one separate piece of fabric.
+
+Besides machine-rule events it records raw fabric observations: every float (a carrier moving
+across needle slots between two consecutive loops), every slot where such a move passed in front
+of back-bed loops with no front loop to hide the yarn (Fig. 14 of the paper), and every stitch
+made while the carrier sat ahead of the needle in the pass direction (Fig. 16).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+from illuknit.check.parse import KnitoutProgram, Needle, Operation
+
+__all__ = [
+    "CarrierEnd",
+    "Event",
+    "FaceFloat",
+    "Float",
+    "Simulation",
+    "WrongSide",
+    "simulate_program",
+]
+
+#: Findings of one code beyond this many are counted, not stored (a systematic error in a large
+#: program would otherwise produce tens of thousands of identical lines).
+MAX_EVENTS_PER_CODE = 200
+
+
+@dataclass(frozen=True)
+class Event:
+    """A machine-rule event: ``code`` (see ``rules.RULES``) at a 1-based line."""
+
+    line: int
+    code: str
+    message: str
+
+
+@dataclass(frozen=True)
+class Float:
+    """Yarn of ``carrier`` crossing ``length`` needle slots between two consecutive loops."""
+
+    line: int
+    carrier: str
+    from_slot: int
+    to_slot: int
+
+    @property
+    def length(self) -> int:
+        """Number of needle slots strictly between the two loops."""
+        return abs(self.to_slot - self.from_slot) - 1
+
+
+@dataclass(frozen=True)
+class FaceFloat:
+    """A float of ``carrier`` passing in front of loops held on back needles ``needles``."""
+
+    line: int
+    carrier: str
+    needles: tuple[str, ...]
+
+
+@dataclass(frozen=True)
+class WrongSide:
+    """A stitch made while ``carrier`` sat ahead of the needle in the pass direction."""
+
+    line: int
+    carrier: str
+    needle: str
+    direction: str
+    carrier_location: float
+    carrier_direction: str
+
+
+@dataclass(frozen=True)
+class CarrierEnd:
+    """A carrier still in action when the program ends."""
+
+    carrier: str
+    in_line: int
+    last_line: int
+
+
+@dataclass(frozen=True)
+class Simulation:
+    """What happened when the program ran.
+
+    Attributes
+    ----------
+    events : tuple of Event
+        Machine-rule events in line order (capped at ``MAX_EVENTS_PER_CODE`` per code).
+    suppressed : dict of str to int
+        Events per code beyond the cap.
+    floats : tuple of Float
+        Every float of length >= 1.
+    face_floats, wrong_sides : tuple
+        Raw fabric observations, see the classes.
+    loop_lines : tuple of int
+        Line that made each loop, indexed by loop id.
+    loop_carriers : tuple of str
+        Carrier of each loop.
+    components : tuple of int
+        Component (piece) label of each loop, labels 0..pieces-1 in order of first loop.
+    loops_left : tuple of (str, int)
+        Needles still holding loops at the end and how many.
+    carriers_left : tuple of CarrierEnd
+        Carriers never taken out.
+    hook_left : tuple of str
+        Carrier set still on the inserting hook at the end (empty when released).
+    last_line : int
+        Line of the last operation (1 when there is none).
+    """
+
+    events: tuple[Event, ...]
+    suppressed: dict[str, int]
+    floats: tuple[Float, ...]
+    face_floats: tuple[FaceFloat, ...]
+    wrong_sides: tuple[WrongSide, ...]
+    loop_lines: tuple[int, ...]
+    loop_carriers: tuple[str, ...]
+    components: tuple[int, ...]
+    loops_left: tuple[tuple[str, int], ...]
+    carriers_left: tuple[CarrierEnd, ...]
+    hook_left: tuple[str, ...]
+    last_line: int
+
+    @property
+    def pieces(self) -> int:
+        """Number of connected components of the loop/yarn graph (0 when no loop was made)."""
+        return max(self.components, default=-1) + 1
+
+
+@dataclass
+class _Carrier:
+    name: str
+    active: bool = False
+    pending: tuple[str, ...] | None = None  # set named on in/inhook, until first use
+    used: bool = False
+    x: float | None = None  # location of last op
+    dir: str | None = None
+    last_loop: int | None = None
+    last_slot: int | None = None
+    in_line: int = 0
+    last_line: int = 0
+
+
+@dataclass
+class _State:
+    program: KnitoutProgram
+    header_carriers: frozenset[str] | None
+    max_racking: float
+    max_loops: int
+    bed_width: int | None
+    keep_position: bool
+    rack: float = 0.0
+    beds: dict[str, dict[int, list[int]]] = field(
+        default_factory=lambda: {b: {} for b in ("f", "b", "fs", "bs")}
+    )
+    carriers: dict[str, _Carrier] = field(default_factory=dict)
+    hook_set: tuple[str, ...] | None = None
+    hook_slot: int | None = None  # None while waiting for the first hooked stitch
+    parent: list[int] = field(default_factory=list)  # union-find over loop ids
+    loop_lines: list[int] = field(default_factory=list)
+    loop_carriers: list[str] = field(default_factory=list)
+    events: list[Event] = field(default_factory=list)
+    counts: dict[str, int] = field(default_factory=dict)
+    floats: list[Float] = field(default_factory=list)
+    face_floats: list[FaceFloat] = field(default_factory=list)
+    wrong_sides: list[WrongSide] = field(default_factory=list)
+    reported_unknown: set[str] = field(default_factory=set)
+    min_index: int | None = None
+    max_index: int | None = None
+    width_reported: bool = False
+
+    # -- bookkeeping ------------------------------------------------------------------------
+    def event(self, line: int, code: str, message: str) -> None:
+        n = self.counts.get(code, 0)
+        self.counts[code] = n + 1
+        if n < MAX_EVENTS_PER_CODE:
+            self.events.append(Event(line, code, message))
+
+    def find(self, a: int) -> int:
+        parent = self.parent
+        root = a
+        while parent[root] != root:
+            root = parent[root]
+        while parent[a] != root:  # path compression
+            parent[a], a = root, parent[a]
+        return root
+
+    def union(self, a: int, b: int) -> None:
+        ra, rb = self.find(a), self.find(b)
+        if ra != rb:
+            # keep the older loop as root so labels follow creation order
+            if ra < rb:
+                self.parent[rb] = ra
+            else:
+                self.parent[ra] = rb
+
+    def new_loop(self, line: int, carrier: str) -> int:
+        lid = len(self.parent)
+        self.parent.append(lid)
+        self.loop_lines.append(line)
+        self.loop_carriers.append(carrier)
+        return lid
+
+    # -- geometry -----------------------------------------------------------------------------
+    def location(self, n: Needle) -> float:
+        return float(n.index) if n.is_front else n.index + self.rack
+
+    def slot(self, n: Needle) -> int:
+        return n.index if n.is_front else n.index + math.floor(self.rack)
+
+    def held(self, n: Needle) -> list[int]:
+        return self.beds[n.bed].get(n.index, [])
+
+    def take(self, n: Needle) -> list[int]:
+        return self.beds[n.bed].pop(n.index, [])
+
+    def put(self, n: Needle, loops: list[int], line: int) -> None:
+        if not loops:
+            return
+        bed = self.beds[n.bed]
+        cur = bed.get(n.index)
+        if cur is None:
+            bed[n.index] = cur = []
+        cur.extend(loops)
+        if len(cur) > self.max_loops:
+            self.event(
+                line,
+                "too-many-loops",
+                f"{n} holds {len(cur)} loops; the machine holds at most {self.max_loops}",
+            )
+
+    def note_needle(self, n: Needle, line: int) -> None:
+        i = n.index
+        if self.min_index is None or i < self.min_index:
+            self.min_index = i
+        if self.max_index is None or i > self.max_index:
+            self.max_index = i
+        w = self.bed_width
+        if w is None or self.width_reported:
+            return
+        if self.keep_position:
+            if not 1 <= i <= w:
+                self.width_reported = True
+                self.event(
+                    line,
+                    "too-wide",
+                    f"{n} is outside the bed (Position: Keep needs needles 1..{w})",
+                )
+        elif self.max_index - self.min_index + 1 > w:  # type: ignore[operator]
+            self.width_reported = True
+            self.event(
+                line,
+                "too-wide",
+                f"the program spans needles {self.min_index}..{self.max_index}, "
+                f"wider than the {w}-needle bed",
+            )
+
+    def carrier(self, name: str, line: int) -> _Carrier:
+        c = self.carriers.get(name)
+        if c is None:
+            c = self.carriers[name] = _Carrier(name)
+        hc = self.header_carriers
+        if hc is not None and name not in hc and name not in self.reported_unknown:
+            self.reported_unknown.add(name)
+            self.event(
+                line,
+                "carrier-unknown",
+                f"carrier {name} is not listed in the ;;Carriers: header",
+            )
+        return c
+
+
+def _aligned(state: _State, a: Needle, b: Needle) -> bool:
+    front, back = (a, b) if a.is_front else (b, a)
+    return float(front.index) == back.index + state.rack
+
+
+def _check_pair(state: _State, op: Operation) -> bool:
+    """Machine rules of a needle-to-needle move (xfer, split); True when loops may move."""
+    src, dst = op.needles
+    if src.is_front == dst.is_front:
+        state.event(op.line, "xfer-same-bed", f"{op.op} {src} {dst}: both needles on one bed")
+        return False
+    if src.is_slider and dst.is_slider:
+        state.event(op.line, "xfer-slider-slider", f"{op.op} {src} {dst}: slider to slider")
+        return False
+    if op.op == "split" and src.is_slider:
+        state.event(op.line, "stitch-on-slider", f"split from slider {src}")
+    if not _aligned(state, src, dst):
+        r = state.rack
+        front, back = (src, dst) if src.is_front else (dst, src)
+        need = front.index - back.index
+        state.event(
+            op.line,
+            "xfer-misaligned",
+            f"{op.op} {src} {dst} at racking {_fmt(r)}: {back} faces f{back.index + r:g}; "
+            f"this move needs rack {need}",
+        )
+        return False
+    return True
+
+
+def _fmt(x: float) -> str:
+    return f"{x:g}"
+
+
+def _stitch(state: _State, op: Operation) -> None:
+    line = op.line
+    needle = op.needle
+    direction = op.direction
+    assert direction is not None
+    carriers = op.carriers
+    state.note_needle(needle, line)
+    if op.op == "split":
+        state.note_needle(op.needles[1], line)
+    if not carriers:
+        if op.op == "miss":
+            state.event(
+                line, "miss-without-carriers", f"miss {direction} {needle} names no carrier"
+            )
+        elif op.op == "knit":  # knit without yarn = drop
+            state.take(needle)
+        elif op.op == "split" and _check_pair(state, op):  # split without yarn = xfer
+            state.put(op.needles[1], state.take(needle), line)
+        return
+    if len(set(carriers)) != len(carriers):
+        state.event(
+            line, "duplicate-carrier", f"carrier set {' '.join(carriers)} repeats a carrier"
+        )
+    makes_loops = op.op != "miss"
+    if makes_loops and needle.is_slider:
+        state.event(
+            line,
+            "stitch-on-slider",
+            f"{op.op} on slider needle {needle}: sliders cannot form loops",
+        )
+    x = state.location(needle)
+    slot = state.slot(needle)
+
+    # carriers: activity, first use, hook
+    hook_first = False
+    for name in carriers:
+        c = state.carrier(name, line)
+        if not c.active:
+            state.event(
+                line,
+                "carrier-not-in",
+                f"carrier {name} is used but was never brought in (in/inhook)"
+                if not c.in_line
+                else f"carrier {name} is used after it was taken out",
+            )
+            c.active = True
+            c.in_line = c.in_line or line
+        if c.pending is not None:
+            if c.pending != carriers:
+                state.event(
+                    line,
+                    "first-use-mismatch",
+                    f"first use of carrier {name} is with set '{' '.join(carriers)}' but it was "
+                    f"brought in as '{' '.join(c.pending)}' (same carriers, same order)",
+                )
+            c.pending = None
+        if state.hook_set is not None and name in state.hook_set and state.hook_slot is None:
+            hook_first = True
+    if hook_first and makes_loops:
+        if direction == "+":
+            state.event(
+                line,
+                "hook-rightward",
+                f"first stitch of hooked carrier(s) {' '.join(state.hook_set or ())} goes '+'; "
+                "the inserting hook needs the first stitches to go '-' from the right edge",
+            )
+        state.hook_slot = slot + 1
+    elif state.hook_set is not None and state.hook_slot is not None and slot >= state.hook_slot:
+        state.event(
+            line,
+            "hook-blocked",
+            f"{op.op} at {needle} is at or right of the inserting hook (slot {state.hook_slot}) "
+            f"that still holds carrier(s) {' '.join(state.hook_set)}; releasehook first",
+        )
+
+    # fabric observations, per carrier, before the needle changes
+    if makes_loops:
+        for name in carriers:
+            c = state.carriers[name]
+            if c.x is not None and c.dir is not None:
+                behind = (
+                    (c.x < x if c.dir == "+" else c.x <= x)
+                    if direction == "+"
+                    else (c.x > x if c.dir == "-" else c.x >= x)
+                )
+                if not behind:
+                    state.wrong_sides.append(
+                        WrongSide(line, name, str(needle), direction, c.x, c.dir)
+                    )
+            if c.last_slot is not None and abs(slot - c.last_slot) > 1:
+                lo, hi = sorted((c.last_slot, slot))
+                state.floats.append(Float(line, name, c.last_slot, slot))
+                _face_float(state, line, name, lo, hi)
+
+    # the operation itself
+    if op.op == "miss":
+        new: list[int] = []
+    elif op.op == "knit":
+        parents = state.take(needle)
+        if not parents:
+            state.event(
+                line, "knit-empty", f"knit on empty needle {needle} (no loop to pull through)"
+            )
+        new = [state.new_loop(line, name) for name in carriers]
+        for child in new:
+            for p in parents:
+                state.union(child, p)
+        state.put(needle, new, line)
+    elif op.op == "tuck":
+        new = [state.new_loop(line, name) for name in carriers]
+        state.put(needle, new, line)
+    else:  # split
+        dst = op.needles[1]
+        parents = state.take(needle)
+        if _check_pair(state, op):
+            state.put(dst, parents, line)
+        else:
+            state.put(needle, parents, line)  # nothing moved; the old loops stay (and get caught)
+        new = [state.new_loop(line, name) for name in carriers]
+        for child in new:
+            for p in parents:
+                state.union(child, p)
+        # split keeps old loops on the other needle: the new loops hang off them like a knit
+        state.put(needle, new, line)
+
+    for k, name in enumerate(carriers):
+        c = state.carriers[name]
+        c.x = x
+        c.dir = direction
+        c.used = True
+        c.last_line = line
+        if makes_loops:
+            lid = new[k]
+            if c.last_loop is not None:
+                state.union(lid, c.last_loop)
+            c.last_loop = lid
+            c.last_slot = slot
+
+
+def _face_float(state: _State, line: int, carrier: str, lo: int, hi: int) -> None:
+    """Record back-bed loops with no front loop at slots strictly between lo and hi."""
+    shift = math.floor(state.rack)
+    back, back_s = state.beds["b"], state.beds["bs"]
+    front, front_s = state.beds["f"], state.beds["fs"]
+    hits: list[str] = []
+    if not back and not back_s:
+        return
+    for s in range(lo + 1, hi):
+        k = s - shift
+        on_back = back.get(k) or back_s.get(k)
+        if on_back and not (front.get(s) or front_s.get(s)):
+            hits.append(f"b{k}" if back.get(k) else f"bs{k}")
+    if hits:
+        state.face_floats.append(FaceFloat(line, carrier, tuple(hits)))
+
+
+def _carrier_op(state: _State, op: Operation) -> None:
+    line = op.line
+    cs = op.carriers
+    if len(set(cs)) != len(cs):
+        state.event(line, "duplicate-carrier", f"{op.op} {' '.join(cs)} repeats a carrier")
+    if op.op in ("in", "inhook"):
+        if op.op == "inhook" and state.hook_set is not None:
+            state.event(
+                line,
+                "hook-busy",
+                f"inhook {' '.join(cs)} while the hook still holds {' '.join(state.hook_set)}; "
+                "releasehook first",
+            )
+        for name in cs:
+            c = state.carrier(name, line)
+            if c.active:
+                state.event(
+                    line, "in-active-carrier", f"{op.op} {name}: carrier {name} is already in"
+                )
+            c.active = True
+            c.pending = cs
+            c.used = False
+            c.x = c.dir = None
+            c.last_loop = c.last_slot = None
+            c.in_line = line
+            c.last_line = line
+        if op.op == "inhook":
+            state.hook_set = cs
+            state.hook_slot = None
+    elif op.op == "releasehook":
+        if state.hook_set is None:
+            state.event(
+                line, "release-empty", f"releasehook {' '.join(cs)} but the hook holds nothing"
+            )
+        else:
+            if state.hook_set != cs:
+                state.event(
+                    line,
+                    "release-wrong-set",
+                    f"releasehook {' '.join(cs)} but the hook holds {' '.join(state.hook_set)}",
+                )
+            if state.hook_slot is None:
+                state.event(
+                    line,
+                    "release-before-stitch",
+                    f"releasehook {' '.join(cs)} before the hooked carrier made any stitch",
+                )
+        state.hook_set = None
+        state.hook_slot = None
+    else:  # out, outhook
+        if op.op == "outhook" and state.hook_set is not None and not set(cs) <= set(state.hook_set):
+            state.event(
+                line,
+                "outhook-hook-busy",
+                f"outhook {' '.join(cs)} while the hook holds {' '.join(state.hook_set)}",
+            )
+        for name in cs:
+            c = state.carrier(name, line)
+            if state.hook_set is not None and name in state.hook_set:
+                state.event(
+                    line,
+                    "out-hooked",
+                    f"{op.op} {name} while carrier {name} is still on the inserting hook; "
+                    "releasehook first",
+                )
+            if not c.active:
+                state.event(line, "out-inactive", f"{op.op} {name}: carrier {name} is not in")
+            elif not c.used:
+                state.event(line, "out-unused", f"{op.op} {name}: carrier {name} never stitched")
+            c.active = False
+            c.pending = None
+            c.last_loop = c.last_slot = None  # the yarn is cut (outhook) or parked (out)
+            c.x = c.dir = None
+        if state.hook_set is not None and set(state.hook_set) <= set(cs):
+            state.hook_set = None
+            state.hook_slot = None
+
+
+def _rack(state: _State, op: Operation) -> None:
+    r = op.value
+    assert r is not None
+    if abs(r) > state.max_racking:
+        state.event(
+            op.line, "rack-range", f"rack {_fmt(r)}: |racking| must be <= {_fmt(state.max_racking)}"
+        )
+    frac = r - math.floor(r)
+    if frac not in (0.0, 0.25):
+        state.event(
+            op.line,
+            "rack-fraction",
+            f"rack {_fmt(r)}: racking must be an integer or integer + 0.25",
+        )
+    state.rack = r
+
+
+def simulate_program(
+    program: KnitoutProgram,
+    *,
+    max_racking: float = 4,
+    max_loops: int = 4,
+    bed_width: int | None = None,
+) -> Simulation:
+    """Run ``program`` on illuknit's machine model.
+
+    Parameters
+    ----------
+    program : KnitoutProgram
+        Parsed program.
+    max_racking : float, keyword-only
+        Largest allowed |racking| (4 for the SWG091N2 model).
+    max_loops : int, keyword-only
+        Most loops one needle may hold.
+    bed_width : int or None, keyword-only
+        Needles per bed; None takes the ``;;Width`` header, or skips the width check.
+
+    Returns
+    -------
+    Simulation
+    """
+    hc = program.header("Carriers")
+    header_carriers = frozenset(hc[0].split()) if hc is not None else None
+    if bed_width is None:
+        wh = program.header("Width")
+        if wh is not None and wh[0].isdigit() and int(wh[0]) > 0:
+            bed_width = int(wh[0])
+    pos = program.header("Position")
+    state = _State(
+        program=program,
+        header_carriers=header_carriers,
+        max_racking=max_racking,
+        max_loops=max_loops,
+        bed_width=bed_width,
+        keep_position=pos is not None and pos[0] == "Keep",
+    )
+    for op in program.operations:
+        name = op.op
+        if name in ("knit", "tuck", "split", "miss"):
+            _stitch(state, op)
+        elif name == "xfer":
+            for n in op.needles:
+                state.note_needle(n, op.line)
+            if _check_pair(state, op):
+                src, dst = op.needles
+                state.put(dst, state.take(src), op.line)
+        elif name == "drop":
+            state.note_needle(op.needle, op.line)
+            state.take(op.needle)
+        elif name == "amiss":
+            state.note_needle(op.needle, op.line)
+        elif name == "rack":
+            _rack(state, op)
+        elif name in ("in", "inhook", "releasehook", "out", "outhook"):
+            _carrier_op(state, op)
+        # stitch, pause, x-*: no effect on the model
+
+    last_line = program.operations[-1].line if program.operations else 1
+    roots = [state.find(i) for i in range(len(state.parent))]
+    labels: dict[int, int] = {}
+    components = tuple(labels.setdefault(r, len(labels)) for r in roots)
+    loops_left = tuple(
+        (f"{bed}{idx}", len(loops))
+        for bed in ("f", "b", "fs", "bs")
+        for idx, loops in sorted(state.beds[bed].items())
+        if loops
+    )
+    carriers_left = tuple(
+        CarrierEnd(c.name, c.in_line, c.last_line)
+        for c in sorted(state.carriers.values(), key=lambda c: c.in_line)
+        if c.active
+    )
+    suppressed = {
+        k: n - MAX_EVENTS_PER_CODE for k, n in state.counts.items() if n > MAX_EVENTS_PER_CODE
+    }
+    return Simulation(
+        events=tuple(state.events),
+        suppressed=suppressed,
+        floats=tuple(state.floats),
+        face_floats=tuple(state.face_floats),
+        wrong_sides=tuple(state.wrong_sides),
+        loop_lines=tuple(state.loop_lines),
+        loop_carriers=tuple(state.loop_carriers),
+        components=components,
+        loops_left=loops_left,
+        carriers_left=carriers_left,
+        hook_left=tuple(state.hook_set or ()),
+        last_line=last_line,
+    )

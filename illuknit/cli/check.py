@@ -1,0 +1,107 @@
+"""``illuknit check PROGRAM.k``: find machine-rule violations and fabric failures in knitout.
+
+Exit codes: 0 nothing blocking, 1 blocking findings, 2 the file cannot be read or parsed (binary,
+no magic line, malformed instruction: one line ``illuknit: error: PROGRAM.k line 12: ...``).
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import click
+
+from illuknit.errors import KnitoutParseError
+
+__all__ = ["check"]
+
+
+def read_knitout_file(path: Path) -> str:
+    """Read a knitout file as UTF-8 text; binary or unreadable files raise KnitoutParseError."""
+    try:
+        data = path.read_bytes()
+    except OSError as e:
+        raise KnitoutParseError(f"{path}: cannot read: {e.strerror or e}") from None
+    if b"\x00" in data:
+        raise KnitoutParseError(
+            f"{path}: binary file (contains NUL bytes), not knitout text; "
+            "a .dat file must be converted back to knitout first"
+        )
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError as e:
+        raise KnitoutParseError(
+            f"{path}: not UTF-8 text (byte {e.start}); is this a binary file?"
+        ) from None
+
+
+@click.command(
+    "check",
+    help=(
+        "Check a knitout program: machine-rule violations and fabric failures (yarn floating over "
+        "purls, stitches with the carrier on the wrong side, separate pieces, long floats, loops "
+        "or carriers left at the end), with line numbers. Exit code 1 when anything blocks."
+    ),
+)
+@click.argument(
+    "program", type=click.Path(exists=True, dir_okay=False, path_type=Path), metavar="PROGRAM.k"
+)
+@click.option("--json", "as_json", is_flag=True, help="Print the report as JSON.")
+@click.option(
+    "--simulate",
+    is_flag=True,
+    help="Also run the PyPI knitout-interpreter simulator (pip install 'illuknit[sim]'); slow.",
+)
+@click.option(
+    "--float-limit",
+    type=click.IntRange(min=1),
+    default=10,
+    show_default=True,
+    help="Longest float, in needles crossed, before a warning.",
+)
+@click.option(
+    "--max-racking",
+    type=click.FloatRange(min=0, min_open=True),
+    default=4.0,
+    show_default=True,
+    help="Largest allowed |racking|.",
+)
+@click.option(
+    "--bed-width",
+    type=click.IntRange(min=1),
+    default=None,
+    help="Needles per bed (default: the ;;Width header, else unchecked).",
+)
+def check(
+    program: Path,
+    as_json: bool,
+    simulate: bool,
+    float_limit: int,
+    max_racking: float,
+    bed_width: int | None,
+) -> None:
+    from illuknit.check import check_knitout, render_report
+
+    text = read_knitout_file(program)
+    try:
+        report = check_knitout(
+            text,
+            float_limit=float_limit,
+            max_racking=max_racking,
+            bed_width=bed_width,
+            simulate=simulate,
+        )
+    except KnitoutParseError as e:
+        raise KnitoutParseError(
+            f"{program} {e}" if e.line is not None else f"{program}: {e}"
+        ) from None
+    if as_json:
+        click.echo(report.to_json())
+    else:
+        from rich.console import Console
+
+        Console(highlight=False, soft_wrap=True).print(render_report(report, name=str(program)))
+    if not report.ok:
+        # sys.exit, not ctx.exit: the group runs with standalone_mode=False, which would turn
+        # click's Exit into a return value that `python -m illuknit` drops.
+        sys.exit(1)
