@@ -62,8 +62,7 @@ def load_image(path: str | os.PathLike[str]) -> NDArray[np.float64]:
             if im.width * im.height > MAX_PIXELS:
                 raise ImageInputError(f"{p}: image of {im.width} x {im.height} pixels is too large")
             im.seek(0)
-            im = ImageOps.exif_transpose(im)
-            rgb = _to_rgb_on_white(im)
+            rgb = _to_rgb_on_white(ImageOps.exif_transpose(im))
     except UnidentifiedImageError:
         raise ImageInputError(f"{p} is not an image Pillow can read") from None
     except (OSError, ValueError, SyntaxError) as e:
@@ -372,11 +371,12 @@ def _kmeans_lab(
         key = (binned[:, 0] << 10) | (binned[:, 1] << 5) | binned[:, 2]
         _, bin_of = np.unique(key, return_inverse=True)
         bin_of = bin_of.reshape(-1)
-        fit_w = np.bincount(bin_of, weights=weights_u)
-        fit_rgb = np.stack([np.bincount(bin_of, weights=weights_u * uniq[:, c]) for c in range(3)], 1)
-        fit_rgb /= fit_w[:, None]
+        fit_w: NDArray[np.float64] = np.bincount(bin_of, weights=weights_u).astype(np.float64)
+        sums = np.stack([np.bincount(bin_of, weights=weights_u * uniq[:, c]) for c in range(3)], 1)
+        fit_rgb: NDArray[np.float64] = sums / fit_w[:, None]
+        binned_fit = True
     else:
-        fit_rgb, fit_w = uniq.astype(np.float64), weights_u
+        fit_rgb, fit_w, binned_fit = uniq.astype(np.float64), weights_u, False
     lab = lab_from_rgb(fit_rgb)
     rng = np.random.default_rng(seed)
     # k-means++ initialisation, weighted by pixel count.
@@ -396,7 +396,7 @@ def _kmeans_lab(
         if np.allclose(new, c, atol=1e-6):
             break
         c = new
-    lab_u = lab_from_rgb(uniq.astype(np.float64)) if fit_rgb is not uniq else lab
+    lab_u = lab_from_rgb(uniq.astype(np.float64)) if binned_fit else lab
     assign = ((lab_u[:, None, :] - c[None]) ** 2).sum(-1).argmin(axis=1)
     # Drop empty clusters; centres in sRGB are the weighted mean of member colours.
     used = np.unique(assign)

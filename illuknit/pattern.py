@@ -218,7 +218,7 @@ class LogicalPattern:
 
     def replace(self, **changes: Any) -> LogicalPattern:
         """A copy with some fields replaced (the pattern itself is immutable)."""
-        kw = {
+        kw: dict[str, Any] = {
             "yarn": self.yarn,
             "raised": self.raised,
             "yarns": self.yarns,

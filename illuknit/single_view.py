@@ -164,7 +164,7 @@ def prepare_single_view_image(
     from illuknit.images import check_image, count_colors, load_image, prepare_image
 
     if isinstance(source, (str, bytes)) or hasattr(source, "__fspath__"):
-        rgb = load_image(source)  # type: ignore[arg-type]
+        rgb = load_image(source)
     else:
         rgb = check_image(source)  # type: ignore[arg-type]
     if n_colors is not None and n_colors not in (2, 3):

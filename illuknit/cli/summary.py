@@ -5,13 +5,14 @@ from __future__ import annotations
 import json
 from collections.abc import Mapping
 from pathlib import Path
+from typing import Any
 
 from illuknit.pattern import LogicalPattern
 
 __all__ = ["console", "print_written", "summarise_pattern"]
 
 
-def console():  # type: ignore[no-untyped-def]
+def console() -> Any:
     from rich.console import Console
 
     return Console(highlight=False, soft_wrap=True)
