@@ -32,9 +32,13 @@ COMMANDS: dict[str, str] = {
     "tiles": "illuknit.cli.tiles:tiles",
     "double": "illuknit.cli.double:double",
     "headon": "illuknit.cli.headon:headon",
+    "render": "illuknit.cli.render:render",
+    "calibrate": "illuknit.cli.calibrate:calibrate",
 }
 
 _HELP = {
+    "render": "Ray-cast a pattern from both sides and head-on, with a sweep GIF.",
+    "calibrate": "Calibration swatch and bump-height fit for the renderer.",
     "app": "Start the design app: a local web page for designing illusions.",
     "demo": "Make a single-view illusion from the bundled sample picture.",
     "single": "Compile a 2- or 3-colour picture into a single-view illusion.",

@@ -59,9 +59,11 @@ __all__ = [
     "coverage",
     "heights_from_pattern",
     "render_at",
+    "render_image",
     "render_pattern",
     "render_soft",
     "render_views",
+    "sweep_angles",
 ]
 
 RenderView = Literal["A", "B", "headon"]
@@ -367,3 +369,35 @@ def render_views(
         v: render_pattern(pattern, params=params, view=v, angle=angle, supersample=supersample)
         for v in RENDER_VIEWS
     }
+
+
+def render_image(
+    pattern: LogicalPattern,
+    angle: float,
+    *,
+    params: RenderParams | None = None,
+    scale: int = 1,
+) -> NDArray[np.uint8]:
+    """A picture for people: :func:`render_at` with ``scale`` pixel rows per unit row (so partly
+    hidden units show as partial bands) and each wale widened to ``scale`` pixels.
+
+    Returns
+    -------
+    ndarray of shape (N * scale, M * scale, 3), uint8
+    """
+    img = render_at(pattern, angle, params=params, supersample=scale)
+    return np.repeat(img, scale, axis=1)
+
+
+def sweep_angles(angle: float, frames: int) -> list[float]:
+    """Signed elevations for a walk past the piece: from ``+angle`` (view A) through head-on to
+    ``-angle`` (view B), evenly spaced in the direction of view; ``frames`` >= 2 of them."""
+    a = check_angle(angle, name="angle")
+    if isinstance(frames, bool) or not isinstance(frames, int) or frames < 2:
+        raise RenderParamsError(f"`frames` must be an integer >= 2, got {frames!r}")
+    span = 90.0 - a
+    out = []
+    for phi in np.linspace(-span, span, frames):
+        elev = 90.0 - abs(float(phi))
+        out.append(elev if phi <= 0 else -elev)
+    return out

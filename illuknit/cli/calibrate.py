@@ -1,0 +1,161 @@
+"""``illuknit calibrate``: the calibration swatch (paper Fig. 8) and the bump-height fit."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import click
+
+__all__ = ["calibrate"]
+
+
+def _int_list(ctx: click.Context, param: click.Parameter, value: str) -> tuple[int, ...]:
+    try:
+        out = tuple(int(v) for v in value.split(",") if v.strip())
+    except ValueError:
+        raise click.BadParameter(
+            f"expected comma-separated positive integers, got {value!r}"
+        ) from None
+    if not out or min(out) < 1:
+        raise click.BadParameter(f"expected comma-separated positive integers, got {value!r}")
+    return out
+
+
+@click.group("calibrate")
+def calibrate() -> None:
+    """Tune the renderer to your yarn and machine: knit the swatch, measure, fit.
+
+    1. ``illuknit calibrate swatch -o DIR`` writes the swatch pattern, a preview and a
+       measurements.csv to fill in.
+    2. Knit it, hang it, and for each cell note the elevation (degrees) at which the flat stitches
+       just disappear behind the bumps.
+    3. ``illuknit calibrate fit DIR/measurements.csv -o params.json`` fits the bump height.
+    """
+
+
+@calibrate.command("swatch")
+@click.option(
+    "--bump-sizes",
+    default="1,2,3",
+    show_default=True,
+    callback=_int_list,
+    help="Rows of bumps per cell band.",
+)
+@click.option(
+    "--flat-sizes",
+    default="1,2,3,4",
+    show_default=True,
+    callback=_int_list,
+    help="Rows of flats per cell.",
+)
+@click.option(
+    "--cell-width",
+    type=click.IntRange(1, 100),
+    default=6,
+    show_default=True,
+    help="Cell width in units.",
+)
+@click.option("--yarns", default="white,black", show_default=True, help="Bump yarn, flat yarn.")
+@click.option(
+    "--params",
+    "params_file",
+    type=click.Path(dir_okay=False, path_type=Path),
+    default=None,
+    help="Current renderer parameters (for the preview and predicted angles).",
+)
+@click.option(
+    "-o",
+    "--outdir",
+    type=click.Path(file_okay=False, path_type=Path),
+    required=True,
+    help="Folder to write into.",
+)
+def swatch(
+    bump_sizes: tuple[int, ...],
+    flat_sizes: tuple[int, ...],
+    cell_width: int,
+    yarns: str,
+    params_file: Path | None,
+    outdir: Path,
+) -> None:
+    """Write swatch.json (the pattern), preview.png and measurements.csv (a template)."""
+    from illuknit.outputs import atomic_write_text, staged_dir
+    from illuknit.pattern import save_pattern
+    from illuknit.previews import chart_rgb, contact_sheet, save_png
+    from illuknit.render.calibrate import calibration_swatch, measurements_template
+    from illuknit.render.params import RenderParams, load_params
+    from illuknit.render.raycast import render_image
+
+    params = load_params(params_file) if params_file is not None else RenderParams()
+    pattern = calibration_swatch(
+        bump_sizes=bump_sizes, flat_sizes=flat_sizes, cell_width=cell_width, yarns=yarns
+    )
+    s = 8
+    with staged_dir(outdir) as tmp:
+        save_pattern(pattern, tmp / "swatch.json")
+        sheet = contact_sheet(
+            [
+                ("head-on (raised marked)", chart_rgb(pattern, scale=s)),
+                (
+                    f"view A, {params.theta:g} deg",
+                    render_image(pattern, params.theta, params=params, scale=s),
+                ),
+                (
+                    f"view B, {params.theta:g} deg",
+                    render_image(pattern, -params.theta, params=params, scale=s),
+                ),
+            ]
+        )
+        save_png(sheet, tmp / "preview.png")
+        atomic_write_text(tmp / "measurements.csv", measurements_template(pattern, params=params))
+    click.echo(
+        f"wrote {outdir}: swatch.json ({pattern.shape[0]} x {pattern.shape[1]} units), preview.png, measurements.csv"
+    )
+
+
+@calibrate.command("fit")
+@click.argument("measurements", type=click.Path(dir_okay=False, path_type=Path))
+@click.option(
+    "--params",
+    "params_file",
+    type=click.Path(dir_okay=False, path_type=Path),
+    default=None,
+    help="Base parameters (flat height, unit length, theta, shading) to keep.",
+)
+@click.option("--flat-height", type=float, default=None, help="Override the base flat height.")
+@click.option("--unit-length", type=float, default=None, help="Override the base unit length.")
+@click.option(
+    "-o",
+    "--output",
+    type=click.Path(dir_okay=False, path_type=Path),
+    required=True,
+    help="Parameters JSON to write.",
+)
+def fit(
+    measurements: Path,
+    params_file: Path | None,
+    flat_height: float | None,
+    unit_length: float | None,
+    output: Path,
+) -> None:
+    """Fit the bump height to MEASUREMENTS (CSV: flat_rows, angle_deg[, bump_rows, view, note])."""
+    from dataclasses import replace
+
+    from illuknit.render.calibrate import fit_bump_height, read_measurements
+    from illuknit.render.params import RenderParams, load_params, save_params
+
+    base = load_params(params_file) if params_file is not None else RenderParams()
+    changes = {
+        k: v
+        for k, v in (("flat_height", flat_height), ("unit_length", unit_length))
+        if v is not None
+    }
+    if changes:
+        # Keep the base bump height valid while its flat height changes; the fit replaces it.
+        fh = changes.get("flat_height", base.flat_height)
+        base = replace(base, bump_height=max(base.bump_height, fh * 2), **changes)
+    ms, skipped = read_measurements(measurements)
+    result = fit_bump_height(ms, params=base, skipped=skipped)
+    save_params(result.params, output)
+    click.echo(result.report())
+    click.echo(f"\nwrote {output}")
