@@ -30,6 +30,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from illuknit.colors import hex_color
 from illuknit.errors import AppRequestError, IlluknitError
 from illuknit.pattern import LogicalPattern, Yarn, parse_yarns, pattern_to_json
 
@@ -98,7 +99,7 @@ def capabilities() -> dict[str, bool]:
     return {
         "single": True,
         "double": _has("illuknit.tiles", "assign_tiles"),
-        "headon": _has("illuknit.tiles", "compile_headon"),
+        "headon": _has("illuknit.tiles", "assign_headon"),
         "render": _has("illuknit.render", "render_views"),
         "knit": _has("illuknit.knit", "knit_pattern"),
         "check": _has("illuknit.check", "check_knitout"),
@@ -183,9 +184,14 @@ class Prepared:
         return {slot: q.legend() for slot, q in self.quantised.items()}
 
 
-def slots_for(mode: str) -> tuple[str, ...]:
-    """Image slots a mode needs: one picture for single view, two for double view and head-on."""
-    return ("a",) if mode == "single" else ("a", "b")
+def slots_for(mode: str, present: Any = ("a", "b")) -> tuple[str, ...]:
+    """Image slots a mode uses: one picture for single view, two for double view; head-on takes
+    the front picture and, optionally, a picture seen at an angle (else a plain side)."""
+    if mode == "single":
+        return ("a",)
+    if mode == "headon":
+        return ("a", "b") if "b" in present else ("a",)
+    return ("a", "b")
 
 
 def prepare_inputs(images: dict[str, Any], settings: Any) -> Prepared:
@@ -199,7 +205,7 @@ def prepare_inputs(images: dict[str, Any], settings: Any) -> Prepared:
     from illuknit.images import quantise_image, resize_to_units, units_for_width
 
     mode = settings.mode
-    slots = slots_for(mode)
+    slots = slots_for(mode, images)
     for slot in slots:
         if slot not in images:
             which = "the picture" if len(slots) == 1 else f"picture {slot.upper()}"
@@ -243,7 +249,7 @@ def prepare_inputs(images: dict[str, Any], settings: Any) -> Prepared:
             if not settings.resize:
                 raise AppRequestError(
                     f"picture A is {a.shape[1]} x {a.shape[0]} pixels but picture B is "
-                    f"{b.shape[1]} x {b.shape[0]}; both views must cover the same piece. "
+                    f"{b.shape[1]} x {b.shape[0]}; both pictures must cover the same piece. "
                     "Resize B to A's size, or upload pictures of equal size.",
                     field="image_b",
                     code="size_mismatch",
@@ -350,50 +356,207 @@ def _single_error(
 
 
 def _tile_candidates(prepared: Prepared, *, count: int, progress: Progress) -> list[Candidate]:
-    tiles = _optional("illuknit.tiles")
-    if tiles is None or not hasattr(tiles, "assign_tiles"):
+    mode = prepared.mode
+    if not _has("illuknit.tiles", "assign_tiles"):
         raise AppRequestError(
-            "double-view design needs the tile bank (illuknit.tiles), which this install lacks",
+            "tile design needs the tile bank (illuknit.tiles), which this install lacks",
             field="mode",
             code="unavailable",
             status=501,
         )
-    raise AppRequestError(
-        "tile candidates are not wired yet", field="mode", code="unavailable", status=501
+    tiles = importlib.import_module("illuknit.tiles")
+    qa = prepared.quantised["a"]
+    qb = prepared.quantised.get("b")
+    progress(0.05, "building the tile bank")
+    if mode == "headon":
+        bank = tiles.headon_bank(prepared.yarns)
+        progress(0.15, "finding tile mappings (head-on)")
+        with blame("n_colors"):
+            found = tiles.assign_headon(qa, qb, bank=bank, candidates=count)
+    else:
+        bank = tiles.canonical_bank(prepared.yarns)
+        progress(0.15, f"finding tile mappings ({len(bank)} tiles in the bank)")
+        with blame("n_colors"):
+            found = tiles.assign_tiles(qa, qb, bank=bank, candidates=count)
+    out = []
+    for k, assignment in enumerate(found):
+        progress(0.6 + 0.4 * k / max(1, len(found)), f"compiling candidate {k + 1} of {len(found)}")
+        with blame("tiles"):
+            pattern, report = tiles.compile_tiles(assignment)
+        out.append(
+            Candidate(
+                rank=k + 1,
+                label=_assignment_label(assignment),
+                score=float(assignment.score),
+                pattern=pattern,
+                details=_assignment_details(assignment, report),
+                source=assignment,
+            )
+        )
+    return out
+
+
+def _assignment_label(assignment: Any) -> str:
+    kinds = [f.kind for f in (*assignment.fills_a, *assignment.fills_b) if f is not None]
+    stripes = sum(k != "solid" for k in kinds)
+    return (
+        "all solid fills" if not stripes else f"{stripes} striped fill{'s' if stripes > 1 else ''}"
     )
+
+
+def _assignment_details(assignment: Any, report: Any) -> dict[str, Any]:
+    rep = report.to_json()
+    return {
+        "views": list(assignment.views),
+        "fills": assignment.describe(),
+        "error_original": rep["error_original"],
+        "delta_e_original": rep["delta_e_original"],
+        "color_changes_per_course": rep["color_changes_per_course"],
+        "cost": {k: round(float(v), 3) for k, v in assignment.cost.items()},
+    }
+
+
+def _override_tile(assignment: Any, tile_id: str) -> Any:
+    """A bank tile by its number (as the page sends it), or any tile by its rows (``"0/1^"``)."""
+    from illuknit.tiles.tile import Tile
+
+    bank = assignment.bank
+    if tile_id.isdigit():
+        k = int(tile_id)
+        if not 0 <= k < len(bank.tiles):
+            raise AppRequestError(
+                f"tile {tile_id} is not in the bank (it has {len(bank.tiles)} tiles)",
+                field="tiles",
+                code="unknown",
+                status=404,
+            )
+        return bank.tiles[k]
+    with blame("tiles"):
+        return Tile.from_rows(tile_id.split("/"))
 
 
 def pattern_for(
     candidate: Candidate, overrides: dict[tuple[int, int], str], prepared: Prepared
 ) -> LogicalPattern:
     """The candidate's pattern with the designer's per-pair tile overrides applied."""
-    if not overrides or candidate.source is None:
+    if not overrides:
         return candidate.pattern
-    raise AppRequestError(
-        "tile overrides are not wired yet", field="tiles", code="unavailable", status=501
-    )
+    if candidate.source is None:
+        raise AppRequestError(
+            "this candidate has no tiles to edit", field="tiles", code="not_editable", status=409
+        )
+    tiles = importlib.import_module("illuknit.tiles")
+    assignment = candidate.source
+    chosen = {pair: _override_tile(assignment, t) for pair, t in overrides.items()}
+    for pair in chosen:
+        if pair not in assignment.tiles:
+            raise AppRequestError(
+                f"colour {pair[0]} of A never lies over colour {pair[1]} of B in these pictures; "
+                f"occurring pairs: {', '.join(f'{a}/{b}' for a, b in assignment.pairs)}",
+                field="tiles",
+                code="no_pair",
+                status=404,
+            )
+    with blame("tiles"):
+        pattern, _ = tiles.compile_tiles(assignment, overrides=chosen)
+    return pattern  # type: ignore[no-any-return]
+
+
+def _bank_number(bank: Any, tile: Any) -> str | None:
+    for k, t in enumerate(bank.tiles):
+        if t == tile:
+            return str(k)
+    return None
+
+
+def _fill_label(fill: Any, yarns: tuple[Yarn, ...]) -> str:
+    return "—" if fill is None else str(fill.label(yarns))
 
 
 def pairs_json(
     candidate: Candidate, overrides: dict[tuple[int, int], str], prepared: Prepared
 ) -> dict[str, Any]:
-    """The overlap pairs of a candidate with their tiles and the bank's alternatives."""
+    """The overlap pairs of a candidate with their tiles and the bank's alternatives.
+
+    Options per pair, best first: tiles showing exactly the assigned fills, then tiles keeping
+    one side's fill, then the rest of the bank (each labelled with what it shows from each view).
+    """
     if candidate.source is None:
         return {
             "editable": False,
             "pairs": [],
-            "reason": "single-view patterns are compiled row by row, not from tiles",
+            "reason": "Single-view patterns are compiled row by row (paper Fig. 7), not from tiles.",
         }
-    raise AppRequestError(
-        "tile editing is not wired yet", field="tiles", code="unavailable", status=501
-    )
+    assignment = candidate.source
+    bank = assignment.bank
+    v0, v1 = assignment.views
+    yarns = assignment.yarns
+    from illuknit.tiles.assign import overlap_pairs
+
+    counts = overlap_pairs(assignment.indices_a, assignment.indices_b)
+    total = max(1, sum(counts.values()))
+    index = bank.index(assignment.views)
+    out = []
+    for a, b in assignment.pairs:
+        fa, fb = assignment.fills_a[a], assignment.fills_b[b]
+        default_tile = assignment.tiles[a, b]
+        default_id = _bank_number(bank, default_tile) or default_tile.code()
+        current = overrides.get((a, b), default_id)
+        exact = set(index.get((fa, fb), ()))
+        ranked: list[tuple[int, int]] = []
+        for k, fills in enumerate(bank.fills):
+            f0, f1 = fills.get(v0), fills.get(v1)
+            if f0 is None or f1 is None:
+                continue
+            tier = 0 if k in exact else 1 if (f0 == fa or f1 == fb) else 2
+            ranked.append((tier, k))
+        ranked.sort()
+        options = []
+        for tier, k in ranked[:80]:
+            fills = bank.fills[k]
+            mark = "★ " if tier == 0 else ""
+            options.append(
+                {
+                    "id": str(k),
+                    "label": f"{mark}{bank.tiles[k].code()} — {v0}: {_fill_label(fills.get(v0), yarns)}"
+                    f" · {v1}: {_fill_label(fills.get(v1), yarns)}",
+                    "exact": tier == 0,
+                }
+            )
+        if current not in {o["id"] for o in options}:
+            options.insert(0, {"id": current, "label": f"{current} (custom)", "exact": False})
+        out.append(
+            {
+                "a": a,
+                "b": b,
+                "a_color": hex_color(assignment.colors_a[a]),
+                "b_color": hex_color(assignment.colors_b[b]),
+                "share": round(counts.get((a, b), 0) / total, 4),
+                "fills": f"{v0}: {_fill_label(fa, yarns)} · {v1}: {_fill_label(fb, yarns)}",
+                "tile": current,
+                "default": default_id,
+                "overridden": (a, b) in overrides,
+                "options": options,
+            }
+        )
+    return {"editable": True, "views": [v0, v1], "pairs": out}
 
 
-def tile_png(tile_id: str, prepared: Prepared) -> bytes:
-    """A picture of one bank tile (top-down chart with raised units marked)."""
-    raise AppRequestError(
-        f"no tile {tile_id!r} in the bank", field="tiles", code="unknown", status=404
-    )
+def tile_png(tile_id: str, prepared: Prepared, candidate: Candidate | None = None) -> bytes:
+    """A picture of one tile: its units in yarn colours, raised units marked, a few periods."""
+    from illuknit.previews import chart_rgb
+
+    if candidate is None or candidate.source is None:
+        raise AppRequestError(
+            "pick a tile-based candidate first", field="tiles", code="not_editable", status=409
+        )
+    tile = _override_tile(candidate.source, tile_id)
+    yarns = candidate.source.yarns
+    reps = (max(1, 6 // tile.height), max(1, 6 // tile.width))
+    yarn = np.tile(tile.yarn, reps)
+    raised = np.tile(tile.raised, reps)
+    pat = LogicalPattern(yarn, raised, yarns)
+    return png_bytes(chart_rgb(pat, scale=8))
 
 
 # -- rendering ---------------------------------------------------------------------------------
@@ -505,35 +668,22 @@ class KnitResult:
 
 def knit_and_check(doc: dict[str, Any], check: bool) -> dict[str, Any]:
     """Compile a pattern (as JSON) to knitout and check it. Runs in a spawned worker process."""
+    import json
+
     from illuknit.pattern import pattern_from_json
 
     pattern = pattern_from_json(doc)
     knit = importlib.import_module("illuknit.knit")
-    out = knit.knit_pattern(pattern)
-    text, stats = _knit_parts(out)
+    result = knit.knit_pattern(pattern)
+    text = str(result.text)
+    stats = dict(result.summary()) if hasattr(result, "summary") else {}
     report = report_text = None
     if check:
         checker = importlib.import_module("illuknit.check")
         rep = checker.check_knitout(text)
-        report = rep.to_json() if hasattr(rep, "to_json") else dict(rep)
-        report_text = rep.to_text() if hasattr(rep, "to_text") else str(rep)
+        report = rep.to_dict() if hasattr(rep, "to_dict") else json.loads(rep.to_json())
+        report_text = rep.to_text(name="knitout.k") if hasattr(rep, "to_text") else str(rep)
     return {"knitout": text, "stats": stats, "report": report, "report_text": report_text}
-
-
-def _knit_parts(out: Any) -> tuple[str, dict[str, Any]]:
-    if isinstance(out, str):
-        return out, {}
-    if isinstance(out, tuple) and len(out) == 2:
-        return str(out[0]), dict(out[1] or {})
-    text = getattr(out, "text", None) or getattr(out, "knitout", None)
-    if text is None and hasattr(out, "to_text"):
-        text = out.to_text()
-    stats = getattr(out, "stats", {}) or {}
-    if hasattr(stats, "to_json"):
-        stats = stats.to_json()
-    elif not isinstance(stats, dict):
-        stats = dict(vars(stats))
-    return str(text), stats
 
 
 def pattern_key(pattern: LogicalPattern) -> str:

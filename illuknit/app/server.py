@@ -643,7 +643,8 @@ def create_app(config: AppConfig | None = None) -> Any:
         s = session_of(sid)
         with s.lock:
             prepared = prepared_of(s)
-        return Response(design.tile_png(tile_id, prepared), media_type="image/png")
+            cand = candidate_of(s, None)
+        return Response(design.tile_png(tile_id, prepared, cand), media_type="image/png")
 
     @app.get(
         "/api/sessions/{sid}/render",

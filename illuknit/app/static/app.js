@@ -172,7 +172,7 @@ function applyState(s) {
   $("#drop-b").hidden = single;
   $(".drops").classList.toggle("one", single);
   $("#title-a").textContent = single ? "Seen from both sides" : st.mode === "headon" ? "Seen head-on" : "Seen from above";
-  $("#title-b").textContent = st.mode === "headon" ? "Seen at an angle" : "Seen from below";
+  $("#title-b").textContent = st.mode === "headon" ? "At an angle (optional)" : "Seen from below";
   for (const slot of ["a", "b"]) {
     const im = s.images[slot];
     const thumb = $(`#thumb-${slot}`);
@@ -312,7 +312,7 @@ function wireDrop(slot) {
 // ---------------------------------------------------------------------------------------------
 // quantised inputs and legend
 
-function slotsNeeded() { return state.settings.mode === "single" ? ["a"] : ["a", "b"]; }
+function slotsNeeded() { return state.settings.mode === "double" ? ["a", "b"] : ["a"]; }
 
 async function refreshInputs({ autorun }) {
   const quant = $("#quant");
@@ -488,10 +488,25 @@ async function loadCandidates() {
     }
     card.append(head, triple);
     const fills = cand.details && cand.details.fills;
-    if (fills) {
+    if (Array.isArray(fills) && fills.length) {
       const f = document.createElement("div");
       f.className = "fills";
-      f.textContent = fills;
+      for (const row of fills) {
+        const chip = document.createElement("span");
+        chip.className = "fill";
+        chip.title = `${row.input} colour ${row.image_color} is shown as ${row.fill}`;
+        chip.innerHTML = `<b></b><span class="sw"></span><span class="arrow">→</span><span class="sw"></span>`;
+        chip.children[0].textContent = row.input;
+        chip.children[1].style.background = row.image_color;
+        chip.children[3].style.background = row.fill_color;
+        if (row.kind !== "solid") chip.children[3].classList.add("striped");
+        f.appendChild(chip);
+      }
+      card.appendChild(f);
+    } else if (cand.details && cand.details.mismatch_A != null) {
+      const f = document.createElement("div");
+      f.className = "fills";
+      f.textContent = `one-row shift; mismatch A ${(100 * cand.details.mismatch_A).toFixed(1)}%, B ${(100 * cand.details.mismatch_B).toFixed(1)}%`;
       card.appendChild(f);
     }
     card.addEventListener("click", () => pick(cand.rank));
@@ -647,23 +662,25 @@ async function refreshKnit() {
 function showKnitSummary(k) {
   const box = $("#knit-summary");
   box.textContent = "";
-  const parts = [];
   const st = k.stats || {};
-  for (const key of ["passes", "knit_passes", "transfer_passes", "carriage_passes", "estimated_minutes", "estimated_time"]) {
-    if (st[key] != null) parts.push(`${key.replace(/_/g, " ")}: ${typeof st[key] === "number" ? Math.round(st[key] * 10) / 10 : st[key]}`);
-  }
+  const parts = [];
+  if (st.wales != null) parts.push(`${st.wales} wales × ${st.courses} courses`);
+  if (st.width_cm != null) parts.push(`${st.width_cm} × ${st.height_cm} cm`);
+  if (st.passes != null) parts.push(`${st.passes} carriage passes`);
+  else if (st.knit_passes != null) parts.push(`${st.knit_passes} knit + ${st.transfer_passes || 0} transfer passes`);
+  if (st.time) parts.push(`about ${st.time} to knit`);
   parts.push(`${k.lines} lines`);
   const line = document.createElement("div");
   line.textContent = `Knitout ready · ${parts.join(" · ")}`;
   box.appendChild(line);
   if (k.report) {
     const r = k.report;
-    const blocking = r.blocking != null ? r.blocking : (r.summary && r.summary.blocking);
-    const st2 = document.createElement("div");
-    const ok = blocking === 0 || r.ok === true;
-    st2.className = ok ? "ok" : "bad";
-    st2.textContent = ok ? "Checker: no blocking problems" : `Checker: ${blocking != null ? blocking : "some"} blocking problem(s) — see the check report`;
-    box.appendChild(st2);
+    const verdict = document.createElement("div");
+    verdict.className = r.ok ? "ok" : "bad";
+    verdict.textContent = r.ok
+      ? `Checker: nothing blocking · ${r.warnings} warning(s) · ${r.pieces} piece(s)`
+      : `Checker: ${r.blocking} blocking problem(s) — see the check report`;
+    box.appendChild(verdict);
   }
 }
 
