@@ -2,10 +2,8 @@
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
-from illuknit.errors import BackendUnavailableError
 from illuknit.outputs import atomic_write_text
 from illuknit.pattern import LogicalPattern
 
@@ -13,21 +11,36 @@ __all__ = ["write_program"]
 
 
 def write_program(pattern: LogicalPattern, outdir: Path) -> dict[str, Path]:
-    """Compile ``pattern`` to ``program.k`` and check it into ``check.json``."""
-    try:
-        from illuknit.knit import knit_pattern
-    except ImportError as e:  # pragma: no cover - only while the knitting pipeline is absent
-        raise BackendUnavailableError(
-            f"knitout output is not available in this install: {e}"
-        ) from None
+    """Compile ``pattern`` to ``program.k`` and write the checker's report beside it.
+
+    Writes ``program.k``, ``knit.json`` (passes, lower bound, time estimate), ``check.json`` and
+    ``check.txt``; returns name -> path. Prints a one-line summary of each.
+    """
+    import json
+
+    from illuknit.check import check_knitout
+    from illuknit.cli.summary import console
+    from illuknit.knit import knit_pattern
+
     result = knit_pattern(pattern)
-    paths = {"program": atomic_write_text(outdir / "program.k", result.program)}
-    try:
-        from illuknit.check import check_knitout
-    except ImportError:  # pragma: no cover
-        return paths
     report = check_knitout(result.program)
-    paths["check"] = atomic_write_text(
-        outdir / "check.json", json.dumps(report.to_json(), indent=1) + "\n"
-    )
-    return paths
+    summary = result.summary()
+    console().print(f"knitout: {_describe(summary)}")
+    console().print(f"check: {report.to_text(name='program.k').splitlines()[0]}")
+    return {
+        "program": atomic_write_text(outdir / "program.k", result.program),
+        "knit": atomic_write_text(outdir / "knit.json", json.dumps(summary, indent=1) + "\n"),
+        "check": atomic_write_text(outdir / "check.json", report.to_json(indent=1) + "\n"),
+        "check_text": atomic_write_text(outdir / "check.txt", report.to_text(name="program.k") + "\n"),
+    }
+
+
+def _describe(summary: dict) -> str:  # type: ignore[type-arg]
+    parts = []
+    for key in ("passes", "lower_bound", "ratio"):
+        if key in summary:
+            parts.append(f"{key.replace('_', ' ')} {summary[key]}")
+    for key, val in summary.items():
+        if "time" in key and isinstance(val, (int, float, str)):
+            parts.append(f"{key.replace('_', ' ')} {val}")
+    return ", ".join(parts) or "written"
