@@ -364,11 +364,31 @@ def _all_order_pairs(cols: list[int], colors: NDArray[np.uint8]) -> list[tuple[i
 _EPS = 1e-9
 
 
-def _encode(prob: _Problem, blocked: Sequence[tuple[dict[int, int], dict[int, int]]] = ()):
+def _pad(rows: list[list[int]]) -> NDArray[np.int64]:
+    width = max(len(r) for r in rows)
+    out = np.zeros((len(rows), width), dtype=np.int64)
+    for k, r in enumerate(rows):
+        out[k, : len(r)] = r
+    return out
+
+
+def _encode(prob: _Problem):
     """Build the Model; returns (model, decode) with decode(solution) -> (choice_a, choice_b)."""
     from illuknit.model import Model
 
     m = Model("tile-assignment")
+    # Clauses are collected and added as padded blocks: far faster than one call per clause.
+    hard_by_family: dict[str, list[list[int]]] = {}
+    soft_rows: list[list[int]] = []
+    soft_weights: list[int] = []
+
+    def hard(clause: Sequence[int], *, family: str) -> None:
+        hard_by_family.setdefault(family, []).append(list(clause))
+
+    def soft(clause: Sequence[int], weight: int) -> None:
+        soft_rows.append(list(clause))
+        soft_weights.append(int(weight))
+
     fa, fb = prob.fa, prob.fb
     xa = {(a, f): m.var(("fa", a, f)) for a in prob.cols_a for f in range(len(fa))}
     xb = {(b, g): m.var(("fb", b, g)) for b in prob.cols_b for g in range(len(fb))}
@@ -380,7 +400,7 @@ def _encode(prob: _Problem, blocked: Sequence[tuple[dict[int, int], dict[int, in
     for a, b in prob.pairs:
         for f in range(len(fa)):
             ok = np.flatnonzero(prob.compat[f])
-            m.add_hard([-xa[a, f], *(xb[b, int(g)] for g in ok)], family=f"overlap pair ({a},{b})")
+            hard([-xa[a, f], *(xb[b, int(g)] for g in ok)], family=f"overlap pair ({a},{b})")
     # brightness order
     for side, cols, colors, fills, x in (
         ("A", prob.cols_a, prob.ra.colors, fa, xa),
@@ -392,45 +412,51 @@ def _encode(prob: _Problem, blocked: Sequence[tuple[dict[int, int], dict[int, in
             for lo, hi in inc:
                 for f in range(len(fills)):
                     up = np.flatnonzero(bright > bright[f] + _EPS)
-                    m.add_hard(
+                    hard(
                         [-x[lo, f], *(x[hi, int(g)] for g in up)], family=f"brightness order {side}"
                     )
             for p, q in eq:
                 for f in range(len(fills)):
-                    m.add_hard([-x[p, f], -x[q, f]], family=f"distinct fills {side}")
+                    hard([-x[p, f], -x[q, f]], family=f"distinct fills {side}")
         else:
             w = max(1, round(prob.weights.order_penalty * SCALE))
             for lo, hi in _all_order_pairs(cols, colors):
                 for f in range(len(fills)):
                     for g in np.flatnonzero(bright <= bright[f] + _EPS):
-                        m.add_soft([-x[lo, f], -x[hi, int(g)]], w)
+                        soft([-x[lo, f], -x[hi, int(g)]], w)
     # objective: closeness + stripes
     for a in prob.cols_a:
         for f in range(len(fa)):
             w = int(prob.close_a[a, f] + prob.stripe_a[f])
             if w > 0:
-                m.add_soft([-xa[a, f]], w)
+                soft([-xa[a, f]], w)
     for b in prob.cols_b:
         for g in range(len(fb)):
             w = int(prob.close_b[b, g] + prob.stripe_b[g])
             if w > 0:
-                m.add_soft([-xb[b, g]], w)
+                soft([-xb[b, g]], w)
     # few yarns per course
     for r, (ka, kb, w) in enumerate(prob.row_classes):
         if w <= 0:
             continue
         for y in range(len(prob.bank.yarns)):
             u = m.var(("use", r, y))
-            m.add_soft([-u], w)
+            soft([-u], w)
             for a in ka:
                 for f in range(len(fa)):
                     if y in fa[f].yarn_indices:
-                        m.add_hard([-xa[a, f], u], family="yarns per course")
+                        hard([-xa[a, f], u], family="yarns per course")
             for b in kb:
                 for g in range(len(fb)):
                     if y in fb[g].yarn_indices:
-                        m.add_hard([-xb[b, g], u], family="yarns per course")
-    for ca, cb in blocked:
+                        hard([-xb[b, g], u], family="yarns per course")
+    for family, rows in hard_by_family.items():
+        m.add_hard_block(_pad(rows), family=family)
+    if soft_rows:
+        m.add_soft_block(_pad(soft_rows), np.array(soft_weights, dtype=np.int64))
+
+    def block(ca: Mapping[int, int], cb: Mapping[int, int]) -> None:
+        """Forbid exactly this choice of fills (the next solve finds the next candidate)."""
         m.add_hard(
             [*(-xa[a, f] for a, f in ca.items()), *(-xb[b, g] for b, g in cb.items())],
             family="distinct candidates",
@@ -442,7 +468,7 @@ def _encode(prob: _Problem, blocked: Sequence[tuple[dict[int, int], dict[int, in
         cb = {b: next(g for g in range(len(fb)) if v[xb[b, g]]) for b in prob.cols_b}
         return ca, cb
 
-    return m, decode
+    return m, decode, block
 
 
 def _cost(prob: _Problem, ca: Mapping[int, int], cb: Mapping[int, int]) -> dict[str, int] | None:
@@ -603,8 +629,10 @@ def _solve_candidates(
 
     out: list[TileAssignment] = []
     blocked: list[tuple[dict[int, int], dict[int, int]]] = []
+    m, decode, block = _encode(prob)
     for rank in range(1, candidates + 1):
-        m, decode = _encode(prob, blocked)
+        if blocked:
+            block(*blocked[-1])
         sol = solve(m, solver=solver, time_limit=time_limit)
         if sol.status is Status.INFEASIBLE or not sol.has_values:
             break
@@ -717,7 +745,7 @@ def _feasible_real(prob: _Problem, solver: str) -> bool:
 
     if _check_levels(prob) is False:
         return False
-    m, _ = _encode(_Problem(**{**prob.__dict__, "row_classes": []}))
+    m, _, _ = _encode(_Problem(**{**prob.__dict__, "row_classes": []}))
     # soft clauses do not matter for feasibility, but the encoder adds them; they are cheap
     return solve(m, solver=solver, time_limit=10.0).has_values
 
