@@ -14,8 +14,9 @@ illusions):
 
 * **cast-on**: the first carrier comes in on the yarn-inserting hook; alternating tucks leftward
   from the right edge (running on to park left of the fabric), the remaining needles tucked
-  rightward, ``releasehook``, one ``miss`` pass
-  to park the carrier right of the fabric, then ``cast_on_courses`` plain courses;
+  rightward (ending with a ``miss`` on the edge needle, so the next course starts with the
+  carrier behind the carriage), then ``cast_on_courses`` plain courses; the hook lets go of the
+  yarn end after the first of them;
 * **each course**: one transfer pass first if any loop must change bed (front -> back where a purl
   follows a knit in its wale, back -> front where a knit follows a purl; both directions merge
   into one pass at racking 0), then one knit pass in which purls (back bed) are knit together
@@ -355,6 +356,8 @@ def schedule_courses(
         raise PatternValidationError(
             f"`stitches` must be a StitchPattern, got {type(stitches).__name__}"
         )
+    if stitches.wales < 2:
+        raise PatternValidationError(f"the cast-on needs at least 2 wales, got {stitches.wales}")
     if tail_stitches < 1:
         raise PatternValidationError(f"`tail_stitches` must be >= 1, got {tail_stitches}")
     n_courses, n_wales = stitches.shape
@@ -413,24 +416,22 @@ def schedule_courses(
     first = [n for n in needles_down if (right - n) % 2 == 0]
     second = [n for n in needles_up if (right - n) % 2 == 1]
     # The first pass runs on to the left parking spot, so that the rightward tucks start with the
-    # carrier behind the carriage (left of the leftmost needle).
+    # carrier behind the carriage; the second ends with a miss on the edge needle (the hook, one
+    # needle right of the first stitch, blocks anything further right), so that the first course
+    # starts leftward from the right edge with the carrier behind the carriage again.
     tucks = (*(Op("tuck", "f", n) for n in first), Op("miss", "f", park["-"]))
     steps.append(Pass("knit", tucks, "-", (c0,), role="cast-on", stitch_number=cast_sn))
-    next_dir[c0] = "+"
-    if second:
-        tucks = tuple(Op("tuck", "f", n) for n in second)
-        steps.append(Pass("knit", tucks, "+", (c0,), role="cast-on", stitch_number=cast_sn))
-    steps.append(CarrierAction("releasehook", (c0,)))
-    if second:
-        # Nothing may happen at or right of the hook while it holds the yarn, so the carrier is
-        # parked right of the fabric only now.
-        park_op = (Op("miss", "f", park["+"]),)
-        steps.append(Pass("knit", park_op, "+", (c0,), role="park", stitch_number=cast_sn))
-        next_dir[c0] = "-"
-    cast_on_fixed = sum(isinstance(s, Pass) for s in steps)
+    tucks = (*(Op("tuck", "f", n) for n in second), Op("miss", "f", right))
+    steps.append(Pass("knit", tucks, "+", (c0,), role="cast-on", stitch_number=cast_sn))
+    next_dir[c0] = "-"
+    # The hook holds the yarn end through the first full course (it parks left, clear of the hook).
+    hook_held: str | None = c0
+    cast_on_fixed = 2 + stitches.cast_on_courses
     for _ in range(stitches.cast_on_courses):
         knit_course(c0, ["f"] * n_wales, "cast-on", None, cast_sn)
-    cast_on_fixed += stitches.cast_on_courses
+        if hook_held is not None:
+            steps.append(CarrierAction("releasehook", (hook_held,)))
+            hook_held = None
 
     # -- body --------------------------------------------------------------------------------
     bed = np.zeros(n_wales, dtype=np.uint8)  # which bed holds each wale's loop: 0 front, 1 back
@@ -450,13 +451,14 @@ def schedule_courses(
             steps.append(Pass("xfer", ops, None, (), 0.0, "transfer", c))
             bed = need.copy()
         car = course_carrier[c]
-        hooked = car not in next_dir
-        if hooked:
+        if car not in next_dir:
             steps.append(CarrierAction("inhook", (car,)))
+            hook_held = car
         knit_course(car, bed_letter[need].tolist(), "body", c, body_sn)
-        if hooked:
+        if hook_held is not None:
             # Release at once: while the hook holds the yarn nothing may touch the right edge.
-            steps.append(CarrierAction("releasehook", (car,)))
+            steps.append(CarrierAction("releasehook", (hook_held,)))
+            hook_held = None
         if last_course[car] == c and c != n_courses - 1:
             steps.append(CarrierAction("outhook", (car,)))
             del next_dir[car]
