@@ -23,6 +23,7 @@ __all__ = ["COMMANDS", "cli", "main"]
 
 #: command name -> "module:function" (a click.Command), listed in the order ``--help`` shows them.
 COMMANDS: dict[str, str] = {
+    "bench": "illuknit.cli.bench:bench",
     "app": "illuknit.cli.app:app",
     "demo": "illuknit.cli.demo:demo",
     "single": "illuknit.cli.single:single",
@@ -39,6 +40,7 @@ COMMANDS: dict[str, str] = {
 _HELP = {
     "render": "Ray-cast a pattern from both sides and head-on, with a sweep GIF.",
     "calibrate": "Calibration swatch and bump-height fit for the renderer.",
+    "bench": "Benchmark design methods (tiles, MaxSAT, CP-SAT, DP, gradient) on instances.",
     "app": "Start the design app: a local web page for designing illusions.",
     "demo": "Make a single-view illusion from the bundled sample picture.",
     "single": "Compile a 2- or 3-colour picture into a single-view illusion.",

@@ -1,0 +1,259 @@
+"""Design methods compared by the benchmark, each behind one small adapter.
+
+A method is one function ``run(instance, time_limit) -> (LogicalPattern, info)``: it draws the
+instance's targets (:func:`illuknit.bench.instances.instance_targets`), designs a pattern with some
+part of illuknit, and returns it with an ``info`` dict of what only the method knows:
+
+=============  ==============================================================================
+key            meaning
+=============  ==============================================================================
+status         ``optimal`` / ``feasible`` / ``timeout`` / ``infeasible`` (solvers) or ``ok``
+objective      the method's own objective value (solvers), else absent
+bound          lower bound on the objective where the solver proves one
+gap            ``(objective - bound) / max(objective, 1)`` where both are known
+solve_s        seconds spent searching (model building excluded where the method separates it)
+compile_s      seconds spent building models / compiling the result into a pattern
+note           free text shown in the summary
+=============  ==============================================================================
+
+A method whose code or library is missing from this install raises :class:`MethodUnavailable`
+(a :class:`~illuknit.errors.BackendUnavailableError`); the runner records the cell as
+``skipped`` with that reason instead of failing. Register more methods with
+:func:`register_method`.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+from illuknit.bench.instances import Instance, instance_targets
+from illuknit.errors import BackendUnavailableError, UnknownNameError
+from illuknit.pattern import LogicalPattern
+
+__all__ = [
+    "DEFAULT_METHODS",
+    "METHODS",
+    "Method",
+    "MethodUnavailable",
+    "NoPattern",
+    "get_method",
+    "method_names",
+    "register_method",
+]
+
+RunFn = Callable[[Instance, float], tuple[LogicalPattern, dict[str, Any]]]
+
+
+class MethodUnavailable(BackendUnavailableError):
+    """The method cannot run in this install; the message says why (and what to install)."""
+
+
+class NoPattern(Exception):
+    """The method ran but found no pattern (e.g. a solver timed out before its first solution).
+
+    The runner records the cell with ``status`` (e.g. ``timeout``) and the message as reason.
+    """
+
+    def __init__(self, message: str, *, status: str = "timeout") -> None:
+        self.status = status
+        super().__init__(message)
+
+
+@dataclass(frozen=True)
+class Method:
+    """A benchmark method: a name, the instance kinds it applies to, and its adapter."""
+
+    name: str
+    run: RunFn
+    description: str = ""
+    kinds: tuple[str, ...] = ("double", "single")
+
+
+METHODS: dict[str, Method] = {}
+
+#: Methods run when ``--methods`` is not given (the paper's comparison plus ours).
+DEFAULT_METHODS = ("tiles", "single", "dp", "rc2", "cpsat", "knit-aware", "gradient")
+
+
+def register_method(method: Method, *, replace: bool = False) -> Method:
+    """Add ``method`` to :data:`METHODS` (``replace=True`` to overwrite an existing name)."""
+    if method.name in METHODS and not replace:
+        raise ValueError(f"method {method.name!r} is already registered")
+    METHODS[method.name] = method
+    return method
+
+
+def method_names() -> list[str]:
+    return list(METHODS)
+
+
+def get_method(name: str) -> Method:
+    """The method called ``name``; unknown names raise an error listing the valid ones."""
+    try:
+        return METHODS[name]
+    except KeyError:
+        raise UnknownNameError("method", name, method_names()) from None
+
+
+def _require(module: str, what: str, attr: str | None = None) -> Any:
+    """Import ``module`` (and ``attr``), or raise MethodUnavailable naming what is missing."""
+    import importlib
+
+    try:
+        mod = importlib.import_module(module)
+        return getattr(mod, attr) if attr else mod
+    except (ImportError, AttributeError) as e:
+        raise MethodUnavailable(f"{what} is not in this install ({module}: {e})") from None
+
+
+def _solution_info(sol: Any, compile_s: float) -> dict[str, Any]:
+    status = getattr(sol.status, "value", str(sol.status))
+    gap = sol.gap() if callable(getattr(sol, "gap", None)) else getattr(sol, "gap", None)
+    return {
+        "status": status,
+        "objective": sol.objective,
+        "bound": sol.bound,
+        "gap": gap,
+        "solve_s": sol.wall_time,
+        "compile_s": compile_s,
+        "note": "; ".join(
+            f"{k}={v}"
+            for k, v in (getattr(sol, "stats", {}) or {}).items()
+            if k in ("message", "infeasible_families")
+        ),
+    }
+
+
+# --- single-view push-button compiler ---------------------------------------------------------
+
+
+def run_single(instance: Instance, time_limit: float) -> tuple[LogicalPattern, dict[str, Any]]:
+    """Paper section 5: alternating stripe rows, raised where the picture has the row's colour."""
+    compile_single_view = _require(
+        "illuknit.single_view", "the single-view compiler", "compile_single_view"
+    )
+    t = instance_targets(instance)
+    t0 = time.perf_counter()
+    pattern = compile_single_view(t.a, yarns=instance.yarns)
+    return pattern, {"status": "ok", "compile_s": time.perf_counter() - t0}
+
+
+register_method(
+    Method("single", run_single, "push-button single-view compiler (paper section 5)", ("single",))
+)
+
+
+# --- the paper's MaxSAT baseline and its exact / CP-SAT counterparts ----------------------------
+
+
+def _solve_model(
+    instance: Instance, time_limit: float, *, solver: str, model: str
+) -> tuple[LogicalPattern, dict[str, Any]]:
+    solve_illusion = _require("illuknit.illusion_models", "the illusion models", "solve_illusion")
+    solvers = _require("illuknit.solvers", "the solver registry")
+    if solver not in solvers.available_backends():
+        raise MethodUnavailable(f"solver backend {solver!r} is not available in this install")
+    t = instance_targets(instance)
+    kind = model if instance.kind == "double" else "single"
+    from illuknit.errors import SolverError
+
+    t0 = time.perf_counter()
+    try:
+        res = solve_illusion(
+            t.a,
+            t.b if kind != "single" else None,
+            model=kind,
+            solver=solver,
+            yarns=instance.yarns,
+            time_limit=time_limit,
+        )
+    except SolverError as e:
+        if "found no pattern" in str(e):
+            raise NoPattern(f"no pattern within {time_limit:g} s ({e})") from None
+        raise
+    total = time.perf_counter() - t0
+    info = _solution_info(res.solution, compile_s=max(0.0, total - res.solution.wall_time))
+    info["note"] = (f"model {kind}; " + info["note"]).rstrip("; ")
+    return res.pattern, info
+
+
+def _solver_method(name: str, solver: str, model: str, description: str) -> Method:
+    def run(instance: Instance, time_limit: float) -> tuple[LogicalPattern, dict[str, Any]]:
+        return _solve_model(instance, time_limit, solver=solver, model=model)
+
+    run.__name__ = f"run_{name.replace('-', '_')}"
+    return Method(name, run, description)
+
+
+register_method(
+    _solver_method("dp", "dp", "logical", "exact per-wale dynamic programming, model (a)")
+)
+register_method(
+    _solver_method("rc2", "rc2", "logical", "pysat RC2 MaxSAT, model (a): the paper's baseline")
+)
+register_method(_solver_method("cpsat", "cpsat", "logical", "OR-Tools CP-SAT, model (a)"))
+register_method(
+    _solver_method("knit-aware", "cpsat", "knit-aware", "CP-SAT on the knit-time-aware model (b)")
+)
+
+
+# --- tiles (paper section 6) --------------------------------------------------------------------
+
+
+def run_tiles(instance: Instance, time_limit: float) -> tuple[LogicalPattern, dict[str, Any]]:
+    """The top-ranked tile assignment of the two targets, compiled (paper section 6)."""
+    assign_tiles = _require("illuknit.tiles.assign", "tile assignment", "assign_tiles")
+    compile_tiles = _require("illuknit.tiles.compile", "tile compilation", "compile_tiles")
+    t = instance_targets(instance)
+    palette = t.palette
+    t0 = time.perf_counter()
+    cands = assign_tiles(
+        (t.a, palette), (t.b, palette), yarns=instance.yarns, candidates=1, time_limit=time_limit
+    )
+    t1 = time.perf_counter()
+    pattern, _ = compile_tiles(cands[0])
+    t2 = time.perf_counter()
+    score = getattr(cands[0], "score", None)
+    return pattern, {
+        "status": "ok",
+        "objective": score if isinstance(score, int | float) else None,
+        "solve_s": t1 - t0,
+        "compile_s": t2 - t1,
+        "note": f"top candidate of {len(cands)}",
+    }
+
+
+register_method(Method("tiles", run_tiles, "tile assignment + compile (paper section 6)"))
+
+
+# --- gradient descent through the differentiable renderer (paper section 8.3) ------------------
+
+#: Adam steps of the gradient method (stopped early by the time limit).
+GRADIENT_STEPS = 200
+
+
+def run_gradient(instance: Instance, time_limit: float) -> tuple[LogicalPattern, dict[str, Any]]:
+    """MSE between renders at ±30° and the targets, annealed and binarised (paper Fig. 19 b)."""
+    optimise_design = _require(
+        "illuknit.render.optimise", "the gradient optimiser", "optimise_design"
+    )
+    t = instance_targets(instance)
+    t0 = time.perf_counter()
+    res = optimise_design(t.a, t.b, instance.yarns, steps=GRADIENT_STEPS, time_limit=time_limit)
+    wall = time.perf_counter() - t0
+    rep = dict(res.report)
+    steps = rep.get("steps", len(res.history))
+    return res.pattern, {
+        "status": "ok" if steps >= GRADIENT_STEPS else "timeout",
+        "objective": float(res.history[-1]) if len(res.history) else None,
+        "solve_s": wall,
+        "note": f"{steps} Adam steps",
+    }
+
+
+register_method(
+    Method("gradient", run_gradient, "gradient descent through the renderer (paper 8.3)")
+)

@@ -1,0 +1,331 @@
+"""What the benchmark measures for one pattern against its instance's targets.
+
+* **Logical error** per view: the fraction of units whose colour, as the boolean model
+  (:func:`illuknit.views.can_see`) sees it from that side, differs from the *original* target
+  (not from a repainted image a method may have designed against). Colours are compared by yarn
+  colour, so a pattern may use a subset or a reordering of the instance's yarns.
+* **Render error** per view: MSE and SSIM between the angled render (:mod:`illuknit.render` at
+  :data:`RENDER_ANGLE` degrees, resampled to one pixel per unit) and the target in yarn colours.
+  Both images are first blurred by the same kernel, :func:`blur_image`: a Gaussian of standard
+  deviation :data:`BLUR_SIGMA` units along both axes, applied in *linear light* (stripes mix like
+  light, the same mixing the tile fills use) with reflected edges, then converted back to sRGB.
+  A 2-row c1/c2 stripe is attenuated to under 1 % of its contrast, a 3-row stripe to ~0.7 %, a
+  4-row stripe to ~6 %, so stripes count as their average colour while regions of a few units
+  survive. MSE is over sRGB in [0, 1] averaged over pixels and channels; SSIM is scikit-image's
+  ``structural_similarity`` with ``channel_axis=2``, ``data_range=1`` and a 7 x 7 window (smaller
+  for tiny images). When the renderer is not installed the boolean view is used instead and the
+  row says so (``renderer = "boolean"``).
+* **Readability** per view: the Pearson correlation between the blurred render's and the blurred
+  target's luminance (:func:`render_correlation`). Unlike MSE it ignores a uniform loss of contrast
+  or a shift in brightness (a striped background that reads as mid-tone), so it asks "is the
+  picture there?" rather than "are the colours right?".
+* **Ghosting** (double view): how much of the *other* view's target shows through
+  (:func:`ghosting`): the luminance of view A's render is fitted by least squares on target A, and
+  the residual is correlated with target B (and vice versa); 0 means no trace of B in view A.
+  This is the "visual interference" of paper Fig. 19 (a).
+* **Head-on visibility**: the largest absolute correlation of the blurred head-on render with
+  either target. A single-view illusion should hide its picture head-on (close to 0).
+* **Colour changes per course**: for each pattern row (both of its knitting courses carry the same
+  colours), the number of horizontally adjacent unit pairs of different yarn; mean and max over
+  rows. Also the distinct yarns per row (mean, max) — a lower bound on carriers per course.
+* **Knitting**: carriage passes (every pass of the schedule), transfer passes and estimated time from the knit scheduler
+  (:mod:`illuknit.knit`); when the scheduler cannot handle the pattern (e.g. colour changes inside
+  a course before the mixed-colourwork scheduler exists) the fields are empty and ``knit_note``
+  gives the reason.
+* **Peak memory**: resident set size sampled every 5 ms while the cell runs
+  (:class:`PeakMemory`), reported as the peak and as the peak above the level at the start.
+"""
+
+from __future__ import annotations
+
+import os
+import resource
+import threading
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from illuknit.bench.instances import Targets
+from illuknit.colors import linear_from_srgb, srgb_from_linear
+from illuknit.pattern import LogicalPattern, Yarn
+from illuknit.views import can_see
+
+__all__ = [
+    "BLUR_SIGMA",
+    "RENDER_ANGLE",
+    "PeakMemory",
+    "angled_renders",
+    "blur_image",
+    "boolean_render",
+    "colour_changes",
+    "ghosting",
+    "knit_stats",
+    "logical_errors",
+    "render_correlation",
+    "render_error",
+    "seen_in_target_yarns",
+    "yarn_map",
+]
+
+#: Standard deviation of the Gaussian blur applied before render error, in units.
+BLUR_SIGMA = 1.5
+#: Viewing elevation angle (degrees) of the angled renders.
+RENDER_ANGLE = 30.0
+
+
+def yarn_map(pattern_yarns: tuple[Yarn, ...], yarns: tuple[Yarn, ...]) -> NDArray[np.int16]:
+    """Index of each pattern yarn among ``yarns`` by colour (-1 where it is not one of them)."""
+    lookup = {y.rgb: i for i, y in enumerate(yarns)}
+    return np.array([lookup.get(y.rgb, -1) for y in pattern_yarns], dtype=np.int16)
+
+
+def seen_in_target_yarns(pattern: LogicalPattern, view: str, yarns: tuple[Yarn, ...]):
+    """ndarray of shape (N, M): the yarn seen from ``view``, as an index into ``yarns``."""
+    return yarn_map(pattern.yarns, yarns)[can_see(pattern, view)]
+
+
+def logical_errors(pattern: LogicalPattern, targets: Targets) -> dict[str, float]:
+    """Fraction of wrongly seen units in view A and view B against the original targets.
+
+    Returns
+    -------
+    dict
+        ``{"A": float, "B": float}``, each in [0, 1].
+    """
+    out = {}
+    for view, target in (("A", targets.a), ("B", targets.b)):
+        if pattern.shape != target.shape:
+            raise ValueError(f"pattern shape {pattern.shape} differs from target {target.shape}")
+        seen = seen_in_target_yarns(pattern, view, targets.yarns)
+        out[view] = float(np.mean(seen != target))
+    return out
+
+
+def blur_image(rgb: ArrayLike, *, sigma: float = BLUR_SIGMA) -> NDArray[np.float64]:
+    """Gaussian blur in linear light (see the module docstring).
+
+    Parameters
+    ----------
+    rgb : ndarray of shape (N, M, 3)
+        sRGB in [0, 1].
+
+    Returns
+    -------
+    ndarray of float64, shape (N, M, 3)
+        Blurred sRGB in [0, 1].
+    """
+    from scipy.ndimage import gaussian_filter
+
+    a = np.asarray(rgb, dtype=np.float64)
+    lin = linear_from_srgb(a * 255.0)
+    blurred = gaussian_filter(lin, sigma=(sigma, sigma, 0), mode="reflect", truncate=4.0)
+    return srgb_from_linear(blurred) / 255.0
+
+
+def render_error(
+    rendered: ArrayLike, target: ArrayLike, *, sigma: float = BLUR_SIGMA
+) -> tuple[float, float]:
+    """(MSE, SSIM) between two (N, M, 3) sRGB images in [0, 1], both blurred by :func:`blur_image`."""
+    from skimage.metrics import structural_similarity
+
+    r = blur_image(rendered, sigma=sigma)
+    t = blur_image(target, sigma=sigma)
+    if r.shape != t.shape:
+        raise ValueError(f"render shape {r.shape} differs from target {t.shape}")
+    mse = float(np.mean((r - t) ** 2))
+    side = min(r.shape[0], r.shape[1])
+    win = min(7, side if side % 2 else side - 1)
+    if win < 3:
+        return mse, float("nan")
+    ssim = structural_similarity(r, t, channel_axis=2, data_range=1.0, win_size=win)
+    return mse, float(ssim)
+
+
+def _grey(rgb: NDArray[np.float64], sigma: float) -> NDArray[np.float64]:
+    b = blur_image(rgb, sigma=sigma)
+    return b @ np.array([0.2126, 0.7152, 0.0722])
+
+
+def _corr(x: NDArray[np.float64], y: NDArray[np.float64]) -> float:
+    x = x.ravel() - x.mean()
+    y = y.ravel() - y.mean()
+    den = float(np.sqrt((x * x).sum() * (y * y).sum()))
+    if den < 1e-12:
+        return float("nan")
+    return float((x * y).sum() / den)
+
+
+def render_correlation(
+    rendered: ArrayLike, target: ArrayLike, *, sigma: float = BLUR_SIGMA
+) -> float:
+    """Pearson correlation of blurred luminance between a render and a target (nan if either is flat).
+
+    Parameters
+    ----------
+    rendered, target : ndarray of shape (N, M, 3)
+        sRGB in [0, 1].
+    """
+    r = np.asarray(rendered, dtype=np.float64)
+    t = np.asarray(target, dtype=np.float64)
+    return _corr(_grey(r, sigma), _grey(t, sigma))
+
+
+def ghosting(
+    rendered: ArrayLike, own: ArrayLike, other: ArrayLike, *, sigma: float = BLUR_SIGMA
+) -> float:
+    """How much of ``other`` shows in ``rendered`` beyond what its ``own`` target explains.
+
+    The blurred luminance of ``rendered`` is fitted as ``alpha + beta * own`` by least squares;
+    the result is the correlation of the residual with ``other`` (nan when undefined).
+    """
+    g = _grey(np.asarray(rendered, dtype=np.float64), sigma).ravel()
+    o = _grey(np.asarray(own, dtype=np.float64), sigma).ravel()
+    x = _grey(np.asarray(other, dtype=np.float64), sigma).ravel()
+    design = np.stack([np.ones_like(o), o], axis=1)
+    coef, *_ = np.linalg.lstsq(design, g, rcond=None)
+    resid = g - design @ coef
+    return _corr(resid, x)
+
+
+def boolean_render(pattern: LogicalPattern, view: str) -> NDArray[np.float64]:
+    """The boolean can_see view in yarn colours, float sRGB of shape (N, M, 3)."""
+    return pattern.palette[can_see(pattern, view)].astype(np.float64) / 255.0
+
+
+def _to_units(img: NDArray[np.float64], shape: tuple[int, int]) -> NDArray[np.float64]:
+    if img.shape[:2] == shape:
+        return img
+    from skimage.transform import resize
+
+    return np.clip(resize(img, (*shape, 3), order=1, anti_aliasing=True, mode="edge"), 0.0, 1.0)
+
+
+def angled_renders(
+    pattern: LogicalPattern, *, angle: float = RENDER_ANGLE
+) -> tuple[dict[str, NDArray[np.float64]], str]:
+    """Renders of both sides at ``angle``, one pixel per unit, and the renderer's name.
+
+    Uses :func:`illuknit.render.render_views` when available, else the boolean view.
+
+    Returns
+    -------
+    (dict, str)
+        ``{"A": (N, M, 3), "B": (N, M, 3), "headon": (N, M, 3)}`` float sRGB in [0, 1], and ``"angled@30"`` or
+        ``"boolean (renderer unavailable: ...)"``.
+    """
+    try:
+        from illuknit.render import render_views
+    except ImportError as e:
+        reason = f"boolean (renderer unavailable: {e})"
+        return {v: boolean_render(pattern, v) for v in ("A", "B", "headon")}, reason
+    views = render_views(pattern, angle=angle)
+    out = {}
+    for v in ("A", "B", "headon"):
+        raw = np.asarray(views[v])
+        img = raw.astype(np.float64)
+        if np.issubdtype(raw.dtype, np.integer):  # uint8 sRGB renders
+            img = img / 255.0
+        out[v] = _to_units(img, pattern.shape)
+    return out, f"angled@{angle:g}"
+
+
+def colour_changes(pattern: LogicalPattern) -> dict[str, float]:
+    """Colour changes and distinct yarns per course (pattern row).
+
+    Returns
+    -------
+    dict
+        ``changes_mean``, ``changes_max``, ``yarns_per_course_mean``, ``yarns_per_course_max``.
+
+    Examples
+    --------
+    >>> from illuknit.pattern import parse_yarns
+    >>> p = LogicalPattern([[0, 1, 1, 0], [0, 0, 0, 0]], [[0] * 4] * 2, parse_yarns("black,white"))
+    >>> colour_changes(p)["changes_mean"]
+    1.0
+    """
+    c = pattern.yarn
+    changes = (c[:, 1:] != c[:, :-1]).sum(axis=1) if c.shape[1] > 1 else np.zeros(c.shape[0])
+    k = len(pattern.yarns)
+    per_row = (np.stack([(c == y).any(axis=1) for y in range(k)], axis=1)).sum(axis=1)
+    return {
+        "changes_mean": float(np.mean(changes)),
+        "changes_max": float(np.max(changes)),
+        "yarns_per_course_mean": float(np.mean(per_row)),
+        "yarns_per_course_max": float(np.max(per_row)),
+    }
+
+
+def knit_stats(pattern: LogicalPattern) -> dict[str, Any]:
+    """Carriage passes, transfer passes and estimated knitting time from :mod:`illuknit.knit`.
+
+    Returns
+    -------
+    dict
+        ``carriage_passes`` (every pass of the schedule), ``transfer_passes``, ``knit_time_min``
+        (None when unavailable) and ``knit_note`` (empty, or why the numbers are missing).
+    """
+    from illuknit.errors import IlluknitError
+
+    empty: dict[str, Any] = {
+        "carriage_passes": None,
+        "transfer_passes": None,
+        "knit_time_min": None,
+    }
+    try:
+        from illuknit.knit import knit_pattern
+    except ImportError as e:
+        return {**empty, "knit_note": f"knit scheduler unavailable: {e}"}
+    try:
+        result = knit_pattern(pattern)
+    except IlluknitError as e:
+        return {**empty, "knit_note": f"not schedulable: {e}"}
+    return {
+        "carriage_passes": int(result.stats.passes),
+        "transfer_passes": int(result.stats.transfer_passes),
+        "knit_time_min": float(result.time.seconds) / 60.0,
+        "knit_note": "",
+    }
+
+
+def _rss_bytes() -> int:
+    try:
+        with open("/proc/self/statm", encoding="ascii") as f:
+            return int(f.read().split()[1]) * os.sysconf("SC_PAGE_SIZE")
+    except OSError:  # not Linux: fall back to the lifetime peak
+        return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
+
+
+class PeakMemory:
+    """Context manager: peak resident memory of this process while the block runs.
+
+    A daemon thread samples ``/proc/self/statm`` every ``interval`` seconds (native allocations
+    of solvers count too, unlike tracemalloc). Attributes after exit: ``start_mb``, ``peak_mb``,
+    ``delta_mb`` (peak above start).
+    """
+
+    def __init__(self, interval: float = 0.005) -> None:
+        self.interval = interval
+        self.start_mb = self.peak_mb = self.delta_mb = 0.0
+        self._stop = threading.Event()
+        self._peak = 0
+
+    def _sample(self) -> None:
+        while not self._stop.wait(self.interval):
+            self._peak = max(self._peak, _rss_bytes())
+
+    def __enter__(self) -> PeakMemory:
+        self._start = self._peak = _rss_bytes()
+        self._thread = threading.Thread(target=self._sample, daemon=True)
+        self._thread.start()
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self._peak = max(self._peak, _rss_bytes())
+        self._stop.set()
+        self._thread.join()
+        mb = 1024.0 * 1024.0
+        self.start_mb = self._start / mb
+        self.peak_mb = self._peak / mb
+        self.delta_mb = (self._peak - self._start) / mb

@@ -1,0 +1,143 @@
+"""``illuknit bench``: run design methods on benchmark instances and compare them."""
+
+from __future__ import annotations
+
+import click
+
+from illuknit.errors import UnknownNameError
+
+__all__ = ["bench"]
+
+
+def _methods(spec: str) -> list[str]:
+    from illuknit.bench.methods import DEFAULT_METHODS, method_names
+
+    names = [s.strip() for s in spec.split(",") if s.strip()]
+    out: list[str] = []
+    for n in names or ["default"]:
+        group = list(DEFAULT_METHODS) if n == "default" else method_names() if n == "all" else [n]
+        for m in group:
+            if m not in method_names():
+                raise UnknownNameError("method", m, ["default", "all", *method_names()])
+            if m not in out:
+                out.append(m)
+    return out
+
+
+@click.command(name="bench")
+@click.option(
+    "--instances",
+    "instances",
+    default="quick",
+    show_default=True,
+    help="Comma-separated instance names, 'quick' or 'all'.",
+)
+@click.option(
+    "--methods",
+    default="default",
+    show_default=True,
+    help="Comma-separated methods (tiles, single, dp, rc2, cpsat, knit-aware, gradient), "
+    "'default' or 'all'.",
+)
+@click.option(
+    "--time-limit", type=float, default=None, help="Seconds per cell (overrides the manifest)."
+)
+@click.option(
+    "--jobs", "-j", type=int, default=1, show_default=True, help="Parallel worker processes."
+)
+@click.option(
+    "--executor",
+    type=click.Choice(["local", "dask"]),
+    default="local",
+    show_default=True,
+    help="Run cells locally or on a Dask cluster (pip install 'illuknit[dask]').",
+)
+@click.option(
+    "--dask-address",
+    default=None,
+    help="Scheduler address for --executor dask (default: a local cluster).",
+)
+@click.option(
+    "--manifest",
+    type=click.Path(dir_okay=False),
+    default=None,
+    help="Instance manifest (default: instances/manifest.toml).",
+)
+@click.option(
+    "--force", is_flag=True, help="Re-run every cell, discarding results of another version."
+)
+@click.option("--list", "list_only", is_flag=True, help="List instances and methods, then exit.")
+@click.option("--no-progress", is_flag=True, help="No progress bar.")
+@click.option(
+    "-o",
+    "--output",
+    "outdir",
+    type=click.Path(file_okay=False),
+    default=None,
+    help="Results folder.",
+)
+def bench(
+    instances: str,
+    methods: str,
+    time_limit: float | None,
+    jobs: int,
+    executor: str,
+    dask_address: str | None,
+    manifest: str | None,
+    force: bool,
+    list_only: bool,
+    no_progress: bool,
+    outdir: str | None,
+) -> None:
+    """Benchmark design methods on instances: tiles vs MaxSAT vs optimisation (paper 8.3).
+
+    Each instance x method cell records logical and render error, colour changes per course,
+    carriage passes and knitting time, solve time and memory. Finished cells are kept, so an
+    interrupted run resumes where it stopped. Writes results.csv, results.json, summary.md,
+    contact sheets and pareto.png into the results folder.
+    """
+    from illuknit.bench.instances import load_manifest, select_instances
+    from illuknit.bench.methods import METHODS
+    from illuknit.bench.runner import run_bench
+
+    man = load_manifest(manifest)
+    if list_only:
+        for inst in man.instances:
+            tag = " [quick]" if inst.quick else ""
+            click.echo(
+                f"{inst.name:24s} {inst.kind:6s} {inst.size[0]}x{inst.size[1]} "
+                f"{len(inst.yarns)} yarns {inst.time_limit:g}s{tag}"
+            )
+        click.echo("methods: " + ", ".join(f"{m.name} ({m.description})" for m in METHODS.values()))
+        return
+    if outdir is None:
+        raise click.UsageError("missing option '-o' / '--output' (the results folder)")
+    if jobs < 1:
+        raise click.BadParameter(f"must be at least 1, got {jobs}", param_hint="--jobs")
+    if time_limit is not None and not time_limit > 0:
+        raise click.BadParameter(f"must be positive, got {time_limit}", param_hint="--time-limit")
+    chosen = select_instances(man, instances)
+    names = _methods(methods)
+    run = run_bench(
+        chosen,
+        names,
+        outdir,
+        time_limit=time_limit,
+        jobs=jobs,
+        executor=executor,
+        force=force,
+        progress=not no_progress,
+        dask_address=dask_address,
+    )
+    counts: dict[str, int] = {}
+    for r in run.rows:
+        counts[r["status"]] = counts.get(r["status"], 0) + 1
+    click.echo(
+        f"{len(run.ran)} cell(s) run, {len(run.reused)} reused; "
+        + ", ".join(f"{v} {k}" for k, v in sorted(counts.items()))
+    )
+    click.echo(
+        f"results in {run.outdir}: results.csv, results.json, summary.md"
+        + (", pareto.png" if "pareto" in run.outputs else "")
+        + (", contact/" if any(k.startswith("contact:") for k in run.outputs) else "")
+    )
