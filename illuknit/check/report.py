@@ -136,6 +136,12 @@ class CheckReport:
             "findings": [f.to_dict() for f in self.findings],
         }
 
+    def to_text(self, *, name: str = "program") -> str:
+        """The human-readable report as plain text (no colour markup)."""
+        from rich.text import Text
+
+        return Text.from_markup(render_report(self, name=name)).plain
+
     def to_json(self, *, indent: int | None = 2) -> str:
         """The report as JSON (see :meth:`to_dict` for the keys)."""
         return json.dumps(self.to_dict(), indent=indent)
