@@ -140,7 +140,7 @@ def create_app(config: AppConfig | None = None) -> Any:
     try:
         from fastapi import FastAPI, File, Query, Request, UploadFile
         from fastapi.exceptions import RequestValidationError
-        from fastapi.responses import FileResponse, JSONResponse, Response
+        from fastapi.responses import FileResponse, HTMLResponse, JSONResponse, Response
         from fastapi.staticfiles import StaticFiles
         from pydantic import BaseModel, Field
         from starlette.exceptions import HTTPException as StarletteHTTPException
@@ -172,6 +172,10 @@ def create_app(config: AppConfig | None = None) -> Any:
             '(`/api/sessions/{sid}`); every error answers `{"error": {"message", "field", "code"}}`.'
         ),
         lifespan=lifespan,
+        # FastAPI's own /docs pages load their scripts from a CDN; the app must work offline, so
+        # /docs is a plain page rendered here from the same OpenAPI document (/openapi.json).
+        docs_url=None,
+        redoc_url=None,
     )
     app.state.store = store
     app.state.runner = runner
@@ -323,6 +327,10 @@ def create_app(config: AppConfig | None = None) -> Any:
             return design.pattern_for(cand, s.overrides, prepared_of(s))
 
     # -- page ----------------------------------------------------------------------------------
+    @app.get("/docs", include_in_schema=False)
+    def docs() -> HTMLResponse:
+        return HTMLResponse(api_docs_html(app.openapi()))
+
     @app.get("/", include_in_schema=False)
     def index() -> FileResponse:
         return FileResponse(STATIC_DIR / "index.html", headers={"Cache-Control": "no-cache"})
@@ -781,3 +789,37 @@ def create_app(config: AppConfig | None = None) -> Any:
         )
 
     return app
+
+
+def api_docs_html(spec: dict[str, Any]) -> str:
+    """A self-contained HTML page listing the API from its OpenAPI document (no scripts, no CDN)."""
+    from html import escape
+
+    rows = []
+    for path, ops in spec.get("paths", {}).items():
+        for method, op in ops.items():
+            params = ", ".join(
+                f"<code>{escape(p['name'])}</code> ({escape(p.get('in', ''))})"
+                + (f": {escape(p.get('description', ''))}" if p.get("description") else "")
+                for p in op.get("parameters", [])
+            )
+            body = op.get("requestBody", {}).get("content", {})
+            kinds = ", ".join(escape(k) for k in body)
+            rows.append(
+                f"<tr><td class=m>{escape(method.upper())}</td><td><code>{escape(path)}</code></td>"
+                f"<td>{escape(op.get('summary', ''))}<div class=p>{params}"
+                f"{' &middot; body: ' + kinds if kinds else ''}</div></td></tr>"
+            )
+    info = spec.get("info", {})
+    return (
+        "<!doctype html><html lang=en><head><meta charset=utf-8><title>illuknit API</title><style>"
+        "body{font:14px system-ui,sans-serif;margin:24px;color:#1f2328}"
+        "table{border-collapse:collapse;width:100%}td{border-top:1px solid #e4e7ec;padding:6px 8px;"
+        "vertical-align:top}.m{font-weight:700;color:#0f766e}.p{color:#667085;font-size:12.5px}"
+        "</style></head><body>"
+        f"<h1>{escape(info.get('title', 'API'))} <small>{escape(info.get('version', ''))}</small></h1>"
+        f"<p>{escape(info.get('description', ''))}</p>"
+        "<p>Machine-readable: <a href=/openapi.json>/openapi.json</a> (OpenAPI "
+        f"{escape(str(spec.get('openapi', '')))}).</p>"
+        f"<table>{''.join(rows)}</table></body></html>"
+    )
