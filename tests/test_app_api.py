@@ -14,13 +14,12 @@ import pytest
 pytest.importorskip("fastapi", reason="the app extra is not installed: pip install 'illuknit[app]'")
 pytest.importorskip("multipart", reason="python-multipart is not installed")
 
-from fastapi.testclient import TestClient  # noqa: E402
-from PIL import Image  # noqa: E402
+from fastapi.testclient import TestClient
+from PIL import Image
 
-from illuknit.app import create_app  # noqa: E402
-from illuknit.app import design  # noqa: E402
-from illuknit.app.jobs import Job, JobRunner  # noqa: E402
-from illuknit.app.server import AppConfig  # noqa: E402
+from illuknit.app import create_app, design
+from illuknit.app.jobs import Job, JobRunner
+from illuknit.app.server import AppConfig
 
 DARK = (20, 20, 20)
 LIGHT = (245, 240, 230)
@@ -119,9 +118,10 @@ def test_page_and_static_files_are_served(client):
     for name in ("app.js", "app.css"):
         assert client.get(f"/static/{name}").status_code == 200
     # everything the page loads comes from this server: no CDN, works offline
+    from illuknit.app.server import STATIC_DIR
+
     for src in ("index.html", "app.js", "app.css"):
-        text = design.__file__.rsplit("/", 1)[0] + f"/static/{src}"
-        body = open(text, encoding="utf-8").read()
+        body = (STATIC_DIR / src).read_text(encoding="utf-8")
         assert "http://" not in body and "https://" not in body, src
 
 
