@@ -186,7 +186,7 @@ def test_headon_with_a_side_picture():
     side = draw_circle((18, 18)).astype(np.int16)
     cols = np.array([[240, 240, 240], [20, 20, 20]], np.uint8)
     cands = assign_headon((front, cols), (side, cols), yarns=Y2, candidates=1)
-    pattern, report = compile_tiles(cands[0])
+    _, report = compile_tiles(cands[0])
     assert report.error_repainted_interior["A"] == 0.0
     for f in cands[0].fills_b:
         assert f is not None
