@@ -81,3 +81,47 @@ def test_bad_design_input(kwargs, message):
             steps=args.pop("steps", 2),
             **args,
         )
+
+
+def test_objective_gradient_matches_finite_differences():
+    """The whole design objective (renders at +-theta, penalties, sigmoid/softmax) by FD."""
+    from illuknit.render.optimise import _Objective
+
+    rng = np.random.default_rng(4)
+    n, m, k = 5, 4, 3
+    pal = rng.random((k, 3))
+    obj = _Objective(
+        rng.random((n, m, 3)),
+        rng.random((n, m, 3)),
+        pal,
+        RenderParams(theta=35, shading=0.7),
+        0.3,
+        0.2,
+    )
+    z = rng.normal(0, 1, (n, m))
+    u = rng.normal(0, 1, (n, m, k))
+    tau, bw = 0.7, 0.4
+    _, _, gz, gu, _, _ = obj(z, u, tau, bw)
+    eps = 1e-6
+    for x, g, which in ((z, gz, 0), (u, gu, 1)):
+        fd = np.zeros_like(x)
+        for i in np.ndindex(x.shape):
+            xp, xm = x.copy(), x.copy()
+            xp[i] += eps
+            xm[i] -= eps
+            args_p = (xp, u) if which == 0 else (z, xp)
+            args_m = (xm, u) if which == 0 else (z, xm)
+            fd[i] = (obj(*args_p, tau, bw)[0] - obj(*args_m, tau, bw)[0]) / (2 * eps)
+        np.testing.assert_allclose(g, fd, atol=1e-7, rtol=1e-5)
+
+
+def test_pinned_units_keep_their_yarn_and_yarn_mix():
+    ta, tb = _texts((8, 10))
+    pinned = np.full(ta.shape, -1)
+    pinned[::2, ::3] = 1
+    res = optimise_design(ta, tb, YARNS, steps=30, mix="yarn", pinned=pinned)
+    assert np.all(res.pattern.yarn[pinned >= 0] == 1)
+    with pytest.raises(PatternValidationError, match="mix"):
+        optimise_design(ta, tb, YARNS, steps=2, mix="lab")
+    with pytest.raises(PatternValidationError, match="pinned"):
+        optimise_design(ta, tb, YARNS, steps=2, pinned=np.full(ta.shape, 7))

@@ -163,11 +163,12 @@ def _expected_logical_error(
 class _Objective:
     """Value and gradient of the design objective with respect to the logits (z, u)."""
 
-    def __init__(self, ta, tb, palette_lin, params, change_weight):
+    def __init__(self, ta, tb, palette_lin, params, change_weight, raised_weight):
         self.ta, self.tb = ta, tb
         self.pal = palette_lin
         self.params = params
         self.change_weight = change_weight
+        self.raised_weight = raised_weight
 
     def __call__(self, z, u, tau, bin_w):
         prm = self.params
@@ -192,6 +193,9 @@ class _Objective:
             loss += bin_w * float(np.mean(t * (1 - t)) + np.mean(1 - (p * p).sum(-1)))
             g_t += bin_w * (1 - 2 * t) / t.size
             g_p += bin_w * (-2 * p) / (p.size / p.shape[-1])
+        if self.raised_weight > 0:
+            loss += self.raised_weight * float(np.mean(t))
+            g_t += self.raised_weight / t.size
         if self.change_weight > 0 and p.shape[1] > 1:
             same = (p[:, 1:] * p[:, :-1]).sum(-1)
             loss += self.change_weight * float(np.mean(1 - same))
@@ -213,7 +217,10 @@ def optimise_design(
     learning_rate: float = 0.2,
     binary_weight: float = 0.1,
     change_weight: float = 0.0,
+    raised_weight: float = 0.0,
     final_temperature: float = 0.05,
+    mix: str = "rgb",
+    pinned: ArrayLike | None = None,
     seed: int = 0,
     time_limit: float | None = None,
     callback: Callable[[DesignStep], None] | None = None,
@@ -235,9 +242,18 @@ def optimise_design(
     binary_weight : float
         Final weight of the binariness penalty (ramped up from 0).
     change_weight : float
-        Weight of the expected number of colour changes along courses (slow to knit).
+        Weight of the expected share of colour changes along courses (slow to knit).
+    raised_weight : float
+        Weight of the share of raised units (each bump costs knit/purl transfers).
     final_temperature : float
         Temperature at the last step (annealed from 1), in (0, 1].
+    mix : {"rgb", "yarn"}
+        What the renderer averages: the yarns' linear-light colours ("rgb": the error a viewer
+        sees, similar yarns count little), or the yarn probabilities themselves ("yarn": every
+        wrong yarn counts the same, as in the logical models; RGB targets are first mapped to
+        their nearest yarns).
+    pinned : ndarray of shape (N, M), int, optional
+        Yarn fixed per unit, -1 where free.
     seed : int
         Seed of the small random initialisation.
     time_limit : float, optional
@@ -275,12 +291,25 @@ def optimise_design(
         )
     ia = targets_to_indices(ta_raw, yarns, name="target_a")
     ib = targets_to_indices(tb_raw, yarns, name="target_b")
-    pal_lin = linear_from_srgb(np.array([y.rgb for y in yarns], dtype=np.float64))
-    ta = _target_linear(ta_raw, pal_lin, "target_a")
-    tb = _target_linear(tb_raw, pal_lin, "target_b")
     n, m = ia.shape
     k = len(yarns)
-    objective = _Objective(ta, tb, pal_lin, params, change_weight)
+    if mix == "rgb":
+        pal_lin = linear_from_srgb(np.array([y.rgb for y in yarns], dtype=np.float64))
+        ta = _target_linear(ta_raw, pal_lin, "target_a")
+        tb = _target_linear(tb_raw, pal_lin, "target_b")
+    elif mix == "yarn":
+        pal_lin = np.eye(k)
+        ta, tb = pal_lin[ia], pal_lin[ib]
+    else:
+        raise PatternValidationError(f"`mix` must be 'rgb' or 'yarn', got {mix!r}")
+    pin = None
+    if pinned is not None:
+        pin = np.asarray(pinned)
+        if pin.shape != (n, m) or not np.issubdtype(pin.dtype, np.integer):
+            raise PatternValidationError(f"`pinned` must be an int array of shape {(n, m)}")
+        if pin.min() < -1 or pin.max() >= k:
+            raise PatternValidationError(f"`pinned` values must lie in -1..{k - 1}")
+    objective = _Objective(ta, tb, pal_lin, params, change_weight, raised_weight)
 
     rng = np.random.default_rng(seed)
     z = rng.normal(0.0, 0.1, (n, m))
@@ -289,6 +318,10 @@ def optimise_design(
     rows, cols = np.indices((n, m))
     u[rows, cols, ia] += 0.5
     u[rows, cols, ib] += 0.5
+    if pin is not None:
+        # Pinned units keep their yarn: saturated logits whose gradient is masked below.
+        fixed = pin >= 0
+        u[fixed] = np.where(np.arange(k) == pin[fixed][:, None], 30.0, -30.0)
     params_vec = [z, u]
     mom = [np.zeros_like(z), np.zeros_like(u)]
     vel = [np.zeros_like(z), np.zeros_like(u)]
@@ -300,6 +333,8 @@ def optimise_design(
         frac = step / max(1, steps - 1)
         tau = final_temperature**frac
         loss, render_err, g_z, g_u, _, _ = objective(z, u, tau, binary_weight * frac)
+        if pin is not None:
+            g_u[fixed] = 0.0
         history.append(loss)
         for i, g in enumerate((g_z, g_u)):
             mom[i] = b1 * mom[i] + (1 - b1) * g
@@ -320,8 +355,7 @@ def optimise_design(
     h_bin = raised.astype(np.float64)
     p_bin = np.eye(k)[yarn]
     # Evaluate the binary design with the same objective: logits at +-inf are t, p in {0, 1}.
-    bin_obj = _Objective(ta, tb, pal_lin, params, change_weight)
-    loss_b, render_b, _, _, _, _ = bin_obj(
+    loss_b, render_b, _, _, _, _ = objective(
         np.where(h_bin > 0, 50.0, -50.0), np.where(p_bin > 0, 50.0, -50.0), 1.0, binary_weight
     )
     pattern = LogicalPattern(
@@ -334,6 +368,8 @@ def optimise_design(
             "theta": params.theta,
             "binary_weight": binary_weight,
             "change_weight": change_weight,
+            "raised_weight": raised_weight,
+            "mix": mix,
             "seed": seed,
         },
     )

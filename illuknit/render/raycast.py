@@ -167,48 +167,69 @@ def _forward_a(
     params: RenderParams,
     supersample: int,
     view: RenderView,
-) -> tuple[NDArray[np.float64], Tape]:
-    """Render in view-A orientation. h (N, M), col (N, M, K) -> image (N*S, M, K) and tape."""
+    keep_tape: bool,
+) -> tuple[NDArray[np.float64], Tape | None]:
+    """Render in view-A orientation. h (N, M), col (N, M, K) -> image (N*S, M, K) and tape.
+
+    The running integral ``F`` of the picture is kept per *unit* (not per segment): at ``C_j`` it is
+    ``G_{j+1} = G_j + col_j (shading (D_j - C_{j-1}) + (C_j - D_j))``, and inside unit ``j``'s
+    visible interval ``F(p) = G_j + col_j phi_j(p)`` with the scalar
+    ``phi_j(p) = shading (min(p, D_j) - C_{j-1}) + max(p - D_j, 0)``. This halves the work of a
+    per-segment integral; the tape stores the per-segment form the backward pass uses.
+    """
     n, m = h.shape
     k = col.shape[2]
+    shade = params.shading
     ls = params.unit_length * sin
     a = (np.arange(n, dtype=np.float64) * ls)[:, None]
     e = a + h * cos
     b = e + ls
-    c = np.maximum.accumulate(b, axis=0)
-    cprev = np.empty_like(c)
-    cprev[0] = 0.0
-    cprev[1:] = c[:-1]
+    cc = np.empty((n + 1, m))  # 0, C_0, ..., C_{N-1}
+    cc[0] = 0.0
+    np.maximum.accumulate(b, axis=0, out=cc[1:])
+    c, cprev = cc[1:], cc[:-1]
     d = np.maximum(e, cprev)
-    x = np.empty((2 * n + 1, m))
-    x[0] = 0.0
-    x[1::2] = d
-    x[2::2] = c
-    segcol = np.empty((2 * n, m, k))
-    segcol[0::2] = col * params.shading
-    segcol[1::2] = col
-    seglen = np.diff(x, axis=0)
-    g = np.empty((2 * n + 1, m, k))
+    w = c - d
+    if shade != 1.0:
+        w += shade * (d - cprev)
+    else:
+        w += d - cprev
+    g = np.empty((n + 1, m, k))
     g[0] = 0.0
-    cumsum_rows(segcol * seglen[..., None], g[1:])
+    cumsum_rows(col * w[..., None], g[1:])
 
     n_pix = n * supersample
     pixel = ls / supersample
     p0 = params.flat_height * cos
     p = p0 + np.arange(n_pix + 1, dtype=np.float64) * pixel
     # Per-wale searchsorted in one call: shift each wale's (sorted) knots into its own range.
-    big = max(float(x[-1].max()), float(p[-1])) + 1.0
+    big = max(float(cc[-1].max()), float(p[-1])) + 1.0
     off = np.arange(m, dtype=np.float64) * big
-    knots = (x.T + off[:, None]).ravel()
+    knots = (cc.T + off[:, None]).ravel()
     queries = (p[None, :] + off[:, None]).ravel()
-    seg = np.searchsorted(knots, queries, side="right").reshape(m, n_pix + 1)
-    seg -= (np.arange(m) * (2 * n + 1))[:, None] + 1
-    np.clip(seg, 0, 2 * n - 1, out=seg)
-    seg = seg.T  # (P+1, M)
-    xs = np.take_along_axis(x, seg, axis=0)
-    f = take_rows(g, seg) + (p[:, None] - xs)[..., None] * take_rows(segcol, seg)
-    img = np.diff(f, axis=0) / pixel
-    tape = Tape(x, segcol, e, b, cprev, view, sin, cos, params.shading, p0, pixel, n_pix)
+    unit = np.searchsorted(knots, queries, side="right").reshape(m, n_pix + 1)
+    unit -= (np.arange(m) * (n + 1))[:, None] + 1
+    np.clip(unit, 0, n - 1, out=unit)
+    unit = unit.T  # (P+1, M): the unit whose visible interval holds each pixel edge
+    pp = p[:, None]
+    dj = np.take_along_axis(d, unit, axis=0)
+    phi = np.maximum(pp - dj, 0.0)
+    lead = np.minimum(pp, dj) - np.take_along_axis(cprev, unit, axis=0)
+    phi += shade * lead if shade != 1.0 else lead
+    f = take_rows(g, unit)
+    f += take_rows(col, unit) * phi[..., None]
+    img = np.diff(f, axis=0)
+    img /= pixel
+    if not keep_tape:
+        return img, None
+    x = np.empty((2 * n + 1, m))
+    x[0] = 0.0
+    x[1::2] = d
+    x[2::2] = c
+    segcol = np.empty((2 * n, m, k))
+    segcol[0::2] = col * shade
+    segcol[1::2] = col
+    tape = Tape(x, segcol, e, b, cprev, view, sin, cos, shade, p0, pixel, n_pix)
     return img, tape
 
 
@@ -249,12 +270,26 @@ def render_soft(
     sin, cos = _camera(params, view, angle)
     if view == "B":
         img, tape = _forward_a(
-            h[::-1], col[::-1], sin=sin, cos=cos, params=params, supersample=supersample, view=view
+            h[::-1],
+            col[::-1],
+            sin=sin,
+            cos=cos,
+            params=params,
+            supersample=supersample,
+            view=view,
+            keep_tape=return_tape,
         )
         img = img[::-1]
     else:
         img, tape = _forward_a(
-            h, col, sin=sin, cos=cos, params=params, supersample=supersample, view=view
+            h,
+            col,
+            sin=sin,
+            cos=cos,
+            params=params,
+            supersample=supersample,
+            view=view,
+            keep_tape=return_tape,
         )
     return (img, tape) if return_tape else img
 

@@ -1,0 +1,133 @@
+"""Gradient-descent design through the differentiable renderer (paper section 8.3) as a backend.
+
+The backend recognises models built from an :class:`illuknit.illusion_models.IllusionProblem`
+(``model.problem``) and runs :func:`illuknit.render.optimise.optimise_design` on its two targets:
+yarn probabilities are rendered directly (``mix="yarn"``) at the elevation where a bump hides
+exactly one unit, so the renders of the binarised pattern are the can_see views and the render
+error counts mismatched cells. The model's weights carry over: colour changes along courses and
+bumps (knit/purl transfers) become penalties relative to the view weight, and pinned units stay
+fixed. The binarised pattern is mapped back to the model's variables and scored with
+``model.evaluate``; the status is ``feasible`` (gradient descent proves nothing), ``timeout``
+when the time limit cut the descent short.
+
+It does not handle models with a hard colour-change cap per course (descent cannot guarantee it).
+"""
+
+from __future__ import annotations
+
+import time
+from typing import TYPE_CHECKING
+
+from illuknit.solvers.base import ProgressCallback, ProgressEvent, Solution, Status
+
+if TYPE_CHECKING:
+    from illuknit.model import Model
+
+__all__ = ["GradientBackend"]
+
+
+class GradientBackend:
+    """Soft heights and yarns optimised with Adam against renders at ±theta, then binarised."""
+
+    name = "gradient"
+    extra: str | None = None
+
+    def __init__(self, *, steps: int = 300, params=None) -> None:
+        self.steps = steps
+        self.params = params
+
+    def handles(self, model: Model) -> bool:
+        from illuknit.illusion_models import IllusionProblem
+
+        p = getattr(model, "problem", None)
+        return isinstance(p, IllusionProblem) and p.color_cap is None and p.n_yarns >= 2
+
+    def why_not(self, model: Model) -> str:
+        from illuknit.illusion_models import IllusionProblem
+
+        p = getattr(model, "problem", None)
+        if not isinstance(p, IllusionProblem):
+            return "the gradient backend solves only illusion models built by illuknit.illusion_models.build_model"
+        if p.n_yarns < 2:
+            return "the gradient backend needs at least two yarns"
+        return "gradient descent cannot guarantee a hard colour-change cap; use --solver cpsat"
+
+    def is_available(self) -> bool:
+        return True
+
+    def solve(
+        self,
+        model: Model,
+        *,
+        time_limit: float | None = None,
+        seed: int = 0,
+        progress: ProgressCallback | None = None,
+    ) -> Solution:
+        from illuknit.illusion_models import default_yarns
+        from illuknit.render.optimise import optimise_design
+        from illuknit.render.params import RenderParams
+        from illuknit.solvers.dp import values_from_pattern
+
+        t0 = time.perf_counter()
+        problem = model.problem
+        if not self.handles(model):
+            stats = {"message": self.why_not(model)}
+            return Solution(Status.ERROR, None, None, None, 0.0, stats, self.name, model.pool)
+        base = self.params or RenderParams()
+        params = base.with_angle(base.exact_angle)
+        k = problem.n_yarns
+        wv = problem.view_weight
+        # Model costs per event, converted to the optimiser's per-cell means: a wrong view cell
+        # adds 2 / (N M K) to the mean squared error of one-hot renders, a colour change
+        # 1 / (N (M-1)) to the change share, a bump 1 / (N M) to the raised share.
+        per_mismatch = 2.0 / (k * wv)
+        _, m = problem.shape
+        change_w = problem.color_weight * per_mismatch * (m - 1) / m if m > 1 else 0.0
+        raised_w = 2.0 * problem.transfer_weight * per_mismatch
+        interrupted = False
+        try:
+            result = optimise_design(
+                problem.target_a,
+                problem.target_b,
+                default_yarns(k),
+                params=params,
+                steps=self.steps,
+                change_weight=change_w,
+                raised_weight=raised_w,
+                mix="yarn",
+                pinned=problem.pinned,
+                seed=seed,
+                time_limit=None if time_limit is None else max(0.0, time_limit - 0.05),
+            )
+        except KeyboardInterrupt:  # pragma: no cover - interactive only
+            interrupted = True
+            wall = time.perf_counter() - t0
+            return Solution(
+                Status.FEASIBLE,
+                None,
+                None,
+                None,
+                wall,
+                {"interrupted": True},
+                self.name,
+                model.pool,
+            )
+        pat = result.pattern
+        vals = values_from_pattern(model, pat.yarn, pat.raised)
+        ok, cost = model.evaluate(vals)
+        wall = time.perf_counter() - t0
+        stats = {
+            "steps": result.report["steps"],
+            "render_error_before": result.report["before"]["render_error"],
+            "render_error_after": result.report["after"]["render_error"],
+            "logical_error_before": result.report["before"]["logical_error"],
+            "logical_error_after": result.report["after"]["logical_error"],
+            "interrupted": interrupted,
+        }
+        if not ok:
+            stats["message"] = "the binarised design breaks a hard constraint of the model"
+            return Solution(Status.ERROR, vals, cost, None, wall, stats, self.name, model.pool)
+        status = Status.TIMEOUT if result.report["steps"] < self.steps else Status.FEASIBLE
+        if progress:
+            progress(ProgressEvent(wall, cost, None, "gradient design binarised"))
+        return Solution(status, vals, cost, None, wall, stats, self.name, model.pool)
