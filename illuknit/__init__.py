@@ -44,6 +44,10 @@ _API: dict[str, str] = {
     # previews, charts
     "write_previews": "illuknit.previews",
     "written_instructions": "illuknit.chart",
+    # knitting (knitout for V-bed machines)
+    "knit_pattern": "illuknit.knit.pipeline",
+    "KnitResult": "illuknit.knit.pipeline",
+    "MachineSpec": "illuknit.knit.machine",
     # errors
     "IlluknitError": "illuknit.errors",
 }
