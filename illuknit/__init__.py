@@ -48,6 +48,10 @@ _API: dict[str, str] = {
     "knit_pattern": "illuknit.knit.pipeline",
     "KnitResult": "illuknit.knit.pipeline",
     "MachineSpec": "illuknit.knit.machine",
+    # knitout checker
+    "check_knitout": "illuknit.check",
+    "CheckReport": "illuknit.check",
+    "Finding": "illuknit.check",
     # errors
     "IlluknitError": "illuknit.errors",
 }
