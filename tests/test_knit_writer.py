@@ -168,3 +168,17 @@ def test_stitch_and_speed_numbers_are_written_when_set():
     assert ";;Gauge: 14" in lines and ";;Width: 100" in lines
     assert "x-speed-number 5" in lines
     assert lines.index("x-stitch-number 40") < lines.index("x-stitch-number 61")
+
+
+@pytest.mark.parametrize("shape", ["heart", "plus"])
+def test_single_view_compiler_output_knits_cleanly(shape):
+    """The push-button single-view path end to end: drawing -> pattern -> knitout -> checks."""
+    single_view = pytest.importorskip("illuknit.single_view")
+    drawings = pytest.importorskip("illuknit.drawings")
+    mask = drawings.draw_shape(shape, (10, 8))
+    pattern = single_view.compile_single_view(mask.astype(int), yarns=YARNS[:2])
+    m = MachineSpec()
+    result = knit_pattern(pattern, machine=m)
+    assert result.stats.ratio == 1.0
+    check_clean(result.text, m)
+    vm_run(result.text)
