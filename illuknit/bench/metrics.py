@@ -16,7 +16,7 @@
   for tiny images). When the renderer is not installed the boolean view is used instead and the
   row says so (``renderer = "boolean"``).
 * **Readability** per view: the Pearson correlation between the blurred render's and the blurred
-  target's luminance (:func:`render_correlation`). Unlike MSE it ignores a uniform loss of contrast
+  target's relative luminance (linear light, same kernel) (:func:`render_correlation`). Unlike MSE it ignores a uniform loss of contrast
   or a shift in brightness (a striped background that reads as mid-tone), so it asks "is the
   picture there?" rather than "are the colours right?".
 * **Ghosting** (double view): how much of the *other* view's target shows through
@@ -143,8 +143,12 @@ def render_error(
 
 
 def _grey(rgb: NDArray[np.float64], sigma: float) -> NDArray[np.float64]:
-    b = blur_image(rgb, sigma=sigma)
-    return b @ np.array([0.2126, 0.7152, 0.0722])
+    """Blurred relative luminance in linear light (where light, and so stripes, mix linearly)."""
+    from scipy.ndimage import gaussian_filter
+
+    lin = linear_from_srgb(np.asarray(rgb, dtype=np.float64) * 255.0)
+    y = lin @ np.array([0.2126, 0.7152, 0.0722])
+    return gaussian_filter(y, sigma=sigma, mode="reflect", truncate=4.0)
 
 
 def _corr(x: NDArray[np.float64], y: NDArray[np.float64]) -> float:
@@ -159,7 +163,9 @@ def _corr(x: NDArray[np.float64], y: NDArray[np.float64]) -> float:
 def render_correlation(
     rendered: ArrayLike, target: ArrayLike, *, sigma: float = BLUR_SIGMA
 ) -> float:
-    """Pearson correlation of blurred luminance between a render and a target (nan if either is flat).
+    """Pearson correlation of blurred linear-light luminance of a render and a target.
+
+    nan when either is flat. Invariant to contrast and brightness: ``a + b * target`` scores 1.
 
     Parameters
     ----------

@@ -474,6 +474,18 @@ def run_bench(
         local cluster of ``jobs`` workers.
     force : bool
         Discard results of another version, and re-run every cell.
+    progress : bool
+        Show a progress bar (rich, on stderr).
+    on_cell : callable, optional
+        Called with each finished row (after it is saved).
+    write_outputs : bool
+        Write results.csv/json, summary.md, contact sheets and the plot at the end (also after an
+        interruption, for the cells finished so far).
+
+    Returns
+    -------
+    BenchRun
+        ``rows`` holds every finished cell of the folder (this run's and earlier ones).
     """
     if executor not in EXECUTORS:
         from illuknit.errors import UnknownNameError
@@ -545,11 +557,11 @@ def run_bench(
     finally:
         if bar is not None:
             bar.stop()
+        order = [i.name for i in instances]
+        run.rows = sort_rows(load_rows(out), order, list(methods))
         if write_outputs:
             from illuknit.bench.report import write_outputs as _write
 
-            order = [i.name for i in instances]
-            run.rows = sort_rows(load_rows(out), order, list(methods))
             run.outputs = _write(out, run.rows)
     return run
 

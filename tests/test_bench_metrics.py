@@ -1,0 +1,133 @@
+"""Benchmark metrics on cases small enough to compute by hand."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from illuknit.bench.instances import Targets
+from illuknit.bench.metrics import (
+    PeakMemory,
+    angled_renders,
+    blur_image,
+    colour_changes,
+    ghosting,
+    knit_stats,
+    logical_errors,
+    render_correlation,
+    render_error,
+    yarn_map,
+)
+from illuknit.colors import linear_from_srgb, srgb_from_linear
+from illuknit.pattern import LogicalPattern, parse_yarns
+
+BW = parse_yarns("#000000,#ffffff")
+
+
+def test_logical_error_counts_wrongly_seen_units():
+    # 2 x 2, nothing raised: every view sees C itself.
+    p = LogicalPattern([[0, 1], [1, 1]], np.zeros((2, 2), bool), BW)
+    t = Targets(np.array([[0, 1], [1, 0]]), np.array([[1, 1], [1, 1]]), BW)
+    assert logical_errors(p, t) == {"A": 0.25, "B": 0.25}
+
+
+def test_logical_error_follows_can_see_with_a_bump():
+    # Column of 3: top unit is a black bump. View A sees it at rows 0 and 1; view B sees C.
+    p = LogicalPattern([[0], [1], [1]], [[True], [False], [False]], BW)
+    t = Targets(np.array([[0], [0], [1]]), np.array([[0], [1], [1]]), BW)
+    assert logical_errors(p, t) == {"A": 0.0, "B": 0.0}
+    t2 = Targets(np.array([[0], [1], [1]]), np.array([[0], [1], [1]]), BW)
+    assert logical_errors(p, t2)["A"] == pytest.approx(1 / 3)
+
+
+def test_yarns_are_compared_by_colour_not_index():
+    # The pattern lists the same yarns in the opposite order; a foreign yarn never matches.
+    p = LogicalPattern([[0, 1]], [[False, False]], parse_yarns("#ffffff,#000000"))
+    t = Targets(np.array([[1, 0]]), np.array([[1, 0]]), BW)
+    assert logical_errors(p, t) == {"A": 0.0, "B": 0.0}
+    assert yarn_map(parse_yarns("#ffffff,#ff0000"), BW).tolist() == [1, -1]
+
+
+def test_blur_turns_two_row_stripes_into_their_linear_light_mean():
+    stripes = np.zeros((40, 20, 3))
+    stripes[::2] = 1.0  # black / white rows
+    grey = srgb_from_linear(np.full((40, 20, 3), 0.5)) / 255.0  # the mean, in linear light
+    b = blur_image(stripes)
+    inner = b[10:30, 5:15]
+    assert np.allclose(inner, grey[10:30, 5:15], atol=0.01)
+    mse, ssim = render_error(stripes, grey)
+    assert mse < 1e-3 and ssim > 0.9  # only the edge rows differ
+    # but stripes are far from a solid black of the same size
+    assert render_error(stripes, np.zeros_like(stripes))[0] > 0.4
+
+
+def test_render_error_extremes():
+    black = np.zeros((16, 16, 3))
+    white = np.ones((16, 16, 3))
+    assert render_error(black, black) == (0.0, 1.0)
+    mse, _ = render_error(black, white)
+    assert mse == pytest.approx(1.0)
+
+
+def test_blur_keeps_a_flat_image_and_mixes_in_linear_light():
+    img = np.full((10, 10, 3), 0.3)
+    assert np.allclose(blur_image(img), 0.3)
+    assert linear_from_srgb(np.array([255.0]))[0] == pytest.approx(1.0)
+
+
+def test_correlation_and_ghosting():
+    rng = np.random.default_rng(0)
+    a = np.kron(rng.random((6, 6)) > 0.5, np.ones((4, 4))).astype(float)
+    b = np.kron(rng.random((6, 6)) > 0.5, np.ones((4, 4))).astype(float)
+    A, B = (np.repeat(x[:, :, None], 3, axis=2) for x in (a, b))
+    assert render_correlation(A, A) == pytest.approx(1.0)
+    assert render_correlation(1.0 - A, A) == pytest.approx(-1.0)
+    # a faded copy reads as well as the original (correlation ignores contrast)
+    assert render_correlation(0.3 + 0.4 * A, A) == pytest.approx(1.0)
+    assert np.isnan(render_correlation(np.zeros_like(A), A))
+    # no ghost in a clean view; a view mixing in B shows B's ghost
+    assert abs(ghosting(A, A, B)) < 1e-6 or np.isnan(ghosting(A, A, B))
+    assert ghosting(0.6 * A + 0.4 * B, A, B) > 0.8
+    assert ghosting(0.9 * A + 0.1 * B, A, B) > 0.5
+
+
+def test_colour_changes_per_course():
+    p = LogicalPattern([[0, 1, 1, 0], [0, 0, 0, 0], [1, 0, 1, 0]], np.zeros((3, 4), bool), BW)
+    cc = colour_changes(p)
+    assert cc["changes_mean"] == pytest.approx((2 + 0 + 3) / 3)
+    assert cc["changes_max"] == 3
+    assert cc["yarns_per_course_mean"] == pytest.approx(5 / 3)
+    assert cc["yarns_per_course_max"] == 2
+
+
+def test_knit_stats_for_one_colour_per_course_and_for_mixed_courses():
+    stripes = LogicalPattern(
+        np.repeat(np.array([[0], [1], [0], [1]]), 6, axis=1), np.eye(4, 6, dtype=bool), BW
+    )
+    ks = knit_stats(stripes)
+    assert ks["knit_note"] == ""
+    assert ks["carriage_passes"] > 0 and ks["knit_time_min"] > 0
+    assert 0 <= ks["transfer_passes"] < ks["carriage_passes"]
+    mixed = LogicalPattern([[0, 1, 0, 1]] * 4, np.zeros((4, 4), bool), BW)
+    km = knit_stats(mixed)
+    if km["carriage_passes"] is None:  # until the mixed-colourwork scheduler lands
+        assert km["knit_note"] and km["knit_time_min"] is None
+    else:
+        assert km["carriage_passes"] > ks["carriage_passes"] / 4
+
+
+def test_renders_have_one_pixel_per_unit_and_three_views():
+    p = LogicalPattern([[0, 1], [1, 0], [0, 0]], [[True, False], [False, True], [False, False]], BW)
+    views, name = angled_renders(p)
+    assert set(views) == {"A", "B", "headon"}
+    assert all(v.shape == (3, 2, 3) and v.min() >= 0 and v.max() <= 1 for v in views.values())
+    assert name.startswith(("angled", "boolean"))
+
+
+def test_peak_memory_sees_a_large_allocation():
+    with PeakMemory() as mem:
+        block = np.ones(80 * 1024 * 1024 // 8)  # 80 MB, touched
+        block.sum()
+        del block
+    assert mem.delta_mb > 60
+    assert mem.peak_mb >= mem.start_mb + mem.delta_mb - 1e-6
