@@ -715,14 +715,17 @@ def explain_infeasible(prob: _Problem, *, solver: str = "cpsat") -> str:
         if _feasible_real(trial, solver):
             fixes.append("allow stripes on both sides (use the full canonical bank)")
     # one more yarn
-    if len(prob.bank.yarns) < 8:
+    # (only for a canonical bank: a custom bank says nothing about tiles with another yarn)
+    if len(prob.bank.yarns) < 8 and prob.bank.name == "canonical":
         tried: set[tuple[int, int, int]] = set()
+        ylab = lab_from_rgb(np.array([y.rgb for y in prob.bank.yarns], dtype=np.float64))
         for side, k, colors in [("A", a, prob.ra.colors) for a, _ in core] + [
             ("B", b, prob.rb.colors) for _, b in core
         ]:
             rgb = tuple(int(v) for v in colors[k])
-            if rgb in tried or any(y.rgb == rgb for y in prob.bank.yarns):
-                continue
+            lab = lab_from_rgb(np.array([rgb], dtype=np.float64))[0]
+            if rgb in tried or np.sqrt(((ylab - lab) ** 2).sum(axis=1)).min() < 10:
+                continue  # as good as a yarn we already have
             tried.add(rgb)  # type: ignore[arg-type]
             more = canonical_bank((*prob.bank.yarns, Yarn("extra", rgb)), views=prob.views)
             trial = _build_problem(
