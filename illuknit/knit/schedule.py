@@ -485,12 +485,12 @@ def schedule_courses(
     shift = 1 if d0 == "+" else -1
     d: Direction = d0
     for n in order[:-1]:
-        ops = [Op("knit", "f", n)]
+        chain = [Op("knit", "f", n)]
         if d == d0:
             # Carry the yarn past the next needle so the next, opposite-direction stitch is made
             # with the carrier behind the carriage.
-            ops.append(Op("miss", "f", n + 2 * shift))
-        steps.append(Pass("knit", tuple(ops), d, (cb,), 0.0, "bind-off", None, body_sn))
+            chain.append(Op("miss", "f", n + 2 * shift))
+        steps.append(Pass("knit", tuple(chain), d, (cb,), 0.0, "bind-off", None, body_sn))
         steps.append(Pass("xfer", (Op("xfer", "f", n, "b", n),), None, (), 0.0, "bind-off"))
         steps.append(
             Pass("xfer", (Op("xfer", "b", n, "f", n + shift),), None, (), float(shift), "bind-off")
