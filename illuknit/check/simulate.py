@@ -266,7 +266,7 @@ class _State:
                     "too-wide",
                     f"{n} is outside the bed (Position: Keep needs needles 1..{w})",
                 )
-        elif self.max_index - self.min_index + 1 > w:  # type: ignore[operator]
+        elif self.max_index - self.min_index + 1 > w:
             self.width_reported = True
             self.event(
                 line,

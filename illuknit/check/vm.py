@@ -192,7 +192,7 @@ def run_vm(text: str, program: KnitoutProgram) -> VmResult:
     t0 = time.perf_counter()
     recorded: list[warnings.WarningMessage] = []
 
-    class _Executer(Knitout_Executer):  # type: ignore[misc, valid-type]
+    class _Executer(Knitout_Executer):
         """Executer that warns on every violation and skips instructions it cannot execute."""
 
         def relax_validation_policy(
