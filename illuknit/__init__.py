@@ -52,6 +52,15 @@ _API: dict[str, str] = {
     "check_knitout": "illuknit.check",
     "CheckReport": "illuknit.check",
     "Finding": "illuknit.check",
+    # tiles: double-view and head-on design (docs/tiles.md)
+    "Tile": "illuknit.tiles.tile",
+    "TileBank": "illuknit.tiles.bank",
+    "canonical_bank": "illuknit.tiles.bank",
+    "load_bank": "illuknit.tiles.bank",
+    "TileAssignment": "illuknit.tiles.assign",
+    "assign_tiles": "illuknit.tiles.assign",
+    "compile_tiles": "illuknit.tiles.compile",
+    "assign_headon": "illuknit.tiles.headon",
     # errors
     "IlluknitError": "illuknit.errors",
 }
