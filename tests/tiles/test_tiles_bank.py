@@ -118,9 +118,7 @@ def test_canonical_bank_contents():
     assert any(not f["A"].is_solid and f["B"].is_solid for f in bank.fills)
     assert any(f["A"].is_solid and not f["B"].is_solid for f in bank.fills)
     # a bump is seen from both sides: no tile is solid black from A and solid white from B
-    assert not any(
-        f["A"].is_solid and f["B"].is_solid and f["A"] != f["B"] for f in bank.fills
-    )
+    assert not any(f["A"].is_solid and f["B"].is_solid and f["A"] != f["B"] for f in bank.fills)
     three = canonical_bank(Y3)
     assert any(f["A"].n_colors == 3 for f in three.fills)
     assert all(max(f["A"].n_colors, f["B"].n_colors) <= 3 for f in three.fills)
@@ -158,7 +156,15 @@ def _doc(tiles, **extra):
 
 
 def test_custom_bank_with_correct_declared_fills_loads():
-    doc = _doc([{"name": "paper", "rows": ["0", "1", "0^"], "fills": {"A": {"0": "2/3", "1": "1/3"}, "B": {"0": 1}}}])
+    doc = _doc(
+        [
+            {
+                "name": "paper",
+                "rows": ["0", "1", "0^"],
+                "fills": {"A": {"0": "2/3", "1": "1/3"}, "B": {"0": 1}},
+            }
+        ]
+    )
     bank = bank_from_json(doc, yarns=Y2)
     assert bank.tiles[0].name == "paper"
 
@@ -166,7 +172,10 @@ def test_custom_bank_with_correct_declared_fills_loads():
 @pytest.mark.parametrize(
     ("doc", "message"),
     [
-        (_doc([{"rows": ["0", "1", "0^"], "fills": {"A": {"0": "1/2", "1": "1/2"}}}]), "can_see gives"),
+        (
+            _doc([{"rows": ["0", "1", "0^"], "fills": {"A": {"0": "1/2", "1": "1/2"}}}]),
+            "can_see gives",
+        ),
         (_doc([{"rows": ["0", "1", "0^"], "fills": {"B": {"1": "1"}}}]), "can_see gives"),
         (_doc([{"rows": ["0", "1", "0^"], "fills": {"X": {"0": "1"}}}]), "unknown view"),
         (_doc([{"rows": ["0", "5"]}]), "uses yarn 5"),
