@@ -705,7 +705,7 @@ def create_app(config: AppConfig | None = None) -> Any:
                 "Shima .dat files are not available: illuknit writes knitout, and no working "
                 "knitout-to-.dat converter is installable from PyPI today. Convert the knitout with "
                 "the CMU textiles-lab knitout-backend-swg (knitout-to-dat.js).",
-                field="downloads",
+                field="knit",
                 code="unavailable",
                 status=501,
             )

@@ -568,12 +568,17 @@ function onAngle(final) {
   clearError("angle");
   updatePreview();
   if (final) {
-    for (const img of $$(".cand img")) {
-      if (img.dataset.view === "headon") continue;
-      img.src = renderUrl(img.dataset.view, Number(img.closest(".cand").dataset.rank), state.angle);
-    }
+    // candidate thumbnails follow once the slider rests (keyboard steps fire "change" each time)
+    clearTimeout(thumbTimer);
+    thumbTimer = setTimeout(() => {
+      for (const img of $$(".cand img")) {
+        if (img.dataset.view === "headon") continue;
+        img.src = renderUrl(img.dataset.view, Number(img.closest(".cand").dataset.rank), state.angle);
+      }
+    }, 350);
   }
 }
+let thumbTimer = null;
 
 // ---------------------------------------------------------------------------------------------
 // tiles per overlap pair
