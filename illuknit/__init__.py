@@ -61,6 +61,15 @@ _API: dict[str, str] = {
     "assign_tiles": "illuknit.tiles.assign",
     "compile_tiles": "illuknit.tiles.compile",
     "assign_headon": "illuknit.tiles.headon",
+    # renderer, gradient design, calibration (docs/render.md)
+    "RenderParams": "illuknit.render.params",
+    "load_params": "illuknit.render.params",
+    "render_views": "illuknit.render.raycast",
+    "render_pattern": "illuknit.render.raycast",
+    "render_at": "illuknit.render.raycast",
+    "optimise_design": "illuknit.render.optimise",
+    "calibration_swatch": "illuknit.render.calibrate",
+    "fit_bump_height": "illuknit.render.calibrate",
     # errors
     "IlluknitError": "illuknit.errors",
 }
