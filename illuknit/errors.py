@@ -11,6 +11,7 @@ __all__ = [
     "AppRequestError",
     "BackendUnavailableError",
     "CalibrationError",
+    "CarrierShortageError",
     "IlluknitError",
     "ImageInputError",
     "InfeasibleError",
@@ -93,6 +94,16 @@ class SchedulingError(IlluknitError, ValueError):
 
 class MixedColourworkError(SchedulingError):
     """A course changes colour, which only the mixed-colourwork scheduler can knit."""
+
+
+class CarrierShortageError(SchedulingError):
+    """A course needs more carriers at once than the machine has (``course``, ``needed``, ``available``)."""
+
+    def __init__(self, message: str, *, course: int, needed: int, available: int) -> None:
+        super().__init__(message)
+        self.course = course
+        self.needed = needed
+        self.available = available
 
 
 class MachineRuleError(IlluknitError, ValueError):
