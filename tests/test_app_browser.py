@@ -29,10 +29,10 @@ sync_api = pytest.importorskip(
     "playwright.sync_api", reason="playwright is not installed: pip install 'illuknit[test]'"
 )
 
-from PIL import Image
+from PIL import Image  # noqa: E402
 
-from illuknit.app import create_app
-from illuknit.app.server import AppConfig
+from illuknit.app import create_app  # noqa: E402
+from illuknit.app.server import AppConfig  # noqa: E402
 
 CHROMIUM = "/usr/bin/chromium"
 CHROMIUM_ARGS = [

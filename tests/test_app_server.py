@@ -6,6 +6,7 @@ the subprocess is terminated by its own handle.
 
 from __future__ import annotations
 
+import contextlib
 import http.client
 import json
 import queue
@@ -23,9 +24,9 @@ uvicorn = pytest.importorskip(
     "uvicorn", reason="the app extra is not installed: pip install 'illuknit[app]'"
 )
 
-from illuknit.app import create_app
-from illuknit.app.server import AppConfig
-from illuknit.cli import main
+from illuknit.app import create_app  # noqa: E402
+from illuknit.app.server import AppConfig  # noqa: E402
+from illuknit.cli import main  # noqa: E402
 
 
 def free_port() -> int:
@@ -96,7 +97,8 @@ def test_chunked_oversize_upload_is_refused(server):
     body, ctype = multipart(b"\x89PNG" + b"\0" * 300_000)
     conn = http.client.HTTPConnection("127.0.0.1", server, timeout=10)
     chunks = (body[i : i + 16_384] for i in range(0, len(body), 16_384))
-    try:
+    # the server may answer and close before the client has sent everything
+    with contextlib.suppress(BrokenPipeError, ConnectionResetError):
         conn.request(
             "PUT",
             f"/api/sessions/{sid}/images/a",
@@ -104,8 +106,6 @@ def test_chunked_oversize_upload_is_refused(server):
             headers={"Content-Type": ctype},
             encode_chunked=True,
         )
-    except (BrokenPipeError, ConnectionResetError):
-        pass  # the server may answer and close before the client has sent everything
     r = conn.getresponse()
     assert r.status == 413
     assert json.loads(r.read())["error"]["field"] == "image_a"
