@@ -40,7 +40,7 @@ def _load_pair(
         if not (resize or same_aspect):
             raise ImageInputError(
                 f"the pictures have different sizes ({path_a.name}: {a.shape[1]} x {a.shape[0]}, "
-                f"{path_b.name}: {b.shape[1]} x {b.shape[0]} after sizing); make them the same "
+                f"{path_b.name if path_b else 'second'}: {b.shape[1]} x {b.shape[0]} after sizing); make them the same "
                 "size or pass --resize to stretch the second onto the first"
             )
         b = resize_to_units(b, width=a.shape[1], height=a.shape[0], smooth=smooth_b)
@@ -245,7 +245,7 @@ def print_summary(summary: dict[str, Any], outdir: Path) -> None:
     )
 
 
-def design_options(func):  # type: ignore[no-untyped-def]
+def design_options(func: Any) -> Any:
     """Options shared by ``double`` and ``headon``."""
     opts = [
         click.option("--colors", "n_colors", type=click.IntRange(2, 4), default=2, show_default=True,

@@ -9,12 +9,17 @@ import click
 import numpy as np
 from numpy.typing import NDArray
 
+from illuknit.tiles.bank import TileBank
+from illuknit.tiles.tile import Tile
+
 __all__ = ["tile_picture", "tiles"]
 
 DEFAULT_YARNS = "black=#1b1b1b,white=#f4f0e8"
 
 
-def tile_picture(tile, bank, *, periods: int = 2, cell: int = 20) -> NDArray[np.uint8]:  # type: ignore[no-untyped-def]
+def tile_picture(
+    tile: Tile, bank: TileBank, *, periods: int = 2, cell: int = 20
+) -> NDArray[np.uint8]:
     """One picture of a tile (Fig. 10 style): top-down with bumps marked, height map, view A,
     view B; each over ``periods`` repeats."""
     from illuknit.pattern import LogicalPattern

@@ -422,8 +422,8 @@ def _encode(prob: _Problem):
             w = max(1, round(prob.weights.order_penalty * SCALE))
             for lo, hi in _all_order_pairs(cols, colors):
                 for f in range(len(fills)):
-                    for g in np.flatnonzero(bright <= bright[f] + _EPS):
-                        soft([-x[lo, f], -x[hi, int(g)]], w)
+                    for dim in np.flatnonzero(bright <= bright[f] + _EPS).tolist():
+                        soft([-x[lo, f], -x[hi, dim]], w)
     # objective: closeness + stripes
     for a in prob.cols_a:
         for f in range(len(fa)):
@@ -684,10 +684,10 @@ def explain_infeasible(prob: _Problem, *, solver: str = "cpsat") -> str:
             )
     core = list(prob.pairs)
     if not _feasible_real(_restricted(prob, core), solver):
-        for p in list(core):
-            trial = [q for q in core if q != p]
-            if trial and not _feasible_real(_restricted(prob, trial), solver):
-                core = trial
+        for pair in list(core):
+            kept = [q for q in core if q != pair]
+            if kept and not _feasible_real(_restricted(prob, kept), solver):
+                core = kept
     names = ", ".join(
         f"{_name('A', a, prob.ra.colors)} over {_name('B', b, prob.rb.colors)}" for a, b in core
     )
@@ -727,7 +727,9 @@ def explain_infeasible(prob: _Problem, *, solver: str = "cpsat") -> str:
             if rgb in tried or np.sqrt(((ylab - lab) ** 2).sum(axis=1)).min() < 10:
                 continue  # as good as a yarn we already have
             tried.add(rgb)  # type: ignore[arg-type]
-            more = canonical_bank((*prob.bank.yarns, Yarn("extra", rgb)), views=prob.views)
+            more = canonical_bank(
+                (*prob.bank.yarns, Yarn("extra", (rgb[0], rgb[1], rgb[2]))), views=prob.views
+            )
             trial = _build_problem(
                 prob.ra, prob.rb, more, prob.views, prob.brightness, prob.weights
             )

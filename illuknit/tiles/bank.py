@@ -26,7 +26,7 @@ import functools
 import itertools
 import json
 import os
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 from fractions import Fraction
 from pathlib import Path
@@ -355,7 +355,7 @@ def bank_from_json(
                     f"{where}: unknown view {view!r} in `fills` (valid: {', '.join(FILL_VIEWS)})"
                 )
             want = fill_from_parts(sorted(_parse_fill(fd, f"{where} fill {view}").items()), ys)
-            got = computed[view]  # type: ignore[index]
+            got = computed[view]
             if got != want:
                 shown = got.label(ys) if got is not None else "different fills from A and B"
                 raise TileBankError(
@@ -411,9 +411,13 @@ def load_bank(path: str | os.PathLike[str], *, yarns: Sequence[Yarn] | None = No
     return bank_from_json(doc, yarns=yarns, source=str(p))
 
 
-def bank_summary(bank: TileBank, views: ViewPair = ("A", "B")) -> list[Mapping[str, Any]]:
+def _label(fill: Fill | None, yarns: Sequence[Yarn]) -> str:
+    return fill.label(yarns) if fill is not None else "-"
+
+
+def bank_summary(bank: TileBank) -> list[dict[str, Any]]:
     """One row per tile: name, shape, and fills, for listings."""
-    rows = []
+    rows: list[dict[str, Any]] = []
     for t, f in zip(bank.tiles, bank.fills, strict=True):
         rows.append(
             {
@@ -421,10 +425,7 @@ def bank_summary(bank: TileBank, views: ViewPair = ("A", "B")) -> list[Mapping[s
                 "name": t.name,
                 "height": t.height,
                 "width": t.width,
-                **{
-                    v: (f[v].label(bank.yarns) if f[v] is not None else "-")
-                    for v in ("A", "B", "headon")
-                },
+                **{v: _label(f[v], bank.yarns) for v in ("A", "B", "headon")},
             }
         )
     return rows

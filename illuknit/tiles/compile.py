@@ -125,7 +125,7 @@ def repainted_rgb(
     if mode != "stripes":
         raise TileAssignmentError(f"`mode` must be 'stripes' or 'average', got {mode!r}")
     view = assignment.views[which]
-    seen: SeenView = "A" if view == "side" else view  # type: ignore[assignment]
+    seen: SeenView = "A" if view == "side" else view
     pal = np.array([y.rgb for y in assignment.yarns], dtype=np.uint8)
     return pal[repainted_indices(assignment, seen)]
 
@@ -259,7 +259,10 @@ def _report(assignment: TileAssignment, pattern: LogicalPattern) -> TileReport:
     near = boundary_mask(assignment)
     pal = pattern.palette
     ylab = lab_from_rgb(pal.astype(np.float64))
-    err_r, err_i, err_o, de_o = {}, {}, {}, {}
+    err_r: dict[str, float] = {}
+    err_i: dict[str, float] = {}
+    err_o: dict[str, float] = {}
+    de_o: dict[str, float] = {}
     for view, which in view_inputs(assignment.views).items():
         seen = can_see(pattern, view)
         target = repainted_indices(assignment, view)

@@ -23,17 +23,17 @@ import numpy as np
 from illuknit.errors import TileAssignmentError
 from illuknit.pattern import Yarn
 from illuknit.tiles.assign import TileAssignment, assign_tiles, regions_of
-from illuknit.tiles.bank import TileBank, canonical_bank
+from illuknit.tiles.bank import TileBank, ViewPair, canonical_bank
 
 __all__ = ["HEADON_VIEWS", "assign_headon", "headon_bank", "uniform_side"]
 
-HEADON_VIEWS = ("headon", "side")
+HEADON_VIEWS: ViewPair = ("headon", "side")
 
 
 def headon_bank(yarns: Sequence[Yarn], *, max_height: int = 4) -> TileBank:
     """The canonical bank deduplicated by (head-on fill, side fill), for tiles whose two side
     views show the same fill."""
-    return canonical_bank(yarns, max_height=max_height, views=HEADON_VIEWS)  # type: ignore[arg-type]
+    return canonical_bank(yarns, max_height=max_height, views=HEADON_VIEWS)
 
 
 def uniform_side(
@@ -96,4 +96,4 @@ def assign_headon(
         bank = headon_bank(ys)
     return assign_tiles(
         front, side, bank=bank, candidates=candidates, views=HEADON_VIEWS, **options
-    )  # type: ignore[arg-type]
+    )

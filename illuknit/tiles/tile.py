@@ -24,7 +24,7 @@ from collections import Counter
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from fractions import Fraction
-from typing import Literal
+from typing import Any, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -99,7 +99,7 @@ class Fill:
 
     @property
     def hex(self) -> str:
-        return hex_color(np.round(self.rgb).astype(int))
+        return hex_color([round(v) for v in self.rgb])
 
     def proportion(self, yarn: int) -> Fraction:
         return dict(self.parts).get(yarn, Fraction(0))
@@ -148,8 +148,8 @@ def fill_lab(fill: Fill) -> NDArray[np.float64]:
     return lab_from_rgb(np.asarray(fill.rgb)[None, :])[0]
 
 
-def _readonly(a: ArrayLike, dtype: type) -> NDArray:
-    arr = np.array(a, dtype=dtype, copy=True)
+def _readonly(a: ArrayLike, dtype: type) -> NDArray[Any]:
+    arr: NDArray[Any] = np.array(a, dtype=dtype, copy=True)
     arr.setflags(write=False)
     return arr
 
