@@ -232,3 +232,10 @@ def test_report_json_roundtrip_and_caps() -> None:
     assert r.suppressed == {"knit-empty": 100}
     assert r.codes()["knit-empty"] == 300
     assert "100 more knit-empty" in r.to_text()
+
+
+def test_huge_needle_numbers_stay_fast() -> None:
+    """A float across a billion needles must not walk every slot."""
+    r = run("in 3", "tuck - f1 3", "xfer f1 b1", "tuck + f0 3", "tuck + f1000000000 3")
+    assert (7, "face-float") in hits(r)
+    assert (7, "long-float") in hits(r)

@@ -471,7 +471,11 @@ def _face_float(state: _State, line: int, carrier: str, lo: int, hi: int) -> Non
     hits: list[str] = []
     if not back and not back_s:
         return
-    for s in range(lo + 1, hi):
+    if hi - lo - 1 <= len(back) + len(back_s):
+        candidates: list[int] = list(range(lo + 1, hi))
+    else:  # a long float over a sparse back bed: look only at occupied back needles
+        candidates = sorted({k + shift for k in (*back, *back_s) if lo < k + shift < hi})
+    for s in candidates:
         k = s - shift
         on_back = back.get(k) or back_s.get(k)
         if on_back and not (front.get(s) or front_s.get(s)):
