@@ -10,6 +10,7 @@ dp         exact dynamic programming per wale (illusion models only)         per
 cpsat      OR-Tools CP-SAT, native cardinality/linear, 2 workers             every model
 rc2        pysat RC2 core-guided MaxSAT (exact)                              every model
 lsu        pysat linear SAT-UNSAT search (anytime upper bounds)              every model
+gradient   descent through the differentiable renderer (heuristic, no bound) illusion models
 wcnf:CMD   any MaxSAT solver binary via a WCNF file (``wcnf:"maxhs {}"``)    every model
 =========  ===============================================================  ==================
 
@@ -64,6 +65,7 @@ REGISTRY: dict[str, str] = {
     "cpsat": "illuknit.solvers.cpsat:CPSATBackend",
     "rc2": "illuknit.solvers.rc2:RC2Backend",
     "lsu": "illuknit.solvers.lsu:LSUBackend",
+    "gradient": "illuknit.solvers.gradient:GradientBackend",
 }
 
 #: pseudo-backend prefix: ``wcnf:COMMAND`` runs an external MaxSAT binary.

@@ -31,6 +31,8 @@ class GradientBackend:
 
     name = "gradient"
     extra: str | None = None
+    #: a heuristic: statuses are ``feasible``/``timeout``, never ``optimal``, and no bound
+    exact = False
 
     def __init__(self, *, steps: int = 300, params=None) -> None:
         self.steps = steps
