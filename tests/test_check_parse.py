@@ -80,6 +80,7 @@ def test_crlf_and_tabs_are_flagged_not_refused() -> None:
         (";!knitout-2\nstitch 10\n", 2, "two values"),
         (";!knitout-2\nknit + f1 f2\n", 2, "carrier name"),
         (";!knitout-2\nknit + f1 3\x01\n", 2, "control"),
+        (";!knitout-2\nknit + f\uff13 3\n", 2, "not a needle"),
     ],
 )
 def test_malformed_lines_raise_with_line(text: str, line: int, fragment: str) -> None:

@@ -33,9 +33,9 @@ __all__ = [
 #: bed prefixes: front, back, front sliders, back sliders
 BEDS = ("f", "b", "fs", "bs")
 
-_NEEDLE_RE = re.compile(r"^(fs|bs|f|b)(-?\d+)$")
+_NEEDLE_RE = re.compile(r"^(fs|bs|f|b)(-?[0-9]+)$")
 _HEADER_RE = re.compile(r"^;;([^:\s;][^:]*): (.*)$")
-_MAGIC_RE = re.compile(r"^;!knitout-(\d+)$")
+_MAGIC_RE = re.compile(r"^;!knitout-([0-9]+)$")
 
 # opcode -> (needs direction, number of needles, carriers: "none" | "any" | "some")
 _SHAPES: dict[str, tuple[bool, int, str]] = {
