@@ -26,20 +26,26 @@ def tile_picture(
     from illuknit.previews import chart_rgb, contact_sheet, upscale
     from illuknit.tiles.tile import tile_seen
 
-    yarn = np.tile(tile.yarn, (periods, 1))
-    raised = np.tile(tile.raised, (periods, 1))
+    # repeat across too, so each panel is wide enough for its title
+    across = max(1, -(-5 // tile.width))
+    yarn = np.tile(tile.yarn, (periods, across))
+    raised = np.tile(tile.raised, (periods, across))
     p = LogicalPattern(yarn, raised, bank.yarns)
     pal = p.palette
     height = np.where(raised[..., None], 235, 60).astype(np.uint8).repeat(3, axis=2)
-    va = pal[np.tile(tile_seen(tile, "A"), (periods, 1))]
-    vb = pal[np.tile(tile_seen(tile, "B"), (periods, 1))]
+    va = pal[np.tile(tile_seen(tile, "A"), (periods, across))]
+    vb = pal[np.tile(tile_seen(tile, "B"), (periods, across))]
     panels = [
         ("top-down", chart_rgb(p, scale=cell)),
         ("height", upscale(height, cell)),
         ("view A", upscale(va, cell)),
         ("view B", upscale(vb, cell)),
     ]
-    return contact_sheet(panels, pad=8)
+    # a grey frame, so white yarn stays visible on the white sheet
+    framed = [
+        (title, np.pad(img, ((1, 1), (1, 1), (0, 0)), constant_values=150)) for title, img in panels
+    ]
+    return contact_sheet(framed, pad=8)
 
 
 @click.command("tiles")
