@@ -73,8 +73,8 @@ class GradientBackend:
         t0 = time.perf_counter()
         problem = model.problem
         if not self.handles(model):
-            stats = {"message": self.why_not(model)}
-            return Solution(Status.ERROR, None, None, None, 0.0, stats, self.name, model.pool)
+            reason = {"message": self.why_not(model)}
+            return Solution(Status.ERROR, None, None, None, 0.0, reason, self.name, model.pool)
         base = self.params or RenderParams()
         params = base.with_angle(base.exact_angle)
         k = problem.n_yarns
@@ -118,7 +118,7 @@ class GradientBackend:
         vals = values_from_pattern(model, pat.yarn, pat.raised)
         ok, cost = model.evaluate(vals)
         wall = time.perf_counter() - t0
-        stats = {
+        stats: dict[str, object] = {
             "steps": result.report["steps"],
             "render_error_before": result.report["before"]["render_error"],
             "render_error_after": result.report["after"]["render_error"],

@@ -89,7 +89,7 @@ def render_vjp(
     arg = np.maximum.accumulate(np.where(is_max, np.arange(n)[:, None], 0), axis=0)
     flat = (arg * m + np.arange(m)[None, :]).ravel()
     g_b = np.bincount(flat, weights=g_c.ravel(), minlength=n * m).reshape(n, m)
-    g_h = (g_e + g_b) * tape.cos
+    g_h: NDArray[np.float64] = np.asarray((g_e + g_b) * tape.cos, dtype=np.float64)
     g_col = tape.shading * g_segcol[0::2] + g_segcol[1::2]
     if tape.view == "B":
         g_h, g_col = g_h[::-1], g_col[::-1]

@@ -41,7 +41,7 @@ from illuknit.errors import PatternValidationError
 from illuknit.pattern import LogicalPattern, Yarn
 from illuknit.render.grad import render_vjp
 from illuknit.render.params import RenderParams
-from illuknit.render.raycast import render_soft
+from illuknit.render.raycast import RenderView, render_soft
 from illuknit.views import can_see
 
 __all__ = ["DesignResult", "DesignStep", "optimise_design", "targets_to_indices"]
@@ -179,7 +179,8 @@ class _Objective:
         g_h = np.zeros_like(h)
         g_col = np.zeros_like(col)
         render_err = 0.0
-        for view, tgt in (("A", self.ta), ("B", self.tb)):
+        views: tuple[tuple[RenderView, NDArray[np.float64]], ...] = (("A", self.ta), ("B", self.tb))
+        for view, tgt in views:
             img, tape = render_soft(h, col, params=prm, view=view, return_tape=True)
             r = img - tgt
             render_err += 0.5 * float(np.mean(r * r))
