@@ -78,6 +78,7 @@ def run_design(
     solver: str = "cpsat",
     soft_brightness: bool = False,
     one_sided: bool = False,
+    tile: tuple[str, ...] = (),
 ) -> dict[str, Any]:
     """Load, quantise, assign, compile and write every candidate (atomically into ``outdir``).
 
@@ -96,6 +97,7 @@ def run_design(
 
     if candidates < 1:
         raise TileAssignmentError(f"--candidates must be at least 1, got {candidates}")
+    overrides = _parse_overrides(tile)
     a, b = _load_pair(path_a, path_b, width=width, resize=resize)
     pictures = [a] if b is None else [a, b]
     ys = _choose_yarns(yarns, n_colors, pictures)
@@ -126,7 +128,7 @@ def run_design(
     rows = []
     with staged_dir(outdir) as tmp:
         for cand in found:
-            pattern, report = compile_tiles(cand)
+            pattern, report = compile_tiles(cand, overrides=overrides)
             sub = tmp / f"candidate_{cand.rank}"
             s = max(2, unit_scale(pattern.shape))
             rep = {
@@ -187,6 +189,25 @@ def run_design(
         atomic_write_text(tmp / "summary.json", json.dumps(summary, indent=1) + "\n")
         atomic_write_text(tmp / "summary.txt", _summary_text(summary))
     return summary
+
+
+def _parse_overrides(specs: tuple[str, ...]) -> dict[tuple[int, int], str]:
+    """``("0,1=0/1/0^", ...)`` -> ``{(0, 1): "0/1/0^"}`` (colour a of A, colour b of B)."""
+    from illuknit.errors import TileAssignmentError
+
+    out: dict[tuple[int, int], str] = {}
+    for spec in specs:
+        pair, sep, rows = spec.partition("=")
+        try:
+            a, b = (int(v) for v in pair.split(","))
+        except ValueError:
+            a = b = -1
+        if not sep or not rows.strip() or a < 0 or b < 0:
+            raise TileAssignmentError(
+                f"--tile must look like 'A,B=ROWS' (e.g. '0,1=0/1/0^'), got {spec!r}"
+            )
+        out[a, b] = rows.strip()
+    return out
 
 
 def _summary_text(summary: dict[str, Any]) -> str:
@@ -265,6 +286,9 @@ def design_options(func: Any) -> Any:
         click.option("--soft-brightness", is_flag=True,
                      help="Prefer, rather than require, keeping each picture's brightness order."),
         click.option("--one-sided", is_flag=True, help="Only tiles that are solid from at least one side."),
+        click.option("--tile", multiple=True, metavar="A,B=ROWS",
+                     help="Override the tile of overlap pair (colour A of the first picture, colour B "
+                     "of the second), e.g. '0,1=0/1/0^' (see fills.json for the pairs). Repeatable."),
         click.option("-o", "--outdir", type=click.Path(file_okay=False, path_type=Path), required=True,
                      help="Folder to write into (replaced as a whole on success)."),
     ]  # fmt: skip

@@ -182,3 +182,34 @@ def test_demo_skimage_pair_three_yarns():
         used = sorted(np.unique(idx), key=lambda k: luminance(cols[k].astype(float)))
         bright = [fills[k].brightness for k in used]
         assert bright == sorted(bright) and len(set(bright)) == len(bright)
+
+
+def test_double_tile_override(words, tmp_path, capsys):
+    a, b, _ = words
+    out_dir = tmp_path / "ov"
+    code, _, err = _run(
+        ["double", str(a), str(b), "--candidates", "1", "--tile", "0,1=0/1/1^", "-o", str(out_dir)],
+        capsys,
+    )
+    assert code == 0, err
+    rep = json.loads((out_dir / "candidate_1" / "report.json").read_text())
+    assert rep["tiles_report"]["overrides"] == [
+        {"a": 0, "b": 1, "tile": "0/1/1^", "keeps_fills": False}
+    ]
+    for bad, msg in (("zz", "A,B=ROWS"), ("7,1=0", "does not occur")):
+        code, _, err = _run(
+            [
+                "double",
+                str(a),
+                str(b),
+                "--candidates",
+                "1",
+                "--tile",
+                bad,
+                "-o",
+                str(tmp_path / "bad"),
+            ],
+            capsys,
+        )
+        assert code == 2 and msg in err
+        assert not (tmp_path / "bad").exists()
