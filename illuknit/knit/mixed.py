@@ -1,7 +1,497 @@
-"""Mixed-colourwork scheduler (work in progress, issue 6).
+"""Mixed-colourwork scheduler: colour changes and knit/purl anywhere in a course (paper 7.3).
 
-Schedules patterns whose courses change colour inside the course (double-view
-and head-on illusions): colour runs, float avoidance (paper Algorithm 1),
-catching by plating (Algorithm 2) and yarn path planning (Algorithm 3), with
-the fewest carriage passes.
+Double-view and head-on illusions change colour inside courses and put purl bumps anywhere; the
+one-colour-per-course scheduler (:mod:`illuknit.knit.schedule`) refuses them. This scheduler
+combines stranded colourwork and intarsia with the paper's three compiler passes, each in its own
+module, and emits the same :class:`~illuknit.knit.schedule.Schedule` IR, so the knitout writer,
+the time model and the checker work unchanged::
+
+    StitchPattern -> colour_runs.plan_colour_runs   carriers per run: stranded / intarsia
+                  -> catching.plan_catches          plated stitches at colour changes (Alg. 2)
+                  -> path_planning.plan_item        directions, splits, anchoring (Alg. 3)
+                  -> float_avoidance                transfers around floats over purls (Alg. 1)
+                  -> Schedule
+
+**Cast-on** follows the first course's colours: each carrier of course 0 comes in on the
+inserting hook and tuck-casts-on its own wales (alternate needles leftward from its rightmost
+wale, a ``miss`` past its leftmost, the others rightward, ``releasehook``), so colour regions run
+to the edge. ``cast_on_courses`` plain courses in course 0's colours follow, scheduled like the
+body (caught, path-planned).
+
+**Each course**: the work items are every carrier's segment (minus its plated stitches) and one
+item per plated carrier pair. Items are ordered greedily -- next is the item that costs fewest
+passes from where the carriers are now (a carrier's first item is its own, so it comes in with
+exactly the set it first uses) -- and each is planned into passes by Algorithm 3. Then the
+course's transfers are placed: lazily and batched, with float avoidance (see
+:mod:`~illuknit.knit.float_avoidance`). Carriers come in with ``inhook`` right before their first
+pass (leftward, as the hook needs) and the hook is released right after it; a carrier leaves with
+``outhook`` after its last course.
+
+**Bind-off**: every loop to the front, then a chain bind-off from left to right in the colours of
+the last course -- each needle knit by the carrier of its run, its loop moved onto the next needle
+-- with a tail on the last needle. Moving a loop across a colour boundary joins the two regions;
+with catching off each run is bound off on its own instead (tail, then the loop is dropped), so
+that nothing the scheduler adds joins the regions.
+
+**Passes and the lower bound.** Reported: knit passes, transfer passes, miss passes (every miss
+pass is an explicit kickback or anchoring move), kickbacks (explicit moves plus consecutive
+same-direction passes of one carrier, which the SWG backend turns into an extra pass), plated
+stitches. The documented lower bound per body course is *the number of distinct carrier sets that
+knit in it* (the SWG backend merges only operations with the identical carrier list, so each set
+-- each carrier and each plated pair -- needs its own pass) *plus one transfer pass if some loop
+changes bed* relative to the previous course (both directions share one pass at racking 0); the
+cast-on tucks and the bind-off recipe count at their own length without moves. It is a bound for
+the given carrier plan, not over all plans.
 """
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from illuknit.errors import PatternValidationError, SchedulingError
+from illuknit.knit.catching import PlatedStitch, plan_catches
+from illuknit.knit.colour_runs import ColourPlan, plan_colour_runs
+from illuknit.knit.float_avoidance import float_crossings, transfers_before
+from illuknit.knit.machine import DEFAULT_MACHINE, MachineSpec
+from illuknit.knit.path_planning import (
+    STRATEGIES,
+    CarrierState,
+    PlannedPass,
+    WorkItem,
+    advance,
+    plan_item,
+)
+from illuknit.knit.schedule import CarrierAction, Op, Pass, Schedule, Step
+from illuknit.knit.stitches import StitchPattern
+
+__all__ = ["count_kickbacks", "schedule_mixed", "validate_ablation"]
+
+
+def validate_ablation(*, float_avoidance: object, catching: object, path_planning: object) -> None:
+    """Check the ablation switches (booleans and a known strategy name)."""
+    for name, v in (("float_avoidance", float_avoidance), ("catching", catching)):
+        if not isinstance(v, (bool, np.bool_)):
+            raise PatternValidationError(f"`{name}` must be True or False, got {v!r}")
+    if path_planning not in STRATEGIES:
+        raise PatternValidationError(
+            f"`path_planning` must be one of {', '.join(STRATEGIES)}, got {path_planning!r}"
+        )
+
+
+def count_kickbacks(steps: Sequence[Step]) -> tuple[int, int]:
+    """(explicit, implicit) kickbacks of a step list.
+
+    Explicit: miss-only passes (a carrier moved on its own). Implicit: a pass whose carrier last
+    moved in the same direction, which the SWG backend turns into an extra soft-miss pass.
+    """
+    last: dict[str, str] = {}
+    explicit = implicit = 0
+    for s in steps:
+        if isinstance(s, CarrierAction):
+            if s.action in ("out", "outhook"):
+                for c in s.carriers:
+                    last.pop(c, None)
+            continue
+        if s.kind != "knit":
+            continue
+        if all(o.op == "miss" for o in s.ops):
+            explicit += 1
+        elif any(last.get(c) == s.direction for c in s.carriers):
+            implicit += 1
+        for c in s.carriers:
+            last[c] = s.direction  # type: ignore[assignment]
+    return explicit, implicit
+
+
+@dataclass
+class _Emitter:
+    """Mutable machine state while the schedule is written (carriers, beds, steps)."""
+
+    machine: MachineSpec
+    left: int
+    wales: int
+    strategy: str
+    float_avoidance: bool
+
+    def __post_init__(self) -> None:
+        self.steps: list[Step] = []
+        self.states: dict[str, CarrierState] = {}
+        self.bed: dict[int, str] = {}
+        self.float_transfer_passes = 0
+        self.moves = 0
+        self.plated = 0
+
+    @property
+    def needles(self) -> range:
+        return range(self.left, self.left + self.wales)
+
+    # -- primitive steps --------------------------------------------------------------------
+    def xfer(self, moves: dict[int, str], *, role: str, course: int | None) -> None:
+        if not moves:
+            return
+        ops = []
+        for n in sorted(moves):
+            to = moves[n]
+            frm = "b" if to == "f" else "f"
+            ops.append(Op("xfer", frm, n, to, n))
+            self.bed[n] = to
+        self.steps.append(Pass("xfer", tuple(ops), None, (), 0.0, role, course))
+
+    def knit(
+        self,
+        p: PlannedPass,
+        *,
+        role: str,
+        course: int | None,
+        op: str = "knit",
+        extra: Sequence[Op] = (),
+    ) -> None:
+        """Emit a planned pass (hooking in a never-used carrier around it)."""
+        new = [c for c in p.carriers if self.states.get(c, CarrierState()).needle is None]
+        if p.kind == "move":
+            n, _ = p.stitches[0]
+            self.steps.append(
+                Pass(
+                    "knit",
+                    (Op("miss", "f", n),),
+                    p.direction,
+                    p.carriers,
+                    0.0,
+                    "anchor",
+                    course,
+                    self.machine.stitch_number,
+                )
+            )
+            self.moves += 1
+        else:
+            if new:
+                self.steps.append(CarrierAction("inhook", p.carriers))
+            ops = tuple(Op(op, b, n) for n, b in p.stitches) + tuple(extra)
+            self.steps.append(
+                Pass(
+                    "knit",
+                    ops,
+                    p.direction,
+                    p.carriers,
+                    0.0,
+                    role,
+                    course,
+                    self.machine.stitch_number,
+                )
+            )
+            if len(p.carriers) > 1:
+                self.plated += len(p.stitches)
+            if new:
+                self.steps.append(CarrierAction("releasehook", p.carriers))
+        self.states = advance(self.states, p)
+        if extra:
+            last = extra[-1]
+            for c in p.carriers:
+                st = self.states[c]
+                self.states[c] = CarrierState(last.needle, p.direction, st.last_loop)
+
+    def outhook(self, carriers: Sequence[str]) -> None:
+        for c in carriers:
+            self.steps.append(CarrierAction("outhook", (c,)))
+            self.states.pop(c, None)
+
+
+def _course_items(
+    plan_segments: Sequence[tuple[str, list[int]]],
+    catches: Sequence[PlatedStitch],
+    beds: Sequence[str],
+    left: int,
+) -> list[WorkItem]:
+    plated_wales = {p.wale for p in catches}
+    items: list[WorkItem] = []
+    for car, wales in plan_segments:
+        st = tuple((left + w, beds[w]) for w in wales if w not in plated_wales)
+        if st:
+            items.append(WorkItem((car,), st))
+    groups: dict[tuple[str, str], list[int]] = {}
+    for p in catches:
+        groups.setdefault(p.carriers, []).append(p.wale)
+    for cars, wales in groups.items():
+        items.append(WorkItem(cars, tuple((left + w, beds[w]) for w in sorted(wales)), plated=True))
+    return items
+
+
+def _order_and_plan(
+    items: list[WorkItem], states: dict[str, CarrierState], strategy: str, parity: str
+) -> tuple[list[PlannedPass], dict[str, CarrierState]]:
+    """Greedy order: the item costing fewest passes now; a carrier's own item before plating."""
+    remaining = list(items)
+    planned: list[PlannedPass] = []
+    st = dict(states)
+    while remaining:
+        used = {c for c, s in st.items() if s.needle is not None}
+        ready = [it for it in remaining if len(it.carriers) == 1 or set(it.carriers) <= used]
+        if not ready:  # pragma: no cover - catching never pairs an unused carrier
+            raise SchedulingError("plated stitch with a carrier that never knit")
+        if strategy == "none":
+            best = ready[0]
+            passes = plan_item(best, st, strategy=strategy, parity=parity)  # type: ignore[arg-type]
+        else:
+            scored = []
+            for i, it in enumerate(ready):
+                ps = plan_item(it, st, strategy=strategy, parity=parity)  # type: ignore[arg-type]
+                scored.append((len(ps), i, it, ps))
+            _, _, best, passes = min(scored, key=lambda t: (t[0], t[1]))
+        remaining.remove(best)
+        for p in passes:
+            st = advance(st, p)
+        planned.extend(passes)
+    return planned, st
+
+
+def schedule_mixed(
+    stitches: StitchPattern,
+    *,
+    machine: MachineSpec = DEFAULT_MACHINE,
+    float_avoidance: bool = True,
+    catching: bool = True,
+    path_planning: str = "anchor",
+    float_limit: int | None = None,
+    tail_stitches: int = 4,
+) -> Schedule:
+    """Schedule a stitch pattern whose courses may change colour (see the module docstring).
+
+    Parameters
+    ----------
+    stitches : StitchPattern
+        C courses x W wales, any yarns and knit/purl anywhere.
+    machine : MachineSpec
+        Bed, carriers, float limit, parking, stitch numbers.
+    float_avoidance : bool
+        Algorithm 1: move purls to the front around floats that cross them.
+    catching : bool
+        Algorithm 2: plated stitches joining neighbouring carriers' regions.
+    path_planning : {"anchor", "split", "none"}
+        Algorithm 3 strategy; ``none`` knits every pass in the course's parity direction.
+    float_limit : int, optional
+        Longest float in wales; defaults to ``machine.float_limit``.
+    tail_stitches : int
+        Knits on the last needle of the bind-off chain.
+
+    Returns
+    -------
+    Schedule
+        ``meta`` holds ``kickbacks``, ``explicit_kickbacks``, ``implicit_kickbacks``,
+        ``plated_stitches``, ``float_avoidance_transfers``, ``carriers``, ``stranded_segments`` and
+        the ablation switches.
+
+    Raises
+    ------
+    CarrierShortageError
+        If a course needs more carriers at once than the machine has.
+    SchedulingError
+        If the piece is wider than the bed.
+    PatternValidationError
+        For bad options (float limit below 1, unknown strategy, non-boolean switches).
+    """
+    if not isinstance(stitches, StitchPattern):
+        raise PatternValidationError(
+            f"`stitches` must be a StitchPattern, got {type(stitches).__name__}"
+        )
+    validate_ablation(
+        float_avoidance=float_avoidance, catching=catching, path_planning=path_planning
+    )
+    limit = machine.float_limit if float_limit is None else float_limit
+    if isinstance(limit, bool) or not isinstance(limit, (int, np.integer)) or limit < 1:
+        raise PatternValidationError(
+            f"`float_limit` must be an integer >= 1 (wales a yarn may float across), got {limit!r}"
+        )
+    if tail_stitches < 1:
+        raise PatternValidationError(f"`tail_stitches` must be >= 1, got {tail_stitches}")
+    n_courses, n_wales = stitches.shape
+    if n_wales > machine.max_fabric_width:
+        raise SchedulingError(
+            f"piece is {n_wales} stitches wide but the {machine.name} bed of {machine.needles} "
+            f"needles holds at most {machine.max_fabric_width} (use a narrower pattern or a wider "
+            "--machine-width)"
+        )
+    k0 = stitches.cast_on_courses
+    yarn = np.vstack([np.repeat(stitches.yarn[:1], k0, axis=0), stitches.yarn])
+    kind = np.vstack([np.zeros((k0, n_wales), dtype=np.uint8), stitches.kind])
+    units = stitches.meta.get("units")
+
+    def course_name(c: int) -> str:
+        if c < k0:
+            return f"cast-on course {c}"
+        b = c - k0
+        row = f" (pattern row {int(units[0]) - 1 - b // 2})" if units else ""
+        return f"course {b}{row}"
+
+    plan: ColourPlan = plan_colour_runs(
+        yarn,
+        carriers=machine.carriers,
+        float_limit=int(limit),
+        course_names=[course_name(c) for c in range(yarn.shape[0])],
+    )
+    left = machine.fabric_left
+    em = _Emitter(machine, left, n_wales, path_planning, bool(float_avoidance))
+    last_course: dict[str, int] = {}
+    for cp in plan.courses:
+        for s in cp.segments:
+            last_course[s.carrier] = cp.course
+
+    # -- cast-on: each carrier of the first course tucks its own wales -------------------------
+    cast_sn = (
+        machine.cast_on_stitch_number
+        if machine.cast_on_stitch_number is not None
+        else machine.stitch_number
+    )
+    cast_fixed = 0
+    for seg in plan.courses[0].segments:
+        needles = [left + w for w in seg.wales]
+        down = needles[::-1][0::2]
+        up = sorted(set(needles) - set(down))
+        car = seg.carrier
+        em.steps.append(CarrierAction("inhook", (car,)))
+        ops = [Op("tuck", "f", n) for n in down] + [Op("miss", "f", needles[0] - 1)]
+        em.steps.append(Pass("knit", tuple(ops), "-", (car,), 0.0, "cast-on", None, cast_sn))
+        state = CarrierState(needles[0] - 1, "-", down[-1])
+        cast_fixed += 1
+        if up:
+            ops = [Op("tuck", "f", n) for n in up]
+            em.steps.append(Pass("knit", tuple(ops), "+", (car,), 0.0, "cast-on", None, cast_sn))
+            state = CarrierState(up[-1], "+", up[-1])
+            cast_fixed += 1
+        em.steps.append(CarrierAction("releasehook", (car,)))
+        em.states[car] = state
+    for n in em.needles:
+        em.bed[n] = "f"
+
+    # -- courses -------------------------------------------------------------------------------
+    bed_letter = np.array(["f", "b"])
+    body_bound = 0
+    cast_courses_bound = 0
+    prev_kind = np.zeros(n_wales, dtype=np.uint8)
+    for cp in plan.courses:
+        c = cp.course
+        body = c >= k0
+        role = "body" if body else "cast-on"
+        label = c - k0 if body else None
+        need = kind[c]
+        beds = bed_letter[need].tolist()
+        new = frozenset(s.carrier for s in cp.segments if s.carrier not in em.states)
+        catches = plan_catches(cp, new_carriers=new) if catching else []
+        items = _course_items([(s.carrier, s.wales) for s in cp.segments], catches, beds, left)
+        parity = "-" if c % 2 == 0 else "+"
+        planned, _ = _order_and_plan(items, em.states, path_planning, parity)
+        bound = len({it.carriers for it in items}) + int(bool((need != prev_kind).any()))
+        prev_kind = need
+        if body:
+            body_bound += bound
+        else:
+            cast_courses_bound += bound
+
+        required = {left + w: beds[w] for w in range(n_wales)}
+        if not float_avoidance:
+            em.xfer(
+                {n: b for n, b in required.items() if em.bed[n] != b}, role="transfer", course=label
+            )
+        crossings = float_crossings(planned, em.states, needles=em.needles)
+        stitch_pass = {
+            n: i for i, p in enumerate(planned) if p.kind != "move" for n, _ in p.stitches
+        }
+        for i, p in enumerate(planned):
+            if float_avoidance:
+                moves, for_floats = transfers_before(
+                    i, planned, crossings, bed=em.bed, required=required, stitch_pass=stitch_pass
+                )
+                if moves:
+                    em.float_transfer_passes += int(for_floats)
+                    em.xfer(
+                        moves, role="float-avoidance" if for_floats else "transfer", course=label
+                    )
+            em.knit(p, role=role, course=label)
+        done = [car for car, lc in last_course.items() if lc == c and c != yarn.shape[0] - 1]
+        em.outhook(sorted(done, key=machine.carriers.index))
+
+    # -- bind-off --------------------------------------------------------------------------------
+    bind_start = len([s for s in em.steps if isinstance(s, Pass)])
+    back = {n: "f" for n in em.needles if em.bed[n] == "b"}
+    em.xfer(back, role="bind-off", course=None)
+    last_plan = plan.courses[-1]
+    runs = sorted(
+        ((lo, hi, s.carrier) for s in last_plan.segments for lo, hi in s.runs), key=lambda r: r[0]
+    )
+    drops: list[int] = []
+
+    def chain(run_list: list[tuple[int, int, str]], tail_needle_carrier: str) -> None:
+        owner = {left + w: car for lo, hi, car in run_list for w in range(lo, hi + 1)}
+        order = sorted(owner)
+        for idx, n in enumerate(order[:-1]):
+            car = owner[n]
+            item = WorkItem((car,), ((n, "f"),))
+            ps = plan_item(item, em.states, strategy=path_planning, parity="+" if idx % 2 else "-")
+            for p in ps[:-1]:
+                em.knit(p, role="bind-off", course=None)
+            p = ps[-1]
+            extra: tuple[Op, ...] = ()
+            if p.direction == "+" and owner[order[idx + 1]] == car:
+                # Carry the yarn past the next needle so its opposite-direction stitch is made
+                # with the carrier behind the carriage.
+                extra = (Op("miss", "f", n + 2),)
+            em.knit(p, role="bind-off", course=None, extra=extra)
+            em.steps.append(Pass("xfer", (Op("xfer", "f", n, "b", n),), None, (), 0.0, "bind-off"))
+            em.steps.append(
+                Pass("xfer", (Op("xfer", "b", n, "f", n + 1),), None, (), 1.0, "bind-off")
+            )
+        last = order[-1]
+        car = tail_needle_carrier
+        for t in range(1 + tail_stitches):
+            item = WorkItem((car,), ((last, "f"),))
+            ps = plan_item(item, em.states, strategy=path_planning, parity="+" if t % 2 else "-")
+            for p in ps:
+                em.knit(p, role="tail" if t else "bind-off", course=None)
+        drops.append(last)
+
+    if catching:
+        chain(runs, runs[-1][2])
+    else:
+        for lo, hi, car in runs:
+            chain([(lo, hi, car)], car)
+    live = [c for c in machine.carriers if c in em.states]
+    em.outhook(live)
+    if drops:
+        em.steps.append(
+            Pass("drop", tuple(Op("drop", "f", n) for n in sorted(drops)), None, (), 0.0, "tail")
+        )
+    bind_passes = [s for s in em.steps[0:] if isinstance(s, Pass)][bind_start:]
+    bind_fixed = sum(
+        not all(o.op == "miss" for o in p.ops) or p.kind != "knit" for p in bind_passes
+    )
+
+    explicit, implicit = count_kickbacks(em.steps)
+    lower = cast_fixed + cast_courses_bound + body_bound + bind_fixed
+    return Schedule(
+        steps=tuple(em.steps),
+        machine=machine,
+        yarns=stitches.yarns,
+        carrier_of_yarn=plan.carrier_of_yarn,
+        left=left,
+        wales=n_wales,
+        courses=n_courses,
+        lower_bound=lower,
+        body_lower_bound=body_bound,
+        meta={
+            "units": units,
+            "scheduler": "mixed-colourwork",
+            "float_avoidance": bool(float_avoidance),
+            "catching": bool(catching),
+            "path_planning": path_planning,
+            "float_limit": int(limit),
+            "kickbacks": explicit + implicit,
+            "explicit_kickbacks": explicit,
+            "implicit_kickbacks": implicit,
+            "plated_stitches": em.plated,
+            "float_avoidance_transfers": em.float_transfer_passes,
+            "carriers": len(plan.carriers),
+            "stranded_segments": plan.stranded_segments,
+        },
+    )

@@ -1,0 +1,79 @@
+"""Catching by plating (paper Algorithm 2): join colour regions knit by different carriers.
+
+Carriers ride on separate rails so that their yarns never tangle; two regions knit back and forth
+by different carriers therefore never touch, and the piece falls apart along the join (paper
+Fig. 15, Fig. 20 right). The paper's cure is a *plated* stitch at the colour change: the first
+stitch of the new colour is knit with both yarns, pulled through one loop together, so the yarns
+interlock there. The yarn laid first shows most on the face, so the stitch's own yarn is the
+**primary** and is listed first -- consistently, for every plated stitch -- and the neighbouring
+yarn is the secondary.
+
+Walking each course from left to right (Algorithm 2's ``loopNeighborPairs``), at every boundary
+between two runs knit by different carriers, the right-hand run's first stitch becomes
+``(own carrier, left neighbour's carrier)``. A boundary is left alone when both carriers already
+cross it in that course (stranded colourwork: each yarn floats behind the other's stitches there,
+so the yarns already interlock and a plated stitch would only add a pass); every intarsia boundary
+and every boundary where one side's yarn stops is caught.
+
+The SWG backend merges only operations with the identical carrier list into one pass, so the
+plated stitches of a course are grouped by their carrier pair: each pair costs one pass per
+course, not one per stitch. A carrier comes in with ``inhook`` of exactly the set of its first use;
+the scheduler makes that first use the carrier's own (unplated) pass, so a plated stitch never
+involves a carrier that has not knit yet.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from illuknit.knit.colour_runs import CoursePlan
+
+__all__ = ["PlatedStitch", "plan_catches"]
+
+
+@dataclass(frozen=True, order=True)
+class PlatedStitch:
+    """One plated catching stitch: ``carriers = (primary, secondary)`` at ``wale``."""
+
+    wale: int
+    carriers: tuple[str, str]
+
+
+def plan_catches(
+    plan: CoursePlan, *, new_carriers: frozenset[str] = frozenset()
+) -> list[PlatedStitch]:
+    """Plated stitches that join the carriers of one course (Algorithm 2).
+
+    Parameters
+    ----------
+    plan : CoursePlan
+        The course's segments.
+    new_carriers : frozenset of str
+        Carriers first used in this course. A plated stitch needs both carriers to have knit
+        before; a boundary whose right-hand run is a new carrier's whole work is skipped.
+
+    Returns
+    -------
+    list of PlatedStitch
+        Ascending by wale.
+    """
+    runs = sorted(
+        ((lo, hi, s.carrier) for s in plan.segments for lo, hi in s.runs), key=lambda r: r[0]
+    )
+    span = {s.carrier: (s.lo, s.hi) for s in plan.segments}
+    own_count = {s.carrier: len(s.wales) for s in plan.segments}
+    out: list[PlatedStitch] = []
+    for (_, hi, left), (lo, _, right) in zip(runs, runs[1:]):
+        if left == right:
+            continue
+        l_lo, l_hi = span[left]
+        r_lo, r_hi = span[right]
+        left_crosses = l_hi > hi  # the left carrier also knits right of the boundary
+        right_crosses = r_lo < lo  # the right carrier also knits left of it
+        if left_crosses and right_crosses:
+            continue
+        if right in new_carriers and own_count[right] <= 1:
+            continue
+        out.append(PlatedStitch(lo, (right, left)))
+        own_count[right] -= 1
+    return out

@@ -1,0 +1,273 @@
+"""Colour runs per course, and which carrier knits each: stranded or intarsia.
+
+First stage of the mixed-colourwork scheduler (paper 7.2-7.3). A *run* is a maximal interval of
+wales of one yarn in one course. Every run is knit by a carrier threaded with its yarn; the
+question is how many carriers a yarn needs in a course:
+
+* **stranded**: one carrier knits several runs of its yarn in one pass and is carried (floats)
+  across the wales between them, behind the other colours' stitches;
+* **intarsia**: a run gets its own carrier, which stays anchored where it last knit.
+
+A carriage pass carries one carrier set, so every carrier used in a course costs at least one
+pass: fewest passes means fewest carriers per course. The only reason to give a yarn a second
+carrier is a float longer than ``MachineSpec.float_limit``, so the runs of a yarn are grouped
+greedily from left to right and a new group (a new carrier) starts exactly where the gap to the
+previous run exceeds the limit. That greedy grouping is optimal: every group must avoid the long
+gaps, and interleaving groups only lengthens floats.
+
+Carriers belong to one yarn for the whole piece (a carrier is threaded once). When a yarn needs
+more groups in a course than it has carriers, a free carrier of the machine is threaded with it;
+groups are matched to the yarn's carriers nearest first, so an intarsia carrier keeps knitting the
+region where it is anchored. If the machine runs out of carriers the course is named in a
+:class:`~illuknit.errors.CarrierShortageError`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from types import MappingProxyType
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from illuknit.errors import CarrierShortageError, PatternValidationError
+
+__all__ = ["ColourPlan", "CoursePlan", "Segment", "colour_runs", "plan_colour_runs"]
+
+Run = tuple[int, int]
+
+
+@dataclass(frozen=True)
+class Segment:
+    """The work of one carrier in one course: runs of one yarn, left to right.
+
+    Parameters
+    ----------
+    carrier : str
+        Carrier name.
+    yarn : int
+        Yarn index of every stitch of the runs.
+    runs : tuple of (int, int)
+        Inclusive wale intervals ``(lo, hi)``, ascending and disjoint; the gaps between them are
+        floats of at most the float limit.
+    """
+
+    carrier: str
+    yarn: int
+    runs: tuple[Run, ...]
+
+    def __post_init__(self) -> None:
+        if not self.runs:
+            raise PatternValidationError("a segment needs at least one run")
+        prev = -2
+        for lo, hi in self.runs:
+            if lo > hi or lo <= prev + 1:
+                raise PatternValidationError(
+                    f"segment runs must be ascending and disjoint: {self.runs}"
+                )
+            prev = hi
+
+    @property
+    def lo(self) -> int:
+        return self.runs[0][0]
+
+    @property
+    def hi(self) -> int:
+        return self.runs[-1][1]
+
+    @property
+    def wales(self) -> list[int]:
+        """Every wale knit by the segment, ascending."""
+        return [w for lo, hi in self.runs for w in range(lo, hi + 1)]
+
+    @property
+    def longest_float(self) -> int:
+        """Most wales crossed between two runs (0 for a single run)."""
+        return max((b[0] - a[1] - 1 for a, b in zip(self.runs, self.runs[1:])), default=0)
+
+
+@dataclass(frozen=True)
+class CoursePlan:
+    """Segments of one course, ordered by their leftmost wale."""
+
+    course: int
+    segments: tuple[Segment, ...]
+
+    @property
+    def carriers(self) -> tuple[str, ...]:
+        return tuple(s.carrier for s in self.segments)
+
+    def carrier_at(self) -> dict[int, str]:
+        """Wale -> carrier knitting it."""
+        return {w: s.carrier for s in self.segments for w in s.wales}
+
+
+@dataclass(frozen=True, eq=False)
+class ColourPlan:
+    """Which carrier knits which runs, for every course.
+
+    Parameters
+    ----------
+    courses : tuple of CoursePlan
+        One per course, in knitting order.
+    carrier_of_yarn : mapping of int to tuple of str
+        Carriers threaded with each yarn, in the order they were first needed.
+    float_limit : int
+        The limit the runs were grouped with.
+    """
+
+    courses: tuple[CoursePlan, ...]
+    carrier_of_yarn: Mapping[int, tuple[str, ...]]
+    float_limit: int
+    meta: Mapping[str, object] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        object.__setattr__(
+            self,
+            "carrier_of_yarn",
+            MappingProxyType({int(k): tuple(v) for k, v in self.carrier_of_yarn.items()}),
+        )
+        object.__setattr__(self, "meta", MappingProxyType(dict(self.meta)))
+
+    @property
+    def carriers(self) -> tuple[str, ...]:
+        """Every carrier the plan uses."""
+        return tuple(c for cs in self.carrier_of_yarn.values() for c in cs)
+
+    @property
+    def max_carriers_per_course(self) -> int:
+        return max((len(cp.segments) for cp in self.courses), default=0)
+
+    @property
+    def stranded_segments(self) -> int:
+        """Segments that float across other colours (more than one run)."""
+        return sum(len(s.runs) > 1 for cp in self.courses for s in cp.segments)
+
+
+def colour_runs(row: ArrayLike) -> list[tuple[int, int, int]]:
+    """Maximal runs of equal values in a 1-D row: ``(lo, hi, value)`` with ``hi`` inclusive.
+
+    Examples
+    --------
+    >>> colour_runs([0, 0, 1, 0])
+    [(0, 1, 0), (2, 2, 1), (3, 3, 0)]
+    """
+    r = np.asarray(row)
+    if r.ndim != 1 or r.size == 0:
+        raise PatternValidationError(f"`row` must be a non-empty 1-D array, got shape {r.shape}")
+    starts = np.flatnonzero(np.r_[True, r[1:] != r[:-1]])
+    ends = np.r_[starts[1:] - 1, r.size - 1]
+    return [(int(a), int(b), int(r[a])) for a, b in zip(starts, ends, strict=True)]
+
+
+def _group_runs(runs: Sequence[Run], float_limit: int) -> list[tuple[Run, ...]]:
+    groups: list[list[Run]] = []
+    for run in runs:
+        if groups and run[0] - groups[-1][-1][1] - 1 <= float_limit:
+            groups[-1].append(run)
+        else:
+            groups.append([run])
+    return [tuple(g) for g in groups]
+
+
+def plan_colour_runs(
+    yarn: ArrayLike,
+    *,
+    carriers: Sequence[str],
+    float_limit: int,
+    course_names: Sequence[str] | None = None,
+) -> ColourPlan:
+    """Group every course's colour runs into carrier segments and assign carriers.
+
+    Parameters
+    ----------
+    yarn : array_like of shape (C, W), int
+        Yarn index per stitch, course 0 knitted first.
+    carriers : sequence of str
+        The machine's carriers, in the order they are handed out.
+    float_limit : int
+        Longest float (wales crossed between two runs of one carrier); >= 1.
+    course_names : sequence of str, optional
+        How to name course ``c`` in errors (e.g. ``"course 12 (pattern row 3)"``).
+
+    Returns
+    -------
+    ColourPlan
+
+    Raises
+    ------
+    CarrierShortageError
+        If a course needs more carriers at once than the machine has.
+    PatternValidationError
+        For a float limit below 1 or a malformed grid.
+    """
+    y = np.asarray(yarn)
+    if y.ndim != 2 or y.size == 0:
+        raise PatternValidationError(
+            f"`yarn` must be a non-empty (C, W) array, got shape {y.shape}"
+        )
+    if (
+        isinstance(float_limit, bool)
+        or not isinstance(float_limit, (int, np.integer))
+        or float_limit < 1
+    ):
+        raise PatternValidationError(
+            f"`float_limit` must be an integer >= 1 (wales a yarn may float across), got {float_limit!r}"
+        )
+    pool = [str(c) for c in carriers]
+    if not pool:
+        raise PatternValidationError("`carriers` must not be empty")
+    free = list(pool)
+    of_yarn: dict[int, list[str]] = {}
+    anchor: dict[str, float] = {}
+    plans: list[CoursePlan] = []
+    for c in range(y.shape[0]):
+        by_yarn: dict[int, list[Run]] = {}
+        for lo, hi, v in colour_runs(y[c]):
+            by_yarn.setdefault(v, []).append((lo, hi))
+        groups = {v: _group_runs(rs, int(float_limit)) for v, rs in by_yarn.items()}
+        need = sum(len(g) for g in groups.values())
+        if need > len(pool):
+            name = course_names[c] if course_names is not None else f"course {c}"
+            detail = ", ".join(f"yarn {v}: {len(g)}" for v, g in sorted(groups.items()))
+            raise CarrierShortageError(
+                f"{name} needs {need} carriers at once for its colour runs ({detail}) but the "
+                f"machine has {len(pool)}; use fewer yarns, fewer separate colour regions per "
+                f"row, or a wider float limit (MachineSpec.float_limit, now {float_limit})",
+                course=c,
+                needed=need,
+                available=len(pool),
+            )
+        segments: list[Segment] = []
+        for v in sorted(groups):
+            own = of_yarn.setdefault(v, [])
+            unused = list(own)
+            for g in groups[v]:
+                centre = (g[0][0] + g[-1][1]) / 2
+                if unused:
+                    # Nearest anchored carrier of this yarn: an intarsia carrier keeps its region.
+                    car = min(unused, key=lambda k: (abs(anchor[k] - centre), own.index(k)))
+                    unused.remove(car)
+                else:
+                    if not free:
+                        name = course_names[c] if course_names is not None else f"course {c}"
+                        raise CarrierShortageError(
+                            f"{name} needs a new carrier for yarn {v} but all {len(pool)} carriers "
+                            "are already threaded with other yarns; use fewer yarns or a wider "
+                            f"float limit (MachineSpec.float_limit, now {float_limit})",
+                            course=c,
+                            needed=len(pool) + 1,
+                            available=len(pool),
+                        )
+                    car = free.pop(0)
+                    own.append(car)
+                anchor[car] = centre
+                segments.append(Segment(car, int(v), g))
+        segments.sort(key=lambda s: s.lo)
+        plans.append(CoursePlan(c, tuple(segments)))
+    return ColourPlan(
+        courses=tuple(plans),
+        carrier_of_yarn={v: tuple(cs) for v, cs in of_yarn.items()},
+        float_limit=int(float_limit),
+    )

@@ -1,0 +1,234 @@
+"""Yarn path planning (paper Algorithm 3): every stitch made with its carrier behind the carriage.
+
+A carrier lays yarn only when it trails the carriage: for a rightward (``+``) pass it must sit
+left of the first needle, for a leftward pass right of it (Fig. 16). In mixed colourwork carriers
+do not move together: an intarsia carrier stays *anchored* where it last knit, possibly in the
+middle of its next work. Knitting that work in one pass from either end then starts with the
+carrier ahead of the carriage, no yarn is laid and the stitches drop (Fig. 21).
+
+State per carrier (:class:`CarrierState`): its position (just right of the needle of its last
+``+`` operation, just left after ``-``, as in knitout), the direction it last moved and the needle
+of its last loop. :func:`plan_item` turns one piece of work of a course -- a carrier's segment or
+a group of plated stitches -- into passes:
+
+* **direction from the anchor**: a carrier left of its work knits rightward, right of it
+  leftward;
+* **anchor inside the work**: ``split`` knits the part on one side of the anchor first, turns and
+  knits the other part (two passes, Algorithm 3 *Split*); ``anchor`` knits the one stitch at the
+  far end of the work first, in the opposite direction, which carries the yarn to that end, then
+  the rest (two passes, Algorithm 3 *Anchor*). Either way the first pass runs opposite to the
+  carrier's last move;
+* **plated stitches** need both carriers behind the carriage. When a carrier is on the wrong side
+  (the two plated carriers on opposite sides) or last moved in the pass direction, it is first
+  moved on its own with a ``miss`` pass in the opposite direction -- the anchoring move. (The paper
+  anchors with a knit; a miss carries the yarn the same way without adding a loop to the fabric.)
+  The same correction is applied before any pass whose carrier last moved in the same direction:
+  that is the kickback pass the SWG backend would otherwise insert silently.
+
+``none`` switches the planning off (the ablation of Fig. 20, middle): every pass runs in the
+course's parity direction from wherever its carriers are, as a naive program would.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, replace
+from typing import Literal
+
+from illuknit.errors import PatternValidationError
+
+__all__ = [
+    "STRATEGIES",
+    "CarrierState",
+    "PlannedPass",
+    "WorkItem",
+    "advance",
+    "is_behind",
+    "plan_item",
+]
+
+Direction = Literal["+", "-"]
+Strategy = Literal["anchor", "split", "none"]
+STRATEGIES: tuple[str, ...] = ("anchor", "split", "none")
+
+
+@dataclass(frozen=True)
+class CarrierState:
+    """Where a carrier is: ``needle`` and ``direction`` of its last operation, ``last_loop`` needle.
+
+    A carrier never used has ``needle is None``; it enters from the right (the inserting hook
+    needs its first stitches to go leftward), so it counts as right of everything.
+    """
+
+    needle: int | None = None
+    direction: Direction | None = None
+    last_loop: int | None = None
+
+    @property
+    def position(self) -> float:
+        """Location on the needle axis: half a needle past the last operation."""
+        if self.needle is None:
+            return float("inf")
+        return self.needle + (0.5 if self.direction == "+" else -0.5)
+
+
+@dataclass(frozen=True)
+class WorkItem:
+    """Work of one carrier set in one course: ``stitches`` are ``(needle, bed)``, ascending."""
+
+    carriers: tuple[str, ...]
+    stitches: tuple[tuple[int, str], ...]
+    plated: bool = False
+
+
+@dataclass(frozen=True)
+class PlannedPass:
+    """A pass to emit: ``stitches`` in execution order; ``kind`` ``"knit"`` or ``"move"``.
+
+    A ``move`` pass is a single ``miss`` at ``stitches[0][0]`` that carries one carrier to the
+    side it must start from (an anchoring move / explicit kickback).
+    """
+
+    carriers: tuple[str, ...]
+    direction: Direction
+    stitches: tuple[tuple[int, str], ...]
+    kind: str = "knit"
+
+
+def _flip(d: Direction) -> Direction:
+    return "-" if d == "+" else "+"
+
+
+def is_behind(state: CarrierState, direction: Direction, needle: int) -> bool:
+    """True when a ``direction`` stitch at ``needle`` finds the carrier behind the carriage."""
+    x = state.position
+    return x < needle if direction == "+" else x > needle
+
+
+def _move(car: str, state: CarrierState, direction: Direction, first: int) -> PlannedPass | None:
+    """A miss pass placing ``car`` behind ``first`` for a ``direction`` pass, or None if fine."""
+    if state.needle is None:
+        return None
+    if is_behind(state, direction, first) and state.direction != direction:
+        return None
+    if direction == "+":
+        target = min(state.needle, first - 1)
+        return PlannedPass((car,), "-", ((target, "f"),), "move")
+    target = max(state.needle, first + 1)
+    return PlannedPass((car,), "+", ((target, "f"),), "move")
+
+
+def advance(states: Mapping[str, CarrierState], p: PlannedPass) -> dict[str, CarrierState]:
+    """Carrier states after pass ``p``."""
+    out = dict(states)
+    last_needle = p.stitches[-1][0]
+    for car in p.carriers:
+        st = out.get(car, CarrierState())
+        loop = st.last_loop if p.kind == "move" else last_needle
+        out[car] = replace(st, needle=last_needle, direction=p.direction, last_loop=loop)
+    return out
+
+
+def _with_moves(
+    carriers: Sequence[str],
+    direction: Direction,
+    stitches: Sequence[tuple[int, str]],
+    states: Mapping[str, CarrierState],
+) -> list[PlannedPass]:
+    ordered = tuple(stitches) if direction == "+" else tuple(reversed(stitches))
+    first = ordered[0][0]
+    moves = [m for car in carriers if (m := _move(car, states[car], direction, first)) is not None]
+    return [*moves, PlannedPass(tuple(carriers), direction, ordered)]
+
+
+def _cost(passes: Sequence[PlannedPass]) -> int:
+    return len(passes)
+
+
+def plan_item(
+    item: WorkItem,
+    states: Mapping[str, CarrierState],
+    *,
+    strategy: str,
+    parity: Direction,
+) -> list[PlannedPass]:
+    """Passes (anchoring moves included) that knit ``item`` with every carrier behind the carriage.
+
+    Parameters
+    ----------
+    item : WorkItem
+    states : mapping of str to CarrierState
+        Current state of every carrier (missing = never used).
+    strategy : {"anchor", "split", "none"}
+    parity : {"+", "-"}
+        The course's naive direction, used by ``none``.
+
+    Returns
+    -------
+    list of PlannedPass
+        In execution order; apply them with :func:`advance`.
+    """
+    if strategy not in STRATEGIES:
+        raise PatternValidationError(
+            f"`path_planning` must be one of {', '.join(STRATEGIES)}, got {strategy!r}"
+        )
+    if not item.stitches:
+        return []
+    st = {c: states.get(c, CarrierState()) for c in item.carriers}
+    new = any(s.needle is None for s in st.values())
+    if new:
+        # The inserting hook needs the first stitches to go leftward from the right.
+        ordered = tuple(reversed(item.stitches))
+        return [PlannedPass(item.carriers, "-", ordered)]
+    if strategy == "none":
+        ordered = tuple(item.stitches) if parity == "+" else tuple(reversed(item.stitches))
+        return [PlannedPass(item.carriers, parity, ordered)]
+
+    lo, hi = item.stitches[0][0], item.stitches[-1][0]
+    candidates = [
+        _with_moves(item.carriers, "+", item.stitches, st),
+        _with_moves(item.carriers, "-", item.stitches, st),
+    ]
+    if len(item.carriers) == 1:
+        car = item.carriers[0]
+        s = st[car]
+        x = s.position
+        if lo < x < hi:
+            left = tuple(p for p in item.stitches if p[0] < x)
+            right = tuple(p for p in item.stitches if p[0] > x)
+            first: Direction = _flip(s.direction or "+")
+            if strategy == "split":
+                # Knit away from the anchor on the side the carrier can reach first, turn, and
+                # knit the other side (the float back over the first part is float-avoided).
+                if first == "-":
+                    candidates.append(
+                        [
+                            PlannedPass((car,), "-", tuple(reversed(left))),
+                            PlannedPass((car,), "+", right),
+                        ]
+                    )
+                else:
+                    candidates.append(
+                        [
+                            PlannedPass((car,), "+", right),
+                            PlannedPass((car,), "-", tuple(reversed(left))),
+                        ]
+                    )
+            else:
+                # Anchoring stitch: the far-end stitch alone, opposite to the rest.
+                if first == "-":
+                    candidates.append(
+                        [
+                            PlannedPass((car,), "-", (item.stitches[0],)),
+                            PlannedPass((car,), "+", tuple(item.stitches[1:])),
+                        ]
+                    )
+                else:
+                    candidates.append(
+                        [
+                            PlannedPass((car,), "+", (item.stitches[-1],)),
+                            PlannedPass((car,), "-", tuple(reversed(item.stitches[:-1]))),
+                        ]
+                    )
+    # Fewest passes; among equals prefer fewer moves, then the first candidate.
+    return min(candidates, key=lambda ps: (_cost(ps), sum(p.kind == "move" for p in ps)))
