@@ -25,6 +25,7 @@ involves a carrier that has not knit yet.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from itertools import pairwise
 
 from illuknit.knit.colour_runs import CoursePlan
 
@@ -63,11 +64,11 @@ def plan_catches(
     span = {s.carrier: (s.lo, s.hi) for s in plan.segments}
     own_count = {s.carrier: len(s.wales) for s in plan.segments}
     out: list[PlatedStitch] = []
-    for (_, hi, left), (lo, _, right) in zip(runs, runs[1:]):
+    for (_, hi, left), (lo, _, right) in pairwise(runs):
         if left == right:
             continue
-        l_lo, l_hi = span[left]
-        r_lo, r_hi = span[right]
+        l_hi = span[left][1]
+        r_lo = span[right][0]
         left_crosses = l_hi > hi  # the left carrier also knits right of the boundary
         right_crosses = r_lo < lo  # the right carrier also knits left of it
         if left_crosses and right_crosses:

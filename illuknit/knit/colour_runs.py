@@ -26,6 +26,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
+from itertools import pairwise
 from types import MappingProxyType
 
 import numpy as np
@@ -84,7 +85,7 @@ class Segment:
     @property
     def longest_float(self) -> int:
         """Most wales crossed between two runs (0 for a single run)."""
-        return max((b[0] - a[1] - 1 for a, b in zip(self.runs, self.runs[1:])), default=0)
+        return max((b[0] - a[1] - 1 for a, b in pairwise(self.runs)), default=0)
 
 
 @dataclass(frozen=True)

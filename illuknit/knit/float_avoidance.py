@@ -24,6 +24,7 @@ pass before it and floats are ignored, as a naive program does.
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
+from itertools import pairwise
 
 from illuknit.knit.path_planning import CarrierState, PlannedPass
 
@@ -64,7 +65,7 @@ def float_crossings(
         for car in p.carriers:
             prev = last.get(car)
             points = ([prev] if prev is not None else []) + seq
-            for a, b in zip(points, points[1:]):
+            for a, b in pairwise(points):
                 lo, hi = (a, b) if a < b else (b, a)
                 crossed.update(range(max(lo + 1, lo_b), min(hi, hi_b + 1)))
             last[car] = seq[-1]
