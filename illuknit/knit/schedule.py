@@ -60,6 +60,8 @@ __all__ = [
     "Pass",
     "Schedule",
     "ScheduleStats",
+    "bind_off_steps",
+    "cast_on_steps",
     "schedule_courses",
 ]
 
@@ -324,6 +326,71 @@ def _knit_ops(needles: Sequence[int], beds: Sequence[str], op: str = "knit") -> 
     return [Op(op, b, n) for n, b in zip(needles, beds, strict=True)]
 
 
+def cast_on_steps(
+    carrier: str, left: int, right: int, *, park_left: int, stitch_number: int | None
+) -> list[Step]:
+    """``inhook`` and the two tuck passes of the alternating-tuck cast-on on needles left..right.
+
+    The first pass tucks every other needle leftward from the right edge and runs on to
+    ``park_left``, so the rightward tucks start with the carrier behind the carriage; the second
+    ends with a miss on the edge needle (the hook, one needle right of the first stitch, blocks
+    anything further right), so the next pass can start leftward from the right edge. The hook
+    still holds the yarn afterwards: release it after the next course.
+    """
+    first = [n for n in range(right, left - 1, -1) if (right - n) % 2 == 0]
+    second = [n for n in range(left, right + 1) if (right - n) % 2 == 1]
+    tucks1 = (*(Op("tuck", "f", n) for n in first), Op("miss", "f", park_left))
+    tucks2 = (*(Op("tuck", "f", n) for n in second), Op("miss", "f", right))
+    return [
+        CarrierAction("inhook", (carrier,)),
+        Pass("knit", tucks1, "-", (carrier,), role="cast-on", stitch_number=stitch_number),
+        Pass("knit", tucks2, "+", (carrier,), role="cast-on", stitch_number=stitch_number),
+    ]
+
+
+def bind_off_steps(
+    carrier: str,
+    direction: Direction,
+    left: int,
+    right: int,
+    *,
+    stitch_number: int | None,
+    tail_stitches: int = 4,
+) -> list[Step]:
+    """Chain bind-off of front loops on needles left..right, then a tail, ``outhook`` and a drop.
+
+    ``carrier`` must sit beyond the edge it starts from: right of ``right`` for ``direction``
+    ``"-"``, left of ``left`` for ``"+"``. Each step knits a needle and moves its loop onto the
+    next needle (front -> back at racking 0, back -> front at racking +/-1). Directions alternate;
+    on every other step a miss carries the yarn one needle past the next stitch, so every stitch
+    is made with the carrier behind the carriage and no kickback is needed.
+    """
+    order = list(range(left, right + 1)) if direction == "+" else list(range(right, left - 1, -1))
+    shift = 1 if direction == "+" else -1
+    steps: list[Step] = []
+    d: Direction = direction
+    for n in order[:-1]:
+        chain = [Op("knit", "f", n)]
+        if d == direction:
+            chain.append(Op("miss", "f", n + 2 * shift))
+        steps.append(
+            Pass("knit", tuple(chain), d, (carrier,), 0.0, "bind-off", None, stitch_number)
+        )
+        steps.append(Pass("xfer", (Op("xfer", "f", n, "b", n),), None, (), 0.0, "bind-off"))
+        move = (Op("xfer", "b", n, "f", n + shift),)
+        steps.append(Pass("xfer", move, None, (), float(shift), "bind-off"))
+        d = "-" if d == "+" else "+"
+    last = order[-1]
+    for _ in range(1 + tail_stitches):
+        steps.append(
+            Pass("knit", (Op("knit", "f", last),), d, (carrier,), 0.0, "tail", None, stitch_number)
+        )
+        d = "-" if d == "+" else "+"
+    steps.append(CarrierAction("outhook", (carrier,)))
+    steps.append(Pass("drop", (Op("drop", "f", last),), None, (), 0.0, "tail"))
+    return steps
+
+
 def schedule_courses(
     stitches: StitchPattern,
     *,
@@ -412,17 +479,7 @@ def schedule_courses(
 
     # -- cast-on -----------------------------------------------------------------------------
     c0 = course_carrier[0]
-    steps.append(CarrierAction("inhook", (c0,)))
-    first = [n for n in needles_down if (right - n) % 2 == 0]
-    second = [n for n in needles_up if (right - n) % 2 == 1]
-    # The first pass runs on to the left parking spot, so that the rightward tucks start with the
-    # carrier behind the carriage; the second ends with a miss on the edge needle (the hook, one
-    # needle right of the first stitch, blocks anything further right), so that the first course
-    # starts leftward from the right edge with the carrier behind the carriage again.
-    tucks = (*(Op("tuck", "f", n) for n in first), Op("miss", "f", park["-"]))
-    steps.append(Pass("knit", tucks, "-", (c0,), role="cast-on", stitch_number=cast_sn))
-    tucks = (*(Op("tuck", "f", n) for n in second), Op("miss", "f", right))
-    steps.append(Pass("knit", tucks, "+", (c0,), role="cast-on", stitch_number=cast_sn))
+    steps.extend(cast_on_steps(c0, left, right, park_left=park["-"], stitch_number=cast_sn))
     next_dir[c0] = "-"
     # The hook holds the yarn end through the first full course (it parks left, clear of the hook).
     hook_held: str | None = c0
@@ -480,31 +537,11 @@ def schedule_courses(
         )
         bind_fixed += 1
     cb = course_carrier[n_courses - 1]
-    d0 = next_dir[cb]
-    order = needles_up if d0 == "+" else needles_down
-    shift = 1 if d0 == "+" else -1
-    d: Direction = d0
-    for n in order[:-1]:
-        chain = [Op("knit", "f", n)]
-        if d == d0:
-            # Carry the yarn past the next needle so the next, opposite-direction stitch is made
-            # with the carrier behind the carriage.
-            chain.append(Op("miss", "f", n + 2 * shift))
-        steps.append(Pass("knit", tuple(chain), d, (cb,), 0.0, "bind-off", None, body_sn))
-        steps.append(Pass("xfer", (Op("xfer", "f", n, "b", n),), None, (), 0.0, "bind-off"))
-        steps.append(
-            Pass("xfer", (Op("xfer", "b", n, "f", n + shift),), None, (), float(shift), "bind-off")
-        )
-        bind_fixed += 3
-        d = "-" if d == "+" else "+"
-    last = order[-1]
-    for _ in range(1 + tail_stitches):
-        steps.append(Pass("knit", (Op("knit", "f", last),), d, (cb,), 0.0, "tail", None, body_sn))
-        d = "-" if d == "+" else "+"
-        bind_fixed += 1
-    steps.append(CarrierAction("outhook", (cb,)))
-    steps.append(Pass("drop", (Op("drop", "f", last),), None, (), 0.0, "tail"))
-    bind_fixed += 1
+    chain = bind_off_steps(
+        cb, next_dir[cb], left, right, stitch_number=body_sn, tail_stitches=tail_stitches
+    )
+    steps.extend(chain)
+    bind_fixed += sum(isinstance(x, Pass) for x in chain)
 
     return Schedule(
         steps=tuple(steps),
