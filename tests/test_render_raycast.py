@@ -206,3 +206,19 @@ def test_bad_render_input():
         render_soft(np.ones((2, 2)), np.zeros((3, 2, 3)))
     with pytest.raises(PatternValidationError, match="supersample"):
         render_soft(np.ones((2, 2)), np.zeros((2, 2, 3)), supersample=0)
+
+
+def test_sweep_angles_walk_from_a_through_headon_to_b():
+    from illuknit.render.raycast import render_image, sweep_angles
+
+    angles = sweep_angles(30, 5)
+    assert angles == [30.0, 60.0, 90.0, -60.0, -30.0]
+    assert 90.0 in sweep_angles(20, 3) and len(sweep_angles(20, 4)) == 4
+    with pytest.raises(RenderParamsError, match="frames"):
+        sweep_angles(30, 1)
+    with pytest.raises(RenderParamsError, match="angle"):
+        sweep_angles(0, 5)
+    pattern = _pattern(np.random.default_rng(2), 4, 3)
+    img = render_image(pattern, -30, scale=3)
+    assert img.shape == (12, 9, 3)
+    assert np.array_equal(img[:, ::3][::3], render_at(pattern, -30, supersample=3)[::3])

@@ -25,11 +25,13 @@ def _int_list(ctx: click.Context, param: click.Parameter, value: str) -> tuple[i
 def calibrate() -> None:
     """Tune the renderer to your yarn and machine: knit the swatch, measure, fit.
 
-    1. ``illuknit calibrate swatch -o DIR`` writes the swatch pattern, a preview and a
-       measurements.csv to fill in.
-    2. Knit it, hang it, and for each cell note the elevation (degrees) at which the flat stitches
-       just disappear behind the bumps.
-    3. ``illuknit calibrate fit DIR/measurements.csv -o params.json`` fits the bump height.
+    \b
+    1. illuknit calibrate swatch -o DIR
+       writes the swatch pattern, a preview and measurements.csv to fill in.
+    2. Knit it, hang it, and for each cell note the elevation (degrees) at
+       which the flat stitches just disappear behind the bumps.
+    3. illuknit calibrate fit DIR/measurements.csv -o params.json
+       fits the bump height (see docs/render.md).
     """
 
 
