@@ -91,17 +91,25 @@ def fail(message: str) -> None:
     raise click.UsageError(message)
 
 
-def main(argv: list[str] | None = None) -> Any:
-    """Console-script entry point: run the CLI, turning user errors into one line and exit code 2."""
+def main(argv: list[str] | None = None) -> int:
+    """Console-script entry point.
+
+    Returns 0 on success. Otherwise exits through ``SystemExit``: user errors print one line on
+    stderr and exit with code 2; a command may return a non-zero int (e.g. 1 from ``check`` when
+    something blocking is found) to exit with it.
+    """
     try:
-        return cli.main(args=argv, prog_name="illuknit", standalone_mode=False)
+        rv = cli.main(args=argv, prog_name="illuknit", standalone_mode=False)
     except click.exceptions.Exit as e:
-        sys.exit(e.exit_code)
+        code = int(e.exit_code or 0)
+        if code:
+            sys.exit(code)
+        return 0
     except click.exceptions.Abort:
         click.echo("illuknit: interrupted", err=True)
         sys.exit(130)
     except click.ClickException as e:
-        click.echo(f"illuknit: error: {e.format_message()}", err=True)
+        click.echo(f"illuknit: error: {_one_line(e.format_message())}", err=True)
         sys.exit(2)
     except IlluknitError as e:
         click.echo(f"illuknit: error: {_one_line(str(e))}", err=True)
@@ -109,6 +117,9 @@ def main(argv: list[str] | None = None) -> Any:
     except KeyboardInterrupt:
         click.echo("illuknit: interrupted", err=True)
         sys.exit(130)
+    if isinstance(rv, int) and not isinstance(rv, bool) and rv:
+        sys.exit(rv)
+    return 0
 
 
 def _one_line(text: str) -> str:
