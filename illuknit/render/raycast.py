@@ -42,7 +42,7 @@ share one code path.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any, Literal
 
 import numpy as np
@@ -324,8 +324,6 @@ def coverage(
     n, m = h.shape
     eye = np.broadcast_to(np.eye(n)[:, None, :], (n, m, n))
     p = RenderParams() if params is None else params
-    from dataclasses import replace
-
     return render_soft(
         h, eye, params=replace(p, shading=1.0), view=view, angle=angle, supersample=supersample
     )
