@@ -133,6 +133,7 @@ def test_pass_count_meets_the_lower_bound_and_transfers_only_where_needed(p):
     sch = schedule_courses(s)
     st_ = sch.stats
     assert st_.passes == st_.lower_bound and st_.ratio == 1.0
+    assert st_.kickbacks == 0
     changes = (np.diff(np.vstack([np.zeros((1, s.wales), np.uint8), s.kind]), axis=0) != 0).any(
         axis=1
     )
@@ -218,3 +219,12 @@ def test_time_model_is_passes_times_span_plus_turns():
     assert all(q.needle_span[1] - q.needle_span[0] + 1 == 6 + 2 for q in body)
     with pytest.raises(PatternValidationError):
         estimate_knit_time(sch, seconds_per_turn=-1)
+
+
+def test_kickbacks_count_same_direction_passes_per_carrier():
+    p = LogicalPattern(np.zeros((1, 1), int), np.zeros((1, 1), bool), YARNS[:1])
+    sch = schedule_courses(lower_to_stitches(p))
+    again = Pass("knit", (Op("knit", "f", 3),), sch.passes[-3].direction, ("1",))
+    steps = list(sch.steps)
+    steps.insert(-3, again)  # repeat the direction of the pass before it
+    assert Schedule(**{**sch.__dict__, "steps": tuple(steps)}).stats.kickbacks == 1

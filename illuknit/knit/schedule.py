@@ -194,7 +194,9 @@ class ScheduleStats:
 
     ``passes`` counts carriage passes in the schedule; ``hook_passes`` the extra empty passes the
     SWG backend adds for each ``releasehook`` and ``outhook`` (counted apart because they are the
-    backend's, not the schedule's). ``ratio`` is ``passes / lower_bound``.
+    backend's, not the schedule's); ``kickbacks`` the times a carrier runs two passes in the same
+    direction, each of which costs the SWG backend an extra pass. ``ratio`` is
+    ``passes / lower_bound``.
     """
 
     passes: int
@@ -207,6 +209,7 @@ class ScheduleStats:
     body_lower_bound: int
     lower_bound: int
     hook_passes: int
+    kickbacks: int = 0
 
     @property
     def ratio(self) -> float:
@@ -319,7 +322,21 @@ class Schedule:
             body_lower_bound=self.body_lower_bound,
             lower_bound=self.lower_bound,
             hook_passes=sum(a.action in ("releasehook", "outhook", "out") for a in acts),
+            kickbacks=_count_kickbacks(ps),
         )
+
+
+def _count_kickbacks(passes: Sequence[Pass]) -> int:
+    """Times a carrier's knit pass runs the same way as its previous one."""
+    last: dict[str, str | None] = {}
+    n = 0
+    for p in passes:
+        if p.kind != "knit":
+            continue
+        for c in p.carriers:
+            n += last.get(c) == p.direction
+            last[c] = p.direction
+    return n
 
 
 def _knit_ops(needles: Sequence[int], beds: Sequence[str], op: str = "knit") -> list[Op]:
