@@ -230,5 +230,63 @@ def plan_item(
                             PlannedPass((car,), "-", tuple(reversed(item.stitches[:-1]))),
                         ]
                     )
-    # Fewest passes; among equals prefer fewer moves, then the first candidate.
-    return min(candidates, key=lambda ps: (_cost(ps), sum(p.kind == "move" for p in ps)))
+    # Fewest passes; among equals the shortest yarn floats (a float crossing needles the same
+    # pass then purls cannot be float-avoided), then fewer moves, then the first candidate.
+    return min(
+        candidates,
+        key=lambda ps: (
+            *_float_cost(ps, st),
+            _float_length(ps, st),
+            sum(p.kind == "move" for p in ps),
+        ),
+    )
+
+
+def _float_cost(
+    passes: Sequence[PlannedPass], states: Mapping[str, CarrierState]
+) -> tuple[int, int]:
+    """(purls a pass's own float crosses, passes + transfer passes the floats force).
+
+    A float from a carrier's last loop into its pass that crosses purls the *same* pass knits
+    cannot be float-avoided (the loops must be on the front for the float and on the back for
+    the stitch at once); one that crosses purls a *later* pass of the item knits costs a
+    transfer pass to move them out of the way and back.
+    """
+    last = {c: s.last_loop for c, s in states.items()}
+    purl_pass: dict[int, int] = {}
+    for i, p in enumerate(passes):
+        if p.kind != "move":
+            for n, b in p.stitches:
+                if b == "b":
+                    purl_pass[n] = i
+    fatal = 0
+    extra = 0
+    for i, p in enumerate(passes):
+        if p.kind == "move":
+            continue
+        first, end = p.stitches[0][0], p.stitches[-1][0]
+        for c in p.carriers:
+            prev = last.get(c)
+            if prev is not None and abs(first - prev) > 1:
+                lo, hi = sorted((prev, first))
+                hit = [purl_pass[n] for n in range(lo + 1, hi) if n in purl_pass]
+                fatal += sum(j == i for j in hit)
+                extra = max(extra, int(any(j > i for j in hit)))
+            last[c] = end
+    return fatal, _cost(passes) + extra
+
+
+def _float_length(passes: Sequence[PlannedPass], states: Mapping[str, CarrierState]) -> int:
+    """Needles crossed by the floats from each carrier's last loop to its next stitch."""
+    last = {c: s.last_loop for c, s in states.items()}
+    total = 0
+    for p in passes:
+        if p.kind == "move":
+            continue
+        first, end = p.stitches[0][0], p.stitches[-1][0]
+        for c in p.carriers:
+            prev = last.get(c)
+            if prev is not None:
+                total += abs(first - prev)
+            last[c] = end
+    return total
