@@ -72,8 +72,8 @@ class StitchPattern:
     kind: NDArray[np.uint8]
     yarn: NDArray[np.int16]
     yarns: tuple[Yarn, ...]
-    gauge: float = 7.0
-    course_aspect: float = 0.7
+    gauge: float = DEFAULT_MACHINE.gauge
+    course_aspect: float = DEFAULT_MACHINE.course_aspect
     cast_on_courses: int = 2
     bind_off: BindOff = "chain"
     meta: Any = field(default_factory=dict)
