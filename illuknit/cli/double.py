@@ -30,8 +30,10 @@ def _load_pair(
     a = load_image(path_a)
     b = load_image(path_b) if path_b is not None else None
     smooth_a = len(np.unique(np.round(a.reshape(-1, 3) * 255), axis=0)) > 16
-    if width is not None or max(a.shape[:2]) > 400:
-        a = resize_to_units(a, width=width or 200, smooth=smooth_a)
+    if width is None and max(a.shape[:2]) > 400:  # keep the longer side within 400 units
+        width = max(2, round(400 * a.shape[1] / max(a.shape[:2])))
+    if width is not None:
+        a = resize_to_units(a, width=width, smooth=smooth_a)
     if b is None:
         return a, None
     smooth_b = len(np.unique(np.round(b.reshape(-1, 3) * 255), axis=0)) > 16

@@ -39,6 +39,7 @@ stripes on both sides, adding a yarn, relaxing the brightness order.
 from __future__ import annotations
 
 import itertools
+import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from types import MappingProxyType
@@ -51,7 +52,9 @@ from illuknit.colors import hex_color, lab_from_rgb, luminance
 from illuknit.errors import ImageInputError, TileAssignmentError
 from illuknit.pattern import Yarn
 from illuknit.tiles.bank import TileBank, ViewPair, canonical_bank
-from illuknit.tiles.tile import Fill, Tile
+from illuknit.tiles.tile import Fill, Tile, tile_seen
+
+SeenView = Literal["A", "B", "headon"]
 
 __all__ = [
     "AssignmentWeights",
@@ -154,6 +157,9 @@ class TileAssignment:
         1 for the best candidate.
     overridden : tuple of (a, b)
         Pairs whose tile was set by hand.
+    promised : mapping (a, b) -> Tile
+        The tiles the assignment chose, before any override: the repainted images are what
+        these show.
     """
 
     bank: TileBank
@@ -170,6 +176,7 @@ class TileAssignment:
     rank: int = 1
     overridden: tuple[tuple[int, int], ...] = ()
     solver: str = ""
+    promised: Mapping[tuple[int, int], Tile] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         if self.indices_a.shape != self.indices_b.shape:
@@ -182,6 +189,7 @@ class TileAssignment:
         if missing:
             raise TileAssignmentError(f"no tile for overlap pair(s) {missing}")
         object.__setattr__(self, "tiles", MappingProxyType(dict(self.tiles)))
+        object.__setattr__(self, "promised", MappingProxyType(dict(self.promised or self.tiles)))
         object.__setattr__(self, "cost", MappingProxyType(dict(self.cost)))
 
     @property
@@ -527,11 +535,64 @@ def _make_assignment(
         t = prob.bank.tile_for(prob.fa[ca[a]], prob.fb[cb[b]], views=prob.views)
         assert t is not None
         tiles[a, b] = t
+    tiles = align_phases(tiles, prob.pairs, prob.views)
     cost = {k: v / SCALE for k, v in parts.items()}
     return TileAssignment(
         prob.bank, prob.views, prob.ra.indices, prob.rb.indices, prob.ra.colors, prob.rb.colors,
         fills_a, fills_b, tiles, sum(cost.values()), cost, rank, (), solver,
     )  # fmt: skip
+
+
+def _expand(view: str) -> tuple[SeenView, ...]:
+    return ("A", "B") if view == "side" else (view,)  # type: ignore[return-value]
+
+
+def _agreement(s1: NDArray[np.int16], s2: NDArray[np.int16]) -> int:
+    """Units over a common period where two periodic seen-yarn blocks agree."""
+    h, w = math.lcm(s1.shape[0], s2.shape[0]), math.lcm(s1.shape[1], s2.shape[1])
+    a = np.tile(s1, (h // s1.shape[0], w // s1.shape[1]))
+    b = np.tile(s2, (h // s2.shape[0], w // s2.shape[1]))
+    return int((a == b).sum() * (12 // math.gcd(12, h)))  # per 12 rows, so periods compare fairly
+
+
+def align_phases(
+    tiles: Mapping[tuple[int, int], Tile],
+    counts: Mapping[tuple[int, int], int],
+    views: ViewPair = ("A", "B"),
+) -> dict[tuple[int, int], Tile]:
+    """Rotate each pair's tile (a cyclic shift of its rows keeps its fills) so that the stripes
+    of one colour line up across the overlap pairs it belongs to.
+
+    Without this, a colour of A whose region crosses several colours of B would show its stripe
+    in a different phase over each of them, and B's outlines would ghost into view A. Pairs are
+    handled largest first; the first pair of each colour fixes that colour's stripe phase, and
+    every later pair takes the rotation that agrees best with the phases already fixed for its
+    two colours (it cannot always agree with both).
+    """
+    refs: tuple[
+        dict[int, dict[str, NDArray[np.int16]]], dict[int, dict[str, NDArray[np.int16]]]
+    ] = ({}, {})
+    out: dict[tuple[int, int], Tile] = {}
+    for pair in sorted(tiles, key=lambda p: (-counts.get(p, 0), p)):
+        t = tiles[pair]
+        best, best_score = t, -1
+        for s in range(t.height):
+            rt = (
+                t
+                if s == 0
+                else Tile(np.roll(t.yarn, s, axis=0), np.roll(t.raised, s, axis=0), name=t.name)
+            )
+            score = 0
+            for side in (0, 1):
+                ref = refs[side].get(pair[side])
+                if ref is not None:
+                    score += sum(_agreement(tile_seen(rt, v), ref[v]) for v in _expand(views[side]))
+            if score > best_score:
+                best, best_score = rt, score
+        out[pair] = best
+        for side in (0, 1):
+            refs[side].setdefault(pair[side], {v: tile_seen(best, v) for v in _expand(views[side])})
+    return out
 
 
 def _check_inputs(ra: Regions, rb: Regions, bank: TileBank, views: ViewPair) -> None:

@@ -84,15 +84,8 @@ def _place(
 
 
 def _bank_tiles(assignment: TileAssignment) -> dict[tuple[int, int], Tile]:
-    """The bank's tile for each pair's assigned fills (what the repainted images promise)."""
-    out = {}
-    for a, b in assignment.pairs:
-        fa, fb = assignment.fills_a[a], assignment.fills_b[b]
-        t = None
-        if fa is not None and fb is not None:
-            t = assignment.bank.tile_for(fa, fb, views=assignment.views)
-        out[a, b] = t if t is not None else assignment.tiles[a, b]
-    return out
+    """The tile each pair was assigned before overrides (what the repainted images promise)."""
+    return {p: assignment.promised.get(p, assignment.tiles[p]) for p in assignment.pairs}
 
 
 def repainted_indices(assignment: TileAssignment, view: SeenView) -> NDArray[np.int16]:

@@ -192,3 +192,21 @@ def test_headon_with_a_side_picture():
         assert f is not None
     with pytest.raises(TileAssignmentError, match="views"):
         assign_headon((front, cols), None, yarns=Y2, views=("A", "B"))
+
+
+def test_stripes_of_one_colour_stay_in_phase_across_the_other_picture():
+    # A is one ground colour everywhere; B has a dark block. Without phase alignment the ground's
+    # stripe would shift over the block and the block would ghost into view A.
+    ia = np.zeros((36, 12), np.int16)
+    ib = np.zeros((36, 12), np.int16)
+    ib[9:27, 4:8] = 1
+    cols = np.array([[240, 240, 240], [20, 20, 20]], np.uint8)
+    for cand in assign_tiles((ia, cols), (ib, cols), yarns=Y2, candidates=3):
+        pattern, _ = compile_tiles(cand)
+        heights = {t.height for t in cand.tiles.values()}
+        if len(heights) != 1:
+            continue  # different periods cannot line up everywhere
+        seen = can_see(pattern, "A")
+        inside = _far_from_boundaries(ia, ib, max(heights))
+        for r in range(36):
+            assert len(set(seen[r][inside[r]].tolist())) <= 1, r
