@@ -27,11 +27,12 @@ _API: dict[str, str] = {
     "bank_to_json": "illuknit.tiles.bank",
     "TileAssignment": "illuknit.tiles.assign",
     "assign_tiles": "illuknit.tiles.assign",
-    "explain_infeasible": "illuknit.tiles.assign",
     "TileReport": "illuknit.tiles.compile",
     "compile_tiles": "illuknit.tiles.compile",
     "repainted_indices": "illuknit.tiles.compile",
     "repainted_rgb": "illuknit.tiles.compile",
+    "align_phases": "illuknit.tiles.assign",
+    "AssignmentWeights": "illuknit.tiles.assign",
     "assign_headon": "illuknit.tiles.headon",
     "headon_bank": "illuknit.tiles.headon",
 }
