@@ -17,6 +17,14 @@ from pathlib import Path
 __all__ = ["atomic_write_bytes", "atomic_write_text", "staged_dir"]
 
 
+def _umask() -> int:
+    # mkstemp/mkdtemp create private (0600/0700) entries; results should get the usual
+    # permissions, so apply the process umask as open()/mkdir() would.
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
+
+
 def atomic_write_bytes(path: str | os.PathLike[str], data: bytes) -> Path:
     """Write ``data`` to ``path`` via a temporary file and a rename."""
     path = Path(path)
@@ -25,6 +33,7 @@ def atomic_write_bytes(path: str | os.PathLike[str], data: bytes) -> Path:
     try:
         with os.fdopen(fd, "wb") as f:
             f.write(data)
+        os.chmod(tmp, 0o666 & ~_umask())
         os.replace(tmp, path)
     except BaseException:
         Path(tmp).unlink(missing_ok=True)
@@ -54,6 +63,7 @@ def staged_dir(outdir: str | os.PathLike[str]) -> Iterator[Path]:
     parent = outdir.resolve().parent
     parent.mkdir(parents=True, exist_ok=True)
     tmp = Path(tempfile.mkdtemp(prefix=f".{outdir.name}.", suffix=".partial", dir=parent))
+    os.chmod(tmp, 0o777 & ~_umask())
     try:
         yield tmp
     except BaseException:

@@ -127,3 +127,20 @@ def test_yarn_validation():
         Yarn("x", (0, 0, 300))
     with pytest.raises(YarnSpecError):
         Yarn("", (0, 0, 0))
+
+
+def test_outputs_get_ordinary_permissions(tmp_path):
+    import os
+    import stat
+
+    from illuknit.outputs import atomic_write_text, staged_dir
+
+    mask = os.umask(0o022)
+    try:
+        f = atomic_write_text(tmp_path / "a.txt", "x")
+        assert stat.S_IMODE(f.stat().st_mode) == 0o644
+        with staged_dir(tmp_path / "out") as d:
+            (d / "b.txt").write_text("y")
+        assert stat.S_IMODE((tmp_path / "out").stat().st_mode) == 0o755
+    finally:
+        os.umask(mask)
