@@ -62,12 +62,13 @@ from illuknit.knit.path_planning import (
     PlannedPass,
     WorkItem,
     advance,
+    pass_cost,
     plan_item,
 )
 from illuknit.knit.schedule import CarrierAction, Op, Pass, Schedule, Step
 from illuknit.knit.stitches import StitchPattern
 
-__all__ = ["count_kickbacks", "schedule_mixed", "validate_ablation"]
+__all__ = ["count_kickbacks", "fold_moves", "schedule_mixed", "validate_ablation"]
 
 
 def validate_ablation(*, float_avoidance: object, catching: object, path_planning: object) -> None:
@@ -219,32 +220,171 @@ def _course_items(
     return items
 
 
+#: Courses with at most this many work items are ordered by exhaustive search (branch and
+#: bound over permutations); larger ones greedily.
+EXHAUSTIVE_ITEMS = 6
+
+
 def _order_and_plan(
     items: list[WorkItem], states: dict[str, CarrierState], strategy: str, parity: str
 ) -> tuple[list[PlannedPass], dict[str, CarrierState]]:
-    """Greedy order: the item costing fewest passes now; a carrier's own item before plating."""
-    remaining = list(items)
-    planned: list[PlannedPass] = []
+    """Order a course's items for fewest passes; a carrier's own item comes before plating.
+
+    Up to :data:`EXHAUSTIVE_ITEMS` items every order is tried (branch and bound on the pass
+    count, plans cached per item and carrier states); beyond, the next item is always the one
+    costing fewest passes from where the carriers are. ``none`` keeps the given order.
+    """
+    if strategy == "none":
+        planned: list[PlannedPass] = []
+        st = dict(states)
+        order = [it for it in items if len(it.carriers) == 1] + [
+            it for it in items if len(it.carriers) > 1
+        ]
+        for it in order:
+            for p in plan_item(it, st, strategy=strategy, parity=parity):  # type: ignore[arg-type]
+                st = advance(st, p)
+                planned.append(p)
+        return planned, st
+
+    cache: dict[tuple[int, tuple[tuple[str, CarrierState], ...]], list[PlannedPass]] = {}
+
+    def plan(i: int, st: dict[str, CarrierState]) -> list[PlannedPass]:
+        it = items[i]
+        key = (i, tuple((c, st.get(c, CarrierState())) for c in it.carriers))
+        got = cache.get(key)
+        if got is None:
+            got = plan_item(it, st, strategy=strategy, parity=parity)  # type: ignore[arg-type]
+            cache[key] = got
+        return got
+
+    def ready(i: int, st: dict[str, CarrierState]) -> bool:
+        it = items[i]
+        return len(it.carriers) == 1 or all(
+            st.get(c, CarrierState()).needle is not None for c in it.carriers
+        )
+
+    def apply(st: dict[str, CarrierState], ps: list[PlannedPass]) -> dict[str, CarrierState]:
+        for p in ps:
+            st = advance(st, p)
+        return st
+
+    if len(items) <= EXHAUSTIVE_ITEMS:
+        best: list[object] = [None, None, None]  # cost, passes, states
+
+        def search(
+            left: list[int], st: dict[str, CarrierState], acc: list[PlannedPass], cost: int
+        ) -> None:
+            if best[0] is not None and cost >= best[0]:  # type: ignore[operator]
+                return
+            if not left:
+                best[0], best[1], best[2] = cost, list(acc), st
+                return
+            for i in left:
+                if not ready(i, st):
+                    continue
+                ps = plan(i, st)
+                search(
+                    [j for j in left if j != i], apply(st, ps), acc + ps, cost + pass_cost(ps, st)
+                )
+
+        search(list(range(len(items))), dict(states), [], 0)
+        if best[1] is None:  # pragma: no cover - catching never pairs an unused carrier
+            raise SchedulingError("plated stitch with a carrier that never knit")
+        return best[1], best[2]  # type: ignore[return-value]
+
+    remaining = list(range(len(items)))
+    planned = []
     st = dict(states)
     while remaining:
-        used = {c for c, s in st.items() if s.needle is not None}
-        ready = [it for it in remaining if len(it.carriers) == 1 or set(it.carriers) <= used]
-        if not ready:  # pragma: no cover - catching never pairs an unused carrier
+        cand = [i for i in remaining if ready(i, st)]
+        if not cand:  # pragma: no cover
             raise SchedulingError("plated stitch with a carrier that never knit")
-        if strategy == "none":
-            best = ready[0]
-            passes = plan_item(best, st, strategy=strategy, parity=parity)  # type: ignore[arg-type]
-        else:
-            scored = []
-            for i, it in enumerate(ready):
-                ps = plan_item(it, st, strategy=strategy, parity=parity)  # type: ignore[arg-type]
-                scored.append((len(ps), i, it, ps))
-            _, _, best, passes = min(scored, key=lambda t: (t[0], t[1]))
-        remaining.remove(best)
-        for p in passes:
-            st = advance(st, p)
-        planned.extend(passes)
+        i = min(cand, key=lambda j: (pass_cost(plan(j, st), st), j))
+        remaining.remove(i)
+        ps = plan(i, st)
+        st = apply(st, ps)
+        planned.extend(ps)
     return planned, st
+
+
+def _others_turn(steps: Sequence[Step], j: int, prev: Pass, c: str) -> bool:
+    """True when every other carrier of pass ``j`` next knits in the opposite direction.
+
+    Parking them further along their last direction then only puts them further behind the
+    carriage for that next pass, so a miss may be appended to ``prev`` for ``c``'s sake.
+    """
+    others = [x for x in prev.carriers if x != c]
+    for x in others:
+        for s in steps[j + 1 :]:
+            if isinstance(s, CarrierAction):
+                if x in s.carriers:
+                    return False
+                continue
+            if x in s.carriers:
+                if all(o.op == "miss" for o in s.ops) or s.direction == prev.direction:
+                    return False
+                break
+        else:
+            return False
+    return True
+
+
+def fold_moves(steps: Sequence[Step]) -> list[Step]:
+    """Fold each carrier-placing ``miss`` pass into the carrier's previous pass where possible.
+
+    A move that continues, in the same direction, the last pass its carrier made on its own
+    (no other pass or carrier action of that carrier in between; transfers may be) is the same
+    as parking the carrier a little further at the end of that pass: the miss is appended there
+    and the extra pass disappears. Loops are unchanged, so floats and transfers stay valid.
+    """
+    out: list[Step] = list(steps)
+    last_own: dict[str, int] = {}  # carrier -> index in out of its last pass or action
+    i = 0
+    while i < len(out):
+        s = out[i]
+        if isinstance(s, CarrierAction):
+            for c in s.carriers:
+                last_own[c] = -1
+            i += 1
+            continue
+        if s.kind != "knit":
+            i += 1
+            continue
+        is_move = all(o.op == "miss" for o in s.ops) and len(s.carriers) == 1
+        if is_move:
+            c = s.carriers[0]
+            j = last_own.get(c, -1)
+            prev = out[j] if j >= 0 else None
+            target = s.ops[-1].needle
+            if (
+                isinstance(prev, Pass)
+                and (prev.carriers == s.carriers or _others_turn(out, j, prev, c))
+                and prev.direction == s.direction
+                and (
+                    target > prev.ops[-1].needle
+                    if s.direction == "+"
+                    else target < prev.ops[-1].needle
+                )
+            ):
+                ops = prev.ops
+                if ops[-1].op == "miss":
+                    ops = ops[:-1]
+                out[j] = Pass(
+                    prev.kind,
+                    (*ops, Op("miss", "f", target)),
+                    prev.direction,
+                    prev.carriers,
+                    prev.racking,
+                    prev.role,
+                    prev.course,
+                    prev.stitch_number,
+                )
+                del out[i]
+                continue
+        for c in s.carriers:
+            last_own[c] = i
+        i += 1
+    return out
 
 
 def schedule_mixed(
@@ -467,6 +607,7 @@ def schedule_mixed(
         not all(o.op == "miss" for o in p.ops) or p.kind != "knit" for p in bind_passes
     )
 
+    em.steps = fold_moves(em.steps)
     explicit, implicit = count_kickbacks(em.steps)
     lower = cast_fixed + cast_courses_bound + body_bound + bind_fixed
     return Schedule(

@@ -32,7 +32,7 @@ course's parity direction from wherever its carriers are, as a naive program wou
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from typing import Literal
 
 from illuknit.errors import PatternValidationError
@@ -44,6 +44,8 @@ __all__ = [
     "WorkItem",
     "advance",
     "is_behind",
+    "move_is_free",
+    "pass_cost",
     "plan_item",
 ]
 
@@ -57,12 +59,15 @@ class CarrierState:
     """Where a carrier is: ``needle`` and ``direction`` of its last operation, ``last_loop`` needle.
 
     A carrier never used has ``needle is None``; it enters from the right (the inserting hook
-    needs its first stitches to go leftward), so it counts as right of everything.
+    needs its first stitches to go leftward), so it counts as right of everything. ``solo`` says
+    its last pass carried it alone, so a following move in the same direction can be folded into
+    that pass as a trailing ``miss`` (see :func:`move_is_free`).
     """
 
     needle: int | None = None
     direction: Direction | None = None
     last_loop: int | None = None
+    solo: bool = False
 
     @property
     def position(self) -> float:
@@ -125,8 +130,30 @@ def advance(states: Mapping[str, CarrierState], p: PlannedPass) -> dict[str, Car
     for car in p.carriers:
         st = out.get(car, CarrierState())
         loop = st.last_loop if p.kind == "move" else last_needle
-        out[car] = replace(st, needle=last_needle, direction=p.direction, last_loop=loop)
+        solo = len(p.carriers) == 1 and st.needle is not None
+        out[car] = CarrierState(last_needle, p.direction, loop, solo)
     return out
+
+
+def move_is_free(p: PlannedPass, states: Mapping[str, CarrierState]) -> bool:
+    """True when move ``p`` continues its carrier's last solo pass (it folds into that pass)."""
+    if p.kind != "move":
+        return False
+    st = states.get(p.carriers[0], CarrierState())
+    if not st.solo or st.needle is None or st.direction != p.direction:
+        return False
+    target = p.stitches[0][0]
+    return target > st.needle if p.direction == "+" else target < st.needle
+
+
+def pass_cost(passes: Sequence[PlannedPass], states: Mapping[str, CarrierState]) -> int:
+    """Carriage passes ``passes`` cost from ``states``: moves that fold away are free."""
+    n = 0
+    st = states
+    for p in passes:
+        n += not move_is_free(p, st)
+        st = advance(st, p)
+    return n
 
 
 def _with_moves(
@@ -139,10 +166,6 @@ def _with_moves(
     first = ordered[0][0]
     moves = [m for car in carriers if (m := _move(car, states[car], direction, first)) is not None]
     return [*moves, PlannedPass(tuple(carriers), direction, ordered)]
-
-
-def _cost(passes: Sequence[PlannedPass]) -> int:
-    return len(passes)
 
 
 def plan_item(
@@ -273,7 +296,7 @@ def _float_cost(
                 fatal += sum(j == i for j in hit)
                 extra = max(extra, int(any(j > i for j in hit)))
             last[c] = end
-    return fatal, _cost(passes) + extra
+    return fatal, pass_cost(passes, states) + extra
 
 
 def _float_length(passes: Sequence[PlannedPass], states: Mapping[str, CarrierState]) -> int:
