@@ -9,8 +9,12 @@ interlock there. The yarn laid first shows most on the face, so the stitch's own
 yarn is the secondary.
 
 Walking each course from left to right (Algorithm 2's ``loopNeighborPairs``), at every boundary
-between two runs knit by different carriers, the right-hand run's first stitch becomes
-``(own carrier, left neighbour's carrier)``. A boundary is left alone when both carriers already
+between two runs knit by different carriers, one edge stitch is plated with the carrier on the
+other side: when one carrier crosses the boundary (stranded) and the other stays on its side
+(intarsia), the intarsia carrier's edge stitch is plated with the crossing neighbour -- the
+stitch of a colour change in one direction or the other -- so that both edges of an intarsia
+region use the same carrier pair and share a pass; between two intarsia carriers, the right-hand
+run's first stitch becomes ``(own carrier, left neighbour's carrier)``, as in Algorithm 2. A boundary is left alone when both carriers already
 cross it in that course (stranded colourwork: each yarn floats behind the other's stitches there,
 so the yarns already interlock and a plated stitch would only add a pass); every intarsia boundary
 and every boundary where one side's yarn stops is caught.
@@ -73,8 +77,18 @@ def plan_catches(
         right_crosses = r_lo < lo  # the right carrier also knits left of it
         if left_crosses and right_crosses:
             continue
-        if right in new_carriers and own_count[right] <= 1:
+        # Plate the stitch of the carrier that stays on its side of the boundary (the intarsia
+        # one) with the neighbour that crosses it: a region's two edges then share one carrier
+        # pair, hence one pass. Between two intarsia carriers, Algorithm 2's choice: the first
+        # stitch of the new colour (walking left to right) with the previous colour.
+        if left_crosses and not right_crosses:
+            wale, prim, sec = lo, right, left
+        elif right_crosses and not left_crosses:
+            wale, prim, sec = hi, left, right
+        else:
+            wale, prim, sec = lo, right, left
+        if any(p.wale == wale for p in out) or (prim in new_carriers and own_count[prim] <= 1):
             continue
-        out.append(PlatedStitch(lo, (right, left)))
-        own_count[right] -= 1
-    return out
+        out.append(PlatedStitch(wale, (prim, sec)))
+        own_count[prim] -= 1
+    return sorted(out)
