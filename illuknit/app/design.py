@@ -17,6 +17,7 @@ compiler and checker); :func:`capabilities` says which are present and the page 
 
 from __future__ import annotations
 
+import contextlib
 import importlib
 import io
 import os
@@ -106,6 +107,25 @@ def capabilities() -> dict[str, bool]:
         "chart": _has("illuknit.chart", "written_instructions"),
         "dat": False,
     }
+
+
+def warm_up() -> None:
+    """Import the modules the first request would otherwise wait for (errors are ignored)."""
+    for name in (
+        "illuknit.images",
+        "skimage.transform",
+        "scipy.optimize",
+        "illuknit.single_view",
+        "illuknit.previews",
+        "illuknit.render",
+        "illuknit.tiles.assign",
+        "illuknit.tiles.compile",
+        "illuknit.tiles.headon",
+        "ortools.sat.python.cp_model",
+    ):
+        # an optional part that is missing is reported where it is used, not here
+        with contextlib.suppress(Exception):
+            importlib.import_module(name)
 
 
 # -- input -------------------------------------------------------------------------------------
@@ -459,7 +479,7 @@ def pattern_for(
             )
     with blame("tiles"):
         pattern, _ = tiles.compile_tiles(assignment, overrides=chosen)
-    return pattern  # type: ignore[no-any-return]
+    return pattern
 
 
 def _bank_number(bank: Any, tile: Any) -> str | None:

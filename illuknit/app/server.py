@@ -11,7 +11,8 @@ Long work (candidate search, knitout compilation and checking) runs as a backgro
 they are read into memory (:class:`UploadLimit`).
 """
 
-from collections.abc import Awaitable, Callable, MutableMapping
+import threading
+from collections.abc import AsyncIterator, Awaitable, Callable, MutableMapping
 from pathlib import Path
 from typing import Annotated, Any, Literal
 
@@ -158,7 +159,10 @@ def create_app(config: AppConfig | None = None) -> Any:
     from contextlib import asynccontextmanager
 
     @asynccontextmanager
-    async def lifespan(app: Any):  # type: ignore[no-untyped-def]
+    async def lifespan(app: Any) -> AsyncIterator[None]:
+        # Import the heavy parts of the pipeline in the background at start-up, so the designer's
+        # first upload is not the one that waits for scikit-image, SciPy and the solvers to load.
+        threading.Thread(target=design.warm_up, name="illuknit-warm-up", daemon=True).start()
         yield
         runner.shutdown()
 
@@ -295,10 +299,17 @@ def create_app(config: AppConfig | None = None) -> Any:
             )
 
     def prepared_of(s: Session) -> design.Prepared:
+        # Quantising is done outside the session lock so that quick requests of the same tab
+        # (thumbnails, state) are not held up; the result is kept only if nothing changed since.
         with s.lock:
-            if s.prepared is None:
-                s.prepared = design.prepare_inputs(s.images, s.settings)
-            return s.prepared
+            if s.prepared is not None:
+                return s.prepared
+            images, settings, revision = dict(s.images), s.settings, s.revision
+        prepared = design.prepare_inputs(images, settings)
+        with s.lock:
+            if s.revision == revision:
+                s.prepared = prepared
+        return prepared
 
     def candidate_of(s: Session, rank: int | None) -> design.Candidate:
         if not s.candidates:

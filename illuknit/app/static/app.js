@@ -167,6 +167,7 @@ function applyState(s) {
   setValue("#candidates", st.candidates);
   $("#resize").checked = st.resize;
   if (st.resize) $("#resize-row").hidden = false;
+  if (st.mode === "single") $("#resize-row").hidden = true;
   renderYarns(st.yarns);
   const single = st.mode === "single";
   $("#drop-b").hidden = single;
@@ -380,6 +381,8 @@ async function startJob(kind) {
 function showJob(kind, job) {
   const box = $(`#job-${kind}`);
   box.hidden = !(job.status === "queued" || job.status === "running");
+  // a stage with no finer progress of its own shows a moving bar, so the page never looks stuck
+  box.classList.toggle("busy", !box.hidden && job.progress < 0.1 && job.elapsed > 0.5);
   $(".bar i", box).style.width = `${Math.round(100 * job.progress)}%`;
   $(".job-msg", box).textContent = job.message;
   if (kind === "candidates") $("#run").disabled = !box.hidden;
