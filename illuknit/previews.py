@@ -1,7 +1,10 @@
 """Preview pictures of a pattern: the head-on chart, the side views, and a contact sheet.
 
-Side views come from the boolean model (:mod:`illuknit.views`): each cell shows the yarn of the unit
-a viewer sees. Every picture is upscaled with nearest-neighbour so one unit is a visible square.
+Two kinds of side view: the boolean model (:mod:`illuknit.views`, ``view_a.png``/``view_b.png``:
+each cell shows the yarn of the unit a viewer sees) and the angled renders of the ray-casting
+renderer (:mod:`illuknit.render`, ``render_a.png``/``render_b.png``: what a person sees at the
+render angle, stripes blending where several units share a pixel). Every picture is upscaled with
+nearest-neighbour so one unit is a visible square.
 """
 
 from __future__ import annotations
@@ -121,13 +124,20 @@ def write_previews(
     *,
     targets: Mapping[str, ArrayLike] | None = None,
     scale: int | None = None,
+    params: Any = None,
+    angle: float | None = None,
 ) -> dict[str, Path]:
-    """Write ``headon.png`` (chart), ``view_a.png``, ``view_b.png`` and ``contact.png``.
+    """Write ``headon.png`` (chart), ``view_a.png``, ``view_b.png`` (boolean views),
+    ``render_a.png``, ``render_b.png`` (angled renders) and ``contact.png``.
 
     Parameters
     ----------
     targets : mapping of title -> (N, M, 3) uint8, optional
         Input pictures to show first on the contact sheet (e.g. the quantised picture).
+    params : illuknit.render.RenderParams, optional
+        Renderer parameters (default: the calibrated defaults).
+    angle : float, optional
+        Viewing elevation in degrees for the renders (default: ``params.theta``).
 
     Returns
     -------
@@ -138,19 +148,29 @@ def write_previews(
     chart = chart_rgb(pattern, scale=max(s, 4))
     va = upscale(view_rgb(pattern, "A"), s)
     vb = upscale(view_rgb(pattern, "B"), s)
+    from illuknit.render import render_views
+
+    renders = render_views(pattern, params=params, angle=angle)
+    ra, rb = upscale(renders["A"], s), upscale(renders["B"], s)
     paths = {
         "headon": save_png(chart, out / "headon.png"),
         "view_a": save_png(va, out / "view_a.png"),
         "view_b": save_png(vb, out / "view_b.png"),
+        "render_a": save_png(ra, out / "render_a.png"),
+        "render_b": save_png(rb, out / "render_b.png"),
     }
+    from illuknit.render import RenderParams
+
+    theta = angle if angle is not None else (params or RenderParams()).theta
+    deg = f" at {theta:g} deg"
     panels: list[tuple[str, ArrayLike]] = []
     for title, img in (targets or {}).items():
         panels.append((title, upscale(np.asarray(img, dtype=np.uint8), s)))
     chart_small = chart_rgb(pattern, scale=s) if s >= 4 else upscale(pattern.rgb(), s)
     panels += [
         ("head-on (raised marked)", chart_small),
-        ("view A (from above)", va),
-        ("view B (from below)", vb),
+        (f"rendered from above{deg}", ra),
+        (f"rendered from below{deg}", rb),
     ]
     paths["contact"] = save_png(contact_sheet(panels), out / "contact.png")
     return paths
