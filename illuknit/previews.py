@@ -172,5 +172,5 @@ def write_previews(
         (f"rendered from above{deg}", ra),
         (f"rendered from below{deg}", rb),
     ]
-    paths["contact"] = save_png(contact_sheet(panels), out / "contact.png")
+    paths["contact"] = save_png(contact_sheet(panels, columns=(len(panels) + 1) // 2 if len(panels) > 4 else None), out / "contact.png")
     return paths
