@@ -17,7 +17,7 @@ supersampled and thresholded at half coverage, so thin strokes survive down to a
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
 
 import numpy as np
@@ -146,7 +146,7 @@ def draw_text(
     stroke = round(weight * size)
     probe = ImageDraw.Draw(Image.new("L", (1, 1)))
     box = probe.multiline_textbbox((0, 0), text, font=font, stroke_width=stroke, align="center")
-    w, h = box[2] - box[0], box[3] - box[1]
+    w, h = int(box[2] - box[0]), int(box[3] - box[1])
     canvas = Image.new("L", (w + 4, h + 4), 0)
     ImageDraw.Draw(canvas).multiline_text(
         (2 - box[0], 2 - box[1]),
@@ -318,7 +318,7 @@ def draw_circle(
 
 
 #: Drawn shapes by name (each takes ``shape`` and returns a mask), for manifests and CLIs.
-DRAWINGS = {
+DRAWINGS: dict[str, Callable[[Sequence[int]], NDArray[np.bool_]]] = {
     "heart": draw_heart,
     "ecg": draw_ecg,
     "plus": draw_plus,
@@ -370,8 +370,8 @@ def skimage_image(
         raise ImageInputError(
             f"scikit-image image {name!r} is not bundled in this install ({path})"
         )
-    with Image.open(path) as im:
-        im = im.convert("RGBA")
+    with Image.open(path) as src:
+        im = src.convert("RGBA")
         white = Image.new("RGBA", im.size, (255, 255, 255, 255))
         rgb = np.asarray(Image.alpha_composite(white, im).convert("RGB"), dtype=np.float64) / 255.0
     if shape is None:

@@ -49,7 +49,7 @@ from numpy.typing import ArrayLike, NDArray
 from illuknit.bench.instances import Targets
 from illuknit.colors import linear_from_srgb, srgb_from_linear
 from illuknit.pattern import LogicalPattern, Yarn
-from illuknit.views import can_see
+from illuknit.views import View, can_see
 
 __all__ = [
     "BLUR_SIGMA",
@@ -80,7 +80,9 @@ def yarn_map(pattern_yarns: tuple[Yarn, ...], yarns: tuple[Yarn, ...]) -> NDArra
     return np.array([lookup.get(y.rgb, -1) for y in pattern_yarns], dtype=np.int16)
 
 
-def seen_in_target_yarns(pattern: LogicalPattern, view: str, yarns: tuple[Yarn, ...]):
+def seen_in_target_yarns(
+    pattern: LogicalPattern, view: View, yarns: tuple[Yarn, ...]
+) -> NDArray[np.int16]:
     """ndarray of shape (N, M): the yarn seen from ``view``, as an index into ``yarns``."""
     return yarn_map(pattern.yarns, yarns)[can_see(pattern, view)]
 
@@ -93,8 +95,9 @@ def logical_errors(pattern: LogicalPattern, targets: Targets) -> dict[str, float
     dict
         ``{"A": float, "B": float}``, each in [0, 1].
     """
-    out = {}
-    for view, target in (("A", targets.a), ("B", targets.b)):
+    out: dict[str, float] = {}
+    pairs: tuple[tuple[View, NDArray[np.int16]], ...] = (("A", targets.a), ("B", targets.b))
+    for view, target in pairs:
         if pattern.shape != target.shape:
             raise ValueError(f"pattern shape {pattern.shape} differs from target {target.shape}")
         seen = seen_in_target_yarns(pattern, view, targets.yarns)
@@ -194,7 +197,7 @@ def ghosting(
     return _corr(resid, x)
 
 
-def boolean_render(pattern: LogicalPattern, view: str) -> NDArray[np.float64]:
+def boolean_render(pattern: LogicalPattern, view: View) -> NDArray[np.float64]:
     """The boolean can_see view in yarn colours, float sRGB of shape (N, M, 3)."""
     return pattern.palette[can_see(pattern, view)].astype(np.float64) / 255.0
 
@@ -224,7 +227,8 @@ def angled_renders(
         from illuknit.render import render_views
     except ImportError as e:
         reason = f"boolean (renderer unavailable: {e})"
-        return {v: boolean_render(pattern, v) for v in ("A", "B", "headon")}, reason
+        names: tuple[View, ...] = ("A", "B", "headon")
+        return {v: boolean_render(pattern, v) for v in names}, reason
     views = render_views(pattern, angle=angle)
     out = {}
     for v in ("A", "B", "headon"):
