@@ -203,3 +203,27 @@ def test_two_tabs_have_separate_sessions(browser, base_url, tmp_path):
     two.wait_for_selector("body[data-ready='1']")
     assert two.locator("#meta-a").text_content() == ""  # nothing leaked from the other tab
     context.close()
+
+
+def test_drop_a_picture_on_its_box(browser, base_url, tmp_path):
+    """Drag and drop: a file dropped on box A is uploaded; a file dropped elsewhere is ignored."""
+    import base64
+
+    data = base64.b64encode(banded(tmp_path / "dropped.png", slice(4, 12)).read_bytes()).decode()
+    context = browser.new_context()
+    page = context.new_page()
+    page.goto(base_url)
+    page.wait_for_selector("body[data-ready='1']")
+    drop = """([selector, b64]) => {
+        const bytes = Uint8Array.from(atob(b64), (c) => c.charCodeAt(0));
+        const dt = new DataTransfer();
+        dt.items.add(new File([bytes], "dropped.png", { type: "image/png" }));
+        const target = document.querySelector(selector);
+        target.dispatchEvent(new DragEvent("dragover", { dataTransfer: dt, bubbles: true, cancelable: true }));
+        target.dispatchEvent(new DragEvent("drop", { dataTransfer: dt, bubbles: true, cancelable: true }));
+    }"""
+    page.evaluate(drop, ["main", data])  # outside a box: the page must not navigate away
+    page.evaluate(drop, ["#drop-a", data])
+    sync_api.expect(page.locator("#meta-a")).to_contain_text("dropped.png · 72×48px")
+    assert page.url == base_url
+    context.close()
