@@ -13,7 +13,10 @@ pass: fewest passes means fewest carriers per course. The only reason to give a 
 carrier is a float longer than ``MachineSpec.float_limit``, so the runs of a yarn are grouped
 greedily from left to right and a new group (a new carrier) starts exactly where the gap to the
 previous run exceeds the limit. That greedy grouping is optimal: every group must avoid the long
-gaps, and interleaving groups only lengthens floats.
+gaps, and interleaving groups only lengthens floats. When a course would need more carriers than
+the machine has, the limit is strict only on request (``strict=True`` raises); by default the
+shortest gaps of the yarns short of carriers are bridged by longer floats until the carriers
+suffice, and the checker warns about those floats.
 
 Carriers belong to one yarn for the whole piece (a carrier is threaded once). When a yarn needs
 more groups in a course than it has carriers, a free carrier of the machine is threaded with it;
@@ -172,11 +175,49 @@ def _group_runs(runs: Sequence[Run], float_limit: int) -> list[tuple[Run, ...]]:
     return [tuple(g) for g in groups]
 
 
+def _deficit(
+    groups: Mapping[int, Sequence[object]], of_yarn: Mapping[int, Sequence[str]], free: int
+) -> int:
+    """Carriers missing to give every group its own carrier (yarns keep their carriers)."""
+    return sum(max(0, len(g) - len(of_yarn.get(v, ()))) for v, g in groups.items()) - free
+
+
+def _fit_carriers(
+    groups: dict[int, list[tuple[Run, ...]]], own: Mapping[int, int], free: int
+) -> dict[int, list[tuple[Run, ...]]]:
+    """Merge groups across their shortest gaps until the machine's carriers suffice.
+
+    Each merge lengthens one float beyond the limit (the checker then warns about it) instead
+    of failing: the shortest gap of a yarn that needs a new carrier goes first.
+    """
+    groups = {v: list(g) for v, g in groups.items()}
+
+    def deficit() -> int:
+        return sum(max(0, len(g) - own.get(v, 0)) for v, g in groups.items()) - free
+
+    while deficit() > 0:
+        best: tuple[int, int, int] | None = None  # gap, yarn, index
+        for v, g in groups.items():
+            if len(g) - own.get(v, 0) <= 0:
+                continue
+            for i in range(len(g) - 1):
+                gap = g[i + 1][0][0] - g[i][-1][1] - 1
+                if best is None or gap < best[0]:
+                    best = (gap, v, i)
+        if best is None:  # only one group per yarn left: more yarns than carriers
+            break
+        _, v, i = best
+        g = groups[v]
+        g[i : i + 2] = [g[i] + g[i + 1]]
+    return groups
+
+
 def plan_colour_runs(
     yarn: ArrayLike,
     *,
     carriers: Sequence[str],
     float_limit: int,
+    strict: bool = False,
     course_names: Sequence[str] | None = None,
 ) -> ColourPlan:
     """Group every course's colour runs into carrier segments and assign carriers.
@@ -189,6 +230,10 @@ def plan_colour_runs(
         The machine's carriers, in the order they are handed out.
     float_limit : int
         Longest float (wales crossed between two runs of one carrier); >= 1.
+    strict : bool
+        When a course would need more carriers than the machine has, raise (True) or lengthen
+        the shortest floats beyond the limit until the carriers suffice (False, the default;
+        the knitout checker then warns about those floats).
     course_names : sequence of str, optional
         How to name course ``c`` in errors (e.g. ``"course 12 (pattern row 3)"``).
 
@@ -199,7 +244,8 @@ def plan_colour_runs(
     Raises
     ------
     CarrierShortageError
-        If a course needs more carriers at once than the machine has.
+        If a course needs more carriers at once than the machine has (with ``strict``), or
+        more yarns than there are carriers.
     PatternValidationError
         For a float limit below 1 or a malformed grid.
     """
@@ -228,8 +274,10 @@ def plan_colour_runs(
         for lo, hi, v in colour_runs(y[c]):
             by_yarn.setdefault(v, []).append((lo, hi))
         groups = {v: _group_runs(rs, int(float_limit)) for v, rs in by_yarn.items()}
+        if not strict:
+            groups = _fit_carriers(groups, {v: len(cs) for v, cs in of_yarn.items()}, len(free))
         need = sum(len(g) for g in groups.values())
-        if need > len(pool):
+        if need > len(pool) or _deficit(groups, of_yarn, len(free)) > 0:
             name = course_names[c] if course_names is not None else f"course {c}"
             detail = ", ".join(f"yarn {v}: {len(g)}" for v, g in sorted(groups.items()))
             raise CarrierShortageError(
@@ -251,16 +299,6 @@ def plan_colour_runs(
                     car = min(unused, key=lambda k: (abs(anchor[k] - centre), own.index(k)))
                     unused.remove(car)
                 else:
-                    if not free:
-                        name = course_names[c] if course_names is not None else f"course {c}"
-                        raise CarrierShortageError(
-                            f"{name} needs a new carrier for yarn {v} but all {len(pool)} carriers "
-                            "are already threaded with other yarns; use fewer yarns or a wider "
-                            f"float limit (MachineSpec.float_limit, now {float_limit})",
-                            course=c,
-                            needed=len(pool) + 1,
-                            available=len(pool),
-                        )
                     car = free.pop(0)
                     own.append(car)
                 anchor[car] = centre

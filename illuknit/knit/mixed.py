@@ -395,6 +395,7 @@ def schedule_mixed(
     catching: bool = True,
     path_planning: str = "anchor",
     float_limit: int | None = None,
+    strict_floats: bool = False,
     tail_stitches: int = 4,
 ) -> Schedule:
     """Schedule a stitch pattern whose courses may change colour (see the module docstring).
@@ -413,6 +414,10 @@ def schedule_mixed(
         Algorithm 3 strategy; ``none`` knits every pass in the course's parity direction.
     float_limit : int, optional
         Longest float in wales; defaults to ``machine.float_limit``.
+    strict_floats : bool
+        Raise :class:`~illuknit.errors.CarrierShortageError` when a course needs more carriers
+        than the machine has to keep every float within the limit; by default the shortest gaps
+        are bridged by longer floats instead (the checker warns about them).
     tail_stitches : int
         Knits on the last needle of the bind-off chain.
 
@@ -426,7 +431,8 @@ def schedule_mixed(
     Raises
     ------
     CarrierShortageError
-        If a course needs more carriers at once than the machine has.
+        If a course needs more carriers at once than the machine has (with ``strict_floats``,
+        or when it uses more yarns than there are carriers).
     SchedulingError
         If the piece is wider than the bed.
     PatternValidationError
@@ -469,6 +475,7 @@ def schedule_mixed(
         yarn,
         carriers=machine.carriers,
         float_limit=int(limit),
+        strict=bool(strict_floats),
         course_names=[course_name(c) for c in range(yarn.shape[0])],
     )
     left = machine.fabric_left
@@ -627,6 +634,7 @@ def schedule_mixed(
             "catching": bool(catching),
             "path_planning": path_planning,
             "float_limit": int(limit),
+            "strict_floats": bool(strict_floats),
             "kickbacks": explicit + implicit,
             "explicit_kickbacks": explicit,
             "implicit_kickbacks": implicit,
