@@ -397,21 +397,22 @@ def _iter_local(cells: Sequence[Cell], jobs: int) -> Iterable[dict[str, Any]]:
     from concurrent.futures import ProcessPoolExecutor, as_completed
 
     # spawn: no fork of a process that runs threads (progress bar, solver pools)
-    with ProcessPoolExecutor(max_workers=jobs, mp_context=mp.get_context("spawn")) as ex:
-        futures = {ex.submit(execute_cell, c): c for c in cells}
-        try:
-            for fut in as_completed(futures):
-                try:
-                    yield fut.result()
-                except Exception as e:  # a worker died (out of memory, killed)
-                    c = futures[fut]
-                    row = _base_row(c)
-                    row.update(status="error", reason=f"worker failed: {type(e).__name__}: {e}")
-                    yield {"row": _finish(row), "files": {}}
-        except BaseException:
-            for f in futures:
-                f.cancel()
-            raise
+    ex = ProcessPoolExecutor(max_workers=jobs, mp_context=mp.get_context("spawn"))
+    futures = {ex.submit(execute_cell, c): c for c in cells}
+    try:
+        for fut in as_completed(futures):
+            try:
+                yield fut.result()
+            except Exception as e:  # a worker died (out of memory, killed)
+                c = futures[fut]
+                row = _base_row(c)
+                row.update(status="error", reason=f"worker failed: {type(e).__name__}: {e}")
+                yield {"row": _finish(row), "files": {}}
+    except BaseException:
+        # Ctrl-C: drop queued cells at once; running ones end within their time limits.
+        ex.shutdown(wait=False, cancel_futures=True)
+        raise
+    ex.shutdown(wait=True)
 
 
 def _iter_dask(cells: Sequence[Cell], jobs: int, client: Any, address: str | None):
