@@ -525,6 +525,9 @@ def test_tile_override_per_pair(client, double):
     # a tile written as rows works too; nonsense does not
     r = client.put(f"/api/sessions/{double}/pairs/{p['a']}/{p['b']}", json={"tile": "0/1^"})
     assert r.status_code == 200
+    custom = next(x for x in r.json()["pairs"] if (x["a"], x["b"]) == (p["a"], p["b"]))
+    assert custom["tile"] == "0/1^"
+    assert client.get(f"/api/sessions/{double}/{custom['tile_picture']}").status_code == 200
     for tile, status in (("99999", 404), ("x/y", 422)):
         r = client.put(f"/api/sessions/{double}/pairs/{p['a']}/{p['b']}", json={"tile": tile})
         assert r.status_code == status, r.text

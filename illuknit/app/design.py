@@ -27,6 +27,7 @@ from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass, field
 from typing import Any
+from urllib.parse import urlencode
 
 import numpy as np
 from numpy.typing import NDArray
@@ -554,6 +555,7 @@ def pairs_json(
                 "share": round(counts.get((a, b), 0) / total, 4),
                 "fills": f"{v0}: {_fill_label(fa, yarns)} · {v1}: {_fill_label(fb, yarns)}",
                 "tile": current,
+                "tile_picture": f"tile.png?{urlencode({'tile': current})}",
                 "default": default_id,
                 "overridden": (a, b) in overrides,
                 "options": options,

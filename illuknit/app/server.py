@@ -666,6 +666,16 @@ def create_app(config: AppConfig | None = None) -> Any:
         return Response(design.tile_png(tile_id, prepared, cand), media_type="image/png")
 
     @app.get(
+        "/api/sessions/{sid}/tile.png",
+        tags=["design"],
+        summary="Picture of any tile: a bank number or rows such as 0/1^",
+    )
+    def get_any_tile_png(
+        sid: str, tile: str = Query(..., description="bank tile number, or rows like 0/1^")
+    ) -> Response:
+        return get_tile_png(sid, tile)
+
+    @app.get(
         "/api/sessions/{sid}/render",
         tags=["design"],
         summary="Render a candidate from one side or head-on at an angle (PNG, fast)",

@@ -603,7 +603,7 @@ function pairRow(pair) {
   const row = document.createElement("div");
   row.className = "pair" + (pair.overridden ? " edited" : "");
   const img = document.createElement("img");
-  img.src = `/api/sessions/${state.sid}/tiles/${encodeURIComponent(pair.tile)}.png`;
+  img.src = `/api/sessions/${state.sid}/${pair.tile_picture}`;
   img.alt = `tile ${pair.tile}`;
   const right = document.createElement("div");
   const over = document.createElement("div");
@@ -622,9 +622,8 @@ function pairRow(pair) {
     if (opt.id === pair.tile) o.selected = true;
     sel.appendChild(o);
   }
-  sel.addEventListener("change", async () => {
+  const apply = async (tile) => {
     try {
-      const tile = sel.value === pair.default ? null : sel.value;
       const res = await sapi("PUT", `/pairs/${pair.a}/${pair.b}`, { tile });
       state.editTick = (state.editTick || 0) + 1;
       clearError("tiles");
@@ -634,8 +633,16 @@ function pairRow(pair) {
       updatePreview();
       await refreshKnit();
     } catch (err) { report(err, "tiles"); sel.value = pair.tile; }
-  });
-  right.append(over, sel);
+  };
+  sel.addEventListener("change", () => apply(sel.value === pair.default ? null : sel.value));
+  // power users: any tile written as rows, top row first, ^ marking a raised unit (e.g. 0/1^)
+  const rows = document.createElement("input");
+  rows.type = "text";
+  rows.className = "rows";
+  rows.placeholder = "or type rows, e.g. 0/1^";
+  rows.setAttribute("aria-label", `custom tile rows for A colour ${pair.a} over B colour ${pair.b}`);
+  rows.addEventListener("keydown", (e) => { if (e.key === "Enter" && rows.value.trim()) apply(rows.value.trim()); });
+  right.append(over, sel, rows);
   const meta = document.createElement("div");
   meta.className = "meta";
   meta.textContent = pair.fills || "";
