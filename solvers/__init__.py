@@ -130,6 +130,9 @@ def get_backend(name: str, *, check_available: bool = True) -> Backend:
     """
     backend = _lookup(name)
     if check_available and not backend.is_available():
+        reason = getattr(backend, "unavailable_reason", None)
+        if reason is not None:
+            raise BackendUnavailableError(f"solver {name!r} is not available: {reason()}")
         extra = getattr(backend, "extra", None)
         how = f"pip install 'illuknit[{extra}]'" if extra else "see docs/solvers.md"
         raise BackendUnavailableError(f"solver {name!r} is not available in this install ({how})")
@@ -167,8 +170,8 @@ def solve(
 ) -> Solution:
     """Solve ``model`` with the backend named ``solver`` ("auto" picks the first that handles it).
 
-    A backend that does not handle the model raises :class:`UnknownNameError`-free
-    :class:`illuknit.errors.SolverError` explaining why. Infeasible models come back with
+    A backend that does not handle the model raises :class:`illuknit.errors.SolverError`
+    explaining why. Infeasible models come back with
     ``status == "infeasible"`` and ``stats["infeasible_families"]`` naming the conflicting
     hard-constraint families.
     """

@@ -148,10 +148,14 @@ class Backend(Protocol):
 
     ``extra`` names the optional dependency set (``pip install 'illuknit[EXTRA]'``) that makes an
     unavailable backend available, or ``None`` when it needs only the runtime dependencies.
+    ``exact`` is True when status ``optimal`` is a proof (heuristics such as ``gradient`` set it
+    False and report only ``feasible``/``timeout``); conformance suites that demand optima skip
+    backends with ``exact = False``.
     """
 
     name: str
     extra: str | None
+    exact: bool
 
     def handles(self, model: Model) -> bool:
         """Whether this backend can solve ``model`` (e.g. the DP needs an illusion problem)."""

@@ -6,8 +6,16 @@ at-least-k / linear <= kept as native constraints; a unit soft clause ``[l]`` wi
 contributes ``w * (1 - l)`` to the objective, a wider one gets a violation Boolean ``b`` with
 ``AddBoolOr(clause + [b])`` and contributes ``w * b``. The model's hint becomes a CP-SAT hint.
 
-Runs with 2 workers (both cores of the reference machine), honours ``time_limit`` (returning the
-best assignment and CP-SAT's best bound with status ``timeout``), and catches SIGINT the same way.
+Worker choice, measured on the illusion models (30 x 30 and 40 x 40 units, loaded 2-core
+machine): one worker with the full LP relaxation (``linearization_level=2``) proved the knit-aware
+optimum in 16-19 s and the logical one in about 1 s, while the default 2-worker portfolio (with or
+without LP, with core or no-LP helpers) timed out at 20 s with a far weaker bound (even on a
+75-variable model it needed 12 s against 0.02 s). So the default is ``num_workers=1,
+linearization_level=2``; ``CPSATBackend(num_workers=N)`` runs CP-SAT's N-worker portfolio.
+
+Honours ``time_limit`` (returning the best assignment and CP-SAT's best bound with status
+``timeout``; if CP-SAT found nothing in time the model's hint is returned when feasible), and
+catches SIGINT the same way (status ``feasible``, ``stats["interrupted"]``).
 """
 
 from __future__ import annotations
@@ -17,7 +25,13 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from illuknit.solvers.base import ProgressCallback, ProgressEvent, Solution, Status
+from illuknit.solvers.base import (
+    ProgressCallback,
+    ProgressEvent,
+    Solution,
+    Status,
+    fallback_assignment,
+)
 
 if TYPE_CHECKING:
     from illuknit.model import Model
@@ -26,13 +40,15 @@ __all__ = ["CPSATBackend"]
 
 
 class CPSATBackend:
-    """OR-Tools CP-SAT (``num_workers`` workers, default 2)."""
+    """OR-Tools CP-SAT (default: one worker with the full LP relaxation; see the module docstring)."""
 
     name = "cpsat"
     extra: str | None = None
+    exact = True
 
-    def __init__(self, num_workers: int = 2) -> None:
+    def __init__(self, num_workers: int = 1, linearization_level: int = 2) -> None:
         self.num_workers = num_workers
+        self.linearization_level = linearization_level
 
     def handles(self, model: Model) -> bool:
         return True
@@ -107,6 +123,7 @@ class CPSATBackend:
 
         solver = cp_model.CpSolver()
         solver.parameters.num_workers = self.num_workers
+        solver.parameters.linearization_level = self.linearization_level
         solver.parameters.random_seed = int(seed)
         solver.parameters.catch_sigint_signal = True
         if time_limit is not None:
@@ -141,7 +158,13 @@ class CPSATBackend:
             return Solution(st, v, cost, bound, wall, stats, self.name, model.pool)
         if status == cp_model.UNKNOWN:
             bound = float(solver.BestObjectiveBound()) if obj_vars else None
-            return Solution(Status.TIMEOUT, None, None, bound, wall, stats, self.name, model.pool)
+            v, cost = (
+                fallback_assignment(model, budget=1.0) if model.hint is not None else (None, None)
+            )
+            if v is not None:
+                stats["fallback"] = "hint"
+            wall = time.perf_counter() - t0
+            return Solution(Status.TIMEOUT, v, cost, bound, wall, stats, self.name, model.pool)
         stats["message"] = f"CP-SAT returned {solver.StatusName(status)}"
         return Solution(Status.ERROR, None, None, None, wall, stats, self.name, model.pool)
 

@@ -121,6 +121,7 @@ class DPBackend:
 
     name = "dp"
     extra: str | None = None
+    exact = True
 
     def handles(self, model: Model) -> bool:
         from illuknit.illusion_models import IllusionProblem

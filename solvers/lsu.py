@@ -45,6 +45,7 @@ class LSUBackend:
 
     name = "lsu"
     extra: str | None = None
+    exact = True
 
     def handles(self, model: Model) -> bool:
         return model.total_soft_weight() <= MAX_TOTAL_WEIGHT

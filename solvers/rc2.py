@@ -32,6 +32,7 @@ class RC2Backend:
 
     name = "rc2"
     extra: str | None = None
+    exact = True
 
     def handles(self, model: Model) -> bool:
         return True

@@ -34,11 +34,13 @@ COMMANDS: dict[str, str] = {
     "double": "illuknit.cli.double:double",
     "headon": "illuknit.cli.headon:headon",
     "render": "illuknit.cli.render:render",
+    "solve": "illuknit.cli.solve:solve",
     "calibrate": "illuknit.cli.calibrate:calibrate",
 }
 
 _HELP = {
     "render": "Ray-cast a pattern from both sides and head-on, with a sweep GIF.",
+    "solve": "Solve for an illusion pattern with a constraint model (MaxSAT, CP-SAT, exact DP).",
     "calibrate": "Calibration swatch and bump-height fit for the renderer.",
     "bench": "Benchmark design methods (tiles, MaxSAT, CP-SAT, DP, gradient) on instances.",
     "app": "Start the design app: a local web page for designing illusions.",

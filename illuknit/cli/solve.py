@@ -1,0 +1,391 @@
+"""``illuknit solve``: illusion patterns from constraint models and pluggable solvers.
+
+Two pictures (or one, with ``--model single``) are resized to the unit grid, quantised jointly to
+K yarns (so a colour means the same yarn in both), encoded as model (a) ``logical``, (b)
+``knit-aware`` or (c) ``single`` (:mod:`illuknit.illusion_models`), and solved by the named backend
+(:mod:`illuknit.solvers`). Writes pattern.json, previews, chart, instructions and report.json;
+``--export-wcnf`` writes the model for an external MaxSAT solver.
+"""
+
+from __future__ import annotations
+
+import threading
+import time
+from pathlib import Path
+from typing import Any
+
+import click
+import numpy as np
+
+__all__ = ["load_targets", "run_solve", "solve"]
+
+#: Default grid width: the picture's own width, at most this many units.
+DEFAULT_MAX_WIDTH = 100
+
+
+def load_targets(
+    path_a: Path,
+    path_b: Path | None,
+    *,
+    width: int | None = None,
+    resize: bool = False,
+    n_colors: int | None = None,
+    yarns: Any = None,
+    quantise: bool = True,
+) -> tuple[Any, Any | None]:
+    """Load, size and jointly quantise the target picture(s).
+
+    Returns (QuantisedImage of A, QuantisedImage of B or None) sharing one yarn list.
+
+    Raises ImageInputError when the pictures differ in size after sizing (unless ``resize``).
+    """
+    from illuknit.errors import ImageInputError
+    from illuknit.images import (
+        QuantisedImage,
+        count_colors,
+        load_image,
+        quantise_image,
+        resize_to_units,
+    )
+
+    a = load_image(path_a)
+    b = load_image(path_b) if path_b is not None else None
+    if width is None:
+        width = min(a.shape[1], DEFAULT_MAX_WIDTH)
+    a = resize_to_units(a, width=width, smooth=count_colors(a) > 16)
+    if b is not None:
+        scaled = resize_to_units(b, width=width, smooth=count_colors(b) > 16)
+        if scaled.shape[:2] != a.shape[:2]:
+            if not resize:
+                raise ImageInputError(
+                    f"the targets have different sizes after sizing to {width} units wide "
+                    f"({path_a.name}: {a.shape[1]} x {a.shape[0]}, {path_b.name}: "
+                    f"{scaled.shape[1]} x {scaled.shape[0]} units); give pictures of one aspect "
+                    "ratio or pass --resize to stretch B onto A"
+                )
+            scaled = resize_to_units(
+                b, width=a.shape[1], height=a.shape[0], smooth=count_colors(b) > 16
+            )
+        b = scaled
+    both = a if b is None else np.concatenate([a, b], axis=0)
+    q = quantise_image(both, n_colors=n_colors, yarns=yarns, allow_quantise=quantise)
+    n = a.shape[0]
+    qa = QuantisedImage(q.indices[:n], q.yarns, q.colors)
+    qb = None if b is None else QuantisedImage(q.indices[n:], q.yarns, q.colors)
+    return qa, qb
+
+
+class _LiveProgress:
+    """A rich progress line: elapsed time against the limit, best objective and bound."""
+
+    def __init__(self, time_limit: float | None, label: str) -> None:
+        from rich.progress import BarColumn, Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
+
+        from illuknit.cli.summary import console
+
+        self.limit = time_limit
+        self.t0 = time.perf_counter()
+        self.best: str = "searching"
+        self.progress = Progress(
+            SpinnerColumn(),
+            TextColumn(label),
+            BarColumn(),
+            TimeElapsedColumn(),
+            TextColumn("{task.fields[best]}"),
+            console=console(),
+            transient=True,
+        )
+        self.task = self.progress.add_task("solve", total=time_limit or None, best=self.best)
+        self._stop = threading.Event()
+        self._thread = threading.Thread(target=self._tick, daemon=True)
+
+    def __enter__(self) -> _LiveProgress:
+        self.progress.start()
+        self._thread.start()
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self._stop.set()
+        self._thread.join(timeout=1)
+        self.progress.stop()
+
+    def _tick(self) -> None:
+        while not self._stop.wait(0.25):
+            el = time.perf_counter() - self.t0
+            done = min(el, self.limit) if self.limit else None
+            self.progress.update(self.task, completed=done, best=self.best)
+
+    def __call__(self, event: Any) -> None:
+        parts = []
+        if event.objective is not None:
+            parts.append(f"best {event.objective:g}")
+        if event.bound is not None:
+            parts.append(f"bound {event.bound:g}")
+        self.best = ", ".join(parts) or self.best
+
+
+def run_solve(
+    image_a: Path | None,
+    image_b: Path | None,
+    outdir: Path | None,
+    *,
+    model: str = "logical",
+    solver: str = "auto",
+    weights: str | None = None,
+    max_color_changes: int | None = None,
+    n_colors: int | None = None,
+    yarns: str | None = None,
+    width: int | None = None,
+    resize: bool = False,
+    quantise: bool = True,
+    time_limit: float | None = 60.0,
+    seed: int = 0,
+    export_wcnf: Path | None = None,
+    wcnf_style: str = "new",
+    knitout: bool = False,
+    show_progress: bool = True,
+) -> dict[str, Any]:
+    """Everything ``illuknit solve`` does; returns the report dict."""
+    from illuknit.errors import ImageInputError, InfeasibleError, SolverError
+    from illuknit.illusion_models import (
+        build_model,
+        make_problem,
+        parse_weights,
+        pattern_from_solution,
+        report_pattern,
+    )
+    from illuknit.outputs import atomic_write_text, staged_dir
+    from illuknit.pattern import parse_yarns
+    from illuknit.solvers import get_backend, pick_backend
+    from illuknit.solvers import solve as solve_model
+
+    if image_a is None:
+        raise click.UsageError("give the target picture(s): illuknit solve A.png B.png -o OUTDIR")
+    if model == "single" and image_b is not None:
+        raise ImageInputError("--model single takes one picture (it is seen from both sides)")
+    if model != "single" and image_b is None:
+        raise ImageInputError(f"--model {model} needs two pictures A and B (or use --model single)")
+    if outdir is None and export_wcnf is None:
+        raise click.UsageError("give -o OUTDIR (or --export-wcnf FILE)")
+    if time_limit is not None and time_limit <= 0:
+        raise click.BadParameter(
+            f"must be positive seconds, got {time_limit}", param_hint="--time-limit"
+        )
+    w = parse_weights(weights)
+    if max_color_changes is not None:
+        from dataclasses import replace
+
+        w = replace(w, max_color_changes=max_color_changes)
+    ys = parse_yarns(yarns) if yarns else None
+    qa, qb = load_targets(
+        image_a, image_b, width=width, resize=resize, n_colors=n_colors, yarns=ys, quantise=quantise
+    )
+    problem = make_problem(
+        qa.indices, None if qb is None else qb.indices, n_yarns=len(qa.yarns), kind=model, weights=w
+    )
+    mdl = build_model(problem)
+    written: dict[str, Path] = {}
+    if export_wcnf is not None:
+        written["wcnf"] = atomic_write_text(export_wcnf, mdl.to_wcnf(style=wcnf_style))
+        if outdir is None:
+            from illuknit.cli.summary import console
+
+            console().print(
+                f"wrote {export_wcnf} ({mdl.num_vars} variables, {mdl.num_hard} hard and "
+                f"{mdl.num_soft} soft clauses before encoding cardinality constraints)"
+            )
+            return {"wcnf": str(export_wcnf), "model": repr(mdl)}
+
+    backend = pick_backend(mdl) if solver == "auto" else get_backend(solver)
+    if not backend.handles(mdl):
+        why = getattr(backend, "why_not", lambda m: "")(mdl)
+        raise SolverError(
+            f"solver {backend.name!r} cannot solve the {model} model" + (f": {why}" if why else "")
+        )
+    if backend.name != "dp":
+        from illuknit.solvers.dp import hint_values
+
+        mdl.hint = hint_values(problem, mdl)
+    label = f"{backend.name} on {model} {problem.shape[0]}x{problem.shape[1]}"
+    if show_progress and backend.name != "dp":
+        with _LiveProgress(time_limit, label) as live:
+            sol = solve_model(
+                mdl, solver=backend.name, time_limit=time_limit, seed=seed, progress=live
+            )
+    else:
+        sol = solve_model(mdl, solver=backend.name, time_limit=time_limit, seed=seed)
+    if sol.status.value == "infeasible":
+        fams = ", ".join(sol.stats.get("infeasible_families", [])) or "(unknown)"
+        raise InfeasibleError(
+            f"status infeasible: the hard constraints cannot all hold; conflicting families: {fams}"
+        )
+    if not sol.has_values:
+        msg = sol.stats.get("message", "")
+        raise SolverError(
+            f"solver {sol.backend!r} found no pattern (status {sol.status.value})"
+            + (f": {msg}" if msg else "")
+        )
+    pattern = pattern_from_solution(
+        problem,
+        sol,
+        yarns=qa.yarns,
+        meta={"sources": [str(image_a), str(image_b) if image_b else None]},
+    )
+    report = report_pattern(pattern, problem, sol)
+    report["sources"] = {"A": str(image_a), "B": str(image_b) if image_b else None}
+    report["legend"] = qa.legend()
+    if sol.stats.get("interrupted"):
+        report["note"] = "interrupted with Ctrl-C: the best pattern found so far"
+    if outdir is not None:
+        from illuknit.export import export_pattern
+
+        title = f"{model} illusion solved by {sol.backend}"
+        targets = (
+            {"target A": qa.rgb()} if qb is None else {"target A": qa.rgb(), "target B": qb.rgb()}
+        )
+        with staged_dir(outdir) as tmp:
+            paths = export_pattern(pattern, tmp, report=report, title=title, targets=targets)
+            if knitout:
+                from illuknit.cli.knitout_bridge import write_program
+
+                paths.update(write_program(pattern, tmp))
+        written.update({k: Path(outdir) / p.name for k, p in paths.items()})
+    _print_report(report, written, outdir)
+    return report
+
+
+def _print_report(report: dict[str, Any], written: dict[str, Path], outdir: Path | None) -> None:
+    from rich.table import Table
+
+    from illuknit.cli.summary import console
+
+    c = console()
+    s = report["solver"]
+    gap = "" if s["gap"] in (None, 0) else f", gap {100 * s['gap']:.1f}%"
+    bound = "" if s["bound"] is None else f", bound {s['bound']:g}"
+    c.print(
+        f"[bold]{s['backend']}[/]: {s['status']} in {s['wall_time']:.2f} s, objective "
+        f"{s['objective']}{bound}{gap}"
+    )
+    if report.get("note"):
+        c.print(f"[yellow]{report['note']}[/]")
+    t = Table(show_header=True, header_style="bold")
+    for col in (
+        "logical error A",
+        "logical error B",
+        "colour changes/course (mean, max)",
+        "raised",
+        "knit/purl changes",
+    ):
+        t.add_column(col)
+    le = report["logical_error"]
+    cc = report["color_changes_per_course"]
+    t.add_row(
+        f"{le['A']['cells']} ({100 * le['A']['fraction']:.1f}%)",
+        f"{le['B']['cells']} ({100 * le['B']['fraction']:.1f}%)",
+        f"{cc['mean']:.2f}, {cc['max']}",
+        str(report["raised_units"]),
+        str(report["knit_purl_changes"]),
+    )
+    c.print(t)
+    if written:
+        names = ", ".join(sorted(p.name for p in written.values()))
+        c.print(f"wrote {len(written)} files{f' to [bold]{outdir}[/]' if outdir else ''}: {names}")
+
+
+@click.command("solve")
+@click.argument("image_a", type=click.Path(dir_okay=False, path_type=Path), required=False)
+@click.argument("image_b", type=click.Path(dir_okay=False, path_type=Path), required=False)
+@click.option(
+    "--solver",
+    default="auto",
+    show_default=True,
+    metavar="NAME",
+    help="Backend: dp, cpsat, rc2, lsu, wcnf:COMMAND (an external MaxSAT binary; {} is the "
+    "WCNF path), or auto (the exact DP when it applies, else CP-SAT).",
+)
+@click.option(
+    "--model",
+    type=click.Choice(["logical", "knit-aware", "single"]),
+    default="logical",
+    show_default=True,
+    help="logical: fewest mismatched view cells (paper 4.2); knit-aware: also few colour changes "
+    "per course and knit/purl changes; single: one picture seen from both sides.",
+)
+@click.option(
+    "--weights",
+    default=None,
+    metavar="LIST",
+    help="Knit-aware weights, e.g. 'view=4,color_change=1,transfer=1,max_color_changes=6'.",
+)
+@click.option(
+    "--max-color-changes",
+    type=click.IntRange(0),
+    default=None,
+    help="Hard cap on colour changes per course (knit-aware).",
+)
+@click.option(
+    "--colors",
+    "n_colors",
+    type=click.IntRange(1, 8),
+    default=None,
+    help="Number of yarn colours K.",
+)
+@click.option(
+    "--yarns",
+    default=None,
+    metavar="LIST",
+    help="Yarn colours, e.g. '#1b1b1b,#f4f0e8' or 'navy,white'.",
+)
+@click.option(
+    "--width",
+    type=click.IntRange(1, 1000),
+    default=None,
+    help=f"Grid width in units (default: picture width, at most {DEFAULT_MAX_WIDTH}).",
+)
+@click.option("--resize", is_flag=True, help="Stretch B onto A's grid when their sizes differ.")
+@click.option(
+    "--quantise/--no-quantise",
+    default=True,
+    show_default=True,
+    help="Cluster pictures with more colours than yarns.",
+)
+@click.option(
+    "--time-limit",
+    type=float,
+    default=60.0,
+    show_default=True,
+    help="Seconds; the best pattern found is kept.",
+)
+@click.option("--seed", type=int, default=0, show_default=True)
+@click.option(
+    "--export-wcnf",
+    type=click.Path(dir_okay=False, path_type=Path),
+    default=None,
+    help="Also (or, without -o, only) write the model as WCNF for an external MaxSAT solver.",
+)
+@click.option(
+    "--wcnf-style",
+    type=click.Choice(["new", "old"]),
+    default="new",
+    show_default=True,
+    help="WCNF dialect: 2022+ 'h' lines, or the old 'p wcnf' header.",
+)
+@click.option(
+    "--knitout", is_flag=True, help="Also write a knitout program (program.k) and its check."
+)
+@click.option(
+    "-o",
+    "--outdir",
+    type=click.Path(file_okay=False, path_type=Path),
+    default=None,
+    help="Folder to write into.",
+)
+def solve(image_a: Path | None, image_b: Path | None, outdir: Path | None, **kw: Any) -> None:
+    """Solve for an illusion pattern with a constraint model and a pluggable solver.
+
+    A is seen from above (one end of the wales), B from below. Ctrl-C stops a long solve and
+    keeps the best pattern found so far. Writes pattern.json, previews, chart, instructions and
+    report.json into OUTDIR.
+    """
+    run_solve(image_a, image_b, outdir, **kw)
