@@ -85,8 +85,9 @@ def validate_ablation(*, float_avoidance: object, catching: object, path_plannin
 def count_kickbacks(steps: Sequence[Step]) -> tuple[int, int]:
     """(explicit, implicit) kickbacks of a step list.
 
-    Explicit: miss-only passes (a carrier moved on its own). Implicit: a pass whose carrier last
-    moved in the same direction, which the SWG backend turns into an extra soft-miss pass.
+    Explicit: miss-only passes (a carrier moved on its own; already in the pass count). Implicit:
+    a pass (explicit moves included) whose carrier last moved in the same direction, which the
+    SWG backend precedes with an extra soft-miss pass of its own (not in the pass count).
     """
     last: dict[str, str] = {}
     explicit = implicit = 0
@@ -100,7 +101,7 @@ def count_kickbacks(steps: Sequence[Step]) -> tuple[int, int]:
             continue
         if all(o.op == "miss" for o in s.ops):
             explicit += 1
-        elif any(last.get(c) == s.direction for c in s.carriers):
+        if any(last.get(c) == s.direction for c in s.carriers):
             implicit += 1
         for c in s.carriers:
             last[c] = s.direction  # type: ignore[assignment]

@@ -151,7 +151,10 @@ def pass_cost(passes: Sequence[PlannedPass], states: Mapping[str, CarrierState])
     n = 0
     st = states
     for p in passes:
-        n += not move_is_free(p, st)
+        if not move_is_free(p, st):
+            n += 1
+            # A pass in the direction its carrier last moved costs the backend a kickback.
+            n += any(st.get(c, CarrierState()).direction == p.direction for c in p.carriers)
         st = advance(st, p)
     return n
 

@@ -61,6 +61,12 @@ class KnitResult:
             "width_cm": round(wcm, 1),
             "height_cm": round(hcm, 1),
             **self.stats.as_dict(),
+            **{
+                k: v
+                for k, v in self.schedule.meta.items()
+                if k in ("scheduler", "explicit_kickbacks", "plated_stitches", "carriers")
+                or k == "float_avoidance_transfers"
+            },
             "time_seconds": round(self.time.seconds, 1),
             "time": str(self.time),
             "lines": self.text.count("\n"),
@@ -72,8 +78,17 @@ def knit_pattern(
     *,
     machine: MachineSpec | None = None,
     cast_on_courses: int = 2,
+    float_avoidance: bool = True,
+    catching: bool = True,
+    path_planning: str = "anchor",
+    strict_floats: bool = False,
 ) -> KnitResult:
     """Compile a logical pattern to a knitout program.
+
+    Patterns with one colour per course go to :func:`~illuknit.knit.schedule.schedule_courses`;
+    patterns that change colour inside a course to the mixed-colourwork scheduler
+    :func:`~illuknit.knit.mixed.schedule_mixed`, whose switches (``float_avoidance``,
+    ``catching``, ``path_planning``, ``strict_floats``) apply to them only.
 
     Parameters
     ----------
@@ -89,8 +104,8 @@ def knit_pattern(
 
     Raises
     ------
-    MixedColourworkError
-        If a course changes colour (needs the mixed-colourwork scheduler).
+    CarrierShortageError
+        If a course needs more carriers at once than the machine has.
     SchedulingError
         If the pattern is wider than the bed or has more yarns than carriers.
     """
@@ -100,6 +115,21 @@ def knit_pattern(
         )
     m = DEFAULT_MACHINE if machine is None else machine
     stitches = lower_to_stitches(pattern, machine=m, cast_on_courses=cast_on_courses)
-    schedule = schedule_courses(stitches, machine=m)
+    from illuknit.knit.mixed import schedule_mixed, validate_ablation
+
+    validate_ablation(
+        float_avoidance=float_avoidance, catching=catching, path_planning=path_planning
+    )
+    if stitches.mixed_courses().size:
+        schedule = schedule_mixed(
+            stitches,
+            machine=m,
+            float_avoidance=float_avoidance,
+            catching=catching,
+            path_planning=path_planning,
+            strict_floats=strict_floats,
+        )
+    else:
+        schedule = schedule_courses(stitches, machine=m)
     text = write_knitout(schedule, machine=m)
     return KnitResult(text, stitches, schedule, schedule.stats, estimate_knit_time(schedule), m)
