@@ -21,6 +21,11 @@ def run_knit(
     seconds_per_needle: float | None = None,
     seconds_per_turn: float | None = None,
     check: bool = True,
+    float_limit: int | None = None,
+    float_avoidance: bool = True,
+    catching: bool = True,
+    path_planning: str = "anchor",
+    strict_floats: bool = False,
 ) -> dict[str, Any]:
     """Compile ``pattern_path`` to knitout at ``output``; return the summary (and checker verdict).
 
@@ -43,9 +48,19 @@ def run_knit(
         changes["seconds_per_needle"] = seconds_per_needle
     if seconds_per_turn is not None:
         changes["seconds_per_turn"] = seconds_per_turn
+    if float_limit is not None:
+        changes["float_limit"] = float_limit
     if changes:
         machine = replace(machine, **changes)
-    result = knit_pattern(pattern, machine=machine, cast_on_courses=cast_on_courses)
+    result = knit_pattern(
+        pattern,
+        machine=machine,
+        cast_on_courses=cast_on_courses,
+        float_avoidance=float_avoidance,
+        catching=catching,
+        path_planning=path_planning,
+        strict_floats=strict_floats,
+    )
     summary = result.summary()
     if check:
         try:
@@ -113,6 +128,44 @@ def run_knit(
     default=None,
     help="Time model: fixed time per carriage pass [1.5].",
 )
+@click.option(
+    "--float-limit",
+    type=int,
+    default=None,
+    help="Longest yarn float in needles for mixed colourwork [20].",
+)
+@click.option(
+    "--strict-floats",
+    is_flag=True,
+    help="Fail when a course needs more carriers than the machine has to keep floats within "
+    "the limit (default: bridge the shortest gaps with longer floats).",
+)
+@click.option(
+    "--float-avoidance",
+    "float_avoidance_on",
+    is_flag=True,
+    help="Move purls to the front around floats that cross them (the default).",
+)
+@click.option(
+    "--no-float-avoidance",
+    is_flag=True,
+    help="Ablation (paper Fig. 20): let floats cross the face of the purls.",
+)
+@click.option(
+    "--catching", "catching_on", is_flag=True, help="Plate at colour changes (the default)."
+)
+@click.option(
+    "--no-catching",
+    is_flag=True,
+    help="Ablation (paper Fig. 20): no plated stitches joining colour regions.",
+)
+@click.option(
+    "--path-planning",
+    "path_planning",
+    type=click.Choice(["anchor", "split", "none"]),
+    multiple=True,
+    help="Yarn path strategy (paper Algorithm 3) [anchor]; 'none' is the Fig. 20 ablation.",
+)
 @click.option("--no-check", is_flag=True, help="Skip the knitout checker.")
 @click.option("--json", "as_json", is_flag=True, help="Print the summary as JSON.")
 def knit(
@@ -123,18 +176,40 @@ def knit(
     cast_on_courses: int,
     seconds_per_needle: float | None,
     seconds_per_turn: float | None,
+    float_limit: int | None,
+    strict_floats: bool,
+    float_avoidance_on: bool,
+    no_float_avoidance: bool,
+    catching_on: bool,
+    no_catching: bool,
+    path_planning: tuple[str, ...],
     no_check: bool,
     as_json: bool,
 ) -> None:
     """Compile a saved PATTERN (JSON) to a knitout program for a V-bed machine.
 
     Prints carriage passes, their lower bound, the estimated knitting time and the checker's
-    verdict. Exit code 1 when the checker finds a blocking problem, 2 on bad input (including
-    patterns that change colour inside a course, which need the mixed-colourwork scheduler).
+    verdict. Patterns that change colour inside a course go through the mixed-colourwork
+    scheduler (float avoidance, catching, yarn path planning; the --no-... and --path-planning
+    none switches are the paper's Fig. 20 ablations). Exit code 1 when the checker finds a
+    blocking problem, 2 on bad input.
     """
+    if float_avoidance_on and no_float_avoidance:
+        raise click.UsageError("--float-avoidance and --no-float-avoidance contradict each other")
+    if catching_on and no_catching:
+        raise click.UsageError("--catching and --no-catching contradict each other")
+    if len(set(path_planning)) > 1:
+        raise click.UsageError(
+            f"--path-planning given contradictory values: {', '.join(sorted(set(path_planning)))}"
+        )
     summary = run_knit(
         pattern,
         output,
+        float_limit=float_limit,
+        strict_floats=strict_floats,
+        float_avoidance=not no_float_avoidance,
+        catching=not no_catching,
+        path_planning=path_planning[0] if path_planning else "anchor",
         gauge=gauge,
         machine_width=machine_width,
         cast_on_courses=cast_on_courses,
@@ -156,6 +231,13 @@ def knit(
             f"cast-on {s['cast_on_passes']}, bind-off {s['bind_off_passes']}); "
             f"lower bound {s['lower_bound']}, ratio {s['ratio']:.2f}"
         )
+        if s.get("scheduler") == "mixed-colourwork":
+            click.echo(
+                f"mixed colourwork: {s['carriers']} carrier(s), {s['plated_stitches']} plated "
+                f"catching stitch(es), {s['explicit_kickbacks']} carrier move pass(es), "
+                f"{s['float_avoidance_transfers']} float-avoidance transfer pass(es), "
+                f"{s['kickbacks']} backend kickback(s)"
+            )
         click.echo(
             f"estimated knitting time: {s['time']} (+{s['hook_passes']} hook passes counted)"
         )
