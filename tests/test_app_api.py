@@ -261,6 +261,17 @@ def test_picture_with_too_many_pixels_is_refused_from_its_header(client):
     assert "megapixels" in error_of(r)["message"]
 
 
+def test_big_picture_is_reduced_on_upload(client):
+    sid = new_session(client)
+    buf = io.BytesIO()
+    Image.new("RGB", (2400, 600), DARK).save(buf, format="JPEG")
+    r = upload(client, sid, "a", buf.getvalue(), name="wide.jpg", mime="image/jpeg")
+    assert r.status_code == 200
+    im = r.json()["images"]["a"]
+    assert (im["width"], im["height"]) == (2000, 500)
+    assert client.get(f"/api/sessions/{sid}/images/a").content == buf.getvalue()
+
+
 def test_upload_without_file_and_bad_slot(client):
     sid = new_session(client)
     r = client.put(f"/api/sessions/{sid}/images/a", data={"x": "1"})

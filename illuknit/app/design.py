@@ -54,6 +54,8 @@ __all__ = [
 MAX_UPLOAD_BYTES = 12 * 1024 * 1024
 #: Largest accepted picture (pixels), checked after decoding the header only.
 MAX_UPLOAD_PIXELS = 40_000_000
+#: Pictures with a longer side are reduced to it on upload (twice the widest piece in units).
+MAX_WORKING_SIDE = 2000
 
 YARN_PRESETS: dict[str, tuple[str, ...]] = {
     "Charcoal & cream": ("#1b1b1b", "#f4f0e8"),
@@ -148,8 +150,10 @@ def decode_upload(data: bytes, filename: str, *, field: str) -> NDArray[np.float
             code="too_large",
             status=413,
         )
-    _check_header(data, field)
+    w, h = _check_header(data, field)
     suffix = os.path.splitext(filename)[1][:8] if filename else ""
+    if max(w, h) > MAX_WORKING_SIDE:
+        data, suffix = _reduce(data), ".png"
     fd, path = tempfile.mkstemp(suffix=suffix or ".img", prefix="illuknit-upload-")
     try:
         with os.fdopen(fd, "wb") as f:
@@ -164,7 +168,26 @@ def decode_upload(data: bytes, filename: str, *, field: str) -> NDArray[np.float
     return rgb
 
 
-def _check_header(data: bytes, field: str) -> None:
+def _reduce(data: bytes) -> bytes:
+    """A big picture reduced (area average) to MAX_WORKING_SIDE pixels on its long side.
+
+    No piece is wider than 1000 units, so more pixels only cost memory (a 40-megapixel picture
+    is about 1 GB as float RGB); alpha and orientation are kept for the library's loader.
+    """
+    from PIL import Image, ImageOps
+
+    with Image.open(io.BytesIO(data)) as src:
+        src.seek(0)
+        upright = ImageOps.exif_transpose(src)
+        has_alpha = upright.mode in ("RGBA", "LA", "PA") or "transparency" in upright.info
+        small = upright.convert("RGBA" if has_alpha else "RGB")
+        small.thumbnail((MAX_WORKING_SIDE, MAX_WORKING_SIDE), Image.Resampling.BOX)
+        buf = io.BytesIO()
+        small.save(buf, format="PNG", compress_level=1)
+    return buf.getvalue()
+
+
+def _check_header(data: bytes, field: str) -> tuple[int, int]:
     """Refuse non-images and decompression bombs from the header alone (before decoding)."""
     from PIL import Image, UnidentifiedImageError
 
@@ -189,6 +212,7 @@ def _check_header(data: bytes, field: str) -> None:
             code="too_large",
             status=413,
         )
+    return int(w), int(h)
 
 
 @dataclass(frozen=True, eq=False)
