@@ -60,7 +60,7 @@ def test_knit_json_summary_and_overrides(tmp_path, capsys):
 @pytest.mark.parametrize(
     ("case", "message"),
     [
-        ("mixed", "mixed-colourwork scheduler"),
+        ("mixed", "needs 11 carriers at once"),
         ("wide", "machine-width"),
         ("yarns", "11 yarns"),
         ("malformed", "not valid JSON"),
@@ -71,8 +71,8 @@ def test_knit_json_summary_and_overrides(tmp_path, capsys):
 def test_bad_input_is_one_line_exit_2_and_nothing_written(tmp_path, capsys, case, message):
     out = tmp_path / "prog.k"
     extra = []
-    if case == "mixed":
-        pat = save(tmp_path, [[0, 1], [1, 1]])
+    if case == "mixed":  # one course with more colours than the machine has carriers
+        pat = save(tmp_path, [list(range(11))], k=11)
     elif case == "wide":
         pat = save(tmp_path, np.zeros((2, 40), int), k=1)
         extra = ["--machine-width", "50"]
