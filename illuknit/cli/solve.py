@@ -86,9 +86,13 @@ class _LiveProgress:
         self.limit = time_limit
         self.t0 = time.perf_counter()
         self.best: str = "searching"
+        from rich.markup import escape
+
+        # the label may hold an external command with "{}"; TextColumn formats its text
+        safe = escape(label).replace("{", "{{").replace("}", "}}")
         self.progress = Progress(
             SpinnerColumn(),
-            TextColumn(label),
+            TextColumn(safe),
             BarColumn(),
             TimeElapsedColumn(),
             TextColumn("{task.fields[best]}"),

@@ -1,0 +1,215 @@
+"""``illuknit solve``: outputs, the WCNF export, and every bad input of the issue."""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+from PIL import Image
+
+from illuknit.cli import main
+from illuknit.pattern import load_pattern
+
+FAKE = Path(__file__).parent / "solvers_fake" / "fake_maxsat.py"
+
+
+def _png(path: Path, mask: np.ndarray) -> Path:
+    Image.fromarray(np.where(mask, 25, 235).astype(np.uint8)).save(path)
+    return path
+
+
+@pytest.fixture
+def pair(tmp_path):
+    yy, xx = np.mgrid[0:12, 0:10]
+    a = _png(tmp_path / "a.png", (xx + yy) % 5 < 2)
+    b = _png(tmp_path / "b.png", (xx - 5) ** 2 + (yy - 6) ** 2 < 12)
+    return a, b
+
+
+def _run(args, capsys):
+    with pytest.raises(SystemExit) as e:
+        main(args)
+    out = capsys.readouterr()
+    return e.value.code, out.out, out.err
+
+
+def test_solve_writes_pattern_previews_and_report(pair, tmp_path, capsys):
+    a, b = pair
+    out = tmp_path / "out"
+    main(["solve", str(a), str(b), "--solver", "dp", "-o", str(out)])
+    for name in ("pattern.json", "report.json", "view_a.png", "view_b.png", "contact.png"):
+        assert (out / name).is_file(), name
+    rep = json.loads((out / "report.json").read_text())
+    pat = load_pattern(out / "pattern.json")
+    assert rep["solver"]["status"] == "optimal"
+    assert rep["raised_units"] == int(pat.raised.sum())
+    assert (
+        rep["logical_error"]["A"]["cells"] + rep["logical_error"]["B"]["cells"]
+        == rep["solver"]["objective"]
+    )
+    assert pat.shape == (12, 10)
+
+
+@pytest.mark.parametrize("solver", ["cpsat", "rc2"])
+def test_solve_knit_aware_with_weights(pair, tmp_path, solver):
+    a, b = pair
+    out = tmp_path / solver
+    main(
+        [
+            "solve",
+            str(a),
+            str(b),
+            "--model",
+            "knit-aware",
+            "--solver",
+            solver,
+            "--weights",
+            "view=3,color_change=1,transfer=1",
+            "--max-color-changes",
+            "4",
+            "--time-limit",
+            "20",
+            "-o",
+            str(out),
+        ]
+    )
+    rep = json.loads((out / "report.json").read_text())
+    assert rep["model"] == "knit-aware"
+    assert rep["color_changes_per_course"]["max"] <= 4
+    assert rep["weights"]["max_color_changes"] == 4
+
+
+def test_single_view_model(pair, tmp_path):
+    a, _ = pair
+    out = tmp_path / "single"
+    main(["solve", str(a), "--model", "single", "-o", str(out)])
+    pat = load_pattern(out / "pattern.json")
+    rep = json.loads((out / "report.json").read_text())
+    assert rep["model"] == "single"
+    # the optimum of model (c) is never worse than the push-button layout of stripes
+    assert rep["solver"]["status"] == "optimal"
+    assert (
+        rep["logical_error"]["A"]["cells"] + rep["logical_error"]["B"]["cells"]
+        == rep["solver"]["objective"]
+    )
+    assert pat.shape == (12, 10)
+
+
+def test_export_wcnf_round_trips_and_the_external_route_agrees(pair, tmp_path):
+    from pysat.examples.rc2 import RC2
+    from pysat.formula import WCNF
+
+    a, b = pair
+    f = tmp_path / "m.wcnf"
+    main(["solve", str(a), str(b), "--width", "6", "--export-wcnf", str(f)])
+    w = WCNF(from_file=str(f))
+    with RC2(w) as rc2:
+        rc2.compute()
+        cost = rc2.cost
+    out = tmp_path / "ext"
+    main(
+        [
+            "solve",
+            str(a),
+            str(b),
+            "--width",
+            "6",
+            "--solver",
+            f"wcnf:{sys.executable} {FAKE} {{}}",
+            "-o",
+            str(out),
+        ]
+    )
+    rep = json.loads((out / "report.json").read_text())
+    assert rep["solver"]["objective"] == cost
+    assert rep["solver"]["status"] == "optimal"
+
+
+def test_targets_of_different_sizes(tmp_path, capsys):
+    a = _png(tmp_path / "a.png", np.eye(10, dtype=bool))
+    b = _png(tmp_path / "b.png", np.eye(20, 10, dtype=bool))
+    code, _, err = _run(["solve", str(a), str(b), "-o", str(tmp_path / "o")], capsys)
+    assert code == 2 and "different sizes" in err and "--resize" in err
+    assert "Traceback" not in err
+    assert not (tmp_path / "o").exists()
+    main(["solve", str(a), str(b), "--resize", "-o", str(tmp_path / "o")])
+    assert load_pattern(tmp_path / "o" / "pattern.json").shape == (10, 10)
+
+
+def test_unknown_and_unavailable_solvers(pair, tmp_path, capsys):
+    a, b = pair
+    code, _, err = _run(
+        ["solve", str(a), str(b), "--solver", "magic", "-o", str(tmp_path / "o")], capsys
+    )
+    assert code == 2 and "unknown solver 'magic'" in err and "rc2" in err
+    code, _, err = _run(
+        ["solve", str(a), str(b), "--solver", "wcnf:/no/such/solver", "-o", str(tmp_path / "o")],
+        capsys,
+    )
+    assert code == 2 and "not found" in err
+    code, _, err = _run(
+        [
+            "solve",
+            str(a),
+            str(b),
+            "--model",
+            "knit-aware",
+            "--solver",
+            "dp",
+            "-o",
+            str(tmp_path / "o"),
+        ],
+        capsys,
+    )
+    assert code == 2 and "couple the wales" in err
+    assert not (tmp_path / "o").exists()
+
+
+def test_unavailable_backend_names_the_extra_in_the_cli(pair, tmp_path, capsys, monkeypatch):
+    import illuknit.solvers as reg
+
+    class Missing:
+        name = "needs-gpu"
+        extra = "gpu"
+        exact = True
+
+        def handles(self, model):
+            return True
+
+        def is_available(self):
+            return False
+
+    monkeypatch.setitem(reg._registered, "needs-gpu", Missing)
+    a, b = pair
+    code, _, err = _run(
+        ["solve", str(a), str(b), "--solver", "needs-gpu", "-o", str(tmp_path / "o")], capsys
+    )
+    assert code == 2 and "illuknit[gpu]" in err
+
+
+def test_bad_input_model_arity_weights_and_time(pair, tmp_path, capsys):
+    a, b = pair
+    o = str(tmp_path / "o")
+    assert _run(["solve", str(a), str(b), "--model", "single", "-o", o], capsys)[0] == 2
+    assert _run(["solve", str(a), "-o", o], capsys)[0] == 2
+    code, _, err = _run(["solve", str(a), str(b), "--weights", "speed=1", "-o", o], capsys)
+    assert code == 2 and "view=N" in err
+    code, _, err = _run(["solve", str(a), str(b), "--time-limit", "0", "-o", o], capsys)
+    assert code == 2 and "--time-limit" in err
+    code, _, err = _run(
+        ["solve", str(a), str(b), "--colors", "3", "--yarns", "black,white", "-o", o], capsys
+    )
+    assert code == 2 and "yarn" in err
+    assert not (tmp_path / "o").exists()
+
+
+def test_yarn_index_outside_the_palette_in_a_pattern_target(tmp_path):
+    # the library check behind the CLI: a target index the palette cannot show
+    from illuknit.errors import PatternValidationError
+    from illuknit.illusion_models import make_problem
+
+    with pytest.raises(PatternValidationError, match="outside the palette of 2"):
+        make_problem(np.zeros((2, 2), int), np.array([[0, 1], [2, 0]]), n_yarns=2)

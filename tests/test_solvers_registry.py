@@ -1,0 +1,129 @@
+"""The backend registry: names, availability, entry points, the external-binary route."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import illuknit.solvers as reg
+from illuknit.errors import BackendUnavailableError, SolverError, UnknownNameError
+from illuknit.model import Model
+from illuknit.solvers import Backend, Solution, Status, available_backends, get_backend, solve
+
+
+def test_unknown_name_lists_the_valid_ones():
+    with pytest.raises(UnknownNameError) as e:
+        get_backend("gurobi")
+    msg = str(e.value)
+    for name in ("dp", "cpsat", "rc2", "lsu", "wcnf:COMMAND"):
+        assert name in msg
+
+
+def test_builtin_backends_follow_the_protocol():
+    for name in available_backends():
+        b = get_backend(name)
+        assert isinstance(b, Backend)
+        assert b.name == name
+    assert available_backends()[:2] == ["dp", "cpsat"]
+
+
+class _Missing:
+    name = "needs-gpu"
+    extra = "gpu"
+    exact = True
+
+    def handles(self, model):
+        return True
+
+    def is_available(self):
+        return False
+
+    def solve(self, model, *, time_limit=None, seed=0, progress=None):  # pragma: no cover
+        raise AssertionError
+
+
+def test_unavailable_backend_names_the_extra(monkeypatch):
+    monkeypatch.setitem(reg._registered, "needs-gpu", _Missing)
+    assert "needs-gpu" in reg.backend_names()
+    assert "needs-gpu" not in available_backends()
+    with pytest.raises(BackendUnavailableError, match=r"pip install 'illuknit\[gpu\]'"):
+        get_backend("needs-gpu")
+
+
+class _Constant:
+    name = "constant"
+    extra = None
+    exact = False
+
+    def handles(self, model):
+        return True
+
+    def is_available(self):
+        return True
+
+    def solve(self, model, *, time_limit=None, seed=0, progress=None):
+        v = np.zeros(model.pool.top + 1, dtype=bool)
+        ok, cost = model.evaluate(v)
+        return Solution(Status.FEASIBLE, v, cost, None, 0.0, {}, self.name, model.pool)
+
+
+class _EntryPoint:
+    name = "constant"
+
+    def load(self):
+        return _Constant
+
+
+def test_entry_point_backends_are_found_by_name(monkeypatch):
+    monkeypatch.setattr(reg, "_entry_points", lambda: {"constant": _EntryPoint()})
+    assert "constant" in reg.backend_names()
+    m = Model()
+    m.add_soft([m.var("a")], 2)
+    sol = solve(m, solver="constant")
+    assert sol.status is Status.FEASIBLE and sol.objective == 2 and sol.backend == "constant"
+
+
+def test_missing_external_binary_is_a_clear_error():
+    with pytest.raises(
+        BackendUnavailableError, match="external solver binary '/nonexistent/maxhs' not found"
+    ):
+        get_backend("wcnf:/nonexistent/maxhs {}")
+    with pytest.raises(BackendUnavailableError, match="no solver command"):
+        get_backend("wcnf:")
+
+
+def test_time_limit_must_be_positive():
+    from illuknit.errors import PatternValidationError
+
+    m = Model()
+    m.add_soft([m.var("a")], 1)
+    with pytest.raises(PatternValidationError, match="time_limit"):
+        solve(m, solver="rc2", time_limit=0)
+
+
+def test_auto_picks_the_dp_when_it_applies_and_refuses_it_otherwise():
+    from illuknit.illusion_models import build_model, make_problem
+
+    per_wale = build_model(make_problem(np.eye(3, dtype=int), np.zeros((3, 3), int)))
+    assert solve(per_wale, solver="auto").backend == "dp"
+    plain = Model()
+    plain.add_soft([plain.var("a")], 1)
+    assert solve(plain, solver="auto").backend == "cpsat"
+    with pytest.raises(SolverError, match="cannot solve"):
+        solve(plain, solver="dp")
+
+
+def test_solution_reads_values_through_the_pool():
+    m = Model()
+    x = m.pool.block("x", (2, 2))
+    m.add_hard([int(x[0, 1])])
+    m.add_soft_block(-x.reshape(-1, 1), 1)
+    sol = solve(m, solver="rc2")
+    assert sol.value(("x", 0, 1)) is True
+    assert sol.value(("x", 1, 1)) is False
+    assert sol.value(int(x[0, 1])) is True and sol.value(-int(x[0, 1])) is False
+    assert sol.block("x").tolist() == [[False, True], [False, False]]
+    assert sol.gap == 0.0
+    assert sol.summary()["status"] == "optimal"
+    with pytest.raises(KeyError):
+        sol.value("nope")
