@@ -1,0 +1,104 @@
+"""``illuknit knit`` on colour-changing patterns: ablation switches, summaries and bad input."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from illuknit.cli import main
+from illuknit.pattern import LogicalPattern, Yarn, save_pattern
+
+YARNS = (Yarn("navy", (29, 43, 83)), Yarn("cream", (244, 240, 232)))
+
+
+def run(args, capsys):
+    try:
+        main(args)
+        code = 0
+    except SystemExit as e:
+        code = int(e.code or 0)
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+@pytest.fixture
+def plus(tmp_path):
+    yarn = np.zeros((6, 6), np.int16)
+    yarn[:, 2:4] = 1
+    raised = np.zeros((6, 6), bool)
+    raised[2:4, :] = True
+    path = tmp_path / "plus.json"
+    save_pattern(LogicalPattern(yarn, raised, YARNS), path)
+    return path
+
+
+def test_mixed_pattern_knits_and_reports_its_passes(plus, tmp_path, capsys):
+    out = tmp_path / "prog.k"
+    code, stdout, err = run(["knit", str(plus), "-o", str(out)], capsys)
+    assert code == 0, err
+    assert "mixed colourwork:" in stdout and "plated" in stdout
+    assert "check: 0 error(s)" in stdout
+    code, stdout, _ = run(["knit", str(plus), "-o", str(out), "--json"], capsys)
+    s = json.loads(stdout)
+    assert s["scheduler"] == "mixed-colourwork"
+    assert s["lower_bound"] <= s["passes"] and s["ratio"] >= 1
+    for key in ("knit_passes", "transfer_passes", "kickbacks", "explicit_kickbacks"):
+        assert key in s
+
+
+@pytest.mark.parametrize(
+    ("flag", "code_name"),
+    [
+        ("--no-float-avoidance", "face-float"),
+        ("--no-catching", "pieces"),
+        ("--path-planning=none", "wrong-side-carrier"),
+    ],
+)
+def test_each_ablation_is_caught_by_the_check_and_exits_1(plus, tmp_path, capsys, flag, code_name):
+    out = tmp_path / "prog.k"
+    code, stdout, _ = run(["knit", str(plus), "-o", str(out), flag, "--json"], capsys)
+    assert code == 1
+    s = json.loads(stdout)
+    assert s["check"]["errors"] > 0
+    assert code_name in {f["code"] for f in s["check"]["findings"]}
+    assert out.exists()  # the program is still written, for inspection
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--catching", "--no-catching"], "contradict"),
+        (["--float-avoidance", "--no-float-avoidance"], "contradict"),
+        (["--path-planning", "none", "--path-planning", "split"], "contradictory"),
+        (["--path-planning", "zigzag"], "zigzag"),
+        (["--float-limit", "0"], "float_limit"),
+    ],
+)
+def test_bad_switches_are_one_line_exit_2_and_nothing_written(
+    plus, tmp_path, capsys, args, message
+):
+    out = tmp_path / "prog.k"
+    code, _, err = run(["knit", str(plus), "-o", str(out), *args], capsys)
+    assert code == 2
+    assert err.startswith("illuknit: error:") and message in err
+    assert err.count("\n") == 1 and "Traceback" not in err
+    assert not out.exists()
+
+
+def test_strict_floats_error_names_the_course_and_row(tmp_path, capsys):
+    yarn = np.zeros((2, 12), np.int16)
+    yarn[0, ::2] = 1  # top row: six one-unit runs of each yarn, 2 wales apart
+    path = tmp_path / "stripes.json"
+    save_pattern(LogicalPattern(yarn, np.zeros((2, 12), bool), YARNS), path)
+    out = tmp_path / "p.k"
+    args = ["knit", str(path), "-o", str(out), "--float-limit", "1"]
+    code, _, err = run([*args, "--strict-floats"], capsys)
+    assert code == 2 and not out.exists()
+    assert "course 2 (pattern row 0) needs 12 carriers" in err
+    assert "fewer yarns" in err and "float limit" in err and err.count("\n") == 1
+    # without --strict-floats the shortest gaps are bridged and the program is written
+    code, stdout, _ = run([*args, "--json"], capsys)
+    assert code == 0 and out.exists()
+    assert json.loads(stdout)["carriers"] <= 10
