@@ -34,7 +34,7 @@ def test_shipped_manifest_is_valid_and_covers_the_issue():
     assert man.path == str(DEFAULT_MANIFEST)
     sizes = [i.size for i in man.instances]
     assert min(min(s) for s in sizes) == 30
-    assert (200, 330) in sizes  # the paper's largest piece, 330 x 200 units
+    assert (330, 200) in sizes  # the paper's largest piece: 660 x 400 stitches
     assert {len(i.yarns) for i in man.instances} >= {2, 3, 4}
     assert {i.kind for i in man.instances} == {"single", "double"}
     quick = select_instances(man, "quick")

@@ -108,7 +108,9 @@ def bench(
                 f"{inst.name:24s} {inst.kind:6s} {inst.size[0]}x{inst.size[1]} "
                 f"{len(inst.yarns)} yarns {inst.time_limit:g}s{tag}"
             )
-        click.echo("methods: " + ", ".join(f"{m.name} ({m.description})" for m in METHODS.values()))
+        click.echo("methods:")
+        for m in METHODS.values():
+            click.echo(f"  {m.name:12s} {m.description}")
         return
     if outdir is None:
         raise click.UsageError("missing option '-o' / '--output' (the results folder)")
