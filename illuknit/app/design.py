@@ -568,8 +568,22 @@ def pairs_json(
                     "exact": tier == 0,
                 }
             )
-        if current not in {o["id"] for o in options}:
-            options.insert(0, {"id": current, "label": f"{current} (custom)", "exact": False})
+        for tid in dict.fromkeys((current, default_id)):
+            # the candidate's own tile, or the designer's typed one, may not be a bank tile
+            if tid not in {o["id"] for o in options}:
+                tile = _override_tile(assignment, tid)
+                fills = bank.fills_of(tile)
+                own = tid == default_id
+                options.insert(
+                    0,
+                    {
+                        "id": tid,
+                        "label": f"{'★ ' if own else ''}{tile.code()} — {v0}: "
+                        f"{_fill_label(fills.get(v0), yarns)} · {v1}: {_fill_label(fills.get(v1), yarns)}"
+                        f"{'' if own else ' (typed)'}",
+                        "exact": own,
+                    },
+                )
         out.append(
             {
                 "a": a,

@@ -4,7 +4,7 @@ A :class:`Job` wraps one function ``fn(job) -> result`` run on a small thread po
 reports progress with :meth:`Job.report`, which is also where a cancellation request takes effect
 (cooperative cancellation: it raises :class:`JobCancelled` between stages). Work that is one long
 library call with no stages of its own (compiling knitout, simulating it) goes through
-:meth:`Job.run_isolated`, which runs the call in a separate *spawned* process that is killed when the
+:meth:`Job.run_isolated`, which runs the call in a separate Python process that is killed when the
 job is cancelled, so cancelling really stops the CPU work instead of abandoning a thread.
 
 Jobs never raise into the server: a failure is stored as ``error`` (message, and the input
@@ -13,7 +13,9 @@ Jobs never raise into the server: a failure is stored as ``error`` (message, and
 
 from __future__ import annotations
 
-import multiprocessing as mp
+import pickle
+import subprocess
+import sys
 import threading
 import time
 import traceback
@@ -32,19 +34,6 @@ _FINAL = ("done", "failed", "cancelled")
 
 class JobCancelled(Exception):
     """Raised inside a job function when the job has been cancelled (never escapes the runner)."""
-
-
-def _isolated_entry(conn: Any, fn: Callable[..., Any], args: tuple[Any, ...]) -> None:
-    # Runs in the spawned child: send back ("ok", result) or ("err", kind, message).
-    try:
-        result = fn(*args)
-        conn.send(("ok", result))
-    except IlluknitError as e:
-        conn.send(("err", type(e).__name__, str(e)))
-    except BaseException as e:  # a bug in the library: report it, the parent decides
-        conn.send(("bug", type(e).__name__, f"{e}\n{traceback.format_exc()}"))
-    finally:
-        conn.close()
 
 
 class Job:
@@ -98,36 +87,45 @@ class Job:
                 self.message = message
 
     def run_isolated(self, fn: Callable[..., Any], *args: Any, poll: float = 0.05) -> Any:
-        """Run ``fn(*args)`` in a spawned process; kill it if the job is cancelled.
+        """Run ``fn(*args)`` in a fresh Python process; kill it if the job is cancelled.
 
-        ``fn`` must be importable at module level and its arguments and result picklable.
-        Library errors raised in the child come back as :class:`AppRequestError` with the
-        original message.
+        The child is ``python -m illuknit.app.jobs`` fed ``(fn, args)`` pickled on stdin, so
+        ``fn`` must be importable by name and its arguments and result picklable. (A
+        ``multiprocessing`` child would re-run the parent's main script, which breaks servers
+        started from unguarded scripts.) Library errors raised in the child come back as
+        :class:`AppRequestError` with the original message.
         """
         self.report(self.progress)
-        ctx = mp.get_context("spawn")
-        parent, child = ctx.Pipe(duplex=False)
-        proc = ctx.Process(target=_isolated_entry, args=(child, fn, args), daemon=True)
-        proc.start()
-        child.close()
+        payload = pickle.dumps((fn, args), protocol=pickle.HIGHEST_PROTOCOL)
+        proc = subprocess.Popen(
+            [sys.executable, "-m", "illuknit.app.jobs"],
+            stdin=subprocess.PIPE,
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+        )
+        out: dict[str, bytes] = {}
+
+        def talk() -> None:
+            out["stdout"], out["stderr"] = proc.communicate(payload)
+
+        talker = threading.Thread(target=talk, name="illuknit-job-io", daemon=True)
+        talker.start()
         try:
-            while True:
+            while talker.is_alive():
                 if self._cancel.is_set():
                     raise JobCancelled
-                if parent.poll(poll):
-                    try:
-                        msg = parent.recv()
-                    except EOFError:
-                        msg = ("bug", "EOFError", "worker process ended without an answer")
-                    break
-                if not proc.is_alive() and not parent.poll(0):
-                    msg = ("bug", "Exit", f"worker process died (exit code {proc.exitcode})")
-                    break
+                talker.join(poll)
         finally:
-            if proc.is_alive():
+            if proc.poll() is None:
                 proc.kill()
-            proc.join(timeout=5)
-            parent.close()
+            talker.join(10)
+        data = out.get("stdout", b"")
+        if not data:
+            tail = out.get("stderr", b"").decode(errors="replace").strip().splitlines()[-3:]
+            raise RuntimeError(
+                f"worker process ended without an answer (exit code {proc.returncode}): {' | '.join(tail)}"
+            )
+        msg = pickle.loads(data)
         if msg[0] == "ok":
             return msg[1]
         if msg[0] == "err":
@@ -268,3 +266,22 @@ class JobRunner:
         for job in jobs:
             job.cancel()
         self._pool.shutdown(wait=False, cancel_futures=True)
+
+
+def _worker_main() -> None:
+    """Child side of :meth:`Job.run_isolated`: read ``(fn, args)``, answer a pickled message."""
+    answer = sys.stdout.buffer
+    sys.stdout = sys.stderr  # anything the work prints must not corrupt the answer
+    fn, args = pickle.load(sys.stdin.buffer)
+    try:
+        msg: tuple[Any, ...] = ("ok", fn(*args))
+    except IlluknitError as e:
+        msg = ("err", type(e).__name__, str(e))
+    except BaseException as e:  # a bug in the library: report it, the parent decides
+        msg = ("bug", type(e).__name__, f"{e}\n{traceback.format_exc()}")
+    answer.write(pickle.dumps(msg, protocol=pickle.HIGHEST_PROTOCOL))
+    answer.flush()
+
+
+if __name__ == "__main__":
+    _worker_main()
