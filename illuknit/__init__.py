@@ -70,6 +70,14 @@ _API: dict[str, str] = {
     "optimise_design": "illuknit.render.optimise",
     "calibration_swatch": "illuknit.render.calibrate",
     "fit_bump_height": "illuknit.render.calibrate",
+    # constraint models and solvers (docs/solvers.md)
+    "Model": "illuknit.model",
+    "KnitWeights": "illuknit.illusion_models",
+    "IllusionProblem": "illuknit.illusion_models",
+    "build_model": "illuknit.illusion_models",
+    "solve_illusion": "illuknit.illusion_models",
+    "pattern_from_solution": "illuknit.illusion_models",
+    "report_pattern": "illuknit.illusion_models",
     # errors
     "IlluknitError": "illuknit.errors",
 }

@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import time
 from threading import Timer
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -69,7 +69,6 @@ class LSUBackend:
         seed: int = 0,
         progress: ProgressCallback | None = None,
     ) -> Solution:
-        from pysat.card import ITotalizer
         from pysat.solvers import Solver
 
         t0 = time.perf_counter()
@@ -91,15 +90,26 @@ class LSUBackend:
             h = np.asarray(model.hint, dtype=bool)
             oracle.set_phases([i if h[i] else -i for i in range(1, top + 1)])
         deadline = None if time_limit is None else t0 + time_limit
-        best_v = None
+        best_v: np.ndarray | None = None
         best_cost: int | None = None
         proven = False
         interrupted = False
         calls = 0
-        tot = None
+        tot: Any = None
         stats_note = ""
+        if model.hint is not None:
+            ok, hint_cost = model.evaluate(model.hint)
+            if ok:
+                # start from the warm start: the first SAT call must already beat it
+                best_v, best_cost = np.asarray(model.hint, dtype=bool), hint_cost
         try:
-            while True:
+            if best_cost is not None and best_cost - model.offset == 0:
+                proven = True
+            elif best_cost is not None:
+                tot = self._bound(oracle, sels, wts, best_cost - model.offset, nv)
+                if tot is None:
+                    stats_note = "bound encoding too large; kept the warm start"
+            while not proven and (tot is not None or best_v is None):
                 budget = None if deadline is None else deadline - time.perf_counter()
                 if budget is not None and budget <= 0:
                     break
@@ -130,14 +140,13 @@ class LSUBackend:
                     proven = True
                     break
                 if tot is None:
-                    if sum(wts) * raw > MAX_TOTALIZER_SIZE:
+                    tot = self._bound(oracle, sels, wts, raw, nv)
+                    if tot is None:
                         stats_note = "bound encoding too large; stopped at the first model"
                         break
-                    expanded = [s for s, w in zip(sels, wts, strict=True) for _ in range(w)]
-                    tot = ITotalizer(lits=expanded, ubound=raw, top_id=nv)
-                    oracle.append_formula(tot.cnf.clauses)
-                # sum < raw  <=>  not (sum >= raw)  <=>  -rhs[raw - 1]
-                oracle.add_clause([-tot.rhs[raw - 1]])
+                else:
+                    # sum < raw  <=>  not (sum >= raw)  <=>  -rhs[raw - 1]
+                    oracle.add_clause([-tot.rhs[raw - 1]])
         except KeyboardInterrupt:
             interrupted = True
         finally:
@@ -169,3 +178,16 @@ class LSUBackend:
         return Solution(
             st, best_v, best_cost, float(model.offset), wall, stats, self.name, model.pool
         )
+
+    @staticmethod
+    def _bound(oracle: Any, sels: list[int], wts: list[int], raw: int, nv: int) -> Any:
+        """Add ``sum w_i s_i <= raw - 1`` via a totalizer; None if it would be too large."""
+        from pysat.card import ITotalizer
+
+        if raw <= 0 or sum(wts) * raw > MAX_TOTALIZER_SIZE:
+            return None
+        expanded = [s for s, w in zip(sels, wts, strict=True) for _ in range(w)]
+        tot = ITotalizer(lits=expanded, ubound=raw, top_id=nv)
+        oracle.append_formula(tot.cnf.clauses)
+        oracle.add_clause([-tot.rhs[raw - 1]])
+        return tot

@@ -1,34 +1,86 @@
 """pysat RC2: core-guided (OLL) exact MaxSAT.
 
-The model is encoded to clauses (:meth:`Model.to_clauses`); weighted models use
-``RC2Stratified``. RC2 only improves a lower bound until it finds the optimum, so on a time limit
-(or Ctrl-C) it has no assignment of its own: the backend then returns the model's hint or one
-plain SAT solution of the hard constraints, with status ``timeout`` and RC2's lower bound.
+The model is encoded to clauses (:meth:`Model.to_clauses`) and **split into independent
+components** (clauses sharing no variable, found with a sparse connected-components pass): the
+logical and single-view illusion models fall apart into one chain per wale, and RC2 proves each
+small component optimal far faster than the whole (at 100 x 100 units: seconds instead of no
+proof within a minute). Weighted components use ``RC2Stratified``.
+
+RC2 only improves a lower bound until it finds the optimum, so on a time limit (or Ctrl-C) the
+components not yet solved take their values from the model's hint (or one plain SAT solution of
+the hard constraints); the status is then ``timeout`` and ``bound`` is the sum of the proven
+optima and RC2's lower bounds of the rest.
 """
 
 from __future__ import annotations
 
 import time
 from threading import Timer
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from numpy.typing import NDArray
 
 from illuknit.solvers.base import (
     ProgressCallback,
     ProgressEvent,
     Solution,
     Status,
-    assignment_from_lits,
     fallback_assignment,
 )
 
 if TYPE_CHECKING:
-    from illuknit.model import Model
+    from illuknit.model import ClauseSet, Model
 
-__all__ = ["RC2Backend"]
+__all__ = ["RC2Backend", "split_components"]
+
+
+def split_components(cs: ClauseSet) -> list[tuple[list[int], list[int]]]:
+    """Group clauses into independent components.
+
+    Returns
+    -------
+    list of (hard clause indices, soft clause indices)
+        One entry per connected component of the variable-interaction graph that holds at least
+        one clause. Empty hard clauses form their own component.
+    """
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    clauses = cs.hard + cs.soft
+    nv = cs.nv
+    rows: list[int] = []
+    cols: list[int] = []
+    first = np.zeros(len(clauses), dtype=np.int64)
+    for ci, c in enumerate(clauses):
+        if not c:
+            first[ci] = 0
+            continue
+        v0 = abs(c[0])
+        first[ci] = v0
+        for lit in c[1:]:
+            rows.append(v0)
+            cols.append(abs(lit))
+    n = nv + 1
+    g = coo_matrix((np.ones(len(rows), dtype=np.int8), (rows, cols)), shape=(n, n))
+    _, labels = connected_components(g, directed=False)
+    lab = labels[first]
+    lab[first == 0] = -1  # empty clauses
+    nh = len(cs.hard)
+    order = np.argsort(lab, kind="stable")
+    out: list[tuple[list[int], list[int]]] = []
+    bounds = np.flatnonzero(np.diff(lab[order])) + 1
+    for group in np.split(order, bounds):
+        if group.size == 0:
+            continue
+        hard = [int(i) for i in group if i < nh]
+        soft = [int(i) - nh for i in group if i >= nh]
+        out.append((hard, soft))
+    return out
 
 
 class RC2Backend:
-    """pysat RC2 (``RC2Stratified`` for weighted models), adapt + exhaust + minimise cores."""
+    """pysat RC2 per independent component, adapt + exhaust + minimise cores."""
 
     name = "rc2"
     extra: str | None = None
@@ -52,44 +104,120 @@ class RC2Backend:
         seed: int = 0,
         progress: ProgressCallback | None = None,
     ) -> Solution:
-        from pysat.examples.rc2 import RC2, RC2Stratified
-
         t0 = time.perf_counter()
-        wcnf = model.to_pysat_wcnf()
-        cls = RC2Stratified if model.is_weighted() else RC2
-        rc2 = cls(wcnf, solver="g3", adapt=True, exhaust=True, minz=True)
-        timer = Timer(time_limit, rc2.interrupt) if time_limit is not None else None
-        interrupted = False
-        try:
-            if timer is not None:
-                timer.start()
-            try:
-                lits = rc2.compute(expect_interrupt=True)
-            except KeyboardInterrupt:
-                lits, interrupted = None, True
-            finally:
-                if timer is not None:
-                    timer.cancel()
-            stopped = interrupted or rc2.interrupted
-            bound = float(rc2.cost) + model.offset
-            stats = {"cores": len(getattr(rc2, "sums", [])), "interrupted": interrupted}
-        finally:
-            rc2.delete()
-        wall = time.perf_counter() - t0
+        cs = model.to_clauses()
         top = model.pool.top
-        if lits is not None and not stopped:
-            v = assignment_from_lits(lits, top)
-            _, cost = model.evaluate(v)
+        if any(not c for c in cs.hard):
+            wall = time.perf_counter() - t0
+            return Solution(Status.INFEASIBLE, None, None, None, wall, {}, self.name, model.pool)
+        comps = split_components(cs)
+        deadline = None if time_limit is None else t0 + time_limit
+        values = np.zeros(top + 1, dtype=bool)
+        solved = np.zeros(top + 1, dtype=bool)  # named variables fixed by a proven component
+        bound = 0
+        interrupted = stopped = False
+        n_solved = 0
+        for hard_idx, soft_idx in comps:
+            if stopped:
+                break
+            remaining = None if deadline is None else deadline - time.perf_counter()
+            if remaining is not None and remaining <= 0:
+                stopped = True
+                break
+            try:
+                res = _solve_component(cs, hard_idx, soft_idx, remaining)
+            except KeyboardInterrupt:
+                interrupted = stopped = True
+                break
+            status, lits, cost = res
+            if status == "infeasible":
+                wall = time.perf_counter() - t0
+                stats = {"components": len(comps)}
+                return Solution(
+                    Status.INFEASIBLE, None, None, None, wall, stats, self.name, model.pool
+                )
+            bound += cost
+            if status == "stopped":
+                stopped = True
+                break
+            n_solved += 1
+            named = lits[np.abs(lits) <= top]
+            values[np.abs(named)] = named > 0
+            solved[np.abs(named)] = True
+            if progress:
+                progress(ProgressEvent(time.perf_counter() - t0, None, float(bound + model.offset)))
+        stats: dict[str, Any] = {
+            "components": len(comps),
+            "components_solved": n_solved,
+            "interrupted": interrupted,
+        }
+        if not stopped:
+            _, cost = model.evaluate(values)
+            wall = time.perf_counter() - t0
             if progress:
                 progress(ProgressEvent(wall, cost, cost))
             return Solution(
-                Status.OPTIMAL, v, cost, float(cost), wall, stats, self.name, model.pool
+                Status.OPTIMAL, values, cost, float(cost), wall, stats, self.name, model.pool
             )
-        if not stopped:
-            return Solution(Status.INFEASIBLE, None, None, None, wall, stats, self.name, model.pool)
-        v, cost = fallback_assignment(model)
+        fb, _ = fallback_assignment(model)
         wall = time.perf_counter() - t0
+        lb = float(bound + model.offset)
+        if fb is None:
+            return Solution(Status.TIMEOUT, None, None, lb, wall, stats, self.name, model.pool)
+        # components are independent, so proven parts combine with the fallback's other parts
+        combined = np.where(solved, values, fb)
+        ok, cost = model.evaluate(combined)
+        if not ok:
+            combined = fb
+            _, cost = model.evaluate(fb)
         status = Status.FEASIBLE if interrupted else Status.TIMEOUT
-        if v is None:
-            status = Status.TIMEOUT
-        return Solution(status, v, cost, bound, wall, stats, self.name, model.pool)
+        return Solution(
+            status, combined, cost, min(lb, float(cost)), wall, stats, self.name, model.pool
+        )
+
+
+def _solve_component(
+    cs: ClauseSet, hard_idx: list[int], soft_idx: list[int], time_limit: float | None
+) -> tuple[str, NDArray[np.int64], int]:
+    """("optimal" | "stopped" | "infeasible", literals over original ids, cost or lower bound)."""
+    from pysat.examples.rc2 import RC2, RC2Stratified
+    from pysat.formula import WCNF
+
+    hard = [cs.hard[i] for i in hard_idx]
+    soft = [cs.soft[i] for i in soft_idx]
+    weights = [cs.weights[i] for i in soft_idx]
+    used = np.unique(np.abs(np.fromiter((x for c in hard + soft for x in c), dtype=np.int64)))
+    if used.size == 0:
+        return "optimal", np.zeros(0, dtype=np.int64), 0
+
+    def renum(c: list[int]) -> list[int]:
+        a = np.asarray(c, dtype=np.int64)
+        idx = np.searchsorted(used, np.abs(a)) + 1
+        return np.where(a > 0, idx, -idx).tolist()
+
+    w = WCNF()
+    w.extend([renum(c) for c in hard])
+    w.extend([renum(c) for c in soft], weights=weights)
+    cls = RC2Stratified if len(set(weights)) > 1 else RC2
+    rc2 = cls(w, solver="g3", adapt=True, exhaust=True, minz=True)
+    timer = Timer(time_limit, rc2.interrupt) if time_limit is not None else None
+    try:
+        if timer is not None:
+            timer.start()
+        model = rc2.compute(expect_interrupt=True)
+        if timer is not None:
+            timer.cancel()
+        if model is None:
+            if rc2.interrupted:
+                return "stopped", np.zeros(0, dtype=np.int64), int(rc2.cost)
+            return "infeasible", np.zeros(0, dtype=np.int64), 0
+        m = np.asarray(model, dtype=np.int64)
+        m = m[np.abs(m) <= used.size]
+        orig = used[np.abs(m) - 1]
+        return "optimal", np.where(m > 0, orig, -orig), int(rc2.cost)
+    except KeyboardInterrupt:
+        if timer is not None:
+            timer.cancel()
+        raise
+    finally:
+        rc2.delete()

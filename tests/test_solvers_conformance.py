@@ -216,6 +216,7 @@ def test_time_limit_returns_the_best_found_with_a_bound(name):
     assert sol.has_values
     ok, cost = model.evaluate(sol.values)
     assert ok and cost == sol.objective
+    assert cost <= model.evaluate(model.hint)[1]  # never worse than the warm start
     if sol.bound is not None:
         assert sol.bound <= sol.objective
 

@@ -63,7 +63,7 @@ class _Constant:
 
     def solve(self, model, *, time_limit=None, seed=0, progress=None):
         v = np.zeros(model.pool.top + 1, dtype=bool)
-        ok, cost = model.evaluate(v)
+        _, cost = model.evaluate(v)
         return Solution(Status.FEASIBLE, v, cost, None, 0.0, {}, self.name, model.pool)
 
 
