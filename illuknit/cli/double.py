@@ -81,6 +81,7 @@ def run_design(
     soft_brightness: bool = False,
     one_sided: bool = False,
     tile: tuple[str, ...] = (),
+    knitout: bool = False,
 ) -> dict[str, Any]:
     """Load, quantise, assign, compile and write every candidate (atomically into ``outdir``).
 
@@ -128,9 +129,12 @@ def run_design(
         ("front (head-on)", "side") if mode == "headon" else ("A (from above)", "B (from below)")
     )
     rows = []
+    chosen = None
     with staged_dir(outdir) as tmp:
         for cand in found:
             pattern, report = compile_tiles(cand, overrides=overrides)
+            if cand.rank == pick:
+                chosen = pattern
             sub = tmp / f"candidate_{cand.rank}"
             s = max(2, unit_scale(pattern.shape))
             rep = {
@@ -179,6 +183,11 @@ def run_design(
                 }
             )
         shutil.copyfile(tmp / f"candidate_{pick}" / "pattern.json", tmp / "pattern.json")
+        if knitout and chosen is not None:
+            # The default candidate as a checked knitout program (mixed-colourwork scheduler).
+            from illuknit.cli.knitout_bridge import write_program
+
+            write_program(chosen, tmp)
         summary = {
             "mode": mode,
             "yarns": [{"name": y.name, "rgb": y.hex} for y in ys],
@@ -291,6 +300,8 @@ def design_options(func: Any) -> Any:
         click.option("--tile", multiple=True, metavar="A,B=ROWS",
                      help="Override the tile of overlap pair (colour A of the first picture, colour B "
                      "of the second), e.g. '0,1=0/1/0^' (see fills.json for the pairs). Repeatable."),
+        click.option("--knitout", is_flag=True,
+                     help="Also compile the default candidate to OUTDIR/program.k and check it."),
         click.option("-o", "--outdir", type=click.Path(file_okay=False, path_type=Path), required=True,
                      help="Folder to write into (replaced as a whole on success)."),
     ]  # fmt: skip
