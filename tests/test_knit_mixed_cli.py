@@ -102,3 +102,25 @@ def test_strict_floats_error_names_the_course_and_row(tmp_path, capsys):
     code, stdout, _ = run([*args, "--json"], capsys)
     assert code == 0 and out.exists()
     assert json.loads(stdout)["carriers"] <= 10
+
+
+@pytest.mark.parametrize("command", ["double", "headon"])
+def test_design_commands_write_a_checked_program_with_knitout(tmp_path, capsys, command):
+    from PIL import Image
+
+    from illuknit.drawings import draw_shape
+
+    paths = []
+    for name in ("plus", "circle"):
+        mask = draw_shape(name, (6, 8))
+        path = tmp_path / f"{name}.png"
+        Image.fromarray(np.where(mask, 20, 235).astype(np.uint8)).save(path)
+        paths.append(str(path))
+    if command == "headon":
+        paths = paths[:1]
+    out = tmp_path / "out"
+    code, _, err = run([command, *paths, "-o", str(out), "--candidates", "1", "--knitout"], capsys)
+    assert code == 0, err
+    report = json.loads((out / "check.json").read_text())
+    assert report["ok"] and report["pieces"] == 1
+    assert (out / "program.k").read_text().startswith(";!knitout-2\n")
