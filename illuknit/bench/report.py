@@ -182,23 +182,51 @@ def contact_sheet_for(outdir: Path, rows: Sequence[dict[str, Any]]) -> np.ndarra
     return contact_sheet(panels, columns=2)
 
 
-def pareto_points(rows: Sequence[dict[str, Any]]) -> tuple[str, list[tuple[str, float, float]]]:
-    """(x-axis label, [(method, x, render MSE)]) for one instance's measured rows.
+#: Plots: y value of a row, its axis label, file name, title.
+PLOTS: dict[str, tuple[str, str, str]] = {
+    "render_mse": ("render MSE (blurred)", "pareto.png", "render error against knitting cost"),
+    "ghost": (
+        "ghosting (mean of A and B)",
+        "pareto_ghost.png",
+        "interference between the views against knitting cost",
+    ),
+}
 
-    x is the estimated knitting time when every measured row has it, else colour changes per
-    course (a proxy: each change costs carriage work), and the label says which.
+
+def _y(row: dict[str, Any], metric: str) -> float | None:
+    if metric == "ghost":
+        g = [row.get("ghost_a"), row.get("ghost_b")]
+        if any(v is None or v != v for v in g):
+            return None
+        return (float(g[0]) + float(g[1])) / 2  # type: ignore[arg-type]
+    v = row.get(metric)
+    return None if v is None else float(v)
+
+
+def pareto_points(
+    rows: Sequence[dict[str, Any]], metric: str = "render_mse"
+) -> tuple[str, list[tuple[str, float, float]]]:
+    """(x-axis label, [(method, x, y)]) for one instance's measured rows.
+
+    y is ``metric`` ("render_mse", or "ghost": the mean ghosting of both views). x is the
+    estimated knitting time when every measured row has it, else colour changes per course (a
+    proxy: each change costs carriage work), and the label says which.
     """
-    measured = [r for r in rows if r.get("render_mse") is not None]
+    measured = [r for r in rows if _y(r, metric) is not None]
     if measured and all(r.get("knit_time_min") is not None for r in measured):
         return "estimated knitting time (min)", [
-            (r["method"], float(r["knit_time_min"]), float(r["render_mse"])) for r in measured
+            (r["method"], float(r["knit_time_min"]), _y(r, metric))
+            for r in measured  # type: ignore[misc]
         ]
     return "colour changes per course (knit time unavailable)", [
-        (r["method"], float(r["colour_changes_mean"]), float(r["render_mse"])) for r in measured
+        (r["method"], float(r["colour_changes_mean"]), _y(r, metric))
+        for r in measured  # type: ignore[misc]
     ]
 
 
-def _pareto_png(groups: dict[str, list[dict[str, Any]]]) -> bytes | None:
+def _pareto_png(
+    groups: dict[str, list[dict[str, Any]]], metric: str = "render_mse"
+) -> bytes | None:
     try:
         import matplotlib
 
@@ -206,9 +234,10 @@ def _pareto_png(groups: dict[str, list[dict[str, Any]]]) -> bytes | None:
         import matplotlib.pyplot as plt
     except ImportError:
         return None
-    names = [n for n, g in groups.items() if pareto_points(g)[1]]
+    names = [n for n, g in groups.items() if pareto_points(g, metric)[1]]
     if not names:
         return None
+    ylabel, _, title = PLOTS[metric]
     cols = min(3, len(names))
     nrows = math.ceil(len(names) / cols)
     fig, axes = plt.subplots(nrows, cols, figsize=(4.2 * cols, 3.4 * nrows), squeeze=False)
@@ -220,18 +249,19 @@ def _pareto_png(groups: dict[str, list[dict[str, Any]]]) -> bytes | None:
         )
     )
     for ax, name in zip(axes.flat, names, strict=False):
-        label, pts = pareto_points(groups[name])
+        label, pts = pareto_points(groups[name], metric)
         for method, x, y in pts:
-            ax.scatter([x], [y], marker=markers.get(method, "x"), s=60, label=method)
+            k = list(markers).index(method) if method in markers else 7
+            ax.scatter([x], [y], marker=markers.get(method, "x"), s=60, color=f"C{k}")
             ax.annotate(method, (x, y), textcoords="offset points", xytext=(4, 4), fontsize=7)
         ax.set_title(name, fontsize=9)
         ax.set_xlabel(label, fontsize=8)
-        ax.set_ylabel("render MSE (blurred)", fontsize=8)
+        ax.set_ylabel(ylabel, fontsize=8)
         ax.tick_params(labelsize=7)
         ax.grid(alpha=0.3)
     for ax in list(axes.flat)[len(names) :]:
         ax.axis("off")
-    fig.suptitle("render error against knitting cost (lower left is better)", fontsize=10)
+    fig.suptitle(f"{title} (lower left is better)", fontsize=10)
     fig.tight_layout()
     buf = io.BytesIO()
     fig.savefig(buf, format="png", dpi=110)
@@ -269,12 +299,13 @@ def write_outputs(outdir: str | Path, rows: Sequence[dict[str, Any]]) -> dict[st
             p.parent.mkdir(exist_ok=True)
             atomic_write_bytes(p, png_bytes(sheet))
             written[f"contact:{name}"] = str(p)
-    png = _pareto_png(groups)
-    if png is not None:
-        atomic_write_bytes(out / "pareto.png", png)
-        written["pareto"] = str(out / "pareto.png")
-        summary += "\n![render error against knitting cost](pareto.png)\n"
-    else:
+    for metric, (_, fname, title) in PLOTS.items():
+        png = _pareto_png(groups, metric)
+        if png is not None:
+            atomic_write_bytes(out / fname, png)
+            written["pareto" if metric == "render_mse" else f"pareto:{metric}"] = str(out / fname)
+            summary += f"\n![{title}]({fname})\n"
+    if "pareto" not in written:
         summary += (
             "\nPareto plot not written: install matplotlib (`pip install 'illuknit[plots]'`).\n"
         )
