@@ -90,17 +90,28 @@ def browser():
 
 
 def banded(path: Path, rows: slice) -> Path:
-    """A two-colour picture whose dark part is a band of rows, so every course is one colour and
-    the one-colour-per-course knitting path can knit whichever candidate is picked."""
+    """A two-colour picture whose dark part is a band of rows."""
     a = np.full((48, 72, 3), (246, 241, 232), np.uint8)
     a[rows] = (24, 24, 24)
     Image.fromarray(a).save(path)
     return path
 
 
+def lettered(path: Path, text: str) -> Path:
+    """A two-colour picture of a word, drawn by code (no stored picture); its courses change
+    colour, so the knitout goes through the mixed-colourwork scheduler."""
+    from illuknit.drawings import draw_text
+
+    mask = draw_text(text, shape=(48, 72))
+    Image.fromarray(np.where(mask[..., None], 24, 246).astype(np.uint8).repeat(3, axis=2)).save(
+        path
+    )
+    return path
+
+
 def test_design_two_pictures_pick_tilt_download(browser, base_url, tmp_path):
-    pic_a = banded(tmp_path / "above.png", slice(8, 24))
-    pic_b = banded(tmp_path / "below.png", slice(20, 40))
+    pic_a = lettered(tmp_path / "above.png", "UP")
+    pic_b = lettered(tmp_path / "below.png", "ON")
     not_a_picture = tmp_path / "notes.png"
     not_a_picture.write_text("this is not a picture")
 
