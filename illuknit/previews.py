@@ -13,6 +13,7 @@ import io
 import os
 from collections.abc import Mapping, Sequence
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -172,5 +173,8 @@ def write_previews(
         (f"rendered from above{deg}", ra),
         (f"rendered from below{deg}", rb),
     ]
-    paths["contact"] = save_png(contact_sheet(panels, columns=(len(panels) + 1) // 2 if len(panels) > 4 else None), out / "contact.png")
+    paths["contact"] = save_png(
+        contact_sheet(panels, columns=(len(panels) + 1) // 2 if len(panels) > 4 else None),
+        out / "contact.png",
+    )
     return paths
