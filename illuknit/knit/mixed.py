@@ -224,6 +224,9 @@ def _course_items(
 #: Courses with at most this many work items are ordered by exhaustive search (branch and
 #: bound over permutations); larger ones greedily.
 EXHAUSTIVE_ITEMS = 6
+#: Partial orders kept per step when a course has more items than that (scaled down as the
+#: item count grows, to keep the time per course bounded).
+BEAM_WIDTH = 8
 
 
 def _order_and_plan(
@@ -232,8 +235,8 @@ def _order_and_plan(
     """Order a course's items for fewest passes; a carrier's own item comes before plating.
 
     Up to :data:`EXHAUSTIVE_ITEMS` items every order is tried (branch and bound on the pass
-    count, plans cached per item and carrier states); beyond, the next item is always the one
-    costing fewest passes from where the carriers are. ``none`` keeps the given order.
+    count, plans cached per item and carrier states); beyond, a beam search keeps the
+    :data:`BEAM_WIDTH` cheapest partial orders. ``none`` keeps the given order.
     """
     if strategy == "none":
         planned: list[PlannedPass] = []
@@ -247,27 +250,30 @@ def _order_and_plan(
                 planned.append(p)
         return planned, st
 
-    cache: dict[tuple[int, tuple[tuple[str, CarrierState], ...]], list[PlannedPass]] = {}
+    Entry = tuple[list[PlannedPass], int, dict[str, CarrierState]]
+    cache: dict[tuple[int, tuple[CarrierState, ...]], Entry] = {}
+    unused = CarrierState()
 
-    def plan(i: int, st: dict[str, CarrierState]) -> list[PlannedPass]:
+    def plan(i: int, st: dict[str, CarrierState]) -> Entry:
+        """Passes of item ``i`` from ``st``, their cost and the item carriers' new states."""
         it = items[i]
-        key = (i, tuple((c, st.get(c, CarrierState())) for c in it.carriers))
+        key = (i, tuple(st.get(c, unused) for c in it.carriers))
         got = cache.get(key)
         if got is None:
-            got = plan_item(it, st, strategy=strategy, parity=parity)  # type: ignore[arg-type]
+            ps = plan_item(it, st, strategy=strategy, parity=parity)  # type: ignore[arg-type]
+            sub = {c: st.get(c, unused) for c in it.carriers}
+            cost = pass_cost(ps, sub)
+            for p in ps:
+                sub = advance(sub, p)
+            got = (ps, cost, sub)
             cache[key] = got
         return got
 
     def ready(i: int, st: dict[str, CarrierState]) -> bool:
         it = items[i]
         return len(it.carriers) == 1 or all(
-            st.get(c, CarrierState()).needle is not None for c in it.carriers
+            st.get(c, unused).needle is not None for c in it.carriers
         )
-
-    def apply(st: dict[str, CarrierState], ps: list[PlannedPass]) -> dict[str, CarrierState]:
-        for p in ps:
-            st = advance(st, p)
-        return st
 
     if len(items) <= EXHAUSTIVE_ITEMS:
         best: list[object] = [None, None, None]  # cost, passes, states
@@ -283,28 +289,32 @@ def _order_and_plan(
             for i in left:
                 if not ready(i, st):
                     continue
-                ps = plan(i, st)
-                search(
-                    [j for j in left if j != i], apply(st, ps), acc + ps, cost + pass_cost(ps, st)
-                )
+                ps, c, sub = plan(i, st)
+                search([j for j in left if j != i], {**st, **sub}, acc + ps, cost + c)
 
         search(list(range(len(items))), dict(states), [], 0)
         if best[1] is None:  # pragma: no cover - catching never pairs an unused carrier
             raise SchedulingError("plated stitch with a carrier that never knit")
         return best[1], best[2]  # type: ignore[return-value]
 
-    remaining = list(range(len(items)))
-    planned = []
-    st = dict(states)
-    while remaining:
-        cand = [i for i in remaining if ready(i, st)]
-        if not cand:  # pragma: no cover
+    # Beam search: keep the BEAM_WIDTH cheapest partial orders at each depth.
+    beam: list[tuple[int, list[int], dict[str, CarrierState], list[PlannedPass]]] = [
+        (0, list(range(len(items))), dict(states), [])
+    ]
+    width = max(2, BEAM_WIDTH * EXHAUSTIVE_ITEMS // len(items))
+    for _ in range(len(items)):
+        grown = []
+        for cost, left, st, acc in beam:
+            for i in left:
+                if not ready(i, st):
+                    continue
+                ps, c, sub = plan(i, st)
+                grown.append((cost + c, [j for j in left if j != i], {**st, **sub}, acc + ps))
+        if not grown:  # pragma: no cover - catching never pairs an unused carrier
             raise SchedulingError("plated stitch with a carrier that never knit")
-        i = min(cand, key=lambda j: (pass_cost(plan(j, st), st), j))
-        remaining.remove(i)
-        ps = plan(i, st)
-        st = apply(st, ps)
-        planned.extend(ps)
+        grown.sort(key=lambda t: t[0])
+        beam = grown[:width]
+    _, _, st, planned = beam[0]
     return planned, st
 
 

@@ -31,6 +31,7 @@ course's parity direction from wherever its carriers are, as a naive program wou
 
 from __future__ import annotations
 
+from bisect import bisect_left, bisect_right
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Literal
@@ -211,6 +212,7 @@ def plan_item(
         return [PlannedPass(item.carriers, parity, ordered)]
 
     lo, hi = item.stitches[0][0], item.stitches[-1][0]
+    purls = [n for n, b in item.stitches if b == "b"]
     candidates = [
         _with_moves(item.carriers, "+", item.stitches, st),
         _with_moves(item.carriers, "-", item.stitches, st),
@@ -261,7 +263,7 @@ def plan_item(
     return min(
         candidates,
         key=lambda ps: (
-            *_float_cost(ps, st),
+            *_float_cost(ps, st, purls),
             _float_length(ps, st),
             sum(p.kind == "move" for p in ps),
         ),
@@ -269,35 +271,44 @@ def plan_item(
 
 
 def _float_cost(
-    passes: Sequence[PlannedPass], states: Mapping[str, CarrierState]
+    passes: Sequence[PlannedPass], states: Mapping[str, CarrierState], purls: Sequence[int]
 ) -> tuple[int, int]:
     """(purls a pass's own float crosses, passes + transfer passes the floats force).
 
     A float from a carrier's last loop into its pass that crosses purls the *same* pass knits
     cannot be float-avoided (the loops must be on the front for the float and on the back for
     the stitch at once); one that crosses purls a *later* pass of the item knits costs a
-    transfer pass to move them out of the way and back.
+    transfer pass to move them out of the way and back. ``purls`` are the item's purl needles,
+    ascending; every pass of a plan knits a contiguous range of the item's needles.
     """
     last = {c: s.last_loop for c, s in states.items()}
-    purl_pass: dict[int, int] = {}
-    for i, p in enumerate(passes):
-        if p.kind != "move":
-            for n, b in p.stitches:
-                if b == "b":
-                    purl_pass[n] = i
+    spans = [
+        (min(p.stitches[0][0], p.stitches[-1][0]), max(p.stitches[0][0], p.stitches[-1][0]))
+        if p.kind != "move"
+        else None
+        for p in passes
+    ]
+
+    def count(lo: int, hi: int) -> int:  # purls strictly between lo and hi
+        return max(0, bisect_left(purls, hi) - bisect_right(purls, lo))
+
     fatal = 0
     extra = 0
     for i, p in enumerate(passes):
-        if p.kind == "move":
+        span = spans[i]
+        if span is None:
             continue
         first, end = p.stitches[0][0], p.stitches[-1][0]
         for c in p.carriers:
             prev = last.get(c)
-            if prev is not None and abs(first - prev) > 1:
+            if purls and prev is not None and abs(first - prev) > 1:
                 lo, hi = sorted((prev, first))
-                hit = [purl_pass[n] for n in range(lo + 1, hi) if n in purl_pass]
-                fatal += sum(j == i for j in hit)
-                extra = max(extra, int(any(j > i for j in hit)))
+                fatal += count(max(lo, span[0] - 1), min(hi, span[1] + 1))
+                for later in spans[i + 1 :]:
+                    if later is not None and count(
+                        max(lo, later[0] - 1), min(hi, later[1] + 1)
+                    ):
+                        extra = 1
             last[c] = end
     return fatal, pass_cost(passes, states) + extra
 
