@@ -127,7 +127,12 @@ def test_machine_float_limit_of_zero_is_rejected():
 
 @pytest.mark.parametrize(
     "kwargs",
-    [{"path_planning": "zigzag"}, {"catching": "no"}, {"float_avoidance": None}],
+    [
+        {"path_planning": "zigzag"},
+        {"catching": "no"},
+        {"float_avoidance": None},
+        {"catch_every": 0},
+    ],
 )
 def test_bad_switches_are_rejected(kwargs):
     s = lower_to_stitches(LogicalPattern(np.array([[0, 1]]), np.zeros((1, 2), bool), YARNS[:2]))
@@ -236,10 +241,23 @@ def test_every_program_knits_every_stitch_once_and_passes_the_checker(pattern):
 
 
 @settings(max_examples=10, deadline=None, suppress_health_check=[HealthCheck.too_slow])
-@given(mixed_patterns(max_rows=3, max_cols=5), st.sampled_from(["anchor", "split"]))
-def test_both_path_strategies_make_clean_programs(pattern, strategy):
-    sch = schedule_mixed(lower_to_stitches(pattern), path_planning=strategy)
-    assert check_knitout(write_knitout(sch), float_limit=500).ok
+@given(
+    mixed_patterns(max_rows=3, max_cols=5),
+    st.sampled_from(["anchor", "split"]),
+    st.integers(1, 3),
+)
+def test_both_path_strategies_and_any_catch_spacing_make_clean_programs(pattern, strategy, every):
+    sch = schedule_mixed(lower_to_stitches(pattern), path_planning=strategy, catch_every=every)
+    report = check_knitout(write_knitout(sch), float_limit=500)
+    assert report.ok and report.pieces == 1
+
+
+def test_catching_every_course_plates_twice_as_often():
+    p = LogicalPattern(np.array([[0, 1, 1, 0]] * 3), np.zeros((3, 4), bool), YARNS[:2])
+    s = lower_to_stitches(p)
+    every = schedule_mixed(s, catch_every=1).meta["plated_stitches"]
+    alternate = schedule_mixed(s, catch_every=2).meta["plated_stitches"]
+    assert every == 2 * alternate > 0
 
 
 def test_carriers_enter_with_exactly_the_set_they_first_use():

@@ -26,6 +26,7 @@ def run_knit(
     catching: bool = True,
     path_planning: str = "anchor",
     strict_floats: bool = False,
+    catch_every: int = 2,
 ) -> dict[str, Any]:
     """Compile ``pattern_path`` to knitout at ``output``; return the summary (and checker verdict).
 
@@ -60,6 +61,7 @@ def run_knit(
         catching=catching,
         path_planning=path_planning,
         strict_floats=strict_floats,
+        catch_every=catch_every,
     )
     summary = result.summary()
     if check:
@@ -160,6 +162,13 @@ def run_knit(
     help="Ablation (paper Fig. 20): no plated stitches joining colour regions.",
 )
 @click.option(
+    "--catch-every",
+    type=int,
+    default=2,
+    show_default=True,
+    help="Plate at colour changes on every N-th course (1 = every course, as in the paper).",
+)
+@click.option(
     "--path-planning",
     "path_planning",
     type=click.Choice(["anchor", "split", "none"]),
@@ -182,6 +191,7 @@ def knit(
     no_float_avoidance: bool,
     catching_on: bool,
     no_catching: bool,
+    catch_every: int,
     path_planning: tuple[str, ...],
     no_check: bool,
     as_json: bool,
@@ -209,6 +219,7 @@ def knit(
         strict_floats=strict_floats,
         float_avoidance=not no_float_avoidance,
         catching=not no_catching,
+        catch_every=catch_every,
         path_planning=path_planning[0] if path_planning else "anchor",
         gauge=gauge,
         machine_width=machine_width,

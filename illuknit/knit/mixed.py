@@ -405,6 +405,7 @@ def schedule_mixed(
     float_avoidance: bool = True,
     catching: bool = True,
     path_planning: str = "anchor",
+    catch_every: int = 2,
     float_limit: int | None = None,
     strict_floats: bool = False,
     tail_stitches: int = 4,
@@ -423,6 +424,10 @@ def schedule_mixed(
         Algorithm 2: plated stitches joining neighbouring carriers' regions.
     path_planning : {"anchor", "split", "none"}
         Algorithm 3 strategy; ``none`` knits every pass in the course's parity direction.
+    catch_every : int
+        Catch on every ``catch_every``-th course. The default 2 catches once per unit row (a
+        unit is two courses), so no join stays open for more than one course; 1 plates at every
+        colour change of every course, as the paper does, at the price of more passes.
     float_limit : int, optional
         Longest float in wales; defaults to ``machine.float_limit``.
     strict_floats : bool
@@ -463,6 +468,12 @@ def schedule_mixed(
         )
     if tail_stitches < 1:
         raise PatternValidationError(f"`tail_stitches` must be >= 1, got {tail_stitches}")
+    if (
+        isinstance(catch_every, bool)
+        or not isinstance(catch_every, (int, np.integer))
+        or catch_every < 1
+    ):
+        raise PatternValidationError(f"`catch_every` must be an integer >= 1, got {catch_every!r}")
     n_courses, n_wales = stitches.shape
     if n_wales > machine.max_fabric_width:
         raise SchedulingError(
@@ -536,7 +547,8 @@ def schedule_mixed(
         need = kind[c]
         beds = bed_letter[need].tolist()
         new = frozenset(s.carrier for s in cp.segments if s.carrier not in em.states)
-        catches = plan_catches(cp, new_carriers=new) if catching else []
+        caught = catching and c % catch_every == 0
+        catches = plan_catches(cp, new_carriers=new) if caught else []
         items = _course_items([(s.carrier, s.wales) for s in cp.segments], catches, beds, left)
         parity = "-" if c % 2 == 0 else "+"
         planned, _ = _order_and_plan(items, em.states, path_planning, parity)
@@ -644,6 +656,7 @@ def schedule_mixed(
             "float_avoidance": bool(float_avoidance),
             "catching": bool(catching),
             "path_planning": path_planning,
+            "catch_every": int(catch_every),
             "float_limit": int(limit),
             "strict_floats": bool(strict_floats),
             "kickbacks": explicit + implicit,

@@ -82,13 +82,14 @@ def knit_pattern(
     catching: bool = True,
     path_planning: str = "anchor",
     strict_floats: bool = False,
+    catch_every: int = 2,
 ) -> KnitResult:
     """Compile a logical pattern to a knitout program.
 
     Patterns with one colour per course go to :func:`~illuknit.knit.schedule.schedule_courses`;
     patterns that change colour inside a course to the mixed-colourwork scheduler
     :func:`~illuknit.knit.mixed.schedule_mixed`, whose switches (``float_avoidance``,
-    ``catching``, ``path_planning``, ``strict_floats``) apply to them only.
+    ``catching``, ``catch_every``, ``path_planning``, ``strict_floats``) apply to them only.
 
     Parameters
     ----------
@@ -128,6 +129,7 @@ def knit_pattern(
             catching=catching,
             path_planning=path_planning,
             strict_floats=strict_floats,
+            catch_every=catch_every,
         )
     else:
         schedule = schedule_courses(stitches, machine=m)
