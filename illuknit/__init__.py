@@ -48,6 +48,7 @@ _API: dict[str, str] = {
     "knit_pattern": "illuknit.knit.pipeline",
     "KnitResult": "illuknit.knit.pipeline",
     "MachineSpec": "illuknit.knit.machine",
+    "schedule_mixed": "illuknit.knit.mixed",
     # knitout checker
     "check_knitout": "illuknit.check",
     "CheckReport": "illuknit.check",
