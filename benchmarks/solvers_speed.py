@@ -21,7 +21,7 @@ import numpy as np
 
 from illuknit.drawings import draw_ecg, draw_heart
 from illuknit.illusion_models import KnitWeights, build_model, make_problem
-from illuknit.solvers import available_backends, solve
+from illuknit.solvers import available_backends, get_backend, solve
 from illuknit.solvers.dp import hint_values
 
 
@@ -35,6 +35,10 @@ def run(kind: str, rows: int, cols: int, backend: str, limit: float, weights: Kn
     t0 = time.perf_counter()
     model = build_model(problem)
     build = time.perf_counter() - t0
+    b = get_backend(backend)
+    if not b.handles(model):
+        why = getattr(b, "why_not", lambda m: "")(model)
+        return f"{kind:<10} {rows:>3}x{cols:<3} {backend:<6} skipped: {why}"
     if backend != "dp":
         model.hint = hint_values(problem, model)
     sol = solve(model, solver=backend, time_limit=limit)

@@ -44,6 +44,7 @@ __all__ = [
     "Status",
     "assignment_from_lits",
     "fallback_assignment",
+    "interrupt_types",
 ]
 
 
@@ -216,3 +217,13 @@ def fallback_assignment(
         v = assignment_from_lits(s.get_model(), model.pool.top)
     ok, cost = model.evaluate(v)
     return (v, cost) if ok else (None, None)
+
+
+def interrupt_types() -> tuple[type[BaseException], ...]:
+    """Exceptions that mean "Ctrl-C during a solve": pysat's C solvers raise their own
+    ``pysolvers.error("Caught keyboard interrupt")`` instead of ``KeyboardInterrupt``."""
+    try:
+        import pysolvers  # the C extension behind pysat.solvers
+    except ImportError:
+        return (KeyboardInterrupt,)
+    return (KeyboardInterrupt, pysolvers.error)

@@ -6,12 +6,16 @@ at-least-k / linear <= kept as native constraints; a unit soft clause ``[l]`` wi
 contributes ``w * (1 - l)`` to the objective, a wider one gets a violation Boolean ``b`` with
 ``AddBoolOr(clause + [b])`` and contributes ``w * b``. The model's hint becomes a CP-SAT hint.
 
-Worker choice, measured on the illusion models (30 x 30 and 40 x 40 units, loaded 2-core
-machine): one worker with the full LP relaxation (``linearization_level=2``) proved the knit-aware
-optimum in 16-19 s and the logical one in about 1 s, while the default 2-worker portfolio (with or
-without LP, with core or no-LP helpers) timed out at 20 s with a far weaker bound (even on a
-75-variable model it needed 12 s against 0.02 s). So the default is ``num_workers=1,
-linearization_level=2``; ``CPSATBackend(num_workers=N)`` runs CP-SAT's N-worker portfolio.
+Worker choice, measured on the illusion models (loaded 2-core machine, 20 s limits): on small
+and medium models one worker with the full LP relaxation (``linearization_level=2``) is by far
+the best — it proved the knit-aware optimum at 30 x 30 and 40 x 40 units in 16-19 s and the
+logical one at 100 x 100 in 12-21 s, while CP-SAT's default 2-worker portfolio timed out with a
+weak bound (a 75-variable model took 12 s against 0.02 s). On large knit-aware models (70 x 70)
+that single LP worker found no solution at all, while two workers — one full-LP worker
+(``max_lp``) for the bound and one ``quick_restart_no_lp`` worker for solutions — improved on
+the warm start and proved a real bound. So by default (``num_workers=None``) models with more
+than ``LARGE_MODEL_VARS`` variables *and* cross-wale constraints run the 2-worker pair, others
+the single LP worker. ``CPSATBackend(num_workers=N)`` forces N workers of CP-SAT's own portfolio.
 
 Honours ``time_limit`` (returning the best assignment and CP-SAT's best bound with status
 ``timeout``; if CP-SAT found nothing in time the model's hint is returned when feasible), and
@@ -36,19 +40,30 @@ from illuknit.solvers.base import (
 if TYPE_CHECKING:
     from illuknit.model import Model
 
-__all__ = ["CPSATBackend"]
+__all__ = ["LARGE_MODEL_VARS", "CPSATBackend"]
+
+#: Above this many variables (with cross-wale constraints) the 2-worker LP + search pair is used.
+LARGE_MODEL_VARS = 12_000
 
 
 class CPSATBackend:
-    """OR-Tools CP-SAT (default: one worker with the full LP relaxation; see the module docstring)."""
+    """OR-Tools CP-SAT (worker choice by model size; see the module docstring)."""
 
     name = "cpsat"
     extra: str | None = None
     exact = True
 
-    def __init__(self, num_workers: int = 1, linearization_level: int = 2) -> None:
+    def __init__(self, num_workers: int | None = None, linearization_level: int = 2) -> None:
         self.num_workers = num_workers
         self.linearization_level = linearization_level
+
+    def _workers(self, model: Model) -> tuple[int, list[str]]:
+        if self.num_workers is not None:
+            return self.num_workers, []
+        per_wale = getattr(model.problem, "per_wale", False)
+        if model.num_vars > LARGE_MODEL_VARS and not per_wale:
+            return 2, ["max_lp", "quick_restart_no_lp"]
+        return 1, []
 
     def handles(self, model: Model) -> bool:
         return True
@@ -101,8 +116,15 @@ class CPSATBackend:
         obj_vars: list[Any] = []
         obj_coefs: list[int] = []
         offset = model.offset
+        h = None if model.hint is None else np.asarray(model.hint, dtype=bool)
+        relax_hints: list[tuple[Any, bool]] = []
         for block, weights in model.soft_blocks():
-            for row, w in zip(block.tolist(), weights.tolist(), strict=True):
+            if h is not None:
+                # a complete hint (relaxation Booleans too) lets CP-SAT start from the warm start
+                a = np.abs(block)
+                lv = np.where(block > 0, h[a], ~h[a]) & (block != 0)
+                violated = (~lv.any(axis=1)).tolist()
+            for r, (row, w) in enumerate(zip(block.tolist(), weights.tolist(), strict=True)):
                 ls = [v for v in row if v]
                 if len(ls) == 1:
                     # violated <=> not l: w * (1 - l)
@@ -114,16 +136,22 @@ class CPSATBackend:
                     cp.AddBoolOr([*(lit(v) for v in ls), b])
                     obj_vars.append(b)
                     obj_coefs.append(w)
+                    if h is not None:
+                        relax_hints.append((b, violated[r]))
         if obj_vars:
             cp.Minimize(cp_model.LinearExpr.WeightedSum(obj_vars, obj_coefs) + offset)
-        if model.hint is not None:
-            h = np.asarray(model.hint, dtype=bool)
+        if h is not None:
             for i, x in enumerate(xs, start=1):
                 cp.AddHint(x, bool(h[i]))
+            for b, val in relax_hints:
+                cp.AddHint(b, val)
 
         solver = cp_model.CpSolver()
-        solver.parameters.num_workers = self.num_workers
+        workers, subsolvers = self._workers(model)
+        solver.parameters.num_workers = workers
         solver.parameters.linearization_level = self.linearization_level
+        if subsolvers:
+            solver.parameters.subsolvers.extend(subsolvers)
         solver.parameters.random_seed = int(seed)
         solver.parameters.catch_sigint_signal = True
         if time_limit is not None:
@@ -139,7 +167,8 @@ class CPSATBackend:
             "cpsat_status": solver.StatusName(status),
             "conflicts": int(solver.NumConflicts()),
             "branches": int(solver.NumBranches()),
-            "num_workers": self.num_workers,
+            "num_workers": workers,
+            "subsolvers": subsolvers,
         }
         limited = time_limit is not None and wall >= 0.95 * time_limit
         if status == cp_model.INFEASIBLE:

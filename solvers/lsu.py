@@ -27,6 +27,7 @@ from illuknit.solvers.base import (
     Solution,
     Status,
     assignment_from_lits,
+    interrupt_types,
 )
 
 if TYPE_CHECKING:
@@ -147,7 +148,7 @@ class LSUBackend:
                 else:
                     # sum < raw  <=>  not (sum >= raw)  <=>  -rhs[raw - 1]
                     oracle.add_clause([-tot.rhs[raw - 1]])
-        except KeyboardInterrupt:
+        except interrupt_types():
             interrupted = True
         finally:
             oracle.delete()
@@ -174,7 +175,8 @@ class LSUBackend:
                 self.name,
                 model.pool,
             )
-        st = Status.FEASIBLE if interrupted else Status.TIMEOUT
+        gave_up = bool(stats_note) and not interrupted
+        st = Status.FEASIBLE if (interrupted or gave_up) else Status.TIMEOUT
         return Solution(
             st, best_v, best_cost, float(model.offset), wall, stats, self.name, model.pool
         )

@@ -27,6 +27,7 @@ from illuknit.solvers.base import (
     Solution,
     Status,
     fallback_assignment,
+    interrupt_types,
 )
 
 if TYPE_CHECKING:
@@ -117,6 +118,7 @@ class RC2Backend:
         bound = 0
         interrupted = stopped = False
         n_solved = 0
+        interrupts = interrupt_types()
         for hard_idx, soft_idx in comps:
             if stopped:
                 break
@@ -126,7 +128,7 @@ class RC2Backend:
                 break
             try:
                 res = _solve_component(cs, hard_idx, soft_idx, remaining)
-            except KeyboardInterrupt:
+            except interrupts:
                 interrupted = stopped = True
                 break
             status, lits, cost = res
@@ -159,7 +161,10 @@ class RC2Backend:
             return Solution(
                 Status.OPTIMAL, values, cost, float(cost), wall, stats, self.name, model.pool
             )
-        fb, _ = fallback_assignment(model)
+        try:
+            fb, _ = fallback_assignment(model)
+        except interrupts:
+            fb = None
         wall = time.perf_counter() - t0
         lb = float(bound + model.offset)
         if fb is None:
@@ -205,8 +210,6 @@ def _solve_component(
         if timer is not None:
             timer.start()
         model = rc2.compute(expect_interrupt=True)
-        if timer is not None:
-            timer.cancel()
         if model is None:
             if rc2.interrupted:
                 return "stopped", np.zeros(0, dtype=np.int64), int(rc2.cost)
@@ -215,9 +218,7 @@ def _solve_component(
         m = m[np.abs(m) <= used.size]
         orig = used[np.abs(m) - 1]
         return "optimal", np.where(m > 0, orig, -orig), int(rc2.cost)
-    except KeyboardInterrupt:
+    finally:
         if timer is not None:
             timer.cancel()
-        raise
-    finally:
         rc2.delete()
