@@ -100,7 +100,14 @@ def test_outputs_hold_one_row_per_cell_with_version_and_machine(tmp_path):
     run = run_bench(instances(), ["fake-copy", "fake-stripes"], tmp_path / "r", progress=False)
     out = run.outdir
     assert len(run.rows) == 4 and len(run.ran) == 4 and not run.reused
-    for name in ("results.csv", "results.json", "summary.md", "bench.json", "pareto.png"):
+    for name in (
+        "results.csv",
+        "results.json",
+        "summary.md",
+        "bench.json",
+        "pareto.png",
+        "pareto_ghost.png",
+    ):
         assert (out / name).is_file(), name
     assert (out / "contact" / "tiny-a.png").is_file()
     with open(out / "results.csv", newline="") as f:
