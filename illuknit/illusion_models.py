@@ -117,7 +117,7 @@ def parse_weights(text: str | None, *, base: KnitWeights | None = None) -> KnitW
         "max_colour_changes": "max_color_changes",
     }
     valid = ("view", "color_change", "transfer", "max_color_changes")
-    changes: dict[str, int | None] = {}
+    changes: dict[str, Any] = {}
     for part in text.split(","):
         if not part.strip():
             continue

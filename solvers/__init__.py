@@ -99,7 +99,7 @@ def backend_names() -> list[str]:
 def _instantiate(obj: Any) -> Backend:
     if isinstance(obj, type) or (callable(obj) and not isinstance(obj, Backend)):
         obj = obj()
-    return obj  # type: ignore[no-any-return]
+    return obj  # type: ignore[no-any-return,unused-ignore]
 
 
 def _lookup(name: str) -> Backend:

@@ -88,7 +88,7 @@ class CPSATBackend:
         t0 = time.perf_counter()
         cp = cp_model.CpModel()
         top = model.pool.top
-        xs = [cp.NewBoolVar("") for _ in range(top)]
+        xs = [cp.new_bool_var("") for _ in range(top)]
         lit_of: list[Any] = [None, *xs]
         neg_of: list[Any] = [None, *(x.Not() for x in xs)]
 
@@ -97,21 +97,21 @@ class CPSATBackend:
 
         for block, _family in model.hard_blocks():
             for row in block.tolist():
-                cp.AddBoolOr([lit(v) for v in row if v])
+                cp.add_bool_or([lit(v) for v in row if v])
         for c in model.cards:
             ls = [lit(v) for v in c.lits]
             if c.op == "==" and c.k == 1:
-                cp.AddExactlyOne(ls)
+                cp.add_exactly_one(ls)
             elif c.op == "<=" and c.k == 1:
-                cp.AddAtMostOne(ls)
+                cp.add_at_most_one(ls)
             elif c.op == "<=":
-                cp.Add(sum(ls) <= c.k)
+                cp.add(sum(ls) <= c.k)
             elif c.op == ">=":
-                cp.Add(sum(ls) >= c.k)
+                cp.add(sum(ls) >= c.k)
             else:
-                cp.Add(sum(ls) == c.k)
+                cp.add(sum(ls) == c.k)
         for lc in model.linears:
-            cp.Add(sum(cf * lit(v) for v, cf in zip(lc.lits, lc.coeffs, strict=True)) <= lc.bound)
+            cp.add(sum(cf * lit(v) for v, cf in zip(lc.lits, lc.coeffs, strict=True)) <= lc.bound)
 
         obj_vars: list[Any] = []
         obj_coefs: list[int] = []
@@ -132,19 +132,19 @@ class CPSATBackend:
                     obj_vars.append(lit(ls[0]))
                     obj_coefs.append(-w)
                 else:
-                    b = cp.NewBoolVar("")
-                    cp.AddBoolOr([*(lit(v) for v in ls), b])
+                    b = cp.new_bool_var("")
+                    cp.add_bool_or([*(lit(v) for v in ls), b])
                     obj_vars.append(b)
                     obj_coefs.append(w)
                     if h is not None:
                         relax_hints.append((b, violated[r]))
         if obj_vars:
-            cp.Minimize(cp_model.LinearExpr.WeightedSum(obj_vars, obj_coefs) + offset)
+            cp.minimize(cp_model.LinearExpr.WeightedSum(obj_vars, obj_coefs) + offset)
         if h is not None:
             for i, x in enumerate(xs, start=1):
-                cp.AddHint(x, bool(h[i]))
+                cp.add_hint(x, bool(h[i]))
             for b, val in relax_hints:
-                cp.AddHint(b, val)
+                cp.add_hint(b, val)
 
         solver = cp_model.CpSolver()
         workers, subsolvers = self._workers(model)
@@ -177,7 +177,7 @@ class CPSATBackend:
             sol = np.fromiter(solver.ResponseProto().solution, dtype=np.int64)[:top].astype(bool)
             v = np.concatenate([[False], sol])
             _, cost = model.evaluate(v)
-            bound = float(solver.BestObjectiveBound()) if obj_vars else float(cost)
+            bound: float | None = float(solver.BestObjectiveBound()) if obj_vars else float(cost)
             if status == cp_model.OPTIMAL:
                 st = Status.OPTIMAL
                 bound = float(cost)
@@ -187,13 +187,13 @@ class CPSATBackend:
             return Solution(st, v, cost, bound, wall, stats, self.name, model.pool)
         if status == cp_model.UNKNOWN:
             bound = float(solver.BestObjectiveBound()) if obj_vars else None
-            v, cost = (
+            fb, fb_cost = (
                 fallback_assignment(model, budget=1.0) if model.hint is not None else (None, None)
             )
-            if v is not None:
+            if fb is not None:
                 stats["fallback"] = "hint"
             wall = time.perf_counter() - t0
-            return Solution(Status.TIMEOUT, v, cost, bound, wall, stats, self.name, model.pool)
+            return Solution(Status.TIMEOUT, fb, fb_cost, bound, wall, stats, self.name, model.pool)
         stats["message"] = f"CP-SAT returned {solver.StatusName(status)}"
         return Solution(Status.ERROR, None, None, None, wall, stats, self.name, model.pool)
 

@@ -155,7 +155,7 @@ class LSUBackend:
             if tot is not None:
                 tot.delete()
         wall = time.perf_counter() - t0
-        stats = {"sat_calls": calls, "interrupted": interrupted}
+        stats: dict[str, Any] = {"sat_calls": calls, "interrupted": interrupted}
         if stats_note:
             stats["message"] = stats_note
         if best_v is None:
@@ -164,6 +164,7 @@ class LSUBackend:
                     Status.INFEASIBLE, None, None, None, wall, stats, self.name, model.pool
                 )
             return Solution(Status.TIMEOUT, None, None, None, wall, stats, self.name, model.pool)
+        assert best_cost is not None
         if proven:
             return Solution(
                 Status.OPTIMAL,

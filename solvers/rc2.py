@@ -134,9 +134,15 @@ class RC2Backend:
             status, lits, cost = res
             if status == "infeasible":
                 wall = time.perf_counter() - t0
-                stats = {"components": len(comps)}
                 return Solution(
-                    Status.INFEASIBLE, None, None, None, wall, stats, self.name, model.pool
+                    Status.INFEASIBLE,
+                    None,
+                    None,
+                    None,
+                    wall,
+                    {"components": len(comps)},
+                    self.name,
+                    model.pool,
                 )
             bound += cost
             if status == "stopped":

@@ -53,7 +53,7 @@ def load_targets(
     if width is None:
         width = min(a.shape[1], DEFAULT_MAX_WIDTH)
     a = resize_to_units(a, width=width, smooth=count_colors(a) > 16)
-    if b is not None:
+    if b is not None and path_b is not None:
         scaled = resize_to_units(b, width=width, smooth=count_colors(b) > 16)
         if scaled.shape[:2] != a.shape[:2]:
             if not resize:
