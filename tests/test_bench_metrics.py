@@ -106,6 +106,12 @@ def test_knit_stats_for_one_colour_per_course_and_for_mixed_courses():
     )
     ks = knit_stats(stripes)
     assert ks["knit_note"] == ""
+    from illuknit.knit import knit_pattern
+
+    ref = knit_pattern(stripes)
+    assert ks["carriage_passes"] == ref.stats.passes
+    assert ks["transfer_passes"] == ref.stats.transfer_passes
+    assert ks["knit_time_min"] == pytest.approx(ref.time.seconds / 60)
     assert ks["carriage_passes"] > 0 and ks["knit_time_min"] > 0
     assert 0 <= ks["transfer_passes"] < ks["carriage_passes"]
     mixed = LogicalPattern([[0, 1, 0, 1]] * 4, np.zeros((4, 4), bool), BW)
@@ -131,3 +137,10 @@ def test_peak_memory_sees_a_large_allocation():
         del block
     assert mem.delta_mb > 60
     assert mem.peak_mb >= mem.start_mb + mem.delta_mb - 1e-6
+
+
+def test_unschedulable_patterns_get_a_reason_instead_of_numbers():
+    wide = LogicalPattern(np.zeros((2, 400), int), np.zeros((2, 400), bool), BW)
+    ks = knit_stats(wide)
+    assert ks["carriage_passes"] is None and ks["knit_time_min"] is None
+    assert "not schedulable" in ks["knit_note"] and "wide" in ks["knit_note"]

@@ -45,6 +45,14 @@ def _stripes(instance, time_limit):
     }
 
 
+def _slow(instance, time_limit):
+    import time
+
+    time.sleep(0.2)
+    pattern, _ = _copy(instance, time_limit)
+    return pattern, {"status": "feasible", "objective": 10, "bound": 4, "gap": 0.6, "solve_s": 0.15}
+
+
 def _missing(instance, time_limit):
     raise MethodUnavailable("needs the imaginary extra: pip install 'illuknit[imaginary]'")
 
@@ -60,6 +68,7 @@ def _nothing(instance, time_limit):
 FAKES = {
     "fake-copy": _copy,
     "fake-stripes": _stripes,
+    "fake-slow": _slow,
     "fake-missing": _missing,
     "fake-broken": _broken,
     "fake-nothing": _nothing,
@@ -339,3 +348,24 @@ def test_cli_runs_and_resumes(tmp_path):
     third = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
     assert third.returncode == 2 and "illuknit 9.9" in third.stderr
     assert "Traceback" not in third.stderr and third.stderr.count("\n") == 1
+
+
+def test_times_and_solver_fields_are_recorded(tmp_path):
+    run = run_bench(
+        instances()[:1], ["fake-slow"], tmp_path / "r", progress=False, write_outputs=False
+    )
+    (row,) = run.rows
+    assert row["wall_s"] >= 0.2 and row["solve_s"] == 0.15 and row["metrics_s"] > 0
+    assert (row["status"], row["objective"], row["bound"], row["gap"]) == ("feasible", 10, 4, 0.6)
+
+
+def test_a_solver_backend_missing_from_this_install_is_a_skipped_row(tmp_path, monkeypatch):
+    import illuknit.solvers
+
+    monkeypatch.setattr(illuknit.solvers, "available_backends", lambda: ["dp"])
+    run = run_bench(
+        instances()[:1], ["rc2", "dp"], tmp_path / "r", progress=False, write_outputs=False
+    )
+    by = {r["method"]: r for r in run.rows}
+    assert by["rc2"]["status"] == "skipped" and "'rc2' is not available" in by["rc2"]["reason"]
+    assert by["dp"]["status"] == "optimal"
