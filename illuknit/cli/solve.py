@@ -305,8 +305,8 @@ def _print_report(report: dict[str, Any], written: dict[str, Path], outdir: Path
     default="auto",
     show_default=True,
     metavar="NAME",
-    help="Backend: dp, cpsat, rc2, lsu, wcnf:COMMAND (an external MaxSAT binary; {} is the "
-    "WCNF path), or auto (the exact DP when it applies, else CP-SAT).",
+    help="Backend: dp, cpsat, rc2, lsu, gradient, wcnf:COMMAND (an external MaxSAT binary; {} "
+    "is the WCNF path), or auto (the exact DP when it applies, else CP-SAT).",
 )
 @click.option(
     "--model",
