@@ -230,7 +230,11 @@ BEAM_WIDTH = 8
 
 
 def _order_and_plan(
-    items: list[WorkItem], states: dict[str, CarrierState], strategy: str, parity: str
+    items: list[WorkItem],
+    states: dict[str, CarrierState],
+    strategy: str,
+    parity: str,
+    lookahead: Sequence[WorkItem] = (),
 ) -> tuple[list[PlannedPass], dict[str, CarrierState]]:
     """Order a course's items for fewest passes; a carrier's own item comes before plating.
 
@@ -275,6 +279,25 @@ def _order_and_plan(
             st.get(c, unused).needle is not None for c in it.carriers
         )
 
+    ahead_cache: dict[tuple[int, CarrierState], int] = {}
+
+    def ahead(st: dict[str, CarrierState]) -> int:
+        """Extra passes the next course's own segments would need from these states."""
+        extra = 0
+        for k, it in enumerate(lookahead):
+            car = it.carriers[0]
+            cs = st.get(car, unused)
+            if cs.needle is None:
+                continue
+            key = (k, cs)
+            got = ahead_cache.get(key)
+            if got is None:
+                ps = plan_item(it, {car: cs}, strategy=strategy, parity=parity)  # type: ignore[arg-type]
+                got = pass_cost(ps, {car: cs}) - 1
+                ahead_cache[key] = got
+            extra += got
+        return extra
+
     if len(items) <= EXHAUSTIVE_ITEMS:
         best: list[object] = [None, None, None]  # cost, passes, states
 
@@ -284,7 +307,9 @@ def _order_and_plan(
             if best[0] is not None and cost >= best[0]:  # type: ignore[operator]
                 return
             if not left:
-                best[0], best[1], best[2] = cost, list(acc), st
+                total = cost + ahead(st)
+                if best[0] is None or total < best[0]:  # type: ignore[operator]
+                    best[0], best[1], best[2] = total, list(acc), st
                 return
             for i in left:
                 if not ready(i, st):
@@ -314,7 +339,7 @@ def _order_and_plan(
             raise SchedulingError("plated stitch with a carrier that never knit")
         grown.sort(key=lambda t: t[0])
         beam = grown[:width]
-    _, _, st, planned = beam[0]
+    _, _, st, planned = min(beam, key=lambda t: t[0] + ahead(t[2]))
     return planned, st
 
 
@@ -551,7 +576,14 @@ def schedule_mixed(
         catches = plan_catches(cp, new_carriers=new) if caught else []
         items = _course_items([(s.carrier, s.wales) for s in cp.segments], catches, beds, left)
         parity = "-" if c % 2 == 0 else "+"
-        planned, _ = _order_and_plan(items, em.states, path_planning, parity)
+        lookahead: list[WorkItem] = []
+        if c + 1 < len(plan.courses):
+            # The next course's own segments: orders that leave carriers where that work can
+            # start in one pass are preferred (its plated stitches are not known yet).
+            nxt = plan.courses[c + 1]
+            nbeds = bed_letter[kind[c + 1]].tolist()
+            lookahead = _course_items([(s.carrier, s.wales) for s in nxt.segments], [], nbeds, left)
+        planned, _ = _order_and_plan(items, em.states, path_planning, parity, lookahead)
         bound = len({it.carriers for it in items}) + int(bool((need != prev_kind).any()))
         prev_kind = need
         if body:
