@@ -125,3 +125,13 @@ def test_design_commands_write_a_checked_program_with_knitout(tmp_path, capsys, 
     report = json.loads((out / "check.json").read_text())
     assert report["ok"] and report["pieces"] == 1
     assert (out / "program.k").read_text().startswith(";!knitout-2\n")
+
+
+def test_calibration_swatch_command_writes_a_checked_program(tmp_path, capsys):
+    out = tmp_path / "swatch"
+    args = ["calibrate", "swatch", "-o", str(out), "--bump-sizes", "1", "--flat-sizes", "1,2"]
+    code, _, err = run([*args, "--cell-width", "3", "--knitout"], capsys)
+    assert code == 0, err
+    report = json.loads((out / "check.json").read_text())
+    assert report["ok"] and report["pieces"] == 1
+    assert json.loads((out / "knit.json").read_text())["scheduler"] == "mixed-colourwork"

@@ -66,6 +66,11 @@ def calibrate() -> None:
     help="Current renderer parameters (for the preview and predicted angles).",
 )
 @click.option(
+    "--knitout",
+    is_flag=True,
+    help="Also compile the swatch to DIR/program.k (mixed colourwork) and check it.",
+)
+@click.option(
     "-o",
     "--outdir",
     type=click.Path(file_okay=False, path_type=Path),
@@ -78,6 +83,7 @@ def swatch(
     cell_width: int,
     yarns: str,
     params_file: Path | None,
+    knitout: bool,
     outdir: Path,
 ) -> None:
     """Write swatch.json (the pattern), preview.png and measurements.csv (a template)."""
@@ -110,6 +116,10 @@ def swatch(
         )
         save_png(sheet, tmp / "preview.png")
         atomic_write_text(tmp / "measurements.csv", measurements_template(pattern, params=params))
+        if knitout:
+            from illuknit.cli.knitout_bridge import write_program
+
+            write_program(pattern, tmp)
     click.echo(
         f"wrote {outdir}: swatch.json ({pattern.shape[0]} x {pattern.shape[1]} units), preview.png, measurements.csv"
     )
