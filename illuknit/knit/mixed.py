@@ -555,6 +555,15 @@ def schedule_mixed(
             state = CarrierState(up[-1], "+", up[-1])
             cast_fixed += 1
         em.steps.append(CarrierAction("releasehook", (car,)))
+        edge = left + n_wales - 1
+        if up and needles[-1] == edge:
+            # As in the one-colour cast-on: once the hook is released, park the carrier right of
+            # the fabric so that its first course starts leftward from behind the carriage
+            # (otherwise it would have to be carried back across the whole piece).
+            park = Op("miss", "f", edge + machine.park_distance)
+            em.steps.append(Pass("knit", (park,), "+", (car,), 0.0, "park", None, cast_sn))
+            state = CarrierState(park.needle, "+", up[-1])
+            cast_fixed += 1
         em.states[car] = state
     for n in em.needles:
         em.bed[n] = "f"
