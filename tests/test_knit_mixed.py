@@ -111,6 +111,12 @@ def test_more_yarns_in_a_course_than_carriers_always_fails():
         plan_colour_runs(np.array([[0, 1, 2, 3]]), carriers=("1", "2", "3"), float_limit=20)
 
 
+def test_a_yarn_arriving_when_every_carrier_is_threaded_is_named():
+    rows = np.array([[0, 1, 2], [3, 3, 3]])
+    with pytest.raises(CarrierShortageError, match="another carrier for yarn 3 but all 3"):
+        plan_colour_runs(rows, carriers=("1", "2", "3"), float_limit=20)
+
+
 @pytest.mark.parametrize("limit", [0, -1, 1.5, True])
 def test_float_limit_below_one_is_rejected(limit):
     with pytest.raises(PatternValidationError, match="float_limit"):

@@ -277,7 +277,20 @@ def plan_colour_runs(
         if not strict:
             groups = _fit_carriers(groups, {v: len(cs) for v, cs in of_yarn.items()}, len(free))
         need = sum(len(g) for g in groups.values())
-        if need > len(pool) or _deficit(groups, of_yarn, len(free)) > 0:
+        if need <= len(pool) and _deficit(groups, of_yarn, len(free)) > 0:
+            name = course_names[c] if course_names is not None else f"course {c}"
+            short = sorted(v for v, g in groups.items() if len(g) > len(of_yarn.get(v, ())))
+            threaded = len(pool) - len(free)
+            raise CarrierShortageError(
+                f"{name} needs another carrier for yarn {short[0]} but all {threaded} carriers "
+                "are already threaded with other yarns (a carrier keeps its yarn for the whole "
+                f"piece); use fewer yarns or a wider float limit (MachineSpec.float_limit, now "
+                f"{float_limit})",
+                course=c,
+                needed=threaded + 1,
+                available=len(pool),
+            )
+        if need > len(pool):
             name = course_names[c] if course_names is not None else f"course {c}"
             detail = ", ".join(f"yarn {v}: {len(g)}" for v, g in sorted(groups.items()))
             raise CarrierShortageError(
