@@ -305,9 +305,7 @@ def _float_cost(
                 lo, hi = sorted((prev, first))
                 fatal += count(max(lo, span[0] - 1), min(hi, span[1] + 1))
                 for later in spans[i + 1 :]:
-                    if later is not None and count(
-                        max(lo, later[0] - 1), min(hi, later[1] + 1)
-                    ):
+                    if later is not None and count(max(lo, later[0] - 1), min(hi, later[1] + 1)):
                         extra = 1
             last[c] = end
     return fatal, pass_cost(passes, states) + extra
