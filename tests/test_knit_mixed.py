@@ -281,3 +281,14 @@ def test_carriers_enter_with_exactly_the_set_they_first_use():
             for c in s.carriers:
                 first_use.setdefault(c, s.carriers)
     assert first_use == hooked
+
+
+@settings(max_examples=5, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(mixed_patterns(max_rows=3, max_cols=5))
+def test_random_programs_run_in_the_pypi_simulator(pattern):
+    report = check_knitout(
+        write_knitout(schedule_mixed(lower_to_stitches(pattern))), float_limit=500, simulate=True
+    )
+    assert report.ok and report.vm is not None and report.vm["ran"]
+    assert report.vm["pieces"] == 1
+    assert not [f for f in report.findings if f.source == "vm" and f.blocking]
