@@ -3,7 +3,8 @@
 One module per stage::
 
     LogicalPattern -> stitches.lower_to_stitches -> StitchPattern
-                   -> schedule.schedule_courses  -> Schedule
+                   -> schedule.schedule_courses  -> Schedule   (one colour per course)
+                   -> mixed.schedule_mixed       -> Schedule   (colour changes inside courses)
                    -> knitout.write_knitout      -> knitout-2 text
                       timing.estimate_knit_time  -> TimeEstimate
 
@@ -14,6 +15,7 @@ from __future__ import annotations
 
 from illuknit.knit.knitout import write_knitout
 from illuknit.knit.machine import DEFAULT_MACHINE, MachineSpec
+from illuknit.knit.mixed import schedule_mixed
 from illuknit.knit.pipeline import KnitResult, knit_pattern
 from illuknit.knit.schedule import (
     CarrierAction,
@@ -43,5 +45,6 @@ __all__ = [
     "knit_pattern",
     "lower_to_stitches",
     "schedule_courses",
+    "schedule_mixed",
     "write_knitout",
 ]
