@@ -14,18 +14,21 @@ the time model and the checker work unchanged::
 
 **Cast-on** follows the first course's colours: each carrier of course 0 comes in on the
 inserting hook and tuck-casts-on its own wales (alternate needles leftward from its rightmost
-wale, a ``miss`` past its leftmost, the others rightward, ``releasehook``), so colour regions run
-to the edge. ``cast_on_courses`` plain courses in course 0's colours follow, scheduled like the
-body (caught, path-planned).
+wale, a ``miss`` past its leftmost, the others rightward, ``releasehook``; a carrier ending at the
+right edge is then parked right of it), so colour regions run to the edge. ``cast_on_courses``
+plain courses in course 0's colours follow, scheduled like the body (caught, path-planned).
 
 **Each course**: the work items are every carrier's segment (minus its plated stitches) and one
-item per plated carrier pair. Items are ordered greedily -- next is the item that costs fewest
-passes from where the carriers are now (a carrier's first item is its own, so it comes in with
-exactly the set it first uses) -- and each is planned into passes by Algorithm 3. Then the
-course's transfers are placed: lazily and batched, with float avoidance (see
-:mod:`~illuknit.knit.float_avoidance`). Carriers come in with ``inhook`` right before their first
-pass (leftward, as the hook needs) and the hook is released right after it; a carrier leaves with
-``outhook`` after its last course.
+item per plated carrier pair; catching happens on every ``catch_every``-th course (default 2:
+once per unit row). Items are ordered for fewest passes -- branch and bound over every order up
+to :data:`EXHAUSTIVE_ITEMS` items, a beam search beyond, each order also charged what the next
+course's own work would cost from where it leaves the carriers; a carrier's first item is its
+own, so it comes in with exactly the set it first uses -- and each is planned into passes by
+Algorithm 3. Then the course's transfers are placed: lazily and batched, with float avoidance
+(see :mod:`~illuknit.knit.float_avoidance`). Carriers come in with ``inhook`` right before their
+first pass (leftward, as the hook needs) and the hook is released right after it; a carrier
+leaves with ``outhook`` after its last course. Finally :func:`fold_moves` folds each
+carrier-placing ``miss`` pass that continues its carrier's previous pass into that pass.
 
 **Bind-off**: every loop to the front, then a chain bind-off from left to right in the colours of
 the last course -- each needle knit by the carrier of its run, its loop moved onto the next needle
