@@ -10,22 +10,32 @@ changes between units (i, j) and (i, j+1) along the course.
 clause + pairwise at-most-one). *pinned units* (optional): the designer fixed some units' yarn.
 Model (b): *colour-change definition* ``yarn[i,j,k] & ~yarn[i,j+1,k] -> change[i,j]``, and the
 optional *colour-change cap per course*: at most ``max_color_changes`` true ``change`` per row.
+Model (c): *one yarn per course*: ``yarn[i,j,k] -> yarn[i,0,k]`` — every unit row is knit in one
+yarn, so the piece is a plain stripe head-on (a single-view illusion must hide its picture there;
+without this the optimum simply knits the picture, visible from every side) — and, with
+``alternate_rows``, *alternating row colours*: ``~yarn[i,0,k] | ~yarn[i+1,0,k]`` (neighbouring
+rows differ; with two yarns the rows alternate, as in the push-button compiler).
 
 **Objective (soft).** (a) *logical* — the paper's model: each view cell that does not show its
 target yarn costs ``weights.view``. With ``VA[i] = C[i-1] if R[i-1] else C[i]`` (row 0 always
 ``C[0]``), view A at (i, j) is encoded exactly by the two soft clauses
 ``(~R[i-1,j] | yarn[i-1,j,A]) `` and ``(R[i-1,j] | yarn[i,j,A])`` — whichever way ``R[i-1,j]``
 goes, exactly one of them is live, so the violated weight equals the mismatch count. View B
-mirrors it with ``R[i+1, j]``. (c) *single* — one target seen from both sides: (a) with A = B.
+mirrors it with ``R[i+1, j]``. (c) *single* — one target seen from both sides: (a) with A = B
+and one yarn per course.
 (b) *knit-aware* — (a) plus ``weights.color_change`` per ``change`` and ``weights.transfer`` per
 knit<->purl change between consecutive courses. A bump is a knit course followed by a purl course
 in the same wales, and every unit starts with a knit course, so a bump costs two bed changes (knit
 -> purl inside it, purl -> knit into the unit above) — one in the top row, where the bind-off
 follows.
 
-Models (a), (c), and (b) without colour-change terms couple only neighbouring units of one wale,
-so :mod:`illuknit.solvers.dp` solves them exactly per wale; the structured
-:class:`IllusionProblem` rides along as ``model.problem`` for it.
+Models (a) and (b) without colour-change terms couple only neighbouring units of one wale, so
+:mod:`illuknit.solvers.dp` solves them exactly per wale; model (c) ties each row to one yarn, and
+the DP solves it exactly over the row colours (a raised bit then affects two view cells whose
+colours depend only on three consecutive row colours). The structured :class:`IllusionProblem`
+rides along as ``model.problem`` for it. Model (b) with colour-change terms couples the wales;
+:mod:`illuknit.solvers.descent` re-optimises single wales and courses exactly in turn and warm-
+starts the exact backends.
 """
 
 from __future__ import annotations
@@ -53,12 +63,14 @@ __all__ = [
     "build_model",
     "color_changes_per_course",
     "default_yarns",
+    "keep_warm_start",
     "knit_purl_changes",
     "make_problem",
     "parse_weights",
     "pattern_from_solution",
     "report_pattern",
     "solve_illusion",
+    "warm_start",
 ]
 
 ModelKind = Literal["logical", "knit-aware", "single"]
@@ -174,6 +186,8 @@ class IllusionProblem:
     weights : KnitWeights
     pinned : ndarray of shape (N, M), int, optional
         Yarn fixed by the designer per unit, -1 where free.
+    alternate_rows : bool
+        Single-view model only: neighbouring unit rows must have different yarns.
     """
 
     target_a: NDArray[np.int16]
@@ -182,10 +196,15 @@ class IllusionProblem:
     kind: str = "logical"
     weights: KnitWeights = field(default_factory=KnitWeights)
     pinned: NDArray[np.int16] | None = None
+    alternate_rows: bool = False
 
     def __post_init__(self) -> None:
         if self.kind not in MODEL_KINDS:
             raise UnknownNameError("model", str(self.kind), MODEL_KINDS)
+        if self.alternate_rows and self.kind != "single":
+            raise PatternValidationError(
+                f"`alternate_rows` applies to the single-view model only, not {self.kind!r}"
+            )
         k = int(self.n_yarns)
         if k < 1:
             raise PatternValidationError(f"`n_yarns` must be >= 1, got {self.n_yarns}")
@@ -233,9 +252,14 @@ class IllusionProblem:
         return self.weights.max_color_changes if self.kind == "knit-aware" else None
 
     @property
+    def rows_tied(self) -> bool:
+        """True when every unit row must be knit in one yarn (the single-view model)."""
+        return self.kind == "single"
+
+    @property
     def per_wale(self) -> bool:
-        """True when no term couples different wales (then the exact DP applies)."""
-        return self.color_weight == 0 and self.color_cap is None
+        """True when nothing couples different wales (then the per-wale DP is exact)."""
+        return self.color_weight == 0 and self.color_cap is None and not self.rows_tied
 
 
 def make_problem(
@@ -246,10 +270,12 @@ def make_problem(
     kind: str = "logical",
     weights: KnitWeights | None = None,
     pinned: ArrayLike | None = None,
+    alternate_rows: bool = False,
 ) -> IllusionProblem:
     """An :class:`IllusionProblem`; ``target_b`` defaults to ``target_a`` (single view).
 
-    ``n_yarns`` defaults to ``max(target) + 1``.
+    ``n_yarns`` defaults to ``max(target) + 1``. ``alternate_rows`` (single view only): rows
+    alternate yarns.
     """
     a = np.asarray(target_a)
     b = a if target_b is None else np.asarray(target_b)
@@ -260,7 +286,9 @@ def make_problem(
     if n_yarns is None:
         n_yarns = int(max(int(np.max(a)), int(np.max(b)))) + 1 if a.size and b.size else 1
     pin = None if pinned is None else np.asarray(pinned)
-    return IllusionProblem(a, b, int(n_yarns), kind, weights or KnitWeights(), pin)
+    return IllusionProblem(
+        a, b, int(n_yarns), kind, weights or KnitWeights(), pin, bool(alternate_rows)
+    )
 
 
 # -- encoding ---------------------------------------------------------------------------------
@@ -301,6 +329,17 @@ def build_model(problem: IllusionProblem) -> Model:
         ii, jj = np.nonzero(problem.pinned >= 0)
         if ii.size:
             model.add_hard_block(x[ii, jj, problem.pinned[ii, jj]][:, None], family="pinned units")
+    if problem.rows_tied and m > 1:
+        # unit (i, j) in yarn k -> unit (i, 0) in yarn k; with one-hot units all share one yarn
+        first = np.broadcast_to(x[:, :1, :], (n, m - 1, k))
+        model.add_hard_block(
+            np.stack([-x[:, 1:, :], first], axis=-1).reshape(-1, 2), family="one yarn per course"
+        )
+    if problem.alternate_rows and n > 1:
+        model.add_hard_block(
+            np.stack([-x[:-1, 0, :], -x[1:, 0, :]], axis=-1).reshape(-1, 2),
+            family="alternating row colours",
+        )
 
     cols = np.arange(m)[None, :]
     ta = problem.target_a.astype(np.int64)
@@ -448,6 +487,85 @@ def report_pattern(
     return rep
 
 
+#: Share of the time limit a warm-start descent may take before an exact backend (model (b)).
+WARM_START_SHARE = 0.25
+#: Seconds of warm-start descent without a time limit (it usually stalls much earlier).
+WARM_START_SECONDS = 20.0
+
+
+def warm_start(
+    problem: IllusionProblem,
+    model: Model,
+    *,
+    time_limit: float | None = None,
+    seed: int = 0,
+) -> tuple[NDArray[np.bool_], dict[str, Any]]:
+    """A warm start (``model.hint``) for a backend solving ``model``.
+
+    The exact DP optimum where it applies (models (a), (c), and (b) without colour terms); for
+    model (b) with colour-change terms and no cap, the block descent of
+    :mod:`illuknit.solvers.descent` started from that DP optimum, given ``WARM_START_SHARE`` of
+    ``time_limit`` (or ``WARM_START_SECONDS``); with a cap, the DP optimum of the per-wale part
+    (which may break the cap; CP-SAT repairs hints).
+
+    Returns
+    -------
+    values : ndarray of bool, indexed by variable id
+    info : dict
+        ``{"method", "objective", "seconds"}`` for the report.
+    """
+    import time
+
+    from illuknit.solvers.dp import hint_values, values_from_pattern
+
+    t0 = time.perf_counter()
+    if problem.per_wale or problem.rows_tied or problem.color_cap is not None:
+        vals = hint_values(problem, model)
+        method = "dp"
+    else:
+        from illuknit.solvers.descent import optimise_descent
+
+        budget = (
+            WARM_START_SECONDS
+            if time_limit is None
+            else min(WARM_START_SECONDS, WARM_START_SHARE * time_limit)
+        )
+        res = optimise_descent(problem, time_limit=budget, seed=seed)
+        vals = values_from_pattern(model, res.yarn, res.raised)
+        method = "descent"
+    _, cost = model.evaluate(vals)
+    return vals, {
+        "method": method,
+        "objective": int(cost),
+        "seconds": round(time.perf_counter() - t0, 3),
+    }
+
+
+def keep_warm_start(model: Model, solution: Solution, info: Mapping[str, Any]) -> Solution:
+    """``solution`` with the warm start's time added and, if the backend came back worse than
+    its warm start (``model.hint``) or with nothing, the warm start's assignment instead."""
+    from illuknit.solvers.base import Solution as _Solution
+    from illuknit.solvers.base import Status
+
+    values, objective, status = solution.values, solution.objective, solution.status
+    stats = {**solution.stats, "warm_start": dict(info)}
+    if model.hint is not None and status in (Status.FEASIBLE, Status.TIMEOUT):
+        ok, cost = model.evaluate(model.hint)
+        if ok and (objective is None or cost < objective):
+            values, objective = np.asarray(model.hint, dtype=bool), cost
+            stats["kept_warm_start"] = True
+    return _Solution(
+        status,
+        values,
+        objective,
+        solution.bound,
+        solution.wall_time + float(info.get("seconds", 0.0)),
+        stats,
+        solution.backend,
+        solution.pool,
+    )
+
+
 @dataclass(frozen=True, eq=False)
 class IllusionResult:
     """What :func:`solve_illusion` returns."""
@@ -468,6 +586,7 @@ def solve_illusion(
     yarns: Sequence[Yarn] | None = None,
     n_yarns: int | None = None,
     pinned: ArrayLike | None = None,
+    alternate_rows: bool = False,
     time_limit: float | None = None,
     seed: int = 0,
     hint: bool = True,
@@ -483,8 +602,12 @@ def solve_illusion(
     solver : str
         A backend name (see :func:`illuknit.solvers.available_backends`) or "auto" (the first
         in preference order that handles the model: the exact DP when it applies).
+    alternate_rows : bool
+        Single-view model: neighbouring rows must have different yarns.
     hint : bool
-        Warm-start other backends with the DP optimum of the per-wale part of the model.
+        Warm-start other backends (:func:`warm_start`: the DP optimum, or for the knit-aware
+        model a block descent, which takes part of ``time_limit``). The result is never worse
+        than the warm start, and its ``wall_time`` includes it.
 
     Raises
     ------
@@ -504,15 +627,20 @@ def solve_illusion(
         kind=model,
         weights=weights,
         pinned=pinned,
+        alternate_rows=alternate_rows,
     )
     if yarns is not None and len(yarns) < prob.n_yarns:
         raise PatternValidationError(f"`yarns` must list {prob.n_yarns} yarns, got {len(yarns)}")
     mdl = build_model(prob)
-    if hint and solver != "dp":
-        from illuknit.solvers.dp import hint_values
-
-        mdl.hint = hint_values(prob, mdl)
-    sol = solve(mdl, solver=solver, time_limit=time_limit, seed=seed, progress=progress)
+    ws: dict[str, Any] | None = None
+    remaining = time_limit
+    if hint and solver not in ("dp", "descent"):
+        mdl.hint, ws = warm_start(prob, mdl, time_limit=time_limit, seed=seed)
+        if time_limit is not None:
+            remaining = max(0.1 * time_limit, time_limit - ws["seconds"])
+    sol = solve(mdl, solver=solver, time_limit=remaining, seed=seed, progress=progress)
+    if ws is not None:
+        sol = keep_warm_start(mdl, sol, ws)
     if sol.status.value == "infeasible":
         fams = list(sol.stats.get("infeasible_families", [])) or ["(unknown)"]
         raise InfeasibleError(

@@ -11,6 +11,7 @@ cpsat      OR-Tools CP-SAT, native cardinality/linear, 2 workers             eve
 rc2        pysat RC2 core-guided MaxSAT (exact)                              every model
 lsu        pysat linear SAT-UNSAT search (anytime upper bounds)              every model
 gradient   descent through the differentiable renderer (heuristic, no bound) illusion models
+descent    exact-block coordinate descent, wales and courses (heuristic)     illusion models
 wcnf:CMD   any MaxSAT solver binary via a WCNF file (``wcnf:"maxhs {}"``)    every model
 =========  ===============================================================  ==================
 
@@ -66,6 +67,7 @@ REGISTRY: dict[str, str] = {
     "rc2": "illuknit.solvers.rc2:RC2Backend",
     "lsu": "illuknit.solvers.lsu:LSUBackend",
     "gradient": "illuknit.solvers.gradient:GradientBackend",
+    "descent": "illuknit.solvers.descent:DescentBackend",
 }
 
 #: pseudo-backend prefix: ``wcnf:COMMAND`` runs an external MaxSAT binary.

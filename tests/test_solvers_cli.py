@@ -96,6 +96,15 @@ def test_single_view_model(pair, tmp_path):
         == rep["solver"]["objective"]
     )
     assert pat.shape == (12, 10)
+    assert np.all(pat.yarn == pat.yarn[:, :1])  # one yarn per course: a stripe head-on
+    alt = tmp_path / "alt"
+    main(["solve", str(a), "--model", "single", "--alternate-rows", "-o", str(alt)])
+    y = load_pattern(alt / "pattern.json").yarn[:, 0]
+    assert np.all(y[1:] != y[:-1])
+    assert (
+        json.loads((alt / "report.json").read_text())["solver"]["objective"]
+        >= rep["solver"]["objective"]
+    )
 
 
 def test_export_wcnf_round_trips_and_the_external_route_agrees(pair, tmp_path):
@@ -203,6 +212,8 @@ def test_bad_input_model_arity_weights_and_time(pair, tmp_path, capsys):
         ["solve", str(a), str(b), "--colors", "3", "--yarns", "black,white", "-o", o], capsys
     )
     assert code == 2 and "yarn" in err
+    code, _, err = _run(["solve", str(a), str(b), "--alternate-rows", "-o", o], capsys)
+    assert code == 2 and "--alternate-rows" in err and "single" in err
     assert not (tmp_path / "o").exists()
 
 

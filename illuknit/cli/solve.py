@@ -137,6 +137,7 @@ def run_solve(
     solver: str = "auto",
     weights: str | None = None,
     max_color_changes: int | None = None,
+    alternate_rows: bool = False,
     n_colors: int | None = None,
     yarns: str | None = None,
     width: int | None = None,
@@ -153,10 +154,12 @@ def run_solve(
     from illuknit.errors import ImageInputError, InfeasibleError, SolverError
     from illuknit.illusion_models import (
         build_model,
+        keep_warm_start,
         make_problem,
         parse_weights,
         pattern_from_solution,
         report_pattern,
+        warm_start,
     )
     from illuknit.outputs import atomic_write_text, staged_dir
     from illuknit.pattern import parse_yarns
@@ -169,6 +172,8 @@ def run_solve(
         raise ImageInputError("--model single takes one picture (it is seen from both sides)")
     if model != "single" and image_b is None:
         raise ImageInputError(f"--model {model} needs two pictures A and B (or use --model single)")
+    if alternate_rows and model != "single":
+        raise click.BadParameter("applies to --model single only", param_hint="--alternate-rows")
     if outdir is None and export_wcnf is None:
         raise click.UsageError("give -o OUTDIR (or --export-wcnf FILE)")
     if time_limit is not None and time_limit <= 0:
@@ -185,7 +190,12 @@ def run_solve(
         image_a, image_b, width=width, resize=resize, n_colors=n_colors, yarns=ys, quantise=quantise
     )
     problem = make_problem(
-        qa.indices, None if qb is None else qb.indices, n_yarns=len(qa.yarns), kind=model, weights=w
+        qa.indices,
+        None if qb is None else qb.indices,
+        n_yarns=len(qa.yarns),
+        kind=model,
+        weights=w,
+        alternate_rows=alternate_rows,
     )
     mdl = build_model(problem)
     written: dict[str, Path] = {}
@@ -206,18 +216,23 @@ def run_solve(
         raise SolverError(
             f"solver {backend.name!r} cannot solve the {model} model" + (f": {why}" if why else "")
         )
-    if backend.name != "dp":
-        from illuknit.solvers.dp import hint_values
-
-        mdl.hint = hint_values(problem, mdl)
+    ws: dict[str, Any] | None = None
+    remaining = time_limit
+    if backend.name not in ("dp", "descent"):
+        # the DP optimum, or for the knit-aware model a block descent (part of the time limit)
+        mdl.hint, ws = warm_start(problem, mdl, time_limit=time_limit, seed=seed)
+        if time_limit is not None:
+            remaining = max(0.1 * time_limit, time_limit - ws["seconds"])
     label = f"{backend.name} on {model} {problem.shape[0]}x{problem.shape[1]}"
     if show_progress and backend.name != "dp":
-        with _LiveProgress(time_limit, label) as live:
+        with _LiveProgress(remaining, label) as live:
             sol = solve_model(
-                mdl, solver=backend.name, time_limit=time_limit, seed=seed, progress=live
+                mdl, solver=backend.name, time_limit=remaining, seed=seed, progress=live
             )
     else:
-        sol = solve_model(mdl, solver=backend.name, time_limit=time_limit, seed=seed)
+        sol = solve_model(mdl, solver=backend.name, time_limit=remaining, seed=seed)
+    if ws is not None:
+        sol = keep_warm_start(mdl, sol, ws)
     if sol.status.value == "infeasible":
         fams = ", ".join(sol.stats.get("infeasible_families", [])) or "(unknown)"
         raise InfeasibleError(
@@ -305,8 +320,8 @@ def _print_report(report: dict[str, Any], written: dict[str, Path], outdir: Path
     default="auto",
     show_default=True,
     metavar="NAME",
-    help="Backend: dp, cpsat, rc2, lsu, gradient, wcnf:COMMAND (an external MaxSAT binary; {} "
-    "is the WCNF path), or auto (the exact DP when it applies, else CP-SAT).",
+    help="Backend: dp, cpsat, rc2, lsu, descent, gradient, wcnf:COMMAND (an external MaxSAT "
+    "binary; {} is the WCNF path), or auto (the exact DP when it applies, else CP-SAT).",
 )
 @click.option(
     "--model",
@@ -314,7 +329,8 @@ def _print_report(report: dict[str, Any], written: dict[str, Path], outdir: Path
     default="logical",
     show_default=True,
     help="logical: fewest mismatched view cells (paper 4.2); knit-aware: also few colour changes "
-    "per course and knit/purl changes; single: one picture seen from both sides.",
+    "per course and knit/purl changes; single: one picture seen from both sides, one yarn per "
+    "row (a stripe head-on).",
 )
 @click.option(
     "--weights",
@@ -327,6 +343,11 @@ def _print_report(report: dict[str, Any], written: dict[str, Path], outdir: Path
     type=click.IntRange(0),
     default=None,
     help="Hard cap on colour changes per course (knit-aware).",
+)
+@click.option(
+    "--alternate-rows",
+    is_flag=True,
+    help="Single-view model: neighbouring rows must have different yarns (like `illuknit single`).",
 )
 @click.option(
     "--colors",
