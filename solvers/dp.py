@@ -16,6 +16,19 @@ vectorised across all wales with numpy (a loop over the N rows only).
 
 Ties prefer flat units and lower yarn indices. The backend reads ``model.problem`` (an
 :class:`illuknit.illusion_models.IllusionProblem`) and refuses any other model.
+
+**The single-view model (c)** ties every unit row to one yarn ``c_i``, which couples the wales,
+but only through the row colours. Given the row colours, each raised bit ``R[i, j]`` decides two
+view cells and nothing else — view A at row i+1 (``c_i`` if raised, else ``c_{i+1}``) and view B
+at row i-1 (``c_i`` if raised, else ``c_{i-1}``) — so it is chosen per unit in closed form, and
+the cost of row i is a function ``g_i(c_{i-1}, c_i, c_{i+1})`` (O(M K^3) per row). The optimum is
+then a shortest path over consecutive pairs of row colours:
+
+    F_0[c_0, c_1]     = g_0(., c_0, c_1)
+    F_i[c_i, c_{i+1}] = min_{c_{i-1}} F_{i-1}[c_{i-1}, c_i] + g_i(c_{i-1}, c_i, c_{i+1})
+
+with the last row closing it; O(N K^3) on top of computing ``g``. With ``alternate_rows``,
+pairs of equal colours are forbidden. Exact, like the per-wale DP.
 """
 
 from __future__ import annotations
@@ -41,7 +54,9 @@ def solve_dp(problem: IllusionProblem) -> tuple[NDArray[np.int16], NDArray[np.bo
     """Optimal (yarn, raised, cost) of the per-wale part of ``problem``.
 
     Colour-change terms of the knit-aware model are ignored (they couple wales); for problems
-    with ``problem.per_wale`` the result is the exact optimum of the whole model.
+    with ``problem.per_wale`` the result is the exact optimum of the whole model. For the
+    single-view model (``problem.rows_tied``) it is the exact optimum with one yarn per row
+    (:func:`solve_single_rows`); infeasible pins or alternation give a cost >= 2**40.
 
     Returns
     -------
@@ -52,6 +67,8 @@ def solve_dp(problem: IllusionProblem) -> tuple[NDArray[np.int16], NDArray[np.bo
     """
     from illuknit.illusion_models import _raised_cost
 
+    if getattr(problem, "rows_tied", False):
+        return solve_single_rows(problem)
     a = problem.target_a.astype(np.int64)
     b = problem.target_b.astype(np.int64)
     n, m = problem.shape
@@ -95,6 +112,79 @@ def solve_dp(problem: IllusionProblem) -> tuple[NDArray[np.int16], NDArray[np.bo
     return (states // 2).astype(np.int16), (states % 2).astype(bool), cost
 
 
+def solve_single_rows(
+    problem: IllusionProblem,
+) -> tuple[NDArray[np.int16], NDArray[np.bool_], int]:
+    """Exact optimum with one yarn per unit row (see the module docstring).
+
+    Returns (yarn (N, M) int16, raised (N, M) bool, cost); cost >= 2**40 when no row colouring
+    satisfies the pins and the alternation.
+    """
+    from illuknit.illusion_models import _raised_cost
+
+    a = problem.target_a.astype(np.int64)
+    b = problem.target_b.astype(np.int64)
+    n, m = problem.shape
+    k = problem.n_yarns
+    wv = problem.view_weight
+    wt = problem.transfer_weight
+    bump = _raised_cost(n, m, wt) if wt else np.zeros((n, m), dtype=np.int64)
+    col = np.arange(k)
+    # g[i, p, c, q]: cost of row i in colour c between rows of colours p (above) and q (below);
+    # keep[i, p, c, q, j]: whether unit (i, j) is raised in that case
+    g = np.zeros((n, k, k, k), dtype=np.int64)
+    keep = np.zeros((n, k, k, k, m), dtype=bool)
+    for i in range(n):
+        up = np.zeros((k, m), dtype=np.int64)  # view B at row i-1, by the colour it sees
+        dn = np.zeros((k, m), dtype=np.int64)  # view A at row i+1, by the colour it sees
+        if i > 0:
+            up = (col[:, None] != b[i - 1][None, :]).astype(np.int64)
+        if i < n - 1:
+            dn = (col[:, None] != a[i + 1][None, :]).astype(np.int64)
+        # raised: both cells see this row's colour c; flat: they see p (above) and q (below)
+        on = wv * (up + dn) + bump[i][None, :]  # (c, M)
+        off = wv * (up[:, None, :] + dn[None, :, :])  # (p, q, M)
+        raise_it = on[None, :, None, :] < off[:, None, :, :]  # (p, c, q, M); ties: flat
+        g[i] = np.where(raise_it, on[None, :, None, :], off[:, None, :, :]).sum(axis=-1)
+        keep[i] = raise_it
+        own = np.zeros(k, dtype=np.int64)
+        if i == 0:
+            own += wv * (col[:, None] != a[0][None, :]).sum(axis=1)
+        if i == n - 1:
+            own += wv * (col[:, None] != b[n - 1][None, :]).sum(axis=1)
+        if problem.pinned is not None:
+            pr = problem.pinned[i].astype(np.int64)
+            pr = pr[pr >= 0]
+            own += _INF * (pr[None, :] != col[:, None]).any(axis=1)
+        g[i] += own[None, :, None]
+    same = _INF * (col[:, None] == col[None, :]) if problem.alternate_rows else 0
+    rows = np.empty(n, dtype=np.int64)
+    if n == 1:
+        rows[0] = int(g[0, 0, :, 0].argmin())
+        cost = int(g[0, 0, rows[0], 0])
+    else:
+        f = g[0, 0] + same  # [c_0, c_1]
+        back = np.zeros((n, k, k), dtype=np.int64)
+        for i in range(1, n - 1):
+            tot = f[:, :, None] + g[i]  # [c_{i-1}, c_i, c_{i+1}]
+            back[i] = tot.argmin(axis=0)
+            f = tot.min(axis=0) + same
+        last = f + g[n - 1][:, :, 0]  # [c_{n-2}, c_{n-1}]
+        p_, c_ = np.unravel_index(int(last.argmin()), last.shape)
+        cost = int(last[p_, c_])
+        rows[n - 2], rows[n - 1] = p_, c_
+        for i in range(n - 2, 0, -1):
+            rows[i - 1] = back[i][rows[i], rows[i + 1]]
+    cost = min(cost, int(_INF) * n)  # keep infeasible costs from overflowing anything later
+    yarn = np.repeat(rows[:, None], m, axis=1)
+    raised = np.zeros((n, m), dtype=bool)
+    for i in range(n):
+        p = rows[i - 1] if i > 0 else 0
+        q = rows[i + 1] if i < n - 1 else 0
+        raised[i] = keep[i, p, rows[i], q]
+    return yarn.astype(np.int16), raised, cost
+
+
 def hint_values(problem: IllusionProblem, model: Model) -> NDArray[np.bool_]:
     """A full assignment of ``model`` from the DP optimum of its per-wale part (a warm start)."""
     yarn, raised, _ = solve_dp(problem)
@@ -117,7 +207,7 @@ def values_from_pattern(
 
 
 class DPBackend:
-    """Exact per-wale dynamic programming (illusion models without cross-wale terms)."""
+    """Exact dynamic programming: per wale, or over row colours for the single-view model."""
 
     name = "dp"
     extra: str | None = None
@@ -127,7 +217,7 @@ class DPBackend:
         from illuknit.illusion_models import IllusionProblem
 
         p = model.problem
-        return isinstance(p, IllusionProblem) and p.per_wale
+        return isinstance(p, IllusionProblem) and (p.per_wale or p.rows_tied)
 
     def why_not(self, model: Model) -> str:
         from illuknit.illusion_models import IllusionProblem

@@ -56,6 +56,10 @@ def _brute_force_cost(problem) -> int | None:
         yarn = np.array(ys).reshape(n, m)
         if problem.pinned is not None and np.any((problem.pinned >= 0) & (problem.pinned != yarn)):
             continue
+        if problem.rows_tied and np.any(yarn != yarn[:, :1]):
+            continue  # the single-view model: one yarn per course
+        if problem.alternate_rows and np.any(yarn[1:, 0] == yarn[:-1, 0]):
+            continue
         cc = color_changes_per_course(yarn)
         if problem.color_cap is not None and cc.max(initial=0) > problem.color_cap:
             continue
@@ -79,6 +83,7 @@ def _tiny_cases():
         b = rng.integers(0, k, shape)
         cases.append(make_problem(a, b, n_yarns=k, kind="logical"))
         cases.append(make_problem(a, None, n_yarns=k, kind="single"))
+        cases.append(make_problem(a, None, n_yarns=k, kind="single", alternate_rows=True))
         w = KnitWeights(view=3, color_change=int(rng.integers(1, 3)), transfer=1)
         cases.append(make_problem(a, b, n_yarns=k, kind="knit-aware", weights=w))
     w = KnitWeights(view=2, color_change=1, transfer=1, max_color_changes=0)
@@ -103,7 +108,7 @@ def test_brute_force_confirms_every_backend(case):
             continue
         backend = get_backend(name)
         if not backend.handles(model):
-            assert name == "dp" and not problem.per_wale
+            assert name == "dp" and not (problem.per_wale or problem.rows_tied)
             continue
         sol = solve(model, solver=name)
         assert sol.status.value == "optimal", (name, sol)
