@@ -512,13 +512,15 @@ def warm_start(
     -------
     values : ndarray of bool, indexed by variable id
     info : dict
-        ``{"method", "objective", "seconds"}`` for the report.
+        ``{"method", "objective", "seconds"}`` for the report, and for the descent ``"bound"``:
+        the DP optimum of the per-wale part, a valid lower bound of model (b).
     """
     import time
 
     from illuknit.solvers.dp import hint_values, values_from_pattern
 
     t0 = time.perf_counter()
+    extra: dict[str, Any] = {}
     if problem.per_wale or problem.rows_tied or problem.color_cap is not None:
         vals = hint_values(problem, model)
         method = "dp"
@@ -533,17 +535,20 @@ def warm_start(
         res = optimise_descent(problem, time_limit=budget, seed=seed)
         vals = values_from_pattern(model, res.yarn, res.raised)
         method = "descent"
+        extra["bound"] = res.bound
     _, cost = model.evaluate(vals)
     return vals, {
         "method": method,
         "objective": int(cost),
         "seconds": round(time.perf_counter() - t0, 3),
+        **extra,
     }
 
 
 def keep_warm_start(model: Model, solution: Solution, info: Mapping[str, Any]) -> Solution:
     """``solution`` with the warm start's time added and, if the backend came back worse than
-    its warm start (``model.hint``) or with nothing, the warm start's assignment instead."""
+    its warm start (``model.hint``) or with nothing, the warm start's assignment instead; the
+    bound is the better of the backend's and the warm start's (``info["bound"]``)."""
     from illuknit.solvers.base import Solution as _Solution
     from illuknit.solvers.base import Status
 
@@ -554,11 +559,16 @@ def keep_warm_start(model: Model, solution: Solution, info: Mapping[str, Any]) -
         if ok and (objective is None or cost < objective):
             values, objective = np.asarray(model.hint, dtype=bool), cost
             stats["kept_warm_start"] = True
+    bound = solution.bound
+    if info.get("bound") is not None and status in (Status.FEASIBLE, Status.TIMEOUT):
+        bound = max(float(info["bound"]), bound if bound is not None else float("-inf"))
+        if objective is not None and objective <= bound:
+            status = Status.OPTIMAL  # the warm start met a proven lower bound
     return _Solution(
         status,
         values,
         objective,
-        solution.bound,
+        bound,
         solution.wall_time + float(info.get("seconds", 0.0)),
         stats,
         solution.backend,

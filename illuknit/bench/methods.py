@@ -177,6 +177,10 @@ def _solve_model(
     total = time.perf_counter() - t0
     info = _solution_info(res.solution, compile_s=max(0.0, total - res.solution.wall_time))
     info["note"] = (f"model {kind}; " + info["note"]).rstrip("; ")
+    ws = res.solution.stats.get("warm_start")
+    if ws and ws.get("method") == "descent":
+        kept = " (kept)" if res.solution.stats.get("kept_warm_start") else ""
+        info["note"] += f"; descent warm start {ws['objective']}{kept} in {ws['seconds']:.0f} s"
     return res.pattern, info
 
 
@@ -196,7 +200,12 @@ register_method(
 )
 register_method(_solver_method("cpsat", "cpsat", "logical", "OR-Tools CP-SAT, model (a)"))
 register_method(
-    _solver_method("knit-aware", "cpsat", "knit-aware", "CP-SAT on the knit-time-aware model (b)")
+    _solver_method(
+        "knit-aware",
+        "cpsat",
+        "knit-aware",
+        "CP-SAT on the knit-time-aware model (b), warm-started by exact-block descent",
+    )
 )
 
 
