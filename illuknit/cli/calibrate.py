@@ -6,6 +6,8 @@ from pathlib import Path
 
 import click
 
+from illuknit.cli.options import knitout_option, outdir_option
+
 __all__ = ["calibrate"]
 
 
@@ -65,18 +67,8 @@ def calibrate() -> None:
     default=None,
     help="Current renderer parameters (for the preview and predicted angles).",
 )
-@click.option(
-    "--knitout",
-    is_flag=True,
-    help="Also compile the swatch to DIR/program.k (mixed colourwork) and check it.",
-)
-@click.option(
-    "-o",
-    "--outdir",
-    type=click.Path(file_okay=False, path_type=Path),
-    required=True,
-    help="Folder to write into.",
-)
+@knitout_option("Also compile the swatch to DIR/program.k (mixed colourwork) and check it.")
+@outdir_option()
 def swatch(
     bump_sizes: tuple[int, ...],
     flat_sizes: tuple[int, ...],

@@ -7,6 +7,7 @@ from pathlib import Path
 
 import click
 
+from illuknit.cli.options import outdir_option
 from illuknit.cli.summary import console, print_written, summarise_pattern
 
 __all__ = ["demo", "demo_image"]
@@ -18,14 +19,7 @@ def demo_image() -> Path:
 
 
 @click.command("demo")
-@click.option(
-    "-o",
-    "--outdir",
-    type=click.Path(file_okay=False, path_type=Path),
-    default=Path("illuknit-demo"),
-    show_default=True,
-    help="Folder to write into.",
-)
+@outdir_option(default=Path("illuknit-demo"))
 @click.option("--width", type=int, default=48, show_default=True, help="Pattern width in units.")
 @click.option(
     "--knitout/--no-knitout",

@@ -18,6 +18,8 @@ from typing import Any
 import click
 import numpy as np
 
+from illuknit.cli.options import knitout_option, outdir_option
+
 __all__ = ["double", "run_design"]
 
 
@@ -300,10 +302,8 @@ def design_options(func: Any) -> Any:
         click.option("--tile", multiple=True, metavar="A,B=ROWS",
                      help="Override the tile of overlap pair (colour A of the first picture, colour B "
                      "of the second), e.g. '0,1=0/1/0^' (see fills.json for the pairs). Repeatable."),
-        click.option("--knitout", is_flag=True,
-                     help="Also compile the default candidate to OUTDIR/program.k and check it."),
-        click.option("-o", "--outdir", type=click.Path(file_okay=False, path_type=Path), required=True,
-                     help="Folder to write into (replaced as a whole on success)."),
+        knitout_option("Also compile the default candidate to OUTDIR/program.k and check it."),
+        outdir_option(),
     ]  # fmt: skip
     for opt in reversed(opts):
         func = opt(func)

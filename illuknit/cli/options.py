@@ -3,13 +3,18 @@
 from __future__ import annotations
 
 from collections.abc import Callable
+from pathlib import Path
 from typing import Any
 
 import click
 
 from illuknit.pattern import Yarn, parse_yarns
 
-__all__ = ["image_options", "parse_yarn_option"]
+__all__ = ["image_options", "knitout_option", "outdir_option", "parse_yarn_option"]
+
+OUTDIR_HELP = (
+    "Folder to write into (created if needed; files of the same name are replaced, others kept)."
+)
 
 
 def image_options(func: Callable[..., Any]) -> Callable[..., Any]:
@@ -68,3 +73,25 @@ def image_options(func: Callable[..., Any]) -> Callable[..., Any]:
 
 def parse_yarn_option(value: str | None) -> tuple[Yarn, ...] | None:
     return None if value is None else parse_yarns(value)
+
+
+def outdir_option(
+    *, required: bool = True, default: Path | None = None, help: str = OUTDIR_HELP
+) -> Callable[[Callable[..., Any]], Callable[..., Any]]:
+    """``-o/--outdir``: the folder a command writes into (through :func:`illuknit.outputs.staged_dir`)."""
+    return click.option(
+        "-o",
+        "--outdir",
+        type=click.Path(file_okay=False, path_type=Path),
+        required=required and default is None,
+        default=default,
+        show_default=default is not None,
+        help=help,
+    )
+
+
+def knitout_option(
+    help: str = "Also write a knitout program (program.k) and the checker's report.",
+) -> Callable[[Callable[..., Any]], Callable[..., Any]]:
+    """``--knitout``: also compile the pattern to knitout and check it."""
+    return click.option("--knitout", is_flag=True, help=help)

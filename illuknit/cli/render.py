@@ -6,6 +6,8 @@ from pathlib import Path
 
 import click
 
+from illuknit.cli.options import outdir_option
+
 __all__ = ["render"]
 
 
@@ -37,13 +39,7 @@ __all__ = ["render"]
     show_default=True,
     help="GIF frames from one side to the other.",
 )
-@click.option(
-    "-o",
-    "--outdir",
-    type=click.Path(file_okay=False, path_type=Path),
-    required=True,
-    help="Folder to write into.",
-)
+@outdir_option()
 def render(
     pattern_file: Path,
     angle: float | None,

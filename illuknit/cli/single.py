@@ -6,7 +6,7 @@ from pathlib import Path
 
 import click
 
-from illuknit.cli.options import image_options, parse_yarn_option
+from illuknit.cli.options import image_options, knitout_option, outdir_option, parse_yarn_option
 from illuknit.cli.summary import print_written, summarise_pattern
 
 __all__ = ["run_single", "single"]
@@ -85,16 +85,8 @@ def run_single(
     show_default=True,
     help="Colour of the top stripe row.",
 )
-@click.option(
-    "--knitout", is_flag=True, help="Also write a knitout program (program.k) and its check."
-)
-@click.option(
-    "-o",
-    "--outdir",
-    type=click.Path(file_okay=False, path_type=Path),
-    required=True,
-    help="Folder to write into (created; same-named files are replaced).",
-)
+@knitout_option()
+@outdir_option()
 def single(
     image: Path,
     width: int | None,

@@ -9,6 +9,7 @@ import click
 import numpy as np
 from numpy.typing import NDArray
 
+from illuknit.cli.options import outdir_option
 from illuknit.tiles.bank import TileBank
 from illuknit.tiles.tile import Tile
 
@@ -70,11 +71,8 @@ def tile_picture(
 @click.option(
     "--max-height", type=click.IntRange(1, 6), default=4, show_default=True, help="Tallest tile."
 )
-@click.option(
-    "-o",
-    "--outdir",
-    type=click.Path(file_okay=False, path_type=Path),
-    default=None,
+@outdir_option(
+    required=False,
     help="Write bank.json and one picture per tile (top-down, height map, both side views) here.",
 )
 def tiles(
