@@ -212,15 +212,13 @@ def pareto_points(
     estimated knitting time when every measured row has it, else colour changes per course (a
     proxy: each change costs carriage work), and the label says which.
     """
-    measured = [r for r in rows if _y(r, metric) is not None]
-    if measured and all(r.get("knit_time_min") is not None for r in measured):
+    measured = [(r, y) for r in rows if (y := _y(r, metric)) is not None]
+    if measured and all(r.get("knit_time_min") is not None for r, _ in measured):
         return "estimated knitting time (min)", [
-            (r["method"], float(r["knit_time_min"]), _y(r, metric))
-            for r in measured  # type: ignore[misc]
+            (str(r["method"]), float(r["knit_time_min"]), y) for r, y in measured
         ]
     return "colour changes per course (knit time unavailable)", [
-        (r["method"], float(r["colour_changes_mean"]), _y(r, metric))
-        for r in measured  # type: ignore[misc]
+        (str(r["method"]), float(r["colour_changes_mean"]), y) for r, y in measured
     ]
 
 

@@ -35,7 +35,7 @@ def write_program(pattern: LogicalPattern, outdir: Path) -> dict[str, Path]:
     }
 
 
-def _describe(summary: dict) -> str:  # type: ignore[type-arg]
+def _describe(summary: dict[str, object]) -> str:
     parts = []
     for key in ("passes", "lower_bound", "ratio"):
         if key in summary:
