@@ -37,12 +37,20 @@ def main() -> None:
     t_view = best_of(lambda: [can_see(pattern, v) for v in ("A", "B", "headon")])
     t_compile = best_of(lambda: compile_single_view(pic, yarns=yarns))
     photo = rng.random((400, 660, 3))
-    t_full = best_of(lambda: prepare_single_view_image(photo, yarns=yarns, width=cols, height=rows), 3)
+    t_full = best_of(
+        lambda: prepare_single_view_image(photo, yarns=yarns, width=cols, height=rows), 3
+    )
     t_quant = best_of(lambda: prepare_image(photo, width=cols, height=rows, n_colors=3), 3)
     print(f"size: {rows} x {cols} units")
-    print(f"can_see, 3 views      {1e3 * t_view:8.2f} ms   target < 10 ms   {'OK' if t_view < 0.010 else 'MISSED'}")
-    print(f"single-view compile   {1e3 * t_compile:8.2f} ms   target < 200 ms  {'OK' if t_compile < 0.2 else 'MISSED'}")
-    print(f"picture -> quantised  {1e3 * t_quant:8.2f} ms   (resize + CIELAB k-means, 3 colours; no target)")
+    print(
+        f"can_see, 3 views      {1e3 * t_view:8.2f} ms   target < 10 ms   {'OK' if t_view < 0.010 else 'MISSED'}"
+    )
+    print(
+        f"single-view compile   {1e3 * t_compile:8.2f} ms   target < 200 ms  {'OK' if t_compile < 0.2 else 'MISSED'}"
+    )
+    print(
+        f"picture -> quantised  {1e3 * t_quant:8.2f} ms   (resize + CIELAB k-means, 3 colours; no target)"
+    )
     print(f"picture -> pattern    {1e3 * t_full:8.2f} ms   (no target)")
 
 

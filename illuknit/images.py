@@ -391,7 +391,9 @@ def _kmeans_lab(
     for _ in range(100):
         assign = ((lab[:, None, :] - c[None]) ** 2).sum(-1).argmin(axis=1)
         tot = np.bincount(assign, weights=fit_w, minlength=len(c))
-        new = np.stack([np.bincount(assign, weights=fit_w * lab[:, d], minlength=len(c)) for d in range(3)], 1)
+        new = np.stack(
+            [np.bincount(assign, weights=fit_w * lab[:, d], minlength=len(c)) for d in range(3)], 1
+        )
         new = np.where(tot[:, None] > 0, new / np.maximum(tot, 1e-12)[:, None], c)
         if np.allclose(new, c, atol=1e-6):
             break
@@ -401,7 +403,9 @@ def _kmeans_lab(
     # Drop empty clusters; centres in sRGB are the weighted mean of member colours.
     used = np.unique(assign)
     tot = np.bincount(assign, weights=weights_u, minlength=len(c))
-    srgb = np.stack([np.bincount(assign, weights=weights_u * uniq[:, d], minlength=len(c)) for d in range(3)], 1)
+    srgb = np.stack(
+        [np.bincount(assign, weights=weights_u * uniq[:, d], minlength=len(c)) for d in range(3)], 1
+    )
     srgb = srgb[used] / tot[used][:, None]
     relabel = np.full(len(c), -1)
     relabel[used] = np.arange(len(used))

@@ -14,8 +14,11 @@ Y = parse_yarns("Dark=#1b1b1b,Light=#f4f0e8")
 @st.composite
 def patterns(draw):
     n, m = draw(st.integers(1, 6)), draw(st.integers(1, 6))
-    return LogicalPattern(draw(arrays(np.int16, (n, m), elements=st.integers(0, 1))),
-                          draw(arrays(np.bool_, (n, m))), Y)
+    return LogicalPattern(
+        draw(arrays(np.int16, (n, m), elements=st.integers(0, 1))),
+        draw(arrays(np.bool_, (n, m))),
+        Y,
+    )
 
 
 def _parse_row(line):

@@ -38,8 +38,17 @@ def test_single_writes_bundle(picture, tmp_path, capsys):
     out = tmp_path / "out"
     text = ok(["single", str(picture), "--width", "30", "-o", str(out)], capsys)
     assert "wrote" in text
-    for name in ("pattern.json", "headon.png", "view_a.png", "view_b.png", "contact.png",
-                 "chart.png", "instructions.txt", "legend.json", "report.json"):
+    for name in (
+        "pattern.json",
+        "headon.png",
+        "view_a.png",
+        "view_b.png",
+        "contact.png",
+        "chart.png",
+        "instructions.txt",
+        "legend.json",
+        "report.json",
+    ):
         assert (out / name).is_file(), name
     p = load_pattern(out / "pattern.json")
     assert p.shape == (20, 30)
@@ -56,9 +65,16 @@ def test_view_command(picture, tmp_path, capsys):
 
 
 def _bad_pattern(tmp_path, **changes):
-    doc = {"format": "illuknit-pattern", "version": 1, "rows": 2, "cols": 2,
-           "yarns": [{"name": "a", "rgb": "#000000"}, {"name": "b", "rgb": "#ffffff"}],
-           "yarn": ["01", "10"], "raised": ["00", "11"], "meta": {}}
+    doc = {
+        "format": "illuknit-pattern",
+        "version": 1,
+        "rows": 2,
+        "cols": 2,
+        "yarns": [{"name": "a", "rgb": "#000000"}, {"name": "b", "rgb": "#ffffff"}],
+        "yarn": ["01", "10"],
+        "raised": ["00", "11"],
+        "meta": {},
+    }
     doc.update(changes)
     f = tmp_path / "bad.json"
     f.write_text(json.dumps(doc))
@@ -69,17 +85,47 @@ def _bad_pattern(tmp_path, **changes):
     ("make_args", "message"),
     [
         (lambda t, p: ["single", str(t / "missing.png"), "-o", str(t / "o")], "not found"),
-        (lambda t, p: ["single", str(_write(t / "x.png", b"hello")), "-o", str(t / "o")], "not an image"),
-        (lambda t, p: ["single", str(_write(t / "e.png", b"")), "-o", str(t / "o")], "not an image"),
+        (
+            lambda t, p: ["single", str(_write(t / "x.png", b"hello")), "-o", str(t / "o")],
+            "not an image",
+        ),
+        (
+            lambda t, p: ["single", str(_write(t / "e.png", b"")), "-o", str(t / "o")],
+            "not an image",
+        ),
         (lambda t, p: ["single", str(_tiny(t)), "-o", str(t / "o")], "at least 2 x 2"),
-        (lambda t, p: ["single", str(_noisy(t)), "--yarns", "black,white", "--colors", "2",
-                       "--no-quantise", "-o", str(t / "o")], "colours but only 2"),
+        (
+            lambda t, p: [
+                "single",
+                str(_noisy(t)),
+                "--yarns",
+                "black,white",
+                "--colors",
+                "2",
+                "--no-quantise",
+                "-o",
+                str(t / "o"),
+            ],
+            "colours but only 2",
+        ),
         (lambda t, p: ["single", str(p), "--width", "0", "-o", str(t / "o")], "between 1 and 1000"),
-        (lambda t, p: ["single", str(p), "--width", "1001", "-o", str(t / "o")], "between 1 and 1000"),
-        (lambda t, p: ["single", str(p), "--yarns", "black,blurple", "-o", str(t / "o")], "unknown yarn colour"),
-        (lambda t, p: ["single", str(p), "--yarns", "white,#FFF", "-o", str(t / "o")], "duplicate yarn colour"),
+        (
+            lambda t, p: ["single", str(p), "--width", "1001", "-o", str(t / "o")],
+            "between 1 and 1000",
+        ),
+        (
+            lambda t, p: ["single", str(p), "--yarns", "black,blurple", "-o", str(t / "o")],
+            "unknown yarn colour",
+        ),
+        (
+            lambda t, p: ["single", str(p), "--yarns", "white,#FFF", "-o", str(t / "o")],
+            "duplicate yarn colour",
+        ),
         (lambda t, p: ["view", str(_bad_pattern(t, version=7)), "-o", str(t / "o")], "version 7"),
-        (lambda t, p: ["view", str(_bad_pattern(t, yarn=["05", "10"])), "-o", str(t / "o")], "out of range"),
+        (
+            lambda t, p: ["view", str(_bad_pattern(t, yarn=["05", "10"])), "-o", str(t / "o")],
+            "out of range",
+        ),
         (lambda t, p: ["view", str(t / "none.json"), "-o", str(t / "o")], "not found"),
         (lambda t, p: ["nonsense"], "No such command"),
     ],
@@ -105,7 +151,9 @@ def _tiny(t):
 
 
 def _noisy(t):
-    Image.fromarray(np.random.default_rng(0).integers(0, 255, (10, 10, 3), dtype=np.uint8)).save(t / "n.png")
+    Image.fromarray(np.random.default_rng(0).integers(0, 255, (10, 10, 3), dtype=np.uint8)).save(
+        t / "n.png"
+    )
     return t / "n.png"
 
 
@@ -120,17 +168,23 @@ def test_failure_leaves_existing_output_alone(picture, tmp_path, capsys):
 
 def test_help_everywhere_and_version():
     for cmd in [[], *[[c] for c in COMMANDS]]:
-        r = subprocess.run([sys.executable, "-m", "illuknit", *cmd, "--help"],
-                           capture_output=True, text=True)
+        r = subprocess.run(
+            [sys.executable, "-m", "illuknit", *cmd, "--help"], capture_output=True, text=True
+        )
         assert r.returncode == 0, (cmd, r.stderr)
         assert "Usage:" in r.stdout
-    r = subprocess.run([sys.executable, "-m", "illuknit", "--version"], capture_output=True, text=True)
+    r = subprocess.run(
+        [sys.executable, "-m", "illuknit", "--version"], capture_output=True, text=True
+    )
     assert r.returncode == 0 and "illuknit" in r.stdout
 
 
 def test_demo_runs(tmp_path):
-    r = subprocess.run([sys.executable, "-m", "illuknit", "demo", "-o", str(tmp_path / "d"), "--no-knitout"],
-                       capture_output=True, text=True)
+    r = subprocess.run(
+        [sys.executable, "-m", "illuknit", "demo", "-o", str(tmp_path / "d"), "--no-knitout"],
+        capture_output=True,
+        text=True,
+    )
     assert r.returncode == 0, r.stderr
     assert (tmp_path / "d" / "contact.png").is_file()
     p = load_pattern(tmp_path / "d" / "pattern.json")

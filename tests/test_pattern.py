@@ -27,7 +27,9 @@ def patterns(draw, max_side=12):
     k = draw(st.integers(1, 3))
     yarn = draw(arrays(np.int16, (n, m), elements=st.integers(0, k - 1)))
     raised = draw(arrays(np.bool_, (n, m)))
-    meta = draw(st.dictionaries(st.text(max_size=5), st.integers() | st.text(max_size=5), max_size=3))
+    meta = draw(
+        st.dictionaries(st.text(max_size=5), st.integers() | st.text(max_size=5), max_size=3)
+    )
     return LogicalPattern(yarn, raised, YARNS3[:k], meta)
 
 

@@ -31,7 +31,9 @@ def write_program(pattern: LogicalPattern, outdir: Path) -> dict[str, Path]:
         "program": atomic_write_text(outdir / "program.k", result.program),
         "knit": atomic_write_text(outdir / "knit.json", json.dumps(summary, indent=1) + "\n"),
         "check": atomic_write_text(outdir / "check.json", report.to_json(indent=1) + "\n"),
-        "check_text": atomic_write_text(outdir / "check.txt", report.to_text(name="program.k") + "\n"),
+        "check_text": atomic_write_text(
+            outdir / "check.txt", report.to_text(name="program.k") + "\n"
+        ),
     }
 
 
