@@ -40,6 +40,7 @@ exactly by the DP instead. A hard colour-change cap per course is not handled.
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -112,7 +113,9 @@ def pattern_cost(
 
 
 def _chain_argmin(
-    unary: NDArray[np.int64], pair: NDArray[np.int64] | None, pair_fn=None
+    unary: NDArray[np.int64],
+    pair: NDArray[np.int64] | None,
+    pair_fn: Callable[[int], NDArray[np.int64]] | None = None,
 ) -> NDArray[np.int64]:
     """Min-cost state sequence of L independent chains.
 
@@ -130,7 +133,8 @@ def _chain_argmin(
     back = np.zeros((tc, lc, sc), dtype=np.int64)
     v = unary[:, 0].copy()
     for t in range(1, tc):
-        p = pair if pair_fn is None else pair_fn(t)
+        p = pair_fn(t) if pair_fn is not None else pair
+        assert p is not None
         tot = v[:, :, None] + p  # (L, S', S)
         back[t] = tot.argmin(axis=1)
         v = tot.min(axis=1) + unary[:, t]
@@ -321,6 +325,7 @@ class DescentResult:
     improvements: int
     sweeps: int
     timed_out: bool
+    interrupted: bool = False
 
 
 def optimise_descent(
@@ -359,22 +364,70 @@ def optimise_descent(
         init["row-majority"] = (np.where(p >= 0, p, y0), r0)
     if starts:
         init.update(starts)
-    best: tuple[NDArray[np.int64], NDArray[np.bool_], int] | None = None
+    # the DP start is a valid answer from the outset: Ctrl-C at any point keeps the best so far
+    dp_c = pattern_cost(problem, dp_y, dp_r)
+    best: tuple[NDArray[np.int64], NDArray[np.bool_], int] = (
+        dp_y.astype(np.int64),
+        dp_r,
+        dp_c,
+    )
+    state = {"sweeps": 0, "rounds": 0, "improvements": 0, "timed_out": False}
     start_costs: dict[str, int] = {}
+    interrupted = False
+    try:
+        best = _search(
+            problem, init, best, bound, maj, rng, deadline, stall, start_costs, state, progress, t0
+        )
+    except KeyboardInterrupt:
+        interrupted = True
+        best = state.get("best", best)  # type: ignore[assignment]
+    return DescentResult(
+        best[0],
+        best[1],
+        int(best[2]),
+        int(bound),
+        start_costs,
+        int(state["rounds"]),
+        int(state["improvements"]),
+        int(state["sweeps"]),
+        bool(state["timed_out"]),
+        interrupted,
+    )
+
+
+def _search(
+    problem: IllusionProblem,
+    init: dict[str, tuple[NDArray[np.integer], NDArray[np.bool_]]],
+    best: tuple[NDArray[np.int64], NDArray[np.bool_], int],
+    bound: int,
+    maj: NDArray[np.int64],
+    rng: np.random.Generator,
+    deadline: float | None,
+    stall: int,
+    start_costs: dict[str, int],
+    state: dict,
+    progress: ProgressCallback | None,
+    t0: float,
+) -> tuple[NDArray[np.int64], NDArray[np.bool_], int]:
+    """The iterated local search of :func:`optimise_descent`; ``state`` tracks counters and the
+    best pattern so far (read back after an interrupt)."""
+    n, m = problem.shape
+    state["best"] = best
     total_sweeps = 0
     timed_out = False
     for name, (y0, r0) in init.items():
         y, r, c, sw = descend(problem, y0, r0, deadline=deadline)
         total_sweeps += sw
+        state["sweeps"] = total_sweeps
         start_costs[name] = c
-        if best is None or c < best[2]:
+        if c < best[2] or name == "dp":
             best = (y, r, c)
+            state["best"] = best
             if progress:
                 progress(ProgressEvent(time.perf_counter() - t0, c, bound, f"start {name}"))
         if deadline is not None and time.perf_counter() >= deadline:
             timed_out = True
             break
-    assert best is not None
     cur_y, cur_r, cur_c = best
     rounds = improvements = since = 0
     while not timed_out and since < stall and best[2] > bound:
@@ -408,6 +461,7 @@ def optimise_descent(
             y = np.where(p >= 0, p, y)
         y, r, c, sw = descend(problem, y, r, deadline=deadline)
         total_sweeps += sw
+        state.update(sweeps=total_sweeps, rounds=rounds)
         if c <= cur_c:
             since = 0 if c < cur_c else since + 1
             cur_y, cur_r, cur_c = y, r, c
@@ -416,19 +470,11 @@ def optimise_descent(
         if c < best[2]:
             improvements += 1
             best = (y, r, c)
+            state.update(best=best, improvements=improvements)
             if progress:
                 progress(ProgressEvent(time.perf_counter() - t0, c, bound, "descent improved"))
-    return DescentResult(
-        best[0],
-        best[1],
-        int(best[2]),
-        int(bound),
-        start_costs,
-        rounds,
-        improvements,
-        total_sweeps,
-        timed_out,
-    )
+    state["timed_out"] = timed_out
+    return best
 
 
 # -- the backend ----------------------------------------------------------------------------
@@ -487,43 +533,26 @@ class DescentBackend:
                 model.pool,
             )
         t0 = time.perf_counter()
-        interrupted = False
-        try:
-            res = optimise_descent(
-                problem, time_limit=time_limit, seed=seed, stall=self.stall, progress=progress
-            )
-        except KeyboardInterrupt:  # pragma: no cover - interactive only
-            interrupted = True
-            res = None
-        if res is None:
-            wall = time.perf_counter() - t0
-            return Solution(
-                Status.FEASIBLE,
-                None,
-                None,
-                None,
-                wall,
-                {"interrupted": True},
-                self.name,
-                model.pool,
-            )
+        res = optimise_descent(
+            problem, time_limit=time_limit, seed=seed, stall=self.stall, progress=progress
+        )
         vals = values_from_pattern(model, res.yarn, res.raised)
         ok, cost = model.evaluate(vals)
         wall = time.perf_counter() - t0
-        stats: dict[str, object] = {
+        info: dict[str, object] = {
             "starts": dict(res.start_costs),
             "rounds": res.rounds,
             "improvements": res.improvements,
             "sweeps": res.sweeps,
-            "interrupted": interrupted,
+            "interrupted": res.interrupted,
         }
         if not ok or cost != res.cost:
-            stats["message"] = (
+            info["message"] = (
                 f"descent cost {res.cost} disagrees with the model ({cost}, feasible={ok})"
             )
-            return Solution(Status.ERROR, vals, cost, None, wall, stats, self.name, model.pool)
+            return Solution(Status.ERROR, vals, cost, None, wall, info, self.name, model.pool)
         if cost <= res.bound:
             st = Status.OPTIMAL  # met the DP lower bound: proven
         else:
-            st = Status.TIMEOUT if res.timed_out else Status.FEASIBLE
-        return Solution(st, vals, cost, float(res.bound), wall, stats, self.name, model.pool)
+            st = Status.TIMEOUT if res.timed_out and not res.interrupted else Status.FEASIBLE
+        return Solution(st, vals, cost, float(res.bound), wall, info, self.name, model.pool)
