@@ -174,3 +174,72 @@ def test_knit_aware_solve_is_never_worse_than_its_descent_warm_start():
     assert res.solution.objective <= ws["objective"]
     model = build_model(res.problem)
     assert model.evaluate(res.solution.values) == (True, res.solution.objective)
+
+
+def test_ctrl_c_keeps_the_best_pattern_found_so_far(monkeypatch):
+    import illuknit.solvers.descent as descent_mod
+
+    rng = np.random.default_rng(4)
+    problem = make_problem(
+        rng.integers(0, 2, (10, 10)),
+        rng.integers(0, 2, (10, 10)),
+        n_yarns=2,
+        kind="knit-aware",
+        weights=KnitWeights(view=2, color_change=3, transfer=1),
+    )
+    real = descent_mod.descend
+    calls = {"n": 0}
+
+    def interrupted_later(*args, **kwargs):
+        calls["n"] += 1
+        if calls["n"] > 3:
+            raise KeyboardInterrupt
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(descent_mod, "descend", interrupted_later)
+    model = build_model(problem)
+    sol = solve(model, solver="descent")
+    assert sol.stats["interrupted"] is True
+    assert sol.status.value in ("feasible", "optimal")
+    assert model.evaluate(sol.values) == (True, sol.objective)
+    # at least as good as the descended DP start, which finished before the interrupt
+    assert sol.objective <= sol.stats["starts"]["dp"]
+
+
+def test_cli_solves_the_knit_aware_model_with_descent(tmp_path):
+    import json
+
+    from PIL import Image
+
+    from illuknit.cli import main
+
+    yy, xx = np.mgrid[0:12, 0:10]
+    a, b = tmp_path / "a.png", tmp_path / "b.png"
+    Image.fromarray(np.where((xx + yy) % 5 < 2, 25, 235).astype(np.uint8)).save(a)
+    Image.fromarray(np.where((xx - 5) ** 2 + (yy - 6) ** 2 < 12, 25, 235).astype(np.uint8)).save(b)
+    out = tmp_path / "out"
+    main(
+        [
+            "solve",
+            str(a),
+            str(b),
+            "--model",
+            "knit-aware",
+            "--solver",
+            "descent",
+            "--time-limit",
+            "3",
+            "-o",
+            str(out),
+        ]
+    )
+    rep = json.loads((out / "report.json").read_text())
+    assert rep["solver"]["backend"] == "descent"
+    assert rep["solver"]["bound"] <= rep["solver"]["objective"]
+    w = rep["weights"]
+    errs = rep["logical_error"]["A"]["cells"] + rep["logical_error"]["B"]["cells"]
+    assert rep["solver"]["objective"] == (
+        w["view"] * errs
+        + w["color_change"] * rep["color_changes_per_course"]["total"]
+        + w["transfer"] * rep["knit_purl_changes"]
+    )
