@@ -55,7 +55,7 @@ def run(kind: str, rows: int, cols: int, backend: str, limit: float, weights: Kn
     ws = None
     remaining = limit
     if backend not in ("dp", "descent"):
-        # the DP optimum; for model (b) a block descent taking up to a quarter of the limit
+        # the DP optimum; for model (b) a block descent taking up to half the limit
         model.hint, ws = warm_start(problem, model, time_limit=limit)
         remaining = max(0.1 * limit, limit - ws["seconds"])
     sol = solve(model, solver=backend, time_limit=remaining)
