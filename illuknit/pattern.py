@@ -19,7 +19,6 @@ import json
 import os
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
-from pathlib import Path
 from types import MappingProxyType
 from typing import Any
 
@@ -334,15 +333,6 @@ def load_pattern(path: str | os.PathLike[str]) -> LogicalPattern:
 
     Raises :class:`PatternFormatError` for a missing, unreadable, malformed or other-version file.
     """
-    p = Path(path)
-    try:
-        text = p.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise PatternFormatError(f"pattern file not found: {p}") from None
-    except (OSError, UnicodeDecodeError) as e:
-        raise PatternFormatError(f"cannot read pattern file {p}: {e}") from None
-    try:
-        doc = json.loads(text)
-    except json.JSONDecodeError as e:
-        raise PatternFormatError(f"{p} is not valid JSON: {e}") from None
-    return pattern_from_json(doc)
+    from illuknit.documents import read_json_file
+
+    return pattern_from_json(read_json_file(path, error=PatternFormatError, what="pattern"))

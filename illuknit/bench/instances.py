@@ -286,13 +286,10 @@ def load_manifest(path: str | Path | None = None) -> Manifest:
     ManifestError
         Missing or unparseable file, or an invalid entry (the message names it).
     """
+    from illuknit.documents import read_text_file
+
     p = Path(path) if path is not None else DEFAULT_MANIFEST
-    try:
-        text = p.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise ManifestError(f"manifest {str(p)!r} not found") from None
-    except (OSError, UnicodeDecodeError) as e:
-        raise ManifestError(f"manifest {str(p)!r} cannot be read: {e}") from None
+    text = read_text_file(p, error=ManifestError, what="manifest")
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as e:

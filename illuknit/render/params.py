@@ -20,7 +20,6 @@ import json
 import math
 import os
 from dataclasses import asdict, dataclass, fields, replace
-from pathlib import Path
 from typing import Any
 
 from illuknit.errors import RenderParamsError
@@ -147,18 +146,10 @@ def save_params(params: RenderParams, path: str | os.PathLike[str]) -> None:
 
 def load_params(path: str | os.PathLike[str]) -> RenderParams:
     """Read a parameters file; raises :class:`RenderParamsError` on any problem."""
-    p = Path(path)
-    try:
-        text = p.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise RenderParamsError(f"render parameters file not found: {p}") from None
-    except (OSError, UnicodeDecodeError) as e:
-        raise RenderParamsError(f"cannot read render parameters file {p}: {e}") from None
-    try:
-        doc = json.loads(text)
-    except json.JSONDecodeError as e:
-        raise RenderParamsError(f"{p} is not valid JSON: {e}") from None
+    from illuknit.documents import read_json_file
+
+    doc = read_json_file(path, error=RenderParamsError, what="render parameters")
     try:
         return params_from_json(doc)
     except RenderParamsError as e:
-        raise RenderParamsError(f"{p}: {e}") from None
+        raise RenderParamsError(f"{path}: {e}") from None

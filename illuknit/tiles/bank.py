@@ -397,18 +397,10 @@ def save_bank(bank: TileBank, path: str | os.PathLike[str]) -> None:
 
 def load_bank(path: str | os.PathLike[str], *, yarns: Sequence[Yarn] | None = None) -> TileBank:
     """Read a bank file; raises :class:`TileBankError` when it is missing, malformed or wrong."""
-    p = Path(path)
-    try:
-        text = p.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise TileBankError(f"tile bank file not found: {p}") from None
-    except (OSError, UnicodeDecodeError) as e:
-        raise TileBankError(f"cannot read tile bank {p}: {e}") from None
-    try:
-        doc = json.loads(text)
-    except json.JSONDecodeError as e:
-        raise TileBankError(f"{p} is not valid JSON: {e}") from None
-    return bank_from_json(doc, yarns=yarns, source=str(p))
+    from illuknit.documents import read_json_file
+
+    doc = read_json_file(path, error=TileBankError, what="tile bank")
+    return bank_from_json(doc, yarns=yarns, source=str(path))
 
 
 def _label(fill: Fill | None, yarns: Sequence[Yarn]) -> str:
