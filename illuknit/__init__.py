@@ -11,8 +11,7 @@ The public API is re-exported here and imported lazily, so ``import illuknit`` s
 
 from __future__ import annotations
 
-import importlib
-from typing import Any
+from illuknit.lazy import lazy_api
 
 __version__ = "0.1.0"
 
@@ -86,14 +85,4 @@ _API: dict[str, str] = {
 __all__ = ["__version__", *_API]
 
 
-def __getattr__(name: str) -> Any:
-    module = _API.get(name)
-    if module is None:
-        raise AttributeError(f"module 'illuknit' has no attribute {name!r}")
-    value = getattr(importlib.import_module(module), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted(__all__)
+__getattr__, __dir__ = lazy_api(__name__, _API)

@@ -15,8 +15,7 @@ Typical use::
 
 from __future__ import annotations
 
-import importlib
-from typing import Any
+from illuknit.lazy import lazy_api
 
 _API: dict[str, str] = {
     "Instance": "illuknit.bench.instances",
@@ -40,14 +39,4 @@ _API: dict[str, str] = {
 __all__ = list(_API)
 
 
-def __getattr__(name: str) -> Any:
-    module = _API.get(name)
-    if module is None:
-        raise AttributeError(f"module 'illuknit.bench' has no attribute {name!r}")
-    value = getattr(importlib.import_module(module), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted(__all__)
+__getattr__, __dir__ = lazy_api(__name__, _API)
