@@ -268,29 +268,20 @@ def render_soft(
     params = RenderParams() if params is None else params
     h, col = _check_soft(heights, colours, params, supersample)
     sin, cos = _camera(params, view, angle)
-    if view == "B":
-        img, tape = _forward_a(
-            h[::-1],
-            col[::-1],
-            sin=sin,
-            cos=cos,
-            params=params,
-            supersample=supersample,
-            view=view,
-            keep_tape=return_tape,
-        )
+    # View B is view A of the flipped rows.
+    flip = view == "B"
+    img, tape = _forward_a(
+        h[::-1] if flip else h,
+        col[::-1] if flip else col,
+        sin=sin,
+        cos=cos,
+        params=params,
+        supersample=supersample,
+        view=view,
+        keep_tape=return_tape,
+    )
+    if flip:
         img = img[::-1]
-    else:
-        img, tape = _forward_a(
-            h,
-            col,
-            sin=sin,
-            cos=cos,
-            params=params,
-            supersample=supersample,
-            view=view,
-            keep_tape=return_tape,
-        )
     return (img, tape) if return_tape else img
 
 
