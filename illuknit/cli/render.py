@@ -50,12 +50,10 @@ def render(
 ) -> None:
     """Render PATTERN as a person sees it: view A (from above), view B (from below) and head-on
     PNGs, a contact sheet, and sweep.gif walking from one side through head-on to the other."""
-    import json
-
-    from illuknit.outputs import atomic_write_text, staged_dir
+    from illuknit.outputs import staged_dir
     from illuknit.pattern import load_pattern
     from illuknit.previews import contact_sheet, save_png, unit_scale
-    from illuknit.render.params import RenderParams, check_angle, load_params, params_to_json
+    from illuknit.render.params import RenderParams, check_angle, load_params, save_params
     from illuknit.render.raycast import render_image, sweep_angles
 
     params = load_params(params_file) if params_file is not None else RenderParams()
@@ -84,7 +82,7 @@ def render(
         )
         save_png(sheet, tmp / "contact.png")
         _save_gif(images, tmp / "sweep.gif")
-        atomic_write_text(tmp / "params.json", json.dumps(params_to_json(params), indent=1) + "\n")
+        save_params(params, tmp / "params.json")
     names = ", ".join(sorted(p.name for p in outdir.iterdir()))
     click.echo(f"wrote {outdir}: {names}")
 
