@@ -42,6 +42,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from illuknit.documents import read_text_file
 from illuknit.errors import CalibrationError
 from illuknit.pattern import LogicalPattern, Yarn, parse_yarns
 from illuknit.render.params import RenderParams
@@ -244,12 +245,8 @@ def _int(text: str, what: str) -> int:
 def read_measurements(path: str | os.PathLike[str]) -> tuple[list[Measurement], int]:
     """Read a measurements CSV file (see the module docstring)."""
     p = Path(path)
-    try:
-        text = p.read_text(encoding="utf-8-sig")
-    except FileNotFoundError:
-        raise CalibrationError(f"measurements file not found: {p}") from None
-    except (OSError, UnicodeDecodeError) as e:
-        raise CalibrationError(f"cannot read measurements file {p}: {e}") from None
+    # Spreadsheets often save CSV with a byte-order mark.
+    text = read_text_file(p, error=CalibrationError, what="measurements").removeprefix("\ufeff")
     return parse_measurements(text, source=str(p))
 
 
