@@ -39,10 +39,10 @@ from numpy.typing import ArrayLike, NDArray
 from illuknit.colors import lab_from_rgb, linear_from_srgb
 from illuknit.errors import PatternValidationError
 from illuknit.pattern import LogicalPattern, Yarn
-from illuknit.render.grad import render_vjp
+from illuknit.render.grad import render_value_and_grad
 from illuknit.render.params import RenderParams
-from illuknit.render.raycast import RenderView, render_soft
-from illuknit.views import can_see
+from illuknit.render.raycast import RenderView
+from illuknit.views import can_see, logical_error
 
 __all__ = ["DesignResult", "DesignStep", "optimise_design", "targets_to_indices"]
 
@@ -181,10 +181,8 @@ class _Objective:
         render_err = 0.0
         views: tuple[tuple[RenderView, NDArray[np.float64]], ...] = (("A", self.ta), ("B", self.tb))
         for view, tgt in views:
-            img, tape = render_soft(h, col, params=prm, view=view, return_tape=True)
-            r = img - tgt
-            render_err += 0.5 * float(np.mean(r * r))
-            gh, gc = render_vjp(tape, 2.0 * r / r.size)
+            mse, _, gh, gc = render_value_and_grad(h, col, tgt, params=prm, view=view)
+            render_err += 0.5 * mse
             g_h += gh
             g_col += gc
         loss = 2.0 * render_err
@@ -353,11 +351,12 @@ def optimise_design(
     la, lb = _expected_logical_error(t, p, ia, ib)
     raised = t > 0.5
     yarn = np.argmax(p, axis=-1).astype(np.int16)
-    h_bin = raised.astype(np.float64)
-    p_bin = np.eye(k)[yarn]
     # Evaluate the binary design with the same objective: logits at +-inf are t, p in {0, 1}.
     loss_b, render_b, _, _, _, _ = objective(
-        np.where(h_bin > 0, 50.0, -50.0), np.where(p_bin > 0, 50.0, -50.0), 1.0, binary_weight
+        np.where(raised, 50.0, -50.0),
+        np.where(np.arange(k) == yarn[..., None], 50.0, -50.0),
+        1.0,
+        binary_weight,
     )
     pattern = LogicalPattern(
         yarn,
@@ -374,8 +373,6 @@ def optimise_design(
             "seed": seed,
         },
     )
-    from illuknit.views import logical_error
-
     ea = logical_error(can_see(pattern, "A"), ia)
     eb = logical_error(can_see(pattern, "B"), ib)
     report = {
