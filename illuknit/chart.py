@@ -148,25 +148,27 @@ def chart_png_rgb(pattern: LogicalPattern, *, cell: int | None = None) -> NDArra
     margin = 40 if c >= 8 else 0
     img = Image.new("RGB", (w * c + 2 * margin, h * c + 2 * margin), (255, 255, 255))
     pal = pattern.palette
-    grid = np.zeros((h, w, 3), dtype=np.uint8)
+    yarn = np.zeros((h, w), dtype=np.int16)
     purl = np.zeros((h, w), dtype=bool)
     for r in rows:
         y = h - r.number  # row 1 at the bottom
-        grid[y] = pal[r.yarn]
+        yarn[y] = r.yarn
         purl[y] = r.purl_on_rs
-    big = np.repeat(np.repeat(grid, c, 0), c, 1)
+    big = np.repeat(np.repeat(pal[yarn], c, 0), c, 1)
     if c >= 6:  # grid lines
         big[::c, :, :] = (big[::c, :, :] * 0.7).astype(np.uint8)
         big[:, ::c, :] = (big[:, ::c, :] * 0.7).astype(np.uint8)
+    # Purl dots: one disc rasterised once by Pillow, stamped into every purl cell in the stitch's
+    # contrasting tone (a per-stitch ellipse call was the slowest part of writing a chart).
+    rad = max(1, c // 5)
+    stamp = Image.new("1", (c, c), 0)
+    ImageDraw.Draw(stamp).ellipse((c // 2 - rad, c // 2 - rad, c // 2 + rad, c // 2 + rad), fill=1)
+    disc = np.asarray(stamp, dtype=bool)
+    dot_rgb = np.where((luminance(pal) > 0.35)[:, None], 20, 240).astype(np.uint8)
+    dots = np.repeat(np.repeat(purl, c, 0), c, 1) & np.tile(disc, (h, w))
+    big[dots] = np.repeat(np.repeat(dot_rgb[yarn], c, 0), c, 1)[dots]
     img.paste(Image.fromarray(big), (margin, margin))
     draw = ImageDraw.Draw(img)
-    dot_dark = luminance(pal) > 0.35
-    rad = max(1, c // 5)
-    for y, x in zip(*np.nonzero(purl), strict=True):
-        yi = int(pattern.yarn[n - 1 - (h - 1 - y) // 2, x // 2])
-        col = (20, 20, 20) if dot_dark[yi] else (240, 240, 240)
-        cx, cy = margin + x * c + c // 2, margin + y * c + c // 2
-        draw.ellipse((cx - rad, cy - rad, cx + rad, cy + rad), fill=col)
     if margin:
         try:
             font = ImageFont.load_default(size=max(8, min(14, c)))
