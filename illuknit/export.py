@@ -63,8 +63,9 @@ def export_pattern(
     paths["pattern"] = out / "pattern.json"
     shown = dict(targets or {})
     for name, q in (quantised or {}).items():
-        shown.setdefault(name, q.rgb())
-        save_png(q.rgb(), out / f"quantised_{name.lower().replace(' ', '_')}.png")
+        picture = q.rgb()
+        shown.setdefault(name, picture)
+        save_png(picture, out / f"quantised_{name.lower().replace(' ', '_')}.png")
     paths.update(write_previews(pattern, out, targets=shown))
     paths["chart"] = save_png(chart_png_rgb(pattern), out / "chart.png")
     paths["instructions"] = atomic_write_text(

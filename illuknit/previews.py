@@ -144,13 +144,13 @@ def write_previews(
     -------
     dict of name -> path
     """
+    from illuknit.render import RenderParams, render_views
+
     out = Path(outdir)
     s = scale or max(2, unit_scale(pattern.shape))
     chart = chart_rgb(pattern, scale=max(s, 4))
     va = upscale(view_rgb(pattern, "A"), s)
     vb = upscale(view_rgb(pattern, "B"), s)
-    from illuknit.render import render_views
-
     renders = render_views(pattern, params=params, angle=angle)
     ra, rb = upscale(renders["A"], s), upscale(renders["B"], s)
     paths = {
@@ -160,14 +160,13 @@ def write_previews(
         "render_a": save_png(ra, out / "render_a.png"),
         "render_b": save_png(rb, out / "render_b.png"),
     }
-    from illuknit.render import RenderParams
-
     theta = angle if angle is not None else (params or RenderParams()).theta
     deg = f" at {theta:g} deg"
     panels: list[tuple[str, ArrayLike]] = []
     for title, img in (targets or {}).items():
         panels.append((title, upscale(np.asarray(img, dtype=np.uint8), s)))
-    chart_small = chart_rgb(pattern, scale=s) if s >= 4 else upscale(pattern.rgb(), s)
+    # At 4+ pixels per unit the chart written above is already at the contact sheet's scale.
+    chart_small = chart if s >= 4 else upscale(pattern.rgb(), s)
     panels += [
         ("head-on (raised marked)", chart_small),
         (f"rendered from above{deg}", ra),

@@ -175,16 +175,16 @@ def prepare_single_view_image(
         raise ImageInputError(
             f"a single-view illusion is knitted with 2 yarns (3 with a middle colour), got {len(yarns)}"
         )
+    distinct = count_colors(rgb)
     if n_colors is None:
-        distinct = count_colors(rgb)
-        n_colors = (
-            2
-            if distinct <= 2
-            or (yarns is not None and len(yarns) == 2 and not resize.get("allow_quantise", True))
-            else 3
-        )
         if yarns is not None and len(yarns) == 3:
             n_colors = 3
+        elif distinct <= 2 or (yarns is not None and not resize.get("allow_quantise", True)):
+            n_colors = 2
+        else:
+            n_colors = 3
+    # prepare_image would count the colours again to choose its resampling.
+    resize.setdefault("smooth", distinct > 16)
     if yarns is not None and len(yarns) == n_colors:
         return prepare_image(rgb, yarns=yarns, n_colors=n_colors, **resize)  # type: ignore[arg-type]
     q = prepare_image(rgb, yarns=None, n_colors=n_colors, **resize)  # type: ignore[arg-type]
