@@ -362,7 +362,7 @@ def make_candidates(prepared: Prepared, *, count: int, progress: Progress) -> li
 
 
 def _single_candidates(prepared: Prepared, progress: Progress) -> list[Candidate]:
-    from illuknit.single_view import compile_single_view
+    from illuknit.single_view import compile_single_view, single_view_errors
 
     q = prepared.quantised["a"]
     out = []
@@ -370,7 +370,7 @@ def _single_candidates(prepared: Prepared, progress: Progress) -> list[Candidate
         progress(k / 2, f"compiling single view ({first} stripe first)")
         with blame("n_colors"):
             pattern = compile_single_view(q, first=first)  # type: ignore[arg-type]
-        err = _single_error(pattern, q.indices, q.yarns)
+        err = [round(e, 4) for e in single_view_errors(q, pattern)]
         out.append(
             Candidate(
                 rank=k + 1,
@@ -381,23 +381,6 @@ def _single_candidates(prepared: Prepared, progress: Progress) -> list[Candidate
             )
         )
     return out
-
-
-def _single_error(
-    pattern: LogicalPattern, target: NDArray[Any], yarns: tuple[Yarn, ...]
-) -> tuple[float, float]:
-    """Share of units whose seen yarn differs from the (shifted) picture, per side view."""
-    from illuknit.views import can_see
-
-    # picture index -> pattern yarn index by colour (a middle colour has no yarn: skip it)
-    lookup = {y.rgb: i for i, y in enumerate(pattern.yarns)}
-    remap = np.array([lookup.get(y.rgb, -1) for y in yarns])
-    t = remap[np.asarray(target)]
-    va, vb = can_see(pattern, "A"), can_see(pattern, "B")
-    ma, mb = t[:-1] >= 0, t[1:] >= 0
-    ea = float(np.mean(va[1:][ma] != t[:-1][ma])) if ma.any() else 0.0
-    eb = float(np.mean(vb[:-1][mb] != t[1:][mb])) if mb.any() else 0.0
-    return round(ea, 4), round(eb, 4)
 
 
 def _tile_candidates(prepared: Prepared, *, count: int, progress: Progress) -> list[Candidate]:
