@@ -463,9 +463,7 @@ def _override_tile(assignment: Any, tile_id: str) -> Any:
         return Tile.from_rows(tile_id.split("/"))
 
 
-def pattern_for(
-    candidate: Candidate, overrides: dict[tuple[int, int], str], prepared: Prepared
-) -> LogicalPattern:
+def pattern_for(candidate: Candidate, overrides: dict[tuple[int, int], str]) -> LogicalPattern:
     """The candidate's pattern with the designer's per-pair tile overrides applied."""
     if not overrides:
         return candidate.pattern
@@ -501,9 +499,7 @@ def _fill_label(fill: Any, yarns: tuple[Yarn, ...]) -> str:
     return "—" if fill is None else str(fill.label(yarns))
 
 
-def pairs_json(
-    candidate: Candidate, overrides: dict[tuple[int, int], str], prepared: Prepared
-) -> dict[str, Any]:
+def pairs_json(candidate: Candidate, overrides: dict[tuple[int, int], str]) -> dict[str, Any]:
     """The overlap pairs of a candidate with their tiles and the bank's alternatives.
 
     Options per pair, best first: tiles showing exactly the assigned fills, then tiles keeping
@@ -585,7 +581,7 @@ def pairs_json(
     return {"editable": True, "views": [v0, v1], "pairs": out}
 
 
-def tile_png(tile_id: str, prepared: Prepared, candidate: Candidate | None = None) -> bytes:
+def tile_png(tile_id: str, candidate: Candidate | None = None) -> bytes:
     """A picture of one tile: its units in yarn colours, raised units marked, a few periods."""
     from illuknit.previews import chart_rgb
 

@@ -333,9 +333,7 @@ def create_app(config: AppConfig | None = None) -> Any:
             cand = candidate_of(s, rank)
             if rank is not None and rank != s.selected:
                 return cand.pattern
-            if not s.overrides:
-                return cand.pattern
-            return design.pattern_for(cand, s.overrides, prepared_of(s))
+            return design.pattern_for(cand, s.overrides)
 
     # -- page ----------------------------------------------------------------------------------
     @app.get("/docs", include_in_schema=False)
@@ -633,7 +631,7 @@ def create_app(config: AppConfig | None = None) -> Any:
         s = session_of(sid)
         with s.lock:
             cand = candidate_of(s, None)
-            return design.pairs_json(cand, s.overrides, prepared_of(s))
+            return design.pairs_json(cand, s.overrides)
 
     @app.put(
         "/api/sessions/{sid}/pairs/{a}/{b}",
@@ -644,16 +642,15 @@ def create_app(config: AppConfig | None = None) -> Any:
         s = session_of(sid)
         with s.lock:
             cand = candidate_of(s, None)
-            prepared = prepared_of(s)
             overrides = dict(s.overrides)
             if body.tile is None:
                 overrides.pop((a, b), None)
             else:
                 overrides[(a, b)] = body.tile
-            design.pattern_for(cand, overrides, prepared)  # validates before keeping it
+            design.pattern_for(cand, overrides)  # validates before keeping it
             s.overrides = overrides
             s.knit = None
-            return design.pairs_json(cand, s.overrides, prepared)
+            return design.pairs_json(cand, s.overrides)
 
     @app.get(
         "/api/sessions/{sid}/tiles/{tile_id}.png", tags=["design"], summary="Picture of a bank tile"
@@ -661,9 +658,8 @@ def create_app(config: AppConfig | None = None) -> Any:
     def get_tile_png(sid: str, tile_id: str) -> Response:
         s = session_of(sid)
         with s.lock:
-            prepared = prepared_of(s)
             cand = candidate_of(s, None)
-        return Response(design.tile_png(tile_id, prepared, cand), media_type="image/png")
+        return Response(design.tile_png(tile_id, cand), media_type="image/png")
 
     @app.get(
         "/api/sessions/{sid}/tile.png",
