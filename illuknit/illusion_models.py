@@ -551,7 +551,6 @@ def keep_warm_start(model: Model, solution: Solution, info: Mapping[str, Any]) -
     """``solution`` with the warm start's time added and, if the backend came back worse than
     its warm start (``model.hint``) or with nothing, the warm start's assignment instead; the
     bound is the better of the backend's and the warm start's (``info["bound"]``)."""
-    from illuknit.solvers.base import Solution as _Solution
     from illuknit.solvers.base import Status
 
     values, objective, status = solution.values, solution.objective, solution.status
@@ -566,15 +565,14 @@ def keep_warm_start(model: Model, solution: Solution, info: Mapping[str, Any]) -
         bound = max(float(info["bound"]), bound if bound is not None else float("-inf"))
         if objective is not None and objective <= bound:
             status = Status.OPTIMAL  # the warm start met a proven lower bound
-    return _Solution(
-        status,
-        values,
-        objective,
-        bound,
-        solution.wall_time + float(info.get("seconds", 0.0)),
-        stats,
-        solution.backend,
-        solution.pool,
+    return replace(
+        solution,
+        status=status,
+        values=values,
+        objective=objective,
+        bound=bound,
+        wall_time=solution.wall_time + float(info.get("seconds", 0.0)),
+        stats=stats,
     )
 
 

@@ -35,6 +35,7 @@ from __future__ import annotations
 import importlib
 import time
 from collections.abc import Callable
+from dataclasses import replace
 from importlib.metadata import entry_points
 from typing import TYPE_CHECKING, Any
 
@@ -191,14 +192,9 @@ def solve(
     sol = backend.solve(model, time_limit=time_limit, seed=seed, progress=progress)
     if sol.status is Status.INFEASIBLE and "infeasible_families" not in sol.stats:
         fams = model.infeasible_families()
-        sol = Solution(
-            sol.status,
-            sol.values,
-            sol.objective,
-            sol.bound,
-            time.perf_counter() - t0,
-            {**sol.stats, "infeasible_families": fams},
-            sol.backend,
-            sol.pool,
+        sol = replace(
+            sol,
+            wall_time=time.perf_counter() - t0,
+            stats={**sol.stats, "infeasible_families": fams},
         )
     return sol

@@ -41,7 +41,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -75,8 +75,7 @@ def _unit_costs(problem: IllusionProblem) -> tuple[NDArray[np.int64], NDArray[np
 
     n, m = problem.shape
     k = problem.n_yarns
-    wt = problem.transfer_weight
-    bump = _raised_cost(n, m, wt) if wt else np.zeros((n, m), dtype=np.int64)
+    bump = _raised_cost(n, m, problem.transfer_weight)
     pin = np.zeros((n, m, k), dtype=np.int64)
     if problem.pinned is not None:
         p = problem.pinned.astype(np.int64)
@@ -518,20 +517,11 @@ class DescentBackend:
         from illuknit.solvers.dp import DPBackend, values_from_pattern
 
         problem = model.problem
-        if problem.per_wale or getattr(problem, "rows_tied", False):
+        if problem.per_wale or problem.rows_tied:
             # no cross-wale term (or rows tied to one yarn): the DP is exact
             sol = DPBackend().solve(model, time_limit=time_limit, seed=seed, progress=progress)
             stats = {**sol.stats, "method": "dp (exact for this model)"}
-            return Solution(
-                sol.status,
-                sol.values,
-                sol.objective,
-                sol.bound,
-                sol.wall_time,
-                stats,
-                self.name,
-                model.pool,
-            )
+            return replace(sol, stats=stats, backend=self.name)
         t0 = time.perf_counter()
         res = optimise_descent(
             problem, time_limit=time_limit, seed=seed, stall=self.stall, progress=progress
