@@ -67,7 +67,7 @@ def solve_dp(problem: IllusionProblem) -> tuple[NDArray[np.int16], NDArray[np.bo
     """
     from illuknit.illusion_models import _raised_cost
 
-    if getattr(problem, "rows_tied", False):
+    if problem.rows_tied:
         return solve_single_rows(problem)
     a = problem.target_a.astype(np.int64)
     b = problem.target_b.astype(np.int64)
@@ -128,7 +128,7 @@ def solve_single_rows(
     k = problem.n_yarns
     wv = problem.view_weight
     wt = problem.transfer_weight
-    bump = _raised_cost(n, m, wt) if wt else np.zeros((n, m), dtype=np.int64)
+    bump = _raised_cost(n, m, wt)
     col = np.arange(k)
     # g[i, p, c, q]: cost of row i in colour c between rows of colours p (above) and q (below);
     # keep[i, p, c, q, j]: whether unit (i, j) is raised in that case

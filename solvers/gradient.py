@@ -86,7 +86,6 @@ class GradientBackend:
         _, m = problem.shape
         change_w = problem.color_weight * per_mismatch * (m - 1) / m if m > 1 else 0.0
         raised_w = 2.0 * problem.transfer_weight * per_mismatch
-        interrupted = False
         try:
             result = optimise_design(
                 problem.target_a,
@@ -102,18 +101,9 @@ class GradientBackend:
                 time_limit=None if time_limit is None else max(0.0, time_limit - 0.05),
             )
         except KeyboardInterrupt:  # pragma: no cover - interactive only
-            interrupted = True
             wall = time.perf_counter() - t0
-            return Solution(
-                Status.FEASIBLE,
-                None,
-                None,
-                None,
-                wall,
-                {"interrupted": True},
-                self.name,
-                model.pool,
-            )
+            stopped = {"interrupted": True}
+            return Solution(Status.FEASIBLE, None, None, None, wall, stopped, self.name, model.pool)
         pat = result.pattern
         vals = values_from_pattern(model, pat.yarn, pat.raised)
         ok, cost = model.evaluate(vals)
@@ -124,7 +114,7 @@ class GradientBackend:
             "render_error_after": result.report["after"]["render_error"],
             "logical_error_before": result.report["before"]["logical_error"],
             "logical_error_after": result.report["after"]["logical_error"],
-            "interrupted": interrupted,
+            "interrupted": False,
         }
         if not ok:
             stats["message"] = "the binarised design breaks a hard constraint of the model"
