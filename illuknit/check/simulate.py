@@ -27,7 +27,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from illuknit.check.parse import KnitoutProgram, Needle, Operation
+from illuknit.check.parse import CARRIER_OPS, STITCH_OPS, KnitoutProgram, Needle, Operation
 
 __all__ = [
     "CarrierEnd",
@@ -163,7 +163,6 @@ class _Carrier:
 
 @dataclass
 class _State:
-    program: KnitoutProgram
     header_carriers: frozenset[str] | None
     max_racking: float
     max_loops: int
@@ -611,7 +610,6 @@ def simulate_program(
             bed_width = int(wh[0])
     pos = program.header("Position")
     state = _State(
-        program=program,
         header_carriers=header_carriers,
         max_racking=max_racking,
         max_loops=max_loops,
@@ -620,7 +618,7 @@ def simulate_program(
     )
     for op in program.operations:
         name = op.op
-        if name in ("knit", "tuck", "split", "miss"):
+        if name in STITCH_OPS:
             _stitch(state, op)
         elif name == "xfer":
             for n in op.needles:
@@ -635,7 +633,7 @@ def simulate_program(
             state.note_needle(op.needle, op.line)
         elif name == "rack":
             _rack(state, op)
-        elif name in ("in", "inhook", "releasehook", "out", "outhook"):
+        elif name in CARRIER_OPS:
             _carrier_op(state, op)
         # stitch, pause, x-*: no effect on the model
 

@@ -27,14 +27,13 @@ import warnings
 from dataclasses import dataclass
 from typing import Any
 
-from illuknit.check.parse import KnitoutProgram, parse_needle
+from illuknit.check.parse import CARRIER_OPS, KnitoutProgram, parse_needle
 from illuknit.check.report import Finding
 from illuknit.errors import BackendUnavailableError
 
 __all__ = ["Rewrite", "VmResult", "rewrite_for_vm", "run_vm"]
 
 _YARN_OK = re.compile(r"^\d+-\d+ \w+$")
-_SPLIT_OPS = ("in", "inhook", "releasehook", "out", "outhook")
 _DROP_OPS = ("stitch", "amiss")
 
 #: VM warning classes that report something the machine cannot do (-> error); other VM warnings
@@ -115,7 +114,7 @@ def rewrite_for_vm(text: str, program: KnitoutProgram) -> Rewrite:
         if op in _DROP_OPS or op.startswith("x-"):
             emit(f"; (illuknit: hidden from the VM) {op}", ln)
             continue
-        if op in _SPLIT_OPS and len(tokens) > 2:
+        if op in CARRIER_OPS and len(tokens) > 2:
             for k, c in enumerate(tokens[1:]):
                 emit(f"{op} {c}", ln, k > 0)
             continue
