@@ -289,11 +289,6 @@ class _State:
         return c
 
 
-def _aligned(state: _State, a: Needle, b: Needle) -> bool:
-    front, back = (a, b) if a.is_front else (b, a)
-    return float(front.index) == back.index + state.rack
-
-
 def _check_pair(state: _State, op: Operation) -> bool:
     """Machine rules of a needle-to-needle move (xfer, split); True when loops may move."""
     src, dst = op.needles
@@ -305,15 +300,14 @@ def _check_pair(state: _State, op: Operation) -> bool:
         return False
     if op.op == "split" and src.is_slider:
         state.event(op.line, "stitch-on-slider", f"split from slider {src}")
-    if not _aligned(state, src, dst):
-        r = state.rack
-        front, back = (src, dst) if src.is_front else (dst, src)
-        need = front.index - back.index
+    front, back = (src, dst) if src.is_front else (dst, src)
+    r = state.rack
+    if front.index != back.index + r:
         state.event(
             op.line,
             "xfer-misaligned",
             f"{op.op} {src} {dst} at racking {_fmt(r)}: {back} faces f{back.index + r:g}; "
-            f"this move needs rack {need}",
+            f"this move needs rack {front.index - back.index}",
         )
         return False
     return True
@@ -417,35 +411,27 @@ def _stitch(state: _State, op: Operation) -> None:
                 state.floats.append(Float(line, name, c.last_slot, slot))
                 _face_float(state, line, name, lo, hi)
 
-    # the operation itself
-    if op.op == "miss":
-        new: list[int] = []
-    elif op.op == "knit":
-        parents = state.take(needle)
-        if not parents:
-            state.event(
-                line, "knit-empty", f"knit on empty needle {needle} (no loop to pull through)"
-            )
+    # the operation itself: knit and split pull the new loops through the needle's old ones (split
+    # leaves the old loops on the other needle), tuck adds them beside the old ones
+    new: list[int] = []
+    if makes_loops:
+        parents: list[int] = []
+        if op.op == "knit":
+            parents = state.take(needle)
+            if not parents:
+                state.event(
+                    line, "knit-empty", f"knit on empty needle {needle} (no loop to pull through)"
+                )
+        elif op.op == "split":
+            parents = state.take(needle)
+            if _check_pair(state, op):
+                state.put(op.needles[1], parents, line)
+            else:  # nothing moved; the old loops stay (and get caught)
+                state.put(needle, parents, line)
         new = [state.new_loop(line, name) for name in carriers]
         for child in new:
             for p in parents:
                 state.union(child, p)
-        state.put(needle, new, line)
-    elif op.op == "tuck":
-        new = [state.new_loop(line, name) for name in carriers]
-        state.put(needle, new, line)
-    else:  # split
-        dst = op.needles[1]
-        parents = state.take(needle)
-        if _check_pair(state, op):
-            state.put(dst, parents, line)
-        else:
-            state.put(needle, parents, line)  # nothing moved; the old loops stay (and get caught)
-        new = [state.new_loop(line, name) for name in carriers]
-        for child in new:
-            for p in parents:
-                state.union(child, p)
-        # split keeps old loops on the other needle: the new loops hang off them like a knit
         state.put(needle, new, line)
 
     for k, name in enumerate(carriers):
