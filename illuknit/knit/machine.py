@@ -14,7 +14,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, replace
 
-from illuknit.errors import PatternValidationError
+from illuknit.errors import PatternValidationError, SchedulingError
 
 __all__ = ["DEFAULT_MACHINE", "MachineSpec"]
 
@@ -127,6 +127,22 @@ class MachineSpec:
     def fabric_left(self) -> int:
         """Needle of the fabric's leftmost wale (room to park a carrier at needle >= 1 on its left)."""
         return self.park_distance + 1
+
+    @property
+    def cast_on_stitch(self) -> int | None:
+        """Stitch number of the cast-on passes: ``cast_on_stitch_number``, else ``stitch_number``."""
+        if self.cast_on_stitch_number is not None:
+            return self.cast_on_stitch_number
+        return self.stitch_number
+
+    def check_width(self, wales: int) -> None:
+        """Raise :class:`~illuknit.errors.SchedulingError` unless ``wales`` fit on the bed."""
+        if wales > self.max_fabric_width:
+            raise SchedulingError(
+                f"piece is {wales} stitches wide but the {self.name} bed of {self.needles} "
+                f"needles holds at most {self.max_fabric_width} (use a narrower pattern or a "
+                "wider --machine-width)"
+            )
 
     def with_width(self, needles: int) -> MachineSpec:
         """A copy with another bed width (the ``--machine-width`` option)."""

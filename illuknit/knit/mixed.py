@@ -503,12 +503,7 @@ def schedule_mixed(
     ):
         raise PatternValidationError(f"`catch_every` must be an integer >= 1, got {catch_every!r}")
     n_courses, n_wales = stitches.shape
-    if n_wales > machine.max_fabric_width:
-        raise SchedulingError(
-            f"piece is {n_wales} stitches wide but the {machine.name} bed of {machine.needles} "
-            f"needles holds at most {machine.max_fabric_width} (use a narrower pattern or a wider "
-            "--machine-width)"
-        )
+    machine.check_width(n_wales)
     k0 = stitches.cast_on_courses
     yarn = np.vstack([np.repeat(stitches.yarn[:1], k0, axis=0), stitches.yarn])
     kind = np.vstack([np.zeros((k0, n_wales), dtype=np.uint8), stitches.kind])
@@ -536,11 +531,7 @@ def schedule_mixed(
             last_course[s.carrier] = cp.course
 
     # -- cast-on: each carrier of the first course tucks its own wales -------------------------
-    cast_sn = (
-        machine.cast_on_stitch_number
-        if machine.cast_on_stitch_number is not None
-        else machine.stitch_number
-    )
+    cast_sn = machine.cast_on_stitch
     cast_fixed = 0
     for seg in plan.courses[0].segments:
         needles = [left + w for w in seg.wales]

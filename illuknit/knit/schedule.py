@@ -445,11 +445,7 @@ def schedule_courses(
     if tail_stitches < 1:
         raise PatternValidationError(f"`tail_stitches` must be >= 1, got {tail_stitches}")
     n_courses, n_wales = stitches.shape
-    if n_wales > machine.max_fabric_width:
-        raise SchedulingError(
-            f"piece is {n_wales} stitches wide but the {machine.name} bed of {machine.needles} needles holds "
-            f"at most {machine.max_fabric_width} (use a narrower pattern or a wider --machine-width)"
-        )
+    machine.check_width(n_wales)
     mixed = stitches.mixed_courses()
     if mixed.size:
         c = int(mixed[0])
@@ -475,9 +471,7 @@ def schedule_courses(
     needles_up = list(range(left, right + 1))
     needles_down = needles_up[::-1]
     body_sn = machine.stitch_number
-    cast_sn = (
-        machine.cast_on_stitch_number if machine.cast_on_stitch_number is not None else body_sn
-    )
+    cast_sn = machine.cast_on_stitch
 
     steps: list[Step] = []
     # Side where each live carrier is parked: the direction its next pass must run.
