@@ -98,6 +98,15 @@ def _has(module: str, name: str) -> bool:
         return False
 
 
+def require_part(module: str, name: str, *, needs: str, field: str) -> Any:
+    """``module`` if it provides ``name``, else a 501 saying that ``needs`` it (page control ``field``)."""
+    if not _has(module, name):
+        raise AppRequestError(
+            f"{needs}, which this install lacks", field=field, code="unavailable", status=501
+        )
+    return importlib.import_module(module)
+
+
 def capabilities() -> dict[str, bool]:
     """Which optional parts of the library this install has (the page greys out the others)."""
     return {
@@ -385,14 +394,12 @@ def _single_candidates(prepared: Prepared, progress: Progress) -> list[Candidate
 
 def _tile_candidates(prepared: Prepared, *, count: int, progress: Progress) -> list[Candidate]:
     mode = prepared.mode
-    if not _has("illuknit.tiles", "assign_tiles"):
-        raise AppRequestError(
-            "tile design needs the tile bank (illuknit.tiles), which this install lacks",
-            field="mode",
-            code="unavailable",
-            status=501,
-        )
-    tiles = importlib.import_module("illuknit.tiles")
+    tiles = require_part(
+        "illuknit.tiles",
+        "assign_tiles",
+        needs="tile design needs the tile bank (illuknit.tiles)",
+        field="mode",
+    )
     qa = prepared.quantised["a"]
     qb = prepared.quantised.get("b")
     progress(0.05, "building the tile bank")
@@ -495,8 +502,10 @@ def _bank_number(bank: Any, tile: Any) -> str | None:
     return None
 
 
-def _fill_label(fill: Any, yarns: tuple[Yarn, ...]) -> str:
-    return "—" if fill is None else str(fill.label(yarns))
+def _fills_label(views: tuple[str, str], f0: Any, f1: Any, yarns: tuple[Yarn, ...]) -> str:
+    """What a tile shows from each view, e.g. ``"A: black · B: 1/1 stripes"``."""
+    labels = ["—" if f is None else str(f.label(yarns)) for f in (f0, f1)]
+    return f"{views[0]}: {labels[0]} · {views[1]}: {labels[1]}"
 
 
 def pairs_json(candidate: Candidate, overrides: dict[tuple[int, int], str]) -> dict[str, Any]:
@@ -542,8 +551,8 @@ def pairs_json(candidate: Candidate, overrides: dict[tuple[int, int], str]) -> d
             options.append(
                 {
                     "id": str(k),
-                    "label": f"{mark}{bank.tiles[k].code()} — {v0}: {_fill_label(fills.get(v0), yarns)}"
-                    f" · {v1}: {_fill_label(fills.get(v1), yarns)}",
+                    "label": f"{mark}{bank.tiles[k].code()} — "
+                    + _fills_label((v0, v1), fills.get(v0), fills.get(v1), yarns),
                     "exact": tier == 0,
                 }
             )
@@ -557,9 +566,9 @@ def pairs_json(candidate: Candidate, overrides: dict[tuple[int, int], str]) -> d
                     0,
                     {
                         "id": tid,
-                        "label": f"{'★ ' if own else ''}{tile.code()} — {v0}: "
-                        f"{_fill_label(fills.get(v0), yarns)} · {v1}: {_fill_label(fills.get(v1), yarns)}"
-                        f"{'' if own else ' (typed)'}",
+                        "label": f"{'★ ' if own else ''}{tile.code()} — "
+                        + _fills_label((v0, v1), fills.get(v0), fills.get(v1), yarns)
+                        + ("" if own else " (typed)"),
                         "exact": own,
                     },
                 )
@@ -570,7 +579,7 @@ def pairs_json(candidate: Candidate, overrides: dict[tuple[int, int], str]) -> d
                 "a_color": hex_color(assignment.colors_a[a]),
                 "b_color": hex_color(assignment.colors_b[b]),
                 "share": round(counts.get((a, b), 0) / total, 4),
-                "fills": f"{v0}: {_fill_label(fa, yarns)} · {v1}: {_fill_label(fb, yarns)}",
+                "fills": _fills_label((v0, v1), fa, fb, yarns),
                 "tile": current,
                 "tile_picture": f"tile.png?{urlencode({'tile': current})}",
                 "default": default_id,
@@ -674,23 +683,18 @@ def previews_zip(pattern: LogicalPattern, prepared: Prepared | None, *, angle: f
 
 
 def chart_png(pattern: LogicalPattern) -> bytes:
-    if _has("illuknit.chart", "chart_png_rgb"):
-        chart = importlib.import_module("illuknit.chart")
-        return png_bytes(chart.chart_png_rgb(pattern))
-    from illuknit.previews import chart_rgb
+    from illuknit.chart import chart_png_rgb
 
-    return png_bytes(chart_rgb(pattern))
+    return png_bytes(chart_png_rgb(pattern))
 
 
 def instructions_text(pattern: LogicalPattern) -> str:
-    if not _has("illuknit.chart", "written_instructions"):
-        raise AppRequestError(
-            "written instructions need illuknit.chart, which this install lacks",
-            field="downloads",
-            code="unavailable",
-            status=501,
-        )
-    chart = importlib.import_module("illuknit.chart")
+    chart = require_part(
+        "illuknit.chart",
+        "written_instructions",
+        needs="written instructions need illuknit.chart",
+        field="downloads",
+    )
     return str(chart.written_instructions(pattern))
 
 
@@ -707,22 +711,21 @@ class KnitResult:
 
 def knit_and_check(doc: dict[str, Any], check: bool) -> dict[str, Any]:
     """Compile a pattern (as JSON) to knitout and check it. Runs in a spawned worker process."""
-    import json
-
+    from illuknit.check import check_knitout
+    from illuknit.knit import knit_pattern
     from illuknit.pattern import pattern_from_json
 
-    pattern = pattern_from_json(doc)
-    knit = importlib.import_module("illuknit.knit")
-    result = knit.knit_pattern(pattern)
-    text = str(result.text)
-    stats = dict(result.summary()) if hasattr(result, "summary") else {}
+    result = knit_pattern(pattern_from_json(doc))
     report = report_text = None
     if check:
-        checker = importlib.import_module("illuknit.check")
-        rep = checker.check_knitout(text)
-        report = rep.to_dict() if hasattr(rep, "to_dict") else json.loads(rep.to_json())
-        report_text = rep.to_text(name="knitout.k") if hasattr(rep, "to_text") else str(rep)
-    return {"knitout": text, "stats": stats, "report": report, "report_text": report_text}
+        rep = check_knitout(result.text)
+        report, report_text = rep.to_dict(), rep.to_text(name="knitout.k")
+    return {
+        "knitout": result.text,
+        "stats": result.summary(),
+        "report": report,
+        "report_text": report_text,
+    }
 
 
 def pattern_key(pattern: LogicalPattern) -> str:

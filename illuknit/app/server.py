@@ -527,18 +527,16 @@ def create_app(config: AppConfig | None = None) -> Any:
         return runner.submit("candidates", work, revision=rev, on_done=done)
 
     def start_knit(s: Session) -> Job:
-        caps = design.capabilities()
-        if not caps["knit"]:
-            raise AppRequestError(
-                "knitout needs the knitout compiler (illuknit.knit), which this install lacks",
-                field="knit",
-                code="unavailable",
-                status=501,
-            )
+        design.require_part(
+            "illuknit.knit",
+            "knit_pattern",
+            needs="knitout needs the knitout compiler (illuknit.knit)",
+            field="knit",
+        )
         pattern = current_pattern(s)
         key = design.pattern_key(pattern)
         doc = design.pattern_to_json(pattern)
-        check = caps["check"]
+        check = design.capabilities()["check"]
 
         def work(job: Job) -> design.KnitResult:
             job.report(0.05, "compiling knitout" + (" and checking it" if check else ""))
