@@ -27,18 +27,19 @@ def _load_pair(
     path_a: Path, path_b: Path | None, *, width: int | None, resize: bool
 ) -> tuple[np.ndarray, np.ndarray | None]:
     from illuknit.errors import ImageInputError
-    from illuknit.images import load_image, resize_to_units
+    from illuknit.images import count_colors, load_image, resize_to_units
 
     a = load_image(path_a)
     b = load_image(path_b) if path_b is not None else None
-    smooth_a = len(np.unique(np.round(a.reshape(-1, 3) * 255), axis=0)) > 16
+    # Few colours: pixel art or a chart, resized without blend colours (as prepare_image does).
+    smooth_a = count_colors(a) > 16
     if width is None and max(a.shape[:2]) > 400:  # keep the longer side within 400 units
         width = max(2, round(400 * a.shape[1] / max(a.shape[:2])))
     if width is not None:
         a = resize_to_units(a, width=width, smooth=smooth_a)
     if b is None:
         return a, None
-    smooth_b = len(np.unique(np.round(b.reshape(-1, 3) * 255), axis=0)) > 16
+    smooth_b = count_colors(b) > 16
     if b.shape[:2] != a.shape[:2]:
         same_aspect = abs(b.shape[0] / b.shape[1] - a.shape[0] / a.shape[1]) < 0.02
         if not (resize or same_aspect):
@@ -108,6 +109,7 @@ def run_design(
     ys = _choose_yarns(yarns, n_colors, pictures)
     qa = quantise_image(a, n_colors=n_colors)
     qb = quantise_image(b, n_colors=n_colors) if b is not None else None
+    quantised = {"A": qa} if qb is None else {"A": qa, "B": qb}
     views = ("A", "B") if mode == "double" else HEADON_VIEWS
     if bank_file is not None:
         bank = load_bank(bank_file, yarns=ys)
@@ -139,16 +141,17 @@ def run_design(
                 chosen = pattern
             sub = tmp / f"candidate_{cand.rank}"
             s = max(2, unit_scale(pattern.shape))
+            cand_json = cand.to_json()  # its "fills" is cand.describe()
+            report_json = report.to_json()
             rep = {
                 "mode": mode,
                 "sources": [str(path_a), str(path_b) if path_b else None],
-                "assignment": cand.to_json(),
-                "tiles_report": report.to_json(),
+                "assignment": cand_json,
+                "tiles_report": report_json,
                 "default": cand.rank == pick,
             }
             ra = repainted_rgb(cand, 0)
             rb = repainted_rgb(cand, 1)
-            quantised = {"A": qa} if qb is None else {"A": qa, "B": qb}
             export_pattern(
                 pattern,
                 sub,
@@ -157,30 +160,23 @@ def run_design(
                 title=f"{mode}-view illusion, candidate {cand.rank}",
                 targets={f"{names[0]} repainted": ra, f"{names[1]} repainted": rb},
             )
-            save_png(upscale(ra, s), sub / "repainted_a.png")
-            save_png(upscale(rb, s), sub / "repainted_b.png")
-            save_png(
-                upscale(repainted_rgb(cand, 0, mode="average"), s), sub / "repainted_a_average.png"
-            )
-            save_png(
-                upscale(repainted_rgb(cand, 1, mode="average"), s), sub / "repainted_b_average.png"
-            )
-            legend = {
-                "views": list(views),
-                "fills": cand.describe(),
-                "tiles": cand.to_json()["tiles"],
-            }
+            for which, letter, striped in ((0, "a", ra), (1, "b", rb)):
+                average = repainted_rgb(cand, which, mode="average")
+                save_png(upscale(striped, s), sub / f"repainted_{letter}.png")
+                save_png(upscale(average, s), sub / f"repainted_{letter}_average.png")
+            fills = cand_json["fills"]
+            legend = {"views": list(views), "fills": fills, "tiles": cand_json["tiles"]}
             atomic_write_text(sub / "fills.json", json.dumps(legend, indent=1) + "\n")
             rows.append(
                 {
                     "rank": cand.rank,
                     "default": cand.rank == pick,
                     "score": round(cand.score, 2),
-                    "fills_a": [f["fill"] for f in cand.describe() if f["input"] == "A"],
-                    "fills_b": [f["fill"] for f in cand.describe() if f["input"] == "B"],
-                    "error_repainted": report.to_json()["error_repainted"],
-                    "error_repainted_interior": report.to_json()["error_repainted_interior"],
-                    "color_changes_per_course_max": int(report.color_changes.max(initial=0)),
+                    "fills_a": [f["fill"] for f in fills if f["input"] == "A"],
+                    "fills_b": [f["fill"] for f in fills if f["input"] == "B"],
+                    "error_repainted": report_json["error_repainted"],
+                    "error_repainted_interior": report_json["error_repainted_interior"],
+                    "color_changes_per_course_max": report_json["color_changes_per_course"]["max"],
                     "folder": sub.name,
                 }
             )
