@@ -359,8 +359,9 @@ def skimage_image(
         composited on white.
     """
     import skimage.data
-    from PIL import Image
     from skimage.transform import resize
+
+    from illuknit.images import load_image
 
     file = BUNDLED_IMAGES.get(name)
     if file is None:
@@ -370,10 +371,7 @@ def skimage_image(
         raise ImageInputError(
             f"scikit-image image {name!r} is not bundled in this install ({path})"
         )
-    with Image.open(path) as src:
-        im = src.convert("RGBA")
-        white = Image.new("RGBA", im.size, (255, 255, 255, 255))
-        rgb = np.asarray(Image.alpha_composite(white, im).convert("RGB"), dtype=np.float64) / 255.0
+    rgb = load_image(path)
     if shape is None:
         return rgb
     rows, cols = _check_shape(shape)
