@@ -134,7 +134,17 @@ def test_bundled_pictures_load_offline_as_float_rgb(name, monkeypatch):
     assert img.min() >= 0.0 and img.max() <= 1.0 and img.std() > 0.01
 
 
-def test_all_bundled_names_exist_in_this_install():
+def test_all_bundled_names_exist_in_this_install(monkeypatch):
+    import skimage.transform
+
+    # Shrinking retina (1411 px) to 8 px anti-aliases with a Gaussian of sigma ~88 px: seconds
+    # per picture, and not what this test checks (the tests above exercise anti-aliasing).
+    resize = skimage.transform.resize
+
+    def fast(*args, **kwargs):
+        return resize(*args, **{**kwargs, "anti_aliasing": False})
+
+    monkeypatch.setattr(skimage.transform, "resize", fast)
     for name in BUNDLED_IMAGES:
         assert skimage_image(name, (8, 8)).shape == (8, 8, 3)
 
