@@ -29,7 +29,7 @@ Neither the SWG converter nor the PyPI simulator reports these (paper section 7,
 from __future__ import annotations
 
 from illuknit.check.report import Finding
-from illuknit.check.simulate import Simulation
+from illuknit.check.simulate import MAX_EVENTS_PER_CODE, Simulation
 
 __all__ = ["FABRIC_RULES", "fabric_findings"]
 
@@ -43,8 +43,6 @@ FABRIC_RULES: dict[str, tuple[str, str]] = {
     "carrier-left-in": ("error", "carrier never taken out"),
     "hook-left": ("error", "inserting hook still holds a yarn at the end"),
 }
-
-_MAX_LISTED = 200
 
 
 def _finding(line: int, code: str, message: str) -> Finding:
@@ -76,7 +74,7 @@ def fabric_findings(sim: Simulation, *, float_limit: int) -> tuple[list[Finding]
     def add(line: int, code: str, message: str) -> None:
         n = counts.get(code, 0)
         counts[code] = n + 1
-        if n < _MAX_LISTED:
+        if n < MAX_EVENTS_PER_CODE:
             out.append(_finding(line, code, message))
 
     for ff in sim.face_floats:
@@ -107,10 +105,9 @@ def fabric_findings(sim: Simulation, *, float_limit: int) -> tuple[list[Finding]
             )
     if sim.pieces > 1:
         first: dict[int, int] = {}
-        for lid, comp in enumerate(sim.components):
-            first.setdefault(comp, lid)
         carriers: dict[int, set[str]] = {}
         for lid, comp in enumerate(sim.components):
+            first.setdefault(comp, lid)
             carriers.setdefault(comp, set()).add(sim.loop_carriers[lid])
         for comp in range(1, sim.pieces):
             lid = first[comp]
@@ -145,5 +142,5 @@ def fabric_findings(sim: Simulation, *, float_limit: int) -> tuple[list[Finding]
             "hook-left",
             f"the inserting hook still holds {' '.join(sim.hook_left)} at the end",
         )
-    suppressed = {k: n - _MAX_LISTED for k, n in counts.items() if n > _MAX_LISTED}
+    suppressed = {k: n - MAX_EVENTS_PER_CODE for k, n in counts.items() if n > MAX_EVENTS_PER_CODE}
     return out, suppressed
