@@ -670,17 +670,23 @@ def assign_tiles(
     return _solve_candidates(prob, candidates, solver, time_limit, explain=explain)
 
 
-def _default_yarns(qa: Any, qb: Any, yarns: Sequence[Yarn] | None) -> tuple[Yarn, ...]:
-    if yarns is not None:
-        return tuple(yarns)
+def _yarns_of(*inputs: Any) -> tuple[Yarn, ...]:
+    """The yarns the inputs carry (``.yarns`` of a QuantisedImage), each colour once, in order."""
     found: list[Yarn] = []
-    for q in (qa, qb):
+    for q in inputs:
         for y in getattr(q, "yarns", ()):
             if all(y.rgb != z.rgb for z in found):
                 found.append(y)
+    return tuple(found)
+
+
+def _default_yarns(qa: Any, qb: Any, yarns: Sequence[Yarn] | None) -> tuple[Yarn, ...]:
+    if yarns is not None:
+        return tuple(yarns)
+    found = _yarns_of(qa, qb)
     if not found:
         raise TileAssignmentError("pass `bank` or `yarns` (the inputs carry no yarns)")
-    return tuple(found)
+    return found
 
 
 def _solve_candidates(

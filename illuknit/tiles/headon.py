@@ -22,7 +22,7 @@ import numpy as np
 
 from illuknit.errors import TileAssignmentError
 from illuknit.pattern import Yarn
-from illuknit.tiles.assign import TileAssignment, assign_tiles, regions_of
+from illuknit.tiles.assign import TileAssignment, _yarns_of, assign_tiles, regions_of
 from illuknit.tiles.bank import TileBank, ViewPair, canonical_bank
 
 __all__ = ["HEADON_VIEWS", "assign_headon", "headon_bank", "uniform_side"]
@@ -83,14 +83,7 @@ def assign_headon(
     if side is None:
         side = uniform_side(front)
     if bank is None:
-        ys = yarns
-        if ys is None:
-            found: list[Yarn] = []
-            for q in (front, side):
-                for y in getattr(q, "yarns", ()):
-                    if all(y.rgb != z.rgb for z in found):
-                        found.append(y)
-            ys = tuple(found)
+        ys = yarns if yarns is not None else _yarns_of(front, side)
         if not ys:
             raise TileAssignmentError("pass `bank` or `yarns` (the pictures carry no yarns)")
         bank = headon_bank(ys)
