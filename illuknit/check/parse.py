@@ -191,6 +191,14 @@ class KnitoutProgram:
         """``(value, line)`` of header ``name`` (first occurrence), or None."""
         return self._header_map.get(name)
 
+    @property
+    def width(self) -> int | None:
+        """The ``;;Width`` header as a positive integer; None when absent or not one."""
+        w = self.header("Width")
+        if w is None or not (w[0].isascii() and w[0].isdigit()) or int(w[0]) == 0:
+            return None
+        return int(w[0])
+
 
 def _format_number(x: float) -> str:
     return str(int(x)) if float(x).is_integer() else repr(float(x))

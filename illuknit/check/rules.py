@@ -86,7 +86,7 @@ def check_header(program: KnitoutProgram) -> list[Finding]:
             _finding(g[1], "header-value", f";;Gauge must be a positive number, got {g[0]!r}")
         )
     w = program.header("Width")
-    if w is not None and not ((w[0].isascii() and w[0].isdigit()) and int(w[0]) > 0):
+    if w is not None and program.width is None:
         out.append(
             _finding(w[1], "header-value", f";;Width must be a positive integer, got {w[0]!r}")
         )

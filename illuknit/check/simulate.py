@@ -591,9 +591,7 @@ def simulate_program(
     hc = program.header("Carriers")
     header_carriers = frozenset(hc[0].split()) if hc is not None else None
     if bed_width is None:
-        wh = program.header("Width")
-        if wh is not None and wh[0].isascii() and wh[0].isdigit() and int(wh[0]) > 0:
-            bed_width = int(wh[0])
+        bed_width = program.width
     pos = program.header("Position")
     state = _State(
         header_carriers=header_carriers,
