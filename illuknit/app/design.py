@@ -231,8 +231,13 @@ class Prepared:
     mode: str
     yarns: tuple[Yarn, ...]
     quantised: dict[str, Any]  # slot -> QuantisedImage
-    shape: tuple[int, int]  # (rows N, cols M)
     notes: tuple[str, ...] = ()
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        """(rows N, cols M) of the grid (every slot has picture A's)."""
+        shape: tuple[int, int] = self.quantised["a"].shape
+        return shape
 
     def legend(self) -> dict[str, list[dict[str, Any]]]:
         return {slot: q.legend() for slot, q in self.quantised.items()}
@@ -324,7 +329,7 @@ def prepare_inputs(images: dict[str, Any], settings: Any) -> Prepared:
     for slot in slots:
         with blame("n_colors"):
             quantised[slot] = quantise_image(resized[slot], n_colors=settings.n_colors, yarns=yarns)
-    return Prepared(mode=mode, yarns=yarns, quantised=quantised, shape=(n, m), notes=tuple(notes))
+    return Prepared(mode=mode, yarns=yarns, quantised=quantised, notes=tuple(notes))
 
 
 # -- candidates --------------------------------------------------------------------------------
@@ -672,13 +677,11 @@ def previews_zip(pattern: LogicalPattern, prepared: Prepared | None, *, angle: f
         with zipfile.ZipFile(buf, "w", zipfile.ZIP_DEFLATED) as zf:
             for name, path in paths.items():
                 zf.write(path, f"previews/{os.path.basename(path) or name}")
-            if capabilities()["render"]:
-                for view in ("A", "B"):
-                    img = render_view(pattern, view, angle=angle)
-                    s = max(1, 640 // max(img.shape[:2]))
-                    zf.writestr(
-                        f"previews/render_{view}_{angle:g}deg.png", png_bytes(upscale(img, s))
-                    )
+            # write_previews renders at the calibrated angle; add the angle the page shows
+            for view in ("A", "B"):
+                img = render_view(pattern, view, angle=angle)
+                s = max(1, 640 // max(img.shape[:2]))
+                zf.writestr(f"previews/render_{view}_{angle:g}deg.png", png_bytes(upscale(img, s)))
     return buf.getvalue()
 
 

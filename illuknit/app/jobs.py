@@ -213,10 +213,6 @@ class JobRunner:
         self._pool.submit(self._run, job, fn, on_done)
         return job
 
-    def get(self, job_id: str) -> Job | None:
-        with self._lock:
-            return self._jobs.get(job_id)
-
     def _run(
         self, job: Job, fn: Callable[[Job], Any], on_done: Callable[[Job], None] | None
     ) -> None:
