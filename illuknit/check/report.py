@@ -162,12 +162,9 @@ def render_report(report: CheckReport, *, name: str = "program", max_per_code: i
         shown[key] += 1
         style = "bold red" if f.blocking else "yellow"
         src = "" if f.source == "illuknit" else f" [dim]({escape(f.source)})[/dim]"
-        where = f"line {f.line}" if f.line else "file"
+        where = f"{escape(name)}:{f.line}" if f.line else f"{escape(name)} (file)"
         out.append(
-            f"{escape(name)}:{f.line}: [{style}]{f.severity}[/{style}] "
-            f"[bold]{escape(f.code)}[/bold]{src}: {escape(f.message)}"
-            if f.line
-            else f"{escape(name)} ({where}): [{style}]{f.severity}[/{style}] "
+            f"{where}: [{style}]{f.severity}[/{style}] "
             f"[bold]{escape(f.code)}[/bold]{src}: {escape(f.message)}"
         )
     for key, n in sorted(hidden.items()):
