@@ -79,7 +79,7 @@ def png_bytes(rgb: ArrayLike) -> bytes:
     from PIL import Image
 
     buf = io.BytesIO()
-    Image.fromarray(np.asarray(rgb, dtype=np.uint8)).save(buf, format="PNG", optimize=True)
+    Image.fromarray(np.asarray(rgb, dtype=np.uint8)).save(buf, format="PNG")
     return buf.getvalue()
 
 
