@@ -47,7 +47,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from illuknit.bench.instances import Targets
-from illuknit.colors import linear_from_srgb, srgb_from_linear
+from illuknit.colors import linear_from_srgb, luminance, srgb_from_linear
 from illuknit.pattern import LogicalPattern, Yarn
 from illuknit.views import View, can_see
 
@@ -62,6 +62,7 @@ __all__ = [
     "ghosting",
     "knit_stats",
     "logical_errors",
+    "picture_scores",
     "render_correlation",
     "render_error",
     "seen_in_target_yarns",
@@ -145,12 +146,11 @@ def render_error(
     return mse, float(ssim)
 
 
-def _grey(rgb: NDArray[np.float64], sigma: float) -> NDArray[np.float64]:
+def _grey(rgb: ArrayLike, sigma: float) -> NDArray[np.float64]:
     """Blurred relative luminance in linear light (where light, and so stripes, mix linearly)."""
     from scipy.ndimage import gaussian_filter
 
-    lin = linear_from_srgb(np.asarray(rgb, dtype=np.float64) * 255.0)
-    y = lin @ np.array([0.2126, 0.7152, 0.0722])
+    y = luminance(np.asarray(rgb, dtype=np.float64) * 255.0)
     return gaussian_filter(y, sigma=sigma, mode="reflect", truncate=4.0)
 
 
@@ -175,9 +175,7 @@ def render_correlation(
     rendered, target : ndarray of shape (N, M, 3)
         sRGB in [0, 1].
     """
-    r = np.asarray(rendered, dtype=np.float64)
-    t = np.asarray(target, dtype=np.float64)
-    return _corr(_grey(r, sigma), _grey(t, sigma))
+    return _corr(_grey(rendered, sigma), _grey(target, sigma))
 
 
 def ghosting(
@@ -188,18 +186,62 @@ def ghosting(
     The blurred luminance of ``rendered`` is fitted as ``alpha + beta * own`` by least squares;
     the result is the correlation of the residual with ``other`` (nan when undefined).
     """
-    g = _grey(np.asarray(rendered, dtype=np.float64), sigma).ravel()
-    o = _grey(np.asarray(own, dtype=np.float64), sigma).ravel()
-    x = _grey(np.asarray(other, dtype=np.float64), sigma).ravel()
+    return _ghost(_grey(rendered, sigma), _grey(own, sigma), _grey(other, sigma))
+
+
+def _ghost(g: NDArray[np.float64], o: NDArray[np.float64], x: NDArray[np.float64]) -> float:
+    """:func:`ghosting` on blurred luminances."""
+    g, o = g.ravel(), o.ravel()
     design = np.stack([np.ones_like(o), o], axis=1)
     coef, *_ = np.linalg.lstsq(design, g, rcond=None)
-    resid = g - design @ coef
-    return _corr(resid, x)
+    return _corr(g - design @ coef, x)
+
+
+def picture_scores(
+    renders: dict[str, NDArray[np.float64]],
+    target_a: ArrayLike,
+    target_b: ArrayLike,
+    *,
+    double: bool,
+    sigma: float = BLUR_SIGMA,
+) -> dict[str, float | None]:
+    """Readability, ghosting and head-on visibility of a pattern's renders, as result fields.
+
+    The same numbers as :func:`render_correlation` and :func:`ghosting`, with each image's
+    blurred luminance computed once instead of once per score.
+
+    Parameters
+    ----------
+    renders : dict
+        ``{"A", "B", "headon"}`` -> ndarray of shape (N, M, 3), as from :func:`angled_renders`.
+    target_a, target_b : ndarray of shape (N, M, 3)
+        The targets in yarn colours, sRGB in [0, 1].
+    double : bool
+        A double-view instance (ghosting is measured, head-on against both targets).
+
+    Returns
+    -------
+    dict
+        ``render_corr_a``, ``render_corr_b``, ``ghost_a``, ``ghost_b`` (None unless ``double``)
+        and ``headon_visibility`` (None when every head-on correlation is nan).
+    """
+    ga, gb, gh = (_grey(renders[v], sigma) for v in ("A", "B", "headon"))
+    ta, tb = _grey(target_a, sigma), _grey(target_b, sigma)
+    head = [_corr(gh, t) for t in ((ta, tb) if double else (ta,))]
+    return {
+        "render_corr_a": _corr(ga, ta),
+        "render_corr_b": _corr(gb, tb),
+        "ghost_a": _ghost(ga, ta, tb) if double else None,
+        "ghost_b": _ghost(gb, tb, ta) if double else None,
+        "headon_visibility": max((abs(h) for h in head if h == h), default=None),
+    }
 
 
 def boolean_render(pattern: LogicalPattern, view: View) -> NDArray[np.float64]:
     """The boolean can_see view in yarn colours, float sRGB of shape (N, M, 3)."""
-    return pattern.palette[can_see(pattern, view)].astype(np.float64) / 255.0
+    from illuknit.previews import view_rgb
+
+    return view_rgb(pattern, view).astype(np.float64) / 255.0
 
 
 def _to_units(img: NDArray[np.float64], shape: tuple[int, int]) -> NDArray[np.float64]:

@@ -245,22 +245,11 @@ def execute_cell(cell: Cell) -> dict[str, Any]:
             )
         errs = metrics.logical_errors(pattern, targets)
         renders, renderer = metrics.angled_renders(pattern)
-        ra = metrics.render_error(renders["A"], targets.rgb("A"))
-        rb = metrics.render_error(renders["B"], targets.rgb("B"))
-        cc = metrics.colour_changes(pattern)
         ta, tb = targets.rgb("A"), targets.rgb("B")
-        double = cell.instance.kind == "double"
-        head = [
-            metrics.render_correlation(renders["headon"], t)
-            for t in ((ta, tb) if double else (ta,))
-        ]
-        row.update(
-            render_corr_a=metrics.render_correlation(renders["A"], ta),
-            render_corr_b=metrics.render_correlation(renders["B"], tb),
-            ghost_a=metrics.ghosting(renders["A"], ta, tb) if double else None,
-            ghost_b=metrics.ghosting(renders["B"], tb, ta) if double else None,
-            headon_visibility=max((abs(h) for h in head if h == h), default=None),
-        )
+        ra = metrics.render_error(renders["A"], ta)
+        rb = metrics.render_error(renders["B"], tb)
+        cc = metrics.colour_changes(pattern)
+        row.update(metrics.picture_scores(renders, ta, tb, double=cell.instance.kind == "double"))
         row.update(
             logical_error_a=errs["A"],
             logical_error_b=errs["B"],
