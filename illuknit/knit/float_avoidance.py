@@ -24,7 +24,8 @@ pass before it and floats are ignored, as a naive program does.
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from itertools import pairwise
+
+import numpy as np
 
 from illuknit.knit.path_planning import CarrierState, PlannedPass
 
@@ -60,15 +61,23 @@ def float_crossings(
         if p.kind == "move":
             out.append(frozenset())
             continue
-        seq = [n for n, _ in p.stitches]
+        # Floats between the pass's own stitches (the same for all its carriers); most
+        # neighbouring stitches are adjacent, so only the few real gaps are expanded.
+        seq = np.fromiter((n for n, _ in p.stitches), dtype=np.intp, count=len(p.stitches))
+        a, b = seq[:-1], seq[1:]
+        lo = np.maximum(np.minimum(a, b) + 1, lo_b)
+        hi = np.minimum(np.maximum(a, b), hi_b + 1)
         crossed: set[int] = set()
+        for i in np.flatnonzero(hi > lo):
+            crossed.update(range(int(lo[i]), int(hi[i])))
+        first, end = int(seq[0]), int(seq[-1])
         for car in p.carriers:
             prev = last.get(car)
-            points = ([prev] if prev is not None else []) + seq
-            for a, b in pairwise(points):
-                lo, hi = (a, b) if a < b else (b, a)
-                crossed.update(range(max(lo + 1, lo_b), min(hi, hi_b + 1)))
-            last[car] = seq[-1]
+            if prev is not None:
+                crossed.update(
+                    range(max(min(prev, first) + 1, lo_b), min(max(prev, first), hi_b + 1))
+                )
+            last[car] = end
         out.append(frozenset(crossed))
     return out
 
