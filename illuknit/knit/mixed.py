@@ -563,7 +563,8 @@ def schedule_mixed(
         em.bed[n] = "f"
 
     # -- courses -------------------------------------------------------------------------------
-    bed_letter = np.array(["f", "b"])
+    # Bed of every stitch ("f" knit, "b" purl), once: each course also reads the next one's.
+    course_beds: list[list[str]] = np.array(["f", "b"])[kind].tolist()
     body_bound = 0
     cast_courses_bound = 0
     prev_kind = np.zeros(n_wales, dtype=np.uint8)
@@ -573,7 +574,7 @@ def schedule_mixed(
         role = "body" if body else "cast-on"
         label = c - k0 if body else None
         need = kind[c]
-        beds = bed_letter[need].tolist()
+        beds = course_beds[c]
         new = frozenset(s.carrier for s in cp.segments if s.carrier not in em.states)
         caught = catching and c % catch_every == 0
         catches = plan_catches(cp, new_carriers=new) if caught else []
@@ -584,8 +585,9 @@ def schedule_mixed(
             # The next course's own segments: orders that leave carriers where that work can
             # start in one pass are preferred (its plated stitches are not known yet).
             nxt = plan.courses[c + 1]
-            nbeds = bed_letter[kind[c + 1]].tolist()
-            lookahead = _course_items([(s.carrier, s.wales) for s in nxt.segments], [], nbeds, left)
+            lookahead = _course_items(
+                [(s.carrier, s.wales) for s in nxt.segments], [], course_beds[c + 1], left
+            )
         planned, _ = _order_and_plan(items, em.states, path_planning, parity, lookahead)
         bound = len({it.carriers for it in items}) + int(bool((need != prev_kind).any()))
         prev_kind = need
@@ -594,7 +596,7 @@ def schedule_mixed(
         else:
             cast_courses_bound += bound
 
-        required = {left + w: beds[w] for w in range(n_wales)}
+        required = dict(zip(em.needles, beds, strict=True))
         if not float_avoidance:
             em.xfer(
                 {n: b for n, b in required.items() if em.bed[n] != b}, role="transfer", course=label
@@ -618,7 +620,7 @@ def schedule_mixed(
         em.outhook(sorted(done, key=machine.carriers.index))
 
     # -- bind-off --------------------------------------------------------------------------------
-    bind_start = len([s for s in em.steps if isinstance(s, Pass)])
+    bind_start = len(em.steps)
     back = {n: "f" for n in em.needles if em.bed[n] == "b"}
     em.xfer(back, role="bind-off", course=None)
     last_plan = plan.courses[-1]
@@ -667,7 +669,7 @@ def schedule_mixed(
         em.steps.append(
             Pass("drop", tuple(Op("drop", "f", n) for n in sorted(drops)), None, (), 0.0, "tail")
         )
-    bind_passes = [s for s in em.steps[0:] if isinstance(s, Pass)][bind_start:]
+    bind_passes = [s for s in em.steps[bind_start:] if isinstance(s, Pass)]
     bind_fixed = sum(
         not all(o.op == "miss" for o in p.ops) or p.kind != "knit" for p in bind_passes
     )
