@@ -13,6 +13,7 @@ they are read into memory (:class:`UploadLimit`).
 
 import threading
 from collections.abc import AsyncIterator, Awaitable, Callable, MutableMapping
+from dataclasses import replace
 from pathlib import Path
 from typing import Annotated, Any, Literal
 
@@ -456,7 +457,7 @@ def create_app(config: AppConfig | None = None) -> Any:
                 parse_yarns(changes["yarns"])
             changes["yarns"] = tuple(changes["yarns"])
         with s.lock:
-            new = DesignSettings(**{**s.settings.to_json(), "yarns": s.settings.yarns, **changes})
+            new = replace(s.settings, **changes)
             if new != s.settings:
                 s.settings = new
                 s.bump()

@@ -16,7 +16,7 @@ from __future__ import annotations
 import secrets
 import threading
 import time
-from dataclasses import dataclass, field
+from dataclasses import asdict, dataclass, field
 from typing import Any
 
 import numpy as np
@@ -57,18 +57,7 @@ class DesignSettings:
     smooth: bool = True
 
     def to_json(self) -> dict[str, Any]:
-        return {
-            "mode": self.mode,
-            "size_mode": self.size_mode,
-            "width_units": self.width_units,
-            "width_cm": self.width_cm,
-            "gauge": self.gauge,
-            "n_colors": self.n_colors,
-            "yarns": list(self.yarns),
-            "candidates": self.candidates,
-            "resize": self.resize,
-            "smooth": self.smooth,
-        }
+        return {**asdict(self), "yarns": list(self.yarns)}
 
 
 @dataclass
