@@ -98,9 +98,9 @@ def check(
     if as_json:
         click.echo(report.to_json())
     else:
-        from rich.console import Console
+        from illuknit.cli.summary import console
 
-        Console(highlight=False, soft_wrap=True).print(render_report(report, name=str(program)))
+        console().print(render_report(report, name=str(program)))
     if not report.ok:
         # sys.exit, not ctx.exit: the group runs with standalone_mode=False, which would turn
         # click's Exit into a return value that `python -m illuknit` drops.

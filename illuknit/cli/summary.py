@@ -5,9 +5,10 @@ from __future__ import annotations
 import json
 from collections.abc import Mapping
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-from illuknit.pattern import LogicalPattern
+if TYPE_CHECKING:  # annotations only: `illuknit check` uses console() without loading numpy
+    from illuknit.pattern import LogicalPattern
 
 __all__ = ["console", "print_written", "summarise_pattern"]
 
