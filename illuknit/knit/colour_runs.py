@@ -28,7 +28,7 @@ region where it is anchored. If the machine runs out of carriers the course is n
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from itertools import pairwise
 from types import MappingProxyType
 
@@ -98,14 +98,6 @@ class CoursePlan:
     course: int
     segments: tuple[Segment, ...]
 
-    @property
-    def carriers(self) -> tuple[str, ...]:
-        return tuple(s.carrier for s in self.segments)
-
-    def carrier_at(self) -> dict[int, str]:
-        """Wale -> carrier knitting it."""
-        return {w: s.carrier for s in self.segments for w in s.wales}
-
 
 @dataclass(frozen=True, eq=False)
 class ColourPlan:
@@ -124,7 +116,6 @@ class ColourPlan:
     courses: tuple[CoursePlan, ...]
     carrier_of_yarn: Mapping[int, tuple[str, ...]]
     float_limit: int
-    meta: Mapping[str, object] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         object.__setattr__(
@@ -132,16 +123,11 @@ class ColourPlan:
             "carrier_of_yarn",
             MappingProxyType({int(k): tuple(v) for k, v in self.carrier_of_yarn.items()}),
         )
-        object.__setattr__(self, "meta", MappingProxyType(dict(self.meta)))
 
     @property
     def carriers(self) -> tuple[str, ...]:
         """Every carrier the plan uses."""
         return tuple(c for cs in self.carrier_of_yarn.values() for c in cs)
-
-    @property
-    def max_carriers_per_course(self) -> int:
-        return max((len(cp.segments) for cp in self.courses), default=0)
 
     @property
     def stranded_segments(self) -> int:
@@ -175,11 +161,9 @@ def _group_runs(runs: Sequence[Run], float_limit: int) -> list[tuple[Run, ...]]:
     return [tuple(g) for g in groups]
 
 
-def _deficit(
-    groups: Mapping[int, Sequence[object]], of_yarn: Mapping[int, Sequence[str]], free: int
-) -> int:
-    """Carriers missing to give every group its own carrier (yarns keep their carriers)."""
-    return sum(max(0, len(g) - len(of_yarn.get(v, ()))) for v, g in groups.items()) - free
+def _deficit(groups: Mapping[int, Sequence[object]], own: Mapping[int, int], free: int) -> int:
+    """Carriers missing to give every group its own carrier; yarn ``v`` already has ``own[v]``."""
+    return sum(max(0, len(g) - own.get(v, 0)) for v, g in groups.items()) - free
 
 
 def _fit_carriers(
@@ -191,11 +175,7 @@ def _fit_carriers(
     of failing: the shortest gap of a yarn that needs a new carrier goes first.
     """
     groups = {v: list(g) for v, g in groups.items()}
-
-    def deficit() -> int:
-        return sum(max(0, len(g) - own.get(v, 0)) for v, g in groups.items()) - free
-
-    while deficit() > 0:
+    while _deficit(groups, own, free) > 0:
         best: tuple[int, int, int] | None = None  # gap, yarn, index
         for v, g in groups.items():
             if len(g) - own.get(v, 0) <= 0:
@@ -274,12 +254,13 @@ def plan_colour_runs(
         for lo, hi, v in colour_runs(y[c]):
             by_yarn.setdefault(v, []).append((lo, hi))
         groups = {v: _group_runs(rs, int(float_limit)) for v, rs in by_yarn.items()}
+        owned = {v: len(cs) for v, cs in of_yarn.items()}
         if not strict:
-            groups = _fit_carriers(groups, {v: len(cs) for v, cs in of_yarn.items()}, len(free))
+            groups = _fit_carriers(groups, owned, len(free))
         need = sum(len(g) for g in groups.values())
-        if need <= len(pool) and _deficit(groups, of_yarn, len(free)) > 0:
+        if need <= len(pool) and _deficit(groups, owned, len(free)) > 0:
             name = course_names[c] if course_names is not None else f"course {c}"
-            short = sorted(v for v, g in groups.items() if len(g) > len(of_yarn.get(v, ())))
+            short = sorted(v for v, g in groups.items() if len(g) > owned.get(v, 0))
             threaded = len(pool) - len(free)
             raise CarrierShortageError(
                 f"{name} needs another carrier for yarn {short[0]} but all {threaded} carriers "
