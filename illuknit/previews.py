@@ -74,12 +74,13 @@ def chart_rgb(pattern: LogicalPattern, *, scale: int | None = None) -> NDArray[n
     return img.clip(0, 255).astype(np.uint8)
 
 
-def png_bytes(rgb: ArrayLike) -> bytes:
-    """Encode an (H, W, 3) uint8 image as PNG."""
+def png_bytes(rgb: ArrayLike, *, compress_level: int = 6) -> bytes:
+    """Encode an (H, W, 3) uint8 image as PNG (zlib ``compress_level`` 0-9; 1 for live previews)."""
     from PIL import Image
 
     buf = io.BytesIO()
-    Image.fromarray(np.asarray(rgb, dtype=np.uint8)).save(buf, format="PNG")
+    image = Image.fromarray(np.ascontiguousarray(rgb, dtype=np.uint8))
+    image.save(buf, format="PNG", compress_level=compress_level)
     return buf.getvalue()
 
 

@@ -645,13 +645,9 @@ def render_view(pattern: LogicalPattern, view: str, *, angle: float) -> NDArray[
 
 def png_bytes(rgb: NDArray[np.uint8]) -> bytes:
     """Fast PNG encoding for live previews (low compression: these are tiny and short-lived)."""
-    from PIL import Image
+    from illuknit.previews import png_bytes as encode
 
-    buf = io.BytesIO()
-    Image.fromarray(np.ascontiguousarray(rgb, dtype=np.uint8)).save(
-        buf, format="PNG", compress_level=1
-    )
-    return buf.getvalue()
+    return encode(rgb, compress_level=1)
 
 
 # -- downloads ---------------------------------------------------------------------------------
