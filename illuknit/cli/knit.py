@@ -78,7 +78,7 @@ def run_knit(
             )
             summary["check"] = {
                 "errors": len(report.blocking),
-                "warnings": len(report.findings) - len(report.blocking),
+                "warnings": len(report.warnings),
                 "pieces": report.pieces,
                 "findings": [
                     {"line": f.line, "code": f.code, "severity": f.severity, "message": f.message}

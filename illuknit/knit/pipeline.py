@@ -20,6 +20,15 @@ from illuknit.pattern import LogicalPattern
 
 __all__ = ["KnitResult", "knit_pattern"]
 
+#: Schedule ``meta`` entries that :meth:`KnitResult.summary` reports.
+_SUMMARY_META = (
+    "scheduler",
+    "explicit_kickbacks",
+    "plated_stitches",
+    "carriers",
+    "float_avoidance_transfers",
+)
+
 
 @dataclass(frozen=True, eq=False)
 class KnitResult:
@@ -61,12 +70,7 @@ class KnitResult:
             "width_cm": round(wcm, 1),
             "height_cm": round(hcm, 1),
             **self.stats.as_dict(),
-            **{
-                k: v
-                for k, v in self.schedule.meta.items()
-                if k in ("scheduler", "explicit_kickbacks", "plated_stitches", "carriers")
-                or k == "float_avoidance_transfers"
-            },
+            **{k: v for k, v in self.schedule.meta.items() if k in _SUMMARY_META},
             "time_seconds": round(self.time.seconds, 1),
             "time": str(self.time),
             "lines": self.text.count("\n"),
