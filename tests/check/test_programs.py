@@ -1,4 +1,4 @@
-"""The hand-written fixture programs in tests/data/knitout, checked by illuknit and the PyPI VM.
+"""The hand-written fixture programs in tests/check/data, checked by illuknit and the PyPI VM.
 
 Each faulty program is found with the right line and code, and nothing else blocks; the clean
 programs have no blocking finding under either opinion.
@@ -15,7 +15,7 @@ from illuknit.check import check_knitout, parse_knitout
 from illuknit.check.vm import rewrite_for_vm, run_vm
 from illuknit.errors import BackendUnavailableError
 
-DATA = Path(__file__).parent / "data" / "knitout"
+DATA = Path(__file__).parent / "data"
 
 #: file -> the blocking (line, code) pairs illuknit must report, and nothing else
 BAD = {

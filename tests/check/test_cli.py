@@ -11,7 +11,7 @@ import pytest
 
 from illuknit.cli import main
 
-DATA = Path(__file__).parent / "data" / "knitout"
+DATA = Path(__file__).parent / "data"
 
 
 def run(args: list[str], capsys: pytest.CaptureFixture[str]) -> tuple[int, str, str]:

@@ -13,7 +13,7 @@ from PIL import Image
 from illuknit.cli import main
 from illuknit.pattern import load_pattern
 
-FAKE = Path(__file__).parent / "solvers_fake" / "fake_maxsat.py"
+FAKE = Path(__file__).parent / "fake" / "fake_maxsat.py"
 
 
 def _png(path: Path, mask: np.ndarray) -> Path:

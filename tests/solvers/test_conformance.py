@@ -1,7 +1,7 @@
 """Every available backend on the same cases (cvxpy-style conformance suite).
 
 Backends that are not installed are skipped; the external-binary backend runs through the fake
-solver script in ``tests/solvers_fake``.
+solver script in ``tests/solvers/fake``.
 """
 
 from __future__ import annotations
@@ -24,7 +24,7 @@ from illuknit.model import Model
 from illuknit.solvers import available_backends, backend_names, get_backend, solve
 from illuknit.views import can_see
 
-FAKE = Path(__file__).parent / "solvers_fake" / "fake_maxsat.py"
+FAKE = Path(__file__).parent / "fake" / "fake_maxsat.py"
 EXTERNAL = f"wcnf:{sys.executable} {FAKE} {{}}"
 
 
