@@ -14,6 +14,8 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
 
+from illuknit.errors import OutputError
+
 __all__ = ["atomic_write_bytes", "atomic_write_text", "staged_dir"]
 
 
@@ -59,7 +61,7 @@ def staged_dir(outdir: str | os.PathLike[str]) -> Iterator[Path]:
     """
     outdir = Path(outdir)
     if outdir.exists() and not outdir.is_dir():
-        raise FileExistsError(f"output path exists and is not a folder: {outdir}")
+        raise OutputError(f"output path exists and is not a folder: {outdir}")
     parent = outdir.resolve().parent
     parent.mkdir(parents=True, exist_ok=True)
     tmp = Path(tempfile.mkdtemp(prefix=f".{outdir.name}.", suffix=".partial", dir=parent))

@@ -39,7 +39,7 @@ from dataclasses import replace
 from importlib.metadata import entry_points
 from typing import TYPE_CHECKING, Any
 
-from illuknit.errors import BackendUnavailableError, UnknownNameError
+from illuknit.errors import BackendUnavailableError, OptionError, SolverError, UnknownNameError
 from illuknit.solvers.base import Backend, ProgressCallback, ProgressEvent, Solution, Status
 
 if TYPE_CHECKING:
@@ -178,10 +178,8 @@ def solve(
     ``status == "infeasible"`` and ``stats["infeasible_families"]`` naming the conflicting
     hard-constraint families.
     """
-    from illuknit.errors import PatternValidationError, SolverError
-
     if time_limit is not None and not time_limit > 0:
-        raise PatternValidationError(f"`time_limit` must be positive seconds, got {time_limit!r}")
+        raise OptionError(f"`time_limit` must be positive seconds, got {time_limit!r}")
     backend = pick_backend(model) if solver == "auto" else get_backend(solver)
     if not backend.handles(model):
         why = getattr(backend, "why_not", lambda m: "")(model)

@@ -49,7 +49,13 @@ from typing import Any, Literal
 
 import numpy as np
 
-from illuknit.errors import MixedColourworkError, PatternValidationError, SchedulingError
+from illuknit.errors import (
+    MachineRuleError,
+    MixedColourworkError,
+    OptionError,
+    PatternValidationError,
+    SchedulingError,
+)
 from illuknit.knit.machine import DEFAULT_MACHINE, MachineSpec
 from illuknit.knit.stitches import StitchPattern
 from illuknit.pattern import Yarn
@@ -125,22 +131,20 @@ class Pass:
 
     def __post_init__(self) -> None:
         if self.kind not in _PASS_KINDS:
-            raise PatternValidationError(
-                f"pass `kind` must be one of {_PASS_KINDS}, got {self.kind!r}"
-            )
+            raise SchedulingError(f"pass `kind` must be one of {_PASS_KINDS}, got {self.kind!r}")
         if self.role not in ROLES:
-            raise PatternValidationError(f"pass `role` must be one of {ROLES}, got {self.role!r}")
+            raise SchedulingError(f"pass `role` must be one of {ROLES}, got {self.role!r}")
         if not self.ops:
-            raise PatternValidationError("a pass needs at least one operation")
+            raise SchedulingError("a pass needs at least one operation")
         if self.kind == "knit":
             if self.direction not in ("+", "-"):
-                raise PatternValidationError(
+                raise SchedulingError(
                     f"knit pass needs direction '+' or '-', got {self.direction!r}"
                 )
             if not self.carriers:
-                raise PatternValidationError("knit pass needs at least one carrier")
+                raise SchedulingError("knit pass needs at least one carrier")
             if any(o.op not in _OPS_WITH_YARN for o in self.ops):
-                raise PatternValidationError(f"knit pass ops must be {_OPS_WITH_YARN}")
+                raise SchedulingError(f"knit pass ops must be {_OPS_WITH_YARN}")
             # Ops must advance strictly in the pass direction (front and back of one needle are
             # the same slot at racking 0, so they cannot share a pass then).
             slots = [
@@ -148,17 +152,19 @@ class Pass:
             ]
             step = np.diff(slots) if self.direction == "+" else -np.diff(slots)
             if len(slots) > 1 and not (step > 0).all():
-                raise PatternValidationError(
+                raise SchedulingError(
                     f"knit pass ops must advance strictly in direction {self.direction}"
                 )
         else:
             if self.direction is not None or self.carriers:
-                raise PatternValidationError(f"{self.kind} pass takes no direction and no carriers")
+                raise SchedulingError(f"{self.kind} pass takes no direction and no carriers")
             if any(o.op != self.kind for o in self.ops):
-                raise PatternValidationError(f"{self.kind} pass may only hold {self.kind} ops")
+                raise SchedulingError(f"{self.kind} pass may only hold {self.kind} ops")
         r = float(self.racking)
         if not (r == int(r) or r - np.floor(r) == 0.25):
-            raise PatternValidationError(f"racking must be an integer or integer + 0.25, got {r}")
+            raise MachineRuleError(
+                f"racking must be an integer or integer + 0.25, got {r}", racking=r
+            )
 
     @property
     def needle_span(self) -> tuple[int, int]:
@@ -178,11 +184,9 @@ class CarrierAction:
 
     def __post_init__(self) -> None:
         if self.action not in _ACTIONS:
-            raise PatternValidationError(
-                f"carrier action must be one of {_ACTIONS}, got {self.action!r}"
-            )
+            raise SchedulingError(f"carrier action must be one of {_ACTIONS}, got {self.action!r}")
         if not self.carriers:
-            raise PatternValidationError("carrier action needs at least one carrier")
+            raise SchedulingError("carrier action needs at least one carrier")
 
 
 Step = Pass | CarrierAction
@@ -261,37 +265,46 @@ class Schedule:
             if isinstance(step, CarrierAction):
                 bad = [c for c in step.carriers if c not in carriers]
                 if bad:
-                    raise SchedulingError(f"step {i}: carrier {bad[0]!r} is not on the machine")
+                    raise MachineRuleError(
+                        f"step {i}: carrier {bad[0]!r} is not on the machine", carrier=bad[0]
+                    )
                 continue
             if not isinstance(step, Pass):
-                raise PatternValidationError(f"step {i} is neither a Pass nor a CarrierAction")
+                raise SchedulingError(f"step {i} is neither a Pass nor a CarrierAction")
             if abs(step.racking) > m.max_racking:
-                raise SchedulingError(
-                    f"step {i}: racking {step.racking} exceeds +/-{m.max_racking}"
+                raise MachineRuleError(
+                    f"step {i}: racking {step.racking} exceeds +/-{m.max_racking}",
+                    racking=step.racking,
                 )
             lo, hi = step.needle_span
             if lo < 0 or hi >= m.needles:
-                raise SchedulingError(
-                    f"step {i}: needles {lo}..{hi} outside the bed 0..{m.needles - 1}"
+                raise MachineRuleError(
+                    f"step {i}: needles {lo}..{hi} outside the bed 0..{m.needles - 1}",
+                    needle=str(lo if lo < 0 else hi),
                 )
             bad = [c for c in step.carriers if c not in carriers]
             if bad:
-                raise SchedulingError(f"step {i}: carrier {bad[0]!r} is not on the machine")
+                raise MachineRuleError(
+                    f"step {i}: carrier {bad[0]!r} is not on the machine", carrier=bad[0]
+                )
             if step.kind == "xfer" or any(o.op == "split" for o in step.ops):
                 for o in step.ops:
                     if o.op not in ("xfer", "split"):
                         continue
                     if o.to_bed is None or o.to_needle is None or o.to_bed == o.bed:
-                        raise SchedulingError(
-                            f"step {i}: {o.op} {o.bed}{o.needle} needs a target on the other bed"
+                        raise MachineRuleError(
+                            f"step {i}: {o.op} {o.bed}{o.needle} needs a target on the other bed",
+                            needle=f"{o.bed}{o.needle}",
                         )
                     front, back = (
                         (o.needle, o.to_needle) if o.bed == "f" else (o.to_needle, o.needle)
                     )
                     # Knitout alignment: front needle k + R faces back needle k.
                     if front - back != step.racking:
-                        raise SchedulingError(
-                            f"step {i}: {o.op} f{front} <-> b{back} is not aligned at racking {step.racking}"
+                        raise MachineRuleError(
+                            f"step {i}: {o.op} f{front} <-> b{back} is not aligned at racking {step.racking}",
+                            needle=f"{o.bed}{o.needle}",
+                            racking=step.racking,
                         )
         object.__setattr__(self, "steps", tuple(self.steps))
         object.__setattr__(
@@ -441,9 +454,9 @@ def schedule_courses(
             f"`stitches` must be a StitchPattern, got {type(stitches).__name__}"
         )
     if stitches.wales < 2:
-        raise PatternValidationError(f"the cast-on needs at least 2 wales, got {stitches.wales}")
+        raise SchedulingError(f"the cast-on needs at least 2 wales, got {stitches.wales}")
     if tail_stitches < 1:
-        raise PatternValidationError(f"`tail_stitches` must be >= 1, got {tail_stitches}")
+        raise OptionError(f"`tail_stitches` must be >= 1, got {tail_stitches}")
     n_courses, n_wales = stitches.shape
     machine.check_width(n_wales)
     mixed = stitches.mixed_courses()
