@@ -19,7 +19,8 @@ solver                 :class:`ModelError` (a constraint model built inconsisten
                        :class:`SolverError`, :class:`BackendUnavailableError`,
                        :class:`InfeasibleError`
 file / output          :class:`PatternFormatError`, :class:`KnitoutParseError`,
-                       :class:`ManifestError`, :class:`ResultsVersionError`, :class:`OutputError`
+                       :class:`ManifestError`, :class:`ResultsVersionError`,
+                       :class:`OutputPathError`
 tiles, render, app     :class:`TileBankError`, :class:`TileAssignmentError`,
                        :class:`CalibrationError`, :class:`AppRequestError`
 =====================  ==========================================================================
@@ -44,7 +45,7 @@ __all__ = [
     "MixedColourworkError",
     "ModelError",
     "OptionError",
-    "OutputError",
+    "OutputPathError",
     "PatternFormatError",
     "PatternValidationError",
     "RenderParamsError",
@@ -75,10 +76,6 @@ class OptionError(IlluknitError, ValueError):
 class ModelError(IlluknitError, ValueError):
     """A solver-neutral constraint model (:class:`illuknit.model.Model`) is built inconsistently:
     a duplicate variable block, a literal that names no variable, a non-positive weight."""
-
-
-class OutputError(IlluknitError, FileExistsError):
-    """An output cannot be written where the user asked (e.g. the output path is a file)."""
 
 
 class PatternFormatError(IlluknitError, ValueError):
@@ -209,3 +206,8 @@ class ManifestError(IlluknitError, ValueError):
 
 class ResultsVersionError(IlluknitError, ValueError):
     """A benchmark results folder holds results of another illuknit version (or is not one)."""
+
+
+class OutputPathError(IlluknitError, OSError):
+    """An output folder or file cannot be written: a file in the way, a read-only file system, no
+    permission. The message names the path and the reason."""

@@ -62,7 +62,7 @@ def check_knitout(
     ------
     KnitoutParseError
         Binary input, a bad magic line, or a malformed instruction (with its line number).
-    PatternValidationError
+    OptionError
         For out-of-range options.
     BackendUnavailableError
         ``simulate=True`` without the ``sim`` extra installed.

@@ -229,8 +229,10 @@ def plan_colour_runs(
     CarrierShortageError
         If a course needs more carriers at once than the machine has (with ``strict``), or
         more yarns than there are carriers.
+    OptionError
+        For a float limit below 1 or no carriers.
     PatternValidationError
-        For a float limit below 1 or a malformed grid.
+        For a malformed grid.
     """
     y = np.asarray(yarn)
     if y.ndim != 2 or y.size == 0:

@@ -479,8 +479,10 @@ def schedule_mixed(
         or when it uses more yarns than there are carriers).
     SchedulingError
         If the piece is wider than the bed.
-    PatternValidationError
+    OptionError
         For bad options (float limit below 1, unknown strategy, non-boolean switches).
+    PatternValidationError
+        If ``stitches`` is not a StitchPattern.
     """
     if not isinstance(stitches, StitchPattern):
         raise PatternValidationError(
