@@ -422,23 +422,19 @@ def prepare_image(
     n_colors: int | None = None,
     yarns: Sequence[Yarn] | None = None,
     allow_quantise: bool = True,
-    default_width: int = 80,
     smooth: bool | None = None,
 ) -> QuantisedImage:
-    """Load (if a path), resize to units and quantise a picture in one call.
+    """Load (if a path), size to units (:func:`illuknit.sizing.size_picture`) and quantise.
 
-    The grid width is ``width`` units, else ``width_cm`` at ``gauge`` stitches per inch, else the
-    picture's own width capped at ``default_width``. Pictures with few colours (pixel art, charts)
-    are resized with nearest-neighbour so no blend colours appear; others are smoothed.
+    The grid size follows the one sizing policy of :mod:`illuknit.sizing`: ``width`` units, else
+    ``width_cm`` at ``gauge`` stitches per inch, else the picture's own width capped at
+    :data:`~illuknit.sizing.DEFAULT_MAX_WIDTH`. Pictures with few colours (pixel art, charts) are
+    resized with nearest-neighbour so no blend colours appear; others are smoothed.
     """
+    from illuknit.sizing import size_picture
+
     rgb = load_image(source) if isinstance(source, (str, os.PathLike)) else check_image(source)
-    if width is not None and width_cm is not None:
-        raise ImageInputError("give either a width in units or a physical width, not both")
-    if width_cm is not None:
-        width = units_for_width(width_cm=width_cm, gauge=gauge if gauge is not None else 7.0)
-    if width is None and height is None:
-        width = min(rgb.shape[1], default_width)
-    if smooth is None:
-        smooth = count_colors(rgb) > 16
-    small = resize_to_units(rgb, width=width, height=height, smooth=smooth)
+    small = size_picture(
+        rgb, width=width, height=height, width_cm=width_cm, gauge=gauge, smooth=smooth
+    )
     return quantise_image(small, n_colors=n_colors, yarns=yarns, allow_quantise=allow_quantise)
