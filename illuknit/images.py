@@ -32,7 +32,6 @@ __all__ = [
     "check_image",
     "count_colors",
     "load_image",
-    "prepare_image",
     "quantise_image",
     "resize_to_units",
     "units_for_width",
@@ -410,31 +409,3 @@ def _kmeans_lab(
     relabel = np.full(len(c), -1)
     relabel[used] = np.arange(len(used))
     return srgb, relabel[assign][inverse]
-
-
-def prepare_image(
-    source: str | os.PathLike[str] | ArrayLike,
-    *,
-    width: int | None = None,
-    height: int | None = None,
-    width_cm: float | None = None,
-    gauge: float | None = None,
-    n_colors: int | None = None,
-    yarns: Sequence[Yarn] | None = None,
-    allow_quantise: bool = True,
-    smooth: bool | None = None,
-) -> QuantisedImage:
-    """Load (if a path), size to units (:func:`illuknit.sizing.size_picture`) and quantise.
-
-    The grid size follows the one sizing policy of :mod:`illuknit.sizing`: ``width`` units, else
-    ``width_cm`` at ``gauge`` stitches per inch, else the picture's own width capped at
-    :data:`~illuknit.sizing.DEFAULT_MAX_WIDTH`. Pictures with few colours (pixel art, charts) are
-    resized with nearest-neighbour so no blend colours appear; others are smoothed.
-    """
-    from illuknit.sizing import size_picture
-
-    rgb = load_image(source) if isinstance(source, (str, os.PathLike)) else check_image(source)
-    small = size_picture(
-        rgb, width=width, height=height, width_cm=width_cm, gauge=gauge, smooth=smooth
-    )
-    return quantise_image(small, n_colors=n_colors, yarns=yarns, allow_quantise=allow_quantise)

@@ -28,12 +28,23 @@ pictures give the same grid everywhere. The policy:
 from __future__ import annotations
 
 import os
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from illuknit.errors import ImageInputError, PictureSizeMismatchError
+from illuknit.images import (
+    QuantisedImage,
+    check_image,
+    count_colors,
+    load_image,
+    quantise_image,
+    resize_to_units,
+    units_for_width,
+)
+from illuknit.pattern import MAX_UNITS, Yarn
 
 __all__ = [
     "ASPECT_TOLERANCE",
@@ -42,6 +53,7 @@ __all__ = [
     "SizedPair",
     "grid_width",
     "load_pair",
+    "prepare_image",
     "size_pair",
     "size_picture",
 ]
@@ -106,9 +118,6 @@ def grid_width(
     height : int, optional
         Height in units; with no width given, the width follows from the aspect ratio.
     """
-    from illuknit.images import units_for_width
-    from illuknit.pattern import MAX_UNITS
-
     if width is not None and width_cm is not None:
         raise ImageInputError("give either a width in units or a physical width, not both")
     if width_cm is not None:
@@ -123,8 +132,6 @@ def grid_width(
 
 
 def _smooth(rgb: NDArray[np.float64], smooth: bool | None) -> bool:
-    from illuknit.images import count_colors
-
     return count_colors(rgb) > SMOOTH_ABOVE_COLORS if smooth is None else smooth
 
 
@@ -177,8 +184,6 @@ def size_pair(
     ImageInputError
         A width or height out of range, or a picture that is not an image.
     """
-    from illuknit.images import check_image, resize_to_units
-
     ra = check_image(a)
     w = grid_width(ra.shape[1], width=width, width_cm=width_cm, gauge=gauge, height=height)
     sized_a = resize_to_units(ra, width=w, height=height, smooth=_smooth(ra, smooth))
@@ -221,8 +226,6 @@ def load_pair(
     smooth: bool | None = None,
 ) -> SizedPair:
     """Load picture files and :func:`size_pair` them; messages name the files."""
-    from illuknit.images import load_image
-
     a = load_image(path_a)
     b = load_image(path_b) if path_b is not None else None
     names = (os.path.basename(path_a), os.path.basename(path_b) if path_b is not None else "B")
@@ -237,3 +240,23 @@ def load_pair(
         smooth=smooth,
         names=names,
     )
+
+
+def prepare_image(
+    source: str | os.PathLike[str] | ArrayLike,
+    *,
+    width: int | None = None,
+    height: int | None = None,
+    width_cm: float | None = None,
+    gauge: float | None = None,
+    n_colors: int | None = None,
+    yarns: Sequence[Yarn] | None = None,
+    allow_quantise: bool = True,
+    smooth: bool | None = None,
+) -> QuantisedImage:
+    """Load (if a path), size (:func:`size_picture`) and quantise one picture in one call."""
+    rgb = load_image(source) if isinstance(source, (str, os.PathLike)) else check_image(source)
+    small = size_picture(
+        rgb, width=width, height=height, width_cm=width_cm, gauge=gauge, smooth=smooth
+    )
+    return quantise_image(small, n_colors=n_colors, yarns=yarns, allow_quantise=allow_quantise)

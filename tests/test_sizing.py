@@ -11,7 +11,14 @@ from PIL import Image
 
 from illuknit.cli import main
 from illuknit.errors import ImageInputError, PictureSizeMismatchError
-from illuknit.sizing import DEFAULT_MAX_WIDTH, grid_width, load_pair, size_pair, size_picture
+from illuknit.sizing import (
+    DEFAULT_MAX_WIDTH,
+    grid_width,
+    load_pair,
+    prepare_image,
+    size_pair,
+    size_picture,
+)
 
 
 def two_tone(h: int, w: int, seed: int = 0) -> np.ndarray:
@@ -125,3 +132,11 @@ def test_default_width_is_the_same_for_single_double_and_solve(pictures, tmp_pat
     for out in ("1", "2", "3"):
         doc = json.loads((tmp_path / out / "pattern.json").read_text())
         assert len(doc["yarn"][0]) == DEFAULT_MAX_WIDTH, out
+
+
+def test_prepare_image_widths(tmp_path):
+    rgb = np.random.default_rng(3).random((30, 60, 3))
+    assert prepare_image(rgb, width=10, n_colors=2).shape == (5, 10)
+    assert prepare_image(rgb, width_cm=10 * 2 * 2.54 / 7, n_colors=2).shape[1] == 10
+    with pytest.raises(ImageInputError, match="not both"):
+        prepare_image(rgb, width=10, width_cm=5)

@@ -19,6 +19,7 @@ from typing import Any
 import numpy as np
 
 from illuknit import __version__
+from illuknit.bench.results import FIELDS, FORMAT, machine_info
 from illuknit.outputs import atomic_write_bytes, atomic_write_text
 
 __all__ = [
@@ -125,8 +126,6 @@ def format_summary(rows: Sequence[dict[str, Any]]) -> str:
 
 
 def _csv_text(rows: Sequence[dict[str, Any]]) -> str:
-    from illuknit.bench.runner import FIELDS
-
     buf = io.StringIO()
     w = csv.DictWriter(buf, fieldnames=list(FIELDS), extrasaction="ignore", lineterminator="\n")
     w.writeheader()
@@ -269,7 +268,6 @@ def _pareto_png(
 
 def write_outputs(outdir: str | Path, rows: Sequence[dict[str, Any]]) -> dict[str, str]:
     """Write results.csv/json, summary.md, contact sheets and pareto.png; return their paths."""
-    from illuknit.bench.runner import machine_info
     from illuknit.previews import png_bytes
 
     out = Path(outdir)
@@ -277,7 +275,7 @@ def write_outputs(outdir: str | Path, rows: Sequence[dict[str, Any]]) -> dict[st
     atomic_write_text(out / "results.csv", _csv_text(rows))
     written["csv"] = str(out / "results.csv")
     doc = {
-        "format": "illuknit-bench-results",
+        "format": FORMAT,
         "illuknit_version": __version__,
         "machine": machine_info(),
         "generated": datetime.now(UTC).isoformat(timespec="seconds"),
