@@ -19,6 +19,7 @@ memory is read from ``/proc`` and is not enforced where that is missing.
 from __future__ import annotations
 
 import contextlib
+import faulthandler
 import multiprocessing as mp
 import os
 import signal
@@ -35,6 +36,10 @@ __all__ = ["ChildResult", "run_in_child"]
 
 #: Seconds of polling between memory checks.
 POLL = 0.1
+
+#: True inside a child: a nested child (a backend isolating itself inside a benchmark run) stays
+#: in the outer child's process group, so killing the outer group kills it too.
+_IN_CHILD = False
 
 
 @dataclass(frozen=True)
@@ -55,8 +60,12 @@ class ChildResult:
     events: tuple[ProgressEvent, ...] = ()
 
 
-def _child(fn: Callable[[ProgressCallback], Any], conn: Any) -> None:
-    os.setpgrp()  # one process group: the parent can kill anything the solver starts
+def _child(fn: Callable[[ProgressCallback], Any], conn: Any, own_group: bool) -> None:
+    global _IN_CHILD
+    _IN_CHILD = True
+    faulthandler.disable()  # a crash is the row's reason, not a traceback on the parent's stderr
+    if own_group:
+        os.setpgrp()  # one process group: the parent can kill anything the solver starts
     try:
 
         def progress(event: ProgressEvent) -> None:
@@ -73,19 +82,20 @@ def _child(fn: Callable[[ProgressCallback], Any], conn: Any) -> None:
         conn.close()
 
 
-def _group_rss_mb(pgid: int) -> float | None:
-    """Resident memory (MB) of every process in group ``pgid``; None without /proc."""
+def _group_rss_mb(pid: int, own_group: bool) -> float | None:
+    """Resident memory (MB) of every process in group ``pid`` (or of process ``pid`` alone when
+    it has no group of its own); None without /proc."""
     proc = Path("/proc")
     if not proc.is_dir():
         return None
     total = 0
-    for d in proc.iterdir():
+    for d in proc.iterdir() if own_group else [proc / str(pid)]:
         if not d.name.isdigit():
             continue
         try:
             stat = (d / "stat").read_text()
             fields = stat[stat.rindex(")") + 2 :].split()
-            if int(fields[2]) != pgid:  # field 5 of /proc/PID/stat: the process group
+            if own_group and int(fields[2]) != pid:  # field 5 of /proc/PID/stat: the group
                 continue
             total += int(fields[21]) * os.sysconf("SC_PAGE_SIZE")  # field 24: rss in pages
         except (OSError, ValueError, IndexError):
@@ -93,9 +103,12 @@ def _group_rss_mb(pgid: int) -> float | None:
     return total / 2**20
 
 
-def _kill_group(pid: int) -> None:
+def _kill(pid: int, own_group: bool) -> None:
     with contextlib.suppress(ProcessLookupError, PermissionError):
-        os.killpg(pid, signal.SIGKILL)
+        if own_group:
+            os.killpg(pid, signal.SIGKILL)
+        else:
+            os.kill(pid, signal.SIGKILL)
 
 
 def _exit_reason(code: int | None) -> str:
@@ -129,20 +142,22 @@ def run_in_child(
     memory_mb : float, optional
         Most resident memory of the child's process group.
     grace : float, optional
-        Seconds after ``time_limit`` before the kill (default ``max(2, 0.1 * time_limit)``).
+        Seconds after ``time_limit`` before the kill (default ``3 + 0.1 * time_limit``: a
+        backend that stops on time still needs to hand back its best assignment).
     on_event : callable, optional
         Called in the parent with each progress event as it arrives.
     """
     ctx = mp.get_context("fork")
     recv, send = ctx.Pipe(duplex=False)
-    proc = ctx.Process(target=_child, args=(fn, send))
+    own_group = not _IN_CHILD
+    proc = ctx.Process(target=_child, args=(fn, send, own_group))
     t0 = time.perf_counter()
     proc.start()
     send.close()
     assert proc.pid is not None
     pid = proc.pid
     if grace is None:
-        grace = 2.0 if time_limit is None else max(2.0, 0.1 * time_limit)
+        grace = 3.0 if time_limit is None else 3.0 + 0.1 * time_limit
     deadline = None if time_limit is None else t0 + time_limit + grace
     events: list[ProgressEvent] = []
     peak: float | None = None
@@ -155,7 +170,7 @@ def run_in_child(
                 break
             wait = POLL if deadline is None else min(POLL, deadline - now)
             got = recv.poll(wait)
-            rss = _group_rss_mb(pid)
+            rss = _group_rss_mb(pid, own_group)
             if rss is not None and rss > 0:
                 peak = rss if peak is None else max(peak, rss)
                 if memory_mb is not None and rss > memory_mb:
@@ -183,7 +198,7 @@ def run_in_child(
             break
     finally:
         wall = time.perf_counter() - t0
-        _kill_group(pid)
+        _kill(pid, own_group)
         proc.join(timeout=5.0)
         recv.close()
     return ChildResult(status, value, reason, wall, peak, tuple(events))
