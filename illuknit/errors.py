@@ -12,10 +12,12 @@ __all__ = [
     "BackendUnavailableError",
     "CalibrationError",
     "CarrierShortageError",
+    "DatFormatError",
     "IlluknitError",
     "ImageInputError",
     "InfeasibleError",
     "KnitoutParseError",
+    "MachineFileError",
     "MachineRuleError",
     "ManifestError",
     "MixedColourworkError",
@@ -28,6 +30,7 @@ __all__ = [
     "TileAssignmentError",
     "TileBankError",
     "UnknownNameError",
+    "UnsupportedKnitoutError",
     "YarnSpecError",
 ]
 
@@ -166,3 +169,22 @@ class ManifestError(IlluknitError, ValueError):
 
 class ResultsVersionError(IlluknitError, ValueError):
     """A benchmark results folder holds results of another illuknit version (or is not one)."""
+
+
+class MachineFileError(IlluknitError, ValueError):
+    """A machine file (Shima ``.dat``, Kniterate ``.kc``) cannot be written or read.
+
+    ``line`` is the 1-based knitout line at fault when one is known.
+    """
+
+    def __init__(self, message: str, *, line: int | None = None) -> None:
+        self.line = line
+        super().__init__(message if line is None else f"line {line}: {message}")
+
+
+class UnsupportedKnitoutError(MachineFileError):
+    """Valid knitout that this machine-file writer does not implement (it refuses, never guesses)."""
+
+
+class DatFormatError(MachineFileError):
+    """Bytes that are not a Shima ``.dat`` file as illuknit writes and reads them."""
