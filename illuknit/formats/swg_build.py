@@ -336,9 +336,7 @@ def _freeze(drafts: list[_Draft]) -> list[MachinePass]:
     carriage = Direction.RIGHT  # the fixed start-up courses leave the carriage on the right
     for d in drafts:
         if abs(d.racking) > 8:
-            raise UnsupportedKnitoutError(
-                f"racking {d.racking:g} is beyond the machine's 8 needles"
-            )
+            raise MachineRuleError(f"racking {d.racking:g} is beyond the machine's 8 needles")
         travel = d.direction
         if travel is Direction.NONE and d.type in (PassType.KNIT_TUCK, PassType.A_MISS):
             travel = Direction.RIGHT if carriage is Direction.LEFT else Direction.LEFT
