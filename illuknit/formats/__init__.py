@@ -1,9 +1,12 @@
-"""Machine files: knitout -> what a knitting machine loads.
+"""Machine files: knitout translated into what a knitting machine reads.
 
-* :mod:`illuknit.formats.swg_passes` -- the carriage passes of a Shima SWG machine for a program
-  (:func:`machine_passes`), the pass model the schedulers count with;
-* :mod:`illuknit.formats.dat` -- Shima ``.dat`` writer (:func:`knitout_to_dat`) and reader
-  (:func:`read_dat`).
+``dat``: Shima Seiki KnitPaint ``.dat`` (:func:`illuknit.formats.dat.knitout_to_dat`, read back
+with :func:`illuknit.formats.dat.read_dat`); the carriage passes behind it, which the schedulers
+count with, are :func:`illuknit.formats.swg_passes.machine_passes`.
+
+``kc``: Kniterate k-code (``.kc``), via :func:`illuknit.formats.kc.knitout_to_kc`.
+
+Submodules are imported on use, so ``import illuknit`` stays light.
 """
 
 from __future__ import annotations

@@ -29,6 +29,7 @@ from illuknit.formats.swg_passes import (
 __all__ = ["build_plan"]
 
 _CARRIERS = tuple(str(i) for i in range(1, 11))
+_CARRIER_ORDER = {c: i for i, c in enumerate(_CARRIERS)}
 _S = SlotOp
 # (front op, back op) -> the slot op doing both at quarter pitch
 _COMBINE: dict[tuple[SlotOp, SlotOp], SlotOp] = {
@@ -66,6 +67,8 @@ class _Draft:
     gripper: Gripper | None = None
     pause: bool = False
     presser: str | None = None
+    lo: int = field(init=False)  # leftmost and rightmost slot so far
+    hi: int = field(init=False)
 
     def has_front(self) -> bool:
         return any(op.stitches_front for op in self.slots.values())
@@ -77,8 +80,14 @@ class _Draft:
         """Merge ``new`` (one slot) into this pass when the machine can do both in one pass."""
         if new.pause:
             return False
-        same = (self.type, self.racking, self.stitch, self.speed, self.direction, self.carriers)
-        if same != (new.type, new.racking, new.stitch, new.speed, new.direction, new.carriers):
+        if (
+            self.direction is not new.direction
+            or self.carriers != new.carriers
+            or self.type is not new.type
+            or self.racking != new.racking
+            or self.stitch != new.stitch
+            or self.speed != new.speed
+        ):
             return False
         if self.presser is not None and new.presser is not None and self.presser != new.presser:
             return False
@@ -88,53 +97,46 @@ class _Draft:
             or new.hook is not None
         ):
             return False
-        hook_ok = (self.hook is None and new.hook is None) or (
+        if (self.hook is not None or new.hook is not None) and not (
             (self.hook in (HookAction.IN, HookAction.RELEASE) and new.hook is None)
             or (self.hook is None and new.hook is HookAction.OUT)
-        )
-        grip_ok = (
-            (self.gripper is None and new.gripper is None)
-            or (self.gripper is Gripper.IN and new.gripper is None)
-            or (self.gripper is None and new.gripper is Gripper.OUT)
-        )
-        if not (hook_ok and grip_ok):
+        ):
             return False
-        merged = self._merged_slots(new)
+        if (self.gripper is not None or new.gripper is not None) and not (
+            (self.gripper is Gripper.IN and new.gripper is None)
+            or (self.gripper is None and new.gripper is Gripper.OUT)
+        ):
+            return False
+        ((s, op),) = new.slots.items()
+        merged = self._slot_after(s, op)
         if merged is None:
             return False
         if new.presser is not None:
             self.presser = new.presser
         self.hook = self.hook or new.hook
         self.gripper = self.gripper or new.gripper
-        self.slots = merged
+        self.slots[s] = merged
+        self.lo, self.hi = min(self.lo, s), max(self.hi, s)
         return True
 
-    def _merged_slots(self, new: _Draft) -> dict[int, SlotOp] | None:
+    def _slot_after(self, s: int, op: SlotOp) -> SlotOp | None:
+        """What slot ``s`` holds once ``op`` joins the pass there, or None when it cannot."""
         quarter = self.racking != math.floor(self.racking)
-        out = dict(self.slots)
-        if self.direction is Direction.NONE:
-            for s, op in new.slots.items():
-                if s in out:
-                    both = _combine(out[s], op, quarter) or _combine(op, out[s], quarter)
-                    if both is None:
-                        return None
-                    out[s] = both
-                else:
-                    out[s] = op
-            return out
-        right = self.direction is Direction.RIGHT
-        edge = max(self.slots) if right else min(self.slots)
-        for s, op in new.slots.items():
-            if (s < edge) if right else (s > edge):
+        old = self.slots.get(s)
+        if self.direction is Direction.NONE:  # undirected: any order, each slot once
+            if old is None:
+                return op
+            return _combine(old, op, quarter) or _combine(op, old, quarter)
+        if self.direction is Direction.RIGHT:  # only at or right of the rightmost slot so far
+            if s < self.hi:
                 return None
-            if s == edge:
-                both = _combine(out[s], op, quarter) if right else _combine(op, out[s], quarter)
-                if both is None:
-                    return None
-                out[s] = both
-            else:
-                out[s] = op
-        return out
+            return op if s > self.hi else _combine(self.slots[s], op, quarter)
+        if s > self.lo:
+            return None
+        return op if s < self.lo else _combine(op, self.slots[s], quarter)
+
+    def __post_init__(self) -> None:
+        self.lo, self.hi = min(self.slots), max(self.slots)
 
 
 @dataclass
@@ -152,6 +154,7 @@ class _Builder:
     carriers: dict[str, _Carrier] = field(default_factory=dict)
     hook: tuple[Direction, tuple[str, ...]] | None = None
     racking: float = 0.0
+    rack_floor: int = 0
     stitch: int = 5
     speed: int = 0
     presser: str = "off"
@@ -162,7 +165,8 @@ class _Builder:
         return MachineRuleError(f"line {self.line}: {message}", line=self.line)
 
     def slot(self, n: Needle) -> int:
-        return n.index if n.is_front else n.index + math.floor(self.racking)
+        """Raster slot of a needle: back needles shift with the racking."""
+        return n.index if n.bed[0] == "f" else n.index + self.rack_floor
 
     def draft(
         self,
@@ -218,7 +222,7 @@ class _Builder:
     def kick_others(self, n: Needle, cs: tuple[str, ...]) -> None:
         """Move every other live carrier attached on the far side of ``n`` out of its way."""
         needle_slot = self.slot(n)
-        for name in sorted(self.carriers, key=int):
+        for name in sorted(self.carriers, key=_CARRIER_ORDER.__getitem__):
             car = self.carriers[name]
             if name in cs or car.last is None or car.kick is None:
                 continue
@@ -348,7 +352,8 @@ def _freeze(drafts: list[_Draft]) -> list[MachinePass]:
             raise UnsupportedKnitoutError("a hook release would need a carriage move")
         if travel is not Direction.NONE:
             carriage = travel
-        ops = [d.slots[s] for s in sorted(d.slots)]
+        slots = tuple(sorted(d.slots.items(), key=lambda item: item[0]))
+        ops = [op for _, op in slots]
         out.append(
             MachinePass(
                 kind=pass_kind(d.type, d.carriers, ops, d.hook, d.gripper),
@@ -360,7 +365,7 @@ def _freeze(drafts: list[_Draft]) -> list[MachinePass]:
                 racking=d.racking,
                 stitch=d.stitch,
                 speed=d.speed,
-                slots=tuple((s, d.slots[s]) for s in sorted(d.slots)),
+                slots=slots,
                 hook=d.hook,
                 gripper=d.gripper,
                 pause=d.pause,

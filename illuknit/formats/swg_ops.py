@@ -23,6 +23,7 @@ _STITCH_TABLE: dict[tuple[int, int], int] = {
 _UINT = re.compile(r"^[+]?\d+$")
 
 
+_DIRECTION = {"+": Direction.RIGHT, "-": Direction.LEFT, None: Direction.NONE}
 _STITCH_OP = {
     ("miss", True): SlotOp.MISS_FRONT,
     ("miss", False): SlotOp.MISS_BACK,
@@ -105,7 +106,7 @@ def _stitch(b: _Builder, op: Operation) -> None:
     cs = op.carriers
     if name == "miss" and not cs:
         raise b.error("miss needs carriers (a miss without yarn does nothing)")
-    direction = Direction(op.direction) if cs else Direction.NONE
+    direction = _DIRECTION[op.direction] if cs else Direction.NONE
     if name != "miss":
         b.kick_others(n, cs)
     type_ = PassType.A_MISS if name == "tuck" and not cs else PassType.KNIT_TUCK
@@ -145,7 +146,7 @@ def _transfer(b: _Builder, op: Operation) -> None:
     else:
         type_ = PassType.SPLIT
         slot_op = SlotOp.SPLIT_TO_BACK if n.is_front else SlotOp.SPLIT_TO_FRONT
-        direction = Direction(op.direction)
+        direction = _DIRECTION[op.direction]
     b.kick_others(n, cs)
     d = b.draft(type_, direction, cs, b.slot(n), slot_op)
     if not cs:
@@ -165,6 +166,7 @@ def _rack(b: _Builder, op: Operation) -> None:
     if r - math.floor(r) not in (0.0, 0.25):
         raise b.error(f"racking must be an integer or an integer + 0.25, got {r:g}")
     b.racking = r
+    b.rack_floor = math.floor(r)
 
 
 def _stitch_size(b: _Builder, op: Operation) -> None:
