@@ -19,6 +19,7 @@ __all__ = [
     "MachineRuleError",
     "ManifestError",
     "MixedColourworkError",
+    "OutputPathError",
     "PatternFormatError",
     "PatternValidationError",
     "RenderParamsError",
@@ -166,3 +167,8 @@ class ManifestError(IlluknitError, ValueError):
 
 class ResultsVersionError(IlluknitError, ValueError):
     """A benchmark results folder holds results of another illuknit version (or is not one)."""
+
+
+class OutputPathError(IlluknitError, OSError):
+    """An output folder or file cannot be written: a file in the way, a read-only file system, no
+    permission. The message names the path and the reason."""

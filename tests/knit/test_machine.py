@@ -23,8 +23,10 @@ from illuknit.pattern import LogicalPattern, parse_yarns
 
 
 def test_presets_are_the_default_bed_and_the_physical_swg091n2() -> None:
-    assert DEFAULT_MACHINE is MACHINES[DEFAULT_MACHINE_NAME] == MachineSpec(
-        description=DEFAULT_MACHINE.description
+    assert (
+        DEFAULT_MACHINE
+        is MACHINES[DEFAULT_MACHINE_NAME]
+        == MachineSpec(description=DEFAULT_MACHINE.description)
     )
     swg = get_machine("swg091n2")
     assert (swg.needles, swg.gauge, swg.name) == (252, 7.0, "SWG091N2")
