@@ -54,7 +54,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from illuknit.errors import PatternValidationError, SchedulingError
+from illuknit.errors import OptionError, PatternValidationError, SchedulingError
 from illuknit.knit.catching import PlatedStitch, plan_catches
 from illuknit.knit.colour_runs import ColourPlan, plan_colour_runs
 from illuknit.knit.float_avoidance import float_crossings, transfers_before
@@ -79,9 +79,9 @@ def validate_ablation(*, float_avoidance: object, catching: object, path_plannin
     """Check the ablation switches (booleans and a known strategy name)."""
     for name, v in (("float_avoidance", float_avoidance), ("catching", catching)):
         if not isinstance(v, (bool, np.bool_)):
-            raise PatternValidationError(f"`{name}` must be True or False, got {v!r}")
+            raise OptionError(f"`{name}` must be True or False, got {v!r}")
     if path_planning not in STRATEGIES:
-        raise PatternValidationError(
+        raise OptionError(
             f"`path_planning` must be one of {', '.join(STRATEGIES)}, got {path_planning!r}"
         )
 
@@ -454,8 +454,10 @@ def schedule_mixed(
         or when it uses more yarns than there are carriers).
     SchedulingError
         If the piece is wider than the bed.
-    PatternValidationError
+    OptionError
         For bad options (float limit below 1, unknown strategy, non-boolean switches).
+    PatternValidationError
+        If ``stitches`` is not a StitchPattern.
     """
     if not isinstance(stitches, StitchPattern):
         raise PatternValidationError(
@@ -466,17 +468,17 @@ def schedule_mixed(
     )
     limit = machine.float_limit if float_limit is None else float_limit
     if isinstance(limit, bool) or not isinstance(limit, (int, np.integer)) or limit < 1:
-        raise PatternValidationError(
+        raise OptionError(
             f"`float_limit` must be an integer >= 1 (wales a yarn may float across), got {limit!r}"
         )
     if tail_stitches < 1:
-        raise PatternValidationError(f"`tail_stitches` must be >= 1, got {tail_stitches}")
+        raise OptionError(f"`tail_stitches` must be >= 1, got {tail_stitches}")
     if (
         isinstance(catch_every, bool)
         or not isinstance(catch_every, (int, np.integer))
         or catch_every < 1
     ):
-        raise PatternValidationError(f"`catch_every` must be an integer >= 1, got {catch_every!r}")
+        raise OptionError(f"`catch_every` must be an integer >= 1, got {catch_every!r}")
     n_courses, n_wales = stitches.shape
     machine.check_width(n_wales)
     k0 = stitches.cast_on_courses

@@ -36,7 +36,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Literal
 
-from illuknit.errors import PatternValidationError
+from illuknit.errors import OptionError
 
 __all__ = [
     "STRATEGIES",
@@ -196,7 +196,7 @@ def plan_item(
         In execution order; apply them with :func:`advance`.
     """
     if strategy not in STRATEGIES:
-        raise PatternValidationError(
+        raise OptionError(
             f"`path_planning` must be one of {', '.join(STRATEGIES)}, got {strategy!r}"
         )
     if not item.stitches:
