@@ -1,6 +1,8 @@
 """Constraint models of illusion patterns (paper sections 4.2 and 8.3), and their solutions.
 
-Three models over an N x M grid of units and K yarns, built on :class:`illuknit.model.Model`:
+Three *illusion models* over an N x M grid of units and K yarns -- (a) ``logical``, (b)
+``knit-aware``, (c) ``single``, the ``kind`` of an :class:`~illuknit.illusion_problem.IllusionProblem`
+-- each encoded here into one solver-neutral *constraint model* (:class:`illuknit.model.Model`):
 
 **Variables.** ``("yarn", i, j, k)`` — unit (i, j) is knit in yarn k (one-hot over k);
 ``("raised", i, j)`` — unit (i, j) is a bump. Model (b) adds ``("change", i, j)`` — the yarn
@@ -45,7 +47,7 @@ from collections.abc import Sequence
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from illuknit.errors import InfeasibleError, PatternValidationError, SolverError, UnknownNameError
+from illuknit.errors import InfeasibleError, SolverError, UnknownNameError, YarnSpecError
 from illuknit.illusion_problem import (
     MODEL_KINDS,
     IllusionProblem,
@@ -224,7 +226,7 @@ def solve_illusion(
         alternate_rows=alternate_rows,
     )
     if yarns is not None and len(yarns) < prob.n_yarns:
-        raise PatternValidationError(f"`yarns` must list {prob.n_yarns} yarns, got {len(yarns)}")
+        raise YarnSpecError(f"`yarns` must list {prob.n_yarns} yarns, got {len(yarns)}")
     mdl = build_model(prob)
     sol = solve(
         mdl,

@@ -3,7 +3,7 @@
     uploaded file -> decode_upload -> prepare_inputs (resize to units, quantise to yarns, legend)
                   -> make_candidates (single view: both stripe orders; double view / head-on:
                      ranked tile mappings) -> pattern_for (with per-pair tile overrides)
-                  -> render_view (angled renderer when installed, boolean can_see otherwise)
+                  -> render_view (the angled renderer)
                   -> downloads (pattern JSON, previews, chart, instructions, knitout + check)
 
 Everything here is a plain function of its inputs (no session, no HTTP), so the server stays a thin
@@ -11,22 +11,22 @@ layer and these functions are testable on their own. Library errors are re-raise
 :class:`AppRequestError` naming the page control (``field``) that caused them, which is what lets
 the page show the message next to that control.
 
-Parts of the library are optional in an install (the tile bank, the angled renderer, the knitout
-compiler and checker); :func:`capabilities` says which are present and the page adapts.
+Every library part used here is imported directly: an import error in illuknit's own code is a
+bug to see, never a feature to grey out.
 """
 
 from __future__ import annotations
 
-import contextlib
 import importlib
 import io
+import math
 import os
 import tempfile
 import zipfile
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, Literal
 from urllib.parse import urlencode
 
 import numpy as np
@@ -34,12 +34,13 @@ from numpy.typing import NDArray
 
 from illuknit.colors import hex_color
 from illuknit.errors import AppRequestError, IlluknitError
+from illuknit.images import MAX_PIXELS
 from illuknit.pattern import LogicalPattern, Yarn, parse_yarns, pattern_to_json
 
 __all__ = [
     "MAX_UPLOAD_BYTES",
     "Candidate",
-    "KnitResult",
+    "CheckedKnitout",
     "Prepared",
     "capabilities",
     "decode_upload",
@@ -49,11 +50,11 @@ __all__ = [
     "render_view",
 ]
 
-#: Largest accepted upload (bytes). Pictures are resized to at most 1000 units across, so anything
-#: bigger is a photograph far beyond what a knitted piece can show.
-MAX_UPLOAD_BYTES = 12 * 1024 * 1024
-#: Largest accepted picture (pixels), checked after decoding the header only.
-MAX_UPLOAD_PIXELS = 40_000_000
+#: Largest accepted upload (bytes): a full-size photograph from a phone or camera. It is reduced to
+#: the working grid on upload and not kept.
+MAX_UPLOAD_BYTES = 32 * 1024 * 1024
+#: Largest accepted picture (pixels), checked from the header before decoding: the library's cap.
+MAX_UPLOAD_PIXELS = MAX_PIXELS
 #: Pictures with a longer side are reduced to it on upload (twice the widest piece in units).
 MAX_WORKING_SIDE = 2000
 
@@ -80,49 +81,26 @@ def blame(field_name: str | None) -> Iterator[None]:
         raise AppRequestError(str(e), field=field_name, code=type(e).__name__) from None
 
 
-def _optional(module: str) -> Any | None:
-    try:
-        return importlib.import_module(module)
-    except ImportError:
-        return None
-
-
-def _has(module: str, name: str) -> bool:
-    """Whether ``module.name`` exists and imports (parts of the library may be absent or lazy)."""
-    mod = _optional(module)
-    if mod is None:
-        return False
-    try:
-        return getattr(mod, name, None) is not None
-    except Exception:  # a lazy attribute whose module is missing or broken
-        return False
-
-
-def require_part(module: str, name: str, *, needs: str, field: str) -> Any:
-    """``module`` if it provides ``name``, else a 501 saying that ``needs`` it (page control ``field``)."""
-    if not _has(module, name):
-        raise AppRequestError(
-            f"{needs}, which this install lacks", field=field, code="unavailable", status=501
-        )
-    return importlib.import_module(module)
-
-
 def capabilities() -> dict[str, bool]:
-    """Which optional parts of the library this install has (the page greys out the others)."""
+    """What this install can do (the page greys out the rest).
+
+    Every part the page drives is illuknit's own and always installed; only machine files
+    (Shima ``.dat``) are not written by illuknit yet.
+    """
     return {
         "single": True,
-        "double": _has("illuknit.tiles", "assign_tiles"),
-        "headon": _has("illuknit.tiles", "assign_headon"),
-        "render": _has("illuknit.render", "render_views"),
-        "knit": _has("illuknit.knit", "knit_pattern"),
-        "check": _has("illuknit.check", "check_knitout"),
-        "chart": _has("illuknit.chart", "written_instructions"),
+        "double": True,
+        "headon": True,
+        "render": True,
+        "knit": True,
+        "check": True,
+        "chart": True,
         "dat": False,
     }
 
 
 def warm_up() -> None:
-    """Import the modules the first request would otherwise wait for (errors are ignored)."""
+    """Import the modules the first request would otherwise wait for (run in a thread)."""
     for name in (
         "illuknit.images",
         "skimage.transform",
@@ -135,16 +113,18 @@ def warm_up() -> None:
         "illuknit.tiles.headon",
         "ortools.sat.python.cp_model",
     ):
-        # an optional part that is missing is reported where it is used, not here
-        with contextlib.suppress(Exception):
-            importlib.import_module(name)
+        importlib.import_module(name)
 
 
 # -- input -------------------------------------------------------------------------------------
 
 
-def decode_upload(data: bytes, filename: str, *, field: str) -> NDArray[np.float64]:
-    """Decode an uploaded picture to float RGB (H, W, 3) with the library's loader.
+def decode_upload(data: bytes, filename: str, *, field: str) -> NDArray[np.uint8]:
+    """Decode an uploaded picture to uint8 RGB (H, W, 3) at the working grid.
+
+    The library's loader reads it (alpha on white, EXIF orientation); a picture over
+    ``MAX_WORKING_SIDE`` pixels on its long side is first reduced to it, while decoding where the
+    format allows (JPEG), so that no full-size float copy ever exists.
 
     Raises AppRequestError (``field``) for an empty, oversized, non-image or too-small file.
     """
@@ -174,19 +154,23 @@ def decode_upload(data: bytes, filename: str, *, field: str) -> NDArray[np.float
             raise AppRequestError(msg, field=field, code="not_an_image", status=415) from None
     finally:
         os.unlink(path)
-    return rgb
+    return np.round(rgb * 255.0).astype(np.uint8)
 
 
 def _reduce(data: bytes) -> bytes:
     """A big picture reduced (area average) to MAX_WORKING_SIDE pixels on its long side.
 
-    No piece is wider than 1000 units, so more pixels only cost memory (a 40-megapixel picture
-    is about 1 GB as float RGB); alpha and orientation are kept for the library's loader.
+    No piece is wider than 1000 units, so more pixels only cost memory (a 50-megapixel picture
+    is 1.2 GB as float RGB); alpha and orientation are kept for the library's loader. A JPEG is
+    decoded at 1/2, 1/4 or 1/8 scale straight away (``draft``), never below the working side.
     """
     from PIL import Image, ImageOps
 
     with Image.open(io.BytesIO(data)) as src:
         src.seek(0)
+        if src.format == "JPEG":
+            shrink = max(src.size) / MAX_WORKING_SIDE
+            src.draft(src.mode, (math.ceil(src.width / shrink), math.ceil(src.height / shrink)))
         upright = ImageOps.exif_transpose(src)
         has_alpha = upright.mode in ("RGBA", "LA", "PA") or "transparency" in upright.info
         small = upright.convert("RGBA" if has_alpha else "RGB")
@@ -366,6 +350,8 @@ class Candidate:
 
 
 Progress = Callable[[float, str], None]
+#: The sides a pattern is seen from: A (from above), B (from below), or head-on.
+View = Literal["A", "B", "headon"]
 
 
 def make_candidates(prepared: Prepared, *, count: int, progress: Progress) -> list[Candidate]:
@@ -399,12 +385,8 @@ def _single_candidates(prepared: Prepared, progress: Progress) -> list[Candidate
 
 def _tile_candidates(prepared: Prepared, *, count: int, progress: Progress) -> list[Candidate]:
     mode = prepared.mode
-    tiles = require_part(
-        "illuknit.tiles",
-        "assign_tiles",
-        needs="tile design needs the tile bank (illuknit.tiles)",
-        field="mode",
-    )
+    from illuknit import tiles
+
     qa = prepared.quantised["a"]
     qb = prepared.quantised.get("b")
     progress(0.05, "building the tile bank")
@@ -483,7 +465,8 @@ def pattern_for(candidate: Candidate, overrides: dict[tuple[int, int], str]) -> 
         raise AppRequestError(
             "this candidate has no tiles to edit", field="tiles", code="not_editable", status=409
         )
-    tiles = importlib.import_module("illuknit.tiles")
+    from illuknit import tiles
+
     assignment = candidate.source
     chosen = {pair: _override_tile(assignment, t) for pair, t in overrides.items()}
     for pair in chosen:
@@ -615,12 +598,11 @@ def tile_png(tile_id: str, candidate: Candidate | None = None) -> bytes:
 # -- rendering ---------------------------------------------------------------------------------
 
 
-def render_view(pattern: LogicalPattern, view: str, *, angle: float) -> NDArray[np.uint8]:
+def render_view(pattern: LogicalPattern, view: View, *, angle: float) -> NDArray[np.uint8]:
     """(H, W, 3) uint8 picture of ``view`` ("A", "B", "headon") at elevation ``angle`` degrees.
 
-    Uses the angled renderer when installed, supersampled along the wales and widened by the same
-    factor so that the picture has square pixels and shows sub-unit coverage; otherwise the boolean
-    can_see view (which does not depend on the angle).
+    The angled renderer, supersampled along the wales and widened by the same factor so that the
+    picture has square pixels and shows sub-unit coverage.
     """
     if not 0 < angle <= 90:
         raise AppRequestError(
@@ -632,15 +614,12 @@ def render_view(pattern: LogicalPattern, view: str, *, angle: float) -> NDArray[
         raise AppRequestError(
             f"view must be A, B or headon, got {view!r}", field="view", code="range"
         )
-    if _has("illuknit.render", "render_pattern"):
-        render = importlib.import_module("illuknit.render")
-        ss = int(min(6, max(1, round(360 / max(pattern.shape)))))
-        with blame("angle"):
-            img = render.render_pattern(pattern, view=view, angle=angle, supersample=ss)
-        return np.repeat(np.asarray(img, dtype=np.uint8), ss, axis=1)
-    from illuknit.previews import view_rgb
+    from illuknit.render import render_pattern
 
-    return view_rgb(pattern, view)  # type: ignore[arg-type]
+    ss = int(min(6, max(1, round(360 / max(pattern.shape)))))
+    with blame("angle"):
+        img = render_pattern(pattern, view=view, angle=angle, supersample=ss)
+    return np.repeat(np.asarray(img, dtype=np.uint8), ss, axis=1)
 
 
 def png_bytes(rgb: NDArray[np.uint8]) -> bytes:
@@ -688,42 +667,35 @@ def chart_png(pattern: LogicalPattern) -> bytes:
 
 
 def instructions_text(pattern: LogicalPattern) -> str:
-    chart = require_part(
-        "illuknit.chart",
-        "written_instructions",
-        needs="written instructions need illuknit.chart",
-        field="downloads",
-    )
-    return str(chart.written_instructions(pattern))
+    from illuknit.chart import written_instructions
+
+    return written_instructions(pattern)
 
 
 @dataclass(frozen=True)
-class KnitResult:
+class CheckedKnitout:
     """Knitout for one pattern and the checker's report on it."""
 
     key: str  # identifies the pattern it was made from
     knitout: str
     stats: dict[str, Any]
-    report: dict[str, Any] | None
-    report_text: str | None
+    report: dict[str, Any]
+    report_text: str
 
 
-def knit_and_check(doc: dict[str, Any], check: bool) -> dict[str, Any]:
+def knit_and_check(doc: dict[str, Any]) -> dict[str, Any]:
     """Compile a pattern (as JSON) to knitout and check it. Runs in a spawned worker process."""
     from illuknit.check import check_knitout
     from illuknit.knit import knit_pattern
     from illuknit.pattern import pattern_from_json
 
     result = knit_pattern(pattern_from_json(doc))
-    report = report_text = None
-    if check:
-        rep = check_knitout(result.text)
-        report, report_text = rep.to_dict(), rep.to_text(name="knitout.k")
+    report = check_knitout(result.text)
     return {
         "knitout": result.text,
         "stats": result.summary(),
-        "report": report,
-        "report_text": report_text,
+        "report": report.to_dict(),
+        "report_text": report.to_text(name="knitout.k"),
     }
 
 

@@ -6,6 +6,7 @@ from typing import Any
 
 import click
 
+from illuknit.cli.knitout_bridge import machine_option
 from illuknit.errors import UnknownNameError
 
 __all__ = ["bench"]
@@ -163,6 +164,7 @@ def _run_solvers(instances: Any, solvers: list[str], outdir: str, **kw: Any) -> 
 )
 @click.option("--list", "list_only", is_flag=True, help="List instances and methods, then exit.")
 @click.option("--no-progress", is_flag=True, help="No progress bar.")
+@machine_option("Knitting machine the patterns are knit on for passes and times.")
 @click.option(
     "-o",
     "--output",
@@ -188,6 +190,7 @@ def bench(
     export_wcnf: str | None,
     list_only: bool,
     no_progress: bool,
+    machine: str | None,
     outdir: str | None,
 ) -> None:
     """Benchmark design methods on instances: tiles vs MaxSAT vs optimisation (paper 8.3).
@@ -254,6 +257,7 @@ def bench(
         force=force,
         progress=not no_progress,
         dask_address=dask_address,
+        machine=machine,
     )
     counts: dict[str, int] = {}
     for r in run.rows:
