@@ -157,6 +157,10 @@ def decode_upload(data: bytes, filename: str, *, field: str) -> NDArray[np.uint8
     return np.round(rgb * 255.0).astype(np.uint8)
 
 
+#: Modes Pillow's ``Image.reduce`` averages directly.
+_REDUCIBLE_MODES = ("L", "LA", "RGB", "RGBA", "CMYK", "I", "F")
+
+
 def _reduce(data: bytes) -> bytes:
     """A big picture reduced (area average) to MAX_WORKING_SIDE pixels on its long side.
 
@@ -171,7 +175,13 @@ def _reduce(data: bytes) -> bytes:
         if src.format == "JPEG":
             shrink = max(src.size) / MAX_WORKING_SIDE
             src.draft(src.mode, (math.ceil(src.width / shrink), math.ceil(src.height / shrink)))
-        upright = ImageOps.exif_transpose(src)
+        # Shrink by a whole factor in the picture's own mode first (one decoded copy, no
+        # converted one); palette and bilevel pictures are converted first, as reduce needs.
+        big = src if src.mode in _REDUCIBLE_MODES else src.convert("RGBA")
+        factor = max(1, int(max(big.size) // MAX_WORKING_SIDE))
+        shrunk = big.reduce(factor) if factor > 1 else big
+        del big
+        upright = ImageOps.exif_transpose(shrunk)
         has_alpha = upright.mode in ("RGBA", "LA", "PA") or "transparency" in upright.info
         small = upright.convert("RGBA" if has_alpha else "RGB")
         small.thumbnail((MAX_WORKING_SIDE, MAX_WORKING_SIDE), Image.Resampling.BOX)
