@@ -40,7 +40,7 @@ from illuknit.pattern import LogicalPattern, Yarn, parse_yarns, pattern_to_json
 __all__ = [
     "MAX_UPLOAD_BYTES",
     "Candidate",
-    "KnitResult",
+    "CheckedKnitout",
     "Prepared",
     "capabilities",
     "decode_upload",
@@ -265,7 +265,7 @@ def prepare_inputs(images: dict[str, Any], settings: Any) -> Prepared:
             raise AppRequestError(f"upload {which} first", field=f"image_{slot}", code="missing")
     with blame("yarns"):
         yarns = parse_yarns(list(settings.yarns))
-    _check_colours(mode, settings.n_colors, len(yarns))
+    _check_colors(mode, settings.n_colors, len(yarns))
     width, size_field = width_of(settings)
     notes: list[str] = []
     a = images["a"].rgb
@@ -305,7 +305,7 @@ def prepare_inputs(images: dict[str, Any], settings: Any) -> Prepared:
     return Prepared(mode=mode, yarns=yarns, quantised=quantised, notes=tuple(notes))
 
 
-def _check_colours(mode: str, n_colors: int, n_yarns: int) -> None:
+def _check_colors(mode: str, n_colors: int, n_yarns: int) -> None:
     """Colour count against yarn count: what the CLI accepts, refused next to the control."""
     if mode != "single":
         if n_colors > n_yarns:
@@ -739,7 +739,7 @@ def instructions_text(pattern: LogicalPattern) -> str:
 
 
 @dataclass(frozen=True)
-class KnitResult:
+class CheckedKnitout:
     """Knitout for one pattern and the checker's report on it."""
 
     key: str  # identifies the pattern it was made from

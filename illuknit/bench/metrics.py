@@ -58,7 +58,7 @@ __all__ = [
     "angled_renders",
     "blur_image",
     "boolean_render",
-    "colour_changes",
+    "color_changes",
     "ghosting",
     "knit_stats",
     "logical_errors",
@@ -282,7 +282,7 @@ def angled_renders(
     return out, f"angled@{angle:g}"
 
 
-def colour_changes(pattern: LogicalPattern) -> dict[str, float]:
+def color_changes(pattern: LogicalPattern) -> dict[str, float]:
     """Colour changes and distinct yarns per course (pattern row).
 
     Returns
@@ -294,7 +294,7 @@ def colour_changes(pattern: LogicalPattern) -> dict[str, float]:
     --------
     >>> from illuknit.pattern import parse_yarns
     >>> p = LogicalPattern([[0, 1, 1, 0], [0, 0, 0, 0]], [[0] * 4] * 2, parse_yarns("black,white"))
-    >>> colour_changes(p)["changes_mean"]
+    >>> color_changes(p)["changes_mean"]
     1.0
     """
     c = pattern.yarn

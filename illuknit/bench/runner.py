@@ -89,8 +89,8 @@ FIELDS = (
     "ghost_b",
     "headon_visibility",
     "renderer",
-    "colour_changes_mean",
-    "colour_changes_max",
+    "color_changes_mean",
+    "color_changes_max",
     "yarns_per_course_mean",
     "yarns_per_course_max",
     "carriage_passes",
@@ -248,7 +248,7 @@ def execute_cell(cell: Cell) -> dict[str, Any]:
         ta, tb = targets.rgb("A"), targets.rgb("B")
         ra = metrics.render_error(renders["A"], ta)
         rb = metrics.render_error(renders["B"], tb)
-        cc = metrics.colour_changes(pattern)
+        cc = metrics.color_changes(pattern)
         row.update(metrics.picture_scores(renders, ta, tb, double=cell.instance.kind == "double"))
         row.update(
             logical_error_a=errs["A"],
@@ -260,8 +260,8 @@ def execute_cell(cell: Cell) -> dict[str, Any]:
             render_mse=(ra[0] + rb[0]) / 2,
             render_ssim=(ra[1] + rb[1]) / 2,
             renderer=renderer,
-            colour_changes_mean=cc["changes_mean"],
-            colour_changes_max=cc["changes_max"],
+            color_changes_mean=cc["changes_mean"],
+            color_changes_max=cc["changes_max"],
             yarns_per_course_mean=cc["yarns_per_course_mean"],
             yarns_per_course_max=cc["yarns_per_course_max"],
         )

@@ -367,7 +367,7 @@ def test_mismatched_sizes_offer_resize(client):
     assert inp["notes"] and "stretched" in inp["notes"][0]
 
 
-def test_more_colours_than_yarns_points_at_n_colors(client):
+def test_more_colors_than_yarns_points_at_n_colors(client):
     sid = new_session(client)
     upload(client, sid, "a", box_picture())
     upload(client, sid, "b", box_picture(top=2))
@@ -385,7 +385,7 @@ def three_tone(h: int = 24, w: int = 36) -> bytes:
     return png(rgb)
 
 
-def test_single_view_three_colours_with_two_yarns_knits_a_mix(client):
+def test_single_view_three_colors_with_two_yarns_knits_a_mix(client):
     """What `illuknit single` accepts: 3 colours, 2 yarns, the middle colour a mix of both."""
     sid = new_session(client)
     upload(client, sid, "a", three_tone())
@@ -428,7 +428,7 @@ def test_single_view_refuses_extra_yarns_next_to_the_yarns(client, n_colors, yar
     assert "knitted with 2 yarns" in error_of(r)["message"]
 
 
-def test_single_view_four_colours_is_refused(client):
+def test_single_view_four_colors_is_refused(client):
     sid = new_session(client)
     upload(client, sid, "a", box_picture())
     client.put(
