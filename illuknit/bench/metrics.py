@@ -309,8 +309,11 @@ def color_changes(pattern: LogicalPattern) -> dict[str, float]:
     }
 
 
-def knit_stats(pattern: LogicalPattern) -> dict[str, Any]:
+def knit_stats(pattern: LogicalPattern, *, machine: str | None = None) -> dict[str, Any]:
     """Carriage passes, transfer passes and estimated knitting time from :mod:`illuknit.knit`.
+
+    ``machine`` names the preset the pattern is knit on (:func:`illuknit.knit.machine.get_machine`;
+    default the ``generic540`` bed).
 
     Returns
     -------
@@ -325,12 +328,12 @@ def knit_stats(pattern: LogicalPattern) -> dict[str, Any]:
         "transfer_passes": None,
         "knit_time_min": None,
     }
+    from illuknit.knit import knit_pattern
+    from illuknit.knit.machine import get_machine
+
+    spec = get_machine(machine)
     try:
-        from illuknit.knit import knit_pattern
-    except ImportError as e:
-        return {**empty, "knit_note": f"knit scheduler unavailable: {e}"}
-    try:
-        result = knit_pattern(pattern)
+        result = knit_pattern(pattern, machine=spec)
     except IlluknitError as e:
         return {**empty, "knit_note": f"not schedulable: {e}"}
     return {

@@ -51,6 +51,7 @@ FIELDS = (
     "transfer_passes",
     "knit_time_min",
     "knit_note",
+    "knit_machine",
     "solve_s",
     "compile_s",
     "wall_s",

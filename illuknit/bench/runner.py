@@ -42,6 +42,7 @@ from illuknit.bench.instances import Instance, instance_targets
 from illuknit.bench.methods import MethodUnavailable, NoPattern, get_method
 from illuknit.bench.results import FIELDS, FORMAT, machine_info
 from illuknit.errors import BackendUnavailableError, OptionError, ResultsVersionError, SolverError
+from illuknit.knit.machine import DEFAULT_MACHINE_NAME, get_machine
 from illuknit.outputs import atomic_write_bytes, atomic_write_text
 
 __all__ = [
@@ -63,11 +64,13 @@ RETRY_STATUSES = ("skipped", "error")
 
 @dataclass(frozen=True)
 class Cell:
-    """One benchmark cell: an instance, a method name, and the time limit it runs under."""
+    """One benchmark cell: an instance, a method name, the time limit it runs under, and the
+    knitting machine (a preset of :data:`illuknit.knit.machine.MACHINES`) its pattern is knit on."""
 
     instance: Instance
     method: str
     time_limit: float
+    knit_machine: str = DEFAULT_MACHINE_NAME
 
     @property
     def id(self) -> str:
@@ -75,7 +78,13 @@ class Cell:
 
     def key(self) -> str:
         text = json.dumps(
-            [self.instance.key(), self.method, round(float(self.time_limit), 6)], sort_keys=True
+            [
+                self.instance.key(),
+                self.method,
+                round(float(self.time_limit), 6),
+                self.knit_machine,
+            ],
+            sort_keys=True,
         )
         return hashlib.sha256(text.encode()).hexdigest()[:16]
 
@@ -94,6 +103,7 @@ def _base_row(cell: Cell) -> dict[str, Any]:
         reason="",
         note="",
         knit_note="",
+        knit_machine=cell.knit_machine,
         cell_key=cell.key(),
         instance_spec=inst.to_manifest(),
         illuknit_version=__version__,
@@ -201,7 +211,7 @@ def execute_cell(cell: Cell) -> dict[str, Any]:
             yarns_per_course_mean=cc["yarns_per_course_mean"],
             yarns_per_course_max=cc["yarns_per_course_max"],
         )
-        row.update(metrics.knit_stats(pattern))
+        row.update(metrics.knit_stats(pattern, machine=cell.knit_machine))
         files["pattern.json"] = json.dumps(pattern_to_json(pattern)).encode()
         for v in ("A", "B", "headon"):
             files[f"render_{v}.png"] = png_bytes((renders[v] * 255).round().clip(0, 255))
@@ -380,6 +390,7 @@ def run_bench(
     dask_address: str | None = None,
     on_cell: Callable[[dict[str, Any]], None] | None = None,
     write_outputs: bool = True,
+    machine: str | None = None,
 ) -> BenchRun:
     """Run every instance x method cell not already finished in ``outdir``, then write outputs.
 
@@ -407,6 +418,9 @@ def run_bench(
     write_outputs : bool
         Write results.csv/json, summary.md, contact sheets and the plot at the end (also after an
         interruption, for the cells finished so far).
+    machine : str, optional
+        Preset name of the knitting machine patterns are knit on for the pass counts and times
+        (default ``generic540``); unknown names raise before anything runs.
 
     Returns
     -------
@@ -423,6 +437,8 @@ def run_bench(
         raise OptionError(f"`time_limit` must be positive seconds, got {time_limit!r}")
     for m in methods:
         get_method(m)  # unknown names fail before any work
+    knit_machine = (machine or DEFAULT_MACHINE_NAME).strip().lower()
+    get_machine(knit_machine)
     out = prepare_results_dir(outdir, force=force)
     if force:
         for inst in instances:
@@ -430,7 +446,9 @@ def run_bench(
                 shutil.rmtree(_cell_dir(out, inst.name, m), ignore_errors=True)
 
     cells = [
-        Cell(inst, m, float(time_limit if time_limit is not None else inst.time_limit))
+        Cell(
+            inst, m, float(time_limit if time_limit is not None else inst.time_limit), knit_machine
+        )
         for inst in instances
         for m in methods
     ]
