@@ -3,7 +3,8 @@
 * :func:`load_image` reads PNG, JPEG, GIF, BMP (and whatever else Pillow reads): alpha is composited
   on white, greyscale and palette images become RGB, the first frame of an animation is used.
 * :func:`resize_to_units` resamples to a grid given by a width in units (or a physical width and a
-  gauge), keeping the aspect ratio unless a height is given.
+  gauge), keeping the aspect ratio unless a height is given. Which grid a picture (or a pair) gets
+  by default is decided by :mod:`illuknit.sizing`, the one sizing policy.
 * :func:`quantise_image` maps the picture to at most ``n_colors`` colours by k-means in CIELAB
   (a perceptual space; conversions by scikit-image), then maps each colour to a yarn, either the
   user's yarns (one-to-one, nearest in CIELAB by an optimal assignment) or yarns chosen from the
