@@ -12,6 +12,7 @@ __all__ = [
     "BackendUnavailableError",
     "CalibrationError",
     "CarrierShortageError",
+    "ExecutorError",
     "IlluknitError",
     "ImageInputError",
     "InfeasibleError",
@@ -172,3 +173,7 @@ class ResultsVersionError(IlluknitError, ValueError):
 class OutputPathError(IlluknitError, OSError):
     """An output folder or file cannot be written: a file in the way, a read-only file system, no
     permission. The message names the path and the reason."""
+
+
+class ExecutorError(IlluknitError, RuntimeError):
+    """A benchmark executor cannot start (e.g. the Dask scheduler address cannot be reached)."""

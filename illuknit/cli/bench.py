@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import click
 
+from illuknit.cli.options import COUNT, POSITIVE
 from illuknit.errors import UnknownNameError
 
 __all__ = ["bench"]
@@ -40,10 +41,10 @@ def _methods(spec: str) -> list[str]:
     "'default' or 'all'.",
 )
 @click.option(
-    "--time-limit", type=float, default=None, help="Seconds per cell (overrides the manifest)."
+    "--time-limit", type=POSITIVE, default=None, help="Seconds per cell (overrides the manifest)."
 )
 @click.option(
-    "--jobs", "-j", type=int, default=1, show_default=True, help="Parallel worker processes."
+    "--jobs", "-j", type=COUNT, default=1, show_default=True, help="Parallel worker processes."
 )
 @click.option(
     "--executor",

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import click
 
-from illuknit.cli.options import knitout_option, outdir_option
+from illuknit.cli.options import POSITIVE, knitout_option, outdir_option
 
 __all__ = ["calibrate"]
 
@@ -126,8 +126,8 @@ def swatch(
     default=None,
     help="Base parameters (flat height, unit length, theta, shading) to keep.",
 )
-@click.option("--flat-height", type=float, default=None, help="Override the base flat height.")
-@click.option("--unit-length", type=float, default=None, help="Override the base unit length.")
+@click.option("--flat-height", type=POSITIVE, default=None, help="Override the base flat height.")
+@click.option("--unit-length", type=POSITIVE, default=None, help="Override the base unit length.")
 @click.option(
     "-o",
     "--output",

@@ -11,6 +11,7 @@ from pathlib import Path
 
 import click
 
+from illuknit.cli.options import POSITIVE
 from illuknit.errors import KnitoutParseError
 
 __all__ = ["check"]
@@ -61,7 +62,7 @@ def read_knitout_file(path: Path) -> str:
 )
 @click.option(
     "--max-racking",
-    type=click.FloatRange(min=0, min_open=True),
+    type=POSITIVE,
     default=4.0,
     show_default=True,
     help="Largest allowed |racking|.",

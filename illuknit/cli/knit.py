@@ -8,6 +8,8 @@ from typing import Any
 
 import click
 
+from illuknit.cli.options import COUNT, NON_NEGATIVE, POSITIVE
+
 __all__ = ["knit", "run_knit"]
 
 
@@ -101,7 +103,7 @@ def run_knit(
 )
 @click.option(
     "--gauge",
-    type=click.FloatRange(min=0, min_open=True),
+    type=POSITIVE,
     default=None,
     help="Needles per inch [7].",
 )
@@ -120,19 +122,19 @@ def run_knit(
 )
 @click.option(
     "--seconds-per-needle",
-    type=click.FloatRange(min=0),
+    type=NON_NEGATIVE,
     default=None,
     help="Time model: carriage time per needle crossed [0.01].",
 )
 @click.option(
     "--seconds-per-turn",
-    type=click.FloatRange(min=0),
+    type=NON_NEGATIVE,
     default=None,
     help="Time model: fixed time per carriage pass [1.5].",
 )
 @click.option(
     "--float-limit",
-    type=int,
+    type=COUNT,
     default=None,
     help="Longest yarn float in needles for mixed colourwork [20].",
 )
@@ -163,7 +165,7 @@ def run_knit(
 )
 @click.option(
     "--catch-every",
-    type=int,
+    type=COUNT,
     default=2,
     show_default=True,
     help="Plate at colour changes on every N-th course (1 = every course, as in the paper).",

@@ -17,6 +17,8 @@ from typing import Any
 import click
 import numpy as np
 
+from illuknit.cli.options import POSITIVE
+
 __all__ = ["load_targets", "run_solve", "solve"]
 
 #: Default grid width: the picture's own width, at most this many units.
@@ -377,12 +379,12 @@ def _print_report(report: dict[str, Any], written: dict[str, Path], outdir: Path
 )
 @click.option(
     "--time-limit",
-    type=float,
+    type=POSITIVE,
     default=60.0,
     show_default=True,
     help="Seconds; the best pattern found is kept.",
 )
-@click.option("--seed", type=int, default=0, show_default=True)
+@click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True)
 @click.option(
     "--export-wcnf",
     type=click.Path(dir_okay=False, path_type=Path),
