@@ -39,27 +39,59 @@ from dataclasses import replace
 from importlib.metadata import entry_points
 from typing import TYPE_CHECKING, Any
 
-from illuknit.errors import BackendUnavailableError, UnknownNameError
-from illuknit.solvers.base import Backend, ProgressCallback, ProgressEvent, Solution, Status
+from illuknit.errors import (
+    BackendUnavailableError,
+    OptionError,
+    SolverError,
+    UnknownNameError,
+)
+from illuknit.solvers.base import (
+    Backend,
+    BackendBase,
+    ProgressCallback,
+    ProgressEvent,
+    Solution,
+    Status,
+    TracePoint,
+)
 
 if TYPE_CHECKING:
     from illuknit.model import Model
 
 __all__ = [
     "ENTRY_POINT_GROUP",
+    "HERMAX_NAMES",
     "REGISTRY",
     "Backend",
+    "BackendBase",
     "ProgressEvent",
     "Solution",
     "Status",
     "available_backends",
     "backend_names",
+    "describe_backends",
     "get_backend",
     "register_backend",
+    "resolve_backend",
     "solve",
 ]
 
 ENTRY_POINT_GROUP = "illuknit.solvers"
+
+#: the hermax solvers (``illuknit[maxsat]``), complete then anytime; see solvers/hermax.py
+HERMAX_NAMES = (
+    "evalmaxsat",
+    "uwrmaxsat",
+    "cashwmaxsat",
+    "openwbo",
+    "cgss",
+    "wmaxcdcl",
+    "loandra",
+    "openwbo-inc",
+    "tt-openwbo-inc",
+    "nuwls-c-ibr",
+    "spb-maxsat-c-fps",
+)
 
 #: backend name -> "module:attribute" (a Backend class or factory), in preference order.
 REGISTRY: dict[str, str] = {
@@ -67,9 +99,14 @@ REGISTRY: dict[str, str] = {
     "cpsat": "illuknit.solvers.cpsat:CPSATBackend",
     "rc2": "illuknit.solvers.rc2:RC2Backend",
     "lsu": "illuknit.solvers.lsu:LSUBackend",
+    "fm": "illuknit.solvers.fm:FMBackend",
     "gradient": "illuknit.solvers.gradient:GradientBackend",
     "descent": "illuknit.solvers.descent:DescentBackend",
+    **{name: "illuknit.solvers.hermax:HermaxBackend" for name in HERMAX_NAMES},
 }
+
+#: backends that take a SAT oracle after a colon (``rc2:cd19``); the class takes it as argument
+ORACLE_BACKENDS = ("rc2", "lsu", "fm")
 
 #: pseudo-backend prefix: ``wcnf:COMMAND`` runs an external MaxSAT binary.
 EXTERNAL_PREFIX = "wcnf:"
@@ -112,13 +149,23 @@ def _lookup(name: str) -> Backend:
         return ExternalWCNFBackend(name[len(EXTERNAL_PREFIX) :])
     if name in _registered:
         return _instantiate(_registered[name])
-    if name in REGISTRY:
-        module, _, attr = REGISTRY[name].partition(":")
-        return _instantiate(getattr(importlib.import_module(module), attr))
+    base, sep, arg = name.partition(":")
+    if base in REGISTRY and (not sep or base in ORACLE_BACKENDS):
+        module, _, attr = REGISTRY[base].partition(":")
+        obj = getattr(importlib.import_module(module), attr)
+        if base in HERMAX_NAMES:
+            return obj(base)  # type: ignore[no-any-return,unused-ignore]
+        if sep:
+            return obj(arg)  # type: ignore[no-any-return,unused-ignore]
+        return _instantiate(obj)
     eps = _entry_points()
     if name in eps:
         return _instantiate(eps[name].load())
-    raise UnknownNameError("solver", name, [*backend_names(), "wcnf:COMMAND", "auto"])
+    raise UnknownNameError(
+        "solver",
+        name,
+        [*backend_names(), *(f"{b}:ORACLE" for b in ORACLE_BACKENDS), "wcnf:COMMAND", "auto"],
+    )
 
 
 def get_backend(name: str, *, check_available: bool = True) -> Backend:
@@ -132,13 +179,10 @@ def get_backend(name: str, *, check_available: bool = True) -> Backend:
         The backend's library (or binary) is missing; the message names the extra to install.
     """
     backend = _lookup(name)
-    if check_available and not backend.is_available():
-        reason = getattr(backend, "unavailable_reason", None)
+    if check_available:
+        reason = backend.unavailable_reason()
         if reason is not None:
-            raise BackendUnavailableError(f"solver {name!r} is not available: {reason()}")
-        extra = getattr(backend, "extra", None)
-        how = f"pip install 'illuknit[{extra}]'" if extra else "see docs/solvers.md"
-        raise BackendUnavailableError(f"solver {name!r} is not available in this install ({how})")
+            raise BackendUnavailableError(f"solver {name!r} is not available: {reason}")
     return backend
 
 
@@ -154,6 +198,22 @@ def available_backends() -> list[str]:
     return out
 
 
+def describe_backends() -> list[dict[str, str]]:
+    """One row per known backend: name, kind (exact / anytime / heuristic), version, and
+    availability ("yes" or why not) -- what ``illuknit solve --list-solvers`` prints."""
+    rows = []
+    for n in backend_names():
+        try:
+            b = _lookup(n)
+            reason = b.unavailable_reason()
+            version = b.version() if reason is None else ""
+            kind = "exact" if b.exact else ("anytime" if n in HERMAX_NAMES else "heuristic")
+        except Exception as e:  # a broken third-party backend is listed with its error
+            reason, version, kind = f"cannot load: {e}", "", "?"
+        rows.append({"name": n, "kind": kind, "version": version, "available": reason or "yes"})
+    return rows
+
+
 def pick_backend(model: Model) -> Backend:
     """The first available backend, in preference order, that handles ``model``."""
     for n in available_backends():
@@ -163,33 +223,76 @@ def pick_backend(model: Model) -> Backend:
     raise BackendUnavailableError("no installed solver backend handles this model")
 
 
+def resolve_backend(model: Model, solver: str) -> Backend:
+    """The backend ``solver`` names ("auto": :func:`pick_backend`), checked to handle ``model``.
+
+    Raises
+    ------
+    SolverError
+        The backend cannot solve ``model``; the message says why.
+    """
+    backend = pick_backend(model) if solver == "auto" else get_backend(solver)
+    why = backend.why_not(model)
+    if why is not None:
+        raise SolverError(f"solver {backend.name!r} cannot solve model {model.name!r}: {why}")
+    return backend
+
+
 def solve(
     model: Model,
     *,
-    solver: str = "cpsat",
+    solver: str = "auto",
+    warm_start: str = "none",
     time_limit: float | None = None,
     seed: int = 0,
     progress: ProgressCallback | None = None,
 ) -> Solution:
-    """Solve ``model`` with the backend named ``solver`` ("auto" picks the first that handles it).
+    """Solve ``model`` with the backend named ``solver`` and the warm-start policy ``warm_start``.
 
-    A backend that does not handle the model raises :class:`illuknit.errors.SolverError`
-    explaining why. Infeasible models come back with
-    ``status == "infeasible"`` and ``stats["infeasible_families"]`` naming the conflicting
-    hard-constraint families.
+    The one orchestration the CLI, the benchmark, the app and :func:`solve_illusion` share:
+    resolve the backend once ("auto" picks the first available that handles the model), apply
+    the warm start (:mod:`illuknit.solvers.warm_start`: ``none``, ``dp``, ``descent`` or
+    ``auto``; skipped when the backend is itself the DP or the descent) within ``time_limit``,
+    solve with the rest of the time, and keep the warm start's answer only where the backend did
+    worse, saying so in ``found_by``. Every improvement the backend reports lands in
+    ``solution.trace``. Infeasible models come back with ``status == "infeasible"`` and
+    ``stats["infeasible_families"]`` naming the conflicting hard-constraint families.
+
+    Raises
+    ------
+    OptionError
+        ``time_limit`` is not positive.
+    SolverError
+        The backend cannot solve the model, or the warm start does not apply to it.
     """
-    from illuknit.errors import PatternValidationError, SolverError
-
     if time_limit is not None and not time_limit > 0:
-        raise PatternValidationError(f"`time_limit` must be positive seconds, got {time_limit!r}")
-    backend = pick_backend(model) if solver == "auto" else get_backend(solver)
-    if not backend.handles(model):
-        why = getattr(backend, "why_not", lambda m: "")(model)
-        raise SolverError(
-            f"solver {backend.name!r} cannot solve model {model.name!r}{': ' + why if why else ''}"
-        )
+        raise OptionError(f"`time_limit` must be positive seconds, got {time_limit!r}")
+    backend = resolve_backend(model, solver)
+    policy = "none"
+    if backend.name not in ("dp", "descent"):
+        from illuknit.solvers import warm_start as ws_mod  # light registry: load on demand
+
+        policy = ws_mod.resolve_policy(warm_start, model)
+    info = None
+    remaining = time_limit
+    if policy != "none":
+        model.hint, info = ws_mod.make_warm_start(model, policy, time_limit=time_limit, seed=seed)
+        if time_limit is not None:
+            remaining = max(0.1 * time_limit, time_limit - info["seconds"])
+    trace: list[TracePoint] = []
+
+    def record(event: ProgressEvent) -> None:
+        trace.append((event.elapsed, event.objective, event.bound))
+        if progress is not None:
+            progress(event)
+
     t0 = time.perf_counter()
-    sol = backend.solve(model, time_limit=time_limit, seed=seed, progress=progress)
+    sol = backend.solve(model, time_limit=remaining, seed=seed, progress=record)
+    sol = replace(sol, trace=tuple(trace) or sol.trace, found_at=_found_at(sol, trace))
+    if info is not None:
+        sol = ws_mod.keep_warm_start(model, sol, info)
+    else:
+        sol = replace(sol, stats={**sol.stats, "warm_start": {"method": "none"}})
     if sol.status is Status.INFEASIBLE and "infeasible_families" not in sol.stats:
         fams = model.infeasible_families()
         sol = replace(
@@ -198,3 +301,13 @@ def solve(
             stats={**sol.stats, "infeasible_families": fams},
         )
     return sol
+
+
+def _found_at(sol: Solution, trace: list[TracePoint]) -> float | None:
+    """When the backend first reported the objective it returned (its time to best)."""
+    if sol.values is None:
+        return None
+    for t, obj, _ in trace:
+        if obj is not None and sol.objective is not None and obj <= sol.objective:
+            return min(t, sol.wall_time)
+    return sol.found_at

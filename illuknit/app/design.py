@@ -3,7 +3,7 @@
     uploaded file -> decode_upload -> prepare_inputs (resize to units, quantise to yarns, legend)
                   -> make_candidates (single view: both stripe orders; double view / head-on:
                      ranked tile mappings) -> pattern_for (with per-pair tile overrides)
-                  -> render_view (angled renderer when installed, boolean can_see otherwise)
+                  -> render_view (the angled renderer)
                   -> downloads (pattern JSON, previews, chart, instructions, knitout + check)
 
 Everything here is a plain function of its inputs (no session, no HTTP), so the server stays a thin
@@ -11,22 +11,22 @@ layer and these functions are testable on their own. Library errors are re-raise
 :class:`AppRequestError` naming the page control (``field``) that caused them, which is what lets
 the page show the message next to that control.
 
-Parts of the library are optional in an install (the tile bank, the angled renderer, the knitout
-compiler and checker); :func:`capabilities` says which are present and the page adapts.
+Every library part used here is imported directly: an import error in illuknit's own code is a
+bug to see, never a feature to grey out.
 """
 
 from __future__ import annotations
 
-import contextlib
 import importlib
 import io
+import math
 import os
 import tempfile
 import zipfile
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, Literal
 from urllib.parse import urlencode
 
 import numpy as np
@@ -34,12 +34,13 @@ from numpy.typing import NDArray
 
 from illuknit.colors import hex_color
 from illuknit.errors import AppRequestError, IlluknitError
+from illuknit.images import MAX_PIXELS
 from illuknit.pattern import LogicalPattern, Yarn, parse_yarns, pattern_to_json
 
 __all__ = [
     "MAX_UPLOAD_BYTES",
     "Candidate",
-    "KnitResult",
+    "CheckedKnitout",
     "Prepared",
     "capabilities",
     "decode_upload",
@@ -49,11 +50,11 @@ __all__ = [
     "render_view",
 ]
 
-#: Largest accepted upload (bytes). Pictures are resized to at most 1000 units across, so anything
-#: bigger is a photograph far beyond what a knitted piece can show.
-MAX_UPLOAD_BYTES = 12 * 1024 * 1024
-#: Largest accepted picture (pixels), checked after decoding the header only.
-MAX_UPLOAD_PIXELS = 40_000_000
+#: Largest accepted upload (bytes): a full-size photograph from a phone or camera. It is reduced to
+#: the working grid on upload and not kept.
+MAX_UPLOAD_BYTES = 32 * 1024 * 1024
+#: Largest accepted picture (pixels), checked from the header before decoding: the library's cap.
+MAX_UPLOAD_PIXELS = MAX_PIXELS
 #: Pictures with a longer side are reduced to it on upload (twice the widest piece in units).
 MAX_WORKING_SIDE = 2000
 
@@ -80,49 +81,26 @@ def blame(field_name: str | None) -> Iterator[None]:
         raise AppRequestError(str(e), field=field_name, code=type(e).__name__) from None
 
 
-def _optional(module: str) -> Any | None:
-    try:
-        return importlib.import_module(module)
-    except ImportError:
-        return None
-
-
-def _has(module: str, name: str) -> bool:
-    """Whether ``module.name`` exists and imports (parts of the library may be absent or lazy)."""
-    mod = _optional(module)
-    if mod is None:
-        return False
-    try:
-        return getattr(mod, name, None) is not None
-    except Exception:  # a lazy attribute whose module is missing or broken
-        return False
-
-
-def require_part(module: str, name: str, *, needs: str, field: str) -> Any:
-    """``module`` if it provides ``name``, else a 501 saying that ``needs`` it (page control ``field``)."""
-    if not _has(module, name):
-        raise AppRequestError(
-            f"{needs}, which this install lacks", field=field, code="unavailable", status=501
-        )
-    return importlib.import_module(module)
-
-
 def capabilities() -> dict[str, bool]:
-    """Which optional parts of the library this install has (the page greys out the others)."""
+    """What this install can do (the page greys out the rest).
+
+    Every part the page drives is illuknit's own and always installed; only machine files
+    (Shima ``.dat``) are not written by illuknit yet.
+    """
     return {
         "single": True,
-        "double": _has("illuknit.tiles", "assign_tiles"),
-        "headon": _has("illuknit.tiles", "assign_headon"),
-        "render": _has("illuknit.render", "render_views"),
-        "knit": _has("illuknit.knit", "knit_pattern"),
-        "check": _has("illuknit.check", "check_knitout"),
-        "chart": _has("illuknit.chart", "written_instructions"),
+        "double": True,
+        "headon": True,
+        "render": True,
+        "knit": True,
+        "check": True,
+        "chart": True,
         "dat": False,
     }
 
 
 def warm_up() -> None:
-    """Import the modules the first request would otherwise wait for (errors are ignored)."""
+    """Import the modules the first request would otherwise wait for (run in a thread)."""
     for name in (
         "illuknit.images",
         "skimage.transform",
@@ -135,16 +113,18 @@ def warm_up() -> None:
         "illuknit.tiles.headon",
         "ortools.sat.python.cp_model",
     ):
-        # an optional part that is missing is reported where it is used, not here
-        with contextlib.suppress(Exception):
-            importlib.import_module(name)
+        importlib.import_module(name)
 
 
 # -- input -------------------------------------------------------------------------------------
 
 
-def decode_upload(data: bytes, filename: str, *, field: str) -> NDArray[np.float64]:
-    """Decode an uploaded picture to float RGB (H, W, 3) with the library's loader.
+def decode_upload(data: bytes, filename: str, *, field: str) -> NDArray[np.uint8]:
+    """Decode an uploaded picture to uint8 RGB (H, W, 3) at the working grid.
+
+    The library's loader reads it (alpha on white, EXIF orientation); a picture over
+    ``MAX_WORKING_SIDE`` pixels on its long side is first reduced to it, while decoding where the
+    format allows (JPEG), so that no full-size float copy ever exists.
 
     Raises AppRequestError (``field``) for an empty, oversized, non-image or too-small file.
     """
@@ -174,20 +154,34 @@ def decode_upload(data: bytes, filename: str, *, field: str) -> NDArray[np.float
             raise AppRequestError(msg, field=field, code="not_an_image", status=415) from None
     finally:
         os.unlink(path)
-    return rgb
+    return np.round(rgb * 255.0).astype(np.uint8)
+
+
+#: Modes Pillow's ``Image.reduce`` averages directly.
+_REDUCIBLE_MODES = ("L", "LA", "RGB", "RGBA", "CMYK", "I", "F")
 
 
 def _reduce(data: bytes) -> bytes:
     """A big picture reduced (area average) to MAX_WORKING_SIDE pixels on its long side.
 
-    No piece is wider than 1000 units, so more pixels only cost memory (a 40-megapixel picture
-    is about 1 GB as float RGB); alpha and orientation are kept for the library's loader.
+    No piece is wider than 1000 units, so more pixels only cost memory (a 50-megapixel picture
+    is 1.2 GB as float RGB); alpha and orientation are kept for the library's loader. A JPEG is
+    decoded at 1/2, 1/4 or 1/8 scale straight away (``draft``), never below the working side.
     """
     from PIL import Image, ImageOps
 
     with Image.open(io.BytesIO(data)) as src:
         src.seek(0)
-        upright = ImageOps.exif_transpose(src)
+        if src.format == "JPEG":
+            shrink = max(src.size) / MAX_WORKING_SIDE
+            src.draft(src.mode, (math.ceil(src.width / shrink), math.ceil(src.height / shrink)))
+        # Shrink by a whole factor in the picture's own mode first (one decoded copy, no
+        # converted one); palette and bilevel pictures are converted first, as reduce needs.
+        big = src if src.mode in _REDUCIBLE_MODES else src.convert("RGBA")
+        factor = max(1, int(max(big.size) // MAX_WORKING_SIDE))
+        shrunk = big.reduce(factor) if factor > 1 else big
+        del big
+        upright = ImageOps.exif_transpose(shrunk)
         has_alpha = upright.mode in ("RGBA", "LA", "PA") or "transparency" in upright.info
         small = upright.convert("RGBA" if has_alpha else "RGB")
         small.thumbnail((MAX_WORKING_SIDE, MAX_WORKING_SIDE), Image.Resampling.BOX)
@@ -261,7 +255,7 @@ def prepare_inputs(images: dict[str, Any], settings: Any) -> Prepared:
     offer to resize), a width out of range (``width_units``/``width_cm``), bad yarns (``yarns``),
     colour count issues (``n_colors``).
     """
-    from illuknit.images import quantise_image, resize_to_units, units_for_width
+    from illuknit.images import quantise_image, resize_to_units
 
     mode = settings.mode
     slots = slots_for(mode, images)
@@ -271,32 +265,8 @@ def prepare_inputs(images: dict[str, Any], settings: Any) -> Prepared:
             raise AppRequestError(f"upload {which} first", field=f"image_{slot}", code="missing")
     with blame("yarns"):
         yarns = parse_yarns(list(settings.yarns))
-    if settings.n_colors > len(yarns):
-        raise AppRequestError(
-            f"{settings.n_colors} colours need at least {settings.n_colors} yarns; add a yarn or "
-            "use fewer colours",
-            field="n_colors",
-            code="too_few_yarns",
-        )
-    if mode == "single" and settings.n_colors not in (2, 3):
-        raise AppRequestError(
-            "a single-view illusion takes a 2- or 3-colour picture", field="n_colors", code="range"
-        )
-    if settings.size_mode == "physical":
-        with blame("width_cm"):
-            width = units_for_width(width_cm=settings.width_cm, gauge=settings.gauge)
-        size_field = "width_cm"
-    else:
-        width = settings.width_units
-        size_field = "width_units"
-    from illuknit.pattern import MAX_UNITS
-
-    if width < 2 or width > MAX_UNITS:
-        raise AppRequestError(
-            f"the piece would be {width} units wide; it must be 2..{MAX_UNITS} units",
-            field=size_field,
-            code="range",
-        )
+    _check_colors(mode, settings.n_colors, len(yarns))
+    width, size_field = width_of(settings)
     notes: list[str] = []
     a = images["a"].rgb
     resized: dict[str, NDArray[np.float64]] = {}
@@ -325,11 +295,91 @@ def prepare_inputs(images: dict[str, Any], settings: Any) -> Prepared:
             field=size_field,
             code="range",
         )
+    if mode == "single":
+        q, note = _single_view_input(resized["a"], yarns, settings.n_colors)
+        return Prepared(mode=mode, yarns=yarns, quantised={"a": q}, notes=(*notes, *note))
     quantised = {}
     for slot in slots:
         with blame("n_colors"):
             quantised[slot] = quantise_image(resized[slot], n_colors=settings.n_colors, yarns=yarns)
     return Prepared(mode=mode, yarns=yarns, quantised=quantised, notes=tuple(notes))
+
+
+def _check_colors(mode: str, n_colors: int, n_yarns: int) -> None:
+    """Colour count against yarn count: what the CLI accepts, refused next to the control."""
+    if mode != "single":
+        if n_colors > n_yarns:
+            raise AppRequestError(
+                f"{n_colors} colours need at least {n_colors} yarns; add a yarn or use fewer "
+                "colours",
+                field="n_colors",
+                code="too_few_yarns",
+            )
+        return
+    if n_colors not in (2, 3):
+        raise AppRequestError(
+            "a single-view illusion shows 2 or 3 colours (the third as a mix of two yarns)",
+            field="n_colors",
+            code="range",
+        )
+    if n_yarns not in (2, 3) or n_yarns > n_colors:
+        raise AppRequestError(
+            f"a single-view illusion of {n_colors} colours is knitted with 2 yarns"
+            + (" (or 3, one per colour)" if n_colors == 3 else "")
+            + f"; remove {n_yarns - 2 if n_colors == 2 else n_yarns - 3} yarn(s)",
+            field="yarns",
+            code="range",
+        )
+
+
+def width_of(settings: Any) -> tuple[int, str]:
+    """The piece's width in units under ``settings``, and the control that sets it."""
+    from illuknit.images import units_for_width
+    from illuknit.pattern import MAX_UNITS
+
+    if settings.size_mode == "physical":
+        with blame("width_cm"):
+            width = units_for_width(width_cm=settings.width_cm, gauge=settings.gauge)
+        size_field = "width_cm"
+    else:
+        width, size_field = settings.width_units, "width_units"
+    if width < 2 or width > MAX_UNITS:
+        raise AppRequestError(
+            f"the piece would be {width} units wide; it must be 2..{MAX_UNITS} units",
+            field=size_field,
+            code="range",
+        )
+    return width, size_field
+
+
+def _single_view_input(
+    rgb: NDArray[np.float64], yarns: tuple[Yarn, ...], n_colors: int
+) -> tuple[Any, tuple[str, ...]]:
+    """The picture mapped for the single-view compiler, as ``illuknit single`` maps it.
+
+    With two yarns and three colours the middle colour is a mix: rows of the two yarns side by
+    side, which the eye blends. The legend shows it as that, in the colour of the blend.
+    """
+    from illuknit.images import QuantisedImage
+    from illuknit.single_view import prepare_single_view_image, single_view_roles
+
+    n, m = rgb.shape[:2]
+    with blame("n_colors"):
+        q = prepare_single_view_image(rgb, yarns=yarns, n_colors=n_colors, width=m, height=n)
+    mixes = [i for i, y in enumerate(q.yarns) if y not in yarns]
+    if len(yarns) != 2 or not mixes:
+        return q, ()
+    dark, light, _ = single_view_roles(yarns)
+    blend = tuple(
+        round((u + v) / 2) for u, v in zip(yarns[dark].rgb, yarns[light].rgb, strict=True)
+    )
+    name = f"mix of {yarns[dark].name} and {yarns[light].name}"
+    mapped = tuple(Yarn(name, blend) if i in mixes else y for i, y in enumerate(q.yarns))  # type: ignore[arg-type]
+    note = (
+        f"the middle colour is knitted as a mix: rows of {yarns[dark].name} and "
+        f"{yarns[light].name}, which read as their blend",
+    )
+    return QuantisedImage(q.indices, mapped, q.colors, q.counts), note
 
 
 # -- candidates --------------------------------------------------------------------------------
@@ -366,6 +416,8 @@ class Candidate:
 
 
 Progress = Callable[[float, str], None]
+#: The sides a pattern is seen from: A (from above), B (from below), or head-on.
+View = Literal["A", "B", "headon"]
 
 
 def make_candidates(prepared: Prepared, *, count: int, progress: Progress) -> list[Candidate]:
@@ -399,12 +451,8 @@ def _single_candidates(prepared: Prepared, progress: Progress) -> list[Candidate
 
 def _tile_candidates(prepared: Prepared, *, count: int, progress: Progress) -> list[Candidate]:
     mode = prepared.mode
-    tiles = require_part(
-        "illuknit.tiles",
-        "assign_tiles",
-        needs="tile design needs the tile bank (illuknit.tiles)",
-        field="mode",
-    )
+    from illuknit import tiles
+
     qa = prepared.quantised["a"]
     qb = prepared.quantised.get("b")
     progress(0.05, "building the tile bank")
@@ -483,7 +531,8 @@ def pattern_for(candidate: Candidate, overrides: dict[tuple[int, int], str]) -> 
         raise AppRequestError(
             "this candidate has no tiles to edit", field="tiles", code="not_editable", status=409
         )
-    tiles = importlib.import_module("illuknit.tiles")
+    from illuknit import tiles
+
     assignment = candidate.source
     chosen = {pair: _override_tile(assignment, t) for pair, t in overrides.items()}
     for pair in chosen:
@@ -615,12 +664,11 @@ def tile_png(tile_id: str, candidate: Candidate | None = None) -> bytes:
 # -- rendering ---------------------------------------------------------------------------------
 
 
-def render_view(pattern: LogicalPattern, view: str, *, angle: float) -> NDArray[np.uint8]:
+def render_view(pattern: LogicalPattern, view: View, *, angle: float) -> NDArray[np.uint8]:
     """(H, W, 3) uint8 picture of ``view`` ("A", "B", "headon") at elevation ``angle`` degrees.
 
-    Uses the angled renderer when installed, supersampled along the wales and widened by the same
-    factor so that the picture has square pixels and shows sub-unit coverage; otherwise the boolean
-    can_see view (which does not depend on the angle).
+    The angled renderer, supersampled along the wales and widened by the same factor so that the
+    picture has square pixels and shows sub-unit coverage.
     """
     if not 0 < angle <= 90:
         raise AppRequestError(
@@ -632,15 +680,12 @@ def render_view(pattern: LogicalPattern, view: str, *, angle: float) -> NDArray[
         raise AppRequestError(
             f"view must be A, B or headon, got {view!r}", field="view", code="range"
         )
-    if _has("illuknit.render", "render_pattern"):
-        render = importlib.import_module("illuknit.render")
-        ss = int(min(6, max(1, round(360 / max(pattern.shape)))))
-        with blame("angle"):
-            img = render.render_pattern(pattern, view=view, angle=angle, supersample=ss)
-        return np.repeat(np.asarray(img, dtype=np.uint8), ss, axis=1)
-    from illuknit.previews import view_rgb
+    from illuknit.render import render_pattern
 
-    return view_rgb(pattern, view)  # type: ignore[arg-type]
+    ss = int(min(6, max(1, round(360 / max(pattern.shape)))))
+    with blame("angle"):
+        img = render_pattern(pattern, view=view, angle=angle, supersample=ss)
+    return np.repeat(np.asarray(img, dtype=np.uint8), ss, axis=1)
 
 
 def png_bytes(rgb: NDArray[np.uint8]) -> bytes:
@@ -688,42 +733,35 @@ def chart_png(pattern: LogicalPattern) -> bytes:
 
 
 def instructions_text(pattern: LogicalPattern) -> str:
-    chart = require_part(
-        "illuknit.chart",
-        "written_instructions",
-        needs="written instructions need illuknit.chart",
-        field="downloads",
-    )
-    return str(chart.written_instructions(pattern))
+    from illuknit.chart import written_instructions
+
+    return written_instructions(pattern)
 
 
 @dataclass(frozen=True)
-class KnitResult:
+class CheckedKnitout:
     """Knitout for one pattern and the checker's report on it."""
 
     key: str  # identifies the pattern it was made from
     knitout: str
     stats: dict[str, Any]
-    report: dict[str, Any] | None
-    report_text: str | None
+    report: dict[str, Any]
+    report_text: str
 
 
-def knit_and_check(doc: dict[str, Any], check: bool) -> dict[str, Any]:
+def knit_and_check(doc: dict[str, Any]) -> dict[str, Any]:
     """Compile a pattern (as JSON) to knitout and check it. Runs in a spawned worker process."""
     from illuknit.check import check_knitout
     from illuknit.knit import knit_pattern
     from illuknit.pattern import pattern_from_json
 
     result = knit_pattern(pattern_from_json(doc))
-    report = report_text = None
-    if check:
-        rep = check_knitout(result.text)
-        report, report_text = rep.to_dict(), rep.to_text(name="knitout.k")
+    report = check_knitout(result.text)
     return {
         "knitout": result.text,
         "stats": result.summary(),
-        "report": report,
-        "report_text": report_text,
+        "report": report.to_dict(),
+        "report_text": report.to_text(name="knitout.k"),
     }
 
 

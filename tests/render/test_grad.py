@@ -7,7 +7,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from illuknit.errors import PatternValidationError
+from illuknit.errors import OptionError
 from illuknit.render.grad import render_value_and_grad, render_vjp
 from illuknit.render.params import RenderParams
 from illuknit.render.raycast import render_soft
@@ -49,7 +49,7 @@ def test_gradients_match_finite_differences(n, m, k, view, theta, shading, super
     np.testing.assert_allclose(gc, fc, atol=1e-7, rtol=1e-5)
 
 
-def test_vjp_is_the_transpose_of_the_linear_colour_map():
+def test_vjp_is_the_transpose_of_the_linear_color_map():
     """The image is linear in the colours, so <g, J c> == <J^T g, c> exactly."""
     rng = np.random.default_rng(2)
     h = 0.1 + rng.random((8, 5))
@@ -62,5 +62,5 @@ def test_vjp_is_the_transpose_of_the_linear_colour_map():
 
 def test_vjp_rejects_wrong_shape():
     _, tape = render_soft(np.ones((3, 2)), np.ones((3, 2, 3)), return_tape=True)
-    with pytest.raises(PatternValidationError, match="grad_image"):
+    with pytest.raises(OptionError, match="grad_image"):
         render_vjp(tape, np.ones((2, 2, 3)))

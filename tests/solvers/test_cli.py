@@ -180,16 +180,10 @@ def test_unknown_and_unavailable_solvers(pair, tmp_path, capsys):
 def test_unavailable_backend_names_the_extra_in_the_cli(pair, tmp_path, capsys, monkeypatch):
     import illuknit.solvers as reg
 
-    class Missing:
+    class Missing(reg.BackendBase):
         name = "needs-gpu"
         extra = "gpu"
-        exact = True
-
-        def handles(self, model):
-            return True
-
-        def is_available(self):
-            return False
+        requires = ("no_such_gpu_module",)
 
     monkeypatch.setitem(reg._registered, "needs-gpu", Missing)
     a, b = pair
@@ -219,8 +213,21 @@ def test_bad_input_model_arity_weights_and_time(pair, tmp_path, capsys):
 
 def test_yarn_index_outside_the_palette_in_a_pattern_target(tmp_path):
     # the library check behind the CLI: a target index the palette cannot show
-    from illuknit.errors import PatternValidationError
+    from illuknit.errors import ImageInputError
     from illuknit.illusion_models import make_problem
 
-    with pytest.raises(PatternValidationError, match="outside the palette of 2"):
+    with pytest.raises(ImageInputError, match="outside the palette of 2"):
         make_problem(np.zeros((2, 2), int), np.array([[0, 1], [2, 0]]), n_yarns=2)
+
+
+def test_list_solvers_prints_every_backend(capsys):
+    from illuknit.solvers import backend_names
+
+    try:
+        main(["solve", "--list-solvers"])
+    except SystemExit as e:  # standalone click exits; main() may return normally
+        assert e.code in (0, None)
+    out = capsys.readouterr().out
+    for name in backend_names():
+        assert name in out
+    assert "rc2:ORACLE" in out and "wcnf:COMMAND" in out

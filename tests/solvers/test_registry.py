@@ -8,7 +8,15 @@ import pytest
 import illuknit.solvers as reg
 from illuknit.errors import BackendUnavailableError, SolverError, UnknownNameError
 from illuknit.model import Model
-from illuknit.solvers import Backend, Solution, Status, available_backends, get_backend, solve
+from illuknit.solvers import (
+    Backend,
+    BackendBase,
+    Solution,
+    Status,
+    available_backends,
+    get_backend,
+    solve,
+)
 
 
 def test_unknown_name_lists_the_valid_ones():
@@ -27,16 +35,10 @@ def test_builtin_backends_follow_the_protocol():
     assert available_backends()[:2] == ["dp", "cpsat"]
 
 
-class _Missing:
+class _Missing(BackendBase):
     name = "needs-gpu"
     extra = "gpu"
-    exact = True
-
-    def handles(self, model):
-        return True
-
-    def is_available(self):
-        return False
+    requires = ("no_such_gpu_module",)
 
     def solve(self, model, *, time_limit=None, seed=0, progress=None):  # pragma: no cover
         raise AssertionError
@@ -50,16 +52,9 @@ def test_unavailable_backend_names_the_extra(monkeypatch):
         get_backend("needs-gpu")
 
 
-class _Constant:
+class _Constant(BackendBase):
     name = "constant"
-    extra = None
     exact = False
-
-    def handles(self, model):
-        return True
-
-    def is_available(self):
-        return True
 
     def solve(self, model, *, time_limit=None, seed=0, progress=None):
         v = np.zeros(model.pool.top + 1, dtype=bool)
@@ -93,11 +88,11 @@ def test_missing_external_binary_is_a_clear_error():
 
 
 def test_time_limit_must_be_positive():
-    from illuknit.errors import PatternValidationError
+    from illuknit.errors import OptionError
 
     m = Model()
     m.add_soft([m.var("a")], 1)
-    with pytest.raises(PatternValidationError, match="time_limit"):
+    with pytest.raises(OptionError, match="time_limit"):
         solve(m, solver="rc2", time_limit=0)
 
 
@@ -127,3 +122,26 @@ def test_solution_reads_values_through_the_pool():
     assert sol.summary()["status"] == "optimal"
     with pytest.raises(KeyError):
         sol.value("nope")
+
+
+def test_sat_oracles_are_chosen_by_name():
+    from illuknit.illusion_models import build_model, make_problem
+
+    model = build_model(make_problem(np.eye(4, dtype=int), np.ones((4, 4), int)))
+    want = solve(model, solver="dp").objective
+    for name in ("rc2:cd19", "lsu:g3", "fm:g4"):
+        sol = solve(model, solver=name)
+        assert sol.backend == name and sol.status is Status.OPTIMAL and sol.objective == want
+    with pytest.raises(UnknownNameError, match="SAT oracle"):
+        get_backend("rc2:nosuch")
+    with pytest.raises(UnknownNameError, match="rc2:ORACLE"):
+        get_backend("cpsat:g3")
+
+
+def test_every_backend_is_described_with_version_and_availability():
+    rows = {r["name"]: r for r in reg.describe_backends()}
+    assert set(reg.backend_names()) <= set(rows)
+    assert rows["rc2"]["available"] == "yes" and rows["rc2"]["version"].startswith("python-sat")
+    assert rows["descent"]["kind"] == "heuristic"
+    for name in reg.HERMAX_NAMES:
+        assert rows[name]["available"] == "yes" or "illuknit[maxsat]" in rows[name]["available"]

@@ -35,9 +35,14 @@ from types import MappingProxyType
 import numpy as np
 from numpy.typing import ArrayLike
 
-from illuknit.errors import CarrierShortageError, PatternValidationError
+from illuknit.errors import (
+    CarrierShortageError,
+    OptionError,
+    PatternValidationError,
+    SchedulingError,
+)
 
-__all__ = ["ColourPlan", "CoursePlan", "Segment", "colour_runs", "plan_colour_runs"]
+__all__ = ["ColorPlan", "CoursePlan", "Segment", "color_runs", "plan_color_runs"]
 
 Run = tuple[int, int]
 
@@ -63,13 +68,11 @@ class Segment:
 
     def __post_init__(self) -> None:
         if not self.runs:
-            raise PatternValidationError("a segment needs at least one run")
+            raise SchedulingError("a segment needs at least one run")
         prev = -2
         for lo, hi in self.runs:
             if lo > hi or lo <= prev + 1:
-                raise PatternValidationError(
-                    f"segment runs must be ascending and disjoint: {self.runs}"
-                )
+                raise SchedulingError(f"segment runs must be ascending and disjoint: {self.runs}")
             prev = hi
 
     @property
@@ -100,7 +103,7 @@ class CoursePlan:
 
 
 @dataclass(frozen=True, eq=False)
-class ColourPlan:
+class ColorPlan:
     """Which carrier knits which runs, for every course.
 
     Parameters
@@ -135,12 +138,12 @@ class ColourPlan:
         return sum(len(s.runs) > 1 for cp in self.courses for s in cp.segments)
 
 
-def colour_runs(row: ArrayLike) -> list[tuple[int, int, int]]:
+def color_runs(row: ArrayLike) -> list[tuple[int, int, int]]:
     """Maximal runs of equal values in a 1-D row: ``(lo, hi, value)`` with ``hi`` inclusive.
 
     Examples
     --------
-    >>> colour_runs([0, 0, 1, 0])
+    >>> color_runs([0, 0, 1, 0])
     [(0, 1, 0), (2, 2, 1), (3, 3, 0)]
     """
     r = np.asarray(row)
@@ -192,14 +195,14 @@ def _fit_carriers(
     return groups
 
 
-def plan_colour_runs(
+def plan_color_runs(
     yarn: ArrayLike,
     *,
     carriers: Sequence[str],
     float_limit: int,
     strict: bool = False,
     course_names: Sequence[str] | None = None,
-) -> ColourPlan:
+) -> ColorPlan:
     """Group every course's colour runs into carrier segments and assign carriers.
 
     Parameters
@@ -219,15 +222,17 @@ def plan_colour_runs(
 
     Returns
     -------
-    ColourPlan
+    ColorPlan
 
     Raises
     ------
     CarrierShortageError
         If a course needs more carriers at once than the machine has (with ``strict``), or
         more yarns than there are carriers.
+    OptionError
+        For a float limit below 1 or no carriers.
     PatternValidationError
-        For a float limit below 1 or a malformed grid.
+        For a malformed grid.
     """
     y = np.asarray(yarn)
     if y.ndim != 2 or y.size == 0:
@@ -239,19 +244,19 @@ def plan_colour_runs(
         or not isinstance(float_limit, (int, np.integer))
         or float_limit < 1
     ):
-        raise PatternValidationError(
+        raise OptionError(
             f"`float_limit` must be an integer >= 1 (wales a yarn may float across), got {float_limit!r}"
         )
     pool = [str(c) for c in carriers]
     if not pool:
-        raise PatternValidationError("`carriers` must not be empty")
+        raise OptionError("`carriers` must not be empty")
     free = list(pool)
     of_yarn: dict[int, list[str]] = {}
     anchor: dict[str, float] = {}
     plans: list[CoursePlan] = []
     for c in range(y.shape[0]):
         by_yarn: dict[int, list[Run]] = {}
-        for lo, hi, v in colour_runs(y[c]):
+        for lo, hi, v in color_runs(y[c]):
             by_yarn.setdefault(v, []).append((lo, hi))
         groups = {v: _group_runs(rs, int(float_limit)) for v, rs in by_yarn.items()}
         owned = {v: len(cs) for v, cs in of_yarn.items()}
@@ -299,7 +304,7 @@ def plan_colour_runs(
                 segments.append(Segment(car, int(v), g))
         segments.sort(key=lambda s: s.lo)
         plans.append(CoursePlan(c, tuple(segments)))
-    return ColourPlan(
+    return ColorPlan(
         courses=tuple(plans),
         carrier_of_yarn={v: tuple(cs) for v, cs in of_yarn.items()},
         float_limit=int(float_limit),

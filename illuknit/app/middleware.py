@@ -1,0 +1,191 @@
+"""ASGI middleware of the app: limits checked before a request reaches a route."""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Awaitable, Callable, MutableMapping
+from typing import Any
+
+from illuknit.app.handlers import error_body
+from illuknit.pattern import MAX_UNITS
+
+__all__ = ["SameOriginGuard", "UploadLimit"]
+
+Scope = MutableMapping[str, Any]
+Message = MutableMapping[str, Any]
+Receive = Callable[[], Awaitable[Message]]
+Send = Callable[[Message], Awaitable[None]]
+
+
+class UploadLimit:
+    """ASGI middleware: refuse image uploads over the size limit before the app reads them.
+
+    A declared ``Content-Length`` over the limit is refused at once; a chunked body is counted as
+    it arrives and refused as soon as it passes the limit. Either way the answer is a 413 with the
+    usual error body naming the upload control, never a dropped connection.
+    """
+
+    def __init__(self, app: Any, *, limit: int) -> None:
+        self.app = app
+        # multipart framing adds a few hundred bytes; allow some slack over the file limit
+        self.limit = limit + 64 * 1024
+        self.file_limit = limit
+
+    async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
+        path = scope.get("path", "")
+        if (
+            scope["type"] != "http"
+            or scope.get("method") not in ("PUT", "POST")
+            or "/images/" not in path
+        ):
+            await self.app(scope, receive, send)
+            return
+        slot = path.rstrip("/").rsplit("/", 1)[-1]
+        field = f"image_{slot}" if slot in ("a", "b") else "image_a"
+        headers = dict(scope.get("headers") or [])
+        declared = headers.get(b"content-length")
+        if declared is not None and declared.isdigit() and int(declared) > self.limit:
+            await self._refuse(send, field, int(declared))
+            return
+        chunks: list[bytes] = []
+        total = 0
+        more = True
+        while more:
+            message = await receive()
+            if message["type"] == "http.disconnect":
+                return
+            body = message.get("body", b"")
+            total += len(body)
+            if total > self.limit:
+                await self._refuse(send, field, total)
+                return
+            chunks.append(body)
+            more = message.get("more_body", False)
+        replay = [{"type": "http.request", "body": b"".join(chunks), "more_body": False}]
+
+        async def replay_receive() -> Message:
+            if replay:
+                return replay.pop()
+            return await receive()
+
+        await self.app(scope, replay_receive, send)
+
+    async def _refuse(self, send: Send, field: str, size: int) -> None:
+        mb = self.file_limit / 1e6
+        body = json.dumps(
+            error_body(
+                f"the upload is {'over ' if size <= self.limit else ''}{max(size, self.limit) / 1e6:.1f} MB;"
+                f" pictures are limited to {mb:.0f} MB. Save a smaller copy (a knitted piece is at most "
+                f"{MAX_UNITS} units across, so a few hundred pixels are plenty).",
+                field,
+                "too_large",
+            )
+        ).encode()
+        await send(
+            {
+                "type": "http.response.start",
+                "status": 413,
+                "headers": [
+                    (b"content-type", b"application/json"),
+                    (b"connection", b"close"),
+                    (b"content-length", str(len(body)).encode()),
+                ],
+            }
+        )
+        await send({"type": "http.response.body", "body": body})
+
+
+#: Request methods that change state; only these need to come from the app's own page.
+STATE_CHANGING = frozenset({"POST", "PUT", "PATCH", "DELETE"})
+#: Names of the loopback interface a browser may use for a server bound to it.
+LOOPBACK_NAMES = ("127.0.0.1", "localhost", "[::1]")
+
+
+def _host_name(host: str) -> str:
+    """A host as it appears in a Host header (IPv6 addresses in brackets)."""
+    return f"[{host}]" if ":" in host and not host.startswith("[") else host
+
+
+class SameOriginGuard:
+    """ASGI middleware: the local app answers only its own page and its own address.
+
+    * **Host** (DNS rebinding): a web page can point a domain of its own at 127.0.0.1 and then
+      talk to the app as if it were its own site; the browser then sends that domain as ``Host``.
+      Every request must name the address the server is bound to (the socket's own address and
+      port; for a loopback address also ``localhost``), or one of ``allowed_hosts``.
+    * **Origin** (cross-site requests): any page the designer visits can send a ``POST`` to
+      127.0.0.1. A state-changing request (POST, PUT, PATCH, DELETE) whose ``Sec-Fetch-Site``
+      is not ``same-origin`` (or ``none``: typed by the user), or whose ``Origin`` is not this
+      server's, is refused with a 403. Scripts that send neither header (curl, httpx) are not
+      browsers acting for another site and pass.
+    """
+
+    def __init__(self, app: Any, *, allowed_hosts: tuple[str, ...] = ()) -> None:
+        self.app = app
+        self.allowed_hosts = tuple(h.lower() for h in allowed_hosts)
+
+    def _hosts(self, scope: Scope) -> tuple[str, set[str]]:
+        """The server's own address and every Host value that names it."""
+        server = scope.get("server")
+        if not server:  # no socket (an in-process call): nothing to rebind
+            return "", set()
+        host, port = str(server[0]), server[1]
+        names = {_host_name(host)}
+        if host in ("127.0.0.1", "::1", "localhost") or host.startswith("127."):
+            names.update(LOOPBACK_NAMES)
+        names.update(self.allowed_hosts)
+        out = {f"{n}:{port}" for n in names if port is not None}
+        if port in (80, None) and scope.get("scheme", "http") == "http":
+            out.update(names)
+        if port == 443 and scope.get("scheme") == "https":
+            out.update(names)
+        return f"{_host_name(host)}:{port}", out
+
+    async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
+        if scope["type"] != "http":
+            await self.app(scope, receive, send)
+            return
+        headers = {k.decode("latin-1").lower(): v.decode("latin-1") for k, v in scope["headers"]}
+        host = headers.get("host", "").strip().lower()
+        own_address, hosts = self._hosts(scope)
+        if hosts and host not in hosts:
+            await _refuse(
+                send,
+                400,
+                f"this app answers only at {own_address}, not at {host or 'an unnamed host'}"
+                " (a request through another name is refused, so that no web site can reach the "
+                "app through a domain of its own)",
+                "bad_host",
+            )
+            return
+        if scope.get("method") in STATE_CHANGING:
+            site = headers.get("sec-fetch-site")
+            origin = headers.get("origin")
+            own = f"{scope.get('scheme', 'http')}://{host}"
+            if (site is not None and site not in ("same-origin", "none")) or (
+                origin is not None and origin.lower() != own
+            ):
+                await _refuse(
+                    send,
+                    403,
+                    f"changes are accepted only from the app's own page ({own}); this request "
+                    f"came from {origin or 'another site'} and was refused",
+                    "cross_origin",
+                )
+                return
+        await self.app(scope, receive, send)
+
+
+async def _refuse(send: Send, status: int, message: str, code: str) -> None:
+    body = json.dumps(error_body(message, None, code)).encode()
+    await send(
+        {
+            "type": "http.response.start",
+            "status": status,
+            "headers": [
+                (b"content-type", b"application/json"),
+                (b"content-length", str(len(body)).encode()),
+            ],
+        }
+    )
+    await send({"type": "http.response.body", "body": body})
