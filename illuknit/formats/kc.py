@@ -217,10 +217,7 @@ def _fill(values: list[str], direction: str, default: str) -> str:
         j = i
         while j < len(out) and out[j] == "*":
             j += 1
-        if prev_value is None or (j < len(out) and direction == "+"):
-            fill = out[j]
-        else:
-            fill = prev_value
+        fill = out[j] if prev_value is None or (j < len(out) and direction == "+") else prev_value
         result.extend(fill * (j - i))
         i = j
     return "".join(result)
@@ -258,8 +255,18 @@ def _add_transfer_row(
     direction = carriage.direction
     to = {("f", "+"): "Tr-Rr", ("f", "-"): "Tr-Rl", ("b", "+"): "Rr-Tr", ("b", "-"): "Rl-Tr"}
     blank = ["."] * _MARGIN + ["_"] * _COLUMNS + ["."] * _MARGIN
-    row = _Row(list(blank), list(blank), "", "", p.racking, direction, to[bed, direction],
-               p.speed, p.roller, comment=comment)
+    row = _Row(
+        list(blank),
+        list(blank),
+        "",
+        "",
+        p.racking,
+        direction,
+        to[bed, direction],
+        p.speed,
+        p.roller,
+        comment=comment,
+    )
     if p.pause and p.pause_message:
         row.pause_message = p.pause_message
     sizes: dict[int, dict[str, str]] = {}
@@ -288,8 +295,18 @@ def _add_stitches(carriage: _Carriage, p: KcPass) -> None:
         comment = (comment or "") + "; carrier out"
     lo = p.lo + carriage.offset - carriage.stop_distance
     hi = p.hi + carriage.offset + carriage.stop_distance
-    row = _Row([], [], "", "", p.racking, carriage.direction, p.kind.kcode, p.speed, p.roller,
-               comment=comment)
+    row = _Row(
+        [],
+        [],
+        "",
+        "",
+        p.racking,
+        carriage.direction,
+        p.kind.kcode,
+        p.speed,
+        p.roller,
+        comment=comment,
+    )
     if p.pause and p.pause_message:
         row.pause_message = p.pause_message
     if p.carriers:
@@ -393,4 +410,3 @@ def _check_stops(row: _Row) -> None:
             f"{row.direction} carrier {row.carrier}); the backend could not write this pass",
             carrier=row.carrier,
         )
-

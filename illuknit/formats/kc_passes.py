@@ -129,9 +129,10 @@ def combine_kinds(a: PassKind, b: PassKind) -> PassKind | None:
     split, stitch = (a, b) if a.family == "split" else (b, a)
     if split.family != "split" or stitch.family != "stitch":
         return None
-    source_knit = (
-        ("K", None) if split.split_to_back else (None, "K")
-    ) == (stitch.front, stitch.back)
+    source_knit = (("K", None) if split.split_to_back else (None, "K")) == (
+        stitch.front,
+        stitch.back,
+    )
     return split if source_knit else None
 
 
@@ -232,7 +233,7 @@ class KcPass:
 
 def _grippers_fit(first: str | None, then: str | None) -> bool:
     # yarn comes in at the start of a pass and leaves at its end
-    return then is None and first in (None, "in") or (first is None and then == "out")
+    return (then is None and first in (None, "in")) or (first is None and then == "out")
 
 
 def _same_speed(a: int | str, b: int | str) -> bool:
@@ -294,7 +295,9 @@ def read_kc_passes(text: str) -> KcProgram:
     lines = [ln[:-1] if ln.endswith("\r") else ln for ln in text.split("\n")]
     m = re.match(r"^;!knitout-(\d+)$", lines[0])
     if not m:
-        raise KcodeError("the file does not start with the knitout magic line ';!knitout-2'", line=1)
+        raise KcodeError(
+            "the file does not start with the knitout magic line ';!knitout-2'", line=1
+        )
     headers, first = _read_headers(lines)
     reader = _PassReader()
     for number in range(first, len(lines)):
@@ -337,9 +340,7 @@ def _read_headers(lines: list[str]) -> tuple[KcHeaders, int]:
                 )
             position = value
     if carriers is None or tuple(carriers) != CARRIERS:
-        raise KcodeError(
-            "the Kniterate needs the header ';;Carriers: 1 2 3 4 5 6'", line=index + 1
-        )
+        raise KcodeError("the Kniterate needs the header ';;Carriers: 1 2 3 4 5 6'", line=index + 1)
     return KcHeaders(position=position, width=width), index
 
 
@@ -378,10 +379,26 @@ class _PassReader:
     def slot(self, n: Needle) -> int:
         return n.index if n.front else n.index + math.floor(self.racking)
 
-    def new_pass(self, kind: PassKind, carriers: tuple[str, ...], direction: str, slot: int,
-                 op: SlotOp, *, roller: float) -> KcPass:
-        return KcPass(kind=kind, racking=self.racking, speed=self.speed, direction=direction,
-                      carriers=carriers, roller=roller, slots={slot: op}, line=self.line)
+    def new_pass(
+        self,
+        kind: PassKind,
+        carriers: tuple[str, ...],
+        direction: str,
+        slot: int,
+        op: SlotOp,
+        *,
+        roller: float,
+    ) -> KcPass:
+        return KcPass(
+            kind=kind,
+            racking=self.racking,
+            speed=self.speed,
+            direction=direction,
+            carriers=carriers,
+            roller=roller,
+            slots={slot: op},
+            line=self.line,
+        )
 
     def take_roller(self, value: float) -> float:
         """``value``, then undo a one-pass ``x-add-roller-advance``."""
@@ -395,7 +412,9 @@ class _PassReader:
         if not m:
             raise self.fail(f"invalid needle {token!r}")
         if len(m.group(1)) > 1:
-            raise self.fail(f"slider needle {token} is not supported on the Kniterate", needle=token)
+            raise self.fail(
+                f"slider needle {token} is not supported on the Kniterate", needle=token
+            )
         return Needle(m.group(1), int(m.group(2)))
 
     def number(self, op: str, args: list[str]) -> float:
@@ -424,8 +443,9 @@ class _PassReader:
         if kicks:
             back = _opposite(p.direction)
             for s in sorted(kicks):
-                kick_pass = self.new_pass(SOFT, tuple(kicks[s]), back, s, SlotOp.SOFT_MISS,
-                                          roller=0)
+                kick_pass = self.new_pass(
+                    SOFT, tuple(kicks[s]), back, s, SlotOp.SOFT_MISS, roller=0
+                )
                 kick_pass.pause, do_pause = do_pause, False  # the backend drops its message
                 self.merge(kick_pass)
                 for c in kicks[s]:
@@ -452,8 +472,9 @@ class _PassReader:
                 kick_slot <= needle_slot if left_of else kick_slot >= needle_slot
             ):
                 continue
-            self.merge(self.new_pass(SOFT, (name,), direction, last_slot, SlotOp.SOFT_MISS,
-                                     roller=0))
+            self.merge(
+                self.new_pass(SOFT, (name,), direction, last_slot, SlotOp.SOFT_MISS, roller=0)
+            )
             state.kick = (Needle("f", last_slot), direction)
 
     def mark_in(self, carriers: tuple[str, ...], p: KcPass) -> None:
@@ -520,7 +541,10 @@ class _PassReader:
             self.roller += self.add_roller
         elif op == "x-carrier-spacing":
             self.carrier_spacing = self.number(op, args)
-            if self.carrier_spacing * 2 != round(self.carrier_spacing * 2) or self.carrier_spacing < 1:
+            if (
+                self.carrier_spacing * 2 != round(self.carrier_spacing * 2)
+                or self.carrier_spacing < 1
+            ):
                 raise self.fail("`x-carrier-spacing` must be a multiple of 0.5 and at least 1")
         elif op == "x-carrier-stopping-distance":
             self.stopping_distance = math.floor(self.number(op, args)) + 0.5
@@ -543,8 +567,7 @@ class _PassReader:
         if racking - math.floor(racking) == 0.25:  # quarter pitch is the Kniterate's half pitch
             racking += 0.25
         if racking - math.floor(racking) not in (0.0, 0.5):
-            raise self.fail(f"racking must be whole or whole + 0.5, got {args[0]}",
-                            racking=racking)
+            raise self.fail(f"racking must be whole or whole + 0.5, got {args[0]}", racking=racking)
         self.racking = racking
 
     def bring_in(self, carriers: tuple[str, ...]) -> None:
@@ -566,8 +589,14 @@ class _PassReader:
             raise self.fail("take carriers out one at a time (`out 1`, `out 2`)")
         state = self.carriers[carriers[0]]
         assert state.last is not None
-        p = self.new_pass(SOFT, carriers, "-", self.slot(state.last[0]), SlotOp.SOFT_MISS,
-                          roller=self.take_roller(0))
+        p = self.new_pass(
+            SOFT,
+            carriers,
+            "-",
+            self.slot(state.last[0]),
+            SlotOp.SOFT_MISS,
+            roller=self.take_roller(0),
+        )
         p.gripper = "out"
         self.merge(p)
         del self.carriers[carriers[0]]
@@ -598,8 +627,9 @@ class _PassReader:
                 ("T", True): SlotOp.TUCK_F,
                 ("T", False): SlotOp.TUCK_B,
             }[stitch, n.front]
-        p = self.new_pass(kind, carriers, direction, slot, slot_op,
-                          roller=self.take_roller(self.roller))
+        p = self.new_pass(
+            kind, carriers, direction, slot, slot_op, roller=self.take_roller(self.roller)
+        )
         if op != "miss":
             p.sizes[slot] = {n.bed: self.stitch}
         self.mark_in(carriers, p)
@@ -641,8 +671,9 @@ class _PassReader:
             op = SlotOp.XFER_TO_BACK if n.front else SlotOp.XFER_TO_FRONT
             size = self.xfer_stitch
         self.kick_others(n, carriers)
-        p = self.new_pass(kind, carriers, direction, self.slot(n), op,
-                          roller=self.take_roller(self.add_roller))
+        p = self.new_pass(
+            kind, carriers, direction, self.slot(n), op, roller=self.take_roller(self.add_roller)
+        )
         p.sizes = {self.slot(n): {n.bed: size}}
         p.sizes.setdefault(self.slot(t), {})[t.bed] = size
         self.mark_in(carriers, p)
