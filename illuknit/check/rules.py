@@ -15,6 +15,7 @@ __all__ = ["RULES", "SWG_CARRIERS", "check_header", "machine_findings"]
 
 #: the only ;;Carriers: value the SWG converter accepts
 SWG_CARRIERS = "1 2 3 4 5 6 7 8 9 10"
+KNITERATE_CARRIERS = "1 2 3 4 5 6"
 
 #: code -> (severity, what it means)
 RULES: dict[str, tuple[str, str]] = {
@@ -64,20 +65,25 @@ def check_header(program: KnitoutProgram) -> list[Finding]:
             _finding(1, "header-version", f"knitout-{program.version}: the converter knows up to 2")
         )
     hc = program.header("Carriers")
+    machine = program.header("Machine")
+    # the Kniterate backend requires its own six-carrier header
+    kniterate = machine is not None and machine[0] == "Kniterate"
+    expected = KNITERATE_CARRIERS if kniterate else SWG_CARRIERS
+    converter = "Kniterate backend" if kniterate else "SWG converter"
     if hc is None:
         out.append(
             _finding(
                 1,
                 "header-carriers",
-                f"no ';;Carriers: {SWG_CARRIERS}' header (the SWG converter requires exactly this)",
+                f"no ';;Carriers: {expected}' header (the {converter} requires exactly this)",
             )
         )
-    elif hc[0] != SWG_CARRIERS:
+    elif hc[0] != expected:
         out.append(
             _finding(
                 hc[1],
                 "header-carriers",
-                f";;Carriers: {hc[0]!r}; the SWG converter requires exactly {SWG_CARRIERS!r}",
+                f";;Carriers: {hc[0]!r}; the {converter} requires exactly {expected!r}",
             )
         )
     g = program.header("Gauge")

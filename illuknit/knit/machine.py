@@ -14,9 +14,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass, replace
 
-from illuknit.errors import PatternValidationError, SchedulingError
+from illuknit.errors import PatternValidationError, SchedulingError, UnknownNameError
 
-__all__ = ["DEFAULT_MACHINE", "MachineSpec"]
+__all__ = ["DEFAULT_MACHINE", "KNITERATE", "MACHINES", "MachineSpec", "get_machine"]
 
 _POSITIONS = ("Left", "Right", "Center", "Keep")
 
@@ -55,6 +55,15 @@ class MachineSpec:
         Time model: fixed time per carriage pass (turning round and clearing the carriage's own length).
     course_aspect : float
         Course height divided by stitch width, used to estimate the piece's physical height.
+    inserting_hook : bool
+        Whether yarns can come in on a yarn-inserting hook (``inhook``/``releasehook``/
+        ``outhook``). Without one (the Kniterate) every yarn enters with ``in`` from the edge and
+        the piece starts on a waste section.
+    waste_carrier, draw_carrier : str or None
+        Carriers reserved for the waste yarn and the draw thread of the waste section (machines
+        without an inserting hook); they are not free for the pattern's colours.
+    formats : tuple of str
+        Machine files illuknit can write for this machine besides knitout (``"dat"``, ``"kc"``).
 
     Examples
     --------
@@ -79,6 +88,10 @@ class MachineSpec:
     seconds_per_needle: float = 0.01
     seconds_per_turn: float = 1.5
     course_aspect: float = 0.7
+    inserting_hook: bool = True
+    waste_carrier: str | None = None
+    draw_carrier: str | None = None
+    formats: tuple[str, ...] = ("dat",)
 
     def __post_init__(self) -> None:
         def positive(name: str, value: float, *, integer: bool = False) -> None:
@@ -103,6 +116,10 @@ class MachineSpec:
         if any(not c or any(ch.isspace() for ch in c) for c in carriers):
             raise PatternValidationError("carrier names must be non-empty and contain no spaces")
         object.__setattr__(self, "carriers", carriers)
+        for name in ("waste_carrier", "draw_carrier"):
+            c = getattr(self, name)
+            if c is not None and c not in carriers:
+                raise PatternValidationError(f"`{name}` {c!r} is not one of the carriers")
         if self.position not in _POSITIONS:
             raise PatternValidationError(
                 f"`position` must be one of {', '.join(_POSITIONS)}, got {self.position!r}"
@@ -135,6 +152,12 @@ class MachineSpec:
             return self.cast_on_stitch_number
         return self.stitch_number
 
+    @property
+    def pattern_carriers(self) -> tuple[str, ...]:
+        """Carriers free for the pattern's yarns: all but the waste-yarn and draw-thread ones."""
+        reserved = {self.waste_carrier, self.draw_carrier}
+        return tuple(c for c in self.carriers if c not in reserved)
+
     def check_width(self, wales: int) -> None:
         """Raise :class:`~illuknit.errors.SchedulingError` unless ``wales`` fit on the bed."""
         if wales > self.max_fabric_width:
@@ -155,3 +178,40 @@ class MachineSpec:
 
 #: The paper's machine: a 7-gauge Shima SWG091N2 (540 needles as the reference tools model it).
 DEFAULT_MACHINE = MachineSpec()
+
+#: The Kniterate: 252 needles at 7 gauge (the reference backend's bed), six carriers, no
+#: inserting hook. Carrier 1 holds the draw thread and 6 the waste yarn, a common convention,
+#: leaving 2-5 for the pattern. Its stitch numbers run 0-9/A-Z; 6 is the waste-section default.
+KNITERATE = MachineSpec(
+    name="Kniterate",
+    needles=252,
+    gauge=7.0,
+    carriers=("1", "2", "3", "4", "5", "6"),
+    max_racking=4,
+    stitch_number=6,
+    inserting_hook=False,
+    waste_carrier="6",
+    draw_carrier="1",
+    formats=("kc",),
+)
+
+#: Machines known by name (``--machine``).
+MACHINES: dict[str, MachineSpec] = {
+    "swg091n2": DEFAULT_MACHINE,
+    "generic540": DEFAULT_MACHINE,
+    "kniterate": KNITERATE,
+}
+
+
+def get_machine(name: str) -> MachineSpec:
+    """The preset called ``name`` (case-insensitive).
+
+    Raises
+    ------
+    UnknownNameError
+        Listing the known machine names.
+    """
+    try:
+        return MACHINES[name.lower()]
+    except KeyError:
+        raise UnknownNameError("machine", name, sorted(MACHINES)) from None
