@@ -27,19 +27,27 @@ def run_knit(
     path_planning: str = "anchor",
     strict_floats: bool = False,
     catch_every: int = 2,
+    machine_name: str = "swg091n2",
+    output_format: str = "knitout",
 ) -> dict[str, Any]:
-    """Compile ``pattern_path`` to knitout at ``output``; return the summary (and checker verdict).
+    """Compile ``pattern_path`` to knitout (or a machine file) at ``output``; return the summary
+    (and checker verdict).
 
     Nothing is written when compilation fails.
     """
     from dataclasses import replace
 
-    from illuknit.knit import DEFAULT_MACHINE, knit_pattern
+    from illuknit.errors import UnknownNameError
+    from illuknit.knit import knit_pattern
+    from illuknit.knit.machine import get_machine
     from illuknit.outputs import atomic_write_text
     from illuknit.pattern import load_pattern
 
+    machine = get_machine(machine_name)
+    formats = ("knitout", *machine.formats)
+    if output_format not in formats:
+        raise UnknownNameError(f"output format for the {machine.name}", output_format, formats)
     pattern = load_pattern(pattern_path)
-    machine = DEFAULT_MACHINE
     changes: dict[str, Any] = {}
     if gauge is not None:
         changes["gauge"] = gauge
@@ -85,8 +93,13 @@ def run_knit(
                     for f in report.findings[:20]
                 ],
             }
-    atomic_write_text(output, result.text)
+    from illuknit.knit.machine_sheet import machine_sheet
+
+    sheet = machine_sheet(result, name=Path(output).name)
+    summary.update(sheet.summary)
+    atomic_write_text(output, sheet.files.get(output_format, result.text))
     summary["output"] = str(output)
+    summary["format"] = output_format
     return summary
 
 
@@ -175,6 +188,22 @@ def run_knit(
     multiple=True,
     help="Yarn path strategy (paper Algorithm 3) [anchor]; 'none' is the Fig. 20 ablation.",
 )
+@click.option(
+    "--machine",
+    "machine_name",
+    default="swg091n2",
+    show_default=True,
+    help="Machine preset: swg091n2, generic540 or kniterate (6 carriers, 252 needles, no "
+    "inserting hook: the piece starts on a waste section and draw thread).",
+)
+@click.option(
+    "--format",
+    "output_format",
+    type=click.Choice(["knitout", "kc"]),
+    default="knitout",
+    show_default=True,
+    help="What -o holds: knitout, or the Kniterate's k-code (kc, with --machine kniterate).",
+)
 @click.option("--no-check", is_flag=True, help="Skip the knitout checker.")
 @click.option("--json", "as_json", is_flag=True, help="Print the summary as JSON.")
 def knit(
@@ -193,6 +222,8 @@ def knit(
     no_catching: bool,
     catch_every: int,
     path_planning: tuple[str, ...],
+    machine_name: str,
+    output_format: str,
     no_check: bool,
     as_json: bool,
 ) -> None:
@@ -227,6 +258,8 @@ def knit(
         seconds_per_needle=seconds_per_needle,
         seconds_per_turn=seconds_per_turn,
         check=not no_check,
+        machine_name=machine_name,
+        output_format=output_format,
     )
     if as_json:
         click.echo(json.dumps(summary, indent=1))
@@ -252,6 +285,7 @@ def knit(
         click.echo(
             f"estimated knitting time: {s['time']} (+{s['hook_passes']} hook passes counted)"
         )
+        _echo_machine_sheet(s)
         chk = s.get("check", False)
         if chk is None:
             click.echo("check: checker not available in this install")
@@ -264,3 +298,15 @@ def knit(
     chk = summary.get("check")
     if chk and chk["errors"]:
         raise click.exceptions.Exit(1)
+
+
+def _echo_machine_sheet(s: dict[str, Any]) -> None:
+    """What the machine knitter sets up: cones on carriers, stitch numbers, needles, time."""
+    click.echo(f"machine: {s['machine']}; passes on the machine: {s['machine_passes']}")
+    for row in s["carrier_table"]:
+        click.echo(f"  carrier {row['carrier']}: {row['yarn']} ({row['role']})")
+    click.echo(
+        f"  stitch numbers: {', '.join(map(str, s['stitch_numbers'])) or 'machine default'}; "
+        f"needles {s['needle_range'][0]}..{s['needle_range'][1]}; "
+        f"estimated time on the machine: {s['machine_time']}"
+    )
