@@ -45,17 +45,18 @@ def pass_table(include_all: bool) -> list[float]:
         for every in (2, 1):
             sch = schedule_mixed(stitches, machine=machine, catch_every=every)
             s = sch.stats
-            meta = sch.meta
+            mixed = sch.mixed
+            assert mixed is not None
             t = estimate_knit_time(sch)
             if every == 2:
                 ratios.append(s.ratio)
             name = inst.name if every == 2 else "  (catch every course)"
             print(
                 f"{name:26} {n:>4}x{m:<4} {s.passes:>6} {s.knit_passes:>5} "
-                f"{s.transfer_passes:>5} {meta['explicit_kickbacks']:>5} "
+                f"{s.transfer_passes:>5} {s.miss_passes:>5} "
                 f"{s.passes + s.kickbacks:>5} {s.lower_bound:>6} {s.ratio:>6.3f} "
-                f"{s.body_passes / s.body_lower_bound:>6.3f} {meta['plated_stitches']:>6} "
-                f"{meta['carriers']:>4} {t!s:>10}"
+                f"{s.body_passes / s.body_lower_bound:>6.3f} {mixed.plated_stitches:>6} "
+                f"{mixed.carriers:>4} {t!s:>10}"
             )
     if ratios:
         print(f"   worst ratio at the default catch spacing {max(ratios):.3f} (target <= 1.15)")

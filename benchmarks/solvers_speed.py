@@ -24,16 +24,15 @@ import time
 import numpy as np
 
 from illuknit.drawings import draw_ecg, draw_heart
+from illuknit.errors import SolverError
 from illuknit.illusion_models import (
     KnitWeights,
     build_model,
     default_yarns,
-    keep_warm_start,
     make_problem,
     pattern_from_solution,
-    warm_start,
 )
-from illuknit.solvers import available_backends, get_backend, solve
+from illuknit.solvers import available_backends, solve
 
 SECTIONS = ("logical", "knit-aware", "sweep", "single")
 
@@ -48,22 +47,16 @@ def run(kind: str, rows: int, cols: int, backend: str, limit: float, weights: Kn
     t0 = time.perf_counter()
     model = build_model(problem)
     build = time.perf_counter() - t0
-    be = get_backend(backend)
-    if not be.handles(model):
-        why = getattr(be, "why_not", lambda m: "")(model)
-        return f"{kind:<10} {rows:>3}x{cols:<3} {backend:<7} skipped: {why}"
-    ws = None
-    remaining = limit
-    if backend not in ("dp", "descent"):
-        # the DP optimum; for model (b) a block descent taking up to half the limit
-        model.hint, ws = warm_start(problem, model, time_limit=limit)
-        remaining = max(0.1 * limit, limit - ws["seconds"])
-    sol = solve(model, solver=backend, time_limit=remaining)
-    if ws is not None:
-        sol = keep_warm_start(model, sol, ws)
+    # the DP optimum; for model (b) a block descent taking up to half the limit
+    policy = "auto"
+    try:
+        sol = solve(model, solver=backend, warm_start=policy, time_limit=limit)
+    except SolverError as e:
+        return f"{kind:<10} {rows:>3}x{cols:<3} {backend:<7} skipped: {e}"
+    ws = sol.stats.get("warm_start", {})
     gap = "-" if sol.gap is None else f"{100 * sol.gap:.1f}%"
     bound = "-" if sol.bound is None else f"{sol.bound:g}"
-    start = "" if ws is None else f", warm start {ws['method']} {ws['objective']}"
+    start = f", warm start {ws.get('method', 'none')} {ws.get('objective', '')}, found by {sol.found_by}"
     return (
         f"{kind:<10} {rows:>3}x{cols:<3} {backend:<7} {sol.status.value:<8} "
         f"obj {sol.objective!s:>6}  bound {bound:>7}  gap {gap:>6}  "

@@ -20,6 +20,7 @@ __all__ = [
     "MachineRuleError",
     "ManifestError",
     "MixedColourworkError",
+    "OutputPathError",
     "PatternFormatError",
     "PatternValidationError",
     "RenderParamsError",
@@ -193,3 +194,8 @@ class ManifestError(IlluknitError, ValueError):
 
 class ResultsVersionError(IlluknitError, ValueError):
     """A benchmark results folder holds results of another illuknit version (or is not one)."""
+
+
+class OutputPathError(IlluknitError, OSError):
+    """An output folder or file cannot be written: a file in the way, a read-only file system, no
+    permission. The message names the path and the reason."""

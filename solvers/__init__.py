@@ -39,8 +39,21 @@ from dataclasses import replace
 from importlib.metadata import entry_points
 from typing import TYPE_CHECKING, Any
 
-from illuknit.errors import BackendUnavailableError, UnknownNameError
-from illuknit.solvers.base import Backend, ProgressCallback, ProgressEvent, Solution, Status
+from illuknit.errors import (
+    BackendUnavailableError,
+    PatternValidationError,
+    SolverError,
+    UnknownNameError,
+)
+from illuknit.solvers.base import (
+    Backend,
+    BackendBase,
+    ProgressCallback,
+    ProgressEvent,
+    Solution,
+    Status,
+    TracePoint,
+)
 
 if TYPE_CHECKING:
     from illuknit.model import Model
@@ -49,6 +62,7 @@ __all__ = [
     "ENTRY_POINT_GROUP",
     "REGISTRY",
     "Backend",
+    "BackendBase",
     "ProgressEvent",
     "Solution",
     "Status",
@@ -56,6 +70,7 @@ __all__ = [
     "backend_names",
     "get_backend",
     "register_backend",
+    "resolve_backend",
     "solve",
 ]
 
@@ -132,13 +147,10 @@ def get_backend(name: str, *, check_available: bool = True) -> Backend:
         The backend's library (or binary) is missing; the message names the extra to install.
     """
     backend = _lookup(name)
-    if check_available and not backend.is_available():
-        reason = getattr(backend, "unavailable_reason", None)
+    if check_available:
+        reason = backend.unavailable_reason()
         if reason is not None:
-            raise BackendUnavailableError(f"solver {name!r} is not available: {reason()}")
-        extra = getattr(backend, "extra", None)
-        how = f"pip install 'illuknit[{extra}]'" if extra else "see docs/solvers.md"
-        raise BackendUnavailableError(f"solver {name!r} is not available in this install ({how})")
+            raise BackendUnavailableError(f"solver {name!r} is not available: {reason}")
     return backend
 
 
@@ -163,33 +175,76 @@ def pick_backend(model: Model) -> Backend:
     raise BackendUnavailableError("no installed solver backend handles this model")
 
 
+def resolve_backend(model: Model, solver: str) -> Backend:
+    """The backend ``solver`` names ("auto": :func:`pick_backend`), checked to handle ``model``.
+
+    Raises
+    ------
+    SolverError
+        The backend cannot solve ``model``; the message says why.
+    """
+    backend = pick_backend(model) if solver == "auto" else get_backend(solver)
+    why = backend.why_not(model)
+    if why is not None:
+        raise SolverError(f"solver {backend.name!r} cannot solve model {model.name!r}: {why}")
+    return backend
+
+
 def solve(
     model: Model,
     *,
-    solver: str = "cpsat",
+    solver: str = "auto",
+    warm_start: str = "none",
     time_limit: float | None = None,
     seed: int = 0,
     progress: ProgressCallback | None = None,
 ) -> Solution:
-    """Solve ``model`` with the backend named ``solver`` ("auto" picks the first that handles it).
+    """Solve ``model`` with the backend named ``solver`` and the warm-start policy ``warm_start``.
 
-    A backend that does not handle the model raises :class:`illuknit.errors.SolverError`
-    explaining why. Infeasible models come back with
-    ``status == "infeasible"`` and ``stats["infeasible_families"]`` naming the conflicting
-    hard-constraint families.
+    The one orchestration the CLI, the benchmark, the app and :func:`solve_illusion` share:
+    resolve the backend once ("auto" picks the first available that handles the model), apply
+    the warm start (:mod:`illuknit.solvers.warm_start`: ``none``, ``dp``, ``descent`` or
+    ``auto``; skipped when the backend is itself the DP or the descent) within ``time_limit``,
+    solve with the rest of the time, and keep the warm start's answer only where the backend did
+    worse, saying so in ``found_by``. Every improvement the backend reports lands in
+    ``solution.trace``. Infeasible models come back with ``status == "infeasible"`` and
+    ``stats["infeasible_families"]`` naming the conflicting hard-constraint families.
+
+    Raises
+    ------
+    PatternValidationError
+        ``time_limit`` is not positive.
+    SolverError
+        The backend cannot solve the model, or the warm start does not apply to it.
     """
-    from illuknit.errors import PatternValidationError, SolverError
-
     if time_limit is not None and not time_limit > 0:
         raise PatternValidationError(f"`time_limit` must be positive seconds, got {time_limit!r}")
-    backend = pick_backend(model) if solver == "auto" else get_backend(solver)
-    if not backend.handles(model):
-        why = getattr(backend, "why_not", lambda m: "")(model)
-        raise SolverError(
-            f"solver {backend.name!r} cannot solve model {model.name!r}{': ' + why if why else ''}"
-        )
+    backend = resolve_backend(model, solver)
+    policy = "none"
+    if backend.name not in ("dp", "descent"):
+        from illuknit.solvers import warm_start as ws_mod  # light registry: load on demand
+
+        policy = ws_mod.resolve_policy(warm_start, model)
+    info = None
+    remaining = time_limit
+    if policy != "none":
+        model.hint, info = ws_mod.make_warm_start(model, policy, time_limit=time_limit, seed=seed)
+        if time_limit is not None:
+            remaining = max(0.1 * time_limit, time_limit - info["seconds"])
+    trace: list[TracePoint] = []
+
+    def record(event: ProgressEvent) -> None:
+        trace.append((event.elapsed, event.objective, event.bound))
+        if progress is not None:
+            progress(event)
+
     t0 = time.perf_counter()
-    sol = backend.solve(model, time_limit=time_limit, seed=seed, progress=progress)
+    sol = backend.solve(model, time_limit=remaining, seed=seed, progress=record)
+    sol = replace(sol, trace=tuple(trace) or sol.trace, found_at=_found_at(sol, trace))
+    if info is not None:
+        sol = ws_mod.keep_warm_start(model, sol, info)
+    else:
+        sol = replace(sol, stats={**sol.stats, "warm_start": {"method": "none"}})
     if sol.status is Status.INFEASIBLE and "infeasible_families" not in sol.stats:
         fams = model.infeasible_families()
         sol = replace(
@@ -198,3 +253,13 @@ def solve(
             stats={**sol.stats, "infeasible_families": fams},
         )
     return sol
+
+
+def _found_at(sol: Solution, trace: list[TracePoint]) -> float | None:
+    """When the backend first reported the objective it returned (its time to best)."""
+    if sol.values is None:
+        return None
+    for t, obj, _ in trace:
+        if obj is not None and sol.objective is not None and obj <= sol.objective:
+            return min(t, sol.wall_time)
+    return sol.found_at

@@ -14,6 +14,11 @@ A backend takes an :class:`illuknit.model.Model` (solver-neutral data) and retur
 * ``objective`` — total weight of violated soft clauses (+ ``model.offset``) of ``values``.
 * ``bound`` — proven lower bound on the optimum (equals ``objective`` when optimal).
 * ``wall_time`` (seconds) and backend-specific ``stats``.
+* ``found_by`` — who produced ``values``: the backend's name, or the warm start (``dp``,
+  ``descent``) when the backend came back with nothing better; ``found_at`` — seconds after the
+  start of the solve (warm start included) at which that assignment was found;
+  ``finished_at`` — the UTC time the solve ended (ISO 8601).
+* ``trace`` — the anytime trace: ``(seconds, objective, bound)`` for every improvement reported.
 
 Backends must honour ``time_limit`` (seconds, ``None`` = no limit) and return the best assignment
 found when it expires — never nothing when something was found — and should catch
@@ -24,8 +29,11 @@ improves.
 
 from __future__ import annotations
 
+import importlib.util
+import time
 from collections.abc import Callable, Hashable, Mapping
 from dataclasses import dataclass, field
+from datetime import UTC, datetime
 from enum import StrEnum
 from types import MappingProxyType
 from typing import TYPE_CHECKING, Any, Protocol, runtime_checkable
@@ -37,12 +45,16 @@ if TYPE_CHECKING:
     from illuknit.model import Model, VarPool
 
 __all__ = [
+    "ORACLES",
     "Backend",
+    "BackendBase",
     "ProgressCallback",
     "ProgressEvent",
     "Solution",
     "Status",
+    "TracePoint",
     "assignment_from_lits",
+    "check_oracle",
     "fallback_assignment",
     "interrupt_types",
 ]
@@ -70,6 +82,14 @@ class ProgressEvent:
 
 ProgressCallback = Callable[[ProgressEvent], None]
 
+#: One point of an anytime trace: (seconds since the start, objective or None, bound or None).
+TracePoint = tuple[float, float | None, float | None]
+
+
+def utc_now() -> str:
+    """The current UTC time, ISO 8601 to the second."""
+    return datetime.now(UTC).isoformat(timespec="seconds")
+
 
 @dataclass(frozen=True, eq=False)
 class Solution:
@@ -83,9 +103,21 @@ class Solution:
     stats: Mapping[str, Any] = field(default_factory=dict)
     backend: str = ""
     pool: VarPool | None = field(default=None, repr=False)
+    found_by: str = ""
+    found_at: float | None = None
+    finished_at: str = ""
+    trace: tuple[TracePoint, ...] = ()
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "status", Status(self.status))
+        if self.values is not None:
+            if not self.found_by:
+                object.__setattr__(self, "found_by", self.backend)
+            if self.found_at is None:
+                object.__setattr__(self, "found_at", float(self.wall_time))
+        if not self.finished_at:
+            object.__setattr__(self, "finished_at", utc_now())
+        object.__setattr__(self, "trace", tuple(self.trace))
         if self.values is not None:
             v = np.asarray(self.values, dtype=bool)
             v.setflags(write=False)
@@ -135,6 +167,9 @@ class Solution:
             "bound": self.bound,
             "gap": self.gap,
             "wall_time": round(self.wall_time, 4),
+            "found_by": self.found_by,
+            "found_at": None if self.found_at is None else round(self.found_at, 4),
+            "finished_at": self.finished_at,
             "stats": {k: v for k, v in self.stats.items() if _jsonable(v)},
         }
 
@@ -162,8 +197,20 @@ class Backend(Protocol):
         """Whether this backend can solve ``model`` (e.g. the DP needs an illusion problem)."""
         ...
 
+    def why_not(self, model: Model) -> str | None:
+        """Why this backend cannot solve ``model``, or None when it can."""
+        ...
+
     def is_available(self) -> bool:
         """Whether the libraries (or binaries) it needs are installed."""
+        ...
+
+    def unavailable_reason(self) -> str | None:
+        """Why it is not available (what to install), or None when it is."""
+        ...
+
+    def version(self) -> str:
+        """The version of the solver library or binary it runs ("" when unknown)."""
         ...
 
     def solve(
@@ -176,6 +223,80 @@ class Backend(Protocol):
     ) -> Solution:
         """Solve ``model``; see the module docstring for the meaning of the result."""
         ...
+
+
+class BackendBase:
+    """The shared part of every built-in backend: availability from the modules it ``requires``,
+    ``handles`` from ``why_not``, the version of its ``distribution``, and building the
+    :class:`Solution`. Subclasses set the class attributes and implement ``solve``."""
+
+    name: str = ""
+    extra: str | None = None
+    exact: bool = True
+    #: importable modules the backend needs (probed with importlib.util.find_spec, not imported)
+    requires: tuple[str, ...] = ()
+    #: the PyPI distribution whose version :meth:`version` reports
+    distribution: str | None = None
+
+    def why_not(self, model: Model) -> str | None:
+        return None
+
+    def handles(self, model: Model) -> bool:
+        return self.why_not(model) is None
+
+    def unavailable_reason(self) -> str | None:
+        for mod in self.requires:
+            try:
+                found = importlib.util.find_spec(mod) is not None
+            except (ImportError, ValueError):
+                found = False
+            if not found:
+                how = (
+                    f"pip install 'illuknit[{self.extra}]'" if self.extra else "see docs/solvers.md"
+                )
+                return f"needs the Python module {mod!r} ({how})"
+        return None
+
+    def is_available(self) -> bool:
+        return self.unavailable_reason() is None
+
+    def version(self) -> str:
+        if self.distribution is None:
+            from illuknit import __version__
+
+            return f"illuknit {__version__}"
+        from importlib.metadata import PackageNotFoundError
+        from importlib.metadata import version as dist_version
+
+        try:
+            return f"{self.distribution} {dist_version(self.distribution)}"
+        except PackageNotFoundError:
+            return ""
+
+    def solution(
+        self,
+        model: Model,
+        status: Status,
+        t0: float,
+        values: NDArray[np.bool_] | None = None,
+        objective: int | float | None = None,
+        bound: float | None = None,
+        stats: Mapping[str, Any] | None = None,
+        *,
+        found_at: float | None = None,
+    ) -> Solution:
+        """A :class:`Solution` of this backend, timed from ``t0`` (``time.perf_counter()``)."""
+        return Solution(
+            status,
+            values,
+            objective,
+            bound,
+            time.perf_counter() - t0,
+            stats or {},
+            self.name,
+            model.pool,
+            found_at=found_at,
+        )
 
 
 def assignment_from_lits(lits: Any, top: int) -> NDArray[np.bool_]:
@@ -217,6 +338,19 @@ def fallback_assignment(
         v = assignment_from_lits(s.get_model(), model.pool.top)
     ok, cost = model.evaluate(v)
     return (v, cost) if ok else (None, None)
+
+
+#: SAT oracles python-sat provides by these names (``rc2:ORACLE``, ``lsu:ORACLE``).
+ORACLES = ("cd15", "cd19", "g3", "g4", "g42", "lgl", "m22", "mcb", "mcm", "mgh", "mpl", "mg3")
+
+
+def check_oracle(name: str) -> str:
+    """``name`` if python-sat has a SAT oracle called so, else an error listing them."""
+    from illuknit.errors import UnknownNameError
+
+    if name not in ORACLES:
+        raise UnknownNameError("SAT oracle", name, ORACLES)
+    return name
 
 
 def interrupt_types() -> tuple[type[BaseException], ...]:

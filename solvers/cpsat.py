@@ -30,6 +30,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from illuknit.solvers.base import (
+    BackendBase,
     ProgressCallback,
     ProgressEvent,
     Solution,
@@ -46,12 +47,12 @@ __all__ = ["LARGE_MODEL_VARS", "CPSATBackend"]
 LARGE_MODEL_VARS = 12_000
 
 
-class CPSATBackend:
+class CPSATBackend(BackendBase):
     """OR-Tools CP-SAT (worker choice by model size; see the module docstring)."""
 
     name = "cpsat"
-    extra: str | None = None
-    exact = True
+    requires = ("ortools",)
+    distribution = "ortools"
 
     def __init__(self, num_workers: int | None = None, linearization_level: int = 2) -> None:
         self.num_workers = num_workers
@@ -64,16 +65,6 @@ class CPSATBackend:
         if model.num_vars > LARGE_MODEL_VARS and not per_wale:
             return 2, ["max_lp", "quick_restart_no_lp"]
         return 1, []
-
-    def handles(self, model: Model) -> bool:
-        return True
-
-    def is_available(self) -> bool:
-        try:
-            from ortools.sat.python import cp_model  # noqa: F401
-        except ImportError:
-            return False
-        return True
 
     def solve(
         self,

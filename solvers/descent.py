@@ -47,10 +47,11 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import NDArray
 
-from illuknit.solvers.base import ProgressCallback, ProgressEvent, Solution, Status
+from illuknit.illusion_problem import IllusionProblem, raised_cost
+from illuknit.solvers.base import BackendBase, ProgressCallback, ProgressEvent, Solution, Status
+from illuknit.solvers.dp import DPBackend, solve_dp, values_from_pattern
 
 if TYPE_CHECKING:
-    from illuknit.illusion_models import IllusionProblem
     from illuknit.model import Model
 
 __all__ = [
@@ -71,11 +72,9 @@ _INF = np.int64(1) << np.int64(40)
 
 def _unit_costs(problem: IllusionProblem) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
     """(bump cost per unit (N, M), pinned-yarn penalty (N, M, K)) of ``problem``."""
-    from illuknit.illusion_models import _raised_cost
-
     n, m = problem.shape
     k = problem.n_yarns
-    bump = _raised_cost(n, m, problem.transfer_weight)
+    bump = raised_cost(n, m, problem.transfer_weight)
     pin = np.zeros((n, m, k), dtype=np.int64)
     if problem.pinned is not None:
         p = problem.pinned.astype(np.int64)
@@ -347,8 +346,6 @@ def optimise_descent(
     starts : dict, optional
         Extra named starting patterns ``{name: (yarn, raised)}`` (e.g. a tile pattern).
     """
-    from illuknit.solvers.dp import solve_dp
-
     t0 = time.perf_counter()
     deadline = None if time_limit is None else t0 + time_limit
     n, m = problem.shape
@@ -479,32 +476,23 @@ def _search(
 # -- the backend ----------------------------------------------------------------------------
 
 
-class DescentBackend:
+class DescentBackend(BackendBase):
     """Iterated exact-block coordinate descent (wales and courses) for illusion models."""
 
     name = "descent"
-    extra: str | None = None
     #: a heuristic on the knit-aware model: ``optimal`` only where the DP proves it
     exact = False
 
     def __init__(self, *, stall: int = 40) -> None:
         self.stall = stall
 
-    def handles(self, model: Model) -> bool:
-        from illuknit.illusion_models import IllusionProblem
-
-        p = getattr(model, "problem", None)
-        return isinstance(p, IllusionProblem) and p.color_cap is None
-
-    def why_not(self, model: Model) -> str:
-        from illuknit.illusion_models import IllusionProblem
-
-        if not isinstance(getattr(model, "problem", None), IllusionProblem):
+    def why_not(self, model: Model) -> str | None:
+        p = model.problem
+        if not isinstance(p, IllusionProblem):
             return "block descent solves only illusion models built by illuknit.illusion_models"
-        return "block descent cannot guarantee a hard colour-change cap; use --solver cpsat"
-
-    def is_available(self) -> bool:
-        return True
+        if p.color_cap is not None:
+            return "block descent cannot guarantee a hard colour-change cap; use --solver cpsat"
+        return None
 
     def solve(
         self,
@@ -514,8 +502,6 @@ class DescentBackend:
         seed: int = 0,
         progress: ProgressCallback | None = None,
     ) -> Solution:
-        from illuknit.solvers.dp import DPBackend, values_from_pattern
-
         problem = model.problem
         if problem.per_wale or problem.rows_tied:
             # no cross-wale term (or rows tied to one yarn): the DP is exact

@@ -39,10 +39,10 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import NDArray
 
-from illuknit.solvers.base import ProgressCallback, ProgressEvent, Solution, Status
+from illuknit.illusion_problem import IllusionProblem, raised_cost
+from illuknit.solvers.base import BackendBase, ProgressCallback, ProgressEvent, Solution, Status
 
 if TYPE_CHECKING:
-    from illuknit.illusion_models import IllusionProblem
     from illuknit.model import Model
 
 __all__ = ["DPBackend", "hint_values", "solve_dp"]
@@ -65,8 +65,6 @@ def solve_dp(problem: IllusionProblem) -> tuple[NDArray[np.int16], NDArray[np.bo
     cost : int
         Objective value (weighted mismatched view cells + bump costs).
     """
-    from illuknit.illusion_models import _raised_cost
-
     if problem.rows_tied:
         return solve_single_rows(problem)
     a = problem.target_a.astype(np.int64)
@@ -84,7 +82,7 @@ def solve_dp(problem: IllusionProblem) -> tuple[NDArray[np.int16], NDArray[np.bo
     u[n - 1] += wv * (cs[None, :] != b[n - 1][:, None])
     wt = problem.transfer_weight
     if wt:
-        u += _raised_cost(n, m, wt)[:, :, None] * rs[None, None, :]
+        u += raised_cost(n, m, wt)[:, :, None] * rs[None, None, :]
     if problem.pinned is not None:
         p = problem.pinned.astype(np.int64)
         bad = (p[:, :, None] >= 0) & (cs[None, None, :] != p[:, :, None])
@@ -120,15 +118,13 @@ def solve_single_rows(
     Returns (yarn (N, M) int16, raised (N, M) bool, cost); cost >= 2**40 when no row colouring
     satisfies the pins and the alternation.
     """
-    from illuknit.illusion_models import _raised_cost
-
     a = problem.target_a.astype(np.int64)
     b = problem.target_b.astype(np.int64)
     n, m = problem.shape
     k = problem.n_yarns
     wv = problem.view_weight
     wt = problem.transfer_weight
-    bump = _raised_cost(n, m, wt)
+    bump = raised_cost(n, m, wt)
     col = np.arange(k)
     # g[i, p, c, q]: cost of row i in colour c between rows of colours p (above) and q (below);
     # keep[i, p, c, q, j]: whether unit (i, j) is raised in that case
@@ -206,33 +202,23 @@ def values_from_pattern(
     return vals
 
 
-class DPBackend:
+class DPBackend(BackendBase):
     """Exact dynamic programming: per wale, or over row colours for the single-view model."""
 
     name = "dp"
-    extra: str | None = None
-    exact = True
 
-    def handles(self, model: Model) -> bool:
-        from illuknit.illusion_models import IllusionProblem
-
+    def why_not(self, model: Model) -> str | None:
         p = model.problem
-        return isinstance(p, IllusionProblem) and (p.per_wale or p.rows_tied)
-
-    def why_not(self, model: Model) -> str:
-        from illuknit.illusion_models import IllusionProblem
-
-        if not isinstance(model.problem, IllusionProblem):
+        if not isinstance(p, IllusionProblem):
             return (
                 "the DP solves only illusion models built by illuknit.illusion_models.build_model"
             )
+        if p.per_wale or p.rows_tied:
+            return None
         return (
             "colour-change terms couple the wales; use --solver cpsat or rc2 for the knit-aware "
             "model (or set color_change=0 and no cap)"
         )
-
-    def is_available(self) -> bool:
-        return True
 
     def solve(
         self,

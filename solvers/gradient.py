@@ -16,9 +16,10 @@ It does not handle models with a hard colour-change cap per course (descent cann
 from __future__ import annotations
 
 import time
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
-from illuknit.solvers.base import ProgressCallback, ProgressEvent, Solution, Status
+from illuknit.illusion_problem import IllusionProblem
+from illuknit.solvers.base import BackendBase, ProgressCallback, ProgressEvent, Solution, Status
 
 if TYPE_CHECKING:
     from illuknit.model import Model
@@ -26,36 +27,26 @@ if TYPE_CHECKING:
 __all__ = ["GradientBackend"]
 
 
-class GradientBackend:
+class GradientBackend(BackendBase):
     """Soft heights and yarns optimised with Adam against renders at ±theta, then binarised."""
 
     name = "gradient"
-    extra: str | None = None
     #: a heuristic: statuses are ``feasible``/``timeout``, never ``optimal``, and no bound
     exact = False
 
-    def __init__(self, *, steps: int = 300, params=None) -> None:
+    def __init__(self, *, steps: int = 300, params: Any = None) -> None:
         self.steps = steps
         self.params = params
 
-    def handles(self, model: Model) -> bool:
-        from illuknit.illusion_models import IllusionProblem
-
-        p = getattr(model, "problem", None)
-        return isinstance(p, IllusionProblem) and p.color_cap is None and p.n_yarns >= 2
-
-    def why_not(self, model: Model) -> str:
-        from illuknit.illusion_models import IllusionProblem
-
-        p = getattr(model, "problem", None)
+    def why_not(self, model: Model) -> str | None:
+        p = model.problem
         if not isinstance(p, IllusionProblem):
             return "the gradient backend solves only illusion models built by illuknit.illusion_models.build_model"
         if p.n_yarns < 2:
             return "the gradient backend needs at least two yarns"
-        return "gradient descent cannot guarantee a hard colour-change cap; use --solver cpsat"
-
-    def is_available(self) -> bool:
-        return True
+        if p.color_cap is not None:
+            return "gradient descent cannot guarantee a hard colour-change cap; use --solver cpsat"
+        return None
 
     def solve(
         self,
@@ -65,7 +56,7 @@ class GradientBackend:
         seed: int = 0,
         progress: ProgressCallback | None = None,
     ) -> Solution:
-        from illuknit.illusion_models import default_yarns
+        from illuknit.illusion_report import default_yarns
         from illuknit.render.optimise import optimise_design
         from illuknit.render.params import RenderParams
         from illuknit.solvers.dp import values_from_pattern

@@ -22,11 +22,13 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from illuknit.solvers.base import (
+    BackendBase,
     ProgressCallback,
     ProgressEvent,
     Solution,
     Status,
     assignment_from_lits,
+    check_oracle,
     interrupt_types,
 )
 
@@ -41,26 +43,24 @@ MAX_TOTAL_WEIGHT = 200_000
 MAX_TOTALIZER_SIZE = 30_000_000
 
 
-class LSUBackend:
-    """pysat linear search from above (SAT-UNSAT), weighted via a repeated-selector totalizer."""
+class LSUBackend(BackendBase):
+    """pysat linear search from above (SAT-UNSAT), weighted via a repeated-selector totalizer.
+
+    ``oracle`` names the SAT solver (python-sat's names, default ``g4``); ``lsu:ORACLE`` by name.
+    """
 
     name = "lsu"
-    extra: str | None = None
-    exact = True
+    requires = ("pysat",)
+    distribution = "python-sat"
 
-    def handles(self, model: Model) -> bool:
-        return model.total_soft_weight() <= MAX_TOTAL_WEIGHT
+    def __init__(self, oracle: str = "g4") -> None:
+        self.oracle = check_oracle(oracle)
+        self.name = "lsu" if oracle == "g4" else f"lsu:{oracle}"
 
-    def why_not(self, model: Model) -> str:
+    def why_not(self, model: Model) -> str | None:
+        if model.total_soft_weight() <= MAX_TOTAL_WEIGHT:
+            return None
         return f"total soft weight {model.total_soft_weight()} exceeds {MAX_TOTAL_WEIGHT}"
-
-    def is_available(self) -> bool:
-        try:
-            import pysat.card
-            import pysat.solvers  # noqa: F401
-        except ImportError:
-            return False
-        return True
 
     def solve(
         self,
@@ -78,7 +78,7 @@ class LSUBackend:
         nv = cs.nv
         sels: list[int] = []
         wts: list[int] = []
-        oracle = Solver(name="g4", bootstrap_with=cs.hard)
+        oracle = Solver(name=self.oracle, bootstrap_with=cs.hard)
         for cl, w in zip(cs.soft, cs.weights, strict=True):
             if len(cl) == 1:
                 sels.append(-cl[0])

@@ -22,10 +22,12 @@ import numpy as np
 from numpy.typing import NDArray
 
 from illuknit.solvers.base import (
+    BackendBase,
     ProgressCallback,
     ProgressEvent,
     Solution,
     Status,
+    check_oracle,
     fallback_assignment,
     interrupt_types,
 )
@@ -80,22 +82,20 @@ def split_components(cs: ClauseSet) -> list[tuple[list[int], list[int]]]:
     return out
 
 
-class RC2Backend:
-    """pysat RC2 per independent component, adapt + exhaust + minimise cores."""
+class RC2Backend(BackendBase):
+    """pysat RC2 per independent component, adapt + exhaust + minimise cores.
+
+    ``oracle`` names the SAT solver RC2 calls (python-sat's names: ``g3``, ``g4``, ``cd15``,
+    ``cd19``, ``mgh``, ...); the backend is ``rc2:ORACLE`` by name.
+    """
 
     name = "rc2"
-    extra: str | None = None
-    exact = True
+    requires = ("pysat",)
+    distribution = "python-sat"
 
-    def handles(self, model: Model) -> bool:
-        return True
-
-    def is_available(self) -> bool:
-        try:
-            import pysat.examples.rc2  # noqa: F401
-        except ImportError:
-            return False
-        return True
+    def __init__(self, oracle: str = "g3") -> None:
+        self.oracle = check_oracle(oracle)
+        self.name = "rc2" if oracle == "g3" else f"rc2:{oracle}"
 
     def solve(
         self,
@@ -127,7 +127,7 @@ class RC2Backend:
                 stopped = True
                 break
             try:
-                res = _solve_component(cs, hard_idx, soft_idx, remaining)
+                res = _solve_component(cs, hard_idx, soft_idx, remaining, self.oracle)
             except interrupts:
                 interrupted = stopped = True
                 break
@@ -188,7 +188,11 @@ class RC2Backend:
 
 
 def _solve_component(
-    cs: ClauseSet, hard_idx: list[int], soft_idx: list[int], time_limit: float | None
+    cs: ClauseSet,
+    hard_idx: list[int],
+    soft_idx: list[int],
+    time_limit: float | None,
+    oracle: str = "g3",
 ) -> tuple[str, NDArray[np.int64], int]:
     """("optimal" | "stopped" | "infeasible", literals over original ids, cost or lower bound)."""
     from pysat.examples.rc2 import RC2, RC2Stratified
@@ -210,7 +214,7 @@ def _solve_component(
     w.extend([renum(c) for c in hard])
     w.extend([renum(c) for c in soft], weights=weights)
     cls = RC2Stratified if len(set(weights)) > 1 else RC2
-    rc2 = cls(w, solver="g3", adapt=True, exhaust=True, minz=True)
+    rc2 = cls(w, solver=oracle, adapt=True, exhaust=True, minz=True)
     timer = Timer(time_limit, rc2.interrupt) if time_limit is not None else None
     try:
         if timer is not None:

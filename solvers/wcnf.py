@@ -31,7 +31,13 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from illuknit.errors import SolverError
-from illuknit.solvers.base import ProgressCallback, ProgressEvent, Solution, Status
+from illuknit.solvers.base import (
+    BackendBase,
+    ProgressCallback,
+    ProgressEvent,
+    Solution,
+    Status,
+)
 
 if TYPE_CHECKING:
     from illuknit.model import Model
@@ -85,11 +91,8 @@ def parse_maxsat_output(text: str, nv: int) -> tuple[str | None, int | None, np.
     return status, cost, values
 
 
-class ExternalWCNFBackend:
+class ExternalWCNFBackend(BackendBase):
     """Runs a user-named MaxSAT solver command on a WCNF file."""
-
-    extra: str | None = None
-    exact = True
 
     def __init__(self, command: str, *, style: str = "new") -> None:
         self.command = command.strip()
@@ -100,19 +103,16 @@ class ExternalWCNFBackend:
         except ValueError as e:
             raise SolverError(f"cannot parse solver command {self.command!r}: {e}") from None
 
-    def handles(self, model: Model) -> bool:
-        return True
-
-    def unavailable_reason(self) -> str:
+    def unavailable_reason(self) -> str | None:
         if not self.argv:
             return "no solver command given after 'wcnf:'"
-        return f"external solver binary {self.argv[0]!r} not found (not on PATH and not a file)"
-
-    def is_available(self) -> bool:
-        if not self.argv:
-            return False
         exe = self.argv[0]
-        return shutil.which(exe) is not None or (Path(exe).is_file() and os.access(exe, os.X_OK))
+        if shutil.which(exe) is not None or (Path(exe).is_file() and os.access(exe, os.X_OK)):
+            return None
+        return f"external solver binary {exe!r} not found (not on PATH and not a file)"
+
+    def version(self) -> str:
+        return f"external: {self.argv[0]}" if self.argv else ""
 
     def solve(
         self,
@@ -124,7 +124,7 @@ class ExternalWCNFBackend:
     ) -> Solution:
         t0 = time.perf_counter()
         if not self.is_available():
-            raise SolverError(self.unavailable_reason())
+            raise SolverError(str(self.unavailable_reason()))
         with tempfile.TemporaryDirectory(prefix="illuknit-wcnf-") as tmp:
             path = Path(tmp) / "model.wcnf"
             path.write_text(model.to_wcnf(style=self.style), encoding="ascii")

@@ -4,9 +4,12 @@ A local FastAPI server with one hand-written page (no build step, no CDN: everyt
 this package) and a JSON API over the library, documented by OpenAPI at ``/docs``.
 
 * :mod:`illuknit.app.design` -- the pipeline the page drives (pure functions over the library);
+* :mod:`illuknit.app.schemas` -- the settings and request models (pydantic), written once;
 * :mod:`illuknit.app.sessions` -- per-tab sessions, so two tabs never share state;
 * :mod:`illuknit.app.jobs` -- cancellable background jobs with progress;
-* :mod:`illuknit.app.server` -- the HTTP layer (:func:`create_app`).
+* :mod:`illuknit.app.server` -- the HTTP layer (:func:`create_app`), assembled from
+  :mod:`illuknit.app.routers` (one router per resource), :mod:`illuknit.app.lookups`,
+  :mod:`illuknit.app.handlers` (errors) and :mod:`illuknit.app.middleware`.
 
 FastAPI and uvicorn are an optional extra: ``pip install 'illuknit[app]'``.
 """

@@ -3,7 +3,7 @@
     uploaded file -> decode_upload -> prepare_inputs (resize to units, quantise to yarns, legend)
                   -> make_candidates (single view: both stripe orders; double view / head-on:
                      ranked tile mappings) -> pattern_for (with per-pair tile overrides)
-                  -> render_view (angled renderer when installed, boolean can_see otherwise)
+                  -> render_view (the angled renderer)
                   -> downloads (pattern JSON, previews, chart, instructions, knitout + check)
 
 Everything here is a plain function of its inputs (no session, no HTTP), so the server stays a thin
@@ -11,13 +11,12 @@ layer and these functions are testable on their own. Library errors are re-raise
 :class:`AppRequestError` naming the page control (``field``) that caused them, which is what lets
 the page show the message next to that control.
 
-Parts of the library are optional in an install (the tile bank, the angled renderer, the knitout
-compiler and checker); :func:`capabilities` says which are present and the page adapts.
+Every library part used here is imported directly: an import error in illuknit's own code is a
+bug to see, never a feature to grey out.
 """
 
 from __future__ import annotations
 
-import contextlib
 import importlib
 import io
 import os
@@ -26,7 +25,7 @@ import zipfile
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, Literal
 from urllib.parse import urlencode
 
 import numpy as np
@@ -80,49 +79,26 @@ def blame(field_name: str | None) -> Iterator[None]:
         raise AppRequestError(str(e), field=field_name, code=type(e).__name__) from None
 
 
-def _optional(module: str) -> Any | None:
-    try:
-        return importlib.import_module(module)
-    except ImportError:
-        return None
-
-
-def _has(module: str, name: str) -> bool:
-    """Whether ``module.name`` exists and imports (parts of the library may be absent or lazy)."""
-    mod = _optional(module)
-    if mod is None:
-        return False
-    try:
-        return getattr(mod, name, None) is not None
-    except Exception:  # a lazy attribute whose module is missing or broken
-        return False
-
-
-def require_part(module: str, name: str, *, needs: str, field: str) -> Any:
-    """``module`` if it provides ``name``, else a 501 saying that ``needs`` it (page control ``field``)."""
-    if not _has(module, name):
-        raise AppRequestError(
-            f"{needs}, which this install lacks", field=field, code="unavailable", status=501
-        )
-    return importlib.import_module(module)
-
-
 def capabilities() -> dict[str, bool]:
-    """Which optional parts of the library this install has (the page greys out the others)."""
+    """What this install can do (the page greys out the rest).
+
+    Every part the page drives is illuknit's own and always installed; only machine files
+    (Shima ``.dat``) are not written by illuknit yet.
+    """
     return {
         "single": True,
-        "double": _has("illuknit.tiles", "assign_tiles"),
-        "headon": _has("illuknit.tiles", "assign_headon"),
-        "render": _has("illuknit.render", "render_views"),
-        "knit": _has("illuknit.knit", "knit_pattern"),
-        "check": _has("illuknit.check", "check_knitout"),
-        "chart": _has("illuknit.chart", "written_instructions"),
+        "double": True,
+        "headon": True,
+        "render": True,
+        "knit": True,
+        "check": True,
+        "chart": True,
         "dat": False,
     }
 
 
 def warm_up() -> None:
-    """Import the modules the first request would otherwise wait for (errors are ignored)."""
+    """Import the modules the first request would otherwise wait for (run in a thread)."""
     for name in (
         "illuknit.images",
         "skimage.transform",
@@ -135,9 +111,7 @@ def warm_up() -> None:
         "illuknit.tiles.headon",
         "ortools.sat.python.cp_model",
     ):
-        # an optional part that is missing is reported where it is used, not here
-        with contextlib.suppress(Exception):
-            importlib.import_module(name)
+        importlib.import_module(name)
 
 
 # -- input -------------------------------------------------------------------------------------
@@ -366,6 +340,8 @@ class Candidate:
 
 
 Progress = Callable[[float, str], None]
+#: The sides a pattern is seen from: A (from above), B (from below), or head-on.
+View = Literal["A", "B", "headon"]
 
 
 def make_candidates(prepared: Prepared, *, count: int, progress: Progress) -> list[Candidate]:
@@ -399,12 +375,8 @@ def _single_candidates(prepared: Prepared, progress: Progress) -> list[Candidate
 
 def _tile_candidates(prepared: Prepared, *, count: int, progress: Progress) -> list[Candidate]:
     mode = prepared.mode
-    tiles = require_part(
-        "illuknit.tiles",
-        "assign_tiles",
-        needs="tile design needs the tile bank (illuknit.tiles)",
-        field="mode",
-    )
+    from illuknit import tiles
+
     qa = prepared.quantised["a"]
     qb = prepared.quantised.get("b")
     progress(0.05, "building the tile bank")
@@ -483,7 +455,8 @@ def pattern_for(candidate: Candidate, overrides: dict[tuple[int, int], str]) -> 
         raise AppRequestError(
             "this candidate has no tiles to edit", field="tiles", code="not_editable", status=409
         )
-    tiles = importlib.import_module("illuknit.tiles")
+    from illuknit import tiles
+
     assignment = candidate.source
     chosen = {pair: _override_tile(assignment, t) for pair, t in overrides.items()}
     for pair in chosen:
@@ -615,12 +588,11 @@ def tile_png(tile_id: str, candidate: Candidate | None = None) -> bytes:
 # -- rendering ---------------------------------------------------------------------------------
 
 
-def render_view(pattern: LogicalPattern, view: str, *, angle: float) -> NDArray[np.uint8]:
+def render_view(pattern: LogicalPattern, view: View, *, angle: float) -> NDArray[np.uint8]:
     """(H, W, 3) uint8 picture of ``view`` ("A", "B", "headon") at elevation ``angle`` degrees.
 
-    Uses the angled renderer when installed, supersampled along the wales and widened by the same
-    factor so that the picture has square pixels and shows sub-unit coverage; otherwise the boolean
-    can_see view (which does not depend on the angle).
+    The angled renderer, supersampled along the wales and widened by the same factor so that the
+    picture has square pixels and shows sub-unit coverage.
     """
     if not 0 < angle <= 90:
         raise AppRequestError(
@@ -632,15 +604,12 @@ def render_view(pattern: LogicalPattern, view: str, *, angle: float) -> NDArray[
         raise AppRequestError(
             f"view must be A, B or headon, got {view!r}", field="view", code="range"
         )
-    if _has("illuknit.render", "render_pattern"):
-        render = importlib.import_module("illuknit.render")
-        ss = int(min(6, max(1, round(360 / max(pattern.shape)))))
-        with blame("angle"):
-            img = render.render_pattern(pattern, view=view, angle=angle, supersample=ss)
-        return np.repeat(np.asarray(img, dtype=np.uint8), ss, axis=1)
-    from illuknit.previews import view_rgb
+    from illuknit.render import render_pattern
 
-    return view_rgb(pattern, view)  # type: ignore[arg-type]
+    ss = int(min(6, max(1, round(360 / max(pattern.shape)))))
+    with blame("angle"):
+        img = render_pattern(pattern, view=view, angle=angle, supersample=ss)
+    return np.repeat(np.asarray(img, dtype=np.uint8), ss, axis=1)
 
 
 def png_bytes(rgb: NDArray[np.uint8]) -> bytes:
@@ -688,13 +657,9 @@ def chart_png(pattern: LogicalPattern) -> bytes:
 
 
 def instructions_text(pattern: LogicalPattern) -> str:
-    chart = require_part(
-        "illuknit.chart",
-        "written_instructions",
-        needs="written instructions need illuknit.chart",
-        field="downloads",
-    )
-    return str(chart.written_instructions(pattern))
+    from illuknit.chart import written_instructions
+
+    return written_instructions(pattern)
 
 
 @dataclass(frozen=True)
@@ -704,26 +669,23 @@ class KnitResult:
     key: str  # identifies the pattern it was made from
     knitout: str
     stats: dict[str, Any]
-    report: dict[str, Any] | None
-    report_text: str | None
+    report: dict[str, Any]
+    report_text: str
 
 
-def knit_and_check(doc: dict[str, Any], check: bool) -> dict[str, Any]:
+def knit_and_check(doc: dict[str, Any]) -> dict[str, Any]:
     """Compile a pattern (as JSON) to knitout and check it. Runs in a spawned worker process."""
     from illuknit.check import check_knitout
     from illuknit.knit import knit_pattern
     from illuknit.pattern import pattern_from_json
 
     result = knit_pattern(pattern_from_json(doc))
-    report = report_text = None
-    if check:
-        rep = check_knitout(result.text)
-        report, report_text = rep.to_dict(), rep.to_text(name="knitout.k")
+    report = check_knitout(result.text)
     return {
         "knitout": result.text,
         "stats": result.summary(),
-        "report": report,
-        "report_text": report_text,
+        "report": report.to_dict(),
+        "report_text": report.to_text(name="knitout.k"),
     }
 
 

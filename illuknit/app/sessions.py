@@ -16,12 +16,13 @@ from __future__ import annotations
 import secrets
 import threading
 import time
-from dataclasses import asdict, dataclass, field
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
+from illuknit.app.schemas import DesignSettings
 from illuknit.errors import AppRequestError
 
 __all__ = ["DesignSettings", "Session", "SessionStore", "UploadedImage"]
@@ -39,25 +40,6 @@ class UploadedImage:
     def size(self) -> tuple[int, int]:
         """(width, height) in pixels."""
         return (int(self.rgb.shape[1]), int(self.rgb.shape[0]))
-
-
-@dataclass(frozen=True)
-class DesignSettings:
-    """What the designer chose; validated by the server's request model before it gets here."""
-
-    mode: str = "double"  # "single" | "double" | "headon"
-    size_mode: str = "units"  # "units" | "physical"
-    width_units: int = 60
-    width_cm: float = 20.0
-    gauge: float = 7.0  # stitches per inch
-    n_colors: int = 2
-    yarns: tuple[str, ...] = ("#1b1b1b", "#f4f0e8")
-    candidates: int = 5
-    resize: bool = False  # stretch image B to image A's size when they differ
-    smooth: bool = True
-
-    def to_json(self) -> dict[str, Any]:
-        return {**asdict(self), "yarns": list(self.yarns)}
 
 
 @dataclass

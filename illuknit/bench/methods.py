@@ -150,7 +150,7 @@ register_method(
 
 
 def _solve_model(
-    instance: Instance, time_limit: float, *, solver: str, model: str
+    instance: Instance, time_limit: float, *, solver: str, model: str, warm_start: str
 ) -> tuple[LogicalPattern, dict[str, Any]]:
     solve_illusion = _require("illuknit.illusion_models", "the illusion models", "solve_illusion")
     solvers = _require("illuknit.solvers", "the solver registry")
@@ -167,6 +167,7 @@ def _solve_model(
             t.b if kind != "single" else None,
             model=kind,
             solver=solver,
+            warm_start=warm_start,
             yarns=instance.yarns,
             time_limit=time_limit,
         )
@@ -176,17 +177,20 @@ def _solve_model(
         raise
     total = time.perf_counter() - t0
     info = _solution_info(res.solution, compile_s=max(0.0, total - res.solution.wall_time))
-    info["note"] = (f"model {kind}; " + info["note"]).rstrip("; ")
-    ws = res.solution.stats.get("warm_start")
-    if ws and ws.get("method") == "descent":
-        kept = " (kept)" if res.solution.stats.get("kept_warm_start") else ""
-        info["note"] += f"; descent warm start {ws['objective']}{kept} in {ws['seconds']:.0f} s"
+    sol = res.solution
+    info["note"] = (f"model {kind}; warm start {warm_start}; " + info["note"]).rstrip("; ")
+    ws = sol.stats.get("warm_start", {})
+    if ws.get("method", "none") != "none":
+        info["note"] += f"; {ws['method']} warm start {ws['objective']} in {ws['seconds']:.0f} s"
+    info["note"] += f"; found by {sol.found_by}"
     return res.pattern, info
 
 
-def _solver_method(name: str, solver: str, model: str, description: str) -> Method:
+def _solver_method(
+    name: str, solver: str, model: str, description: str, *, warm_start: str = "none"
+) -> Method:
     def run(instance: Instance, time_limit: float) -> tuple[LogicalPattern, dict[str, Any]]:
-        return _solve_model(instance, time_limit, solver=solver, model=model)
+        return _solve_model(instance, time_limit, solver=solver, model=model, warm_start=warm_start)
 
     run.__name__ = f"run_{name.replace('-', '_')}"
     return Method(name, run, description)
@@ -205,6 +209,7 @@ register_method(
         "cpsat",
         "knit-aware",
         "CP-SAT on the knit-time-aware model (b), warm-started by exact-block descent",
+        warm_start="descent",
     )
 )
 

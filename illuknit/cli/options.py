@@ -78,7 +78,11 @@ def parse_yarn_option(value: str | None) -> tuple[Yarn, ...] | None:
 def outdir_option(
     *, required: bool = True, default: Path | None = None, help: str = OUTDIR_HELP
 ) -> Callable[[Callable[..., Any]], Callable[..., Any]]:
-    """``-o/--outdir``: the folder a command writes into (through :func:`illuknit.outputs.staged_dir`)."""
+    """``-o/--outdir``: the folder a command writes into (through :func:`illuknit.outputs.staged_dir`).
+
+    The folder is checked when the option is parsed (a file in the way, a read-only file system),
+    so a long computation does not run only to fail at the end.
+    """
     return click.option(
         "-o",
         "--outdir",
@@ -86,8 +90,21 @@ def outdir_option(
         required=required and default is None,
         default=default,
         show_default=default is not None,
+        callback=_check_outdir,
         help=help,
     )
+
+
+def _check_outdir(ctx: click.Context, param: click.Parameter, value: Path | None) -> Path | None:
+    from illuknit.errors import OutputPathError
+    from illuknit.outputs import check_output_dir
+
+    if value is not None:
+        try:
+            check_output_dir(value)
+        except OutputPathError as exc:
+            raise click.BadParameter(str(exc), ctx=ctx, param=param) from exc
+    return value
 
 
 def knitout_option(

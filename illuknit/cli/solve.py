@@ -135,6 +135,7 @@ def run_solve(
     *,
     model: str = "logical",
     solver: str = "auto",
+    warm_start: str = "auto",
     weights: str | None = None,
     max_color_changes: int | None = None,
     alternate_rows: bool = False,
@@ -151,20 +152,20 @@ def run_solve(
     show_progress: bool = True,
 ) -> dict[str, Any]:
     """Everything ``illuknit solve`` does; returns the report dict."""
-    from illuknit.errors import ImageInputError, InfeasibleError, SolverError
+    from illuknit.errors import ImageInputError
     from illuknit.illusion_models import (
         build_model,
-        keep_warm_start,
+        check_solution,
         make_problem,
         parse_weights,
         pattern_from_solution,
         report_pattern,
-        warm_start,
     )
     from illuknit.outputs import atomic_write_text, staged_dir
     from illuknit.pattern import parse_yarns
-    from illuknit.solvers import get_backend, pick_backend
+    from illuknit.solvers import resolve_backend
     from illuknit.solvers import solve as solve_model
+    from illuknit.solvers.warm_start import resolve_policy
 
     if image_a is None:
         raise click.UsageError("give the target picture(s): illuknit solve A.png B.png -o OUTDIR")
@@ -210,40 +211,26 @@ def run_solve(
             )
             return {"wcnf": str(export_wcnf), "model": repr(mdl)}
 
-    backend = pick_backend(mdl) if solver == "auto" else get_backend(solver)
-    if not backend.handles(mdl):
-        why = getattr(backend, "why_not", lambda m: "")(mdl)
-        raise SolverError(
-            f"solver {backend.name!r} cannot solve the {model} model" + (f": {why}" if why else "")
-        )
-    ws: dict[str, Any] | None = None
-    remaining = time_limit
-    if backend.name not in ("dp", "descent"):
-        # the DP optimum, or for the knit-aware model a block descent (part of the time limit)
-        mdl.hint, ws = warm_start(problem, mdl, time_limit=time_limit, seed=seed)
-        if time_limit is not None:
-            remaining = max(0.1 * time_limit, time_limit - ws["seconds"])
+    backend = resolve_backend(mdl, solver)
+    policy = "none" if backend.name in ("dp", "descent") else resolve_policy(warm_start, mdl)
     label = f"{backend.name} on {model} {problem.shape[0]}x{problem.shape[1]}"
+    if policy != "none":
+        label += f", warm start {policy}"
     if show_progress and backend.name != "dp":
-        with _LiveProgress(remaining, label) as live:
+        with _LiveProgress(time_limit, label) as live:
             sol = solve_model(
-                mdl, solver=backend.name, time_limit=remaining, seed=seed, progress=live
+                mdl,
+                solver=backend.name,
+                warm_start=policy,
+                time_limit=time_limit,
+                seed=seed,
+                progress=live,
             )
     else:
-        sol = solve_model(mdl, solver=backend.name, time_limit=remaining, seed=seed)
-    if ws is not None:
-        sol = keep_warm_start(mdl, sol, ws)
-    if sol.status.value == "infeasible":
-        fams = ", ".join(sol.stats.get("infeasible_families", [])) or "(unknown)"
-        raise InfeasibleError(
-            f"status infeasible: the hard constraints cannot all hold; conflicting families: {fams}"
+        sol = solve_model(
+            mdl, solver=backend.name, warm_start=policy, time_limit=time_limit, seed=seed
         )
-    if not sol.has_values:
-        msg = sol.stats.get("message", "")
-        raise SolverError(
-            f"solver {sol.backend!r} found no pattern (status {sol.status.value})"
-            + (f": {msg}" if msg else "")
-        )
+    check_solution(sol, model)
     pattern = pattern_from_solution(
         problem,
         sol,
@@ -282,9 +269,15 @@ def _print_report(report: dict[str, Any], written: dict[str, Path], outdir: Path
     s = report["solver"]
     gap = "" if s["gap"] in (None, 0) else f", gap {100 * s['gap']:.1f}%"
     bound = "" if s["bound"] is None else f", bound {s['bound']:g}"
+    ws = s["stats"].get("warm_start", {}).get("method", "none")
+    found = (
+        ""
+        if s["found_by"] in ("", s["backend"])
+        else f" (pattern found by the {s['found_by']} warm start)"
+    )
     c.print(
-        f"[bold]{s['backend']}[/]: {s['status']} in {s['wall_time']:.2f} s, objective "
-        f"{s['objective']}{bound}{gap}"
+        f"[bold]{s['backend']}[/] (warm start {ws}): {s['status']} in {s['wall_time']:.2f} s, "
+        f"objective {s['objective']}{bound}{gap}{found}"
     )
     if report.get("note"):
         c.print(f"[yellow]{report['note']}[/]")
@@ -322,6 +315,15 @@ def _print_report(report: dict[str, Any], written: dict[str, Path], outdir: Path
     metavar="NAME",
     help="Backend: dp, cpsat, rc2, lsu, descent, gradient, wcnf:COMMAND (an external MaxSAT "
     "binary; {} is the WCNF path), or auto (the exact DP when it applies, else CP-SAT).",
+)
+@click.option(
+    "--warm-start",
+    type=click.Choice(["auto", "none", "dp", "descent"]),
+    default="auto",
+    show_default=True,
+    help="What the backend starts from: nothing, the DP optimum, or a block descent (part of the "
+    "time limit); auto: descent for the knit-aware model, else dp. The run says which it used "
+    "and who found the pattern.",
 )
 @click.option(
     "--model",

@@ -11,6 +11,7 @@ each body course starts so that a checker's line numbers can be traced back to p
 
 from __future__ import annotations
 
+from illuknit.knit.ir import course_row
 from illuknit.knit.machine import MachineSpec
 from illuknit.knit.schedule import CarrierAction, Pass, Schedule
 
@@ -57,8 +58,7 @@ def write_knitout(schedule: Schedule, *, machine: MachineSpec | None = None) -> 
         The program, LF line endings, ending with a newline.
     """
     m = schedule.machine if machine is None else machine
-    units = schedule.meta.get("units")
-    n_rows = int(units[0]) if units else None
+    n_rows = schedule.units[0] if schedule.units is not None else None
     lines = knitout_header(schedule, m)
     lines.append(
         f"; illuknit: {schedule.wales} wales x {schedule.courses} courses, "
@@ -81,7 +81,7 @@ def write_knitout(schedule: Schedule, *, machine: MachineSpec | None = None) -> 
             and step.role in ("body", "transfer")
         ):
             last_course = step.course
-            row = f" = pattern row {n_rows - 1 - step.course // 2}" if n_rows is not None else ""
+            row = f" = pattern row {course_row(step.course, n_rows)}" if n_rows is not None else ""
             append(f"; course {step.course}{row}")
         if step.racking != rack:
             rack = step.racking

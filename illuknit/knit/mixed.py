@@ -58,6 +58,7 @@ from illuknit.errors import PatternValidationError, SchedulingError
 from illuknit.knit.catching import PlatedStitch, plan_catches
 from illuknit.knit.colour_runs import ColourPlan, plan_colour_runs
 from illuknit.knit.float_avoidance import float_crossings, transfers_before
+from illuknit.knit.ir import ActionKind, Bed, CarrierAction, Op, OpKind, Pass, PassKind, Role, Step
 from illuknit.knit.machine import DEFAULT_MACHINE, MachineSpec
 from illuknit.knit.path_planning import (
     STRATEGIES,
@@ -68,10 +69,10 @@ from illuknit.knit.path_planning import (
     pass_cost,
     plan_item,
 )
-from illuknit.knit.schedule import CarrierAction, Op, Pass, Schedule, Step
+from illuknit.knit.schedule import MixedReport, Schedule
 from illuknit.knit.stitches import StitchPattern
 
-__all__ = ["count_kickbacks", "fold_moves", "schedule_mixed", "validate_ablation"]
+__all__ = ["fold_moves", "schedule_mixed", "validate_ablation"]
 
 
 def validate_ablation(*, float_avoidance: object, catching: object, path_planning: object) -> None:
@@ -83,32 +84,6 @@ def validate_ablation(*, float_avoidance: object, catching: object, path_plannin
         raise PatternValidationError(
             f"`path_planning` must be one of {', '.join(STRATEGIES)}, got {path_planning!r}"
         )
-
-
-def count_kickbacks(steps: Sequence[Step]) -> tuple[int, int]:
-    """(explicit, implicit) kickbacks of a step list.
-
-    Explicit: miss-only passes (a carrier moved on its own; already in the pass count). Implicit:
-    a pass (explicit moves included) whose carrier last moved in the same direction, which the
-    SWG backend precedes with an extra soft-miss pass of its own (not in the pass count).
-    """
-    last: dict[str, str] = {}
-    explicit = implicit = 0
-    for s in steps:
-        if isinstance(s, CarrierAction):
-            if s.action in ("out", "outhook"):
-                for c in s.carriers:
-                    last.pop(c, None)
-            continue
-        if s.kind != "knit":
-            continue
-        if all(o.op == "miss" for o in s.ops):
-            explicit += 1
-        if any(last.get(c) == s.direction for c in s.carriers):
-            implicit += 1
-        for c in s.carriers:
-            last[c] = s.direction  # type: ignore[assignment]
-    return explicit, implicit
 
 
 @dataclass
@@ -134,24 +109,24 @@ class _Emitter:
         return range(self.left, self.left + self.wales)
 
     # -- primitive steps --------------------------------------------------------------------
-    def xfer(self, moves: dict[int, str], *, role: str, course: int | None) -> None:
+    def xfer(self, moves: dict[int, str], *, role: Role, course: int | None) -> None:
         if not moves:
             return
         ops = []
         for n in sorted(moves):
-            to = moves[n]
-            frm = "b" if to == "f" else "f"
-            ops.append(Op("xfer", frm, n, to, n))
+            to = Bed(moves[n])
+            frm = Bed.BACK if to is Bed.FRONT else Bed.FRONT
+            ops.append(Op(OpKind.XFER, frm, n, to, n))
             self.bed[n] = to
-        self.steps.append(Pass("xfer", tuple(ops), None, (), 0.0, role, course))
+        self.steps.append(Pass(PassKind.XFER, tuple(ops), None, (), 0.0, role, course))
 
     def knit(
         self,
         p: PlannedPass,
         *,
-        role: str,
+        role: Role,
         course: int | None,
-        op: str = "knit",
+        op: OpKind = OpKind.KNIT,
         extra: Sequence[Op] = (),
     ) -> None:
         """Emit a planned pass (hooking in a never-used carrier around it)."""
@@ -160,12 +135,12 @@ class _Emitter:
             n, _ = p.stitches[0]
             self.steps.append(
                 Pass(
-                    "knit",
-                    (Op("miss", "f", n),),
+                    PassKind.KNIT,
+                    (Op(OpKind.MISS, Bed.FRONT, n),),
                     p.direction,
                     p.carriers,
                     0.0,
-                    "anchor",
+                    Role.ANCHOR,
                     course,
                     self.machine.stitch_number,
                 )
@@ -173,11 +148,11 @@ class _Emitter:
             self.moves += 1
         else:
             if new:
-                self.steps.append(CarrierAction("inhook", p.carriers))
-            ops = tuple(Op(op, b, n) for n, b in p.stitches) + tuple(extra)
+                self.steps.append(CarrierAction(ActionKind.INHOOK, p.carriers))
+            ops = tuple(Op(op, Bed(b), n) for n, b in p.stitches) + tuple(extra)
             self.steps.append(
                 Pass(
-                    "knit",
+                    PassKind.KNIT,
                     ops,
                     p.direction,
                     p.carriers,
@@ -190,7 +165,7 @@ class _Emitter:
             if len(p.carriers) > 1:
                 self.plated += len(p.stitches)
             if new:
-                self.steps.append(CarrierAction("releasehook", p.carriers))
+                self.steps.append(CarrierAction(ActionKind.RELEASEHOOK, p.carriers))
         self.states = advance(self.states, p)
         if extra:
             last = extra[-1]
@@ -200,7 +175,7 @@ class _Emitter:
 
     def outhook(self, carriers: Sequence[str]) -> None:
         for c in carriers:
-            self.steps.append(CarrierAction("outhook", (c,)))
+            self.steps.append(CarrierAction(ActionKind.OUTHOOK, (c,)))
             self.states.pop(c, None)
 
 
@@ -410,7 +385,7 @@ def fold_moves(steps: Sequence[Step]) -> list[Step]:
                     ops = ops[:-1]
                 out[j] = Pass(
                     prev.kind,
-                    (*ops, Op("miss", "f", target)),
+                    (*ops, Op(OpKind.MISS, Bed.FRONT, target)),
                     prev.direction,
                     prev.carriers,
                     prev.racking,
@@ -468,9 +443,9 @@ def schedule_mixed(
     Returns
     -------
     Schedule
-        ``meta`` holds ``kickbacks``, ``explicit_kickbacks``, ``implicit_kickbacks``,
-        ``plated_stitches``, ``float_avoidance_transfers``, ``carriers``, ``stranded_segments`` and
-        the ablation switches.
+        ``mixed`` (a :class:`~illuknit.knit.schedule.MixedReport`) holds the switches used,
+        ``plated_stitches``, ``float_avoidance_transfers``, ``carriers`` and
+        ``stranded_segments``.
 
     Raises
     ------
@@ -507,14 +482,9 @@ def schedule_mixed(
     k0 = stitches.cast_on_courses
     yarn = np.vstack([np.repeat(stitches.yarn[:1], k0, axis=0), stitches.yarn])
     kind = np.vstack([np.zeros((k0, n_wales), dtype=np.uint8), stitches.kind])
-    units = stitches.meta.get("units")
 
     def course_name(c: int) -> str:
-        if c < k0:
-            return f"cast-on course {c}"
-        b = c - k0
-        row = f" (pattern row {int(units[0]) - 1 - b // 2})" if units else ""
-        return f"course {b}{row}"
+        return f"cast-on course {c}" if c < k0 else stitches.course_name(c - k0)
 
     plan: ColourPlan = plan_colour_runs(
         yarn,
@@ -538,24 +508,32 @@ def schedule_mixed(
         down = needles[::-1][0::2]
         up = sorted(set(needles) - set(down))
         car = seg.carrier
-        em.steps.append(CarrierAction("inhook", (car,)))
-        ops = [Op("tuck", "f", n) for n in down] + [Op("miss", "f", needles[0] - 1)]
-        em.steps.append(Pass("knit", tuple(ops), "-", (car,), 0.0, "cast-on", None, cast_sn))
+        em.steps.append(CarrierAction(ActionKind.INHOOK, (car,)))
+        ops = [Op(OpKind.TUCK, Bed.FRONT, n) for n in down] + [
+            Op(OpKind.MISS, Bed.FRONT, needles[0] - 1)
+        ]
+        em.steps.append(
+            Pass(PassKind.KNIT, tuple(ops), "-", (car,), 0.0, Role.CAST_ON, None, cast_sn)
+        )
         state = CarrierState(needles[0] - 1, "-", down[-1])
         cast_fixed += 1
         if up:
-            ops = [Op("tuck", "f", n) for n in up]
-            em.steps.append(Pass("knit", tuple(ops), "+", (car,), 0.0, "cast-on", None, cast_sn))
+            ops = [Op(OpKind.TUCK, Bed.FRONT, n) for n in up]
+            em.steps.append(
+                Pass(PassKind.KNIT, tuple(ops), "+", (car,), 0.0, Role.CAST_ON, None, cast_sn)
+            )
             state = CarrierState(up[-1], "+", up[-1])
             cast_fixed += 1
-        em.steps.append(CarrierAction("releasehook", (car,)))
+        em.steps.append(CarrierAction(ActionKind.RELEASEHOOK, (car,)))
         edge = left + n_wales - 1
         if up and needles[-1] == edge:
             # As in the one-colour cast-on: once the hook is released, park the carrier right of
             # the fabric so that its first course starts leftward from behind the carriage
             # (otherwise it would have to be carried back across the whole piece).
-            park = Op("miss", "f", edge + machine.park_distance)
-            em.steps.append(Pass("knit", (park,), "+", (car,), 0.0, "park", None, cast_sn))
+            park = Op(OpKind.MISS, Bed.FRONT, edge + machine.park_distance)
+            em.steps.append(
+                Pass(PassKind.KNIT, (park,), "+", (car,), 0.0, Role.PARK, None, cast_sn)
+            )
             state = CarrierState(park.needle, "+", up[-1])
             cast_fixed += 1
         em.states[car] = state
@@ -571,7 +549,7 @@ def schedule_mixed(
     for cp in plan.courses:
         c = cp.course
         body = c >= k0
-        role = "body" if body else "cast-on"
+        role = Role.BODY if body else Role.CAST_ON
         label = c - k0 if body else None
         need = kind[c]
         beds = course_beds[c]
@@ -599,7 +577,9 @@ def schedule_mixed(
         required = dict(zip(em.needles, beds, strict=True))
         if not float_avoidance:
             em.xfer(
-                {n: b for n, b in required.items() if em.bed[n] != b}, role="transfer", course=label
+                {n: b for n, b in required.items() if em.bed[n] != b},
+                role=Role.TRANSFER,
+                course=label,
             )
         crossings = float_crossings(planned, em.states, needles=em.needles)
         stitch_pass = {
@@ -613,7 +593,9 @@ def schedule_mixed(
                 if moves:
                     em.float_transfer_passes += int(for_floats)
                     em.xfer(
-                        moves, role="float-avoidance" if for_floats else "transfer", course=label
+                        moves,
+                        role=Role.FLOAT_AVOIDANCE if for_floats else Role.TRANSFER,
+                        course=label,
                     )
             em.knit(p, role=role, course=label)
         done = [car for car, lc in last_course.items() if lc == c and c != yarn.shape[0] - 1]
@@ -622,7 +604,7 @@ def schedule_mixed(
     # -- bind-off --------------------------------------------------------------------------------
     bind_start = len(em.steps)
     back = {n: "f" for n in em.needles if em.bed[n] == "b"}
-    em.xfer(back, role="bind-off", course=None)
+    em.xfer(back, role=Role.BIND_OFF, course=None)
     last_plan = plan.courses[-1]
     runs = sorted(
         ((lo, hi, s.carrier) for s in last_plan.segments for lo, hi in s.runs), key=lambda r: r[0]
@@ -637,17 +619,33 @@ def schedule_mixed(
             item = WorkItem((car,), ((n, "f"),))
             ps = plan_item(item, em.states, strategy=path_planning, parity="+" if idx % 2 else "-")
             for p in ps[:-1]:
-                em.knit(p, role="bind-off", course=None)
+                em.knit(p, role=Role.BIND_OFF, course=None)
             p = ps[-1]
             extra: tuple[Op, ...] = ()
             if p.direction == "+" and owner[order[idx + 1]] == car:
                 # Carry the yarn past the next needle so its opposite-direction stitch is made
                 # with the carrier behind the carriage.
-                extra = (Op("miss", "f", n + 2),)
-            em.knit(p, role="bind-off", course=None, extra=extra)
-            em.steps.append(Pass("xfer", (Op("xfer", "f", n, "b", n),), None, (), 0.0, "bind-off"))
+                extra = (Op(OpKind.MISS, Bed.FRONT, n + 2),)
+            em.knit(p, role=Role.BIND_OFF, course=None, extra=extra)
             em.steps.append(
-                Pass("xfer", (Op("xfer", "b", n, "f", n + 1),), None, (), 1.0, "bind-off")
+                Pass(
+                    PassKind.XFER,
+                    (Op(OpKind.XFER, Bed.FRONT, n, Bed.BACK, n),),
+                    None,
+                    (),
+                    0.0,
+                    Role.BIND_OFF,
+                )
+            )
+            em.steps.append(
+                Pass(
+                    PassKind.XFER,
+                    (Op(OpKind.XFER, Bed.BACK, n, Bed.FRONT, n + 1),),
+                    None,
+                    (),
+                    1.0,
+                    Role.BIND_OFF,
+                )
             )
         last = order[-1]
         car = tail_needle_carrier
@@ -655,7 +653,7 @@ def schedule_mixed(
             item = WorkItem((car,), ((last, "f"),))
             ps = plan_item(item, em.states, strategy=path_planning, parity="+" if t % 2 else "-")
             for p in ps:
-                em.knit(p, role="tail" if t else "bind-off", course=None)
+                em.knit(p, role=Role.TAIL if t else Role.BIND_OFF, course=None)
         drops.append(last)
 
     if catching:
@@ -667,7 +665,14 @@ def schedule_mixed(
     em.outhook(live)
     if drops:
         em.steps.append(
-            Pass("drop", tuple(Op("drop", "f", n) for n in sorted(drops)), None, (), 0.0, "tail")
+            Pass(
+                PassKind.DROP,
+                tuple(Op(OpKind.DROP, Bed.FRONT, n) for n in sorted(drops)),
+                None,
+                (),
+                0.0,
+                Role.TAIL,
+            )
         )
     bind_passes = [s for s in em.steps[bind_start:] if isinstance(s, Pass)]
     bind_fixed = sum(
@@ -675,7 +680,6 @@ def schedule_mixed(
     )
 
     em.steps = fold_moves(em.steps)
-    explicit, implicit = count_kickbacks(em.steps)
     lower = cast_fixed + cast_courses_bound + body_bound + bind_fixed
     return Schedule(
         steps=tuple(em.steps),
@@ -687,21 +691,18 @@ def schedule_mixed(
         courses=n_courses,
         lower_bound=lower,
         body_lower_bound=body_bound,
-        meta={
-            "units": units,
-            "scheduler": "mixed-colourwork",
-            "float_avoidance": bool(float_avoidance),
-            "catching": bool(catching),
-            "path_planning": path_planning,
-            "catch_every": int(catch_every),
-            "float_limit": int(limit),
-            "strict_floats": bool(strict_floats),
-            "kickbacks": explicit + implicit,
-            "explicit_kickbacks": explicit,
-            "implicit_kickbacks": implicit,
-            "plated_stitches": em.plated,
-            "float_avoidance_transfers": em.float_transfer_passes,
-            "carriers": len(plan.carriers),
-            "stranded_segments": plan.stranded_segments,
-        },
+        units=stitches.units,
+        scheduler="mixed-colourwork",
+        mixed=MixedReport(
+            float_avoidance=bool(float_avoidance),
+            catching=bool(catching),
+            path_planning=path_planning,
+            catch_every=int(catch_every),
+            float_limit=int(limit),
+            strict_floats=bool(strict_floats),
+            plated_stitches=em.plated,
+            float_avoidance_transfers=em.float_transfer_passes,
+            carriers=len(plan.carriers),
+            stranded_segments=plan.stranded_segments,
+        ),
     )

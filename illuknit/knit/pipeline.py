@@ -20,14 +20,8 @@ from illuknit.pattern import LogicalPattern
 
 __all__ = ["KnitResult", "knit_pattern"]
 
-#: Schedule ``meta`` entries that :meth:`KnitResult.summary` reports.
-_SUMMARY_META = (
-    "scheduler",
-    "explicit_kickbacks",
-    "plated_stitches",
-    "carriers",
-    "float_avoidance_transfers",
-)
+#: :class:`~illuknit.knit.schedule.MixedReport` fields that :meth:`KnitResult.summary` reports.
+_SUMMARY_MIXED = ("plated_stitches", "carriers", "float_avoidance_transfers")
 
 
 @dataclass(frozen=True, eq=False)
@@ -70,7 +64,15 @@ class KnitResult:
             "width_cm": round(wcm, 1),
             "height_cm": round(hcm, 1),
             **self.stats.as_dict(),
-            **{k: v for k, v in self.schedule.meta.items() if k in _SUMMARY_META},
+            "scheduler": self.schedule.scheduler,
+            # Carrier moves the schedule makes itself (miss-only passes), next to the backend's
+            # own kickbacks in ``kickbacks``.
+            "explicit_kickbacks": self.stats.miss_passes,
+            **(
+                {k: getattr(self.schedule.mixed, k) for k in _SUMMARY_MIXED}
+                if self.schedule.mixed is not None
+                else {}
+            ),
             "time_seconds": round(self.time.seconds, 1),
             "time": str(self.time),
             "lines": self.text.count("\n"),

@@ -43,149 +43,41 @@ scheduler reports against the same definition extended with per-course carrier s
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from types import MappingProxyType
-from typing import Any, Literal
+from typing import Any
 
 import numpy as np
 
 from illuknit.errors import MixedColourworkError, PatternValidationError, SchedulingError
+from illuknit.knit.ir import (
+    ActionKind,
+    Bed,
+    CarrierAction,
+    Direction,
+    Op,
+    OpKind,
+    Pass,
+    PassKind,
+    Role,
+    Step,
+)
 from illuknit.knit.machine import DEFAULT_MACHINE, MachineSpec
 from illuknit.knit.stitches import StitchPattern
 from illuknit.pattern import Yarn
 
 __all__ = [
     "CarrierAction",
+    "MixedReport",
     "Op",
     "Pass",
     "Schedule",
     "ScheduleStats",
     "bind_off_steps",
     "cast_on_steps",
+    "count_kickbacks",
     "schedule_courses",
 ]
-
-Direction = Literal["+", "-"]
-_OPS_WITH_YARN = ("knit", "tuck", "miss", "split")
-_PASS_KINDS = ("knit", "xfer", "drop")
-_ACTIONS = ("in", "inhook", "releasehook", "out", "outhook")
-#: Pass roles, used for reporting and comments in the knitout.
-ROLES = ("cast-on", "park", "body", "transfer", "bind-off", "tail", "float-avoidance", "anchor")
-
-
-@dataclass(frozen=True, slots=True)
-class Op:
-    """One needle operation.
-
-    ``op`` is ``knit``, ``tuck``, ``miss``, ``split`` (these use the pass's carriers and
-    direction), ``xfer`` or ``drop``. ``bed`` is ``"f"`` or ``"b"``; ``to_bed``/``to_needle`` name
-    the receiving needle of ``xfer`` and ``split``.
-    """
-
-    op: str
-    bed: str
-    needle: int
-    to_bed: str | None = None
-    to_needle: int | None = None
-
-
-@dataclass(frozen=True)
-class Pass:
-    """One carriage pass.
-
-    Parameters
-    ----------
-    kind : {"knit", "xfer", "drop"}
-        ``knit`` passes carry yarn (knit/tuck/miss/split ops); ``xfer`` passes move loops;
-        ``drop`` passes release loops.
-    ops : tuple of Op
-        In execution order (for knit passes: in ``direction`` order).
-    direction : {"+", "-"} or None
-        Carriage direction of a knit pass; None for xfer/drop passes.
-    carriers : tuple of str
-        Carriers of a knit pass, primary first (more than one = plating).
-    racking : float
-        An integer or an integer + 0.25.
-    role : str
-        What the pass is for (one of ``ROLES``).
-    course : int or None
-        Stitch course the pass belongs to (None for cast-on/bind-off).
-    stitch_number : int or None
-        ``x-stitch-number`` for the pass (None: machine default).
-    """
-
-    kind: str
-    ops: tuple[Op, ...]
-    direction: Direction | None = None
-    carriers: tuple[str, ...] = ()
-    racking: float = 0.0
-    role: str = "body"
-    course: int | None = None
-    stitch_number: int | None = None
-
-    def __post_init__(self) -> None:
-        if self.kind not in _PASS_KINDS:
-            raise PatternValidationError(
-                f"pass `kind` must be one of {_PASS_KINDS}, got {self.kind!r}"
-            )
-        if self.role not in ROLES:
-            raise PatternValidationError(f"pass `role` must be one of {ROLES}, got {self.role!r}")
-        if not self.ops:
-            raise PatternValidationError("a pass needs at least one operation")
-        if self.kind == "knit":
-            if self.direction not in ("+", "-"):
-                raise PatternValidationError(
-                    f"knit pass needs direction '+' or '-', got {self.direction!r}"
-                )
-            if not self.carriers:
-                raise PatternValidationError("knit pass needs at least one carrier")
-            if any(o.op not in _OPS_WITH_YARN for o in self.ops):
-                raise PatternValidationError(f"knit pass ops must be {_OPS_WITH_YARN}")
-            # Ops must advance strictly in the pass direction (front and back of one needle are
-            # the same slot at racking 0, so they cannot share a pass then).
-            slots = [
-                o.needle + (int(np.floor(self.racking)) if o.bed == "b" else 0) for o in self.ops
-            ]
-            step = np.diff(slots) if self.direction == "+" else -np.diff(slots)
-            if len(slots) > 1 and not (step > 0).all():
-                raise PatternValidationError(
-                    f"knit pass ops must advance strictly in direction {self.direction}"
-                )
-        else:
-            if self.direction is not None or self.carriers:
-                raise PatternValidationError(f"{self.kind} pass takes no direction and no carriers")
-            if any(o.op != self.kind for o in self.ops):
-                raise PatternValidationError(f"{self.kind} pass may only hold {self.kind} ops")
-        r = float(self.racking)
-        if not (r == int(r) or r - np.floor(r) == 0.25):
-            raise PatternValidationError(f"racking must be an integer or integer + 0.25, got {r}")
-
-    @property
-    def needle_span(self) -> tuple[int, int]:
-        """(leftmost, rightmost) needle touched, targets included."""
-        ns = [o.needle for o in self.ops] + [
-            o.to_needle for o in self.ops if o.to_needle is not None
-        ]
-        return (min(ns), max(ns))
-
-
-@dataclass(frozen=True)
-class CarrierAction:
-    """Bring carriers in or out: ``in``, ``inhook``, ``releasehook``, ``out`` or ``outhook``."""
-
-    action: str
-    carriers: tuple[str, ...]
-
-    def __post_init__(self) -> None:
-        if self.action not in _ACTIONS:
-            raise PatternValidationError(
-                f"carrier action must be one of {_ACTIONS}, got {self.action!r}"
-            )
-        if not self.carriers:
-            raise PatternValidationError("carrier action needs at least one carrier")
-
-
-Step = Pass | CarrierAction
 
 
 @dataclass(frozen=True)
@@ -221,6 +113,25 @@ class ScheduleStats:
         return d
 
 
+@dataclass(frozen=True)
+class MixedReport:
+    """What the mixed-colourwork scheduler did: its switches and what they added."""
+
+    float_avoidance: bool
+    catching: bool
+    path_planning: str
+    catch_every: int
+    float_limit: int
+    strict_floats: bool
+    plated_stitches: int
+    float_avoidance_transfers: int
+    carriers: int
+    stranded_segments: int
+
+    def as_dict(self) -> dict[str, Any]:
+        return {k: getattr(self, k) for k in self.__dataclass_fields__}
+
+
 @dataclass(frozen=True, eq=False)
 class Schedule:
     """Carriage passes and carrier actions for one piece, in execution order.
@@ -241,6 +152,12 @@ class Schedule:
         Lower bound on ``len(passes)`` (see the module docstring).
     body_lower_bound : int
         The same bound for the body courses alone.
+    units : (int, int) or None
+        Shape of the logical pattern (for course -> pattern row, :func:`~illuknit.knit.ir.course_row`).
+    scheduler : str
+        Which scheduler made it: ``"one-colour-per-course"`` or ``"mixed-colourwork"``.
+    mixed : MixedReport or None
+        What the mixed-colourwork scheduler did (None for the one-colour scheduler).
     """
 
     steps: tuple[Step, ...]
@@ -252,7 +169,9 @@ class Schedule:
     courses: int
     lower_bound: int
     body_lower_bound: int
-    meta: Mapping[str, Any] = field(default_factory=dict)
+    units: tuple[int, int] | None = None
+    scheduler: str = "one-colour-per-course"
+    mixed: MixedReport | None = None
 
     def __post_init__(self) -> None:
         m = self.machine
@@ -299,7 +218,6 @@ class Schedule:
             "carrier_of_yarn",
             MappingProxyType({int(k): tuple(v) for k, v in self.carrier_of_yarn.items()}),
         )
-        object.__setattr__(self, "meta", MappingProxyType(dict(self.meta)))
 
     @property
     def passes(self) -> list[Pass]:
@@ -314,33 +232,41 @@ class Schedule:
             knit_passes=sum(p.kind == "knit" and any(o.op != "miss" for o in p.ops) for p in ps),
             transfer_passes=sum(p.kind == "xfer" for p in ps),
             miss_passes=sum(p.kind == "knit" and all(o.op == "miss" for o in p.ops) for p in ps),
-            cast_on_passes=sum(p.role in ("cast-on", "park") for p in ps),
-            bind_off_passes=sum(p.role in ("bind-off", "tail") for p in ps),
+            cast_on_passes=sum(p.role in (Role.CAST_ON, Role.PARK) for p in ps),
+            bind_off_passes=sum(p.role in (Role.BIND_OFF, Role.TAIL) for p in ps),
             body_passes=sum(
-                p.role in ("body", "transfer", "float-avoidance", "anchor") for p in ps
+                p.role in (Role.BODY, Role.TRANSFER, Role.FLOAT_AVOIDANCE, Role.ANCHOR) for p in ps
             ),
             body_lower_bound=self.body_lower_bound,
             lower_bound=self.lower_bound,
             hook_passes=sum(a.action in ("releasehook", "outhook", "out") for a in acts),
-            kickbacks=_count_kickbacks(ps),
+            kickbacks=count_kickbacks(self.steps),
         )
 
 
-def _count_kickbacks(passes: Sequence[Pass]) -> int:
-    """Times a carrier's knit pass runs the same way as its previous one."""
+def count_kickbacks(steps: Sequence[Step]) -> int:
+    """Knit passes whose carrier last moved in the same direction (the backend kicks it back first).
+
+    A carrier that goes out (``out``/``outhook``) forgets its direction: it comes back in fresh.
+    """
     last: dict[str, str | None] = {}
     n = 0
-    for p in passes:
-        if p.kind != "knit":
+    for s in steps:
+        if isinstance(s, CarrierAction):
+            if s.action in ("out", "outhook"):
+                for c in s.carriers:
+                    last.pop(c, None)
             continue
-        for c in p.carriers:
-            n += last.get(c) == p.direction
-            last[c] = p.direction
+        if s.kind != "knit":
+            continue
+        n += any(last.get(c) == s.direction for c in s.carriers)
+        for c in s.carriers:
+            last[c] = s.direction
     return n
 
 
-def _knit_ops(needles: Sequence[int], beds: Sequence[str], op: str = "knit") -> list[Op]:
-    return [Op(op, b, n) for n, b in zip(needles, beds, strict=True)]
+def _knit_ops(needles: Sequence[int], beds: Sequence[str], op: OpKind = OpKind.KNIT) -> list[Op]:
+    return [Op(op, Bed(b), n) for n, b in zip(needles, beds, strict=True)]
 
 
 def cast_on_steps(
@@ -356,12 +282,19 @@ def cast_on_steps(
     """
     first = [n for n in range(right, left - 1, -1) if (right - n) % 2 == 0]
     second = [n for n in range(left, right + 1) if (right - n) % 2 == 1]
-    tucks1 = (*(Op("tuck", "f", n) for n in first), Op("miss", "f", park_left))
-    tucks2 = (*(Op("tuck", "f", n) for n in second), Op("miss", "f", right))
+    tucks1 = (
+        *(Op(OpKind.TUCK, Bed.FRONT, n) for n in first),
+        Op(OpKind.MISS, Bed.FRONT, park_left),
+    )
+    tucks2 = (*(Op(OpKind.TUCK, Bed.FRONT, n) for n in second), Op(OpKind.MISS, Bed.FRONT, right))
     return [
-        CarrierAction("inhook", (carrier,)),
-        Pass("knit", tucks1, "-", (carrier,), role="cast-on", stitch_number=stitch_number),
-        Pass("knit", tucks2, "+", (carrier,), role="cast-on", stitch_number=stitch_number),
+        CarrierAction(ActionKind.INHOOK, (carrier,)),
+        Pass(
+            PassKind.KNIT, tucks1, "-", (carrier,), role=Role.CAST_ON, stitch_number=stitch_number
+        ),
+        Pass(
+            PassKind.KNIT, tucks2, "+", (carrier,), role=Role.CAST_ON, stitch_number=stitch_number
+        ),
     ]
 
 
@@ -387,24 +320,44 @@ def bind_off_steps(
     steps: list[Step] = []
     d: Direction = direction
     for n in order[:-1]:
-        chain = [Op("knit", "f", n)]
+        chain = [Op(OpKind.KNIT, Bed.FRONT, n)]
         if d == direction:
-            chain.append(Op("miss", "f", n + 2 * shift))
+            chain.append(Op(OpKind.MISS, Bed.FRONT, n + 2 * shift))
         steps.append(
-            Pass("knit", tuple(chain), d, (carrier,), 0.0, "bind-off", None, stitch_number)
+            Pass(
+                PassKind.KNIT, tuple(chain), d, (carrier,), 0.0, Role.BIND_OFF, None, stitch_number
+            )
         )
-        steps.append(Pass("xfer", (Op("xfer", "f", n, "b", n),), None, (), 0.0, "bind-off"))
-        move = (Op("xfer", "b", n, "f", n + shift),)
-        steps.append(Pass("xfer", move, None, (), float(shift), "bind-off"))
+        steps.append(
+            Pass(
+                PassKind.XFER,
+                (Op(OpKind.XFER, Bed.FRONT, n, Bed.BACK, n),),
+                None,
+                (),
+                0.0,
+                Role.BIND_OFF,
+            )
+        )
+        move = (Op(OpKind.XFER, Bed.BACK, n, Bed.FRONT, n + shift),)
+        steps.append(Pass(PassKind.XFER, move, None, (), float(shift), Role.BIND_OFF))
         d = "-" if d == "+" else "+"
     last = order[-1]
     for _ in range(1 + tail_stitches):
         steps.append(
-            Pass("knit", (Op("knit", "f", last),), d, (carrier,), 0.0, "tail", None, stitch_number)
+            Pass(
+                PassKind.KNIT,
+                (Op(OpKind.KNIT, Bed.FRONT, last),),
+                d,
+                (carrier,),
+                0.0,
+                Role.TAIL,
+                None,
+                stitch_number,
+            )
         )
         d = "-" if d == "+" else "+"
-    steps.append(CarrierAction("outhook", (carrier,)))
-    steps.append(Pass("drop", (Op("drop", "f", last),), None, (), 0.0, "tail"))
+    steps.append(CarrierAction(ActionKind.OUTHOOK, (carrier,)))
+    steps.append(Pass(PassKind.DROP, (Op(OpKind.DROP, Bed.FRONT, last),), None, (), 0.0, Role.TAIL))
     return steps
 
 
@@ -449,10 +402,8 @@ def schedule_courses(
     mixed = stitches.mixed_courses()
     if mixed.size:
         c = int(mixed[0])
-        units = stitches.meta.get("units")
-        where = f" (pattern row {int(units[0]) - 1 - c // 2})" if units else ""
         raise MixedColourworkError(
-            f"{mixed.size} course(s) change colour, first course {c}{where} uses yarns "
+            f"{mixed.size} course(s) change colour, first {stitches.course_name(c)} uses yarns "
             f"{list(stitches.course_yarns(c))}; this needs the mixed-colourwork scheduler "
             f"(one colour per course is all the current scheduler knits)"
         )
@@ -478,14 +429,14 @@ def schedule_courses(
     next_dir: dict[str, Direction] = {}
 
     def knit_course(
-        car: str, beds: Sequence[str], role: str, course: int | None, sn: int | None
+        car: str, beds: Sequence[str], role: Role, course: int | None, sn: int | None
     ) -> None:
         d = next_dir.get(car, "-")
         order = needles_up if d == "+" else needles_down
         b = list(beds) if d == "+" else list(beds)[::-1]
         ops = _knit_ops(order, b)
-        ops.append(Op("miss", "f", park[d]))
-        steps.append(Pass("knit", tuple(ops), d, (car,), 0.0, role, course, sn))
+        ops.append(Op(OpKind.MISS, Bed.FRONT, park[d]))
+        steps.append(Pass(PassKind.KNIT, tuple(ops), d, (car,), 0.0, role, course, sn))
         next_dir[car] = "-" if d == "+" else "+"
 
     # -- cast-on -----------------------------------------------------------------------------
@@ -496,9 +447,9 @@ def schedule_courses(
     hook_held: str | None = c0
     cast_on_fixed = 2 + stitches.cast_on_courses
     for _ in range(stitches.cast_on_courses):
-        knit_course(c0, ["f"] * n_wales, "cast-on", None, cast_sn)
+        knit_course(c0, ["f"] * n_wales, Role.CAST_ON, None, cast_sn)
         if hook_held is not None:
-            steps.append(CarrierAction("releasehook", (hook_held,)))
+            steps.append(CarrierAction(ActionKind.RELEASEHOOK, (hook_held,)))
             hook_held = None
 
     # -- body --------------------------------------------------------------------------------
@@ -511,24 +462,24 @@ def schedule_courses(
         if moving.size:
             transfer_courses += 1
             ops = tuple(
-                Op("xfer", "b", left + int(w), "f", left + int(w))
+                Op(OpKind.XFER, Bed.BACK, left + int(w), Bed.FRONT, left + int(w))
                 if bed[w]
-                else Op("xfer", "f", left + int(w), "b", left + int(w))
+                else Op(OpKind.XFER, Bed.FRONT, left + int(w), Bed.BACK, left + int(w))
                 for w in moving
             )
-            steps.append(Pass("xfer", ops, None, (), 0.0, "transfer", c))
+            steps.append(Pass(PassKind.XFER, ops, None, (), 0.0, Role.TRANSFER, c))
             bed = need.copy()
         car = course_carrier[c]
         if car not in next_dir:
-            steps.append(CarrierAction("inhook", (car,)))
+            steps.append(CarrierAction(ActionKind.INHOOK, (car,)))
             hook_held = car
-        knit_course(car, bed_letter[need].tolist(), "body", c, body_sn)
+        knit_course(car, bed_letter[need].tolist(), Role.BODY, c, body_sn)
         if hook_held is not None:
             # Release at once: while the hook holds the yarn nothing may touch the right edge.
-            steps.append(CarrierAction("releasehook", (hook_held,)))
+            steps.append(CarrierAction(ActionKind.RELEASEHOOK, (hook_held,)))
             hook_held = None
         if last_course[car] == c and c != n_courses - 1:
-            steps.append(CarrierAction("outhook", (car,)))
+            steps.append(CarrierAction(ActionKind.OUTHOOK, (car,)))
             del next_dir[car]
     body_bound = n_courses + transfer_courses
 
@@ -538,12 +489,14 @@ def schedule_courses(
     if back.size:
         steps.append(
             Pass(
-                "xfer",
-                tuple(Op("xfer", "b", left + int(w), "f", left + int(w)) for w in back),
+                PassKind.XFER,
+                tuple(
+                    Op(OpKind.XFER, Bed.BACK, left + int(w), Bed.FRONT, left + int(w)) for w in back
+                ),
                 None,
                 (),
                 0.0,
-                "bind-off",
+                Role.BIND_OFF,
             )
         )
         bind_fixed += 1
@@ -564,5 +517,6 @@ def schedule_courses(
         courses=n_courses,
         lower_bound=cast_on_fixed + body_bound + bind_fixed,
         body_lower_bound=body_bound,
-        meta={"units": stitches.meta.get("units"), "scheduler": "one-colour-per-course"},
+        units=stitches.units,
+        scheduler="one-colour-per-course",
     )

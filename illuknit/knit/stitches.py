@@ -27,6 +27,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from illuknit.errors import PatternValidationError, SchedulingError
+from illuknit.knit.ir import course_row
 from illuknit.knit.machine import DEFAULT_MACHINE, MachineSpec
 from illuknit.pattern import LogicalPattern, Yarn
 
@@ -65,8 +66,12 @@ class StitchPattern:
         Plain knit courses, in the yarn of course 0, after the tuck cast-on and before course 0.
     bind_off : str
         How the last course is secured: ``"chain"`` (a transfer bind-off across the piece).
+    units : (int, int) or None
+        Shape (N rows, M columns) of the logical pattern the stitches were lowered from; None
+        for stitches made directly. Course ``c`` belongs to pattern row
+        :func:`~illuknit.knit.ir.course_row` ``(c, N)``.
     meta : mapping
-        Provenance, e.g. the logical pattern's shape.
+        Provenance (the logical pattern's own ``meta``, under ``"source"``).
     """
 
     kind: NDArray[np.uint8]
@@ -76,6 +81,7 @@ class StitchPattern:
     course_aspect: float = DEFAULT_MACHINE.course_aspect
     cast_on_courses: int = 2
     bind_off: BindOff = "chain"
+    units: tuple[int, int] | None = None
     meta: Any = field(default_factory=dict)
 
     def __post_init__(self) -> None:
@@ -105,6 +111,13 @@ class StitchPattern:
         object.__setattr__(self, "kind", _readonly(kind.astype(np.uint8)))
         object.__setattr__(self, "yarn", _readonly(yarn.astype(np.int16)))
         object.__setattr__(self, "yarns", yarns)
+        if self.units is not None:
+            units = tuple(int(u) for u in self.units)
+            if len(units) != 2 or min(units) < 1:
+                raise PatternValidationError(
+                    f"`units` must be two positive sizes, got {self.units!r}"
+                )
+            object.__setattr__(self, "units", units)
         object.__setattr__(self, "meta", MappingProxyType(dict(self.meta)))
 
     @property
@@ -143,6 +156,12 @@ class StitchPattern:
     def used_yarns(self) -> tuple[int, ...]:
         """Yarn indices that occur in the stitches, ascending."""
         return tuple(int(v) for v in np.unique(self.yarn))
+
+    def course_name(self, course: int) -> str:
+        """``"course 12 (pattern row 3)"``: how errors name a body course."""
+        if self.units is None:
+            return f"course {course}"
+        return f"course {course} (pattern row {course_row(course, self.units[0])})"
 
     def __repr__(self) -> str:
         c, w = self.shape
@@ -211,5 +230,6 @@ def lower_to_stitches(
         course_aspect=machine.course_aspect,
         cast_on_courses=cast_on_courses,
         bind_off="chain",
-        meta={"units": [n, m], "source": dict(pattern.meta)},
+        units=(n, m),
+        meta={"source": dict(pattern.meta)},
     )

@@ -189,3 +189,22 @@ def test_demo_runs(tmp_path):
     assert (tmp_path / "d" / "contact.png").is_file()
     p = load_pattern(tmp_path / "d" / "pattern.json")
     assert p.meta["middle"] is not None  # the bundled picture has a middle colour
+
+
+def test_single_dot_writes_into_the_current_folder(picture, tmp_path, capsys, monkeypatch):
+    here = tmp_path / "work" / "here"
+    here.mkdir(parents=True)
+    (tmp_path / "work" / "pattern.json").write_text("parent's own")
+    monkeypatch.chdir(here)
+    ok(["single", str(picture), "-o", "."], capsys)
+    assert (here / "pattern.json").is_file() and (here / "chart.png").is_file()
+    assert (tmp_path / "work" / "pattern.json").read_text() == "parent's own"
+    assert sorted(p.name for p in (tmp_path / "work").iterdir()) == ["here", "pattern.json"]
+
+
+def test_single_output_under_a_file_is_one_line(picture, tmp_path, capsys):
+    (tmp_path / "existing_file").write_text("x")
+    code, _, err = run(
+        ["single", str(picture), "-o", str(tmp_path / "existing_file" / "sub")], capsys
+    )
+    assert code == 2 and len(err.strip().splitlines()) == 1 and "file in the way" in err

@@ -15,7 +15,7 @@ from illuknit.knit import MachineSpec, Pass, lower_to_stitches, write_knitout
 from illuknit.knit.catching import plan_catches
 from illuknit.knit.colour_runs import colour_runs, plan_colour_runs
 from illuknit.knit.float_avoidance import float_crossings
-from illuknit.knit.mixed import count_kickbacks, fold_moves, schedule_mixed
+from illuknit.knit.mixed import fold_moves, schedule_mixed
 from illuknit.knit.path_planning import (
     CarrierState,
     PlannedPass,
@@ -24,7 +24,7 @@ from illuknit.knit.path_planning import (
     is_behind,
     plan_item,
 )
-from illuknit.knit.schedule import CarrierAction, Op
+from illuknit.knit.schedule import CarrierAction, Op, count_kickbacks
 from illuknit.pattern import LogicalPattern, Yarn
 
 YARNS = tuple(Yarn(f"y{i}", (i * 20, 255 - i * 20, 7 * i)) for i in range(12))
@@ -226,7 +226,7 @@ def test_moves_fold_into_the_previous_pass_of_their_carrier():
     out = fold_moves(steps)
     assert len(out) == len(steps) - 1
     assert out[3].ops[-1] == Op("miss", "f", 8)
-    assert count_kickbacks(out) == (0, 0)
+    assert count_kickbacks(out) == 0
 
 
 # -- whole programs ---------------------------------------------------------------------------
@@ -261,8 +261,8 @@ def test_both_path_strategies_and_any_catch_spacing_make_clean_programs(pattern,
 def test_catching_every_course_plates_twice_as_often():
     p = LogicalPattern(np.array([[0, 1, 1, 0]] * 3), np.zeros((3, 4), bool), YARNS[:2])
     s = lower_to_stitches(p)
-    every = schedule_mixed(s, catch_every=1).meta["plated_stitches"]
-    alternate = schedule_mixed(s, catch_every=2).meta["plated_stitches"]
+    every = schedule_mixed(s, catch_every=1).mixed.plated_stitches
+    alternate = schedule_mixed(s, catch_every=2).mixed.plated_stitches
     assert every == 2 * alternate > 0
 
 

@@ -47,7 +47,7 @@ def test_double_view_from_tiles():
     pattern, _ = compile_tiles(found[0])
     assert (pattern.yarn != pattern.yarn[:, :1]).any()  # really mixed colourwork
     r = assert_knits(pattern)
-    assert r.schedule.meta["scheduler"] == "mixed-colourwork"
+    assert r.schedule.scheduler == "mixed-colourwork"
 
 
 def test_head_on_tiles():
@@ -78,7 +78,7 @@ def test_single_view_still_takes_the_one_colour_scheduler():
 
     img = to_index_image(draw_shape("heart", (5, 6)), ink=0, paper=1)
     r = assert_knits(compile_single_view(img, yarns=YARNS))
-    assert r.schedule.meta["scheduler"] == "one-colour-per-course"
+    assert r.schedule.scheduler == "one-colour-per-course"
 
 
 def test_three_yarns_and_long_floats_on_a_narrow_float_limit():

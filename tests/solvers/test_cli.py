@@ -180,16 +180,10 @@ def test_unknown_and_unavailable_solvers(pair, tmp_path, capsys):
 def test_unavailable_backend_names_the_extra_in_the_cli(pair, tmp_path, capsys, monkeypatch):
     import illuknit.solvers as reg
 
-    class Missing:
+    class Missing(reg.BackendBase):
         name = "needs-gpu"
         extra = "gpu"
-        exact = True
-
-        def handles(self, model):
-            return True
-
-        def is_available(self):
-            return False
+        requires = ("no_such_gpu_module",)
 
     monkeypatch.setitem(reg._registered, "needs-gpu", Missing)
     a, b = pair

@@ -8,7 +8,15 @@ import pytest
 import illuknit.solvers as reg
 from illuknit.errors import BackendUnavailableError, SolverError, UnknownNameError
 from illuknit.model import Model
-from illuknit.solvers import Backend, Solution, Status, available_backends, get_backend, solve
+from illuknit.solvers import (
+    Backend,
+    BackendBase,
+    Solution,
+    Status,
+    available_backends,
+    get_backend,
+    solve,
+)
 
 
 def test_unknown_name_lists_the_valid_ones():
@@ -27,16 +35,10 @@ def test_builtin_backends_follow_the_protocol():
     assert available_backends()[:2] == ["dp", "cpsat"]
 
 
-class _Missing:
+class _Missing(BackendBase):
     name = "needs-gpu"
     extra = "gpu"
-    exact = True
-
-    def handles(self, model):
-        return True
-
-    def is_available(self):
-        return False
+    requires = ("no_such_gpu_module",)
 
     def solve(self, model, *, time_limit=None, seed=0, progress=None):  # pragma: no cover
         raise AssertionError
@@ -50,16 +52,9 @@ def test_unavailable_backend_names_the_extra(monkeypatch):
         get_backend("needs-gpu")
 
 
-class _Constant:
+class _Constant(BackendBase):
     name = "constant"
-    extra = None
     exact = False
-
-    def handles(self, model):
-        return True
-
-    def is_available(self):
-        return True
 
     def solve(self, model, *, time_limit=None, seed=0, progress=None):
         v = np.zeros(model.pool.top + 1, dtype=bool)

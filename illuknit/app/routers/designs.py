@@ -1,0 +1,97 @@
+"""Designs: the ranked candidates, the designer's pick, per-pair tile edits and renders."""
+
+from typing import Any, Literal
+
+from fastapi import APIRouter, Query
+from fastapi.responses import Response
+
+from illuknit.app import design
+from illuknit.app.lookups import SessionDep, candidate_of, current_pattern, state_json
+from illuknit.app.schemas import OverrideIn, SelectionIn
+
+__all__ = ["router"]
+
+router = APIRouter(prefix="/api/sessions/{sid}", tags=["design"])
+
+
+@router.get("/candidates", summary="Ranked candidates")
+def get_candidates(s: SessionDep) -> dict[str, Any]:
+    with s.lock:
+        return {
+            "revision": s.candidates_revision,
+            "selected": s.selected if s.candidates else None,
+            "candidates": [c.to_json() for c in s.candidates],
+        }
+
+
+@router.put("/selection", summary="Pick a candidate")
+def put_selection(s: SessionDep, body: SelectionIn) -> dict[str, Any]:
+    with s.lock:
+        candidate_of(s, body.candidate)
+        if body.candidate != s.selected:
+            s.selected = body.candidate
+            s.overrides = {}
+            s.knit = None
+        return state_json(s)
+
+
+@router.get(
+    "/pairs",
+    summary="Overlap pairs of the picked candidate, their tiles and the bank's alternatives",
+)
+def get_pairs(s: SessionDep) -> dict[str, Any]:
+    with s.lock:
+        return design.pairs_json(candidate_of(s, None), s.overrides)
+
+
+@router.put(
+    "/pairs/{a}/{b}",
+    summary="Use another tile for the overlap pair (a, b) of the picked candidate",
+)
+def put_pair(s: SessionDep, a: int, b: int, body: OverrideIn) -> dict[str, Any]:
+    with s.lock:
+        cand = candidate_of(s, None)
+        overrides = dict(s.overrides)
+        if body.tile is None:
+            overrides.pop((a, b), None)
+        else:
+            overrides[(a, b)] = body.tile
+        design.pattern_for(cand, overrides)  # validates before keeping it
+        s.overrides = overrides
+        s.knit = None
+        return design.pairs_json(cand, s.overrides)
+
+
+@router.get("/tiles/{tile_id}.png", summary="Picture of a bank tile")
+def get_tile_png(s: SessionDep, tile_id: str) -> Response:
+    with s.lock:
+        cand = candidate_of(s, None)
+    return Response(design.tile_png(tile_id, cand), media_type="image/png")
+
+
+@router.get("/tile.png", summary="Picture of any tile: a bank number or rows such as 0/1^")
+def get_any_tile_png(
+    s: SessionDep,
+    tile: str = Query(..., title="Tile", description="bank tile number, or rows like 0/1^"),
+) -> Response:
+    return get_tile_png(s, tile)
+
+
+@router.get("/render", summary="Render a candidate from one side or head-on at an angle (PNG)")
+def render(
+    s: SessionDep,
+    view: Literal["A", "B", "headon"] = Query(
+        "A", title="View", description="side A (above), side B (below) or head-on"
+    ),
+    angle: float = Query(
+        30.0, gt=0, le=90, title="Viewing angle", description="elevation of the eye in degrees"
+    ),
+    candidate: int | None = Query(
+        None, ge=1, title="Candidate", description="rank; default: the picked one"
+    ),
+) -> Response:
+    pattern = current_pattern(s, candidate)
+    img = design.render_view(pattern, view, angle=angle)
+    return Response(
+        design.png_bytes(img), media_type="image/png", headers={"Cache-Control": "no-store"}
+    )

@@ -1,0 +1,124 @@
+"""Downloads: the picked pattern and everything made from it, and the knitout's summary."""
+
+import json
+from typing import Any
+
+from fastapi import APIRouter, Query
+from fastapi.responses import Response
+
+from illuknit.app import design
+from illuknit.app.lookups import SessionDep, current_pattern
+from illuknit.app.sessions import Session
+from illuknit.errors import AppRequestError
+from illuknit.pattern import LogicalPattern
+
+__all__ = ["DOWNLOADS", "router"]
+
+router = APIRouter(prefix="/api/sessions/{sid}", tags=["downloads"])
+
+DOWNLOADS = (
+    "pattern.json",
+    "previews.zip",
+    "chart.png",
+    "instructions.txt",
+    "knitout.k",
+    "check.json",
+    "check.txt",
+    "pattern.dat",
+)
+
+
+def attachment(data: bytes, filename: str, media_type: str) -> Response:
+    return Response(
+        data,
+        media_type=media_type,
+        headers={
+            "Content-Disposition": f'attachment; filename="{filename}"',
+            "Cache-Control": "no-store",
+        },
+    )
+
+
+def knit_of(s: Session, pattern: LogicalPattern) -> design.KnitResult:
+    """The session's knitout if it was made from ``pattern`` (409 ``not_ready`` otherwise)."""
+    with s.lock:
+        knit = s.knit
+    if knit is None or knit.key != design.pattern_key(pattern):
+        raise AppRequestError(
+            "make the knitout first (the picked pattern changed since)",
+            field="knit",
+            code="not_ready",
+            status=409,
+        )
+    result: design.KnitResult = knit
+    return result
+
+
+@router.get(
+    "/download/{name}",
+    summary="Download the picked pattern, previews, chart, instructions, knitout, check report",
+)
+def download(
+    s: SessionDep,
+    name: str,
+    angle: float = Query(30.0, gt=0, le=90, title="Viewing angle"),
+) -> Response:
+    if name not in DOWNLOADS:
+        raise AppRequestError(
+            f"unknown download {name!r}; valid: {', '.join(DOWNLOADS)}",
+            field="downloads",
+            code="unknown",
+            status=404,
+        )
+    if name == "pattern.dat":
+        raise AppRequestError(
+            "Shima .dat files are not available: illuknit writes knitout, and no working "
+            "knitout-to-.dat converter is installable from PyPI today. Convert the knitout with "
+            "the CMU textiles-lab knitout-backend-swg (knitout-to-dat.js).",
+            field="knit",
+            code="unavailable",
+            status=501,
+        )
+    pattern = current_pattern(s)
+    stem = f"illuknit-{pattern.shape[0]}x{pattern.shape[1]}"
+    if name == "pattern.json":
+        return attachment(design.pattern_json_bytes(pattern), f"{stem}.json", "application/json")
+    if name == "previews.zip":
+        with s.lock:
+            prepared = s.prepared
+        return attachment(
+            design.previews_zip(pattern, prepared, angle=angle),
+            f"{stem}-previews.zip",
+            "application/zip",
+        )
+    if name == "chart.png":
+        return attachment(design.chart_png(pattern), f"{stem}-chart.png", "image/png")
+    if name == "instructions.txt":
+        return attachment(
+            design.instructions_text(pattern).encode(),
+            f"{stem}-instructions.txt",
+            "text/plain; charset=utf-8",
+        )
+    knit = knit_of(s, pattern)
+    if name == "knitout.k":
+        return attachment(knit.knitout.encode(), f"{stem}.k", "text/plain; charset=utf-8")
+    if name == "check.json":
+        return attachment(
+            json.dumps(knit.report, indent=1).encode(), f"{stem}-check.json", "application/json"
+        )
+    return attachment(knit.report_text.encode(), f"{stem}-check.txt", "text/plain; charset=utf-8")
+
+
+@router.get("/knit", summary="Knitout statistics and check summary")
+def get_knit(s: SessionDep) -> dict[str, Any]:
+    pattern = current_pattern(s)
+    with s.lock:
+        knit = s.knit
+    if knit is None or knit.key != design.pattern_key(pattern):
+        return {"ready": False}
+    return {
+        "ready": True,
+        "stats": knit.stats,
+        "report": knit.report,
+        "lines": knit.knitout.count("\n"),
+    }

@@ -1,0 +1,107 @@
+"""Jobs: the long work (candidate search, knitout and its check) in the background."""
+
+from typing import Annotated, Any
+
+from fastapi import APIRouter, Depends, Request
+
+from illuknit.app import design
+from illuknit.app.jobs import Job, JobRunner
+from illuknit.app.lookups import SessionDep, current_pattern, prepared_of, runner_of
+from illuknit.app.schemas import JobIn
+from illuknit.app.sessions import Session
+from illuknit.errors import AppRequestError
+
+__all__ = ["router"]
+
+router = APIRouter(prefix="/api/sessions/{sid}/jobs", tags=["jobs"])
+
+RunnerDep = Annotated[JobRunner, Depends(runner_of)]
+
+
+def start_candidates(s: Session, runner: JobRunner) -> Job:
+    prepared = prepared_of(s)
+    count = s.settings.candidates
+    rev = s.revision
+
+    def work(job: Job) -> list[design.Candidate]:
+        return design.make_candidates(prepared, count=count, progress=job.report)
+
+    def done(job: Job) -> None:
+        with s.lock:
+            if s.revision == job.revision:
+                s.candidates = list(job.result)
+                s.candidates_revision = job.revision
+                s.selected = 1
+                s.overrides = {}
+                s.knit = None
+
+    return runner.submit("candidates", work, revision=rev, on_done=done)
+
+
+def start_knit(s: Session, runner: JobRunner, *, isolate: bool) -> Job:
+    pattern = current_pattern(s)
+    key = design.pattern_key(pattern)
+    doc = design.pattern_to_json(pattern)
+
+    def work(job: Job) -> design.KnitResult:
+        job.report(0.05, "compiling knitout and checking it")
+        if isolate:
+            out = job.run_isolated(design.knit_and_check, doc)
+        else:
+            out = design.knit_and_check(doc)
+        return design.KnitResult(
+            key=key,
+            knitout=out["knitout"],
+            stats=out["stats"],
+            report=out["report"],
+            report_text=out["report_text"],
+        )
+
+    def done(job: Job) -> None:
+        with s.lock:
+            s.knit = job.result
+
+    return runner.submit("knit", work, revision=s.revision, on_done=done)
+
+
+@router.post(
+    "",
+    status_code=202,
+    summary="Start a background job (candidates or knitout); replaces a live job of that kind",
+)
+def post_job(request: Request, s: SessionDep, runner: RunnerDep, body: JobIn) -> dict[str, Any]:
+    with s.lock:
+        old = s.jobs.get(body.kind)
+        if old is not None and old.live:
+            old.cancel()
+        if body.kind == "candidates":
+            job = start_candidates(s, runner)
+        else:
+            job = start_knit(s, runner, isolate=request.app.state.config.isolate_knit)
+        s.jobs[body.kind] = job
+        return job.to_json()
+
+
+def job_of(s: Session, job_id: str) -> Job:
+    # Only jobs of this session are visible in it: no peeking at another tab's work.
+    for job in s.jobs.values():
+        if job.id == job_id:
+            return job
+    raise AppRequestError(
+        f"no job {job_id!r} in this session", field="job", code="no_job", status=404
+    )
+
+
+@router.get("/{job_id}", summary="Poll a job's progress")
+def get_job(s: SessionDep, job_id: str) -> dict[str, Any]:
+    with s.lock:
+        return job_of(s, job_id).to_json()
+
+
+@router.delete("/{job_id}", summary="Cancel a job")
+def cancel_job(s: SessionDep, job_id: str) -> dict[str, Any]:
+    with s.lock:
+        job = job_of(s, job_id)
+    job.cancel()
+    job.wait(timeout=5)
+    return job.to_json()

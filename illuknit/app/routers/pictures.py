@@ -1,0 +1,110 @@
+"""Pictures: upload picture A or B, see it as sent, and see both quantised to the yarns."""
+
+import mimetypes
+from typing import Annotated, Any
+
+from fastapi import APIRouter, File, Request, UploadFile
+from fastapi.responses import Response
+
+from illuknit.app import design
+from illuknit.app.lookups import SessionDep, check_slot, prepared_of, state_json
+from illuknit.app.sessions import UploadedImage
+from illuknit.errors import AppRequestError
+
+__all__ = ["router"]
+
+router = APIRouter(prefix="/api/sessions/{sid}", tags=["inputs"])
+
+
+@router.put("/images/{slot}", summary="Upload (or replace) picture A or B; settings are kept")
+def put_image(
+    request: Request,
+    s: SessionDep,
+    slot: str,
+    file: Annotated[UploadFile | None, File()] = None,
+) -> dict[str, Any]:
+    check_slot(slot)
+    field = f"image_{slot}"
+    if file is None:
+        raise AppRequestError(
+            "no file in the upload (form field 'file')", field=field, code="missing"
+        )
+    limit = request.app.state.config.max_upload_bytes
+    data = file.file.read(limit + 1)
+    if len(data) > limit:
+        raise AppRequestError(
+            f"the file is over {limit / 1e6:.0f} MB, the limit for pictures",
+            field=field,
+            code="too_large",
+            status=413,
+        )
+    rgb = design.decode_upload(data, file.filename or "", field=field)
+    with s.lock:
+        s.images[slot] = UploadedImage(file.filename or f"{slot}.png", data, rgb)
+        s.bump()
+        return state_json(s)
+
+
+@router.get("/images/{slot}", summary="The uploaded picture as sent")
+def get_image(s: SessionDep, slot: str) -> Response:
+    check_slot(slot)
+    with s.lock:
+        im = s.images.get(slot)
+    if im is None:
+        raise AppRequestError(
+            f"no picture {slot.upper()} uploaded",
+            field=f"image_{slot}",
+            code="missing",
+            status=404,
+        )
+    mime = mimetypes.guess_type(im.filename)[0] or "application/octet-stream"
+    if not mime.startswith("image/"):
+        return Response(
+            design.png_bytes((im.rgb * 255).round().astype("uint8")), media_type="image/png"
+        )
+    return Response(im.data, media_type=mime)
+
+
+@router.delete("/images/{slot}", summary="Remove a picture")
+def delete_image(s: SessionDep, slot: str) -> dict[str, Any]:
+    check_slot(slot)
+    with s.lock:
+        if s.images.pop(slot, None) is not None:
+            s.bump()
+        return state_json(s)
+
+
+@router.get("/inputs", summary="Quantise the pictures under the settings: sizes and legends")
+def get_inputs(s: SessionDep) -> dict[str, Any]:
+    with s.lock:
+        p = prepared_of(s)
+        rev = s.revision
+    n, m = p.shape
+    return {
+        "revision": rev,
+        "mode": p.mode,
+        "rows": n,
+        "cols": m,
+        "yarns": [{"name": y.name, "rgb": y.hex} for y in p.yarns],
+        "legend": p.legend(),
+        "notes": list(p.notes),
+        "images": {slot: f"/api/sessions/{s.id}/inputs/{slot}.png?r={rev}" for slot in p.quantised},
+    }
+
+
+@router.get("/inputs/{slot}.png", summary="A quantised picture")
+def get_input_png(s: SessionDep, slot: str) -> Response:
+    check_slot(slot)
+    p = prepared_of(s)
+    if slot not in p.quantised:
+        raise AppRequestError(
+            f"no quantised picture {slot.upper()} in this mode",
+            field=f"image_{slot}",
+            code="missing",
+            status=404,
+        )
+    return Response(
+        design.png_bytes(p.quantised[slot].rgb()),
+        media_type="image/png",
+        headers={"Cache-Control": "no-store"},
+    )

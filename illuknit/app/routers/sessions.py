@@ -1,0 +1,50 @@
+"""Sessions: one per browser tab; start, read, end, and change its settings."""
+
+from typing import Annotated, Any
+
+from fastapi import APIRouter, Depends
+
+from illuknit.app import design
+from illuknit.app.lookups import SessionDep, state_json, store_of
+from illuknit.app.schemas import DesignSettings, SettingsPatch
+from illuknit.app.sessions import SessionStore
+from illuknit.pattern import parse_yarns
+
+__all__ = ["router"]
+
+router = APIRouter(prefix="/api/sessions", tags=["sessions"])
+
+StoreDep = Annotated[SessionStore, Depends(store_of)]
+
+
+@router.post("", status_code=201, summary="Start a session (one per tab)")
+def create_session(store: StoreDep) -> dict[str, Any]:
+    s = store.create()
+    with s.lock:
+        return state_json(s)
+
+
+@router.get("/{sid}", summary="The session's state")
+def get_session(s: SessionDep) -> dict[str, Any]:
+    with s.lock:
+        return state_json(s)
+
+
+@router.delete("/{sid}", summary="End a session, cancelling its jobs")
+def delete_session(s: SessionDep, store: StoreDep) -> dict[str, Any]:
+    store.delete(s.id)
+    return {"deleted": s.id}
+
+
+@router.put("/{sid}/settings", tags=["inputs"], summary="Change design settings")
+def put_settings(s: SessionDep, body: SettingsPatch) -> dict[str, Any]:  # type: ignore[valid-type]
+    changes = body.model_dump(exclude_none=True)  # type: ignore[attr-defined]
+    if "yarns" in changes:
+        with design.blame("yarns"):
+            parse_yarns(list(changes["yarns"]))
+    with s.lock:
+        new = DesignSettings.model_validate({**s.settings.model_dump(), **changes})
+        if new != s.settings:
+            s.settings = new
+            s.bump()
+        return state_json(s)

@@ -1,0 +1,117 @@
+"""The app's request and settings models, in one place (pydantic).
+
+:class:`DesignSettings` is what a session keeps *and* what ``PUT /settings`` validates: the patch
+model :data:`SettingsPatch` is derived from it field by field (every field optional, the same
+bounds), so a bound is written once. The page reads the bounds and titles from ``/openapi.json``
+and error messages quote the titles, never the identifiers.
+"""
+
+from __future__ import annotations
+
+from typing import Any, Literal
+
+from pydantic import BaseModel, ConfigDict, Field, create_model
+
+from illuknit.pattern import MAX_UNITS
+
+__all__ = [
+    "DesignSettings",
+    "JobIn",
+    "OverrideIn",
+    "SelectionIn",
+    "SettingsPatch",
+]
+
+
+class DesignSettings(BaseModel):
+    """What the designer chose. Frozen: a change makes a new settings object."""
+
+    model_config = ConfigDict(frozen=True, extra="forbid", allow_inf_nan=False)
+
+    mode: Literal["single", "double", "headon"] = Field(
+        default="double",
+        title="Mode",
+        description="single view (one picture), double view or head-on (two pictures)",
+    )
+    size_mode: Literal["units", "physical"] = Field(
+        default="units",
+        title="Size by",
+        description="give the width in units, or as a physical width and a gauge",
+    )
+    width_units: int = Field(
+        default=60,
+        ge=2,
+        le=MAX_UNITS,
+        title="Width",
+        description="width in units (1 unit = 2 stitches)",
+    )
+    width_cm: float = Field(
+        default=20.0, gt=0, le=500, title="Width in cm", description="physical width in cm"
+    )
+    gauge: float = Field(default=7.0, gt=0, le=40, title="Gauge", description="stitches per inch")
+    n_colors: int = Field(
+        default=2, ge=2, le=4, title="Colours", description="colours to quantise each picture to"
+    )
+    yarns: tuple[str, ...] = Field(
+        default=("#1b1b1b", "#f4f0e8"),
+        min_length=2,
+        max_length=6,
+        title="Yarns",
+        description="yarn colours, '#rrggbb' or CSS names",
+    )
+    candidates: int = Field(
+        default=5, ge=1, le=12, title="Candidates", description="ranked candidates to show"
+    )
+    resize: bool = Field(
+        default=False, title="Resize B", description="stretch picture B to picture A's size"
+    )
+    smooth: bool = Field(
+        default=True,
+        title="Smooth resizing",
+        description="anti-aliased resizing (photos) vs nearest (pixel art)",
+    )
+
+    def to_json(self) -> dict[str, Any]:
+        return self.model_dump(mode="json")
+
+
+def _patch_of(model: type[BaseModel], name: str) -> type[BaseModel]:
+    """``model`` with every field optional (``None`` = unchanged) and the same bounds."""
+    fields: dict[str, Any] = {}
+    for key, info in model.model_fields.items():
+        patch = info._copy()  # keeps title, description and the bounds
+        patch.default = None
+        patch.annotation = info.annotation | None  # type: ignore[operator,assignment]
+        fields[key] = (patch.annotation, patch)
+    return create_model(
+        name,
+        __config__=ConfigDict(extra="forbid", allow_inf_nan=False),
+        __doc__="Design settings to change; only the given fields change.",
+        **fields,
+    )
+
+
+#: Body of ``PUT /settings``: any subset of :class:`DesignSettings`' fields.
+SettingsPatch = _patch_of(DesignSettings, "SettingsPatch")
+
+
+class JobIn(BaseModel):
+    """Body of ``POST /jobs``."""
+
+    kind: Literal["candidates", "knit"] = Field(..., title="Job", description="what to compute")
+
+
+class SelectionIn(BaseModel):
+    """Body of ``PUT /selection``."""
+
+    candidate: int = Field(..., ge=1, title="Candidate", description="rank of the candidate")
+
+
+class OverrideIn(BaseModel):
+    """Body of ``PUT /pairs/{a}/{b}``."""
+
+    tile: str | None = Field(
+        None,
+        title="Tile",
+        description="tile id from the bank; null restores the candidate's own",
+    )

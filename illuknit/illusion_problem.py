@@ -1,0 +1,251 @@
+"""The data of an illusion model: targets, palette, model kind, objective weights.
+
+:class:`IllusionProblem` is what the encoder (:mod:`illuknit.illusion_models`) turns into a
+:class:`~illuknit.model.Model` and what the structured backends (:mod:`illuknit.solvers.dp`,
+:mod:`illuknit.solvers.descent`, :mod:`illuknit.solvers.gradient`) read directly; the objective
+pieces they share with the encoder (:func:`raised_cost`) live here too, so backends and encoder
+import this module and never each other.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+from typing import Any, Literal
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from illuknit.errors import PatternValidationError, UnknownNameError
+
+__all__ = [
+    "MODEL_KINDS",
+    "IllusionProblem",
+    "KnitWeights",
+    "make_problem",
+    "parse_weights",
+    "raised_cost",
+]
+
+ModelKind = Literal["logical", "knit-aware", "single"]
+MODEL_KINDS: tuple[str, ...] = ("logical", "knit-aware", "single")
+
+
+@dataclass(frozen=True)
+class KnitWeights:
+    """Objective weights (positive integers, 0 switches a term off).
+
+    Parameters
+    ----------
+    view : int
+        Per view cell (A or B) that does not show its target yarn.
+    color_change : int
+        Per yarn change between horizontally adjacent units of a course (model (b)).
+    transfer : int
+        Per knit<->purl change between consecutive courses; a bump costs two (model (b)).
+    max_color_changes : int or None
+        Hard cap on yarn changes per course (per unit row), or None for no cap (model (b)).
+    """
+
+    view: int = 4
+    color_change: int = 1
+    transfer: int = 1
+    max_color_changes: int | None = None
+
+    def __post_init__(self) -> None:
+        for name in ("view", "color_change", "transfer"):
+            v = getattr(self, name)
+            if not isinstance(v, int | np.integer) or isinstance(v, bool) or v < 0:
+                raise PatternValidationError(f"weight `{name}` must be an integer >= 0, got {v!r}")
+        if self.view == 0:
+            raise PatternValidationError("weight `view` must be positive")
+        cap = self.max_color_changes
+        if cap is not None and (not isinstance(cap, int | np.integer) or cap < 0):
+            raise PatternValidationError(
+                f"`max_color_changes` must be an integer >= 0 or None, got {cap!r}"
+            )
+
+
+def parse_weights(text: str | None, *, base: KnitWeights | None = None) -> KnitWeights:
+    """Parse ``"view=4,color_change=1,transfer=1,max_color_changes=6"`` (any subset).
+
+    ``color``/``colour``/``colour_change`` and ``cap`` are accepted as aliases.
+    """
+    w = base or KnitWeights()
+    if not text or not text.strip():
+        return w
+    alias = {
+        "color": "color_change",
+        "colour": "color_change",
+        "colour_change": "color_change",
+        "transfers": "transfer",
+        "cap": "max_color_changes",
+        "max_colour_changes": "max_color_changes",
+    }
+    valid = ("view", "color_change", "transfer", "max_color_changes")
+    changes: dict[str, Any] = {}
+    for part in text.split(","):
+        if not part.strip():
+            continue
+        key, sep, val = part.partition("=")
+        key = alias.get(key.strip().replace("-", "_"), key.strip().replace("-", "_"))
+        if not sep or key not in valid:
+            raise UnknownNameError("weight", part.strip(), [f"{v}=N" for v in valid])
+        val = val.strip()
+        if key == "max_color_changes" and val.lower() in ("none", ""):
+            changes[key] = None
+            continue
+        try:
+            changes[key] = int(val)
+        except ValueError:
+            raise PatternValidationError(
+                f"weight `{key}` must be an integer, got {val!r}"
+            ) from None
+    return replace(w, **changes)
+
+
+def _index_image(a: ArrayLike, name: str, n_yarns: int) -> NDArray[np.int16]:
+    arr = np.asarray(a)
+    if arr.ndim != 2 or arr.size == 0:
+        raise PatternValidationError(
+            f"`{name}` must be a non-empty 2-D yarn-index image, got shape {arr.shape}"
+        )
+    if not np.issubdtype(arr.dtype, np.integer):
+        raise PatternValidationError(
+            f"`{name}` must hold integer yarn indices, got dtype {arr.dtype}"
+        )
+    lo, hi = int(arr.min()), int(arr.max())
+    if lo < 0 or hi >= n_yarns:
+        bad = lo if lo < 0 else hi
+        raise PatternValidationError(
+            f"`{name}` holds yarn index {bad}, outside the palette of {n_yarns} yarn(s) (0..{n_yarns - 1})"
+        )
+    out = arr.astype(np.int16)
+    out.setflags(write=False)
+    return out
+
+
+@dataclass(frozen=True, eq=False)
+class IllusionProblem:
+    """Targets and settings of an illusion model (the structured payload of its ``Model``).
+
+    Parameters
+    ----------
+    target_a, target_b : ndarray of shape (N, M), int
+        Yarn index each view cell should show (view A from above, view B from below). For the
+        single-view model both are the same target.
+    n_yarns : int
+        Palette size K; every target index lies in 0..K-1.
+    kind : {"logical", "knit-aware", "single"}
+    weights : KnitWeights
+    pinned : ndarray of shape (N, M), int, optional
+        Yarn fixed by the designer per unit, -1 where free.
+    alternate_rows : bool
+        Single-view model only: neighbouring unit rows must have different yarns.
+    """
+
+    target_a: NDArray[np.int16]
+    target_b: NDArray[np.int16]
+    n_yarns: int
+    kind: str = "logical"
+    weights: KnitWeights = field(default_factory=KnitWeights)
+    pinned: NDArray[np.int16] | None = None
+    alternate_rows: bool = False
+
+    def __post_init__(self) -> None:
+        if self.kind not in MODEL_KINDS:
+            raise UnknownNameError("model", str(self.kind), MODEL_KINDS)
+        if self.alternate_rows and self.kind != "single":
+            raise PatternValidationError(
+                f"`alternate_rows` applies to the single-view model only, not {self.kind!r}"
+            )
+        k = int(self.n_yarns)
+        if k < 1:
+            raise PatternValidationError(f"`n_yarns` must be >= 1, got {self.n_yarns}")
+        a = _index_image(self.target_a, "target_a", k)
+        b = _index_image(self.target_b, "target_b", k)
+        if a.shape != b.shape:
+            raise PatternValidationError(
+                f"targets A and B must have the same size, got {a.shape[0]}x{a.shape[1]} and "
+                f"{b.shape[0]}x{b.shape[1]} units (resize one, e.g. `illuknit solve --resize`)"
+            )
+        object.__setattr__(self, "target_a", a)
+        object.__setattr__(self, "target_b", b)
+        object.__setattr__(self, "n_yarns", k)
+        if self.pinned is not None:
+            p = np.asarray(self.pinned)
+            if p.shape != a.shape or not np.issubdtype(p.dtype, np.integer):
+                raise PatternValidationError(f"`pinned` must be an int array of shape {a.shape}")
+            if int(p.max()) >= k or int(p.min()) < -1:
+                raise PatternValidationError(f"`pinned` values must lie in -1..{k - 1}")
+            p = p.astype(np.int16)
+            p.setflags(write=False)
+            object.__setattr__(self, "pinned", p)
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        return (int(self.target_a.shape[0]), int(self.target_a.shape[1]))
+
+    @property
+    def view_weight(self) -> int:
+        """Weight of a mismatched view cell: 1 (count of cells) unless knit-aware."""
+        return self.weights.view if self.kind == "knit-aware" else 1
+
+    @property
+    def color_weight(self) -> int:
+        """Weight of colour changes (0 unless knit-aware)."""
+        return self.weights.color_change if self.kind == "knit-aware" else 0
+
+    @property
+    def transfer_weight(self) -> int:
+        """Weight of knit<->purl changes (0 unless knit-aware)."""
+        return self.weights.transfer if self.kind == "knit-aware" else 0
+
+    @property
+    def color_cap(self) -> int | None:
+        return self.weights.max_color_changes if self.kind == "knit-aware" else None
+
+    @property
+    def rows_tied(self) -> bool:
+        """True when every unit row must be knit in one yarn (the single-view model)."""
+        return self.kind == "single"
+
+    @property
+    def per_wale(self) -> bool:
+        """True when nothing couples different wales (then the per-wale DP is exact)."""
+        return self.color_weight == 0 and self.color_cap is None and not self.rows_tied
+
+
+def make_problem(
+    target_a: ArrayLike,
+    target_b: ArrayLike | None = None,
+    *,
+    n_yarns: int | None = None,
+    kind: str = "logical",
+    weights: KnitWeights | None = None,
+    pinned: ArrayLike | None = None,
+    alternate_rows: bool = False,
+) -> IllusionProblem:
+    """An :class:`IllusionProblem`; ``target_b`` defaults to ``target_a`` (single view).
+
+    ``n_yarns`` defaults to ``max(target) + 1``. ``alternate_rows`` (single view only): rows
+    alternate yarns.
+    """
+    a = np.asarray(target_a)
+    b = a if target_b is None else np.asarray(target_b)
+    if kind == "single" and target_b is not None and not np.array_equal(a, b):
+        raise PatternValidationError(
+            "the single-view model takes one target (target_b must be None or equal)"
+        )
+    if n_yarns is None:
+        n_yarns = int(max(int(np.max(a)), int(np.max(b)))) + 1 if a.size and b.size else 1
+    pin = None if pinned is None else np.asarray(pinned)
+    return IllusionProblem(
+        a, b, int(n_yarns), kind, weights or KnitWeights(), pin, bool(alternate_rows)
+    )
+
+
+def raised_cost(n: int, m: int, w: int) -> NDArray[np.int64]:
+    """Per-unit weight of being raised: 2 bed changes per bump, 1 in the top row."""
+    c = np.full((n, m), 2 * w, dtype=np.int64)
+    c[0] = w
+    return c

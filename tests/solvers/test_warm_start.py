@@ -1,0 +1,84 @@
+"""The one orchestration: warm-start policies, found_by, the trace, one DP run for "auto"."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import illuknit.solvers.dp as dp_mod
+from illuknit.drawings import draw_ecg, draw_heart
+from illuknit.errors import SolverError, UnknownNameError
+from illuknit.illusion_models import KnitWeights, build_model, make_problem, solve_illusion
+from illuknit.model import Model
+from illuknit.solvers import BackendBase, Solution, Status, solve
+from illuknit.solvers.dp import solve_dp
+
+
+def _pair(n: int = 12, m: int = 10) -> tuple[np.ndarray, np.ndarray]:
+    return draw_heart((n, m)).astype(np.int16), draw_ecg((n, m)).astype(np.int16)
+
+
+def test_auto_solver_runs_the_dp_once(monkeypatch):
+    calls = []
+
+    def counted(problem):
+        calls.append(1)
+        return solve_dp(problem)
+
+    monkeypatch.setattr(dp_mod, "solve_dp", counted)
+    a, b = _pair()
+    res = solve_illusion(a, b, solver="auto", warm_start="auto")
+    assert res.solution.backend == "dp" and res.solution.found_by == "dp"
+    assert len(calls) == 1
+
+
+def test_no_warm_start_means_the_backend_found_it():
+    a, b = _pair()
+    model = build_model(make_problem(a, b))
+    sol = solve(model, solver="rc2", warm_start="none")
+    assert model.hint is None
+    assert sol.found_by == "rc2" and sol.stats["warm_start"] == {"method": "none"}
+    assert sol.objective == solve_dp(make_problem(a, b))[2]
+    assert sol.found_at is not None and 0 <= sol.found_at <= sol.wall_time
+    assert sol.finished_at.endswith("+00:00")
+
+
+class _Nothing(BackendBase):
+    """Gives up at once with nothing: whatever the solution holds came from the warm start."""
+
+    name = "nothing"
+
+    def solve(self, model, *, time_limit=None, seed=0, progress=None):
+        return Solution(Status.TIMEOUT, None, None, None, 0.01, {}, self.name, model.pool)
+
+
+def test_a_kept_warm_start_is_credited_to_the_warm_start(monkeypatch):
+    import illuknit.solvers as reg
+
+    monkeypatch.setitem(reg._registered, "nothing", _Nothing)
+    a, b = _pair()
+    problem = make_problem(a, b)
+    sol = solve(build_model(problem), solver="nothing", warm_start="dp")
+    assert sol.backend == "nothing" and sol.found_by == "dp"
+    assert sol.stats["kept_warm_start"] and sol.objective == solve_dp(problem)[2]
+    assert sol.trace and sol.trace[0][1] == sol.objective
+
+
+def test_descent_warm_start_on_the_knit_aware_model_is_named():
+    a, b = _pair()
+    model = build_model(make_problem(a, b, kind="knit-aware", weights=KnitWeights(4, 1, 1)))
+    sol = solve(model, solver="rc2", warm_start="descent", time_limit=20)
+    assert sol.stats["warm_start"]["method"] == "descent"
+    assert sol.found_by in ("rc2", "descent")
+    ok, cost = model.evaluate(sol.values)
+    assert ok and cost == sol.objective
+
+
+def test_bad_policies_are_refused():
+    m = Model("plain")
+    m.add_soft([m.var("a")], 1)
+    with pytest.raises(UnknownNameError, match="warm start"):
+        solve(m, solver="rc2", warm_start="magic")
+    with pytest.raises(SolverError, match="needs an illusion model"):
+        solve(m, solver="rc2", warm_start="dp")
+    assert solve(m, solver="rc2", warm_start="auto").found_by == "rc2"
