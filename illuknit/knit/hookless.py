@@ -32,6 +32,7 @@ from __future__ import annotations
 from dataclasses import replace
 
 from illuknit.errors import SchedulingError
+from illuknit.knit.ir import ActionKind, OpKind
 from illuknit.knit.knitout import write_knitout
 from illuknit.knit.machine import MachineSpec
 from illuknit.knit.schedule import CarrierAction, Op, Pass, Schedule, Step
@@ -51,7 +52,7 @@ def lower_hookless(schedule: Schedule, *, machine: MachineSpec) -> Schedule:
     for step in schedule.steps:
         if isinstance(step, CarrierAction):
             if step.action in ("out", "outhook"):
-                steps.extend(CarrierAction("out", (c,)) for c in step.carriers)
+                steps.extend(CarrierAction(ActionKind.OUT, (c,)) for c in step.carriers)
             continue  # in/inhook: brought in by the waste section; releasehook: no hook
         if step.kind == "knit" and len(step.carriers) > 1:
             steps.extend(_unplate(step))
@@ -63,7 +64,7 @@ def lower_hookless(schedule: Schedule, *, machine: MachineSpec) -> Schedule:
 def _unplate(p: Pass) -> list[Pass]:
     if any(o.op == "split" for o in p.ops):
         raise SchedulingError("a plated split cannot be knit with one carrier per pass (Kniterate)")
-    tucks = tuple(Op("tuck" if o.op == "knit" else o.op, o.bed, o.needle) for o in p.ops)
+    tucks = tuple(Op(OpKind.TUCK if o.op == OpKind.KNIT else o.op, o.bed, o.needle) for o in p.ops)
     under = [replace(p, ops=tucks, carriers=(c,)) for c in p.carriers[1:]]
     return [*under, replace(p, carriers=p.carriers[:1])]
 
