@@ -1,8 +1,32 @@
-"""Every exception illuknit raises on purpose.
+"""Every exception illuknit raises on purpose, one class per kind of problem.
 
 All of them derive from :class:`IlluknitError`, so a caller (and the CLI, which turns them into one
-line on stderr and exit code 2) can catch the family at once. Machine-rule violations carry the
-offending needle, carrier or racking values as attributes, not only in the message.
+line on stderr and exit code 2) can catch the family at once. Raise the class that names what went
+wrong:
+
+=====================  ==========================================================================
+kind of problem        class
+=====================  ==========================================================================
+picture                :class:`ImageInputError` (target images, too), :class:`YarnSpecError`
+pattern                :class:`PatternValidationError` (an in-memory pattern IR or its arrays)
+option / value         :class:`OptionError` (a keyword or setting out of range or of a wrong
+                       type); :class:`UnknownNameError` (a name not in a registry);
+                       :class:`RenderParamsError`
+machine rule           :class:`MachineRuleError` (carries the needle / carrier / racking)
+scheduling             :class:`SchedulingError` and its subclasses (a pattern the machine cannot
+                       knit, a malformed schedule)
+solver                 :class:`ModelError` (a constraint model built inconsistently),
+                       :class:`SolverError`, :class:`BackendUnavailableError`,
+                       :class:`InfeasibleError`
+file / output          :class:`PatternFormatError`, :class:`KnitoutParseError`,
+                       :class:`ManifestError`, :class:`ResultsVersionError`,
+                       :class:`OutputPathError`
+tiles, render, app     :class:`TileBankError`, :class:`TileAssignmentError`,
+                       :class:`CalibrationError`, :class:`AppRequestError`
+=====================  ==========================================================================
+
+Machine-rule violations carry the offending needle, carrier or racking values as attributes, not
+only in the message.
 """
 
 from __future__ import annotations
@@ -20,6 +44,8 @@ __all__ = [
     "MachineRuleError",
     "ManifestError",
     "MixedColourworkError",
+    "ModelError",
+    "OptionError",
     "OutputPathError",
     "PatternFormatError",
     "PatternValidationError",
@@ -39,7 +65,18 @@ class IlluknitError(Exception):
 
 
 class PatternValidationError(IlluknitError, ValueError):
-    """An in-memory pattern, palette or array argument does not have the expected shape or values."""
+    """An in-memory pattern (``LogicalPattern``, ``StitchPattern`` or the arrays that make one) does
+    not have the expected shape, dtype or values."""
+
+
+class OptionError(IlluknitError, ValueError):
+    """An option or argument value is invalid: of the wrong type, out of range, or not one of the
+    choices. The message names the parameter and what was expected."""
+
+
+class ModelError(IlluknitError, ValueError):
+    """A solver-neutral constraint model (:class:`illuknit.model.Model`) is built inconsistently:
+    a duplicate variable block, a literal that names no variable, a non-positive weight."""
 
 
 class PatternFormatError(IlluknitError, ValueError):
@@ -54,7 +91,7 @@ class YarnSpecError(IlluknitError, ValueError):
     """A yarn colour string is unknown, or the yarn list is invalid (e.g. duplicate colours)."""
 
 
-class UnknownNameError(IlluknitError, KeyError):
+class UnknownNameError(OptionError, KeyError):
     """A name (solver, model, instance, method, preset) is not one of the valid ones.
 
     The message lists the valid names.
@@ -109,9 +146,11 @@ class CarrierShortageError(SchedulingError):
 
 
 class MachineRuleError(IlluknitError, ValueError):
-    """An operation breaks a knitting-machine rule.
+    """An operation breaks a knitting-machine rule: a racking out of range or not a quarter pitch,
+    a needle off the bed, a carrier the machine does not have, a transfer between unaligned needles.
 
-    Attributes hold whichever of the offending values are known.
+    Attributes hold whichever of the offending values are known (``needle`` as knitout names it,
+    e.g. ``"f12"``).
     """
 
     def __init__(
@@ -179,7 +218,7 @@ class AppRequestError(IlluknitError, ValueError):
         super().__init__(message)
 
 
-class RenderParamsError(IlluknitError, ValueError):
+class RenderParamsError(OptionError):
     """Renderer parameters are invalid: an unknown key, a wrong type, a non-positive size, or an
     angle outside (0, 90] degrees."""
 

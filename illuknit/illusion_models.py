@@ -45,7 +45,7 @@ from collections.abc import Sequence
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from illuknit.errors import InfeasibleError, PatternValidationError, SolverError, UnknownNameError
+from illuknit.errors import InfeasibleError, SolverError, UnknownNameError, YarnSpecError
 from illuknit.illusion_problem import (
     MODEL_KINDS,
     IllusionProblem,
@@ -224,7 +224,7 @@ def solve_illusion(
         alternate_rows=alternate_rows,
     )
     if yarns is not None and len(yarns) < prob.n_yarns:
-        raise PatternValidationError(f"`yarns` must list {prob.n_yarns} yarns, got {len(yarns)}")
+        raise YarnSpecError(f"`yarns` must list {prob.n_yarns} yarns, got {len(yarns)}")
     mdl = build_model(prob)
     sol = solve(
         mdl,

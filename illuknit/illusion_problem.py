@@ -15,7 +15,7 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from illuknit.errors import PatternValidationError, UnknownNameError
+from illuknit.errors import ImageInputError, OptionError, UnknownNameError
 
 __all__ = [
     "MODEL_KINDS",
@@ -55,14 +55,12 @@ class KnitWeights:
         for name in ("view", "color_change", "transfer"):
             v = getattr(self, name)
             if not isinstance(v, int | np.integer) or isinstance(v, bool) or v < 0:
-                raise PatternValidationError(f"weight `{name}` must be an integer >= 0, got {v!r}")
+                raise OptionError(f"weight `{name}` must be an integer >= 0, got {v!r}")
         if self.view == 0:
-            raise PatternValidationError("weight `view` must be positive")
+            raise OptionError("weight `view` must be positive")
         cap = self.max_color_changes
         if cap is not None and (not isinstance(cap, int | np.integer) or cap < 0):
-            raise PatternValidationError(
-                f"`max_color_changes` must be an integer >= 0 or None, got {cap!r}"
-            )
+            raise OptionError(f"`max_color_changes` must be an integer >= 0 or None, got {cap!r}")
 
 
 def parse_weights(text: str | None, *, base: KnitWeights | None = None) -> KnitWeights:
@@ -97,26 +95,22 @@ def parse_weights(text: str | None, *, base: KnitWeights | None = None) -> KnitW
         try:
             changes[key] = int(val)
         except ValueError:
-            raise PatternValidationError(
-                f"weight `{key}` must be an integer, got {val!r}"
-            ) from None
+            raise OptionError(f"weight `{key}` must be an integer, got {val!r}") from None
     return replace(w, **changes)
 
 
 def _index_image(a: ArrayLike, name: str, n_yarns: int) -> NDArray[np.int16]:
     arr = np.asarray(a)
     if arr.ndim != 2 or arr.size == 0:
-        raise PatternValidationError(
+        raise ImageInputError(
             f"`{name}` must be a non-empty 2-D yarn-index image, got shape {arr.shape}"
         )
     if not np.issubdtype(arr.dtype, np.integer):
-        raise PatternValidationError(
-            f"`{name}` must hold integer yarn indices, got dtype {arr.dtype}"
-        )
+        raise ImageInputError(f"`{name}` must hold integer yarn indices, got dtype {arr.dtype}")
     lo, hi = int(arr.min()), int(arr.max())
     if lo < 0 or hi >= n_yarns:
         bad = lo if lo < 0 else hi
-        raise PatternValidationError(
+        raise ImageInputError(
             f"`{name}` holds yarn index {bad}, outside the palette of {n_yarns} yarn(s) (0..{n_yarns - 1})"
         )
     out = arr.astype(np.int16)
@@ -155,16 +149,16 @@ class IllusionProblem:
         if self.kind not in MODEL_KINDS:
             raise UnknownNameError("model", str(self.kind), MODEL_KINDS)
         if self.alternate_rows and self.kind != "single":
-            raise PatternValidationError(
+            raise OptionError(
                 f"`alternate_rows` applies to the single-view model only, not {self.kind!r}"
             )
         k = int(self.n_yarns)
         if k < 1:
-            raise PatternValidationError(f"`n_yarns` must be >= 1, got {self.n_yarns}")
+            raise OptionError(f"`n_yarns` must be >= 1, got {self.n_yarns}")
         a = _index_image(self.target_a, "target_a", k)
         b = _index_image(self.target_b, "target_b", k)
         if a.shape != b.shape:
-            raise PatternValidationError(
+            raise ImageInputError(
                 f"targets A and B must have the same size, got {a.shape[0]}x{a.shape[1]} and "
                 f"{b.shape[0]}x{b.shape[1]} units (resize one, e.g. `illuknit solve --resize`)"
             )
@@ -174,9 +168,9 @@ class IllusionProblem:
         if self.pinned is not None:
             p = np.asarray(self.pinned)
             if p.shape != a.shape or not np.issubdtype(p.dtype, np.integer):
-                raise PatternValidationError(f"`pinned` must be an int array of shape {a.shape}")
+                raise OptionError(f"`pinned` must be an int array of shape {a.shape}")
             if int(p.max()) >= k or int(p.min()) < -1:
-                raise PatternValidationError(f"`pinned` values must lie in -1..{k - 1}")
+                raise OptionError(f"`pinned` values must lie in -1..{k - 1}")
             p = p.astype(np.int16)
             p.setflags(write=False)
             object.__setattr__(self, "pinned", p)
@@ -233,9 +227,7 @@ def make_problem(
     a = np.asarray(target_a)
     b = a if target_b is None else np.asarray(target_b)
     if kind == "single" and target_b is not None and not np.array_equal(a, b):
-        raise PatternValidationError(
-            "the single-view model takes one target (target_b must be None or equal)"
-        )
+        raise OptionError("the single-view model takes one target (target_b must be None or equal)")
     if n_yarns is None:
         n_yarns = int(max(int(np.max(a)), int(np.max(b)))) + 1 if a.size and b.size else 1
     pin = None if pinned is None else np.asarray(pinned)

@@ -10,7 +10,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from illuknit.errors import PatternValidationError, SolverError
+from illuknit.errors import SolverError, YarnSpecError
 from illuknit.illusion_problem import IllusionProblem
 from illuknit.pattern import LogicalPattern, Yarn
 from illuknit.solvers.base import Solution
@@ -54,7 +54,7 @@ def pattern_from_solution(
     yarn = np.argmax(x, axis=-1).astype(np.int16)
     ys = tuple(yarns) if yarns is not None else default_yarns(problem.n_yarns)
     if len(ys) < problem.n_yarns:
-        raise PatternValidationError(f"`yarns` must list {problem.n_yarns} yarns, got {len(ys)}")
+        raise YarnSpecError(f"`yarns` must list {problem.n_yarns} yarns, got {len(ys)}")
     info = {
         "source": "illuknit.solve",
         "model": problem.kind,

@@ -39,7 +39,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from illuknit.errors import PatternValidationError
+from illuknit.errors import ModelError, OptionError
 
 __all__ = [
     "CardConstraint",
@@ -78,9 +78,9 @@ class VarPool:
         """
         shp = (int(shape),) if isinstance(shape, int | np.integer) else tuple(int(s) for s in shape)
         if name in self._blocks:
-            raise PatternValidationError(f"variable block {name!r} already exists")
+            raise ModelError(f"variable block {name!r} already exists")
         if any(s < 0 for s in shp):
-            raise PatternValidationError(f"block shape must be non-negative, got {shp}")
+            raise ModelError(f"block shape must be non-negative, got {shp}")
         base = self.top + 1
         size = int(np.prod(shp, dtype=np.int64)) if shp else 1
         self.top += size
@@ -181,7 +181,7 @@ def _as_block(clauses: ArrayLike) -> NDArray[np.int64]:
     if a.ndim == 1:
         a = a[:, None]
     if a.ndim != 2:
-        raise PatternValidationError(f"clause block must be 2-D (n, width), got shape {a.shape}")
+        raise ModelError(f"clause block must be 2-D (n, width), got shape {a.shape}")
     return a
 
 
@@ -225,7 +225,7 @@ class Model:
     # -- constraints ----------------------------------------------------------------------
     def _check_lits(self, a: NDArray[np.int64]) -> None:
         if a.size and (int(np.abs(a).max()) > self.pool.top):
-            raise PatternValidationError(
+            raise ModelError(
                 f"literal {int(np.abs(a).max())} refers to no variable (pool top is {self.pool.top})"
             )
 
@@ -251,7 +251,7 @@ class Model:
         a = _as_block(clauses)
         w = np.broadcast_to(np.asarray(weights, dtype=np.int64), (a.shape[0],)).copy()
         if w.size and int(w.min()) <= 0:
-            raise PatternValidationError("soft clause weights must be positive integers")
+            raise ModelError("soft clause weights must be positive integers")
         self._check_lits(a)
         if a.shape[0]:
             self._soft.append((a, w))
@@ -273,7 +273,7 @@ class Model:
     ) -> None:
         """``sum(lits) op k`` for op in {"<=", ">=", "=="}."""
         if op not in ("<=", ">=", "=="):
-            raise PatternValidationError(f"`op` must be '<=', '>=' or '==', got {op!r}")
+            raise OptionError(f"`op` must be '<=', '>=' or '==', got {op!r}")
         t = tuple(int(x) for x in lits)
         self._check_lits(np.asarray(t, dtype=np.int64))
         self.cards.append(CardConstraint(t, op, int(k), family))
@@ -285,7 +285,7 @@ class Model:
         t = tuple(int(x) for x in lits)
         c = tuple(int(x) for x in coeffs)
         if len(t) != len(c):
-            raise PatternValidationError(f"`coeffs` must have {len(t)} entries, got {len(c)}")
+            raise ModelError(f"`coeffs` must have {len(t)} entries, got {len(c)}")
         self._check_lits(np.asarray(t, dtype=np.int64))
         self.linears.append(LinearConstraint(t, c, int(bound), family))
 
@@ -375,7 +375,7 @@ class Model:
             hard clauses weighted ``TOP`` (sum of soft weights + 1).
         """
         if style not in ("new", "old"):
-            raise PatternValidationError(f"`style` must be 'new' or 'old', got {style!r}")
+            raise OptionError(f"`style` must be 'new' or 'old', got {style!r}")
         cs = self.to_clauses()
         out = [f"c illuknit model {self.name}: {self.pool.top} named variables, {cs.nv} in all"]
         if self.offset:
@@ -400,7 +400,7 @@ class Model:
         """
         v = np.asarray(values, dtype=bool)
         if v.shape[0] < self.pool.top + 1:
-            raise PatternValidationError(f"`values` must have at least {self.pool.top + 1} entries")
+            raise ModelError(f"`values` must have at least {self.pool.top + 1} entries")
         ok = True
         for a, _ in self._hard:
             ok &= bool(_block_sat(a, v).all())

@@ -23,7 +23,7 @@ from typing import Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from illuknit.errors import PatternValidationError
+from illuknit.errors import ImageInputError, OptionError, PatternValidationError
 from illuknit.pattern import LogicalPattern
 
 __all__ = [
@@ -66,7 +66,7 @@ def seen_rows(raised: ArrayLike, view: View) -> NDArray[np.intp]:
     elif view == "B":
         rows[:-1] += r[1:]
     elif view != "headon":
-        raise PatternValidationError(f"`view` must be one of {VIEWS}, got {view!r}")
+        raise OptionError(f"`view` must be one of {VIEWS}, got {view!r}")
     return rows
 
 
@@ -95,7 +95,7 @@ def can_see(
     elif view == "B":
         out[:-1] = np.where(r[1:], c[1:], c[:-1])
     else:
-        raise PatternValidationError(f"`view` must be one of {VIEWS}, got {view!r}")
+        raise OptionError(f"`view` must be one of {VIEWS}, got {view!r}")
     return out
 
 
@@ -130,12 +130,12 @@ def logical_error(
     """
     s, t = np.asarray(seen), np.asarray(target)
     if s.shape != t.shape:
-        raise PatternValidationError(f"`target` must have shape {s.shape}, got {t.shape}")
+        raise ImageInputError(f"`target` must have shape {s.shape}, got {t.shape}")
     wrong = s != t
     if mask is not None:
         m = np.asarray(mask, dtype=bool)
         if m.shape != s.shape:
-            raise PatternValidationError(f"`mask` must have shape {s.shape}, got {m.shape}")
+            raise OptionError(f"`mask` must have shape {s.shape}, got {m.shape}")
         wrong = wrong & m
         total = int(m.sum())
     else:

@@ -41,7 +41,7 @@ from typing import TYPE_CHECKING, Any
 
 from illuknit.errors import (
     BackendUnavailableError,
-    PatternValidationError,
+    OptionError,
     SolverError,
     UnknownNameError,
 )
@@ -212,13 +212,13 @@ def solve(
 
     Raises
     ------
-    PatternValidationError
+    OptionError
         ``time_limit`` is not positive.
     SolverError
         The backend cannot solve the model, or the warm start does not apply to it.
     """
     if time_limit is not None and not time_limit > 0:
-        raise PatternValidationError(f"`time_limit` must be positive seconds, got {time_limit!r}")
+        raise OptionError(f"`time_limit` must be positive seconds, got {time_limit!r}")
     backend = resolve_backend(model, solver)
     policy = "none"
     if backend.name not in ("dp", "descent"):

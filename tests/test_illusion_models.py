@@ -9,7 +9,13 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from illuknit.errors import InfeasibleError, PatternValidationError, SolverError, UnknownNameError
+from illuknit.errors import (
+    ImageInputError,
+    InfeasibleError,
+    OptionError,
+    SolverError,
+    UnknownNameError,
+)
 from illuknit.illusion_models import (
     KnitWeights,
     build_model,
@@ -231,19 +237,19 @@ def test_dp_refuses_cross_wale_models_with_a_reason():
 
 
 def test_targets_of_different_sizes_are_a_clear_error():
-    with pytest.raises(PatternValidationError, match=r"same size.*--resize"):
+    with pytest.raises(ImageInputError, match=r"same size.*--resize"):
         make_problem(np.zeros((3, 4), int), np.zeros((4, 3), int))
 
 
 def test_yarn_index_outside_the_palette_is_a_clear_error():
     with pytest.raises(
-        PatternValidationError, match="`target_b` holds yarn index 3, outside the palette of 2"
+        ImageInputError, match="`target_b` holds yarn index 3, outside the palette of 2"
     ):
         make_problem(np.zeros((3, 3), int), np.full((3, 3), 3), n_yarns=2)
-    with pytest.raises(PatternValidationError, match="index -1"):
+    with pytest.raises(ImageInputError, match="index -1"):
         make_problem(np.full((3, 3), -1), None, n_yarns=2)
     yarns = (Yarn("a", (0, 0, 0)), Yarn("b", (255, 255, 255)))
-    with pytest.raises(PatternValidationError, match="outside the palette"):
+    with pytest.raises(ImageInputError, match="outside the palette"):
         solve_illusion(np.zeros((2, 2), int), np.full((2, 2), 2), yarns=yarns)
 
 
@@ -271,7 +277,7 @@ def test_unknown_model_and_weights_names_list_the_valid_ones():
     with pytest.raises(UnknownNameError, match="view=N"):
         parse_weights("speed=3")
     assert parse_weights("view=5,colour=2,cap=3") == KnitWeights(5, 2, 1, 3)
-    with pytest.raises(PatternValidationError, match="integer"):
+    with pytest.raises(OptionError, match="integer"):
         parse_weights("view=abc")
-    with pytest.raises(PatternValidationError, match="view"):
+    with pytest.raises(OptionError, match="view"):
         KnitWeights(view=-1)

@@ -9,7 +9,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from illuknit.errors import PatternValidationError
+from illuknit.errors import ModelError
 from illuknit.model import Model, VarPool
 
 
@@ -23,7 +23,7 @@ def test_pool_blocks_and_keys_agree():
     assert pool.var(("other", 1)) == pool.top
     with pytest.raises(KeyError):
         pool.var(("x", 2, 0))
-    with pytest.raises(PatternValidationError):
+    with pytest.raises(ModelError):
         pool.block("x", (1,))
 
 
@@ -128,9 +128,9 @@ def test_wcnf_new_format_uses_h_prefix_and_no_header():
 def test_soft_weights_must_be_positive_and_literals_known():
     m = Model()
     a = m.var("a")
-    with pytest.raises(PatternValidationError, match="positive"):
+    with pytest.raises(ModelError, match="positive"):
         m.add_soft([a], 0)
-    with pytest.raises(PatternValidationError, match="refers to no variable"):
+    with pytest.raises(ModelError, match="refers to no variable"):
         m.add_hard([a, 5])
 
 

@@ -6,7 +6,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
-from illuknit.errors import PatternValidationError
+from illuknit.errors import ImageInputError, OptionError, PatternValidationError
 from illuknit.views import can_see, logical_error, seen_rows
 
 
@@ -55,9 +55,9 @@ def test_logical_error_and_bad_views():
     assert logical_error([[0, 1]], [[0, 0]]) == 0.5
     assert logical_error([[0, 1]], [[0, 0]], normalize=False) == 1
     assert logical_error([[0, 1]], [[0, 0]], mask=[[True, False]]) == 0.0
-    with pytest.raises(PatternValidationError):
+    with pytest.raises(ImageInputError):
         logical_error([[0, 1]], [[0]])
-    with pytest.raises(PatternValidationError):
+    with pytest.raises(OptionError):
         can_see(np.zeros((2, 2), int), "side", np.zeros((2, 2), bool))  # type: ignore[arg-type]
     with pytest.raises(PatternValidationError):
         can_see(np.zeros((2, 2), int), "A", np.zeros((3, 2), bool))

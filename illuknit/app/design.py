@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import importlib
 import io
+import math
 import os
 import tempfile
 import zipfile
@@ -33,6 +34,7 @@ from numpy.typing import NDArray
 
 from illuknit.colors import hex_color
 from illuknit.errors import AppRequestError, IlluknitError
+from illuknit.images import MAX_PIXELS
 from illuknit.pattern import LogicalPattern, Yarn, parse_yarns, pattern_to_json
 
 __all__ = [
@@ -48,11 +50,11 @@ __all__ = [
     "render_view",
 ]
 
-#: Largest accepted upload (bytes). Pictures are resized to at most 1000 units across, so anything
-#: bigger is a photograph far beyond what a knitted piece can show.
-MAX_UPLOAD_BYTES = 12 * 1024 * 1024
-#: Largest accepted picture (pixels), checked after decoding the header only.
-MAX_UPLOAD_PIXELS = 40_000_000
+#: Largest accepted upload (bytes): a full-size photograph from a phone or camera. It is reduced to
+#: the working grid on upload and not kept.
+MAX_UPLOAD_BYTES = 32 * 1024 * 1024
+#: Largest accepted picture (pixels), checked from the header before decoding: the library's cap.
+MAX_UPLOAD_PIXELS = MAX_PIXELS
 #: Pictures with a longer side are reduced to it on upload (twice the widest piece in units).
 MAX_WORKING_SIDE = 2000
 
@@ -117,8 +119,12 @@ def warm_up() -> None:
 # -- input -------------------------------------------------------------------------------------
 
 
-def decode_upload(data: bytes, filename: str, *, field: str) -> NDArray[np.float64]:
-    """Decode an uploaded picture to float RGB (H, W, 3) with the library's loader.
+def decode_upload(data: bytes, filename: str, *, field: str) -> NDArray[np.uint8]:
+    """Decode an uploaded picture to uint8 RGB (H, W, 3) at the working grid.
+
+    The library's loader reads it (alpha on white, EXIF orientation); a picture over
+    ``MAX_WORKING_SIDE`` pixels on its long side is first reduced to it, while decoding where the
+    format allows (JPEG), so that no full-size float copy ever exists.
 
     Raises AppRequestError (``field``) for an empty, oversized, non-image or too-small file.
     """
@@ -148,19 +154,23 @@ def decode_upload(data: bytes, filename: str, *, field: str) -> NDArray[np.float
             raise AppRequestError(msg, field=field, code="not_an_image", status=415) from None
     finally:
         os.unlink(path)
-    return rgb
+    return np.round(rgb * 255.0).astype(np.uint8)
 
 
 def _reduce(data: bytes) -> bytes:
     """A big picture reduced (area average) to MAX_WORKING_SIDE pixels on its long side.
 
-    No piece is wider than 1000 units, so more pixels only cost memory (a 40-megapixel picture
-    is about 1 GB as float RGB); alpha and orientation are kept for the library's loader.
+    No piece is wider than 1000 units, so more pixels only cost memory (a 50-megapixel picture
+    is 1.2 GB as float RGB); alpha and orientation are kept for the library's loader. A JPEG is
+    decoded at 1/2, 1/4 or 1/8 scale straight away (``draft``), never below the working side.
     """
     from PIL import Image, ImageOps
 
     with Image.open(io.BytesIO(data)) as src:
         src.seek(0)
+        if src.format == "JPEG":
+            shrink = max(src.size) / MAX_WORKING_SIDE
+            src.draft(src.mode, (math.ceil(src.width / shrink), math.ceil(src.height / shrink)))
         upright = ImageOps.exif_transpose(src)
         has_alpha = upright.mode in ("RGBA", "LA", "PA") or "transparency" in upright.info
         small = upright.convert("RGBA" if has_alpha else "RGB")

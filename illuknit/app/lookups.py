@@ -57,7 +57,7 @@ def image_json(s: Session, slot: str) -> dict[str, Any]:
         "filename": im.filename,
         "width": w,
         "height": h,
-        "bytes": len(im.data),
+        "bytes": im.sent_bytes,
         "url": f"/api/sessions/{s.id}/images/{slot}?r={s.revision}",
     }
 

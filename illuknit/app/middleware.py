@@ -9,7 +9,7 @@ from typing import Any
 from illuknit.app.handlers import error_body
 from illuknit.pattern import MAX_UNITS
 
-__all__ = ["UploadLimit"]
+__all__ = ["SameOriginGuard", "UploadLimit"]
 
 Scope = MutableMapping[str, Any]
 Message = MutableMapping[str, Any]
@@ -93,3 +93,99 @@ class UploadLimit:
             }
         )
         await send({"type": "http.response.body", "body": body})
+
+
+#: Request methods that change state; only these need to come from the app's own page.
+STATE_CHANGING = frozenset({"POST", "PUT", "PATCH", "DELETE"})
+#: Names of the loopback interface a browser may use for a server bound to it.
+LOOPBACK_NAMES = ("127.0.0.1", "localhost", "[::1]")
+
+
+def _host_name(host: str) -> str:
+    """A host as it appears in a Host header (IPv6 addresses in brackets)."""
+    return f"[{host}]" if ":" in host and not host.startswith("[") else host
+
+
+class SameOriginGuard:
+    """ASGI middleware: the local app answers only its own page and its own address.
+
+    * **Host** (DNS rebinding): a web page can point a domain of its own at 127.0.0.1 and then
+      talk to the app as if it were its own site; the browser then sends that domain as ``Host``.
+      Every request must name the address the server is bound to (the socket's own address and
+      port; for a loopback address also ``localhost``), or one of ``allowed_hosts``.
+    * **Origin** (cross-site requests): any page the designer visits can send a ``POST`` to
+      127.0.0.1. A state-changing request (POST, PUT, PATCH, DELETE) whose ``Sec-Fetch-Site``
+      is not ``same-origin`` (or ``none``: typed by the user), or whose ``Origin`` is not this
+      server's, is refused with a 403. Scripts that send neither header (curl, httpx) are not
+      browsers acting for another site and pass.
+    """
+
+    def __init__(self, app: Any, *, allowed_hosts: tuple[str, ...] = ()) -> None:
+        self.app = app
+        self.allowed_hosts = tuple(h.lower() for h in allowed_hosts)
+
+    def _hosts(self, scope: Scope) -> tuple[str, set[str]]:
+        """The server's own address and every Host value that names it."""
+        server = scope.get("server")
+        if not server:  # no socket (an in-process call): nothing to rebind
+            return "", set()
+        host, port = str(server[0]), server[1]
+        names = {_host_name(host)}
+        if host in ("127.0.0.1", "::1", "localhost") or host.startswith("127."):
+            names.update(LOOPBACK_NAMES)
+        names.update(self.allowed_hosts)
+        out = {f"{n}:{port}" for n in names if port is not None}
+        if port in (80, None) and scope.get("scheme", "http") == "http":
+            out.update(names)
+        if port == 443 and scope.get("scheme") == "https":
+            out.update(names)
+        return f"{_host_name(host)}:{port}", out
+
+    async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
+        if scope["type"] != "http":
+            await self.app(scope, receive, send)
+            return
+        headers = {k.decode("latin-1").lower(): v.decode("latin-1") for k, v in scope["headers"]}
+        host = headers.get("host", "").strip().lower()
+        own_address, hosts = self._hosts(scope)
+        if hosts and host not in hosts:
+            await _refuse(
+                send,
+                400,
+                f"this app answers only at {own_address}, not at {host or 'an unnamed host'}"
+                " (a request through another name is refused, so that no web site can reach the "
+                "app through a domain of its own)",
+                "bad_host",
+            )
+            return
+        if scope.get("method") in STATE_CHANGING:
+            site = headers.get("sec-fetch-site")
+            origin = headers.get("origin")
+            own = f"{scope.get('scheme', 'http')}://{host}"
+            if (site is not None and site not in ("same-origin", "none")) or (
+                origin is not None and origin.lower() != own
+            ):
+                await _refuse(
+                    send,
+                    403,
+                    f"changes are accepted only from the app's own page ({own}); this request "
+                    f"came from {origin or 'another site'} and was refused",
+                    "cross_origin",
+                )
+                return
+        await self.app(scope, receive, send)
+
+
+async def _refuse(send: Send, status: int, message: str, code: str) -> None:
+    body = json.dumps(error_body(message, None, code)).encode()
+    await send(
+        {
+            "type": "http.response.start",
+            "status": status,
+            "headers": [
+                (b"content-type", b"application/json"),
+                (b"content-length", str(len(body)).encode()),
+            ],
+        }
+    )
+    await send({"type": "http.response.body", "body": body})

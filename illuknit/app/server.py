@@ -39,15 +39,22 @@ class AppConfig:
         *,
         max_upload_bytes: int = design.MAX_UPLOAD_BYTES,
         max_sessions: int = 64,
+        max_session_bytes: int = 512 * 2**20,
         session_ttl: float = 6 * 3600,
         workers: int = 2,
         isolate_knit: bool = True,
+        allowed_hosts: tuple[str, ...] = (),
     ) -> None:
         self.max_upload_bytes = max_upload_bytes
         self.max_sessions = max_sessions
+        #: Memory all sessions together may hold (pictures, results); least recently used first out.
+        self.max_session_bytes = max_session_bytes
         self.session_ttl = session_ttl
         self.workers = workers
         self.isolate_knit = isolate_knit
+        #: Host names besides the bound address that may reach the app (e.g. the machine's name
+        #: when it is shared on a network with ``--host 0.0.0.0``).
+        self.allowed_hosts = allowed_hosts
 
 
 def _require_web_stack() -> None:
@@ -67,13 +74,15 @@ def create_app(config: AppConfig | None = None) -> Any:
 
     from illuknit.app.handlers import install_handlers
     from illuknit.app.jobs import JobRunner
-    from illuknit.app.middleware import UploadLimit
+    from illuknit.app.middleware import SameOriginGuard, UploadLimit
     from illuknit.app.routers import ROUTERS
     from illuknit.app.routers.static import mount_static
     from illuknit.app.sessions import SessionStore
 
     cfg = config or AppConfig()
-    store = SessionStore(max_sessions=cfg.max_sessions, ttl=cfg.session_ttl)
+    store = SessionStore(
+        max_sessions=cfg.max_sessions, ttl=cfg.session_ttl, max_bytes=cfg.max_session_bytes
+    )
     runner = JobRunner(workers=cfg.workers)
 
     @asynccontextmanager
@@ -103,6 +112,8 @@ def create_app(config: AppConfig | None = None) -> Any:
     app.state.runner = runner
     app.state.config = cfg
     app.add_middleware(UploadLimit, limit=cfg.max_upload_bytes)
+    # added last, so it runs first: a foreign request is refused before its body is read
+    app.add_middleware(SameOriginGuard, allowed_hosts=cfg.allowed_hosts)
     install_handlers(app)
     for router in ROUTERS:
         app.include_router(router)

@@ -7,8 +7,10 @@ holds everything the designer has done so far; every change of input (an image, 
 they were computed from, so a result computed from stale inputs is never shown as current.
 
 Requests of one session are serialised by its lock; requests of different sessions run in
-parallel. Idle sessions expire, and the number of live sessions is capped (oldest idle evicted),
-so a long-running server does not grow without bound.
+parallel. Pictures are kept as uint8 RGB at the working grid (at most ``MAX_WORKING_SIDE`` on the
+long side), never as the file sent nor as floats. Idle sessions expire, and all sessions together
+are bounded by count and by bytes: the least recently used one is evicted first, and a request
+for an evicted session says so (410, code ``evicted``) instead of "unknown session".
 """
 
 from __future__ import annotations
@@ -16,6 +18,7 @@ from __future__ import annotations
 import secrets
 import threading
 import time
+from collections import OrderedDict
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -30,16 +33,36 @@ __all__ = ["DesignSettings", "Session", "SessionStore", "UploadedImage"]
 
 @dataclass(frozen=True)
 class UploadedImage:
-    """An uploaded picture: the file as sent, and its decoded float RGB (H, W, 3) in [0, 1]."""
+    """An uploaded picture, decoded and reduced to the working grid.
+
+    Attributes
+    ----------
+    filename : str
+        The name it was sent under.
+    sent_bytes : int
+        Size of the file as sent (the file itself is not kept).
+    rgb : ndarray of shape (H, W, 3), uint8
+        The picture on white, upright, at most ``MAX_WORKING_SIDE`` pixels on its long side.
+    """
 
     filename: str
-    data: bytes
-    rgb: NDArray[np.float64]
+    sent_bytes: int
+    rgb: NDArray[np.uint8]
+
+    def __post_init__(self) -> None:
+        if self.rgb.dtype != np.uint8 or self.rgb.ndim != 3 or self.rgb.shape[2] != 3:
+            raise ValueError(
+                f"`rgb` must be uint8 of shape (H, W, 3), got {self.rgb.dtype} {self.rgb.shape}"
+            )
 
     @property
     def size(self) -> tuple[int, int]:
         """(width, height) in pixels."""
         return (int(self.rgb.shape[1]), int(self.rgb.shape[0]))
+
+    @property
+    def nbytes(self) -> int:
+        return int(self.rgb.nbytes)
 
 
 @dataclass
@@ -60,7 +83,46 @@ class Session:
     overrides: dict[tuple[int, int], str] = field(default_factory=dict)
     knit: Any = None  # design.KnitResult, for pattern_key
     jobs: dict[str, Any] = field(default_factory=dict)  # kind -> Job
+    # id of a replaced job -> id of the job that replaced it (a poll of the old id follows it)
+    successors: dict[str, str] = field(default_factory=dict)
     lock: threading.RLock = field(default_factory=threading.RLock, repr=False)
+
+    #: Replaced job ids remembered per session (a page polls only its latest few).
+    SUCCESSORS_KEPT = 64
+
+    def replace_job(self, kind: str, job: Any) -> None:
+        """Make ``job`` the session's job of ``kind``; polls of the one it replaces follow it."""
+        old = self.jobs.get(kind)
+        if old is not None:
+            if old.live:
+                old.cancel()
+            self.successors[old.id] = job.id
+            while len(self.successors) > self.SUCCESSORS_KEPT:
+                self.successors.pop(next(iter(self.successors)))
+        self.jobs[kind] = job
+
+    def find_job(self, job_id: str) -> Any | None:
+        """The job ``job_id``, or the live job that (transitively) replaced it, or None."""
+        seen = set()
+        while job_id not in seen:
+            seen.add(job_id)
+            for job in self.jobs.values():
+                if job.id == job_id:
+                    return job
+            if job_id not in self.successors:
+                return None
+            job_id = self.successors[job_id]
+        return None
+
+    def nbytes(self) -> int:
+        """Memory the session holds: its pictures, quantised inputs, candidates and knitout."""
+        n = sum(im.nbytes for im in self.images.values())
+        if self.prepared is not None:
+            n += sum(q.indices.nbytes for q in self.prepared.quantised.values())
+        n += sum(c.pattern.yarn.nbytes + c.pattern.raised.nbytes for c in self.candidates)
+        if self.knit is not None:
+            n += len(self.knit.knitout) + len(self.knit.report_text)
+        return int(n)
 
     def touch(self) -> None:
         self.last_seen = time.time()
@@ -81,20 +143,30 @@ class Session:
 
 
 class SessionStore:
-    """Thread-safe map of session id -> :class:`Session` with expiry and a size cap.
+    """Thread-safe map of session id -> :class:`Session`, bounded by age, count and bytes.
 
     Parameters
     ----------
     max_sessions : int
-        Live sessions kept; creating one more evicts the longest-idle one.
+        Live sessions kept; creating one more evicts the least recently used one.
     ttl : float
         Seconds of inactivity after which a session is forgotten.
+    max_bytes : int
+        Memory all sessions together may hold (:meth:`Session.nbytes`); :meth:`trim` evicts the
+        least recently used sessions until they fit, never the one being worked on.
     """
 
-    def __init__(self, *, max_sessions: int = 64, ttl: float = 6 * 3600) -> None:
+    #: Evicted or expired session ids remembered, so that their tab is told what happened.
+    GONE_KEPT = 4096
+
+    def __init__(
+        self, *, max_sessions: int = 64, ttl: float = 6 * 3600, max_bytes: int = 512 * 2**20
+    ) -> None:
         self.max_sessions = max_sessions
         self.ttl = ttl
+        self.max_bytes = max_bytes
         self._sessions: dict[str, Session] = {}
+        self._gone: OrderedDict[str, str] = OrderedDict()
         self._lock = threading.Lock()
 
     def create(self) -> Session:
@@ -102,7 +174,11 @@ class SessionStore:
             self._expire_locked()
             while len(self._sessions) >= self.max_sessions:
                 oldest = min(self._sessions.values(), key=lambda s: s.last_seen)
-                self._drop_locked(oldest.id)
+                self._drop_locked(
+                    oldest.id,
+                    f"this session was closed because more than {self.max_sessions} sessions "
+                    "were open (the least recently used is closed first)",
+                )
             sid = secrets.token_urlsafe(12)
             session = Session(id=sid)
             self._sessions[sid] = session
@@ -112,6 +188,14 @@ class SessionStore:
         with self._lock:
             self._expire_locked()
             session = self._sessions.get(sid)
+            gone = self._gone.get(sid)
+        if session is None and gone is not None:
+            raise AppRequestError(
+                f"{gone}; its pictures and settings are gone: start again (reload the page)",
+                field="session",
+                code="evicted",
+                status=410,
+            )
         if session is None:
             raise AppRequestError(
                 "unknown or expired session; reload the page to start a new one",
@@ -124,21 +208,52 @@ class SessionStore:
 
     def delete(self, sid: str) -> bool:
         with self._lock:
-            return self._drop_locked(sid)
+            return self._drop_locked(sid, None)
+
+    def nbytes(self) -> int:
+        """Memory all live sessions hold together."""
+        with self._lock:
+            sessions = list(self._sessions.values())
+        return sum(s.nbytes() for s in sessions)
+
+    def trim(self, *, keep: str) -> list[str]:
+        """Evict least recently used sessions (never ``keep``) until all fit in ``max_bytes``."""
+        evicted = []
+        with self._lock:
+            sizes = {sid: s.nbytes() for sid, s in self._sessions.items()}
+            total = sum(sizes.values())
+            for s in sorted(self._sessions.values(), key=lambda s: s.last_seen):
+                if total <= self.max_bytes:
+                    break
+                if s.id == keep:
+                    continue
+                total -= sizes[s.id]
+                self._drop_locked(
+                    s.id,
+                    f"this session was closed to make room for newer work (the app keeps at most "
+                    f"{self.max_bytes / 2**20:.0f} MB of pictures and results for all sessions; "
+                    "the least recently used goes first)",
+                )
+                evicted.append(s.id)
+        return evicted
 
     def __len__(self) -> int:
         with self._lock:
             return len(self._sessions)
 
-    def _drop_locked(self, sid: str) -> bool:
+    def _drop_locked(self, sid: str, reason: str | None) -> bool:
         session = self._sessions.pop(sid, None)
         if session is None:
             return False
         for job in session.jobs.values():
             job.cancel()
+        if reason is not None:
+            self._gone[sid] = reason
+            while len(self._gone) > self.GONE_KEPT:
+                self._gone.popitem(last=False)
         return True
 
     def _expire_locked(self) -> None:
         now = time.time()
         for sid in [s.id for s in self._sessions.values() if now - s.last_seen > self.ttl]:
-            self._drop_locked(sid)
+            self._drop_locked(sid, "this session expired after a long time unused")

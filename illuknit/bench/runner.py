@@ -41,7 +41,7 @@ from typing import Any
 from illuknit import __version__
 from illuknit.bench.instances import Instance, instance_targets
 from illuknit.bench.methods import MethodUnavailable, NoPattern, get_method
-from illuknit.errors import BackendUnavailableError, PatternValidationError, ResultsVersionError
+from illuknit.errors import BackendUnavailableError, OptionError, ResultsVersionError, SolverError
 from illuknit.outputs import atomic_write_bytes, atomic_write_text
 
 __all__ = [
@@ -240,7 +240,7 @@ def execute_cell(cell: Cell) -> dict[str, Any]:
     try:
         targets = instance_targets(cell.instance)
         if pattern.shape != targets.a.shape:
-            raise PatternValidationError(
+            raise SolverError(
                 f"method returned a {pattern.shape} pattern for a {targets.a.shape} instance"
             )
         errs = metrics.logical_errors(pattern, targets)
@@ -482,9 +482,9 @@ def run_bench(
 
         raise UnknownNameError("executor", executor, EXECUTORS)
     if not isinstance(jobs, int) or jobs < 1:
-        raise PatternValidationError(f"`jobs` must be a positive integer, got {jobs!r}")
+        raise OptionError(f"`jobs` must be a positive integer, got {jobs!r}")
     if time_limit is not None and not time_limit > 0:
-        raise PatternValidationError(f"`time_limit` must be positive seconds, got {time_limit!r}")
+        raise OptionError(f"`time_limit` must be positive seconds, got {time_limit!r}")
     for m in methods:
         get_method(m)  # unknown names fail before any work
     out = prepare_results_dir(outdir, force=force)

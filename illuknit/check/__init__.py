@@ -62,7 +62,7 @@ def check_knitout(
     ------
     KnitoutParseError
         Binary input, a bad magic line, or a malformed instruction (with its line number).
-    PatternValidationError
+    OptionError
         For out-of-range options.
     BackendUnavailableError
         ``simulate=True`` without the ``sim`` extra installed.
@@ -76,16 +76,16 @@ def check_knitout(
     from illuknit.check.fabric import fabric_findings
     from illuknit.check.rules import check_header, machine_findings
     from illuknit.check.simulate import simulate_program
-    from illuknit.errors import PatternValidationError
+    from illuknit.errors import OptionError
 
     if isinstance(float_limit, bool) or not isinstance(float_limit, int) or float_limit < 1:
-        raise PatternValidationError(f"`float_limit` must be an integer >= 1, got {float_limit!r}")
+        raise OptionError(f"`float_limit` must be an integer >= 1, got {float_limit!r}")
     if not max_racking > 0:
-        raise PatternValidationError(f"`max_racking` must be > 0, got {max_racking!r}")
+        raise OptionError(f"`max_racking` must be > 0, got {max_racking!r}")
     if bed_width is not None and (
         isinstance(bed_width, bool) or not isinstance(bed_width, int) or bed_width < 1
     ):
-        raise PatternValidationError(f"`bed_width` must be a positive integer, got {bed_width!r}")
+        raise OptionError(f"`bed_width` must be a positive integer, got {bed_width!r}")
 
     program = parse_knitout(text)
     sim = simulate_program(program, max_racking=max_racking, bed_width=bed_width)

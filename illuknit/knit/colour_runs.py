@@ -35,7 +35,12 @@ from types import MappingProxyType
 import numpy as np
 from numpy.typing import ArrayLike
 
-from illuknit.errors import CarrierShortageError, PatternValidationError
+from illuknit.errors import (
+    CarrierShortageError,
+    OptionError,
+    PatternValidationError,
+    SchedulingError,
+)
 
 __all__ = ["ColourPlan", "CoursePlan", "Segment", "colour_runs", "plan_colour_runs"]
 
@@ -63,13 +68,11 @@ class Segment:
 
     def __post_init__(self) -> None:
         if not self.runs:
-            raise PatternValidationError("a segment needs at least one run")
+            raise SchedulingError("a segment needs at least one run")
         prev = -2
         for lo, hi in self.runs:
             if lo > hi or lo <= prev + 1:
-                raise PatternValidationError(
-                    f"segment runs must be ascending and disjoint: {self.runs}"
-                )
+                raise SchedulingError(f"segment runs must be ascending and disjoint: {self.runs}")
             prev = hi
 
     @property
@@ -226,8 +229,10 @@ def plan_colour_runs(
     CarrierShortageError
         If a course needs more carriers at once than the machine has (with ``strict``), or
         more yarns than there are carriers.
+    OptionError
+        For a float limit below 1 or no carriers.
     PatternValidationError
-        For a float limit below 1 or a malformed grid.
+        For a malformed grid.
     """
     y = np.asarray(yarn)
     if y.ndim != 2 or y.size == 0:
@@ -239,12 +244,12 @@ def plan_colour_runs(
         or not isinstance(float_limit, (int, np.integer))
         or float_limit < 1
     ):
-        raise PatternValidationError(
+        raise OptionError(
             f"`float_limit` must be an integer >= 1 (wales a yarn may float across), got {float_limit!r}"
         )
     pool = [str(c) for c in carriers]
     if not pool:
-        raise PatternValidationError("`carriers` must not be empty")
+        raise OptionError("`carriers` must not be empty")
     free = list(pool)
     of_yarn: dict[int, list[str]] = {}
     anchor: dict[str, float] = {}

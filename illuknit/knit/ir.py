@@ -19,7 +19,7 @@ from typing import Any, Literal
 
 import numpy as np
 
-from illuknit.errors import PatternValidationError
+from illuknit.errors import MachineRuleError, SchedulingError
 
 __all__ = [
     "ActionKind",
@@ -114,7 +114,7 @@ def _enum(cls: type[StrEnum], value: Any, what: str) -> StrEnum:
         return cls(value)
     except ValueError:
         allowed = tuple(m.value for m in cls)
-        raise PatternValidationError(f"{what} must be one of {allowed}, got {value!r}") from None
+        raise SchedulingError(f"{what} must be one of {allowed}, got {value!r}") from None
 
 
 @dataclass(frozen=True, slots=True)
@@ -177,35 +177,35 @@ class Pass:
         object.__setattr__(self, "kind", _enum(PassKind, self.kind, "pass `kind`"))
         object.__setattr__(self, "role", _enum(Role, self.role, "pass `role`"))
         if not self.ops:
-            raise PatternValidationError("a pass needs at least one operation")
+            raise SchedulingError("a pass needs at least one operation")
         if self.kind is PassKind.KNIT:
             if self.direction not in ("+", "-"):
-                raise PatternValidationError(
+                raise SchedulingError(
                     f"knit pass needs direction '+' or '-', got {self.direction!r}"
                 )
             if not self.carriers:
-                raise PatternValidationError("knit pass needs at least one carrier")
+                raise SchedulingError("knit pass needs at least one carrier")
             if any(o.op not in YARN_OPS for o in self.ops):
-                raise PatternValidationError(
-                    f"knit pass ops must be {sorted(str(k) for k in YARN_OPS)}"
-                )
+                raise SchedulingError(f"knit pass ops must be {sorted(str(k) for k in YARN_OPS)}")
             # Ops must advance strictly in the pass direction (front and back of one needle are
             # the same slot at racking 0, so they cannot share a pass then).
             rack = int(np.floor(self.racking))
             slots = [o.needle + (rack if o.bed is Bed.BACK else 0) for o in self.ops]
             sign = 1 if self.direction == "+" else -1
             if any(sign * (b - a) <= 0 for a, b in pairwise(slots)):
-                raise PatternValidationError(
+                raise SchedulingError(
                     f"knit pass ops must advance strictly in direction {self.direction}"
                 )
         else:
             if self.direction is not None or self.carriers:
-                raise PatternValidationError(f"{self.kind} pass takes no direction and no carriers")
+                raise SchedulingError(f"{self.kind} pass takes no direction and no carriers")
             if any(o.op != self.kind for o in self.ops):
-                raise PatternValidationError(f"{self.kind} pass may only hold {self.kind} ops")
+                raise SchedulingError(f"{self.kind} pass may only hold {self.kind} ops")
         r = float(self.racking)
         if not (r == int(r) or r - np.floor(r) == 0.25):
-            raise PatternValidationError(f"racking must be an integer or integer + 0.25, got {r}")
+            raise MachineRuleError(
+                f"racking must be an integer or integer + 0.25, got {r}", racking=r
+            )
 
     @property
     def needle_span(self) -> tuple[int, int]:
@@ -231,7 +231,7 @@ class CarrierAction:
     def __post_init__(self) -> None:
         object.__setattr__(self, "action", _enum(ActionKind, self.action, "carrier action"))
         if not self.carriers:
-            raise PatternValidationError("carrier action needs at least one carrier")
+            raise SchedulingError("carrier action needs at least one carrier")
 
 
 Step = Pass | CarrierAction

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, replace
 
-from illuknit.errors import PatternValidationError, SchedulingError, UnknownNameError
+from illuknit.errors import OptionError, SchedulingError, UnknownNameError
 
 __all__ = ["DEFAULT_MACHINE", "KNITERATE", "MACHINES", "MachineSpec", "get_machine"]
 
@@ -96,9 +96,9 @@ class MachineSpec:
     def __post_init__(self) -> None:
         def positive(name: str, value: float, *, integer: bool = False) -> None:
             if integer and (not isinstance(value, int) or isinstance(value, bool)):
-                raise PatternValidationError(f"`{name}` must be an integer, got {value!r}")
+                raise OptionError(f"`{name}` must be an integer, got {value!r}")
             if not value > 0:
-                raise PatternValidationError(f"`{name}` must be positive, got {value!r}")
+                raise OptionError(f"`{name}` must be positive, got {value!r}")
 
         positive("needles", self.needles, integer=True)
         positive("gauge", self.gauge)
@@ -107,27 +107,25 @@ class MachineSpec:
         positive("park_distance", self.park_distance, integer=True)
         positive("course_aspect", self.course_aspect)
         if self.seconds_per_needle < 0 or self.seconds_per_turn < 0:
-            raise PatternValidationError("time model seconds must be >= 0")
+            raise OptionError("time model seconds must be >= 0")
         carriers = tuple(str(c) for c in self.carriers)
         if not carriers or len(set(carriers)) != len(carriers):
-            raise PatternValidationError(
-                f"`carriers` must be distinct names, got {self.carriers!r}"
-            )
+            raise OptionError(f"`carriers` must be distinct names, got {self.carriers!r}")
         if any(not c or any(ch.isspace() for ch in c) for c in carriers):
-            raise PatternValidationError("carrier names must be non-empty and contain no spaces")
+            raise OptionError("carrier names must be non-empty and contain no spaces")
         object.__setattr__(self, "carriers", carriers)
         for name in ("waste_carrier", "draw_carrier"):
             c = getattr(self, name)
             if c is not None and c not in carriers:
-                raise PatternValidationError(f"`{name}` {c!r} is not one of the carriers")
+                raise OptionError(f"`{name}` {c!r} is not one of the carriers")
         if self.position not in _POSITIONS:
-            raise PatternValidationError(
+            raise OptionError(
                 f"`position` must be one of {', '.join(_POSITIONS)}, got {self.position!r}"
             )
         for name in ("stitch_number", "cast_on_stitch_number", "speed_number"):
             v = getattr(self, name)
             if v is not None and (not isinstance(v, int) or v < 0):
-                raise PatternValidationError(f"`{name}` must be a non-negative integer or None")
+                raise OptionError(f"`{name}` must be a non-negative integer or None")
 
     # -- derived quantities --------------------------------------------------------------------
     @property

@@ -18,6 +18,14 @@ wale, a ``miss`` past its leftmost, the others rightward, ``releasehook``; a car
 right edge is then parked right of it), so colour regions run to the edge. ``cast_on_courses``
 plain courses in course 0's colours follow, scheduled like the body (caught, path-planned).
 
+**Parking.** Every pass ends with its carriers parked just beyond the fabric edge it runs towards
+(a trailing ``miss``, ``MachineSpec.park_distance`` needles out), as the one-colour scheduler
+does. The SWG backend treats a carrier as possibly anywhere beyond the last needle it moved to
+(its stopping distance is unknown) and moves it out of the way before any stitch or transfer on
+that side, each move a carriage pass; a carrier parked outside the fabric is never in the way, so
+those passes disappear. A carrier whose yarn would then float across purls of its own next pass
+first comes back beside its last loop (one move) and is planned from there.
+
 **Each course**: the work items are every carrier's segment (minus its plated stitches) and one
 item per plated carrier pair; catching happens on every ``catch_every``-th course (default 2:
 once per unit row). Items are ordered for fewest passes -- branch and bound over every order up
@@ -54,7 +62,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from illuknit.errors import PatternValidationError, SchedulingError
+from illuknit.errors import OptionError, PatternValidationError, SchedulingError
 from illuknit.knit.catching import PlatedStitch, plan_catches
 from illuknit.knit.colour_runs import ColourPlan, plan_colour_runs
 from illuknit.knit.float_avoidance import float_crossings, transfers_before
@@ -63,6 +71,7 @@ from illuknit.knit.machine import DEFAULT_MACHINE, MachineSpec
 from illuknit.knit.path_planning import (
     STRATEGIES,
     CarrierState,
+    Park,
     PlannedPass,
     WorkItem,
     advance,
@@ -79,9 +88,9 @@ def validate_ablation(*, float_avoidance: object, catching: object, path_plannin
     """Check the ablation switches (booleans and a known strategy name)."""
     for name, v in (("float_avoidance", float_avoidance), ("catching", catching)):
         if not isinstance(v, (bool, np.bool_)):
-            raise PatternValidationError(f"`{name}` must be True or False, got {v!r}")
+            raise OptionError(f"`{name}` must be True or False, got {v!r}")
     if path_planning not in STRATEGIES:
-        raise PatternValidationError(
+        raise OptionError(
             f"`path_planning` must be one of {', '.join(STRATEGIES)}, got {path_planning!r}"
         )
 
@@ -150,6 +159,8 @@ class _Emitter:
             if new:
                 self.steps.append(CarrierAction(ActionKind.INHOOK, p.carriers))
             ops = tuple(Op(op, Bed(b), n) for n, b in p.stitches) + tuple(extra)
+            if p.park is not None:
+                ops += (Op(OpKind.MISS, Bed.FRONT, p.park),)
             self.steps.append(
                 Pass(
                     PassKind.KNIT,
@@ -213,6 +224,7 @@ def _order_and_plan(
     strategy: str,
     parity: str,
     lookahead: Sequence[WorkItem] = (),
+    park: Park | None = None,
 ) -> tuple[list[PlannedPass], dict[str, CarrierState]]:
     """Order a course's items for fewest passes; a carrier's own item comes before plating.
 
@@ -227,7 +239,7 @@ def _order_and_plan(
             it for it in items if len(it.carriers) > 1
         ]
         for it in order:
-            for p in plan_item(it, st, strategy=strategy, parity=parity):  # type: ignore[arg-type]
+            for p in plan_item(it, st, strategy=strategy, parity=parity, park=park):  # type: ignore[arg-type]
                 st = advance(st, p)
                 planned.append(p)
         return planned, st
@@ -242,7 +254,7 @@ def _order_and_plan(
         key = (i, tuple(st.get(c, unused) for c in it.carriers))
         got = cache.get(key)
         if got is None:
-            ps = plan_item(it, st, strategy=strategy, parity=parity)  # type: ignore[arg-type]
+            ps = plan_item(it, st, strategy=strategy, parity=parity, park=park)  # type: ignore[arg-type]
             sub = {c: st.get(c, unused) for c in it.carriers}
             cost = pass_cost(ps, sub)
             for p in ps:
@@ -270,7 +282,7 @@ def _order_and_plan(
             key = (k, cs)
             got = ahead_cache.get(key)
             if got is None:
-                ps = plan_item(it, {car: cs}, strategy=strategy, parity=parity)  # type: ignore[arg-type]
+                ps = plan_item(it, {car: cs}, strategy=strategy, parity=parity, park=park)  # type: ignore[arg-type]
                 got = pass_cost(ps, {car: cs}) - 1
                 ahead_cache[key] = got
             extra += got
@@ -412,6 +424,7 @@ def schedule_mixed(
     float_limit: int | None = None,
     strict_floats: bool = False,
     tail_stitches: int = 4,
+    park_carriers: bool = True,
 ) -> Schedule:
     """Schedule a stitch pattern whose courses may change colour (see the module docstring).
 
@@ -439,6 +452,11 @@ def schedule_mixed(
         are bridged by longer floats instead (the checker warns about them).
     tail_stitches : int
         Knits on the last needle of the bind-off chain.
+    park_carriers : bool
+        End every pass with its carriers parked just beyond the fabric edge it runs towards
+        (the default), so that no carrier waits inside the fabric where the machine would have
+        to move it out of other passes' way; False leaves each carrier at its last stitch (the
+        paper's intarsia behaviour, which the SWG backend pays for with extra passes).
 
     Returns
     -------
@@ -454,8 +472,10 @@ def schedule_mixed(
         or when it uses more yarns than there are carriers).
     SchedulingError
         If the piece is wider than the bed.
-    PatternValidationError
+    OptionError
         For bad options (float limit below 1, unknown strategy, non-boolean switches).
+    PatternValidationError
+        If ``stitches`` is not a StitchPattern.
     """
     if not isinstance(stitches, StitchPattern):
         raise PatternValidationError(
@@ -466,17 +486,17 @@ def schedule_mixed(
     )
     limit = machine.float_limit if float_limit is None else float_limit
     if isinstance(limit, bool) or not isinstance(limit, (int, np.integer)) or limit < 1:
-        raise PatternValidationError(
+        raise OptionError(
             f"`float_limit` must be an integer >= 1 (wales a yarn may float across), got {limit!r}"
         )
     if tail_stitches < 1:
-        raise PatternValidationError(f"`tail_stitches` must be >= 1, got {tail_stitches}")
+        raise OptionError(f"`tail_stitches` must be >= 1, got {tail_stitches}")
     if (
         isinstance(catch_every, bool)
         or not isinstance(catch_every, (int, np.integer))
         or catch_every < 1
     ):
-        raise PatternValidationError(f"`catch_every` must be an integer >= 1, got {catch_every!r}")
+        raise OptionError(f"`catch_every` must be an integer >= 1, got {catch_every!r}")
     n_courses, n_wales = stitches.shape
     machine.check_width(n_wales)
     k0 = stitches.cast_on_courses
@@ -503,19 +523,23 @@ def schedule_mixed(
     # -- cast-on: each carrier of the first course tucks its own wales -------------------------
     cast_sn = machine.cast_on_stitch
     cast_fixed = 0
+    edge = left + n_wales - 1
+    park: Park | None = (
+        (left - machine.park_distance, edge + machine.park_distance) if park_carriers else None
+    )
     for seg in plan.courses[0].segments:
         needles = [left + w for w in seg.wales]
         down = needles[::-1][0::2]
         up = sorted(set(needles) - set(down))
         car = seg.carrier
         em.steps.append(CarrierAction(ActionKind.INHOOK, (car,)))
-        ops = [Op(OpKind.TUCK, Bed.FRONT, n) for n in down] + [
-            Op(OpKind.MISS, Bed.FRONT, needles[0] - 1)
-        ]
+        # A lone wale has no rightward tucks: its carrier parks left at once (when parking).
+        end = park[0] if park is not None and not up else needles[0] - 1
+        ops = [Op(OpKind.TUCK, Bed.FRONT, n) for n in down] + [Op(OpKind.MISS, Bed.FRONT, end)]
         em.steps.append(
             Pass(PassKind.KNIT, tuple(ops), "-", (car,), 0.0, Role.CAST_ON, None, cast_sn)
         )
-        state = CarrierState(needles[0] - 1, "-", down[-1])
+        state = CarrierState(end, "-", down[-1])
         cast_fixed += 1
         if up:
             ops = [Op(OpKind.TUCK, Bed.FRONT, n) for n in up]
@@ -525,16 +549,13 @@ def schedule_mixed(
             state = CarrierState(up[-1], "+", up[-1])
             cast_fixed += 1
         em.steps.append(CarrierAction(ActionKind.RELEASEHOOK, (car,)))
-        edge = left + n_wales - 1
-        if up and needles[-1] == edge:
-            # As in the one-colour cast-on: once the hook is released, park the carrier right of
-            # the fabric so that its first course starts leftward from behind the carriage
-            # (otherwise it would have to be carried back across the whole piece).
-            park = Op(OpKind.MISS, Bed.FRONT, edge + machine.park_distance)
-            em.steps.append(
-                Pass(PassKind.KNIT, (park,), "+", (car,), 0.0, Role.PARK, None, cast_sn)
-            )
-            state = CarrierState(park.needle, "+", up[-1])
+        if up and (park is not None or needles[-1] == edge):
+            # As in the one-colour cast-on: once the hook is released (nothing may pass right of
+            # it before), park the carrier right of the fabric, out of every other carrier's way,
+            # so that its first course starts leftward from behind the carriage.
+            to = Op(OpKind.MISS, Bed.FRONT, edge + machine.park_distance)
+            em.steps.append(Pass(PassKind.KNIT, (to,), "+", (car,), 0.0, Role.PARK, None, cast_sn))
+            state = CarrierState(to.needle, "+", up[-1])
             cast_fixed += 1
         em.states[car] = state
     for n in em.needles:
@@ -566,7 +587,7 @@ def schedule_mixed(
             lookahead = _course_items(
                 [(s.carrier, s.wales) for s in nxt.segments], [], course_beds[c + 1], left
             )
-        planned, _ = _order_and_plan(items, em.states, path_planning, parity, lookahead)
+        planned, _ = _order_and_plan(items, em.states, path_planning, parity, lookahead, park)
         bound = len({it.carriers for it in items}) + int(bool((need != prev_kind).any()))
         prev_kind = need
         if body:

@@ -33,14 +33,15 @@ from __future__ import annotations
 
 from bisect import bisect_left, bisect_right
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Literal
 
-from illuknit.errors import PatternValidationError
+from illuknit.errors import OptionError
 
 __all__ = [
     "STRATEGIES",
     "CarrierState",
+    "Park",
     "PlannedPass",
     "WorkItem",
     "advance",
@@ -92,13 +93,28 @@ class PlannedPass:
     """A pass to emit: ``stitches`` in execution order; ``kind`` ``"knit"`` or ``"move"``.
 
     A ``move`` pass is a single ``miss`` at ``stitches[0][0]`` that carries one carrier to the
-    side it must start from (an anchoring move / explicit kickback).
+    side it must start from (an anchoring move / explicit kickback). ``park``, when set, is the
+    needle of a trailing ``miss`` that carries the pass's carriers out beyond the fabric edge
+    (see :data:`Park`): the carriers end there instead of at the last stitch.
     """
 
     carriers: tuple[str, ...]
     direction: Direction
     stitches: tuple[tuple[int, str], ...]
     kind: str = "knit"
+    park: int | None = None
+
+    @property
+    def end(self) -> int:
+        """Needle where the pass leaves its carriers."""
+        return self.park if self.park is not None else self.stitches[-1][0]
+
+
+#: Parking needles (left, right) just beyond the fabric edges. When the planner is given them,
+#: every pass ends with its carriers parked beyond the edge it runs towards, so no carrier is
+#: ever left inside the fabric where the machine would have to move it out of another pass's
+#: way (the SWG backend kicks a carrier whenever anything happens on the side it last moved to).
+Park = tuple[int, int]
 
 
 def _flip(d: Direction) -> Direction:
@@ -111,12 +127,21 @@ def is_behind(state: CarrierState, direction: Direction, needle: int) -> bool:
     return x < needle if direction == "+" else x > needle
 
 
-def _move(car: str, state: CarrierState, direction: Direction, first: int) -> PlannedPass | None:
-    """A miss pass placing ``car`` behind ``first`` for a ``direction`` pass, or None if fine."""
+def _move(
+    car: str, state: CarrierState, direction: Direction, first: int, park: Park | None
+) -> PlannedPass | None:
+    """A miss pass placing ``car`` behind ``first`` for a ``direction`` pass, or None if fine.
+
+    With parking the carrier moves all the way to the parking needle on the far side.
+    """
     if state.needle is None:
         return None
     if is_behind(state, direction, first) and state.direction != direction:
         return None
+    if park is not None:
+        if direction == "+":
+            return PlannedPass((car,), "-", ((park[0], "f"),), "move")
+        return PlannedPass((car,), "+", ((park[1], "f"),), "move")
     if direction == "+":
         target = min(state.needle, first - 1)
         return PlannedPass((car,), "-", ((target, "f"),), "move")
@@ -132,7 +157,7 @@ def advance(states: Mapping[str, CarrierState], p: PlannedPass) -> dict[str, Car
         st = out.get(car, CarrierState())
         loop = st.last_loop if p.kind == "move" else last_needle
         solo = len(p.carriers) == 1 and st.needle is not None
-        out[car] = CarrierState(last_needle, p.direction, loop, solo)
+        out[car] = CarrierState(p.end, p.direction, loop, solo)
     return out
 
 
@@ -160,16 +185,26 @@ def pass_cost(passes: Sequence[PlannedPass], states: Mapping[str, CarrierState])
     return n
 
 
+def _parked(p: PlannedPass, park: Park | None) -> PlannedPass:
+    """``p`` ending with its carriers parked beyond the edge it runs towards (if parking)."""
+    if park is None or p.kind == "move":
+        return p
+    return replace(p, park=park[1] if p.direction == "+" else park[0])
+
+
 def _with_moves(
     carriers: Sequence[str],
     direction: Direction,
     stitches: Sequence[tuple[int, str]],
     states: Mapping[str, CarrierState],
+    park: Park | None,
 ) -> list[PlannedPass]:
     ordered = tuple(stitches) if direction == "+" else tuple(reversed(stitches))
     first = ordered[0][0]
-    moves = [m for car in carriers if (m := _move(car, states[car], direction, first)) is not None]
-    return [*moves, PlannedPass(tuple(carriers), direction, ordered)]
+    moves = [
+        m for car in carriers if (m := _move(car, states[car], direction, first, park)) is not None
+    ]
+    return [*moves, _parked(PlannedPass(tuple(carriers), direction, ordered), park)]
 
 
 def plan_item(
@@ -178,6 +213,7 @@ def plan_item(
     *,
     strategy: str,
     parity: Direction,
+    park: Park | None = None,
 ) -> list[PlannedPass]:
     """Passes (anchoring moves included) that knit ``item`` with every carrier behind the carriage.
 
@@ -189,6 +225,9 @@ def plan_item(
     strategy : {"anchor", "split", "none"}
     parity : {"+", "-"}
         The course's naive direction, used by ``none``.
+    park : (int, int), optional
+        Parking needles beyond the fabric edges: every pass ends with its carriers parked there
+        (see :data:`Park`), and a carrier on the wrong side moves to the other parking needle.
 
     Returns
     -------
@@ -196,7 +235,7 @@ def plan_item(
         In execution order; apply them with :func:`advance`.
     """
     if strategy not in STRATEGIES:
-        raise PatternValidationError(
+        raise OptionError(
             f"`path_planning` must be one of {', '.join(STRATEGIES)}, got {strategy!r}"
         )
     if not item.stitches:
@@ -206,58 +245,32 @@ def plan_item(
     if new:
         # The inserting hook needs the first stitches to go leftward from the right.
         ordered = tuple(reversed(item.stitches))
-        return [PlannedPass(item.carriers, "-", ordered)]
+        return [_parked(PlannedPass(item.carriers, "-", ordered), park)]
     if strategy == "none":
         ordered = tuple(item.stitches) if parity == "+" else tuple(reversed(item.stitches))
-        return [PlannedPass(item.carriers, parity, ordered)]
+        return [_parked(PlannedPass(item.carriers, parity, ordered), park)]
 
-    lo, hi = item.stitches[0][0], item.stitches[-1][0]
     purls = [n for n, b in item.stitches if b == "b"]
     candidates = [
-        _with_moves(item.carriers, "+", item.stitches, st),
-        _with_moves(item.carriers, "-", item.stitches, st),
+        _with_moves(item.carriers, "+", item.stitches, st, park),
+        _with_moves(item.carriers, "-", item.stitches, st, park),
     ]
     if len(item.carriers) == 1:
         car = item.carriers[0]
-        s = st[car]
-        x = s.position
-        if lo < x < hi:
-            left = tuple(p for p in item.stitches if p[0] < x)
-            right = tuple(p for p in item.stitches if p[0] > x)
-            first: Direction = _flip(s.direction or "+")
-            if strategy == "split":
-                # Knit away from the anchor on the side the carrier can reach first, turn, and
-                # knit the other side (the float back over the first part is float-avoided).
-                if first == "-":
-                    candidates.append(
-                        [
-                            PlannedPass((car,), "-", tuple(reversed(left))),
-                            PlannedPass((car,), "+", right),
-                        ]
-                    )
-                else:
-                    candidates.append(
-                        [
-                            PlannedPass((car,), "+", right),
-                            PlannedPass((car,), "-", tuple(reversed(left))),
-                        ]
-                    )
-            else:
-                # Anchoring stitch: the far-end stitch alone, opposite to the rest.
-                if first == "-":
-                    candidates.append(
-                        [
-                            PlannedPass((car,), "-", (item.stitches[0],)),
-                            PlannedPass((car,), "+", tuple(item.stitches[1:])),
-                        ]
-                    )
-                else:
-                    candidates.append(
-                        [
-                            PlannedPass((car,), "+", (item.stitches[-1],)),
-                            PlannedPass((car,), "-", tuple(reversed(item.stitches[:-1]))),
-                        ]
-                    )
+        candidates += _inside(item, car, st[car], strategy, park)
+        unpark = _unpark(car, st[car], park)
+        if unpark is not None:
+            # A parked carrier whose yarn would float across purls of its own pass can first
+            # come back to its last loop (one move) and be planned from there.
+            back = advance(st, unpark)
+            candidates += [
+                [unpark, *ps]
+                for ps in (
+                    _with_moves(item.carriers, "+", item.stitches, back, park),
+                    _with_moves(item.carriers, "-", item.stitches, back, park),
+                    *_inside(item, car, back[car], strategy, park),
+                )
+            ]
     # Fewest passes; among equals the shortest yarn floats (a float crossing needles the same
     # pass then purls cannot be float-avoided), then fewer moves, then the first candidate.
     return min(
@@ -268,6 +281,50 @@ def plan_item(
             sum(p.kind == "move" for p in ps),
         ),
     )
+
+
+def _inside(
+    item: WorkItem, car: str, s: CarrierState, strategy: str, park: Park | None
+) -> list[list[PlannedPass]]:
+    """Plans for a carrier anchored inside its work (Algorithm 3 *Split* or *Anchor*)."""
+    lo, hi = item.stitches[0][0], item.stitches[-1][0]
+    x = s.position
+    if not lo < x < hi:
+        return []
+    left = tuple(p for p in item.stitches if p[0] < x)
+    right = tuple(p for p in item.stitches if p[0] > x)
+    first: Direction = _flip(s.direction or "+")
+    if strategy == "split":
+        # Knit away from the anchor on the side the carrier can reach first, turn, and knit the
+        # other side (the float back over the first part is float-avoided).
+        plan = (
+            [PlannedPass((car,), "-", tuple(reversed(left))), PlannedPass((car,), "+", right)]
+            if first == "-"
+            else [PlannedPass((car,), "+", right), PlannedPass((car,), "-", tuple(reversed(left)))]
+        )
+    elif first == "-":
+        # Anchoring stitch: the far-end stitch alone, opposite to the rest.
+        plan = [
+            PlannedPass((car,), "-", (item.stitches[0],)),
+            PlannedPass((car,), "+", tuple(item.stitches[1:])),
+        ]
+    else:
+        plan = [
+            PlannedPass((car,), "+", (item.stitches[-1],)),
+            PlannedPass((car,), "-", tuple(reversed(item.stitches[:-1]))),
+        ]
+    return [[_parked(p, park) for p in plan]]
+
+
+def _unpark(car: str, s: CarrierState, park: Park | None) -> PlannedPass | None:
+    """The move bringing a parked carrier back to just beside its last loop, or None."""
+    if park is None or s.needle is None or s.last_loop is None:
+        return None
+    if s.needle >= park[1] and s.direction == "+":
+        return PlannedPass((car,), "-", ((s.last_loop + 1, "f"),), "move")
+    if s.needle <= park[0] and s.direction == "-":
+        return PlannedPass((car,), "+", ((s.last_loop - 1, "f"),), "move")
+    return None
 
 
 def _float_cost(

@@ -49,7 +49,13 @@ from typing import Any
 
 import numpy as np
 
-from illuknit.errors import MixedColourworkError, PatternValidationError, SchedulingError
+from illuknit.errors import (
+    MachineRuleError,
+    MixedColourworkError,
+    OptionError,
+    PatternValidationError,
+    SchedulingError,
+)
 from illuknit.knit.ir import (
     ActionKind,
     Bed,
@@ -180,37 +186,46 @@ class Schedule:
             if isinstance(step, CarrierAction):
                 bad = [c for c in step.carriers if c not in carriers]
                 if bad:
-                    raise SchedulingError(f"step {i}: carrier {bad[0]!r} is not on the machine")
+                    raise MachineRuleError(
+                        f"step {i}: carrier {bad[0]!r} is not on the machine", carrier=bad[0]
+                    )
                 continue
             if not isinstance(step, Pass):
-                raise PatternValidationError(f"step {i} is neither a Pass nor a CarrierAction")
+                raise SchedulingError(f"step {i} is neither a Pass nor a CarrierAction")
             if abs(step.racking) > m.max_racking:
-                raise SchedulingError(
-                    f"step {i}: racking {step.racking} exceeds +/-{m.max_racking}"
+                raise MachineRuleError(
+                    f"step {i}: racking {step.racking} exceeds +/-{m.max_racking}",
+                    racking=step.racking,
                 )
             lo, hi = step.needle_span
             if lo < 0 or hi >= m.needles:
-                raise SchedulingError(
-                    f"step {i}: needles {lo}..{hi} outside the bed 0..{m.needles - 1}"
+                raise MachineRuleError(
+                    f"step {i}: needles {lo}..{hi} outside the bed 0..{m.needles - 1}",
+                    needle=str(lo if lo < 0 else hi),
                 )
             bad = [c for c in step.carriers if c not in carriers]
             if bad:
-                raise SchedulingError(f"step {i}: carrier {bad[0]!r} is not on the machine")
+                raise MachineRuleError(
+                    f"step {i}: carrier {bad[0]!r} is not on the machine", carrier=bad[0]
+                )
             if step.kind == "xfer" or any(o.op == "split" for o in step.ops):
                 for o in step.ops:
                     if o.op not in ("xfer", "split"):
                         continue
                     if o.to_bed is None or o.to_needle is None or o.to_bed == o.bed:
-                        raise SchedulingError(
-                            f"step {i}: {o.op} {o.bed}{o.needle} needs a target on the other bed"
+                        raise MachineRuleError(
+                            f"step {i}: {o.op} {o.bed}{o.needle} needs a target on the other bed",
+                            needle=f"{o.bed}{o.needle}",
                         )
                     front, back = (
                         (o.needle, o.to_needle) if o.bed == "f" else (o.to_needle, o.needle)
                     )
                     # Knitout alignment: front needle k + R faces back needle k.
                     if front - back != step.racking:
-                        raise SchedulingError(
-                            f"step {i}: {o.op} f{front} <-> b{back} is not aligned at racking {step.racking}"
+                        raise MachineRuleError(
+                            f"step {i}: {o.op} f{front} <-> b{back} is not aligned at racking {step.racking}",
+                            needle=f"{o.bed}{o.needle}",
+                            racking=step.racking,
                         )
         object.__setattr__(self, "steps", tuple(self.steps))
         object.__setattr__(
@@ -394,9 +409,9 @@ def schedule_courses(
             f"`stitches` must be a StitchPattern, got {type(stitches).__name__}"
         )
     if stitches.wales < 2:
-        raise PatternValidationError(f"the cast-on needs at least 2 wales, got {stitches.wales}")
+        raise SchedulingError(f"the cast-on needs at least 2 wales, got {stitches.wales}")
     if tail_stitches < 1:
-        raise PatternValidationError(f"`tail_stitches` must be >= 1, got {tail_stitches}")
+        raise OptionError(f"`tail_stitches` must be >= 1, got {tail_stitches}")
     n_courses, n_wales = stitches.shape
     machine.check_width(n_wales)
     mixed = stitches.mixed_courses()

@@ -18,7 +18,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from illuknit.errors import PatternValidationError
+from illuknit.errors import OptionError
 from illuknit.knit.schedule import Schedule
 
 __all__ = ["TimeEstimate", "estimate_knit_time", "format_duration"]
@@ -73,7 +73,7 @@ def estimate_knit_time(
     spn = m.seconds_per_needle if seconds_per_needle is None else float(seconds_per_needle)
     spt = m.seconds_per_turn if seconds_per_turn is None else float(seconds_per_turn)
     if spn < 0 or spt < 0:
-        raise PatternValidationError("`seconds_per_needle` and `seconds_per_turn` must be >= 0")
+        raise OptionError("`seconds_per_needle` and `seconds_per_turn` must be >= 0")
     passes = schedule.passes
     crossed = 0
     for p in passes:

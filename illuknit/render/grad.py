@@ -23,7 +23,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from illuknit.errors import PatternValidationError
+from illuknit.errors import ImageInputError, OptionError
 from illuknit.render.params import RenderParams
 from illuknit.render.raycast import RenderView, Tape, cumsum_rows, render_soft, take_rows
 
@@ -52,9 +52,7 @@ def render_vjp(
     t2, m, k = segcol.shape
     n = t2 // 2
     if g.shape != (tape.n_pixels, m, k):
-        raise PatternValidationError(
-            f"`grad_image` must have shape {(tape.n_pixels, m, k)}, got {g.shape}"
-        )
+        raise OptionError(f"`grad_image` must have shape {(tape.n_pixels, m, k)}, got {g.shape}")
     if tape.view == "B":
         g = g[::-1]
     n_pix, dp = tape.n_pixels, tape.pixel
@@ -128,7 +126,7 @@ def render_value_and_grad(
     if t.ndim == 2:
         t = t[..., None]
     if t.shape != img.shape:
-        raise PatternValidationError(f"`target` must have shape {img.shape}, got {t.shape}")
+        raise ImageInputError(f"`target` must have shape {img.shape}, got {t.shape}")
     r = img - t
     loss = float(np.mean(r * r))
     gh, gc = render_vjp(tape, 2.0 * r / r.size)

@@ -37,7 +37,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from illuknit.colors import lab_from_rgb, linear_from_srgb
-from illuknit.errors import PatternValidationError
+from illuknit.errors import ImageInputError, OptionError, YarnSpecError
 from illuknit.pattern import LogicalPattern, Yarn
 from illuknit.render.grad import render_value_and_grad
 from illuknit.render.params import RenderParams
@@ -100,11 +100,9 @@ def targets_to_indices(
     k = len(yarns)
     if t.ndim == 2:
         if not np.issubdtype(t.dtype, np.integer):
-            raise PatternValidationError(
-                f"`{name}` as an index image must hold integers, got {t.dtype}"
-            )
+            raise ImageInputError(f"`{name}` as an index image must hold integers, got {t.dtype}")
         if t.size and (t.min() < 0 or t.max() >= k):
-            raise PatternValidationError(
+            raise ImageInputError(
                 f"`{name}` yarn indices must lie in 0..{k - 1}, got {t.min()}..{t.max()}"
             )
         return t.astype(np.int16)
@@ -116,12 +114,12 @@ def targets_to_indices(
 
 def _rgb255(t: NDArray[Any], name: str) -> NDArray[np.float64]:
     if t.ndim != 3 or t.shape[2] != 3:
-        raise PatternValidationError(f"`{name}` must have shape (N, M) or (N, M, 3), got {t.shape}")
+        raise ImageInputError(f"`{name}` must have shape (N, M) or (N, M, 3), got {t.shape}")
     if np.issubdtype(t.dtype, np.integer):
         return t.astype(np.float64)
     f = t.astype(np.float64)
     if not np.all(np.isfinite(f)) or f.min() < 0 or f.max() > 1:
-        raise PatternValidationError(f"`{name}` float RGB must lie in [0, 1]")
+        raise ImageInputError(f"`{name}` float RGB must lie in [0, 1]")
     return f * 255.0
 
 
@@ -266,28 +264,26 @@ def optimise_design(
     """
     yarns = tuple(yarns)
     if len(yarns) < 2 or not all(isinstance(y, Yarn) for y in yarns):
-        raise PatternValidationError("`yarns` must be a sequence of at least two Yarn")
+        raise YarnSpecError("`yarns` must be a sequence of at least two Yarn")
     params = RenderParams() if params is None else params
     ta_raw, tb_raw = np.asarray(target_a), np.asarray(target_b)
     if ta_raw.shape[:2] != tb_raw.shape[:2] or ta_raw.ndim < 2:
-        raise PatternValidationError(
+        raise ImageInputError(
             f"`target_a` and `target_b` must have the same (N, M) shape, got {ta_raw.shape} and {tb_raw.shape}"
         )
     if isinstance(steps, bool) or not isinstance(steps, int) or steps < 1:
-        raise PatternValidationError(f"`steps` must be a positive integer, got {steps!r}")
+        raise OptionError(f"`steps` must be a positive integer, got {steps!r}")
     for name, v in (
         ("learning_rate", learning_rate),
         ("binary_weight", binary_weight),
         ("change_weight", change_weight),
     ):
         if not math.isfinite(v) or v < 0 or (name == "learning_rate" and v == 0):
-            raise PatternValidationError(
+            raise OptionError(
                 f"`{name}` must be a {'positive' if name == 'learning_rate' else 'non-negative'} number, got {v!r}"
             )
     if not 0 < final_temperature <= 1:
-        raise PatternValidationError(
-            f"`final_temperature` must lie in (0, 1], got {final_temperature!r}"
-        )
+        raise OptionError(f"`final_temperature` must lie in (0, 1], got {final_temperature!r}")
     ia = targets_to_indices(ta_raw, yarns, name="target_a")
     ib = targets_to_indices(tb_raw, yarns, name="target_b")
     n, m = ia.shape
@@ -300,14 +296,14 @@ def optimise_design(
         pal_lin = np.eye(k)
         ta, tb = pal_lin[ia], pal_lin[ib]
     else:
-        raise PatternValidationError(f"`mix` must be 'rgb' or 'yarn', got {mix!r}")
+        raise OptionError(f"`mix` must be 'rgb' or 'yarn', got {mix!r}")
     pin = None
     if pinned is not None:
         pin = np.asarray(pinned)
         if pin.shape != (n, m) or not np.issubdtype(pin.dtype, np.integer):
-            raise PatternValidationError(f"`pinned` must be an int array of shape {(n, m)}")
+            raise OptionError(f"`pinned` must be an int array of shape {(n, m)}")
         if pin.min() < -1 or pin.max() >= k:
-            raise PatternValidationError(f"`pinned` values must lie in -1..{k - 1}")
+            raise OptionError(f"`pinned` values must lie in -1..{k - 1}")
     objective = _Objective(ta, tb, pal_lin, params, change_weight, raised_weight)
 
     rng = np.random.default_rng(seed)

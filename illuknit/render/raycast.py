@@ -49,7 +49,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from illuknit.colors import linear_from_srgb, srgb_from_linear
-from illuknit.errors import PatternValidationError, RenderParamsError
+from illuknit.errors import OptionError, PatternValidationError, RenderParamsError
 from illuknit.pattern import LogicalPattern
 from illuknit.render.params import RenderParams, check_angle
 
@@ -94,7 +94,7 @@ class Tape:
 
 def _camera(params: RenderParams, view: str, angle: float | None) -> tuple[float, float]:
     if view not in RENDER_VIEWS:
-        raise PatternValidationError(f"`view` must be one of {RENDER_VIEWS}, got {view!r}")
+        raise OptionError(f"`view` must be one of {RENDER_VIEWS}, got {view!r}")
     theta = (
         90.0
         if view == "headon"
@@ -133,9 +133,7 @@ def _check_soft(
         or not isinstance(supersample, int | np.integer)
         or supersample < 1
     ):
-        raise PatternValidationError(
-            f"`supersample` must be a positive integer, got {supersample!r}"
-        )
+        raise OptionError(f"`supersample` must be a positive integer, got {supersample!r}")
     return h, col
 
 

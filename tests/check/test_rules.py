@@ -10,7 +10,7 @@ import pytest
 from illuknit.check import CheckReport, check_knitout
 from illuknit.check.fabric import FABRIC_RULES
 from illuknit.check.rules import RULES
-from illuknit.errors import PatternValidationError
+from illuknit.errors import OptionError
 
 HEAD = ";!knitout-2\n;;Carriers: 1 2 3 4 5 6 7 8 9 10\n"
 
@@ -217,7 +217,7 @@ def test_pieces_count_and_first_line_of_second_piece() -> None:
 
 def test_bad_options() -> None:
     for kw in ({"float_limit": 0}, {"float_limit": 2.5}, {"max_racking": 0}, {"bed_width": 0}):
-        with pytest.raises(PatternValidationError):
+        with pytest.raises(OptionError):
             check_knitout(HEAD, **kw)  # type: ignore[arg-type]
 
 

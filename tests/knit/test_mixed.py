@@ -10,7 +10,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from illuknit.check import check_knitout
-from illuknit.errors import CarrierShortageError, PatternValidationError
+from illuknit.errors import CarrierShortageError, OptionError, PatternValidationError
 from illuknit.knit import MachineSpec, Pass, lower_to_stitches, write_knitout
 from illuknit.knit.catching import plan_catches
 from illuknit.knit.colour_runs import colour_runs, plan_colour_runs
@@ -119,15 +119,15 @@ def test_a_yarn_arriving_when_every_carrier_is_threaded_is_named():
 
 @pytest.mark.parametrize("limit", [0, -1, 1.5, True])
 def test_float_limit_below_one_is_rejected(limit):
-    with pytest.raises(PatternValidationError, match="float_limit"):
+    with pytest.raises(OptionError, match="float_limit"):
         plan_colour_runs(np.zeros((1, 3), int), carriers=("1",), float_limit=limit)
     s = lower_to_stitches(LogicalPattern(np.array([[0, 1]]), np.zeros((1, 2), bool), YARNS[:2]))
-    with pytest.raises(PatternValidationError, match="float_limit"):
+    with pytest.raises(OptionError, match="float_limit"):
         schedule_mixed(s, float_limit=limit)
 
 
 def test_machine_float_limit_of_zero_is_rejected():
-    with pytest.raises(PatternValidationError, match="float_limit"):
+    with pytest.raises(OptionError, match="float_limit"):
         MachineSpec(float_limit=0)
 
 
@@ -142,7 +142,7 @@ def test_machine_float_limit_of_zero_is_rejected():
 )
 def test_bad_switches_are_rejected(kwargs):
     s = lower_to_stitches(LogicalPattern(np.array([[0, 1]]), np.zeros((1, 2), bool), YARNS[:2]))
-    with pytest.raises(PatternValidationError):
+    with pytest.raises(OptionError):
         schedule_mixed(s, **kwargs)
 
 

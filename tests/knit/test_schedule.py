@@ -9,7 +9,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from illuknit.errors import MixedColourworkError, PatternValidationError, SchedulingError
+from illuknit.errors import MachineRuleError, MixedColourworkError, OptionError, SchedulingError
 from illuknit.knit import (
     CarrierAction,
     MachineSpec,
@@ -190,20 +190,22 @@ def test_wider_than_the_bed_is_refused_by_the_scheduler_too():
 
 
 def test_ir_validation():
-    with pytest.raises(PatternValidationError, match="direction"):
+    with pytest.raises(SchedulingError, match="direction"):
         Pass("knit", (Op("knit", "f", 1),), None, ("1",))
-    with pytest.raises(PatternValidationError, match="advance"):
+    with pytest.raises(SchedulingError, match="advance"):
         Pass("knit", (Op("knit", "f", 1), Op("knit", "f", 2)), "-", ("1",))
-    with pytest.raises(PatternValidationError, match="racking"):
+    with pytest.raises(MachineRuleError, match="racking"):
         Pass("xfer", (Op("xfer", "f", 1, "b", 1),), racking=0.5)
     p = LogicalPattern(np.zeros((1, 1), int), np.zeros((1, 1), bool), YARNS[:1])
     sch = schedule_courses(lower_to_stitches(p))
     bad = Pass("xfer", (Op("xfer", "f", 3, "b", 3),), racking=1.0)
-    with pytest.raises(SchedulingError, match="not aligned"):
+    with pytest.raises(MachineRuleError, match="not aligned") as err:
         Schedule(**{**sch.__dict__, "steps": (*sch.steps[:-1], bad, sch.steps[-1])})
+    assert (err.value.needle, err.value.racking) == ("f3", 1.0)
     far = Pass("xfer", (Op("xfer", "f", 9, "b", 4),), racking=5.0)
-    with pytest.raises(SchedulingError, match=r"racking 5\.0 exceeds"):
+    with pytest.raises(MachineRuleError, match=r"racking 5\.0 exceeds") as err:
         Schedule(**{**sch.__dict__, "steps": (*sch.steps, far)})
+    assert err.value.racking == 5.0
 
 
 def test_time_model_is_passes_times_span_plus_turns():
@@ -217,7 +219,7 @@ def test_time_model_is_passes_times_span_plus_turns():
     # body course pass: 6 wales + 2 parking needles beyond the edge
     body = [q for q in sch.passes if q.role == "body"]
     assert all(q.needle_span[1] - q.needle_span[0] + 1 == 6 + 2 for q in body)
-    with pytest.raises(PatternValidationError):
+    with pytest.raises(OptionError):
         estimate_knit_time(sch, seconds_per_turn=-1)
 
 

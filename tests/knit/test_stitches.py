@@ -7,7 +7,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from illuknit.errors import PatternValidationError, SchedulingError
+from illuknit.errors import OptionError, PatternValidationError, SchedulingError
 from illuknit.knit import KNIT, PURL, MachineSpec, StitchPattern, lower_to_stitches
 from illuknit.pattern import LogicalPattern, Yarn
 
@@ -83,10 +83,10 @@ def test_mixed_courses_are_found():
 
 
 def test_machine_spec_rejects_nonsense():
-    with pytest.raises(PatternValidationError, match="needles"):
+    with pytest.raises(OptionError, match="needles"):
         MachineSpec(needles=0)
-    with pytest.raises(PatternValidationError, match="carriers"):
+    with pytest.raises(OptionError, match="carriers"):
         MachineSpec(carriers=("1", "1"))
-    with pytest.raises(PatternValidationError, match="position"):
+    with pytest.raises(OptionError, match="position"):
         MachineSpec(position="Middle")
     assert MachineSpec().carriers == tuple(str(i) for i in range(1, 11))

@@ -7,7 +7,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from illuknit.errors import PatternValidationError
+from illuknit.errors import OptionError
 from illuknit.render.grad import render_value_and_grad, render_vjp
 from illuknit.render.params import RenderParams
 from illuknit.render.raycast import render_soft
@@ -62,5 +62,5 @@ def test_vjp_is_the_transpose_of_the_linear_colour_map():
 
 def test_vjp_rejects_wrong_shape():
     _, tape = render_soft(np.ones((3, 2)), np.ones((3, 2, 3)), return_tape=True)
-    with pytest.raises(PatternValidationError, match="grad_image"):
+    with pytest.raises(OptionError, match="grad_image"):
         render_vjp(tape, np.ones((2, 2, 3)))

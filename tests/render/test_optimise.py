@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from illuknit.drawings import draw_text
-from illuknit.errors import PatternValidationError
+from illuknit.errors import ImageInputError, OptionError, YarnSpecError
 from illuknit.pattern import LogicalPattern, parse_yarns
 from illuknit.render.optimise import DesignStep, optimise_design, targets_to_indices
 from illuknit.render.params import RenderParams
@@ -58,22 +58,22 @@ def test_targets_to_indices_maps_rgb_to_nearest_yarn():
 
 
 @pytest.mark.parametrize(
-    ("kwargs", "message"),
+    ("kwargs", "error", "message"),
     [
-        ({"target_b": np.zeros((3, 4), int)}, "same"),
-        ({"target_a": np.full((4, 4), 5)}, "0..1"),
-        ({"target_a": np.zeros((4, 4), float)}, "integers"),
-        ({"target_a": np.zeros((4, 4, 4), np.uint8)}, "shape"),
-        ({"yarns": YARNS[:1]}, "two"),
-        ({"steps": 0}, "steps"),
-        ({"learning_rate": -1.0}, "learning_rate"),
-        ({"final_temperature": 0.0}, "final_temperature"),
+        ({"target_b": np.zeros((3, 4), int)}, ImageInputError, "same"),
+        ({"target_a": np.full((4, 4), 5)}, ImageInputError, "0..1"),
+        ({"target_a": np.zeros((4, 4), float)}, ImageInputError, "integers"),
+        ({"target_a": np.zeros((4, 4, 4), np.uint8)}, ImageInputError, "shape"),
+        ({"yarns": YARNS[:1]}, YarnSpecError, "two"),
+        ({"steps": 0}, OptionError, "steps"),
+        ({"learning_rate": -1.0}, OptionError, "learning_rate"),
+        ({"final_temperature": 0.0}, OptionError, "final_temperature"),
     ],
 )
-def test_bad_design_input(kwargs, message):
+def test_bad_design_input(kwargs, error, message):
     args = {"target_a": np.zeros((4, 4), int), "target_b": np.zeros((4, 4), int), "yarns": YARNS}
     args.update(kwargs)
-    with pytest.raises(PatternValidationError, match=message):
+    with pytest.raises(error, match=message):
         optimise_design(
             args.pop("target_a"),
             args.pop("target_b"),
@@ -121,7 +121,7 @@ def test_pinned_units_keep_their_yarn_and_yarn_mix():
     pinned[::2, ::3] = 1
     res = optimise_design(ta, tb, YARNS, steps=30, mix="yarn", pinned=pinned)
     assert np.all(res.pattern.yarn[pinned >= 0] == 1)
-    with pytest.raises(PatternValidationError, match="mix"):
+    with pytest.raises(OptionError, match="mix"):
         optimise_design(ta, tb, YARNS, steps=2, mix="lab")
-    with pytest.raises(PatternValidationError, match="pinned"):
+    with pytest.raises(OptionError, match="pinned"):
         optimise_design(ta, tb, YARNS, steps=2, pinned=np.full(ta.shape, 7))

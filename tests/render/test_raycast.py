@@ -10,7 +10,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from illuknit.errors import PatternValidationError, RenderParamsError
+from illuknit.errors import OptionError, PatternValidationError, RenderParamsError
 from illuknit.pattern import LogicalPattern, Yarn
 from illuknit.render.params import (
     RenderParams,
@@ -198,13 +198,13 @@ def test_bad_render_input():
         render_views(pattern, angle=120)
     with pytest.raises(RenderParamsError, match="angle"):
         render_at(pattern, 0)
-    with pytest.raises(PatternValidationError, match="view"):
+    with pytest.raises(OptionError, match="view"):
         render_pattern(pattern, view="C")  # type: ignore[arg-type]
     with pytest.raises(PatternValidationError, match="flat_height"):
         render_soft(np.zeros((2, 2)), np.zeros((2, 2, 3)))
     with pytest.raises(PatternValidationError, match="colours"):
         render_soft(np.ones((2, 2)), np.zeros((3, 2, 3)))
-    with pytest.raises(PatternValidationError, match="supersample"):
+    with pytest.raises(OptionError, match="supersample"):
         render_soft(np.ones((2, 2)), np.zeros((2, 2, 3)), supersample=0)
 
 

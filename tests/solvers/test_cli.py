@@ -213,8 +213,8 @@ def test_bad_input_model_arity_weights_and_time(pair, tmp_path, capsys):
 
 def test_yarn_index_outside_the_palette_in_a_pattern_target(tmp_path):
     # the library check behind the CLI: a target index the palette cannot show
-    from illuknit.errors import PatternValidationError
+    from illuknit.errors import ImageInputError
     from illuknit.illusion_models import make_problem
 
-    with pytest.raises(PatternValidationError, match="outside the palette of 2"):
+    with pytest.raises(ImageInputError, match="outside the palette of 2"):
         make_problem(np.zeros((2, 2), int), np.array([[0, 1], [2, 0]]), n_yarns=2)

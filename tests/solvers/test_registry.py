@@ -88,11 +88,11 @@ def test_missing_external_binary_is_a_clear_error():
 
 
 def test_time_limit_must_be_positive():
-    from illuknit.errors import PatternValidationError
+    from illuknit.errors import OptionError
 
     m = Model()
     m.add_soft([m.var("a")], 1)
-    with pytest.raises(PatternValidationError, match="time_limit"):
+    with pytest.raises(OptionError, match="time_limit"):
         solve(m, solver="rc2", time_limit=0)
 
 

@@ -6,7 +6,7 @@ from fastapi import APIRouter, Depends, Request
 
 from illuknit.app import design
 from illuknit.app.jobs import Job, JobRunner
-from illuknit.app.lookups import SessionDep, current_pattern, prepared_of, runner_of
+from illuknit.app.lookups import SessionDep, current_pattern, prepared_of, runner_of, store_of
 from illuknit.app.schemas import JobIn
 from illuknit.app.sessions import Session
 from illuknit.errors import AppRequestError
@@ -78,30 +78,41 @@ def post_job(request: Request, s: SessionDep, runner: RunnerDep, body: JobIn) ->
             job = start_candidates(s, runner)
         else:
             job = start_knit(s, runner, isolate=request.app.state.config.isolate_knit)
-        s.jobs[body.kind] = job
-        return job.to_json()
+        s.replace_job(body.kind, job)
+        answer = job.to_json()
+    store_of(request).trim(keep=s.id)
+    return answer
 
 
 def job_of(s: Session, job_id: str) -> Job:
-    # Only jobs of this session are visible in it: no peeking at another tab's work.
-    for job in s.jobs.values():
-        if job.id == job_id:
-            return job
-    raise AppRequestError(
-        f"no job {job_id!r} in this session", field="job", code="no_job", status=404
-    )
+    """Job ``job_id`` of this session, or the job that replaced it (404 for another tab's)."""
+    job: Job | None = s.find_job(job_id)
+    if job is None:
+        raise AppRequestError(
+            f"no job {job_id!r} in this session", field="job", code="no_job", status=404
+        )
+    return job
 
 
-@router.get("/{job_id}", summary="Poll a job's progress")
+@router.get(
+    "/{job_id}",
+    summary="Poll a job's progress; a replaced job answers with the job that replaced it",
+)
 def get_job(s: SessionDep, job_id: str) -> dict[str, Any]:
     with s.lock:
-        return job_of(s, job_id).to_json()
+        job = job_of(s, job_id)
+        answer = job.to_json()
+    if job.id != job_id:
+        answer["superseded"] = job_id
+    return answer
 
 
-@router.delete("/{job_id}", summary="Cancel a job")
+@router.delete("/{job_id}", summary="Cancel a job (a replaced job is already cancelled)")
 def cancel_job(s: SessionDep, job_id: str) -> dict[str, Any]:
     with s.lock:
         job = job_of(s, job_id)
+    if job.id != job_id:  # replaced, hence cancelled already; its successor is not touched
+        return {**job.to_json(), "superseded": job_id}
     job.cancel()
     job.wait(timeout=5)
     return job.to_json()

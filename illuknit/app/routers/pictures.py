@@ -1,13 +1,12 @@
 """Pictures: upload picture A or B, see it as sent, and see both quantised to the yarns."""
 
-import mimetypes
 from typing import Annotated, Any
 
 from fastapi import APIRouter, File, Request, UploadFile
 from fastapi.responses import Response
 
 from illuknit.app import design
-from illuknit.app.lookups import SessionDep, check_slot, prepared_of, state_json
+from illuknit.app.lookups import SessionDep, check_slot, prepared_of, state_json, store_of
 from illuknit.app.sessions import UploadedImage
 from illuknit.errors import AppRequestError
 
@@ -40,12 +39,15 @@ def put_image(
         )
     rgb = design.decode_upload(data, file.filename or "", field=field)
     with s.lock:
-        s.images[slot] = UploadedImage(file.filename or f"{slot}.png", data, rgb)
+        s.images[slot] = UploadedImage(file.filename or f"{slot}.png", len(data), rgb)
         s.bump()
-        return state_json(s)
+        state = state_json(s)
+    del data
+    store_of(request).trim(keep=s.id)
+    return state
 
 
-@router.get("/images/{slot}", summary="The uploaded picture as sent")
+@router.get("/images/{slot}", summary="The uploaded picture at the working grid (PNG)")
 def get_image(s: SessionDep, slot: str) -> Response:
     check_slot(slot)
     with s.lock:
@@ -57,12 +59,9 @@ def get_image(s: SessionDep, slot: str) -> Response:
             code="missing",
             status=404,
         )
-    mime = mimetypes.guess_type(im.filename)[0] or "application/octet-stream"
-    if not mime.startswith("image/"):
-        return Response(
-            design.png_bytes((im.rgb * 255).round().astype("uint8")), media_type="image/png"
-        )
-    return Response(im.data, media_type=mime)
+    return Response(
+        design.png_bytes(im.rgb), media_type="image/png", headers={"Cache-Control": "no-store"}
+    )
 
 
 @router.delete("/images/{slot}", summary="Remove a picture")

@@ -67,6 +67,7 @@ function showError(field, message, extra) {
   const box = field ? $(`[data-error-for="${field}"]`) : null;
   if (!box) {
     $("#banner-text").textContent = message;
+    $("#banner").classList.remove("notice");
     $("#banner").hidden = false;
     return;
   }
@@ -76,6 +77,12 @@ function showError(field, message, extra) {
   if (control) control.setAttribute("aria-invalid", "true");
   const drop = field.startsWith("image_") ? document.getElementById(`drop-${field.slice(6)}`) : null;
   if (drop) drop.classList.add("invalid");
+}
+
+function showNotice(message) {
+  $("#banner-text").textContent = message;
+  $("#banner").classList.add("notice");
+  $("#banner").hidden = false;
 }
 
 function clearError(...fields) {
@@ -102,6 +109,12 @@ function report(err, fallbackField) {
   if (err.code === "no_session") {
     sessionStorage.removeItem("illuknit.sid");
     showError(null, "This session expired; reload the page to start a new one.");
+    return;
+  }
+  if (err.code === "evicted") {
+    // the server closed this tab's session to free memory for newer work: say so, plainly
+    sessionStorage.removeItem("illuknit.sid");
+    showNotice(`${err.message}.`);
     return;
   }
   if (err.code === "size_mismatch") {
@@ -139,7 +152,12 @@ async function startSession() {
   let s = null;
   const saved = sessionStorage.getItem("illuknit.sid");
   if (saved) {
-    try { s = await api("GET", `/api/sessions/${saved}`); } catch (_) { s = null; }
+    try {
+      s = await api("GET", `/api/sessions/${saved}`);
+    } catch (err) {
+      s = null;
+      if (err instanceof ApiError && err.code === "evicted") showNotice(`${err.message}. A new session has started.`);
+    }
   }
   if (!s) s = await api("POST", "/api/sessions");
   state.sid = s.id;
@@ -396,10 +414,14 @@ async function pollJob(kind, id) {
     try {
       job = await sapi("GET", `/jobs/${id}`);
     } catch (err) {
+      if (state.jobs[kind] !== id) return null; // an edit started newer work meanwhile
       report(err, kind === "knit" ? "knit" : "candidates");
       showJob(kind, { status: "failed", progress: 0, message: "" });
       return null;
     }
+    // A job replaced by newer work (an edit, a new upload) answers with its successor: this
+    // loop stops quietly and the loop of the successor shows its progress.
+    if (state.jobs[kind] !== id || job.superseded) return null;
     showJob(kind, job);
     if (job.status === "done") return job;
     if (job.status === "failed") {
