@@ -43,7 +43,7 @@ __all__ = [
     "KnitoutParseError",
     "MachineRuleError",
     "ManifestError",
-    "MixedColourworkError",
+    "MixedColorworkError",
     "ModelError",
     "OptionError",
     "OutputPathError",
@@ -131,7 +131,7 @@ class SchedulingError(IlluknitError, ValueError):
     """A pattern cannot be scheduled on the given machine (too wide, too many colour runs, ...)."""
 
 
-class MixedColourworkError(SchedulingError):
+class MixedColorworkError(SchedulingError):
     """A course changes colour, which only the mixed-colourwork scheduler can knit."""
 
 

@@ -40,7 +40,7 @@ from illuknit.pattern import LogicalPattern, Yarn, parse_yarns, pattern_to_json
 __all__ = [
     "MAX_UPLOAD_BYTES",
     "Candidate",
-    "KnitResult",
+    "CheckedKnitout",
     "Prepared",
     "capabilities",
     "decode_upload",
@@ -673,7 +673,7 @@ def instructions_text(pattern: LogicalPattern) -> str:
 
 
 @dataclass(frozen=True)
-class KnitResult:
+class CheckedKnitout:
     """Knitout for one pattern and the checker's report on it."""
 
     key: str  # identifies the pattern it was made from

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import click
 
+from illuknit.cli.knitout_bridge import machine_option
 from illuknit.errors import UnknownNameError
 
 __all__ = ["bench"]
@@ -68,6 +69,7 @@ def _methods(spec: str) -> list[str]:
 )
 @click.option("--list", "list_only", is_flag=True, help="List instances and methods, then exit.")
 @click.option("--no-progress", is_flag=True, help="No progress bar.")
+@machine_option("Knitting machine the patterns are knit on for passes and times.")
 @click.option(
     "-o",
     "--output",
@@ -87,6 +89,7 @@ def bench(
     force: bool,
     list_only: bool,
     no_progress: bool,
+    machine: str | None,
     outdir: str | None,
 ) -> None:
     """Benchmark design methods on instances: tiles vs MaxSAT vs optimisation (paper 8.3).
@@ -130,6 +133,7 @@ def bench(
         force=force,
         progress=not no_progress,
         dask_address=dask_address,
+        machine=machine,
     )
     counts: dict[str, int] = {}
     for r in run.rows:

@@ -4,9 +4,14 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import click
+
+from illuknit.cli.knitout_bridge import machine_option
+
+if TYPE_CHECKING:
+    from illuknit.knit.machine import MachineSpec
 
 __all__ = ["knit", "run_knit"]
 
@@ -15,6 +20,7 @@ def run_knit(
     pattern_path: str | Path,
     output: str | Path,
     *,
+    machine: str | MachineSpec | None = None,
     gauge: float | None = None,
     machine_width: int | None = None,
     cast_on_courses: int = 2,
@@ -27,32 +33,30 @@ def run_knit(
     path_planning: str = "anchor",
     strict_floats: bool = False,
     catch_every: int = 2,
-    machine_name: str = "swg091n2",
     output_format: str = "knitout",
 ) -> dict[str, Any]:
-    """Compile ``pattern_path`` to knitout (or a machine file) at ``output``; return the summary
-    (and checker verdict).
+    """Compile ``pattern_path`` to knitout at ``output``; return the summary (and checker verdict).
 
-    Nothing is written when compilation fails.
+    ``machine`` is a preset name (or a spec); ``gauge``, ``machine_width`` and the other options
+    override its values. A pattern wider than the bed is refused before compiling; nothing is
+    written when compilation fails. ``output_format`` is ``knitout`` or a machine file the
+    machine takes (``kc`` for the Kniterate).
     """
     from dataclasses import replace
 
-    from illuknit.errors import UnknownNameError
+    from illuknit.cli.knitout_bridge import check_fits, resolve_machine
     from illuknit.knit import knit_pattern
-    from illuknit.knit.machine import get_machine
+    from illuknit.knit.machine_sheet import check_format, machine_sheet
     from illuknit.outputs import atomic_write_text
     from illuknit.pattern import load_pattern
 
-    machine = get_machine(machine_name)
-    formats = ("knitout", *machine.formats)
-    if output_format not in formats:
-        raise UnknownNameError(f"output format for the {machine.name}", output_format, formats)
-    pattern = load_pattern(pattern_path)
-    changes: dict[str, Any] = {}
-    if gauge is not None:
-        changes["gauge"] = gauge
+    spec = resolve_machine(machine, gauge=gauge)
+    check_format(spec, output_format)
     if machine_width is not None:
-        changes["needles"] = machine_width
+        spec = spec.with_width(machine_width)
+    pattern = load_pattern(pattern_path)
+    check_fits(spec, pattern.shape[1], hint="use a narrower pattern or a wider --machine-width")
+    changes: dict[str, Any] = {}
     if seconds_per_needle is not None:
         changes["seconds_per_needle"] = seconds_per_needle
     if seconds_per_turn is not None:
@@ -60,10 +64,10 @@ def run_knit(
     if float_limit is not None:
         changes["float_limit"] = float_limit
     if changes:
-        machine = replace(machine, **changes)
+        spec = replace(spec, **changes)
     result = knit_pattern(
         pattern,
-        machine=machine,
+        machine=spec,
         cast_on_courses=cast_on_courses,
         float_avoidance=float_avoidance,
         catching=catching,
@@ -78,12 +82,7 @@ def run_knit(
         except ImportError:  # pragma: no cover - only in a partial install
             summary["check"] = None
         else:
-            report = check_knitout(
-                result.text,
-                float_limit=machine.float_limit,
-                max_racking=machine.max_racking,
-                bed_width=machine.needles,
-            )
+            report = check_knitout(result.text, machine=spec)
             summary["check"] = {
                 "errors": len(report.blocking),
                 "warnings": len(report.warnings),
@@ -93,8 +92,6 @@ def run_knit(
                     for f in report.findings[:20]
                 ],
             }
-    from illuknit.knit.machine_sheet import machine_sheet
-
     sheet = machine_sheet(result, name=Path(output).name)
     summary.update(sheet.summary)
     atomic_write_text(output, sheet.files.get(output_format, result.text))
@@ -112,17 +109,18 @@ def run_knit(
     type=click.Path(dir_okay=False, path_type=Path),
     help="Knitout file to write (e.g. prog.k).",
 )
+@machine_option()
 @click.option(
     "--gauge",
     type=click.FloatRange(min=0, min_open=True),
     default=None,
-    help="Needles per inch [7].",
+    help="Needles per inch [the machine's, 7].",
 )
 @click.option(
     "--machine-width",
     type=click.IntRange(min=8),
     default=None,
-    help="Needles per bed [540, as the reference tools model the SWG091N2].",
+    help="Needles per bed [the machine's: 540 for generic540, 252 for swg091n2].",
 )
 @click.option(
     "--cast-on-courses",
@@ -147,7 +145,7 @@ def run_knit(
     "--float-limit",
     type=int,
     default=None,
-    help="Longest yarn float in needles for mixed colourwork [20].",
+    help="Longest yarn float in needles for mixed colourwork [the machine's, 20].",
 )
 @click.option(
     "--strict-floats",
@@ -189,14 +187,6 @@ def run_knit(
     help="Yarn path strategy (paper Algorithm 3) [anchor]; 'none' is the Fig. 20 ablation.",
 )
 @click.option(
-    "--machine",
-    "machine_name",
-    default="swg091n2",
-    show_default=True,
-    help="Machine preset: swg091n2, generic540 or kniterate (6 carriers, 252 needles, no "
-    "inserting hook: the piece starts on a waste section and draw thread).",
-)
-@click.option(
     "--format",
     "output_format",
     type=click.Choice(["knitout", "kc"]),
@@ -209,6 +199,7 @@ def run_knit(
 def knit(
     pattern: Path,
     output: Path,
+    machine: str | None,
     gauge: float | None,
     machine_width: int | None,
     cast_on_courses: int,
@@ -222,7 +213,6 @@ def knit(
     no_catching: bool,
     catch_every: int,
     path_planning: tuple[str, ...],
-    machine_name: str,
     output_format: str,
     no_check: bool,
     as_json: bool,
@@ -252,20 +242,20 @@ def knit(
         catching=not no_catching,
         catch_every=catch_every,
         path_planning=path_planning[0] if path_planning else "anchor",
+        machine=machine,
         gauge=gauge,
         machine_width=machine_width,
         cast_on_courses=cast_on_courses,
         seconds_per_needle=seconds_per_needle,
         seconds_per_turn=seconds_per_turn,
         check=not no_check,
-        machine_name=machine_name,
         output_format=output_format,
     )
     if as_json:
         click.echo(json.dumps(summary, indent=1))
     else:
         s = summary
-        click.echo(f"wrote {s['output']} ({s['lines']} lines)")
+        click.echo(f"wrote {s['output']} ({s['lines']} lines) for {s['machine']}")
         click.echo(
             f"stitches: {s['wales']} wales x {s['courses']} courses "
             f"(about {s['width_cm']} x {s['height_cm']} cm at gauge {s['gauge']:g})"
@@ -302,11 +292,9 @@ def knit(
 
 def _echo_machine_sheet(s: dict[str, Any]) -> None:
     """What the machine knitter sets up: cones on carriers, stitch numbers, needles, time."""
-    click.echo(f"machine: {s['machine']}; passes on the machine: {s['machine_passes']}")
+    click.echo(f"on the {s['machine']}: {s['machine_passes']} passes, about {s['machine_time']}")
     for row in s["carrier_table"]:
         click.echo(f"  carrier {row['carrier']}: {row['yarn']} ({row['role']})")
-    click.echo(
-        f"  stitch numbers: {', '.join(map(str, s['stitch_numbers'])) or 'machine default'}; "
-        f"needles {s['needle_range'][0]}..{s['needle_range'][1]}; "
-        f"estimated time on the machine: {s['machine_time']}"
-    )
+    numbers = ", ".join(map(str, s["stitch_numbers"])) or "machine default"
+    lo, hi = s["needle_range"]
+    click.echo(f"  stitch numbers: {numbers}; needles {lo}..{hi}")

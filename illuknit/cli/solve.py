@@ -17,6 +17,8 @@ from typing import Any
 import click
 import numpy as np
 
+from illuknit.cli.knitout_bridge import machine_option
+
 __all__ = ["load_targets", "run_solve", "solve"]
 
 #: Default grid width: the picture's own width, at most this many units.
@@ -149,9 +151,15 @@ def run_solve(
     export_wcnf: Path | None = None,
     wcnf_style: str = "new",
     knitout: bool = False,
+    machine: str | None = None,
     show_progress: bool = True,
 ) -> dict[str, Any]:
-    """Everything ``illuknit solve`` does; returns the report dict."""
+    """Everything ``illuknit solve`` does; returns the report dict.
+
+    With ``knitout`` the pattern is knit on ``machine`` (a preset name); a pattern wider than its
+    bed is refused before the model is built.
+    """
+    from illuknit.cli.knitout_bridge import check_fits, resolve_machine
     from illuknit.errors import ImageInputError
     from illuknit.illusion_models import (
         build_model,
@@ -187,9 +195,14 @@ def run_solve(
 
         w = replace(w, max_color_changes=max_color_changes)
     ys = parse_yarns(yarns) if yarns else None
+    spec = resolve_machine(machine)
+    if knitout and width is not None:
+        check_fits(spec, width)
     qa, qb = load_targets(
         image_a, image_b, width=width, resize=resize, n_colors=n_colors, yarns=ys, quantise=quantise
     )
+    if knitout:
+        check_fits(spec, qa.indices.shape[1])
     problem = make_problem(
         qa.indices,
         None if qb is None else qb.indices,
@@ -254,7 +267,7 @@ def run_solve(
             if knitout:
                 from illuknit.cli.knitout_bridge import write_program
 
-                paths.update(write_program(pattern, tmp))
+                paths.update(write_program(pattern, tmp, machine=spec))
         written.update({k: Path(outdir) / p.name for k, p in paths.items()})
     _print_report(report, written, outdir)
     return report
@@ -401,6 +414,7 @@ def _print_report(report: dict[str, Any], written: dict[str, Path], outdir: Path
 @click.option(
     "--knitout", is_flag=True, help="Also write a knitout program (program.k) and its check."
 )
+@machine_option()
 @click.option(
     "-o",
     "--outdir",

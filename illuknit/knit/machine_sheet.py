@@ -13,10 +13,12 @@ import re
 from dataclasses import dataclass
 from typing import Any
 
+from illuknit.errors import UnknownNameError
+from illuknit.knit.machine import MachineSpec
 from illuknit.knit.pipeline import KnitResult
 from illuknit.knit.timing import format_duration
 
-__all__ = ["MachineSheet", "machine_sheet"]
+__all__ = ["MachineSheet", "check_format", "machine_sheet"]
 
 
 @dataclass(frozen=True)
@@ -25,6 +27,13 @@ class MachineSheet:
 
     files: dict[str, str]
     summary: dict[str, Any]
+
+
+def check_format(machine: MachineSpec, output_format: str) -> None:
+    """Raise :class:`~illuknit.errors.UnknownNameError` unless ``machine`` takes the format."""
+    formats = ("knitout", *machine.formats)
+    if output_format not in formats:
+        raise UnknownNameError(f"output format for the {machine.name}", output_format, formats)
 
 
 def _carrier_table(result: KnitResult) -> list[dict[str, str]]:

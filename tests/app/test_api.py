@@ -367,7 +367,7 @@ def test_mismatched_sizes_offer_resize(client):
     assert inp["notes"] and "stretched" in inp["notes"][0]
 
 
-def test_more_colours_than_yarns_points_at_n_colors(client):
+def test_more_colors_than_yarns_points_at_n_colors(client):
     sid = new_session(client)
     upload(client, sid, "a", box_picture())
     client.put(f"/api/sessions/{sid}/settings", json={"mode": "single", "n_colors": 3})
@@ -375,7 +375,7 @@ def test_more_colours_than_yarns_points_at_n_colors(client):
     assert r.status_code == 422 and error_of(r)["field"] == "n_colors"
 
 
-def test_single_view_four_colours_is_refused(client):
+def test_single_view_four_colors_is_refused(client):
     sid = new_session(client)
     upload(client, sid, "a", box_picture())
     client.put(
