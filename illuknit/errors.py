@@ -36,11 +36,13 @@ __all__ = [
     "BackendUnavailableError",
     "CalibrationError",
     "CarrierShortageError",
+    "DatFormatError",
     "IlluknitError",
     "ImageInputError",
     "InfeasibleError",
     "KcodeError",
     "KnitoutParseError",
+    "MachineFileError",
     "MachineRuleError",
     "ManifestError",
     "MixedColorworkError",
@@ -56,6 +58,7 @@ __all__ = [
     "TileAssignmentError",
     "TileBankError",
     "UnknownNameError",
+    "UnsupportedKnitoutError",
     "YarnSpecError",
 ]
 
@@ -238,3 +241,22 @@ class ResultsVersionError(IlluknitError, ValueError):
 class OutputPathError(IlluknitError, OSError):
     """An output folder or file cannot be written: a file in the way, a read-only file system, no
     permission. The message names the path and the reason."""
+
+
+class MachineFileError(IlluknitError, ValueError):
+    """A machine file (Shima ``.dat``, Kniterate ``.kc``) cannot be written or read.
+
+    ``line`` is the 1-based knitout line at fault when one is known.
+    """
+
+    def __init__(self, message: str, *, line: int | None = None) -> None:
+        self.line = line
+        super().__init__(message if line is None else f"line {line}: {message}")
+
+
+class UnsupportedKnitoutError(MachineFileError):
+    """Valid knitout that this machine-file writer does not implement (it refuses, never guesses)."""
+
+
+class DatFormatError(MachineFileError):
+    """Bytes that are not a Shima ``.dat`` file as illuknit writes and reads them."""
