@@ -157,7 +157,7 @@ def execute_cell(cell: Cell) -> dict[str, Any]:
             t1 = time.perf_counter()
             pattern, info = method.run(cell.instance, cell.time_limit)
             wall = time.perf_counter() - t1
-    except (MethodUnavailable, BackendUnavailableError, ImportError) as e:
+    except (MethodUnavailable, BackendUnavailableError) as e:
         row.update(status="skipped", reason=str(e) or type(e).__name__)
         return {"row": _finish(row), "files": files}
     except NoPattern as e:
