@@ -164,6 +164,8 @@ def _solve_model(
         if "found no pattern" in str(e):
             raise NoPattern(f"no pattern within {time_limit:g} s ({e})") from None
         raise
+    if res.pattern is None:
+        raise NoPattern(f"no pattern within {time_limit:g} s ({res.solution.status.value})")
     total = time.perf_counter() - t0
     info = _solution_info(res.solution, compile_s=max(0.0, total - res.solution.wall_time))
     sol = res.solution
