@@ -37,6 +37,7 @@ __all__ = [
     "CalibrationError",
     "CarrierShortageError",
     "DatFormatError",
+    "ExecutorError",
     "IlluknitError",
     "ImageInputError",
     "InfeasibleError",
@@ -241,6 +242,10 @@ class ResultsVersionError(IlluknitError, ValueError):
 class OutputPathError(IlluknitError, OSError):
     """An output folder or file cannot be written: a file in the way, a read-only file system, no
     permission. The message names the path and the reason."""
+
+
+class ExecutorError(IlluknitError, RuntimeError):
+    """A benchmark executor cannot start (e.g. the Dask scheduler address cannot be reached)."""
 
 
 class MachineFileError(IlluknitError, ValueError):
