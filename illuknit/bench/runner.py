@@ -102,6 +102,7 @@ FIELDS = (
     "yarns_per_course_max",
     "carriage_passes",
     "transfer_passes",
+    "scheduled_passes",
     "knit_time_min",
     "knit_note",
     "knit_machine",
