@@ -70,7 +70,7 @@ def test_b_of_another_aspect_is_an_error_unless_stretched():
     assert pair.shape == (40, 40) and pair.stretched and "stretched" in pair.notes[0]
 
 
-def test_resampling_is_nearest_for_few_colours_and_smooth_for_photos():
+def test_resampling_is_nearest_for_few_colors_and_smooth_for_photos():
     few = size_picture(two_tone(100, 100), width=33)
     assert len(np.unique(few.reshape(-1, 3), axis=0)) == 2  # no blend colours
     many = size_picture(photo(100, 100), width=33)
