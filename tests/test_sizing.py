@@ -14,7 +14,6 @@ from illuknit.errors import ImageInputError, PictureSizeMismatchError
 from illuknit.sizing import (
     DEFAULT_MAX_WIDTH,
     grid_width,
-    load_pair,
     prepare_image,
     size_pair,
     size_picture,
@@ -90,7 +89,7 @@ def pictures(tmp_path):
 def test_cli_double_solve_app_and_bench_size_the_same_pictures_alike(pictures, tmp_path):
     """One grid for the same two pictures whichever entry point sizes them."""
     pa, pb = pictures
-    expected = load_pair(pa, pb, width=48)
+    expected = size_pair(pa, pb, width=48)
     grids = {}
     main(
         [
