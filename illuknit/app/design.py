@@ -412,6 +412,8 @@ class Candidate:
     pattern: LogicalPattern
     details: dict[str, Any] = field(default_factory=dict)
     source: Any = None
+    #: how it reads and knits (:mod:`illuknit.app.measures`), once the measures job ran
+    measures: dict[str, Any] | None = None
 
     def to_json(self) -> dict[str, Any]:
         n, m = self.pattern.shape
@@ -424,6 +426,7 @@ class Candidate:
             "yarns": [{"name": y.name, "rgb": y.hex} for y in self.pattern.yarns],
             "raised": int(self.pattern.raised.sum()),
             "details": self.details,
+            "measures": self.measures,
             "editable": self.source is not None,
         }
 
