@@ -7,7 +7,8 @@ wrong:
 =====================  ==========================================================================
 kind of problem        class
 =====================  ==========================================================================
-picture                :class:`ImageInputError` (target images, too), :class:`YarnSpecError`
+picture                :class:`ImageInputError` (target images, too),
+                       :class:`PictureSizeMismatchError`, :class:`YarnSpecError`
 pattern                :class:`PatternValidationError` (an in-memory pattern IR or its arrays)
 option / value         :class:`OptionError` (a keyword or setting out of range or of a wrong
                        type); :class:`UnknownNameError` (a name not in a registry);
@@ -37,9 +38,11 @@ __all__ = [
     "CalibrationError",
     "CarrierShortageError",
     "DatFormatError",
+    "ExecutorError",
     "IlluknitError",
     "ImageInputError",
     "InfeasibleError",
+    "KcodeError",
     "KnitoutParseError",
     "MachineFileError",
     "MachineRuleError",
@@ -50,6 +53,7 @@ __all__ = [
     "OutputPathError",
     "PatternFormatError",
     "PatternValidationError",
+    "PictureSizeMismatchError",
     "RenderParamsError",
     "ResultsVersionError",
     "SchedulingError",
@@ -87,6 +91,18 @@ class PatternFormatError(IlluknitError, ValueError):
 
 class ImageInputError(IlluknitError, ValueError):
     """An input image is missing, unreadable, too small, or cannot be mapped to the yarns."""
+
+
+class PictureSizeMismatchError(ImageInputError):
+    """Two pictures do not cover the same piece (their aspect ratios differ); see
+    :mod:`illuknit.sizing`. ``a_pixels`` and ``b_pixels`` are their (height, width) in pixels."""
+
+    def __init__(
+        self, message: str, *, a_pixels: tuple[int, int], b_pixels: tuple[int, int]
+    ) -> None:
+        super().__init__(message)
+        self.a_pixels = a_pixels
+        self.b_pixels = b_pixels
 
 
 class YarnSpecError(IlluknitError, ValueError):
@@ -171,6 +187,32 @@ class MachineRuleError(IlluknitError, ValueError):
         super().__init__(message)
 
 
+class KcodeError(MachineRuleError):
+    """A knitout program cannot be written as Kniterate k-code (``.kc``).
+
+    Raised where the reference Kniterate backend refuses the program, and where it would write a
+    wrong file (plated carriers, slider needles, needles off its 252-needle bed); ``line`` is the
+    1-based knitout line when known.
+    """
+
+    def __init__(
+        self,
+        message: str,
+        *,
+        line: int | None = None,
+        needle: str | None = None,
+        carrier: str | None = None,
+        racking: float | None = None,
+    ) -> None:
+        super().__init__(
+            f"line {line}: {message}" if line is not None else message,
+            needle=needle,
+            carrier=carrier,
+            racking=racking,
+            line=line,
+        )
+
+
 class KnitoutParseError(IlluknitError, ValueError):
     """A knitout file cannot be parsed; carries the 1-based line number."""
 
@@ -214,6 +256,10 @@ class ResultsVersionError(IlluknitError, ValueError):
 class OutputPathError(IlluknitError, OSError):
     """An output folder or file cannot be written: a file in the way, a read-only file system, no
     permission. The message names the path and the reason."""
+
+
+class ExecutorError(IlluknitError, RuntimeError):
+    """A benchmark executor cannot start (e.g. the Dask scheduler address cannot be reached)."""
 
 
 class MachineFileError(IlluknitError, ValueError):

@@ -113,7 +113,8 @@ CASES = [
 ]
 
 #: Cases whose reported passes are not yet the machine's (the scheduler does not yet model the
-#: backend's carrier moves, kickbacks and hook passes; issue 14 item 1).
+#: backend's carrier moves, kickbacks and hook passes; issue 14 item 1). Take a case out when
+#: it passes (the xfail is strict).
 NOT_YET = {
     "single-2",
     "single-3",
