@@ -28,10 +28,10 @@
 * **Colour changes per course**: for each pattern row (both of its knitting courses carry the same
   colours), the number of horizontally adjacent unit pairs of different yarn; mean and max over
   rows. Also the distinct yarns per row (mean, max) — a lower bound on carriers per course.
-* **Knitting**: carriage passes (every pass of the schedule), transfer passes and estimated time from the knit scheduler
-  (:mod:`illuknit.knit`); when the scheduler cannot handle the pattern (e.g. colour changes inside
-  a course before the mixed-colourwork scheduler exists) the fields are empty and ``knit_note``
-  gives the reason.
+* **Knitting**: the carriage passes the machine runs for the pattern's program (the SWG backend's
+  pass rows), transfer passes and the estimated time on them (:func:`knit_stats`); when the
+  pattern cannot be knit (e.g. wider than the bed) the fields are empty and ``knit_note`` gives
+  the reason.
 * **Peak memory**: resident set size sampled every 5 ms while the cell runs
   (:class:`PeakMemory`), reported as the peak and as the peak above the level at the start.
 """
