@@ -66,7 +66,20 @@ from illuknit.errors import OptionError, PatternValidationError, SchedulingError
 from illuknit.knit.catching import PlatedStitch, plan_catches
 from illuknit.knit.colour_runs import ColourPlan, plan_colour_runs
 from illuknit.knit.float_avoidance import float_crossings, transfers_before
-from illuknit.knit.ir import ActionKind, Bed, CarrierAction, Op, OpKind, Pass, PassKind, Role, Step
+from illuknit.knit.float_tucks import LongFloat, tuck_long_floats
+from illuknit.knit.ir import (
+    ActionKind,
+    Bed,
+    CarrierAction,
+    Direction,
+    Op,
+    OpKind,
+    Pass,
+    PassKind,
+    Role,
+    Step,
+    flip,
+)
 from illuknit.knit.machine import DEFAULT_MACHINE, MachineSpec
 from illuknit.knit.path_planning import (
     STRATEGIES,
@@ -78,7 +91,7 @@ from illuknit.knit.path_planning import (
     pass_cost,
     plan_item,
 )
-from illuknit.knit.schedule import MixedReport, Schedule
+from illuknit.knit.schedule import MixedReport, Schedule, bind_off_steps
 from illuknit.knit.stitches import StitchPattern
 
 __all__ = ["fold_moves", "schedule_mixed", "validate_ablation"]
@@ -188,6 +201,27 @@ class _Emitter:
         for c in carriers:
             self.steps.append(CarrierAction(ActionKind.OUTHOOK, (c,)))
             self.states.pop(c, None)
+
+
+def _bind_off_start(
+    states: dict[str, CarrierState], left: int, right: int
+) -> tuple[str, Direction]:
+    """Carrier and direction of a one-yarn bind-off: the shortest float into its first stitch.
+
+    A carrier parked beyond the right edge starts leftward from the right edge wale, one parked
+    left rightward from the left one; ties go to the carrier that needs no move to that side.
+    """
+    best: tuple[int, int, str, Direction] | None = None
+    for car, st in sorted(states.items()):
+        if st.needle is None or st.last_loop is None:
+            continue
+        for d, start in (("-", right), ("+", left)):
+            move = int((d == "-") != (st.direction == "+"))
+            key = (abs(st.last_loop - start), move, car, d)
+            if best is None or key < best:
+                best = key  # type: ignore[assignment]
+    assert best is not None, "a piece always has a live carrier at its bind-off"
+    return best[2], best[3]
 
 
 def _course_items(
@@ -448,8 +482,10 @@ def schedule_mixed(
         Longest float in wales; defaults to ``machine.float_limit``.
     strict_floats : bool
         Raise :class:`~illuknit.errors.CarrierShortageError` when a course needs more carriers
-        than the machine has to keep every float within the limit; by default the shortest gaps
-        are bridged by longer floats instead (the checker warns about them).
+        than the machine has to keep every float within the limit, and
+        :class:`~illuknit.errors.SchedulingError` naming the course when a float stays longer
+        than the limit after tucking; by default such floats are kept and listed in
+        ``Schedule.long_floats`` (the checker warns about them).
     tail_stitches : int
         Knits on the last needle of the bind-off chain.
     park_carriers : bool
@@ -608,8 +644,11 @@ def schedule_mixed(
         }
         for i, p in enumerate(planned):
             if float_avoidance:
+                # Transfers for the pass after a carrier move go before the move: a carrier
+                # just moved inside the fabric would be in their way.
+                j = next((k for k in range(i, len(planned)) if planned[k].kind != "move"), i)
                 moves, for_floats = transfers_before(
-                    i, planned, crossings, bed=em.bed, required=required, stitch_pass=stitch_pass
+                    j, planned, crossings, bed=em.bed, required=required, stitch_pass=stitch_pass
                 )
                 if moves:
                     em.float_transfer_passes += int(for_floats)
@@ -677,7 +716,27 @@ def schedule_mixed(
                 em.knit(p, role=Role.TAIL if t else Role.BIND_OFF, course=None)
         drops.append(last)
 
-    if catching:
+    if catching and park is not None:
+        # One chain in one yarn, as the one-colour scheduler binds off: started by the carrier
+        # whose last loop is nearest an edge it is parked beyond (where the last course ended),
+        # so no yarn floats across the piece into the bind-off. The others go out first.
+        car, d = _bind_off_start(em.states, left, edge)
+        em.outhook([c for c in machine.carriers if c in em.states and c != car])
+        st = em.states[car]
+        if (d == "-") != (st.direction == "+"):
+            target = park[1] if d == "-" else park[0]
+            em.knit(
+                PlannedPass((car,), flip(d), ((target, "f"),), "move"),
+                role=Role.BIND_OFF,
+                course=None,
+            )
+        em.steps.extend(
+            bind_off_steps(
+                car, d, left, edge, stitch_number=machine.stitch_number, tail_stitches=tail_stitches
+            )
+        )
+        em.states.pop(car)
+    elif catching:
         chain(runs, runs[-1][2])
     else:
         for lo, hi, car in runs:
@@ -701,6 +760,18 @@ def schedule_mixed(
     )
 
     em.steps = fold_moves(em.steps)
+    long: list[LongFloat] = []
+    if park is not None:
+        em.steps, long = tuck_long_floats(em.steps, limit=int(limit), left=left, right=edge)
+        if long and strict_floats:
+            worst = max(long, key=lambda f: f.length)
+            where = "the bind-off" if worst.course is None else stitches.course_name(worst.course)
+            raise SchedulingError(
+                f"{len(long)} float(s) stay longer than the float limit of {limit} needles; the "
+                f"longest, {worst.length} needles of carrier {worst.carrier} (needles "
+                f"{worst.from_needle} to {worst.to_needle}), is at {where}: use fewer colour "
+                "regions per row there, catching off, or a wider float limit"
+            )
     lower = cast_fixed + cast_courses_bound + body_bound + bind_fixed
     return Schedule(
         steps=tuple(em.steps),
@@ -714,6 +785,7 @@ def schedule_mixed(
         body_lower_bound=body_bound,
         units=stitches.units,
         scheduler="mixed-colourwork",
+        long_floats=tuple(long),
         mixed=MixedReport(
             float_avoidance=bool(float_avoidance),
             catching=bool(catching),

@@ -73,6 +73,8 @@ class KnitResult:
                 if self.schedule.mixed is not None
                 else {}
             ),
+            "long_floats": len(self.schedule.long_floats),
+            "longest_float": max((f.length for f in self.schedule.long_floats), default=0),
             "time_seconds": round(self.time.seconds, 1),
             "time": str(self.time),
             "lines": self.text.count("\n"),

@@ -56,6 +56,7 @@ from illuknit.errors import (
     PatternValidationError,
     SchedulingError,
 )
+from illuknit.knit.float_tucks import LongFloat
 from illuknit.knit.ir import (
     ActionKind,
     Bed,
@@ -164,6 +165,8 @@ class Schedule:
         Which scheduler made it: ``"one-colour-per-course"`` or ``"mixed-colourwork"``.
     mixed : MixedReport or None
         What the mixed-colourwork scheduler did (None for the one-colour scheduler).
+    long_floats : tuple of LongFloat
+        Floats longer than the machine's float limit that the scheduler could not shorten.
     """
 
     steps: tuple[Step, ...]
@@ -178,6 +181,7 @@ class Schedule:
     units: tuple[int, int] | None = None
     scheduler: str = "one-colour-per-course"
     mixed: MixedReport | None = None
+    long_floats: tuple[LongFloat, ...] = ()
 
     def __post_init__(self) -> None:
         m = self.machine
