@@ -36,13 +36,15 @@ __all__ = [
     "BackendUnavailableError",
     "CalibrationError",
     "CarrierShortageError",
+    "DatFormatError",
     "IlluknitError",
     "ImageInputError",
     "InfeasibleError",
     "KnitoutParseError",
+    "MachineFileError",
     "MachineRuleError",
     "ManifestError",
-    "MixedColourworkError",
+    "MixedColorworkError",
     "ModelError",
     "OptionError",
     "OutputPathError",
@@ -55,6 +57,7 @@ __all__ = [
     "TileAssignmentError",
     "TileBankError",
     "UnknownNameError",
+    "UnsupportedKnitoutError",
     "YarnSpecError",
 ]
 
@@ -130,7 +133,7 @@ class SchedulingError(IlluknitError, ValueError):
     """A pattern cannot be scheduled on the given machine (too wide, too many colour runs, ...)."""
 
 
-class MixedColourworkError(SchedulingError):
+class MixedColorworkError(SchedulingError):
     """A course changes colour, which only the mixed-colourwork scheduler can knit."""
 
 
@@ -211,3 +214,22 @@ class ResultsVersionError(IlluknitError, ValueError):
 class OutputPathError(IlluknitError, OSError):
     """An output folder or file cannot be written: a file in the way, a read-only file system, no
     permission. The message names the path and the reason."""
+
+
+class MachineFileError(IlluknitError, ValueError):
+    """A machine file (Shima ``.dat``, Kniterate ``.kc``) cannot be written or read.
+
+    ``line`` is the 1-based knitout line at fault when one is known.
+    """
+
+    def __init__(self, message: str, *, line: int | None = None) -> None:
+        self.line = line
+        super().__init__(message if line is None else f"line {line}: {message}")
+
+
+class UnsupportedKnitoutError(MachineFileError):
+    """Valid knitout that this machine-file writer does not implement (it refuses, never guesses)."""
+
+
+class DatFormatError(MachineFileError):
+    """Bytes that are not a Shima ``.dat`` file as illuknit writes and reads them."""

@@ -1,6 +1,8 @@
 """Constraint models of illusion patterns (paper sections 4.2 and 8.3), and their solutions.
 
-Three models over an N x M grid of units and K yarns, built on :class:`illuknit.model.Model`:
+Three *illusion models* over an N x M grid of units and K yarns -- (a) ``logical``, (b)
+``knit-aware``, (c) ``single``, the ``kind`` of an :class:`~illuknit.illusion_problem.IllusionProblem`
+-- each encoded here into one solver-neutral *constraint model* (:class:`illuknit.model.Model`):
 
 **Variables.** ``("yarn", i, j, k)`` — unit (i, j) is knit in yarn k (one-hot over k);
 ``("raised", i, j)`` — unit (i, j) is a bump. Model (b) adds ``("change", i, j)`` — the yarn

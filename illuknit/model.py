@@ -28,6 +28,12 @@ Contract
 
 Clause blocks are stored as numpy arrays of shape (n, width) padded with 0 so that models with
 ~10^5 variables (330 x 200 units) are built in milliseconds; ``0`` is never a literal.
+
+Naming: in illuknit a *constraint model* is this module's :class:`Model` (solver-neutral
+variables and constraints); an *illusion model* is one of the three ways of asking for an illusion
+-- (a) ``logical``, (b) ``knit-aware``, (c) ``single`` -- whose data is an
+:class:`~illuknit.illusion_problem.IllusionProblem` and whose encoder
+(:func:`illuknit.illusion_models.build_model`) produces a constraint model.
 """
 
 from __future__ import annotations

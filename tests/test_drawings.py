@@ -27,7 +27,7 @@ shapes = st.tuples(st.integers(6, 60), st.integers(6, 60))
 
 @settings(max_examples=25, deadline=None)
 @given(shape=shapes, name=st.sampled_from(sorted(DRAWINGS)))
-def test_drawn_shapes_have_the_requested_shape_and_both_colours(shape, name):
+def test_drawn_shapes_have_the_requested_shape_and_both_colors(shape, name):
     m = draw_shape(name, shape)
     assert m.shape == shape and m.dtype == bool
     assert m.any() and not m.all()

@@ -72,7 +72,7 @@ def test_resize():
     assert units_for_width(width_cm=25.4, gauge=7) == 35
 
 
-def test_quantise_exact_when_few_colours():
+def test_quantise_exact_when_few_colors():
     rgb = np.zeros((4, 4, 3))
     rgb[:, 2:] = [1.0, 0.0, 0.0]
     q = quantise_image(rgb)

@@ -20,7 +20,7 @@ def pictures(k):
 
 
 @given(pictures(2), st.sampled_from(["dark", "light"]))
-def test_two_colours_seen_exactly_shifted_by_one_row(pic, first):
+def test_two_colors_seen_exactly_shifted_by_one_row(pic, first):
     p = compile_single_view(pic, yarns=Y2, first=first)
     va, vb = can_see(p, "A"), can_see(p, "B")
     # The pattern's palette is the two yarns in their given order, so indices compare directly.
@@ -34,7 +34,7 @@ def test_two_colours_seen_exactly_shifted_by_one_row(pic, first):
 
 
 @given(pictures(3))
-def test_three_colours_within_tolerance(pic):
+def test_three_colors_within_tolerance(pic):
     p = compile_single_view(pic, yarns=Y3)
     dark, light = 0, 1  # pattern palette: Dark, Light
     outer = np.where(pic == 0, dark, np.where(pic == 2, light, -1))
@@ -61,7 +61,7 @@ def test_quantised_input_and_error_report():
     assert single_view_errors(q, p) == (0.0, 0.0)
 
 
-def test_wrong_colour_counts():
+def test_wrong_color_counts():
     with pytest.raises(ImageInputError, match="2- or 3-colour"):
         compile_single_view(np.zeros((3, 3), int), yarns=parse_yarns("black"))
     with pytest.raises(ImageInputError, match="2- or 3-colour"):
@@ -72,7 +72,7 @@ def test_wrong_colour_counts():
 
 @settings(max_examples=20, deadline=None)
 @given(st.integers(0, 2**32 - 1))
-def test_photo_with_two_yarns_keeps_a_middle_colour(seed):
+def test_photo_with_two_yarns_keeps_a_middle_color(seed):
     rgb = np.random.default_rng(seed).random((12, 16, 3))
     q = prepare_single_view_image(rgb, yarns=Y2, width=16)
     assert len(q.yarns) == 3

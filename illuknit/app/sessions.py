@@ -81,7 +81,7 @@ class Session:
     candidates_revision: int = -1
     selected: int = 0
     overrides: dict[tuple[int, int], str] = field(default_factory=dict)
-    knit: Any = None  # design.KnitResult, for pattern_key
+    knit: Any = None  # design.CheckedKnitout, for pattern_key
     jobs: dict[str, Any] = field(default_factory=dict)  # kind -> Job
     # id of a replaced job -> id of the job that replaced it (a poll of the old id follows it)
     successors: dict[str, str] = field(default_factory=dict)

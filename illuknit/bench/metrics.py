@@ -58,7 +58,7 @@ __all__ = [
     "angled_renders",
     "blur_image",
     "boolean_render",
-    "colour_changes",
+    "color_changes",
     "ghosting",
     "knit_stats",
     "logical_errors",
@@ -282,7 +282,7 @@ def angled_renders(
     return out, f"angled@{angle:g}"
 
 
-def colour_changes(pattern: LogicalPattern) -> dict[str, float]:
+def color_changes(pattern: LogicalPattern) -> dict[str, float]:
     """Colour changes and distinct yarns per course (pattern row).
 
     Returns
@@ -294,7 +294,7 @@ def colour_changes(pattern: LogicalPattern) -> dict[str, float]:
     --------
     >>> from illuknit.pattern import parse_yarns
     >>> p = LogicalPattern([[0, 1, 1, 0], [0, 0, 0, 0]], [[0] * 4] * 2, parse_yarns("black,white"))
-    >>> colour_changes(p)["changes_mean"]
+    >>> color_changes(p)["changes_mean"]
     1.0
     """
     c = pattern.yarn
@@ -309,8 +309,11 @@ def colour_changes(pattern: LogicalPattern) -> dict[str, float]:
     }
 
 
-def knit_stats(pattern: LogicalPattern) -> dict[str, Any]:
+def knit_stats(pattern: LogicalPattern, *, machine: str | None = None) -> dict[str, Any]:
     """Carriage passes, transfer passes and estimated knitting time from :mod:`illuknit.knit`.
+
+    ``machine`` names the preset the pattern is knit on (:func:`illuknit.knit.machine.get_machine`;
+    default the ``generic540`` bed).
 
     Returns
     -------
@@ -325,12 +328,12 @@ def knit_stats(pattern: LogicalPattern) -> dict[str, Any]:
         "transfer_passes": None,
         "knit_time_min": None,
     }
+    from illuknit.knit import knit_pattern
+    from illuknit.knit.machine import get_machine
+
+    spec = get_machine(machine)
     try:
-        from illuknit.knit import knit_pattern
-    except ImportError as e:
-        return {**empty, "knit_note": f"knit scheduler unavailable: {e}"}
-    try:
-        result = knit_pattern(pattern)
+        result = knit_pattern(pattern, machine=spec)
     except IlluknitError as e:
         return {**empty, "knit_note": f"not schedulable: {e}"}
     return {

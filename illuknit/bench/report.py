@@ -112,7 +112,7 @@ def format_summary(rows: Sequence[dict[str, Any]]) -> str:
                 f"{_fmt(r['render_mse_b'], 4)} | {_fmt(r['render_ssim_a'], 2)} / "
                 f"{_fmt(r['render_ssim_b'], 2)} | {_fmt(r.get('render_corr_a'), 2)} / "
                 f"{_fmt(r.get('render_corr_b'), 2)} | {third} | "
-                f"{_fmt(r['colour_changes_mean'], 1)} / {_fmt(r['colour_changes_max'], 0)} | "
+                f"{_fmt(r['color_changes_mean'], 1)} / {_fmt(r['color_changes_max'], 0)} | "
                 f"{passes} | {knit} | {secs:.2f} | {_fmt(r.get('peak_rss_mb'), 0)} |"
             )
         for reason, methods in notes.items():
@@ -218,7 +218,7 @@ def pareto_points(
             (str(r["method"]), float(r["knit_time_min"]), y) for r, y in measured
         ]
     return "colour changes per course (knit time unavailable)", [
-        (str(r["method"]), float(r["colour_changes_mean"]), y) for r, y in measured
+        (str(r["method"]), float(r["color_changes_mean"]), y) for r, y in measured
     ]
 
 

@@ -42,6 +42,7 @@ from illuknit import __version__
 from illuknit.bench.instances import Instance, instance_targets
 from illuknit.bench.methods import MethodUnavailable, NoPattern, get_method
 from illuknit.errors import BackendUnavailableError, OptionError, ResultsVersionError, SolverError
+from illuknit.knit.machine import DEFAULT_MACHINE_NAME, get_machine
 from illuknit.outputs import atomic_write_bytes, atomic_write_text
 
 __all__ = [
@@ -89,14 +90,15 @@ FIELDS = (
     "ghost_b",
     "headon_visibility",
     "renderer",
-    "colour_changes_mean",
-    "colour_changes_max",
+    "color_changes_mean",
+    "color_changes_max",
     "yarns_per_course_mean",
     "yarns_per_course_max",
     "carriage_passes",
     "transfer_passes",
     "knit_time_min",
     "knit_note",
+    "knit_machine",
     "solve_s",
     "compile_s",
     "wall_s",
@@ -127,11 +129,13 @@ def machine_info() -> dict[str, Any]:
 
 @dataclass(frozen=True)
 class Cell:
-    """One benchmark cell: an instance, a method name, and the time limit it runs under."""
+    """One benchmark cell: an instance, a method name, the time limit it runs under, and the
+    knitting machine (a preset of :data:`illuknit.knit.machine.MACHINES`) its pattern is knit on."""
 
     instance: Instance
     method: str
     time_limit: float
+    knit_machine: str = DEFAULT_MACHINE_NAME
 
     @property
     def id(self) -> str:
@@ -139,7 +143,13 @@ class Cell:
 
     def key(self) -> str:
         text = json.dumps(
-            [self.instance.key(), self.method, round(float(self.time_limit), 6)], sort_keys=True
+            [
+                self.instance.key(),
+                self.method,
+                round(float(self.time_limit), 6),
+                self.knit_machine,
+            ],
+            sort_keys=True,
         )
         return hashlib.sha256(text.encode()).hexdigest()[:16]
 
@@ -158,6 +168,7 @@ def _base_row(cell: Cell) -> dict[str, Any]:
         reason="",
         note="",
         knit_note="",
+        knit_machine=cell.knit_machine,
         cell_key=cell.key(),
         instance_spec=inst.to_manifest(),
         illuknit_version=__version__,
@@ -248,7 +259,7 @@ def execute_cell(cell: Cell) -> dict[str, Any]:
         ta, tb = targets.rgb("A"), targets.rgb("B")
         ra = metrics.render_error(renders["A"], ta)
         rb = metrics.render_error(renders["B"], tb)
-        cc = metrics.colour_changes(pattern)
+        cc = metrics.color_changes(pattern)
         row.update(metrics.picture_scores(renders, ta, tb, double=cell.instance.kind == "double"))
         row.update(
             logical_error_a=errs["A"],
@@ -260,12 +271,12 @@ def execute_cell(cell: Cell) -> dict[str, Any]:
             render_mse=(ra[0] + rb[0]) / 2,
             render_ssim=(ra[1] + rb[1]) / 2,
             renderer=renderer,
-            colour_changes_mean=cc["changes_mean"],
-            colour_changes_max=cc["changes_max"],
+            color_changes_mean=cc["changes_mean"],
+            color_changes_max=cc["changes_max"],
             yarns_per_course_mean=cc["yarns_per_course_mean"],
             yarns_per_course_max=cc["yarns_per_course_max"],
         )
-        row.update(metrics.knit_stats(pattern))
+        row.update(metrics.knit_stats(pattern, machine=cell.knit_machine))
         files["pattern.json"] = json.dumps(pattern_to_json(pattern)).encode()
         for v in ("A", "B", "headon"):
             files[f"render_{v}.png"] = png_bytes((renders[v] * 255).round().clip(0, 255))
@@ -444,6 +455,7 @@ def run_bench(
     dask_address: str | None = None,
     on_cell: Callable[[dict[str, Any]], None] | None = None,
     write_outputs: bool = True,
+    machine: str | None = None,
 ) -> BenchRun:
     """Run every instance x method cell not already finished in ``outdir``, then write outputs.
 
@@ -471,6 +483,9 @@ def run_bench(
     write_outputs : bool
         Write results.csv/json, summary.md, contact sheets and the plot at the end (also after an
         interruption, for the cells finished so far).
+    machine : str, optional
+        Preset name of the knitting machine patterns are knit on for the pass counts and times
+        (default ``generic540``); unknown names raise before anything runs.
 
     Returns
     -------
@@ -487,6 +502,8 @@ def run_bench(
         raise OptionError(f"`time_limit` must be positive seconds, got {time_limit!r}")
     for m in methods:
         get_method(m)  # unknown names fail before any work
+    knit_machine = (machine or DEFAULT_MACHINE_NAME).strip().lower()
+    get_machine(knit_machine)
     out = prepare_results_dir(outdir, force=force)
     if force:
         for inst in instances:
@@ -494,7 +511,9 @@ def run_bench(
                 shutil.rmtree(_cell_dir(out, inst.name, m), ignore_errors=True)
 
     cells = [
-        Cell(inst, m, float(time_limit if time_limit is not None else inst.time_limit))
+        Cell(
+            inst, m, float(time_limit if time_limit is not None else inst.time_limit), knit_machine
+        )
         for inst in instances
         for m in methods
     ]

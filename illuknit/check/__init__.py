@@ -15,8 +15,13 @@ generator, not just illuknit's.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 from illuknit.check.parse import KnitoutProgram, parse_knitout
 from illuknit.check.report import CheckReport, Finding, render_report
+
+if TYPE_CHECKING:
+    from illuknit.knit.machine import MachineSpec
 
 __all__ = [
     "CheckReport",
@@ -31,24 +36,34 @@ __all__ = [
 def check_knitout(
     text: str,
     *,
-    float_limit: int = 10,
-    max_racking: float = 4,
+    machine: MachineSpec | str | None = None,
+    float_limit: int | None = None,
+    max_racking: float | None = None,
     bed_width: int | None = None,
     simulate: bool = False,
 ) -> CheckReport:
     """Check a knitout program for machine-rule violations and fabric failures.
 
+    The machine's limits (bed width, racking, float limit, carriers, model) are those of
+    ``machine``; without one, of the machine the program's headers name
+    (:func:`~illuknit.knit.machine.machine_from_headers`): a program made for a preset is judged
+    by that preset's rules, the same ones its scheduler used.
+
     Parameters
     ----------
     text : str
         The knitout program.
-    float_limit : int, keyword-only
-        Longest float (needle slots crossed between two loops of one carrier) before a
-        ``long-float`` warning. Must be >= 1.
-    max_racking : float, keyword-only
-        Largest allowed |racking| (4 for the SWG091N2 as the PyPI simulator models it).
+    machine : MachineSpec or str or None, keyword-only
+        The machine, or a preset name (:data:`~illuknit.knit.machine.MACHINES`); None reads it
+        from the program's headers.
+    float_limit : int or None, keyword-only
+        Override of ``machine.float_limit``: longest float (needle slots crossed between two loops
+        of one carrier) before a ``long-float`` warning. Must be >= 1.
+    max_racking : float or None, keyword-only
+        Override of ``machine.max_racking``: largest allowed |racking|.
     bed_width : int or None, keyword-only
-        Needles per bed; None uses the ``;;Width`` header when present.
+        Override of the needles per bed; None uses the ``;;Width`` header when present, else the
+        machine's.
     simulate : bool, keyword-only
         Also run the PyPI knitout-interpreter / virtual-knitting-machine (needs the ``sim`` extra)
         and add its findings with ``source="vm"``. Slow on large programs.
@@ -56,7 +71,8 @@ def check_knitout(
     Returns
     -------
     CheckReport
-        ``report.blocking`` lists what must be fixed; ``report.pieces`` counts separate pieces.
+        ``report.blocking`` lists what must be fixed; ``report.pieces`` counts separate pieces;
+        ``report.machine`` names the machine judged against.
 
     Raises
     ------
@@ -64,12 +80,14 @@ def check_knitout(
         Binary input, a bad magic line, or a malformed instruction (with its line number).
     OptionError
         For out-of-range options.
+    UnknownNameError
+        For an unknown machine name.
     BackendUnavailableError
         ``simulate=True`` without the ``sim`` extra installed.
 
     Examples
     --------
-    >>> report = check_knitout(open("swatch.k").read())  # doctest: +SKIP
+    >>> report = check_knitout(open("swatch.k").read(), machine="swg091n2")  # doctest: +SKIP
     >>> [(f.line, f.code) for f in report.blocking]  # doctest: +SKIP
     [(42, 'face-float')]
     """
@@ -77,10 +95,13 @@ def check_knitout(
     from illuknit.check.rules import check_header, machine_findings
     from illuknit.check.simulate import simulate_program
     from illuknit.errors import OptionError
+    from illuknit.knit.machine import get_machine, machine_from_headers
 
-    if isinstance(float_limit, bool) or not isinstance(float_limit, int) or float_limit < 1:
+    if float_limit is not None and (
+        isinstance(float_limit, bool) or not isinstance(float_limit, int) or float_limit < 1
+    ):
         raise OptionError(f"`float_limit` must be an integer >= 1, got {float_limit!r}")
-    if not max_racking > 0:
+    if max_racking is not None and not max_racking > 0:
         raise OptionError(f"`max_racking` must be > 0, got {max_racking!r}")
     if bed_width is not None and (
         isinstance(bed_width, bool) or not isinstance(bed_width, int) or bed_width < 1
@@ -88,9 +109,16 @@ def check_knitout(
         raise OptionError(f"`bed_width` must be a positive integer, got {bed_width!r}")
 
     program = parse_knitout(text)
-    sim = simulate_program(program, max_racking=max_racking, bed_width=bed_width)
-    findings = [*check_header(program), *machine_findings(sim)]
-    fabric, suppressed = fabric_findings(sim, float_limit=float_limit)
+    if machine is None:
+        spec = machine_from_headers({name: value for name, value, _ in reversed(program.headers)})
+    else:
+        spec = get_machine(machine)
+    racking = spec.max_racking if max_racking is None else max_racking
+    limit = spec.float_limit if float_limit is None else float_limit
+    width = bed_width if bed_width is not None else program.width or spec.needles
+    sim = simulate_program(program, max_racking=racking, bed_width=width)
+    findings = [*check_header(program, machine=spec), *machine_findings(sim)]
+    fabric, suppressed = fabric_findings(sim, float_limit=limit)
     findings += fabric
     suppressed = {**sim.suppressed, **suppressed}
     vm_summary = None
@@ -114,4 +142,11 @@ def check_knitout(
         n_loops=len(sim.loop_lines),
         suppressed=suppressed,
         vm=vm_summary,
+        machine={
+            "name": spec.name,
+            "needles": width,
+            "gauge": spec.gauge,
+            "max_racking": racking,
+            "float_limit": limit,
+        },
     )

@@ -14,6 +14,7 @@ it as a finding together with every other problem of the file.
 
 from __future__ import annotations
 
+import functools
 import itertools
 import math
 import re
@@ -84,6 +85,7 @@ class Needle:
         return f"{self.bed}{self.index}"
 
 
+@functools.lru_cache(maxsize=8192)  # programs name the same needles over and over
 def parse_needle(token: str) -> Needle | None:
     """Parse ``f12``/``b-3``/``fs4``; None when the token is not a needle."""
     m = _NEEDLE_RE.match(token)

@@ -86,6 +86,9 @@ class CheckReport:
     vm : dict or None
         Summary of the PyPI simulator run when ``simulate=True`` (``ran``, ``seconds``,
         ``versions``, ``pieces`` or ``reason`` when it could not run).
+    machine : dict or None
+        The machine judged against: ``name``, ``needles``, ``gauge``, ``max_racking``,
+        ``float_limit``.
     """
 
     findings: tuple[Finding, ...]
@@ -95,6 +98,7 @@ class CheckReport:
     n_loops: int = 0
     suppressed: dict[str, int] = field(default_factory=dict)
     vm: dict[str, Any] | None = None
+    machine: dict[str, Any] | None = None
 
     def __post_init__(self) -> None:
         if self.pieces < 0:
@@ -133,6 +137,7 @@ class CheckReport:
             "loops": self.n_loops,
             "suppressed": dict(self.suppressed),
             "vm": self.vm,
+            "machine": self.machine,
             "findings": [f.to_dict() for f in self.findings],
         }
 
@@ -180,6 +185,12 @@ def render_report(report: CheckReport, *, name: str = "program", max_per_code: i
         f"{verdict}; {len(report.warnings)} warning(s); {report.pieces} piece(s); "
         f"{report.n_operations} operations, {report.n_loops} loops"
     )
+    if report.machine is not None:
+        m = report.machine
+        out.append(
+            f"[dim]machine {escape(str(m['name']))}: {m['needles']} needles, gauge {m['gauge']:g}, "
+            f"racking <= {m['max_racking']:g}, float limit {m['float_limit']}[/dim]"
+        )
     if report.vm is not None:
         if report.vm.get("ran"):
             out.append(

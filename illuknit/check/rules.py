@@ -7,9 +7,14 @@ severity and a one-line explanation; ``docs/checker.md`` lists the same table.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 from illuknit.check.parse import KnitoutProgram
 from illuknit.check.report import Finding
 from illuknit.check.simulate import Simulation
+
+if TYPE_CHECKING:
+    from illuknit.knit.machine import MachineSpec
 
 __all__ = ["RULES", "SWG_CARRIERS", "check_header", "machine_findings"]
 
@@ -19,9 +24,9 @@ SWG_CARRIERS = "1 2 3 4 5 6 7 8 9 10"
 #: code -> (severity, what it means)
 RULES: dict[str, tuple[str, str]] = {
     "header-version": ("warning", "magic line names a knitout version above 2"),
-    "header-carriers": ("error", ";;Carriers: missing or not exactly '1 2 3 4 5 6 7 8 9 10'"),
+    "header-carriers": ("error", ";;Carriers: missing or not exactly the machine's carriers"),
     "header-value": ("error", "bad ;;Gauge, ;;Width or ;;Position value"),
-    "header-machine": ("warning", ";;Machine is not the SWG091N2 the checker models"),
+    "header-machine": ("warning", ";;Machine is not the machine the checker models"),
     "crlf": ("warning", "CRLF line endings (the converter warns)"),
     "tab-separator": ("error", "tokens separated by tabs (the SWG converter accepts spaces only)"),
     "carrier-unknown": ("error", "carrier not listed in the ;;Carriers: header"),
@@ -56,8 +61,16 @@ def _finding(line: int, code: str, message: str) -> Finding:
     return Finding(line, code, RULES[code][0], message)
 
 
-def check_header(program: KnitoutProgram) -> list[Finding]:
-    """Findings about the magic line, the header and the file's form."""
+def check_header(program: KnitoutProgram, *, machine: MachineSpec | None = None) -> list[Finding]:
+    """Findings about the magic line, the header and the file's form.
+
+    ``;;Carriers`` and ``;;Machine`` must be those of ``machine`` (default: the SWG091N2 as the
+    reference converter takes it, which requires carriers ``1 .. 10``).
+    """
+    from illuknit.knit.machine import DEFAULT_MACHINE
+
+    m_spec = DEFAULT_MACHINE if machine is None else machine
+    carriers = " ".join(m_spec.carriers)
     out: list[Finding] = []
     if program.version > 2:
         out.append(
@@ -69,15 +82,15 @@ def check_header(program: KnitoutProgram) -> list[Finding]:
             _finding(
                 1,
                 "header-carriers",
-                f"no ';;Carriers: {SWG_CARRIERS}' header (the SWG converter requires exactly this)",
+                f"no ';;Carriers: {carriers}' header (the {m_spec.name} requires exactly this)",
             )
         )
-    elif hc[0] != SWG_CARRIERS:
+    elif hc[0] != carriers:
         out.append(
             _finding(
                 hc[1],
                 "header-carriers",
-                f";;Carriers: {hc[0]!r}; the SWG converter requires exactly {SWG_CARRIERS!r}",
+                f";;Carriers: {hc[0]!r}; the {m_spec.name} requires exactly {carriers!r}",
             )
         )
     g = program.header("Gauge")
@@ -100,9 +113,11 @@ def check_header(program: KnitoutProgram) -> list[Finding]:
             )
         )
     m = program.header("Machine")
-    if m is not None and m[0] != "SWG091N2":
+    if m is not None and m[0] != m_spec.name:
         out.append(
-            _finding(m[1], "header-machine", f";;Machine {m[0]!r}: the checker models the SWG091N2")
+            _finding(
+                m[1], "header-machine", f";;Machine {m[0]!r}: the checker models the {m_spec.name}"
+            )
         )
     if program.crlf:
         out.append(_finding(1, "crlf", "CRLF line endings; write LF"))

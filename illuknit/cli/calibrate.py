@@ -6,6 +6,7 @@ from pathlib import Path
 
 import click
 
+from illuknit.cli.knitout_bridge import check_fits, machine_option, resolve_machine, write_program
 from illuknit.cli.options import knitout_option, outdir_option
 
 __all__ = ["calibrate"]
@@ -68,6 +69,7 @@ def calibrate() -> None:
     help="Current renderer parameters (for the preview and predicted angles).",
 )
 @knitout_option("Also compile the swatch to DIR/program.k (mixed colourwork) and check it.")
+@machine_option()
 @outdir_option()
 def swatch(
     bump_sizes: tuple[int, ...],
@@ -76,6 +78,7 @@ def swatch(
     yarns: str,
     params_file: Path | None,
     knitout: bool,
+    machine: str | None,
     outdir: Path,
 ) -> None:
     """Write swatch.json (the pattern), preview.png and measurements.csv (a template)."""
@@ -87,9 +90,12 @@ def swatch(
     from illuknit.render.raycast import render_image
 
     params = load_params(params_file) if params_file is not None else RenderParams()
+    spec = resolve_machine(machine)
     pattern = calibration_swatch(
         bump_sizes=bump_sizes, flat_sizes=flat_sizes, cell_width=cell_width, yarns=yarns
     )
+    if knitout:
+        check_fits(spec, pattern.shape[1])
     s = 8
     with staged_dir(outdir) as tmp:
         save_pattern(pattern, tmp / "swatch.json")
@@ -109,9 +115,7 @@ def swatch(
         save_png(sheet, tmp / "preview.png")
         atomic_write_text(tmp / "measurements.csv", measurements_template(pattern, params=params))
         if knitout:
-            from illuknit.cli.knitout_bridge import write_program
-
-            write_program(pattern, tmp)
+            write_program(pattern, tmp, machine=spec)
     click.echo(
         f"wrote {outdir}: swatch.json ({pattern.shape[0]} x {pattern.shape[1]} units), preview.png, measurements.csv"
     )

@@ -11,6 +11,7 @@ from pathlib import Path
 
 import click
 
+from illuknit.cli.knitout_bridge import machine_option
 from illuknit.errors import KnitoutParseError
 
 __all__ = ["check"]
@@ -52,40 +53,45 @@ def read_knitout_file(path: Path) -> str:
     is_flag=True,
     help="Also run the PyPI knitout-interpreter simulator (pip install 'illuknit[sim]'); slow.",
 )
+@machine_option(
+    "Machine to judge against (default: the one the program's ;;Machine/;;Width headers name)."
+)
 @click.option(
     "--float-limit",
     type=click.IntRange(min=1),
-    default=10,
-    show_default=True,
-    help="Longest float, in needles crossed, before a warning.",
+    default=None,
+    help="Longest float, in needles crossed, before a warning [the machine's, 20].",
 )
 @click.option(
     "--max-racking",
     type=click.FloatRange(min=0, min_open=True),
-    default=4.0,
-    show_default=True,
-    help="Largest allowed |racking|.",
+    default=None,
+    help="Largest allowed |racking| [the machine's, 4].",
 )
 @click.option(
     "--bed-width",
     type=click.IntRange(min=1),
     default=None,
-    help="Needles per bed (default: the ;;Width header, else unchecked).",
+    help="Needles per bed [the ;;Width header, else the machine's].",
 )
 def check(
     program: Path,
     as_json: bool,
     simulate: bool,
-    float_limit: int,
-    max_racking: float,
+    machine: str | None,
+    float_limit: int | None,
+    max_racking: float | None,
     bed_width: int | None,
 ) -> None:
     from illuknit.check import check_knitout, render_report
+    from illuknit.knit.machine import get_machine
 
+    spec = None if machine is None else get_machine(machine)
     text = read_knitout_file(program)
     try:
         report = check_knitout(
             text,
+            machine=spec,
             float_limit=float_limit,
             max_racking=max_racking,
             bed_width=bed_width,

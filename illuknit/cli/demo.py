@@ -7,6 +7,7 @@ from pathlib import Path
 
 import click
 
+from illuknit.cli.knitout_bridge import machine_option
 from illuknit.cli.options import outdir_option
 from illuknit.cli.summary import console, print_written, summarise_pattern
 
@@ -27,7 +28,8 @@ def demo_image() -> Path:
     show_default=True,
     help="Also compile and check a knitout program.",
 )
-def demo(outdir: Path, width: int, knitout: bool) -> None:
+@machine_option()
+def demo(outdir: Path, width: int, knitout: bool, machine: str | None) -> None:
     """Make a single-view illusion of the bundled sample picture (a heart in a grey ring).
 
     Writes the pattern, previews, a hand-knitting chart, written instructions and (by default) a
@@ -48,6 +50,7 @@ def demo(outdir: Path, width: int, knitout: bool) -> None:
         width=width,
         yarns="Charcoal=#1b1b1b,Cream=#f4f0e8",
         knitout=knitout and can_knit,
+        machine=machine,
         title="illuknit demo: a heart in a ring",
     )
     summarise_pattern(load_pattern(paths["pattern"]), legend_path=paths.get("legend"))

@@ -18,6 +18,7 @@ from typing import Any
 import click
 import numpy as np
 
+from illuknit.cli.knitout_bridge import machine_option
 from illuknit.cli.options import knitout_option, outdir_option
 
 __all__ = ["double", "run_design"]
@@ -85,12 +86,16 @@ def run_design(
     one_sided: bool = False,
     tile: tuple[str, ...] = (),
     knitout: bool = False,
+    machine: str | None = None,
 ) -> dict[str, Any]:
     """Load, quantise, assign, compile and write every candidate (atomically into ``outdir``).
 
     ``mode`` is ``"double"`` (A from above, B from below) or ``"headon"`` (A head-on, B from
-    both sides; B may be None for a plain side view). Returns the summary dict.
+    both sides; B may be None for a plain side view). With ``knitout`` the default candidate is
+    knit on ``machine`` (a preset name; a pattern wider than its bed is refused before the
+    design work). Returns the summary dict.
     """
+    from illuknit.cli.knitout_bridge import check_fits, resolve_machine
     from illuknit.errors import TileAssignmentError
     from illuknit.export import export_pattern
     from illuknit.images import quantise_image
@@ -104,7 +109,12 @@ def run_design(
     if candidates < 1:
         raise TileAssignmentError(f"--candidates must be at least 1, got {candidates}")
     overrides = _parse_overrides(tile)
+    spec = resolve_machine(machine)
+    if knitout and width is not None:
+        check_fits(spec, width)
     a, b = _load_pair(path_a, path_b, width=width, resize=resize)
+    if knitout:
+        check_fits(spec, a.shape[1])
     pictures = [a] if b is None else [a, b]
     ys = _choose_yarns(yarns, n_colors, pictures)
     qa = quantise_image(a, n_colors=n_colors)
@@ -185,7 +195,7 @@ def run_design(
             # The default candidate as a checked knitout program (mixed-colourwork scheduler).
             from illuknit.cli.knitout_bridge import write_program
 
-            write_program(chosen, tmp)
+            write_program(chosen, tmp, machine=spec)
         summary = {
             "mode": mode,
             "yarns": [{"name": y.name, "rgb": y.hex} for y in ys],
@@ -299,6 +309,7 @@ def design_options(func: Any) -> Any:
                      help="Override the tile of overlap pair (colour A of the first picture, colour B "
                      "of the second), e.g. '0,1=0/1/0^' (see fills.json for the pairs). Repeatable."),
         knitout_option("Also compile the default candidate to OUTDIR/program.k and check it."),
+        machine_option(),
         outdir_option(),
     ]  # fmt: skip
     for opt in reversed(opts):

@@ -4,9 +4,14 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import click
+
+from illuknit.cli.knitout_bridge import machine_option
+
+if TYPE_CHECKING:
+    from illuknit.knit.machine import MachineSpec
 
 __all__ = ["knit", "run_knit"]
 
@@ -15,6 +20,7 @@ def run_knit(
     pattern_path: str | Path,
     output: str | Path,
     *,
+    machine: str | MachineSpec | None = None,
     gauge: float | None = None,
     machine_width: int | None = None,
     cast_on_courses: int = 2,
@@ -30,21 +36,23 @@ def run_knit(
 ) -> dict[str, Any]:
     """Compile ``pattern_path`` to knitout at ``output``; return the summary (and checker verdict).
 
-    Nothing is written when compilation fails.
+    ``machine`` is a preset name (or a spec); ``gauge``, ``machine_width`` and the other options
+    override its values. A pattern wider than the bed is refused before compiling; nothing is
+    written when compilation fails.
     """
     from dataclasses import replace
 
-    from illuknit.knit import DEFAULT_MACHINE, knit_pattern
+    from illuknit.cli.knitout_bridge import check_fits, resolve_machine
+    from illuknit.knit import knit_pattern
     from illuknit.outputs import atomic_write_text
     from illuknit.pattern import load_pattern
 
-    pattern = load_pattern(pattern_path)
-    machine = DEFAULT_MACHINE
-    changes: dict[str, Any] = {}
-    if gauge is not None:
-        changes["gauge"] = gauge
+    spec = resolve_machine(machine, gauge=gauge)
     if machine_width is not None:
-        changes["needles"] = machine_width
+        spec = spec.with_width(machine_width)
+    pattern = load_pattern(pattern_path)
+    check_fits(spec, pattern.shape[1], hint="use a narrower pattern or a wider --machine-width")
+    changes: dict[str, Any] = {}
     if seconds_per_needle is not None:
         changes["seconds_per_needle"] = seconds_per_needle
     if seconds_per_turn is not None:
@@ -52,10 +60,10 @@ def run_knit(
     if float_limit is not None:
         changes["float_limit"] = float_limit
     if changes:
-        machine = replace(machine, **changes)
+        spec = replace(spec, **changes)
     result = knit_pattern(
         pattern,
-        machine=machine,
+        machine=spec,
         cast_on_courses=cast_on_courses,
         float_avoidance=float_avoidance,
         catching=catching,
@@ -70,12 +78,7 @@ def run_knit(
         except ImportError:  # pragma: no cover - only in a partial install
             summary["check"] = None
         else:
-            report = check_knitout(
-                result.text,
-                float_limit=machine.float_limit,
-                max_racking=machine.max_racking,
-                bed_width=machine.needles,
-            )
+            report = check_knitout(result.text, machine=spec)
             summary["check"] = {
                 "errors": len(report.blocking),
                 "warnings": len(report.warnings),
@@ -99,17 +102,18 @@ def run_knit(
     type=click.Path(dir_okay=False, path_type=Path),
     help="Knitout file to write (e.g. prog.k).",
 )
+@machine_option()
 @click.option(
     "--gauge",
     type=click.FloatRange(min=0, min_open=True),
     default=None,
-    help="Needles per inch [7].",
+    help="Needles per inch [the machine's, 7].",
 )
 @click.option(
     "--machine-width",
     type=click.IntRange(min=8),
     default=None,
-    help="Needles per bed [540, as the reference tools model the SWG091N2].",
+    help="Needles per bed [the machine's: 540 for generic540, 252 for swg091n2].",
 )
 @click.option(
     "--cast-on-courses",
@@ -134,7 +138,7 @@ def run_knit(
     "--float-limit",
     type=int,
     default=None,
-    help="Longest yarn float in needles for mixed colourwork [20].",
+    help="Longest yarn float in needles for mixed colourwork [the machine's, 20].",
 )
 @click.option(
     "--strict-floats",
@@ -180,6 +184,7 @@ def run_knit(
 def knit(
     pattern: Path,
     output: Path,
+    machine: str | None,
     gauge: float | None,
     machine_width: int | None,
     cast_on_courses: int,
@@ -221,6 +226,7 @@ def knit(
         catching=not no_catching,
         catch_every=catch_every,
         path_planning=path_planning[0] if path_planning else "anchor",
+        machine=machine,
         gauge=gauge,
         machine_width=machine_width,
         cast_on_courses=cast_on_courses,
@@ -232,7 +238,7 @@ def knit(
         click.echo(json.dumps(summary, indent=1))
     else:
         s = summary
-        click.echo(f"wrote {s['output']} ({s['lines']} lines)")
+        click.echo(f"wrote {s['output']} ({s['lines']} lines) for {s['machine']}")
         click.echo(
             f"stitches: {s['wales']} wales x {s['courses']} courses "
             f"(about {s['width_cm']} x {s['height_cm']} cm at gauge {s['gauge']:g})"

@@ -40,10 +40,10 @@ def image_options(func: Callable[..., Any]) -> Callable[..., Any]:
         ),
         click.option(
             "--gauge",
-            type=float,
-            default=7.0,
-            show_default=True,
-            help="Machine or hand gauge in stitches per inch, used with --width-cm.",
+            type=click.FloatRange(min=0, min_open=True),
+            default=None,
+            help="Machine or hand gauge in stitches per inch, used with --width-cm and to knit "
+            "(--knitout) [the machine's, 7].",
         ),
         click.option(
             "--yarns",

@@ -3,11 +3,16 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import click
 
+from illuknit.cli.knitout_bridge import machine_option
 from illuknit.cli.options import image_options, knitout_option, outdir_option, parse_yarn_option
 from illuknit.cli.summary import print_written, summarise_pattern
+
+if TYPE_CHECKING:
+    from illuknit.knit.machine import MachineSpec
 
 __all__ = ["run_single", "single"]
 
@@ -19,15 +24,22 @@ def run_single(
     width: int | None = None,
     height: int | None = None,
     width_cm: float | None = None,
-    gauge: float = 7.0,
+    gauge: float | None = None,
     yarns: str | None = None,
     n_colors: int | None = None,
     quantise: bool = True,
     first: str = "dark",
     knitout: bool = False,
+    machine: str | MachineSpec | None = None,
     title: str | None = None,
 ) -> dict[str, Path]:
-    """Compile ``image`` and write the whole bundle into ``outdir`` (atomically)."""
+    """Compile ``image`` and write the whole bundle into ``outdir`` (atomically).
+
+    ``gauge`` (default: the machine's) sizes ``width_cm`` and, with ``knitout``, is the gauge of
+    the machine the program is knit on; with ``knitout`` a picture wider than the machine's bed
+    is refused before compiling.
+    """
+    from illuknit.cli.knitout_bridge import check_fits, resolve_machine
     from illuknit.export import export_pattern
     from illuknit.outputs import staged_dir
     from illuknit.single_view import (
@@ -36,16 +48,19 @@ def run_single(
         single_view_errors,
     )
 
+    spec = resolve_machine(machine, gauge=gauge)
     q = prepare_single_view_image(
         image,
         width=width,
         height=height,
         width_cm=width_cm,
-        gauge=gauge,
+        gauge=spec.gauge,
         n_colors=n_colors,
         yarns=parse_yarn_option(yarns),
         allow_quantise=quantise,
     )
+    if knitout:
+        check_fits(spec, q.indices.shape[1])
     pattern = compile_single_view(q, first=first)  # type: ignore[arg-type]
     err_a, err_b = single_view_errors(q, pattern)
     report = {
@@ -71,7 +86,7 @@ def run_single(
         if knitout:
             from illuknit.cli.knitout_bridge import write_program
 
-            paths.update(write_program(pattern, tmp))
+            paths.update(write_program(pattern, tmp, machine=spec))
     return {k: Path(outdir) / p.name for k, p in paths.items()}
 
 
@@ -86,18 +101,20 @@ def run_single(
     help="Colour of the top stripe row.",
 )
 @knitout_option()
+@machine_option()
 @outdir_option()
 def single(
     image: Path,
     width: int | None,
     height: int | None,
     width_cm: float | None,
-    gauge: float,
+    gauge: float | None,
     yarns: str | None,
     n_colors: int | None,
     quantise: bool,
     first: str,
     knitout: bool,
+    machine: str | None,
     outdir: Path,
 ) -> None:
     """Compile a 2- or 3-colour picture into a single-view illusion.
@@ -120,6 +137,7 @@ def single(
         quantise=quantise,
         first=first,
         knitout=knitout,
+        machine=machine,
     )
     summarise_pattern(load_pattern(paths["pattern"]), legend_path=paths.get("legend"))
     print_written(outdir, paths)

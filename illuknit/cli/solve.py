@@ -17,6 +17,8 @@ from typing import Any
 import click
 import numpy as np
 
+from illuknit.cli.knitout_bridge import machine_option
+
 __all__ = ["load_targets", "run_solve", "solve"]
 
 #: Default grid width: the picture's own width, at most this many units.
@@ -149,9 +151,15 @@ def run_solve(
     export_wcnf: Path | None = None,
     wcnf_style: str = "new",
     knitout: bool = False,
+    machine: str | None = None,
     show_progress: bool = True,
 ) -> dict[str, Any]:
-    """Everything ``illuknit solve`` does; returns the report dict."""
+    """Everything ``illuknit solve`` does; returns the report dict.
+
+    With ``knitout`` the pattern is knit on ``machine`` (a preset name); a pattern wider than its
+    bed is refused before the model is built.
+    """
+    from illuknit.cli.knitout_bridge import check_fits, resolve_machine
     from illuknit.errors import ImageInputError
     from illuknit.illusion_models import (
         build_model,
@@ -187,9 +195,14 @@ def run_solve(
 
         w = replace(w, max_color_changes=max_color_changes)
     ys = parse_yarns(yarns) if yarns else None
+    spec = resolve_machine(machine)
+    if knitout and width is not None:
+        check_fits(spec, width)
     qa, qb = load_targets(
         image_a, image_b, width=width, resize=resize, n_colors=n_colors, yarns=ys, quantise=quantise
     )
+    if knitout:
+        check_fits(spec, qa.indices.shape[1])
     problem = make_problem(
         qa.indices,
         None if qb is None else qb.indices,
@@ -254,7 +267,7 @@ def run_solve(
             if knitout:
                 from illuknit.cli.knitout_bridge import write_program
 
-                paths.update(write_program(pattern, tmp))
+                paths.update(write_program(pattern, tmp, machine=spec))
         written.update({k: Path(outdir) / p.name for k, p in paths.items()})
     _print_report(report, written, outdir)
     return report
@@ -305,6 +318,30 @@ def _print_report(report: dict[str, Any], written: dict[str, Path], outdir: Path
         c.print(f"wrote {len(written)} files{f' to [bold]{outdir}[/]' if outdir else ''}: {names}")
 
 
+def _list_solvers(ctx: click.Context, _param: click.Parameter, value: bool) -> None:
+    """Print every backend with its kind, version and availability, then exit."""
+    if not value or ctx.resilient_parsing:
+        return
+    from rich.table import Table
+
+    from illuknit.cli.summary import console
+    from illuknit.solvers import ORACLE_BACKENDS, describe_backends
+
+    t = Table(show_header=True, header_style="bold")
+    for col in ("solver", "kind", "version", "available"):
+        t.add_column(col)
+    for row in describe_backends():
+        t.add_row(row["name"], row["kind"], row["version"], row["available"])
+    c = console()
+    c.print(t)
+    c.print(
+        f"Also: {', '.join(f'{b}:ORACLE' for b in ORACLE_BACKENDS)} (a python-sat SAT oracle, "
+        "e.g. rc2:cd19) and wcnf:COMMAND (any MaxSAT Evaluation solver binary; {} is the WCNF "
+        "path). Missing ones: pip install 'illuknit\\[maxsat]'."
+    )
+    ctx.exit(0)
+
+
 @click.command("solve")
 @click.argument("image_a", type=click.Path(dir_okay=False, path_type=Path), required=False)
 @click.argument("image_b", type=click.Path(dir_okay=False, path_type=Path), required=False)
@@ -313,8 +350,17 @@ def _print_report(report: dict[str, Any], written: dict[str, Path], outdir: Path
     default="auto",
     show_default=True,
     metavar="NAME",
-    help="Backend: dp, cpsat, rc2, lsu, descent, gradient, wcnf:COMMAND (an external MaxSAT "
+    help="Backend: dp, cpsat, rc2[:ORACLE], lsu[:ORACLE], fm, the hermax solvers (uwrmaxsat, "
+    "evalmaxsat, ...; see --list-solvers), descent, gradient, wcnf:COMMAND (an external MaxSAT "
     "binary; {} is the WCNF path), or auto (the exact DP when it applies, else CP-SAT).",
+)
+@click.option(
+    "--list-solvers",
+    is_flag=True,
+    expose_value=False,
+    is_eager=True,
+    callback=_list_solvers,
+    help="List every solver backend with its version and availability, then exit.",
 )
 @click.option(
     "--warm-start",
@@ -401,6 +447,7 @@ def _print_report(report: dict[str, Any], written: dict[str, Path], outdir: Path
 @click.option(
     "--knitout", is_flag=True, help="Also write a knitout program (program.k) and its check."
 )
+@machine_option()
 @click.option(
     "-o",
     "--outdir",

@@ -31,7 +31,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from itertools import pairwise
 
-from illuknit.knit.colour_runs import CoursePlan
+from illuknit.knit.color_runs import CoursePlan
 
 __all__ = ["PlatedStitch", "plan_catches"]
 

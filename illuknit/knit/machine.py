@@ -1,22 +1,44 @@
 """The knitting machine as data: every machine limit and default lives in :class:`MachineSpec`.
 
-Nothing else in :mod:`illuknit.knit` hard-codes a needle count, a carrier name, a racking limit or
-a speed: the lowering, the scheduler, the knitout writer and the time model all read them from the
-spec they are given. The default describes the machine the paper knit on, a 7-gauge Shima Seiki
-SWG091N2, as the CMU knitout-to-dat converter and the PyPI virtual knitting machine model it
-(540 needles per bed, carriers ``"1"`` .. ``"10"``, racking within +/-4).
+Nothing in illuknit hard-codes a needle count, a carrier name, a racking limit, a float limit or a
+speed: the lowering, the scheduler, the knitout writer, the time model and the checker all read
+them from the spec they are given, and one spec travels with a piece from scheduling to checking.
 
-The physical SWG091N2 has a 91 cm (36 inch) bed, which holds about 252 needles at 7 gauge; both
-reference tools still use 540, so illuknit does too and ``--machine-width`` overrides it.
+Presets (:data:`MACHINES`, looked up with :func:`get_machine`; ``--machine NAME`` on the CLI):
+
+``generic540`` (the default)
+    The paper's machine, a 7-gauge Shima Seiki SWG091N2, as the CMU knitout-to-dat converter and
+    the PyPI virtual knitting machine model it: 540 needles per bed, carriers ``"1"`` .. ``"10"``,
+    racking within +/-4. The converter assumes 540 needles when a program has no ``;;Width``
+    header (``knitout-to-dat.js``), so every program written for it fits this bed.
+``swg091n2``
+    The same machine with its physical needle count. The SWG091N2 is one of Shima Seiki's compact
+    WHOLEGARMENT machines (the SWG-N2 series: SWG041N2, SWG061N2, SWG091N2; e.g. asiantex.net,
+    2020, "Shima Seiki releases additional data for knitted masks") with a 36-inch (91 cm)
+    needle bed: at 7 needles per inch that is 252 needles per bed. Knitout programs published
+    for this machine by the CMU Textiles Lab declare ``;;Width: 250``, consistent with it. Pieces
+    wider than 247 stitches (123 units) do not fit this bed.
+
+A program's own headers name its machine: :func:`machine_from_headers` maps ``;;Machine``,
+``;;Width``, ``;;Gauge`` and ``;;Carriers`` back to a spec (the checker's default).
 """
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, replace
 
-from illuknit.errors import OptionError, SchedulingError
+from illuknit.errors import OptionError, SchedulingError, UnknownNameError
 
-__all__ = ["DEFAULT_MACHINE", "MachineSpec"]
+__all__ = [
+    "DEFAULT_MACHINE",
+    "DEFAULT_MACHINE_NAME",
+    "MACHINES",
+    "MachineSpec",
+    "get_machine",
+    "machine_from_headers",
+    "machine_names",
+]
 
 _POSITIONS = ("Left", "Right", "Center", "Keep")
 
@@ -55,6 +77,8 @@ class MachineSpec:
         Time model: fixed time per carriage pass (turning round and clearing the carriage's own length).
     course_aspect : float
         Course height divided by stitch width, used to estimate the piece's physical height.
+    description : str
+        One line for people choosing a machine (the app's selector, ``--help``).
 
     Examples
     --------
@@ -79,6 +103,7 @@ class MachineSpec:
     seconds_per_needle: float = 0.01
     seconds_per_turn: float = 1.5
     course_aspect: float = 0.7
+    description: str = ""
 
     def __post_init__(self) -> None:
         def positive(name: str, value: float, *, integer: bool = False) -> None:
@@ -133,23 +158,130 @@ class MachineSpec:
             return self.cast_on_stitch_number
         return self.stitch_number
 
+    @property
+    def max_units(self) -> int:
+        """Widest pattern in units (one unit is two wales) that fits on the bed."""
+        return self.max_fabric_width // 2
+
     def check_width(self, wales: int) -> None:
         """Raise :class:`~illuknit.errors.SchedulingError` unless ``wales`` fit on the bed."""
         if wales > self.max_fabric_width:
             raise SchedulingError(
                 f"piece is {wales} stitches wide but the {self.name} bed of {self.needles} "
                 f"needles holds at most {self.max_fabric_width} (use a narrower pattern or a "
-                "wider --machine-width)"
+                "wider --machine)"
+            )
+
+    def check_units(
+        self, units: int, *, hint: str = "use a narrower --width or a wider --machine"
+    ) -> None:
+        """Raise :class:`~illuknit.errors.SchedulingError` unless a pattern ``units`` wide fits.
+
+        Called before any design work, so that a pattern too wide for the bed is refused at once;
+        ``hint`` ends the message (what the user can change).
+        """
+        if units > self.max_units:
+            raise SchedulingError(
+                f"pattern is {units} units = {2 * units} stitches wide but the {self.name} bed of "
+                f"{self.needles} needles holds at most {self.max_units} units "
+                f"({self.max_fabric_width} stitches); {hint}"
             )
 
     def with_width(self, needles: int) -> MachineSpec:
         """A copy with another bed width (the ``--machine-width`` option)."""
-        return replace(self, needles=needles)
+        return replace(self, needles=needles, description=f"{self.name} with {needles} needles")
 
     def with_gauge(self, gauge: float) -> MachineSpec:
         """A copy with another gauge (the ``--gauge`` option)."""
-        return replace(self, gauge=gauge)
+        return replace(self, gauge=gauge, description=f"{self.name} at gauge {gauge:g}")
 
+
+#: Machine presets by name (lower case); see the module docstring for their sources.
+MACHINES: dict[str, MachineSpec] = {
+    "generic540": MachineSpec(
+        description="7-gauge Shima SWG091N2 as the reference knitout tools model it (540 needles)"
+    ),
+    "swg091n2": MachineSpec(
+        needles=252,
+        description="7-gauge Shima SWG091N2 with its physical 36-inch bed (252 needles)",
+    ),
+}
+
+#: Preset used when no machine is named (the bed the reference tools assume).
+DEFAULT_MACHINE_NAME = "generic540"
 
 #: The paper's machine: a 7-gauge Shima SWG091N2 (540 needles as the reference tools model it).
-DEFAULT_MACHINE = MachineSpec()
+DEFAULT_MACHINE = MACHINES[DEFAULT_MACHINE_NAME]
+
+
+def machine_names() -> list[str]:
+    """Names of the presets in :data:`MACHINES`."""
+    return list(MACHINES)
+
+
+def get_machine(name: str | MachineSpec | None = None) -> MachineSpec:
+    """The preset called ``name`` (case-insensitive); ``None`` gives the default machine.
+
+    A :class:`MachineSpec` is returned as it is, so callers may take either.
+
+    Raises
+    ------
+    UnknownNameError
+        For a name not in :data:`MACHINES`; the message lists the known ones.
+
+    Examples
+    --------
+    >>> get_machine("swg091n2").needles
+    252
+    """
+    if name is None:
+        return MACHINES[DEFAULT_MACHINE_NAME]
+    if isinstance(name, MachineSpec):
+        return name
+    key = str(name).strip().lower()
+    if key not in MACHINES:
+        raise UnknownNameError("machine", str(name), machine_names())
+    return MACHINES[key]
+
+
+def machine_from_headers(headers: Mapping[str, str]) -> MachineSpec:
+    """The machine a knitout program was written for, from its ``;;`` headers.
+
+    The preset whose ``;;Machine`` name and bed width match is taken as it is; otherwise the
+    first preset of that name (else the default machine) with the program's ``;;Width`` and
+    ``;;Gauge``. The preset's carriers, racking and float limits apply: headers do not carry them,
+    and a program whose ``;;Machine`` or ``;;Carriers`` differ from the preset's is what the
+    checker's header rules report. Malformed values are left to those rules too.
+
+    Examples
+    --------
+    >>> machine_from_headers({"Machine": "SWG091N2", "Width": "252"}) is MACHINES["swg091n2"]
+    True
+    """
+    model = headers.get("Machine", "").strip().lower()
+    width = _int_or_none(headers.get("Width"))
+    gauge = _float_or_none(headers.get("Gauge"))
+    same_model = [m for m in MACHINES.values() if model and m.name.lower() == model]
+    base = same_model[0] if same_model else DEFAULT_MACHINE
+    base = next((m for m in same_model if m.needles == width), base)
+    changes: dict[str, float] = {}
+    if width is not None and width != base.needles:
+        changes["needles"] = width
+    if gauge is not None and gauge != base.gauge:
+        changes["gauge"] = gauge
+    if not changes:
+        return base
+    return replace(base, description="from the program's headers", **changes)  # type: ignore[arg-type]
+
+
+def _int_or_none(value: str | None) -> int | None:
+    v = (value or "").strip()
+    return int(v) if v.isdigit() and int(v) > 0 else None
+
+
+def _float_or_none(value: str | None) -> float | None:
+    try:
+        v = float((value or "").strip())
+    except ValueError:
+        return None
+    return v if v > 0 else None

@@ -6,7 +6,7 @@ combines stranded colourwork and intarsia with the paper's three compiler passes
 module, and emits the same :class:`~illuknit.knit.schedule.Schedule` IR, so the knitout writer,
 the time model and the checker work unchanged::
 
-    StitchPattern -> colour_runs.plan_colour_runs   carriers per run: stranded / intarsia
+    StitchPattern -> color_runs.plan_color_runs   carriers per run: stranded / intarsia
                   -> catching.plan_catches          plated stitches at colour changes (Alg. 2)
                   -> path_planning.plan_item        directions, splits, anchoring (Alg. 3)
                   -> float_avoidance                transfers around floats over purls (Alg. 1)
@@ -64,7 +64,7 @@ import numpy as np
 
 from illuknit.errors import OptionError, PatternValidationError, SchedulingError
 from illuknit.knit.catching import PlatedStitch, plan_catches
-from illuknit.knit.colour_runs import ColourPlan, plan_colour_runs
+from illuknit.knit.color_runs import ColorPlan, plan_color_runs
 from illuknit.knit.float_avoidance import float_crossings, transfers_before
 from illuknit.knit.float_tucks import LongFloat, tuck_long_floats
 from illuknit.knit.ir import (
@@ -542,7 +542,7 @@ def schedule_mixed(
     def course_name(c: int) -> str:
         return f"cast-on course {c}" if c < k0 else stitches.course_name(c - k0)
 
-    plan: ColourPlan = plan_colour_runs(
+    plan: ColorPlan = plan_color_runs(
         yarn,
         carriers=machine.carriers,
         float_limit=int(limit),

@@ -58,6 +58,7 @@ class KnitResult:
         wcm, hcm = self.stitches.size_cm
         return {
             "machine": self.machine.name,
+            "needles": self.machine.needles,
             "gauge": self.machine.gauge,
             "wales": w,
             "courses": c,

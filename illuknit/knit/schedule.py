@@ -51,7 +51,7 @@ import numpy as np
 
 from illuknit.errors import (
     MachineRuleError,
-    MixedColourworkError,
+    MixedColorworkError,
     OptionError,
     PatternValidationError,
     SchedulingError,
@@ -403,7 +403,7 @@ def schedule_courses(
 
     Raises
     ------
-    MixedColourworkError
+    MixedColorworkError
         If a course uses more than one yarn (the mixed-colourwork scheduler's job).
     SchedulingError
         If the piece is wider than the bed or uses more yarns than the machine has carriers.
@@ -421,7 +421,7 @@ def schedule_courses(
     mixed = stitches.mixed_courses()
     if mixed.size:
         c = int(mixed[0])
-        raise MixedColourworkError(
+        raise MixedColorworkError(
             f"{mixed.size} course(s) change colour, first {stitches.course_name(c)} uses yarns "
             f"{list(stitches.course_yarns(c))}; this needs the mixed-colourwork scheduler "
             f"(one colour per course is all the current scheduler knits)"

@@ -45,7 +45,7 @@ def render_vjp(
     Returns
     -------
     grad_heights : ndarray of shape (N, M)
-    grad_colours : ndarray of shape (N, M, K)
+    grad_colors : ndarray of shape (N, M, K)
     """
     g = np.asarray(grad_image, dtype=np.float64)
     x, segcol = tape.x, tape.segcol
@@ -96,7 +96,7 @@ def render_vjp(
 
 def render_value_and_grad(
     heights: ArrayLike,
-    colours: ArrayLike,
+    colors: ArrayLike,
     target: ArrayLike,
     *,
     params: RenderParams | None = None,
@@ -111,11 +111,11 @@ def render_value_and_grad(
     loss : float
     image : ndarray of shape (N * supersample, M, K)
     grad_heights : ndarray of shape (N, M)
-    grad_colours : ndarray of shape (N, M, K)
+    grad_colors : ndarray of shape (N, M, K)
     """
     img, tape = render_soft(
         heights,
-        colours,
+        colors,
         params=params,
         view=view,
         angle=angle,

@@ -107,10 +107,10 @@ def _camera(params: RenderParams, view: str, angle: float | None) -> tuple[float
 
 
 def _check_soft(
-    heights: ArrayLike, colours: ArrayLike, params: RenderParams, supersample: int
+    heights: ArrayLike, colors: ArrayLike, params: RenderParams, supersample: int
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     h = np.asarray(heights, dtype=np.float64)
-    col = np.asarray(colours, dtype=np.float64)
+    col = np.asarray(colors, dtype=np.float64)
     if h.ndim != 2 or h.size == 0:
         raise PatternValidationError(
             f"`heights` must be a non-empty 2-D array (N, M), got shape {h.shape}"
@@ -119,7 +119,7 @@ def _check_soft(
         col = col[..., None]
     if col.ndim != 3 or col.shape[:2] != h.shape:
         raise PatternValidationError(
-            f"`colours` must have shape {h.shape} + (K,), got {np.asarray(colours).shape}"
+            f"`colors` must have shape {h.shape} + (K,), got {np.asarray(colors).shape}"
         )
     if not np.all(np.isfinite(h)):
         raise PatternValidationError("`heights` must be finite")
@@ -233,7 +233,7 @@ def _forward_a(
 
 def render_soft(
     heights: ArrayLike,
-    colours: ArrayLike,
+    colors: ArrayLike,
     *,
     params: RenderParams | None = None,
     view: RenderView = "A",
@@ -247,7 +247,7 @@ def render_soft(
     ----------
     heights : ndarray of shape (N, M)
         Unit heights, each at least ``params.flat_height``.
-    colours : ndarray of shape (N, M, K) or (N, M)
+    colors : ndarray of shape (N, M, K) or (N, M)
         Any per-unit quantity that mixes linearly: linear-light RGB, yarn probabilities, ...
     params : RenderParams, optional
     view : {"A", "B", "headon"}
@@ -261,10 +261,10 @@ def render_soft(
     Returns
     -------
     ndarray of shape (N * supersample, M, K)
-        Coverage-weighted averages of ``colours`` (and the tape if asked).
+        Coverage-weighted averages of ``colors`` (and the tape if asked).
     """
     params = RenderParams() if params is None else params
-    h, col = _check_soft(heights, colours, params, supersample)
+    h, col = _check_soft(heights, colors, params, supersample)
     sin, cos = _camera(params, view, angle)
     # View B is view A of the flipped rows.
     flip = view == "B"

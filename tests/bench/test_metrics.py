@@ -10,7 +10,7 @@ from illuknit.bench.metrics import (
     PeakMemory,
     angled_renders,
     blur_image,
-    colour_changes,
+    color_changes,
     ghosting,
     knit_stats,
     logical_errors,
@@ -40,7 +40,7 @@ def test_logical_error_follows_can_see_with_a_bump():
     assert logical_errors(p, t2)["A"] == pytest.approx(1 / 3)
 
 
-def test_yarns_are_compared_by_colour_not_index():
+def test_yarns_are_compared_by_color_not_index():
     # The pattern lists the same yarns in the opposite order; a foreign yarn never matches.
     p = LogicalPattern([[0, 1]], [[False, False]], parse_yarns("#ffffff,#000000"))
     t = Targets(np.array([[1, 0]]), np.array([[1, 0]]), BW)
@@ -91,16 +91,16 @@ def test_correlation_and_ghosting():
     assert ghosting(0.9 * A + 0.1 * B, A, B) > 0.5
 
 
-def test_colour_changes_per_course():
+def test_color_changes_per_course():
     p = LogicalPattern([[0, 1, 1, 0], [0, 0, 0, 0], [1, 0, 1, 0]], np.zeros((3, 4), bool), BW)
-    cc = colour_changes(p)
+    cc = color_changes(p)
     assert cc["changes_mean"] == pytest.approx((2 + 0 + 3) / 3)
     assert cc["changes_max"] == 3
     assert cc["yarns_per_course_mean"] == pytest.approx(5 / 3)
     assert cc["yarns_per_course_max"] == 2
 
 
-def test_knit_stats_for_one_colour_per_course_and_for_mixed_courses():
+def test_knit_stats_for_one_color_per_course_and_for_mixed_courses():
     stripes = LogicalPattern(
         np.repeat(np.array([[0], [1], [0], [1]]), 6, axis=1), np.eye(4, 6, dtype=bool), BW
     )

@@ -131,7 +131,7 @@ def test_outputs_hold_one_row_per_cell_with_version_and_machine(tmp_path):
     assert copy_a["logical_error_a"] == 0.0 and copy_a["status"] == "ok"
     assert copy_a["render_mse_a"] >= 0 and copy_a["peak_rss_mb"] > 0
     stripes = next(r for r in run.rows if r["method"] == "fake-stripes")
-    assert stripes["colour_changes_mean"] == 0 and stripes["gap"] == 0.0
+    assert stripes["color_changes_mean"] == 0 and stripes["gap"] == 0.0
     # stripes of one colour per course are knittable: passes and a time estimate
     assert stripes["carriage_passes"] > 0 and stripes["knit_time_min"] > 0
     summary = (out / "summary.md").read_text()
@@ -268,7 +268,7 @@ def test_parallel_processes_give_the_same_rows(tmp_path):
         "instance",
         "logical_error_a",
         "logical_error_b",
-        "colour_changes_mean",
+        "color_changes_mean",
         "carriage_passes",
     )
     assert [[r[k] for k in keys] for r in par.rows] == [[r[k] for k in keys] for r in ser.rows]

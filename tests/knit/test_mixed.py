@@ -13,7 +13,7 @@ from illuknit.check import check_knitout
 from illuknit.errors import CarrierShortageError, OptionError, PatternValidationError
 from illuknit.knit import MachineSpec, Pass, lower_to_stitches, write_knitout
 from illuknit.knit.catching import plan_catches
-from illuknit.knit.colour_runs import colour_runs, plan_colour_runs
+from illuknit.knit.color_runs import color_runs, plan_color_runs
 from illuknit.knit.float_avoidance import float_crossings
 from illuknit.knit.mixed import fold_moves, schedule_mixed
 from illuknit.knit.path_planning import (
@@ -65,15 +65,15 @@ def replay(schedule, stitches) -> None:
 # -- colour runs ------------------------------------------------------------------------------
 
 
-def test_colour_runs_are_maximal():
-    assert colour_runs([1, 1, 0, 0, 0, 1]) == [(0, 1, 1), (2, 4, 0), (5, 5, 1)]
+def test_color_runs_are_maximal():
+    assert color_runs([1, 1, 0, 0, 0, 1]) == [(0, 1, 1), (2, 4, 0), (5, 5, 1)]
     with pytest.raises(PatternValidationError):
-        colour_runs([])
+        color_runs([])
 
 
 def test_runs_within_the_float_limit_share_a_carrier_and_long_gaps_split_them():
     row = np.array([[0, 1, 1, 0, 1, 1, 1, 1, 1, 0]])
-    plan = plan_colour_runs(row, carriers=("1", "2", "3"), float_limit=2)
+    plan = plan_color_runs(row, carriers=("1", "2", "3"), float_limit=2)
     segs = {s.yarn: [] for s in plan.courses[0].segments}
     for s in plan.courses[0].segments:
         segs[s.yarn].append(s.runs)
@@ -86,7 +86,7 @@ def test_runs_within_the_float_limit_share_a_carrier_and_long_gaps_split_them():
 
 def test_intarsia_carriers_keep_their_region_across_courses():
     rows = np.array([[0, 0, 1, 1, 1, 1, 1, 1, 0, 0]] * 3)
-    plan = plan_colour_runs(rows, carriers=("1", "2", "3", "4"), float_limit=3)
+    plan = plan_color_runs(rows, carriers=("1", "2", "3", "4"), float_limit=3)
     firsts = [{s.lo: s.carrier for s in cp.segments} for cp in plan.courses]
     assert firsts[0] == firsts[1] == firsts[2]
 
@@ -95,32 +95,32 @@ def test_too_many_runs_for_the_carriers_is_a_clear_error_naming_the_course():
     row = np.array([[0, 1] * 3 + [0] * 30 + [1, 0] * 3])
     rows = np.vstack([np.zeros_like(row), row])
     with pytest.raises(CarrierShortageError) as e:
-        plan_colour_runs(
+        plan_color_runs(
             rows, carriers=("1", "2"), float_limit=2, strict=True, course_names=["a", "row 7"]
         )
     msg = str(e.value)
     assert msg.startswith("row 7 needs") and "fewer yarns" in msg and "float limit" in msg
     assert e.value.course == 1 and e.value.available == 2 and e.value.needed == 3
     # by default the shortest gaps are bridged instead
-    plan = plan_colour_runs(rows, carriers=("1", "2"), float_limit=2)
+    plan = plan_color_runs(rows, carriers=("1", "2"), float_limit=2)
     assert len(plan.courses[1].segments) == 2
 
 
 def test_more_yarns_in_a_course_than_carriers_always_fails():
     with pytest.raises(CarrierShortageError, match="needs 4 carriers at once"):
-        plan_colour_runs(np.array([[0, 1, 2, 3]]), carriers=("1", "2", "3"), float_limit=20)
+        plan_color_runs(np.array([[0, 1, 2, 3]]), carriers=("1", "2", "3"), float_limit=20)
 
 
 def test_a_yarn_arriving_when_every_carrier_is_threaded_is_named():
     rows = np.array([[0, 1, 2], [3, 3, 3]])
     with pytest.raises(CarrierShortageError, match="another carrier for yarn 3 but all 3"):
-        plan_colour_runs(rows, carriers=("1", "2", "3"), float_limit=20)
+        plan_color_runs(rows, carriers=("1", "2", "3"), float_limit=20)
 
 
 @pytest.mark.parametrize("limit", [0, -1, 1.5, True])
 def test_float_limit_below_one_is_rejected(limit):
     with pytest.raises(OptionError, match="float_limit"):
-        plan_colour_runs(np.zeros((1, 3), int), carriers=("1",), float_limit=limit)
+        plan_color_runs(np.zeros((1, 3), int), carriers=("1",), float_limit=limit)
     s = lower_to_stitches(LogicalPattern(np.array([[0, 1]]), np.zeros((1, 2), bool), YARNS[:2]))
     with pytest.raises(OptionError, match="float_limit"):
         schedule_mixed(s, float_limit=limit)
@@ -151,7 +151,7 @@ def test_bad_switches_are_rejected(kwargs):
 
 def test_catches_plate_the_intarsia_side_with_the_primary_first():
     rows = np.array([[0, 0, 0, 1, 1, 0, 0, 0]])
-    plan = plan_colour_runs(rows, carriers=("1", "2"), float_limit=5)
+    plan = plan_color_runs(rows, carriers=("1", "2"), float_limit=5)
     cp = plan.courses[0]
     stranded = {s.yarn: s.carrier for s in cp.segments}
     got = plan_catches(cp)
@@ -162,7 +162,7 @@ def test_catches_plate_the_intarsia_side_with_the_primary_first():
 
 def test_two_stranded_carriers_crossing_each_other_need_no_catch_between_them():
     rows = np.array([[0, 1, 0, 1, 0, 1]])
-    cp = plan_colour_runs(rows, carriers=("1", "2"), float_limit=3).courses[0]
+    cp = plan_color_runs(rows, carriers=("1", "2"), float_limit=3).courses[0]
     walls = [p.wale for p in plan_catches(cp)]
     assert 2 not in walls and 3 not in walls
 

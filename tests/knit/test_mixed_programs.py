@@ -73,7 +73,7 @@ def test_calibration_swatch():
     assert_knits(swatch)
 
 
-def test_single_view_still_takes_the_one_colour_scheduler():
+def test_single_view_still_takes_the_one_color_scheduler():
     from illuknit.single_view import compile_single_view
 
     img = to_index_image(draw_shape("heart", (5, 6)), ink=0, paper=1)

@@ -9,7 +9,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from illuknit.errors import MachineRuleError, MixedColourworkError, OptionError, SchedulingError
+from illuknit.errors import MachineRuleError, MixedColorworkError, OptionError, SchedulingError
 from illuknit.knit import (
     CarrierAction,
     MachineSpec,
@@ -164,9 +164,9 @@ def test_each_course_is_knit_by_one_carrier_and_stripes_use_two():
     assert [a.action for a in sch.steps if isinstance(a, CarrierAction)].count("outhook") == 2
 
 
-def test_mixed_colour_course_needs_the_mixed_scheduler():
+def test_mixed_color_course_needs_the_mixed_scheduler():
     p = LogicalPattern(np.array([[0, 0], [0, 1]]), np.zeros((2, 2), bool), YARNS[:2])
-    with pytest.raises(MixedColourworkError, match="mixed-colourwork scheduler"):
+    with pytest.raises(MixedColorworkError, match="mixed-colourwork scheduler"):
         schedule_courses(lower_to_stitches(p))
 
 

@@ -49,7 +49,7 @@ def test_gradients_match_finite_differences(n, m, k, view, theta, shading, super
     np.testing.assert_allclose(gc, fc, atol=1e-7, rtol=1e-5)
 
 
-def test_vjp_is_the_transpose_of_the_linear_colour_map():
+def test_vjp_is_the_transpose_of_the_linear_color_map():
     """The image is linear in the colours, so <g, J c> == <J^T g, c> exactly."""
     rng = np.random.default_rng(2)
     h = 0.1 + rng.random((8, 5))

@@ -40,7 +40,7 @@ def test_optimiser_lowers_the_loss_on_a_text_pair():
         assert set(res.report[part]) >= {"loss", "render_error", "logical_error"}
 
 
-def test_rgb_targets_and_colour_change_penalty_reduce_changes():
+def test_rgb_targets_and_color_change_penalty_reduce_changes():
     ta, tb = _texts((10, 12))
     pal = np.array([y.rgb for y in YARNS], dtype=np.uint8)
     free = optimise_design(pal[ta], pal[tb], YARNS, steps=40, seed=1)

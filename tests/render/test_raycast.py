@@ -202,7 +202,7 @@ def test_bad_render_input():
         render_pattern(pattern, view="C")  # type: ignore[arg-type]
     with pytest.raises(PatternValidationError, match="flat_height"):
         render_soft(np.zeros((2, 2)), np.zeros((2, 2, 3)))
-    with pytest.raises(PatternValidationError, match="colours"):
+    with pytest.raises(PatternValidationError, match="colors"):
         render_soft(np.ones((2, 2)), np.zeros((3, 2, 3)))
     with pytest.raises(OptionError, match="supersample"):
         render_soft(np.ones((2, 2)), np.zeros((2, 2, 3)), supersample=0)

@@ -42,11 +42,11 @@ def image_pair(draw, ka: int = 2, kb: int = 2):
     ib = blocky(draw, kb)
 
     # distinct grey levels, in random order of index
-    def colours(k):
+    def colors(k):
         levels = draw(st.lists(st.integers(0, 255), min_size=k, max_size=k, unique=True))
         return np.array([[v, v, v] for v in levels], dtype=np.uint8)
 
-    return (ia, colours(ka)), (ib, colours(kb))
+    return (ia, colors(ka)), (ib, colors(kb))
 
 
 def _order_kept(indices, colors, fills) -> bool:
@@ -85,7 +85,7 @@ def test_model_agrees_with_brute_force(solver, pair):
 
 @settings(max_examples=6, deadline=None)
 @given(pair=image_pair(ka=3, kb=2))
-def test_model_agrees_with_brute_force_three_colours(pair):
+def test_model_agrees_with_brute_force_three_colors(pair):
     qa, qb = pair
     bank = canonical_bank(Y2)
     brute = brute_force_assignments(qa, qb, bank=bank)
@@ -144,7 +144,7 @@ def test_inputs_of_different_sizes_are_refused():
         assign_tiles((np.zeros((4, 5), int), cols), (np.zeros((5, 4), int), cols), yarns=Y2)
 
 
-def test_more_colours_than_the_bank_can_serve():
+def test_more_colors_than_the_bank_can_serve():
     solids = TileBank(Y2, (Tile.from_rows(["0"]), Tile.from_rows(["1"])))
     ia = np.array([[0, 1, 2]] * 4)
     cols = np.array([[0, 0, 0], [128, 128, 128], [255, 255, 255]], np.uint8)
@@ -165,7 +165,7 @@ def test_no_candidates_is_explained():
     assert "stripes on both sides" in msg
 
 
-def test_one_yarn_cannot_serve_two_colours():
+def test_one_yarn_cannot_serve_two_colors():
     # one yarn only: two colours per input can never differ in brightness
     y1 = parse_yarns("black")
     bank = canonical_bank(y1)

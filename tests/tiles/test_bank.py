@@ -130,7 +130,7 @@ def test_one_sided_bank_has_a_solid_side():
     assert len(bank) < len(canonical_bank(Y2))
 
 
-def test_fill_colour_is_a_linear_light_mix():
+def test_fill_color_is_a_linear_light_mix():
     from illuknit.colors import luminance, mix_rgb
 
     t = Tile.from_rows(["0", "1"])

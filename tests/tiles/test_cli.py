@@ -102,7 +102,7 @@ def test_double_sizes_must_match_or_resize(words, tmp_path, capsys):
     assert (tmp_path / "y" / "pattern.json").is_file()
 
 
-def test_double_too_many_colours_for_the_bank(words, tmp_path, capsys):
+def test_double_too_many_colors_for_the_bank(words, tmp_path, capsys):
     a, b, _ = words
     solids = tmp_path / "solids.json"
     solids.write_text(json.dumps({"format": "illuknit-tile-bank", "version": 1,

@@ -194,7 +194,7 @@ def test_headon_with_a_side_picture():
         assign_headon((front, cols), None, yarns=Y2, views=("A", "B"))
 
 
-def test_stripes_of_one_colour_stay_in_phase_across_the_other_picture():
+def test_stripes_of_one_color_stay_in_phase_across_the_other_picture():
     # A is one ground colour everywhere; B has a dark block. Without phase alignment the ground's
     # stripe would shift over the block and the block would ghost into view A.
     ia = np.zeros((36, 12), np.int16)

@@ -39,7 +39,7 @@ def attachment(data: bytes, filename: str, media_type: str) -> Response:
     )
 
 
-def knit_of(s: Session, pattern: LogicalPattern) -> design.KnitResult:
+def knit_of(s: Session, pattern: LogicalPattern) -> design.CheckedKnitout:
     """The session's knitout if it was made from ``pattern`` (409 ``not_ready`` otherwise)."""
     with s.lock:
         knit = s.knit
@@ -50,7 +50,7 @@ def knit_of(s: Session, pattern: LogicalPattern) -> design.KnitResult:
             code="not_ready",
             status=409,
         )
-    result: design.KnitResult = knit
+    result: design.CheckedKnitout = knit
     return result
 
 

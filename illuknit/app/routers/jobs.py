@@ -43,13 +43,13 @@ def start_knit(s: Session, runner: JobRunner, *, isolate: bool) -> Job:
     key = design.pattern_key(pattern)
     doc = design.pattern_to_json(pattern)
 
-    def work(job: Job) -> design.KnitResult:
+    def work(job: Job) -> design.CheckedKnitout:
         job.report(0.05, "compiling knitout and checking it")
         if isolate:
             out = job.run_isolated(design.knit_and_check, doc)
         else:
             out = design.knit_and_check(doc)
-        return design.KnitResult(
+        return design.CheckedKnitout(
             key=key,
             knitout=out["knitout"],
             stats=out["stats"],

@@ -42,7 +42,7 @@ from illuknit.errors import (
     SchedulingError,
 )
 
-__all__ = ["ColourPlan", "CoursePlan", "Segment", "colour_runs", "plan_colour_runs"]
+__all__ = ["ColorPlan", "CoursePlan", "Segment", "color_runs", "plan_color_runs"]
 
 Run = tuple[int, int]
 
@@ -103,7 +103,7 @@ class CoursePlan:
 
 
 @dataclass(frozen=True, eq=False)
-class ColourPlan:
+class ColorPlan:
     """Which carrier knits which runs, for every course.
 
     Parameters
@@ -138,12 +138,12 @@ class ColourPlan:
         return sum(len(s.runs) > 1 for cp in self.courses for s in cp.segments)
 
 
-def colour_runs(row: ArrayLike) -> list[tuple[int, int, int]]:
+def color_runs(row: ArrayLike) -> list[tuple[int, int, int]]:
     """Maximal runs of equal values in a 1-D row: ``(lo, hi, value)`` with ``hi`` inclusive.
 
     Examples
     --------
-    >>> colour_runs([0, 0, 1, 0])
+    >>> color_runs([0, 0, 1, 0])
     [(0, 1, 0), (2, 2, 1), (3, 3, 0)]
     """
     r = np.asarray(row)
@@ -195,14 +195,14 @@ def _fit_carriers(
     return groups
 
 
-def plan_colour_runs(
+def plan_color_runs(
     yarn: ArrayLike,
     *,
     carriers: Sequence[str],
     float_limit: int,
     strict: bool = False,
     course_names: Sequence[str] | None = None,
-) -> ColourPlan:
+) -> ColorPlan:
     """Group every course's colour runs into carrier segments and assign carriers.
 
     Parameters
@@ -222,7 +222,7 @@ def plan_colour_runs(
 
     Returns
     -------
-    ColourPlan
+    ColorPlan
 
     Raises
     ------
@@ -256,7 +256,7 @@ def plan_colour_runs(
     plans: list[CoursePlan] = []
     for c in range(y.shape[0]):
         by_yarn: dict[int, list[Run]] = {}
-        for lo, hi, v in colour_runs(y[c]):
+        for lo, hi, v in color_runs(y[c]):
             by_yarn.setdefault(v, []).append((lo, hi))
         groups = {v: _group_runs(rs, int(float_limit)) for v, rs in by_yarn.items()}
         owned = {v: len(cs) for v, cs in of_yarn.items()}
@@ -304,7 +304,7 @@ def plan_colour_runs(
                 segments.append(Segment(car, int(v), g))
         segments.sort(key=lambda s: s.lo)
         plans.append(CoursePlan(c, tuple(segments)))
-    return ColourPlan(
+    return ColorPlan(
         courses=tuple(plans),
         carrier_of_yarn={v: tuple(cs) for v, cs in of_yarn.items()},
         float_limit=int(float_limit),

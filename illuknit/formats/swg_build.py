@@ -1,0 +1,375 @@
+"""Builder behind :func:`illuknit.formats.swg_passes.plan_swg`: knitout operations -> passes.
+
+It walks the parsed program once, keeping the machine state the SWG backend keeps (racking,
+stitch/speed numbers, presser mode, pending pause, the inserting hook, and for each live carrier
+where its yarn is attached and where the carrier itself is parked) and grows a list of draft passes.
+Drafts are mutable only inside this module; :func:`build_plan` returns frozen
+:class:`~illuknit.formats.swg_passes.MachinePass` records.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass, field
+
+from illuknit.check.parse import KnitoutProgram, Needle, parse_knitout
+from illuknit.errors import MachineRuleError, UnsupportedKnitoutError
+from illuknit.formats.swg_passes import (
+    Direction,
+    Gripper,
+    HookAction,
+    MachinePass,
+    PassType,
+    SlotOp,
+    SwgPlan,
+    pass_kind,
+)
+
+__all__ = ["build_plan"]
+
+_CARRIERS = tuple(str(i) for i in range(1, 11))
+_CARRIER_ORDER = {c: i for i, c in enumerate(_CARRIERS)}
+_S = SlotOp
+# (front op, back op) -> the slot op doing both at quarter pitch
+_COMBINE: dict[tuple[SlotOp, SlotOp], SlotOp] = {
+    (_S.MISS_FRONT, _S.MISS_BACK): _S.MISS_FRONT_MISS_BACK,
+    (_S.MISS_FRONT, _S.TUCK_BACK): _S.MISS_FRONT_TUCK_BACK,
+    (_S.MISS_FRONT, _S.KNIT_BACK): _S.MISS_FRONT_KNIT_BACK,
+    (_S.TUCK_FRONT, _S.MISS_BACK): _S.TUCK_FRONT_MISS_BACK,
+    (_S.TUCK_FRONT, _S.TUCK_BACK): _S.TUCK_FRONT_TUCK_BACK,
+    (_S.TUCK_FRONT, _S.KNIT_BACK): _S.TUCK_FRONT_KNIT_BACK,
+    (_S.KNIT_FRONT, _S.MISS_BACK): _S.KNIT_FRONT_MISS_BACK,
+    (_S.KNIT_FRONT, _S.TUCK_BACK): _S.KNIT_FRONT_TUCK_BACK,
+    (_S.KNIT_FRONT, _S.KNIT_BACK): _S.KNIT_FRONT_KNIT_BACK,
+}
+
+
+def _combine(first: SlotOp, then: SlotOp, quarter: bool) -> SlotOp | None:
+    """The op doing ``first`` then ``then`` (moving right) in one slot, or None."""
+    if first is _S.SOFT_MISS:
+        return then
+    if then is _S.SOFT_MISS:
+        return first
+    return _COMBINE.get((first, then)) if quarter else None
+
+
+@dataclass
+class _Draft:
+    type: PassType
+    racking: float
+    stitch: int
+    speed: int
+    direction: Direction
+    carriers: tuple[str, ...]
+    slots: dict[int, SlotOp]
+    hook: HookAction | None = None
+    gripper: Gripper | None = None
+    pause: bool = False
+    presser: str | None = None
+    lo: int = field(init=False)  # leftmost and rightmost slot so far
+    hi: int = field(init=False)
+
+    def has_front(self) -> bool:
+        return any(op.stitches_front for op in self.slots.values())
+
+    def has_back(self) -> bool:
+        return any(op.stitches_back for op in self.slots.values())
+
+    def try_append(self, new: _Draft) -> bool:
+        """Merge ``new`` (one slot) into this pass when the machine can do both in one pass."""
+        if new.pause:
+            return False
+        if (
+            self.direction is not new.direction
+            or self.carriers != new.carriers
+            or self.type is not new.type
+            or self.racking != new.racking
+            or self.stitch != new.stitch
+            or self.speed != new.speed
+        ):
+            return False
+        if self.presser is not None and new.presser is not None and self.presser != new.presser:
+            return False
+        if self.presser == "on" and (
+            (self.has_front() and new.has_back())
+            or (self.has_back() and new.has_front())
+            or new.hook is not None
+        ):
+            return False
+        if (self.hook is not None or new.hook is not None) and not (
+            (self.hook in (HookAction.IN, HookAction.RELEASE) and new.hook is None)
+            or (self.hook is None and new.hook is HookAction.OUT)
+        ):
+            return False
+        if (self.gripper is not None or new.gripper is not None) and not (
+            (self.gripper is Gripper.IN and new.gripper is None)
+            or (self.gripper is None and new.gripper is Gripper.OUT)
+        ):
+            return False
+        ((s, op),) = new.slots.items()
+        merged = self._slot_after(s, op)
+        if merged is None:
+            return False
+        if new.presser is not None:
+            self.presser = new.presser
+        self.hook = self.hook or new.hook
+        self.gripper = self.gripper or new.gripper
+        self.slots[s] = merged
+        self.lo, self.hi = min(self.lo, s), max(self.hi, s)
+        return True
+
+    def _slot_after(self, s: int, op: SlotOp) -> SlotOp | None:
+        """What slot ``s`` holds once ``op`` joins the pass there, or None when it cannot."""
+        quarter = self.racking != math.floor(self.racking)
+        old = self.slots.get(s)
+        if self.direction is Direction.NONE:  # undirected: any order, each slot once
+            if old is None:
+                return op
+            return _combine(old, op, quarter) or _combine(op, old, quarter)
+        if self.direction is Direction.RIGHT:  # only at or right of the rightmost slot so far
+            if s < self.hi:
+                return None
+            return op if s > self.hi else _combine(self.slots[s], op, quarter)
+        if s > self.lo:
+            return None
+        return op if s < self.lo else _combine(op, self.slots[s], quarter)
+
+    def __post_init__(self) -> None:
+        self.lo, self.hi = min(self.slots), max(self.slots)
+
+
+@dataclass
+class _Carrier:
+    name: str
+    pending_in: tuple[str, tuple[str, ...]] | None  # (op, carrier set) until first use
+    used_hook: bool
+    last: tuple[Needle, Direction] | None = None  # where the yarn is attached
+    kick: tuple[Needle, Direction] | None = None  # where the carrier is parked
+
+
+@dataclass
+class _Builder:
+    passes: list[_Draft] = field(default_factory=list)
+    carriers: dict[str, _Carrier] = field(default_factory=dict)
+    hook: tuple[Direction, tuple[str, ...]] | None = None
+    racking: float = 0.0
+    rack_floor: int = 0
+    stitch: int = 5
+    speed: int = 0
+    presser: str = "off"
+    pause_pending: bool = False
+    line: int = 0
+
+    def error(self, message: str) -> MachineRuleError:
+        return MachineRuleError(f"line {self.line}: {message}", line=self.line)
+
+    def slot(self, n: Needle) -> int:
+        """Raster slot of a needle: back needles shift with the racking."""
+        return n.index if n.bed[0] == "f" else n.index + self.rack_floor
+
+    def draft(
+        self,
+        type_: PassType,
+        direction: Direction,
+        carriers: tuple[str, ...],
+        slot: int,
+        op: SlotOp,
+    ) -> _Draft:
+        return _Draft(
+            type=type_,
+            racking=self.racking,
+            stitch=self.stitch,
+            speed=self.speed,
+            direction=direction,
+            carriers=carriers,
+            slots={slot: op},
+        )
+
+    # -- passes -------------------------------------------------------------------------------
+    def merge(self, new: _Draft) -> None:
+        """Add a one-slot pass: join the open pass, or start one after any kickbacks it needs."""
+        do_pause, self.pause_pending = self.pause_pending, False
+        if self.passes and not do_pause and self.passes[-1].try_append(new):
+            return
+        (pass_slot,) = new.slots
+        kicks: dict[int, list[str]] = {}
+        for c in new.carriers:
+            car = self.carriers[c]
+            if car.last is None or car.kick is None:
+                continue  # being brought in: nothing to kick
+            kick_slot = self.slot(car.kick[0])
+            if car.kick[1] is new.direction:
+                kicks.setdefault(kick_slot, []).append(c)  # stopping distance unknown: kick
+            elif (new.direction is Direction.RIGHT and kick_slot > pass_slot) or (
+                new.direction is Direction.LEFT and kick_slot < pass_slot
+            ):
+                kicks.setdefault(pass_slot, []).append(c)
+        if not kicks:
+            new.pause = new.pause or do_pause
+            self.passes.append(new)
+            return
+        back = new.direction.opposite
+        for slot in _js_key_order(kicks):
+            kick = self.draft(PassType.KNIT_TUCK, back, tuple(kicks[slot]), slot, SlotOp.SOFT_MISS)
+            kick.pause, do_pause = do_pause, False
+            self.merge(kick)
+            for c in kicks[slot]:
+                self.carriers[c].kick = (Needle("f", slot), back)
+        new.pause = new.pause or do_pause
+        self.merge(new)
+
+    def kick_others(self, n: Needle, cs: tuple[str, ...]) -> None:
+        """Move every other live carrier attached on the far side of ``n`` out of its way."""
+        needle_slot = self.slot(n)
+        for name in sorted(self.carriers, key=_CARRIER_ORDER.__getitem__):
+            car = self.carriers[name]
+            if name in cs or car.last is None or car.kick is None:
+                continue
+            last_slot = self.slot(car.last[0])
+            # the yarn hangs just left (-) or right (+) of its last needle
+            left_of = last_slot < needle_slot or (
+                last_slot == needle_slot and car.last[1] is Direction.LEFT
+            )
+            kick_slot = self.slot(car.kick[0])
+            if left_of:
+                if car.kick[1] is Direction.LEFT and kick_slot <= needle_slot:
+                    continue
+                way = Direction.LEFT
+            else:
+                if car.kick[1] is Direction.RIGHT and kick_slot >= needle_slot:
+                    continue
+                way = Direction.RIGHT
+            self.merge(self.draft(PassType.KNIT_TUCK, way, (name,), last_slot, SlotOp.SOFT_MISS))
+            car.kick = (Needle("f", last_slot), way)
+
+    def take_in(self, cs: tuple[str, ...], d: _Draft) -> None:
+        """First use of carriers announced by ``in``/``inhook``: grippers (and hook) bring them."""
+        if not cs:
+            return
+        announced = None
+        for c in cs:
+            if c not in self.carriers:
+                raise self.error(f"carrier {c} is used but not active (no in/inhook)")
+            car = self.carriers[c]
+            if car.pending_in is not None:
+                announced, car.pending_in = car.pending_in, None
+        if announced is None:
+            return
+        op, in_set = announced
+        if in_set != cs:
+            raise self.error(
+                f"first use of carriers {' '.join(cs)} does not match '{op} {' '.join(in_set)}' "
+                "(plated carriers come in together, in the same order)"
+            )
+        d.gripper = Gripper.IN
+        if op == "inhook":
+            if self.hook is not None:
+                raise self.error(
+                    f"cannot bring in {' '.join(cs)} with the hook; it holds {' '.join(self.hook[1])}"
+                )
+            d.hook = HookAction.IN
+            self.hook = (d.direction, cs)
+
+    def set_last(self, cs: tuple[str, ...], d: Direction, n: Needle) -> None:
+        for c in cs:
+            self.carriers[c].last = (n, d)
+            self.carriers[c].kick = (n, d)
+
+
+def _js_key_order(slots: dict[int, list[str]]) -> list[int]:
+    """Kick order of the backend: non-negative slots ascending, then negative ones as added."""
+    return sorted(s for s in slots if s >= 0) + [s for s in slots if s < 0]
+
+
+def _header_values(program: KnitoutProgram) -> tuple[int, str]:
+    """(Width, Position) from the header, checking what the backend checks; last value wins."""
+    values = {name: (value, line) for name, value, line in program.headers}
+    if "Carriers" not in values:
+        raise MachineRuleError("the ';;Carriers:' header is required")
+    if values["Carriers"][0].split() != list(_CARRIERS):
+        raise MachineRuleError(
+            "the SWG machine needs ';;Carriers: 1 2 3 4 5 6 7 8 9 10', got "
+            f"{values['Carriers'][0]!r}",
+            line=values["Carriers"][1],
+        )
+    width, position = 540, "Center"
+    if "Width" in values:
+        w, line = values["Width"]
+        if not (w.isascii() and w.isdigit()) or int(w) == 0:
+            raise MachineRuleError(f"';;Width' must be a positive integer, got {w!r}", line=line)
+        width = int(w)
+    if "Position" in values:
+        position, line = values["Position"]
+        if position not in ("Left", "Right", "Keep", "Center"):
+            raise MachineRuleError(
+                f"';;Position' must be Left, Right, Keep or Center, got {position!r}", line=line
+            )
+    if "Gauge" in values:
+        g, line = values["Gauge"]
+        if re.fullmatch(r"\d+\.?\d*", g) is None or float(g) <= 0:
+            raise MachineRuleError(f"';;Gauge' must be a positive number, got {g!r}", line=line)
+    return width, position
+
+
+def build_plan(text: str) -> SwgPlan:
+    """Parse ``text`` and build its SWG passes (see :func:`~illuknit.formats.swg_passes.plan_swg`)."""
+    from illuknit.formats.swg_ops import apply_operation
+
+    program = parse_knitout(text)
+    width, position = _header_values(program)
+    b = _Builder()
+    for op in program.operations:
+        b.line = op.line
+        if op.tabs:
+            raise b.error("tokens must be separated by spaces (the SWG backend refuses tabs)")
+        apply_operation(b, op)
+    if b.carriers:
+        raise MachineRuleError(
+            "every carrier must be taken out (out/outhook) before the end; still in: "
+            + " ".join(sorted(b.carriers, key=int))
+        )
+    if not b.passes:
+        raise UnsupportedKnitoutError("the program makes no carriage pass; nothing to write")
+    return SwgPlan(passes=tuple(_freeze(b.passes)), width=width, position=position)
+
+
+def _freeze(drafts: list[_Draft]) -> list[MachinePass]:
+    """Frozen passes, with where the carriage really travels (it starts on the right)."""
+    out = []
+    carriage = Direction.RIGHT  # the fixed start-up courses leave the carriage on the right
+    for d in drafts:
+        if abs(d.racking) > 8:
+            raise MachineRuleError(f"racking {d.racking:g} is beyond the machine's 8 needles")
+        travel = d.direction
+        if travel is Direction.NONE and d.type in (PassType.KNIT_TUCK, PassType.A_MISS):
+            travel = Direction.RIGHT if carriage is Direction.LEFT else Direction.LEFT
+        # a pass moving left must start from the right: if the carriage stands left it travels empty
+        move = (travel is Direction.LEFT and carriage is Direction.LEFT) or (
+            travel is Direction.RIGHT and carriage is Direction.RIGHT
+        )
+        if move and d.hook is HookAction.RELEASE:
+            raise UnsupportedKnitoutError("a hook release would need a carriage move")
+        if travel is not Direction.NONE:
+            carriage = travel
+        slots = tuple(sorted(d.slots.items(), key=lambda item: item[0]))
+        ops = [op for _, op in slots]
+        out.append(
+            MachinePass(
+                kind=pass_kind(d.type, d.carriers, ops, d.hook, d.gripper),
+                type=d.type,
+                direction=d.direction,
+                carriage=travel,
+                carriage_move=move,
+                carriers=d.carriers,
+                racking=d.racking,
+                stitch=d.stitch,
+                speed=d.speed,
+                slots=slots,
+                hook=d.hook,
+                gripper=d.gripper,
+                pause=d.pause,
+                presser=d.presser,
+            )
+        )
+    return out
