@@ -28,7 +28,7 @@ from bisect import bisect_right
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
 
-from illuknit.knit.ir import Bed, CarrierAction, Op, OpKind, Pass, PassKind, Role, Step
+from illuknit.knit.ir import ActionKind, Bed, CarrierAction, Op, OpKind, Pass, PassKind, Role, Step
 
 __all__ = ["LongFloat", "tuck_long_floats"]
 
@@ -243,7 +243,14 @@ def _starts_beyond(q: Step, a: int, direction: str | None) -> bool:
 
 def _apply(passes: list[Step], adds: dict[int, set[int]]) -> list[Step]:
     out: list[Step] = []
+    pending: Pass | None = None
     for i, s in enumerate(passes):
+        release = isinstance(s, CarrierAction) and s.action is ActionKind.RELEASEHOOK
+        if pending is not None and not release:
+            # (After a hook release that follows the tucking pass: the machine releases the hook
+            # on a pass running the hook's way, which a transfer in between would upset.)
+            out.append(pending)
+            pending = None
         tucks = adds.get(i)
         if not tucks or not isinstance(s, Pass):
             out.append(s)
@@ -254,15 +261,15 @@ def _apply(passes: list[Step], adds: dict[int, set[int]]) -> list[Step]:
         # lands between the pass's own operations (its needles were excluded when choosing).
         ops.sort(key=lambda o: sign * o.needle)
         out.append(replace(s, ops=tuple(ops)))
-        out.append(
-            Pass(
-                PassKind.XFER,
-                tuple(Op(OpKind.XFER, Bed.BACK, t, Bed.FRONT, t) for t in sorted(tucks)),
-                None,
-                (),
-                0.0,
-                Role.FLOAT_AVOIDANCE,
-                s.course,
-            )
+        pending = Pass(
+            PassKind.XFER,
+            tuple(Op(OpKind.XFER, Bed.BACK, t, Bed.FRONT, t) for t in sorted(tucks)),
+            None,
+            (),
+            0.0,
+            Role.FLOAT_AVOIDANCE,
+            s.course,
         )
+    if pending is not None:
+        out.append(pending)
     return out

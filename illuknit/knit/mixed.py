@@ -577,22 +577,31 @@ def schedule_mixed(
         )
         state = CarrierState(end, "-", down[-1])
         cast_fixed += 1
+        if park is not None:
+            # Release the hook after the leftward tucks: the rightward ones can then run on to
+            # park the carrier right of the fabric, out of every other carrier's way (before the
+            # release nothing may pass right of the hook).
+            em.steps.append(CarrierAction(ActionKind.RELEASEHOOK, (car,)))
         if up:
             ops = [Op(OpKind.TUCK, Bed.FRONT, n) for n in up]
+            if park is not None:
+                ops.append(Op(OpKind.MISS, Bed.FRONT, park[1]))
             em.steps.append(
                 Pass(PassKind.KNIT, tuple(ops), "+", (car,), 0.0, Role.CAST_ON, None, cast_sn)
             )
-            state = CarrierState(up[-1], "+", up[-1])
+            state = CarrierState(ops[-1].needle, "+", up[-1])
             cast_fixed += 1
-        em.steps.append(CarrierAction(ActionKind.RELEASEHOOK, (car,)))
-        if up and (park is not None or needles[-1] == edge):
-            # As in the one-colour cast-on: once the hook is released (nothing may pass right of
-            # it before), park the carrier right of the fabric, out of every other carrier's way,
-            # so that its first course starts leftward from behind the carriage.
-            to = Op(OpKind.MISS, Bed.FRONT, edge + machine.park_distance)
-            em.steps.append(Pass(PassKind.KNIT, (to,), "+", (car,), 0.0, Role.PARK, None, cast_sn))
-            state = CarrierState(to.needle, "+", up[-1])
-            cast_fixed += 1
+        if park is None:
+            em.steps.append(CarrierAction(ActionKind.RELEASEHOOK, (car,)))
+            if up and needles[-1] == edge:
+                # As in the one-colour cast-on: once the hook is released, park the carrier
+                # right of the fabric so that its first course starts leftward from behind.
+                to = Op(OpKind.MISS, Bed.FRONT, edge + machine.park_distance)
+                em.steps.append(
+                    Pass(PassKind.KNIT, (to,), "+", (car,), 0.0, Role.PARK, None, cast_sn)
+                )
+                state = CarrierState(to.needle, "+", up[-1])
+                cast_fixed += 1
         em.states[car] = state
     for n in em.needles:
         em.bed[n] = "f"

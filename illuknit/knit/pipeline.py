@@ -11,6 +11,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from illuknit.errors import PatternValidationError
+from illuknit.knit.carriage import machine_run, machine_stats, runs_on_swg
 from illuknit.knit.knitout import write_knitout
 from illuknit.knit.machine import DEFAULT_MACHINE, MachineSpec
 from illuknit.knit.schedule import Schedule, ScheduleStats, schedule_courses
@@ -143,4 +144,15 @@ def knit_pattern(
     else:
         schedule = schedule_courses(stitches, machine=m)
     text = write_knitout(schedule, machine=m)
+    if runs_on_swg(m):
+        # Report what the machine runs for this program, not the schedule's own passes.
+        run = machine_run(text)
+        return KnitResult(
+            text,
+            stitches,
+            schedule,
+            machine_stats(schedule, run),
+            estimate_knit_time(schedule, run=run),
+            m,
+        )
     return KnitResult(text, stitches, schedule, schedule.stats, estimate_knit_time(schedule), m)
