@@ -36,23 +36,24 @@ Algorithm 3. Then the course's transfers are placed: lazily and batched, with fl
 (see :mod:`~illuknit.knit.float_avoidance`). Carriers come in with ``inhook`` right before their
 first pass (leftward, as the hook needs) and the hook is released right after it; a carrier
 leaves with ``outhook`` after its last course. Finally :func:`fold_moves` folds each
-carrier-placing ``miss`` pass that continues its carrier's previous pass into that pass.
+carrier-placing ``miss`` pass that continues its carrier's previous pass into that pass, and
+:func:`~illuknit.knit.float_tucks.tuck_long_floats` tucks floats over the limit onto free back
+needles.
 
-**Bind-off**: every loop to the front, then a chain bind-off from left to right in the colours of
-the last course -- each needle knit by the carrier of its run, its loop moved onto the next needle
--- with a tail on the last needle. Moving a loop across a colour boundary joins the two regions;
-with catching off each run is bound off on its own instead (tail, then the loop is dropped), so
+**Bind-off**: every loop to the front, then the one-colour chain
+(:func:`~illuknit.knit.schedule.bind_off_steps`) in one yarn, started where the last course ended
+(the carrier whose last loop is nearest an edge it is parked beyond; the others go out first).
+With catching off each run is bound off on its own instead (tail, then the loop is dropped), so
 that nothing the scheduler adds joins the regions.
 
-**Passes and the lower bound.** Reported: knit passes, transfer passes, miss passes (every miss
-pass is an explicit kickback or anchoring move), kickbacks (explicit moves plus consecutive
-same-direction passes of one carrier, which the SWG backend turns into an extra pass), plated
-stitches. The documented lower bound per body course is *the number of distinct carrier sets that
-knit in it* (the SWG backend merges only operations with the identical carrier list, so each set
--- each carrier and each plated pair -- needs its own pass) *plus one transfer pass if some loop
-changes bed* relative to the previous course (both directions share one pass at racking 0); the
-cast-on tucks and the bind-off recipe count at their own length without moves. It is a bound for
-the given carrier plan, not over all plans.
+**Passes and the lower bound.** The lower bound per body course is *the number of distinct
+carrier sets that knit in it* (the SWG backend merges only operations with the identical carrier
+list, so each set -- each carrier and each plated pair -- needs its own pass) *plus one transfer
+pass if some loop changes bed* relative to the previous course (both directions share one pass at
+racking 0); the cast-on tucks and the bind-off recipe count at their own length. It counts no
+carrier moves, and none is unavoidable: parked carriers are in no pass's way (see
+``docs/mixed-colourwork.md``). It is a bound for the given carrier plan, not over all plans. The
+passes reported for a program are the machine's (:mod:`illuknit.knit.carriage`).
 """
 
 from __future__ import annotations

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import replace
+from itertools import pairwise
 
 import numpy as np
 
@@ -34,7 +35,7 @@ def test_a_gap_in_a_pass_gets_tucks_at_most_limit_apart_then_moved_front():
     tucks = [o.needle for o in p.ops if o.op is OpKind.TUCK]
     loops = [o.needle for o in p.ops if o.op in (OpKind.KNIT, OpKind.TUCK)]
     assert tucks and all(o.bed is Bed.BACK for o in p.ops if o.op is OpKind.TUCK)
-    assert all(b - a - 1 <= 10 for a, b in zip(loops, loops[1:], strict=False))
+    assert all(b - a - 1 <= 10 for a, b in pairwise(loops))
     back = out[-1]
     assert back.kind is PassKind.XFER
     assert sorted((o.needle, o.to_bed) for o in back.ops) == [(t, Bed.FRONT) for t in sorted(tucks)]
