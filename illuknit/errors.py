@@ -37,9 +37,11 @@ __all__ = [
     "CalibrationError",
     "CarrierShortageError",
     "DatFormatError",
+    "ExecutorError",
     "IlluknitError",
     "ImageInputError",
     "InfeasibleError",
+    "KcodeError",
     "KnitoutParseError",
     "MachineFileError",
     "MachineRuleError",
@@ -171,6 +173,32 @@ class MachineRuleError(IlluknitError, ValueError):
         super().__init__(message)
 
 
+class KcodeError(MachineRuleError):
+    """A knitout program cannot be written as Kniterate k-code (``.kc``).
+
+    Raised where the reference Kniterate backend refuses the program, and where it would write a
+    wrong file (plated carriers, slider needles, needles off its 252-needle bed); ``line`` is the
+    1-based knitout line when known.
+    """
+
+    def __init__(
+        self,
+        message: str,
+        *,
+        line: int | None = None,
+        needle: str | None = None,
+        carrier: str | None = None,
+        racking: float | None = None,
+    ) -> None:
+        super().__init__(
+            f"line {line}: {message}" if line is not None else message,
+            needle=needle,
+            carrier=carrier,
+            racking=racking,
+            line=line,
+        )
+
+
 class KnitoutParseError(IlluknitError, ValueError):
     """A knitout file cannot be parsed; carries the 1-based line number."""
 
@@ -214,6 +242,10 @@ class ResultsVersionError(IlluknitError, ValueError):
 class OutputPathError(IlluknitError, OSError):
     """An output folder or file cannot be written: a file in the way, a read-only file system, no
     permission. The message names the path and the reason."""
+
+
+class ExecutorError(IlluknitError, RuntimeError):
+    """A benchmark executor cannot start (e.g. the Dask scheduler address cannot be reached)."""
 
 
 class MachineFileError(IlluknitError, ValueError):

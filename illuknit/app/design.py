@@ -40,7 +40,6 @@ from illuknit.pattern import LogicalPattern, Yarn, parse_yarns, pattern_to_json
 __all__ = [
     "MAX_UPLOAD_BYTES",
     "Candidate",
-    "CheckedKnitout",
     "Prepared",
     "capabilities",
     "decode_upload",
@@ -84,8 +83,7 @@ def blame(field_name: str | None) -> Iterator[None]:
 def capabilities() -> dict[str, bool]:
     """What this install can do (the page greys out the rest).
 
-    Every part the page drives is illuknit's own and always installed; only machine files
-    (Shima ``.dat``) are not written by illuknit yet.
+    Every part the page drives is illuknit's own and always installed.
     """
     return {
         "single": True,
@@ -95,7 +93,7 @@ def capabilities() -> dict[str, bool]:
         "knit": True,
         "check": True,
         "chart": True,
-        "dat": False,
+        "dat": True,
     }
 
 
@@ -333,8 +331,13 @@ def _check_colors(mode: str, n_colors: int, n_yarns: int) -> None:
 
 
 def width_of(settings: Any) -> tuple[int, str]:
-    """The piece's width in units under ``settings``, and the control that sets it."""
+    """The piece's width in units under ``settings``, and the control that sets it.
+
+    Raises AppRequestError (on that control) for a width outside 2..MAX_UNITS or wider than the
+    chosen machine's bed.
+    """
     from illuknit.images import units_for_width
+    from illuknit.knit.machine import get_machine
     from illuknit.pattern import MAX_UNITS
 
     if settings.size_mode == "physical":
@@ -348,6 +351,16 @@ def width_of(settings: Any) -> tuple[int, str]:
             f"the piece would be {width} units wide; it must be 2..{MAX_UNITS} units",
             field=size_field,
             code="range",
+        )
+    machine = get_machine(settings.machine)
+    if width > machine.max_units:
+        # refused before any work: a pattern that cannot go on the chosen bed is not designed
+        raise AppRequestError(
+            f"the piece would be {width} units = {2 * width} stitches wide, but the "
+            f"{machine.name} bed of {machine.needles} needles holds at most {machine.max_units} "
+            "units; make it narrower or choose a wider machine",
+            field=size_field,
+            code="too_wide",
         )
     return width, size_field
 
@@ -736,33 +749,6 @@ def instructions_text(pattern: LogicalPattern) -> str:
     from illuknit.chart import written_instructions
 
     return written_instructions(pattern)
-
-
-@dataclass(frozen=True)
-class CheckedKnitout:
-    """Knitout for one pattern and the checker's report on it."""
-
-    key: str  # identifies the pattern it was made from
-    knitout: str
-    stats: dict[str, Any]
-    report: dict[str, Any]
-    report_text: str
-
-
-def knit_and_check(doc: dict[str, Any]) -> dict[str, Any]:
-    """Compile a pattern (as JSON) to knitout and check it. Runs in a spawned worker process."""
-    from illuknit.check import check_knitout
-    from illuknit.knit import knit_pattern
-    from illuknit.pattern import pattern_from_json
-
-    result = knit_pattern(pattern_from_json(doc))
-    report = check_knitout(result.text)
-    return {
-        "knitout": result.text,
-        "stats": result.summary(),
-        "report": report.to_dict(),
-        "report_text": report.to_text(name="knitout.k"),
-    }
 
 
 def pattern_key(pattern: LogicalPattern) -> str:

@@ -7,7 +7,7 @@ from pathlib import Path
 import click
 
 from illuknit.cli.knitout_bridge import check_fits, machine_option, resolve_machine, write_program
-from illuknit.cli.options import knitout_option, outdir_option
+from illuknit.cli.options import POSITIVE, knitout_option, outdir_option
 
 __all__ = ["calibrate"]
 
@@ -130,8 +130,8 @@ def swatch(
     default=None,
     help="Base parameters (flat height, unit length, theta, shading) to keep.",
 )
-@click.option("--flat-height", type=float, default=None, help="Override the base flat height.")
-@click.option("--unit-length", type=float, default=None, help="Override the base unit length.")
+@click.option("--flat-height", type=POSITIVE, default=None, help="Override the base flat height.")
+@click.option("--unit-length", type=POSITIVE, default=None, help="Override the base unit length.")
 @click.option(
     "-o",
     "--output",

@@ -8,7 +8,7 @@ from pathlib import Path
 import click
 
 from illuknit.cli.knitout_bridge import machine_option
-from illuknit.cli.options import outdir_option
+from illuknit.cli.options import UNITS, outdir_option
 from illuknit.cli.summary import console, print_written, summarise_pattern
 
 __all__ = ["demo", "demo_image"]
@@ -21,7 +21,7 @@ def demo_image() -> Path:
 
 @click.command("demo")
 @outdir_option(default=Path("illuknit-demo"))
-@click.option("--width", type=int, default=48, show_default=True, help="Pattern width in units.")
+@click.option("--width", type=UNITS, default=48, show_default=True, help="Pattern width in units.")
 @click.option(
     "--knitout/--no-knitout",
     default=True,

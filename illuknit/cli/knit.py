@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING, Any
 import click
 
 from illuknit.cli.knitout_bridge import machine_option
+from illuknit.cli.options import COUNT, NON_NEGATIVE, POSITIVE
 
 if TYPE_CHECKING:
     from illuknit.knit.machine import MachineSpec
@@ -33,21 +34,25 @@ def run_knit(
     path_planning: str = "anchor",
     strict_floats: bool = False,
     catch_every: int = 2,
+    output_format: str = "knitout",
 ) -> dict[str, Any]:
     """Compile ``pattern_path`` to knitout at ``output``; return the summary (and checker verdict).
 
     ``machine`` is a preset name (or a spec); ``gauge``, ``machine_width`` and the other options
     override its values. A pattern wider than the bed is refused before compiling; nothing is
-    written when compilation fails.
+    written when compilation fails. ``output_format`` is ``knitout`` or a machine file the
+    machine takes (``kc`` for the Kniterate).
     """
     from dataclasses import replace
 
     from illuknit.cli.knitout_bridge import check_fits, resolve_machine
     from illuknit.knit import knit_pattern
+    from illuknit.knit.machine_sheet import check_format, machine_sheet
     from illuknit.outputs import atomic_write_text
     from illuknit.pattern import load_pattern
 
     spec = resolve_machine(machine, gauge=gauge)
+    check_format(spec, output_format)
     if machine_width is not None:
         spec = spec.with_width(machine_width)
     pattern = load_pattern(pattern_path)
@@ -88,8 +93,11 @@ def run_knit(
                     for f in report.findings[:20]
                 ],
             }
-    atomic_write_text(output, result.text)
+    sheet = machine_sheet(result, name=Path(output).name)
+    summary.update(sheet.summary)
+    atomic_write_text(output, sheet.files.get(output_format, result.text))
     summary["output"] = str(output)
+    summary["format"] = output_format
     return summary
 
 
@@ -105,7 +113,7 @@ def run_knit(
 @machine_option()
 @click.option(
     "--gauge",
-    type=click.FloatRange(min=0, min_open=True),
+    type=POSITIVE,
     default=None,
     help="Needles per inch [the machine's, 7].",
 )
@@ -124,19 +132,19 @@ def run_knit(
 )
 @click.option(
     "--seconds-per-needle",
-    type=click.FloatRange(min=0),
+    type=NON_NEGATIVE,
     default=None,
     help="Time model: carriage time per needle crossed [0.01].",
 )
 @click.option(
     "--seconds-per-turn",
-    type=click.FloatRange(min=0),
+    type=NON_NEGATIVE,
     default=None,
     help="Time model: fixed time per carriage pass [1.5].",
 )
 @click.option(
     "--float-limit",
-    type=int,
+    type=COUNT,
     default=None,
     help="Longest yarn float in needles for mixed colourwork [the machine's, 20].",
 )
@@ -167,7 +175,7 @@ def run_knit(
 )
 @click.option(
     "--catch-every",
-    type=int,
+    type=COUNT,
     default=2,
     show_default=True,
     help="Plate at colour changes on every N-th course (1 = every course, as in the paper).",
@@ -178,6 +186,14 @@ def run_knit(
     type=click.Choice(["anchor", "split", "none"]),
     multiple=True,
     help="Yarn path strategy (paper Algorithm 3) [anchor]; 'none' is the Fig. 20 ablation.",
+)
+@click.option(
+    "--format",
+    "output_format",
+    type=click.Choice(["knitout", "kc"]),
+    default="knitout",
+    show_default=True,
+    help="What -o holds: knitout, or the Kniterate's k-code (kc, with --machine kniterate).",
 )
 @click.option("--no-check", is_flag=True, help="Skip the knitout checker.")
 @click.option("--json", "as_json", is_flag=True, help="Print the summary as JSON.")
@@ -198,6 +214,7 @@ def knit(
     no_catching: bool,
     catch_every: int,
     path_planning: tuple[str, ...],
+    output_format: str,
     no_check: bool,
     as_json: bool,
 ) -> None:
@@ -233,6 +250,7 @@ def knit(
         seconds_per_needle=seconds_per_needle,
         seconds_per_turn=seconds_per_turn,
         check=not no_check,
+        output_format=output_format,
     )
     if as_json:
         click.echo(json.dumps(summary, indent=1))
@@ -258,6 +276,7 @@ def knit(
         click.echo(
             f"estimated knitting time: {s['time']} (+{s['hook_passes']} hook passes counted)"
         )
+        _echo_machine_sheet(s)
         chk = s.get("check", False)
         if chk is None:
             click.echo("check: checker not available in this install")
@@ -270,3 +289,13 @@ def knit(
     chk = summary.get("check")
     if chk and chk["errors"]:
         raise click.exceptions.Exit(1)
+
+
+def _echo_machine_sheet(s: dict[str, Any]) -> None:
+    """What the machine knitter sets up: cones on carriers, stitch numbers, needles, time."""
+    click.echo(f"on the {s['machine']}: {s['machine_passes']} passes, about {s['machine_time']}")
+    for row in s["carrier_table"]:
+        click.echo(f"  carrier {row['carrier']}: {row['yarn']} ({row['role']})")
+    numbers = ", ".join(map(str, s["stitch_numbers"])) or "machine default"
+    lo, hi = s["needle_range"]
+    click.echo(f"  stitch numbers: {numbers}; needles {lo}..{hi}")

@@ -18,6 +18,7 @@ import click
 import numpy as np
 
 from illuknit.cli.knitout_bridge import machine_option
+from illuknit.cli.options import POSITIVE
 
 __all__ = ["load_targets", "run_solve", "solve"]
 
@@ -425,12 +426,12 @@ def _list_solvers(ctx: click.Context, _param: click.Parameter, value: bool) -> N
 )
 @click.option(
     "--time-limit",
-    type=float,
+    type=POSITIVE,
     default=60.0,
     show_default=True,
     help="Seconds; the best pattern found is kept.",
 )
-@click.option("--seed", type=int, default=0, show_default=True)
+@click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True)
 @click.option(
     "--export-wcnf",
     type=click.Path(dir_okay=False, path_type=Path),
