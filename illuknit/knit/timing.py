@@ -2,12 +2,13 @@
 
 Model (documented in ``docs/knitting.md``)::
 
-    time = sum over carriage passes of (needles crossed x seconds_per_needle + seconds_per_turn)
-         + hook passes x seconds_per_turn
+    time = sum over the machine's passes of (needles crossed x seconds_per_needle + seconds_per_turn)
 
 *Needles crossed* is the span of the pass: rightmost minus leftmost needle it touches, plus one
-(transfer targets and parking misses included). *Hook passes* are the empty passes the SWG backend
-adds for each ``releasehook`` and ``outhook``. The defaults (0.01 s per needle, about 0.36 m/s at
+(transfer targets and parking misses included). The machine's passes
+(:class:`~illuknit.knit.carriage.MachineRun`) include the backend's hook passes, carrier moves
+and kickbacks; without them the schedule's own passes are used, plus ``seconds_per_turn`` for
+each of the empty passes the SWG backend adds for ``releasehook`` and ``outhook``. The defaults (0.01 s per needle, about 0.36 m/s at
 7 gauge's 3.63 mm needle pitch, and 1.5 s per pass for turning and clearing the carriage) come from
 :class:`~illuknit.knit.machine.MachineSpec` and can be overridden per call. They are rough: real
 machines run transfers, knitting and the yarn-inserting hook at different speeds set by the
