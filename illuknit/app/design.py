@@ -33,7 +33,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from illuknit.colors import hex_color
-from illuknit.errors import AppRequestError, IlluknitError
+from illuknit.errors import AppRequestError, IlluknitError, PictureSizeMismatchError
 from illuknit.images import MAX_PIXELS
 from illuknit.pattern import LogicalPattern, Yarn, parse_yarns, pattern_to_json
 
@@ -253,7 +253,8 @@ def prepare_inputs(images: dict[str, Any], settings: Any) -> Prepared:
     offer to resize), a width out of range (``width_units``/``width_cm``), bad yarns (``yarns``),
     colour count issues (``n_colors``).
     """
-    from illuknit.images import quantise_image, resize_to_units
+    from illuknit.images import quantise_image
+    from illuknit.sizing import size_pair
 
     mode = settings.mode
     slots = slots_for(mode, images)
@@ -265,28 +266,24 @@ def prepare_inputs(images: dict[str, Any], settings: Any) -> Prepared:
         yarns = parse_yarns(list(settings.yarns))
     _check_colors(mode, settings.n_colors, len(yarns))
     width, size_field = width_of(settings)
-    notes: list[str] = []
     a = images["a"].rgb
-    resized: dict[str, NDArray[np.float64]] = {}
-    with blame(size_field):
-        resized["a"] = resize_to_units(a, width=width, smooth=settings.smooth)
-    if "b" in slots:
-        b = images["b"].rgb
-        if a.shape[:2] != b.shape[:2]:
-            if not settings.resize:
-                raise AppRequestError(
-                    f"picture A is {a.shape[1]} x {a.shape[0]} pixels but picture B is "
-                    f"{b.shape[1]} x {b.shape[0]}; both pictures must cover the same piece. "
-                    "Resize B to A's size, or upload pictures of equal size.",
-                    field="image_b",
-                    code="size_mismatch",
-                    status=409,
-                )
-            notes.append(f"picture B stretched from {b.shape[1]} x {b.shape[0]} to A's size")
-        n, m = resized["a"].shape[:2]
-        with blame(size_field):
-            resized["b"] = resize_to_units(b, width=m, height=n, smooth=settings.smooth)
-    n, m = resized["a"].shape[:2]
+    b = images["b"].rgb if "b" in slots else None
+    with blame(size_field):  # the same sizing policy as the command line (illuknit.sizing)
+        try:
+            pair = size_pair(a, b, width=width, stretch=settings.resize, smooth=settings.smooth)
+        except PictureSizeMismatchError:
+            assert b is not None
+            raise AppRequestError(
+                f"picture A is {a.shape[1]} x {a.shape[0]} pixels but picture B is "
+                f"{b.shape[1]} x {b.shape[0]}; both pictures must cover the same piece (one "
+                "aspect ratio). Resize B to A's size, or upload pictures of one shape.",
+                field="image_b",
+                code="size_mismatch",
+                status=409,
+            ) from None
+    resized = {"a": pair.a} if pair.b is None else {"a": pair.a, "b": pair.b}
+    notes = list(pair.notes)
+    n = pair.shape[0]
     if n < 2:
         raise AppRequestError(
             f"the picture is only {n} unit tall at this width; use a wider piece",

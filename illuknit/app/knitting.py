@@ -3,7 +3,8 @@ the machine files and facts a machine knitter needs beside it.
 
     pattern -> knit_and_check(doc, machine) -> CheckedKnitout (knitout, stats, check report,
                carrier-to-yarn table, needle range, estimated time)
-            -> machine_file(knit) -> Shima ``.dat`` (illuknit.formats.dat)
+            -> machine_file(knit, fmt) -> Shima ``.dat`` (illuknit.formats.dat) or
+                                          Kniterate ``.kc`` (illuknit.formats.kc)
 
 :func:`knit_and_check` runs in a worker process (:meth:`illuknit.app.jobs.Job.run_isolated`), so
 it takes and returns plain data.
@@ -16,7 +17,7 @@ from typing import Any
 
 from illuknit.app.design import blame
 from illuknit.errors import AppRequestError
-from illuknit.knit.machine import MACHINES, MachineSpec, get_machine
+from illuknit.knit.machine import MACHINES, get_machine
 
 __all__ = [
     "CheckedKnitout",
@@ -53,15 +54,10 @@ def machines_json() -> list[dict[str, Any]]:
             "gauge": spec.gauge,
             "carriers": len(spec.carriers),
             "max_units": spec.max_units,
-            "formats": list(formats_of(spec)),
+            "formats": list(spec.formats),
         }
         for key, spec in MACHINES.items()
     ]
-
-
-def formats_of(spec: MachineSpec) -> tuple[str, ...]:
-    """Machine files illuknit writes for ``spec``: Shima ``.dat`` for the Shima SWG presets."""
-    return ("dat",) if spec.name.upper().startswith("SWG") else ()
 
 
 def knit_and_check(doc: dict[str, Any], machine: str) -> dict[str, Any]:
@@ -70,10 +66,11 @@ def knit_and_check(doc: dict[str, Any], machine: str) -> dict[str, Any]:
     from illuknit.knit import knit_pattern
     from illuknit.pattern import pattern_from_json
 
-    result = knit_pattern(pattern_from_json(doc), machine=get_machine(machine))
+    spec = get_machine(machine)
+    result = knit_pattern(pattern_from_json(doc), machine=spec)
     report = check_knitout(result.text)
     sched = result.schedule
-    carriers = [
+    carriers: list[dict[str, Any]] = [
         {
             "carriers": list(sched.carrier_of_yarn[k]),
             "yarn": sched.yarns[k].name,
@@ -81,6 +78,10 @@ def knit_and_check(doc: dict[str, Any], machine: str) -> dict[str, Any]:
         }
         for k in sorted(sched.carrier_of_yarn)
     ]
+    # a machine without a yarn-inserting hook starts on a waste section and a draw thread
+    for carrier, role in ((spec.draw_carrier, "draw thread"), (spec.waste_carrier, "waste yarn")):
+        if carrier is not None:
+            carriers.append({"carriers": [carrier], "yarn": role, "rgb": None})
     return {
         "knitout": result.text,
         "stats": result.summary(),
@@ -91,18 +92,24 @@ def knit_and_check(doc: dict[str, Any], machine: str) -> dict[str, Any]:
     }
 
 
-def machine_file(knit: CheckedKnitout, fmt: str) -> bytes:
-    """The machine file ``fmt`` ("dat") of ``knit``; 409 when its machine does not take it."""
+def machine_file(knit: CheckedKnitout, fmt: str, *, name: str) -> bytes:
+    """The machine file ``fmt`` ("dat" or "kc") of ``knit``, called ``name``; 409 when the
+    knitout's machine does not take that format."""
     spec = get_machine(knit.machine)
-    if fmt not in formats_of(spec):
+    if fmt not in spec.formats:
+        takes = " or ".join(f".{f}" for f in spec.formats) or "no machine file illuknit writes"
         raise AppRequestError(
-            f"the {spec.name} does not take .{fmt} files; choose a Shima SWG machine and make "
-            "the knitout again",
+            f"the {spec.name} takes {takes}, not .{fmt}; choose a machine that takes .{fmt} "
+            "and make the knitout again",
             field="machine",
             code="wrong_format",
             status=409,
         )
-    from illuknit.formats.dat import knitout_to_dat
-
     with blame("knit"):
+        if fmt == "kc":
+            from illuknit.formats.kc import knitout_to_kc
+
+            return knitout_to_kc(knit.knitout, name=name).encode()
+        from illuknit.formats.dat import knitout_to_dat
+
         return knitout_to_dat(knit.knitout)

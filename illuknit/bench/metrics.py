@@ -257,20 +257,16 @@ def angled_renders(
 ) -> tuple[dict[str, NDArray[np.float64]], str]:
     """Renders of both sides at ``angle``, one pixel per unit, and the renderer's name.
 
-    Uses :func:`illuknit.render.render_views` when available, else the boolean view.
+    Uses :func:`illuknit.render.render_views` (illuknit's own renderer: always there).
 
     Returns
     -------
     (dict, str)
-        ``{"A": (N, M, 3), "B": (N, M, 3), "headon": (N, M, 3)}`` float sRGB in [0, 1], and ``"angled@30"`` or
-        ``"boolean (renderer unavailable: ...)"``.
+        ``{"A": (N, M, 3), "B": (N, M, 3), "headon": (N, M, 3)}`` float sRGB in [0, 1], and the
+        renderer's name, e.g. ``"angled@30"``.
     """
-    try:
-        from illuknit.render import render_views
-    except ImportError as e:
-        reason = f"boolean (renderer unavailable: {e})"
-        names: tuple[View, ...] = ("A", "B", "headon")
-        return {v: boolean_render(pattern, v) for v in names}, reason
+    from illuknit.render import render_views
+
     views = render_views(pattern, angle=angle)
     out = {}
     for v in ("A", "B", "headon"):

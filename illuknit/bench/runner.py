@@ -27,8 +27,6 @@ from __future__ import annotations
 
 import hashlib
 import json
-import os
-import platform
 import shutil
 import time
 import traceback
@@ -39,8 +37,10 @@ from pathlib import Path
 from typing import Any
 
 from illuknit import __version__
+from illuknit.bench import report
 from illuknit.bench.instances import Instance, instance_targets
 from illuknit.bench.methods import MethodUnavailable, NoPattern, get_method
+from illuknit.bench.results import FIELDS, FORMAT, machine_info
 from illuknit.errors import (
     BackendUnavailableError,
     ExecutorError,
@@ -65,73 +65,7 @@ __all__ = [
 
 EXECUTORS = ("local", "dask")
 META_FILE = "bench.json"
-FORMAT = "illuknit-bench-results"
 RETRY_STATUSES = ("skipped", "error")
-
-#: Columns of results.csv, in order.
-FIELDS = (
-    "instance",
-    "method",
-    "kind",
-    "rows",
-    "cols",
-    "n_yarns",
-    "time_limit",
-    "status",
-    "reason",
-    "objective",
-    "bound",
-    "gap",
-    "logical_error_a",
-    "logical_error_b",
-    "render_mse_a",
-    "render_mse_b",
-    "render_ssim_a",
-    "render_ssim_b",
-    "render_mse",
-    "render_ssim",
-    "render_corr_a",
-    "render_corr_b",
-    "ghost_a",
-    "ghost_b",
-    "headon_visibility",
-    "renderer",
-    "color_changes_mean",
-    "color_changes_max",
-    "yarns_per_course_mean",
-    "yarns_per_course_max",
-    "carriage_passes",
-    "transfer_passes",
-    "scheduled_passes",
-    "knit_time_min",
-    "knit_note",
-    "knit_machine",
-    "solve_s",
-    "compile_s",
-    "wall_s",
-    "metrics_s",
-    "peak_rss_mb",
-    "peak_rss_delta_mb",
-    "note",
-    "cell_key",
-    "illuknit_version",
-    "python",
-    "platform",
-    "machine",
-    "cpus",
-    "finished_at",
-)
-
-
-def machine_info() -> dict[str, Any]:
-    """Where the numbers were measured."""
-    return {
-        "python": platform.python_version(),
-        "platform": platform.platform(),
-        "machine": platform.machine()
-        + (f" {platform.processor()}" if platform.processor() else ""),
-        "cpus": os.cpu_count(),
-    }
 
 
 @dataclass(frozen=True)
@@ -223,7 +157,7 @@ def execute_cell(cell: Cell) -> dict[str, Any]:
             t1 = time.perf_counter()
             pattern, info = method.run(cell.instance, cell.time_limit)
             wall = time.perf_counter() - t1
-    except (MethodUnavailable, BackendUnavailableError, ImportError) as e:
+    except (MethodUnavailable, BackendUnavailableError) as e:
         row.update(status="skipped", reason=str(e) or type(e).__name__)
         return {"row": _finish(row), "files": files}
     except NoPattern as e:
@@ -594,9 +528,7 @@ def run_bench(
         order = [i.name for i in instances]
         run.rows = sort_rows(load_rows(out), order, list(methods))
         if write_outputs:
-            from illuknit.bench.report import write_outputs as _write
-
-            run.outputs = _write(out, run.rows)
+            run.outputs = report.write_outputs(out, run.rows)
     return run
 
 

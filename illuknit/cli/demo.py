@@ -38,18 +38,12 @@ def demo(outdir: Path, width: int, knitout: bool, machine: str | None) -> None:
     from illuknit.cli.single import run_single
     from illuknit.pattern import load_pattern
 
-    try:
-        import illuknit.knit
-
-        can_knit = hasattr(illuknit.knit, "knit_pattern")
-    except ImportError:  # pragma: no cover
-        can_knit = False
     paths = run_single(
         demo_image(),
         outdir,
         width=width,
         yarns="Charcoal=#1b1b1b,Cream=#f4f0e8",
-        knitout=knitout and can_knit,
+        knitout=knitout,
         machine=machine,
         title="illuknit demo: a heart in a ring",
     )

@@ -78,21 +78,18 @@ def run_knit(
     )
     summary = result.summary()
     if check:
-        try:
-            from illuknit.check import check_knitout
-        except ImportError:  # pragma: no cover - only in a partial install
-            summary["check"] = None
-        else:
-            report = check_knitout(result.text, machine=spec)
-            summary["check"] = {
-                "errors": len(report.blocking),
-                "warnings": len(report.warnings),
-                "pieces": report.pieces,
-                "findings": [
-                    {"line": f.line, "code": f.code, "severity": f.severity, "message": f.message}
-                    for f in report.findings[:20]
-                ],
-            }
+        from illuknit.check import check_knitout
+
+        report = check_knitout(result.text, machine=spec)
+        summary["check"] = {
+            "errors": len(report.blocking),
+            "warnings": len(report.warnings),
+            "pieces": report.pieces,
+            "findings": [
+                {"line": f.line, "code": f.code, "severity": f.severity, "message": f.message}
+                for f in report.findings[:20]
+            ],
+        }
     sheet = machine_sheet(result, name=Path(output).name)
     summary.update(sheet.summary)
     atomic_write_text(output, sheet.files.get(output_format, result.text))

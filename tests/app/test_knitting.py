@@ -138,3 +138,36 @@ def test_knitout_dat_and_the_knitters_facts_for_the_chosen_machine(client, sid):
     assert dat.headers["content-disposition"].endswith('.dat"')
     assert dat.content == knitout_to_dat(knitout)
     assert len(read_dat(dat.content).passes) > 0
+    r = client.get(f"/api/sessions/{sid}/download/pattern.kc")
+    assert r.status_code == 409 and r.json()["error"]["code"] == "wrong_format"
+
+
+def test_kniterate_gets_its_kc_with_waste_and_draw_carriers(client, sid):
+    from illuknit.formats.kc import knitout_to_kc
+
+    client.put(f"/api/sessions/{sid}/images/a", files={"file": ("a.png", picture(), "image/png")})
+    client.put(
+        f"/api/sessions/{sid}/settings",
+        json={"mode": "single", "width_units": 18, "machine": "kniterate"},
+    )
+    run(client, sid, "candidates")
+    run(client, sid, "knit")
+    k = client.get(f"/api/sessions/{sid}/knit").json()
+    assert k["ready"] and k["machine"] == "kniterate" and k["formats"] == ["kc"]
+    spec = MACHINES["kniterate"]
+    rows = {row["yarn"]: row["carriers"] for row in k["carriers"]}
+    assert rows["draw thread"] == [spec.draw_carrier] and rows["waste yarn"] == [spec.waste_carrier]
+    pattern_carriers = {c for y in ("black", "linen") for c in rows[y]}
+    assert pattern_carriers.isdisjoint({spec.draw_carrier, spec.waste_carrier})
+    knitout = client.get(f"/api/sessions/{sid}/download/knitout.k").text
+    r = client.get(f"/api/sessions/{sid}/download/pattern.kc")
+    assert r.status_code == 200
+    name = r.headers["content-disposition"].split('filename="')[1].rstrip('"')
+    assert name.endswith(".kc")
+    assert r.text == knitout_to_kc(knitout, name=name)
+    # a Shima file for a Kniterate program: refused next to the machine
+    r = client.get(f"/api/sessions/{sid}/download/pattern.dat")
+    assert r.status_code == 409
+    err = r.json()["error"]
+    assert err["field"] == "machine" and err["code"] == "wrong_format"
+    assert err["message"].startswith("the Kniterate takes .kc, not .dat")

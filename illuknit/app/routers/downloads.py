@@ -7,7 +7,7 @@ from fastapi import APIRouter, Query
 from fastapi.responses import Response
 
 from illuknit.app import design
-from illuknit.app.knitting import CheckedKnitout, formats_of, machine_file
+from illuknit.app.knitting import CheckedKnitout, machine_file
 from illuknit.app.lookups import SessionDep, current_pattern
 from illuknit.app.sessions import Session
 from illuknit.errors import AppRequestError
@@ -27,6 +27,7 @@ DOWNLOADS = (
     "check.json",
     "check.txt",
     "pattern.dat",
+    "pattern.kc",
 )
 
 
@@ -95,8 +96,12 @@ def download(
     knit = knit_of(s, pattern)
     if name == "knitout.k":
         return attachment(knit.knitout.encode(), f"{stem}.k", "text/plain; charset=utf-8")
-    if name == "pattern.dat":
-        return attachment(machine_file(knit, "dat"), f"{stem}.dat", "application/octet-stream")
+    if name in ("pattern.dat", "pattern.kc"):
+        fmt = name.rsplit(".", 1)[1]
+        filename = f"{stem}.{fmt}"
+        return attachment(
+            machine_file(knit, fmt, name=filename), filename, "application/octet-stream"
+        )
     if name == "check.json":
         return attachment(
             json.dumps(knit.report, indent=1).encode(), f"{stem}-check.json", "application/json"
@@ -122,5 +127,5 @@ def get_knit(s: SessionDep) -> dict[str, Any]:
         "lines": knit.knitout.count("\n"),
         "carriers": list(knit.carriers),
         "needle_range": list(knit.needle_range),
-        "formats": list(formats_of(get_machine(knit.machine))),
+        "formats": list(get_machine(knit.machine).formats),
     }

@@ -750,10 +750,14 @@ function showKnitSummary(k) {
       const tr = body.insertRow();
       tr.insertCell().textContent = row.carriers.join(", ");
       const cell = tr.insertCell();
-      const sw = document.createElement("span");
-      sw.className = "sw";
-      sw.style.background = row.rgb;
-      cell.append(sw, document.createTextNode(` ${row.yarn} (${row.rgb})`));
+      if (row.rgb) {
+        const sw = document.createElement("span");
+        sw.className = "sw";
+        sw.style.background = row.rgb;
+        cell.append(sw, document.createTextNode(` ${row.yarn} (${row.rgb})`));
+      } else {
+        cell.textContent = row.yarn; // the waste yarn and draw thread: any cone of their kind
+      }
     }
     box.appendChild(table);
   }
@@ -776,7 +780,7 @@ async function makeKnit() {
 }
 
 async function download(name, button) {
-  const field = button.hasAttribute("data-needs-knit") || name === "pattern.dat" ? "knit" : "downloads";
+  const field = button.hasAttribute("data-needs-knit") ? "knit" : "downloads";
   clearError("downloads", "knit");
   button.disabled = true;
   try {
