@@ -80,8 +80,9 @@ class CandidateMeasures:
     ----------
     views : tuple of str
         The names of the measured views (``("A", "B")``, or ``("headon", "side")``).
-    readability, contrast : tuple of float
-        Per view (nan where the picture or the render is flat).
+    readability, contrast : tuple of float or None
+        Per view; nan where the render is flat (nothing reads), None where the picture itself is
+        a plain field (a head-on design's side: there is nothing to read, only to hide).
     ghosting : tuple of float or None
         Per view; None where there is no other picture to ghost.
     knit_minutes : float or None
@@ -91,8 +92,8 @@ class CandidateMeasures:
     """
 
     views: tuple[str, ...]
-    readability: tuple[float, ...]
-    contrast: tuple[float, ...]
+    readability: tuple[float | None, ...]
+    contrast: tuple[float | None, ...]
     ghosting: tuple[float | None, ...]
     knit_minutes: float | None = None
     machine_passes: int | None = None
@@ -101,11 +102,11 @@ class CandidateMeasures:
     @property
     def worse_readability(self) -> float:
         """The lower readability of the views (nan counts as 0: nothing reads)."""
-        return min(_num(r) for r in self.readability)
+        return min((_num(r) for r in self.readability if r is not None), default=0.0)
 
     @property
     def worse_contrast(self) -> float:
-        return min(_num(c) for c in self.contrast)
+        return min((_num(c) for c in self.contrast if c is not None), default=0.0)
 
     @property
     def worst_ghosting(self) -> float:
@@ -122,7 +123,7 @@ class CandidateMeasures:
         )
 
     def to_json(self) -> dict[str, Any]:
-        def r(x: float | None) -> float | None:
+        def r(x: float | None) -> float | None:  # JSON has no nan
             return None if x is None or x != x else round(float(x), 4)
 
         return {
@@ -196,7 +197,8 @@ def measure_candidate(
     views : sequence of str
         ``("A", "B")`` for a double view, ``("headon", "side")`` for the head-on variant.
     ghost : bool
-        Measure ghosting between the two pictures (a plain side picture has nothing to ghost).
+        Measure ghosting between the two pictures: how much of the other picture shows in each
+        view (for a head-on design, how much of the front picture is left at an angle).
     knit_time : bool
         Also knit the pattern and count the machine's passes and time.
     machine : str, optional
@@ -210,16 +212,18 @@ def measure_candidate(
         raise OptionError(f"need one picture per view {tuple(views)}, got {len(pictures)}")
     targets = [_grey(_float_rgb(p)) for p in pictures]
     seen = _view_renders(pattern, views, angle=RENDER_ANGLE if angle is None else angle)
-    read: list[float] = []
-    contrast: list[float] = []
+    read: list[float | None] = []
+    contrast: list[float | None] = []
     ghosting: list[float | None] = []
     for k, (t, renders) in enumerate(zip(targets, seen, strict=True)):
         greys = [_grey(r) for r in renders]
-        read.append(min((_corr(g, t) for g in greys), key=_num))
-        contrast.append(min((_gain(g, t) for g in greys), key=_num))
+        plain = float(np.ptp(t)) < 1e-9
+        read.append(None if plain else min((_corr(g, t) for g in greys), key=_num))
+        contrast.append(None if plain else min((_gain(g, t) for g in greys), key=_num))
         if ghost and len(targets) == 2:
             other = targets[1 - k]
-            ghosting.append(max((_ghost(g, t, other) for g in greys), key=lambda x: abs(_num(x))))
+            worst = max((_ghost(g, t, other) for g in greys), key=lambda x: abs(_num(x)))
+            ghosting.append(None if worst != worst else worst)
         else:
             ghosting.append(None)
     minutes = passes = None
@@ -321,7 +325,7 @@ def rank_designs(
             pattern,
             pictures,
             views=views,
-            ghost=tuple(views) == ("A", "B"),
+            ghost=len(pictures) == 2,
             knit_time=knit_time or rank_by == "knit-time",
             machine=machine,
         )
