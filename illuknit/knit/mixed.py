@@ -231,8 +231,8 @@ def schedule_mixed(
     tuck_passes : bool
         Where a plated catching pass cannot tuck a long float (its other yarn comes from
         elsewhere), tuck the floating yarn alone in a pass of its own right before it. Off by
-        default: on the bundled instances it costs 5-29 % more machine passes and shortens the
-        longest float by at most a quarter (``docs/mixed-colourwork.md``).
+        default: on the bundled instances it costs 1-29 % more machine passes and shortens the
+        longest float by 0-26 % (``docs/mixed-colourwork.md``).
 
     Returns
     -------
