@@ -73,7 +73,7 @@ def run_design(
     from illuknit.images import quantise_image
     from illuknit.outputs import atomic_write_text, staged_dir
     from illuknit.previews import save_png, unit_scale, upscale
-    from illuknit.sizing import load_pair
+    from illuknit.sizing import size_pair
     from illuknit.tiles.assign import assign_tiles
     from illuknit.tiles.bank import canonical_bank, load_bank
     from illuknit.tiles.compile import compile_tiles, repainted_rgb
@@ -85,7 +85,7 @@ def run_design(
     spec = resolve_machine(machine)
     if knitout and width is not None:
         check_fits(spec, width)
-    pair = load_pair(path_a, path_b, width=width, stretch=resize)
+    pair = size_pair(path_a, path_b, width=width, stretch=resize)
     a, b = pair.a, pair.b
     if knitout:
         check_fits(spec, a.shape[1])
