@@ -33,8 +33,10 @@ def run_knit(
     path_planning: str = "anchor",
     strict_floats: bool = False,
     catch_every: int = 2,
+    output_format: str = "knitout",
 ) -> dict[str, Any]:
-    """Compile ``pattern_path`` to knitout at ``output``; return the summary (and checker verdict).
+    """Compile ``pattern_path`` to knitout (or a machine file: ``output_format="dat"``) at
+    ``output``; return the summary (and checker verdict).
 
     ``machine`` is a preset name (or a spec); ``gauge``, ``machine_width`` and the other options
     override its values. A pattern wider than the bed is refused before compiling; nothing is
@@ -43,13 +45,15 @@ def run_knit(
     from dataclasses import replace
 
     from illuknit.cli.knitout_bridge import check_fits, resolve_machine
+    from illuknit.formats import check_format, knitout_to_format
     from illuknit.knit import knit_pattern
-    from illuknit.outputs import atomic_write_text
+    from illuknit.outputs import atomic_write_bytes
     from illuknit.pattern import load_pattern
 
     spec = resolve_machine(machine, gauge=gauge)
     if machine_width is not None:
         spec = spec.with_width(machine_width)
+    check_format(spec, output_format)
     pattern = load_pattern(pattern_path)
     check_fits(spec, pattern.shape[1], hint="use a narrower pattern or a wider --machine-width")
     changes: dict[str, Any] = {}
@@ -88,8 +92,9 @@ def run_knit(
                     for f in report.findings[:20]
                 ],
             }
-    atomic_write_text(output, result.text)
+    atomic_write_bytes(output, knitout_to_format(result.text, output_format))
     summary["output"] = str(output)
+    summary["format"] = output_format
     return summary
 
 
@@ -100,7 +105,7 @@ def run_knit(
     "--output",
     required=True,
     type=click.Path(dir_okay=False, path_type=Path),
-    help="Knitout file to write (e.g. prog.k).",
+    help="File to write: knitout (e.g. prog.k) or, with --format dat, a Shima .dat.",
 )
 @machine_option()
 @click.option(
@@ -179,6 +184,15 @@ def run_knit(
     multiple=True,
     help="Yarn path strategy (paper Algorithm 3) [anchor]; 'none' is the Fig. 20 ablation.",
 )
+@click.option(
+    "--format",
+    "output_format",
+    type=click.Choice(["knitout", "dat"]),
+    default="knitout",
+    show_default=True,
+    help="What -o holds: the knitout program, or the Shima .dat made from it (dat; Shima "
+    "machines only).",
+)
 @click.option("--no-check", is_flag=True, help="Skip the knitout checker.")
 @click.option("--json", "as_json", is_flag=True, help="Print the summary as JSON.")
 def knit(
@@ -198,6 +212,7 @@ def knit(
     no_catching: bool,
     catch_every: int,
     path_planning: tuple[str, ...],
+    output_format: str,
     no_check: bool,
     as_json: bool,
 ) -> None:
@@ -233,12 +248,14 @@ def knit(
         seconds_per_needle=seconds_per_needle,
         seconds_per_turn=seconds_per_turn,
         check=not no_check,
+        output_format=output_format,
     )
     if as_json:
         click.echo(json.dumps(summary, indent=1))
     else:
         s = summary
-        click.echo(f"wrote {s['output']} ({s['lines']} lines) for {s['machine']}")
+        what = f"{s['lines']} lines" if output_format == "knitout" else f"{output_format} file"
+        click.echo(f"wrote {s['output']} ({what}) for {s['machine']}")
         click.echo(
             f"stitches: {s['wales']} wales x {s['courses']} courses "
             f"(about {s['width_cm']} x {s['height_cm']} cm at gauge {s['gauge']:g})"

@@ -17,7 +17,7 @@ from typing import Any
 import click
 import numpy as np
 
-from illuknit.cli.knitout_bridge import machine_option
+from illuknit.cli.knitout_bridge import format_option, machine_option
 
 __all__ = ["load_targets", "run_solve", "solve"]
 
@@ -415,6 +415,7 @@ def _print_report(report: dict[str, Any], written: dict[str, Path], outdir: Path
     "--knitout", is_flag=True, help="Also write a knitout program (program.k) and its check."
 )
 @machine_option()
+@format_option()
 @click.option(
     "-o",
     "--outdir",

@@ -6,11 +6,72 @@ count with, are :func:`illuknit.formats.swg_passes.machine_passes`.
 
 ``kc``: Kniterate k-code (``.kc``), via :func:`illuknit.formats.kc.knitout_to_kc`.
 
-Submodules are imported on use, so ``import illuknit`` stays light.
+:func:`machine_formats` says which files a machine takes, :func:`check_format` refuses the others
+before any work is done, and :func:`knitout_to_format` converts. Submodules are imported on use.
 """
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 from illuknit.formats.swg_passes import MachinePass, PassKind, machine_passes
 
-__all__ = ["MachinePass", "PassKind", "machine_passes"]
+if TYPE_CHECKING:
+    from illuknit.knit.machine import MachineSpec
+
+__all__ = [
+    "FORMAT_SUFFIXES",
+    "MachinePass",
+    "PassKind",
+    "check_format",
+    "knitout_to_format",
+    "machine_formats",
+    "machine_passes",
+]
+
+#: output format -> file suffix
+FORMAT_SUFFIXES: dict[str, str] = {"knitout": ".k", "dat": ".dat"}
+#: the carriers header the Shima SWG backend (and so the .dat) requires
+_SWG_CARRIERS = tuple(str(i) for i in range(1, 11))
+
+
+def machine_formats(machine: MachineSpec) -> tuple[str, ...]:
+    """Output formats ``machine`` can take: knitout always, ``dat`` for a Shima SWG machine.
+
+    A ``.dat`` names carriers 1-10 on the SWG carrier rails, so only a machine with those
+    carriers takes one.
+    """
+    formats = ["knitout"]
+    if tuple(machine.carriers) == _SWG_CARRIERS:
+        formats.append("dat")
+    return tuple(formats)
+
+
+def check_format(machine: MachineSpec, fmt: str) -> None:
+    """Refuse (:class:`~illuknit.errors.UnknownNameError`) a format ``machine`` cannot take."""
+    from illuknit.errors import UnknownNameError
+
+    valid = machine_formats(machine)
+    if fmt not in valid:
+        raise UnknownNameError(f"output format for the {machine.name}", fmt, valid)
+
+
+def knitout_to_format(text: str, fmt: str) -> bytes:
+    """The bytes of ``text`` as a file of format ``fmt`` (``knitout`` or ``dat``).
+
+    Raises
+    ------
+    UnknownNameError
+        For a format illuknit does not write.
+    MachineRuleError, UnsupportedKnitoutError
+        When the program cannot become that machine file (see :func:`~illuknit.formats.dat.knitout_to_dat`).
+    """
+    if fmt == "knitout":
+        return text.encode("utf-8")
+    if fmt == "dat":
+        from illuknit.formats.dat import knitout_to_dat
+
+        return knitout_to_dat(text)
+    from illuknit.errors import UnknownNameError
+
+    raise UnknownNameError("output format", fmt, list(FORMAT_SUFFIXES))
