@@ -349,7 +349,10 @@ def _freeze(drafts: list[_Draft]) -> list[MachinePass]:
             travel is Direction.RIGHT and carriage is Direction.RIGHT
         )
         if move and d.hook is HookAction.RELEASE:
-            raise UnsupportedKnitoutError("a hook release would need a carriage move")
+            raise MachineRuleError(
+                "the hook would be released on a pass that starts with an empty carriage move, "
+                "which KnitPaint refuses; knit a pass away from the hook's side first"
+            )
         if travel is not Direction.NONE:
             carriage = travel
         slots = tuple(sorted(d.slots.items(), key=lambda item: item[0]))
