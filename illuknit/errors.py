@@ -40,6 +40,7 @@ __all__ = [
     "IlluknitError",
     "ImageInputError",
     "InfeasibleError",
+    "KcodeError",
     "KnitoutParseError",
     "MachineFileError",
     "MachineRuleError",
@@ -169,6 +170,32 @@ class MachineRuleError(IlluknitError, ValueError):
         self.racking = racking
         self.line = line
         super().__init__(message)
+
+
+class KcodeError(MachineRuleError):
+    """A knitout program cannot be written as Kniterate k-code (``.kc``).
+
+    Raised where the reference Kniterate backend refuses the program, and where it would write a
+    wrong file (plated carriers, slider needles, needles off its 252-needle bed); ``line`` is the
+    1-based knitout line when known.
+    """
+
+    def __init__(
+        self,
+        message: str,
+        *,
+        line: int | None = None,
+        needle: str | None = None,
+        carrier: str | None = None,
+        racking: float | None = None,
+    ) -> None:
+        super().__init__(
+            f"line {line}: {message}" if line is not None else message,
+            needle=needle,
+            carrier=carrier,
+            racking=racking,
+            line=line,
+        )
 
 
 class KnitoutParseError(IlluknitError, ValueError):

@@ -60,6 +60,7 @@ if TYPE_CHECKING:
 
 __all__ = [
     "ENTRY_POINT_GROUP",
+    "HERMAX_NAMES",
     "REGISTRY",
     "Backend",
     "BackendBase",
@@ -68,6 +69,7 @@ __all__ = [
     "Status",
     "available_backends",
     "backend_names",
+    "describe_backends",
     "get_backend",
     "register_backend",
     "resolve_backend",
@@ -76,15 +78,35 @@ __all__ = [
 
 ENTRY_POINT_GROUP = "illuknit.solvers"
 
+#: the hermax solvers (``illuknit[maxsat]``), complete then anytime; see solvers/hermax.py
+HERMAX_NAMES = (
+    "evalmaxsat",
+    "uwrmaxsat",
+    "cashwmaxsat",
+    "openwbo",
+    "cgss",
+    "wmaxcdcl",
+    "loandra",
+    "openwbo-inc",
+    "tt-openwbo-inc",
+    "nuwls-c-ibr",
+    "spb-maxsat-c-fps",
+)
+
 #: backend name -> "module:attribute" (a Backend class or factory), in preference order.
 REGISTRY: dict[str, str] = {
     "dp": "illuknit.solvers.dp:DPBackend",
     "cpsat": "illuknit.solvers.cpsat:CPSATBackend",
     "rc2": "illuknit.solvers.rc2:RC2Backend",
     "lsu": "illuknit.solvers.lsu:LSUBackend",
+    "fm": "illuknit.solvers.fm:FMBackend",
     "gradient": "illuknit.solvers.gradient:GradientBackend",
     "descent": "illuknit.solvers.descent:DescentBackend",
+    **{name: "illuknit.solvers.hermax:HermaxBackend" for name in HERMAX_NAMES},
 }
+
+#: backends that take a SAT oracle after a colon (``rc2:cd19``); the class takes it as argument
+ORACLE_BACKENDS = ("rc2", "lsu", "fm")
 
 #: pseudo-backend prefix: ``wcnf:COMMAND`` runs an external MaxSAT binary.
 EXTERNAL_PREFIX = "wcnf:"
@@ -127,13 +149,23 @@ def _lookup(name: str) -> Backend:
         return ExternalWCNFBackend(name[len(EXTERNAL_PREFIX) :])
     if name in _registered:
         return _instantiate(_registered[name])
-    if name in REGISTRY:
-        module, _, attr = REGISTRY[name].partition(":")
-        return _instantiate(getattr(importlib.import_module(module), attr))
+    base, sep, arg = name.partition(":")
+    if base in REGISTRY and (not sep or base in ORACLE_BACKENDS):
+        module, _, attr = REGISTRY[base].partition(":")
+        obj = getattr(importlib.import_module(module), attr)
+        if base in HERMAX_NAMES:
+            return obj(base)  # type: ignore[no-any-return,unused-ignore]
+        if sep:
+            return obj(arg)  # type: ignore[no-any-return,unused-ignore]
+        return _instantiate(obj)
     eps = _entry_points()
     if name in eps:
         return _instantiate(eps[name].load())
-    raise UnknownNameError("solver", name, [*backend_names(), "wcnf:COMMAND", "auto"])
+    raise UnknownNameError(
+        "solver",
+        name,
+        [*backend_names(), *(f"{b}:ORACLE" for b in ORACLE_BACKENDS), "wcnf:COMMAND", "auto"],
+    )
 
 
 def get_backend(name: str, *, check_available: bool = True) -> Backend:
@@ -164,6 +196,22 @@ def available_backends() -> list[str]:
         except Exception:  # an unimportable third-party backend is simply unavailable
             continue
     return out
+
+
+def describe_backends() -> list[dict[str, str]]:
+    """One row per known backend: name, kind (exact / anytime / heuristic), version, and
+    availability ("yes" or why not) -- what ``illuknit solve --list-solvers`` prints."""
+    rows = []
+    for n in backend_names():
+        try:
+            b = _lookup(n)
+            reason = b.unavailable_reason()
+            version = b.version() if reason is None else ""
+            kind = "exact" if b.exact else ("anytime" if n in HERMAX_NAMES else "heuristic")
+        except Exception as e:  # a broken third-party backend is listed with its error
+            reason, version, kind = f"cannot load: {e}", "", "?"
+        rows.append({"name": n, "kind": kind, "version": version, "available": reason or "yes"})
+    return rows
 
 
 def pick_backend(model: Model) -> Backend:

@@ -168,7 +168,7 @@ class RC2Backend(BackendBase):
                 Status.OPTIMAL, values, cost, float(cost), wall, stats, self.name, model.pool
             )
         try:
-            fb, _ = fallback_assignment(model)
+            fb, _ = fallback_assignment(model, budget=1.0)
         except interrupts:
             fb = None
         wall = time.perf_counter() - t0

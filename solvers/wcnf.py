@@ -169,12 +169,14 @@ class ExternalWCNFBackend(BackendBase):
             stats["message"] = f"solver printed no assignment (exit code {proc.returncode}): {tail}"
             return Solution(Status.ERROR, None, None, None, wall, stats, self.name, model.pool)
         ok, evaluated = model.evaluate(values)
+        stats["claimed_cost"] = cost
         if not ok:
             stats["message"] = "the solver's assignment violates hard constraints"
             return Solution(
                 Status.ERROR, values, evaluated, None, wall, stats, self.name, model.pool
             )
         stats["reported_cost"] = cost
+        stats["claimed_status"] = status_word or ""
         if progress:
             progress(ProgressEvent(wall, evaluated, None))
         if status_word == "OPTIMUM FOUND" and not (killed or interrupted):

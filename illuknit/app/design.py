@@ -157,6 +157,10 @@ def decode_upload(data: bytes, filename: str, *, field: str) -> NDArray[np.uint8
     return np.round(rgb * 255.0).astype(np.uint8)
 
 
+#: Modes Pillow's ``Image.reduce`` averages directly.
+_REDUCIBLE_MODES = ("L", "LA", "RGB", "RGBA", "CMYK", "I", "F")
+
+
 def _reduce(data: bytes) -> bytes:
     """A big picture reduced (area average) to MAX_WORKING_SIDE pixels on its long side.
 
@@ -171,7 +175,13 @@ def _reduce(data: bytes) -> bytes:
         if src.format == "JPEG":
             shrink = max(src.size) / MAX_WORKING_SIDE
             src.draft(src.mode, (math.ceil(src.width / shrink), math.ceil(src.height / shrink)))
-        upright = ImageOps.exif_transpose(src)
+        # Shrink by a whole factor in the picture's own mode first (one decoded copy, no
+        # converted one); palette and bilevel pictures are converted first, as reduce needs.
+        big = src if src.mode in _REDUCIBLE_MODES else src.convert("RGBA")
+        factor = max(1, int(max(big.size) // MAX_WORKING_SIDE))
+        shrunk = big.reduce(factor) if factor > 1 else big
+        del big
+        upright = ImageOps.exif_transpose(shrunk)
         has_alpha = upright.mode in ("RGBA", "LA", "PA") or "transparency" in upright.info
         small = upright.convert("RGBA" if has_alpha else "RGB")
         small.thumbnail((MAX_WORKING_SIDE, MAX_WORKING_SIDE), Image.Resampling.BOX)
@@ -245,7 +255,7 @@ def prepare_inputs(images: dict[str, Any], settings: Any) -> Prepared:
     offer to resize), a width out of range (``width_units``/``width_cm``), bad yarns (``yarns``),
     colour count issues (``n_colors``).
     """
-    from illuknit.images import quantise_image, resize_to_units, units_for_width
+    from illuknit.images import quantise_image, resize_to_units
 
     mode = settings.mode
     slots = slots_for(mode, images)
@@ -255,32 +265,8 @@ def prepare_inputs(images: dict[str, Any], settings: Any) -> Prepared:
             raise AppRequestError(f"upload {which} first", field=f"image_{slot}", code="missing")
     with blame("yarns"):
         yarns = parse_yarns(list(settings.yarns))
-    if settings.n_colors > len(yarns):
-        raise AppRequestError(
-            f"{settings.n_colors} colours need at least {settings.n_colors} yarns; add a yarn or "
-            "use fewer colours",
-            field="n_colors",
-            code="too_few_yarns",
-        )
-    if mode == "single" and settings.n_colors not in (2, 3):
-        raise AppRequestError(
-            "a single-view illusion takes a 2- or 3-colour picture", field="n_colors", code="range"
-        )
-    if settings.size_mode == "physical":
-        with blame("width_cm"):
-            width = units_for_width(width_cm=settings.width_cm, gauge=settings.gauge)
-        size_field = "width_cm"
-    else:
-        width = settings.width_units
-        size_field = "width_units"
-    from illuknit.pattern import MAX_UNITS
-
-    if width < 2 or width > MAX_UNITS:
-        raise AppRequestError(
-            f"the piece would be {width} units wide; it must be 2..{MAX_UNITS} units",
-            field=size_field,
-            code="range",
-        )
+    _check_colors(mode, settings.n_colors, len(yarns))
+    width, size_field = width_of(settings)
     notes: list[str] = []
     a = images["a"].rgb
     resized: dict[str, NDArray[np.float64]] = {}
@@ -309,11 +295,91 @@ def prepare_inputs(images: dict[str, Any], settings: Any) -> Prepared:
             field=size_field,
             code="range",
         )
+    if mode == "single":
+        q, note = _single_view_input(resized["a"], yarns, settings.n_colors)
+        return Prepared(mode=mode, yarns=yarns, quantised={"a": q}, notes=(*notes, *note))
     quantised = {}
     for slot in slots:
         with blame("n_colors"):
             quantised[slot] = quantise_image(resized[slot], n_colors=settings.n_colors, yarns=yarns)
     return Prepared(mode=mode, yarns=yarns, quantised=quantised, notes=tuple(notes))
+
+
+def _check_colors(mode: str, n_colors: int, n_yarns: int) -> None:
+    """Colour count against yarn count: what the CLI accepts, refused next to the control."""
+    if mode != "single":
+        if n_colors > n_yarns:
+            raise AppRequestError(
+                f"{n_colors} colours need at least {n_colors} yarns; add a yarn or use fewer "
+                "colours",
+                field="n_colors",
+                code="too_few_yarns",
+            )
+        return
+    if n_colors not in (2, 3):
+        raise AppRequestError(
+            "a single-view illusion shows 2 or 3 colours (the third as a mix of two yarns)",
+            field="n_colors",
+            code="range",
+        )
+    if n_yarns not in (2, 3) or n_yarns > n_colors:
+        raise AppRequestError(
+            f"a single-view illusion of {n_colors} colours is knitted with 2 yarns"
+            + (" (or 3, one per colour)" if n_colors == 3 else "")
+            + f"; remove {n_yarns - 2 if n_colors == 2 else n_yarns - 3} yarn(s)",
+            field="yarns",
+            code="range",
+        )
+
+
+def width_of(settings: Any) -> tuple[int, str]:
+    """The piece's width in units under ``settings``, and the control that sets it."""
+    from illuknit.images import units_for_width
+    from illuknit.pattern import MAX_UNITS
+
+    if settings.size_mode == "physical":
+        with blame("width_cm"):
+            width = units_for_width(width_cm=settings.width_cm, gauge=settings.gauge)
+        size_field = "width_cm"
+    else:
+        width, size_field = settings.width_units, "width_units"
+    if width < 2 or width > MAX_UNITS:
+        raise AppRequestError(
+            f"the piece would be {width} units wide; it must be 2..{MAX_UNITS} units",
+            field=size_field,
+            code="range",
+        )
+    return width, size_field
+
+
+def _single_view_input(
+    rgb: NDArray[np.float64], yarns: tuple[Yarn, ...], n_colors: int
+) -> tuple[Any, tuple[str, ...]]:
+    """The picture mapped for the single-view compiler, as ``illuknit single`` maps it.
+
+    With two yarns and three colours the middle colour is a mix: rows of the two yarns side by
+    side, which the eye blends. The legend shows it as that, in the colour of the blend.
+    """
+    from illuknit.images import QuantisedImage
+    from illuknit.single_view import prepare_single_view_image, single_view_roles
+
+    n, m = rgb.shape[:2]
+    with blame("n_colors"):
+        q = prepare_single_view_image(rgb, yarns=yarns, n_colors=n_colors, width=m, height=n)
+    mixes = [i for i, y in enumerate(q.yarns) if y not in yarns]
+    if len(yarns) != 2 or not mixes:
+        return q, ()
+    dark, light, _ = single_view_roles(yarns)
+    blend = tuple(
+        round((u + v) / 2) for u, v in zip(yarns[dark].rgb, yarns[light].rgb, strict=True)
+    )
+    name = f"mix of {yarns[dark].name} and {yarns[light].name}"
+    mapped = tuple(Yarn(name, blend) if i in mixes else y for i, y in enumerate(q.yarns))  # type: ignore[arg-type]
+    note = (
+        f"the middle colour is knitted as a mix: rows of {yarns[dark].name} and "
+        f"{yarns[light].name}, which read as their blend",
+    )
+    return QuantisedImage(q.indices, mapped, q.colors, q.counts), note
 
 
 # -- candidates --------------------------------------------------------------------------------

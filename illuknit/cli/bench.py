@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from typing import Any
+
 import click
 
 from illuknit.cli.knitout_bridge import machine_option
@@ -23,6 +25,56 @@ def _methods(spec: str) -> list[str]:
             if m not in out:
                 out.append(m)
     return out
+
+
+def _split(spec: str) -> list[str]:
+    return [x.strip() for x in spec.split(",") if x.strip()]
+
+
+def _run_solvers(instances: Any, solvers: list[str], outdir: str, **kw: Any) -> None:
+    """The solver benchmark: check the names, run the table, print the summary."""
+    from illuknit.bench.solver_table import make_tasks, run_solver_table
+    from illuknit.solvers import get_backend
+    from illuknit.solvers.warm_start import WARM_STARTS
+
+    for s in solvers:
+        get_backend(s, check_available=False)  # unknown names fail before any work
+    for ws in kw["warm_starts"]:
+        if ws not in WARM_STARTS:
+            raise UnknownNameError("warm start", ws, WARM_STARTS)
+    tasks = make_tasks(
+        instances,
+        solvers,
+        models=kw["models"],
+        warm_starts=kw["warm_starts"],
+        time_limit=kw["time_limit"],
+        memory_mb=kw["memory_mb"],
+        wcnf_files=kw["wcnf_files"],
+    )
+
+    def show(row: dict[str, Any]) -> None:
+        cost = "-" if row["verified_cost"] is None else row["verified_cost"]
+        flag = f"  FLAG: {row['flag']}" if row.get("flag") else ""
+        click.echo(
+            f"{row['instance']:24s} {row['model']:10s} {row['solver']:16s} "
+            f"{row['status']:9s} cost {cost!s:>7} {row['wall_s'] or 0:7.2f} s{flag}"
+        )
+
+    table = run_solver_table(
+        tasks,
+        outdir,
+        jobs=kw["jobs"],
+        executor=kw["executor"],
+        dask_address=kw["dask_address"],
+        on_row=show,
+    )
+    click.echo("solver          runs solved  PAR-2   flagged")
+    for entry in table.summary:
+        click.echo(
+            f"{entry['solver']:16s}{entry['runs']:4d} {entry['solved']:5d} "
+            f"{entry['par2']:7.2f}   {entry.get('flagged', '-')}"
+        )
+    click.echo(f"results in {outdir}: {', '.join(table.files)}")
 
 
 @click.command(name="bench")
@@ -67,6 +119,49 @@ def _methods(spec: str) -> list[str]:
 @click.option(
     "--force", is_flag=True, help="Re-run every cell, discarding results of another version."
 )
+@click.option(
+    "--solvers",
+    default=None,
+    metavar="LIST",
+    help="Benchmark solvers instead of design methods: comma-separated backend names "
+    "(see `illuknit solve --list-solvers`), e.g. dp,rc2,rc2:cd19,cpsat,uwrmaxsat,'wcnf:maxhs {}'. "
+    "Writes solvers.csv, traces.csv, solvers.md, cactus.png.",
+)
+@click.option(
+    "--models",
+    default="logical",
+    show_default=True,
+    help="Solver benchmark: illusion models to encode (logical, knit-aware).",
+)
+@click.option(
+    "--warm-start",
+    "warm_starts",
+    default="none",
+    show_default=True,
+    help="Solver benchmark: warm-start policies to run each solver with (none, dp, descent, auto; "
+    "comma-separated for several).",
+)
+@click.option(
+    "--memory-mb",
+    type=float,
+    default=4096.0,
+    show_default=True,
+    help="Solver benchmark: resident memory limit of one run.",
+)
+@click.option(
+    "--wcnf",
+    "wcnf_files",
+    multiple=True,
+    type=click.Path(dir_okay=False, exists=True),
+    help="Solver benchmark on this WCNF file (repeatable; instead of the bundled instances).",
+)
+@click.option(
+    "--export-wcnf",
+    type=click.Path(file_okay=False),
+    default=None,
+    help="Write the chosen instances' models as WCNF (2022+) with manifest.json into DIR, then "
+    "exit.",
+)
 @click.option("--list", "list_only", is_flag=True, help="List instances and methods, then exit.")
 @click.option("--no-progress", is_flag=True, help="No progress bar.")
 @machine_option("Knitting machine the patterns are knit on for passes and times.")
@@ -87,6 +182,12 @@ def bench(
     dask_address: str | None,
     manifest: str | None,
     force: bool,
+    solvers: str | None,
+    models: str,
+    warm_starts: str,
+    memory_mb: float,
+    wcnf_files: tuple[str, ...],
+    export_wcnf: str | None,
     list_only: bool,
     no_progress: bool,
     machine: str | None,
@@ -115,6 +216,14 @@ def bench(
         for m in METHODS.values():
             click.echo(f"  {m.name:12s} {m.description}")
         return
+    if export_wcnf is not None:
+        from illuknit.bench.wcnf_files import export_wcnf_family
+
+        mf = export_wcnf_family(
+            select_instances(man, instances), export_wcnf, models=_split(models)
+        )
+        click.echo(f"wrote {len(mf['files'])} WCNF files and manifest.json to {export_wcnf}")
+        return
     if outdir is None:
         raise click.UsageError("missing option '-o' / '--output' (the results folder)")
     if jobs < 1:
@@ -122,6 +231,21 @@ def bench(
     if time_limit is not None and not time_limit > 0:
         raise click.BadParameter(f"must be positive, got {time_limit}", param_hint="--time-limit")
     chosen = select_instances(man, instances)
+    if solvers is not None or wcnf_files:
+        _run_solvers(
+            [] if wcnf_files else chosen,
+            _split(solvers or "rc2"),
+            outdir,
+            models=_split(models),
+            warm_starts=_split(warm_starts),
+            time_limit=10.0 if time_limit is None else time_limit,
+            memory_mb=memory_mb,
+            wcnf_files=wcnf_files,
+            jobs=jobs,
+            executor=executor,
+            dask_address=dask_address,
+        )
+        return
     names = _methods(methods)
     run = run_bench(
         chosen,

@@ -40,20 +40,22 @@ def run_knit(
 
     ``machine`` is a preset name (or a spec); ``gauge``, ``machine_width`` and the other options
     override its values. A pattern wider than the bed is refused before compiling; nothing is
-    written when compilation fails.
+    written when compilation fails. ``output_format`` is ``knitout`` or a machine file the
+    machine takes (``kc`` for the Kniterate).
     """
     from dataclasses import replace
 
     from illuknit.cli.knitout_bridge import check_fits, resolve_machine
     from illuknit.formats import check_format, knitout_to_format
     from illuknit.knit import knit_pattern
+    from illuknit.knit.machine_sheet import machine_sheet
     from illuknit.outputs import atomic_write_bytes
     from illuknit.pattern import load_pattern
 
     spec = resolve_machine(machine, gauge=gauge)
+    check_format(spec, output_format)
     if machine_width is not None:
         spec = spec.with_width(machine_width)
-    check_format(spec, output_format)
     pattern = load_pattern(pattern_path)
     check_fits(spec, pattern.shape[1], hint="use a narrower pattern or a wider --machine-width")
     changes: dict[str, Any] = {}
@@ -92,7 +94,13 @@ def run_knit(
                     for f in report.findings[:20]
                 ],
             }
-    atomic_write_bytes(output, knitout_to_format(result.text, output_format))
+    sheet = machine_sheet(result, name=Path(output).name)
+    summary.update(sheet.summary)
+    if output_format in sheet.files:  # made for the sheet already (the .kc)
+        data = sheet.files[output_format].encode("utf-8")
+    else:
+        data = knitout_to_format(result.text, output_format, name=Path(output).name)
+    atomic_write_bytes(output, data)
     summary["output"] = str(output)
     summary["format"] = output_format
     return summary
@@ -187,11 +195,11 @@ def run_knit(
 @click.option(
     "--format",
     "output_format",
-    type=click.Choice(["knitout", "dat"]),
+    type=click.Choice(["knitout", "dat", "kc"]),
     default="knitout",
     show_default=True,
-    help="What -o holds: the knitout program, or the Shima .dat made from it (dat; Shima "
-    "machines only).",
+    help="What -o holds: knitout, a Shima .dat (dat; Shima machines) or the Kniterate's "
+    "k-code (kc, with --machine kniterate).",
 )
 @click.option("--no-check", is_flag=True, help="Skip the knitout checker.")
 @click.option("--json", "as_json", is_flag=True, help="Print the summary as JSON.")
@@ -275,6 +283,7 @@ def knit(
         click.echo(
             f"estimated knitting time: {s['time']} (+{s['hook_passes']} hook passes counted)"
         )
+        _echo_machine_sheet(s)
         chk = s.get("check", False)
         if chk is None:
             click.echo("check: checker not available in this install")
@@ -287,3 +296,13 @@ def knit(
     chk = summary.get("check")
     if chk and chk["errors"]:
         raise click.exceptions.Exit(1)
+
+
+def _echo_machine_sheet(s: dict[str, Any]) -> None:
+    """What the machine knitter sets up: cones on carriers, stitch numbers, needles, time."""
+    click.echo(f"on the {s['machine']}: {s['machine_passes']} passes, about {s['machine_time']}")
+    for row in s["carrier_table"]:
+        click.echo(f"  carrier {row['carrier']}: {row['yarn']} ({row['role']})")
+    numbers = ", ".join(map(str, s["stitch_numbers"])) or "machine default"
+    lo, hi = s["needle_range"]
+    click.echo(f"  stitch numbers: {numbers}; needles {lo}..{hi}")

@@ -62,12 +62,12 @@ def format_option() -> Callable[[Callable[..., Any]], Callable[..., Any]]:
     return click.option(
         "--format",
         "machine_files",
-        type=click.Choice(["knitout", "dat"]),
+        type=click.Choice(["knitout", "dat", "kc"]),
         multiple=True,
         expose_value=False,
         callback=remember,
         help="With --knitout: also write the program as this machine file beside program.k "
-        "(dat: program.dat for Shima machines). Repeatable.",
+        "(dat: program.dat for Shima machines, kc: program.kc for the Kniterate). Repeatable.",
     )
 
 
@@ -145,7 +145,8 @@ def write_program(
     console().print(f"check: {report.to_text(name='program.k').splitlines()[0]}")
     files = {
         f"program_{fmt}": atomic_write_bytes(
-            outdir / f"program{FORMAT_SUFFIXES[fmt]}", knitout_to_format(result.program, fmt)
+            outdir / f"program{FORMAT_SUFFIXES[fmt]}",
+            knitout_to_format(result.program, fmt, name=f"program{FORMAT_SUFFIXES[fmt]}"),
         )
         for fmt in formats
         if fmt != "knitout"

@@ -318,6 +318,30 @@ def _print_report(report: dict[str, Any], written: dict[str, Path], outdir: Path
         c.print(f"wrote {len(written)} files{f' to [bold]{outdir}[/]' if outdir else ''}: {names}")
 
 
+def _list_solvers(ctx: click.Context, _param: click.Parameter, value: bool) -> None:
+    """Print every backend with its kind, version and availability, then exit."""
+    if not value or ctx.resilient_parsing:
+        return
+    from rich.table import Table
+
+    from illuknit.cli.summary import console
+    from illuknit.solvers import ORACLE_BACKENDS, describe_backends
+
+    t = Table(show_header=True, header_style="bold")
+    for col in ("solver", "kind", "version", "available"):
+        t.add_column(col)
+    for row in describe_backends():
+        t.add_row(row["name"], row["kind"], row["version"], row["available"])
+    c = console()
+    c.print(t)
+    c.print(
+        f"Also: {', '.join(f'{b}:ORACLE' for b in ORACLE_BACKENDS)} (a python-sat SAT oracle, "
+        "e.g. rc2:cd19) and wcnf:COMMAND (any MaxSAT Evaluation solver binary; {} is the WCNF "
+        "path). Missing ones: pip install 'illuknit\\[maxsat]'."
+    )
+    ctx.exit(0)
+
+
 @click.command("solve")
 @click.argument("image_a", type=click.Path(dir_okay=False, path_type=Path), required=False)
 @click.argument("image_b", type=click.Path(dir_okay=False, path_type=Path), required=False)
@@ -326,8 +350,17 @@ def _print_report(report: dict[str, Any], written: dict[str, Path], outdir: Path
     default="auto",
     show_default=True,
     metavar="NAME",
-    help="Backend: dp, cpsat, rc2, lsu, descent, gradient, wcnf:COMMAND (an external MaxSAT "
+    help="Backend: dp, cpsat, rc2[:ORACLE], lsu[:ORACLE], fm, the hermax solvers (uwrmaxsat, "
+    "evalmaxsat, ...; see --list-solvers), descent, gradient, wcnf:COMMAND (an external MaxSAT "
     "binary; {} is the WCNF path), or auto (the exact DP when it applies, else CP-SAT).",
+)
+@click.option(
+    "--list-solvers",
+    is_flag=True,
+    expose_value=False,
+    is_eager=True,
+    callback=_list_solvers,
+    help="List every solver backend with its version and availability, then exit.",
 )
 @click.option(
     "--warm-start",

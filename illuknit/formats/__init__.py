@@ -30,21 +30,12 @@ __all__ = [
 ]
 
 #: output format -> file suffix
-FORMAT_SUFFIXES: dict[str, str] = {"knitout": ".k", "dat": ".dat"}
-#: the carriers header the Shima SWG backend (and so the .dat) requires
-_SWG_CARRIERS = tuple(str(i) for i in range(1, 11))
+FORMAT_SUFFIXES: dict[str, str] = {"knitout": ".k", "dat": ".dat", "kc": ".kc"}
 
 
 def machine_formats(machine: MachineSpec) -> tuple[str, ...]:
-    """Output formats ``machine`` can take: knitout always, ``dat`` for a Shima SWG machine.
-
-    A ``.dat`` names carriers 1-10 on the SWG carrier rails, so only a machine with those
-    carriers takes one.
-    """
-    formats = ["knitout"]
-    if tuple(machine.carriers) == _SWG_CARRIERS:
-        formats.append("dat")
-    return tuple(formats)
+    """Output formats ``machine`` can take: knitout, then its machine files (``machine.formats``)."""
+    return ("knitout", *machine.formats)
 
 
 def check_format(machine: MachineSpec, fmt: str) -> None:
@@ -56,15 +47,18 @@ def check_format(machine: MachineSpec, fmt: str) -> None:
         raise UnknownNameError(f"output format for the {machine.name}", fmt, valid)
 
 
-def knitout_to_format(text: str, fmt: str) -> bytes:
-    """The bytes of ``text`` as a file of format ``fmt`` (``knitout`` or ``dat``).
+def knitout_to_format(text: str, fmt: str, *, name: str = "program") -> bytes:
+    """The bytes of ``text`` as a file of format ``fmt`` (``knitout``, ``dat`` or ``kc``).
+
+    ``name`` is the file name a ``.kc`` records in its comment line.
 
     Raises
     ------
     UnknownNameError
         For a format illuknit does not write.
     MachineRuleError, UnsupportedKnitoutError
-        When the program cannot become that machine file (see :func:`~illuknit.formats.dat.knitout_to_dat`).
+        When the program cannot become that machine file (see
+        :func:`~illuknit.formats.dat.knitout_to_dat`).
     """
     if fmt == "knitout":
         return text.encode("utf-8")
@@ -72,6 +66,10 @@ def knitout_to_format(text: str, fmt: str) -> bytes:
         from illuknit.formats.dat import knitout_to_dat
 
         return knitout_to_dat(text)
+    if fmt == "kc":
+        from illuknit.formats.kc import knitout_to_kc
+
+        return knitout_to_kc(text, name=name).encode("utf-8")
     from illuknit.errors import UnknownNameError
 
     raise UnknownNameError("output format", fmt, list(FORMAT_SUFFIXES))

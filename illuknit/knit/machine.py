@@ -19,6 +19,14 @@ Presets (:data:`MACHINES`, looked up with :func:`get_machine`; ``--machine NAME`
     for this machine by the CMU Textiles Lab declare ``;;Width: 250``, consistent with it. Pieces
     wider than 247 stitches (123 units) do not fit this bed.
 
+``kniterate``
+    The Kniterate: 252 needles at 7 gauge (the bed ``knitout-to-kcode.js`` assumes), six carriers
+    (``;;Carriers: 1 2 3 4 5 6`` exactly), racking within +/-4, no yarn-inserting hook: yarns come
+    in with ``in`` from the edge and the piece starts on a waste section and draw thread
+    (:mod:`illuknit.knit.hookless`). Carrier 1 holds the draw thread and 6 the waste yarn, a common
+    convention, leaving 2-5 for the pattern. Stitch numbers run 0-9/A-Z (``x-stitch-number``); 6
+    is the waste section's default. Its machine file is the ``.kc`` (:mod:`illuknit.formats.kc`).
+
 A program's own headers name its machine: :func:`machine_from_headers` maps ``;;Machine``,
 ``;;Width``, ``;;Gauge`` and ``;;Carriers`` back to a spec (the checker's default).
 """
@@ -33,6 +41,7 @@ from illuknit.errors import OptionError, SchedulingError, UnknownNameError
 __all__ = [
     "DEFAULT_MACHINE",
     "DEFAULT_MACHINE_NAME",
+    "KNITERATE",
     "MACHINES",
     "MachineSpec",
     "get_machine",
@@ -79,6 +88,15 @@ class MachineSpec:
         Course height divided by stitch width, used to estimate the piece's physical height.
     description : str
         One line for people choosing a machine (the app's selector, ``--help``).
+    inserting_hook : bool
+        Whether yarns can come in on a yarn-inserting hook (``inhook``/``releasehook``/
+        ``outhook``). Without one (the Kniterate) every yarn enters with ``in`` from the edge and
+        the piece starts on a waste section.
+    waste_carrier, draw_carrier : str or None
+        Carriers reserved for the waste yarn and the draw thread of the waste section (machines
+        without an inserting hook); they are not free for the pattern's colours.
+    formats : tuple of str
+        Machine files illuknit can write for this machine besides knitout (``"dat"``, ``"kc"``).
 
     Examples
     --------
@@ -104,6 +122,10 @@ class MachineSpec:
     seconds_per_turn: float = 1.5
     course_aspect: float = 0.7
     description: str = ""
+    inserting_hook: bool = True
+    waste_carrier: str | None = None
+    draw_carrier: str | None = None
+    formats: tuple[str, ...] = ("dat",)
 
     def __post_init__(self) -> None:
         def positive(name: str, value: float, *, integer: bool = False) -> None:
@@ -126,6 +148,10 @@ class MachineSpec:
         if any(not c or any(ch.isspace() for ch in c) for c in carriers):
             raise OptionError("carrier names must be non-empty and contain no spaces")
         object.__setattr__(self, "carriers", carriers)
+        for name in ("waste_carrier", "draw_carrier"):
+            c = getattr(self, name)
+            if c is not None and c not in carriers:
+                raise OptionError(f"`{name}` {c!r} is not one of the carriers")
         if self.position not in _POSITIONS:
             raise OptionError(
                 f"`position` must be one of {', '.join(_POSITIONS)}, got {self.position!r}"
@@ -157,6 +183,12 @@ class MachineSpec:
         if self.cast_on_stitch_number is not None:
             return self.cast_on_stitch_number
         return self.stitch_number
+
+    @property
+    def pattern_carriers(self) -> tuple[str, ...]:
+        """Carriers free for the pattern's yarns: all but the waste-yarn and draw-thread ones."""
+        reserved = {self.waste_carrier, self.draw_carrier}
+        return tuple(c for c in self.carriers if c not in reserved)
 
     @property
     def max_units(self) -> int:
@@ -205,6 +237,19 @@ MACHINES: dict[str, MachineSpec] = {
         needles=252,
         description="7-gauge Shima SWG091N2 with its physical 36-inch bed (252 needles)",
     ),
+    "kniterate": MachineSpec(
+        name="Kniterate",
+        needles=252,
+        gauge=7.0,
+        carriers=("1", "2", "3", "4", "5", "6"),
+        max_racking=4,
+        stitch_number=6,
+        inserting_hook=False,
+        waste_carrier="6",
+        draw_carrier="1",
+        formats=("kc",),
+        description="Kniterate, 252 needles, 6 carriers (1 draw thread, 6 waste, 2-5 pattern)",
+    ),
 }
 
 #: Preset used when no machine is named (the bed the reference tools assume).
@@ -212,6 +257,9 @@ DEFAULT_MACHINE_NAME = "generic540"
 
 #: The paper's machine: a 7-gauge Shima SWG091N2 (540 needles as the reference tools model it).
 DEFAULT_MACHINE = MACHINES[DEFAULT_MACHINE_NAME]
+
+#: The Kniterate preset.
+KNITERATE = MACHINES["kniterate"]
 
 
 def machine_names() -> list[str]:

@@ -7,7 +7,7 @@ that want a verdict pass the returned text to it.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 from illuknit.errors import PatternValidationError
@@ -122,7 +122,14 @@ def knit_pattern(
             f"`pattern` must be a LogicalPattern, got {type(pattern).__name__}"
         )
     m = DEFAULT_MACHINE if machine is None else machine
-    stitches = lower_to_stitches(pattern, machine=m, cast_on_courses=cast_on_courses)
+    # Without an inserting hook, the waste yarn and draw thread hold carriers of their own: the
+    # scheduler plans with the others only (and refuses a plan that needs more).
+    plan_machine = (
+        m
+        if m.inserting_hook
+        else replace(m, carriers=m.pattern_carriers, waste_carrier=None, draw_carrier=None)
+    )
+    stitches = lower_to_stitches(pattern, machine=plan_machine, cast_on_courses=cast_on_courses)
     from illuknit.knit.mixed import schedule_mixed, validate_ablation
 
     validate_ablation(
@@ -131,7 +138,7 @@ def knit_pattern(
     if stitches.mixed_courses().size:
         schedule = schedule_mixed(
             stitches,
-            machine=m,
+            machine=plan_machine,
             float_avoidance=float_avoidance,
             catching=catching,
             path_planning=path_planning,
@@ -139,6 +146,12 @@ def knit_pattern(
             catch_every=catch_every,
         )
     else:
-        schedule = schedule_courses(stitches, machine=m)
-    text = write_knitout(schedule, machine=m)
+        schedule = schedule_courses(stitches, machine=plan_machine)
+    if m.inserting_hook:
+        text = write_knitout(schedule, machine=m)
+    else:
+        from illuknit.knit.hookless import lower_hookless, write_hookless_knitout
+
+        text = write_hookless_knitout(schedule, machine=m)
+        schedule = lower_hookless(schedule, machine=m)
     return KnitResult(text, stitches, schedule, schedule.stats, estimate_knit_time(schedule), m)

@@ -370,9 +370,62 @@ def test_mismatched_sizes_offer_resize(client):
 def test_more_colors_than_yarns_points_at_n_colors(client):
     sid = new_session(client)
     upload(client, sid, "a", box_picture())
-    client.put(f"/api/sessions/{sid}/settings", json={"mode": "single", "n_colors": 3})
+    upload(client, sid, "b", box_picture(top=2))
+    client.put(f"/api/sessions/{sid}/settings", json={"mode": "double", "n_colors": 3})
     r = client.get(f"/api/sessions/{sid}/inputs")
     assert r.status_code == 422 and error_of(r)["field"] == "n_colors"
+
+
+def three_tone(h: int = 24, w: int = 36) -> bytes:
+    """Dark, middle and light bands: a 3-colour picture."""
+    rgb = np.zeros((h, w, 3), np.uint8)
+    rgb[: h // 3] = DARK
+    rgb[h // 3 : 2 * h // 3] = (150, 110, 60)
+    rgb[2 * h // 3 :] = LIGHT
+    return png(rgb)
+
+
+def test_single_view_three_colors_with_two_yarns_knits_a_mix(client):
+    """What `illuknit single` accepts: 3 colours, 2 yarns, the middle colour a mix of both."""
+    sid = new_session(client)
+    upload(client, sid, "a", three_tone())
+    yarns = ["#1b1b1b", "#f4f0e8"]
+    client.put(
+        f"/api/sessions/{sid}/settings",
+        json={"mode": "single", "n_colors": 3, "yarns": yarns, "width_units": 18},
+    )
+    r = client.get(f"/api/sessions/{sid}/inputs")
+    assert r.status_code == 200, r.text
+    legend = r.json()["legend"]["a"]
+    assert len(legend) == 3
+    # the legend shows what is knitted: the two yarns, and a mix named by both in their blend
+    assert [e["yarn"] for e in legend] == ["black", "mix of black and linen", "linen"]
+    mix = legend[1]
+    assert mix["yarn_color"] == "#888682"  # the blend of the two yarns, not the picture's brown
+    assert {e["yarn_color"] for e in legend} - {mix["yarn_color"]} == set(yarns)
+    assert any("mix" in n for n in r.json()["notes"])
+    assert run_job(client, sid, "candidates")["status"] == "done"
+    doc = client.get(f"/api/sessions/{sid}/download/pattern.json").json()
+    assert [y["rgb"] for y in doc["yarns"]] == yarns  # only the two yarns are knitted
+
+
+@pytest.mark.parametrize(
+    ("n_colors", "yarns", "field"),
+    [
+        (2, ["#000000", "#777777", "#ffffff"], "yarns"),
+        (3, ["#000000", "#555555", "#aaaaaa", "#ffffff"], "yarns"),
+    ],
+)
+def test_single_view_refuses_extra_yarns_next_to_the_yarns(client, n_colors, yarns, field):
+    sid = new_session(client)
+    upload(client, sid, "a", three_tone())
+    client.put(
+        f"/api/sessions/{sid}/settings",
+        json={"mode": "single", "n_colors": n_colors, "yarns": yarns},
+    )
+    r = client.get(f"/api/sessions/{sid}/inputs")
+    assert r.status_code == 422 and error_of(r)["field"] == field
+    assert "knitted with 2 yarns" in error_of(r)["message"]
 
 
 def test_single_view_four_colors_is_refused(client):

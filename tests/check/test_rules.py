@@ -112,7 +112,7 @@ def test_header_findings() -> None:
     assert (2, "header-value") in hits(check_knitout(";!knitout-2\n;;Width: wide\n"))
     assert (2, "header-value") in hits(check_knitout(";!knitout-2\n;;Gauge: -3\n"))
     assert (2, "header-value") in hits(check_knitout(";!knitout-2\n;;Position: Middle\n"))
-    assert (2, "header-machine") in hits(check_knitout(";!knitout-2\n;;Machine: Kniterate\n"))
+    assert (2, "header-machine") in hits(check_knitout(";!knitout-2\n;;Machine: Stoll\n"))
     assert (1, "header-version") in hits(check_knitout(";!knitout-3\n"))
     assert (4, "tab-separator") in hits(check_knitout(HEAD + "in 3\nrack\t1\n"))
     assert (1, "crlf") in hits(check_knitout(HEAD.replace("\n", "\r\n")))

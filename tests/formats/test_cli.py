@@ -61,6 +61,25 @@ def test_knit_refuses_unknown_format_with_nothing_written(pattern_file, tmp_path
     assert not (tmp_path / "a.gif").exists()
 
 
+def test_kniterate_cannot_take_a_dat(pattern_file, tmp_path, capsys):
+    out = tmp_path / "a.dat"
+    args = ["knit", pattern_file, "--machine", "kniterate", "--format", "dat", "-o", out]
+    code, _, err = run(args, capsys)
+    assert code == 2 and err.count("\n") == 1 and "valid: knitout, kc" in err
+    assert not out.exists()
+
+
+def test_knit_summary_counts_the_machines_passes(pattern_file, tmp_path, capsys):
+    code, out, err = run(["knit", pattern_file, "--json", "-o", tmp_path / "a.k"], capsys)
+    assert code == 0, err
+    import json
+
+    from illuknit.formats import machine_passes
+
+    summary = json.loads(out)
+    assert summary["machine_passes"] == len(machine_passes((tmp_path / "a.k").read_text()))
+
+
 @pytest.fixture
 def picture(tmp_path):
     rgb = np.full((12, 12, 3), 240, np.uint8)

@@ -18,11 +18,13 @@ def test_shima_presets_take_dat(name):
     check_format(MACHINES[name], "dat")
 
 
-def test_a_machine_without_the_swg_carriers_refuses_dat():
-    six = MachineSpec(carriers=("1", "2", "3", "4", "5", "6"))
-    assert machine_formats(six) == ("knitout",)
-    with pytest.raises(UnknownNameError, match="valid: knitout"):
-        check_format(six, "dat")
+def test_the_kniterate_refuses_dat():
+    kniterate = MACHINES["kniterate"]
+    assert machine_formats(kniterate) == ("knitout", "kc")
+    with pytest.raises(UnknownNameError, match="valid: knitout, kc"):
+        check_format(kniterate, "dat")
+    with pytest.raises(UnknownNameError, match="valid: knitout, dat"):
+        check_format(MachineSpec(), "kc")
 
 
 def test_knitout_to_format():

@@ -218,3 +218,16 @@ def test_yarn_index_outside_the_palette_in_a_pattern_target(tmp_path):
 
     with pytest.raises(ImageInputError, match="outside the palette of 2"):
         make_problem(np.zeros((2, 2), int), np.array([[0, 1], [2, 0]]), n_yarns=2)
+
+
+def test_list_solvers_prints_every_backend(capsys):
+    from illuknit.solvers import backend_names
+
+    try:
+        main(["solve", "--list-solvers"])
+    except SystemExit as e:  # standalone click exits; main() may return normally
+        assert e.code in (0, None)
+    out = capsys.readouterr().out
+    for name in backend_names():
+        assert name in out
+    assert "rc2:ORACLE" in out and "wcnf:COMMAND" in out

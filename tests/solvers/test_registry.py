@@ -122,3 +122,26 @@ def test_solution_reads_values_through_the_pool():
     assert sol.summary()["status"] == "optimal"
     with pytest.raises(KeyError):
         sol.value("nope")
+
+
+def test_sat_oracles_are_chosen_by_name():
+    from illuknit.illusion_models import build_model, make_problem
+
+    model = build_model(make_problem(np.eye(4, dtype=int), np.ones((4, 4), int)))
+    want = solve(model, solver="dp").objective
+    for name in ("rc2:cd19", "lsu:g3", "fm:g4"):
+        sol = solve(model, solver=name)
+        assert sol.backend == name and sol.status is Status.OPTIMAL and sol.objective == want
+    with pytest.raises(UnknownNameError, match="SAT oracle"):
+        get_backend("rc2:nosuch")
+    with pytest.raises(UnknownNameError, match="rc2:ORACLE"):
+        get_backend("cpsat:g3")
+
+
+def test_every_backend_is_described_with_version_and_availability():
+    rows = {r["name"]: r for r in reg.describe_backends()}
+    assert set(reg.backend_names()) <= set(rows)
+    assert rows["rc2"]["available"] == "yes" and rows["rc2"]["version"].startswith("python-sat")
+    assert rows["descent"]["kind"] == "heuristic"
+    for name in reg.HERMAX_NAMES:
+        assert rows[name]["available"] == "yes" or "illuknit[maxsat]" in rows[name]["available"]

@@ -777,7 +777,8 @@ function wire() {
     if (!name) return;
     const yarns = state.info.presets[name];
     const change = { yarns };
-    if (state.settings.n_colors > yarns.length) change.n_colors = yarns.length;
+    // a single view shows a third colour as a mix of two yarns; other modes need a yarn per colour
+    if (state.settings.mode !== "single" && state.settings.n_colors > yarns.length) change.n_colors = yarns.length;
     saveSettings(change);
   });
   $("#add-yarn").addEventListener("click", () => {

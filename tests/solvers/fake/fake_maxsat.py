@@ -8,7 +8,9 @@ illuknit's writer), brute-forces the optimum when there are at most 16 variables
 asks pysat's RC2, then prints ``o``/``s``/``v`` lines. ``--old-v`` prints literal-list ``v`` lines
 instead of the binary string; ``--sleep`` waits first (printing an incumbent ``o``/``v`` and
 ``s SATISFIABLE`` if terminated meanwhile); ``--lie`` prints an all-false assignment claimed
-optimal; ``--garbage`` prints an unparseable ``v`` line.
+optimal; ``--lie-feasible`` prints the first model of the hard clauses alone (feasible, rarely
+optimal) with a false ``o 0`` and ``s OPTIMUM FOUND``; ``--garbage`` prints an unparseable ``v``
+line.
 """
 
 from __future__ import annotations
@@ -98,6 +100,20 @@ def main(argv: list[str]) -> int:
         print("o 0")
         print("s OPTIMUM FOUND")
         emit({i: False for i in range(1, nv + 1)}, nv, old)
+        return 30
+    if "--lie-feasible" in argv:
+        from pysat.solvers import Solver
+
+        with Solver(name="m22", bootstrap_with=hard) as s:
+            s.solve()
+            m = s.get_model() or []
+        a = {i: False for i in range(1, nv + 1)}
+        for x in m:
+            if abs(x) <= nv:
+                a[abs(x)] = x > 0
+        print("o 0")
+        print("s OPTIMUM FOUND")
+        emit(a, nv, old)
         return 30
     if "--sleep" in argv:
         delay = float(argv[argv.index("--sleep") + 1])

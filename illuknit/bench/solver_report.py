@@ -1,0 +1,215 @@
+"""Summaries of the solver rows: solved counts, PAR-2, the MaxSAT Evaluation anytime score, the
+virtual best solver, and the cactus and cost-over-time plots.
+
+* **solved** -- runs with status ``optimal`` whose claim survived verification (no ``flag``).
+* **PAR-2** -- penalised average runtime: the mean over a solver's runs of its time to prove
+  optimality, an unsolved run counted as twice its time limit.
+* **anytime score at t** -- the MaxSAT Evaluation's incomplete-track score: per run
+  ``(best known cost + 1) / (cost at t + 1)``, 0 without a verified solution by t (or with a
+  flag), averaged over the solver's runs. The best known cost of an (instance, model) is the
+  least verified cost of any run, or the DP optimum. The cost at t is the verified cost once the
+  run's best was found; before that, the last cost its trace reported (the solver's claim --
+  intermediate assignments are not kept, so only the final one is verified).
+* **virtual best solver** -- per (instance, model) the fastest unflagged proof of any solver.
+"""
+
+from __future__ import annotations
+
+from collections import defaultdict
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+__all__ = ["ANYTIME_TIMES", "cost_at", "solver_summary", "summary_markdown", "write_plots"]
+
+#: Seconds at which the anytime score is taken (those above a run's time limit use the limit).
+ANYTIME_TIMES = (1.0, 10.0, 60.0)
+
+
+def _label(r: dict[str, Any]) -> str:
+    ws = r.get("warm_start") or "none"
+    return r["solver"] if ws == "none" else f"{r['solver']} (+{ws})"
+
+
+def _solved(r: dict[str, Any]) -> bool:
+    return r.get("status") == "optimal" and not r.get("flag") and r.get("time_prove") is not None
+
+
+def cost_at(r: dict[str, Any], trace: Sequence[tuple[float, Any, Any]], t: float) -> float | None:
+    """The run's cost at ``t`` seconds (see the module docstring), or None."""
+    if r.get("flag") or r.get("verified_cost") is None:
+        return None
+    if r.get("time_best") is not None and float(r["time_best"]) <= t:
+        return float(r["verified_cost"])
+    seen = [float(o) for s, o, _ in trace if o is not None and s <= t]
+    return min(seen) if seen else None
+
+
+def _best_known(rows: Sequence[dict[str, Any]]) -> dict[tuple[str, str], float]:
+    best: dict[tuple[str, str], float] = {}
+    for r in rows:
+        key = (r["instance"], r["model"])
+        for v in (r.get("reference_optimum"), None if r.get("flag") else r.get("verified_cost")):
+            if v is not None:
+                best[key] = min(best.get(key, float(v)), float(v))
+    return best
+
+
+def solver_summary(
+    rows: Sequence[dict[str, Any]], traces: dict[tuple[str, ...], list[Any]]
+) -> list[dict[str, Any]]:
+    """One summary row per solver label plus the virtual best solver (see the module docstring).
+
+    ``traces`` maps (instance, model, solver, warm_start) to that run's trace.
+    """
+    best = _best_known(rows)
+    groups: dict[str, list[dict[str, Any]]] = defaultdict(list)
+    for r in rows:
+        groups[_label(r)].append(r)
+    out = []
+    for label, rs in groups.items():
+        par2 = [float(r["time_prove"]) if _solved(r) else 2 * float(r["time_limit"]) for r in rs]
+        entry: dict[str, Any] = {
+            "solver": label,
+            "runs": len(rs),
+            "solved": sum(_solved(r) for r in rs),
+            "with_solution": sum(r.get("verified_cost") is not None for r in rs),
+            "flagged": sum(bool(r.get("flag")) for r in rs),
+            "errors": sum(r.get("status") == "error" for r in rs),
+            "par2": round(sum(par2) / len(par2), 3),
+        }
+        for t in ANYTIME_TIMES:
+            scores = []
+            for r in rs:
+                key = (r["instance"], r["model"], r["solver"], r.get("warm_start") or "none")
+                c = cost_at(r, traces.get(key, []), min(t, float(r["time_limit"])))
+                b = best.get((r["instance"], r["model"]))
+                scores.append(0.0 if c is None or b is None else (b + 1) / (c + 1))
+            entry[f"score@{t:g}s"] = round(sum(scores) / len(scores), 4)
+        out.append(entry)
+    out.sort(key=lambda e: (-e["solved"], e["par2"]))
+    out.append(_virtual_best(rows))
+    return out
+
+
+def _virtual_best(rows: Sequence[dict[str, Any]]) -> dict[str, Any]:
+    per: dict[tuple[str, str], list[dict[str, Any]]] = defaultdict(list)
+    for r in rows:
+        per[(r["instance"], r["model"])].append(r)
+    par2 = []
+    solved = 0
+    for rs in per.values():
+        times = [float(r["time_prove"]) for r in rs if _solved(r)]
+        limit = max(float(r["time_limit"]) for r in rs)
+        if times:
+            solved += 1
+            par2.append(min(times))
+        else:
+            par2.append(2 * limit)
+    return {
+        "solver": "virtual best",
+        "runs": len(per),
+        "solved": solved,
+        "par2": round(sum(par2) / max(1, len(par2)), 3),
+    }
+
+
+def _cell(v: Any) -> str:
+    if v is None or v == "":
+        return "-"
+    if isinstance(v, float):
+        return f"{v:.3g}" if abs(v) < 1000 else f"{v:.0f}"
+    return str(v)
+
+
+def summary_markdown(rows: Sequence[dict[str, Any]], summary: Sequence[dict[str, Any]]) -> str:
+    """solvers.md: the summary table, the flagged runs, then every row."""
+    lines = ["# Solver benchmark", ""]
+    keys = [k for k in summary[0] if k != "solver"] if summary else []
+    all_keys = list(dict.fromkeys(k for s in summary for k in s if k != "solver"))
+    keys = all_keys or keys
+    lines.append("| solver | " + " | ".join(keys) + " |")
+    lines.append("|---" * (len(keys) + 1) + "|")
+    for s in summary:
+        lines.append(f"| {s['solver']} | " + " | ".join(_cell(s.get(k)) for k in keys) + " |")
+    flagged = [r for r in rows if r.get("flag")]
+    lines += ["", f"## Flagged runs ({len(flagged)})", ""]
+    lines += [f"- {r['instance']} / {r['model']} / {_label(r)}: {r['flag']}" for r in flagged]
+    if not flagged:
+        lines.append("none: every claimed optimum and cost was confirmed")
+    cols = [
+        "instance",
+        "model",
+        "solver",
+        "warm_start",
+        "status",
+        "verified_cost",
+        "claimed_cost",
+        "bound",
+        "gap",
+        "time_first",
+        "time_best",
+        "time_prove",
+        "peak_rss_mb",
+        "found_by",
+    ]
+    lines += ["", "## Runs", "", "| " + " | ".join(cols) + " |", "|---" * len(cols) + "|"]
+    lines += ["| " + " | ".join(_cell(r.get(c)) for c in cols) + " |" for r in rows]
+    return "\n".join(lines) + "\n"
+
+
+def write_plots(
+    rows: Sequence[dict[str, Any]], traces: dict[tuple[str, ...], list[Any]], outdir: Path
+) -> list[str]:
+    """cactus.png and cost_<instance>_<model>.png (needs matplotlib; [] without it)."""
+    import importlib.util
+
+    if importlib.util.find_spec("matplotlib") is None:
+        return []
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    written = []
+    groups: dict[str, list[float]] = defaultdict(list)
+    for r in rows:
+        groups.setdefault(_label(r), [])
+        if _solved(r):
+            groups[_label(r)].append(float(r["time_prove"]))
+    fig, ax = plt.subplots(figsize=(6, 4))
+    for label, times in sorted(groups.items()):
+        ts = sorted(times)
+        ax.step(range(1, len(ts) + 1), ts, where="post", label=label, marker=".")
+    ax.set_xlabel("instances solved (proven optimal, verified)")
+    ax.set_ylabel("time to prove (s)")
+    ax.set_yscale("log")
+    ax.set_title("cactus plot")
+    ax.legend(fontsize=6, ncol=2)
+    fig.tight_layout()
+    fig.savefig(outdir / "cactus.png", dpi=120)
+    plt.close(fig)
+    written.append("cactus.png")
+    per: dict[tuple[str, str], list[dict[str, Any]]] = defaultdict(list)
+    for r in rows:
+        per[(r["instance"], r["model"])].append(r)
+    for (inst, model), rs in per.items():
+        fig, ax = plt.subplots(figsize=(6, 4))
+        for r in rs:
+            key = (r["instance"], r["model"], r["solver"], r.get("warm_start") or "none")
+            pts = [(s, float(o)) for s, o, _ in traces.get(key, []) if o is not None]
+            if r.get("verified_cost") is not None and r.get("time_best") is not None:
+                pts.append((float(r["time_best"]), float(r["verified_cost"])))
+            if pts:
+                pts.sort()
+                ax.step([p[0] for p in pts], [p[1] for p in pts], where="post", label=_label(r))
+        ax.set_xlabel("seconds")
+        ax.set_ylabel("cost")
+        ax.set_title(f"{inst} ({model}): cost over time")
+        ax.legend(fontsize=6, ncol=2)
+        fig.tight_layout()
+        name = f"cost_{inst}_{model}.png".replace("/", "_")
+        fig.savefig(outdir / name, dpi=120)
+        plt.close(fig)
+        written.append(name)
+    return written

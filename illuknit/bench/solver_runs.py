@@ -1,0 +1,290 @@
+"""Solver rows of the benchmark: one (instance, model, solver, warm start) run each, isolated
+and verified.
+
+A run builds the model in the parent, then solves it in a forked child
+(:func:`illuknit.solvers.isolate.run_in_child`) with the time and memory limits the parent
+enforces, through the one orchestration :func:`illuknit.solvers.solve`. The child gets its own
+copy of everything (python-sat's RC2 rewrites the formula it is handed), and a crash, a hang or
+a silent exit is one row with status ``error``/``timeout`` and the reason.
+
+The parent then checks the answer against **its own copy** of the model: the assignment must
+satisfy every hard clause (else status ``error``, reason "violates hard clauses"), and the cost
+is recomputed (``verified_cost``) independently of what the solver claimed (``claimed_cost``:
+its ``o`` line, IPAMIR cost, or own objective). A claimed optimum is flagged (``flag``) when its
+verified cost is above the DP's optimum (exact on the logical and single-view models), when the
+claimed cost differs from the verified one, or -- across rows, see :func:`flag_rows` -- when
+another run verified a cheaper assignment or a bound is above a verified cost.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from illuknit.bench.instances import Instance, instance_targets
+from illuknit.errors import IlluknitError
+from illuknit.model import Model
+from illuknit.solvers.base import ProgressEvent, Status
+from illuknit.solvers.isolate import run_in_child
+
+__all__ = [
+    "ROW_FIELDS",
+    "TRACE_FIELDS",
+    "SolverTask",
+    "build_task_model",
+    "flag_rows",
+    "run_solver_task",
+]
+
+#: Columns of solvers.csv, in order (docs/solvers-bench.md explains each).
+ROW_FIELDS = (
+    "instance",
+    "model",
+    "rows",
+    "cols",
+    "variables",
+    "soft_clauses",
+    "solver",
+    "oracle",
+    "version",
+    "warm_start",
+    "time_limit",
+    "status",
+    "verified_cost",
+    "claimed_cost",
+    "claimed_status",
+    "bound",
+    "gap",
+    "reference_optimum",
+    "time_first",
+    "time_best",
+    "time_prove",
+    "wall_s",
+    "peak_rss_mb",
+    "found_by",
+    "flag",
+    "reason",
+)
+TRACE_FIELDS = ("instance", "model", "solver", "warm_start", "seconds", "cost", "bound")
+
+#: Default memory limit of one run (MB of resident memory of the child's process group).
+DEFAULT_MEMORY_MB = 4096.0
+
+
+@dataclass(frozen=True)
+class SolverTask:
+    """One solver run: a bench instance (or a WCNF file), a model kind, a solver, a policy."""
+
+    instance: Instance | None = None
+    model: str = "logical"
+    solver: str = "rc2"
+    warm_start: str = "none"
+    time_limit: float = 10.0
+    memory_mb: float | None = DEFAULT_MEMORY_MB
+    wcnf: str | None = None
+    meta: dict[str, Any] = field(default_factory=dict, compare=False)
+
+    @property
+    def instance_name(self) -> str:
+        if self.wcnf is not None:
+            return Path(self.wcnf).name
+        assert self.instance is not None
+        return self.instance.name
+
+
+def build_task_model(task: SolverTask) -> tuple[Model, int | None]:
+    """(the task's model, the DP's optimum where the DP is exact on it, else None)."""
+    if task.wcnf is not None:
+        from illuknit.bench.wcnf_files import read_wcnf
+
+        return read_wcnf(task.wcnf), None
+    from illuknit.illusion_models import build_model, make_problem
+    from illuknit.solvers.dp import solve_dp
+
+    assert task.instance is not None
+    t = instance_targets(task.instance)
+    kind = "single" if task.instance.kind == "single" else task.model
+    problem = make_problem(
+        t.a, None if kind == "single" else t.b, n_yarns=len(task.instance.yarns), kind=kind
+    )
+    model = build_model(problem)
+    optimum = solve_dp(problem)[2] if (problem.per_wale or problem.rows_tied) else None
+    return model, optimum
+
+
+#: Modules a backend imports when it solves, loaded in the parent before the fork so that a
+#: run's time is solving, not importing (backend name prefix -> modules).
+PRELOAD = {
+    "rc2": ("pysat.examples.rc2", "pysat.formula", "scipy.sparse.csgraph"),
+    "lsu": ("pysat.solvers", "pysat.card"),
+    "fm": ("pysat.examples.fm", "pysat.card", "pysat.formula"),
+    "cpsat": ("ortools.sat.python.cp_model",),
+    "hermax": ("hermax.incremental", "hermax.non_incremental"),
+}
+
+
+def preload_backend(solver: str) -> None:
+    """Import what ``solver`` will need (see :data:`PRELOAD`); missing modules are skipped."""
+    import importlib
+    import importlib.util
+
+    from illuknit.solvers import HERMAX_NAMES
+
+    base = solver.partition(":")[0]
+    for mod in PRELOAD.get("hermax" if base in HERMAX_NAMES else base, ()):
+        if importlib.util.find_spec(mod.partition(".")[0]) is not None:
+            importlib.import_module(mod)
+
+
+def _child_solve(model: Model, task: SolverTask) -> dict[str, Any]:
+    """In the child: the orchestrated solve, returned as plain data."""
+    from illuknit.solvers import get_backend, solve
+
+    backend = get_backend(task.solver)
+    sol = solve(model, solver=task.solver, warm_start=task.warm_start, time_limit=task.time_limit)
+    stats = dict(sol.stats)
+    return {
+        "status": sol.status.value,
+        "values": None if sol.values is None else np.asarray(sol.values, dtype=bool),
+        "objective": sol.objective,
+        "bound": sol.bound,
+        "wall": sol.wall_time,
+        "found_by": sol.found_by,
+        "found_at": sol.found_at,
+        "trace": list(sol.trace),
+        "claimed_cost": stats.get("claimed_cost", stats.get("reported_cost", sol.objective)),
+        "claimed_status": stats.get("claimed_status", ""),
+        "message": str(stats.get("message", "")),
+        "version": backend.version(),
+    }
+
+
+def _fmt(x: float | None, nd: int = 3) -> float | None:
+    return None if x is None or (isinstance(x, float) and math.isnan(x)) else round(float(x), nd)
+
+
+def run_solver_task(task: SolverTask) -> dict[str, Any]:
+    """Run one task; returns ``{"row": dict over ROW_FIELDS, "trace": [(seconds, cost, bound)]}``.
+
+    Never raises for a solver's misbehaviour: that is the row's status and reason.
+    """
+    base, _, oracle = task.solver.partition(":")
+    row: dict[str, Any] = dict.fromkeys(ROW_FIELDS)
+    row.update(
+        instance=task.instance_name,
+        model=task.model if task.wcnf is None else "wcnf",
+        solver=task.solver,
+        oracle=oracle if base in ("rc2", "lsu", "fm") else "",
+        warm_start=task.warm_start,
+        time_limit=task.time_limit,
+        flag="",
+        reason="",
+    )
+    try:
+        model, optimum = build_task_model(task)
+    except (IlluknitError, OSError) as e:
+        row.update(status="error", reason=f"cannot build the model: {e}")
+        return {"row": row, "trace": []}
+    if task.instance is not None:
+        row.update(rows=task.instance.size[0], cols=task.instance.size[1])
+    row.update(variables=model.pool.top, soft_clauses=model.num_soft, reference_optimum=optimum)
+    try:
+        preload_backend(task.solver)
+    except ImportError as e:  # a broken optional install: the run itself will say more
+        row["reason"] = f"preloading failed: {e}"
+    events: list[ProgressEvent] = []
+    res = run_in_child(
+        lambda _p: _child_solve(model, task),
+        time_limit=task.time_limit,
+        memory_mb=task.memory_mb,
+        on_event=events.append,
+    )
+    row.update(peak_rss_mb=_fmt(res.peak_rss_mb, 1), wall_s=_fmt(res.wall_time))
+    if res.status != "ok":
+        row.update(status=res.status, reason=res.reason)
+        return {"row": row, "trace": [(e.elapsed, e.objective, e.bound) for e in events]}
+    out = res.value
+    row.update(
+        version=out["version"],
+        claimed_cost=out["claimed_cost"],
+        claimed_status=out["claimed_status"],
+        found_by=out["found_by"],
+        reason=out["message"],
+    )
+    _verify(row, model, out, optimum)
+    trace = [(float(t), o, b) for t, o, b in out["trace"]]
+    _timings(row, out, trace)
+    return {"row": row, "trace": trace}
+
+
+def _verify(row: dict[str, Any], model: Model, out: dict[str, Any], optimum: int | None) -> None:
+    """Status, verified cost, bound, gap and flags of one answer, checked on the parent's model."""
+    status = out["status"]
+    values = out["values"]
+    flags: list[str] = []
+    verified: int | None = None
+    if values is not None:
+        ok, verified = model.evaluate(values)
+        if not ok:
+            status = Status.ERROR.value
+            row["reason"] = "the returned assignment violates hard clauses"
+            flags.append("violates hard clauses")
+            verified = None
+    claimed = row["claimed_cost"]
+    if verified is not None and claimed is not None and int(claimed) != verified:
+        flags.append(f"claimed cost {claimed} but the assignment costs {verified}")
+    bound = out["bound"]
+    if status == Status.OPTIMAL.value:
+        if verified is None:
+            flags.append("claimed optimum without an assignment")
+        elif optimum is not None and verified > optimum:
+            flags.append(f"claimed optimum {verified} above the DP optimum {optimum}")
+        bound = verified if bound is None else bound
+    if bound is not None and optimum is not None and bound > optimum:
+        flags.append(f"bound {bound:g} above the DP optimum {optimum}")
+        bound = None
+    row.update(status=status, verified_cost=verified, bound=_fmt(bound))
+    if verified is not None and bound is not None:
+        row["gap"] = _fmt(max(0.0, verified - float(bound)) / max(1.0, float(verified)), 5)
+    row["flag"] = "; ".join(flags)
+
+
+def _timings(row: dict[str, Any], out: dict[str, Any], trace: list[Any]) -> None:
+    firsts = [t for t, o, _ in trace if o is not None]
+    found_at = out["found_at"]
+    if row["verified_cost"] is None:
+        return
+    row["time_first"] = _fmt(min(firsts) if firsts else found_at)
+    row["time_best"] = _fmt(found_at)
+    if row["status"] == Status.OPTIMAL.value and not row["flag"]:
+        row["time_prove"] = _fmt(out["wall"])
+
+
+def flag_rows(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
+    """Cross-row checks per (instance, model): a claimed optimum above another run's verified
+    cost, or a bound above one, is flagged. Returns the rows (updated copies)."""
+    best: dict[tuple[str, str], int] = {}
+    for r in rows:
+        v = r.get("verified_cost")
+        if v is not None and not r.get("flag"):
+            key = (r["instance"], r["model"])
+            best[key] = min(best.get(key, v), v)
+    out = []
+    for r in rows:
+        r = dict(r)
+        b = best.get((r["instance"], r["model"]))
+        extra: list[str] = []
+        v = r.get("verified_cost")
+        if b is not None and r.get("status") == "optimal" and v is not None and v > b:
+            extra.append(f"claimed optimum {v} but another run verified {b}")
+            r["time_prove"] = None
+        if b is not None and r.get("bound") is not None and float(r["bound"]) > b:
+            extra.append(f"bound {r['bound']:g} above a verified cost {b}")
+        if extra:
+            r["flag"] = "; ".join(filter(None, [r.get("flag", ""), *extra]))
+        out.append(r)
+    return out

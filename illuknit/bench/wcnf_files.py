@@ -1,0 +1,146 @@
+"""WCNF files for the solver benchmark: read any MaxSAT Evaluation instance, export ours.
+
+:func:`read_wcnf` parses both dialects of the MaxSAT Evaluation format into a
+:class:`~illuknit.model.Model` (variables ``("x", i)`` are ids 1..NV): the 2022+ one
+(``h <lits> 0`` hard, ``<weight> <lits> 0`` soft) and the older ``p wcnf NV NC TOP`` one (a clause
+weighted ``TOP`` is hard). :func:`export_wcnf_family` writes every bundled instance's models as
+2022+ WCNF with a ``manifest.json`` (sizes, the known optimum where the DP proves one, how each
+file was made), so the family can be shared and run by other tools.
+"""
+
+from __future__ import annotations
+
+import json
+from collections import defaultdict
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from illuknit.errors import PatternFormatError
+from illuknit.model import Model
+
+__all__ = ["export_wcnf_family", "read_wcnf", "wcnf_model_name"]
+
+
+def _add_grouped(model: Model, clauses: list[list[int]], weights: list[int] | None) -> None:
+    """Add clauses grouped by length (one block per length keeps the model compact)."""
+    by_len: dict[int, list[int]] = defaultdict(list)
+    for i, c in enumerate(clauses):
+        by_len[len(c)].append(i)
+    for length, idx in by_len.items():
+        if length == 0:
+            model.add_hard_block(np.zeros((len(idx), 1), dtype=np.int64), family="hard")
+            continue
+        block = np.asarray([clauses[i] for i in idx], dtype=np.int64)
+        if weights is None:
+            model.add_hard_block(block, family="hard")
+        else:
+            model.add_soft_block(block, np.asarray([weights[i] for i in idx], dtype=np.int64))
+
+
+def read_wcnf(path: str | Path) -> Model:
+    """The WCNF file at ``path`` as a Model (see the module docstring).
+
+    Raises
+    ------
+    PatternFormatError
+        A line is not a clause of either dialect; the message names the file and line.
+    """
+    p = Path(path)
+    hard: list[list[int]] = []
+    soft: list[list[int]] = []
+    weights: list[int] = []
+    top: int | None = None
+    nv = 0
+    with p.open(encoding="ascii", errors="replace") as fh:
+        for no, raw in enumerate(fh, 1):
+            line = raw.strip()
+            if not line or line.startswith("c"):
+                continue
+            parts = line.split()
+            if parts[0] == "p":
+                if len(parts) >= 5 and parts[1] == "wcnf":
+                    top = int(parts[4])
+                continue
+            try:
+                nums = [int(t) for t in parts[1:]] if parts[0] == "h" else [int(t) for t in parts]
+            except ValueError:
+                raise PatternFormatError(f"{p}:{no}: not a WCNF clause: {line[:60]!r}") from None
+            if parts[0] == "h":
+                weight = None
+                lits = nums
+            else:
+                weight, lits = nums[0], nums[1:]
+            if not lits or lits[-1] != 0:
+                raise PatternFormatError(f"{p}:{no}: a clause must end with 0: {line[:60]!r}")
+            lits = lits[:-1]
+            if lits:
+                nv = max(nv, max(abs(x) for x in lits))
+            if weight is None or (top is not None and weight >= top):
+                hard.append(lits)
+            elif weight <= 0:
+                raise PatternFormatError(f"{p}:{no}: soft clause weight must be positive")
+            else:
+                soft.append(lits)
+                weights.append(weight)
+    model = Model(p.stem)
+    model.pool.block("x", (nv,))
+    _add_grouped(model, hard, None)
+    _add_grouped(model, soft, weights)
+    return model
+
+
+def wcnf_model_name(instance: str, model: str) -> str:
+    """File name of one exported model: ``<instance>.<model>.wcnf``."""
+    return f"{instance}.{model}.wcnf"
+
+
+def export_wcnf_family(
+    instances: Sequence[Any],
+    outdir: str | Path,
+    *,
+    models: Sequence[str] = ("logical", "knit-aware"),
+) -> dict[str, Any]:
+    """Write each instance's models as 2022+ WCNF and a manifest.json; returns the manifest.
+
+    Single-view instances get the single-view model only (one target). The known optimum is
+    the DP's where it is exact (logical and single-view models), else None.
+    """
+    from illuknit.bench.solver_runs import SolverTask, build_task_model
+    from illuknit.outputs import atomic_write_text
+
+    out = Path(outdir)
+    out.mkdir(parents=True, exist_ok=True)
+    entries = []
+    for inst in instances:
+        kinds = ["single"] if inst.kind == "single" else list(models)
+        for kind in kinds:
+            task = SolverTask(instance=inst, model=kind, solver="dp")
+            model, optimum = build_task_model(task)
+            name = wcnf_model_name(inst.name, kind)
+            text = model.to_wcnf(style="new")
+            atomic_write_text(out / name, text)
+            cs = model.to_clauses()
+            entries.append(
+                {
+                    "file": name,
+                    "instance": inst.name,
+                    "model": kind,
+                    "rows": inst.size[0],
+                    "cols": inst.size[1],
+                    "yarns": len(inst.yarns),
+                    "variables": cs.nv,
+                    "hard_clauses": len(cs.hard),
+                    "soft_clauses": model.num_soft,
+                    "total_soft_weight": model.total_soft_weight(),
+                    "known_optimum": optimum,
+                    "optimum_by": "dp (exact)" if optimum is not None else None,
+                    "made_by": f"illuknit bench --export-wcnf (illusion model {kind!r}, "
+                    f"instance {inst.name!r}: {inst.notes or 'see instances/manifest.toml'})",
+                }
+            )
+    manifest = {"format": "MaxSAT Evaluation WCNF, 2022+ ('h' hard clauses)", "files": entries}
+    atomic_write_text(out / "manifest.json", json.dumps(manifest, indent=2) + "\n")
+    return manifest

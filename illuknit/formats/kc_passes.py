@@ -1,0 +1,684 @@
+"""Knitout -> Kniterate carriage passes: the first stage of the ``.kc`` writer.
+
+The Kniterate runs one yarn carrier per carriage pass. Knitout operations are read in order and
+merged into the current pass while they fit (same racking, speed, direction and carrier; a pass
+kind both can share; the new needle beyond the pass's furthest one in its direction; stitch
+numbers that agree); otherwise a new pass starts. Before a new pass with a carrier, the carrier is
+"kicked" (a yarn-less soft miss in the other direction) when it may be parked on the wrong side;
+before any stitch or transfer, every other live carrier whose yarn is attached across that needle
+is kicked out of the way. These rules, and the values written for each pass (roller advance,
+stitch number, speed), are those of the CMU Kniterate backend ``knitout-to-kcode.js``, so that the
+resulting ``.kc`` is the same file. Programs that backend would turn into a wrong file (plated
+carriers, slider needles, racking it cannot align) raise :class:`~illuknit.errors.KcodeError`.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass, field
+from enum import Enum
+
+from illuknit.errors import KcodeError
+
+__all__ = ["KcHeaders", "KcPass", "KcProgram", "PassKind", "SlotOp", "read_kc_passes"]
+
+_NUMBER = re.compile(r"^[+-]?\d*\.?\d+$")
+_NEEDLE = re.compile(r"^([fb]s?)(-?\d+)$")
+_STITCH_NUMBER = re.compile(r"^[0-9A-Z]$")
+_POSITIONS = ("Left", "Right", "Keep", "Center")
+CARRIERS = ("1", "2", "3", "4", "5", "6")
+
+
+class SlotOp(Enum):
+    """What one needle slot (a front needle and the back needle facing it) does in a pass."""
+
+    SOFT_MISS = "soft miss"
+    KNIT_F = "knit front"
+    TUCK_F = "tuck front"
+    KNIT_B = "knit back"
+    TUCK_B = "tuck back"
+    KNIT_F_KNIT_B = "knit front, knit back"
+    KNIT_F_TUCK_B = "knit front, tuck back"
+    TUCK_F_KNIT_B = "tuck front, knit back"
+    TUCK_F_TUCK_B = "tuck front, tuck back"
+    XFER_TO_BACK = "transfer to back"
+    XFER_TO_FRONT = "transfer to front"
+    SPLIT = "split"
+
+    @property
+    def front(self) -> bool:
+        """Whether the slot's front needle acts."""
+        return self in _FRONT_OPS
+
+    @property
+    def back(self) -> bool:
+        """Whether the slot's back needle acts."""
+        return self in _BACK_OPS
+
+
+_BOTH = {
+    SlotOp.KNIT_F_KNIT_B,
+    SlotOp.KNIT_F_TUCK_B,
+    SlotOp.TUCK_F_KNIT_B,
+    SlotOp.TUCK_F_TUCK_B,
+    SlotOp.SPLIT,
+}
+_FRONT_OPS = frozenset({SlotOp.KNIT_F, SlotOp.TUCK_F, SlotOp.XFER_TO_BACK} | _BOTH)
+_BACK_OPS = frozenset({SlotOp.KNIT_B, SlotOp.TUCK_B, SlotOp.XFER_TO_FRONT} | _BOTH)
+
+# A front stitch followed (in pass order) by a back stitch in one slot, at half-pitch racking.
+_COMBINED = {
+    (SlotOp.KNIT_F, SlotOp.KNIT_B): SlotOp.KNIT_F_KNIT_B,
+    (SlotOp.KNIT_F, SlotOp.TUCK_B): SlotOp.KNIT_F_TUCK_B,
+    (SlotOp.TUCK_F, SlotOp.KNIT_B): SlotOp.TUCK_F_KNIT_B,
+    (SlotOp.TUCK_F, SlotOp.TUCK_B): SlotOp.TUCK_F_TUCK_B,
+}
+
+
+def combine_ops(first: SlotOp, then: SlotOp, *, half_pitch: bool) -> SlotOp | None:
+    """The slot operation doing ``first`` then ``then``, or None when one slot cannot hold both."""
+    if first is SlotOp.SOFT_MISS:
+        return then
+    if then is SlotOp.SOFT_MISS:
+        return first
+    return _COMBINED.get((first, then)) if half_pitch else None
+
+
+@dataclass(frozen=True)
+class PassKind:
+    """The kind of a pass: a soft miss, stitches (``front``/``back`` = ``"K"``, ``"T"`` or None),
+    a transfer (``xfer_style``) or a split (``split_to_back``, ``split_rightward``)."""
+
+    family: str  # "soft", "stitch", "xfer", "split"
+    front: str | None = None
+    back: str | None = None
+    xfer_style: str = ""
+    split_to_back: bool = False
+    split_rightward: bool = False
+
+    @property
+    def kcode(self) -> str:
+        """The k-code pass type (``Kn-Kn``, ``Tu-Kn``, ``Tr-Rl``, ...)."""
+        if self.family == "split":
+            move = "Rr" if self.split_rightward else "Rl"
+            return f"Tr-{move}" if self.split_to_back else f"{move}-Tr"
+        if self.family == "soft":
+            return "Tu-Tu"
+        front = self.front or self.back
+        back = self.back or self.front
+        return f"{_STITCH_WORD[front or 'T']}-{_STITCH_WORD[back or 'T']}"
+
+
+_STITCH_WORD = {"K": "Kn", "T": "Tu"}
+SOFT = PassKind("soft")
+
+
+def combine_kinds(a: PassKind, b: PassKind) -> PassKind | None:
+    """The kind of a pass holding the operations of passes of kinds ``a`` and ``b``, if any."""
+    if a == b:
+        return a
+    if SOFT in (a, b):
+        other = b if a == SOFT else a
+        return None if other.family == "xfer" else other
+    if a.family == "stitch" and b.family == "stitch":
+        if (a.front and b.front and a.front != b.front) or (a.back and b.back and a.back != b.back):
+            return None
+        return PassKind("stitch", a.front or b.front, a.back or b.back)
+    # a split may join front-only knitting on its source bed (and only that)
+    split, stitch = (a, b) if a.family == "split" else (b, a)
+    if split.family != "split" or stitch.family != "stitch":
+        return None
+    source_knit = (("K", None) if split.split_to_back else (None, "K")) == (
+        stitch.front,
+        stitch.back,
+    )
+    return split if source_knit else None
+
+
+@dataclass(frozen=True)
+class Needle:
+    """A needle: bed ``"f"`` or ``"b"`` and its index."""
+
+    bed: str
+    index: int
+
+    @property
+    def front(self) -> bool:
+        return self.bed == "f"
+
+
+@dataclass
+class KcPass:
+    """One carriage pass being built (mutable while operations merge into it)."""
+
+    kind: PassKind
+    racking: float
+    speed: int | str
+    direction: str  # "+", "-" or "" (transfers and drops)
+    carriers: tuple[str, ...]
+    roller: float
+    slots: dict[int, SlotOp]
+    sizes: dict[int, dict[str, str]] = field(default_factory=dict)
+    gripper: str | None = None  # "in" or "out"
+    pause: bool = False
+    pause_message: str | None = None
+    line: int = 0
+
+    @property
+    def lo(self) -> int:
+        """Leftmost slot used."""
+        return self._lo
+
+    @property
+    def hi(self) -> int:
+        """Rightmost slot used."""
+        return self._hi
+
+    def __post_init__(self) -> None:
+        self._lo = min(self.slots)
+        self._hi = max(self.slots)
+
+    def try_append(self, other: KcPass) -> bool:
+        """Merge ``other`` (a one-slot pass) into this pass if the machine can do both at once."""
+        if other.pause:
+            return False
+        if (self.racking, self.direction, self.carriers) != (
+            other.racking,
+            other.direction,
+            other.carriers,
+        ) or not _same_speed(self.speed, other.speed):
+            return False
+        kind = combine_kinds(self.kind, other.kind)
+        if kind is None:
+            return False
+        if not _grippers_fit(self.gripper, other.gripper):
+            return False
+        half = self.racking != math.floor(self.racking)
+        merged = {s: self._merged_op(s, op, half) for s, op in other.slots.items()}
+        if any(op is None for op in merged.values()):
+            return False
+        for s, size in other.sizes.items():
+            mine = self.sizes.get(s, {})
+            if any(b in mine and mine[b] != v for b, v in size.items()):
+                return False
+        self.kind = kind
+        if self.gripper is None:
+            self.gripper = other.gripper
+        for s, op in merged.items():
+            assert op is not None
+            self.slots[s] = op
+            self._lo, self._hi = min(self._lo, s), max(self._hi, s)
+        for s, size in other.sizes.items():
+            self.sizes.setdefault(s, {}).update(size)
+        return True
+
+    def _merged_op(self, s: int, op: SlotOp, half: bool) -> SlotOp | None:
+        if self.direction == "+":
+            edge = self._hi
+            if s != edge:
+                return op if s > edge else None
+            return combine_ops(self.slots[s], op, half_pitch=half)
+        if self.direction == "-":
+            edge = self._lo
+            if s != edge:
+                return op if s < edge else None
+            return combine_ops(op, self.slots[s], half_pitch=half)
+        if s not in self.slots:
+            return op
+        return combine_ops(self.slots[s], op, half_pitch=half) or combine_ops(
+            op, self.slots[s], half_pitch=half
+        )
+
+
+def _grippers_fit(first: str | None, then: str | None) -> bool:
+    # yarn comes in at the start of a pass and leaves at its end
+    return (then is None and first in (None, "in")) or (first is None and then == "out")
+
+
+def _same_speed(a: int | str, b: int | str) -> bool:
+    # the backend compares speeds as written: the default number 100 differs from "100"
+    return type(a) is type(b) and a == b
+
+
+@dataclass(frozen=True)
+class KcHeaders:
+    """The header values the k-code writer uses."""
+
+    position: str = "Center"
+    width: int = 252
+
+
+@dataclass(frozen=True)
+class KcProgram:
+    """The carriage passes of a knitout program and the file-wide settings that shape them."""
+
+    headers: KcHeaders
+    passes: tuple[KcPass, ...]
+    carrier_spacing: float = 2.0
+    carrier_stopping_distance: float = 2.5
+
+
+@dataclass
+class _Carrier:
+    last: tuple[Needle, str] | None = None  # where the yarn is attached
+    kick: tuple[Needle, str] | None = None  # where the carrier is parked
+    pending_in: tuple[str, ...] | None = None
+
+
+def _opposite(direction: str) -> str:
+    return "+" if direction == "-" else "-"
+
+
+def _tokens(line: str) -> list[str]:
+    line = line.split(";", 1)[0]
+    return [t for t in re.split(" +", line) if t != ""] if line.strip(" ") else []
+
+
+def read_kc_passes(text: str) -> KcProgram:
+    """Parse knitout text into the Kniterate's carriage passes.
+
+    Parameters
+    ----------
+    text : str
+        A knitout-2 program for the Kniterate (``;;Carriers: 1 2 3 4 5 6``, ``in``/``out`` only).
+
+    Returns
+    -------
+    KcProgram
+
+    Raises
+    ------
+    KcodeError
+        For knitout the Kniterate backend refuses, or would translate into a wrong file.
+    """
+    lines = [ln[:-1] if ln.endswith("\r") else ln for ln in text.split("\n")]
+    m = re.match(r"^;!knitout-(\d+)$", lines[0])
+    if not m:
+        raise KcodeError(
+            "the file does not start with the knitout magic line ';!knitout-2'", line=1
+        )
+    headers, first = _read_headers(lines)
+    reader = _PassReader()
+    for number in range(first, len(lines)):
+        tokens = _tokens(lines[number])
+        if tokens:
+            reader.line = number + 1
+            reader.apply(tokens[0], tokens[1:])
+    if reader.carriers:
+        left = " ".join(sorted(reader.carriers, key=int))
+        raise KcodeError(f"carriers {left} are never taken out (`out`)", line=len(lines))
+    return KcProgram(
+        headers=headers,
+        passes=tuple(reader.passes),
+        carrier_spacing=reader.carrier_spacing,
+        carrier_stopping_distance=reader.stopping_distance,
+    )
+
+
+def _read_headers(lines: list[str]) -> tuple[KcHeaders, int]:
+    carriers: list[str] | None = None
+    position = "Center"
+    width = 252
+    index = 1
+    while index < len(lines) and lines[index].startswith(";;") and ": " in lines[index]:
+        name, value = lines[index][2:].split(": ", 1)
+        index += 1
+        if name == "Carriers":
+            carriers = re.split(" +", value)
+        elif name == "Gauge":
+            if not (re.match(r"^\d+\.?\d*$", value) and float(value) > 0):
+                raise KcodeError(f"`Gauge` must be a positive number, got {value!r}", line=index)
+        elif name == "Width":
+            if not (re.match(r"^\d+$", value) and int(value) > 0):
+                raise KcodeError(f"`Width` must be a positive integer, got {value!r}", line=index)
+            width = int(value)
+        elif name == "Position":
+            if value not in _POSITIONS:
+                raise KcodeError(
+                    f"`Position` must be one of {', '.join(_POSITIONS)}, got {value!r}", line=index
+                )
+            position = value
+    if carriers is None or tuple(carriers) != CARRIERS:
+        raise KcodeError("the Kniterate needs the header ';;Carriers: 1 2 3 4 5 6'", line=index + 1)
+    return KcHeaders(position=position, width=width), index
+
+
+class _PassReader:
+    """The backend's running state while knitout operations are read (racking, stitch number,
+    carriers and where each is attached and parked); :meth:`apply` takes one operation."""
+
+    def __init__(self) -> None:
+        self.passes: list[KcPass] = []
+        self.carriers: dict[str, _Carrier] = {}
+        self.racking = 0.0
+        self.stitch = "5"
+        self.xfer_stitch = "3"
+        self.xfer_style = "four-pass"
+        self.speed: int | str = 100
+        self.roller = 100.0
+        self.add_roller = 0.0
+        self.pause_pending = False
+        self.pause_message: str | None = None
+        self.end_pending = False
+        self.carrier_spacing = 2.0
+        self.stopping_distance = 2.5
+        self.line = 0
+
+    # -- helpers -------------------------------------------------------------------------------
+    def fail(
+        self,
+        message: str,
+        *,
+        needle: str | None = None,
+        carrier: str | None = None,
+        racking: float | None = None,
+    ) -> KcodeError:
+        return KcodeError(message, line=self.line, needle=needle, carrier=carrier, racking=racking)
+
+    def slot(self, n: Needle) -> int:
+        return n.index if n.front else n.index + math.floor(self.racking)
+
+    def new_pass(
+        self,
+        kind: PassKind,
+        carriers: tuple[str, ...],
+        direction: str,
+        slot: int,
+        op: SlotOp,
+        *,
+        roller: float,
+    ) -> KcPass:
+        return KcPass(
+            kind=kind,
+            racking=self.racking,
+            speed=self.speed,
+            direction=direction,
+            carriers=carriers,
+            roller=roller,
+            slots={slot: op},
+            line=self.line,
+        )
+
+    def take_roller(self, value: float) -> float:
+        """``value``, then undo a one-pass ``x-add-roller-advance``."""
+        if self.add_roller != 0:
+            self.roller -= self.add_roller
+            self.add_roller = 0.0
+        return value
+
+    def needle(self, token: str | None) -> Needle:
+        m = _NEEDLE.match(token or "")
+        if not m:
+            raise self.fail(f"invalid needle {token!r}")
+        if len(m.group(1)) > 1:
+            raise self.fail(
+                f"slider needle {token} is not supported on the Kniterate", needle=token
+            )
+        return Needle(m.group(1), int(m.group(2)))
+
+    def number(self, op: str, args: list[str]) -> float:
+        if len(args) != 1 or not _NUMBER.match(args[0]):
+            raise self.fail(f"`{op}` takes one number, got {' '.join(args)!r}")
+        return float(args[0])
+
+    # -- merging passes ------------------------------------------------------------------------
+    def merge(self, p: KcPass) -> None:
+        """Add ``p`` to the current pass or start a new one, kicking its carrier first if needed."""
+        do_pause, self.pause_pending = self.pause_pending, False
+        do_end, self.end_pending = self.end_pending, False
+        if self.passes and not do_pause and not do_end and self.passes[-1].try_append(p):
+            return
+        (slot,) = p.slots
+        kicks: dict[int, list[str]] = {}
+        for c in p.carriers:
+            kick = self.carriers[c].kick
+            if self.carriers[c].last is None or kick is None:
+                continue  # being brought in: nothing to kick yet
+            kick_slot = self.slot(kick[0])
+            if kick[1] == p.direction:  # may have stopped anywhere beyond: always kick
+                kicks.setdefault(kick_slot, []).append(c)
+            elif (kick_slot > slot) if kick[1] == "-" else (kick_slot < slot):
+                kicks.setdefault(slot, []).append(c)
+        if kicks:
+            back = _opposite(p.direction)
+            for s in sorted(kicks):
+                kick_pass = self.new_pass(
+                    SOFT, tuple(kicks[s]), back, s, SlotOp.SOFT_MISS, roller=0
+                )
+                kick_pass.pause, do_pause = do_pause, False  # the backend drops its message
+                self.merge(kick_pass)
+                for c in kicks[s]:
+                    self.carriers[c].kick = (Needle("f", s), back)
+        if do_pause:
+            p.pause, p.pause_message = True, self.pause_message
+        if kicks:
+            self.merge(p)
+        else:
+            self.passes.append(p)
+
+    def kick_others(self, n: Needle, carriers: tuple[str, ...]) -> None:
+        """Move every other live carrier whose yarn is attached across ``n`` out of its way."""
+        needle_slot = self.slot(n)
+        for name in sorted(self.carriers, key=int):
+            state = self.carriers[name]
+            if name in carriers or state.last is None or state.kick is None:
+                continue
+            last_slot = self.slot(state.last[0])
+            left_of = last_slot + (-0.1 if state.last[1] == "-" else 0.1) < needle_slot
+            kick_slot = self.slot(state.kick[0])
+            direction = "-" if left_of else "+"
+            if state.kick[1] == direction and (
+                kick_slot <= needle_slot if left_of else kick_slot >= needle_slot
+            ):
+                continue
+            self.merge(
+                self.new_pass(SOFT, (name,), direction, last_slot, SlotOp.SOFT_MISS, roller=0)
+            )
+            state.kick = (Needle("f", last_slot), direction)
+
+    def mark_in(self, carriers: tuple[str, ...], p: KcPass) -> None:
+        """Mark ``p`` as bringing ``carriers`` in from the grippers if this is their first use."""
+        pending: tuple[str, ...] | None = None
+        for c in carriers:
+            if c not in self.carriers:
+                raise self.fail(f"carrier {c} is used but not brought in (`in {c}`)", carrier=c)
+            if self.carriers[c].pending_in is not None:
+                pending, self.carriers[c].pending_in = self.carriers[c].pending_in, None
+        if pending is not None:
+            if pending != carriers:
+                raise self.fail(
+                    f"first use of carriers {' '.join(carriers)} does not match "
+                    f"`in {' '.join(pending)}`"
+                )
+            p.gripper = "in"
+
+    def set_last(self, carriers: tuple[str, ...], direction: str, n: Needle) -> None:
+        for c in carriers:
+            self.carriers[c].last = (n, direction)
+            self.carriers[c].kick = (n, direction)
+
+    # -- operations ----------------------------------------------------------------------------
+    def apply(self, op: str, args: list[str]) -> None:
+        """Apply one knitout operation ``op`` with its arguments."""
+        yarnless = op in ("amiss", "drop", "xfer")
+        if yarnless:
+            op, args = {"amiss": "tuck", "drop": "knit", "xfer": "split"}[op], ["+", *args]
+        if op in ("inhook", "releasehook", "outhook"):
+            raise self.fail(f"`{op}`: the Kniterate has no yarn inserting hook (use `in`/`out`)")
+        if op == "in":
+            self.bring_in(tuple(args))
+        elif op == "out":
+            self.take_out(tuple(args))
+        elif op in ("knit", "tuck", "miss"):
+            self.stitch_op(op, args, yarnless=yarnless)
+        elif op == "split":
+            self.split_op(args, yarnless=yarnless)
+        else:
+            self.setting(op, args)
+
+    def setting(self, op: str, args: list[str]) -> None:
+        if op == "rack":
+            self.set_racking(args)
+        elif op == "stitch":
+            if len(args) != 2 or not all(re.match(r"^[+-]?\d+$", a) for a in args):
+                raise self.fail("`stitch` takes two integers")
+            # the backend ignores `stitch`; sizes come from x-stitch-number
+        elif op in ("x-stitch-number", "x-xfer-stitch-number"):
+            if len(args) != 1 or not _STITCH_NUMBER.match(args[0]):
+                raise self.fail(f"`{op}` must be one of 0-9 or A-Z, got {' '.join(args)!r}")
+            if op == "x-stitch-number":
+                self.stitch = args[0]
+            else:
+                self.xfer_stitch = args[0]
+        elif op == "x-speed-number":
+            self.number(op, args)
+            self.speed = args[0]
+        elif op == "x-roller-advance":
+            self.roller = self.number(op, args)
+        elif op == "x-add-roller-advance":
+            self.add_roller = self.number(op, args)
+            self.roller += self.add_roller
+        elif op == "x-carrier-spacing":
+            self.carrier_spacing = self.number(op, args)
+            if (
+                self.carrier_spacing * 2 != round(self.carrier_spacing * 2)
+                or self.carrier_spacing < 1
+            ):
+                raise self.fail("`x-carrier-spacing` must be a multiple of 0.5 and at least 1")
+        elif op == "x-carrier-stopping-distance":
+            self.stopping_distance = math.floor(self.number(op, args)) + 0.5
+        elif op == "x-xfer-style":
+            if args not in (["four-pass"], ["two-pass"]):
+                raise self.fail("`x-xfer-style` must be 'four-pass' or 'two-pass'")
+            self.xfer_style = args[0]
+        elif op == "x-end-pass":
+            if args:
+                raise self.fail("`x-end-pass` takes no arguments")
+            self.end_pending = True
+        elif op == "pause":
+            self.pause_pending = True
+            self.pause_message = " ".join(args) if args else None
+        elif not op.startswith("x-"):  # other extensions (x-presser-mode, ...) do nothing here
+            raise self.fail(f"unsupported operation {op!r}")
+
+    def set_racking(self, args: list[str]) -> None:
+        racking = self.number("rack", args)
+        if racking - math.floor(racking) == 0.25:  # quarter pitch is the Kniterate's half pitch
+            racking += 0.25
+        if racking - math.floor(racking) not in (0.0, 0.5):
+            raise self.fail(f"racking must be whole or whole + 0.5, got {args[0]}", racking=racking)
+        self.racking = racking
+
+    def bring_in(self, carriers: tuple[str, ...]) -> None:
+        if not carriers:
+            raise self.fail("`in` needs a carrier")
+        for c in carriers:
+            if c not in CARRIERS:
+                raise self.fail(f"carrier {c!r} is not one of 1-6", carrier=c)
+            if c in self.carriers:
+                raise self.fail(f"carrier {c} is already in", carrier=c)
+        for c in carriers:
+            self.carriers[c] = _Carrier(pending_in=carriers)
+
+    def take_out(self, carriers: tuple[str, ...]) -> None:
+        for c in carriers:
+            if c not in self.carriers or self.carriers[c].last is None:
+                raise self.fail(f"carrier {c} cannot go out: it has not stitched", carrier=c)
+        if len(carriers) != 1:
+            raise self.fail("take carriers out one at a time (`out 1`, `out 2`)")
+        state = self.carriers[carriers[0]]
+        assert state.last is not None
+        p = self.new_pass(
+            SOFT,
+            carriers,
+            "-",
+            self.slot(state.last[0]),
+            SlotOp.SOFT_MISS,
+            roller=self.take_roller(0),
+        )
+        p.gripper = "out"
+        self.merge(p)
+        del self.carriers[carriers[0]]
+
+    def stitch_op(self, op: str, args: list[str], *, yarnless: bool) -> None:
+        direction = args[0] if args else ""
+        n = self.needle(args[1] if len(args) > 1 else None)
+        carriers = tuple(args[2:])
+        if yarnless and carriers:
+            raise self.fail(f"`{'amiss' if op == 'tuck' else 'drop'}` takes no carriers")
+        if not carriers:
+            if op == "miss":
+                raise self.fail("`miss` needs a carrier")
+            direction = ""
+        else:
+            self.check_carriers(direction, carriers)
+        if op != "miss":
+            self.kick_others(n, carriers)
+        slot = self.slot(n)
+        if op == "miss":
+            kind, slot_op = SOFT, SlotOp.SOFT_MISS
+        else:
+            stitch = "K" if op == "knit" else "T"
+            kind = PassKind("stitch", stitch if n.front else None, None if n.front else stitch)
+            slot_op = {
+                ("K", True): SlotOp.KNIT_F,
+                ("K", False): SlotOp.KNIT_B,
+                ("T", True): SlotOp.TUCK_F,
+                ("T", False): SlotOp.TUCK_B,
+            }[stitch, n.front]
+        p = self.new_pass(
+            kind, carriers, direction, slot, slot_op, roller=self.take_roller(self.roller)
+        )
+        if op != "miss":
+            p.sizes[slot] = {n.bed: self.stitch}
+        self.mark_in(carriers, p)
+        self.merge(p)
+        self.set_last(carriers, direction, n)
+
+    def check_carriers(self, direction: str, carriers: tuple[str, ...]) -> None:
+        if direction not in ("+", "-"):
+            raise self.fail(f"direction must be + or -, got {direction!r}")
+        if len(carriers) > 1:
+            raise self.fail(
+                f"plating ({' '.join(carriers)} in one stitch) is not supported on the Kniterate",
+                carrier=" ".join(carriers),
+            )
+
+    def split_op(self, args: list[str], *, yarnless: bool) -> None:
+        direction = args[0] if args else ""
+        n = self.needle(args[1] if len(args) > 1 else None)
+        t = self.needle(args[2] if len(args) > 2 else None)
+        carriers = tuple(args[3:])
+        if yarnless and carriers:
+            raise self.fail("`xfer` takes no carriers")
+        if n.front == t.front:
+            raise self.fail(f"transfers go between beds, not {n.bed}{n.index} -> {t.bed}{t.index}")
+        front, back = (n, t) if n.front else (t, n)
+        if front.index != back.index + self.racking:
+            raise self.fail(
+                f"{n.bed}{n.index} and {t.bed}{t.index} are not aligned at racking "
+                f"{self.racking:g}",
+                racking=self.racking,
+            )
+        if carriers:
+            self.check_carriers(direction, carriers)
+            kind = PassKind("split", split_to_back=n.front, split_rightward=direction == "+")
+            op, size = SlotOp.SPLIT, self.stitch
+        else:
+            direction = ""
+            kind = PassKind("xfer", xfer_style=self.xfer_style)
+            op = SlotOp.XFER_TO_BACK if n.front else SlotOp.XFER_TO_FRONT
+            size = self.xfer_stitch
+        self.kick_others(n, carriers)
+        p = self.new_pass(
+            kind, carriers, direction, self.slot(n), op, roller=self.take_roller(self.add_roller)
+        )
+        p.sizes = {self.slot(n): {n.bed: size}}
+        p.sizes.setdefault(self.slot(t), {})[t.bed] = size
+        self.mark_in(carriers, p)
+        self.merge(p)
+        for state in self.carriers.values():
+            if state.last is not None and state.last[0] == n:
+                state.last = (t, state.last[1])  # the loop the yarn holds moved to t
+        self.set_last(carriers, direction, n)

@@ -1,0 +1,150 @@
+"""Lowering a schedule for a machine without a yarn-inserting hook (the Kniterate).
+
+The schedulers plan for a Shima-style machine: a yarn comes in on the inserting hook
+(``inhook``/``releasehook``), leaves with ``outhook``, and the two yarns of a plated stitch share
+one pass. The Kniterate has none of that: yarns come in with ``in`` from the grippers at the left
+end of the bed, the take-down rollers only grip fabric that spans the bed, and each pass runs one
+carrier. So :func:`lower_hookless` rewrites a schedule's steps, and :func:`write_hookless_knitout`
+puts a waste section in front of the piece, as the Kniterate backend's ``waste-section.js`` helper
+does:
+
+1. **bring every yarn in** (waste yarn, draw thread, then the pattern's yarns in order of first
+   use): each tucks every k-th front needle of the waste width rightward and back leftward
+   (k = number of yarns, so no two share a needle); a yarn whose first pattern pass runs leftward tucks once
+   more rightward, ending on the right;
+2. **waste section**: ``waste_passes`` passes of the waste yarn knitting alternate needles on
+   alternate beds, then 12 passes of a tube (front rightward, back leftward), at roller advance
+   400, stitch number 6, speed 300; the waste yarn goes out and the back bed is dropped;
+3. **draw thread**: one rightward course on the front needles of the piece, then out; pulling it
+   out later separates the piece from the waste;
+4. **the piece**: its own cast-on and body, with ``inhook`` / ``releasehook`` removed (the yarn is
+   already in), ``outhook`` -> ``out``, and every plated pass split in two passes: the second yarn
+   tucks on the pass's needles, then the first knits through them (so the second is caught in
+   the fabric as catching requires, with one carrier per pass).
+
+The yarns the pattern may use are the machine's carriers minus the waste and draw-thread ones
+(:attr:`~illuknit.knit.machine.MachineSpec.pattern_carriers`): the scheduler is given only those,
+so a plan that needs more refuses with :class:`~illuknit.errors.CarrierShortageError`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+from illuknit.errors import SchedulingError
+from illuknit.knit.ir import ActionKind, OpKind
+from illuknit.knit.knitout import write_knitout
+from illuknit.knit.machine import MachineSpec
+from illuknit.knit.schedule import CarrierAction, Op, Pass, Schedule, Step
+
+__all__ = ["lower_hookless", "waste_section", "write_hookless_knitout"]
+
+WASTE_ROLLER_ADVANCE = 400
+WASTE_STITCH_NUMBER = 6
+WASTE_SPEED_NUMBER = 300
+TUBE_PASSES = 12
+MIN_WASTE_WIDTH = 20
+
+
+def lower_hookless(schedule: Schedule, *, machine: MachineSpec) -> Schedule:
+    """The schedule's steps with hook actions replaced and plated passes split (see above)."""
+    steps: list[Step] = []
+    for step in schedule.steps:
+        if isinstance(step, CarrierAction):
+            if step.action in ("out", "outhook"):
+                steps.extend(CarrierAction(ActionKind.OUT, (c,)) for c in step.carriers)
+            continue  # in/inhook: brought in by the waste section; releasehook: no hook
+        if step.kind == "knit" and len(step.carriers) > 1:
+            steps.extend(_unplate(step))
+        else:
+            steps.append(step)
+    return replace(schedule, steps=tuple(steps), machine=machine)
+
+
+def _unplate(p: Pass) -> list[Pass]:
+    if any(o.op == "split" for o in p.ops):
+        raise SchedulingError("a plated split cannot be knit with one carrier per pass (Kniterate)")
+    tucks = tuple(Op(OpKind.TUCK if o.op == OpKind.KNIT else o.op, o.bed, o.needle) for o in p.ops)
+    under = [replace(p, ops=tucks, carriers=(c,)) for c in p.carriers[1:]]
+    return [*under, replace(p, carriers=p.carriers[:1])]
+
+
+def _first_directions(schedule: Schedule) -> dict[str, str]:
+    """Each carrier's direction in its first pass, in order of first use."""
+    first: dict[str, str] = {}
+    for p in schedule.passes:
+        if p.kind == "knit" and p.direction is not None:
+            for c in p.carriers:
+                first.setdefault(c, p.direction)
+    return first
+
+
+def waste_section(schedule: Schedule, *, machine: MachineSpec, waste_passes: int = 70) -> list[str]:
+    """Knitout lines of the yarn-in tucks, waste section and draw thread before the piece."""
+    waste, draw = machine.waste_carrier, machine.draw_carrier
+    if waste is None or draw is None:
+        raise SchedulingError(f"the {machine.name} preset names no waste/draw-thread carriers")
+    # the fabric's needles (parking misses beyond its edges hold no loops)
+    needles = [o.needle for p in schedule.passes for o in p.ops if o.op != "miss"]
+    lo, hi = min(needles), max(needles)
+    w_lo, w_hi = lo, max(hi, lo + MIN_WASTE_WIDTH - 1)
+    if w_hi >= machine.needles:
+        w_lo, w_hi = max(0, hi - MIN_WASTE_WIDTH + 1), hi
+    first = _first_directions(schedule)
+    pattern = [c for c in first if c not in (waste, draw)]
+    yarns = [waste, draw, *pattern]
+    lines = [
+        f"x-roller-advance {WASTE_ROLLER_ADVANCE}",
+        f"x-stitch-number {WASTE_STITCH_NUMBER}",
+        f"x-speed-number {WASTE_SPEED_NUMBER}",
+        "; bring the yarns in",
+    ]
+    for i, c in enumerate(yarns):
+        lines.append(f"in {c}")
+        ends_right = first.get(c) == "-"
+        for direction in ("+", "-", "+") if ends_right else ("+", "-"):
+            lines += _tuck_pass(c, i, len(yarns), w_lo, w_hi, direction)
+    lines.append("; waste yarn")
+    for k in range(waste_passes):
+        d = "+" if k % 2 == 0 else "-"
+        order = range(w_lo, w_hi + 1) if d == "+" else range(w_hi, w_lo - 1, -1)
+        parity = 0 if d == "+" else 1
+        lines += [f"knit {d} {'f' if n % 2 == parity else 'b'}{n} {waste}" for n in order]
+    for k in range(TUBE_PASSES):
+        if k % 2 == 0:
+            lines += [f"knit + f{n} {waste}" for n in range(w_lo, w_hi + 1)]
+        else:
+            lines += [f"knit - b{n} {waste}" for n in range(w_hi, w_lo - 1, -1)]
+    lines.append(f"out {waste}")
+    lines += [f"drop b{n}" for n in range(w_lo, w_hi + 1)]
+    lines += [f"drop f{n}" for n in range(w_lo, w_hi + 1) if not lo <= n <= hi]
+    lines.append("; draw thread")
+    lines += [f"knit + f{n} {draw}" for n in range(lo, hi + 1)]
+    lines.append(f"out {draw}")
+    lines.append("; the piece")
+    return lines
+
+
+def _tuck_pass(c: str, i: int, k: int, lo: int, hi: int, direction: str) -> list[str]:
+    """Tucks of yarn ``c`` on every k-th front needle (offset i) across lo..hi.
+
+    (``waste-section.js`` alternates beds; front-only tucks leave no back-bed loop for the next
+    yarn to float across.)
+    """
+    needles = list(range(lo, hi + 1)) if direction == "+" else list(range(hi, lo - 1, -1))
+    out = [f"tuck {direction} f{n} {c}" for n in needles if n % k == i]
+    # end at the far edge, so that the next pass starts behind the carriage
+    if not out or needles[-1] % k != i:
+        out.append(f"miss {direction} f{needles[-1]} {c}")
+    return out
+
+
+def write_hookless_knitout(
+    schedule: Schedule, *, machine: MachineSpec, waste_passes: int = 70
+) -> str:
+    """Knitout for a machine without an inserting hook: header, waste section, then the piece."""
+    lowered = lower_hookless(schedule, machine=machine)
+    lines = write_knitout(lowered, machine=machine).split("\n")
+    body = next(i for i, ln in enumerate(lines) if not ln.startswith(";;") and i > 0)
+    waste = waste_section(schedule, machine=machine, waste_passes=waste_passes)
+    return "\n".join([*lines[:body], *waste, *lines[body:]])

@@ -1,0 +1,87 @@
+"""pysat's FM (Fu-Malik, the WMSU1 variant for weights): the first core-guided MaxSAT algorithm.
+
+A baseline for the benchmark rather than a tool: it relaxes each soft clause of a core with a
+fresh variable and adds an at-most-one constraint over them (here a sequential counter), so it
+proves optimality like RC2 but with weaker relaxations. ``FM`` has no interrupt, so the solve
+runs in a child process whose time limit the parent enforces (:mod:`illuknit.solvers.isolate`);
+on the limit the status is ``timeout`` with no assignment. The formula handed to FM is built in
+the child, so FM's changes to it never reach the caller.
+"""
+
+from __future__ import annotations
+
+import time
+from typing import TYPE_CHECKING, Any
+
+from illuknit.solvers.base import (
+    BackendBase,
+    ProgressCallback,
+    ProgressEvent,
+    Solution,
+    Status,
+    assignment_from_lits,
+    check_oracle,
+)
+from illuknit.solvers.isolate import run_in_child
+
+if TYPE_CHECKING:
+    from illuknit.model import Model
+
+__all__ = ["FMBackend"]
+
+
+def _run_fm(model: Model, oracle: str) -> dict[str, Any]:
+    from pysat.card import EncType
+    from pysat.examples.fm import FM
+    from pysat.formula import WCNF
+
+    cs = model.to_clauses()
+    w = WCNF()
+    w.extend(cs.hard)
+    w.extend(cs.soft, weights=list(cs.weights))
+    fm = FM(w, enc=EncType.seqcounter, solver=oracle, verbose=0)
+    try:
+        if not fm.compute():
+            return {"sat": False}
+        return {"sat": True, "lits": list(fm.model), "cost": int(fm.cost)}
+    finally:
+        fm.delete()
+
+
+class FMBackend(BackendBase):
+    """pysat FM (WMSU1) in a child process; ``fm:ORACLE`` picks the SAT oracle (default m22)."""
+
+    name = "fm"
+    requires = ("pysat",)
+    distribution = "python-sat"
+
+    def __init__(self, oracle: str = "m22") -> None:
+        self.oracle = check_oracle(oracle)
+        self.name = "fm" if oracle == "m22" else f"fm:{oracle}"
+
+    def solve(
+        self,
+        model: Model,
+        *,
+        time_limit: float | None = None,
+        seed: int = 0,
+        progress: ProgressCallback | None = None,
+    ) -> Solution:
+        t0 = time.perf_counter()
+        res = run_in_child(lambda _p: _run_fm(model, self.oracle), time_limit=time_limit)
+        stats: dict[str, Any] = {"peak_rss_mb": res.peak_rss_mb}
+        if res.status != "ok":
+            stats["message"] = res.reason
+            st = Status.TIMEOUT if res.status == "timeout" else Status.ERROR
+            return self.solution(model, st, t0, stats=stats)
+        if not res.value["sat"]:
+            return self.solution(model, Status.INFEASIBLE, t0, stats=stats)
+        values = assignment_from_lits(res.value["lits"], model.pool.top)
+        ok, cost = model.evaluate(values)
+        stats["claimed_cost"] = res.value["cost"] + int(model.offset)
+        if not ok:
+            stats["message"] = "FM's assignment violates hard clauses"
+            return self.solution(model, Status.ERROR, t0, values, cost, stats=stats)
+        if progress:
+            progress(ProgressEvent(time.perf_counter() - t0, cost, cost))
+        return self.solution(model, Status.OPTIMAL, t0, values, cost, float(cost), stats)

@@ -1,0 +1,152 @@
+"""The MaxSAT Evaluation's solvers through hermax (``pip install 'illuknit[maxsat]'``).
+
+`hermax <https://pypi.org/project/hermax/>`_ wraps EvalMaxSAT, UWrMaxSat, CASHWMaxSAT, Open-WBO,
+CGSS, WMaxCDCL and anytime (incomplete) solvers such as Loandra and Open-WBO-Inc behind one
+IPAMIR-style API (``add_clause``, ``add_soft_unit``, ``solve``, ``get_cost``, ``get_model``).
+Each backend here encodes the model (:meth:`Model.to_clauses`; a non-unit soft clause gets a
+relaxation variable), and runs the solver **in a child process** (:mod:`illuknit.solvers.isolate`):
+the complete solvers refuse a time limit, so the parent enforces it, and a crash in C code costs
+one result. The anytime solvers get the time limit themselves and return their best model.
+
+The solver's own claims (status, cost) are kept in ``stats`` (``claimed_status``,
+``claimed_cost``); the returned ``objective`` is always recomputed from the model, and an
+assignment that breaks a hard clause is an ``error``.
+"""
+
+from __future__ import annotations
+
+import importlib
+import time
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from illuknit.solvers.base import (
+    BackendBase,
+    ProgressCallback,
+    ProgressEvent,
+    Solution,
+    Status,
+    assignment_from_lits,
+)
+from illuknit.solvers.isolate import run_in_child
+
+if TYPE_CHECKING:
+    from illuknit.model import Model
+
+__all__ = ["HERMAX_SOLVERS", "HermaxBackend"]
+
+#: backend name -> (hermax class "module:attr", anytime: takes a time limit itself)
+HERMAX_SOLVERS: dict[str, tuple[str, bool]] = {
+    "evalmaxsat": ("hermax.incremental:EvalMaxSAT", False),
+    "uwrmaxsat": ("hermax.incremental:UWrMaxSAT", False),
+    "cashwmaxsat": ("hermax.non_incremental:CASHWMaxSAT", False),
+    "openwbo": ("hermax.non_incremental:OpenWBO", False),
+    "cgss": ("hermax.non_incremental:CGSS", False),
+    "wmaxcdcl": ("hermax.non_incremental:WMaxCDCL", False),
+    "loandra": ("hermax.non_incremental.incomplete:Loandra", True),
+    "openwbo-inc": ("hermax.non_incremental.incomplete:OpenWBOInc", True),
+    "tt-openwbo-inc": ("hermax.non_incremental.incomplete:TTOpenWBOInc", True),
+    "nuwls-c-ibr": ("hermax.non_incremental.incomplete:NuWLSCIBR", True),
+    "spb-maxsat-c-fps": ("hermax.non_incremental.incomplete:SPBMaxSATCFPS", True),
+}
+
+# IPAMIR status codes (hermax.core.ipamir_solver_interface.SolveStatus)
+_OPTIMUM, _SAT, _UNSAT = 30, 10, 20
+
+
+def _run_hermax(
+    class_path: str, model: Model, time_limit: float | None, anytime: bool
+) -> dict[str, Any]:
+    """Build and solve in the current (child) process; a plain dict goes back to the parent."""
+    module, _, attr = class_path.partition(":")
+    cls = getattr(importlib.import_module(module), attr)
+    cs = model.to_clauses()
+    nv = cs.nv
+    solver = cls()
+    try:
+        for c in cs.hard:
+            solver.add_clause([int(x) for x in c])
+        # IPAMIR's set_soft *replaces* the weight of a literal declared before: unit soft
+        # clauses on one literal are summed, and a variable soft in both polarities is relaxed
+        units: dict[int, int] = {}
+        for c, w in zip(cs.soft, cs.weights, strict=True):
+            if len(c) == 1 and -int(c[0]) not in units:
+                units[int(c[0])] = units.get(int(c[0]), 0) + int(w)
+            else:
+                nv += 1
+                solver.add_soft_relaxed([int(x) for x in c], int(w), relax_var=nv)
+        for lit, w in units.items():
+            solver.add_soft_unit(lit, w)
+        kwargs = {"time_limit": time_limit} if anytime and time_limit is not None else {}
+        t0 = time.perf_counter()
+        solver.solve(**kwargs)
+        code = int(solver.get_status())
+        out: dict[str, Any] = {"code": code, "seconds": time.perf_counter() - t0}
+        if code in (_OPTIMUM, _SAT):
+            out["cost"] = int(solver.get_cost())
+            out["lits"] = np.asarray(solver.get_model() or [], dtype=np.int64)
+        out["signature"] = str(solver.signature())
+        return out
+    finally:
+        solver.close()
+
+
+class HermaxBackend(BackendBase):
+    """One hermax solver by name (see :data:`HERMAX_SOLVERS`), run in a child process."""
+
+    extra = "maxsat"
+    requires = ("hermax",)
+    distribution = "hermax"
+
+    def __init__(self, name: str) -> None:
+        self.name = name
+        self.class_path, self.anytime = HERMAX_SOLVERS[name]
+        self.exact = not self.anytime
+
+    def solve(
+        self,
+        model: Model,
+        *,
+        time_limit: float | None = None,
+        seed: int = 0,
+        progress: ProgressCallback | None = None,
+    ) -> Solution:
+        t0 = time.perf_counter()
+        res = run_in_child(
+            lambda _progress: _run_hermax(self.class_path, model, time_limit, self.anytime),
+            time_limit=time_limit,
+        )
+        stats: dict[str, Any] = {"peak_rss_mb": res.peak_rss_mb}
+        if res.status == "timeout":
+            stats["message"] = res.reason
+            return self.solution(model, Status.TIMEOUT, t0, stats=stats)
+        if res.status != "ok":
+            stats["message"] = res.reason
+            return self.solution(model, Status.ERROR, t0, stats=stats)
+        out = res.value
+        code = out["code"]
+        stats["signature"] = out["signature"]
+        if code == _UNSAT:
+            stats["claimed_status"] = "UNSATISFIABLE"
+            return self.solution(model, Status.INFEASIBLE, t0, stats=stats)
+        if "lits" not in out:
+            stats["message"] = f"solver ended with IPAMIR status {code} and no model"
+            timed_out = self.anytime and time_limit is not None
+            return self.solution(
+                model, Status.TIMEOUT if timed_out else Status.ERROR, t0, stats=stats
+            )
+        values = assignment_from_lits(out["lits"], model.pool.top)
+        ok, cost = model.evaluate(values)
+        stats["claimed_cost"] = out["cost"] + int(model.offset)
+        stats["claimed_status"] = "OPTIMUM FOUND" if code == _OPTIMUM else "SATISFIABLE"
+        if not ok:
+            stats["message"] = "the solver's assignment violates hard clauses"
+            return self.solution(model, Status.ERROR, t0, values, cost, stats=stats)
+        if progress:
+            progress(ProgressEvent(time.perf_counter() - t0, cost, None))
+        if code == _OPTIMUM:
+            return self.solution(model, Status.OPTIMAL, t0, values, cost, float(cost), stats)
+        limited = time_limit is not None and self.anytime
+        st = Status.TIMEOUT if limited else Status.FEASIBLE
+        return self.solution(model, st, t0, values, cost, None, stats)

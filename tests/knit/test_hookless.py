@@ -1,0 +1,131 @@
+"""The Kniterate as a machine: hookless lowering with a waste section, the reference backend
+accepting the programs, the set-up sheet, and the refusals of the ``knit`` command."""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from illuknit.check import check_knitout
+from illuknit.cli import main
+from illuknit.errors import CarrierShortageError, SchedulingError, UnknownNameError
+from illuknit.knit import knit_pattern
+from illuknit.knit.machine import KNITERATE, MACHINES, get_machine
+from illuknit.knit.machine_sheet import machine_sheet
+from illuknit.pattern import LogicalPattern, parse_yarns, save_pattern
+
+sys.path.insert(0, str(Path(__file__).parents[1] / "formats"))
+from test_kc import assert_same_as_reference
+
+YARNS = parse_yarns("#1b1b1b,#f4f0e8")
+
+
+def mixed(shape=(4, 10), k=2, seed=3) -> LogicalPattern:
+    rng = np.random.default_rng(seed)
+    yarns = parse_yarns("#1b1b1b,#f4f0e8,#b3202a,#2030a0,#20a030"[: 8 * k - 1])
+    return LogicalPattern(rng.integers(0, k, size=shape), rng.random(shape) < 0.4, yarns)
+
+
+def single() -> LogicalPattern:
+    from illuknit.drawings import draw_shape, to_index_image
+    from illuknit.single_view import compile_single_view
+
+    img = to_index_image(draw_shape("heart", (5, 6)), ink=0, paper=1)
+    return compile_single_view(img, yarns=YARNS)
+
+
+def test_presets_and_unknown_machine() -> None:
+    assert {"swg091n2", "generic540", "kniterate"} <= set(MACHINES)
+    k = get_machine("Kniterate")
+    assert (k.needles, len(k.carriers), k.inserting_hook) == (252, 6, False)
+    assert set(k.pattern_carriers) == set(k.carriers) - {k.waste_carrier, k.draw_carrier}
+    with pytest.raises(UnknownNameError, match="kniterate"):
+        get_machine("knitmaster")
+
+
+@pytest.mark.parametrize("make", [single, mixed], ids=["single-view", "mixed-2-yarns"])
+def test_programs_check_clean_and_the_backend_accepts_them(make, tmp_path: Path) -> None:
+    result = knit_pattern(make(), machine=KNITERATE)
+    text = result.text
+    assert ";;Carriers: 1 2 3 4 5 6" in text
+    assert not any(w in text for w in ("inhook", "releasehook", "outhook"))
+    assert "; draw thread" in text and f"out {KNITERATE.waste_carrier}" in text
+    used = {ln.split()[-1] for ln in text.splitlines() if ln.startswith(("knit ", "tuck "))}
+    assert used <= set(KNITERATE.carriers)
+    # one carrier per stitch: the Kniterate runs one carrier per pass
+    assert all(len(ln.split()) == 4 for ln in text.splitlines() if ln.startswith("knit "))
+    report = check_knitout(text, float_limit=KNITERATE.float_limit)
+    assert report.ok, [f.to_dict() for f in report.blocking][:3]
+    assert report.pieces == 1
+    kc = assert_same_as_reference(text, tmp_path)
+    assert kc is not None, "the reference backend refused the program"
+
+
+def test_sheet_lists_cones_stitch_numbers_needles_time() -> None:
+    result = knit_pattern(mixed(), machine=KNITERATE)
+    sheet = machine_sheet(result, name="piece.kc")
+    s = sheet.summary
+    roles = {r["carrier"]: r["role"] for r in s["carrier_table"]}
+    assert roles["6"] == "waste yarn" and roles["1"] == "draw thread"
+    assert sorted(c for c, r in roles.items() if r == "pattern") == ["2", "3"]
+    assert "6" in s["stitch_numbers"]
+    lo, hi = s["needle_range"]
+    assert 1 <= lo < hi <= 252 and hi - lo + 1 >= result.stitches.shape[1]
+    assert s["machine_passes"] == sheet.files["kc"].count("\n>>") + sheet.files["kc"].count("\n<<")
+    assert s["machine_passes"] > result.stats.passes  # the waste section is on the machine too
+    assert sheet.files["kc"].split("\n")[2] == "// piece.kc"
+
+
+def test_more_yarns_than_free_carriers_refuses() -> None:
+    with pytest.raises(CarrierShortageError, match="4"):
+        knit_pattern(mixed((4, 10), k=5, seed=1), machine=KNITERATE)
+
+
+def test_wider_than_the_bed_refuses() -> None:
+    wide = LogicalPattern(np.zeros((2, 130), int), np.zeros((2, 130), bool), YARNS)
+    with pytest.raises(SchedulingError, match="252"):
+        knit_pattern(wide, machine=KNITERATE)
+
+
+def run(args: list[str], capsys) -> tuple[int, str]:
+    try:
+        main(args)
+        code = 0
+    except SystemExit as e:
+        code = int(e.code or 0)
+    out = capsys.readouterr()
+    return code, out.out + out.err
+
+
+def test_cli_writes_kc_and_the_sheet(tmp_path: Path, capsys) -> None:
+    save_pattern(mixed(), tmp_path / "p.json")
+    out = tmp_path / "piece.kc"
+    args = ["-o", str(out), "--machine", "kniterate", "--format", "kc", "--json", "--no-check"]
+    code, output = run(["knit", str(tmp_path / "p.json"), *args], capsys)
+    assert code == 0, output
+    s = json.loads(output)
+    assert out.read_text().startswith("HOME\nRACK:0\n// piece.kc\n")
+    assert s["format"] == "kc" and s["machine"] == "Kniterate"
+    assert {row["role"] for row in s["carrier_table"]} == {"waste yarn", "draw thread", "pattern"}
+
+
+@pytest.mark.parametrize(
+    ("args", "words"),
+    [
+        (["--machine", "kniterate", "--format", "dat"], "format"),
+        (["--machine", "knitmaster"], "kniterate"),
+        (["--machine", "swg091n2", "--format", "kc"], "format"),
+    ],
+)
+def test_cli_bad_machine_or_format_writes_nothing(args, words, tmp_path: Path, capsys) -> None:
+    save_pattern(mixed(), tmp_path / "p.json")
+    out = tmp_path / "out.x"
+    code, output = run(["knit", str(tmp_path / "p.json"), "-o", str(out), *args], capsys)
+    assert code == 2
+    assert words in output
+    assert len(output.strip().splitlines()) == 1
+    assert not out.exists()
