@@ -54,7 +54,7 @@ def _combine(first: SlotOp, then: SlotOp, quarter: bool) -> SlotOp | None:
     return _COMBINE.get((first, then)) if quarter else None
 
 
-@dataclass
+@dataclass(slots=True)
 class _Draft:
     type: PassType
     racking: float
@@ -139,7 +139,7 @@ class _Draft:
         self.lo, self.hi = min(self.slots), max(self.slots)
 
 
-@dataclass
+@dataclass(slots=True)
 class _Carrier:
     name: str
     pending_in: tuple[str, tuple[str, ...]] | None  # (op, carrier set) until first use
@@ -148,7 +148,7 @@ class _Carrier:
     kick: tuple[Needle, Direction] | None = None  # where the carrier is parked
 
 
-@dataclass
+@dataclass(slots=True)
 class _Builder:
     passes: list[_Draft] = field(default_factory=list)
     carriers: dict[str, _Carrier] = field(default_factory=dict)
