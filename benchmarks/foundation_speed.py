@@ -13,9 +13,9 @@ import time
 
 import numpy as np
 
-from illuknit.images import prepare_image
 from illuknit.pattern import parse_yarns
 from illuknit.single_view import compile_single_view, prepare_single_view_image
+from illuknit.sizing import prepare_image
 from illuknit.views import can_see
 
 

@@ -35,3 +35,5 @@ def read_json_file(path: str | os.PathLike[str], *, error: type[IlluknitError], 
         return json.loads(text)
     except json.JSONDecodeError as e:
         raise error(f"{Path(path)} is not valid JSON: {e}") from None
+    except RecursionError:  # the decoder recurses once per level of nesting
+        raise error(f"{Path(path)} is nested too deeply to be a {what} file") from None

@@ -356,12 +356,12 @@ def skimage_image(
     -------
     ndarray of float64, shape (rows, cols, 3)
         sRGB in [0, 1]; greyscale pictures are repeated over the three channels, alpha is
-        composited on white.
+        composited on white. Resampled smoothly by :func:`illuknit.sizing.size_picture`.
     """
     import skimage.data
-    from skimage.transform import resize
 
     from illuknit.images import load_image
+    from illuknit.sizing import size_picture
 
     file = BUNDLED_IMAGES.get(name)
     if file is None:
@@ -386,8 +386,7 @@ def skimage_image(
             nh = max(1, round(w / target))
             y0 = (h - nh) // 2
             rgb = rgb[y0 : y0 + nh]
-    out = resize(rgb, (rows, cols, 3), order=1, anti_aliasing=True, mode="edge")
-    return np.clip(out, 0.0, 1.0)
+    return size_picture(rgb, width=cols, height=rows, smooth=True)
 
 
 def to_index_image(

@@ -7,7 +7,8 @@ wrong:
 =====================  ==========================================================================
 kind of problem        class
 =====================  ==========================================================================
-picture                :class:`ImageInputError` (target images, too), :class:`YarnSpecError`
+picture                :class:`ImageInputError` (target images, too),
+                       :class:`PictureSizeMismatchError`, :class:`YarnSpecError`
 pattern                :class:`PatternValidationError` (an in-memory pattern IR or its arrays)
 option / value         :class:`OptionError` (a keyword or setting out of range or of a wrong
                        type); :class:`UnknownNameError` (a name not in a registry);
@@ -37,6 +38,7 @@ __all__ = [
     "CalibrationError",
     "CarrierShortageError",
     "DatFormatError",
+    "ExecutorError",
     "IlluknitError",
     "ImageInputError",
     "InfeasibleError",
@@ -51,6 +53,7 @@ __all__ = [
     "OutputPathError",
     "PatternFormatError",
     "PatternValidationError",
+    "PictureSizeMismatchError",
     "RenderParamsError",
     "ResultsVersionError",
     "SchedulingError",
@@ -88,6 +91,18 @@ class PatternFormatError(IlluknitError, ValueError):
 
 class ImageInputError(IlluknitError, ValueError):
     """An input image is missing, unreadable, too small, or cannot be mapped to the yarns."""
+
+
+class PictureSizeMismatchError(ImageInputError):
+    """Two pictures do not cover the same piece (their aspect ratios differ); see
+    :mod:`illuknit.sizing`. ``a_pixels`` and ``b_pixels`` are their (height, width) in pixels."""
+
+    def __init__(
+        self, message: str, *, a_pixels: tuple[int, int], b_pixels: tuple[int, int]
+    ) -> None:
+        super().__init__(message)
+        self.a_pixels = a_pixels
+        self.b_pixels = b_pixels
 
 
 class YarnSpecError(IlluknitError, ValueError):
@@ -241,6 +256,10 @@ class ResultsVersionError(IlluknitError, ValueError):
 class OutputPathError(IlluknitError, OSError):
     """An output folder or file cannot be written: a file in the way, a read-only file system, no
     permission. The message names the path and the reason."""
+
+
+class ExecutorError(IlluknitError, RuntimeError):
+    """A benchmark executor cannot start (e.g. the Dask scheduler address cannot be reached)."""
 
 
 class MachineFileError(IlluknitError, ValueError):

@@ -3,7 +3,8 @@
 * :func:`load_image` reads PNG, JPEG, GIF, BMP (and whatever else Pillow reads): alpha is composited
   on white, greyscale and palette images become RGB, the first frame of an animation is used.
 * :func:`resize_to_units` resamples to a grid given by a width in units (or a physical width and a
-  gauge), keeping the aspect ratio unless a height is given.
+  gauge), keeping the aspect ratio unless a height is given. Which grid a picture (or a pair) gets
+  by default is decided by :mod:`illuknit.sizing`, the one sizing policy.
 * :func:`quantise_image` maps the picture to at most ``n_colors`` colours by k-means in CIELAB
   (a perceptual space; conversions by scikit-image), then maps each colour to a yarn, either the
   user's yarns (one-to-one, nearest in CIELAB by an optimal assignment) or yarns chosen from the
@@ -32,7 +33,6 @@ __all__ = [
     "check_image",
     "count_colors",
     "load_image",
-    "prepare_image",
     "quantise_image",
     "resize_to_units",
     "units_for_width",
@@ -410,35 +410,3 @@ def _kmeans_lab(
     relabel = np.full(len(c), -1)
     relabel[used] = np.arange(len(used))
     return srgb, relabel[assign][inverse]
-
-
-def prepare_image(
-    source: str | os.PathLike[str] | ArrayLike,
-    *,
-    width: int | None = None,
-    height: int | None = None,
-    width_cm: float | None = None,
-    gauge: float | None = None,
-    n_colors: int | None = None,
-    yarns: Sequence[Yarn] | None = None,
-    allow_quantise: bool = True,
-    default_width: int = 80,
-    smooth: bool | None = None,
-) -> QuantisedImage:
-    """Load (if a path), resize to units and quantise a picture in one call.
-
-    The grid width is ``width`` units, else ``width_cm`` at ``gauge`` stitches per inch, else the
-    picture's own width capped at ``default_width``. Pictures with few colours (pixel art, charts)
-    are resized with nearest-neighbour so no blend colours appear; others are smoothed.
-    """
-    rgb = load_image(source) if isinstance(source, (str, os.PathLike)) else check_image(source)
-    if width is not None and width_cm is not None:
-        raise ImageInputError("give either a width in units or a physical width, not both")
-    if width_cm is not None:
-        width = units_for_width(width_cm=width_cm, gauge=gauge if gauge is not None else 7.0)
-    if width is None and height is None:
-        width = min(rgb.shape[1], default_width)
-    if smooth is None:
-        smooth = count_colors(rgb) > 16
-    small = resize_to_units(rgb, width=width, height=height, smooth=smooth)
-    return quantise_image(small, n_colors=n_colors, yarns=yarns, allow_quantise=allow_quantise)

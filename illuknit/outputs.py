@@ -59,7 +59,9 @@ def atomic_write_bytes(path: str | os.PathLike[str], data: bytes) -> Path:
         path.parent.mkdir(parents=True, exist_ok=True)
         fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
     except OSError as exc:
-        raise OutputPathError(f"cannot write {path}: {_reason(exc)}") from exc
+        blocker = _file_in_the_way(path.parent)
+        reason = f"{blocker} is a file, not a folder" if blocker else _reason(exc)
+        raise OutputPathError(f"cannot write {path}: {reason}") from exc
     try:
         with os.fdopen(fd, "wb") as f:
             f.write(data)
@@ -85,6 +87,14 @@ def resolve_output_dir(outdir: str | os.PathLike[str]) -> Path:
     return Path(os.path.expanduser(os.fspath(outdir))).resolve()
 
 
+def _file_in_the_way(folder: Path) -> Path | None:
+    """The nearest existing path at or above ``folder`` when it is not a folder, else None."""
+    existing = folder.absolute()
+    while not existing.exists() and existing != existing.parent:
+        existing = existing.parent
+    return None if existing.is_dir() else existing
+
+
 def check_output_dir(outdir: str | os.PathLike[str]) -> Path:
     """Check that ``outdir`` is, or can become, a writable folder; return it resolved.
 
@@ -93,12 +103,13 @@ def check_output_dir(outdir: str | os.PathLike[str]) -> Path:
     be written (read-only file system, no permission).
     """
     final = resolve_output_dir(outdir)
+    blocker = _file_in_the_way(final)
+    if blocker is not None:
+        where = "is a file" if blocker == final else f"has a file in the way: {blocker}"
+        raise OutputPathError(f"output folder {outdir} {where}; name a folder")
     existing = final
     while not existing.exists():
         existing = existing.parent
-    if not existing.is_dir():
-        where = "is a file" if existing == final else f"has a file in the way: {existing}"
-        raise OutputPathError(f"output folder {outdir} {where}; name a folder")
     if not os.access(existing, os.W_OK | os.X_OK):
         # access() answers for root too on a read-only mount; statvfs says which reason it is.
         ro = os.statvfs(existing).f_flag & os.ST_RDONLY

@@ -161,7 +161,8 @@ def prepare_single_view_image(
     lightest the lighter yarn, and a middle colour stays a picture colour (never knitted). With
     three user yarns, picture colours map one-to-one to the nearest yarns.
     """
-    from illuknit.images import check_image, count_colors, load_image, prepare_image
+    from illuknit.images import check_image, count_colors, load_image
+    from illuknit.sizing import prepare_image
 
     if isinstance(source, (str, bytes)) or hasattr(source, "__fspath__"):
         rgb = load_image(source)

@@ -5,7 +5,6 @@ from PIL import Image
 from illuknit.errors import ImageInputError
 from illuknit.images import (
     load_image,
-    prepare_image,
     quantise_image,
     resize_to_units,
     units_for_width,
@@ -98,11 +97,3 @@ def test_quantise_is_deterministic():
     rgb = np.random.default_rng(2).random((16, 16, 3))
     a, b = quantise_image(rgb, n_colors=3), quantise_image(rgb, n_colors=3)
     assert np.array_equal(a.indices, b.indices)
-
-
-def test_prepare_image_widths(tmp_path):
-    rgb = np.random.default_rng(3).random((30, 60, 3))
-    assert prepare_image(rgb, width=10, n_colors=2).shape == (5, 10)
-    assert prepare_image(rgb, width_cm=10 * 2 * 2.54 / 7, n_colors=2).shape[1] == 10
-    with pytest.raises(ImageInputError, match="not both"):
-        prepare_image(rgb, width=10, width_cm=5)

@@ -33,14 +33,13 @@ import numpy as np
 from numpy.typing import NDArray
 
 from illuknit.colors import hex_color
-from illuknit.errors import AppRequestError, IlluknitError
+from illuknit.errors import AppRequestError, IlluknitError, PictureSizeMismatchError
 from illuknit.images import MAX_PIXELS
 from illuknit.pattern import LogicalPattern, Yarn, parse_yarns, pattern_to_json
 
 __all__ = [
     "MAX_UPLOAD_BYTES",
     "Candidate",
-    "CheckedKnitout",
     "Prepared",
     "capabilities",
     "decode_upload",
@@ -84,8 +83,7 @@ def blame(field_name: str | None) -> Iterator[None]:
 def capabilities() -> dict[str, bool]:
     """What this install can do (the page greys out the rest).
 
-    Every part the page drives is illuknit's own and always installed; only machine files
-    (Shima ``.dat``) are not written by illuknit yet.
+    Every part the page drives is illuknit's own and always installed.
     """
     return {
         "single": True,
@@ -95,7 +93,7 @@ def capabilities() -> dict[str, bool]:
         "knit": True,
         "check": True,
         "chart": True,
-        "dat": False,
+        "dat": True,
     }
 
 
@@ -255,7 +253,8 @@ def prepare_inputs(images: dict[str, Any], settings: Any) -> Prepared:
     offer to resize), a width out of range (``width_units``/``width_cm``), bad yarns (``yarns``),
     colour count issues (``n_colors``).
     """
-    from illuknit.images import quantise_image, resize_to_units
+    from illuknit.images import quantise_image
+    from illuknit.sizing import size_pair
 
     mode = settings.mode
     slots = slots_for(mode, images)
@@ -267,28 +266,24 @@ def prepare_inputs(images: dict[str, Any], settings: Any) -> Prepared:
         yarns = parse_yarns(list(settings.yarns))
     _check_colors(mode, settings.n_colors, len(yarns))
     width, size_field = width_of(settings)
-    notes: list[str] = []
     a = images["a"].rgb
-    resized: dict[str, NDArray[np.float64]] = {}
-    with blame(size_field):
-        resized["a"] = resize_to_units(a, width=width, smooth=settings.smooth)
-    if "b" in slots:
-        b = images["b"].rgb
-        if a.shape[:2] != b.shape[:2]:
-            if not settings.resize:
-                raise AppRequestError(
-                    f"picture A is {a.shape[1]} x {a.shape[0]} pixels but picture B is "
-                    f"{b.shape[1]} x {b.shape[0]}; both pictures must cover the same piece. "
-                    "Resize B to A's size, or upload pictures of equal size.",
-                    field="image_b",
-                    code="size_mismatch",
-                    status=409,
-                )
-            notes.append(f"picture B stretched from {b.shape[1]} x {b.shape[0]} to A's size")
-        n, m = resized["a"].shape[:2]
-        with blame(size_field):
-            resized["b"] = resize_to_units(b, width=m, height=n, smooth=settings.smooth)
-    n, m = resized["a"].shape[:2]
+    b = images["b"].rgb if "b" in slots else None
+    with blame(size_field):  # the same sizing policy as the command line (illuknit.sizing)
+        try:
+            pair = size_pair(a, b, width=width, stretch=settings.resize, smooth=settings.smooth)
+        except PictureSizeMismatchError:
+            assert b is not None
+            raise AppRequestError(
+                f"picture A is {a.shape[1]} x {a.shape[0]} pixels but picture B is "
+                f"{b.shape[1]} x {b.shape[0]}; both pictures must cover the same piece (one "
+                "aspect ratio). Resize B to A's size, or upload pictures of one shape.",
+                field="image_b",
+                code="size_mismatch",
+                status=409,
+            ) from None
+    resized = {"a": pair.a} if pair.b is None else {"a": pair.a, "b": pair.b}
+    notes = list(pair.notes)
+    n = pair.shape[0]
     if n < 2:
         raise AppRequestError(
             f"the picture is only {n} unit tall at this width; use a wider piece",
@@ -333,8 +328,13 @@ def _check_colors(mode: str, n_colors: int, n_yarns: int) -> None:
 
 
 def width_of(settings: Any) -> tuple[int, str]:
-    """The piece's width in units under ``settings``, and the control that sets it."""
+    """The piece's width in units under ``settings``, and the control that sets it.
+
+    Raises AppRequestError (on that control) for a width outside 2..MAX_UNITS or wider than the
+    chosen machine's bed.
+    """
     from illuknit.images import units_for_width
+    from illuknit.knit.machine import get_machine
     from illuknit.pattern import MAX_UNITS
 
     if settings.size_mode == "physical":
@@ -348,6 +348,16 @@ def width_of(settings: Any) -> tuple[int, str]:
             f"the piece would be {width} units wide; it must be 2..{MAX_UNITS} units",
             field=size_field,
             code="range",
+        )
+    machine = get_machine(settings.machine)
+    if width > machine.max_units:
+        # refused before any work: a pattern that cannot go on the chosen bed is not designed
+        raise AppRequestError(
+            f"the piece would be {width} units = {2 * width} stitches wide, but the "
+            f"{machine.name} bed of {machine.needles} needles holds at most {machine.max_units} "
+            "units; make it narrower or choose a wider machine",
+            field=size_field,
+            code="too_wide",
         )
     return width, size_field
 
@@ -736,33 +746,6 @@ def instructions_text(pattern: LogicalPattern) -> str:
     from illuknit.chart import written_instructions
 
     return written_instructions(pattern)
-
-
-@dataclass(frozen=True)
-class CheckedKnitout:
-    """Knitout for one pattern and the checker's report on it."""
-
-    key: str  # identifies the pattern it was made from
-    knitout: str
-    stats: dict[str, Any]
-    report: dict[str, Any]
-    report_text: str
-
-
-def knit_and_check(doc: dict[str, Any]) -> dict[str, Any]:
-    """Compile a pattern (as JSON) to knitout and check it. Runs in a spawned worker process."""
-    from illuknit.check import check_knitout
-    from illuknit.knit import knit_pattern
-    from illuknit.pattern import pattern_from_json
-
-    result = knit_pattern(pattern_from_json(doc))
-    report = check_knitout(result.text)
-    return {
-        "knitout": result.text,
-        "stats": result.summary(),
-        "report": report.to_dict(),
-        "report_text": report.to_text(name="knitout.k"),
-    }
 
 
 def pattern_key(pattern: LogicalPattern) -> str:

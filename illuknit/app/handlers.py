@@ -93,6 +93,7 @@ def designer_message(err: dict[str, Any]) -> tuple[str, str | None]:
         "extra_forbidden": f"{name!r} is not a setting; the settings are "
         + ", ".join(DesignSettings.model_fields),
         "string_type": f"{title} must be text",
+        "value_error": str(ctx.get("error", err.get("msg", "invalid value"))),
         "list_type": f"{title} must be a list",
         "tuple_type": f"{title} must be a list",
     }

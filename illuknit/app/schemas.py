@@ -8,10 +8,11 @@ and error messages quote the titles, never the identifiers.
 
 from __future__ import annotations
 
-from typing import Any, Literal
+from typing import Annotated, Any, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, create_model
+from pydantic import AfterValidator, BaseModel, ConfigDict, Field, create_model
 
+from illuknit.knit.machine import DEFAULT_MACHINE_NAME, MACHINES
 from illuknit.pattern import MAX_UNITS
 
 __all__ = [
@@ -21,6 +22,17 @@ __all__ = [
     "SelectionIn",
     "SettingsPatch",
 ]
+
+
+def _known_machine(name: str) -> str:
+    key = name.strip().lower()
+    if key not in MACHINES:
+        raise ValueError(f"unknown machine {name!r}; the machines are {', '.join(MACHINES)}")
+    return key
+
+
+#: A machine preset's name (:data:`illuknit.knit.machine.MACHINES`), case-insensitive.
+MachineName = Annotated[str, AfterValidator(_known_machine)]
 
 
 class DesignSettings(BaseModel):
@@ -64,6 +76,11 @@ class DesignSettings(BaseModel):
     )
     resize: bool = Field(
         default=False, title="Resize B", description="stretch picture B to picture A's size"
+    )
+    machine: MachineName = Field(
+        default=DEFAULT_MACHINE_NAME,
+        title="Machine",
+        description="the knitting machine: its bed bounds the width, its carriers hold the yarns",
     )
     smooth: bool = Field(
         default=True,

@@ -16,7 +16,7 @@ compile_s      seconds spent building models / compiling the result into a patte
 note           free text shown in the summary
 =============  ==============================================================================
 
-A method whose code or library is missing from this install raises :class:`MethodUnavailable`
+A method whose optional third-party library is missing raises :class:`MethodUnavailable`
 (a :class:`~illuknit.errors.BackendUnavailableError`); the runner records the cell as
 ``skipped`` with that reason instead of failing. Register more methods with
 :func:`register_method`.
@@ -98,17 +98,6 @@ def get_method(name: str) -> Method:
         raise UnknownNameError("method", name, method_names()) from None
 
 
-def _require(module: str, what: str, attr: str | None = None) -> Any:
-    """Import ``module`` (and ``attr``), or raise MethodUnavailable naming what is missing."""
-    import importlib
-
-    try:
-        mod = importlib.import_module(module)
-        return getattr(mod, attr) if attr else mod
-    except (ImportError, AttributeError) as e:
-        raise MethodUnavailable(f"{what} is not in this install ({module}: {e})") from None
-
-
 def _solution_info(sol: Any, compile_s: float) -> dict[str, Any]:
     status = getattr(sol.status, "value", str(sol.status))
     gap = sol.gap() if callable(getattr(sol, "gap", None)) else getattr(sol, "gap", None)
@@ -132,9 +121,8 @@ def _solution_info(sol: Any, compile_s: float) -> dict[str, Any]:
 
 def run_single(instance: Instance, time_limit: float) -> tuple[LogicalPattern, dict[str, Any]]:
     """Paper section 5: alternating stripe rows, raised where the picture has the row's colour."""
-    compile_single_view = _require(
-        "illuknit.single_view", "the single-view compiler", "compile_single_view"
-    )
+    from illuknit.single_view import compile_single_view
+
     t = instance_targets(instance)
     t0 = time.perf_counter()
     pattern = compile_single_view(t.a, yarns=instance.yarns)
@@ -152,8 +140,9 @@ register_method(
 def _solve_model(
     instance: Instance, time_limit: float, *, solver: str, model: str, warm_start: str
 ) -> tuple[LogicalPattern, dict[str, Any]]:
-    solve_illusion = _require("illuknit.illusion_models", "the illusion models", "solve_illusion")
-    solvers = _require("illuknit.solvers", "the solver registry")
+    from illuknit import solvers
+    from illuknit.illusion_models import solve_illusion
+
     if solver not in solvers.available_backends():
         raise MethodUnavailable(f"solver backend {solver!r} is not available in this install")
     t = instance_targets(instance)
@@ -175,6 +164,8 @@ def _solve_model(
         if "found no pattern" in str(e):
             raise NoPattern(f"no pattern within {time_limit:g} s ({e})") from None
         raise
+    if res.pattern is None:
+        raise NoPattern(f"no pattern within {time_limit:g} s ({res.solution.status.value})")
     total = time.perf_counter() - t0
     info = _solution_info(res.solution, compile_s=max(0.0, total - res.solution.wall_time))
     sol = res.solution
@@ -219,8 +210,9 @@ register_method(
 
 def run_tiles(instance: Instance, time_limit: float) -> tuple[LogicalPattern, dict[str, Any]]:
     """The top-ranked tile assignment of the two targets, compiled (paper section 6)."""
-    assign_tiles = _require("illuknit.tiles.assign", "tile assignment", "assign_tiles")
-    compile_tiles = _require("illuknit.tiles.compile", "tile compilation", "compile_tiles")
+    from illuknit.tiles.assign import assign_tiles
+    from illuknit.tiles.compile import compile_tiles
+
     t = instance_targets(instance)
     palette = t.palette
     t0 = time.perf_counter()
@@ -251,9 +243,8 @@ GRADIENT_STEPS = 200
 
 def run_gradient(instance: Instance, time_limit: float) -> tuple[LogicalPattern, dict[str, Any]]:
     """MSE between renders at ±30° and the targets, annealed and binarised (paper Fig. 19 b)."""
-    optimise_design = _require(
-        "illuknit.render.optimise", "the gradient optimiser", "optimise_design"
-    )
+    from illuknit.render.optimise import optimise_design
+
     t = instance_targets(instance)
     t0 = time.perf_counter()
     res = optimise_design(t.a, t.b, instance.yarns, steps=GRADIENT_STEPS, time_limit=time_limit)

@@ -257,20 +257,16 @@ def angled_renders(
 ) -> tuple[dict[str, NDArray[np.float64]], str]:
     """Renders of both sides at ``angle``, one pixel per unit, and the renderer's name.
 
-    Uses :func:`illuknit.render.render_views` when available, else the boolean view.
+    Uses :func:`illuknit.render.render_views` (illuknit's own renderer: always there).
 
     Returns
     -------
     (dict, str)
-        ``{"A": (N, M, 3), "B": (N, M, 3), "headon": (N, M, 3)}`` float sRGB in [0, 1], and ``"angled@30"`` or
-        ``"boolean (renderer unavailable: ...)"``.
+        ``{"A": (N, M, 3), "B": (N, M, 3), "headon": (N, M, 3)}`` float sRGB in [0, 1], and the
+        renderer's name, e.g. ``"angled@30"``.
     """
-    try:
-        from illuknit.render import render_views
-    except ImportError as e:
-        reason = f"boolean (renderer unavailable: {e})"
-        names: tuple[View, ...] = ("A", "B", "headon")
-        return {v: boolean_render(pattern, v) for v in names}, reason
+    from illuknit.render import render_views
+
     views = render_views(pattern, angle=angle)
     out = {}
     for v in ("A", "B", "headon"):
@@ -310,36 +306,49 @@ def color_changes(pattern: LogicalPattern) -> dict[str, float]:
 
 
 def knit_stats(pattern: LogicalPattern, *, machine: str | None = None) -> dict[str, Any]:
-    """Carriage passes, transfer passes and estimated knitting time from :mod:`illuknit.knit`.
+    """Carriage passes and knitting time as the machine runs them.
 
-    ``machine`` names the preset the pattern is knit on (:func:`illuknit.knit.machine.get_machine`;
-    default the ``generic540`` bed).
+    The pattern is knit with :func:`illuknit.knit.knit_pattern` on ``machine`` (a preset of
+    :func:`illuknit.knit.machine.get_machine`; default the ``generic540`` bed), and its program's
+    passes are counted as the SWG machine runs them (:func:`illuknit.formats.machine_passes`,
+    equal to the pass rows of the reference backend's ``.dat``): carrier moves, kickbacks and hook
+    passes included. The time is the machine's time model
+    (:meth:`~illuknit.knit.machine.MachineSpec.pass_seconds`) summed over those passes.
 
     Returns
     -------
     dict
-        ``carriage_passes`` (every pass of the schedule), ``transfer_passes``, ``knit_time_min``
-        (None when unavailable) and ``knit_note`` (empty, or why the numbers are missing).
+        ``carriage_passes`` (the machine's passes), ``transfer_passes`` (of them, transfers),
+        ``scheduled_passes`` (the scheduler's own count), ``knit_time_min`` (None when
+        unavailable) and ``knit_note`` (empty, or why the numbers are missing).
     """
     from illuknit.errors import IlluknitError
-
-    empty: dict[str, Any] = {
-        "carriage_passes": None,
-        "transfer_passes": None,
-        "knit_time_min": None,
-    }
+    from illuknit.formats import PassKind, machine_passes
     from illuknit.knit import knit_pattern
     from illuknit.knit.machine import get_machine
 
     spec = get_machine(machine)
     try:
         result = knit_pattern(pattern, machine=spec)
+        passes = machine_passes(result.program)
     except IlluknitError as e:
-        return {**empty, "knit_note": f"not schedulable: {e}"}
+        return {
+            "carriage_passes": None,
+            "transfer_passes": None,
+            "scheduled_passes": None,
+            "knit_time_min": None,
+            "knit_note": f"not schedulable: {e}",
+        }
+    transfers = {PassKind.TRANSFER, PassKind.TRANSFER_TO_SLIDERS, PassKind.TRANSFER_FROM_SLIDERS}
+    seconds = 0.0
+    for p in passes:
+        crossed = p.slots[-1][0] - p.slots[0][0] + 1 if p.slots else 0
+        seconds += spec.pass_seconds(crossed)
     return {
-        "carriage_passes": int(result.stats.passes),
-        "transfer_passes": int(result.stats.transfer_passes),
-        "knit_time_min": float(result.time.seconds) / 60.0,
+        "carriage_passes": len(passes),
+        "transfer_passes": sum(p.kind in transfers for p in passes),
+        "scheduled_passes": int(result.stats.passes),
+        "knit_time_min": seconds / 60.0,
         "knit_note": "",
     }
 

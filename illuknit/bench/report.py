@@ -8,6 +8,7 @@ after every run, so they always describe every finished cell. The Pareto plot ne
 from __future__ import annotations
 
 import csv
+import importlib.util
 import io
 import json
 import math
@@ -19,6 +20,8 @@ from typing import Any
 import numpy as np
 
 from illuknit import __version__
+from illuknit.bench.results import FIELDS, FORMAT, machine_info
+from illuknit.errors import IlluknitError
 from illuknit.outputs import atomic_write_bytes, atomic_write_text
 
 __all__ = [
@@ -125,8 +128,6 @@ def format_summary(rows: Sequence[dict[str, Any]]) -> str:
 
 
 def _csv_text(rows: Sequence[dict[str, Any]]) -> str:
-    from illuknit.bench.runner import FIELDS
-
     buf = io.StringIO()
     w = csv.DictWriter(buf, fieldnames=list(FIELDS), extrasaction="ignore", lineterminator="\n")
     w.writeheader()
@@ -166,7 +167,7 @@ def contact_sheet_for(outdir: Path, rows: Sequence[dict[str, Any]]) -> np.ndarra
                 ("target A", _scaled((targets.rgb("A") * 255).round().astype(np.uint8))),
                 ("target B", _scaled((targets.rgb("B") * 255).round().astype(np.uint8))),
             ]
-        except Exception:  # a spec this version cannot draw: show the renders only
+        except IlluknitError:  # a spec this version cannot draw: show the renders only
             pass
     for r in rows:
         d = outdir / "cells" / r["instance"] / r["method"]
@@ -225,13 +226,13 @@ def pareto_points(
 def _pareto_png(
     groups: dict[str, list[dict[str, Any]]], metric: str = "render_mse"
 ) -> bytes | None:
-    try:
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError:
+    if importlib.util.find_spec("matplotlib") is None:  # the optional plotting extra
         return None
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
     names = [n for n, g in groups.items() if pareto_points(g, metric)[1]]
     if not names:
         return None
@@ -269,7 +270,6 @@ def _pareto_png(
 
 def write_outputs(outdir: str | Path, rows: Sequence[dict[str, Any]]) -> dict[str, str]:
     """Write results.csv/json, summary.md, contact sheets and pareto.png; return their paths."""
-    from illuknit.bench.runner import machine_info
     from illuknit.previews import png_bytes
 
     out = Path(outdir)
@@ -277,7 +277,7 @@ def write_outputs(outdir: str | Path, rows: Sequence[dict[str, Any]]) -> dict[st
     atomic_write_text(out / "results.csv", _csv_text(rows))
     written["csv"] = str(out / "results.csv")
     doc = {
-        "format": "illuknit-bench-results",
+        "format": FORMAT,
         "illuknit_version": __version__,
         "machine": machine_info(),
         "generated": datetime.now(UTC).isoformat(timespec="seconds"),

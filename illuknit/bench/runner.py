@@ -27,8 +27,6 @@ from __future__ import annotations
 
 import hashlib
 import json
-import os
-import platform
 import shutil
 import time
 import traceback
@@ -39,9 +37,17 @@ from pathlib import Path
 from typing import Any
 
 from illuknit import __version__
+from illuknit.bench import report
 from illuknit.bench.instances import Instance, instance_targets
 from illuknit.bench.methods import MethodUnavailable, NoPattern, get_method
-from illuknit.errors import BackendUnavailableError, OptionError, ResultsVersionError, SolverError
+from illuknit.bench.results import FIELDS, FORMAT, machine_info
+from illuknit.errors import (
+    BackendUnavailableError,
+    ExecutorError,
+    OptionError,
+    ResultsVersionError,
+    SolverError,
+)
 from illuknit.knit.machine import DEFAULT_MACHINE_NAME, get_machine
 from illuknit.outputs import atomic_write_bytes, atomic_write_text
 
@@ -59,72 +65,7 @@ __all__ = [
 
 EXECUTORS = ("local", "dask")
 META_FILE = "bench.json"
-FORMAT = "illuknit-bench-results"
 RETRY_STATUSES = ("skipped", "error")
-
-#: Columns of results.csv, in order.
-FIELDS = (
-    "instance",
-    "method",
-    "kind",
-    "rows",
-    "cols",
-    "n_yarns",
-    "time_limit",
-    "status",
-    "reason",
-    "objective",
-    "bound",
-    "gap",
-    "logical_error_a",
-    "logical_error_b",
-    "render_mse_a",
-    "render_mse_b",
-    "render_ssim_a",
-    "render_ssim_b",
-    "render_mse",
-    "render_ssim",
-    "render_corr_a",
-    "render_corr_b",
-    "ghost_a",
-    "ghost_b",
-    "headon_visibility",
-    "renderer",
-    "color_changes_mean",
-    "color_changes_max",
-    "yarns_per_course_mean",
-    "yarns_per_course_max",
-    "carriage_passes",
-    "transfer_passes",
-    "knit_time_min",
-    "knit_note",
-    "knit_machine",
-    "solve_s",
-    "compile_s",
-    "wall_s",
-    "metrics_s",
-    "peak_rss_mb",
-    "peak_rss_delta_mb",
-    "note",
-    "cell_key",
-    "illuknit_version",
-    "python",
-    "platform",
-    "machine",
-    "cpus",
-    "finished_at",
-)
-
-
-def machine_info() -> dict[str, Any]:
-    """Where the numbers were measured."""
-    return {
-        "python": platform.python_version(),
-        "platform": platform.platform(),
-        "machine": platform.machine()
-        + (f" {platform.processor()}" if platform.processor() else ""),
-        "cpus": os.cpu_count(),
-    }
 
 
 @dataclass(frozen=True)
@@ -216,7 +157,7 @@ def execute_cell(cell: Cell) -> dict[str, Any]:
             t1 = time.perf_counter()
             pattern, info = method.run(cell.instance, cell.time_limit)
             wall = time.perf_counter() - t1
-    except (MethodUnavailable, BackendUnavailableError, ImportError) as e:
+    except (MethodUnavailable, BackendUnavailableError) as e:
         row.update(status="skipped", reason=str(e) or type(e).__name__)
         return {"row": _finish(row), "files": files}
     except NoPattern as e:
@@ -415,30 +356,43 @@ def _iter_local(cells: Sequence[Cell], jobs: int) -> Iterable[dict[str, Any]]:
     ex.shutdown(wait=True)
 
 
-def _iter_dask(cells: Sequence[Cell], jobs: int, client: Any, address: str | None):
+def _connect_dask(address: str | None, jobs: int) -> tuple[Any, Callable[[], None]]:
+    """A Dask client (at ``address``, or on a local cluster) and the function that closes it.
+
+    Called before the results folder is touched, so an unreachable scheduler leaves nothing behind.
+    """
     try:
-        from dask.distributed import Client, LocalCluster, as_completed
+        from dask.distributed import Client, LocalCluster
     except ImportError:
         raise BackendUnavailableError(
             "--executor dask needs dask.distributed: pip install 'illuknit[dask]'"
         ) from None
-    own = client is None
-    cluster = None
-    if own:
-        if address:
+    if address:
+        try:
             client = Client(address)
-        else:
-            cluster = LocalCluster(n_workers=max(1, jobs), threads_per_worker=1, processes=True)
-            client = Client(cluster)
+        except (OSError, ValueError, TypeError) as e:
+            raise ExecutorError(f"cannot reach the Dask scheduler at {address}: {e}") from None
+        return client, client.close
+    cluster = LocalCluster(n_workers=max(1, jobs), threads_per_worker=1, processes=True)
+    client = Client(cluster)
+
+    def close() -> None:
+        client.close()
+        cluster.close()
+
+    return client, close
+
+
+def _iter_dask(cells: Sequence[Cell], client: Any, close: Callable[[], None] | None):
+    from dask.distributed import as_completed
+
     try:
         futures = [client.submit(execute_cell, c, pure=False) for c in cells]
         for fut in as_completed(futures):
             yield fut.result()
     finally:
-        if own:
-            client.close()
-            if cluster is not None:
-                cluster.close()
+        if close is not None:
+            close()
 
 
 def run_bench(
@@ -504,7 +458,15 @@ def run_bench(
         get_method(m)  # unknown names fail before any work
     knit_machine = (machine or DEFAULT_MACHINE_NAME).strip().lower()
     get_machine(knit_machine)
-    out = prepare_results_dir(outdir, force=force)
+    close = None
+    if executor == "dask" and dask_client is None:
+        dask_client, close = _connect_dask(dask_address, jobs)
+    try:
+        out = prepare_results_dir(outdir, force=force)
+    except BaseException:
+        if close is not None:
+            close()
+        raise
     if force:
         for inst in instances:
             for m in methods:
@@ -525,10 +487,7 @@ def run_bench(
         else:
             todo.append(c)
 
-    if executor == "dask":
-        stream = _iter_dask(todo, jobs, dask_client, dask_address)
-    else:
-        stream = _iter_local(todo, jobs)
+    stream = _iter_dask(todo, dask_client, close) if executor == "dask" else _iter_local(todo, jobs)
 
     bar = None
     if progress and todo:
@@ -569,9 +528,7 @@ def run_bench(
         order = [i.name for i in instances]
         run.rows = sort_rows(load_rows(out), order, list(methods))
         if write_outputs:
-            from illuknit.bench.report import write_outputs as _write
-
-            run.outputs = _write(out, run.rows)
+            run.outputs = report.write_outputs(out, run.rows)
     return run
 
 

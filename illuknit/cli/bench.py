@@ -7,6 +7,7 @@ from typing import Any
 import click
 
 from illuknit.cli.knitout_bridge import machine_option
+from illuknit.cli.options import COUNT, POSITIVE
 from illuknit.errors import UnknownNameError
 
 __all__ = ["bench"]
@@ -93,10 +94,10 @@ def _run_solvers(instances: Any, solvers: list[str], outdir: str, **kw: Any) -> 
     "'default' or 'all'.",
 )
 @click.option(
-    "--time-limit", type=float, default=None, help="Seconds per cell (overrides the manifest)."
+    "--time-limit", type=POSITIVE, default=None, help="Seconds per cell (overrides the manifest)."
 )
 @click.option(
-    "--jobs", "-j", type=int, default=1, show_default=True, help="Parallel worker processes."
+    "--jobs", "-j", type=COUNT, default=1, show_default=True, help="Parallel worker processes."
 )
 @click.option(
     "--executor",
@@ -143,7 +144,7 @@ def _run_solvers(instances: Any, solvers: list[str], outdir: str, **kw: Any) -> 
 )
 @click.option(
     "--memory-mb",
-    type=float,
+    type=POSITIVE,
     default=4096.0,
     show_default=True,
     help="Solver benchmark: resident memory limit of one run.",

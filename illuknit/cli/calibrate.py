@@ -13,7 +13,7 @@ from illuknit.cli.knitout_bridge import (
     resolve_machine,
     write_program,
 )
-from illuknit.cli.options import knitout_option, outdir_option
+from illuknit.cli.options import POSITIVE, knitout_option, outdir_option
 
 __all__ = ["calibrate"]
 
@@ -137,8 +137,8 @@ def swatch(
     default=None,
     help="Base parameters (flat height, unit length, theta, shading) to keep.",
 )
-@click.option("--flat-height", type=float, default=None, help="Override the base flat height.")
-@click.option("--unit-length", type=float, default=None, help="Override the base unit length.")
+@click.option("--flat-height", type=POSITIVE, default=None, help="Override the base flat height.")
+@click.option("--unit-length", type=POSITIVE, default=None, help="Override the base unit length.")
 @click.option(
     "-o",
     "--output",

@@ -12,6 +12,7 @@ from pathlib import Path
 import click
 
 from illuknit.cli.knitout_bridge import machine_option
+from illuknit.cli.options import POSITIVE
 from illuknit.errors import KnitoutParseError
 
 __all__ = ["check"]
@@ -64,7 +65,7 @@ def read_knitout_file(path: Path) -> str:
 )
 @click.option(
     "--max-racking",
-    type=click.FloatRange(min=0, min_open=True),
+    type=POSITIVE,
     default=None,
     help="Largest allowed |racking| [the machine's, 4].",
 )

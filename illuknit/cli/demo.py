@@ -8,7 +8,7 @@ from pathlib import Path
 import click
 
 from illuknit.cli.knitout_bridge import format_option, machine_option
-from illuknit.cli.options import outdir_option
+from illuknit.cli.options import UNITS, outdir_option
 from illuknit.cli.summary import console, print_written, summarise_pattern
 
 __all__ = ["demo", "demo_image"]
@@ -21,7 +21,7 @@ def demo_image() -> Path:
 
 @click.command("demo")
 @outdir_option(default=Path("illuknit-demo"))
-@click.option("--width", type=int, default=48, show_default=True, help="Pattern width in units.")
+@click.option("--width", type=UNITS, default=48, show_default=True, help="Pattern width in units.")
 @click.option(
     "--knitout/--no-knitout",
     default=True,
@@ -39,18 +39,12 @@ def demo(outdir: Path, width: int, knitout: bool, machine: str | None) -> None:
     from illuknit.cli.single import run_single
     from illuknit.pattern import load_pattern
 
-    try:
-        import illuknit.knit
-
-        can_knit = hasattr(illuknit.knit, "knit_pattern")
-    except ImportError:  # pragma: no cover
-        can_knit = False
     paths = run_single(
         demo_image(),
         outdir,
         width=width,
         yarns="Charcoal=#1b1b1b,Cream=#f4f0e8",
-        knitout=knitout and can_knit,
+        knitout=knitout,
         machine=machine,
         title="illuknit demo: a heart in a ring",
     )

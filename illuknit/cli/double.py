@@ -20,37 +20,9 @@ import numpy as np
 
 from illuknit.cli.knitout_bridge import format_option, machine_option
 from illuknit.cli.options import knitout_option, outdir_option
+from illuknit.sizing import DEFAULT_MAX_WIDTH
 
 __all__ = ["double", "run_design"]
-
-
-def _load_pair(
-    path_a: Path, path_b: Path | None, *, width: int | None, resize: bool
-) -> tuple[np.ndarray, np.ndarray | None]:
-    from illuknit.errors import ImageInputError
-    from illuknit.images import count_colors, load_image, resize_to_units
-
-    a = load_image(path_a)
-    b = load_image(path_b) if path_b is not None else None
-    # Few colours: pixel art or a chart, resized without blend colours (as prepare_image does).
-    smooth_a = count_colors(a) > 16
-    if width is None and max(a.shape[:2]) > 400:  # keep the longer side within 400 units
-        width = max(2, round(400 * a.shape[1] / max(a.shape[:2])))
-    if width is not None:
-        a = resize_to_units(a, width=width, smooth=smooth_a)
-    if b is None:
-        return a, None
-    smooth_b = count_colors(b) > 16
-    if b.shape[:2] != a.shape[:2]:
-        same_aspect = abs(b.shape[0] / b.shape[1] - a.shape[0] / a.shape[1]) < 0.02
-        if not (resize or same_aspect):
-            raise ImageInputError(
-                f"the pictures have different sizes ({path_a.name}: {a.shape[1]} x {a.shape[0]}, "
-                f"{path_b.name if path_b else 'second'}: {b.shape[1]} x {b.shape[0]} after sizing); make them the same "
-                "size or pass --resize to stretch the second onto the first"
-            )
-        b = resize_to_units(b, width=a.shape[1], height=a.shape[0], smooth=smooth_b)
-    return a, b
 
 
 def _choose_yarns(spec: str | None, n_colors: int, pictures: list[np.ndarray]) -> tuple[Any, ...]:
@@ -101,6 +73,7 @@ def run_design(
     from illuknit.images import quantise_image
     from illuknit.outputs import atomic_write_text, staged_dir
     from illuknit.previews import save_png, unit_scale, upscale
+    from illuknit.sizing import load_pair
     from illuknit.tiles.assign import assign_tiles
     from illuknit.tiles.bank import canonical_bank, load_bank
     from illuknit.tiles.compile import compile_tiles, repainted_rgb
@@ -112,7 +85,8 @@ def run_design(
     spec = resolve_machine(machine)
     if knitout and width is not None:
         check_fits(spec, width)
-    a, b = _load_pair(path_a, path_b, width=width, resize=resize)
+    pair = load_pair(path_a, path_b, width=width, stretch=resize)
+    a, b = pair.a, pair.b
     if knitout:
         check_fits(spec, a.shape[1])
     pictures = [a] if b is None else [a, b]
@@ -293,8 +267,8 @@ def design_options(func: Any) -> Any:
         click.option("--yarns", default=None, metavar="N|LIST",
                      help="Number of yarns chosen from the pictures, or a list like 'black,white,#c03030'. Default: --colors."),
         click.option("--width", type=click.IntRange(2, 1000), default=None,
-                     help="Pattern width in units (pictures are resized; default: picture size, at most 400)."),
-        click.option("--resize", is_flag=True, help="Stretch the second picture onto the first when sizes differ."),
+                     help=f"Pattern width in units (pictures are resized; default: picture width, at most {DEFAULT_MAX_WIDTH})."),
+        click.option("--resize", is_flag=True, help="Stretch the second picture onto the first when their aspect ratios differ."),
         click.option("--candidates", type=click.IntRange(1, 50), default=5, show_default=True,
                      help="How many ranked candidates to write."),
         click.option("--bank", "bank_file", type=click.Path(dir_okay=False, path_type=Path), default=None,

@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING, Any
 import click
 
 from illuknit.cli.knitout_bridge import machine_option
+from illuknit.cli.options import COUNT, NON_NEGATIVE, POSITIVE
 
 if TYPE_CHECKING:
     from illuknit.knit.machine import MachineSpec
@@ -79,21 +80,18 @@ def run_knit(
     )
     summary = result.summary()
     if check:
-        try:
-            from illuknit.check import check_knitout
-        except ImportError:  # pragma: no cover - only in a partial install
-            summary["check"] = None
-        else:
-            report = check_knitout(result.text, machine=spec)
-            summary["check"] = {
-                "errors": len(report.blocking),
-                "warnings": len(report.warnings),
-                "pieces": report.pieces,
-                "findings": [
-                    {"line": f.line, "code": f.code, "severity": f.severity, "message": f.message}
-                    for f in report.findings[:20]
-                ],
-            }
+        from illuknit.check import check_knitout
+
+        report = check_knitout(result.text, machine=spec)
+        summary["check"] = {
+            "errors": len(report.blocking),
+            "warnings": len(report.warnings),
+            "pieces": report.pieces,
+            "findings": [
+                {"line": f.line, "code": f.code, "severity": f.severity, "message": f.message}
+                for f in report.findings[:20]
+            ],
+        }
     sheet = machine_sheet(result, name=Path(output).name)
     summary.update(sheet.summary)
     if output_format in sheet.files:  # made for the sheet already (the .kc)
@@ -118,7 +116,7 @@ def run_knit(
 @machine_option()
 @click.option(
     "--gauge",
-    type=click.FloatRange(min=0, min_open=True),
+    type=POSITIVE,
     default=None,
     help="Needles per inch [the machine's, 7].",
 )
@@ -137,19 +135,19 @@ def run_knit(
 )
 @click.option(
     "--seconds-per-needle",
-    type=click.FloatRange(min=0),
+    type=NON_NEGATIVE,
     default=None,
     help="Time model: carriage time per needle crossed [0.01].",
 )
 @click.option(
     "--seconds-per-turn",
-    type=click.FloatRange(min=0),
+    type=NON_NEGATIVE,
     default=None,
     help="Time model: fixed time per carriage pass [1.5].",
 )
 @click.option(
     "--float-limit",
-    type=int,
+    type=COUNT,
     default=None,
     help="Longest yarn float in needles for mixed colourwork [the machine's, 20].",
 )
@@ -180,7 +178,7 @@ def run_knit(
 )
 @click.option(
     "--catch-every",
-    type=int,
+    type=COUNT,
     default=2,
     show_default=True,
     help="Plate at colour changes on every N-th course (1 = every course, as in the paper).",

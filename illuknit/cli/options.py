@@ -1,16 +1,65 @@
-"""Click options shared by the commands that read pictures."""
+"""Click options and option types shared by the commands.
+
+Every numeric option of every command uses one of the types here (or a bounded ``click.IntRange``),
+so ``nan``, ``inf`` and meaningless negative values are refused once, while the options are
+parsed: one line on stderr and exit code 2, before any work starts.
+"""
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import click
 
-from illuknit.pattern import Yarn, parse_yarns
+if TYPE_CHECKING:  # `illuknit check` imports these types without loading numpy
+    from illuknit.pattern import Yarn
 
-__all__ = ["image_options", "knitout_option", "outdir_option", "parse_yarn_option"]
+__all__ = [
+    "ANGLE",
+    "COUNT",
+    "FINITE",
+    "NON_NEGATIVE",
+    "POSITIVE",
+    "UNITS",
+    "FiniteFloat",
+    "image_options",
+    "knitout_option",
+    "outdir_option",
+    "parse_yarn_option",
+]
+
+
+class FiniteFloat(click.FloatRange):
+    """A float option that must be a finite number, optionally within a range.
+
+    ``click.FloatRange`` lets ``nan`` through (every comparison with it is false) and ``inf``
+    through an open-ended range; this type refuses both.
+    """
+
+    name = "number"
+
+    def convert(self, value: Any, param: click.Parameter | None, ctx: click.Context | None) -> Any:
+        rv = super().convert(value, param, ctx)
+        if not math.isfinite(rv):
+            self.fail(f"{value!r} is not a finite number.", param, ctx)
+        return rv
+
+
+#: Any finite number.
+FINITE = FiniteFloat()
+#: A finite number > 0 (sizes, gauges, time limits).
+POSITIVE = FiniteFloat(min=0, min_open=True)
+#: A finite number >= 0 (times per needle or pass).
+NON_NEGATIVE = FiniteFloat(min=0)
+#: An angle in degrees in (0, 90].
+ANGLE = FiniteFloat(min=0, max=90, min_open=True)
+#: A whole number >= 1 (counts, jobs).
+COUNT = click.IntRange(min=1)
+#: A pattern width or height in units (the library's limit).
+UNITS = click.IntRange(1, 1000)
 
 OUTDIR_HELP = (
     "Folder to write into (created if needed; files of the same name are replaced, others kept)."
@@ -22,25 +71,25 @@ def image_options(func: Callable[..., Any]) -> Callable[..., Any]:
     opts = [
         click.option(
             "--width",
-            type=int,
+            type=UNITS,
             default=None,
             help="Pattern width in units (1 unit = 2 stitches). Default: picture width, at most 80.",
         ),
         click.option(
             "--height",
-            type=int,
+            type=UNITS,
             default=None,
             help="Pattern height in units. Default: keeps the picture's aspect ratio.",
         ),
         click.option(
             "--width-cm",
-            type=float,
+            type=POSITIVE,
             default=None,
             help="Physical width in cm (with --gauge) instead of --width.",
         ),
         click.option(
             "--gauge",
-            type=click.FloatRange(min=0, min_open=True),
+            type=POSITIVE,
             default=None,
             help="Machine or hand gauge in stitches per inch, used with --width-cm and to knit "
             "(--knitout) [the machine's, 7].",
@@ -72,6 +121,8 @@ def image_options(func: Callable[..., Any]) -> Callable[..., Any]:
 
 
 def parse_yarn_option(value: str | None) -> tuple[Yarn, ...] | None:
+    from illuknit.pattern import parse_yarns
+
     return None if value is None else parse_yarns(value)
 
 

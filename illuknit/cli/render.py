@@ -6,7 +6,7 @@ from pathlib import Path
 
 import click
 
-from illuknit.cli.options import outdir_option
+from illuknit.cli.options import FINITE, outdir_option
 
 __all__ = ["render"]
 
@@ -15,7 +15,7 @@ __all__ = ["render"]
 @click.argument("pattern_file", metavar="PATTERN", type=click.Path(dir_okay=False, path_type=Path))
 @click.option(
     "--angle",
-    type=float,
+    type=FINITE,  # the range (0, 90] is checked with the other render parameters
     default=None,
     help="Side-view elevation in degrees, in (0, 90] (default: the params' theta).",
 )

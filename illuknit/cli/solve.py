@@ -18,11 +18,10 @@ import click
 import numpy as np
 
 from illuknit.cli.knitout_bridge import format_option, machine_option
+from illuknit.cli.options import POSITIVE
+from illuknit.sizing import DEFAULT_MAX_WIDTH
 
 __all__ = ["load_targets", "run_solve", "solve"]
-
-#: Default grid width: the picture's own width, at most this many units.
-DEFAULT_MAX_WIDTH = 100
 
 
 def load_targets(
@@ -35,40 +34,18 @@ def load_targets(
     yarns: Any = None,
     quantise: bool = True,
 ) -> tuple[Any, Any | None]:
-    """Load, size and jointly quantise the target picture(s).
+    """Load, size (:func:`illuknit.sizing.size_pair`) and jointly quantise the target picture(s).
 
     Returns (QuantisedImage of A, QuantisedImage of B or None) sharing one yarn list.
 
-    Raises ImageInputError when the pictures differ in size after sizing (unless ``resize``).
+    Raises PictureSizeMismatchError when the pictures do not cover the same piece (unless
+    ``resize``).
     """
-    from illuknit.errors import ImageInputError
-    from illuknit.images import (
-        QuantisedImage,
-        count_colors,
-        load_image,
-        quantise_image,
-        resize_to_units,
-    )
+    from illuknit.images import QuantisedImage, quantise_image
+    from illuknit.sizing import load_pair
 
-    a = load_image(path_a)
-    b = load_image(path_b) if path_b is not None else None
-    if width is None:
-        width = min(a.shape[1], DEFAULT_MAX_WIDTH)
-    a = resize_to_units(a, width=width, smooth=count_colors(a) > 16)
-    if b is not None and path_b is not None:
-        scaled = resize_to_units(b, width=width, smooth=count_colors(b) > 16)
-        if scaled.shape[:2] != a.shape[:2]:
-            if not resize:
-                raise ImageInputError(
-                    f"the targets have different sizes after sizing to {width} units wide "
-                    f"({path_a.name}: {a.shape[1]} x {a.shape[0]}, {path_b.name}: "
-                    f"{scaled.shape[1]} x {scaled.shape[0]} units); give pictures of one aspect "
-                    "ratio or pass --resize to stretch B onto A"
-                )
-            scaled = resize_to_units(
-                b, width=a.shape[1], height=a.shape[0], smooth=count_colors(b) > 16
-            )
-        b = scaled
+    pair = load_pair(path_a, path_b, width=width, stretch=resize)
+    a, b = pair.a, pair.b
     both = a if b is None else np.concatenate([a, b], axis=0)
     q = quantise_image(both, n_colors=n_colors, yarns=yarns, allow_quantise=quantise)
     n = a.shape[0]
@@ -425,12 +402,12 @@ def _list_solvers(ctx: click.Context, _param: click.Parameter, value: bool) -> N
 )
 @click.option(
     "--time-limit",
-    type=float,
+    type=POSITIVE,
     default=60.0,
     show_default=True,
     help="Seconds; the best pattern found is kept.",
 )
-@click.option("--seed", type=int, default=0, show_default=True)
+@click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True)
 @click.option(
     "--export-wcnf",
     type=click.Path(dir_okay=False, path_type=Path),

@@ -128,7 +128,7 @@ def test_page_and_static_files_are_served(client):
 def test_info_lists_capabilities_limits_and_presets(client):
     info = client.get("/api/info").json()
     assert info["capabilities"]["single"] is True
-    assert info["capabilities"]["dat"] is False
+    assert info["capabilities"]["dat"] is True
     assert info["limits"]["max_upload_bytes"] == 200_000
     assert all(len(v) >= 2 for v in info["presets"].values())
 
@@ -497,9 +497,10 @@ def test_single_view_flow_to_checked_knitout(client):
     assert client.get(f"/api/sessions/{sid}/download/knitout.k").status_code == 409
 
 
-def test_dat_and_unknown_downloads(client, double):
+def test_dat_before_knitout_and_unknown_downloads(client, double):
     r = client.get(f"/api/sessions/{double}/download/pattern.dat")
-    assert r.status_code == 501 and "not available" in error_of(r)["message"]
+    assert r.status_code == 409 and error_of(r)["field"] == "knit"
+    assert "make the knitout first" in error_of(r)["message"]
     r = client.get(f"/api/sessions/{double}/download/secrets.txt")
     assert r.status_code == 404 and error_of(r)["field"] == "downloads"
 

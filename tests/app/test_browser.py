@@ -61,20 +61,25 @@ def free_port() -> int:
 
 
 @pytest.fixture(scope="module")
-def base_url():
+def served():
+    """(page URL, app): the app served by uvicorn on a free loopback port."""
     port = free_port()
-    srv = uvicorn.Server(
-        uvicorn.Config(create_app(AppConfig()), host="127.0.0.1", port=port, log_level="warning")
-    )
+    app = create_app(AppConfig())
+    srv = uvicorn.Server(uvicorn.Config(app, host="127.0.0.1", port=port, log_level="warning"))
     thread = threading.Thread(target=srv.run, daemon=True)
     thread.start()
     deadline = time.monotonic() + 20
     while not srv.started:
         assert time.monotonic() < deadline and thread.is_alive(), "server did not start"
         time.sleep(0.02)
-    yield f"http://127.0.0.1:{port}/"
+    yield f"http://127.0.0.1:{port}/", app
     srv.should_exit = True
     thread.join(10)
+
+
+@pytest.fixture(scope="module")
+def base_url(served):
+    return served[0]
 
 
 @pytest.fixture(scope="module")
@@ -140,7 +145,16 @@ def test_design_two_pictures_pick_tilt_download(browser, base_url, tmp_path):
     err_b = page.locator("[data-error-for='image_b']")
     sync_api.expect(err_b).to_contain_text("not a picture")
 
+    # the machine selector: the paper's SWG091N2 with its real bed bounds the width control
+    page.select_option("#machine", "swg091n2")
+    sync_api.expect(page.locator("#machine-info")).to_contain_text("252 needles")
+    assert page.get_attribute("#width_units", "max") == "123"
+    page.locator("#width_units").fill("200")
+    err_w = page.locator("[data-error-for='width_units']")
+    sync_api.expect(err_w).to_contain_text("holds at most 123 units")
+
     page.locator("#width_units").fill("24")
+    sync_api.expect(err_w).to_be_empty()
     page.set_input_files("#file-a", str(pic_a))
     sync_api.expect(page.locator("#meta-a")).to_contain_text("72×48px")
     page.set_input_files("#file-b", str(pic_b))
@@ -186,9 +200,23 @@ def test_design_two_pictures_pick_tilt_download(browser, base_url, tmp_path):
     assert text.startswith(";!knitout-2")
     assert "outhook" in text
 
-    # .dat: not available, said so next to the control
-    page.click("[data-dl='pattern.dat']")
-    sync_api.expect(page.locator("[data-error-for='knit']")).to_contain_text("not available")
+    # the export panel: which cone on which carrier, the needles used, the machine's time
+    sync_api.expect(page.locator("#carrier-table")).to_contain_text("Carrier")
+    assert page.locator("#carrier-table tbody tr").count() == 2
+    sync_api.expect(page.locator("#knit-needles")).to_contain_text("of 252")
+    sync_api.expect(page.locator("#knit-needles")).to_contain_text("estimated machine time")
+    assert "Width: 252" in text
+
+    # the Shima .dat of the same program
+    dat_button = page.locator("[data-dl='pattern.dat']")
+    sync_api.expect(dat_button).to_be_enabled()
+    with page.expect_download() as dl:
+        dat_button.click()
+    dat = dl.value
+    assert dat.suggested_filename.endswith(".dat")
+    from illuknit.formats.dat import knitout_to_dat
+
+    assert Path(dat.path()).read_bytes() == knitout_to_dat(text)
 
     shot = tmp_path / "app.png"
     page.screenshot(path=str(shot), full_page=True)
@@ -197,7 +225,7 @@ def test_design_two_pictures_pick_tilt_download(browser, base_url, tmp_path):
     if keep:
         shutil.copyfile(shot, keep)
     context.close()
-    # expected failures (the bad upload, the .dat) are HTTP answers shown on the page, not errors
+    # expected failures (the bad upload, the too-wide piece) are answers shown on the page
     assert not [p for p in problems if "page error" in p or "request failed" in p], problems
 
 
@@ -237,4 +265,56 @@ def test_drop_a_picture_on_its_box(browser, base_url, tmp_path):
     page.evaluate(drop, ["#drop-a", data])
     sync_api.expect(page.locator("#meta-a")).to_contain_text("dropped.png · 72×48px")
     assert page.url == base_url
+    context.close()
+
+
+@pytest.fixture()
+def elsewhere():
+    """Another site: a plain page served on another loopback port (so another origin)."""
+    import http.server
+
+    class Page(http.server.BaseHTTPRequestHandler):
+        def do_GET(self) -> None:
+            body = b"<!doctype html><title>elsewhere</title><p>another site</p>"
+            self.send_response(200)
+            self.send_header("Content-Type", "text/html")
+            self.send_header("Content-Length", str(len(body)))
+            self.end_headers()
+            self.wfile.write(body)
+
+        def log_message(self, *args: object) -> None:
+            pass
+
+    srv = http.server.ThreadingHTTPServer(("127.0.0.1", 0), Page)
+    thread = threading.Thread(target=srv.serve_forever, daemon=True)
+    thread.start()
+    yield f"http://localhost:{srv.server_address[1]}/"
+    srv.shutdown()
+    srv.server_close()
+    thread.join(10)
+
+
+def test_a_page_of_another_site_cannot_change_the_app(browser, served, elsewhere):
+    """A page of another origin posts to the app, as any site the designer visits could: the
+    browser sends it, the server refuses it; the app's own page still works."""
+    url, app = served
+    before = len(app.state.store)
+    context = browser.new_context()
+    page = context.new_page()
+    page.goto(elsewhere)
+    sent = page.evaluate(
+        """async (url) => {
+            await fetch(url + "api/sessions", { method: "POST", mode: "no-cors" });
+            await fetch(url + "api/sessions", {
+                method: "POST", mode: "no-cors", body: "x", headers: { "Content-Type": "text/plain" },
+            });
+            return true;
+        }""",
+        url,
+    )
+    assert sent is True
+    assert len(app.state.store) == before
+    page.goto(url)
+    page.wait_for_selector("body[data-ready='1']")
+    assert len(app.state.store) == before + 1
     context.close()

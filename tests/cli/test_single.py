@@ -108,10 +108,10 @@ def _bad_pattern(tmp_path, **changes):
             ],
             "colours but only 2",
         ),
-        (lambda t, p: ["single", str(p), "--width", "0", "-o", str(t / "o")], "between 1 and 1000"),
+        (lambda t, p: ["single", str(p), "--width", "0", "-o", str(t / "o")], "1<=x<=1000"),
         (
             lambda t, p: ["single", str(p), "--width", "1001", "-o", str(t / "o")],
-            "between 1 and 1000",
+            "1<=x<=1000",
         ),
         (
             lambda t, p: ["single", str(p), "--yarns", "black,blurple", "-o", str(t / "o")],

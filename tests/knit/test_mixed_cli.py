@@ -73,8 +73,8 @@ def test_each_ablation_is_caught_by_the_check_and_exits_1(plus, tmp_path, capsys
         (["--float-avoidance", "--no-float-avoidance"], "contradict"),
         (["--path-planning", "none", "--path-planning", "split"], "contradictory"),
         (["--path-planning", "zigzag"], "zigzag"),
-        (["--float-limit", "0"], "float_limit"),
-        (["--catch-every", "0"], "catch_every"),
+        (["--float-limit", "0"], "--float-limit"),
+        (["--catch-every", "0"], "--catch-every"),
     ],
 )
 def test_bad_switches_are_one_line_exit_2_and_nothing_written(

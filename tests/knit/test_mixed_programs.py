@@ -8,7 +8,6 @@ slow).
 from __future__ import annotations
 
 import numpy as np
-import pytest
 
 from illuknit.check import check_knitout
 from illuknit.drawings import draw_shape, to_index_image
@@ -68,7 +67,8 @@ def test_solver_output_dp():
 
 
 def test_calibration_swatch():
-    calibrate = pytest.importorskip("illuknit.render.calibrate")
+    from illuknit.render import calibrate
+
     swatch = calibrate.calibration_swatch(bump_sizes=(1, 2), flat_sizes=(1, 2), cell_width=3)
     assert_knits(swatch)
 

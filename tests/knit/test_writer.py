@@ -173,8 +173,8 @@ def test_stitch_and_speed_numbers_are_written_when_set():
 @pytest.mark.parametrize("shape", ["heart", "plus"])
 def test_single_view_compiler_output_knits_cleanly(shape):
     """The push-button single-view path end to end: drawing -> pattern -> knitout -> checks."""
-    single_view = pytest.importorskip("illuknit.single_view")
-    drawings = pytest.importorskip("illuknit.drawings")
+    from illuknit import drawings, single_view
+
     mask = drawings.draw_shape(shape, (10, 8))
     pattern = single_view.compile_single_view(mask.astype(int), yarns=YARNS[:2])
     m = MachineSpec()

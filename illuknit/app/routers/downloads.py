@@ -7,9 +7,11 @@ from fastapi import APIRouter, Query
 from fastapi.responses import Response
 
 from illuknit.app import design
+from illuknit.app.knitting import CheckedKnitout, machine_file
 from illuknit.app.lookups import SessionDep, current_pattern
 from illuknit.app.sessions import Session
 from illuknit.errors import AppRequestError
+from illuknit.knit.machine import get_machine
 from illuknit.pattern import LogicalPattern
 
 __all__ = ["DOWNLOADS", "router"]
@@ -25,6 +27,7 @@ DOWNLOADS = (
     "check.json",
     "check.txt",
     "pattern.dat",
+    "pattern.kc",
 )
 
 
@@ -39,7 +42,7 @@ def attachment(data: bytes, filename: str, media_type: str) -> Response:
     )
 
 
-def knit_of(s: Session, pattern: LogicalPattern) -> design.CheckedKnitout:
+def knit_of(s: Session, pattern: LogicalPattern) -> CheckedKnitout:
     """The session's knitout if it was made from ``pattern`` (409 ``not_ready`` otherwise)."""
     with s.lock:
         knit = s.knit
@@ -50,7 +53,7 @@ def knit_of(s: Session, pattern: LogicalPattern) -> design.CheckedKnitout:
             code="not_ready",
             status=409,
         )
-    result: design.CheckedKnitout = knit
+    result: CheckedKnitout = knit
     return result
 
 
@@ -69,15 +72,6 @@ def download(
             field="downloads",
             code="unknown",
             status=404,
-        )
-    if name == "pattern.dat":
-        raise AppRequestError(
-            "Shima .dat files are not available: illuknit writes knitout, and no working "
-            "knitout-to-.dat converter is installable from PyPI today. Convert the knitout with "
-            "the CMU textiles-lab knitout-backend-swg (knitout-to-dat.js).",
-            field="knit",
-            code="unavailable",
-            status=501,
         )
     pattern = current_pattern(s)
     stem = f"illuknit-{pattern.shape[0]}x{pattern.shape[1]}"
@@ -102,6 +96,12 @@ def download(
     knit = knit_of(s, pattern)
     if name == "knitout.k":
         return attachment(knit.knitout.encode(), f"{stem}.k", "text/plain; charset=utf-8")
+    if name in ("pattern.dat", "pattern.kc"):
+        fmt = name.rsplit(".", 1)[1]
+        filename = f"{stem}.{fmt}"
+        return attachment(
+            machine_file(knit, fmt, name=filename), filename, "application/octet-stream"
+        )
     if name == "check.json":
         return attachment(
             json.dumps(knit.report, indent=1).encode(), f"{stem}-check.json", "application/json"
@@ -109,7 +109,10 @@ def download(
     return attachment(knit.report_text.encode(), f"{stem}-check.txt", "text/plain; charset=utf-8")
 
 
-@router.get("/knit", summary="Knitout statistics and check summary")
+@router.get(
+    "/knit",
+    summary="Knitout statistics, check summary, carrier-to-yarn table, needle range, machine files",
+)
 def get_knit(s: SessionDep) -> dict[str, Any]:
     pattern = current_pattern(s)
     with s.lock:
@@ -118,7 +121,11 @@ def get_knit(s: SessionDep) -> dict[str, Any]:
         return {"ready": False}
     return {
         "ready": True,
+        "machine": knit.machine,
         "stats": knit.stats,
         "report": knit.report,
         "lines": knit.knitout.count("\n"),
+        "carriers": list(knit.carriers),
+        "needle_range": list(knit.needle_range),
+        "formats": list(get_machine(knit.machine).formats),
     }

@@ -6,6 +6,7 @@ from fastapi import APIRouter, Depends, Request
 
 from illuknit.app import design
 from illuknit.app.jobs import Job, JobRunner
+from illuknit.app.knitting import CheckedKnitout, knit_and_check
 from illuknit.app.lookups import SessionDep, current_pattern, prepared_of, runner_of, store_of
 from illuknit.app.schemas import JobIn
 from illuknit.app.sessions import Session
@@ -42,19 +43,23 @@ def start_knit(s: Session, runner: JobRunner, *, isolate: bool) -> Job:
     pattern = current_pattern(s)
     key = design.pattern_key(pattern)
     doc = design.pattern_to_json(pattern)
+    machine = s.settings.machine
 
-    def work(job: Job) -> design.CheckedKnitout:
+    def work(job: Job) -> CheckedKnitout:
         job.report(0.05, "compiling knitout and checking it")
         if isolate:
-            out = job.run_isolated(design.knit_and_check, doc)
+            out = job.run_isolated(knit_and_check, doc, machine)
         else:
-            out = design.knit_and_check(doc)
-        return design.CheckedKnitout(
+            out = knit_and_check(doc, machine)
+        return CheckedKnitout(
             key=key,
+            machine=machine,
             knitout=out["knitout"],
             stats=out["stats"],
             report=out["report"],
             report_text=out["report_text"],
+            carriers=tuple(out["carriers"]),
+            needle_range=tuple(out["needle_range"]),
         )
 
     def done(job: Job) -> None:

@@ -8,6 +8,7 @@ from illuknit.app import design
 from illuknit.app.lookups import SessionDep, state_json, store_of
 from illuknit.app.schemas import DesignSettings, SettingsPatch
 from illuknit.app.sessions import SessionStore
+from illuknit.errors import AppRequestError
 from illuknit.pattern import parse_yarns
 
 __all__ = ["router"]
@@ -44,7 +45,21 @@ def put_settings(s: SessionDep, body: SettingsPatch) -> dict[str, Any]:  # type:
             parse_yarns(list(changes["yarns"]))
     with s.lock:
         new = DesignSettings.model_validate({**s.settings.model_dump(), **changes})
+        _check_fits(new, changes)
         if new != s.settings:
             s.settings = new
             s.bump()
         return state_json(s)
+
+
+def _check_fits(settings: DesignSettings, changes: dict[str, Any]) -> None:
+    """Refuse a width the chosen bed cannot knit now, before any work, next to the control the
+    designer just changed (the machine, or the width)."""
+    if changes.keys().isdisjoint({"machine", "width_units", "width_cm", "gauge", "size_mode"}):
+        return
+    try:
+        design.width_of(settings)
+    except AppRequestError as e:
+        if e.code == "too_wide" and "machine" in changes:
+            e.field = "machine"
+        raise

@@ -8,6 +8,7 @@ from fastapi.staticfiles import StaticFiles
 
 from illuknit import __version__
 from illuknit.app import design
+from illuknit.app.knitting import machines_json
 from illuknit.app.schemas import DesignSettings
 from illuknit.app.server import STATIC_DIR
 from illuknit.pattern import MAX_UNITS
@@ -46,6 +47,7 @@ def info(request: Request) -> dict[str, Any]:
             "max_pixels": design.MAX_UPLOAD_PIXELS,
         },
         "presets": {k: list(v) for k, v in design.YARN_PRESETS.items()},
+        "machines": machines_json(),
         "defaults": DesignSettings().to_json(),
     }
 

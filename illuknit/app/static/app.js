@@ -98,7 +98,7 @@ function clearError(...fields) {
   }
 }
 
-const INPUT_FIELDS = ["image_a", "image_b", "width_units", "width_cm", "gauge", "n_colors", "yarns", "mode"];
+const INPUT_FIELDS = ["image_a", "image_b", "width_units", "width_cm", "gauge", "n_colors", "yarns", "mode", "machine"];
 
 function report(err, fallbackField) {
   if (!(err instanceof ApiError)) {
@@ -142,6 +142,13 @@ async function startSession() {
       b.title += " (not available in this install)";
     }
   }
+  for (const m of state.info.machines) {
+    const o = document.createElement("option");
+    o.value = m.name;
+    o.textContent = `${m.label} · ${m.needles} needles`;
+    o.title = m.description;
+    $("#machine").appendChild(o);
+  }
   const preset = $("#preset");
   for (const name of Object.keys(state.info.presets)) {
     const o = document.createElement("option");
@@ -179,6 +186,13 @@ function applyState(s) {
   $("#row-units").hidden = st.size_mode !== "units";
   $("#row-physical").hidden = st.size_mode !== "physical";
   setValue("#width_units", st.width_units);
+  setValue("#machine", st.machine);
+  const machine = state.info.machines.find((m) => m.name === st.machine);
+  if (machine) {
+    // the bed bounds the width control: a wider pattern is refused before any work
+    $("#width_units").max = String(machine.max_units);
+    $("#machine-info").textContent = `${machine.description}. Widest piece: ${machine.max_units} units (${2 * machine.max_units} stitches).`;
+  }
   setValue("#width_cm", st.width_cm);
   setValue("#gauge", st.gauge);
   setValue("#n_colors", st.n_colors);
@@ -239,6 +253,8 @@ async function saveSettings(change) {
     applyState(s);
     if (changed) await refreshInputs({ autorun: true });
   } catch (err) {
+    // a refused machine or width leaves the controls showing what the session still has
+    if ("machine" in change) setValue("#machine", state.settings.machine);
     report(err, fields[0]);
   }
 }
@@ -676,7 +692,10 @@ function pairRow(pair) {
 // downloads and knitout
 
 function updateKnitButtons() {
-  for (const b of $$("[data-needs-knit]")) b.disabled = !state.knitReady;
+  for (const b of $$("[data-needs-knit]")) {
+    const format = b.dataset.format;
+    b.disabled = !state.knitReady || (format && !(state.knitFormats || []).includes(format));
+  }
   const none = !state.selected;
   for (const b of $$(".downloads button[data-dl]")) if (!b.hasAttribute("data-needs-knit") && !b.classList.contains("unavail")) b.disabled = none;
   $("#make-knit").disabled = none || !(state.info && state.info.capabilities.knit) || !$("#job-knit").hidden;
@@ -690,6 +709,7 @@ async function refreshKnit() {
     try {
       const k = await sapi("GET", "/knit");
       state.knitReady = k.ready;
+      state.knitFormats = k.ready ? k.formats : [];
       if (k.ready) showKnitSummary(k);
     } catch (err) { report(err, "knit"); }
   }
@@ -710,6 +730,37 @@ function showKnitSummary(k) {
   const line = document.createElement("div");
   line.textContent = `Knitout ready · ${parts.join(" · ")}`;
   box.appendChild(line);
+  const machine = (state.info.machines || []).find((m) => m.name === k.machine);
+  if (k.needle_range) {
+    const bed = document.createElement("div");
+    bed.id = "knit-needles";
+    bed.textContent = `On the ${machine ? machine.label : k.machine}: needles ${k.needle_range[0]}–${k.needle_range[1]} of ${st.needles}` +
+      (st.time ? ` · estimated machine time ${st.time}` : "");
+    box.appendChild(bed);
+  }
+  if (k.carriers && k.carriers.length) {
+    // which cone goes on which carrier
+    const table = document.createElement("table");
+    table.className = "carriers";
+    table.id = "carrier-table";
+    const head = table.createTHead().insertRow();
+    for (const h of ["Carrier", "Yarn"]) head.appendChild(document.createElement("th")).textContent = h;
+    const body = table.createTBody();
+    for (const row of k.carriers) {
+      const tr = body.insertRow();
+      tr.insertCell().textContent = row.carriers.join(", ");
+      const cell = tr.insertCell();
+      if (row.rgb) {
+        const sw = document.createElement("span");
+        sw.className = "sw";
+        sw.style.background = row.rgb;
+        cell.append(sw, document.createTextNode(` ${row.yarn} (${row.rgb})`));
+      } else {
+        cell.textContent = row.yarn; // the waste yarn and draw thread: any cone of their kind
+      }
+    }
+    box.appendChild(table);
+  }
   if (k.report) {
     const r = k.report;
     const verdict = document.createElement("div");
@@ -729,7 +780,7 @@ async function makeKnit() {
 }
 
 async function download(name, button) {
-  const field = button.hasAttribute("data-needs-knit") || name === "pattern.dat" ? "knit" : "downloads";
+  const field = button.hasAttribute("data-needs-knit") ? "knit" : "downloads";
   clearError("downloads", "knit");
   button.disabled = true;
   try {
@@ -767,6 +818,7 @@ function wire() {
     });
   };
   num("width_units", (v) => Math.round(Number(v)));
+  $("#machine").addEventListener("change", () => saveSettings({ machine: $("#machine").value }));
   num("width_cm", Number);
   num("gauge", Number);
   $("#n_colors").addEventListener("change", () => saveSettings({ n_colors: Number($("#n_colors").value) }));

@@ -1,0 +1,115 @@
+"""The app's machine side: knitout for the picked pattern on the chosen machine, its check, and
+the machine files and facts a machine knitter needs beside it.
+
+    pattern -> knit_and_check(doc, machine) -> CheckedKnitout (knitout, stats, check report,
+               carrier-to-yarn table, needle range, estimated time)
+            -> machine_file(knit, fmt) -> Shima ``.dat`` (illuknit.formats.dat) or
+                                          Kniterate ``.kc`` (illuknit.formats.kc)
+
+:func:`knit_and_check` runs in a worker process (:meth:`illuknit.app.jobs.Job.run_isolated`), so
+it takes and returns plain data.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+from illuknit.app.design import blame
+from illuknit.errors import AppRequestError
+from illuknit.knit.machine import MACHINES, get_machine
+
+__all__ = [
+    "CheckedKnitout",
+    "knit_and_check",
+    "machine_file",
+    "machines_json",
+]
+
+
+@dataclass(frozen=True)
+class CheckedKnitout:
+    """Knitout for one pattern on one machine, the checker's report, and the knitter's facts."""
+
+    key: str  # identifies the pattern it was made from
+    machine: str  # preset name
+    knitout: str
+    stats: dict[str, Any]
+    report: dict[str, Any]
+    report_text: str
+    #: which cone goes on which carrier: [{"carriers": [...], "yarn": name, "rgb": "#rrggbb"}]
+    carriers: tuple[dict[str, Any], ...]
+    #: first and last needle the fabric occupies (the bed's needles are 0 .. needles - 1)
+    needle_range: tuple[int, int]
+
+
+def machines_json() -> list[dict[str, Any]]:
+    """The machine presets as the page's selector shows them."""
+    return [
+        {
+            "name": key,
+            "label": spec.name,
+            "description": spec.description,
+            "needles": spec.needles,
+            "gauge": spec.gauge,
+            "carriers": len(spec.carriers),
+            "max_units": spec.max_units,
+            "formats": list(spec.formats),
+        }
+        for key, spec in MACHINES.items()
+    ]
+
+
+def knit_and_check(doc: dict[str, Any], machine: str) -> dict[str, Any]:
+    """Compile a pattern (as JSON) to knitout on ``machine`` and check it (in a worker process)."""
+    from illuknit.check import check_knitout
+    from illuknit.knit import knit_pattern
+    from illuknit.pattern import pattern_from_json
+
+    spec = get_machine(machine)
+    result = knit_pattern(pattern_from_json(doc), machine=spec)
+    report = check_knitout(result.text)
+    sched = result.schedule
+    carriers: list[dict[str, Any]] = [
+        {
+            "carriers": list(sched.carrier_of_yarn[k]),
+            "yarn": sched.yarns[k].name,
+            "rgb": sched.yarns[k].hex,
+        }
+        for k in sorted(sched.carrier_of_yarn)
+    ]
+    # a machine without a yarn-inserting hook starts on a waste section and a draw thread
+    for carrier, role in ((spec.draw_carrier, "draw thread"), (spec.waste_carrier, "waste yarn")):
+        if carrier is not None:
+            carriers.append({"carriers": [carrier], "yarn": role, "rgb": None})
+    return {
+        "knitout": result.text,
+        "stats": result.summary(),
+        "report": report.to_dict(),
+        "report_text": report.to_text(name="knitout.k"),
+        "carriers": carriers,
+        "needle_range": (sched.left, sched.left + sched.wales - 1),
+    }
+
+
+def machine_file(knit: CheckedKnitout, fmt: str, *, name: str) -> bytes:
+    """The machine file ``fmt`` ("dat" or "kc") of ``knit``, called ``name``; 409 when the
+    knitout's machine does not take that format."""
+    spec = get_machine(knit.machine)
+    if fmt not in spec.formats:
+        takes = " or ".join(f".{f}" for f in spec.formats) or "no machine file illuknit writes"
+        raise AppRequestError(
+            f"the {spec.name} takes {takes}, not .{fmt}; choose a machine that takes .{fmt} "
+            "and make the knitout again",
+            field="machine",
+            code="wrong_format",
+            status=409,
+        )
+    with blame("knit"):
+        if fmt == "kc":
+            from illuknit.formats.kc import knitout_to_kc
+
+            return knitout_to_kc(knit.knitout, name=name).encode()
+        from illuknit.formats.dat import knitout_to_dat
+
+        return knitout_to_dat(knit.knitout)

@@ -1,0 +1,140 @@
+"""Bad input on every command: one line on stderr, exit code 2, nothing half-written.
+
+Numeric options are checked once, by the option types of illuknit.cli.options, for all commands.
+"""
+
+import click
+import numpy as np
+import pytest
+from PIL import Image
+
+from illuknit.cli import COMMANDS, cli, main
+from illuknit.cli.options import FiniteFloat
+
+
+def run(args, capsys):
+    with pytest.raises(SystemExit) as e:
+        main([*args])
+    out = capsys.readouterr()
+    return e.value.code, out.out, out.err
+
+
+def assert_one_line(code, err, *needles):
+    assert code == 2, err
+    lines = err.strip().splitlines()
+    assert len(lines) == 1, err
+    assert "Traceback" not in err
+    for n in needles:
+        assert n in lines[0], lines[0]
+
+
+@pytest.fixture(scope="module")
+def made(tmp_path_factory):
+    """A picture, its single-view pattern and knitout program (made once for the module)."""
+    d = tmp_path_factory.mktemp("inputs")
+    rgb = np.full((12, 16, 3), 240, np.uint8)
+    rgb[3:9, 4:12] = 20
+    Image.fromarray(rgb).save(d / "pic.png")
+    main(["single", str(d / "pic.png"), "--knitout", "-o", str(d / "made")])
+    return {
+        "PIC": str(d / "pic.png"),
+        "PAT": str(d / "made" / "pattern.json"),
+        "K": str(d / "made" / "program.k"),
+    }
+
+
+@pytest.fixture
+def files(made, tmp_path, capsys):
+    capsys.readouterr()
+    return {**made, "T": tmp_path}
+
+
+def _all_params():
+    ctx = click.Context(cli)
+    for name in COMMANDS:
+        cmd = cli.get_command(ctx, name)
+        subs = cmd.commands.values() if isinstance(cmd, click.Group) else [cmd]
+        for sub in subs:
+            for p in sub.params:
+                yield f"{name} {sub.name} {p.name}", p
+
+
+def test_every_numeric_option_has_a_checked_type():
+    unchecked = []
+    for where, p in _all_params():
+        if isinstance(p.type, click.types.FloatParamType) and not isinstance(p.type, FiniteFloat):
+            unchecked.append(where)
+        if isinstance(p.type, click.types.IntParamType) and (
+            not isinstance(p.type, click.IntRange) or p.type.min is None
+        ):
+            unchecked.append(where)
+    assert unchecked == []
+
+
+BAD_NUMBERS = [
+    "single PIC --width-cm nan -o OUT",
+    "single PIC --width-cm inf -o OUT",
+    "single PIC --width-cm -3 -o OUT",
+    "single PIC --width-cm 5 --gauge nan -o OUT",
+    "single PIC --width -4 -o OUT",
+    "demo --width -1 -o OUT",
+    "knit PAT --seconds-per-needle nan -o OUT/p.k",
+    "knit PAT --seconds-per-turn inf -o OUT/p.k",
+    "knit PAT --gauge -7 -o OUT/p.k",
+    "knit PAT --catch-every 0 -o OUT/p.k",
+    "knit PAT --float-limit -1 -o OUT/p.k",
+    "render PAT --angle nan -o OUT",
+    "render PAT --angle inf -o OUT",
+    "solve PIC --model single --time-limit nan -o OUT",
+    "solve PIC --model single --time-limit -5 -o OUT",
+    "solve PIC --model single --seed -1 -o OUT",
+    "bench --time-limit inf --list",
+    "bench --jobs 0 --list",
+    "check K --max-racking nan",
+    "calibrate fit PIC --flat-height nan -o OUT/x.json",
+    "calibrate fit PIC --unit-length -1 -o OUT/x.json",
+]
+
+
+@pytest.mark.parametrize("argv", BAD_NUMBERS)
+def test_bad_number_is_one_line_exit_2(argv, files, capsys):
+    out = files["T"] / "out"
+    args = [str(out) if a == "OUT" else a.replace("OUT", str(out)) for a in argv.split()]
+    args = [files.get(a, a) if a in ("PIC", "PAT", "K") else a for a in args]
+    code, _, err = run(args, capsys)
+    assert_one_line(code, err)
+    assert not out.exists()
+
+
+@pytest.mark.parametrize("command", ["view", "knit", "render"])
+def test_deeply_nested_json_is_one_line(command, tmp_path, capsys):
+    deep = tmp_path / "deep.json"
+    deep.write_text("[" * 100_000 + "]" * 100_000)
+    out = tmp_path / ("out.k" if command == "knit" else "out")
+    code, _, err = run([command, str(deep), "-o", str(out)], capsys)
+    assert_one_line(code, err, "nested too deeply")
+    assert not out.exists()
+
+
+def test_export_wcnf_to_an_unwritable_path(files, capsys):
+    (files["T"] / "afile").write_text("x")
+    target = files["T"] / "afile" / "model.wcnf"
+    code, _, err = run(
+        ["solve", files["PIC"], "--model", "single", "--colors", "2", "--export-wcnf", str(target)],
+        capsys,
+    )
+    assert_one_line(code, err, str(target))
+
+
+def test_bench_unreachable_dask_scheduler_leaves_nothing(tmp_path, capsys):
+    dask = pytest.importorskip("dask")
+    pytest.importorskip("dask.distributed")
+    out = tmp_path / "results"
+    with dask.config.set({"distributed.comm.timeouts.connect": "1s"}):
+        code, _, err = run(
+            ["bench", "--instances", "quick", "--methods", "dp", "--executor", "dask",
+             "--dask-address", "tcp://127.0.0.1:9", "-o", str(out)],
+            capsys,
+        )  # fmt: skip
+    assert_one_line(code, err, "cannot reach the Dask scheduler")
+    assert not out.exists()

@@ -1,0 +1,142 @@
+"""The one pair-sizing policy (illuknit.sizing), and that every entry point follows it."""
+
+from __future__ import annotations
+
+import json
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+from PIL import Image
+
+from illuknit.cli import main
+from illuknit.errors import ImageInputError, PictureSizeMismatchError
+from illuknit.sizing import (
+    DEFAULT_MAX_WIDTH,
+    grid_width,
+    load_pair,
+    prepare_image,
+    size_pair,
+    size_picture,
+)
+
+
+def two_tone(h: int, w: int, seed: int = 0) -> np.ndarray:
+    """A two-colour picture with a blob, uint8 RGB."""
+    rng = np.random.default_rng(seed)
+    m = np.zeros((h, w), bool)
+    m[h // 4 : 3 * h // 4, w // 5 : w // 2] = True
+    m[rng.integers(0, h, 5), rng.integers(0, w, 5)] = True
+    return np.where(m[..., None], np.uint8(20), np.uint8(235)).astype(np.uint8) * np.ones(
+        3, np.uint8
+    )
+
+
+def photo(h: int, w: int) -> np.ndarray:
+    y, x = np.mgrid[0:h, 0:w]
+    return np.stack([x / w, y / h, (x + y) / (h + w)], axis=-1)
+
+
+def test_default_width_is_the_picture_width_capped():
+    assert grid_width(64) == 64
+    assert grid_width(640) == DEFAULT_MAX_WIDTH
+    assert grid_width(640, width=30) == 30
+    assert grid_width(640, width_cm=10 * 2 * 2.54 / 7) == 10
+    assert grid_width(640, height=20) is None
+    with pytest.raises(ImageInputError, match="not both"):
+        grid_width(640, width=10, width_cm=5.0)
+    with pytest.raises(ImageInputError, match="between 1 and"):
+        grid_width(640, width=0)
+
+
+def test_height_follows_picture_a():
+    pair = size_pair(two_tone(300, 600), two_tone(150, 300))
+    assert pair.shape == (50, 100) and pair.b is not None and pair.b.shape == pair.a.shape
+    assert size_picture(two_tone(30, 60), height=10).shape[:2] == (10, 20)
+
+
+def test_b_within_the_aspect_tolerance_is_fitted_silently():
+    # 1 % taller: at 40 units wide it would be 41 rows, but it covers the same piece.
+    pair = size_pair(two_tone(200, 200), two_tone(202, 200), width=40)
+    assert pair.shape == (40, 40) and not pair.stretched and pair.notes == ()
+
+
+def test_b_of_another_aspect_is_an_error_unless_stretched():
+    with pytest.raises(PictureSizeMismatchError, match=r"different sizes.*--resize") as e:
+        size_pair(two_tone(200, 200), two_tone(260, 200), width=40, names=("a.png", "b.png"))
+    assert e.value.a_pixels == (200, 200) and e.value.b_pixels == (260, 200)
+    assert "a.png" in str(e.value) and isinstance(e.value, ImageInputError)
+    pair = size_pair(two_tone(200, 200), two_tone(260, 200), width=40, stretch=True)
+    assert pair.shape == (40, 40) and pair.stretched and "stretched" in pair.notes[0]
+
+
+def test_resampling_is_nearest_for_few_colours_and_smooth_for_photos():
+    few = size_picture(two_tone(100, 100), width=33)
+    assert len(np.unique(few.reshape(-1, 3), axis=0)) == 2  # no blend colours
+    many = size_picture(photo(100, 100), width=33)
+    assert len(np.unique(many.reshape(-1, 3), axis=0)) > 100
+
+
+@pytest.fixture()
+def pictures(tmp_path):
+    """Two pictures of nearly one aspect (0.5 % apart), wider than the default cap."""
+    a, b = two_tone(120, 160, 1), two_tone(121, 160, 2)
+    pa, pb = tmp_path / "a.png", tmp_path / "b.png"
+    Image.fromarray(a).save(pa)
+    Image.fromarray(b).save(pb)
+    return pa, pb
+
+
+def test_cli_double_solve_app_and_bench_size_the_same_pictures_alike(pictures, tmp_path):
+    """One grid for the same two pictures whichever entry point sizes them."""
+    pa, pb = pictures
+    expected = load_pair(pa, pb, width=48)
+    grids = {}
+    main(
+        [
+            "double",
+            str(pa),
+            str(pb),
+            "--width",
+            "48",
+            "--candidates",
+            "1",
+            "-o",
+            str(tmp_path / "d"),
+        ]
+    )
+    grids["double"] = json.loads((tmp_path / "d" / "pattern.json").read_text())
+    main(["solve", str(pa), str(pb), "--width", "48", "--solver", "dp", "-o", str(tmp_path / "s")])
+    grids["solve"] = json.loads((tmp_path / "s" / "pattern.json").read_text())
+    shapes = {k: (len(v["yarn"]), len(v["yarn"][0])) for k, v in grids.items()}
+    assert set(shapes.values()) == {expected.shape} == {(36, 48)}
+
+    # the app, at the same width, resizes the same pixels to the same grid
+    pytest.importorskip("pydantic", reason="the app extra is not installed")
+    from illuknit.app.design import prepare_inputs
+    from illuknit.app.schemas import DesignSettings
+
+    images = {s: SimpleNamespace(rgb=np.asarray(Image.open(p))) for s, p in (("a", pa), ("b", pb))}
+    settings = DesignSettings(mode="double", width_units=48, smooth=False)
+    prepared = prepare_inputs(images, settings)
+    assert prepared.shape == expected.shape
+    # and the bench's picture inputs go through the same stage (drawings.skimage_image)
+    assert np.array_equal(size_picture(np.asarray(Image.open(pa)), width=48), expected.a)
+
+
+def test_default_width_is_the_same_for_single_double_and_solve(pictures, tmp_path):
+    pa, pb = pictures  # 160 pixels wide: capped to DEFAULT_MAX_WIDTH everywhere
+    main(["single", str(pa), "-o", str(tmp_path / "1")])
+    main(["double", str(pa), str(pb), "--candidates", "1", "-o", str(tmp_path / "2")])
+    main(["solve", str(pa), str(pb), "--solver", "dp", "-o", str(tmp_path / "3")])
+    for out in ("1", "2", "3"):
+        doc = json.loads((tmp_path / out / "pattern.json").read_text())
+        assert len(doc["yarn"][0]) == DEFAULT_MAX_WIDTH, out
+
+
+def test_prepare_image_widths(tmp_path):
+    rgb = np.random.default_rng(3).random((30, 60, 3))
+    assert prepare_image(rgb, width=10, n_colors=2).shape == (5, 10)
+    assert prepare_image(rgb, width_cm=10 * 2 * 2.54 / 7, n_colors=2).shape[1] == 10
+    with pytest.raises(ImageInputError, match="not both"):
+        prepare_image(rgb, width=10, width_cm=5)
