@@ -14,12 +14,12 @@ import time
 import numpy as np
 
 from illuknit.knit import (
-    MachineSpec,
     estimate_knit_time,
     lower_to_stitches,
     schedule_courses,
     write_knitout,
 )
+from illuknit.knit.machine import get_machine
 from illuknit.pattern import LogicalPattern, Yarn
 
 TARGET_S = 5.0
@@ -40,7 +40,7 @@ def main() -> None:
     )
     for rows, cols, needles in ((330, 200, 540), (200, 330, 700)):
         p = single_view(rows, cols)
-        m = MachineSpec(needles=needles)
+        m = get_machine().with_width(needles)
         t0 = time.perf_counter()
         s = lower_to_stitches(p, machine=m)
         t1 = time.perf_counter()

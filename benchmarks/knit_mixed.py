@@ -19,7 +19,8 @@ from __future__ import annotations
 import argparse
 import time
 
-from illuknit.knit import MachineSpec, estimate_knit_time, lower_to_stitches, write_knitout
+from illuknit.knit import estimate_knit_time, lower_to_stitches, write_knitout
+from illuknit.knit.machine import get_machine
 from illuknit.knit.mixed import schedule_mixed
 from illuknit.knit.timing import format_duration
 
@@ -40,7 +41,8 @@ def pass_table(include_all: bool) -> list[float]:
             continue
         pattern, _ = run_tiles(inst, inst.time_limit)
         n, m = pattern.shape
-        machine = MachineSpec(needles=max(540, 2 * m + 20))
+        machine = get_machine()
+        machine = machine.with_width(max(machine.needles, 2 * m + 20))
         stitches = lower_to_stitches(pattern, machine=machine)
         for every in (2, 1):
             sch = schedule_mixed(stitches, machine=machine, catch_every=every)
@@ -69,7 +71,7 @@ def speed_table() -> None:
     print("\n2. scheduling + writing 660 x 400 stitches (target < 10 s)")
     for rows, cols, needles in ((330, 200, 540), (200, 330, 700)):
         pattern = text_pair_demo((rows, cols), candidates=1).pattern
-        machine = MachineSpec(needles=needles)
+        machine = get_machine().with_width(needles)
         stitches = lower_to_stitches(pattern, machine=machine)
         t0 = time.perf_counter()
         sch = schedule_mixed(stitches, machine=machine)

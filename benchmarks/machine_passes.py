@@ -19,7 +19,8 @@ Targets (issue 14): ``dat <= 0.5 x today`` on 3- and 4-yarn instances, ``<= 0.7 
 2-yarn ones; moonshot ``dat <= 1.2 x bound``; longest float <= the machine's float limit.
 
 Run: ``python benchmarks/machine_passes.py [--all] [--knit-aware] [--jobs N] [--record]
-[--machine NAME]``.
+[--machine NAME] [--model]``; ``--model`` also prints the passes
+:func:`illuknit.formats.machine_passes` counts (the bench's count), which must equal ``dat``.
 Without ``--all`` the paper-scale instances (no ``quick`` tag, except ``logos-4``, the only
 4-yarn one) are left out. ``--record`` prints the measured ``.dat`` passes as a ``TODAY`` literal.
 Needs ``node`` (Node.js 16+) and the reference backend (``--oracle`` or ``ILLUKNIT_SWG_ORACLE``).
@@ -101,6 +102,7 @@ class Row:
     blocking: int
     error: str = ""
     seconds: float = 0.0
+    model: int | None = None
 
 
 def dat_passes(data: bytes) -> int:
@@ -154,7 +156,9 @@ def design(instance: Any, kind: str) -> Any:
     return pattern
 
 
-def measure(instance: Any, kind: str, oracle: Path, machine_name: str) -> Row:
+def measure(
+    instance: Any, kind: str, oracle: Path, machine_name: str, with_model: bool = False
+) -> Row:
     from illuknit.check import check_knitout, parse_knitout
     from illuknit.check.simulate import simulate_program
     from illuknit.knit import knit_pattern
@@ -174,6 +178,11 @@ def measure(instance: Any, kind: str, oracle: Path, machine_name: str) -> Row:
     longest = max((f.length for f in sim.floats), default=0)
     report = check_knitout(text, machine=machine)
     dat, err = run_oracle(text, oracle, at_least=result.stats.passes)
+    model = None
+    if with_model:
+        from illuknit.formats import machine_passes
+
+        model = len(machine_passes(text))
     return Row(
         instance.name,
         kind,
@@ -187,6 +196,7 @@ def measure(instance: Any, kind: str, oracle: Path, machine_name: str) -> Row:
         len(report.blocking),
         err,
         time.perf_counter() - t0,
+        model,
     )
 
 
@@ -219,6 +229,7 @@ def print_table(rows: list[Row]) -> bool:
             f"{target:>6.1f} {r.bound:>6} {_fmt_ratio(r.dat, r.bound):>7} "
             f"{r.longest_float:>5} {r.blocking:>5} {r.seconds:>5.0f}"
             + (f"  {r.error}" if r.error else "")
+            + (f"  model {r.model}" if r.model is not None else "")
         )
     measured = [r for r in rows if r.dat is not None]
     within = [r for r in measured if abs(r.reported - r.dat) <= 0.01 * r.dat]
@@ -245,7 +256,7 @@ def _selected(include_all: bool) -> list[Any]:
     return out
 
 
-def _job(args: tuple[Any, str, Path, str]) -> Row:
+def _job(args: tuple[Any, str, Path, str, bool]) -> Row:
     return measure(*args)
 
 
@@ -257,6 +268,11 @@ def main(argv: list[str] | None = None) -> int:
     )
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
     ap.add_argument("--machine", default="generic540", help="machine preset to knit on")
+    ap.add_argument(
+        "--model",
+        action="store_true",
+        help="also count the passes with illuknit's own SWG model (illuknit.formats)",
+    )
     ap.add_argument("--record", action="store_true", help="print the .dat passes as TODAY")
     ap.add_argument(
         "--oracle",
@@ -270,7 +286,9 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     kinds = ["tiles", "headon", "dp"] + (["knit-aware"] if args.knit_aware else [])
     jobs = [
-        (inst, kind, args.oracle, args.machine) for inst in _selected(args.all) for kind in kinds
+        (inst, kind, args.oracle, args.machine, args.model)
+        for inst in _selected(args.all)
+        for kind in kinds
     ]
     if args.jobs > 1:
         with ProcessPoolExecutor(args.jobs) as pool:

@@ -16,9 +16,9 @@ Image arrays are float RGB of shape (H, W, 3) in [0, 1], row 0 at the top.
 from __future__ import annotations
 
 import os
+import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -27,8 +27,10 @@ from numpy.typing import ArrayLike, NDArray
 from illuknit.colors import color_name, hex_color, lab_from_rgb, luminance
 from illuknit.errors import ImageInputError
 from illuknit.pattern import MAX_UNITS, Yarn
+from illuknit.pictures import DECODE_MAX_SIDE, MAX_PIXELS, PictureNote, read_picture
 
 __all__ = [
+    "MAX_PIXELS",
     "QuantisedImage",
     "check_image",
     "count_colors",
@@ -38,49 +40,26 @@ __all__ = [
     "units_for_width",
 ]
 
-#: Pictures larger than this are refused before decoding (a decompression-bomb guard).
-MAX_PIXELS = 50_000_000
 
-
-def load_image(path: str | os.PathLike[str]) -> NDArray[np.float64]:
+def load_image(
+    path: str | os.PathLike[str] | bytes, *, max_side: int | None = DECODE_MAX_SIDE
+) -> NDArray[np.float64]:
     """Read a picture file as float RGB of shape (H, W, 3) in [0, 1].
+
+    Decoding is :func:`illuknit.pictures.read_picture` (16-bit, palettes, CMYK, EXIF orientation,
+    the first frame of an animation; reduced while decoding to at most ``max_side`` pixels on the
+    longer side). Each note about the reading is issued as a
+    :class:`~illuknit.pictures.PictureNote` warning.
 
     Raises
     ------
     ImageInputError
-        Missing or unreadable file, not an image, or an image smaller than 2 x 2 pixels.
+        Missing or unreadable file, not an image, above the pixel limit, or smaller than 2 x 2.
     """
-    from PIL import Image, ImageOps, UnidentifiedImageError
-
-    p = Path(path)
-    if not p.exists():
-        raise ImageInputError(f"image file not found: {p}")
-    if p.is_dir():
-        raise ImageInputError(f"expected an image file, got a folder: {p}")
-    try:
-        with Image.open(p) as im:
-            if im.width * im.height > MAX_PIXELS:
-                raise ImageInputError(f"{p}: image of {im.width} x {im.height} pixels is too large")
-            im.seek(0)
-            rgb = _to_rgb_on_white(ImageOps.exif_transpose(im))
-    except UnidentifiedImageError:
-        raise ImageInputError(f"{p} is not an image Pillow can read") from None
-    except (OSError, ValueError, SyntaxError) as e:
-        raise ImageInputError(f"cannot read image {p}: {e}") from None
-    return check_image(rgb, name=str(p))
-
-
-def _to_rgb_on_white(im: Any) -> NDArray[np.float64]:
-    from PIL import Image
-
-    if im.mode == "P" and "transparency" in im.info:
-        im = im.convert("RGBA")
-    if im.mode in ("RGBA", "LA", "PA") or (im.mode != "RGB" and "transparency" in im.info):
-        im = im.convert("RGBA")
-        white = Image.new("RGBA", im.size, (255, 255, 255, 255))
-        im = Image.alpha_composite(white, im)
-    im = im.convert("RGB")
-    return np.asarray(im, dtype=np.float64) / 255.0
+    pic = read_picture(path, max_side=max_side)
+    for note in pic.notes:
+        warnings.warn(f"{pic.source}: {note}", PictureNote, stacklevel=2)
+    return check_image(pic.rgb, name=pic.source)
 
 
 def check_image(rgb: ArrayLike, *, name: str = "image") -> NDArray[np.float64]:

@@ -1,5 +1,6 @@
 """The installed package must contain every subpackage of the source tree."""
 
+import os
 import tomllib
 from pathlib import Path
 
@@ -23,3 +24,29 @@ def test_bundled_demo_picture_is_package_data():
     from importlib import resources
 
     assert (resources.files("illuknit") / "data" / "demo.png").is_file()
+
+
+def test_every_data_file_is_package_data():
+    # A wheel holds only what package-data names; `illuknit bench` failed after `pip install .`
+    # when the manifest lived outside the package.
+    from fnmatch import fnmatch
+
+    from illuknit.bench.instances import DEFAULT_MANIFEST
+
+    package = ROOT / "illuknit"
+    assert DEFAULT_MANIFEST.is_file()
+    assert DEFAULT_MANIFEST.resolve() == (ROOT / "instances" / "manifest.toml").resolve()
+    assert DEFAULT_MANIFEST.parent.parent == package  # read through the package, not the clone
+    patterns = tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["setuptools"][
+        "package-data"
+    ]["illuknit"]
+    data = [
+        (Path(d) / f).relative_to(package).as_posix()
+        for d, _, files in os.walk(package, followlinks=True)  # instances/ is a link
+        for f in files
+        if not f.endswith((".py", ".pyc")) and "__pycache__" not in d
+    ]
+    data = [f for f in data if not f.startswith("solvers/")]
+    assert "instances/manifest.toml" in data
+    missing = [f for f in data if not any(fnmatch(f, pat) for pat in patterns)]
+    assert missing == [], f"add to [tool.setuptools.package-data]: {missing}"

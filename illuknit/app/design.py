@@ -52,8 +52,9 @@ __all__ = [
 #: Largest accepted upload (bytes): a full-size photograph from a phone or camera. It is reduced to
 #: the working grid on upload and not kept.
 MAX_UPLOAD_BYTES = 32 * 1024 * 1024
-#: Largest accepted picture (pixels), checked from the header before decoding: the library's cap.
-MAX_UPLOAD_PIXELS = MAX_PIXELS
+#: Largest accepted picture (pixels), checked from the header before decoding: half the library's
+#: cap (50 megapixels), since the server decodes uploads of many sessions.
+MAX_UPLOAD_PIXELS = MAX_PIXELS // 2
 #: Pictures with a longer side are reduced to it on upload (twice the widest piece in units).
 MAX_WORKING_SIDE = 2000
 
@@ -409,6 +410,8 @@ class Candidate:
     pattern: LogicalPattern
     details: dict[str, Any] = field(default_factory=dict)
     source: Any = None
+    #: how it reads and knits (:mod:`illuknit.app.measures`), once the measures job ran
+    measures: dict[str, Any] | None = None
 
     def to_json(self) -> dict[str, Any]:
         n, m = self.pattern.shape
@@ -421,6 +424,7 @@ class Candidate:
             "yarns": [{"name": y.name, "rgb": y.hex} for y in self.pattern.yarns],
             "raised": int(self.pattern.raised.sum()),
             "details": self.details,
+            "measures": self.measures,
             "editable": self.source is not None,
         }
 

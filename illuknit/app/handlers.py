@@ -25,6 +25,7 @@ __all__ = ["designer_message", "error_body", "install_handlers"]
 TITLES: dict[str, str] = {
     "angle": "Viewing angle",
     "view": "View",
+    "order": "Order",
     "file": "Picture",
     **{
         key: info.title or key

@@ -115,7 +115,11 @@ SettingsPatch = _patch_of(DesignSettings, "SettingsPatch")
 class JobIn(BaseModel):
     """Body of ``POST /jobs``."""
 
-    kind: Literal["candidates", "knit"] = Field(..., title="Job", description="what to compute")
+    kind: Literal["candidates", "knit", "measures"] = Field(
+        ...,
+        title="Job",
+        description="candidates, knitout of the picked one, or measures of every candidate",
+    )
 
 
 class SelectionIn(BaseModel):

@@ -136,7 +136,7 @@ class Session:
         self.selected = 0
         self.overrides = {}
         self.knit = None
-        for kind in ("candidates", "knit"):
+        for kind in ("candidates", "knit", "measures"):
             job = self.jobs.get(kind)
             if job is not None and job.live:
                 job.cancel()

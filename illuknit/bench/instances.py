@@ -62,7 +62,11 @@ _INPUT_KEYS = {"draw", "text", "image", "layers", "background", "ink", "paper", 
 
 
 def _default_manifest() -> Path:
-    return Path(__file__).resolve().parents[2] / "instances" / "manifest.toml"
+    # Package data (the top-level instances/ folder, linked as illuknit/instances), so an
+    # installed wheel finds it as well as a source checkout.
+    from importlib import resources
+
+    return Path(str(resources.files("illuknit") / "instances" / "manifest.toml"))
 
 
 #: The manifest shipped in the source tree (``instances/manifest.toml``).

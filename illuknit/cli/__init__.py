@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import importlib
 import sys
+import warnings
 
 import click
 
@@ -100,7 +101,9 @@ def main(argv: list[str] | None = None) -> int:
     something blocking is found) to exit with it.
     """
     try:
-        rv = cli.main(args=argv, prog_name="illuknit", standalone_mode=False)
+        with warnings.catch_warnings():
+            warnings.showwarning = _show_note
+            rv = cli.main(args=argv, prog_name="illuknit", standalone_mode=False)
     except click.exceptions.Exit as e:
         code = int(e.exit_code or 0)
         if code:
@@ -121,6 +124,13 @@ def main(argv: list[str] | None = None) -> int:
     if isinstance(rv, int) and not isinstance(rv, bool) and rv:
         sys.exit(rv)
     return 0
+
+
+def _show_note(
+    message: Warning | str, category: type[Warning], *args: object, **kw: object
+) -> None:
+    """Warnings meant for the user (e.g. a picture's first frame used) as one ``note:`` line."""
+    click.echo(f"illuknit: note: {_one_line(str(message))}", err=True)
 
 
 def _one_line(text: str) -> str:

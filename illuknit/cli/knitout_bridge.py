@@ -121,10 +121,13 @@ def write_program(
 ) -> dict[str, Path]:
     """Compile ``pattern`` for ``machine`` to ``program.k`` and write the checker's report beside it.
 
-    Writes ``program.k``, ``knit.json`` (passes, lower bound, time estimate), ``check.json`` and
-    ``check.txt``, and ``program.<format>`` for each machine-file format (default: those asked
-    for with ``--format``); returns name -> path. Prints a one-line summary of each. The checker
-    judges the program by the same machine the scheduler used.
+    Writes ``program.k``, ``knit.json`` (passes, lower bound, time estimate, and the machine
+    set-up sheet: carriers and their cones, stitch numbers, needle range, passes and time on the
+    machine), ``check.json`` and ``check.txt``, ``program.<format>`` for each machine-file format
+    (default: those asked for with ``--format``), and the machine's own file when illuknit writes
+    one without a choice to make (``program.kc`` for the Kniterate); returns name -> path. Prints
+    a one-line summary of each. The checker judges the program by the same machine the scheduler
+    used.
     """
     import json
 
@@ -132,6 +135,7 @@ def write_program(
     from illuknit.cli.summary import console
     from illuknit.formats import FORMAT_SUFFIXES, check_format, knitout_to_format
     from illuknit.knit import knit_pattern
+    from illuknit.knit.machine_sheet import machine_sheet
     from illuknit.outputs import atomic_write_bytes
 
     spec = get_machine(machine)
@@ -141,17 +145,17 @@ def write_program(
     result = knit_pattern(pattern, machine=spec)
     report = check_knitout(result.program, machine=spec)
     summary = result.summary()
+    sheet = machine_sheet(result, name="program.kc")
+    summary.update(sheet.summary)
     console().print(f"knitout: {_describe(summary)}")
     console().print(f"check: {report.to_text(name='program.k').splitlines()[0]}")
-    files = {
-        f"program_{fmt}": atomic_write_bytes(
-            outdir / f"program{FORMAT_SUFFIXES[fmt]}",
-            knitout_to_format(result.program, fmt, name=f"program{FORMAT_SUFFIXES[fmt]}"),
-        )
+    # convert before writing anything, so a program the machine file cannot hold leaves nothing
+    extra = {
+        fmt: knitout_to_format(result.program, fmt, name=f"program{FORMAT_SUFFIXES[fmt]}")
         for fmt in formats
-        if fmt != "knitout"
+        if fmt != "knitout" and fmt not in sheet.files
     }
-    return files | {
+    files = {
         "program": atomic_write_text(outdir / "program.k", result.program),
         "knit": atomic_write_text(outdir / "knit.json", json.dumps(summary, indent=1) + "\n"),
         "check": atomic_write_text(outdir / "check.json", report.to_json(indent=1) + "\n"),
@@ -159,6 +163,13 @@ def write_program(
             outdir / "check.txt", report.to_text(name="program.k") + "\n"
         ),
     }
+    if "kc" in sheet.files:
+        files["kc"] = atomic_write_text(outdir / "program.kc", sheet.files["kc"])
+    for fmt, data in extra.items():
+        files[f"program_{fmt}"] = atomic_write_bytes(
+            outdir / f"program{FORMAT_SUFFIXES[fmt]}", data
+        )
+    return files
 
 
 def _describe(summary: dict[str, object]) -> str:

@@ -190,13 +190,14 @@ def _stitch_numbers(
     """STIF/STIR: each bed's stitch number per column, gaps filled from the next set needle in the
     pass direction (or the only neighbour at the ends)."""
     shift = math.floor(p.racking)
-    front = ["*"] * _MARGIN
-    back = ["*"] * _MARGIN
-    for n in range(_COLUMNS):
-        front.append(sizes.get(n - offset, {}).get("f", "*"))
-        back.append(sizes.get(n + shift - offset, {}).get("b", "*"))
-    front += ["*"] * _MARGIN
-    back += ["*"] * _MARGIN
+    by_bed: dict[str, dict[int, str]] = {"f": {}, "b": {}}
+    for s, size in sizes.items():
+        for bed, number in size.items():
+            by_bed[bed][s] = number
+    f, b = by_bed["f"], by_bed["b"]
+    pad = ["*"] * _MARGIN
+    front = pad + [f.get(n - offset, "*") for n in range(_COLUMNS)] + pad
+    back = pad + [b.get(n + shift - offset, "*") for n in range(_COLUMNS)] + pad
     return _fill(front, direction, default), _fill(back, direction, default)
 
 
@@ -226,9 +227,11 @@ def _fill(values: list[str], direction: str, default: str) -> str:
 def _add_transfers(carriage: _Carriage, p: KcPass) -> None:
     """A transfer pass becomes two k-code passes (front-to-back, back-to-front) or four (each of
     those on every other needle, in needle order)."""
-    shift = math.floor(p.racking)
-    fronts = [n for n in range(_COLUMNS) if _op(p, n - carriage.offset, front=True)]
-    backs = [n for n in range(_COLUMNS) if _op(p, n + shift - carriage.offset, front=False)]
+    shift, off = math.floor(p.racking), carriage.offset
+    front_slots = {s for s, op in p.slots.items() if op.front}
+    back_slots = {s for s, op in p.slots.items() if op.back}
+    fronts = [n for n in range(_COLUMNS) if n - off in front_slots]
+    backs = [n for n in range(_COLUMNS) if n + shift - off in back_slots]
     if p.kind.xfer_style == "two-pass":
         groups = [("f", fronts, "[front-to-back]"), ("b", backs, "[back-to-front]")]
     else:
@@ -241,11 +244,6 @@ def _add_transfers(carriage: _Carriage, p: KcPass) -> None:
     for bed, needles, comment in groups:
         if needles:
             _add_transfer_row(carriage, p, bed, needles, comment)
-
-
-def _op(p: KcPass, slot: int, *, front: bool) -> bool:
-    op = p.slots.get(slot)
-    return op is not None and (op.front if front else op.back)
 
 
 def _add_transfer_row(
@@ -322,13 +320,12 @@ def _add_stitches(carriage: _Carriage, p: KcPass) -> None:
         end_right = max(hi, row.carrier_right) if row.carrier_right else hi
         row.left, row.right = carriage.start("+", start_left, end_right)
     shift = math.floor(p.racking)
-    row.front = ["."] * _MARGIN
-    row.back = ["."] * _MARGIN
-    for n in range(_COLUMNS):
-        row.front.append("-" if _op(p, n - carriage.offset, front=True) else "_")
-        row.back.append("-" if _op(p, n + shift - carriage.offset, front=False) else "_")
-    row.front += ["."] * _MARGIN
-    row.back += ["."] * _MARGIN
+    fronts = {s for s, op in p.slots.items() if op.front}
+    backs = {s for s, op in p.slots.items() if op.back}
+    off = carriage.offset
+    pad = ["."] * _MARGIN
+    row.front = pad + ["-" if n - off in fronts else "_" for n in range(_COLUMNS)] + pad
+    row.back = pad + ["-" if n + shift - off in backs else "_" for n in range(_COLUMNS)] + pad
     row.stif, row.stir = _stitch_numbers(p, p.sizes, row.direction, "0", carriage.offset)
     carriage.push(row)
 

@@ -14,6 +14,7 @@ carriers, slider needles, racking it cannot align) raise :class:`~illuknit.error
 
 from __future__ import annotations
 
+import functools
 import math
 import re
 from dataclasses import dataclass, field
@@ -49,12 +50,12 @@ class SlotOp(Enum):
     @property
     def front(self) -> bool:
         """Whether the slot's front needle acts."""
-        return self in _FRONT_OPS
+        return _FRONT_OPS[self]
 
     @property
     def back(self) -> bool:
         """Whether the slot's back needle acts."""
-        return self in _BACK_OPS
+        return _BACK_OPS[self]
 
 
 _BOTH = {
@@ -64,8 +65,12 @@ _BOTH = {
     SlotOp.TUCK_F_TUCK_B,
     SlotOp.SPLIT,
 }
-_FRONT_OPS = frozenset({SlotOp.KNIT_F, SlotOp.TUCK_F, SlotOp.XFER_TO_BACK} | _BOTH)
-_BACK_OPS = frozenset({SlotOp.KNIT_B, SlotOp.TUCK_B, SlotOp.XFER_TO_FRONT} | _BOTH)
+_FRONT_OPS = {
+    op: op in {SlotOp.KNIT_F, SlotOp.TUCK_F, SlotOp.XFER_TO_BACK} | _BOTH for op in SlotOp
+}
+_BACK_OPS = {
+    op: op in {SlotOp.KNIT_B, SlotOp.TUCK_B, SlotOp.XFER_TO_FRONT} | _BOTH for op in SlotOp
+}
 
 # A front stitch followed (in pass order) by a back stitch in one slot, at half-pitch racking.
 _COMBINED = {
@@ -85,10 +90,13 @@ def combine_ops(first: SlotOp, then: SlotOp, *, half_pitch: bool) -> SlotOp | No
     return _COMBINED.get((first, then)) if half_pitch else None
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class PassKind:
     """The kind of a pass: a soft miss, stitches (``front``/``back`` = ``"K"``, ``"T"`` or None),
-    a transfer (``xfer_style``) or a split (``split_to_back``, ``split_rightward``)."""
+    a transfer (``xfer_style``) or a split (``split_to_back``, ``split_rightward``).
+
+    Kinds are interned (made by :func:`pass_kind`), so equal kinds are the same object.
+    """
 
     family: str  # "soft", "stitch", "xfer", "split"
     front: str | None = None
@@ -111,20 +119,37 @@ class PassKind:
 
 
 _STITCH_WORD = {"K": "Kn", "T": "Tu"}
-SOFT = PassKind("soft")
 
 
+@functools.cache
+def pass_kind(
+    family: str,
+    front: str | None = None,
+    back: str | None = None,
+    *,
+    xfer_style: str = "",
+    split_to_back: bool = False,
+    split_rightward: bool = False,
+) -> PassKind:
+    """The one :class:`PassKind` with these fields."""
+    return PassKind(family, front, back, xfer_style, split_to_back, split_rightward)
+
+
+SOFT = pass_kind("soft")
+
+
+@functools.cache
 def combine_kinds(a: PassKind, b: PassKind) -> PassKind | None:
     """The kind of a pass holding the operations of passes of kinds ``a`` and ``b``, if any."""
-    if a == b:
+    if a is b:
         return a
-    if SOFT in (a, b):
-        other = b if a == SOFT else a
+    if a is SOFT or b is SOFT:
+        other = b if a is SOFT else a
         return None if other.family == "xfer" else other
     if a.family == "stitch" and b.family == "stitch":
         if (a.front and b.front and a.front != b.front) or (a.back and b.back and a.back != b.back):
             return None
-        return PassKind("stitch", a.front or b.front, a.back or b.back)
+        return pass_kind("stitch", a.front or b.front, a.back or b.back)
     # a split may join front-only knitting on its source bed (and only that)
     split, stitch = (a, b) if a.family == "split" else (b, a)
     if split.family != "split" or stitch.family != "stitch":
@@ -195,22 +220,29 @@ class KcPass:
         if not _grippers_fit(self.gripper, other.gripper):
             return False
         half = self.racking != math.floor(self.racking)
-        merged = {s: self._merged_op(s, op, half) for s, op in other.slots.items()}
-        if any(op is None for op in merged.values()):
-            return False
+        merged = [(s, self._merged_op(s, op, half)) for s, op in other.slots.items()]
+        for _, op in merged:
+            if op is None:
+                return False
         for s, size in other.sizes.items():
-            mine = self.sizes.get(s, {})
-            if any(b in mine and mine[b] != v for b, v in size.items()):
+            mine = self.sizes.get(s)
+            if mine and any(b in mine and mine[b] != v for b, v in size.items()):
                 return False
         self.kind = kind
         if self.gripper is None:
             self.gripper = other.gripper
-        for s, op in merged.items():
+        for s, op in merged:
             assert op is not None
             self.slots[s] = op
-            self._lo, self._hi = min(self._lo, s), max(self._hi, s)
+            if s < self._lo:
+                self._lo = s
+            elif s > self._hi:
+                self._hi = s
         for s, size in other.sizes.items():
-            self.sizes.setdefault(s, {}).update(size)
+            if s in self.sizes:
+                self.sizes[s].update(size)
+            else:
+                self.sizes[s] = dict(size)
         return True
 
     def _merged_op(self, s: int, op: SlotOp, half: bool) -> SlotOp | None:
@@ -266,13 +298,19 @@ class _Carrier:
     pending_in: tuple[str, ...] | None = None
 
 
+@functools.lru_cache(maxsize=4096)
+def _parse_needle(token: str) -> Needle | None:
+    m = _NEEDLE.match(token)
+    return Needle(m.group(1), int(m.group(2))) if m else None
+
+
 def _opposite(direction: str) -> str:
     return "+" if direction == "-" else "-"
 
 
 def _tokens(line: str) -> list[str]:
-    line = line.split(";", 1)[0]
-    return [t for t in re.split(" +", line) if t != ""] if line.strip(" ") else []
+    # only spaces separate tokens (a tab is part of a token, as in the backend)
+    return [t for t in line.split(";", 1)[0].split(" ") if t]
 
 
 def read_kc_passes(text: str) -> KcProgram:
@@ -408,14 +446,14 @@ class _PassReader:
         return value
 
     def needle(self, token: str | None) -> Needle:
-        m = _NEEDLE.match(token or "")
-        if not m:
+        n = _parse_needle(token or "")
+        if n is None:
             raise self.fail(f"invalid needle {token!r}")
-        if len(m.group(1)) > 1:
+        if len(n.bed) > 1:
             raise self.fail(
                 f"slider needle {token} is not supported on the Kniterate", needle=token
             )
-        return Needle(m.group(1), int(m.group(2)))
+        return n
 
     def number(self, op: str, args: list[str]) -> float:
         if len(args) != 1 or not _NUMBER.match(args[0]):
@@ -459,6 +497,8 @@ class _PassReader:
 
     def kick_others(self, n: Needle, carriers: tuple[str, ...]) -> None:
         """Move every other live carrier whose yarn is attached across ``n`` out of its way."""
+        if len(self.carriers) <= len(carriers):
+            return  # no other carrier is in
         needle_slot = self.slot(n)
         for name in sorted(self.carriers, key=int):
             state = self.carriers[name]
@@ -620,7 +660,7 @@ class _PassReader:
             kind, slot_op = SOFT, SlotOp.SOFT_MISS
         else:
             stitch = "K" if op == "knit" else "T"
-            kind = PassKind("stitch", stitch if n.front else None, None if n.front else stitch)
+            kind = pass_kind("stitch", stitch if n.front else None, None if n.front else stitch)
             slot_op = {
                 ("K", True): SlotOp.KNIT_F,
                 ("K", False): SlotOp.KNIT_B,
@@ -663,11 +703,11 @@ class _PassReader:
             )
         if carriers:
             self.check_carriers(direction, carriers)
-            kind = PassKind("split", split_to_back=n.front, split_rightward=direction == "+")
+            kind = pass_kind("split", split_to_back=n.front, split_rightward=direction == "+")
             op, size = SlotOp.SPLIT, self.stitch
         else:
             direction = ""
-            kind = PassKind("xfer", xfer_style=self.xfer_style)
+            kind = pass_kind("xfer", xfer_style=self.xfer_style)
             op = SlotOp.XFER_TO_BACK if n.front else SlotOp.XFER_TO_FRONT
             size = self.xfer_stitch
         self.kick_others(n, carriers)

@@ -49,8 +49,8 @@ def _carrier_table(result: KnitResult) -> list[dict[str, str]]:
             )
         elif c in owner:
             yarn = sched.yarns[owner[c]]
-            colour = "#{:02x}{:02x}{:02x}".format(*yarn.rgb)
-            rows.append({"carrier": c, "role": "pattern", "yarn": f"{yarn.name} ({colour})"})
+            color = "#{:02x}{:02x}{:02x}".format(*yarn.rgb)
+            rows.append({"carrier": c, "role": "pattern", "yarn": f"{yarn.name} ({color})"})
     return rows
 
 
@@ -88,8 +88,7 @@ def machine_sheet(result: KnitResult, *, name: str = "command.kc") -> MachineShe
 
         runs = [p.needle_range for p in machine_passes(result.text)]
         passes = len(runs)
-        travel = sum(hi - lo + 1 for lo, hi in runs)
-        seconds = passes * m.seconds_per_turn + travel * m.seconds_per_needle
+        seconds = sum(m.pass_seconds(hi - lo + 1) for lo, hi in runs)
         needles = (min(lo for lo, _ in runs), max(hi for _, hi in runs))
         found = re.findall(r"^x-stitch-number (\S+)", result.text, flags=re.MULTILINE)
         numbers = sorted(set(found))

@@ -218,6 +218,17 @@ def test_design_two_pictures_pick_tilt_download(browser, base_url, tmp_path):
 
     assert Path(dat.path()).read_bytes() == knitout_to_dat(text)
 
+    # each candidate's measures (readability, ghosting, knitting time), then re-ranked by one
+    sync_api.expect(page.locator(".cand .measures")).to_have_count(n, timeout=60_000)
+    sync_api.expect(page.locator(".cand .measures").first).to_contain_text("min to knit")
+    page.select_option("#order", "knit_time")
+    page.wait_for_selector("#cands[data-order='knit_time'] .cand .measures")
+    minutes = [
+        float(t.split(" min to knit")[0].split(" · ")[-1])
+        for t in page.locator(".cand .measures").all_text_contents()
+    ]
+    assert len(minutes) == n and minutes == sorted(minutes), minutes
+
     shot = tmp_path / "app.png"
     page.screenshot(path=str(shot), full_page=True)
     assert shot.stat().st_size > 10_000

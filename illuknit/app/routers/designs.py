@@ -7,6 +7,7 @@ from fastapi.responses import Response
 
 from illuknit.app import design
 from illuknit.app.lookups import SessionDep, candidate_of, current_pattern, state_json
+from illuknit.app.measures import order_candidates
 from illuknit.app.schemas import OverrideIn, SelectionIn
 
 __all__ = ["router"]
@@ -14,13 +15,23 @@ __all__ = ["router"]
 router = APIRouter(prefix="/api/sessions/{sid}", tags=["design"])
 
 
-@router.get("/candidates", summary="Ranked candidates")
-def get_candidates(s: SessionDep) -> dict[str, Any]:
+@router.get("/candidates", summary="Ranked candidates, in the order asked for")
+def get_candidates(
+    s: SessionDep,
+    order: Literal["rank", "readability", "ghosting", "knit_time"] = Query(
+        "rank",
+        title="Order",
+        description="the search's rank, best worse-view readability, least ghosting, or "
+        "fastest to knit (the last three need the measures job)",
+    ),
+) -> dict[str, Any]:
     with s.lock:
         return {
             "revision": s.candidates_revision,
             "selected": s.selected if s.candidates else None,
-            "candidates": [c.to_json() for c in s.candidates],
+            "order": order,
+            "measured": bool(s.candidates) and all(c.measures for c in s.candidates),
+            "candidates": [c.to_json() for c in order_candidates(s.candidates, order)],
         }
 
 

@@ -8,6 +8,7 @@ from illuknit.app import design
 from illuknit.app.jobs import Job, JobRunner
 from illuknit.app.knitting import CheckedKnitout, knit_and_check
 from illuknit.app.lookups import SessionDep, current_pattern, prepared_of, runner_of, store_of
+from illuknit.app.measures import measure_candidate
 from illuknit.app.schemas import JobIn
 from illuknit.app.sessions import Session
 from illuknit.errors import AppRequestError
@@ -37,6 +38,35 @@ def start_candidates(s: Session, runner: JobRunner) -> Job:
                 s.knit = None
 
     return runner.submit("candidates", work, revision=rev, on_done=done)
+
+
+def start_measures(s: Session, runner: JobRunner) -> Job:
+    """Readability, ghosting and knitting time of every candidate (kept on the candidates)."""
+    with s.lock:
+        candidates = list(s.candidates)
+        prepared, machine, rev = s.prepared, s.settings.machine, s.revision
+    if not candidates or prepared is None:
+        raise AppRequestError(
+            "no candidates to measure yet: find candidates first",
+            field="candidates",
+            code="no_candidates",
+            status=409,
+        )
+
+    def work(job: Job) -> list[dict[str, Any]]:
+        out = []
+        for k, c in enumerate(candidates):
+            job.report(k / len(candidates), f"measuring candidate {k + 1} of {len(candidates)}")
+            out.append(measure_candidate(c.pattern, prepared, machine=machine))
+        return out
+
+    def done(job: Job) -> None:
+        with s.lock:
+            if s.revision == job.revision and s.candidates == candidates:
+                for c, m in zip(candidates, job.result, strict=True):
+                    c.measures = m
+
+    return runner.submit("measures", work, revision=rev, on_done=done)
 
 
 def start_knit(s: Session, runner: JobRunner, *, isolate: bool) -> Job:
@@ -81,6 +111,8 @@ def post_job(request: Request, s: SessionDep, runner: RunnerDep, body: JobIn) ->
             old.cancel()
         if body.kind == "candidates":
             job = start_candidates(s, runner)
+        elif body.kind == "measures":
+            job = start_measures(s, runner)
         else:
             job = start_knit(s, runner, isolate=request.app.state.config.isolate_knit)
         s.replace_job(body.kind, job)

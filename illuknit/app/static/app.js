@@ -465,7 +465,10 @@ async function runCandidates() {
   clearCandidates("Finding candidates…");
   try {
     const job = await startJob("candidates");
-    if (job) await loadCandidates();
+    if (job) {
+      await loadCandidates();
+      measureCandidates(); // readability, ghosting, knitting time: filled in when measured
+    }
   } catch (err) {
     report(err, "candidates");
   }
@@ -493,13 +496,33 @@ function renderUrl(view, rank, angle) {
   return `/api/sessions/${state.sid}/render?${q}`;
 }
 
+async function measureCandidates() {
+  try {
+    const job = await startJob("measures");
+    if (job) await loadCandidates();
+  } catch (err) {
+    report(err, "candidates");
+  }
+}
+
+function measuresText(m) {
+  const f = (x) => (x == null ? "–" : x.toFixed(2));
+  const parts = [];
+  if (m.readability != null) parts.push(`reads A ${f(m.readability_a)} · B ${f(m.readability_b)}`);
+  if (m.ghosting != null) parts.push(`ghosting ${f(m.ghosting)}`);
+  if (m.knit_minutes != null) parts.push(`${m.knit_minutes.toFixed(1)} min to knit`);
+  else if (m.knit_note) parts.push(m.knit_note);
+  return parts.join(" · ");
+}
+
 async function loadCandidates() {
-  const c = await sapi("GET", "/candidates");
+  const c = await sapi("GET", `/candidates?order=${encodeURIComponent($("#order").value || "rank")}`);
   state.candidates = c.candidates;
   state.selected = c.selected;
   state.candRevision = c.revision;
   const box = $("#cands");
   box.textContent = "";
+  box.dataset.order = c.order;
   if (!c.candidates.length) {
     box.innerHTML = `<p class="empty">No candidates.</p>`;
     return;
@@ -528,6 +551,14 @@ async function loadCandidates() {
       triple.appendChild(fig);
     }
     card.append(head, triple);
+    if (cand.measures) {
+      const m = document.createElement("div");
+      m.className = "measures";
+      m.textContent = measuresText(cand.measures);
+      m.title = "readability: how well each side's render matches its picture (1 is best); " +
+        "ghosting: how much of the other picture shows through (0 is best)";
+      card.appendChild(m);
+    }
     const fills = cand.details && cand.details.fills;
     if (Array.isArray(fills) && fills.length) {
       const f = document.createElement("div");
@@ -819,6 +850,10 @@ function wire() {
   };
   num("width_units", (v) => Math.round(Number(v)));
   $("#machine").addEventListener("change", () => saveSettings({ machine: $("#machine").value }));
+  $("#order").addEventListener("change", () => {
+    clearError("order");
+    if (state.candidates.length) loadCandidates().catch((err) => report(err, "order"));
+  });
   num("width_cm", Number);
   num("gauge", Number);
   $("#n_colors").addEventListener("change", () => saveSettings({ n_colors: Number($("#n_colors").value) }));
