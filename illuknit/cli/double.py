@@ -205,7 +205,7 @@ def _parse_overrides(specs: tuple[str, ...]) -> dict[tuple[int, int], str]:
 
 def _summary_text(summary: dict[str, Any]) -> str:
     lines = [
-        f"{summary['mode']}-view tile design, {summary['size']['cols']} x {summary['size']['rows']} units, "
+        f"{summary['mode']}-view tile design, {summary['size']['rows']} x {summary['size']['cols']} units, "
         f"yarns: {', '.join(y['name'] + ' ' + y['rgb'] for y in summary['yarns'])}",
         f"bank {summary['bank']['name']} ({summary['bank']['tiles']} tiles), solver {summary['solver']}",
         "",
@@ -229,7 +229,7 @@ def print_summary(summary: dict[str, Any], outdir: Path) -> None:
 
     con = Console(highlight=False, soft_wrap=True)
     t = Table(
-        title=f"{summary['mode']}-view candidates ({summary['size']['cols']} x {summary['size']['rows']} units)",
+        title=f"{summary['mode']}-view candidates ({summary['size']['rows']} x {summary['size']['cols']} units)",
         header_style="bold",
     )
     for col in (

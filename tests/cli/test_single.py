@@ -208,3 +208,12 @@ def test_single_output_under_a_file_is_one_line(picture, tmp_path, capsys):
         ["single", str(picture), "-o", str(tmp_path / "existing_file" / "sub")], capsys
     )
     assert code == 2 and len(err.strip().splitlines()) == 1 and "file in the way" in err
+
+
+def test_wrote_n_files_is_the_true_count(picture, tmp_path, capsys):
+    out = tmp_path / "out"
+    text = ok(["single", str(picture), "-o", str(out)], capsys)
+    line = next(s for s in text.splitlines() if s.startswith("wrote"))
+    n = len(list(out.iterdir()))
+    assert line.startswith(f"wrote {n} files")
+    assert all(p.name in line for p in out.iterdir())
