@@ -14,8 +14,8 @@ from PIL import Image
 
 from illuknit.cli import main
 from illuknit.errors import ImageInputError
-from illuknit.images import prepare_image
 from illuknit.pictures import MAX_PIXELS, read_picture
+from illuknit.sizing import prepare_image
 
 
 def png_chunk(kind: bytes, data: bytes) -> bytes:
