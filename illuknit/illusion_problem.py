@@ -23,6 +23,7 @@ __all__ = [
     "KnitWeights",
     "make_problem",
     "parse_weights",
+    "pass_events",
     "raised_cost",
 ]
 
@@ -44,15 +45,29 @@ class KnitWeights:
         Per knit<->purl change between consecutive courses; a bump costs two (model (b)).
     max_color_changes : int or None
         Hard cap on yarn changes per course (per unit row), or None for no cap (model (b)).
+    machine_pass : int
+        Per machine carriage pass the pattern forces (model (b)): a unit row is two courses,
+        and each course needs one pass per carrier that knits in it plus a transfer pass when
+        loops change bed. So, per unit row, two passes for every yarn the row uses, two for a
+        row with a bump (knit then purl), and two for every *extra carrier*: a region of a yarn
+        separated from the yarn's previous region in the row by more than ``float_gap`` units
+        cannot be reached by a float, so it needs a carrier of its own, parked inside the work.
+    float_gap : int
+        Longest gap (units) a yarn floats across between its regions of one row: the machine's
+        float limit in needles over the two needles of a unit (20 / 2 on the default bed).
     """
 
     view: int = 4
     color_change: int = 1
     transfer: int = 1
     max_color_changes: int | None = None
+    machine_pass: int = 6
+    float_gap: int = 10
 
     def __post_init__(self) -> None:
-        for name in ("view", "color_change", "transfer"):
+        if self.float_gap < 1:
+            raise OptionError(f"`float_gap` must be >= 1 unit, got {self.float_gap!r}")
+        for name in ("view", "color_change", "transfer", "machine_pass"):
             v = getattr(self, name)
             if not isinstance(v, int | np.integer) or isinstance(v, bool) or v < 0:
                 raise OptionError(f"weight `{name}` must be an integer >= 0, got {v!r}")
@@ -78,8 +93,10 @@ def parse_weights(text: str | None, *, base: KnitWeights | None = None) -> KnitW
         "transfers": "transfer",
         "cap": "max_color_changes",
         "max_colour_changes": "max_color_changes",
+        "passes": "machine_pass",
+        "pass": "machine_pass",
     }
-    valid = ("view", "color_change", "transfer", "max_color_changes")
+    valid = ("view", "color_change", "transfer", "max_color_changes", "machine_pass", "float_gap")
     changes: dict[str, Any] = {}
     for part in text.split(","):
         if not part.strip():
@@ -195,6 +212,11 @@ class IllusionProblem:
         return self.weights.transfer if self.kind == "knit-aware" else 0
 
     @property
+    def pass_weight(self) -> int:
+        """Weight of a machine pass (0 unless knit-aware)."""
+        return self.weights.machine_pass if self.kind == "knit-aware" else 0
+
+    @property
     def color_cap(self) -> int | None:
         return self.weights.max_color_changes if self.kind == "knit-aware" else None
 
@@ -206,7 +228,12 @@ class IllusionProblem:
     @property
     def per_wale(self) -> bool:
         """True when nothing couples different wales (then the per-wale DP is exact)."""
-        return self.color_weight == 0 and self.color_cap is None and not self.rows_tied
+        return (
+            self.color_weight == 0
+            and self.pass_weight == 0
+            and self.color_cap is None
+            and not self.rows_tied
+        )
 
 
 def make_problem(
@@ -241,3 +268,41 @@ def raised_cost(n: int, m: int, w: int) -> NDArray[np.int64]:
     c = np.full((n, m), 2 * w, dtype=np.int64)
     c[0] = w
     return c
+
+
+def pass_events(
+    yarn: NDArray[np.integer], raised: NDArray[np.bool_], n_yarns: int, float_gap: int
+) -> tuple[NDArray[np.int64], NDArray[np.bool_], NDArray[np.int64]]:
+    """What forces machine passes, per unit row (see :class:`KnitWeights`).
+
+    Returns
+    -------
+    yarns_used : ndarray of shape (N,), int
+        Distinct yarns in each row.
+    bump_rows : ndarray of shape (N,), bool
+        Rows with at least one bump.
+    extra_carriers : ndarray of shape (N,), int
+        Regions that start more than ``float_gap`` units after the previous region of their
+        yarn in the row.
+    """
+    c = np.asarray(yarn, dtype=np.int64)
+    r = np.asarray(raised, dtype=bool)
+    n, m = c.shape
+    used = np.stack([(c == k).any(axis=1) for k in range(n_yarns)], axis=1)
+    extra = np.zeros(n, dtype=np.int64)
+    g = int(float_gap)
+    for k in range(n_yarns):
+        x = c == k
+        if m <= g + 1:
+            continue
+        # a start at j: x[j], none of x[j-g..j-1], and some x before j-g
+        seen = np.cumsum(x, axis=1) > 0  # prefix "some x at <= j"
+        window = np.zeros((n, m), dtype=bool)
+        for d in range(1, g + 1):
+            window[:, d:] |= x[:, :-d]
+        start = x & ~window
+        start[:, : g + 1] = False
+        start[:, g + 1 :] &= seen[:, : m - g - 1]
+        extra += start.sum(axis=1)
+    bump_rows: NDArray[np.bool_] = np.asarray(r.any(axis=1), dtype=bool)
+    return used.sum(axis=1).astype(np.int64), bump_rows, extra

@@ -11,7 +11,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from illuknit.errors import SolverError, YarnSpecError
-from illuknit.illusion_problem import IllusionProblem
+from illuknit.illusion_problem import IllusionProblem, pass_events
 from illuknit.pattern import LogicalPattern, Yarn
 from illuknit.solvers.base import Solution
 from illuknit.views import can_see, logical_error
@@ -84,6 +84,19 @@ def knit_purl_changes(raised: ArrayLike) -> int:
     return int(2 * r[1:].sum() + r[:1].sum())
 
 
+def _pass_report(pattern: LogicalPattern, problem: IllusionProblem) -> dict[str, Any]:
+    """What the knit-aware model's pass terms count for ``pattern`` (two passes each)."""
+    used, bump_rows, extra = pass_events(
+        pattern.yarn, pattern.raised, problem.n_yarns, problem.weights.float_gap
+    )
+    return {
+        "yarns_per_course": {"mean": float(used.mean()), "total": int(used.sum())},
+        "bump_rows": int(bump_rows.sum()),
+        "extra_carriers": int(extra.sum()),
+        "passes": 2 * int(used.sum() + bump_rows.sum() + extra.sum()),
+    }
+
+
 def report_pattern(
     pattern: LogicalPattern, problem: IllusionProblem, solution: Solution | None = None
 ) -> dict[str, Any]:
@@ -100,6 +113,8 @@ def report_pattern(
             "color_change": problem.color_weight,
             "transfer": problem.transfer_weight,
             "max_color_changes": problem.color_cap,
+            "machine_pass": problem.pass_weight,
+            "float_gap": problem.weights.float_gap,
         },
         "logical_error": {
             "A": {
@@ -119,6 +134,7 @@ def report_pattern(
         "raised_units": int(np.asarray(pattern.raised).sum()),
         "rows_with_bumps": int(np.asarray(pattern.raised).any(axis=1).sum()),
         "knit_purl_changes": knit_purl_changes(pattern.raised),
+        "machine_pass_events": _pass_report(pattern, problem),
     }
     if solution is not None:
         rep["solver"] = solution.summary()

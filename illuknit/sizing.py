@@ -52,7 +52,6 @@ __all__ = [
     "SMOOTH_ABOVE_COLORS",
     "SizedPair",
     "grid_width",
-    "load_pair",
     "prepare_image",
     "size_pair",
     "size_picture",
@@ -135,8 +134,18 @@ def _smooth(rgb: NDArray[np.float64], smooth: bool | None) -> bool:
     return count_colors(rgb) > SMOOTH_ABOVE_COLORS if smooth is None else smooth
 
 
+def _picture(source: str | os.PathLike[str] | ArrayLike) -> NDArray[np.float64]:
+    if isinstance(source, (str, os.PathLike)):
+        return load_image(source)
+    return check_image(source)
+
+
+def _name(source: object, default: str) -> str:
+    return os.path.basename(source) if isinstance(source, (str, os.PathLike)) else default
+
+
 def size_picture(
-    picture: ArrayLike,
+    picture: str | os.PathLike[str] | ArrayLike,
     *,
     width: int | None = None,
     height: int | None = None,
@@ -151,8 +160,8 @@ def size_picture(
 
 
 def size_pair(
-    a: ArrayLike,
-    b: ArrayLike | None = None,
+    a: str | os.PathLike[str] | ArrayLike,
+    b: str | os.PathLike[str] | ArrayLike | None = None,
     *,
     width: int | None = None,
     height: int | None = None,
@@ -166,8 +175,9 @@ def size_pair(
 
     Parameters
     ----------
-    a, b : array_like of shape (H, W, 3)
-        The pictures (sRGB, uint8 or floats in [0, 1]); ``b`` may be None.
+    a, b : path or array_like of shape (H, W, 3)
+        The pictures: files (read by :func:`~illuknit.images.load_image`, and named by their
+        file names in messages) or sRGB arrays (uint8 or floats in [0, 1]); ``b`` may be None.
     width, height, width_cm, gauge
         The grid size; see :func:`grid_width`.
     stretch : bool
@@ -175,7 +185,7 @@ def size_pair(
     smooth : bool, optional
         Force smooth (True) or nearest-neighbour (False) resampling for both pictures.
     names : (str, str)
-        How error messages and notes name the pictures (e.g. their file names).
+        How error messages and notes name array pictures (files are named by their file names).
 
     Raises
     ------
@@ -184,12 +194,13 @@ def size_pair(
     ImageInputError
         A width or height out of range, or a picture that is not an image.
     """
-    ra = check_image(a)
+    names = (_name(a, names[0]), _name(b, names[1]))
+    ra = _picture(a)
     w = grid_width(ra.shape[1], width=width, width_cm=width_cm, gauge=gauge, height=height)
     sized_a = resize_to_units(ra, width=w, height=height, smooth=_smooth(ra, smooth))
     if b is None:
         return SizedPair(sized_a, None)
-    rb = check_image(b)
+    rb = _picture(b)
     n, m = sized_a.shape[:2]
     # B covers A's piece when it lands on A's grid at A's width, or its aspect is close enough.
     own_height = max(1, round(m * rb.shape[0] / rb.shape[1]))
@@ -214,34 +225,6 @@ def size_pair(
     return SizedPair(sized_a, sized_b, stretched=not fits, notes=notes)
 
 
-def load_pair(
-    path_a: str | os.PathLike[str],
-    path_b: str | os.PathLike[str] | None = None,
-    *,
-    width: int | None = None,
-    height: int | None = None,
-    width_cm: float | None = None,
-    gauge: float | None = None,
-    stretch: bool = False,
-    smooth: bool | None = None,
-) -> SizedPair:
-    """Load picture files and :func:`size_pair` them; messages name the files."""
-    a = load_image(path_a)
-    b = load_image(path_b) if path_b is not None else None
-    names = (os.path.basename(path_a), os.path.basename(path_b) if path_b is not None else "B")
-    return size_pair(
-        a,
-        b,
-        width=width,
-        height=height,
-        width_cm=width_cm,
-        gauge=gauge,
-        stretch=stretch,
-        smooth=smooth,
-        names=names,
-    )
-
-
 def prepare_image(
     source: str | os.PathLike[str] | ArrayLike,
     *,
@@ -255,8 +238,7 @@ def prepare_image(
     smooth: bool | None = None,
 ) -> QuantisedImage:
     """Load (if a path), size (:func:`size_picture`) and quantise one picture in one call."""
-    rgb = load_image(source) if isinstance(source, (str, os.PathLike)) else check_image(source)
     small = size_picture(
-        rgb, width=width, height=height, width_cm=width_cm, gauge=gauge, smooth=smooth
+        source, width=width, height=height, width_cm=width_cm, gauge=gauge, smooth=smooth
     )
     return quantise_image(small, n_colors=n_colors, yarns=yarns, allow_quantise=allow_quantise)

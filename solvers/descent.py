@@ -42,12 +42,12 @@ from __future__ import annotations
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, replace
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-from illuknit.illusion_problem import IllusionProblem, raised_cost
+from illuknit.illusion_problem import IllusionProblem, pass_events, raised_cost
 from illuknit.solvers.base import BackendBase, ProgressCallback, ProgressEvent, Solution, Status
 from illuknit.solvers.dp import DPBackend, solve_dp, values_from_pattern
 
@@ -104,6 +104,9 @@ def pattern_cost(
     cost = problem.view_weight * (int((va != a).sum()) + int((vb != b).sum()))
     cost += int(bump[r].sum()) + int(pin[ii, jj, c].sum())
     cost += problem.color_weight * int((c[:, 1:] != c[:, :-1]).sum())
+    if problem.pass_weight:
+        used, bump_rows, extra = pass_events(c, r, problem.n_yarns, problem.weights.float_gap)
+        cost += 2 * problem.pass_weight * int(used.sum() + bump_rows.sum() + extra.sum())
     return int(cost)
 
 
@@ -180,6 +183,8 @@ def update_wales(
             if ok.any():
                 other = yarn[:, nb[ok]].T  # (L', N)
                 u[ok] += wc * (cs[None, None, :] != other[:, :, None])
+    if problem.pass_weight:
+        u += _row_terms_outside(problem, yarn, raised, cols)
     seen_a = np.where(rs[:, None], cs[:, None], cs[None, :])  # (S', S)
     seen_b = np.where(rs[None, :], cs[None, :], cs[:, None])
 
@@ -195,6 +200,26 @@ def update_wales(
     y[:, cols] = (st // 2).T
     r[:, cols] = (st % 2).astype(bool).T
     return y, r
+
+
+def _row_terms_outside(
+    problem: IllusionProblem, yarn: NDArray[np.int64], raised: NDArray[np.bool_], cols: Any
+) -> NDArray[np.int64]:
+    """Unary costs (L, N, S) of the yarn-used and bump-row pass terms for the wales ``cols``,
+    judged against the rest of each row (the other updated wales left out). Not exact when
+    several updated wales are a row's only users of a yarn; :func:`descend` keeps an update
+    only if the whole objective does not increase. Extra carriers are left to that check."""
+    n, m = problem.shape
+    k = problem.n_yarns
+    cs, rs = _state_parts(k)
+    w = 2 * problem.pass_weight
+    rest = np.ones(m, dtype=bool)
+    rest[cols] = False
+    c = np.asarray(yarn)[:, rest]
+    used = np.stack([(c == y).any(axis=1) for y in range(k)], axis=1)  # (N, K)
+    bumped: NDArray[np.bool_] = np.asarray(np.asarray(raised)[:, rest].any(axis=1), dtype=bool)
+    u = w * (~used[:, cs]).astype(np.int64) + w * (rs[None, :] & ~bumped[:, None])  # (N, S)
+    return np.broadcast_to(u[None], (len(cols), n, 2 * k))
 
 
 def update_rows(
@@ -245,12 +270,42 @@ def update_rows(
     mis += hu & np.where(r, c != bu, cu != bu)
     u = u + wv * mis
     pair = (wc * (cs[:, None] != cs[None, :])).astype(np.int64)[None]  # (1, S', S)
-    st = _chain_argmin(u, pair)  # (L, M)
+    st = _best_row_states(problem, u, pair) if problem.pass_weight else _chain_argmin(u, pair)
     y = c_all.copy()
     rr = r_all.copy()
     y[rows] = st // 2
     rr[rows] = (st % 2).astype(bool)
     return y, rr
+
+
+def _best_row_states(
+    problem: IllusionProblem, u: NDArray[np.int64], pair: NDArray[np.int64]
+) -> NDArray[np.int64]:
+    """Row chains with the yarn-used and bump-row terms, exactly: one chain per nonempty set of
+    allowed yarns and per bumps allowed or not, each charged its pass terms; the cheapest wins
+    per row. (Extra carriers are left to :func:`descend`'s check.)"""
+    k = problem.n_yarns
+    cs, rs = _state_parts(k)
+    w = 2 * problem.pass_weight
+    best_cost: NDArray[np.int64] | None = None
+    best: NDArray[np.int64] | None = None
+    for mask in range(1, 2**k):
+        allowed = np.array([(mask >> y) & 1 for y in range(k)], dtype=bool)
+        for bumps in (False, True):
+            ok = allowed[cs] & (rs <= bumps)
+            uu = np.where(ok[None, None, :], u, _INF)
+            st = _chain_argmin(uu, pair)
+            cost = np.take_along_axis(uu, st[:, :, None], axis=2)[:, :, 0].sum(axis=1)
+            cost = cost + pair[0][st[:, :-1], st[:, 1:]].sum(axis=1)
+            cost = cost + w * (int(allowed.sum()) + int(bumps))
+            if best_cost is None or best is None:
+                best_cost, best = cost, st
+            else:
+                better = cost < best_cost
+                best_cost = np.where(better, cost, best_cost)
+                best[better] = st[better]
+    assert best is not None
+    return best
 
 
 def descend(

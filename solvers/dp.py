@@ -199,6 +199,21 @@ def values_from_pattern(
     vals[model.pool.block_ids("raised")] = raised
     if "change" in model.pool.blocks:
         vals[model.pool.block_ids("change")] = yarn[:, 1:] != yarn[:, :-1]
+    if "yarn used" in model.pool.blocks:
+        k = x.shape[2]
+        onehot = yarn[:, :, None] == np.arange(k)[None, None, :]
+        vals[model.pool.block_ids("yarn used")] = onehot.any(axis=1)
+        vals[model.pool.block_ids("bump row")] = np.asarray(raised, dtype=bool).any(axis=1)
+        if "yarn so far" in model.pool.blocks:
+            so_far = np.cumsum(onehot, axis=1) > 0
+            vals[model.pool.block_ids("yarn so far")] = so_far
+            ex = model.pool.block_ids("extra carrier")
+            g = m - ex.shape[1] - 1
+            window = np.zeros_like(onehot)
+            for d in range(1, g + 1):
+                window[:, d:] |= onehot[:, :-d]
+            start = onehot & ~window
+            vals[ex] = start[:, g + 1 :] & so_far[:, : m - g - 1]
     return vals
 
 

@@ -103,12 +103,49 @@ def _group_rss_mb(pid: int, own_group: bool) -> float | None:
     return total / 2**20
 
 
-def _kill(pid: int, own_group: bool) -> None:
+def _stat(pid: int) -> tuple[int, int] | None:
+    """(parent pid, start time) of process ``pid`` from /proc, or None."""
+    try:
+        stat = (Path("/proc") / str(pid) / "stat").read_text()
+        fields = stat[stat.rindex(")") + 2 :].split()
+        return int(fields[1]), int(fields[19])  # fields 4 and 22 of /proc/PID/stat
+    except (OSError, ValueError, IndexError):
+        return None
+
+
+def _descendants(pid: int) -> dict[int, int]:
+    """Every live descendant of ``pid`` with its start time (from /proc; empty without it).
+    Solvers such as hermax's subprocess workers start their own sessions, out of reach of the
+    process-group kill."""
+    proc = Path("/proc")
+    if not proc.is_dir():
+        return {}
+    children: dict[int, list[tuple[int, int]]] = {}
+    for d in proc.iterdir():
+        if d.name.isdigit() and (st := _stat(int(d.name))) is not None:
+            children.setdefault(st[0], []).append((int(d.name), st[1]))
+    out: dict[int, int] = {}
+    todo = [pid]
+    while todo:
+        for c, start in children.get(todo.pop(), []):
+            if c not in out:
+                out[c] = start
+                todo.append(c)
+    return out
+
+
+def _kill(pid: int, own_group: bool, others: dict[int, int]) -> None:
     with contextlib.suppress(ProcessLookupError, PermissionError):
         if own_group:
             os.killpg(pid, signal.SIGKILL)
         else:
             os.kill(pid, signal.SIGKILL)
+    for p, start in others.items():
+        st = _stat(p)
+        if st is None or st[1] != start:
+            continue  # gone, or the id now belongs to another process: never touch that one
+        with contextlib.suppress(ProcessLookupError, PermissionError):
+            os.kill(p, signal.SIGKILL)
 
 
 def _exit_reason(code: int | None) -> str:
@@ -160,6 +197,7 @@ def run_in_child(
         grace = 3.0 if time_limit is None else 3.0 + 0.1 * time_limit
     deadline = None if time_limit is None else t0 + time_limit + grace
     events: list[ProgressEvent] = []
+    seen: dict[int, int] = {}  # descendants, remembered while they still hang below the child
     peak: float | None = None
     status, value, reason = "error", None, ""
     try:
@@ -170,6 +208,7 @@ def run_in_child(
                 break
             wait = POLL if deadline is None else min(POLL, deadline - now)
             got = recv.poll(wait)
+            seen.update(_descendants(pid))
             rss = _group_rss_mb(pid, own_group)
             if rss is not None and rss > 0:
                 peak = rss if peak is None else max(peak, rss)
@@ -198,7 +237,8 @@ def run_in_child(
             break
     finally:
         wall = time.perf_counter() - t0
-        _kill(pid, own_group)
+        seen.update(_descendants(pid))
+        _kill(pid, own_group, seen)
         proc.join(timeout=5.0)
         recv.close()
     return ChildResult(status, value, reason, wall, peak, tuple(events))

@@ -15,7 +15,7 @@ optima and RC2's lower bounds of the rest.
 from __future__ import annotations
 
 import time
-from threading import Timer
+from threading import Event, Timer
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -215,13 +215,21 @@ def _solve_component(
     w.extend([renum(c) for c in soft], weights=weights)
     cls = RC2Stratified if len(set(weights)) > 1 else RC2
     rc2 = cls(w, solver=oracle, adapt=True, exhaust=True, minz=True)
-    timer = Timer(time_limit, rc2.interrupt) if time_limit is not None else None
+    fired = Event()
+
+    def stop() -> None:
+        fired.set()
+        rc2.interrupt()
+
+    timer = Timer(time_limit, stop) if time_limit is not None else None
     try:
         if timer is not None:
             timer.start()
         model = rc2.compute(expect_interrupt=True)
         if model is None:
-            if rc2.interrupted:
+            # python-sat's RC2 clears its own interrupted flag when the interrupt lands in a SAT
+            # call, then reads the missing core as "hard part unsatisfiable": trust our timer
+            if rc2.interrupted or fired.is_set():
                 return "stopped", np.zeros(0, dtype=np.int64), int(rc2.cost)
             return "infeasible", np.zeros(0, dtype=np.int64), 0
         m = np.asarray(model, dtype=np.int64)

@@ -75,7 +75,12 @@ def test_dp_equals_brute_force_on_tiny_grids(n, m, k, kind, seed, pin):
     a = rng.integers(0, k, (n, m))
     b = rng.integers(0, k, (n, m))
     pinned = np.where(rng.random((n, m)) < 0.3, rng.integers(0, k, (n, m)), -1) if pin else None
-    w = KnitWeights(view=int(rng.integers(1, 4)), color_change=0, transfer=int(rng.integers(0, 3)))
+    w = KnitWeights(
+        view=int(rng.integers(1, 4)),
+        color_change=0,
+        transfer=int(rng.integers(0, 3)),
+        machine_pass=0,
+    )
     problem = make_problem(a, b, n_yarns=k, kind=kind, weights=w, pinned=pinned)
     yarn, raised, cost = solve_dp(problem)
     assert cost == _wale_brute_force(problem)
@@ -281,3 +286,46 @@ def test_unknown_model_and_weights_names_list_the_valid_ones():
         parse_weights("view=abc")
     with pytest.raises(OptionError, match="view"):
         KnitWeights(view=-1)
+
+
+def test_machine_pass_terms_match_brute_force_and_the_descent_objective():
+    """Yarns per row, bump rows and extra carriers (regions beyond the float gap), encoded as
+    clauses, against a brute force over every pattern of a 1 x 5 strip and a 2 x 2 grid."""
+    import itertools
+
+    from illuknit.illusion_problem import pass_events
+    from illuknit.solvers.descent import pattern_cost
+    from illuknit.solvers.dp import values_from_pattern
+
+    rng = np.random.default_rng(3)
+    for shape, gap in (((1, 5), 1), ((2, 2), 1), ((1, 5), 2)):
+        a = rng.integers(0, 2, shape)
+        b = rng.integers(0, 2, shape)
+        w = KnitWeights(view=3, color_change=1, transfer=1, machine_pass=1, float_gap=gap)
+        problem = make_problem(a, b, n_yarns=2, kind="knit-aware", weights=w)
+        model = build_model(problem)
+        best = None
+        cells = shape[0] * shape[1]
+        for ys in itertools.product((0, 1), repeat=cells):
+            yarn = np.array(ys).reshape(shape)
+            for rs in itertools.product((False, True), repeat=cells):
+                raised = np.array(rs).reshape(shape)
+                ok, cost = model.evaluate(values_from_pattern(model, yarn, raised))
+                assert ok and cost == pattern_cost(problem, yarn, raised)
+                used, _, _ = pass_events(yarn, raised, 2, gap)
+                assert used.sum() == sum(len(set(row)) for row in yarn.tolist())
+                best = cost if best is None else min(best, cost)
+        for name in ("rc2", "cpsat", "descent"):
+            sol = solve(build_model(problem), solver=name, time_limit=20)
+            assert sol.objective >= best
+            if name != "descent":
+                assert sol.status.value == "optimal" and sol.objective == best, name
+
+
+def test_extra_carriers_count_regions_beyond_the_float_gap():
+    from illuknit.illusion_problem import pass_events
+
+    yarn = np.array([[0, 1, 1, 1, 0, 1, 0, 0]])
+    used, bumps, extra = pass_events(yarn, np.zeros_like(yarn, bool), 2, 2)
+    # yarn 0 jumps 3 units (1..3) -> a new carrier at column 4; yarn 1's gaps are 1 and 0
+    assert used.tolist() == [2] and bumps.tolist() == [False] and extra.tolist() == [1]

@@ -25,11 +25,11 @@ def png_chunk(kind: bytes, data: bytes) -> bytes:
 def png16(a: np.ndarray) -> bytes:
     """A 16-bit PNG (grey for (H, W), RGB for (H, W, 3)) of uint16 ``a`` (Pillow cannot write RGB 16)."""
     h, w = a.shape[:2]
-    colour = 0 if a.ndim == 2 else 2
+    color_type = 0 if a.ndim == 2 else 2
     rows = a.reshape(h, -1).astype(">u2").tobytes()
     stride = rows and len(rows) // h
     raw = b"".join(b"\0" + rows[i * stride : (i + 1) * stride] for i in range(h))
-    ihdr = struct.pack(">IIBBBBB", w, h, 16, colour, 0, 0, 0)
+    ihdr = struct.pack(">IIBBBBB", w, h, 16, color_type, 0, 0, 0)
     return (
         b"\x89PNG\r\n\x1a\n"
         + png_chunk(b"IHDR", ihdr)

@@ -14,7 +14,6 @@ from illuknit.errors import ImageInputError, PictureSizeMismatchError
 from illuknit.sizing import (
     DEFAULT_MAX_WIDTH,
     grid_width,
-    load_pair,
     prepare_image,
     size_pair,
     size_picture,
@@ -70,7 +69,7 @@ def test_b_of_another_aspect_is_an_error_unless_stretched():
     assert pair.shape == (40, 40) and pair.stretched and "stretched" in pair.notes[0]
 
 
-def test_resampling_is_nearest_for_few_colours_and_smooth_for_photos():
+def test_resampling_is_nearest_for_few_colors_and_smooth_for_photos():
     few = size_picture(two_tone(100, 100), width=33)
     assert len(np.unique(few.reshape(-1, 3), axis=0)) == 2  # no blend colours
     many = size_picture(photo(100, 100), width=33)
@@ -90,7 +89,7 @@ def pictures(tmp_path):
 def test_cli_double_solve_app_and_bench_size_the_same_pictures_alike(pictures, tmp_path):
     """One grid for the same two pictures whichever entry point sizes them."""
     pa, pb = pictures
-    expected = load_pair(pa, pb, width=48)
+    expected = size_pair(pa, pb, width=48)
     grids = {}
     main(
         [

@@ -347,7 +347,7 @@ def knit_stats(pattern: LogicalPattern, *, machine: str | None = None) -> dict[s
     return {
         "carriage_passes": len(passes),
         "transfer_passes": sum(p.kind in transfers for p in passes),
-        "scheduled_passes": int(result.stats.passes),
+        "scheduled_passes": int(result.schedule.stats.passes),
         "knit_time_min": seconds / 60.0,
         "knit_note": "",
     }

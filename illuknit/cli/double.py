@@ -21,6 +21,7 @@ import numpy as np
 from illuknit.cli.knitout_bridge import machine_option
 from illuknit.cli.options import knitout_option, outdir_option
 from illuknit.sizing import DEFAULT_MAX_WIDTH
+from illuknit.tiles.perception import RANK_KEYS
 
 __all__ = ["double", "run_design"]
 
@@ -101,6 +102,8 @@ def run_design(
     tile: tuple[str, ...] = (),
     knitout: bool = False,
     machine: str | None = None,
+    rank_by: str = "perception",
+    knit_time: bool = False,
 ) -> dict[str, Any]:
     """Load, quantise, assign, compile and write every candidate (atomically into ``outdir``).
 
@@ -115,11 +118,12 @@ def run_design(
     from illuknit.images import quantise_image
     from illuknit.outputs import atomic_write_text, staged_dir
     from illuknit.previews import save_png, unit_scale, upscale
-    from illuknit.sizing import load_pair
+    from illuknit.sizing import size_pair
     from illuknit.tiles.assign import assign_tiles
     from illuknit.tiles.bank import canonical_bank, load_bank
-    from illuknit.tiles.compile import compile_tiles, repainted_rgb
+    from illuknit.tiles.compile import repainted_rgb
     from illuknit.tiles.headon import HEADON_VIEWS, uniform_side
+    from illuknit.tiles.perception import rank_designs
 
     if candidates < 1:
         raise TileAssignmentError(f"--candidates must be at least 1, got {candidates}")
@@ -127,7 +131,7 @@ def run_design(
     spec = resolve_machine(machine)
     if knitout and width is not None:
         check_fits(spec, width)
-    pair = load_pair(path_a, path_b, width=width, stretch=resize)
+    pair = size_pair(path_a, path_b, width=width, stretch=resize)
     a, b = pair.a, pair.b
     if knitout:
         check_fits(spec, a.shape[1])
@@ -158,11 +162,27 @@ def run_design(
     names = (
         ("front (head-on)", "side") if mode == "headon" else ("A (from above)", "B (from below)")
     )
+    # What each view should show: the designer's quantised pictures (a plain side otherwise).
+    seen_targets: list[np.ndarray] = [qa.rgb()]
+    if qb is not None:
+        seen_targets.append(qb.rgb())
+    else:
+        side_idx, side_colors = uniform_side(qa)
+        seen_targets.append(np.asarray(side_colors, dtype=np.uint8)[np.asarray(side_idx)])
+    ranked = rank_designs(
+        found,
+        seen_targets,
+        views=("A", "B") if mode == "double" else ("headon", "side"),
+        overrides=overrides,
+        rank_by=rank_by,
+        knit_time=knit_time,
+        machine=machine,
+    )
     rows = []
     chosen = None
     with staged_dir(outdir) as tmp:
-        for cand in found:
-            pattern, report = compile_tiles(cand, overrides=overrides)
+        for rc in ranked:
+            cand, pattern, report, meas = rc.assignment, rc.pattern, rc.report, rc.measures
             if cand.rank == pick:
                 chosen = pattern
             sub = tmp / f"candidate_{cand.rank}"
@@ -174,6 +194,7 @@ def run_design(
                 "sources": [str(path_a), str(path_b) if path_b else None],
                 "assignment": cand_json,
                 "tiles_report": report_json,
+                "measures": meas.to_json(),
                 "default": cand.rank == pick,
             }
             ra = repainted_rgb(cand, 0)
@@ -190,6 +211,7 @@ def run_design(
                 average = repainted_rgb(cand, which, mode="average")
                 save_png(upscale(striped, s), sub / f"repainted_{letter}.png")
                 save_png(upscale(average, s), sub / f"repainted_{letter}_average.png")
+            diagnostics = _write_diagnostics(pattern, seen_targets, sub, mode=mode, scale=s)
             fills = cand_json["fills"]
             legend = {"views": list(views), "fills": fills, "tiles": cand_json["tiles"]}
             atomic_write_text(sub / "fills.json", json.dumps(legend, indent=1) + "\n")
@@ -198,6 +220,9 @@ def run_design(
                     "rank": cand.rank,
                     "default": cand.rank == pick,
                     "score": round(cand.score, 2),
+                    "score_rank": rc.score_rank,
+                    **_measure_fields(meas),
+                    "diagnostics": diagnostics,
                     "fills_a": [f["fill"] for f in fills if f["input"] == "A"],
                     "fills_b": [f["fill"] for f in fills if f["input"] == "B"],
                     "error_repainted": report_json["error_repainted"],
@@ -218,12 +243,44 @@ def run_design(
             "size": {"rows": int(qa.shape[0]), "cols": int(qa.shape[1])},
             "bank": {"name": bank.name, "tiles": len(bank)},
             "solver": solver,
+            "ranked_by": rank_by,
             "default": pick,
             "candidates": rows,
         }
         atomic_write_text(tmp / "summary.json", json.dumps(summary, indent=1) + "\n")
         atomic_write_text(tmp / "summary.txt", _summary_text(summary))
     return summary
+
+
+def _measure_fields(m: Any) -> dict[str, Any]:
+    """A candidate's perceptual measures as summary-table fields (see tiles.perception)."""
+    j = m.to_json()
+    return {
+        "perceptual_score": j["perceptual_score"],
+        "readability": j["readability"],
+        "contrast": j["contrast"],
+        "ghosting": j["ghosting"],
+        "knit_minutes": j["knit_minutes"],
+        "machine_passes": j["machine_passes"],
+    }
+
+
+def _write_diagnostics(
+    pattern: Any, pictures: list[np.ndarray], sub: Path, *, mode: str, scale: int
+) -> dict[str, dict[str, float]]:
+    """``diagnostic_<view>.png`` per view: where it shows the wrong shade, where the other
+    picture ghosts through. Returns the fractions of units marked, per view."""
+    from illuknit.previews import save_png, upscale
+    from illuknit.tiles.perception import diagnostic_rgb
+
+    views = ("A", "B") if mode == "double" else ("headon", "A")
+    out = {}
+    for k, (letter, view) in enumerate(zip(("a", "b"), views, strict=True)):
+        other = pictures[1 - k] if mode == "double" else None
+        img, stats = diagnostic_rgb(pattern, pictures[k], other, view=view)
+        save_png(upscale(img, scale), sub / f"diagnostic_{letter}.png")
+        out[letter.upper()] = {key: round(v, 4) for key, v in stats.items()}
+    return out
 
 
 def _parse_overrides(specs: tuple[str, ...]) -> dict[tuple[int, int], str]:
@@ -251,18 +308,28 @@ def _summary_text(summary: dict[str, Any]) -> str:
         f"yarns: {', '.join(y['name'] + ' ' + y['rgb'] for y in summary['yarns'])}",
         f"bank {summary['bank']['name']} ({summary['bank']['tiles']} tiles), solver {summary['solver']}",
         "",
-        "rank  default  score    fills of input A | fills of input B",
+        f"ranked by {summary.get('ranked_by', 'score')}; readability / contrast / ghosting per view",
+        "rank  default  percept  read A  read B  contr A  contr B  ghost  minutes  score    fills of input A | fills of input B",
     ]
     for r in summary["candidates"]:
         mark = "  *    " if r["default"] else "       "
+        rd, ct = r["readability"], r["contrast"]
+        ghost = max((abs(g) for g in r["ghosting"] if g is not None), default=None)
         lines.append(
-            f"{r['rank']:>4}  {mark}  {r['score']:>7.2f}  {'; '.join(r['fills_a'])} | {'; '.join(r['fills_b'])}"
+            f"{r['rank']:>4}  {mark}  {_fmt(r['perceptual_score']):>7}  {_fmt(rd[0]):>6}  "
+            f"{_fmt(rd[1]):>6}  {_fmt(ct[0]):>7}  {_fmt(ct[1]):>7}  {_fmt(ghost):>5}  "
+            f"{_fmt(r['knit_minutes'], 1):>7}  {r['score']:>7.2f}  "
+            f"{'; '.join(r['fills_a'])} | {'; '.join(r['fills_b'])}"
         )
     lines.append("")
     lines.append(
         "* = default candidate (its pattern is also ./pattern.json); each is in candidate_K/"
     )
     return "\n".join(lines) + "\n"
+
+
+def _fmt(x: float | None, digits: int = 3) -> str:
+    return "-" if x is None else f"{x:.{digits}f}"
 
 
 def print_summary(summary: dict[str, Any], outdir: Path) -> None:
@@ -277,23 +344,28 @@ def print_summary(summary: dict[str, Any], outdir: Path) -> None:
     for col in (
         "rank",
         "",
+        "perceptual",
+        "readability",
+        "contrast",
+        "ghosting",
+        "knit min",
         "score",
         "fills A",
         "fills B",
-        "error vs repainted (interior)",
-        "max changes/course",
     ):
         t.add_column(col)
     for r in summary["candidates"]:
-        err = ", ".join(f"{k} {v:.3f}" for k, v in r["error_repainted_interior"].items())
         t.add_row(
             str(r["rank"]),
             "default" if r["default"] else "",
+            _fmt(r["perceptual_score"]),
+            " / ".join(_fmt(v) for v in r["readability"]),
+            " / ".join(_fmt(v) for v in r["contrast"]),
+            " / ".join(_fmt(v) for v in r["ghosting"]),
+            _fmt(r["knit_minutes"], 1),
             f"{r['score']:.1f}",
             "; ".join(r["fills_a"]),
             "; ".join(r["fills_b"]),
-            err,
-            str(r["color_changes_per_course_max"]),
         )
     con.print(t)
     con.print(
@@ -317,6 +389,11 @@ def design_options(func: Any) -> Any:
                      help="Custom tile bank (JSON; see docs/tiles.md)."),
         click.option("--pick", type=click.IntRange(1, 50), default=1, show_default=True,
                      help="Which candidate is the default (copied to OUTDIR/pattern.json)."),
+        click.option("--rank-by", type=click.Choice(RANK_KEYS), default="perception", show_default=True,
+                     help="Order of the candidates: how the views read (perception: worse view's readability, "
+                     "contrast floor, ghosting), the assignment's score, or one measure."),
+        click.option("--knit-time/--no-knit-time", default=False, show_default=True,
+                     help="Also knit every candidate and show the machine's knitting time (ties in the ranking)."),
         click.option("--solver", default="cpsat", show_default=True, help="Solver backend: cpsat, rc2, ..."),
         click.option("--soft-brightness", is_flag=True,
                      help="Prefer, rather than require, keeping each picture's brightness order."),

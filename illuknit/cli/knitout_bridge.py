@@ -59,8 +59,10 @@ def write_program(
 ) -> dict[str, Path]:
     """Compile ``pattern`` for ``machine`` to ``program.k`` and write the checker's report beside it.
 
-    Writes ``program.k``, ``knit.json`` (passes, lower bound, time estimate), ``check.json`` and
-    ``check.txt``; returns name -> path. Prints a one-line summary of each. The checker judges
+    Writes ``program.k``, ``knit.json`` (passes, lower bound, time estimate, and the machine
+    set-up sheet: carriers and their cones, stitch numbers, needle range, passes and time on the
+    machine), ``check.json`` and ``check.txt``, and the machine's own file when illuknit writes
+    one without a choice to make (``program.kc`` for the Kniterate); returns name -> path. Prints a one-line summary of each. The checker judges
     the program by the same machine the scheduler used.
     """
     import json
@@ -68,14 +70,17 @@ def write_program(
     from illuknit.check import check_knitout
     from illuknit.cli.summary import console
     from illuknit.knit import knit_pattern
+    from illuknit.knit.machine_sheet import machine_sheet
 
     spec = get_machine(machine)
     result = knit_pattern(pattern, machine=spec)
     report = check_knitout(result.program, machine=spec)
     summary = result.summary()
+    sheet = machine_sheet(result, name="program.kc")
+    summary.update(sheet.summary)
     console().print(f"knitout: {_describe(summary)}")
     console().print(f"check: {report.to_text(name='program.k').splitlines()[0]}")
-    return {
+    files = {
         "program": atomic_write_text(outdir / "program.k", result.program),
         "knit": atomic_write_text(outdir / "knit.json", json.dumps(summary, indent=1) + "\n"),
         "check": atomic_write_text(outdir / "check.json", report.to_json(indent=1) + "\n"),
@@ -83,6 +88,9 @@ def write_program(
             outdir / "check.txt", report.to_text(name="program.k") + "\n"
         ),
     }
+    if "kc" in sheet.files:
+        files["kc"] = atomic_write_text(outdir / "program.kc", sheet.files["kc"])
+    return files
 
 
 def _describe(summary: dict[str, object]) -> str:

@@ -42,9 +42,9 @@ def load_targets(
     ``resize``).
     """
     from illuknit.images import QuantisedImage, quantise_image
-    from illuknit.sizing import load_pair
+    from illuknit.sizing import size_pair
 
-    pair = load_pair(path_a, path_b, width=width, stretch=resize)
+    pair = size_pair(path_a, path_b, width=width, stretch=resize)
     a, b = pair.a, pair.b
     both = a if b is None else np.concatenate([a, b], axis=0)
     q = quantise_image(both, n_colors=n_colors, yarns=yarns, allow_quantise=quantise)

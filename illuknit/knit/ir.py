@@ -110,6 +110,11 @@ def course_row(course: int, rows: int) -> int:
 
 
 def _enum(cls: type[StrEnum], value: Any, what: str) -> StrEnum:
+    # Millions of operations are built per piece: look members up directly (enum's __call__ is
+    # slow); members and their plain-string values both hit the map.
+    member = cls._value2member_map_.get(value)
+    if member is not None:
+        return member  # type: ignore[return-value]
     try:
         return cls(value)
     except ValueError:

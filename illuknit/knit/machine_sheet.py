@@ -55,8 +55,8 @@ def _carrier_table(result: KnitResult) -> list[dict[str, str]]:
             )
         elif c in owner:
             yarn = sched.yarns[owner[c]]
-            colour = "#{:02x}{:02x}{:02x}".format(*yarn.rgb)
-            rows.append({"carrier": c, "role": "pattern", "yarn": f"{yarn.name} ({colour})"})
+            color = "#{:02x}{:02x}{:02x}".format(*yarn.rgb)
+            rows.append({"carrier": c, "role": "pattern", "yarn": f"{yarn.name} ({color})"})
     return rows
 
 

@@ -36,47 +36,53 @@ Algorithm 3. Then the course's transfers are placed: lazily and batched, with fl
 (see :mod:`~illuknit.knit.float_avoidance`). Carriers come in with ``inhook`` right before their
 first pass (leftward, as the hook needs) and the hook is released right after it; a carrier
 leaves with ``outhook`` after its last course. Finally :func:`fold_moves` folds each
-carrier-placing ``miss`` pass that continues its carrier's previous pass into that pass.
+carrier-placing ``miss`` pass that continues its carrier's previous pass into that pass, and
+:func:`~illuknit.knit.float_tucks.tuck_long_floats` tucks floats over the limit onto free back
+needles.
 
-**Bind-off**: every loop to the front, then a chain bind-off from left to right in the colours of
-the last course -- each needle knit by the carrier of its run, its loop moved onto the next needle
--- with a tail on the last needle. Moving a loop across a colour boundary joins the two regions;
-with catching off each run is bound off on its own instead (tail, then the loop is dropped), so
+**Bind-off**: every loop to the front, then the one-colour chain
+(:func:`~illuknit.knit.schedule.bind_off_steps`) in one yarn, started where the last course ended
+(the carrier whose last loop is nearest an edge it is parked beyond; the others go out first).
+With catching off each run is bound off on its own instead (tail, then the loop is dropped), so
 that nothing the scheduler adds joins the regions.
 
-**Passes and the lower bound.** Reported: knit passes, transfer passes, miss passes (every miss
-pass is an explicit kickback or anchoring move), kickbacks (explicit moves plus consecutive
-same-direction passes of one carrier, which the SWG backend turns into an extra pass), plated
-stitches. The documented lower bound per body course is *the number of distinct carrier sets that
-knit in it* (the SWG backend merges only operations with the identical carrier list, so each set
--- each carrier and each plated pair -- needs its own pass) *plus one transfer pass if some loop
-changes bed* relative to the previous course (both directions share one pass at racking 0); the
-cast-on tucks and the bind-off recipe count at their own length without moves. It is a bound for
-the given carrier plan, not over all plans.
+**Passes and the lower bound.** The lower bound per body course is *the number of distinct
+carrier sets that knit in it* (the SWG backend merges only operations with the identical carrier
+list, so each set -- each carrier and each plated pair -- needs its own pass) *plus one transfer
+pass if some loop changes bed* relative to the previous course (both directions share one pass at
+racking 0); the cast-on tucks and the bind-off recipe count at their own length. It counts no
+carrier moves, and none is unavoidable: parked carriers are in no pass's way (see
+``docs/mixed-colourwork.md``). It is a bound for the given carrier plan, not over all plans. The
+passes reported for a program are the machine's (:mod:`illuknit.knit.carriage`).
 """
 
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
 
 import numpy as np
 
 from illuknit.errors import OptionError, PatternValidationError, SchedulingError
-from illuknit.knit.catching import PlatedStitch, plan_catches
+from illuknit.knit.catching import plan_catches
 from illuknit.knit.color_runs import ColorPlan, plan_color_runs
+from illuknit.knit.course_order import course_items, order_and_plan
 from illuknit.knit.float_avoidance import float_crossings, transfers_before
-from illuknit.knit.ir import ActionKind, Bed, CarrierAction, Op, OpKind, Pass, PassKind, Role, Step
+from illuknit.knit.float_tucks import LongFloat, tuck_long_floats
+from illuknit.knit.ir import (
+    Bed,
+    CarrierAction,
+    Op,
+    OpKind,
+    Pass,
+    Role,
+    Step,
+)
 from illuknit.knit.machine import DEFAULT_MACHINE, MachineSpec
+from illuknit.knit.mixed_edges import Emitter, bind_off, cast_on
 from illuknit.knit.path_planning import (
     STRATEGIES,
-    CarrierState,
     Park,
-    PlannedPass,
     WorkItem,
-    advance,
-    pass_cost,
-    plan_item,
 )
 from illuknit.knit.schedule import MixedReport, Schedule
 from illuknit.knit.stitches import StitchPattern
@@ -93,244 +99,6 @@ def validate_ablation(*, float_avoidance: object, catching: object, path_plannin
         raise OptionError(
             f"`path_planning` must be one of {', '.join(STRATEGIES)}, got {path_planning!r}"
         )
-
-
-@dataclass
-class _Emitter:
-    """Mutable machine state while the schedule is written (carriers, beds, steps)."""
-
-    machine: MachineSpec
-    left: int
-    wales: int
-    strategy: str
-    float_avoidance: bool
-
-    def __post_init__(self) -> None:
-        self.steps: list[Step] = []
-        self.states: dict[str, CarrierState] = {}
-        self.bed: dict[int, str] = {}
-        self.float_transfer_passes = 0
-        self.moves = 0
-        self.plated = 0
-
-    @property
-    def needles(self) -> range:
-        return range(self.left, self.left + self.wales)
-
-    # -- primitive steps --------------------------------------------------------------------
-    def xfer(self, moves: dict[int, str], *, role: Role, course: int | None) -> None:
-        if not moves:
-            return
-        ops = []
-        for n in sorted(moves):
-            to = Bed(moves[n])
-            frm = Bed.BACK if to is Bed.FRONT else Bed.FRONT
-            ops.append(Op(OpKind.XFER, frm, n, to, n))
-            self.bed[n] = to
-        self.steps.append(Pass(PassKind.XFER, tuple(ops), None, (), 0.0, role, course))
-
-    def knit(
-        self,
-        p: PlannedPass,
-        *,
-        role: Role,
-        course: int | None,
-        op: OpKind = OpKind.KNIT,
-        extra: Sequence[Op] = (),
-    ) -> None:
-        """Emit a planned pass (hooking in a never-used carrier around it)."""
-        new = [c for c in p.carriers if self.states.get(c, CarrierState()).needle is None]
-        if p.kind == "move":
-            n, _ = p.stitches[0]
-            self.steps.append(
-                Pass(
-                    PassKind.KNIT,
-                    (Op(OpKind.MISS, Bed.FRONT, n),),
-                    p.direction,
-                    p.carriers,
-                    0.0,
-                    Role.ANCHOR,
-                    course,
-                    self.machine.stitch_number,
-                )
-            )
-            self.moves += 1
-        else:
-            if new:
-                self.steps.append(CarrierAction(ActionKind.INHOOK, p.carriers))
-            ops = tuple(Op(op, Bed(b), n) for n, b in p.stitches) + tuple(extra)
-            if p.park is not None:
-                ops += (Op(OpKind.MISS, Bed.FRONT, p.park),)
-            self.steps.append(
-                Pass(
-                    PassKind.KNIT,
-                    ops,
-                    p.direction,
-                    p.carriers,
-                    0.0,
-                    role,
-                    course,
-                    self.machine.stitch_number,
-                )
-            )
-            if len(p.carriers) > 1:
-                self.plated += len(p.stitches)
-            if new:
-                self.steps.append(CarrierAction(ActionKind.RELEASEHOOK, p.carriers))
-        self.states = advance(self.states, p)
-        if extra:
-            last = extra[-1]
-            for c in p.carriers:
-                st = self.states[c]
-                self.states[c] = CarrierState(last.needle, p.direction, st.last_loop)
-
-    def outhook(self, carriers: Sequence[str]) -> None:
-        for c in carriers:
-            self.steps.append(CarrierAction(ActionKind.OUTHOOK, (c,)))
-            self.states.pop(c, None)
-
-
-def _course_items(
-    plan_segments: Sequence[tuple[str, list[int]]],
-    catches: Sequence[PlatedStitch],
-    beds: Sequence[str],
-    left: int,
-) -> list[WorkItem]:
-    plated_wales = {p.wale for p in catches}
-    items: list[WorkItem] = []
-    for car, wales in plan_segments:
-        st = tuple((left + w, beds[w]) for w in wales if w not in plated_wales)
-        if st:
-            items.append(WorkItem((car,), st))
-    groups: dict[tuple[str, str], list[int]] = {}
-    for p in catches:
-        groups.setdefault(p.carriers, []).append(p.wale)
-    for cars, wales in groups.items():
-        items.append(WorkItem(cars, tuple((left + w, beds[w]) for w in sorted(wales)), plated=True))
-    return items
-
-
-#: Courses with at most this many work items are ordered by exhaustive search (branch and
-#: bound over permutations); larger ones greedily.
-EXHAUSTIVE_ITEMS = 6
-#: Partial orders kept per step when a course has more items than that (scaled down as the
-#: item count grows, to keep the time per course bounded).
-BEAM_WIDTH = 8
-
-
-def _order_and_plan(
-    items: list[WorkItem],
-    states: dict[str, CarrierState],
-    strategy: str,
-    parity: str,
-    lookahead: Sequence[WorkItem] = (),
-    park: Park | None = None,
-) -> tuple[list[PlannedPass], dict[str, CarrierState]]:
-    """Order a course's items for fewest passes; a carrier's own item comes before plating.
-
-    Up to :data:`EXHAUSTIVE_ITEMS` items every order is tried (branch and bound on the pass
-    count, plans cached per item and carrier states); beyond, a beam search keeps the
-    :data:`BEAM_WIDTH` cheapest partial orders. ``none`` keeps the given order.
-    """
-    if strategy == "none":
-        planned: list[PlannedPass] = []
-        st = dict(states)
-        order = [it for it in items if len(it.carriers) == 1] + [
-            it for it in items if len(it.carriers) > 1
-        ]
-        for it in order:
-            for p in plan_item(it, st, strategy=strategy, parity=parity, park=park):  # type: ignore[arg-type]
-                st = advance(st, p)
-                planned.append(p)
-        return planned, st
-
-    Entry = tuple[list[PlannedPass], int, dict[str, CarrierState]]
-    cache: dict[tuple[int, tuple[CarrierState, ...]], Entry] = {}
-    unused = CarrierState()
-
-    def plan(i: int, st: dict[str, CarrierState]) -> Entry:
-        """Passes of item ``i`` from ``st``, their cost and the item carriers' new states."""
-        it = items[i]
-        key = (i, tuple(st.get(c, unused) for c in it.carriers))
-        got = cache.get(key)
-        if got is None:
-            ps = plan_item(it, st, strategy=strategy, parity=parity, park=park)  # type: ignore[arg-type]
-            sub = {c: st.get(c, unused) for c in it.carriers}
-            cost = pass_cost(ps, sub)
-            for p in ps:
-                sub = advance(sub, p)
-            got = (ps, cost, sub)
-            cache[key] = got
-        return got
-
-    def ready(i: int, st: dict[str, CarrierState]) -> bool:
-        it = items[i]
-        return len(it.carriers) == 1 or all(
-            st.get(c, unused).needle is not None for c in it.carriers
-        )
-
-    ahead_cache: dict[tuple[int, CarrierState], int] = {}
-
-    def ahead(st: dict[str, CarrierState]) -> int:
-        """Extra passes the next course's own segments would need from these states."""
-        extra = 0
-        for k, it in enumerate(lookahead):
-            car = it.carriers[0]
-            cs = st.get(car, unused)
-            if cs.needle is None:
-                continue
-            key = (k, cs)
-            got = ahead_cache.get(key)
-            if got is None:
-                ps = plan_item(it, {car: cs}, strategy=strategy, parity=parity, park=park)  # type: ignore[arg-type]
-                got = pass_cost(ps, {car: cs}) - 1
-                ahead_cache[key] = got
-            extra += got
-        return extra
-
-    if len(items) <= EXHAUSTIVE_ITEMS:
-        best: list[object] = [None, None, None]  # cost, passes, states
-
-        def search(
-            left: list[int], st: dict[str, CarrierState], acc: list[PlannedPass], cost: int
-        ) -> None:
-            if best[0] is not None and cost >= best[0]:  # type: ignore[operator]
-                return
-            if not left:
-                total = cost + ahead(st)
-                if best[0] is None or total < best[0]:  # type: ignore[operator]
-                    best[0], best[1], best[2] = total, list(acc), st
-                return
-            for i in left:
-                if not ready(i, st):
-                    continue
-                ps, c, sub = plan(i, st)
-                search([j for j in left if j != i], {**st, **sub}, acc + ps, cost + c)
-
-        search(list(range(len(items))), dict(states), [], 0)
-        if best[1] is None:  # pragma: no cover - catching never pairs an unused carrier
-            raise SchedulingError("plated stitch with a carrier that never knit")
-        return best[1], best[2]  # type: ignore[return-value]
-
-    # Beam search: keep the BEAM_WIDTH cheapest partial orders at each depth.
-    beam: list[tuple[int, list[int], dict[str, CarrierState], list[PlannedPass]]] = [
-        (0, list(range(len(items))), dict(states), [])
-    ]
-    width = max(2, BEAM_WIDTH * EXHAUSTIVE_ITEMS // len(items))
-    for _ in range(len(items)):
-        grown = []
-        for cost, left, st, acc in beam:
-            for i in left:
-                if not ready(i, st):
-                    continue
-                ps, c, sub = plan(i, st)
-                grown.append((cost + c, [j for j in left if j != i], {**st, **sub}, acc + ps))
-        if not grown:  # pragma: no cover - catching never pairs an unused carrier
-            raise SchedulingError("plated stitch with a carrier that never knit")
-        grown.sort(key=lambda t: t[0])
-        beam = grown[:width]
-    _, _, st, planned = min(beam, key=lambda t: t[0] + ahead(t[2]))
-    return planned, st
 
 
 def _others_turn(steps: Sequence[Step], j: int, prev: Pass, c: str) -> bool:
@@ -448,8 +216,10 @@ def schedule_mixed(
         Longest float in wales; defaults to ``machine.float_limit``.
     strict_floats : bool
         Raise :class:`~illuknit.errors.CarrierShortageError` when a course needs more carriers
-        than the machine has to keep every float within the limit; by default the shortest gaps
-        are bridged by longer floats instead (the checker warns about them).
+        than the machine has to keep every float within the limit, and
+        :class:`~illuknit.errors.SchedulingError` naming the course when a float stays longer
+        than the limit after tucking; by default such floats are kept and listed in
+        ``Schedule.long_floats`` (the checker warns about them).
     tail_stitches : int
         Knits on the last needle of the bind-off chain.
     park_carriers : bool
@@ -514,50 +284,17 @@ def schedule_mixed(
         course_names=[course_name(c) for c in range(yarn.shape[0])],
     )
     left = machine.fabric_left
-    em = _Emitter(machine, left, n_wales, path_planning, bool(float_avoidance))
+    em = Emitter(machine, left, n_wales, path_planning, bool(float_avoidance))
     last_course: dict[str, int] = {}
     for cp in plan.courses:
         for s in cp.segments:
             last_course[s.carrier] = cp.course
 
-    # -- cast-on: each carrier of the first course tucks its own wales -------------------------
-    cast_sn = machine.cast_on_stitch
-    cast_fixed = 0
     edge = left + n_wales - 1
     park: Park | None = (
         (left - machine.park_distance, edge + machine.park_distance) if park_carriers else None
     )
-    for seg in plan.courses[0].segments:
-        needles = [left + w for w in seg.wales]
-        down = needles[::-1][0::2]
-        up = sorted(set(needles) - set(down))
-        car = seg.carrier
-        em.steps.append(CarrierAction(ActionKind.INHOOK, (car,)))
-        # A lone wale has no rightward tucks: its carrier parks left at once (when parking).
-        end = park[0] if park is not None and not up else needles[0] - 1
-        ops = [Op(OpKind.TUCK, Bed.FRONT, n) for n in down] + [Op(OpKind.MISS, Bed.FRONT, end)]
-        em.steps.append(
-            Pass(PassKind.KNIT, tuple(ops), "-", (car,), 0.0, Role.CAST_ON, None, cast_sn)
-        )
-        state = CarrierState(end, "-", down[-1])
-        cast_fixed += 1
-        if up:
-            ops = [Op(OpKind.TUCK, Bed.FRONT, n) for n in up]
-            em.steps.append(
-                Pass(PassKind.KNIT, tuple(ops), "+", (car,), 0.0, Role.CAST_ON, None, cast_sn)
-            )
-            state = CarrierState(up[-1], "+", up[-1])
-            cast_fixed += 1
-        em.steps.append(CarrierAction(ActionKind.RELEASEHOOK, (car,)))
-        if up and (park is not None or needles[-1] == edge):
-            # As in the one-colour cast-on: once the hook is released (nothing may pass right of
-            # it before), park the carrier right of the fabric, out of every other carrier's way,
-            # so that its first course starts leftward from behind the carriage.
-            to = Op(OpKind.MISS, Bed.FRONT, edge + machine.park_distance)
-            em.steps.append(Pass(PassKind.KNIT, (to,), "+", (car,), 0.0, Role.PARK, None, cast_sn))
-            state = CarrierState(to.needle, "+", up[-1])
-            cast_fixed += 1
-        em.states[car] = state
+    cast_fixed = cast_on(em, plan.courses[0].segments, park=park)
     for n in em.needles:
         em.bed[n] = "f"
 
@@ -577,17 +314,17 @@ def schedule_mixed(
         new = frozenset(s.carrier for s in cp.segments if s.carrier not in em.states)
         caught = catching and c % catch_every == 0
         catches = plan_catches(cp, new_carriers=new) if caught else []
-        items = _course_items([(s.carrier, s.wales) for s in cp.segments], catches, beds, left)
+        items = course_items([(s.carrier, s.wales) for s in cp.segments], catches, beds, left)
         parity = "-" if c % 2 == 0 else "+"
         lookahead: list[WorkItem] = []
         if c + 1 < len(plan.courses):
             # The next course's own segments: orders that leave carriers where that work can
             # start in one pass are preferred (its plated stitches are not known yet).
             nxt = plan.courses[c + 1]
-            lookahead = _course_items(
+            lookahead = course_items(
                 [(s.carrier, s.wales) for s in nxt.segments], [], course_beds[c + 1], left
             )
-        planned, _ = _order_and_plan(items, em.states, path_planning, parity, lookahead, park)
+        planned, _ = order_and_plan(items, em.states, path_planning, parity, lookahead, park)
         bound = len({it.carriers for it in items}) + int(bool((need != prev_kind).any()))
         prev_kind = need
         if body:
@@ -608,8 +345,11 @@ def schedule_mixed(
         }
         for i, p in enumerate(planned):
             if float_avoidance:
+                # Transfers for the pass after a carrier move go before the move: a carrier
+                # just moved inside the fabric would be in their way.
+                j = next((k for k in range(i, len(planned)) if planned[k].kind != "move"), i)
                 moves, for_floats = transfers_before(
-                    i, planned, crossings, bed=em.bed, required=required, stitch_pass=stitch_pass
+                    j, planned, crossings, bed=em.bed, required=required, stitch_pass=stitch_pass
                 )
                 if moves:
                     em.float_transfer_passes += int(for_floats)
@@ -622,85 +362,28 @@ def schedule_mixed(
         done = [car for car, lc in last_course.items() if lc == c and c != yarn.shape[0] - 1]
         em.outhook(sorted(done, key=machine.carriers.index))
 
-    # -- bind-off --------------------------------------------------------------------------------
-    bind_start = len(em.steps)
-    back = {n: "f" for n in em.needles if em.bed[n] == "b"}
-    em.xfer(back, role=Role.BIND_OFF, course=None)
-    last_plan = plan.courses[-1]
-    runs = sorted(
-        ((lo, hi, s.carrier) for s in last_plan.segments for lo, hi in s.runs), key=lambda r: r[0]
-    )
-    drops: list[int] = []
-
-    def chain(run_list: list[tuple[int, int, str]], tail_needle_carrier: str) -> None:
-        owner = {left + w: car for lo, hi, car in run_list for w in range(lo, hi + 1)}
-        order = sorted(owner)
-        for idx, n in enumerate(order[:-1]):
-            car = owner[n]
-            item = WorkItem((car,), ((n, "f"),))
-            ps = plan_item(item, em.states, strategy=path_planning, parity="+" if idx % 2 else "-")
-            for p in ps[:-1]:
-                em.knit(p, role=Role.BIND_OFF, course=None)
-            p = ps[-1]
-            extra: tuple[Op, ...] = ()
-            if p.direction == "+" and owner[order[idx + 1]] == car:
-                # Carry the yarn past the next needle so its opposite-direction stitch is made
-                # with the carrier behind the carriage.
-                extra = (Op(OpKind.MISS, Bed.FRONT, n + 2),)
-            em.knit(p, role=Role.BIND_OFF, course=None, extra=extra)
-            em.steps.append(
-                Pass(
-                    PassKind.XFER,
-                    (Op(OpKind.XFER, Bed.FRONT, n, Bed.BACK, n),),
-                    None,
-                    (),
-                    0.0,
-                    Role.BIND_OFF,
-                )
-            )
-            em.steps.append(
-                Pass(
-                    PassKind.XFER,
-                    (Op(OpKind.XFER, Bed.BACK, n, Bed.FRONT, n + 1),),
-                    None,
-                    (),
-                    1.0,
-                    Role.BIND_OFF,
-                )
-            )
-        last = order[-1]
-        car = tail_needle_carrier
-        for t in range(1 + tail_stitches):
-            item = WorkItem((car,), ((last, "f"),))
-            ps = plan_item(item, em.states, strategy=path_planning, parity="+" if t % 2 else "-")
-            for p in ps:
-                em.knit(p, role=Role.TAIL if t else Role.BIND_OFF, course=None)
-        drops.append(last)
-
-    if catching:
-        chain(runs, runs[-1][2])
-    else:
-        for lo, hi, car in runs:
-            chain([(lo, hi, car)], car)
-    live = [c for c in machine.carriers if c in em.states]
-    em.outhook(live)
-    if drops:
-        em.steps.append(
-            Pass(
-                PassKind.DROP,
-                tuple(Op(OpKind.DROP, Bed.FRONT, n) for n in sorted(drops)),
-                None,
-                (),
-                0.0,
-                Role.TAIL,
-            )
-        )
-    bind_passes = [s for s in em.steps[bind_start:] if isinstance(s, Pass)]
-    bind_fixed = sum(
-        not all(o.op == "miss" for o in p.ops) or p.kind != "knit" for p in bind_passes
+    bind_fixed = bind_off(
+        em,
+        plan.courses[-1],
+        park=park,
+        catching=bool(catching),
+        path_planning=path_planning,
+        tail_stitches=tail_stitches,
     )
 
     em.steps = fold_moves(em.steps)
+    long: list[LongFloat] = []
+    if park is not None:
+        em.steps, long = tuck_long_floats(em.steps, limit=int(limit), left=left, right=edge)
+        if long and strict_floats:
+            worst = max(long, key=lambda f: f.length)
+            where = "the bind-off" if worst.course is None else stitches.course_name(worst.course)
+            raise SchedulingError(
+                f"{len(long)} float(s) stay longer than the float limit of {limit} needles; the "
+                f"longest, {worst.length} needles of carrier {worst.carrier} (needles "
+                f"{worst.from_needle} to {worst.to_needle}), is at {where}: use fewer colour "
+                "regions per row there, catching off, or a wider float limit"
+            )
     lower = cast_fixed + cast_courses_bound + body_bound + bind_fixed
     return Schedule(
         steps=tuple(em.steps),
@@ -714,6 +397,7 @@ def schedule_mixed(
         body_lower_bound=body_bound,
         units=stitches.units,
         scheduler="mixed-colourwork",
+        long_floats=tuple(long),
         mixed=MixedReport(
             float_avoidance=bool(float_avoidance),
             catching=bool(catching),

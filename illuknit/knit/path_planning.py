@@ -255,32 +255,38 @@ def plan_item(
         _with_moves(item.carriers, "+", item.stitches, st, park),
         _with_moves(item.carriers, "-", item.stitches, st, park),
     ]
-    if len(item.carriers) == 1:
-        car = item.carriers[0]
-        candidates += _inside(item, car, st[car], strategy, park)
-        unpark = _unpark(car, st[car], park)
-        if unpark is not None:
-            # A parked carrier whose yarn would float across purls of its own pass can first
-            # come back to its last loop (one move) and be planned from there.
-            back = advance(st, unpark)
-            candidates += [
-                [unpark, *ps]
-                for ps in (
-                    _with_moves(item.carriers, "+", item.stitches, back, park),
-                    _with_moves(item.carriers, "-", item.stitches, back, park),
-                    *_inside(item, car, back[car], strategy, park),
-                )
-            ]
-    # Fewest passes; among equals the shortest yarn floats (a float crossing needles the same
-    # pass then purls cannot be float-avoided), then fewer moves, then the first candidate.
-    return min(
-        candidates,
-        key=lambda ps: (
+
+    def key(ps: list[PlannedPass]) -> tuple[int, int, int, int]:
+        # Fewest purls crossed by a pass's own float (those cannot be float-avoided), then
+        # fewest passes, then the shortest yarn floats, then fewer moves.
+        return (
             *_float_cost(ps, st, purls),
             _float_length(ps, st),
             sum(p.kind == "move" for p in ps),
-        ),
+        )
+
+    if len(item.carriers) == 1:
+        car = item.carriers[0]
+        candidates += _inside(item, car, st[car], strategy, park)
+    best = min(candidates, key=key)
+    unpark = (
+        _unpark(item.carriers[0], st[item.carriers[0]], park) if len(item.carriers) == 1 else None
     )
+    if unpark is not None and key(best)[0] > 0:
+        # A parked carrier whose yarn would float across purls of its own pass can first come
+        # back to its last loop (one move) and be planned from there.
+        car = item.carriers[0]
+        back = advance(st, unpark)
+        more = [
+            [unpark, *ps]
+            for ps in (
+                _with_moves(item.carriers, "+", item.stitches, back, park),
+                _with_moves(item.carriers, "-", item.stitches, back, park),
+                *_inside(item, car, back[car], strategy, park),
+            )
+        ]
+        best = min([best, *more], key=key)
+    return best
 
 
 def _inside(

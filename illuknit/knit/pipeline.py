@@ -11,6 +11,7 @@ from dataclasses import dataclass, replace
 from typing import Any
 
 from illuknit.errors import PatternValidationError
+from illuknit.knit.carriage import machine_run, machine_stats, runs_on_swg
 from illuknit.knit.knitout import write_knitout
 from illuknit.knit.machine import DEFAULT_MACHINE, MachineSpec
 from illuknit.knit.schedule import Schedule, ScheduleStats, schedule_courses
@@ -74,6 +75,8 @@ class KnitResult:
                 if self.schedule.mixed is not None
                 else {}
             ),
+            "long_floats": len(self.schedule.long_floats),
+            "longest_float": max((f.length for f in self.schedule.long_floats), default=0),
             "time_seconds": round(self.time.seconds, 1),
             "time": str(self.time),
             "lines": self.text.count("\n"),
@@ -154,4 +157,15 @@ def knit_pattern(
 
         text = write_hookless_knitout(schedule, machine=m)
         schedule = lower_hookless(schedule, machine=m)
+    if runs_on_swg(m):
+        # Report what the machine runs for this program, not the schedule's own passes.
+        run = machine_run(text)
+        return KnitResult(
+            text,
+            stitches,
+            schedule,
+            machine_stats(schedule, run),
+            estimate_knit_time(schedule, run=run),
+            m,
+        )
     return KnitResult(text, stitches, schedule, schedule.stats, estimate_knit_time(schedule), m)

@@ -56,6 +56,7 @@ from illuknit.errors import (
     PatternValidationError,
     SchedulingError,
 )
+from illuknit.knit.float_tucks import LongFloat
 from illuknit.knit.ir import (
     ActionKind,
     Bed,
@@ -90,11 +91,14 @@ __all__ = [
 class ScheduleStats:
     """Pass counts of a schedule.
 
-    ``passes`` counts carriage passes in the schedule; ``hook_passes`` the extra empty passes the
-    SWG backend adds for each ``releasehook`` and ``outhook`` (counted apart because they are the
-    backend's, not the schedule's); ``kickbacks`` the times a carrier runs two passes in the same
-    direction, each of which costs the SWG backend an extra pass. ``ratio`` is
-    ``passes / lower_bound``.
+    :attr:`Schedule.stats` counts the schedule's own passes: ``passes`` are its carriage passes;
+    ``hook_passes`` the extra empty passes the SWG backend adds for each ``releasehook`` and
+    ``outhook`` (counted apart); ``kickbacks`` the times a carrier runs two passes in the same
+    direction, each of which costs the SWG backend an extra pass.
+    :func:`illuknit.knit.carriage.machine_stats` counts what the machine runs instead: there
+    ``passes`` is every machine pass (hook passes, carrier moves and kickbacks included),
+    ``kickbacks`` the passes the machine adds to move carriers out of the way, and
+    ``schedule_passes`` the schedule's own count. ``ratio`` is ``passes / lower_bound``.
     """
 
     passes: int
@@ -108,6 +112,7 @@ class ScheduleStats:
     lower_bound: int
     hook_passes: int
     kickbacks: int = 0
+    schedule_passes: int | None = None
 
     @property
     def ratio(self) -> float:
@@ -164,6 +169,8 @@ class Schedule:
         Which scheduler made it: ``"one-colour-per-course"`` or ``"mixed-colourwork"``.
     mixed : MixedReport or None
         What the mixed-colourwork scheduler did (None for the one-colour scheduler).
+    long_floats : tuple of LongFloat
+        Floats longer than the machine's float limit that the scheduler could not shorten.
     """
 
     steps: tuple[Step, ...]
@@ -178,6 +185,7 @@ class Schedule:
     units: tuple[int, int] | None = None
     scheduler: str = "one-colour-per-course"
     mixed: MixedReport | None = None
+    long_floats: tuple[LongFloat, ...] = ()
 
     def __post_init__(self) -> None:
         m = self.machine

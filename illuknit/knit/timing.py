@@ -2,12 +2,13 @@
 
 Model (documented in ``docs/knitting.md``)::
 
-    time = sum over carriage passes of (needles crossed x seconds_per_needle + seconds_per_turn)
-         + hook passes x seconds_per_turn
+    time = sum over the machine's passes of (needles crossed x seconds_per_needle + seconds_per_turn)
 
 *Needles crossed* is the span of the pass: rightmost minus leftmost needle it touches, plus one
-(transfer targets and parking misses included). *Hook passes* are the empty passes the SWG backend
-adds for each ``releasehook`` and ``outhook``. The defaults (0.01 s per needle, about 0.36 m/s at
+(transfer targets and parking misses included). The machine's passes
+(:class:`~illuknit.knit.carriage.MachineRun`) include the backend's hook passes, carrier moves
+and kickbacks; without them the schedule's own passes are used, plus ``seconds_per_turn`` for
+each of the empty passes the SWG backend adds for ``releasehook`` and ``outhook``. The defaults (0.01 s per needle, about 0.36 m/s at
 7 gauge's 3.63 mm needle pitch, and 1.5 s per pass for turning and clearing the carriage) come from
 :class:`~illuknit.knit.machine.MachineSpec` and can be overridden per call. They are rough: real
 machines run transfers, knitting and the yarn-inserting hook at different speeds set by the
@@ -17,9 +18,13 @@ operator; treat the estimate as a way to compare programs, not a promise.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 from illuknit.errors import OptionError
 from illuknit.knit.schedule import Schedule
+
+if TYPE_CHECKING:
+    from illuknit.knit.carriage import MachineRun
 
 __all__ = ["TimeEstimate", "estimate_knit_time", "format_duration"]
 
@@ -56,6 +61,7 @@ def estimate_knit_time(
     *,
     seconds_per_needle: float | None = None,
     seconds_per_turn: float | None = None,
+    run: MachineRun | None = None,
 ) -> TimeEstimate:
     """Estimate how long the machine takes to knit a schedule.
 
@@ -64,6 +70,11 @@ def estimate_knit_time(
     schedule : Schedule
     seconds_per_needle, seconds_per_turn : float, optional
         Override the schedule machine's time model.
+    run : MachineRun, optional
+        The machine's passes for the schedule's program
+        (:func:`illuknit.knit.carriage.machine_run`): the time is then counted on them, hook
+        passes, carrier moves and kickbacks included. Without it, on the schedule's own passes
+        plus its hook passes.
 
     Returns
     -------
@@ -74,6 +85,10 @@ def estimate_knit_time(
     spt = m.seconds_per_turn if seconds_per_turn is None else float(seconds_per_turn)
     if spn < 0 or spt < 0:
         raise OptionError("`seconds_per_needle` and `seconds_per_turn` must be >= 0")
+    if run is not None:
+        crossed = sum(run.spans)
+        hooks = sum(run.kinds.get(k, 0) for k in ("hook-release", "carriage-move", "carrier-out"))
+        return TimeEstimate(crossed * spn + run.passes * spt, run.passes, hooks, crossed, spn, spt)
     passes = schedule.passes
     crossed = 0
     for p in passes:

@@ -25,7 +25,8 @@ from numpy.typing import ArrayLike, NDArray
 
 from illuknit.errors import ImageInputError, OptionError
 from illuknit.render.params import RenderParams
-from illuknit.render.raycast import RenderView, Tape, cumsum_rows, render_soft, take_rows
+from illuknit.render.raycast import Tape, cumsum_rows, render_soft, take_rows
+from illuknit.views import View
 
 __all__ = ["render_value_and_grad", "render_vjp"]
 
@@ -100,7 +101,7 @@ def render_value_and_grad(
     target: ArrayLike,
     *,
     params: RenderParams | None = None,
-    view: RenderView = "A",
+    view: View = "A",
     angle: float | None = None,
     supersample: int = 1,
 ) -> tuple[float, NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:

@@ -41,8 +41,7 @@ from illuknit.errors import ImageInputError, OptionError, YarnSpecError
 from illuknit.pattern import LogicalPattern, Yarn
 from illuknit.render.grad import render_value_and_grad
 from illuknit.render.params import RenderParams
-from illuknit.render.raycast import RenderView
-from illuknit.views import can_see, logical_error
+from illuknit.views import View, can_see, logical_error
 
 __all__ = ["DesignResult", "DesignStep", "optimise_design", "targets_to_indices"]
 
@@ -177,7 +176,7 @@ class _Objective:
         g_h = np.zeros_like(h)
         g_col = np.zeros_like(col)
         render_err = 0.0
-        views: tuple[tuple[RenderView, NDArray[np.float64]], ...] = (("A", self.ta), ("B", self.tb))
+        views: tuple[tuple[View, NDArray[np.float64]], ...] = (("A", self.ta), ("B", self.tb))
         for view, tgt in views:
             mse, _, gh, gc = render_value_and_grad(h, col, tgt, params=prm, view=view)
             render_err += 0.5 * mse

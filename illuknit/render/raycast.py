@@ -43,7 +43,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
-from typing import Any, Literal
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -52,9 +52,9 @@ from illuknit.colors import linear_from_srgb, srgb_from_linear
 from illuknit.errors import OptionError, PatternValidationError, RenderParamsError
 from illuknit.pattern import LogicalPattern
 from illuknit.render.params import RenderParams, check_angle
+from illuknit.views import VIEWS, View
 
 __all__ = [
-    "RENDER_VIEWS",
     "Tape",
     "coverage",
     "heights_from_pattern",
@@ -65,9 +65,6 @@ __all__ = [
     "render_views",
     "sweep_angles",
 ]
-
-RenderView = Literal["A", "B", "headon"]
-RENDER_VIEWS: tuple[RenderView, ...] = ("A", "B", "headon")
 
 
 @dataclass(frozen=True, eq=False)
@@ -83,7 +80,7 @@ class Tape:
     e: NDArray[np.float64]
     b: NDArray[np.float64]
     cprev: NDArray[np.float64]
-    view: RenderView
+    view: View
     sin: float
     cos: float
     shading: float
@@ -93,8 +90,8 @@ class Tape:
 
 
 def _camera(params: RenderParams, view: str, angle: float | None) -> tuple[float, float]:
-    if view not in RENDER_VIEWS:
-        raise OptionError(f"`view` must be one of {RENDER_VIEWS}, got {view!r}")
+    if view not in VIEWS:
+        raise OptionError(f"`view` must be one of {VIEWS}, got {view!r}")
     theta = (
         90.0
         if view == "headon"
@@ -164,7 +161,7 @@ def _forward_a(
     cos: float,
     params: RenderParams,
     supersample: int,
-    view: RenderView,
+    view: View,
     keep_tape: bool,
 ) -> tuple[NDArray[np.float64], Tape | None]:
     """Render in view-A orientation. h (N, M), col (N, M, K) -> image (N*S, M, K) and tape.
@@ -236,7 +233,7 @@ def render_soft(
     colors: ArrayLike,
     *,
     params: RenderParams | None = None,
-    view: RenderView = "A",
+    view: View = "A",
     angle: float | None = None,
     supersample: int = 1,
     return_tape: bool = False,
@@ -295,7 +292,7 @@ def coverage(
     heights: ArrayLike,
     *,
     params: RenderParams | None = None,
-    view: RenderView = "A",
+    view: View = "A",
     angle: float | None = None,
     supersample: int = 1,
 ) -> NDArray[np.float64]:
@@ -326,7 +323,7 @@ def render_pattern(
     pattern: LogicalPattern,
     *,
     params: RenderParams | None = None,
-    view: RenderView = "A",
+    view: View = "A",
     angle: float | None = None,
     supersample: int = 1,
 ) -> NDArray[np.uint8]:
@@ -372,7 +369,7 @@ def render_at(
             f"`angle` must be a non-zero number of degrees in [-90, 90], got {angle!r}"
         )
     a = check_angle(abs(float(angle)), name="angle")
-    view: RenderView = "headon" if a == 90.0 else ("A" if angle > 0 else "B")
+    view: View = "headon" if a == 90.0 else ("A" if angle > 0 else "B")
     return render_pattern(pattern, params=params, view=view, angle=a, supersample=supersample)
 
 
@@ -389,7 +386,7 @@ def render_views(
     """
     return {
         v: render_pattern(pattern, params=params, view=v, angle=angle, supersample=supersample)
-        for v in RENDER_VIEWS
+        for v in VIEWS
     }
 
 

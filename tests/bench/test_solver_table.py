@@ -130,3 +130,43 @@ def test_wcnf_export_round_trips_with_its_manifest(tiny, tmp_path):
     row = run_solver_task(SolverTask(None, "wcnf", "rc2", time_limit=10, wcnf=str(path)))["row"]
     assert row["status"] == "optimal"
     assert row["verified_cost"] == files["logical"]["known_optimum"]
+
+
+class _Escaper(BackendBase):
+    """Starts a helper in a session of its own (as hermax's workers do), then hangs."""
+
+    name = "escaper"
+    pid_file: Path | None = None
+
+    def solve(self, model, *, time_limit=None, seed=0, progress=None):
+        import subprocess
+
+        p = subprocess.Popen(["sleep", "600"], start_new_session=True)
+        assert self.pid_file is not None
+        self.pid_file.write_text(str(p.pid))
+        time.sleep(600)
+
+
+def test_helpers_in_their_own_session_die_with_the_run(tiny, tmp_path, monkeypatch):
+    monkeypatch.setattr(_Escaper, "pid_file", tmp_path / "pid")
+    monkeypatch.setitem(reg._registered, "escaper", _Escaper)
+    row = run_solver_task(SolverTask(tiny, "logical", "escaper", time_limit=1.0))["row"]
+    assert row["status"] == "timeout"
+    pid = int((tmp_path / "pid").read_text())
+    for _ in range(50):
+        stat = Path(f"/proc/{pid}/stat")
+        if not stat.exists() or stat.read_text().split(") ")[1].startswith("Z"):
+            break
+        time.sleep(0.1)
+    else:
+        pytest.fail(f"helper {pid} outlived its run")
+
+
+def test_dask_executor_runs_solver_rows(tiny, tmp_path):
+    pytest.importorskip("dask.distributed", reason="needs illuknit[dask]")
+    table = run_solver_table(
+        make_tasks([tiny], ["dp", "rc2"], time_limit=20), tmp_path, executor="dask", jobs=1
+    )
+    rows = {r["solver"]: r for r in table.rows}
+    assert rows["dp"]["status"] == rows["rc2"]["status"] == "optimal"
+    assert rows["rc2"]["verified_cost"] == rows["dp"]["reference_optimum"]

@@ -40,7 +40,7 @@ def test_knit_writes_a_program_and_reports_passes_time_and_check(tmp_path, capsy
     assert code == 0, err
     text = out.read_text()
     assert text.startswith(";!knitout-2\n")
-    assert "lower bound" in stdout and "ratio 1.00" in stdout
+    assert "lower bound" in stdout and "ratio 1.0" in stdout
     assert "estimated knitting time" in stdout
     assert "check: 0 error(s)" in stdout
 
@@ -53,7 +53,8 @@ def test_knit_json_summary_and_overrides(tmp_path, capsys):
     assert code == 0
     s = json.loads(stdout)
     assert s["gauge"] == 14 and s["wales"] == 4 and s["courses"] == 4
-    assert s["time_seconds"] == pytest.approx(2 * (s["passes"] + s["hook_passes"]))
+    # Time is counted on the machine's passes, hook passes included.
+    assert s["time_seconds"] == pytest.approx(2 * s["passes"])
     assert ";;Width: 60" in out.read_text() and s["check"]["errors"] == 0
 
 

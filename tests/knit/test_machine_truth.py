@@ -112,20 +112,6 @@ CASES = [
     "swatch",
 ]
 
-#: Cases whose reported passes are not yet the machine's (the scheduler does not yet model the
-#: backend's carrier moves, kickbacks and hook passes; issue 14 item 1). Take a case out when
-#: it passes (the xfail is strict).
-NOT_YET = {
-    "single-2",
-    "single-3",
-    "tiles-2",
-    "tiles-3",
-    "tiles-4",
-    "headon-2",
-    "dp-2",
-    "swatch",
-}
-
 
 @pytest.mark.parametrize("case", CASES)
 def test_backend_accepts_and_checker_passes(case: str) -> None:
@@ -135,20 +121,7 @@ def test_backend_accepts_and_checker_passes(case: str) -> None:
     assert report.ok, [f"{f.line}: {f.code}: {f.message}" for f in report.blocking[:5]]
 
 
-@pytest.mark.parametrize(
-    "case",
-    [
-        pytest.param(
-            c,
-            marks=pytest.mark.xfail(
-                strict=True, reason="reported passes do not yet include the backend's passes"
-            ),
-        )
-        if c in NOT_YET
-        else c
-        for c in CASES
-    ],
-)
+@pytest.mark.parametrize("case", CASES)
 def test_reported_passes_are_the_machines(case: str) -> None:
     reported, dat = _knit(case).stats.passes, _dat_passes(case)
     assert abs(reported - dat) <= 0.01 * dat, f"{case}: reported {reported}, .dat {dat}"

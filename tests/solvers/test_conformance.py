@@ -20,6 +20,7 @@ from illuknit.illusion_models import (
     knit_purl_changes,
     make_problem,
 )
+from illuknit.illusion_problem import pass_events
 from illuknit.model import Model
 from illuknit.solvers import (
     HERMAX_NAMES,
@@ -80,6 +81,9 @@ def _brute_force_cost(problem) -> int | None:
             cost = problem.view_weight * err
             cost += problem.transfer_weight * knit_purl_changes(raised)
             cost += problem.color_weight * int(cc.sum())
+            if problem.pass_weight:
+                used, bumps, extra = pass_events(yarn, raised, k, problem.weights.float_gap)
+                cost += 2 * problem.pass_weight * int(used.sum() + bumps.sum() + extra.sum())
             if best is None or cost < best:
                 best = cost
     return best

@@ -27,6 +27,7 @@ def _problem(rng, n, m, k, *, pin=False):
         view=int(rng.integers(1, 5)),
         color_change=int(rng.integers(0, 5)),
         transfer=int(rng.integers(0, 3)),
+        machine_pass=0,  # the pass terms: tests/test_illusion_models.py
     )
     pinned = np.where(rng.random((n, m)) < 0.2, rng.integers(0, k, (n, m)), -1) if pin else None
     return make_problem(a, b, n_yarns=k, kind="knit-aware", weights=w, pinned=pinned)
@@ -242,4 +243,5 @@ def test_cli_solves_the_knit_aware_model_with_descent(tmp_path):
         w["view"] * errs
         + w["color_change"] * rep["color_changes_per_course"]["total"]
         + w["transfer"] * rep["knit_purl_changes"]
+        + w["machine_pass"] * rep["machine_pass_events"]["passes"]
     )

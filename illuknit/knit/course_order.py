@@ -1,0 +1,170 @@
+"""Ordering one course's work for fewest passes (the mixed-colourwork scheduler's search).
+
+A course's work items are every carrier's segment (minus its plated stitches) and one item per
+plated carrier pair (:func:`course_items`). :func:`order_and_plan` orders them for fewest passes
+-- branch and bound over every order up to :data:`EXHAUSTIVE_ITEMS` items, a beam search beyond,
+each order also charged what the next course's own work would cost from where it leaves the
+carriers -- and plans each with :func:`~illuknit.knit.path_planning.plan_item`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+from illuknit.errors import SchedulingError
+from illuknit.knit.catching import PlatedStitch
+from illuknit.knit.path_planning import (
+    CarrierState,
+    Park,
+    PlannedPass,
+    WorkItem,
+    advance,
+    pass_cost,
+    plan_item,
+)
+
+__all__ = ["BEAM_WIDTH", "EXHAUSTIVE_ITEMS", "course_items", "order_and_plan"]
+
+
+def course_items(
+    plan_segments: Sequence[tuple[str, list[int]]],
+    catches: Sequence[PlatedStitch],
+    beds: Sequence[str],
+    left: int,
+) -> list[WorkItem]:
+    """Work items of a course: each carrier's own stitches, then one item per plated pair."""
+    plated_wales = {p.wale for p in catches}
+    items: list[WorkItem] = []
+    for car, wales in plan_segments:
+        st = tuple((left + w, beds[w]) for w in wales if w not in plated_wales)
+        if st:
+            items.append(WorkItem((car,), st))
+    groups: dict[tuple[str, str], list[int]] = {}
+    for p in catches:
+        groups.setdefault(p.carriers, []).append(p.wale)
+    for cars, wales in groups.items():
+        items.append(WorkItem(cars, tuple((left + w, beds[w]) for w in sorted(wales)), plated=True))
+    return items
+
+
+#: Courses with at most this many work items are ordered by exhaustive search (branch and
+#: bound over permutations); larger ones greedily.
+EXHAUSTIVE_ITEMS = 6
+#: Partial orders kept per step when a course has more items than that (scaled down as the
+#: item count grows, to keep the time per course bounded).
+BEAM_WIDTH = 8
+
+
+def order_and_plan(
+    items: list[WorkItem],
+    states: dict[str, CarrierState],
+    strategy: str,
+    parity: str,
+    lookahead: Sequence[WorkItem] = (),
+    park: Park | None = None,
+) -> tuple[list[PlannedPass], dict[str, CarrierState]]:
+    """Order a course's items for fewest passes; a carrier's own item comes before plating.
+
+    Up to :data:`EXHAUSTIVE_ITEMS` items every order is tried (branch and bound on the pass
+    count, plans cached per item and carrier states); beyond, a beam search keeps the
+    :data:`BEAM_WIDTH` cheapest partial orders. ``none`` keeps the given order.
+    """
+    if strategy == "none":
+        planned: list[PlannedPass] = []
+        st = dict(states)
+        order = [it for it in items if len(it.carriers) == 1] + [
+            it for it in items if len(it.carriers) > 1
+        ]
+        for it in order:
+            for p in plan_item(it, st, strategy=strategy, parity=parity, park=park):  # type: ignore[arg-type]
+                st = advance(st, p)
+                planned.append(p)
+        return planned, st
+
+    Entry = tuple[list[PlannedPass], int, dict[str, CarrierState]]
+    cache: dict[tuple[int, tuple[CarrierState, ...]], Entry] = {}
+    unused = CarrierState()
+
+    def plan(i: int, st: dict[str, CarrierState]) -> Entry:
+        """Passes of item ``i`` from ``st``, their cost and the item carriers' new states."""
+        it = items[i]
+        key = (i, tuple(st.get(c, unused) for c in it.carriers))
+        got = cache.get(key)
+        if got is None:
+            ps = plan_item(it, st, strategy=strategy, parity=parity, park=park)  # type: ignore[arg-type]
+            sub = {c: st.get(c, unused) for c in it.carriers}
+            cost = pass_cost(ps, sub)
+            for p in ps:
+                sub = advance(sub, p)
+            got = (ps, cost, sub)
+            cache[key] = got
+        return got
+
+    def ready(i: int, st: dict[str, CarrierState]) -> bool:
+        it = items[i]
+        return len(it.carriers) == 1 or all(
+            st.get(c, unused).needle is not None for c in it.carriers
+        )
+
+    ahead_cache: dict[tuple[int, CarrierState], int] = {}
+
+    def ahead(st: dict[str, CarrierState]) -> int:
+        """Extra passes the next course's own segments would need from these states."""
+        extra = 0
+        for k, it in enumerate(lookahead):
+            car = it.carriers[0]
+            cs = st.get(car, unused)
+            if cs.needle is None:
+                continue
+            key = (k, cs)
+            got = ahead_cache.get(key)
+            if got is None:
+                ps = plan_item(it, {car: cs}, strategy=strategy, parity=parity, park=park)  # type: ignore[arg-type]
+                got = pass_cost(ps, {car: cs}) - 1
+                ahead_cache[key] = got
+            extra += got
+        return extra
+
+    if len(items) <= EXHAUSTIVE_ITEMS:
+        best: list[object] = [None, None, None]  # cost, passes, states
+
+        def search(
+            left: list[int], st: dict[str, CarrierState], acc: list[PlannedPass], cost: int
+        ) -> None:
+            if best[0] is not None and cost >= best[0]:  # type: ignore[operator]
+                return
+            if not left:
+                total = cost + ahead(st)
+                if best[0] is None or total < best[0]:  # type: ignore[operator]
+                    best[0], best[1], best[2] = total, list(acc), st
+                return
+            for i in left:
+                if not ready(i, st):
+                    continue
+                ps, c, sub = plan(i, st)
+                search([j for j in left if j != i], {**st, **sub}, acc + ps, cost + c)
+
+        search(list(range(len(items))), dict(states), [], 0)
+        if best[1] is None:  # pragma: no cover - catching never pairs an unused carrier
+            raise SchedulingError("plated stitch with a carrier that never knit")
+        return best[1], best[2]  # type: ignore[return-value]
+
+    # Beam search: keep the BEAM_WIDTH cheapest partial orders at each depth.
+    beam: list[tuple[int, list[int], dict[str, CarrierState], list[PlannedPass]]] = [
+        (0, list(range(len(items))), dict(states), [])
+    ]
+    width = max(2, BEAM_WIDTH * EXHAUSTIVE_ITEMS // len(items))
+    for _ in range(len(items)):
+        grown = []
+        for cost, left, st, acc in beam:
+            for i in left:
+                if not ready(i, st):
+                    continue
+                ps, c, sub = plan(i, st)
+                grown.append((cost + c, [j for j in left if j != i], {**st, **sub}, acc + ps))
+        if not grown:  # pragma: no cover - catching never pairs an unused carrier
+            raise SchedulingError("plated stitch with a carrier that never knit")
+        grown.sort(key=lambda t: t[0])
+        beam = grown[:width]
+    _, _, st, planned = min(beam, key=lambda t: t[0] + ahead(t[2]))
+    return planned, st

@@ -1,0 +1,326 @@
+"""Mixed colourwork: the emitter that writes the steps, the cast-on and the bind-off.
+
+:class:`Emitter` holds the machine state while :func:`~illuknit.knit.mixed.schedule_mixed`
+writes a schedule (the steps so far, every carrier's state, the bed of every loop) and turns
+planned passes into :class:`~illuknit.knit.ir.Pass` steps, bringing a never-used carrier in on
+the inserting hook around its first pass. :func:`cast_on` and :func:`bind_off` are the piece's
+two edges (described in :mod:`illuknit.knit.mixed`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+from illuknit.knit.color_runs import CoursePlan, Segment
+from illuknit.knit.ir import (
+    ActionKind,
+    Bed,
+    CarrierAction,
+    Direction,
+    Op,
+    OpKind,
+    Pass,
+    PassKind,
+    Role,
+    Step,
+    flip,
+)
+from illuknit.knit.machine import MachineSpec
+from illuknit.knit.path_planning import (
+    CarrierState,
+    Park,
+    PlannedPass,
+    WorkItem,
+    advance,
+    plan_item,
+)
+from illuknit.knit.schedule import bind_off_steps
+
+__all__ = ["Emitter", "bind_off", "cast_on"]
+
+
+@dataclass
+class Emitter:
+    """Mutable machine state while the schedule is written (carriers, beds, steps)."""
+
+    machine: MachineSpec
+    left: int
+    wales: int
+    strategy: str
+    float_avoidance: bool
+
+    def __post_init__(self) -> None:
+        self.steps: list[Step] = []
+        self.states: dict[str, CarrierState] = {}
+        self.bed: dict[int, str] = {}
+        self.float_transfer_passes = 0
+        self.moves = 0
+        self.plated = 0
+
+    @property
+    def needles(self) -> range:
+        return range(self.left, self.left + self.wales)
+
+    # -- primitive steps --------------------------------------------------------------------
+    def xfer(self, moves: dict[int, str], *, role: Role, course: int | None) -> None:
+        if not moves:
+            return
+        ops = []
+        for n in sorted(moves):
+            to = Bed(moves[n])
+            frm = Bed.BACK if to is Bed.FRONT else Bed.FRONT
+            ops.append(Op(OpKind.XFER, frm, n, to, n))
+            self.bed[n] = to
+        self.steps.append(Pass(PassKind.XFER, tuple(ops), None, (), 0.0, role, course))
+
+    def knit(
+        self,
+        p: PlannedPass,
+        *,
+        role: Role,
+        course: int | None,
+        op: OpKind = OpKind.KNIT,
+        extra: Sequence[Op] = (),
+    ) -> None:
+        """Emit a planned pass (hooking in a never-used carrier around it)."""
+        new = [c for c in p.carriers if self.states.get(c, CarrierState()).needle is None]
+        if p.kind == "move":
+            n, _ = p.stitches[0]
+            self.steps.append(
+                Pass(
+                    PassKind.KNIT,
+                    (Op(OpKind.MISS, Bed.FRONT, n),),
+                    p.direction,
+                    p.carriers,
+                    0.0,
+                    Role.ANCHOR,
+                    course,
+                    self.machine.stitch_number,
+                )
+            )
+            self.moves += 1
+        else:
+            if new:
+                self.steps.append(CarrierAction(ActionKind.INHOOK, p.carriers))
+            ops = tuple(Op(op, Bed(b), n) for n, b in p.stitches) + tuple(extra)
+            if p.park is not None:
+                ops += (Op(OpKind.MISS, Bed.FRONT, p.park),)
+            self.steps.append(
+                Pass(
+                    PassKind.KNIT,
+                    ops,
+                    p.direction,
+                    p.carriers,
+                    0.0,
+                    role,
+                    course,
+                    self.machine.stitch_number,
+                )
+            )
+            if len(p.carriers) > 1:
+                self.plated += len(p.stitches)
+            if new:
+                self.steps.append(CarrierAction(ActionKind.RELEASEHOOK, p.carriers))
+        self.states = advance(self.states, p)
+        if extra:
+            last = extra[-1]
+            for c in p.carriers:
+                st = self.states[c]
+                self.states[c] = CarrierState(last.needle, p.direction, st.last_loop)
+
+    def outhook(self, carriers: Sequence[str]) -> None:
+        for c in carriers:
+            self.steps.append(CarrierAction(ActionKind.OUTHOOK, (c,)))
+            self.states.pop(c, None)
+
+
+def cast_on(em: Emitter, segments: Sequence[Segment], *, park: Park | None) -> int:
+    """Cast on each carrier of the first course over its own wales; returns the passes made.
+
+    Each carrier comes in on the inserting hook and tuck-casts-on its wales: alternate needles
+    leftward from its rightmost wale, then (when parking) the hook is released and the other
+    needles are tucked rightward, running on to park the carrier right of the fabric.
+    """
+    machine, left = em.machine, em.left
+    edge = left + em.wales - 1
+    cast_sn = machine.cast_on_stitch
+    cast_fixed = 0
+    for seg in segments:
+        needles = [left + w for w in seg.wales]
+        down = needles[::-1][0::2]
+        up = sorted(set(needles) - set(down))
+        car = seg.carrier
+        em.steps.append(CarrierAction(ActionKind.INHOOK, (car,)))
+        # A lone wale has no rightward tucks: its carrier parks left at once (when parking).
+        end = park[0] if park is not None and not up else needles[0] - 1
+        ops = [Op(OpKind.TUCK, Bed.FRONT, n) for n in down] + [Op(OpKind.MISS, Bed.FRONT, end)]
+        em.steps.append(
+            Pass(PassKind.KNIT, tuple(ops), "-", (car,), 0.0, Role.CAST_ON, None, cast_sn)
+        )
+        state = CarrierState(end, "-", down[-1])
+        cast_fixed += 1
+        if park is not None:
+            # Release the hook after the leftward tucks: the rightward ones can then run on to
+            # park the carrier right of the fabric, out of every other carrier's way (before the
+            # release nothing may pass right of the hook).
+            em.steps.append(CarrierAction(ActionKind.RELEASEHOOK, (car,)))
+        if up:
+            ops = [Op(OpKind.TUCK, Bed.FRONT, n) for n in up]
+            if park is not None:
+                ops.append(Op(OpKind.MISS, Bed.FRONT, park[1]))
+            em.steps.append(
+                Pass(PassKind.KNIT, tuple(ops), "+", (car,), 0.0, Role.CAST_ON, None, cast_sn)
+            )
+            state = CarrierState(ops[-1].needle, "+", up[-1])
+            cast_fixed += 1
+        if park is None:
+            em.steps.append(CarrierAction(ActionKind.RELEASEHOOK, (car,)))
+            if up and needles[-1] == edge:
+                # As in the one-colour cast-on: once the hook is released, park the carrier
+                # right of the fabric so that its first course starts leftward from behind.
+                to = Op(OpKind.MISS, Bed.FRONT, edge + machine.park_distance)
+                em.steps.append(
+                    Pass(PassKind.KNIT, (to,), "+", (car,), 0.0, Role.PARK, None, cast_sn)
+                )
+                state = CarrierState(to.needle, "+", up[-1])
+                cast_fixed += 1
+        em.states[car] = state
+    return cast_fixed
+
+
+def _bind_off_start(
+    states: dict[str, CarrierState], left: int, right: int
+) -> tuple[str, Direction]:
+    """Carrier and direction of a one-yarn bind-off: the shortest float into its first stitch.
+
+    A carrier parked beyond the right edge starts leftward from the right edge wale, one parked
+    left rightward from the left one; ties go to the carrier that needs no move to that side.
+    """
+    best: tuple[int, int, str, Direction] | None = None
+    for car, st in sorted(states.items()):
+        if st.needle is None or st.last_loop is None:
+            continue
+        for d, start in (("-", right), ("+", left)):
+            move = int((d == "-") != (st.direction == "+"))
+            key = (abs(st.last_loop - start), move, car, d)
+            if best is None or key < best:
+                best = key  # type: ignore[assignment]
+    assert best is not None, "a piece always has a live carrier at its bind-off"
+    return best[2], best[3]
+
+
+def bind_off(
+    em: Emitter,
+    last: CoursePlan,
+    *,
+    park: Park | None,
+    catching: bool,
+    path_planning: str,
+    tail_stitches: int,
+) -> int:
+    """Bind off every wale; returns the passes it takes (carrier moves not counted).
+
+    With parking and catching: the one-colour chain in one yarn from where the last course
+    ended. Otherwise a chain in the last course's colours (each needle knit by its run's carrier),
+    or with catching off one chain per run, so that nothing the scheduler adds joins regions.
+    """
+    machine, left = em.machine, em.left
+    edge = left + em.wales - 1
+    bind_start = len(em.steps)
+    back = {n: "f" for n in em.needles if em.bed[n] == "b"}
+    em.xfer(back, role=Role.BIND_OFF, course=None)
+    last_plan = last
+    runs = sorted(
+        ((lo, hi, s.carrier) for s in last_plan.segments for lo, hi in s.runs), key=lambda r: r[0]
+    )
+    drops: list[int] = []
+
+    def chain(run_list: list[tuple[int, int, str]], tail_needle_carrier: str) -> None:
+        owner = {left + w: car for lo, hi, car in run_list for w in range(lo, hi + 1)}
+        order = sorted(owner)
+        for idx, n in enumerate(order[:-1]):
+            car = owner[n]
+            item = WorkItem((car,), ((n, "f"),))
+            ps = plan_item(item, em.states, strategy=path_planning, parity="+" if idx % 2 else "-")
+            for p in ps[:-1]:
+                em.knit(p, role=Role.BIND_OFF, course=None)
+            p = ps[-1]
+            extra: tuple[Op, ...] = ()
+            if p.direction == "+" and owner[order[idx + 1]] == car:
+                # Carry the yarn past the next needle so its opposite-direction stitch is made
+                # with the carrier behind the carriage.
+                extra = (Op(OpKind.MISS, Bed.FRONT, n + 2),)
+            em.knit(p, role=Role.BIND_OFF, course=None, extra=extra)
+            em.steps.append(
+                Pass(
+                    PassKind.XFER,
+                    (Op(OpKind.XFER, Bed.FRONT, n, Bed.BACK, n),),
+                    None,
+                    (),
+                    0.0,
+                    Role.BIND_OFF,
+                )
+            )
+            em.steps.append(
+                Pass(
+                    PassKind.XFER,
+                    (Op(OpKind.XFER, Bed.BACK, n, Bed.FRONT, n + 1),),
+                    None,
+                    (),
+                    1.0,
+                    Role.BIND_OFF,
+                )
+            )
+        last = order[-1]
+        car = tail_needle_carrier
+        for t in range(1 + tail_stitches):
+            item = WorkItem((car,), ((last, "f"),))
+            ps = plan_item(item, em.states, strategy=path_planning, parity="+" if t % 2 else "-")
+            for p in ps:
+                em.knit(p, role=Role.TAIL if t else Role.BIND_OFF, course=None)
+        drops.append(last)
+
+    if catching and park is not None:
+        # One chain in one yarn, as the one-colour scheduler binds off: started by the carrier
+        # whose last loop is nearest an edge it is parked beyond (where the last course ended),
+        # so no yarn floats across the piece into the bind-off. The others go out first.
+        car, d = _bind_off_start(em.states, left, edge)
+        em.outhook([c for c in machine.carriers if c in em.states and c != car])
+        st = em.states[car]
+        if (d == "-") != (st.direction == "+"):
+            target = park[1] if d == "-" else park[0]
+            em.knit(
+                PlannedPass((car,), flip(d), ((target, "f"),), "move"),
+                role=Role.BIND_OFF,
+                course=None,
+            )
+        em.steps.extend(
+            bind_off_steps(
+                car, d, left, edge, stitch_number=machine.stitch_number, tail_stitches=tail_stitches
+            )
+        )
+        em.states.pop(car)
+    elif catching:
+        chain(runs, runs[-1][2])
+    else:
+        for lo, hi, car in runs:
+            chain([(lo, hi, car)], car)
+    live = [c for c in machine.carriers if c in em.states]
+    em.outhook(live)
+    if drops:
+        em.steps.append(
+            Pass(
+                PassKind.DROP,
+                tuple(Op(OpKind.DROP, Bed.FRONT, n) for n in sorted(drops)),
+                None,
+                (),
+                0.0,
+                Role.TAIL,
+            )
+        )
+    bind_passes = [s for s in em.steps[bind_start:] if isinstance(s, Pass)]
+    bind_fixed = sum(
+        not all(o.op == "miss" for o in p.ops) or p.kind != "knit" for p in bind_passes
+    )
+    return bind_fixed
