@@ -84,8 +84,8 @@ def run_knit(
 
         report = check_knitout(result.text, machine=spec)
         summary["check"] = {
-            "errors": len(report.blocking),
-            "warnings": len(report.warnings),
+            "errors": report.n_blocking,
+            "warnings": report.n_warnings,
             "pieces": report.pieces,
             "findings": [
                 {"line": f.line, "code": f.code, "severity": f.severity, "message": f.message}

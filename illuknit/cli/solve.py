@@ -172,6 +172,12 @@ def run_solve(
 
         w = replace(w, max_color_changes=max_color_changes)
     ys = parse_yarns(yarns) if yarns else None
+    if (ys is not None and len(ys) < 2) or n_colors == 1:
+        from illuknit.errors import YarnSpecError
+
+        # One yarn knits a plain piece: no picture can appear from any side.
+        given = f"--yarns {yarns}" if ys is not None else "--colors 1"
+        raise YarnSpecError(f"an illusion needs at least 2 yarns, got 1 ({given})")
     spec = resolve_machine(machine)
     if knitout and width is not None:
         check_fits(spec, width)

@@ -214,8 +214,10 @@ function applyState(s) {
       thumb.hidden = false;
       $(`#hint-${slot}`).hidden = true;
       $(`#drop-${slot}`).classList.add("has");
-      $(`#meta-${slot}`).textContent = `${im.filename} · ${im.width}×${im.height}px`;
-      $(`#meta-${slot}`).title = im.filename;
+      // what the reader did to it (a reduction, an animation's first frame) is said, not hidden
+      const notes = (im.notes || []).join("; ");
+      $(`#meta-${slot}`).textContent = `${im.filename} · ${im.width}×${im.height}px${notes ? ` · ${notes}` : ""}`;
+      $(`#meta-${slot}`).title = notes ? `${im.filename}: ${notes}` : im.filename;
     } else {
       thumb.hidden = true;
       thumb.removeAttribute("src");
