@@ -78,9 +78,9 @@ def choose_yarns(pictures: list[np.ndarray], n: int) -> tuple[Any, ...]:
         if not rest or max(dist) <= SAME_COLOUR_LAB:
             break
         chosen.append(rest[int(np.argmax(dist))])
-    colours = np.array([pool[i] for i in chosen])
-    order = np.argsort(luminance(colours), kind="stable")
-    return auto_yarns(np.round(colours[order]).astype(np.uint8))
+    colors = np.array([pool[i] for i in chosen])
+    order = np.argsort(luminance(colors), kind="stable")
+    return auto_yarns(np.round(colors[order]).astype(np.uint8))
 
 
 def run_design(
