@@ -18,7 +18,7 @@ from typing import Any
 import click
 import numpy as np
 
-from illuknit.cli.knitout_bridge import machine_option
+from illuknit.cli.knitout_bridge import format_option, machine_option
 from illuknit.cli.options import knitout_option, outdir_option
 from illuknit.sizing import DEFAULT_MAX_WIDTH
 from illuknit.tiles.perception import RANK_KEYS
@@ -403,6 +403,7 @@ def design_options(func: Any) -> Any:
                      "of the second), e.g. '0,1=0/1/0^' (see fills.json for the pairs). Repeatable."),
         knitout_option("Also compile the default candidate to OUTDIR/program.k and check it."),
         machine_option(),
+        format_option(),
         outdir_option(),
     ]  # fmt: skip
     for opt in reversed(opts):

@@ -17,7 +17,7 @@ from typing import Any
 import click
 import numpy as np
 
-from illuknit.cli.knitout_bridge import machine_option
+from illuknit.cli.knitout_bridge import format_option, machine_option
 from illuknit.cli.options import POSITIVE
 from illuknit.sizing import DEFAULT_MAX_WIDTH
 
@@ -431,6 +431,7 @@ def _list_solvers(ctx: click.Context, _param: click.Parameter, value: bool) -> N
     "--knitout", is_flag=True, help="Also write a knitout program (program.k) and its check."
 )
 @machine_option()
+@format_option()
 @click.option(
     "-o",
     "--outdir",
