@@ -19,7 +19,7 @@ from typing import Any
 import click
 import numpy as np
 
-from illuknit.cli.knitout_bridge import machine_option
+from illuknit.cli.knitout_bridge import format_option, machine_option
 from illuknit.cli.options import knitout_option, outdir_option
 from illuknit.sizing import DEFAULT_MAX_WIDTH
 from illuknit.tiles.perception import RANK_KEYS
@@ -28,7 +28,6 @@ __all__ = ["double", "run_design"]
 
 
 def _choose_yarns(spec: str | None, n_colors: int, pictures: list[np.ndarray]) -> tuple[Any, ...]:
-    from illuknit.images import quantise_image
     from illuknit.pattern import parse_yarns
 
     if spec is not None and not spec.strip().isdigit():
@@ -38,8 +37,51 @@ def _choose_yarns(spec: str | None, n_colors: int, pictures: list[np.ndarray]) -
         from illuknit.errors import YarnSpecError
 
         raise YarnSpecError(f"--yarns N must be between 1 and 8, got {n}")
-    both = np.concatenate(pictures, axis=0)  # same width: the second was fitted to the first
-    return quantise_image(both, n_colors=n).yarns
+    return choose_yarns(pictures, n)
+
+
+#: Colours closer than this (CIELAB distance) count as one when choosing yarns.
+SAME_COLOUR_LAB = 10.0
+
+
+def choose_yarns(pictures: list[np.ndarray], n: int) -> tuple[Any, ...]:
+    """``n`` yarns for pictures knitted together, keeping each picture's darkest and lightest.
+
+    Clustering the pictures jointly lets a picture that covers more, or has more shades, take
+    every yarn (four dark yarns for two logos, and one logo's white background lost). So each
+    picture's darkest and lightest colours are chosen first (near-equal ones once); the rest of
+    the ``n`` come from the joint clusters, each time the one farthest from those chosen (CIELAB).
+    """
+    from illuknit.colors import lab_from_rgb, luminance
+    from illuknit.images import auto_yarns, quantise_image
+
+    extremes: list[np.ndarray] = []
+    for p in pictures:
+        cols = quantise_image(p, n_colors=n).colors.astype(np.float64)
+        lum = luminance(cols)
+        extremes += [cols[int(np.argmin(lum))], cols[int(np.argmax(lum))]]
+    joint = quantise_image(np.concatenate(pictures, axis=0), n_colors=n).colors.astype(np.float64)
+    extremes.sort(key=lambda c: float(luminance(c)))
+    # Overall darkest and lightest first, then the other pictures' extremes, then joint clusters.
+    pool = [extremes[0], extremes[-1], *extremes[1:-1], *joint]
+    labs = lab_from_rgb(np.array(pool))
+    chosen = [0]
+    for i in range(1, len(pool)):
+        if len(chosen) == n:
+            break
+        if i < len(extremes):
+            far = min(float(np.linalg.norm(labs[i] - labs[j])) for j in chosen) > SAME_COLOUR_LAB
+            if far:
+                chosen.append(i)
+    while len(chosen) < n:
+        rest = [i for i in range(len(pool)) if i not in chosen]
+        dist = [min(float(np.linalg.norm(labs[i] - labs[j])) for j in chosen) for i in rest]
+        if not rest or max(dist) <= SAME_COLOUR_LAB:
+            break
+        chosen.append(rest[int(np.argmax(dist))])
+    colors = np.array([pool[i] for i in chosen])
+    order = np.argsort(luminance(colors), kind="stable")
+    return auto_yarns(np.round(colors[order]).astype(np.uint8))
 
 
 def run_design(
@@ -321,7 +363,7 @@ def _parse_overrides(specs: tuple[str, ...]) -> dict[tuple[int, int], str]:
 
 def _summary_text(summary: dict[str, Any]) -> str:
     lines = [
-        f"{summary['mode']}-view tile design, {summary['size']['cols']} x {summary['size']['rows']} units, "
+        f"{summary['mode']}-view tile design, {summary['size']['rows']} x {summary['size']['cols']} units, "
         f"yarns: {', '.join(y['name'] + ' ' + y['rgb'] for y in summary['yarns'])}",
         f"bank {summary['bank']['name']} ({summary['bank']['tiles']} tiles), solver {summary['solver']}",
         "",
@@ -355,7 +397,7 @@ def print_summary(summary: dict[str, Any], outdir: Path) -> None:
 
     con = Console(highlight=False, soft_wrap=True)
     t = Table(
-        title=f"{summary['mode']}-view candidates ({summary['size']['cols']} x {summary['size']['rows']} units)",
+        title=f"{summary['mode']}-view candidates ({summary['size']['rows']} x {summary['size']['cols']} units)",
         header_style="bold",
     )
     for col in (
@@ -425,6 +467,7 @@ def design_options(func: Any) -> Any:
                      "of the second), e.g. '0,1=0/1/0^' (see fills.json for the pairs). Repeatable."),
         knitout_option("Also compile the default candidate to OUTDIR/program.k and check it."),
         machine_option(),
+        format_option(),
         outdir_option(),
     ]  # fmt: skip
     for opt in reversed(opts):
