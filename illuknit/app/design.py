@@ -369,8 +369,8 @@ class Candidate:
     pattern: LogicalPattern
     details: dict[str, Any] = field(default_factory=dict)
     source: Any = None
-    #: how it reads and knits (:mod:`illuknit.app.measures`), once the measures job ran
-    measures: dict[str, Any] | None = None
+    #: how it reads and knits (tiles.perception.CandidateMeasures), once the measures job ran
+    measured: Any = None
 
     def to_json(self) -> dict[str, Any]:
         n, m = self.pattern.shape
@@ -383,7 +383,7 @@ class Candidate:
             "yarns": [{"name": y.name, "rgb": y.hex} for y in self.pattern.yarns],
             "raised": int(self.pattern.raised.sum()),
             "details": self.details,
-            "measures": self.measures,
+            "measures": None if self.measured is None else self.measured.to_json(),
             "editable": self.source is not None,
         }
 

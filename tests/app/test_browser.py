@@ -231,6 +231,17 @@ def test_design_two_pictures_pick_tilt_download(browser, base_url, tmp_path):
     ]
     assert len(minutes) == n and minutes == sorted(minutes), minutes
 
+    # where it fails: the side previews become the diagnostic overlay, and back
+    page.check("#where-fails")
+    page.wait_for_function(
+        "document.querySelector('#pv-A').src.includes('diagnostic.png') && "
+        "document.querySelector('#pv-A').complete && document.querySelector('#pv-A').naturalWidth > 0"
+    )
+    assert "diagnostic.png" in (page.get_attribute("#pv-B", "src") or "")
+    assert "render" in (page.get_attribute("#pv-headon", "src") or "")
+    page.uncheck("#where-fails")
+    page.wait_for_function("document.querySelector('#pv-A').src.includes('/render?')")
+
     shot = tmp_path / "app.png"
     page.screenshot(path=str(shot), full_page=True)
     assert shot.stat().st_size > 10_000
