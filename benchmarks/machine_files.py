@@ -117,7 +117,7 @@ def bench_kc() -> None:
     """The Kniterate pieces as .kc, against the reference backend."""
     script = oracle_script()
     print(
-        f"{'piece':<34} {'stitches':>9} {'knitout':>8} {'.kc':>7} {'target':>7} "
+        f"{'piece':<34} {'stitches':>9} {'knitout':>8} {'.kc':>7} {'cpu':>6} {'target':>7} "
         f"{'node':>7} {'kc passes':>9}  same as reference"
     )
     for label, pattern in (
@@ -126,9 +126,9 @@ def bench_kc() -> None:
     ):
         t0 = time.perf_counter()
         text = knit_pattern(pattern, machine=KNITERATE).text
-        t1 = time.perf_counter()
+        t1, c1 = time.perf_counter(), time.process_time()
         kc = knitout_to_kc(text, name="piece.kc")
-        t2 = time.perf_counter()
+        t2, cpu = time.perf_counter(), time.process_time() - c1
         node_s, same = "-", "node not available"
         if script is not None:
             with tempfile.TemporaryDirectory() as d:
@@ -144,7 +144,7 @@ def bench_kc() -> None:
         stitches = pattern.yarn.size * 4
         ok = "ok" if t2 - t1 < TARGET_S else "SLOW"
         print(
-            f"{label:<34} {stitches:>9} {t1 - t0:>7.2f}s {t2 - t1:>6.2f}s {ok:>7} "
+            f"{label:<34} {stitches:>9} {t1 - t0:>7.2f}s {t2 - t1:>6.2f}s {cpu:>5.2f}s {ok:>7} "
             f"{node_s:>6}s {passes:>9}  {same}"
         )
 

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import json
 import shutil
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -78,9 +79,9 @@ def choose_yarns(pictures: list[np.ndarray], n: int) -> tuple[Any, ...]:
         if not rest or max(dist) <= SAME_COLOUR_LAB:
             break
         chosen.append(rest[int(np.argmax(dist))])
-    colours = np.array([pool[i] for i in chosen])
-    order = np.argsort(luminance(colours), kind="stable")
-    return auto_yarns(np.round(colours[order]).astype(np.uint8))
+    colors = np.array([pool[i] for i in chosen])
+    order = np.argsort(luminance(colors), kind="stable")
+    return auto_yarns(np.round(colors[order]).astype(np.uint8))
 
 
 def run_design(
@@ -104,6 +105,8 @@ def run_design(
     machine: str | None = None,
     rank_by: str = "perception",
     knit_time: bool = False,
+    simplify: bool = False,
+    suggest: bool = False,
 ) -> dict[str, Any]:
     """Load, quantise, assign, compile and write every candidate (atomically into ``outdir``).
 
@@ -113,7 +116,7 @@ def run_design(
     design work). Returns the summary dict.
     """
     from illuknit.cli.knitout_bridge import check_fits, resolve_machine
-    from illuknit.errors import TileAssignmentError
+    from illuknit.errors import OptionError, TileAssignmentError
     from illuknit.export import export_pattern
     from illuknit.images import quantise_image
     from illuknit.outputs import atomic_write_text, staged_dir
@@ -145,9 +148,23 @@ def run_design(
         bank = load_bank(bank_file, yarns=ys)
     else:
         bank = canonical_bank(ys, views=views, one_sided_stripes=one_sided)  # type: ignore[arg-type]
-    second = qb if qb is not None else uniform_side(qa)
+    second: Any = qb if qb is not None else uniform_side(qa)
+    first: Any = qa
+    edits: list[Any] = []
+    if simplify or suggest:
+        if qb is None or mode != "double":
+            raise OptionError("--simplify and --suggest work on double-view designs (two pictures)")
+        first, second, edits = _simplified(
+            qa,
+            qb,
+            apply=simplify,
+            candidates=candidates,
+            bank=bank,
+            solver=solver,
+            brightness="soft" if soft_brightness else "hard",
+        )
     found = assign_tiles(
-        qa,
+        first,
         second,
         bank=bank,
         candidates=candidates,
@@ -231,6 +248,8 @@ def run_design(
                     "folder": sub.name,
                 }
             )
+        if edits:
+            _write_edits(edits, qa, qb, tmp / "suggestions", scale=max(2, unit_scale(qa.shape)))
         shutil.copyfile(tmp / f"candidate_{pick}" / "pattern.json", tmp / "pattern.json")
         if knitout and chosen is not None:
             # The default candidate as a checked knitout program (mixed-colourwork scheduler).
@@ -244,12 +263,52 @@ def run_design(
             "bank": {"name": bank.name, "tiles": len(bank)},
             "solver": solver,
             "ranked_by": rank_by,
+            "edits": [e.to_json() for e in edits],
             "default": pick,
             "candidates": rows,
         }
         atomic_write_text(tmp / "summary.json", json.dumps(summary, indent=1) + "\n")
         atomic_write_text(tmp / "summary.txt", _summary_text(summary))
     return summary
+
+
+def _simplified(
+    qa: Any, qb: Any, *, apply: bool, candidates: int, **assign: Any
+) -> tuple[Any, Any, list[Any]]:
+    """Suggested edits of both pictures, each measured by the best design it leads to against
+    the ORIGINAL pictures; with ``apply`` the improving ones are kept (tiles.simplify)."""
+    from functools import partial
+
+    from illuknit.tiles.simplify import apply_edits, best_reading
+
+    measure = partial(
+        best_reading,
+        colors=(qa.colors, qb.colors),
+        targets=[qa.rgb(), qb.rgb()],
+        candidates=candidates,
+        **assign,
+    )
+    a, b, results = apply_edits(qa.indices, qb.indices, measure)
+    if not apply:
+        a, b = qa.indices, qb.indices
+        results = [replace(r, accepted=False) for r in results]
+    return (a, qa.colors), (b, qb.colors), results
+
+
+def _write_edits(edits: list[Any], qa: Any, qb: Any, folder: Path, *, scale: int) -> None:
+    """``suggestions/``: each edit as before | after pictures, and ``suggestions.json``."""
+    from illuknit.outputs import atomic_write_text
+    from illuknit.previews import save_png, upscale
+
+    folder.mkdir(parents=True, exist_ok=True)
+    for e in edits:
+        for letter, q, after in (("a", qa, e.suggestion.a), ("b", qb, e.suggestion.b)):
+            before_rgb, after_rgb = q.palette[q.indices], q.palette[after]
+            gap = np.full((before_rgb.shape[0], 2, 3), 255, np.uint8)
+            pair = np.concatenate([before_rgb, gap, after_rgb], axis=1)
+            save_png(upscale(pair, scale), folder / f"{e.suggestion.name}_{letter}.png")
+    data = {"edits": [e.to_json() for e in edits]}
+    atomic_write_text(folder / "suggestions.json", json.dumps(data, indent=1) + "\n")
 
 
 def _measure_fields(m: Any) -> dict[str, Any]:
@@ -394,6 +453,11 @@ def design_options(func: Any) -> Any:
                      "contrast floor, ghosting), the assignment's score, or one measure."),
         click.option("--knit-time/--no-knit-time", default=False, show_default=True,
                      help="Also knit every candidate and show the machine's knitting time (ties in the ranking)."),
+        click.option("--suggest", is_flag=True,
+                     help="Try simplifying edits of the pictures (merge specks, smooth outlines, drop tiny "
+                     "overlaps) and write each as before | after with its effect to OUTDIR/suggestions/."),
+        click.option("--simplify", is_flag=True,
+                     help="Like --suggest, and design with the edits that raise the worse view's readability."),
         click.option("--solver", default="cpsat", show_default=True, help="Solver backend: cpsat, rc2, ..."),
         click.option("--soft-brightness", is_flag=True,
                      help="Prefer, rather than require, keeping each picture's brightness order."),

@@ -220,7 +220,7 @@ def test_wrote_n_files_is_the_true_count(picture, tmp_path, capsys):
 
 
 @pytest.mark.parametrize("yarns", [None, "black,white"])
-def test_legend_shows_the_middle_colour_as_a_mix_of_two_yarns(tmp_path, capsys, yarns):
+def test_legend_shows_the_middle_color_as_a_mix_of_two_yarns(tmp_path, capsys, yarns):
     rgb = np.full((12, 18, 3), 245, np.uint8)
     rgb[:, :6] = 15
     rgb[:, 6:12] = (200, 140, 90)  # a middle colour ("sandybrown"-like)
