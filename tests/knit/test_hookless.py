@@ -81,7 +81,7 @@ def test_sheet_lists_cones_stitch_numbers_needles_time() -> None:
 
 
 def test_more_yarns_than_free_carriers_refuses() -> None:
-    with pytest.raises(CarrierShortageError, match="4"):
+    with pytest.raises(CarrierShortageError, match="draw thread and the waste yarn, leaving 4"):
         knit_pattern(mixed((4, 10), k=5, seed=1), machine=KNITERATE)
 
 

@@ -112,6 +112,7 @@ CASES = [
     "swatch",
 ]
 
+
 @pytest.mark.parametrize("case", CASES)
 def test_backend_accepts_and_checker_passes(case: str) -> None:
     result = _knit(case)
