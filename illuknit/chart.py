@@ -23,7 +23,7 @@ from numpy.typing import NDArray
 
 from illuknit.pattern import LogicalPattern
 
-__all__ = ["HandRow", "chart_png_rgb", "hand_rows", "written_instructions"]
+__all__ = ["HandRow", "chart_key", "chart_png_rgb", "hand_rows", "written_instructions"]
 
 
 @dataclass(frozen=True)
@@ -132,11 +132,57 @@ def written_instructions(pattern: LogicalPattern, *, title: str | None = None) -
     return "\n".join(lines) + "\n"
 
 
+def chart_key(pattern: LogicalPattern) -> list[str]:
+    """The chart's key, one entry per line: each yarn's square, then what a dot means."""
+    lines = [f"square = a stitch in {y.name} ({y.hex})" for y in pattern.yarns]
+    lines.append("dot = purl on the right side (knit on the wrong side): a raised ridge")
+    lines.append("row 1 (RS) at the bottom; RS rows are read right to left, WS rows left to right")
+    return lines
+
+
 def chart_png_rgb(pattern: LogicalPattern, *, cell: int | None = None) -> NDArray[np.uint8]:
     """A stitch chart as an image: one cell per stitch, purls on the RS dotted, rows numbered.
 
-    Row 1 is at the bottom; RS row numbers are written on the right, WS on the left.
+    Row 1 is at the bottom; RS row numbers are written on the right, WS on the left. Below the
+    chart a key shows each yarn's colour and what a dot means (:func:`chart_key`).
     """
+    chart = _chart_body(pattern, cell=cell)
+    return _with_key(chart, pattern)
+
+
+def _with_key(chart: NDArray[np.uint8], pattern: LogicalPattern) -> NDArray[np.uint8]:
+    from PIL import Image, ImageDraw, ImageFont
+
+    from illuknit.colors import luminance
+
+    try:
+        font = ImageFont.load_default(size=13)
+    except TypeError:
+        font = ImageFont.load_default()
+    lines = chart_key(pattern)
+    line_h, sw = 20, 14
+    key_w = 40 + max(int(font.getlength(t)) for t in lines)
+    width = max(chart.shape[1], key_w)
+    img = Image.new("RGB", (width, chart.shape[0] + 10 + line_h * len(lines)), (255, 255, 255))
+    img.paste(Image.fromarray(chart), (0, 0))
+    draw = ImageDraw.Draw(img)
+    y0 = chart.shape[0] + 8
+    for i, text in enumerate(lines):
+        y = y0 + i * line_h
+        box = (8, y, 8 + sw, y + sw)
+        if i < len(pattern.yarns):
+            draw.rectangle(
+                box, fill=tuple(int(v) for v in pattern.yarns[i].rgb), outline=(90, 90, 90)
+            )
+        elif i == len(pattern.yarns):  # the dot, on the lightest yarn as in the chart
+            light = pattern.palette[int(np.argmax(luminance(pattern.palette)))]
+            draw.rectangle(box, fill=tuple(int(v) for v in light), outline=(90, 90, 90))
+            draw.ellipse((8 + 4, y + 4, 8 + sw - 4, y + sw - 4), fill=(20, 20, 20))
+        draw.text((8 + sw + 8, y), text, fill=(40, 40, 40), font=font)
+    return np.asarray(img)
+
+
+def _chart_body(pattern: LogicalPattern, *, cell: int | None) -> NDArray[np.uint8]:
     from PIL import Image, ImageDraw, ImageFont
 
     from illuknit.colors import luminance

@@ -65,7 +65,8 @@ def export_pattern(
     for name, q in (quantised or {}).items():
         picture = q.rgb()
         shown.setdefault(name, picture)
-        save_png(picture, out / f"quantised_{name.lower().replace(' ', '_')}.png")
+        key = f"quantised_{name.lower().replace(' ', '_')}"
+        paths[key] = save_png(picture, out / f"{key}.png")
     paths.update(write_previews(pattern, out, targets=shown))
     paths["chart"] = save_png(chart_png_rgb(pattern), out / "chart.png")
     paths["instructions"] = atomic_write_text(

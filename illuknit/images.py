@@ -32,6 +32,7 @@ from illuknit.pictures import DECODE_MAX_SIDE, MAX_PIXELS, PictureNote, read_pic
 __all__ = [
     "MAX_PIXELS",
     "QuantisedImage",
+    "auto_yarns",
     "check_image",
     "count_colors",
     "load_image",
@@ -291,7 +292,7 @@ def quantise_image(
     labels = rank[labels]
     colors8 = np.round(centres).clip(0, 255).astype(np.uint8)
     if yarns is None:
-        chosen = _auto_yarns(colors8)
+        chosen = auto_yarns(colors8)
         idx = labels
     else:
         from scipy.optimize import linear_sum_assignment
@@ -325,7 +326,8 @@ def count_colors(rgb: ArrayLike) -> int:
     return len(_unique_colors(np.round(a.reshape(-1, 3) * 255).astype(np.uint8))[0])
 
 
-def _auto_yarns(colors8: NDArray[np.uint8]) -> tuple[Yarn, ...]:
+def auto_yarns(colors8: NDArray[np.uint8]) -> tuple[Yarn, ...]:
+    """Yarns in the given colours (K, 3) uint8, named by their nearest colour names (unique)."""
     names: list[str] = []
     for c in colors8:
         n = color_name(c)

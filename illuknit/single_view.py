@@ -190,18 +190,23 @@ def prepare_single_view_image(
         return prepare_image(rgb, yarns=yarns, n_colors=n_colors, **resize)  # type: ignore[arg-type]
     q = prepare_image(rgb, yarns=None, n_colors=n_colors, **resize)  # type: ignore[arg-type]
     if yarns is None:
-        return q
-    # Two yarns for a 3-colour picture: outer colours by brightness, middle kept as the picture's.
+        if len(q.yarns) < 3:
+            return q
+        # The middle colour is knitted as a stripe of the outer two: name it so, in its colour.
+        return QuantisedImage(
+            q.indices, (q.yarns[0], _mix(q.yarns[0], q.yarns[2]), q.yarns[2]), q.colors
+        )
+    # Two yarns for a 3-colour picture: outer colours by brightness, middle a stripe of both.
     lum = luminance(np.array([y.rgb for y in yarns], dtype=np.float64))
     dark, light = (yarns[0], yarns[1]) if lum[0] <= lum[1] else (yarns[1], yarns[0])
     if len(q.yarns) < 3:
         mapped = (dark, light)[: len(q.yarns)] if len(q.yarns) == 2 else (dark,)
     else:
-        mid = q.yarns[1]
-        mid_rgb = (
-            mid.rgb
-            if mid.rgb not in (dark.rgb, light.rgb)
-            else tuple(int(v) for v in np.round((np.array(dark.rgb) + np.array(light.rgb)) / 2))
-        )
-        mapped = (dark, Yarn(f"mix of {dark.name} and {light.name}", mid_rgb), light)  # type: ignore[arg-type]
+        mapped = (dark, _mix(dark, light), light)
     return QuantisedImage(q.indices, mapped, q.colors)
+
+
+def _mix(dark: Yarn, light: Yarn) -> Yarn:
+    """The middle colour of a single-view piece: a stripe of ``dark`` and ``light``, seen mixed."""
+    rgb = tuple(int(v) for v in np.round((np.array(dark.rgb) + np.array(light.rgb)) / 2))
+    return Yarn(f"mix of {dark.name} and {light.name}", rgb)  # type: ignore[arg-type]

@@ -344,12 +344,18 @@ def fallback_assignment(
 ORACLES = ("cd15", "cd19", "g3", "g4", "g42", "lgl", "m22", "mcb", "mcm", "mgh", "mpl", "mg3")
 
 
-def check_oracle(name: str) -> str:
-    """``name`` if python-sat has a SAT oracle called so, else an error listing them."""
+#: Oracles python-sat cannot interrupt (CaDiCaL): no anytime search on them.
+UNINTERRUPTIBLE = ("cd15", "cd19")
+
+
+def check_oracle(name: str, *, interruptible: bool = False) -> str:
+    """``name`` if python-sat has a SAT oracle called so (and, with ``interruptible``, one it
+    can interrupt), else an error listing them."""
     from illuknit.errors import UnknownNameError
 
-    if name not in ORACLES:
-        raise UnknownNameError("SAT oracle", name, ORACLES)
+    valid = tuple(o for o in ORACLES if not (interruptible and o in UNINTERRUPTIBLE))
+    if name not in valid:
+        raise UnknownNameError("SAT oracle", name, valid)
     return name
 
 

@@ -54,7 +54,7 @@ class LSUBackend(BackendBase):
     distribution = "python-sat"
 
     def __init__(self, oracle: str = "g4") -> None:
-        self.oracle = check_oracle(oracle)
+        self.oracle = check_oracle(oracle, interruptible=True)
         self.name = "lsu" if oracle == "g4" else f"lsu:{oracle}"
 
     def why_not(self, model: Model) -> str | None:

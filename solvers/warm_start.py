@@ -132,9 +132,14 @@ def keep_warm_start(model: Model, solution: Solution, info: WarmStart) -> Soluti
     found_at = None if found_at is None else found_at + ws
     stats = {**solution.stats, "warm_start": dict(info)}
     if model.hint is not None and status in (Status.FEASIBLE, Status.TIMEOUT):
-        ok, cost = model.evaluate(model.hint)
+        hint = np.asarray(model.hint, dtype=bool)
+        ok, cost = model.evaluate(hint)
         if ok and (objective is None or cost < objective):
-            values, objective = np.asarray(model.hint, dtype=bool), cost
+            values, objective = hint, cost
+            found_by, found_at = str(info["method"]), ws
+            stats["kept_warm_start"] = True
+        elif values is not None and np.array_equal(values[: hint.size], hint[: values.size]):
+            # the backend handed the hint back (e.g. RC2's timeout fallback): credit the hint
             found_by, found_at = str(info["method"]), ws
             stats["kept_warm_start"] = True
     bound = solution.bound

@@ -63,3 +63,22 @@ def test_rows_and_chart_image():
     assert rows[3].purl_on_rs.tolist() == [True, True, False, False]
     img = chart_png_rgb(p)
     assert img.ndim == 3 and img.shape[2] == 3
+
+
+def test_chart_has_a_key_for_its_dots_and_yarns():
+    from illuknit.chart import chart_key
+
+    p = LogicalPattern(
+        np.array([[0, 1], [1, 0]], np.int16), np.array([[True, False], [False, True]]), Y
+    )
+    key = chart_key(p)
+    assert any("dot" in line and "purl on the right side" in line for line in key)
+    assert [line for line in key if line.startswith("square")] == [
+        "square = a stitch in Dark (#1b1b1b)",
+        "square = a stitch in Light (#f4f0e8)",
+    ]
+    img = chart_png_rgb(p, cell=10)
+    body_h = 4 * 10 + 2 * 40  # 4 stitch rows of 10 px, 40 px margins
+    below = img[body_h:].reshape(-1, 3)
+    for y in Y:  # each yarn's swatch is drawn in the key below the chart
+        assert (below == np.array(y.rgb, np.uint8)).all(axis=1).any(), y.name

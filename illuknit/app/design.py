@@ -19,7 +19,6 @@ from __future__ import annotations
 
 import importlib
 import io
-import math
 import os
 import tempfile
 import zipfile
@@ -118,16 +117,19 @@ def warm_up() -> None:
 # -- input -------------------------------------------------------------------------------------
 
 
-def decode_upload(data: bytes, filename: str, *, field: str) -> NDArray[np.uint8]:
-    """Decode an uploaded picture to uint8 RGB (H, W, 3) at the working grid.
+def decode_upload(
+    data: bytes, filename: str, *, field: str
+) -> tuple[NDArray[np.uint8], tuple[str, ...]]:
+    """Decode an uploaded picture to uint8 RGB (H, W, 3) at the working grid, with its notes.
 
-    The library's loader reads it (alpha on white, EXIF orientation); a picture over
-    ``MAX_WORKING_SIDE`` pixels on its long side is first reduced to it, while decoding where the
-    format allows (JPEG), so that no full-size float copy ever exists.
+    The library's reader decodes it (:func:`illuknit.pictures.read_picture`: 16-bit, palettes,
+    CMYK, EXIF orientation, alpha on white, the first frame of an animation), reducing pictures
+    over ``MAX_WORKING_SIDE`` pixels while decoding, so no full-size copy (let alone a float one)
+    is ever kept. The notes say what was done (e.g. "reduced from ... while reading").
 
     Raises AppRequestError (``field``) for an empty, oversized, non-image or too-small file.
     """
-    from illuknit.images import load_image
+    from illuknit.pictures import read_picture
 
     if not data:
         raise AppRequestError("the file is empty", field=field, code="empty")
@@ -138,55 +140,12 @@ def decode_upload(data: bytes, filename: str, *, field: str) -> NDArray[np.uint8
             code="too_large",
             status=413,
         )
-    w, h = _check_header(data, field)
-    suffix = os.path.splitext(filename)[1][:8] if filename else ""
-    if max(w, h) > MAX_WORKING_SIDE:
-        data, suffix = _reduce(data), ".png"
-    fd, path = tempfile.mkstemp(suffix=suffix or ".img", prefix="illuknit-upload-")
+    _check_header(data, field)
     try:
-        with os.fdopen(fd, "wb") as f:
-            f.write(data)
-        try:
-            rgb = load_image(path)
-        except IlluknitError as e:
-            msg = str(e).replace(path, repr(filename or "the file"))
-            raise AppRequestError(msg, field=field, code="not_an_image", status=415) from None
-    finally:
-        os.unlink(path)
-    return np.round(rgb * 255.0).astype(np.uint8)
-
-
-#: Modes Pillow's ``Image.reduce`` averages directly.
-_REDUCIBLE_MODES = ("L", "LA", "RGB", "RGBA", "CMYK", "I", "F")
-
-
-def _reduce(data: bytes) -> bytes:
-    """A big picture reduced (area average) to MAX_WORKING_SIDE pixels on its long side.
-
-    No piece is wider than 1000 units, so more pixels only cost memory (a 50-megapixel picture
-    is 1.2 GB as float RGB); alpha and orientation are kept for the library's loader. A JPEG is
-    decoded at 1/2, 1/4 or 1/8 scale straight away (``draft``), never below the working side.
-    """
-    from PIL import Image, ImageOps
-
-    with Image.open(io.BytesIO(data)) as src:
-        src.seek(0)
-        if src.format == "JPEG":
-            shrink = max(src.size) / MAX_WORKING_SIDE
-            src.draft(src.mode, (math.ceil(src.width / shrink), math.ceil(src.height / shrink)))
-        # Shrink by a whole factor in the picture's own mode first (one decoded copy, no
-        # converted one); palette and bilevel pictures are converted first, as reduce needs.
-        big = src if src.mode in _REDUCIBLE_MODES else src.convert("RGBA")
-        factor = max(1, int(max(big.size) // MAX_WORKING_SIDE))
-        shrunk = big.reduce(factor) if factor > 1 else big
-        del big
-        upright = ImageOps.exif_transpose(shrunk)
-        has_alpha = upright.mode in ("RGBA", "LA", "PA") or "transparency" in upright.info
-        small = upright.convert("RGBA" if has_alpha else "RGB")
-        small.thumbnail((MAX_WORKING_SIDE, MAX_WORKING_SIDE), Image.Resampling.BOX)
-        buf = io.BytesIO()
-        small.save(buf, format="PNG", compress_level=1)
-    return buf.getvalue()
+        pic = read_picture(data, max_side=MAX_WORKING_SIDE, name=repr(filename or "the file"))
+    except IlluknitError as e:
+        raise AppRequestError(str(e), field=field, code="not_an_image", status=415) from None
+    return pic.rgb, pic.notes
 
 
 def _check_header(data: bytes, field: str) -> tuple[int, int]:
@@ -410,8 +369,8 @@ class Candidate:
     pattern: LogicalPattern
     details: dict[str, Any] = field(default_factory=dict)
     source: Any = None
-    #: how it reads and knits (:mod:`illuknit.app.measures`), once the measures job ran
-    measures: dict[str, Any] | None = None
+    #: how it reads and knits (tiles.perception.CandidateMeasures), once the measures job ran
+    measured: Any = None
 
     def to_json(self) -> dict[str, Any]:
         n, m = self.pattern.shape
@@ -424,7 +383,7 @@ class Candidate:
             "yarns": [{"name": y.name, "rgb": y.hex} for y in self.pattern.yarns],
             "raised": int(self.pattern.raised.sum()),
             "details": self.details,
-            "measures": self.measures,
+            "measures": None if self.measured is None else self.measured.to_json(),
             "editable": self.source is not None,
         }
 

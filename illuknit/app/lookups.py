@@ -58,6 +58,7 @@ def image_json(s: Session, slot: str) -> dict[str, Any]:
         "width": w,
         "height": h,
         "bytes": im.sent_bytes,
+        "notes": list(im.notes),
         "url": f"/api/sessions/{s.id}/images/{slot}?r={s.revision}",
     }
 

@@ -1,81 +1,68 @@
-"""How each candidate reads and knits: the measures the designer ranks candidates by.
+"""How each candidate reads and knits, and the orders the designer ranks candidates by.
 
-The numbers are the benchmark's own (:mod:`illuknit.bench.metrics`), so the app and the bench
-agree on them:
+The measures and the default ranking are the library's (:mod:`illuknit.tiles.perception`), so
+the app, ``illuknit double --rank-by`` and the bench agree:
 
-* ``readability_a`` / ``readability_b``: correlation of the blurred angled render of each side
-  with its target (the quantised picture; in single view both sides show picture A);
-* ``readability``: the worse of the two, what a candidate is only as good as;
-* ``ghosting_a`` / ``ghosting_b`` (double view): how much of the other picture shows through;
-  ``ghosting`` the worse (larger) of the two;
-* ``knit_minutes`` and ``machine_passes``: the machine's time and passes for the pattern on the
-  chosen machine (None with a ``knit_note`` when it cannot be scheduled).
+* per side: **readability** (correlation of the blurred angled render with the quantised
+  picture), **contrast** (how much of its light/dark difference survives) and, in a double view,
+  **ghosting** (how much of the other picture shows through);
+* the **perceptual score**: the worse side's readability, penalised for contrast below a floor
+  and for ghosting (the documented default order);
+* the machine's **knitting time** and passes on the chosen machine.
 
-Orders (:data:`ORDERS`): ``rank`` (the search's own), ``readability`` (best worse-view first,
-ties by ghosting), ``ghosting`` (least first), ``knit_time`` (fastest first).
+In a single view both sides show picture A and nothing can ghost. A head-on design with no side
+picture gets its knitting time only.
 """
 
 from __future__ import annotations
 
-import math
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from typing import Any
-
-import numpy as np
 
 __all__ = ["ORDERS", "measure_candidate", "order_candidates"]
 
-#: Ways the page can order candidates.
-ORDERS = ("rank", "readability", "ghosting", "knit_time")
+#: Ways the page can order candidates: the search's own rank, or a perception.RANK_KEYS order.
+ORDERS = ("rank", "perception", "readability", "contrast", "ghosting", "knit_time")
 
 
-def _clean(x: float | None) -> float | None:
-    return None if x is None or not math.isfinite(x) else round(float(x), 4)
+def measure_candidate(pattern: Any, prepared: Any, *, machine: str) -> Any:
+    """The candidate's :class:`~illuknit.tiles.perception.CandidateMeasures`."""
+    from illuknit.tiles import perception
 
+    q = prepared.quantised
+    if prepared.mode == "double":
+        pictures, views, ghost = [q["a"].rgb(), q["b"].rgb()], ("A", "B"), True
+    elif prepared.mode == "headon" and "b" in q:
+        pictures, views, ghost = [q["a"].rgb(), q["b"].rgb()], ("headon", "side"), True
+    elif prepared.mode == "single":
+        pictures, views, ghost = [q["a"].rgb(), q["a"].rgb()], ("A", "B"), False
+    else:
+        from illuknit.bench.metrics import knit_stats
 
-def measure_candidate(pattern: Any, prepared: Any, *, machine: str) -> dict[str, Any]:
-    """Readability, ghosting and knitting time of one candidate's pattern."""
-    from illuknit.bench.metrics import angled_renders, knit_stats, picture_scores
-
-    out: dict[str, Any] = {}
-    if prepared.mode in ("single", "double"):
-        renders, _ = angled_renders(pattern)
-        ta = prepared.quantised["a"].rgb().astype(np.float64) / 255.0
-        double = prepared.mode == "double"
-        tb = prepared.quantised["b"].rgb().astype(np.float64) / 255.0 if double else ta
-        s = picture_scores(renders, ta, tb, double=double)
-        ra, rb = _clean(s["render_corr_a"]), _clean(s["render_corr_b"])
-        ga, gb = _clean(s["ghost_a"]), _clean(s["ghost_b"])
-        out.update(
-            readability_a=ra,
-            readability_b=rb,
-            readability=None if ra is None or rb is None else min(ra, rb),
-            ghosting_a=ga,
-            ghosting_b=gb,
-            ghosting=None if ga is None or gb is None else max(abs(ga), abs(gb)),
+        k = knit_stats(pattern, machine=machine)
+        return perception.CandidateMeasures(
+            views=(),
+            readability=(),
+            contrast=(),
+            ghosting=(),
+            knit_minutes=k["knit_time_min"],
+            machine_passes=k["carriage_passes"],
+            knit_note=k["knit_note"],
         )
-    k = knit_stats(pattern, machine=machine)
-    out.update(
-        knit_minutes=_clean(k["knit_time_min"]),
-        machine_passes=k["carriage_passes"],
-        knit_note=k["knit_note"],
+    return perception.measure_candidate(
+        pattern, pictures, views=views, ghost=ghost, knit_time=True, machine=machine
     )
-    return out
 
 
 def order_candidates(candidates: Sequence[Any], order: str) -> list[Any]:
-    """``candidates`` (with ``.rank`` and ``.measures``) in ``order``; unmeasured ones last."""
-    if order == "rank":
-        return sorted(candidates, key=lambda c: c.rank)
-    big = float("inf")
+    """``candidates`` in ``order`` (see :data:`ORDERS`); by rank until all are measured."""
+    from illuknit.tiles.perception import rank_candidates
 
-    def value(c: Any, key: str, sign: float) -> float:
-        v = (c.measures or {}).get(key)
-        return big if v is None else sign * float(v)
-
-    keys: dict[str, Callable[[Any], tuple[float, ...]]] = {
-        "readability": lambda c: (value(c, "readability", -1), value(c, "ghosting", 1), c.rank),
-        "ghosting": lambda c: (value(c, "ghosting", 1), value(c, "readability", -1), c.rank),
-        "knit_time": lambda c: (value(c, "knit_minutes", 1), c.rank),
-    }
-    return sorted(candidates, key=keys[order])
+    by_rank = sorted(candidates, key=lambda c: c.rank)
+    if order == "rank" or not by_rank or any(c.measured is None for c in by_rank):
+        return by_rank
+    scores = [c.score if c.score is not None else float(c.rank) for c in by_rank]
+    picks = rank_candidates(
+        [c.measured for c in by_rank], scores, by="knit-time" if order == "knit_time" else order
+    )
+    return [by_rank[i] for i in picks]

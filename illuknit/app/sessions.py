@@ -43,11 +43,14 @@ class UploadedImage:
         Size of the file as sent (the file itself is not kept).
     rgb : ndarray of shape (H, W, 3), uint8
         The picture on white, upright, at most ``MAX_WORKING_SIDE`` pixels on its long side.
+    notes : tuple of str
+        What was done while reading it (a reduction, an animation's first frame, ...).
     """
 
     filename: str
     sent_bytes: int
     rgb: NDArray[np.uint8]
+    notes: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
         if self.rgb.dtype != np.uint8 or self.rgb.ndim != 3 or self.rgb.shape[2] != 3:

@@ -116,6 +116,21 @@ class CheckReport:
         return tuple(f for f in self.findings if not f.blocking)
 
     @property
+    def n_blocking(self) -> int:
+        """How many blocking findings there are, counting those not listed (``suppressed``)."""
+        return len(self.blocking) + self._suppressed_count(blocking=True)
+
+    @property
+    def n_warnings(self) -> int:
+        """How many warnings there are, counting those not listed (``suppressed``)."""
+        return len(self.warnings) + self._suppressed_count(blocking=False)
+
+    def _suppressed_count(self, *, blocking: bool) -> int:
+        # A code is suppressed only after many listed findings of it, which carry its severity.
+        severity = {f.code: f.blocking for f in self.findings}
+        return sum(n for code, n in self.suppressed.items() if severity.get(code, True) == blocking)
+
+    @property
     def ok(self) -> bool:
         """True when nothing blocks."""
         return not self.blocking
@@ -129,8 +144,8 @@ class CheckReport:
     def to_dict(self) -> dict[str, Any]:
         return {
             "ok": self.ok,
-            "blocking": len(self.blocking),
-            "warnings": len(self.warnings),
+            "blocking": self.n_blocking,
+            "warnings": self.n_warnings,
             "pieces": self.pieces,
             "lines": self.n_lines,
             "operations": self.n_operations,
@@ -179,10 +194,10 @@ def render_report(report: CheckReport, *, name: str = "program", max_per_code: i
     verdict = (
         "[bold green]OK[/bold green]: nothing blocking"
         if report.ok
-        else f"[bold red]BLOCKED[/bold red]: {len(report.blocking)} blocking finding(s)"
+        else f"[bold red]BLOCKED[/bold red]: {report.n_blocking} blocking finding(s)"
     )
     out.append(
-        f"{verdict}; {len(report.warnings)} warning(s); {report.pieces} piece(s); "
+        f"{verdict}; {report.n_warnings} warning(s); {report.pieces} piece(s); "
         f"{report.n_operations} operations, {report.n_loops} loops"
     )
     if report.machine is not None:

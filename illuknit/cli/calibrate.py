@@ -6,7 +6,13 @@ from pathlib import Path
 
 import click
 
-from illuknit.cli.knitout_bridge import check_fits, machine_option, resolve_machine, write_program
+from illuknit.cli.knitout_bridge import (
+    check_fits,
+    format_option,
+    machine_option,
+    resolve_machine,
+    write_program,
+)
 from illuknit.cli.options import POSITIVE, knitout_option, outdir_option
 
 __all__ = ["calibrate"]
@@ -70,6 +76,7 @@ def calibrate() -> None:
 )
 @knitout_option("Also compile the swatch to DIR/program.k (mixed colourwork) and check it.")
 @machine_option()
+@format_option()
 @outdir_option()
 def swatch(
     bump_sizes: tuple[int, ...],

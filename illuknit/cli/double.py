@@ -12,21 +12,22 @@ from __future__ import annotations
 
 import json
 import shutil
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
 import click
 import numpy as np
 
-from illuknit.cli.knitout_bridge import machine_option
+from illuknit.cli.knitout_bridge import format_option, machine_option
 from illuknit.cli.options import knitout_option, outdir_option
 from illuknit.sizing import DEFAULT_MAX_WIDTH
+from illuknit.tiles.perception import RANK_KEYS
 
 __all__ = ["double", "run_design"]
 
 
 def _choose_yarns(spec: str | None, n_colors: int, pictures: list[np.ndarray]) -> tuple[Any, ...]:
-    from illuknit.images import quantise_image
     from illuknit.pattern import parse_yarns
 
     if spec is not None and not spec.strip().isdigit():
@@ -36,8 +37,51 @@ def _choose_yarns(spec: str | None, n_colors: int, pictures: list[np.ndarray]) -
         from illuknit.errors import YarnSpecError
 
         raise YarnSpecError(f"--yarns N must be between 1 and 8, got {n}")
-    both = np.concatenate(pictures, axis=0)  # same width: the second was fitted to the first
-    return quantise_image(both, n_colors=n).yarns
+    return choose_yarns(pictures, n)
+
+
+#: Colours closer than this (CIELAB distance) count as one when choosing yarns.
+SAME_COLOUR_LAB = 10.0
+
+
+def choose_yarns(pictures: list[np.ndarray], n: int) -> tuple[Any, ...]:
+    """``n`` yarns for pictures knitted together, keeping each picture's darkest and lightest.
+
+    Clustering the pictures jointly lets a picture that covers more, or has more shades, take
+    every yarn (four dark yarns for two logos, and one logo's white background lost). So each
+    picture's darkest and lightest colours are chosen first (near-equal ones once); the rest of
+    the ``n`` come from the joint clusters, each time the one farthest from those chosen (CIELAB).
+    """
+    from illuknit.colors import lab_from_rgb, luminance
+    from illuknit.images import auto_yarns, quantise_image
+
+    extremes: list[np.ndarray] = []
+    for p in pictures:
+        cols = quantise_image(p, n_colors=n).colors.astype(np.float64)
+        lum = luminance(cols)
+        extremes += [cols[int(np.argmin(lum))], cols[int(np.argmax(lum))]]
+    joint = quantise_image(np.concatenate(pictures, axis=0), n_colors=n).colors.astype(np.float64)
+    extremes.sort(key=lambda c: float(luminance(c)))
+    # Overall darkest and lightest first, then the other pictures' extremes, then joint clusters.
+    pool = [extremes[0], extremes[-1], *extremes[1:-1], *joint]
+    labs = lab_from_rgb(np.array(pool))
+    chosen = [0]
+    for i in range(1, len(pool)):
+        if len(chosen) == n:
+            break
+        if i < len(extremes):
+            far = min(float(np.linalg.norm(labs[i] - labs[j])) for j in chosen) > SAME_COLOUR_LAB
+            if far:
+                chosen.append(i)
+    while len(chosen) < n:
+        rest = [i for i in range(len(pool)) if i not in chosen]
+        dist = [min(float(np.linalg.norm(labs[i] - labs[j])) for j in chosen) for i in rest]
+        if not rest or max(dist) <= SAME_COLOUR_LAB:
+            break
+        chosen.append(rest[int(np.argmax(dist))])
+    colors = np.array([pool[i] for i in chosen])
+    order = np.argsort(luminance(colors), kind="stable")
+    return auto_yarns(np.round(colors[order]).astype(np.uint8))
 
 
 def run_design(
@@ -59,6 +103,10 @@ def run_design(
     tile: tuple[str, ...] = (),
     knitout: bool = False,
     machine: str | None = None,
+    rank_by: str = "perception",
+    knit_time: bool = False,
+    simplify: bool = False,
+    suggest: bool = False,
 ) -> dict[str, Any]:
     """Load, quantise, assign, compile and write every candidate (atomically into ``outdir``).
 
@@ -68,7 +116,7 @@ def run_design(
     design work). Returns the summary dict.
     """
     from illuknit.cli.knitout_bridge import check_fits, resolve_machine
-    from illuknit.errors import TileAssignmentError
+    from illuknit.errors import OptionError, TileAssignmentError
     from illuknit.export import export_pattern
     from illuknit.images import quantise_image
     from illuknit.outputs import atomic_write_text, staged_dir
@@ -76,8 +124,9 @@ def run_design(
     from illuknit.sizing import size_pair
     from illuknit.tiles.assign import assign_tiles
     from illuknit.tiles.bank import canonical_bank, load_bank
-    from illuknit.tiles.compile import compile_tiles, repainted_rgb
+    from illuknit.tiles.compile import repainted_rgb
     from illuknit.tiles.headon import HEADON_VIEWS, uniform_side
+    from illuknit.tiles.perception import rank_designs
 
     if candidates < 1:
         raise TileAssignmentError(f"--candidates must be at least 1, got {candidates}")
@@ -99,9 +148,23 @@ def run_design(
         bank = load_bank(bank_file, yarns=ys)
     else:
         bank = canonical_bank(ys, views=views, one_sided_stripes=one_sided)  # type: ignore[arg-type]
-    second = qb if qb is not None else uniform_side(qa)
+    second: Any = qb if qb is not None else uniform_side(qa)
+    first: Any = qa
+    edits: list[Any] = []
+    if simplify or suggest:
+        if qb is None or mode != "double":
+            raise OptionError("--simplify and --suggest work on double-view designs (two pictures)")
+        first, second, edits = _simplified(
+            qa,
+            qb,
+            apply=simplify,
+            candidates=candidates,
+            bank=bank,
+            solver=solver,
+            brightness="soft" if soft_brightness else "hard",
+        )
     found = assign_tiles(
-        qa,
+        first,
         second,
         bank=bank,
         candidates=candidates,
@@ -116,11 +179,27 @@ def run_design(
     names = (
         ("front (head-on)", "side") if mode == "headon" else ("A (from above)", "B (from below)")
     )
+    # What each view should show: the designer's quantised pictures (a plain side otherwise).
+    seen_targets: list[np.ndarray] = [qa.rgb()]
+    if qb is not None:
+        seen_targets.append(qb.rgb())
+    else:
+        side_idx, side_colors = uniform_side(qa)
+        seen_targets.append(np.asarray(side_colors, dtype=np.uint8)[np.asarray(side_idx)])
+    ranked = rank_designs(
+        found,
+        seen_targets,
+        views=("A", "B") if mode == "double" else ("headon", "side"),
+        overrides=overrides,
+        rank_by=rank_by,
+        knit_time=knit_time,
+        machine=machine,
+    )
     rows = []
     chosen = None
     with staged_dir(outdir) as tmp:
-        for cand in found:
-            pattern, report = compile_tiles(cand, overrides=overrides)
+        for rc in ranked:
+            cand, pattern, report, meas = rc.assignment, rc.pattern, rc.report, rc.measures
             if cand.rank == pick:
                 chosen = pattern
             sub = tmp / f"candidate_{cand.rank}"
@@ -132,6 +211,7 @@ def run_design(
                 "sources": [str(path_a), str(path_b) if path_b else None],
                 "assignment": cand_json,
                 "tiles_report": report_json,
+                "measures": meas.to_json(),
                 "default": cand.rank == pick,
             }
             ra = repainted_rgb(cand, 0)
@@ -148,6 +228,7 @@ def run_design(
                 average = repainted_rgb(cand, which, mode="average")
                 save_png(upscale(striped, s), sub / f"repainted_{letter}.png")
                 save_png(upscale(average, s), sub / f"repainted_{letter}_average.png")
+            diagnostics = _write_diagnostics(pattern, seen_targets, sub, mode=mode, scale=s)
             fills = cand_json["fills"]
             legend = {"views": list(views), "fills": fills, "tiles": cand_json["tiles"]}
             atomic_write_text(sub / "fills.json", json.dumps(legend, indent=1) + "\n")
@@ -156,6 +237,9 @@ def run_design(
                     "rank": cand.rank,
                     "default": cand.rank == pick,
                     "score": round(cand.score, 2),
+                    "score_rank": rc.score_rank,
+                    **_measure_fields(meas),
+                    "diagnostics": diagnostics,
                     "fills_a": [f["fill"] for f in fills if f["input"] == "A"],
                     "fills_b": [f["fill"] for f in fills if f["input"] == "B"],
                     "error_repainted": report_json["error_repainted"],
@@ -164,6 +248,8 @@ def run_design(
                     "folder": sub.name,
                 }
             )
+        if edits:
+            _write_edits(edits, qa, qb, tmp / "suggestions", scale=max(2, unit_scale(qa.shape)))
         shutil.copyfile(tmp / f"candidate_{pick}" / "pattern.json", tmp / "pattern.json")
         if knitout and chosen is not None:
             # The default candidate as a checked knitout program (mixed-colourwork scheduler).
@@ -176,12 +262,84 @@ def run_design(
             "size": {"rows": int(qa.shape[0]), "cols": int(qa.shape[1])},
             "bank": {"name": bank.name, "tiles": len(bank)},
             "solver": solver,
+            "ranked_by": rank_by,
+            "edits": [e.to_json() for e in edits],
             "default": pick,
             "candidates": rows,
         }
         atomic_write_text(tmp / "summary.json", json.dumps(summary, indent=1) + "\n")
         atomic_write_text(tmp / "summary.txt", _summary_text(summary))
     return summary
+
+
+def _simplified(
+    qa: Any, qb: Any, *, apply: bool, candidates: int, **assign: Any
+) -> tuple[Any, Any, list[Any]]:
+    """Suggested edits of both pictures, each measured by the best design it leads to against
+    the ORIGINAL pictures; with ``apply`` the improving ones are kept (tiles.simplify)."""
+    from functools import partial
+
+    from illuknit.tiles.simplify import apply_edits, best_reading
+
+    measure = partial(
+        best_reading,
+        colors=(qa.colors, qb.colors),
+        targets=[qa.rgb(), qb.rgb()],
+        candidates=candidates,
+        **assign,
+    )
+    a, b, results = apply_edits(qa.indices, qb.indices, measure)
+    if not apply:
+        a, b = qa.indices, qb.indices
+        results = [replace(r, accepted=False) for r in results]
+    return (a, qa.colors), (b, qb.colors), results
+
+
+def _write_edits(edits: list[Any], qa: Any, qb: Any, folder: Path, *, scale: int) -> None:
+    """``suggestions/``: each edit as before | after pictures, and ``suggestions.json``."""
+    from illuknit.outputs import atomic_write_text
+    from illuknit.previews import save_png, upscale
+
+    folder.mkdir(parents=True, exist_ok=True)
+    for e in edits:
+        for letter, q, after in (("a", qa, e.suggestion.a), ("b", qb, e.suggestion.b)):
+            before_rgb, after_rgb = q.palette[q.indices], q.palette[after]
+            gap = np.full((before_rgb.shape[0], 2, 3), 255, np.uint8)
+            pair = np.concatenate([before_rgb, gap, after_rgb], axis=1)
+            save_png(upscale(pair, scale), folder / f"{e.suggestion.name}_{letter}.png")
+    data = {"edits": [e.to_json() for e in edits]}
+    atomic_write_text(folder / "suggestions.json", json.dumps(data, indent=1) + "\n")
+
+
+def _measure_fields(m: Any) -> dict[str, Any]:
+    """A candidate's perceptual measures as summary-table fields (see tiles.perception)."""
+    j = m.to_json()
+    return {
+        "perceptual_score": j["perceptual_score"],
+        "readability": j["readability"],
+        "contrast": j["contrast"],
+        "ghosting": j["ghosting"],
+        "knit_minutes": j["knit_minutes"],
+        "machine_passes": j["machine_passes"],
+    }
+
+
+def _write_diagnostics(
+    pattern: Any, pictures: list[np.ndarray], sub: Path, *, mode: str, scale: int
+) -> dict[str, dict[str, float]]:
+    """``diagnostic_<view>.png`` per view: where it shows the wrong shade, where the other
+    picture ghosts through. Returns the fractions of units marked, per view."""
+    from illuknit.previews import save_png, upscale
+    from illuknit.tiles.perception import diagnostic_rgb
+
+    views = ("A", "B") if mode == "double" else ("headon", "A")
+    out = {}
+    for k, (letter, view) in enumerate(zip(("a", "b"), views, strict=True)):
+        other = pictures[1 - k] if mode == "double" else None
+        img, stats = diagnostic_rgb(pattern, pictures[k], other, view=view)
+        save_png(upscale(img, scale), sub / f"diagnostic_{letter}.png")
+        out[letter.upper()] = {key: round(v, 4) for key, v in stats.items()}
+    return out
 
 
 def _parse_overrides(specs: tuple[str, ...]) -> dict[tuple[int, int], str]:
@@ -205,16 +363,22 @@ def _parse_overrides(specs: tuple[str, ...]) -> dict[tuple[int, int], str]:
 
 def _summary_text(summary: dict[str, Any]) -> str:
     lines = [
-        f"{summary['mode']}-view tile design, {summary['size']['cols']} x {summary['size']['rows']} units, "
+        f"{summary['mode']}-view tile design, {summary['size']['rows']} x {summary['size']['cols']} units, "
         f"yarns: {', '.join(y['name'] + ' ' + y['rgb'] for y in summary['yarns'])}",
         f"bank {summary['bank']['name']} ({summary['bank']['tiles']} tiles), solver {summary['solver']}",
         "",
-        "rank  default  score    fills of input A | fills of input B",
+        f"ranked by {summary.get('ranked_by', 'score')}; readability / contrast / ghosting per view",
+        "rank  default  percept  read A  read B  contr A  contr B  ghost  minutes  score    fills of input A | fills of input B",
     ]
     for r in summary["candidates"]:
         mark = "  *    " if r["default"] else "       "
+        rd, ct = r["readability"], r["contrast"]
+        ghost = max((abs(g) for g in r["ghosting"] if g is not None), default=None)
         lines.append(
-            f"{r['rank']:>4}  {mark}  {r['score']:>7.2f}  {'; '.join(r['fills_a'])} | {'; '.join(r['fills_b'])}"
+            f"{r['rank']:>4}  {mark}  {_fmt(r['perceptual_score']):>7}  {_fmt(rd[0]):>6}  "
+            f"{_fmt(rd[1]):>6}  {_fmt(ct[0]):>7}  {_fmt(ct[1]):>7}  {_fmt(ghost):>5}  "
+            f"{_fmt(r['knit_minutes'], 1):>7}  {r['score']:>7.2f}  "
+            f"{'; '.join(r['fills_a'])} | {'; '.join(r['fills_b'])}"
         )
     lines.append("")
     lines.append(
@@ -223,35 +387,44 @@ def _summary_text(summary: dict[str, Any]) -> str:
     return "\n".join(lines) + "\n"
 
 
+def _fmt(x: float | None, digits: int = 3) -> str:
+    return "-" if x is None else f"{x:.{digits}f}"
+
+
 def print_summary(summary: dict[str, Any], outdir: Path) -> None:
     from rich.console import Console
     from rich.table import Table
 
     con = Console(highlight=False, soft_wrap=True)
     t = Table(
-        title=f"{summary['mode']}-view candidates ({summary['size']['cols']} x {summary['size']['rows']} units)",
+        title=f"{summary['mode']}-view candidates ({summary['size']['rows']} x {summary['size']['cols']} units)",
         header_style="bold",
     )
     for col in (
         "rank",
         "",
+        "perceptual",
+        "readability",
+        "contrast",
+        "ghosting",
+        "knit min",
         "score",
         "fills A",
         "fills B",
-        "error vs repainted (interior)",
-        "max changes/course",
     ):
         t.add_column(col)
     for r in summary["candidates"]:
-        err = ", ".join(f"{k} {v:.3f}" for k, v in r["error_repainted_interior"].items())
         t.add_row(
             str(r["rank"]),
             "default" if r["default"] else "",
+            _fmt(r["perceptual_score"]),
+            " / ".join(_fmt(v) for v in r["readability"]),
+            " / ".join(_fmt(v) for v in r["contrast"]),
+            " / ".join(_fmt(v) for v in r["ghosting"]),
+            _fmt(r["knit_minutes"], 1),
             f"{r['score']:.1f}",
             "; ".join(r["fills_a"]),
             "; ".join(r["fills_b"]),
-            err,
-            str(r["color_changes_per_course_max"]),
         )
     con.print(t)
     con.print(
@@ -275,6 +448,16 @@ def design_options(func: Any) -> Any:
                      help="Custom tile bank (JSON; see docs/tiles.md)."),
         click.option("--pick", type=click.IntRange(1, 50), default=1, show_default=True,
                      help="Which candidate is the default (copied to OUTDIR/pattern.json)."),
+        click.option("--rank-by", type=click.Choice(RANK_KEYS), default="perception", show_default=True,
+                     help="Order of the candidates: how the views read (perception: worse view's readability, "
+                     "contrast floor, ghosting), the assignment's score, or one measure."),
+        click.option("--knit-time/--no-knit-time", default=False, show_default=True,
+                     help="Also knit every candidate and show the machine's knitting time (ties in the ranking)."),
+        click.option("--suggest", is_flag=True,
+                     help="Try simplifying edits of the pictures (merge specks, smooth outlines, drop tiny "
+                     "overlaps) and write each as before | after with its effect to OUTDIR/suggestions/."),
+        click.option("--simplify", is_flag=True,
+                     help="Like --suggest, and design with the edits that raise the worse view's readability."),
         click.option("--solver", default="cpsat", show_default=True, help="Solver backend: cpsat, rc2, ..."),
         click.option("--soft-brightness", is_flag=True,
                      help="Prefer, rather than require, keeping each picture's brightness order."),
@@ -284,6 +467,7 @@ def design_options(func: Any) -> Any:
                      "of the second), e.g. '0,1=0/1/0^' (see fills.json for the pairs). Repeatable."),
         knitout_option("Also compile the default candidate to OUTDIR/program.k and check it."),
         machine_option(),
+        format_option(),
         outdir_option(),
     ]  # fmt: skip
     for opt in reversed(opts):

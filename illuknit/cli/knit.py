@@ -36,7 +36,8 @@ def run_knit(
     catch_every: int = 2,
     output_format: str = "knitout",
 ) -> dict[str, Any]:
-    """Compile ``pattern_path`` to knitout at ``output``; return the summary (and checker verdict).
+    """Compile ``pattern_path`` to knitout (or a machine file: ``output_format="dat"``) at
+    ``output``; return the summary (and checker verdict).
 
     ``machine`` is a preset name (or a spec); ``gauge``, ``machine_width`` and the other options
     override its values. A pattern wider than the bed is refused before compiling; nothing is
@@ -46,9 +47,10 @@ def run_knit(
     from dataclasses import replace
 
     from illuknit.cli.knitout_bridge import check_fits, resolve_machine
+    from illuknit.formats import check_format, knitout_to_format
     from illuknit.knit import knit_pattern
-    from illuknit.knit.machine_sheet import check_format, machine_sheet
-    from illuknit.outputs import atomic_write_text
+    from illuknit.knit.machine_sheet import machine_sheet
+    from illuknit.outputs import atomic_write_bytes
     from illuknit.pattern import load_pattern
 
     spec = resolve_machine(machine, gauge=gauge)
@@ -82,8 +84,8 @@ def run_knit(
 
         report = check_knitout(result.text, machine=spec)
         summary["check"] = {
-            "errors": len(report.blocking),
-            "warnings": len(report.warnings),
+            "errors": report.n_blocking,
+            "warnings": report.n_warnings,
             "pieces": report.pieces,
             "findings": [
                 {"line": f.line, "code": f.code, "severity": f.severity, "message": f.message}
@@ -92,7 +94,11 @@ def run_knit(
         }
     sheet = machine_sheet(result, name=Path(output).name)
     summary.update(sheet.summary)
-    atomic_write_text(output, sheet.files.get(output_format, result.text))
+    if output_format in sheet.files:  # made for the sheet already (the .kc)
+        data = sheet.files[output_format].encode("utf-8")
+    else:
+        data = knitout_to_format(result.text, output_format, name=Path(output).name)
+    atomic_write_bytes(output, data)
     summary["output"] = str(output)
     summary["format"] = output_format
     return summary
@@ -105,7 +111,7 @@ def run_knit(
     "--output",
     required=True,
     type=click.Path(dir_okay=False, path_type=Path),
-    help="Knitout file to write (e.g. prog.k).",
+    help="File to write: knitout (e.g. prog.k) or, with --format dat, a Shima .dat.",
 )
 @machine_option()
 @click.option(
@@ -187,10 +193,11 @@ def run_knit(
 @click.option(
     "--format",
     "output_format",
-    type=click.Choice(["knitout", "kc"]),
+    type=click.Choice(["knitout", "dat", "kc"]),
     default="knitout",
     show_default=True,
-    help="What -o holds: knitout, or the Kniterate's k-code (kc, with --machine kniterate).",
+    help="What -o holds: knitout, a Shima .dat (dat; Shima machines) or the Kniterate's "
+    "k-code (kc, with --machine kniterate).",
 )
 @click.option("--no-check", is_flag=True, help="Skip the knitout checker.")
 @click.option("--json", "as_json", is_flag=True, help="Print the summary as JSON.")
@@ -253,7 +260,8 @@ def knit(
         click.echo(json.dumps(summary, indent=1))
     else:
         s = summary
-        click.echo(f"wrote {s['output']} ({s['lines']} lines) for {s['machine']}")
+        what = f"{s['lines']} lines" if output_format == "knitout" else f"{output_format} file"
+        click.echo(f"wrote {s['output']} ({what}) for {s['machine']}")
         click.echo(
             f"stitches: {s['wales']} wales x {s['courses']} courses "
             f"(about {s['width_cm']} x {s['height_cm']} cm at gauge {s['gauge']:g})"

@@ -4,6 +4,10 @@ One machine for the whole path: the ``--machine`` option (:func:`machine_option`
 of :data:`illuknit.knit.machine.MACHINES`; :func:`resolve_machine` turns it (and a ``--gauge``)
 into the :class:`~illuknit.knit.machine.MachineSpec` that sizes the picture, refuses a pattern too
 wide for the bed before any design work (:func:`check_fits`), schedules the program and checks it.
+
+The ``--format`` option (:func:`format_option`) asks for machine files beside ``program.k``
+(``--format dat`` writes ``program.dat``); :func:`resolve_machine` refuses a format the machine
+cannot take, or one asked for without ``--knitout``, before any work is done.
 """
 
 from __future__ import annotations
@@ -18,7 +22,17 @@ from illuknit.knit.machine import DEFAULT_MACHINE_NAME, MachineSpec, get_machine
 from illuknit.outputs import atomic_write_text
 from illuknit.pattern import LogicalPattern
 
-__all__ = ["check_fits", "machine_option", "resolve_machine", "write_program"]
+__all__ = [
+    "check_fits",
+    "format_option",
+    "machine_option",
+    "requested_formats",
+    "resolve_machine",
+    "write_program",
+]
+
+#: where the ``--format`` choices of the running command are kept (click context meta)
+_FORMATS_KEY = "illuknit.machine_files"
 
 
 def machine_option(
@@ -34,14 +48,58 @@ def machine_option(
     )
 
 
+def format_option() -> Callable[[Callable[..., Any]], Callable[..., Any]]:
+    """``--format dat``: with ``--knitout``, also write the program as a machine file.
+
+    The choice is kept on the click context (:func:`requested_formats`), where
+    :func:`resolve_machine` checks it and :func:`write_program` reads it, so a command only adds
+    the decorator.
+    """
+
+    def remember(ctx: click.Context, _param: click.Parameter, value: tuple[str, ...]) -> None:
+        ctx.meta[_FORMATS_KEY] = tuple(dict.fromkeys(v for v in value if v != "knitout"))
+
+    return click.option(
+        "--format",
+        "machine_files",
+        type=click.Choice(["knitout", "dat", "kc"]),
+        multiple=True,
+        expose_value=False,
+        callback=remember,
+        help="With --knitout: also write the program as this machine file beside program.k "
+        "(dat: program.dat for Shima machines, kc: program.kc for the Kniterate). Repeatable.",
+    )
+
+
+def requested_formats() -> tuple[str, ...]:
+    """Machine-file formats the running command was asked for with ``--format`` (else none)."""
+    ctx = click.get_current_context(silent=True)
+    if ctx is None:
+        return ()
+    return tuple(ctx.meta.get(_FORMATS_KEY, ()))
+
+
 def resolve_machine(name: str | MachineSpec | None, *, gauge: float | None = None) -> MachineSpec:
     """The machine called ``name`` (default preset when None), at ``gauge`` when one is given.
 
-    Raises :class:`~illuknit.errors.UnknownNameError` (listing the presets) for unknown names.
+    Raises :class:`~illuknit.errors.UnknownNameError` (listing the presets) for unknown names,
+    and for a ``--format`` the machine cannot take; :class:`~illuknit.errors.OptionError` for a
+    ``--format`` without ``--knitout``.
     """
+    from illuknit.errors import OptionError
+    from illuknit.formats import check_format
+
     spec = get_machine(name)
     if gauge is not None and gauge != spec.gauge:
         spec = spec.with_gauge(gauge)
+    formats = requested_formats()
+    for fmt in formats:
+        check_format(spec, fmt)
+    ctx = click.get_current_context(silent=True)
+    if formats and ctx is not None and ctx.params.get("knitout") is False:
+        raise OptionError(
+            f"--format {formats[0]} writes program.{formats[0]} beside program.k: add --knitout"
+        )
     return spec
 
 
@@ -55,27 +113,49 @@ def check_fits(machine: MachineSpec, units: int, *, hint: str | None = None) -> 
 
 
 def write_program(
-    pattern: LogicalPattern, outdir: Path, *, machine: MachineSpec | str | None = None
+    pattern: LogicalPattern,
+    outdir: Path,
+    *,
+    machine: MachineSpec | str | None = None,
+    formats: tuple[str, ...] | None = None,
 ) -> dict[str, Path]:
     """Compile ``pattern`` for ``machine`` to ``program.k`` and write the checker's report beside it.
 
-    Writes ``program.k``, ``knit.json`` (passes, lower bound, time estimate), ``check.json`` and
-    ``check.txt``; returns name -> path. Prints a one-line summary of each. The checker judges
-    the program by the same machine the scheduler used.
+    Writes ``program.k``, ``knit.json`` (passes, lower bound, time estimate, and the machine
+    set-up sheet: carriers and their cones, stitch numbers, needle range, passes and time on the
+    machine), ``check.json`` and ``check.txt``, ``program.<format>`` for each machine-file format
+    (default: those asked for with ``--format``), and the machine's own file when illuknit writes
+    one without a choice to make (``program.kc`` for the Kniterate); returns name -> path. Prints
+    a one-line summary of each. The checker judges the program by the same machine the scheduler
+    used.
     """
     import json
 
     from illuknit.check import check_knitout
     from illuknit.cli.summary import console
+    from illuknit.formats import FORMAT_SUFFIXES, check_format, knitout_to_format
     from illuknit.knit import knit_pattern
+    from illuknit.knit.machine_sheet import machine_sheet
+    from illuknit.outputs import atomic_write_bytes
 
     spec = get_machine(machine)
+    formats = requested_formats() if formats is None else formats
+    for fmt in formats:
+        check_format(spec, fmt)
     result = knit_pattern(pattern, machine=spec)
     report = check_knitout(result.program, machine=spec)
     summary = result.summary()
+    sheet = machine_sheet(result, name="program.kc")
+    summary.update(sheet.summary)
     console().print(f"knitout: {_describe(summary)}")
     console().print(f"check: {report.to_text(name='program.k').splitlines()[0]}")
-    return {
+    # convert before writing anything, so a program the machine file cannot hold leaves nothing
+    extra = {
+        fmt: knitout_to_format(result.program, fmt, name=f"program{FORMAT_SUFFIXES[fmt]}")
+        for fmt in formats
+        if fmt != "knitout" and fmt not in sheet.files
+    }
+    files = {
         "program": atomic_write_text(outdir / "program.k", result.program),
         "knit": atomic_write_text(outdir / "knit.json", json.dumps(summary, indent=1) + "\n"),
         "check": atomic_write_text(outdir / "check.json", report.to_json(indent=1) + "\n"),
@@ -83,6 +163,13 @@ def write_program(
             outdir / "check.txt", report.to_text(name="program.k") + "\n"
         ),
     }
+    if "kc" in sheet.files:
+        files["kc"] = atomic_write_text(outdir / "program.kc", sheet.files["kc"])
+    for fmt, data in extra.items():
+        files[f"program_{fmt}"] = atomic_write_bytes(
+            outdir / f"program{FORMAT_SUFFIXES[fmt]}", data
+        )
+    return files
 
 
 def _describe(summary: dict[str, object]) -> str:

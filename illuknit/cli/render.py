@@ -3,12 +3,46 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 import click
 
 from illuknit.cli.options import FINITE, outdir_option
 
-__all__ = ["render"]
+__all__ = ["MAX_FRAME_PIXELS", "MAX_SWEEP_PIXELS", "check_render_size", "render"]
+
+#: Largest picture one view may have (pixels): 4000 x 4000.
+MAX_FRAME_PIXELS = 16_000_000
+#: Largest sweep: frames x pixels per frame (held as 1-byte palette frames: about 400 MB).
+MAX_SWEEP_PIXELS = 400_000_000
+
+
+def check_render_size(shape: tuple[int, int], *, scale: int, frames: int) -> None:
+    """Refuse renders whose output is absurdly large, suggesting a ``--scale``/``--frames`` that fits.
+
+    A view is ``rows * scale`` x ``cols * scale`` pixels; the sweep GIF holds ``2 * frames - 2``
+    frames (one side to the other and back).
+    """
+    from illuknit.errors import RenderParamsError
+
+    rows, cols = shape
+    per_frame = rows * scale * cols * scale
+    gif_frames = 2 * frames - 2
+    size = f"{rows * scale} x {cols * scale} pixels"
+    fit_scale = max(1, int((MAX_FRAME_PIXELS / (rows * cols)) ** 0.5))
+    if per_frame > MAX_FRAME_PIXELS:
+        raise RenderParamsError(
+            f"a view of this {rows} x {cols} pattern at --scale {scale} is {size} "
+            f"(limit {MAX_FRAME_PIXELS / 1e6:.0f} megapixels); try --scale {fit_scale}"
+        )
+    if per_frame * gif_frames > MAX_SWEEP_PIXELS:
+        fit_frames = max(2, MAX_SWEEP_PIXELS // per_frame // 2 + 1)
+        sweep_scale = max(1, int((MAX_SWEEP_PIXELS / gif_frames / (rows * cols)) ** 0.5))
+        raise RenderParamsError(
+            f"the sweep of {gif_frames} frames of {size} is "
+            f"{per_frame * gif_frames / 1e6:.0f} megapixels (limit {MAX_SWEEP_PIXELS / 1e6:.0f}); "
+            f"try --frames {fit_frames} or --scale {sweep_scale}"
+        )
 
 
 @click.command("render")
@@ -53,6 +87,7 @@ def render(
     from illuknit.outputs import staged_dir
     from illuknit.pattern import load_pattern
     from illuknit.previews import contact_sheet, save_png, unit_scale
+    from illuknit.progress import progress
     from illuknit.render.params import RenderParams, check_angle, load_params, save_params
     from illuknit.render.raycast import render_image, sweep_angles
 
@@ -61,14 +96,19 @@ def render(
     params = params.with_angle(a)
     pattern = load_pattern(pattern_file)
     s = scale or max(2, unit_scale(pattern.shape))
-    views = {
-        "view_a": render_image(pattern, a, params=params, scale=s),
-        "view_b": render_image(pattern, -a, params=params, scale=s),
-        "headon": render_image(pattern, 90.0, params=params, scale=s),
-    }
-    # Frames go A -> head-on -> B and back, so the loop has no jump.
+    check_render_size(pattern.shape, scale=s, frames=frames)
     angles = sweep_angles(a, frames)
-    images = [render_image(pattern, x, params=params, scale=s) for x in angles]
+    with progress(3 + len(angles), "render") as advance:
+        views = {}
+        for name, at in (("view_a", a), ("view_b", -a), ("headon", 90.0)):
+            views[name] = render_image(pattern, at, params=params, scale=s)
+            advance(description=name)
+        # Frames go A -> head-on -> B and back, so the loop has no jump. Each is kept as a
+        # palette frame (1 byte per pixel), not as RGB.
+        images = []
+        for x in angles:
+            images.append(_gif_frame(render_image(pattern, x, params=params, scale=s)))
+            advance(description=f"sweep {x:+.0f} deg")
     images += images[-2:0:-1]
     with staged_dir(outdir) as tmp:
         for name, img in views.items():
@@ -83,17 +123,18 @@ def render(
         save_png(sheet, tmp / "contact.png")
         _save_gif(images, tmp / "sweep.gif")
         save_params(params, tmp / "params.json")
-    names = ", ".join(sorted(p.name for p in outdir.iterdir()))
-    click.echo(f"wrote {outdir}: {names}")
+        written = sorted(p.name for p in tmp.iterdir())
+    click.echo(f"wrote {len(written)} files to {outdir}: {', '.join(written)}")
 
 
-def _save_gif(images: list, path: Path) -> None:
+def _gif_frame(rgb: Any) -> Any:
     from PIL import Image
 
-    frames = [
-        Image.fromarray(im).convert("P", palette=Image.Palette.ADAPTIVE, colors=64) for im in images
-    ]
-    n = len(images)
+    return Image.fromarray(rgb).convert("P", palette=Image.Palette.ADAPTIVE, colors=64)
+
+
+def _save_gif(frames: list, path: Path) -> None:
+    n = len(frames)
     # Hold the two side views and head-on a little longer than the frames in between.
     half = (n + 2) // 4
     durations = [500 if i in (0, half, 2 * half) else 60 for i in range(n)]

@@ -17,7 +17,7 @@ from typing import Any
 import click
 import numpy as np
 
-from illuknit.cli.knitout_bridge import machine_option
+from illuknit.cli.knitout_bridge import format_option, machine_option
 from illuknit.cli.options import POSITIVE
 from illuknit.sizing import DEFAULT_MAX_WIDTH
 
@@ -172,6 +172,12 @@ def run_solve(
 
         w = replace(w, max_color_changes=max_color_changes)
     ys = parse_yarns(yarns) if yarns else None
+    if (ys is not None and len(ys) < 2) or n_colors == 1:
+        from illuknit.errors import YarnSpecError
+
+        # One yarn knits a plain piece: no picture can appear from any side.
+        given = f"--yarns {yarns}" if ys is not None else "--colors 1"
+        raise YarnSpecError(f"an illusion needs at least 2 yarns, got 1 ({given})")
     spec = resolve_machine(machine)
     if knitout and width is not None:
         check_fits(spec, width)
@@ -425,6 +431,7 @@ def _list_solvers(ctx: click.Context, _param: click.Parameter, value: bool) -> N
     "--knitout", is_flag=True, help="Also write a knitout program (program.k) and its check."
 )
 @machine_option()
+@format_option()
 @click.option(
     "-o",
     "--outdir",

@@ -6,11 +6,70 @@ count with, are :func:`illuknit.formats.swg_passes.machine_passes`.
 
 ``kc``: Kniterate k-code (``.kc``), via :func:`illuknit.formats.kc.knitout_to_kc`.
 
-Submodules are imported on use, so ``import illuknit`` stays light.
+:func:`machine_formats` says which files a machine takes, :func:`check_format` refuses the others
+before any work is done, and :func:`knitout_to_format` converts. Submodules are imported on use.
 """
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 from illuknit.formats.swg_passes import MachinePass, PassKind, machine_passes
 
-__all__ = ["MachinePass", "PassKind", "machine_passes"]
+if TYPE_CHECKING:
+    from illuknit.knit.machine import MachineSpec
+
+__all__ = [
+    "FORMAT_SUFFIXES",
+    "MachinePass",
+    "PassKind",
+    "check_format",
+    "knitout_to_format",
+    "machine_formats",
+    "machine_passes",
+]
+
+#: output format -> file suffix
+FORMAT_SUFFIXES: dict[str, str] = {"knitout": ".k", "dat": ".dat", "kc": ".kc"}
+
+
+def machine_formats(machine: MachineSpec) -> tuple[str, ...]:
+    """Output formats ``machine`` can take: knitout, then its machine files (``machine.formats``)."""
+    return ("knitout", *machine.formats)
+
+
+def check_format(machine: MachineSpec, fmt: str) -> None:
+    """Refuse (:class:`~illuknit.errors.UnknownNameError`) a format ``machine`` cannot take."""
+    from illuknit.errors import UnknownNameError
+
+    valid = machine_formats(machine)
+    if fmt not in valid:
+        raise UnknownNameError(f"output format for the {machine.name}", fmt, valid)
+
+
+def knitout_to_format(text: str, fmt: str, *, name: str = "program") -> bytes:
+    """The bytes of ``text`` as a file of format ``fmt`` (``knitout``, ``dat`` or ``kc``).
+
+    ``name`` is the file name a ``.kc`` records in its comment line.
+
+    Raises
+    ------
+    UnknownNameError
+        For a format illuknit does not write.
+    MachineRuleError, UnsupportedKnitoutError
+        When the program cannot become that machine file (see
+        :func:`~illuknit.formats.dat.knitout_to_dat`).
+    """
+    if fmt == "knitout":
+        return text.encode("utf-8")
+    if fmt == "dat":
+        from illuknit.formats.dat import knitout_to_dat
+
+        return knitout_to_dat(text)
+    if fmt == "kc":
+        from illuknit.formats.kc import knitout_to_kc
+
+        return knitout_to_kc(text, name=name).encode("utf-8")
+    from illuknit.errors import UnknownNameError
+
+    raise UnknownNameError("output format", fmt, list(FORMAT_SUFFIXES))

@@ -54,7 +54,7 @@ def _combine(first: SlotOp, then: SlotOp, quarter: bool) -> SlotOp | None:
     return _COMBINE.get((first, then)) if quarter else None
 
 
-@dataclass
+@dataclass(slots=True)
 class _Draft:
     type: PassType
     racking: float
@@ -139,7 +139,7 @@ class _Draft:
         self.lo, self.hi = min(self.slots), max(self.slots)
 
 
-@dataclass
+@dataclass(slots=True)
 class _Carrier:
     name: str
     pending_in: tuple[str, tuple[str, ...]] | None  # (op, carrier set) until first use
@@ -148,7 +148,7 @@ class _Carrier:
     kick: tuple[Needle, Direction] | None = None  # where the carrier is parked
 
 
-@dataclass
+@dataclass(slots=True)
 class _Builder:
     passes: list[_Draft] = field(default_factory=list)
     carriers: dict[str, _Carrier] = field(default_factory=dict)
@@ -349,7 +349,10 @@ def _freeze(drafts: list[_Draft]) -> list[MachinePass]:
             travel is Direction.RIGHT and carriage is Direction.RIGHT
         )
         if move and d.hook is HookAction.RELEASE:
-            raise UnsupportedKnitoutError("a hook release would need a carriage move")
+            raise MachineRuleError(
+                "the hook would be released on a pass that starts with an empty carriage move, "
+                "which KnitPaint refuses; knit a pass away from the hook's side first"
+            )
         if travel is not Direction.NONE:
             carriage = travel
         slots = tuple(sorted(d.slots.items(), key=lambda item: item[0]))

@@ -151,6 +151,14 @@ def _transfer(b: _Builder, op: Operation) -> None:
     d = b.draft(type_, direction, cs, b.slot(n), slot_op)
     if not cs:
         d.stitch = 0  # transfers use the machine's own transfer stitch
+    if any(b.carriers[c].pending_in is not None for c in cs if c in b.carriers):
+        # the backend would put the yarn-in gripper action on a split pass, which it doubts
+        # the machine does; knit or tuck with the carrier first
+        raise UnsupportedKnitoutError(
+            f"bringing carriers in on a split ({op}) is not supported: knit or tuck with "
+            f"{' '.join(cs)} first",
+            line=op.line,
+        )
     b.take_in(cs, d)
     b.merge(d)
     # a yarn attached to the moved loop is now attached where the loop went

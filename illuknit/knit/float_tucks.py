@@ -24,18 +24,22 @@ that is an error.
 
 from __future__ import annotations
 
+import math
 from bisect import bisect_right
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
+from itertools import pairwise
 
 from illuknit.knit.ir import ActionKind, Bed, CarrierAction, Op, OpKind, Pass, PassKind, Role, Step
 
-__all__ = ["LongFloat", "tuck_long_floats"]
+__all__ = ["LongFloat", "measure_long_floats", "tuck_long_floats"]
 
 
 @dataclass(frozen=True)
 class LongFloat:
-    """A float that could not be tucked: ``carrier`` crosses ``length`` needles after ``step``."""
+    """A float still too long: ``carrier`` crosses ``length`` needle slots before ``step``.
+
+    ``step`` indexes the steps the float was measured on (the tucked program's)."""
 
     step: int
     carrier: str
@@ -88,7 +92,7 @@ def _back_after(step: Step, back: set[int]) -> None:
 
 
 def tuck_long_floats(
-    steps: Sequence[Step], *, limit: int, left: int, right: int
+    steps: Sequence[Step], *, limit: int, left: int, right: int, alone: bool = False
 ) -> tuple[list[Step], list[LongFloat]]:
     """Cut every float longer than ``limit`` with back-bed tucks (see the module docstring).
 
@@ -100,6 +104,9 @@ def tuck_long_floats(
         Longest allowed float, in needles crossed.
     left, right : int
         The fabric's needles; tucks go only there.
+    alone : bool
+        Where a plated pass cannot tuck a float, let the floating yarn tuck alone in a pass of
+        its own right before (a knit pass and a transfer pass more); False keeps those floats.
 
     Returns
     -------
@@ -122,11 +129,12 @@ def tuck_long_floats(
     # One tuck per needle between two stitches there: the needle then holds its loop and the
     # tucked loops of one pass (two yarns if plated), well within what a needle holds.
     taken: set[tuple[int, int]] = set()
+    around = _neighbour_loops(passes)
 
     # carrier -> (needle of its last loop, index of the pass that made it, index of its last pass)
     last: dict[str, tuple[int, int, int]] = {}
     adds: dict[int, set[int]] = {}  # pass index -> back needles to tuck
-    long: list[LongFloat] = []
+    solo: dict[int, list[tuple[str, set[int]]]] = {}  # pass index -> (carrier, tucks) before it
     for i, s in enumerate(passes):
         if isinstance(s, CarrierAction):
             if s.action in ("out", "outhook"):
@@ -141,12 +149,15 @@ def tuck_long_floats(
             for c in s.carriers:
                 got = last.get(c)
                 if got is not None and abs(o.needle - got[0]) - 1 > limit:
-                    found = _plan_tucks(
+                    _plan_tucks(
                         passes,
                         backs,
                         adds,
                         (stitched, taken),
-                        {k: v[0] for k, v in last.items()},
+                        around,
+                        solo,
+                        c,
+                        alone,
                         i,
                         o.needle,
                         got,
@@ -154,14 +165,114 @@ def tuck_long_floats(
                         left,
                         right,
                     )
-                    if not found:
-                        long.append(LongFloat(i, c, got[0], o.needle, s.course))
                 last[c] = (o.needle, i, i)
         for c in s.carriers:
             prev = last.get(c)
             if prev is not None:
                 last[c] = (prev[0], prev[1], i)
-    return _apply(passes, adds), long
+    out = _apply(passes, adds, solo)
+    # One yarn's tucks may cut another's float too (a plated pass tucks every yarn): what stays
+    # long is measured on the result, loop to loop, as the checker's simulator measures it.
+    return out, measure_long_floats(out, limit=limit)
+
+
+def measure_long_floats(steps: Sequence[Step], *, limit: int) -> list[LongFloat]:
+    """Every float longer than ``limit`` in ``steps``: from a carrier's loop to its next one.
+
+    Needle slots as the machine sees them (a back needle at racking ``r`` sits at slot
+    ``needle + floor(r)``); a carrier taken out (``out``/``outhook``) starts afresh.
+    """
+    long: list[LongFloat] = []
+    last: dict[str, int] = {}
+    for i, s in enumerate(steps):
+        if isinstance(s, CarrierAction):
+            if s.action in ("out", "outhook"):
+                for c in s.carriers:
+                    last.pop(c, None)
+            continue
+        if s.kind is not PassKind.KNIT:
+            continue
+        shift = math.floor(s.racking)
+        for o in s.ops:
+            if o.op not in _LOOPS:
+                continue
+            slot = o.needle + (shift if o.bed is Bed.BACK else 0)
+            for c in s.carriers:
+                got = last.get(c)
+                if got is not None and abs(slot - got) - 1 > limit:
+                    long.append(LongFloat(i, c, got, slot, s.course))
+                last[c] = slot
+    return long
+
+
+def _neighbour_loops(passes: list[Step]) -> list[dict[str, tuple[int | None, int | None]]]:
+    """Per step: each of its carriers' last loop before it and first loop after it (or None)."""
+    out: list[dict[str, tuple[int | None, int | None]]] = [{} for _ in passes]
+    prev: dict[str, int] = {}
+    for i, s in enumerate(passes):
+        if isinstance(s, CarrierAction):
+            if s.action in ("out", "outhook"):
+                for c in s.carriers:
+                    prev.pop(c, None)
+            continue
+        if s.kind is not PassKind.KNIT:
+            continue
+        out[i] = {c: (prev.get(c), None) for c in s.carriers}
+        loops = [o.needle for o in s.ops if o.op in _LOOPS]
+        if loops:
+            for c in s.carriers:
+                prev[c] = loops[-1]
+    nxt: dict[str, int] = {}
+    for i in range(len(passes) - 1, -1, -1):
+        s = passes[i]
+        if isinstance(s, CarrierAction):
+            if s.action in ("in", "inhook"):
+                for c in s.carriers:
+                    nxt.pop(c, None)
+            continue
+        if s.kind is not PassKind.KNIT:
+            continue
+        out[i] = {c: (b, nxt.get(c)) for c, (b, _) in out[i].items()}
+        loops = [o.needle for o in s.ops if o.op in _LOOPS]
+        if loops:
+            for c in s.carriers:
+                nxt[c] = loops[0]
+    return out
+
+
+def _tucks_fit(
+    p: Pass, tucks: set[int], around: dict[str, tuple[int | None, int | None]], limit: int
+) -> bool:
+    """True when ``tucks`` only cut floats of the yarns of ``p``, into pieces of <= ``limit``.
+
+    Each yarn of the pass loops at its stitches and at every tuck, in pass order, between its
+    last loop before the pass and its first after it. A tuck must lie inside the float it
+    interrupts (between the yarn's neighbouring own loops): then every new float is part of one
+    the schedule already laid, whose crossings of purls float avoidance has cleared; and every
+    float ending at a tuck must be short.
+    """
+    sign = 1 if p.direction == "+" else -1
+    own = [(o.needle, False) for o in p.ops if o.op in _LOOPS]
+    seq = sorted([*own, *((t, True) for t in tucks)], key=lambda x: sign * x[0])
+    for c in p.carriers:
+        before, after = around.get(c, (None, None))
+        full = ([(before, False)] if before is not None else []) + seq
+        full += [(after, False)] if after is not None else []
+        for (x, tx), (y, ty) in pairwise(full):
+            if (tx or ty) and abs(x - y) - 1 > limit:
+                return False
+        loops = [k for k, (_, t) in enumerate(full) if not t]
+        for k, (x, t) in enumerate(full):
+            if not t:
+                continue
+            lo = max((j for j in loops if j < k), default=None)
+            hi = min((j for j in loops if j > k), default=None)
+            if lo is None or hi is None:
+                continue  # the yarn's first loop or its last: nothing before or after to cross
+            u, v = sorted((full[lo][0], full[hi][0]))
+            if not u < x < v:
+                return False
+    return True
 
 
 def _plan_tucks(
@@ -169,7 +280,10 @@ def _plan_tucks(
     backs: list[frozenset[int]],
     adds: dict[int, set[int]],
     once: tuple[dict[int, list[int]], set[tuple[int, int]]],
-    loops: dict[str, int],
+    around: list[dict[str, tuple[int | None, int | None]]],
+    solo: dict[int, list[tuple[str, set[int]]]],
+    carrier: str,
+    alone: bool,
     i: int,
     n: int,
     got: tuple[int, int, int],
@@ -177,7 +291,13 @@ def _plan_tucks(
     left: int,
     right: int,
 ) -> bool:
-    """Tuck the float ``got[0]`` -> ``n`` in the pass that lays it; False if there is none."""
+    """Tuck the float ``got[0]`` -> ``n`` in the pass that lays it; False if there is none.
+
+    In a plated pass every yarn tucks: the tucks must leave each of them short floats
+    (:func:`_tucks_fit`), and no purl face may lie where any of their paths changes. Where the
+    pass that lays the float cannot tuck it (a plated catching pass whose other yarn comes from
+    elsewhere), the carrier tucks alone in a pass of its own right before, on its way to ``n``.
+    """
     a, made_in, last_pass = got
     s = passes[i]
     assert isinstance(s, Pass)
@@ -195,39 +315,105 @@ def _plan_tucks(
         where = made_in
     p = passes[where]
     assert isinstance(p, Pass)
-    lo, hi = sorted((a, n))
-    if len(p.carriers) > 1:
-        # A plated pass tucks all its yarns: only where every one of them comes from beyond the
-        # tucks in this very pass, with no purl face in the way of the paths that changes.
-        if where != i:
+    if where == i and p.racking == 0 and len(p.carriers) > 1:
+        # (Not once a yarn of the pass tucks alone before it: the tucks here were not planned
+        # from where that yarn then is.)
+        if i not in solo and _tuck_in(
+            p, where, a, n, backs, adds, once, around, limit, left, right, outward=False
+        ):
+            return True
+        if made_in == i or not alone:  # (between two loops of this pass, nothing fits before)
             return False
-        ends = [loops[c] for c in p.carriers if c in loops] + [n]
-        lo, hi = min(*ends, lo), max(*ends, hi)
-        if any(lo < t < hi for t in backs[where]):
-            return False
-    if p.racking != 0 or (where != i and any(lo < t < hi for t in backs[where])):
-        # A tuck on the way out would pull the float in front of those purls' faces: the yarn
-        # that passed them as a miss becomes a float between two loops.
-        return False
+        return _tuck_alone(i, carrier, a, n, backs, (adds, solo), once, limit, left, right)
+    return _tuck_in(
+        p, where, a, n, backs, adds, once, around, limit, left, right, outward=where != i
+    )
+
+
+def _free_needles(
+    where: int,
+    a: int,
+    n: int,
+    backs: list[frozenset[int]],
+    busy: set[int],
+    once: tuple[dict[int, list[int]], set[tuple[int, int]]],
+    left: int,
+    right: int,
+) -> set[int]:
+    """Needles strictly between ``a`` and ``n`` whose back bed may take a tuck at pass ``where``."""
     stitched, taken = once
-    busy = {o.needle for o in p.ops} | adds.get(where, set())
-    free = {
+    return {
         t
         for t in range(max(left, min(a, n) + 1), min(right, max(a, n) - 1) + 1)
         if t not in backs[where]
         and t not in busy
         and (t, bisect_right(stitched.get(t, []), where)) not in taken
     }
-    picks = _tuck_needles(a, n, limit, free)
-    if picks is None:
+
+
+def _tuck_alone(
+    i: int,
+    carrier: str,
+    a: int,
+    n: int,
+    backs: list[frozenset[int]],
+    plans: tuple[dict[int, set[int]], dict[int, list[tuple[str, set[int]]]]],
+    once: tuple[dict[int, list[int]], set[tuple[int, int]]],
+    limit: int,
+    left: int,
+    right: int,
+) -> bool:
+    """Tuck the float ``a`` -> ``n`` with ``carrier`` alone in a pass of its own before ``i``."""
+    adds, solo = plans
+    busy = set(adds.get(i, set())).union(*(t for _, t in solo.get(i, [])))
+    picks = _tuck_needles(a, n, limit, _free_needles(i, a, n, backs, busy, once, left, right))
+    if not picks:
         return False
+    # The pass's own tucks (for another yarn's float) must lie ahead of where this yarn stops.
+    stop = max(picks) if n > a else min(picks)
+    if any((t - stop) * (n - a) <= 0 for t in adds.get(i, set())):
+        return False
+    solo.setdefault(i, []).append((carrier, set(picks)))
+    stitched, taken = once
+    taken.update((t, bisect_right(stitched.get(t, []), i)) for t in picks)
+    return True
+
+
+def _tuck_in(
+    p: Pass,
+    where: int,
+    a: int,
+    n: int,
+    backs: list[frozenset[int]],
+    adds: dict[int, set[int]],
+    once: tuple[dict[int, list[int]], set[tuple[int, int]]],
+    around: list[dict[str, tuple[int | None, int | None]]],
+    limit: int,
+    left: int,
+    right: int,
+    *,
+    outward: bool,
+) -> bool:
+    """Tuck the float ``a`` -> ``n`` in pass ``where`` (all its yarns tuck); ``outward``: on
+    the way out of the pass that made ``a``."""
+    lo, hi = sorted((a, n))
     if len(p.carriers) > 1:
-        # Every yarn of the plated pass must reach the tucks from beyond them.
-        far = max(picks) if a > n else min(picks)
-        if any(
-            (loops.get(c, far) < far) if a > n else (loops.get(c, far) > far) for c in p.carriers
-        ):
+        ends = [e for c in p.carriers for e in around[where].get(c, (None, None)) if e is not None]
+        lo, hi = min(*ends, lo), max(*ends, hi)
+        if any(lo < t < hi for t in backs[where]):
             return False
+    if p.racking != 0 or (outward and any(lo < t < hi for t in backs[where])):
+        # A tuck on the way out would pull the float in front of those purls' faces: the yarn
+        # that passed them as a miss becomes a float between two loops.
+        return False
+    stitched, taken = once
+    busy = {o.needle for o in p.ops} | adds.get(where, set())
+    free = _free_needles(where, a, n, backs, busy, once, left, right)
+    picks = _tuck_needles(a, n, limit, free)
+    if picks is None or not _tucks_fit(
+        p, adds.get(where, set()) | set(picks), around[where], limit
+    ):
+        return False
     adds.setdefault(where, set()).update(picks)
     taken.update((t, bisect_right(stitched.get(t, []), where)) for t in picks)
     return True
@@ -241,7 +427,9 @@ def _starts_beyond(q: Step, a: int, direction: str | None) -> bool:
     return end >= a if direction == "-" else end <= a
 
 
-def _apply(passes: list[Step], adds: dict[int, set[int]]) -> list[Step]:
+def _apply(
+    passes: list[Step], adds: dict[int, set[int]], solo: dict[int, list[tuple[str, set[int]]]]
+) -> list[Step]:
     out: list[Step] = []
     pending: Pass | None = None
     for i, s in enumerate(passes):
@@ -251,8 +439,24 @@ def _apply(passes: list[Step], adds: dict[int, set[int]]) -> list[Step]:
             # on a pass running the hook's way, which a transfer in between would upset.)
             out.append(pending)
             pending = None
-        tucks = adds.get(i)
-        if not tucks or not isinstance(s, Pass):
+        alone: set[int] = set()
+        for carrier, picks in solo.get(i, []):
+            assert isinstance(s, Pass)
+            sign = 1 if s.direction == "+" else -1
+            out.append(
+                Pass(
+                    PassKind.KNIT,
+                    tuple(Op(OpKind.TUCK, Bed.BACK, t) for t in sorted(picks, key=sign.__mul__)),
+                    s.direction,
+                    (carrier,),
+                    0.0,
+                    Role.FLOAT_AVOIDANCE,
+                    s.course,
+                )
+            )
+            alone |= picks
+        tucks = adds.get(i, set())
+        if not isinstance(s, Pass) or not (tucks or alone):
             out.append(s)
             continue
         sign = 1 if s.direction == "+" else -1
@@ -263,7 +467,7 @@ def _apply(passes: list[Step], adds: dict[int, set[int]]) -> list[Step]:
         out.append(replace(s, ops=tuple(ops)))
         pending = Pass(
             PassKind.XFER,
-            tuple(Op(OpKind.XFER, Bed.BACK, t, Bed.FRONT, t) for t in sorted(tucks)),
+            tuple(Op(OpKind.XFER, Bed.BACK, t, Bed.FRONT, t) for t in sorted(tucks | alone)),
             None,
             (),
             0.0,

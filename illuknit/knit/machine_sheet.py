@@ -4,7 +4,9 @@
 machine reads (the Kniterate's ``.kc``) and the facts to set the machine up with: which cone goes
 on which carrier (waste yarn and draw thread included), the stitch numbers used, the needles the
 piece occupies, and the passes and time on that machine. For the Kniterate these are read from
-the ``.kc`` itself (waste section and the backend's carriage moves included).
+the ``.kc`` itself (waste section and the backend's carriage moves included); for a Shima machine
+from the SWG backend's passes (:func:`illuknit.formats.machine_passes`: kickbacks, carrier moves
+and hook passes included).
 """
 
 from __future__ import annotations
@@ -13,8 +15,7 @@ import re
 from dataclasses import dataclass
 from typing import Any
 
-from illuknit.errors import UnknownNameError
-from illuknit.knit.machine import MachineSpec
+from illuknit.formats import check_format  # one check for the CLI, the sheet and the app
 from illuknit.knit.pipeline import KnitResult
 from illuknit.knit.timing import format_duration
 
@@ -27,13 +28,6 @@ class MachineSheet:
 
     files: dict[str, str]
     summary: dict[str, Any]
-
-
-def check_format(machine: MachineSpec, output_format: str) -> None:
-    """Raise :class:`~illuknit.errors.UnknownNameError` unless ``machine`` takes the format."""
-    formats = ("knitout", *machine.formats)
-    if output_format not in formats:
-        raise UnknownNameError(f"output format for the {machine.name}", output_format, formats)
 
 
 def _carrier_table(result: KnitResult) -> list[dict[str, str]]:
@@ -88,6 +82,16 @@ def machine_sheet(result: KnitResult, *, name: str = "command.kc") -> MachineShe
         passes, seconds = int(facts["passes"]), float(facts["time_seconds"])  # type: ignore[call-overload, arg-type]
         needles = facts["needles"]
         numbers = list(facts["stitch_numbers"])  # type: ignore[call-overload]
+    elif "dat" in m.formats:
+        # the Shima SWG backend's own passes: its kickbacks, carrier moves and hook passes
+        from illuknit.formats import machine_passes
+
+        runs = [p.needle_range for p in machine_passes(result.text)]
+        passes = len(runs)
+        seconds = sum(m.pass_seconds(hi - lo + 1) for lo, hi in runs)
+        needles = (min(lo for lo, _ in runs), max(hi for _, hi in runs))
+        found = re.findall(r"^x-stitch-number (\S+)", result.text, flags=re.MULTILINE)
+        numbers = sorted(set(found))
     else:
         stats = result.stats
         passes = stats.passes + stats.hook_passes

@@ -10,7 +10,7 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 from typing import Any
 
-from illuknit.errors import PatternValidationError
+from illuknit.errors import CarrierShortageError, PatternValidationError, SchedulingError
 from illuknit.knit.carriage import machine_run, machine_stats, runs_on_swg
 from illuknit.knit.knitout import write_knitout
 from illuknit.knit.machine import DEFAULT_MACHINE, MachineSpec
@@ -138,18 +138,31 @@ def knit_pattern(
     validate_ablation(
         float_avoidance=float_avoidance, catching=catching, path_planning=path_planning
     )
-    if stitches.mixed_courses().size:
-        schedule = schedule_mixed(
-            stitches,
-            machine=plan_machine,
-            float_avoidance=float_avoidance,
-            catching=catching,
-            path_planning=path_planning,
-            strict_floats=strict_floats,
-            catch_every=catch_every,
+    try:
+        if stitches.mixed_courses().size:
+            schedule = schedule_mixed(
+                stitches,
+                machine=plan_machine,
+                float_avoidance=float_avoidance,
+                catching=catching,
+                path_planning=path_planning,
+                strict_floats=strict_floats,
+                catch_every=catch_every,
+            )
+        else:
+            schedule = schedule_courses(stitches, machine=plan_machine)
+    except SchedulingError as e:
+        if m.inserting_hook or type(e) not in (SchedulingError, CarrierShortageError):
+            raise
+        reserved = (
+            f"; on the {m.name} carriers {m.draw_carrier} and {m.waste_carrier} hold the draw "
+            f"thread and the waste yarn, leaving {len(plan_machine.carriers)} for the pattern"
         )
-    else:
-        schedule = schedule_courses(stitches, machine=plan_machine)
+        if isinstance(e, CarrierShortageError):
+            raise CarrierShortageError(
+                f"{e}{reserved}", course=e.course, needed=e.needed, available=e.available
+            ) from None
+        raise SchedulingError(f"{e}{reserved}") from None
     if m.inserting_hook:
         text = write_knitout(schedule, machine=m)
     else:

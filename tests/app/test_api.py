@@ -273,10 +273,12 @@ def test_big_picture_is_reduced_on_upload(client):
     r = upload(client, sid, "a", buf.getvalue(), name="wide.jpg", mime="image/jpeg")
     assert r.status_code == 200
     im = r.json()["images"]["a"]
-    assert (im["width"], im["height"]) == (2000, 500)
+    # reduced while decoding by a whole factor, to at most 2000 pixels (the library's reader)
+    assert (im["width"], im["height"]) == (1200, 300)
     assert im["bytes"] == len(buf.getvalue())
+    assert im["notes"] == ["reduced from 2400 x 600 to 1200 x 300 pixels while reading"]
     kept = Image.open(io.BytesIO(client.get(f"/api/sessions/{sid}/images/a").content))
-    assert kept.size == (2000, 500)
+    assert kept.size == (1200, 300)
 
 
 def test_upload_without_file_and_bad_slot(client):

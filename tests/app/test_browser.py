@@ -122,7 +122,7 @@ def test_design_two_pictures_pick_tilt_download(browser, base_url, tmp_path):
 
     context = browser.new_context(viewport={"width": 1440, "height": 1000}, accept_downloads=True)
     page = context.new_page()
-    page.set_default_timeout(30_000)
+    page.set_default_timeout(60_000)
     problems: list[str] = []
     page.on("pageerror", lambda e: problems.append(f"page error: {e}"))
     page.on(
@@ -165,10 +165,12 @@ def test_design_two_pictures_pick_tilt_download(browser, base_url, tmp_path):
     sync_api.expect(page.locator("#quant img")).to_have_count(2)
     sync_api.expect(page.locator("#quant .legend li").first).to_be_visible()
     cards = page.locator(".cand")
-    sync_api.expect(cards.first).to_be_visible(timeout=60_000)
+    sync_api.expect(cards.first).to_be_visible(timeout=120_000)
     n = cards.count()
     assert n >= 2, "the canonical bank offers several tile mappings for two two-colour pictures"
     sync_api.expect(page.locator(".cand.sel")).to_have_attribute("data-rank", "1")
+    # the uploads and the width edit replaced running searches: no red banner for that
+    assert page.locator("#banner").is_hidden()
 
     # pick the second candidate
     cards.nth(1).click()
@@ -190,7 +192,7 @@ def test_design_two_pictures_pick_tilt_download(browser, base_url, tmp_path):
     # make the knitout (a background job with progress), then download it
     page.click("#make-knit")
     knit_button = page.locator("[data-dl='knitout.k']")
-    sync_api.expect(knit_button).to_be_enabled(timeout=60_000)
+    sync_api.expect(knit_button).to_be_enabled(timeout=120_000)
     sync_api.expect(page.locator("#knit-summary")).to_contain_text("Knitout ready")
     with page.expect_download() as dl:
         knit_button.click()
@@ -219,7 +221,7 @@ def test_design_two_pictures_pick_tilt_download(browser, base_url, tmp_path):
     assert Path(dat.path()).read_bytes() == knitout_to_dat(text)
 
     # each candidate's measures (readability, ghosting, knitting time), then re-ranked by one
-    sync_api.expect(page.locator(".cand .measures")).to_have_count(n, timeout=60_000)
+    sync_api.expect(page.locator(".cand .measures")).to_have_count(n, timeout=120_000)
     sync_api.expect(page.locator(".cand .measures").first).to_contain_text("min to knit")
     page.select_option("#order", "knit_time")
     page.wait_for_selector("#cands[data-order='knit_time'] .cand .measures")
@@ -228,6 +230,17 @@ def test_design_two_pictures_pick_tilt_download(browser, base_url, tmp_path):
         for t in page.locator(".cand .measures").all_text_contents()
     ]
     assert len(minutes) == n and minutes == sorted(minutes), minutes
+
+    # where it fails: the side previews become the diagnostic overlay, and back
+    page.check("#where-fails")
+    page.wait_for_function(
+        "document.querySelector('#pv-A').src.includes('diagnostic.png') && "
+        "document.querySelector('#pv-A').complete && document.querySelector('#pv-A').naturalWidth > 0"
+    )
+    assert "diagnostic.png" in (page.get_attribute("#pv-B", "src") or "")
+    assert "render" in (page.get_attribute("#pv-headon", "src") or "")
+    page.uncheck("#where-fails")
+    page.wait_for_function("document.querySelector('#pv-A').src.includes('/render?')")
 
     shot = tmp_path / "app.png"
     page.screenshot(path=str(shot), full_page=True)
@@ -328,4 +341,35 @@ def test_a_page_of_another_site_cannot_change_the_app(browser, served, elsewhere
     page.goto(url)
     page.wait_for_selector("body[data-ready='1']")
     assert len(app.state.store) == before + 1
+    context.close()
+
+
+def test_an_evicted_session_is_said_in_the_page(browser, served, tmp_path):
+    """When the server closes a tab's session to free memory, the tab says so plainly."""
+    url, app = served
+    context = browser.new_context()
+    page = context.new_page()
+    page.goto(url)
+    page.wait_for_selector("body[data-ready='1']")
+    page.set_input_files("#file-a", str(banded(tmp_path / "mine.png", slice(0, 10))))
+    sync_api.expect(page.locator("#meta-a")).to_contain_text("mine.png")
+    sid = page.get_attribute("body", "data-session")
+    store = app.state.store
+    deadline = time.monotonic() + 60
+    while not store.get(sid).images:  # the page shows the name before the upload has landed
+        assert time.monotonic() < deadline, "the upload did not reach the server"
+        time.sleep(0.05)
+    limit, store.max_bytes = store.max_bytes, 0
+    try:
+        other = store.create()
+        assert sid in store.trim(keep=other.id)
+    finally:
+        store.max_bytes = limit
+    page.reload()
+    page.wait_for_selector("body[data-ready='1']")
+    banner = page.locator("#banner")
+    sync_api.expect(banner).to_be_visible()
+    sync_api.expect(banner).to_contain_text("closed to make room for newer work")
+    sync_api.expect(banner).to_contain_text("A new session has started")
+    assert page.get_attribute("body", "data-session") != sid
     context.close()

@@ -18,6 +18,7 @@ from illuknit.app import create_app
 from illuknit.app.measures import ORDERS, order_candidates
 from illuknit.app.server import AppConfig
 from illuknit.bench.metrics import angled_renders, picture_scores
+from illuknit.tiles import perception
 
 
 def box(top: int, left: int) -> bytes:
@@ -65,20 +66,22 @@ def measured(client, app):
     return sid
 
 
-def test_every_candidate_is_measured_with_the_benchmarks_numbers(client, app, measured):
+def test_every_candidate_is_measured_with_the_librarys_numbers(client, app, measured):
     body = client.get(f"/api/sessions/{measured}/candidates").json()
     assert body["measured"] and len(body["candidates"]) >= 2
     session = app.state.store.get(measured)
+    q = session.prepared.quantised
     for c, cand in zip(body["candidates"], session.candidates, strict=True):
         m = c["measures"]
-        # recomputed here from the bench's own functions: the app shows the same numbers
+        # recomputed here with the library's function: the app shows the same numbers
+        ref = perception.measure_candidate(cand.pattern, [q["a"].rgb(), q["b"].rgb()])
+        assert m["readability"] == pytest.approx(list(ref.readability), abs=1e-4)
+        assert m["worst_ghosting"] == pytest.approx(ref.worst_ghosting, abs=1e-4)
+        assert m["perceptual_score"] == pytest.approx(ref.perceptual_score, abs=1e-4)
+        # and the readability is the bench's render correlation
         renders, _ = angled_renders(cand.pattern)
-        ta, tb = (session.prepared.quantised[k].rgb() / 255.0 for k in ("a", "b"))
-        s = picture_scores(renders, ta, tb, double=True)
-        assert m["readability_a"] == pytest.approx(s["render_corr_a"], abs=1e-4)
-        assert m["readability_b"] == pytest.approx(s["render_corr_b"], abs=1e-4)
-        assert m["readability"] == min(m["readability_a"], m["readability_b"])
-        assert m["ghosting"] == max(abs(m["ghosting_a"]), abs(m["ghosting_b"]))
+        s = picture_scores(renders, q["a"].rgb() / 255.0, q["b"].rgb() / 255.0, double=True)
+        assert m["readability"][0] == pytest.approx(s["render_corr_a"], abs=1e-4)
         assert m["knit_minutes"] > 0 and m["machine_passes"] > 0 and m["knit_note"] == ""
 
 
@@ -89,8 +92,10 @@ def test_candidates_re_rank_by_any_measure(client, measured, order):
     assert sorted(c["rank"] for c in got) == list(range(1, len(got) + 1))
     key = {
         "rank": lambda c: c["rank"],
-        "readability": lambda c: -c["measures"]["readability"],
-        "ghosting": lambda c: c["measures"]["ghosting"],
+        "perception": lambda c: -c["measures"]["perceptual_score"],
+        "readability": lambda c: -c["measures"]["worse_readability"],
+        "contrast": lambda c: -c["measures"]["worse_contrast"],
+        "ghosting": lambda c: c["measures"]["worst_ghosting"],
         "knit_time": lambda c: c["measures"]["knit_minutes"],
     }[order]
     values = [key(c) for c in got]
@@ -101,16 +106,34 @@ def test_bad_order_and_measuring_nothing_are_refused(client):
     sid = client.post("/api/sessions").json()["id"]
     r = client.get(f"/api/sessions/{sid}/candidates", params={"order": "beauty"})
     assert r.status_code == 422 and r.json()["error"]["field"] == "order"
-    assert r.json()["error"]["message"].startswith("Order must be one of: rank, readability")
+    assert r.json()["error"]["message"].startswith(
+        "Order must be one of: rank, perception, readability"
+    )
     r = client.post(f"/api/sessions/{sid}/jobs", json={"kind": "measures"})
     assert r.status_code == 409 and r.json()["error"]["field"] == "candidates"
 
 
-def test_unmeasured_candidates_go_last():
+def test_candidates_stay_in_rank_order_until_measured():
     class C:
-        def __init__(self, rank, measures):
-            self.rank, self.measures = rank, measures
+        def __init__(self, rank, measured):
+            self.rank, self.measured, self.score = rank, measured, float(rank)
 
-    cs = [C(1, None), C(2, {"readability": 0.5, "ghosting": 0.1}), C(3, {"readability": 0.9})]
-    assert [c.rank for c in order_candidates(cs, "readability")] == [3, 2, 1]
-    assert [c.rank for c in order_candidates(cs, "knit_time")] == [1, 2, 3]
+    cs = [C(2, None), C(1, object())]
+    assert [c.rank for c in order_candidates(cs, "perception")] == [1, 2]
+
+
+def test_diagnostic_overlay_of_each_side(client, app, measured):
+    from illuknit.tiles.perception import diagnostic_rgb
+
+    session = app.state.store.get(measured)
+    q = session.prepared.quantised
+    pattern = session.candidates[0].pattern
+    for view, own, other in (("A", "a", "b"), ("B", "b", "a")):
+        r = client.get(f"/api/sessions/{measured}/diagnostic.png", params={"view": view})
+        assert r.status_code == 200 and r.headers["content-type"] == "image/png"
+        got = np.asarray(Image.open(io.BytesIO(r.content)).convert("RGB"))
+        ref, _ = diagnostic_rgb(pattern, q[own].rgb(), q[other].rgb(), view=view)
+        s = got.shape[0] // ref.shape[0]
+        assert np.array_equal(got[::s, ::s], ref)
+    r = client.get(f"/api/sessions/{measured}/diagnostic.png", params={"view": "headon"})
+    assert r.status_code == 422 and r.json()["error"]["field"] == "view"

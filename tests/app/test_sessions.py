@@ -39,7 +39,7 @@ def test_pictures_are_kept_as_uint8_at_the_working_grid():
         Image.new("RGB", (3000, 1500), (10, 200, 30)).save(buf, format="JPEG", quality=95)
         assert upload(c, sid, "a", buf.getvalue(), "big.jpg").status_code == 200
         im = app.state.store.get(sid).images["a"]
-        assert im.rgb.dtype == np.uint8 and im.rgb.shape == (1000, 2000, 3)
+        assert im.rgb.dtype == np.uint8 and im.rgb.shape == (750, 1500, 3)
         assert im.sent_bytes == len(buf.getvalue()) and not hasattr(im, "data")
         assert np.abs(im.rgb.astype(int) - (10, 200, 30)).max() <= 3
 

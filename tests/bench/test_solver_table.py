@@ -160,3 +160,13 @@ def test_helpers_in_their_own_session_die_with_the_run(tiny, tmp_path, monkeypat
         time.sleep(0.1)
     else:
         pytest.fail(f"helper {pid} outlived its run")
+
+
+def test_dask_executor_runs_solver_rows(tiny, tmp_path):
+    pytest.importorskip("dask.distributed", reason="needs illuknit[dask]")
+    table = run_solver_table(
+        make_tasks([tiny], ["dp", "rc2"], time_limit=20), tmp_path, executor="dask", jobs=1
+    )
+    rows = {r["solver"]: r for r in table.rows}
+    assert rows["dp"]["status"] == rows["rc2"]["status"] == "optimal"
+    assert rows["rc2"]["verified_cost"] == rows["dp"]["reference_optimum"]

@@ -138,3 +138,11 @@ def test_bench_unreachable_dask_scheduler_leaves_nothing(tmp_path, capsys):
         )  # fmt: skip
     assert_one_line(code, err, "cannot reach the Dask scheduler")
     assert not out.exists()
+
+
+@pytest.mark.parametrize("flag", [["--yarns", "black"], ["--colors", "1"]])
+def test_solve_with_one_yarn_is_an_error(flag, files, capsys):
+    out = files["T"] / "out"
+    code, _, err = run(["solve", files["PIC"], "--model", "single", *flag, "-o", str(out)], capsys)
+    assert_one_line(code, err, "at least 2 yarns")
+    assert not out.exists()

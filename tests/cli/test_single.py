@@ -208,3 +208,33 @@ def test_single_output_under_a_file_is_one_line(picture, tmp_path, capsys):
         ["single", str(picture), "-o", str(tmp_path / "existing_file" / "sub")], capsys
     )
     assert code == 2 and len(err.strip().splitlines()) == 1 and "file in the way" in err
+
+
+def test_wrote_n_files_is_the_true_count(picture, tmp_path, capsys):
+    out = tmp_path / "out"
+    text = ok(["single", str(picture), "-o", str(out)], capsys)
+    line = next(s for s in text.splitlines() if s.startswith("wrote"))
+    n = len(list(out.iterdir()))
+    assert line.startswith(f"wrote {n} files")
+    assert all(p.name in line for p in out.iterdir())
+
+
+@pytest.mark.parametrize("yarns", [None, "black,white"])
+def test_legend_shows_the_middle_color_as_a_mix_of_two_yarns(tmp_path, capsys, yarns):
+    rgb = np.full((12, 18, 3), 245, np.uint8)
+    rgb[:, :6] = 15
+    rgb[:, 6:12] = (200, 140, 90)  # a middle colour ("sandybrown"-like)
+    Image.fromarray(rgb).save(tmp_path / "three.png")
+    out = tmp_path / "out"
+    args = ["single", str(tmp_path / "three.png"), "-o", str(out)]
+    ok([*args, "--yarns", yarns] if yarns else args, capsys)
+    legend = json.loads((out / "legend.json").read_text())["picture"]
+    p = load_pattern(out / "pattern.json")
+    knitted = {y.name: y.hex for y in p.yarns}
+    mid = next(e for e in legend if e["yarn"] not in knitted)
+    dark, light = (y for y in sorted(p.yarns, key=lambda y: sum(y.rgb)))
+    assert mid["yarn"] == f"mix of {dark.name} and {light.name}"
+    mix = np.round((np.array(dark.rgb) + np.array(light.rgb)) / 2).astype(int)
+    assert mid["yarn_color"] == "#" + "".join(f"{v:02x}" for v in mix)
+    assert mid["image_color"] != mid["yarn_color"]
+    assert [e["yarn"] for e in legend if e is not mid] == [dark.name, light.name]

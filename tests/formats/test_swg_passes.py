@@ -109,7 +109,14 @@ def test_transfers_merge_undirected_and_keep_their_racking():
         ("in 3\nknit + f1 3\nx-foo 1\nout 3\n", UnsupportedKnitoutError, "x-foo"),
         ("in 3\nknit + f1 3\nsplit + f1 bs1 3\nout 3\n", UnsupportedKnitoutError, "slider"),
         ("in 3 4\nknit + f1 3\nout 3 4\n", MachineRuleError, "does not match"),
+        ("in 3\nsplit + f1 b1 3\nout 3\n", UnsupportedKnitoutError, "knit or tuck"),
         ("inhook 3\nknit + f1 3\nout 3\n", MachineRuleError, "releasehook"),
+        # the reference writes this file but asserts KnitPaint will refuse it
+        (
+            "inhook 3\nknit - f2 3\nknit - f1 3\nxfer f1 b1\nreleasehook 3\nouthook 3\n",
+            MachineRuleError,
+            "carriage move",
+        ),
     ],
 )
 def test_refused_programs_name_their_fault(body, error, match):

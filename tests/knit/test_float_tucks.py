@@ -6,6 +6,8 @@ from dataclasses import replace
 from itertools import pairwise
 
 import numpy as np
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 from illuknit.check import check_knitout
 from illuknit.check.parse import parse_knitout
@@ -67,3 +69,89 @@ def test_stranded_pattern_keeps_floats_within_the_limit_and_knits_clean():
     )
     report = check_knitout(result.text, machine=m)
     assert report.ok and report.pieces == 1
+
+
+def test_a_plated_pass_whose_other_yarn_comes_from_elsewhere_gets_a_tuck_pass_of_its_own():
+    # carrier 1 ends at 30 and carrier 2 at 5, both moving right; the plated leftward stitch at
+    # 2 floats carrier 1 across the piece. Tucks in the plated pass would tuck carrier 2 too,
+    # outside its own short float (5 -> 2), so carrier 1 tucks alone first.
+    steps = [
+        CarrierAction("inhook", ("1",)),
+        knit(range(30, 0, -1), "-", "1"),
+        CarrierAction("releasehook", ("1",)),
+        CarrierAction("inhook", ("2",)),
+        knit(range(6, 3, -1), "-", "2"),
+        CarrierAction("releasehook", ("2",)),
+        knit(range(1, 31), "+", "1"),  # carrier 1 ends at 30, parked right
+        knit([5], "+", "2"),
+        Pass(PassKind.KNIT, (Op(OpKind.KNIT, Bed.FRONT, 2),), "-", ("1", "2")),
+    ]
+    out, long = tuck_long_floats(steps, limit=10, left=1, right=30, alone=True)
+    assert not long
+    alone = [
+        s
+        for s in out
+        if isinstance(s, Pass)
+        and s.kind is PassKind.KNIT
+        and all(o.op is OpKind.TUCK for o in s.ops)
+    ]
+    assert alone and all(len(s.carriers) == 1 for s in alone)
+    # every tuck is moved to the front right after the plated pass
+    plated = next(k for k, s in enumerate(out) if isinstance(s, Pass) and len(s.carriers) == 2)
+    back = out[plated + 1]
+    assert back.kind is PassKind.XFER
+    tucked = {o.needle for s in out if isinstance(s, Pass) for o in s.ops if o.op is OpKind.TUCK}
+    assert {o.needle for o in back.ops} == tucked
+
+
+def _random_mixed(seed: int) -> tuple[LogicalPattern, int]:
+    """A small mixed pattern: 2-3 yarns in random blocks, random purls; and a float limit."""
+    rng = np.random.default_rng(seed)
+    n_yarns, wales, rows = (
+        int(rng.integers(2, 4)),
+        int(rng.integers(12, 40)),
+        int(rng.integers(2, 7)),
+    )
+    yarn = np.zeros((rows, wales), np.int16)
+    for _ in range(int(rng.integers(1, 5))):
+        r0 = int(rng.integers(0, rows))
+        c0 = int(rng.integers(0, wales))
+        yarn[r0 : int(rng.integers(r0, rows)) + 1, c0 : int(rng.integers(c0, wales)) + 1] = (
+            rng.integers(0, n_yarns)
+        )
+    raised = rng.random(yarn.shape) < 0.2
+    yarns = parse_yarns("#1b1b1b,#f4f0e8,#cc2222")[: max(n_yarns, 2)]
+    return LogicalPattern(yarn, raised, yarns), int(rng.integers(4, 12))
+
+
+@settings(max_examples=12, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(seed=st.integers(0, 10_000))
+def test_random_mixed_patterns_report_every_long_float_and_check_clean(seed):
+    # The program's floats measured by the checker's simulator: every float over the limit is
+    # one the scheduler lists (same length, same carrier), and tucking breaks nothing.
+    pattern, limit = _random_mixed(seed)
+    m = replace(MachineSpec(), float_limit=limit)
+    result = knit_pattern(pattern, machine=m)
+    sim = simulate_program(parse_knitout(result.text))
+    over = sorted((f.length, f.carrier) for f in sim.floats if f.length > limit)
+    listed = sorted((f.length, f.carrier) for f in result.schedule.long_floats)
+    assert over == listed
+    report = check_knitout(result.text, machine=m)
+    assert not report.blocking, report.blocking[:3]
+
+
+def test_without_tuck_passes_the_plated_float_stays_and_is_reported():
+    steps = [
+        CarrierAction("inhook", ("1",)),
+        knit(range(30, 0, -1), "-", "1"),
+        CarrierAction("releasehook", ("1",)),
+        CarrierAction("inhook", ("2",)),
+        knit(range(6, 3, -1), "-", "2"),
+        CarrierAction("releasehook", ("2",)),
+        knit(range(1, 31), "+", "1"),
+        knit([5], "+", "2"),
+        Pass(PassKind.KNIT, (Op(OpKind.KNIT, Bed.FRONT, 2),), "-", ("1", "2")),
+    ]
+    out, long = tuck_long_floats(steps, limit=10, left=1, right=30)
+    assert out == steps
+    assert [(f.carrier, f.from_needle, f.to_needle, f.length) for f in long] == [("1", 30, 2, 27)]

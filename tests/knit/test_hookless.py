@@ -81,7 +81,7 @@ def test_sheet_lists_cones_stitch_numbers_needles_time() -> None:
 
 
 def test_more_yarns_than_free_carriers_refuses() -> None:
-    with pytest.raises(CarrierShortageError, match="4"):
+    with pytest.raises(CarrierShortageError, match="draw thread and the waste yarn, leaving 4"):
         knit_pattern(mixed((4, 10), k=5, seed=1), machine=KNITERATE)
 
 
@@ -129,3 +129,18 @@ def test_cli_bad_machine_or_format_writes_nothing(args, words, tmp_path: Path, c
     assert words in output
     assert len(output.strip().splitlines()) == 1
     assert not out.exists()
+
+
+def test_knitout_option_writes_kc_and_the_sheet_in_knit_json(tmp_path: Path) -> None:
+    from illuknit.cli.knitout_bridge import write_program
+
+    paths = write_program(mixed(), tmp_path, machine="kniterate")
+    assert paths["kc"].read_text().startswith("HOME\nRACK:0\n// program.kc\n")
+    s = json.loads(paths["knit"].read_text())
+    assert s["machine"] == "Kniterate" and s["machine_passes"] > s["passes"]
+    assert {r["role"] for r in s["carrier_table"]} == {"waste yarn", "draw thread", "pattern"}
+    swg = json.loads(
+        write_program(mixed(), tmp_path / "swg", machine="swg091n2")["knit"].read_text()
+    )
+    assert [r["role"] for r in swg["carrier_table"]] == ["pattern", "pattern"]
+    assert swg["needle_range"][0] >= 0 and swg["machine_time"]

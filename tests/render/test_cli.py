@@ -132,3 +132,43 @@ def test_calibrate_fit_bad_input(tmp_path, capsys):
         "positive integers",
     )
     assert not out.exists() and not (tmp_path / "s").exists()
+
+
+def test_render_refuses_absurd_sizes_with_a_suggestion(tmp_path, capsys):
+    from illuknit.cli.render import check_render_size
+
+    rng = np.random.default_rng(1)
+    p = LogicalPattern(
+        rng.integers(0, 2, (60, 60)),
+        rng.random((60, 60)) < 0.4,
+        (Yarn("white", (250, 250, 250)), Yarn("navy", (0, 0, 128))),
+    )
+    path = tmp_path / "p60.json"
+    save_pattern(p, path)
+    out = tmp_path / "out"
+    _fails(
+        ["render", str(path), "--scale", "64", "--frames", "400", "-o", str(out)],
+        capsys,
+        "try --frames",
+    )
+    assert not out.exists()
+    # The suggestion fits.
+    err_frames = 14  # 400e6 // (3840 * 3840) // 2 + 1
+    check_render_size((60, 60), scale=64, frames=err_frames)
+    big = LogicalPattern(np.zeros((1000, 1000), np.int16), np.zeros((1000, 1000), bool), p.yarns)
+    save_pattern(big, tmp_path / "big.json")
+    _fails(
+        ["render", str(tmp_path / "big.json"), "--scale", "8", "-o", str(out)],
+        capsys,
+        "try --scale 4",
+    )
+    assert not out.exists()
+
+
+def test_render_names_only_the_files_it_wrote(tmp_path, pattern_file, capsys):
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "mine.txt").write_text("x")
+    main(["render", str(pattern_file), "--frames", "3", "--scale", "2", "-o", str(out)])
+    line = capsys.readouterr().out.strip().splitlines()[-1]
+    assert line.startswith("wrote 6 files") and "mine.txt" not in line

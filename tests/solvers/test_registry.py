@@ -145,3 +145,9 @@ def test_every_backend_is_described_with_version_and_availability():
     assert rows["descent"]["kind"] == "heuristic"
     for name in reg.HERMAX_NAMES:
         assert rows[name]["available"] == "yes" or "illuknit[maxsat]" in rows[name]["available"]
+
+
+def test_lsu_refuses_an_oracle_it_cannot_interrupt():
+    with pytest.raises(UnknownNameError, match="SAT oracle"):
+        get_backend("lsu:cd19")
+    assert get_backend("rc2:cd19").name == "rc2:cd19"

@@ -82,3 +82,22 @@ def test_bad_policies_are_refused():
     with pytest.raises(SolverError, match="needs an illusion model"):
         solve(m, solver="rc2", warm_start="dp")
     assert solve(m, solver="rc2", warm_start="auto").found_by == "rc2"
+
+
+class _Echo(BackendBase):
+    """Times out and hands back its hint unchanged, as RC2's timeout fallback does."""
+
+    name = "echo"
+
+    def solve(self, model, *, time_limit=None, seed=0, progress=None):
+        _, cost = model.evaluate(model.hint)
+        return Solution(Status.TIMEOUT, model.hint, cost, None, 0.01, {}, self.name, model.pool)
+
+
+def test_a_backend_echoing_its_warm_start_does_not_get_the_credit(monkeypatch):
+    import illuknit.solvers as reg
+
+    monkeypatch.setitem(reg._registered, "echo", _Echo)
+    a, b = _pair()
+    sol = solve(build_model(make_problem(a, b)), solver="echo", warm_start="dp")
+    assert sol.backend == "echo" and sol.found_by == "dp"

@@ -6,9 +6,16 @@ from fastapi import APIRouter, Query
 from fastapi.responses import Response
 
 from illuknit.app import design
-from illuknit.app.lookups import SessionDep, candidate_of, current_pattern, state_json
+from illuknit.app.lookups import (
+    SessionDep,
+    candidate_of,
+    current_pattern,
+    prepared_of,
+    state_json,
+)
 from illuknit.app.measures import order_candidates
 from illuknit.app.schemas import OverrideIn, SelectionIn
+from illuknit.errors import AppRequestError
 
 __all__ = ["router"]
 
@@ -18,11 +25,13 @@ router = APIRouter(prefix="/api/sessions/{sid}", tags=["design"])
 @router.get("/candidates", summary="Ranked candidates, in the order asked for")
 def get_candidates(
     s: SessionDep,
-    order: Literal["rank", "readability", "ghosting", "knit_time"] = Query(
+    order: Literal[
+        "rank", "perception", "readability", "contrast", "ghosting", "knit_time"
+    ] = Query(
         "rank",
         title="Order",
-        description="the search's rank, best worse-view readability, least ghosting, or "
-        "fastest to knit (the last three need the measures job)",
+        description="the search's rank, or (once measured) the perceptual score, the worse "
+        "view's readability or contrast, least ghosting, or fastest to knit",
     ),
 ) -> dict[str, Any]:
     with s.lock:
@@ -30,7 +39,7 @@ def get_candidates(
             "revision": s.candidates_revision,
             "selected": s.selected if s.candidates else None,
             "order": order,
-            "measured": bool(s.candidates) and all(c.measures for c in s.candidates),
+            "measured": bool(s.candidates) and all(c.measured for c in s.candidates),
             "candidates": [c.to_json() for c in order_candidates(s.candidates, order)],
         }
 
@@ -105,4 +114,39 @@ def render(
     img = design.render_view(pattern, view, angle=angle)
     return Response(
         design.png_bytes(img), media_type="image/png", headers={"Cache-Control": "no-store"}
+    )
+
+
+@router.get(
+    "/diagnostic.png",
+    summary="Where a side fails: wrong shade in red, the other picture ghosting through in blue",
+)
+def diagnostic(
+    s: SessionDep,
+    view: Literal["A", "B"] = Query("A", title="View", description="side A or side B"),
+    angle: float = Query(30.0, gt=0, le=90, title="Viewing angle"),
+    candidate: int | None = Query(None, ge=1, title="Candidate"),
+) -> Response:
+    from illuknit.previews import upscale
+    from illuknit.tiles.perception import diagnostic_rgb
+
+    pattern = current_pattern(s, candidate)
+    prepared = prepared_of(s)
+    q = prepared.quantised
+    if prepared.mode == "headon":
+        raise AppRequestError(
+            "the diagnostic overlay is for single and double views",
+            field="angle",
+            code="not_available",
+            status=409,
+        )
+    own, other = ("a", "b") if view == "A" else ("b", "a")
+    picture = q.get(own, q["a"]).rgb()
+    other_picture = q[other].rgb() if prepared.mode == "double" else None
+    img, _ = diagnostic_rgb(pattern, picture, other_picture, view=view, angle=angle)
+    scale = max(1, 480 // max(img.shape[:2]))
+    return Response(
+        design.png_bytes(upscale(img, scale)),
+        media_type="image/png",
+        headers={"Cache-Control": "no-store"},
     )

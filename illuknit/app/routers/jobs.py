@@ -53,7 +53,7 @@ def start_measures(s: Session, runner: JobRunner) -> Job:
             status=409,
         )
 
-    def work(job: Job) -> list[dict[str, Any]]:
+    def work(job: Job) -> list[Any]:
         out = []
         for k, c in enumerate(candidates):
             job.report(k / len(candidates), f"measuring candidate {k + 1} of {len(candidates)}")
@@ -64,7 +64,7 @@ def start_measures(s: Session, runner: JobRunner) -> Job:
         with s.lock:
             if s.revision == job.revision and s.candidates == candidates:
                 for c, m in zip(candidates, job.result, strict=True):
-                    c.measures = m
+                    c.measured = m
 
     return runner.submit("measures", work, revision=rev, on_done=done)
 

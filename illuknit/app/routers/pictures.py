@@ -37,9 +37,9 @@ def put_image(
             code="too_large",
             status=413,
         )
-    rgb = design.decode_upload(data, file.filename or "", field=field)
+    rgb, notes = design.decode_upload(data, file.filename or "", field=field)
     with s.lock:
-        s.images[slot] = UploadedImage(file.filename or f"{slot}.png", len(data), rgb)
+        s.images[slot] = UploadedImage(file.filename or f"{slot}.png", len(data), rgb, notes)
         s.bump()
         state = state_json(s)
     del data

@@ -214,8 +214,10 @@ function applyState(s) {
       thumb.hidden = false;
       $(`#hint-${slot}`).hidden = true;
       $(`#drop-${slot}`).classList.add("has");
-      $(`#meta-${slot}`).textContent = `${im.filename} · ${im.width}×${im.height}px`;
-      $(`#meta-${slot}`).title = im.filename;
+      // what the reader did to it (a reduction, an animation's first frame) is said, not hidden
+      const notes = (im.notes || []).join("; ");
+      $(`#meta-${slot}`).textContent = `${im.filename} · ${im.width}×${im.height}px${notes ? ` · ${notes}` : ""}`;
+      $(`#meta-${slot}`).title = notes ? `${im.filename}: ${notes}` : im.filename;
     } else {
       thumb.hidden = true;
       thumb.removeAttribute("src");
@@ -496,6 +498,11 @@ function renderUrl(view, rank, angle) {
   return `/api/sessions/${state.sid}/render?${q}`;
 }
 
+function diagnosticUrl(view) {
+  const q = new URLSearchParams({ view, angle: String(state.angle), r: `${state.candRevision}.${state.editTick || 0}` });
+  return `/api/sessions/${state.sid}/diagnostic.png?${q}`;
+}
+
 async function measureCandidates() {
   try {
     const job = await startJob("measures");
@@ -508,8 +515,11 @@ async function measureCandidates() {
 function measuresText(m) {
   const f = (x) => (x == null ? "–" : x.toFixed(2));
   const parts = [];
-  if (m.readability != null) parts.push(`reads A ${f(m.readability_a)} · B ${f(m.readability_b)}`);
-  if (m.ghosting != null) parts.push(`ghosting ${f(m.ghosting)}`);
+  if (m.views.length) {
+    parts.push(`reads ${m.views.map((v, i) => `${v} ${f(m.readability[i])}`).join(" · ")}`);
+    parts.push(`contrast ${f(m.worse_contrast)}`);
+    if (m.ghosting.some((g) => g != null)) parts.push(`ghosting ${f(m.worst_ghosting)}`);
+  }
   if (m.knit_minutes != null) parts.push(`${m.knit_minutes.toFixed(1)} min to knit`);
   else if (m.knit_note) parts.push(m.knit_note);
   return parts.join(" · ");
@@ -556,6 +566,7 @@ async function loadCandidates() {
       m.className = "measures";
       m.textContent = measuresText(cand.measures);
       m.title = "readability: how well each side's render matches its picture (1 is best); " +
+        "contrast: how much of its light/dark difference survives (1 is all); " +
         "ghosting: how much of the other picture shows through (0 is best)";
       card.appendChild(m);
     }
@@ -619,7 +630,9 @@ function updatePreview() {
 
 function loadLive(view) {
   const img = $(`#pv-${view}`);
-  const want = renderUrl(view, null, state.angle);
+  // "where it fails": the side views as diagnostics (wrong shade red, ghosting blue)
+  const diagnose = $("#where-fails").checked && view !== "headon" && state.settings.mode !== "headon";
+  const want = diagnose ? diagnosticUrl(view) : renderUrl(view, null, state.angle);
   const slot = live[view] || (live[view] = { busy: false, next: null });
   if (slot.busy) { slot.next = want; return; }
   slot.busy = true;
@@ -850,6 +863,7 @@ function wire() {
   };
   num("width_units", (v) => Math.round(Number(v)));
   $("#machine").addEventListener("change", () => saveSettings({ machine: $("#machine").value }));
+  $("#where-fails").addEventListener("change", () => updatePreview());
   $("#order").addEventListener("change", () => {
     clearError("order");
     if (state.candidates.length) loadCandidates().catch((err) => report(err, "order"));

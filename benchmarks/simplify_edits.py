@@ -1,0 +1,66 @@
+"""Issue #16 target: ``--simplify`` raises the worse view's readability on at least half of the
+bundled photo instances and lowers it on none.
+
+For every bundled double-view instance whose pictures are photographs (``image = ...`` in
+``instances/manifest.toml``; ``--all`` adds the drawn ones), the suggested edits of
+:mod:`illuknit.tiles.simplify` are tried as ``illuknit double --simplify`` tries them (five
+candidates per design, ranked by perception, judged against the original pictures). Printed:
+the worse-view readability and worst ghosting before and after, and each edit's verdict.
+
+    python benchmarks/simplify_edits.py [--all] [--candidates 5]
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+from functools import partial
+
+from illuknit.bench.instances import instance_targets, load_manifest
+from illuknit.tiles.simplify import apply_edits, best_reading
+
+
+def _is_photo(inst) -> bool:
+    return any("image" in spec for spec in inst.inputs.values())
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--all", action="store_true", help="also the drawn double-view instances")
+    ap.add_argument("--candidates", type=int, default=5)
+    args = ap.parse_args()
+    insts = [i for i in load_manifest().instances if i.kind == "double"]
+    if not args.all:
+        insts = [i for i in insts if _is_photo(i)]
+    print(
+        f"{'instance':<24} {'before (read/ghost)':>20} {'after':>14}  edits (+ kept, - refused)  seconds"
+    )
+    raised = lowered = 0
+    for inst in insts:
+        t0 = time.perf_counter()
+        t = instance_targets(inst)
+        measure = partial(
+            best_reading,
+            colors=(t.palette, t.palette),
+            targets=[t.rgb("A"), t.rgb("B")],
+            candidates=args.candidates,
+            yarns=inst.yarns,
+        )
+        before = measure(t.a, t.b)
+        _, _, results = apply_edits(t.a, t.b, measure)
+        after = next((r.after for r in reversed(results) if r.accepted), before)
+        raised += after[0] > before[0] + 1e-6
+        lowered += after[0] < before[0] - 1e-6
+        verdicts = " ".join(("+" if r.accepted else "-") + r.suggestion.name for r in results)
+        print(
+            f"{inst.name:<24} {before[0]:>12.3f}/{before[1]:.3f} {after[0]:>8.3f}/{after[1]:.3f}"
+            f"  {verdicts or '(no edit applies)'}  {time.perf_counter() - t0:.1f}"
+        )
+    print(
+        f"target: raised on >= half ({raised}/{len(insts)}), lowered on none ({lowered}) -> "
+        f"{'met' if raised * 2 >= len(insts) and lowered == 0 else 'NOT met'}"
+    )
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,170 @@
+"""Candidates ranked by how they read (tiles.perception) and the `double` outputs built on it."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from PIL import Image
+
+from illuknit.cli import main
+from illuknit.errors import OptionError
+from illuknit.pattern import LogicalPattern, parse_yarns
+from illuknit.tiles.assign import assign_tiles
+from illuknit.tiles.perception import (
+    CONTRAST_FLOOR,
+    RANK_KEYS,
+    CandidateMeasures,
+    diagnostic_rgb,
+    measure_candidate,
+    rank_candidates,
+    rank_designs,
+)
+
+YARNS = parse_yarns("black,white")
+
+
+def _m(read, contrast=(0.5, 0.5), ghost=(0.0, 0.0), minutes=None):
+    return CandidateMeasures(("A", "B"), tuple(read), tuple(contrast), tuple(ghost), minutes)
+
+
+def _disc(n: int, r: float, cy: float, cx: float) -> np.ndarray:
+    y, x = np.mgrid[:n, :n]
+    return ((y - cy) ** 2 + (x - cx) ** 2 < r * r).astype(np.int16)
+
+
+def test_contrast_below_the_floor_costs_a_readable_looking_candidate_its_place():
+    washed = _m((0.97, 0.96), contrast=(0.05, 0.05))  # correlates, but no light/dark left
+    clear = _m((0.93, 0.92), contrast=(0.45, 0.40))
+    assert rank_candidates([washed, clear], [1.0, 2.0]) == [1, 0]
+    # above the floor, readability leads: contrast is not traded against it
+    assert rank_candidates([_m((0.97, 0.96), (CONTRAST_FLOOR, 0.3)), clear], [2.0, 1.0]) == [0, 1]
+
+
+@given(
+    st.lists(
+        st.tuples(
+            st.floats(-1, 1), st.floats(-1, 1), st.floats(0, 1), st.floats(0, 1), st.floats(0, 1)
+        ),
+        min_size=1,
+        max_size=8,
+    )
+)
+@settings(max_examples=60, deadline=None)
+def test_default_order_is_by_perceptual_score_and_every_key_is_a_permutation(rows):
+    ms = [_m((a, b), (c, c), (g, -g)) for a, b, c, g, _ in rows]
+    scores = [s for *_, s in rows]
+    order = rank_candidates(ms, scores)
+    assert sorted(order) == list(range(len(ms)))
+    ps = [ms[i].perceptual_score for i in order]
+    assert ps == sorted(ps, reverse=True)
+    for key in RANK_KEYS:
+        if key != "knit-time":
+            assert sorted(rank_candidates(ms, scores, by=key)) == list(range(len(ms)))
+    assert rank_candidates(ms, scores, by="score") == sorted(
+        range(len(ms)), key=lambda i: (scores[i], i)
+    )
+
+
+def test_bad_rank_keys_are_option_errors():
+    with pytest.raises(OptionError, match="rank by one of"):
+        rank_candidates([_m((1, 1))], [0.0], by="beauty")
+    with pytest.raises(OptionError, match="knitting time"):
+        rank_candidates([_m((1, 1))], [0.0], by="knit-time")
+    assert rank_candidates(
+        [_m((1, 1), minutes=2.0), _m((1, 1), minutes=1.0)], [0, 0], by="knit-time"
+    ) == [1, 0]
+
+
+def test_measures_see_the_picture_and_the_ghost():
+    a = _disc(30, 9, 15, 10)
+    b = _disc(30, 8, 15, 20)
+    pal = np.array([[240, 240, 240], [20, 20, 20]], np.uint8)
+    # A pattern that shows picture A from both sides: readable as A, ghosting A into view B.
+    p = LogicalPattern(a.astype(np.int16), np.zeros_like(a), YARNS[::-1])
+    m = measure_candidate(p, [pal[a], pal[b]])
+    assert m.readability[0] > 0.9
+    assert m.readability[1] < 0.6
+    assert abs(m.ghosting[1]) > 0.3
+    assert 0.5 < m.contrast[0] < 1.5
+    flat = LogicalPattern(np.zeros_like(a), np.zeros_like(a), YARNS)
+    fm = measure_candidate(flat, [pal[a], pal[b]])
+    assert fm.worse_readability == 0.0  # a flat field reads as nothing (nan counted as 0)
+    with pytest.raises(OptionError):
+        measure_candidate(flat, [pal[a]])
+
+
+def test_diagnostic_marks_wrong_units_red():
+    a = _disc(30, 9, 15, 15)
+    pal = np.array([[240, 240, 240], [20, 20, 20]], np.uint8)
+    good = LogicalPattern(a.astype(np.int16), np.zeros_like(a), YARNS[::-1])
+    img, stats = diagnostic_rgb(good, pal[a])
+    assert img.shape == (30, 30, 3) and img.dtype == np.uint8
+    assert stats["wrong"] < 0.05
+    broken = a.copy()
+    broken[11:19, 11:19] = 0  # a hole knitted in the disc
+    bad = LogicalPattern(broken.astype(np.int16), np.zeros_like(a), YARNS[::-1])
+    img, stats = diagnostic_rgb(bad, pal[a])
+    assert stats["wrong"] > 0.03
+    red = (img[..., 0] > 200) & (img[..., 1] < 60)
+    near = np.zeros_like(red)
+    near[8:24, 8:24] = True
+    assert red[near].sum() > 0 and red[~near].sum() == 0
+
+
+def test_rank_designs_default_reads_best_on_a_small_pair():
+    a, b = _disc(24, 8, 12, 8), _disc(24, 7, 10, 16)
+    pal = np.array([[20, 20, 20], [240, 240, 240]], np.uint8)
+    cands = assign_tiles((a, pal), (b, pal), yarns=YARNS, candidates=4)
+    ranked = rank_designs(cands, [pal[a], pal[b]])
+    assert [r.assignment.rank for r in ranked] == list(range(1, len(ranked) + 1))
+    assert sorted(r.score_rank for r in ranked) == sorted(c.rank for c in cands)
+    top = ranked[0].measures.perceptual_score
+    assert all(top >= r.measures.perceptual_score for r in ranked)
+
+
+def _run(argv, capsys):
+    try:
+        main(argv)
+        code = 0
+    except SystemExit as e:
+        code = e.code
+    return code, capsys.readouterr()
+
+
+def test_double_writes_measures_diagnostics_and_reranks(tmp_path, capsys):
+    for name, img in (("a.png", _disc(30, 10, 15, 11)), ("b.png", _disc(30, 9, 15, 19))):
+        Image.fromarray(((1 - img) * 255).astype(np.uint8)).save(tmp_path / name)
+    out = tmp_path / "out"
+    code, r = _run(
+        ["double", str(tmp_path / "a.png"), str(tmp_path / "b.png"), "-o", str(out)], capsys
+    )
+    assert code == 0, r.err
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["ranked_by"] == "perception"
+    rows = summary["candidates"]
+    assert rows[0]["default"] and rows[0]["rank"] == 1
+    assert rows[0]["perceptual_score"] == max(row["perceptual_score"] for row in rows)
+    for row in rows:
+        assert len(row["readability"]) == 2 and len(row["ghosting"]) == 2
+        for letter in "ab":
+            assert (out / row["folder"] / f"diagnostic_{letter}.png").is_file()
+    report = json.loads((out / "candidate_1" / "report.json").read_text())
+    assert "perceptual_score" in json.dumps(report)
+    by_score = tmp_path / "by_score"
+    code, r = _run(
+        ["double", str(tmp_path / "a.png"), str(tmp_path / "b.png"), "-o", str(by_score),
+         "--rank-by", "score"], capsys,
+    )  # fmt: skip
+    assert code == 0, r.err
+    rows = json.loads((by_score / "summary.json").read_text())["candidates"]
+    assert [row["score_rank"] for row in rows] == [row["rank"] for row in rows]
+    code, r = _run(
+        ["double", str(tmp_path / "a.png"), str(tmp_path / "b.png"), "-o", str(tmp_path / "x"),
+         "--rank-by", "beauty"], capsys,
+    )  # fmt: skip
+    assert code == 2 and not (tmp_path / "x").exists()
+    assert len(r.err.strip().splitlines()) == 1
