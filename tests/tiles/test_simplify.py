@@ -44,7 +44,7 @@ def test_merge_leaves_no_small_region_that_had_a_neighbour(idx, k):
 
 @given(maps)
 @settings(max_examples=60, deadline=None)
-def test_smoothing_keeps_solid_areas_and_colours(idx):
+def test_smoothing_keeps_solid_areas_and_colors(idx):
     out = smooth_boundaries(idx)
     assert set(np.unique(out)) <= set(np.unique(idx))
     flat = np.full_like(idx, int(idx[0, 0]))
