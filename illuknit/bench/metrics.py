@@ -28,10 +28,10 @@
 * **Colour changes per course**: for each pattern row (both of its knitting courses carry the same
   colours), the number of horizontally adjacent unit pairs of different yarn; mean and max over
   rows. Also the distinct yarns per row (mean, max) — a lower bound on carriers per course.
-* **Knitting**: carriage passes (every pass of the schedule), transfer passes and estimated time from the knit scheduler
-  (:mod:`illuknit.knit`); when the scheduler cannot handle the pattern (e.g. colour changes inside
-  a course before the mixed-colourwork scheduler exists) the fields are empty and ``knit_note``
-  gives the reason.
+* **Knitting**: the carriage passes the machine runs for the pattern's program (the SWG backend's
+  pass rows), transfer passes and the estimated time on them (:func:`knit_stats`); when the
+  pattern cannot be knit (e.g. wider than the bed) the fields are empty and ``knit_note`` gives
+  the reason.
 * **Peak memory**: resident set size sampled every 5 ms while the cell runs
   (:class:`PeakMemory`), reported as the peak and as the peak above the level at the start.
 """
@@ -309,11 +309,9 @@ def knit_stats(pattern: LogicalPattern, *, machine: str | None = None) -> dict[s
     """Carriage passes and knitting time as the machine runs them.
 
     The pattern is knit with :func:`illuknit.knit.knit_pattern` on ``machine`` (a preset of
-    :func:`illuknit.knit.machine.get_machine`; default the ``generic540`` bed), and its program's
-    passes are counted as the SWG machine runs them (:func:`illuknit.formats.machine_passes`,
-    equal to the pass rows of the reference backend's ``.dat``): carrier moves, kickbacks and hook
-    passes included. The time is the machine's time model
-    (:meth:`~illuknit.knit.machine.MachineSpec.pass_seconds`) summed over those passes.
+    :func:`illuknit.knit.machine.get_machine`; default the ``generic540`` bed), which reports the
+    passes the SWG machine runs for the program (the pass rows of the reference backend's
+    ``.dat``: carrier moves, kickbacks and hook passes included) and the time on them.
 
     Returns
     -------
@@ -323,14 +321,11 @@ def knit_stats(pattern: LogicalPattern, *, machine: str | None = None) -> dict[s
         unavailable) and ``knit_note`` (empty, or why the numbers are missing).
     """
     from illuknit.errors import IlluknitError
-    from illuknit.formats import PassKind, machine_passes
     from illuknit.knit import knit_pattern
     from illuknit.knit.machine import get_machine
 
-    spec = get_machine(machine)
     try:
-        result = knit_pattern(pattern, machine=spec)
-        passes = machine_passes(result.program)
+        result = knit_pattern(pattern, machine=get_machine(machine))
     except IlluknitError as e:
         return {
             "carriage_passes": None,
@@ -339,16 +334,11 @@ def knit_stats(pattern: LogicalPattern, *, machine: str | None = None) -> dict[s
             "knit_time_min": None,
             "knit_note": f"not schedulable: {e}",
         }
-    transfers = {PassKind.TRANSFER, PassKind.TRANSFER_TO_SLIDERS, PassKind.TRANSFER_FROM_SLIDERS}
-    seconds = 0.0
-    for p in passes:
-        crossed = p.slots[-1][0] - p.slots[0][0] + 1 if p.slots else 0
-        seconds += spec.pass_seconds(crossed)
     return {
-        "carriage_passes": len(passes),
-        "transfer_passes": sum(p.kind in transfers for p in passes),
+        "carriage_passes": int(result.stats.passes),
+        "transfer_passes": int(result.stats.transfer_passes),
         "scheduled_passes": int(result.schedule.stats.passes),
-        "knit_time_min": seconds / 60.0,
+        "knit_time_min": float(result.time.seconds) / 60.0,
         "knit_note": "",
     }
 

@@ -67,8 +67,9 @@ def format_summary(rows: Sequence[dict[str, Any]]) -> str:
         f"σ = {BLUR_SIGMA:g} units in linear light. *Corr*: correlation of blurred luminance "
         "(is the picture there, whatever its contrast). *Ghost* (double view): how much of the "
         "other view's picture shows through. *Head-on* (single view): how visible the picture is "
-        "head-on (should be low). *Changes*: colour changes per course (mean / max). Passes and "
-        "knit time from the knit scheduler.",
+        "head-on (should be low). *Changes*: colour changes per course (mean / max). *Passes*: "
+        "the carriage passes the SWG machine runs for the pattern's knitout program (the pass "
+        "rows of the reference backend's .dat), *knit time* on those passes.",
         "",
     ]
     by_inst: dict[str, list[dict[str, Any]]] = {}

@@ -108,7 +108,6 @@ def test_knit_stats_for_one_color_per_course_and_for_mixed_courses():
     assert ks["knit_note"] == ""
     from illuknit.formats import machine_passes
     from illuknit.knit import knit_pattern
-    from illuknit.knit.machine import DEFAULT_MACHINE
 
     # the machine's passes (the .dat's rows), not the scheduler's own count
     ref = knit_pattern(stripes)
@@ -117,9 +116,8 @@ def test_knit_stats_for_one_color_per_course_and_for_mixed_courses():
     assert ks["carriage_passes"] == len(passes) == ref.stats.passes >= ref.schedule.stats.passes
     assert ks["scheduled_passes"] == ref.schedule.stats.passes
     assert ks["transfer_passes"] == sum(p.kind.value == "transfer" for p in passes)
-    spans = [p.slots[-1][0] - p.slots[0][0] + 1 if p.slots else 0 for p in passes]
-    seconds = sum(DEFAULT_MACHINE.pass_seconds(n) for n in spans)
-    assert ks["knit_time_min"] == pytest.approx(seconds / 60)
+    assert ks["knit_time_min"] == pytest.approx(ref.time.seconds / 60)
+    assert ref.time.passes == len(passes)  # the time is counted on the machine's passes
     assert ks["carriage_passes"] > 0 and ks["knit_time_min"] > 0
     assert 0 <= ks["transfer_passes"] < ks["carriage_passes"]
     narrow = knit_stats(stripes, machine="swg091n2")
