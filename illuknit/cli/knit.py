@@ -35,6 +35,7 @@ def run_knit(
     strict_floats: bool = False,
     catch_every: int = 2,
     output_format: str = "knitout",
+    tuck_passes: bool = False,
 ) -> dict[str, Any]:
     """Compile ``pattern_path`` to knitout (or a machine file: ``output_format="dat"``) at
     ``output``; return the summary (and checker verdict).
@@ -77,6 +78,7 @@ def run_knit(
         path_planning=path_planning,
         strict_floats=strict_floats,
         catch_every=catch_every,
+        tuck_passes=tuck_passes,
     )
     summary = result.summary()
     if check:
@@ -158,6 +160,12 @@ def run_knit(
     "the limit (default: bridge the shortest gaps with longer floats).",
 )
 @click.option(
+    "--tuck-passes",
+    is_flag=True,
+    help="Tuck a long float of a plated catching pass in a pass of the floating yarn alone "
+    "(fewer long floats, more passes; default: keep them and warn).",
+)
+@click.option(
     "--float-avoidance",
     "float_avoidance_on",
     is_flag=True,
@@ -212,6 +220,7 @@ def knit(
     seconds_per_turn: float | None,
     float_limit: int | None,
     strict_floats: bool,
+    tuck_passes: bool,
     float_avoidance_on: bool,
     no_float_avoidance: bool,
     catching_on: bool,
@@ -243,6 +252,7 @@ def knit(
         output,
         float_limit=float_limit,
         strict_floats=strict_floats,
+        tuck_passes=tuck_passes,
         float_avoidance=not no_float_avoidance,
         catching=not no_catching,
         catch_every=catch_every,

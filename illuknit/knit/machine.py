@@ -194,6 +194,10 @@ class MachineSpec:
         reserved = {self.waste_carrier, self.draw_carrier}
         return tuple(c for c in self.carriers if c not in reserved)
 
+    def pass_seconds(self, needles_crossed: int) -> float:
+        """Time model: seconds for one carriage pass across ``needles_crossed`` needles."""
+        return needles_crossed * self.seconds_per_needle + self.seconds_per_turn
+
     @property
     def max_units(self) -> int:
         """Widest pattern in units (one unit is two wales) that fits on the bed."""

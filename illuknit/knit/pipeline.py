@@ -93,13 +93,15 @@ def knit_pattern(
     path_planning: str = "anchor",
     strict_floats: bool = False,
     catch_every: int = 2,
+    tuck_passes: bool = False,
 ) -> KnitResult:
     """Compile a logical pattern to a knitout program.
 
     Patterns with one colour per course go to :func:`~illuknit.knit.schedule.schedule_courses`;
     patterns that change colour inside a course to the mixed-colourwork scheduler
     :func:`~illuknit.knit.mixed.schedule_mixed`, whose switches (``float_avoidance``,
-    ``catching``, ``catch_every``, ``path_planning``, ``strict_floats``) apply to them only.
+    ``catching``, ``catch_every``, ``path_planning``, ``strict_floats``, ``tuck_passes``) apply
+    to them only.
 
     Parameters
     ----------
@@ -148,6 +150,7 @@ def knit_pattern(
                 path_planning=path_planning,
                 strict_floats=strict_floats,
                 catch_every=catch_every,
+                tuck_passes=tuck_passes,
             )
         else:
             schedule = schedule_courses(stitches, machine=plan_machine)

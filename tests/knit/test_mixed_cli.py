@@ -135,3 +135,19 @@ def test_calibration_swatch_command_writes_a_checked_program(tmp_path, capsys):
     report = json.loads((out / "check.json").read_text())
     assert report["ok"] and report["pieces"] == 1
     assert json.loads((out / "knit.json").read_text())["scheduler"] == "mixed-colourwork"
+
+
+def test_tuck_passes_flag_tucks_plated_floats_in_passes_of_their_own(tmp_path, capsys):
+    from tests.knit.test_float_tucks import _random_mixed
+
+    pattern, limit = _random_mixed(3)  # 2 x 14, a plated pass whose float cannot tuck in it
+    path = tmp_path / "p.json"
+    save_pattern(pattern, path)
+    base = ["knit", str(path), "--float-limit", str(limit), "--json"]
+    code, stdout, _ = run([*base, "-o", str(tmp_path / "a.k")], capsys)
+    plain = json.loads(stdout)
+    code2, stdout2, _ = run([*base, "-o", str(tmp_path / "b.k"), "--tuck-passes"], capsys)
+    tucked = json.loads(stdout2)
+    assert code == code2 == 0
+    assert 0 < tucked["long_floats"] < plain["long_floats"]
+    assert tucked["passes"] > plain["passes"]
