@@ -184,10 +184,6 @@ class MachineSpec:
             return self.cast_on_stitch_number
         return self.stitch_number
 
-    def pass_seconds(self, needles_crossed: int) -> float:
-        """Time model: seconds for one carriage pass across ``needles_crossed`` needles."""
-        return needles_crossed * self.seconds_per_needle + self.seconds_per_turn
-
     @property
     def pattern_carriers(self) -> tuple[str, ...]:
         """Carriers free for the pattern's yarns: all but the waste-yarn and draw-thread ones."""
