@@ -10,7 +10,6 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from PIL import Image
 
-from illuknit.cli import main
 from illuknit.errors import OptionError
 from illuknit.pattern import LogicalPattern, parse_yarns
 from illuknit.tiles.assign import assign_tiles
@@ -126,22 +125,11 @@ def test_rank_designs_default_reads_best_on_a_small_pair():
     assert all(top >= r.measures.perceptual_score for r in ranked)
 
 
-def _run(argv, capsys):
-    try:
-        main(argv)
-        code = 0
-    except SystemExit as e:
-        code = e.code
-    return code, capsys.readouterr()
-
-
-def test_double_writes_measures_diagnostics_and_reranks(tmp_path, capsys):
+def test_double_writes_measures_diagnostics_and_reranks(tmp_path, run_cli):
     for name, img in (("a.png", _disc(30, 10, 15, 11)), ("b.png", _disc(30, 9, 15, 19))):
         Image.fromarray(((1 - img) * 255).astype(np.uint8)).save(tmp_path / name)
     out = tmp_path / "out"
-    code, r = _run(
-        ["double", str(tmp_path / "a.png"), str(tmp_path / "b.png"), "-o", str(out)], capsys
-    )
+    code, r = run_cli(["double", str(tmp_path / "a.png"), str(tmp_path / "b.png"), "-o", str(out)])
     assert code == 0, r.err
     summary = json.loads((out / "summary.json").read_text())
     assert summary["ranked_by"] == "perception"
@@ -155,16 +143,14 @@ def test_double_writes_measures_diagnostics_and_reranks(tmp_path, capsys):
     report = json.loads((out / "candidate_1" / "report.json").read_text())
     assert "perceptual_score" in json.dumps(report)
     by_score = tmp_path / "by_score"
-    code, r = _run(
+    code, r = run_cli(
         ["double", str(tmp_path / "a.png"), str(tmp_path / "b.png"), "-o", str(by_score),
-         "--rank-by", "score"], capsys,
-    )  # fmt: skip
+         "--rank-by", "score"])  # fmt: skip
     assert code == 0, r.err
     rows = json.loads((by_score / "summary.json").read_text())["candidates"]
     assert [row["score_rank"] for row in rows] == [row["rank"] for row in rows]
-    code, r = _run(
+    code, r = run_cli(
         ["double", str(tmp_path / "a.png"), str(tmp_path / "b.png"), "-o", str(tmp_path / "x"),
-         "--rank-by", "beauty"], capsys,
-    )  # fmt: skip
+         "--rank-by", "beauty"])  # fmt: skip
     assert code == 2 and not (tmp_path / "x").exists()
     assert len(r.err.strip().splitlines()) == 1

@@ -12,7 +12,6 @@ from hypothesis.extra.numpy import arrays
 from PIL import Image
 from scipy import ndimage
 
-from illuknit.cli import main
 from illuknit.errors import OptionError
 from illuknit.tiles.simplify import (
     EDIT_NAMES,
@@ -90,25 +89,15 @@ def test_unknown_edit_is_an_option_error():
         suggest_edits(np.zeros((3, 3), int), np.zeros((3, 3), int), names=["erase-everything"])
 
 
-def _run(argv, capsys):
-    try:
-        main(argv)
-        code = 0
-    except SystemExit as e:
-        code = e.code
-    return code, capsys.readouterr()
-
-
-def test_double_suggest_writes_before_after_and_simplify_designs_with_kept_edits(tmp_path, capsys):
+def test_double_suggest_writes_before_after_and_simplify_designs_with_kept_edits(tmp_path, run_cli):
     y, x = np.mgrid[:30, :30]
     a = ((y - 15) ** 2 + (x - 11) ** 2 < 90) | ((y - 3) % 7 == 0) & (x % 9 == 0)  # disc + specks
     b = (abs(y - 15) < 8) & (abs(x - 18) < 7)
     for name, img in (("a.png", a), ("b.png", b)):
         Image.fromarray(np.where(img, 20, 235).astype(np.uint8)).save(tmp_path / name)
-    code, r = _run(
+    code, r = run_cli(
         ["double", str(tmp_path / "a.png"), str(tmp_path / "b.png"), "--suggest",
-         "-o", str(tmp_path / "s")], capsys,
-    )  # fmt: skip
+         "-o", str(tmp_path / "s")])  # fmt: skip
     assert code == 0, r.err
     data = json.loads((tmp_path / "s" / "suggestions" / "suggestions.json").read_text())
     assert data["edits"], "the specks invite at least one edit"
@@ -117,16 +106,13 @@ def test_double_suggest_writes_before_after_and_simplify_designs_with_kept_edits
         assert (tmp_path / "s" / "suggestions" / f"{e['edit']}_a.png").is_file()
     summary = json.loads((tmp_path / "s" / "summary.json").read_text())
     assert summary["edits"] == data["edits"]
-    code, r = _run(
+    code, r = run_cli(
         ["double", str(tmp_path / "a.png"), str(tmp_path / "b.png"), "--simplify",
-         "-o", str(tmp_path / "t")], capsys,
-    )  # fmt: skip
+         "-o", str(tmp_path / "t")])  # fmt: skip
     assert code == 0, r.err
     kept = json.loads((tmp_path / "t" / "summary.json").read_text())["edits"]
     assert [e["edit"] for e in kept] == [e["edit"] for e in data["edits"]]
     for e in kept:
         assert e["accepted"] == (e["readability_after"] > e["readability_before"])
-    code, r = _run(
-        ["headon", str(tmp_path / "a.png"), "--simplify", "-o", str(tmp_path / "h")], capsys
-    )
+    code, r = run_cli(["headon", str(tmp_path / "a.png"), "--simplify", "-o", str(tmp_path / "h")])
     assert code == 2 and "double-view" in r.err and not (tmp_path / "h").exists()
