@@ -57,7 +57,7 @@ _API: dict[str, str] = {
     "TileBank": "illuknit.tiles.bank",
     "canonical_bank": "illuknit.tiles.bank",
     "load_bank": "illuknit.tiles.bank",
-    "TileAssignment": "illuknit.tiles.assign",
+    "TileAssignment": "illuknit.tiles.assignment",
     "assign_tiles": "illuknit.tiles.assign",
     "compile_tiles": "illuknit.tiles.compile",
     "assign_headon": "illuknit.tiles.headon",

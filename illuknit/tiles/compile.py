@@ -28,7 +28,7 @@ from numpy.typing import NDArray
 from illuknit.colors import lab_from_rgb
 from illuknit.errors import TileAssignmentError
 from illuknit.pattern import LogicalPattern
-from illuknit.tiles.assign import TileAssignment
+from illuknit.tiles.assignment import TileAssignment
 from illuknit.tiles.tile import Tile, tile_seen
 from illuknit.views import can_see, logical_error
 

@@ -22,7 +22,8 @@ import numpy as np
 
 from illuknit.errors import TileAssignmentError
 from illuknit.pattern import Yarn
-from illuknit.tiles.assign import TileAssignment, _yarns_of, assign_tiles, regions_of
+from illuknit.tiles.assign import _yarns_of, assign_tiles
+from illuknit.tiles.assignment import TileAssignment, regions_of
 from illuknit.tiles.bank import TileBank, ViewPair, canonical_bank
 
 __all__ = ["HEADON_VIEWS", "assign_headon", "headon_bank", "uniform_side"]
