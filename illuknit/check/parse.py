@@ -217,6 +217,24 @@ def _parse_number(token: str, line: int, what: str) -> float:
 
 
 def _parse_operation(body: str, line: int) -> Operation:
+    """One instruction: its parse is cached by text (a program repeats few distinct lines, e.g.
+    the same knit at the same needle every other course), and the copy gets its own line."""
+    try:
+        parsed = _parse_text(body)
+    except KnitoutParseError:
+        return _parse_uncached(body, line)  # raises again, naming this line
+    op = object.__new__(Operation)  # a copy without re-running the frozen __init__
+    op.__dict__.update(parsed.__dict__)
+    op.__dict__["line"] = line
+    return op
+
+
+@functools.lru_cache(maxsize=1 << 16)
+def _parse_text(body: str) -> Operation:
+    return _parse_uncached(body, 1)  # the line is replaced in each copy
+
+
+def _parse_uncached(body: str, line: int) -> Operation:
     tabs = "\t" in body
     tokens = body.split()
     op = tokens[0]
