@@ -298,6 +298,31 @@ class BackendBase:
             found_at=found_at,
         )
 
+    def child_failure(
+        self, model: Model, res: Any, t0: float, stats: dict[str, Any]
+    ) -> Solution | None:
+        """The Solution of a child run (:func:`illuknit.solvers.isolate.run_in_child`) that
+        returned nothing -- status ``timeout`` or ``error`` with its reason -- else None."""
+        if res.status == "ok":
+            return None
+        stats["message"] = res.reason
+        status = Status.TIMEOUT if res.status == "timeout" else Status.ERROR
+        return self.solution(model, status, t0, stats=stats)
+
+    def checked_assignment(
+        self, model: Model, lits: Any, claimed: int, t0: float, stats: dict[str, Any], *, who: str
+    ) -> tuple[NDArray[np.bool_], int, Solution | None]:
+        """The solver's model as an assignment with its cost recomputed by ``model``; records
+        the claimed cost in ``stats``. The third item is an ``error`` Solution when the
+        assignment violates hard clauses (``who`` names the culprit in its message), else None."""
+        values = assignment_from_lits(lits, model.pool.top)
+        ok, cost = model.evaluate(values)
+        stats["claimed_cost"] = claimed + int(model.offset)
+        if ok:
+            return values, cost, None
+        stats["message"] = f"{who} assignment violates hard clauses"
+        return values, cost, self.solution(model, Status.ERROR, t0, values, cost, stats=stats)
+
 
 def assignment_from_lits(lits: Any, top: int) -> NDArray[np.bool_]:
     """Bool array (top + 1,) indexed by variable id from a DIMACS model (list of literals)."""

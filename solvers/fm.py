@@ -19,7 +19,6 @@ from illuknit.solvers.base import (
     ProgressEvent,
     Solution,
     Status,
-    assignment_from_lits,
     check_oracle,
 )
 from illuknit.solvers.isolate import run_in_child
@@ -70,18 +69,15 @@ class FMBackend(BackendBase):
         t0 = time.perf_counter()
         res = run_in_child(lambda _p: _run_fm(model, self.oracle), time_limit=time_limit)
         stats: dict[str, Any] = {"peak_rss_mb": res.peak_rss_mb}
-        if res.status != "ok":
-            stats["message"] = res.reason
-            st = Status.TIMEOUT if res.status == "timeout" else Status.ERROR
-            return self.solution(model, st, t0, stats=stats)
+        if failed := self.child_failure(model, res, t0, stats):
+            return failed
         if not res.value["sat"]:
             return self.solution(model, Status.INFEASIBLE, t0, stats=stats)
-        values = assignment_from_lits(res.value["lits"], model.pool.top)
-        ok, cost = model.evaluate(values)
-        stats["claimed_cost"] = res.value["cost"] + int(model.offset)
-        if not ok:
-            stats["message"] = "FM's assignment violates hard clauses"
-            return self.solution(model, Status.ERROR, t0, values, cost, stats=stats)
+        values, cost, bad = self.checked_assignment(
+            model, res.value["lits"], res.value["cost"], t0, stats, who="FM's"
+        )
+        if bad:
+            return bad
         if progress:
             progress(ProgressEvent(time.perf_counter() - t0, cost, cost))
         return self.solution(model, Status.OPTIMAL, t0, values, cost, float(cost), stats)

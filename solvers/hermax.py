@@ -27,7 +27,6 @@ from illuknit.solvers.base import (
     ProgressEvent,
     Solution,
     Status,
-    assignment_from_lits,
 )
 from illuknit.solvers.isolate import run_in_child
 
@@ -118,12 +117,8 @@ class HermaxBackend(BackendBase):
             time_limit=time_limit,
         )
         stats: dict[str, Any] = {"peak_rss_mb": res.peak_rss_mb}
-        if res.status == "timeout":
-            stats["message"] = res.reason
-            return self.solution(model, Status.TIMEOUT, t0, stats=stats)
-        if res.status != "ok":
-            stats["message"] = res.reason
-            return self.solution(model, Status.ERROR, t0, stats=stats)
+        if failed := self.child_failure(model, res, t0, stats):
+            return failed
         out = res.value
         code = out["code"]
         stats["signature"] = out["signature"]
@@ -136,13 +131,12 @@ class HermaxBackend(BackendBase):
             return self.solution(
                 model, Status.TIMEOUT if timed_out else Status.ERROR, t0, stats=stats
             )
-        values = assignment_from_lits(out["lits"], model.pool.top)
-        ok, cost = model.evaluate(values)
-        stats["claimed_cost"] = out["cost"] + int(model.offset)
         stats["claimed_status"] = "OPTIMUM FOUND" if code == _OPTIMUM else "SATISFIABLE"
-        if not ok:
-            stats["message"] = "the solver's assignment violates hard clauses"
-            return self.solution(model, Status.ERROR, t0, values, cost, stats=stats)
+        values, cost, bad = self.checked_assignment(
+            model, out["lits"], out["cost"], t0, stats, who="the solver's"
+        )
+        if bad:
+            return bad
         if progress:
             progress(ProgressEvent(time.perf_counter() - t0, cost, None))
         if code == _OPTIMUM:
