@@ -13,7 +13,6 @@ from __future__ import annotations
 
 import os
 import shutil
-import socket
 import threading
 import time
 from pathlib import Path
@@ -54,27 +53,12 @@ if not (os.path.exists(CHROMIUM) or shutil.which("chromium")):
     )
 
 
-def free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return int(s.getsockname()[1])
-
-
 @pytest.fixture(scope="module")
-def served():
+def served(serve_app):
     """(page URL, app): the app served by uvicorn on a free loopback port."""
-    port = free_port()
     app = create_app(AppConfig())
-    srv = uvicorn.Server(uvicorn.Config(app, host="127.0.0.1", port=port, log_level="warning"))
-    thread = threading.Thread(target=srv.run, daemon=True)
-    thread.start()
-    deadline = time.monotonic() + 20
-    while not srv.started:
-        assert time.monotonic() < deadline and thread.is_alive(), "server did not start"
-        time.sleep(0.02)
-    yield f"http://127.0.0.1:{port}/", app
-    srv.should_exit = True
-    thread.join(10)
+    with serve_app(app) as port:
+        yield f"http://127.0.0.1:{port}/", app
 
 
 @pytest.fixture(scope="module")

@@ -8,9 +8,6 @@ from __future__ import annotations
 
 import http.client
 import json
-import socket
-import threading
-import time
 
 import pytest
 
@@ -23,26 +20,11 @@ from illuknit.app import create_app  # noqa: E402
 from illuknit.app.server import AppConfig  # noqa: E402
 
 
-def free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return int(s.getsockname()[1])
-
-
 @pytest.fixture(scope="module")
-def served():
-    port = free_port()
+def served(serve_app):
     app = create_app(AppConfig(isolate_knit=False, allowed_hosts=("studio.local",)))
-    srv = uvicorn.Server(uvicorn.Config(app, host="127.0.0.1", port=port, log_level="warning"))
-    thread = threading.Thread(target=srv.run, daemon=True)
-    thread.start()
-    deadline = time.monotonic() + 20
-    while not srv.started:
-        assert time.monotonic() < deadline and thread.is_alive(), "server did not start"
-        time.sleep(0.02)
-    yield app, port
-    srv.should_exit = True
-    thread.join(10)
+    with serve_app(app) as port:
+        yield app, port
 
 
 def call(port: int, method: str, path: str, headers: dict[str, str] | None = None, body=None):

@@ -29,34 +29,11 @@ from illuknit.app.server import AppConfig  # noqa: E402
 from illuknit.cli import main  # noqa: E402
 
 
-def free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return int(s.getsockname()[1])
-
-
 @pytest.fixture(scope="module")
-def server():
+def server(serve_app):
     """uvicorn in a background thread on a free loopback port, with a 100 kB upload limit."""
-    port = free_port()
-    srv = uvicorn.Server(
-        uvicorn.Config(
-            create_app(AppConfig(max_upload_bytes=100_000, isolate_knit=False)),
-            host="127.0.0.1",
-            port=port,
-            log_level="warning",
-        )
-    )
-    thread = threading.Thread(target=srv.run, daemon=True)
-    thread.start()
-    deadline = time.monotonic() + 20
-    while not srv.started:
-        assert time.monotonic() < deadline, "server did not start"
-        assert thread.is_alive(), "server thread died"
-        time.sleep(0.02)
-    yield port
-    srv.should_exit = True
-    thread.join(10)
+    with serve_app(create_app(AppConfig(max_upload_bytes=100_000, isolate_knit=False))) as port:
+        yield port
 
 
 def post_session(port: int) -> str:
