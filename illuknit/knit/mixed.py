@@ -41,7 +41,7 @@ carrier-placing ``miss`` pass that continues its carrier's previous pass into th
 needles.
 
 **Bind-off**: every loop to the front, then the one-colour chain
-(:func:`~illuknit.knit.schedule.bind_off_steps`) in one yarn, started where the last course ended
+(:func:`~illuknit.knit.edges.bind_off_steps`) in one yarn, started where the last course ended
 (the carrier whose last loop is nearest an edge it is parked beyond; the others go out first).
 With catching off each run is bound off on its own instead (tail, then the loop is dropped), so
 that nothing the scheduler adds joins the regions.

@@ -13,6 +13,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 from illuknit.knit.color_runs import CoursePlan, Segment
+from illuknit.knit.edges import bind_off_steps, cast_on_steps
 from illuknit.knit.ir import (
     ActionKind,
     Bed,
@@ -35,7 +36,6 @@ from illuknit.knit.path_planning import (
     advance,
     plan_item,
 )
-from illuknit.knit.schedule import bind_off_steps
 
 __all__ = ["Emitter", "bind_off", "cast_on"]
 
@@ -142,9 +142,10 @@ class Emitter:
 def cast_on(em: Emitter, segments: Sequence[Segment], *, park: Park | None) -> int:
     """Cast on each carrier of the first course over its own wales; returns the passes made.
 
-    Each carrier comes in on the inserting hook and tuck-casts-on its wales: alternate needles
-    leftward from its rightmost wale, then (when parking) the hook is released and the other
-    needles are tucked rightward, running on to park the carrier right of the fabric.
+    Each carrier comes in on the inserting hook and tuck-casts-on its wales
+    (:func:`~illuknit.knit.edges.cast_on_steps`): alternate needles leftward from its rightmost
+    wale, then (when parking) the hook is released and the other needles are tucked rightward,
+    running on to park the carrier right of the fabric.
     """
     machine, left = em.machine, em.left
     edge = left + em.wales - 1
@@ -152,44 +153,40 @@ def cast_on(em: Emitter, segments: Sequence[Segment], *, park: Park | None) -> i
     cast_fixed = 0
     for seg in segments:
         needles = [left + w for w in seg.wales]
-        down = needles[::-1][0::2]
-        up = sorted(set(needles) - set(down))
         car = seg.carrier
-        em.steps.append(CarrierAction(ActionKind.INHOOK, (car,)))
-        # A lone wale has no rightward tucks: its carrier parks left at once (when parking).
-        end = park[0] if park is not None and not up else needles[0] - 1
-        ops = [Op(OpKind.TUCK, Bed.FRONT, n) for n in down] + [Op(OpKind.MISS, Bed.FRONT, end)]
-        em.steps.append(
-            Pass(PassKind.KNIT, tuple(ops), "-", (car,), 0.0, Role.CAST_ON, None, cast_sn)
-        )
-        state = CarrierState(end, "-", down[-1])
-        cast_fixed += 1
+        lone = len(needles) == 1
         if park is not None:
             # Release the hook after the leftward tucks: the rightward ones can then run on to
             # park the carrier right of the fabric, out of every other carrier's way (before the
-            # release nothing may pass right of the hook).
-            em.steps.append(CarrierAction(ActionKind.RELEASEHOOK, (car,)))
-        if up:
-            ops = [Op(OpKind.TUCK, Bed.FRONT, n) for n in up]
-            if park is not None:
-                ops.append(Op(OpKind.MISS, Bed.FRONT, park[1]))
-            em.steps.append(
-                Pass(PassKind.KNIT, tuple(ops), "+", (car,), 0.0, Role.CAST_ON, None, cast_sn)
+            # release nothing may pass right of the hook). A lone wale has no rightward tucks:
+            # its carrier parks left at once.
+            steps = cast_on_steps(
+                car,
+                needles,
+                left_end=park[0] if lone else needles[0] - 1,
+                right_end=park[1],
+                hook="between",
+                stitch_number=cast_sn,
             )
-            state = CarrierState(ops[-1].needle, "+", up[-1])
-            cast_fixed += 1
-        if park is None:
-            em.steps.append(CarrierAction(ActionKind.RELEASEHOOK, (car,)))
-            if up and needles[-1] == edge:
+        else:
+            steps = cast_on_steps(
+                car,
+                needles,
+                left_end=needles[0] - 1,
+                right_end=None,
+                hook="after",
+                stitch_number=cast_sn,
+            )
+            if not lone and needles[-1] == edge:
                 # As in the one-colour cast-on: once the hook is released, park the carrier
                 # right of the fabric so that its first course starts leftward from behind.
                 to = Op(OpKind.MISS, Bed.FRONT, edge + machine.park_distance)
-                em.steps.append(
-                    Pass(PassKind.KNIT, (to,), "+", (car,), 0.0, Role.PARK, None, cast_sn)
-                )
-                state = CarrierState(to.needle, "+", up[-1])
-                cast_fixed += 1
-        em.states[car] = state
+                steps.append(Pass(PassKind.KNIT, (to,), "+", (car,), 0.0, Role.PARK, None, cast_sn))
+        passes = [s for s in steps if isinstance(s, Pass)]
+        em.steps.extend(steps)
+        cast_fixed += len(passes)
+        tucked = [op.needle for p in passes for op in p.ops if op.op is OpKind.TUCK]
+        em.states[car] = CarrierState(passes[-1].ops[-1].needle, passes[-1].direction, tucked[-1])
     return cast_fixed
 
 

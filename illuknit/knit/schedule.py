@@ -56,6 +56,7 @@ from illuknit.errors import (
     PatternValidationError,
     SchedulingError,
 )
+from illuknit.knit.edges import bind_off_steps, cast_on_steps
 from illuknit.knit.float_tucks import LongFloat
 from illuknit.knit.ir import (
     ActionKind,
@@ -80,8 +81,6 @@ __all__ = [
     "Pass",
     "Schedule",
     "ScheduleStats",
-    "bind_off_steps",
-    "cast_on_steps",
     "count_kickbacks",
     "schedule_courses",
 ]
@@ -294,98 +293,6 @@ def _knit_ops(needles: Sequence[int], beds: Sequence[str], op: OpKind = OpKind.K
     return [Op(op, Bed(b), n) for n, b in zip(needles, beds, strict=True)]
 
 
-def cast_on_steps(
-    carrier: str, left: int, right: int, *, park_left: int, stitch_number: int | None
-) -> list[Step]:
-    """``inhook`` and the two tuck passes of the alternating-tuck cast-on on needles left..right.
-
-    The first pass tucks every other needle leftward from the right edge and runs on to
-    ``park_left``, so the rightward tucks start with the carrier behind the carriage; the second
-    ends with a miss on the edge needle (the hook, one needle right of the first stitch, blocks
-    anything further right), so the next pass can start leftward from the right edge. The hook
-    still holds the yarn afterwards: release it after the next course.
-    """
-    first = [n for n in range(right, left - 1, -1) if (right - n) % 2 == 0]
-    second = [n for n in range(left, right + 1) if (right - n) % 2 == 1]
-    tucks1 = (
-        *(Op(OpKind.TUCK, Bed.FRONT, n) for n in first),
-        Op(OpKind.MISS, Bed.FRONT, park_left),
-    )
-    tucks2 = (*(Op(OpKind.TUCK, Bed.FRONT, n) for n in second), Op(OpKind.MISS, Bed.FRONT, right))
-    return [
-        CarrierAction(ActionKind.INHOOK, (carrier,)),
-        Pass(
-            PassKind.KNIT, tucks1, "-", (carrier,), role=Role.CAST_ON, stitch_number=stitch_number
-        ),
-        Pass(
-            PassKind.KNIT, tucks2, "+", (carrier,), role=Role.CAST_ON, stitch_number=stitch_number
-        ),
-    ]
-
-
-def bind_off_steps(
-    carrier: str,
-    direction: Direction,
-    left: int,
-    right: int,
-    *,
-    stitch_number: int | None,
-    tail_stitches: int = 4,
-) -> list[Step]:
-    """Chain bind-off of front loops on needles left..right, then a tail, ``outhook`` and a drop.
-
-    ``carrier`` must sit beyond the edge it starts from: right of ``right`` for ``direction``
-    ``"-"``, left of ``left`` for ``"+"``. Each step knits a needle and moves its loop onto the
-    next needle (front -> back at racking 0, back -> front at racking +/-1). Directions alternate;
-    on every other step a miss carries the yarn one needle past the next stitch, so every stitch
-    is made with the carrier behind the carriage and no kickback is needed.
-    """
-    order = list(range(left, right + 1)) if direction == "+" else list(range(right, left - 1, -1))
-    shift = 1 if direction == "+" else -1
-    steps: list[Step] = []
-    d: Direction = direction
-    for n in order[:-1]:
-        chain = [Op(OpKind.KNIT, Bed.FRONT, n)]
-        if d == direction:
-            chain.append(Op(OpKind.MISS, Bed.FRONT, n + 2 * shift))
-        steps.append(
-            Pass(
-                PassKind.KNIT, tuple(chain), d, (carrier,), 0.0, Role.BIND_OFF, None, stitch_number
-            )
-        )
-        steps.append(
-            Pass(
-                PassKind.XFER,
-                (Op(OpKind.XFER, Bed.FRONT, n, Bed.BACK, n),),
-                None,
-                (),
-                0.0,
-                Role.BIND_OFF,
-            )
-        )
-        move = (Op(OpKind.XFER, Bed.BACK, n, Bed.FRONT, n + shift),)
-        steps.append(Pass(PassKind.XFER, move, None, (), float(shift), Role.BIND_OFF))
-        d = "-" if d == "+" else "+"
-    last = order[-1]
-    for _ in range(1 + tail_stitches):
-        steps.append(
-            Pass(
-                PassKind.KNIT,
-                (Op(OpKind.KNIT, Bed.FRONT, last),),
-                d,
-                (carrier,),
-                0.0,
-                Role.TAIL,
-                None,
-                stitch_number,
-            )
-        )
-        d = "-" if d == "+" else "+"
-    steps.append(CarrierAction(ActionKind.OUTHOOK, (carrier,)))
-    steps.append(Pass(PassKind.DROP, (Op(OpKind.DROP, Bed.FRONT, last),), None, (), 0.0, Role.TAIL))
-    return steps
-
-
 def schedule_courses(
     stitches: StitchPattern,
     *,
@@ -466,7 +373,16 @@ def schedule_courses(
 
     # -- cast-on -----------------------------------------------------------------------------
     c0 = course_carrier[0]
-    steps.extend(cast_on_steps(c0, left, right, park_left=park["-"], stitch_number=cast_sn))
+    steps.extend(
+        cast_on_steps(
+            c0,
+            needles_up,
+            left_end=park["-"],
+            right_end=right,
+            hook="held",
+            stitch_number=cast_sn,
+        )
+    )
     next_dir[c0] = "-"
     # The hook holds the yarn end through the first full course (it parks left, clear of the hook).
     hook_held: str | None = c0
