@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import json
 import shutil
-from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -152,12 +151,15 @@ def run_design(
     first: Any = qa
     edits: list[Any] = []
     if simplify or suggest:
-        if qb is None or mode != "double":
+        if qb is None or b is None or mode != "double":
             raise OptionError("--simplify and --suggest work on double-view designs (two pictures)")
         first, second, edits = _simplified(
             qa,
             qb,
             apply=simplify,
+            sources=[a, b],
+            # re-quantising stays within the yarns the designer allows (and the --colors range)
+            max_colors=min(4, max(n_colors, len(ys))),
             candidates=candidates,
             bank=bank,
             solver=solver,
@@ -249,7 +251,7 @@ def run_design(
                 }
             )
         if edits:
-            _write_edits(edits, qa, qb, tmp / "suggestions", scale=max(2, unit_scale(qa.shape)))
+            _write_edits(edits, tmp / "suggestions", scale=max(2, unit_scale(qa.shape)))
         shutil.copyfile(tmp / f"candidate_{pick}" / "pattern.json", tmp / "pattern.json")
         if knitout and chosen is not None:
             # The default candidate as a checked knitout program (mixed-colourwork scheduler).
@@ -273,40 +275,38 @@ def run_design(
 
 
 def _simplified(
-    qa: Any, qb: Any, *, apply: bool, candidates: int, **assign: Any
+    qa: Any, qb: Any, *, apply: bool, sources: list[np.ndarray], max_colors: int, **assign: Any
 ) -> tuple[Any, Any, list[Any]]:
     """Suggested edits of both pictures, each measured by the best design it leads to against
     the ORIGINAL pictures; with ``apply`` the improving ones are kept (tiles.simplify)."""
-    from functools import partial
+    from illuknit.tiles.simplify import review_edits
 
-    from illuknit.tiles.simplify import apply_edits, best_reading
-
-    measure = partial(
-        best_reading,
-        colors=(qa.colors, qb.colors),
+    review = review_edits(
+        qa,
+        qb,
+        apply=apply,
         targets=[qa.rgb(), qb.rgb()],
-        candidates=candidates,
+        sources=sources,
+        max_colors=max_colors,
         **assign,
     )
-    a, b, results = apply_edits(qa.indices, qb.indices, measure)
-    if not apply:
-        a, b = qa.indices, qb.indices
-        results = [replace(r, accepted=False) for r in results]
-    return (a, qa.colors), (b, qb.colors), results
+    return review.a, review.b, list(review.results)
 
 
-def _write_edits(edits: list[Any], qa: Any, qb: Any, folder: Path, *, scale: int) -> None:
+def _write_edits(edits: list[Any], folder: Path, *, scale: int) -> None:
     """``suggestions/``: each edit as before | after pictures, and ``suggestions.json``."""
     from illuknit.outputs import atomic_write_text
     from illuknit.previews import save_png, upscale
 
     folder.mkdir(parents=True, exist_ok=True)
     for e in edits:
-        for letter, q, after in (("a", qa, e.suggestion.a), ("b", qb, e.suggestion.b)):
-            before_rgb, after_rgb = q.palette[q.indices], q.palette[after]
+        s = e.suggestion
+        for letter, before_rgb, after_rgb in zip(
+            "ab", s.pictures(edited=False), s.pictures(), strict=True
+        ):
             gap = np.full((before_rgb.shape[0], 2, 3), 255, np.uint8)
             pair = np.concatenate([before_rgb, gap, after_rgb], axis=1)
-            save_png(upscale(pair, scale), folder / f"{e.suggestion.name}_{letter}.png")
+            save_png(upscale(pair, scale), folder / f"{s.name}_{letter}.png")
     data = {"edits": [e.to_json() for e in edits]}
     atomic_write_text(folder / "suggestions.json", json.dumps(data, indent=1) + "\n")
 
@@ -454,7 +454,7 @@ def design_options(func: Any) -> Any:
         click.option("--knit-time/--no-knit-time", default=False, show_default=True,
                      help="Also knit every candidate and show the machine's knitting time (ties in the ranking)."),
         click.option("--suggest", is_flag=True,
-                     help="Try simplifying edits of the pictures (merge specks, smooth outlines, drop tiny "
+                     help="Try simplifying edits of the pictures (one colour fewer or more, merge specks, smooth outlines, drop tiny "
                      "overlaps) and write each as before | after with its effect to OUTDIR/suggestions/."),
         click.option("--simplify", is_flag=True,
                      help="Like --suggest, and design with the edits that raise the worse view's readability."),

@@ -30,7 +30,7 @@ def run_knit(
     check: bool = True,
     float_limit: int | None = None,
     float_avoidance: bool = True,
-    catching: bool = True,
+    catching: bool | str = True,
     path_planning: str = "anchor",
     strict_floats: bool = False,
     catch_every: int = 2,
@@ -177,19 +177,28 @@ def run_knit(
     help="Ablation (paper Fig. 20): let floats cross the face of the purls.",
 )
 @click.option(
-    "--catching", "catching_on", is_flag=True, help="Plate at colour changes (the default)."
+    "--catching",
+    "catching_on",
+    is_flag=True,
+    help="Join colour regions at colour changes (the default: tuck joins).",
+)
+@click.option(
+    "--plate",
+    is_flag=True,
+    help="Join colour regions with the paper's plated stitches (Algorithm 2) instead of tuck "
+    "joins (more passes, longer floats).",
 )
 @click.option(
     "--no-catching",
     is_flag=True,
-    help="Ablation (paper Fig. 20): no plated stitches joining colour regions.",
+    help="Ablation (paper Fig. 20): nothing joins colour regions.",
 )
 @click.option(
     "--catch-every",
     type=COUNT,
     default=2,
     show_default=True,
-    help="Plate at colour changes on every N-th course (1 = every course, as in the paper).",
+    help="Join colour regions on every N-th course (1 = every course, as in the paper).",
 )
 @click.option(
     "--path-planning",
@@ -224,6 +233,7 @@ def knit(
     float_avoidance_on: bool,
     no_float_avoidance: bool,
     catching_on: bool,
+    plate: bool,
     no_catching: bool,
     catch_every: int,
     path_planning: tuple[str, ...],
@@ -241,8 +251,9 @@ def knit(
     """
     if float_avoidance_on and no_float_avoidance:
         raise click.UsageError("--float-avoidance and --no-float-avoidance contradict each other")
-    if catching_on and no_catching:
-        raise click.UsageError("--catching and --no-catching contradict each other")
+    if (catching_on or plate) and no_catching:
+        what = "--plate" if plate else "--catching"
+        raise click.UsageError(f"{what} and --no-catching contradict each other")
     if len(set(path_planning)) > 1:
         raise click.UsageError(
             f"--path-planning given contradictory values: {', '.join(sorted(set(path_planning)))}"
@@ -254,7 +265,7 @@ def knit(
         strict_floats=strict_floats,
         tuck_passes=tuck_passes,
         float_avoidance=not no_float_avoidance,
-        catching=not no_catching,
+        catching=False if no_catching else ("plate" if plate else True),
         catch_every=catch_every,
         path_planning=path_planning[0] if path_planning else "anchor",
         machine=machine,
@@ -283,8 +294,9 @@ def knit(
         )
         if s.get("scheduler") == "mixed-colourwork":
             click.echo(
-                f"mixed colourwork: {s['carriers']} carrier(s), {s['plated_stitches']} plated "
-                f"catching stitch(es), {s['explicit_kickbacks']} carrier move pass(es), "
+                f"mixed colourwork: {s['carriers']} carrier(s), {s['tuck_joins']} tuck join(s), "
+                f"{s['plated_stitches']} plated catching stitch(es), "
+                f"{s['explicit_kickbacks']} carrier move pass(es), "
                 f"{s['float_avoidance_transfers']} float-avoidance transfer pass(es), "
                 f"{s['kickbacks']} backend kickback(s)"
             )

@@ -12,7 +12,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 from illuknit.errors import SchedulingError
-from illuknit.knit.catching import PlatedStitch
+from illuknit.knit.catching import JoinTuck, PlatedStitch
 from illuknit.knit.path_planning import (
     CarrierState,
     Park,
@@ -31,14 +31,23 @@ def course_items(
     catches: Sequence[PlatedStitch],
     beds: Sequence[str],
     left: int,
+    tucks: Sequence[JoinTuck] = (),
 ) -> list[WorkItem]:
-    """Work items of a course: each carrier's own stitches, then one item per plated pair."""
+    """Work items of a course: each carrier's own stitches, then one item per plated pair.
+
+    A carrier's tuck joins (front-bed tucks on a neighbour's needle) join its own item.
+    """
     plated_wales = {p.wale for p in catches}
+    tucked: dict[str, set[int]] = {}
+    for t in tucks:
+        tucked.setdefault(t.carrier, set()).add(left + t.wale)
     items: list[WorkItem] = []
     for car, wales in plan_segments:
-        st = tuple((left + w, beds[w]) for w in wales if w not in plated_wales)
-        if st:
-            items.append(WorkItem((car,), st))
+        own = [(left + w, beds[w]) for w in wales if w not in plated_wales]
+        extra = tucked.get(car, set())
+        if own or extra:
+            st = tuple(sorted([*own, *((n, "f") for n in extra)]))
+            items.append(WorkItem((car,), st, tucks=frozenset(extra)))
     groups: dict[tuple[str, str], list[int]] = {}
     for p in catches:
         groups.setdefault(p.carriers, []).append(p.wale)

@@ -22,7 +22,7 @@ from illuknit.pattern import LogicalPattern
 __all__ = ["KnitResult", "knit_pattern"]
 
 #: :class:`~illuknit.knit.schedule.MixedReport` fields that :meth:`KnitResult.summary` reports.
-_SUMMARY_MIXED = ("plated_stitches", "carriers", "float_avoidance_transfers")
+_SUMMARY_MIXED = ("tuck_joins", "plated_stitches", "carriers", "float_avoidance_transfers")
 
 
 @dataclass(frozen=True, eq=False)
@@ -89,7 +89,7 @@ def knit_pattern(
     machine: MachineSpec | None = None,
     cast_on_courses: int = 2,
     float_avoidance: bool = True,
-    catching: bool = True,
+    catching: bool | str = True,
     path_planning: str = "anchor",
     strict_floats: bool = False,
     catch_every: int = 2,

@@ -70,6 +70,7 @@ def test_each_ablation_is_caught_by_the_check_and_exits_1(plus, tmp_path, capsys
     ("args", "message"),
     [
         (["--catching", "--no-catching"], "contradict"),
+        (["--plate", "--no-catching"], "contradict"),
         (["--float-avoidance", "--no-float-avoidance"], "contradict"),
         (["--path-planning", "none", "--path-planning", "split"], "contradictory"),
         (["--path-planning", "zigzag"], "zigzag"),
@@ -143,7 +144,7 @@ def test_tuck_passes_flag_tucks_plated_floats_in_passes_of_their_own(tmp_path, c
     pattern, limit = _random_mixed(3)  # 2 x 14, a plated pass whose float cannot tuck in it
     path = tmp_path / "p.json"
     save_pattern(pattern, path)
-    base = ["knit", str(path), "--float-limit", str(limit), "--json"]
+    base = ["knit", str(path), "--float-limit", str(limit), "--json", "--plate"]
     code, stdout, _ = run([*base, "-o", str(tmp_path / "a.k")], capsys)
     plain = json.loads(stdout)
     code2, stdout2, _ = run([*base, "-o", str(tmp_path / "b.k"), "--tuck-passes"], capsys)
