@@ -48,8 +48,9 @@ class SuggestedEdit:
     ----------
     id : str
         ``"<set id>.<k>"``: unique in the server, and says which set (design) it was made for.
-    name, description : str
-        The library's name of the edit and what it does, for the designer.
+    kind, name, description : str
+        The library's kind of edit, its name (unique in a set) and what it does, for the
+        designer.
     changed : dict of str to int
         Units changed per picture slot (``"a"``, ``"b"``); only slots with changes are listed.
     pictures : dict of str to ndarray of shape (N, M, 3), uint8
@@ -60,6 +61,7 @@ class SuggestedEdit:
     """
 
     id: str
+    kind: str
     name: str
     description: str
     changed: dict[str, int]
@@ -71,6 +73,7 @@ class SuggestedEdit:
         r = _rounded
         return {
             "id": self.id,
+            "kind": self.kind,
             "edit": self.name,
             "description": self.description,
             "units_changed": {slot.upper(): n for slot, n in self.changed.items()},
@@ -143,52 +146,63 @@ def require_double(prepared: Prepared) -> None:
 
 
 def suggest_edits_for(
-    prepared: Prepared, *, set_id: str, revision: int, count: int, progress: Progress
+    prepared: Prepared,
+    *,
+    sources: dict[str, Any],
+    set_id: str,
+    revision: int,
+    count: int,
+    progress: Progress,
 ) -> SuggestionSet:
     """The library's suggested edits of a double view's two pictures, each measured.
 
-    ``count`` is the number of tile candidates searched per measurement (the session's
-    candidate count); ``progress(fraction, message)`` is called between measurements, and may
-    raise to cancel. Raises AppRequestError (409, ``not_double``) outside a double view.
+    ``sources`` are the pictures on the grid before quantising (:func:`~illuknit.app.inputs.
+    size_inputs`), which a re-quantisation reads again; it may use as many colours as there are
+    yarns (at most 4, the app's bound). ``count`` is the number of tile candidates searched per
+    measurement (the session's candidate count); ``progress(fraction, message)`` is called
+    before each measurement, and may raise to cancel. Raises AppRequestError (409,
+    ``not_double``) outside a double view.
     """
     from illuknit import tiles
-    from illuknit.tiles.simplify import best_reading, suggest_edits
+    from illuknit.tiles.simplify import best_reading, measure_edits, suggest_edits
 
     require_double(prepared)
     qa, qb = prepared.quantised["a"], prepared.quantised["b"]
     progress(0.02, "finding edits")
     with blame("suggestions"):
-        found = suggest_edits(qa.indices, qb.indices)
+        found = suggest_edits(
+            qa, qb, sources=[sources["a"], sources["b"]], max_colors=min(4, len(prepared.yarns))
+        )
+    bank = tiles.canonical_bank(prepared.yarns)
+    done = [0]
 
     def measure(a: Any, b: Any) -> tuple[float, float]:
+        k = done[0]
+        done[0] += 1
+        what = "the pictures as they are" if k == 0 else found[k - 1].description
+        progress(0.05 + 0.95 * k / (len(found) + 1), f"measuring {what}")
         with blame("suggestions"):
-            return best_reading(
-                a,
-                b,
-                colors=(qa.colors, qb.colors),
-                targets=[qa.rgb(), qb.rgb()],
-                candidates=count,
-                bank=tiles.canonical_bank(prepared.yarns),
+            got: tuple[float, float] = best_reading(
+                a, b, targets=[qa.rgb(), qb.rgb()], candidates=count, bank=bank
             )
+        return got
 
-    steps = len(found) + 1
-    progress(0.05, "measuring the design as it is")
-    before = measure(qa.indices, qb.indices)
+    results = measure_edits(found, measure)
+    before = results[0].before if results else (float("nan"), float("nan"))
     edits = []
-    for k, s in enumerate(found):
-        progress((k + 1) / steps, f"measuring edit {k + 1} of {len(found)}: {s.description}")
-        after = measure(s.a, s.b)
-        changed = {slot: n for slot, n in zip(("a", "b"), s.changed, strict=True) if n}
-        maps = {"a": (qa, s.a), "b": (qb, s.b)}
+    for k, r in enumerate(results):
+        edited = dict(zip(("a", "b"), r.suggestion.pictures(edited=True), strict=True))
+        changed = {slot: n for slot, n in zip(("a", "b"), r.suggestion.changed, strict=True) if n}
         edits.append(
             SuggestedEdit(
                 id=f"{set_id}.{k + 1}",
-                name=s.name,
-                description=s.description,
+                kind=r.suggestion.kind,
+                name=r.suggestion.name,
+                description=r.suggestion.description,
                 changed=changed,
-                pictures={slot: _picture(*maps[slot]) for slot in changed},
-                before=before,
-                after=after,
+                pictures={slot: np.ascontiguousarray(edited[slot]) for slot in changed},
+                before=r.before,
+                after=r.after,
             )
         )
     originals = {"a": _picture(qa, qa.indices), "b": _picture(qb, qb.indices)}

@@ -19,11 +19,13 @@ from illuknit.app.server import AppConfig
 from illuknit.drawings import draw_text
 
 
-def word(text: str) -> bytes:
+def word(text: str, grey: slice | None = None) -> bytes:
     """A 72 x 48 two-colour picture of a word: at 24 units wide its outlines are ragged, so the
-    library suggests edits of it."""
+    library suggests edits of it. ``grey``: rows whose background is a third, mid-grey colour."""
     mask = draw_text(text, shape=(48, 72))
     rgb = np.where(mask[..., None], 24, 246).astype(np.uint8).repeat(3, axis=2)
+    if grey is not None:
+        rgb[grey][~mask[grey]] = 140
     buf = io.BytesIO()
     Image.fromarray(rgb).save(buf, format="PNG")
     return buf.getvalue()
@@ -227,3 +229,47 @@ def test_suggestions_count_in_the_session_memory(client, suggested):
     pictures = list(kept.originals.values()) + [p for e in kept.edits for p in e.pictures.values()]
     assert held == sum(p.nbytes for p in pictures) > 0
     assert with_them - without == held
+
+
+def test_accepting_a_requantisation_changes_the_colour_count_with_it(client):
+    """Three-colour pictures read with two colours, three yarns: the library suggests reading
+    them with three; accepting it sets Colours per picture to 3, and the quantised inputs are
+    exactly the edited pictures (quantising them again does not undo the edit)."""
+    sid = client.post("/api/sessions").json()["id"]
+    for slot, text, rows in (("a", "UP", slice(0, 12)), ("b", "ON", slice(36, 48))):
+        files = {"file": (f"{text}.png", word(text, rows), "image/png")}
+        assert client.put(f"/api/sessions/{sid}/images/{slot}", files=files).status_code == 200
+    yarns = ["#1b1b1b", "#8a8a8a", "#f4f0e8"]
+    r = client.put(
+        f"/api/sessions/{sid}/settings",
+        json={"mode": "double", "width_units": 24, "yarns": yarns, "n_colors": 2},
+    )
+    assert r.status_code == 200
+    assert run_job(client, sid, "suggestions")["status"] == "done"
+    got = client.get(f"/api/sessions/{sid}/suggestions").json()["suggestions"]
+    more = [s for s in got if s["kind"] == "requantise"]
+    assert more, [s["edit"] for s in got]
+    edit = more[0]
+    assert "3 colours" in edit["description"]
+    after = {
+        slot: np.asarray(
+            Image.open(
+                io.BytesIO(
+                    client.get(f"/api/sessions/{sid}/{edit['previews'][slot]['after']}").content
+                )
+            ).convert("RGB")
+        )
+        for slot in edit["slots"]
+    }
+    r = client.post(f"/api/sessions/{sid}/suggestions/{edit['id']}/accept")
+    assert r.status_code == 200, r.text
+    assert r.json()["state"]["settings"]["n_colors"] == 3
+    inputs = client.get(f"/api/sessions/{sid}/inputs").json()
+    for slot in edit["slots"]:
+        assert len(inputs["legend"][slot]) == 3
+        s = client.app.state.store.get(sid)
+        q = s.prepared.quantised[slot]
+        shown = after[slot]
+        k = shown.shape[1] // q.shape[1]
+        assert np.array_equal(q.colors[q.indices], shown[::k, ::k])
+    assert wait_job(client, sid, r.json()["job"]["id"])["status"] == "done"

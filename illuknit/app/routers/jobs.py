@@ -75,11 +75,20 @@ def start_suggestions(s: Session, runner: JobRunner) -> Job:
 
     prepared = prepared_of(s)
     require_double(prepared)  # refused at once, not as a failed job
-    count, rev = s.settings.candidates, s.revision
+    with s.lock:
+        images, settings, rev = dict(s.images), s.settings, s.revision
+    count = settings.candidates
 
     def work(job: Job) -> Any:
+        job.report(0.01, "sizing the pictures")
+        sources, _ = design.size_inputs(images, settings)  # what a re-quantisation reads again
         return suggest_edits_for(
-            prepared, set_id=job.id, revision=rev, count=count, progress=job.report
+            prepared,
+            sources=sources,
+            set_id=job.id,
+            revision=rev,
+            count=count,
+            progress=job.report,
         )
 
     def done(job: Job) -> None:
