@@ -44,6 +44,7 @@ from illuknit.app.inputs import (
     Prepared,
     decode_upload,
     prepare_inputs,
+    size_inputs,
     slots_for,
     width_of,
 )
@@ -76,6 +77,7 @@ __all__ = [
     "prepare_inputs",
     "previews_zip",
     "render_view",
+    "size_inputs",
     "slots_for",
     "tile_png",
     "warm_up",

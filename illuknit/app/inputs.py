@@ -31,6 +31,7 @@ __all__ = [
     "Prepared",
     "decode_upload",
     "prepare_inputs",
+    "size_inputs",
     "slots_for",
     "width_of",
 ]
@@ -142,21 +143,49 @@ def prepare_inputs(images: dict[str, Any], settings: DesignSettings) -> Prepared
     colour count issues (``n_colors``).
     """
     from illuknit.images import quantise_image
-    from illuknit.sizing import size_pair
 
     mode = settings.mode
+    slots = _require_pictures(images, mode)
+    with blame("yarns"):
+        yarns = parse_yarns(list(settings.yarns))
+    _check_colors(mode, settings.n_colors, len(yarns))
+    resized, notes = size_inputs(images, settings)
+    if mode == "single":
+        q, note = _single_view_input(resized["a"], yarns, settings.n_colors)
+        return Prepared(mode=mode, yarns=yarns, quantised={"a": q}, notes=(*notes, *note))
+    quantised = {}
+    for slot in slots:
+        with blame("n_colors"):
+            quantised[slot] = quantise_image(resized[slot], n_colors=settings.n_colors, yarns=yarns)
+    return Prepared(mode=mode, yarns=yarns, quantised=quantised, notes=notes)
+
+
+def _require_pictures(images: dict[str, Any], mode: str) -> tuple[str, ...]:
+    """The slots ``mode`` uses; AppRequestError on the first one without a picture."""
     slots = slots_for(mode, images)
     for slot in slots:
         if slot not in images:
             which = "the picture" if len(slots) == 1 else f"picture {slot.upper()}"
             raise AppRequestError(f"upload {which} first", field=f"image_{slot}", code="missing")
-    with blame("yarns"):
-        yarns = parse_yarns(list(settings.yarns))
-    _check_colors(mode, settings.n_colors, len(yarns))
+    return slots
+
+
+def size_inputs(
+    images: dict[str, Any], settings: DesignSettings
+) -> tuple[dict[str, NDArray[np.float64]], tuple[str, ...]]:
+    """The pictures ``settings.mode`` uses on the piece's grid, before quantising, with the notes
+    of the library's pair sizing (:func:`illuknit.sizing.size_pair`, the command line's policy).
+
+    Raises AppRequestError for a missing picture, a width out of range and pictures of
+    different shapes (``image_b``, code ``size_mismatch``).
+    """
+    from illuknit.sizing import size_pair
+
+    slots = _require_pictures(images, settings.mode)
     width, size_field = width_of(settings)
     a = images["a"].rgb
     b = images["b"].rgb if "b" in slots else None
-    with blame(size_field):  # the same sizing policy as the command line (illuknit.sizing)
+    with blame(size_field):
         try:
             pair = size_pair(a, b, width=width, stretch=settings.resize, smooth=settings.smooth)
         except PictureSizeMismatchError:
@@ -169,8 +198,6 @@ def prepare_inputs(images: dict[str, Any], settings: DesignSettings) -> Prepared
                 code="size_mismatch",
                 status=409,
             ) from None
-    resized = {"a": pair.a} if pair.b is None else {"a": pair.a, "b": pair.b}
-    notes = list(pair.notes)
     n = pair.shape[0]
     if n < 2:
         raise AppRequestError(
@@ -178,14 +205,8 @@ def prepare_inputs(images: dict[str, Any], settings: DesignSettings) -> Prepared
             field=size_field,
             code="range",
         )
-    if mode == "single":
-        q, note = _single_view_input(resized["a"], yarns, settings.n_colors)
-        return Prepared(mode=mode, yarns=yarns, quantised={"a": q}, notes=(*notes, *note))
-    quantised = {}
-    for slot in slots:
-        with blame("n_colors"):
-            quantised[slot] = quantise_image(resized[slot], n_colors=settings.n_colors, yarns=yarns)
-    return Prepared(mode=mode, yarns=yarns, quantised=quantised, notes=tuple(notes))
+    resized = {"a": pair.a} if pair.b is None else {"a": pair.a, "b": pair.b}
+    return resized, tuple(pair.notes)
 
 
 def _check_colors(mode: str, n_colors: int, n_yarns: int) -> None:

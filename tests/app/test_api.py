@@ -154,6 +154,11 @@ def test_openapi_documents_every_endpoint(client):
         "/api/sessions/{sid}/render",
         "/api/sessions/{sid}/download/{name}",
         "/api/sessions/{sid}/knit",
+        "/api/sessions/{sid}/suggestions",
+        "/api/sessions/{sid}/suggestions/{edit_id}/{slot}/{which}.png",
+        "/api/sessions/{sid}/suggestions/{edit_id}/accept",
+        "/api/sessions/{sid}/suggestions/{edit_id}/refuse",
+        "/api/sessions/{sid}/diagnostic.png",
     ):
         assert p in paths, p
     docs = client.get("/docs")

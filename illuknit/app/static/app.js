@@ -202,6 +202,7 @@ function applyState(s) {
   if (st.mode === "single") $("#resize-row").hidden = true;
   renderYarns(st.yarns);
   const single = st.mode === "single";
+  $("#suggest-card").hidden = st.mode !== "double"; // edits of two pictures that share a design
   $("#drop-b").hidden = single;
   $(".drops").classList.toggle("one", single);
   $("#title-a").textContent = single ? "Seen from both sides" : st.mode === "headon" ? "Seen head-on" : "Seen from above";
@@ -406,8 +407,11 @@ async function refreshInputs({ autorun }) {
 // ---------------------------------------------------------------------------------------------
 // jobs with progress and cancel
 
+// the page control a job's problems are shown next to
+const jobField = (kind) => (kind === "knit" || kind === "suggestions" ? kind : "candidates");
+
 async function startJob(kind) {
-  clearError(kind === "knit" ? "knit" : "candidates");
+  clearError(jobField(kind));
   const job = await sapi("POST", "/jobs", { kind });
   state.jobs[kind] = job.id;
   showJob(kind, job);
@@ -423,6 +427,7 @@ function showJob(kind, job) {
   $(".job-msg", box).textContent = job.message;
   if (kind === "candidates") $("#run").disabled = !box.hidden;
   if (kind === "knit") $("#make-knit").disabled = !box.hidden;
+  if (kind === "suggestions") $("#suggest").disabled = !box.hidden;
 }
 
 async function pollJob(kind, id) {
@@ -433,7 +438,7 @@ async function pollJob(kind, id) {
       job = await sapi("GET", `/jobs/${id}`);
     } catch (err) {
       if (state.jobs[kind] !== id) return null; // an edit started newer work meanwhile
-      report(err, kind === "knit" ? "knit" : "candidates");
+      report(err, jobField(kind));
       showJob(kind, { status: "failed", progress: 0, message: "" });
       return null;
     }
@@ -444,7 +449,7 @@ async function pollJob(kind, id) {
     if (job.status === "done") return job;
     if (job.status === "failed") {
       const e = job.error || {};
-      showError(e.field || (kind === "knit" ? "knit" : "candidates"), e.message || "the job failed");
+      showError(e.field || jobField(kind), e.message || "the job failed");
       return null;
     }
     if (job.status === "cancelled") return null;
@@ -488,6 +493,8 @@ function clearCandidates(message) {
   $("#preview-label").textContent = "";
   $("#pairs").textContent = "";
   $("#knit-summary").textContent = "";
+  $("#suggs").textContent = ""; // suggestions belong to the design they were made for
+  clearError("suggestions");
   state.knitReady = false;
   updateKnitButtons();
 }
@@ -631,7 +638,8 @@ function updatePreview() {
 function loadLive(view) {
   const img = $(`#pv-${view}`);
   // "where it fails": the side views as diagnostics (wrong shade red, ghosting blue)
-  const diagnose = $("#where-fails").checked && view !== "headon" && state.settings.mode !== "headon";
+  // (a head-on design is diagnosed in all three views: its point is what each one shows)
+  const diagnose = $("#where-fails").checked && (view !== "headon" || state.settings.mode === "headon");
   const want = diagnose ? diagnosticUrl(view) : renderUrl(view, null, state.angle);
   const slot = live[view] || (live[view] = { busy: false, next: null });
   if (slot.busy) { slot.next = want; return; }
@@ -730,6 +738,112 @@ function pairRow(pair) {
   meta.textContent = pair.fills || "";
   row.append(img, right, meta);
   return row;
+}
+
+// ---------------------------------------------------------------------------------------------
+// suggested edits of the pictures (double view)
+
+async function runSuggestions() {
+  clearError("suggestions");
+  if (!state.inputs) { showError("suggestions", "upload both pictures first"); return; }
+  $("#suggs").textContent = "";
+  try {
+    const job = await startJob("suggestions");
+    if (job) await loadSuggestions();
+  } catch (err) { report(err, "suggestions"); }
+}
+
+async function loadSuggestions() {
+  const box = $("#suggs");
+  let got;
+  try { got = await sapi("GET", "/suggestions"); } catch (err) { report(err, "suggestions"); return; }
+  box.textContent = "";
+  box.dataset.set = got.set || "";
+  if (!got.set) return;
+  if (!got.suggestions.length) {
+    const p = document.createElement("p");
+    p.className = "empty";
+    p.textContent = got.refused
+      ? "Every suggestion was refused."
+      : "No edits to suggest: the pictures have no specks, ragged outlines or overlaps too small to see.";
+    box.appendChild(p);
+    return;
+  }
+  for (const s of got.suggestions) box.appendChild(suggestionCard(s));
+}
+
+function suggestionCard(s) {
+  const f = (x) => (x == null ? "–" : x.toFixed(3));
+  const card = document.createElement("div");
+  card.className = "sugg";
+  card.dataset.id = s.id;
+  const what = document.createElement("div");
+  what.className = "what";
+  const changed = s.slots.map((slot) => `${s.units_changed[slot.toUpperCase()]} units of ${slot.toUpperCase()}`);
+  what.textContent = `${s.description} (${changed.join(", ")} changed)`;
+  const pics = document.createElement("div");
+  pics.className = "pairs-ba";
+  for (const slot of s.slots) {
+    for (const [which, cap] of [["before", "before"], ["after", "after"]]) {
+      const fig = document.createElement("figure");
+      const img = document.createElement("img");
+      img.src = `/api/sessions/${state.sid}/${s.previews[slot][which]}`;
+      img.alt = `picture ${slot.toUpperCase()} ${cap} the edit`;
+      img.dataset.which = which;
+      const fc = document.createElement("figcaption");
+      fc.textContent = `${slot.toUpperCase()} ${cap}`;
+      fig.append(img, fc);
+      pics.appendChild(fig);
+      if (which === "before") pics.appendChild(Object.assign(document.createElement("span"), { className: "arrow", textContent: "→" }));
+    }
+  }
+  const effect = document.createElement("div");
+  effect.className = "effect " + (s.improves ? "better" : s.readability_after < s.readability_before ? "worse" : "");
+  effect.textContent = `worse side reads ${f(s.readability_before)} → ${f(s.readability_after)} · ghosting ${f(s.ghosting_before)} → ${f(s.ghosting_after)}`;
+  effect.title = "readability: how well the worse side's render matches its picture (1 is best); ghosting: how much of the other picture shows through (0 is best)";
+  const acts = document.createElement("div");
+  acts.className = "acts";
+  const yes = Object.assign(document.createElement("button"), { type: "button", className: "primary small", textContent: "Accept" });
+  yes.dataset.accept = s.id;
+  yes.addEventListener("click", () => acceptSuggestion(s.id));
+  const no = Object.assign(document.createElement("button"), { type: "button", className: "ghost small", textContent: "Refuse" });
+  no.dataset.refuse = s.id;
+  no.addEventListener("click", () => refuseSuggestion(s.id));
+  acts.append(yes, no);
+  card.append(what, pics, effect, acts);
+  return card;
+}
+
+async function acceptSuggestion(id) {
+  clearError("suggestions");
+  let answer;
+  try {
+    answer = await sapi("POST", `/suggestions/${id}/accept`);
+  } catch (err) {
+    report(err, "suggestions");
+    await loadSuggestions(); // a superseded suggestion: show what is current
+    return;
+  }
+  // the edited pictures replace the inputs; the server has started designing with them
+  applyState(answer.state);
+  clearCandidates("Designing with the edited pictures…");
+  await refreshInputs({ autorun: false });
+  const job = answer.job;
+  state.jobs.candidates = job.id;
+  showJob("candidates", job);
+  const done = await pollJob("candidates", job.id);
+  if (done) {
+    await loadCandidates();
+    measureCandidates();
+  }
+}
+
+async function refuseSuggestion(id) {
+  clearError("suggestions");
+  try {
+    await sapi("POST", `/suggestions/${id}/refuse`);
+  } catch (err) { report(err, "suggestions"); }
+  await loadSuggestions();
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -891,6 +1005,7 @@ function wire() {
     saveSettings({ yarns: ys });
   });
   $("#run").addEventListener("click", runCandidates);
+  $("#suggest").addEventListener("click", runSuggestions);
   for (const b of $$("[data-cancel]")) b.addEventListener("click", () => cancelJob(b.dataset.cancel));
   const angle = $("#angle");
   angle.addEventListener("input", () => onAngle(false));
