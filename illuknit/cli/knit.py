@@ -36,6 +36,7 @@ def run_knit(
     catch_every: int = 2,
     output_format: str = "knitout",
     tuck_passes: bool = False,
+    allow_long_floats: bool = True,
 ) -> dict[str, Any]:
     """Compile ``pattern_path`` to knitout (or a machine file: ``output_format="dat"``) at
     ``output``; return the summary (and checker verdict).
@@ -79,6 +80,7 @@ def run_knit(
         strict_floats=strict_floats,
         catch_every=catch_every,
         tuck_passes=tuck_passes,
+        allow_long_floats=allow_long_floats,
     )
     summary = result.summary()
     if check:
@@ -156,8 +158,15 @@ def run_knit(
 @click.option(
     "--strict-floats",
     is_flag=True,
-    help="Fail when a course needs more carriers than the machine has to keep floats within "
-    "the limit (default: bridge the shortest gaps with longer floats).",
+    help="Also fail when a course needs more carriers than the machine has to keep floats "
+    "within the limit (default: bridge the shortest gaps with longer floats, then tuck them).",
+)
+@click.option(
+    "--allow-long-floats",
+    is_flag=True,
+    help="Knit a mixed-colourwork piece even where a float stays longer than the float limit "
+    "after tucking, with a warning saying how long and where (default: refuse, naming the "
+    "course and what to change).",
 )
 @click.option(
     "--tuck-passes",
@@ -229,6 +238,7 @@ def knit(
     seconds_per_turn: float | None,
     float_limit: int | None,
     strict_floats: bool,
+    allow_long_floats: bool,
     tuck_passes: bool,
     float_avoidance_on: bool,
     no_float_avoidance: bool,
@@ -249,6 +259,8 @@ def knit(
     none switches are the paper's Fig. 20 ablations). Exit code 1 when the checker finds a
     blocking problem, 2 on bad input.
     """
+    if strict_floats and allow_long_floats:
+        raise click.UsageError("--strict-floats and --allow-long-floats contradict each other")
     if float_avoidance_on and no_float_avoidance:
         raise click.UsageError("--float-avoidance and --no-float-avoidance contradict each other")
     if (catching_on or plate) and no_catching:
@@ -263,6 +275,7 @@ def knit(
         output,
         float_limit=float_limit,
         strict_floats=strict_floats,
+        allow_long_floats=allow_long_floats,
         tuck_passes=tuck_passes,
         float_avoidance=not no_float_avoidance,
         catching=False if no_catching else ("plate" if plate else True),
@@ -277,6 +290,12 @@ def knit(
         check=not no_check,
         output_format=output_format,
     )
+    if summary.get("long_floats"):
+        click.echo(
+            f"warning: {summary['long_floats']} float(s) longer than the float limit; the "
+            f"longest, {summary['longest_float']} needles: {summary['longest_float_at']}",
+            err=True,
+        )
     if as_json:
         click.echo(json.dumps(summary, indent=1))
     else:

@@ -64,10 +64,15 @@ class PlatedStitch:
 
 @dataclass(frozen=True, order=True)
 class JoinTuck:
-    """One tuck join: ``carrier`` tucks on the front needle of ``wale`` (a neighbour's stitch)."""
+    """One tuck join: ``carrier`` tucks on the front needle of ``wale`` (a neighbour's stitch).
+
+    ``first``: the tuck must be made before this course's stitch on ``wale`` (which then pulls
+    it through from the front); otherwise either order is safe.
+    """
 
     wale: int
     carrier: str
+    first: bool = False
 
 
 def _boundaries(
@@ -145,6 +150,7 @@ def plan_joins(
     knit_now: Sequence[bool],
     knit_next: Sequence[bool],
     new_carriers: frozenset[str] = frozenset(),
+    ordered: bool = True,
 ) -> tuple[list[JoinTuck], list[PlatedStitch]]:
     """Tuck joins for one course's boundaries; plated stitches where no tuck is safe.
 
@@ -158,6 +164,10 @@ def plan_joins(
         whichever stitch knits through the tuck then pulls it behind a face stitch.
     new_carriers : frozenset of str
         Carriers first used in this course (for the plated fallback, see :func:`plan_catches`).
+    ordered : bool
+        Also tuck where only this course knits the wale, as a tuck that must be made before
+        that stitch (``JoinTuck.first``; the course's passes are then ordered so). The tucks'
+        orders never form a cycle.
 
     Returns
     -------
@@ -167,26 +177,32 @@ def plan_joins(
         The fallback plated stitches, ascending by wale.
     """
     own_count = {s.carrier: len(s.wales) for s in plan.segments}
+    owner = {w: s.carrier for s in plan.segments for w in s.wales}
     tucks: list[JoinTuck] = []
     plated: list[PlatedStitch] = []
     used: set[int] = set()
+    follows: dict[str, set[str]] = {}  # carrier -> carriers whose tucks must come before it
     for hi, lo, left, right, left_crosses, right_crosses in _boundaries(plan):
         # The intarsia side tucks onto the crossing neighbour's stitch first (as plating picks
         # the intarsia side's stitch); between two intarsia carriers the left one tucks first.
         options = [(lo, left), (hi, right)]
         if left_crosses and not right_crosses:
             options.reverse()
-        pick = next(
-            (
-                (w, c)
-                for w, c in options
-                if w not in used and bool(knit_now[w]) and bool(knit_next[w])
-            ),
-            None,
-        )
+        free = [(w, c) for w, c in options if w not in used and bool(knit_now[w])]
+        pick = next((JoinTuck(w, c) for w, c in free if knit_next[w]), None)
+        if pick is None and ordered:
+            # Next course purls the wale: safe only if this course's knit there comes after
+            # the tuck (pulling it through from the front before the loop moves to the back),
+            # an order that must not contradict the other tucks' orders.
+            pick = next(
+                (JoinTuck(w, c, first=True) for w, c in free if not _reaches(follows, c, owner[w])),
+                None,
+            )
+            if pick is not None:
+                follows.setdefault(owner[pick.wale], set()).add(pick.carrier)
         if pick is not None:
-            used.add(pick[0])
-            tucks.append(JoinTuck(*pick))
+            used.add(pick.wale)
+            tucks.append(pick)
             continue
         wale, prim, sec = _plated(hi, lo, left, right, left_crosses, right_crosses)
         if any(p.wale == wale for p in plated) or (prim in new_carriers and own_count[prim] <= 1):
@@ -194,3 +210,18 @@ def plan_joins(
         plated.append(PlatedStitch(wale, (prim, sec)))
         own_count[prim] -= 1
     return sorted(tucks), sorted(plated)
+
+
+def _reaches(follows: dict[str, set[str]], a: str, b: str) -> bool:
+    """True when ``a`` must already come after ``b`` (``a == b`` included), so ``a`` -> ``b``
+    would close a cycle. ``follows[x]`` are the carriers that must come before ``x``."""
+    seen: set[str] = set()
+    todo = [a]
+    while todo:
+        x = todo.pop()
+        if x == b:
+            return True
+        if x not in seen:
+            seen.add(x)
+            todo.extend(follows.get(x, ()))
+    return False

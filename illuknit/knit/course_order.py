@@ -10,6 +10,7 @@ carriers -- and plans each with :func:`~illuknit.knit.path_planning.plan_item`.
 from __future__ import annotations
 
 from collections.abc import Sequence
+from dataclasses import replace
 
 from illuknit.errors import SchedulingError
 from illuknit.knit.catching import JoinTuck, PlatedStitch
@@ -53,7 +54,19 @@ def course_items(
         groups.setdefault(p.carriers, []).append(p.wale)
     for cars, wales in groups.items():
         items.append(WorkItem(cars, tuple((left + w, beds[w]) for w in sorted(wales)), plated=True))
-    return items
+    # A tuck that must come first: the item knitting its needle follows the tucking carrier.
+    firsts = [(left + t.wale, t.carrier) for t in tucks if t.first]
+    return [
+        replace(
+            it,
+            follows=frozenset(
+                c for n, c in firsts if any(m == n for m, _ in it.stitches) and n not in it.tucks
+            ),
+        )
+        if firsts
+        else it
+        for it in items
+    ]
 
 
 #: Courses with at most this many work items are ordered by exhaustive search (branch and
@@ -109,8 +122,12 @@ def order_and_plan(
             cache[key] = got
         return got
 
-    def ready(i: int, st: dict[str, CarrierState]) -> bool:
+    own = {it.carriers[0]: i for i, it in enumerate(items) if len(it.carriers) == 1}
+
+    def ready(i: int, st: dict[str, CarrierState], left: list[int]) -> bool:
         it = items[i]
+        if any(own.get(c) in left for c in it.follows):
+            return False
         return len(it.carriers) == 1 or all(
             st.get(c, unused).needle is not None for c in it.carriers
         )
@@ -148,7 +165,7 @@ def order_and_plan(
                     best[0], best[1], best[2] = total, list(acc), st
                 return
             for i in left:
-                if not ready(i, st):
+                if not ready(i, st, left):
                     continue
                 ps, c, sub = plan(i, st)
                 search([j for j in left if j != i], {**st, **sub}, acc + ps, cost + c)
@@ -167,7 +184,7 @@ def order_and_plan(
         grown = []
         for cost, left, st, acc in beam:
             for i in left:
-                if not ready(i, st):
+                if not ready(i, st, left):
                     continue
                 ps, c, sub = plan(i, st)
                 grown.append((cost + c, [j for j in left if j != i], {**st, **sub}, acc + ps))

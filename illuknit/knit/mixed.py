@@ -220,7 +220,12 @@ def _knit_course(em: Emitter, ctx: _Courses, c: int) -> int:
         if ctx.join == "tuck":
             nxt = kind[c + 1] if c + 1 < len(kind) else np.zeros_like(kind[c])
             tucks, catches = plan_joins(
-                cp, knit_now=kind[c] == 0, knit_next=nxt == 0, new_carriers=new
+                cp,
+                knit_now=kind[c] == 0,
+                knit_next=nxt == 0,
+                new_carriers=new,
+                # (without path planning the passes keep their given order)
+                ordered=ctx.path_planning != "none",
             )
         else:
             catches = plan_catches(cp, new_carriers=new)
@@ -285,6 +290,7 @@ def schedule_mixed(
     catch_every: int = 2,
     float_limit: int | None = None,
     strict_floats: bool = False,
+    allow_long_floats: bool = True,
     tail_stitches: int = 4,
     park_carriers: bool = True,
     tuck_passes: bool = False,
@@ -318,6 +324,10 @@ def schedule_mixed(
         :class:`~illuknit.errors.SchedulingError` naming the course when a float stays longer
         than the limit after tucking; by default such floats are kept and listed in
         ``Schedule.long_floats`` (the checker warns about them).
+    allow_long_floats : bool
+        False: raise :class:`~illuknit.errors.SchedulingError` naming the course when a float
+        stays longer than the limit after tucking (``illuknit knit``'s default); True (the
+        library's default): keep it, list it in ``Schedule.long_floats`` (the checker warns).
     tail_stitches : int
         Knits on the last needle of the bind-off chain.
     park_carriers : bool
@@ -328,8 +338,8 @@ def schedule_mixed(
     tuck_passes : bool
         Where a plated catching pass cannot tuck a long float (its other yarn comes from
         elsewhere), tuck the floating yarn alone in a pass of its own right before it. Off by
-        default: on the bundled instances it costs 1-29 % more machine passes and shortens the
-        longest float by 0-26 % (``docs/mixed-colourwork.md``).
+        default; it matters with ``catching="plate"`` only (on the plated bundled programs it
+        cost 1-29 % more machine passes, ``docs/mixed-colourwork.md``).
 
     Returns
     -------
@@ -438,14 +448,15 @@ def schedule_mixed(
         em.steps, long = tuck_long_floats(
             em.steps, limit=int(limit), left=left, right=edge, alone=bool(tuck_passes)
         )
-        if long and strict_floats:
+        if long and (strict_floats or not allow_long_floats):
             worst = max(long, key=lambda f: f.length)
             where = "the bind-off" if worst.course is None else stitches.course_name(worst.course)
             raise SchedulingError(
                 f"{len(long)} float(s) stay longer than the float limit of {limit} needles; the "
                 f"longest, {worst.length} needles of carrier {worst.carrier} (needles "
                 f"{worst.from_needle} to {worst.to_needle}), is at {where}: use fewer colour "
-                "regions per row there, catching off, or a wider float limit"
+                "regions per row there, a wider float limit, or allow long floats "
+                "(allow_long_floats=True, --allow-long-floats)"
             )
     lower = cast_fixed + cast_courses_bound + body_bound + bind_fixed
     return Schedule(

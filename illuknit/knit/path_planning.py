@@ -84,13 +84,16 @@ class WorkItem:
     """Work of one carrier set in one course: ``stitches`` are ``(needle, bed)``, ascending.
 
     ``tucks`` are needles among ``stitches`` that the pass tucks (front-bed tuck joins on a
-    neighbouring region's edge needle) instead of knitting.
+    neighbouring region's edge needle) instead of knitting; ``follows`` are carriers whose own
+    items must come before this one in the course (their tucks on its needles must be made
+    before its stitches there).
     """
 
     carriers: tuple[str, ...]
     stitches: tuple[tuple[int, str], ...]
     plated: bool = False
     tucks: frozenset[int] = frozenset()
+    follows: frozenset[str] = frozenset()
 
 
 @dataclass(frozen=True)

@@ -11,9 +11,11 @@ from hypothesis import strategies as st
 
 from illuknit.check import check_knitout
 from illuknit.knit import MachineSpec, knit_pattern
-from illuknit.knit.catching import JoinTuck, plan_catches, plan_joins
+from illuknit.knit.catching import JoinTuck, _boundaries, plan_catches, plan_joins
 from illuknit.knit.color_runs import CoursePlan, Segment
+from illuknit.knit.course_order import course_items, order_and_plan
 from illuknit.knit.ir import Bed, CarrierAction, OpKind, Pass, PassKind, Role
+from illuknit.knit.path_planning import CarrierState
 from tests.knit.test_float_tucks import _random_mixed
 
 
@@ -67,8 +69,8 @@ def test_a_purl_next_course_moves_the_tuck_to_the_other_edge_or_falls_back_to_pl
     nxt[4] = False  # wale 4 is purled next course: a tuck there would show in the bump
     tucks, plated = plan_joins(cp, knit_now=[True] * 8, knit_next=nxt)
     assert tucks == [JoinTuck(3, "2")] and plated == []
-    nxt[3] = False  # both edge needles purl next: no safe tuck, plate as Algorithm 2 does
-    tucks, plated = plan_joins(cp, knit_now=[True] * 8, knit_next=nxt)
+    nxt[3] = False  # both edge needles purl next: with no ordered tuck, plate (Algorithm 2)
+    tucks, plated = plan_joins(cp, knit_now=[True] * 8, knit_next=nxt, ordered=False)
     assert tucks == [] and plated == plan_catches(cp)
 
 
@@ -87,18 +89,20 @@ def test_tucks_only_on_safe_wales_and_plating_only_where_no_tuck_is_safe(cuts, o
     # merge touching runs of one carrier
     merged = {c: _merge(r) for c, r in runs.items()}
     cp = _plan(list(merged.items()))
-    tucks, plated = plan_joins(cp, knit_now=now, knit_next=nxt)
+    tucks, plated = plan_joins(cp, knit_now=now, knit_next=nxt, ordered=False)
     assert len({t.wale for t in tucks}) == len(tucks)
     owner = {w: s.carrier for s in cp.segments for w in s.wales}
     for t in tucks:
         assert now[t.wale] and nxt[t.wale]  # knit now and next: the tuck hides behind a face stitch
         assert owner[t.wale] != t.carrier  # on the neighbour's needle
-    used = {t.wale for t in tucks}
-    for p in plated:
-        # the boundary of this plated stitch has no free safe edge needle
-        w = p.wale
-        edge = [x for x in (w - 1, w, w + 1) if 0 <= x < 12 and owner[x] in p.carriers]
-        assert not any(now[x] and nxt[x] and x not in used for x in edge if owner[x] != owner[w])
+    # every boundary is joined by a tuck on one of its edge wales, or plated where neither
+    # edge wale was safe (or it was taken by another boundary's tuck)
+    assert len(plated) <= len(_boundaries(cp)) - len(tucks)
+    at = {t.wale: t for t in tucks}
+    for hi, lo, left, right, _, _ in _boundaries(cp):
+        tucked = (lo in at and at[lo].carrier == left) or (hi in at and at[hi].carrier == right)
+        if not tucked:
+            assert not any(now[w] and nxt[w] and w not in at for w in (hi, lo))
 
 
 def _merge(runs: list[tuple[int, int]]) -> list[tuple[int, int]]:
@@ -142,3 +146,41 @@ def test_tuck_joins_replace_plated_passes_on_a_two_colour_block():
         for s in tuck.schedule.steps
     )
     assert check_knitout(tuck.text).pieces == 1
+
+
+def test_a_wale_purled_next_course_takes_a_tuck_made_before_its_knit():
+    cp = _plan([("1", [(0, 3)]), ("2", [(4, 7)])])
+    nxt = [True] * 8
+    nxt[3] = nxt[4] = False  # both edge wales purl next course
+    tucks, plated = plan_joins(cp, knit_now=[True] * 8, knit_next=nxt)
+    assert tucks == [JoinTuck(4, "1", first=True)] and plated == []
+    # the tuck's item comes before the item knitting wale 4
+    items = course_items([("1", [0, 1, 2, 3]), ("2", [4, 5, 6, 7])], plated, ["f"] * 8, 10, tucks)
+    assert [(it.carriers, it.follows) for it in items] == [
+        (("1",), frozenset()),
+        (("2",), frozenset({"1"})),
+    ]
+    order, _ = order_and_plan(items, {}, "anchor", "-")
+    assert order[0].carriers == ("1",) and 14 in order[0].tucks
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    cuts=st.lists(st.integers(1, 11), min_size=1, max_size=4, unique=True),
+    owners=st.lists(st.sampled_from("123"), min_size=5, max_size=5),
+    now=st.lists(st.booleans(), min_size=12, max_size=12),
+    nxt=st.lists(st.booleans(), min_size=12, max_size=12),
+)
+def test_ordered_tucks_never_plate_more_and_never_order_in_a_cycle(cuts, owners, now, nxt):
+    edges = [0, *sorted(cuts), 12]
+    runs: dict[str, list[tuple[int, int]]] = {}
+    for k, (a, b) in enumerate(pairwise(edges)):
+        runs.setdefault(owners[k], []).append((a, b - 1))
+    cp = _plan([(c, _merge(r)) for c, r in runs.items()])
+    tucks, plated = plan_joins(cp, knit_now=now, knit_next=nxt)
+    _, plated_unordered = plan_joins(cp, knit_now=now, knit_next=nxt, ordered=False)
+    assert len(plated) <= len(plated_unordered)
+    assert all(now[t.wale] and (t.first or nxt[t.wale]) for t in tucks)
+    items = course_items([(s.carrier, s.wales) for s in cp.segments], plated, ["f"] * 12, 0, tucks)
+    knitted = {c: CarrierState(30, "+", 11) for c in "123"}  # (plated pairs need both knit)
+    order_and_plan(items, knitted, "anchor", "-")  # an order exists: the tucks' orders are acyclic

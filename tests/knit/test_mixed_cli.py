@@ -71,6 +71,7 @@ def test_each_ablation_is_caught_by_the_check_and_exits_1(plus, tmp_path, capsys
     [
         (["--catching", "--no-catching"], "contradict"),
         (["--plate", "--no-catching"], "contradict"),
+        (["--strict-floats", "--allow-long-floats"], "contradict"),
         (["--float-avoidance", "--no-float-avoidance"], "contradict"),
         (["--path-planning", "none", "--path-planning", "split"], "contradictory"),
         (["--path-planning", "zigzag"], "zigzag"),
@@ -145,10 +146,17 @@ def test_tuck_passes_flag_tucks_plated_floats_in_passes_of_their_own(tmp_path, c
     path = tmp_path / "p.json"
     save_pattern(pattern, path)
     base = ["knit", str(path), "--float-limit", str(limit), "--json", "--plate"]
-    code, stdout, _ = run([*base, "-o", str(tmp_path / "a.k")], capsys)
+    # by default a float that stays long is refused, naming where and what to change
+    code0, _, err0 = run([*base, "-o", str(tmp_path / "x.k")], capsys)
+    assert code0 == 2 and len(err0.strip().splitlines()) == 1
+    assert "longer than the float limit" in err0 and "--allow-long-floats" in err0
+    assert not (tmp_path / "x.k").exists()
+    base.append("--allow-long-floats")
+    code, stdout, err = run([*base, "-o", str(tmp_path / "a.k")], capsys)
+    assert "warning:" in err and "needles" in err and " at " in err
     plain = json.loads(stdout)
     code2, stdout2, _ = run([*base, "-o", str(tmp_path / "b.k"), "--tuck-passes"], capsys)
     tucked = json.loads(stdout2)
     assert code == code2 == 0
-    assert 0 < tucked["long_floats"] < plain["long_floats"]
+    assert tucked["long_floats"] < plain["long_floats"]
     assert tucked["passes"] > plain["passes"]
