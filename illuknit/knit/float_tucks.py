@@ -30,7 +30,18 @@ from collections.abc import Sequence
 from dataclasses import dataclass, replace
 from itertools import pairwise
 
-from illuknit.knit.ir import ActionKind, Bed, CarrierAction, Op, OpKind, Pass, PassKind, Role, Step
+from illuknit.knit.ir import (
+    ActionKind,
+    Bed,
+    CarrierAction,
+    Op,
+    OpKind,
+    Pass,
+    PassKind,
+    Role,
+    Step,
+    flip,
+)
 
 __all__ = ["LongFloat", "measure_long_floats", "tuck_long_floats"]
 
@@ -134,7 +145,9 @@ def tuck_long_floats(
     # carrier -> (needle of its last loop, index of the pass that made it, index of its last pass)
     last: dict[str, tuple[int, int, int]] = {}
     adds: dict[int, set[int]] = {}  # pass index -> back needles to tuck
-    solo: dict[int, list[tuple[str, set[int]]]] = {}  # pass index -> (carrier, tucks) before it
+    solo: dict[
+        int, list[tuple[str, set[int], int | None]]
+    ] = {}  # pass index -> (carrier, tucks) before it
     clear: dict[int, set[int]] = {}  # pass index -> back loops moved front around it
     for i, s in enumerate(passes):
         if isinstance(s, CarrierAction):
@@ -283,7 +296,7 @@ def _plan_tucks(
     adds: dict[int, set[int]],
     once: tuple[dict[int, list[int]], set[tuple[int, int]]],
     around: list[dict[str, tuple[int | None, int | None]]],
-    solo: dict[int, list[tuple[str, set[int]]]],
+    solo: dict[int, list[tuple[str, set[int], int | None]]],
     carrier: str,
     alone: bool,
     i: int,
@@ -340,7 +353,7 @@ def _plan_tucks(
         if made_in == i or not alone:  # (between two loops of this pass, nothing fits before)
             return False
         return _tuck_alone(i, carrier, a, n, backs, (adds, solo), once, limit, left, right)
-    return _tuck_in(
+    if _tuck_in(
         p,
         where,
         a,
@@ -354,7 +367,21 @@ def _plan_tucks(
         right,
         outward=where != i,
         clear=clear,
-    )
+    ):
+        return True
+    if where == i or len(s.carriers) > 1 or s.racking != 0 or i in solo:
+        return False
+    # The way out is blocked (no free back needle among purls there): the carrier comes back
+    # beside its last loop and tucks alone on its way to ``n``, right before pass ``i``, when
+    # float avoidance has already moved the purls the float crosses to the front.
+    busy = set(adds.get(i, set()))
+    picks = _tuck_needles(a, n, limit, _free_needles(i, a, n, backs, busy, once, left, right))
+    if not picks:
+        return False
+    solo.setdefault(i, []).append((carrier, set(picks), a))
+    stitched, taken = once
+    taken.update((t, bisect_right(stitched.get(t, []), i)) for t in picks)
+    return True
 
 
 def _free_needles(
@@ -384,7 +411,7 @@ def _tuck_alone(
     a: int,
     n: int,
     backs: list[frozenset[int]],
-    plans: tuple[dict[int, set[int]], dict[int, list[tuple[str, set[int]]]]],
+    plans: tuple[dict[int, set[int]], dict[int, list[tuple[str, set[int], int | None]]]],
     once: tuple[dict[int, list[int]], set[tuple[int, int]]],
     limit: int,
     left: int,
@@ -392,7 +419,7 @@ def _tuck_alone(
 ) -> bool:
     """Tuck the float ``a`` -> ``n`` with ``carrier`` alone in a pass of its own before ``i``."""
     adds, solo = plans
-    busy = set(adds.get(i, set())).union(*(t for _, t in solo.get(i, [])))
+    busy = set(adds.get(i, set())).union(*(t for _, t, _ in solo.get(i, [])))
     picks = _tuck_needles(a, n, limit, _free_needles(i, a, n, backs, busy, once, left, right))
     if not picks:
         return False
@@ -400,7 +427,7 @@ def _tuck_alone(
     stop = max(picks) if n > a else min(picks)
     if any((t - stop) * (n - a) <= 0 for t in adds.get(i, set())):
         return False
-    solo.setdefault(i, []).append((carrier, set(picks)))
+    solo.setdefault(i, []).append((carrier, set(picks), None))
     stitched, taken = once
     taken.update((t, bisect_right(stitched.get(t, []), i)) for t in picks)
     return True
@@ -465,7 +492,7 @@ def _starts_beyond(q: Step, a: int, direction: str | None) -> bool:
 def _apply(
     passes: list[Step],
     adds: dict[int, set[int]],
-    solo: dict[int, list[tuple[str, set[int]]]],
+    solo: dict[int, list[tuple[str, set[int], int | None]]],
     clear: dict[int, set[int]],
 ) -> list[Step]:
     out: list[Step] = []
@@ -478,14 +505,34 @@ def _apply(
             out.append(pending)
             pending = None
         alone: set[int] = set()
-        for carrier, picks in solo.get(i, []):
-            assert isinstance(s, Pass)
-            sign = 1 if s.direction == "+" else -1
+        for carrier, picks, back_to in solo.get(i, []):
+            assert isinstance(s, Pass) and s.direction is not None
+            d = s.direction
+            trail: tuple[Op, ...] = ()
+            if back_to is not None:
+                # Back beside the last loop, then tuck towards the pass's first needle and stop
+                # just beyond it, behind the carriage for the pass.
+                d = "+" if s.ops[0].needle > back_to else "-"
+                step = 1 if d == "+" else -1
+                out.append(
+                    Pass(
+                        PassKind.KNIT,
+                        (Op(OpKind.MISS, Bed.FRONT, back_to + step),),
+                        flip(d),
+                        (carrier,),
+                        0.0,
+                        Role.ANCHOR,
+                        s.course,
+                    )
+                )
+                trail = (Op(OpKind.MISS, Bed.FRONT, s.ops[0].needle + step),)
+            sign = 1 if d == "+" else -1
+            tucks_op = tuple(Op(OpKind.TUCK, Bed.BACK, t) for t in sorted(picks, key=sign.__mul__))
             out.append(
                 Pass(
                     PassKind.KNIT,
-                    tuple(Op(OpKind.TUCK, Bed.BACK, t) for t in sorted(picks, key=sign.__mul__)),
-                    s.direction,
+                    tucks_op + trail,
+                    d,
                     (carrier,),
                     0.0,
                     Role.FLOAT_AVOIDANCE,

@@ -338,8 +338,8 @@ def schedule_mixed(
     tuck_passes : bool
         Where a plated catching pass cannot tuck a long float (its other yarn comes from
         elsewhere), tuck the floating yarn alone in a pass of its own right before it. Off by
-        default: on the bundled instances it costs 1-29 % more machine passes and shortens the
-        longest float by 0-26 % (``docs/mixed-colourwork.md``).
+        default; it matters with ``catching="plate"`` only (on the plated bundled programs it
+        cost 1-29 % more machine passes, ``docs/mixed-colourwork.md``).
 
     Returns
     -------

@@ -201,3 +201,39 @@ def test_every_generated_mixed_program_keeps_its_floats_within_the_limit(seed, w
     sim = simulate_program(parse_knitout(result.text))
     assert max((f.length for f in sim.floats), default=0) <= m.float_limit
     assert not result.schedule.long_floats
+
+
+def test_a_way_out_blocked_by_purls_comes_back_and_tucks_alone_before_the_far_stitch():
+    # carrier 1 knits 1-2 rightward and parks at 40; every needle it passes on the way out holds
+    # a purl on the back bed, so nothing can be tucked there. Float avoidance moves those purls
+    # to the front before the pass knitting 30: the carrier then comes back beside its last loop
+    # and tucks alone on its way to 30.
+    purls = range(3, 30)
+    steps = [
+        CarrierAction("inhook", ("1",)),
+        knit(range(30, 0, -1), "-"),
+        CarrierAction("releasehook", ("1",)),
+        Pass(PassKind.XFER, tuple(Op(OpKind.XFER, Bed.FRONT, n, Bed.BACK, n) for n in purls)),
+        Pass(
+            PassKind.KNIT,
+            (
+                Op(OpKind.KNIT, Bed.FRONT, 1),
+                Op(OpKind.KNIT, Bed.FRONT, 2),
+                Op(OpKind.MISS, "f", 40),
+            ),
+            "+",
+            ("1",),
+        ),
+        Pass(PassKind.XFER, tuple(Op(OpKind.XFER, Bed.BACK, n, Bed.FRONT, n) for n in purls)),
+        knit([30], "-"),
+    ]
+    out, long = tuck_long_floats(steps, limit=10, left=1, right=30)
+    assert not long
+    move, tucking, far, back = out[-4:]
+    assert move.is_move and move.direction == "-" and move.ops[0].needle == 3
+    assert tucking.direction == "+" and tucking.ops[-1].op is OpKind.MISS
+    tucks = [o.needle for o in tucking.ops if o.op is OpKind.TUCK]
+    assert tucks and all(o.bed is Bed.BACK for o in tucking.ops if o.op is OpKind.TUCK)
+    assert all(b - a - 1 <= 10 for a, b in pairwise([2, *tucks, 30]))
+    assert far == steps[-1] and back.kind is PassKind.XFER
+    assert {o.needle for o in back.ops} == set(tucks)
