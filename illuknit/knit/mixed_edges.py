@@ -223,9 +223,10 @@ def bind_off(
 ) -> int:
     """Bind off every wale; returns the passes it takes (carrier moves not counted).
 
-    With parking and catching: the one-colour chain in one yarn from where the last course
-    ended. Otherwise a chain in the last course's colours (each needle knit by its run's carrier),
-    or with catching off one chain per run, so that nothing the scheduler adds joins regions.
+    With parking and catching: the two-bed chain (:func:`zigzag_bind_off_steps`) in one yarn
+    from where the last course ended. Otherwise a chain in the last course's colours (each
+    needle knit by its run's carrier), or with catching off one chain per run, so that nothing
+    the scheduler adds joins regions.
     """
     machine, left = em.machine, em.left
     edge = left + em.wales - 1
