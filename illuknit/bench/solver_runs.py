@@ -25,7 +25,8 @@ from typing import Any
 
 import numpy as np
 
-from illuknit.bench.instances import Instance, instance_targets
+from illuknit.bench.instances import Instance, instance_model
+from illuknit.bench.wcnf_files import read_wcnf
 from illuknit.errors import IlluknitError
 from illuknit.model import Model
 from illuknit.solvers.base import ProgressEvent, Status
@@ -99,21 +100,9 @@ class SolverTask:
 def build_task_model(task: SolverTask) -> tuple[Model, int | None]:
     """(the task's model, the DP's optimum where the DP is exact on it, else None)."""
     if task.wcnf is not None:
-        from illuknit.bench.wcnf_files import read_wcnf
-
         return read_wcnf(task.wcnf), None
-    from illuknit.illusion_models import build_model, make_problem
-    from illuknit.solvers.dp import solve_dp
-
     assert task.instance is not None
-    t = instance_targets(task.instance)
-    kind = "single" if task.instance.kind == "single" else task.model
-    problem = make_problem(
-        t.a, None if kind == "single" else t.b, n_yarns=len(task.instance.yarns), kind=kind
-    )
-    model = build_model(problem)
-    optimum = solve_dp(problem)[2] if (problem.per_wale or problem.rows_tied) else None
-    return model, optimum
+    return instance_model(task.instance, model=task.model)
 
 
 #: Modules a backend imports when it solves, loaded in the parent before the fork so that a
