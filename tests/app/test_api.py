@@ -118,7 +118,7 @@ def test_page_and_static_files_are_served(client):
     for name in ("app.js", "app.css"):
         assert client.get(f"/static/{name}").status_code == 200
     # everything the page loads comes from this server: no CDN, works offline
-    from illuknit.app.server import STATIC_DIR
+    from illuknit.app.routers.static import STATIC_DIR
 
     for src in ("index.html", "app.js", "app.css"):
         body = (STATIC_DIR / src).read_text(encoding="utf-8")
