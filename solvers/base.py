@@ -42,7 +42,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 if TYPE_CHECKING:
-    from illuknit.model import Model, VarPool
+    from illuknit.model import Model
+    from illuknit.var_pool import VarPool
 
 __all__ = [
     "ORACLES",
