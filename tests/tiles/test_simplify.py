@@ -95,10 +95,10 @@ def test_double_suggest_writes_before_after_and_simplify_designs_with_kept_edits
     b = (abs(y - 15) < 8) & (abs(x - 18) < 7)
     for name, img in (("a.png", a), ("b.png", b)):
         Image.fromarray(np.where(img, 20, 235).astype(np.uint8)).save(tmp_path / name)
-    code, r = run_cli(
+    code, _, err = run_cli(
         ["double", str(tmp_path / "a.png"), str(tmp_path / "b.png"), "--suggest",
          "-o", str(tmp_path / "s")])  # fmt: skip
-    assert code == 0, r.err
+    assert code == 0, err
     data = json.loads((tmp_path / "s" / "suggestions" / "suggestions.json").read_text())
     assert data["edits"], "the specks invite at least one edit"
     for e in data["edits"]:
@@ -106,13 +106,15 @@ def test_double_suggest_writes_before_after_and_simplify_designs_with_kept_edits
         assert (tmp_path / "s" / "suggestions" / f"{e['edit']}_a.png").is_file()
     summary = json.loads((tmp_path / "s" / "summary.json").read_text())
     assert summary["edits"] == data["edits"]
-    code, r = run_cli(
+    code, _, err = run_cli(
         ["double", str(tmp_path / "a.png"), str(tmp_path / "b.png"), "--simplify",
          "-o", str(tmp_path / "t")])  # fmt: skip
-    assert code == 0, r.err
+    assert code == 0, err
     kept = json.loads((tmp_path / "t" / "summary.json").read_text())["edits"]
     assert [e["edit"] for e in kept] == [e["edit"] for e in data["edits"]]
     for e in kept:
         assert e["accepted"] == (e["readability_after"] > e["readability_before"])
-    code, r = run_cli(["headon", str(tmp_path / "a.png"), "--simplify", "-o", str(tmp_path / "h")])
-    assert code == 2 and "double-view" in r.err and not (tmp_path / "h").exists()
+    code, _, err = run_cli(
+        ["headon", str(tmp_path / "a.png"), "--simplify", "-o", str(tmp_path / "h")]
+    )
+    assert code == 2 and "double-view" in err and not (tmp_path / "h").exists()
