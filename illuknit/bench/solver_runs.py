@@ -29,6 +29,7 @@ from illuknit.bench.instances import Instance, instance_model
 from illuknit.bench.wcnf_files import read_wcnf
 from illuknit.errors import IlluknitError
 from illuknit.model import Model
+from illuknit.solvers import HERMAX_NAMES, parse_solver_name
 from illuknit.solvers.base import ProgressEvent, Status
 from illuknit.solvers.isolate import run_in_child
 
@@ -121,9 +122,7 @@ def preload_backend(solver: str) -> None:
     import importlib
     import importlib.util
 
-    from illuknit.solvers import HERMAX_NAMES
-
-    base = solver.partition(":")[0]
+    base = parse_solver_name(solver).base
     for mod in PRELOAD.get("hermax" if base in HERMAX_NAMES else base, ()):
         if importlib.util.find_spec(mod.partition(".")[0]) is not None:
             importlib.import_module(mod)
@@ -161,13 +160,12 @@ def run_solver_task(task: SolverTask) -> dict[str, Any]:
 
     Never raises for a solver's misbehaviour: that is the row's status and reason.
     """
-    base, _, oracle = task.solver.partition(":")
     row: dict[str, Any] = dict.fromkeys(ROW_FIELDS)
     row.update(
         instance=task.instance_name,
         model=task.model if task.wcnf is None else "wcnf",
         solver=task.solver,
-        oracle=oracle if base in ("rc2", "lsu", "fm") else "",
+        oracle=parse_solver_name(task.solver).oracle,
         warm_start=task.warm_start,
         time_limit=task.time_limit,
         flag="",
