@@ -22,13 +22,12 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from illuknit.solvers.base import (
-    BackendBase,
+    OracleBackendBase,
     ProgressCallback,
     ProgressEvent,
     Solution,
     Status,
     assignment_from_lits,
-    check_oracle,
     interrupt_types,
 )
 
@@ -43,7 +42,7 @@ MAX_TOTAL_WEIGHT = 200_000
 MAX_TOTALIZER_SIZE = 30_000_000
 
 
-class LSUBackend(BackendBase):
+class LSUBackend(OracleBackendBase):
     """pysat linear search from above (SAT-UNSAT), weighted via a repeated-selector totalizer.
 
     ``oracle`` names the SAT solver (python-sat's names, default ``g4``); ``lsu:ORACLE`` by name.
@@ -52,10 +51,8 @@ class LSUBackend(BackendBase):
     name = "lsu"
     requires = ("pysat",)
     distribution = "python-sat"
-
-    def __init__(self, oracle: str = "g4") -> None:
-        self.oracle = check_oracle(oracle, interruptible=True)
-        self.name = "lsu" if oracle == "g4" else f"lsu:{oracle}"
+    default_oracle = "g4"
+    interruptible_oracle = True
 
     def why_not(self, model: Model) -> str | None:
         if model.total_soft_weight() <= MAX_TOTAL_WEIGHT:
