@@ -3,9 +3,11 @@ bundled photo instances and lowers it on none.
 
 For every bundled double-view instance whose pictures are photographs (``image = ...`` in
 ``instances/manifest.toml``; ``--all`` adds the drawn ones), the suggested edits of
-:mod:`illuknit.tiles.simplify` are tried as ``illuknit double --simplify`` tries them (five
-candidates per design, ranked by perception, judged against the original pictures). Printed:
-the worse-view readability and worst ghosting before and after, and each edit's verdict.
+:mod:`illuknit.tiles.simplify` are tried as ``illuknit double --simplify`` tries them
+(:func:`~illuknit.tiles.simplify.review_edits`: five candidates per design, ranked by perception,
+judged against the original pictures; a photograph may also be re-read with one colour fewer,
+or one more while that stays within the instance's yarns). Printed: the worse-view readability
+and worst ghosting before and after, and each edit's verdict.
 
     python benchmarks/simplify_edits.py [--all] [--candidates 5]
 """
@@ -14,14 +16,14 @@ from __future__ import annotations
 
 import argparse
 import time
-from functools import partial
 
 from illuknit.bench.instances import instance_targets, load_manifest
-from illuknit.tiles.simplify import apply_edits, best_reading
+from illuknit.drawings import skimage_image
+from illuknit.tiles.simplify import review_edits
 
 
 def _is_photo(inst) -> bool:
-    return any("image" in spec for spec in inst.inputs.values())
+    return all("image" in spec for spec in inst.inputs.values())
 
 
 def main() -> None:
@@ -39,22 +41,34 @@ def main() -> None:
     for inst in insts:
         t0 = time.perf_counter()
         t = instance_targets(inst)
-        measure = partial(
-            best_reading,
-            colors=(t.palette, t.palette),
+        sources = None
+        if _is_photo(inst):
+            sources = [skimage_image(inst.inputs[v]["image"], inst.size) for v in ("A", "B")]
+        review = review_edits(
+            (t.a, t.palette),
+            (t.b, t.palette),
+            apply=True,
             targets=[t.rgb("A"), t.rgb("B")],
+            sources=sources,
+            max_colors=len(inst.yarns),
+            source_yarns=inst.yarns,
             candidates=args.candidates,
             yarns=inst.yarns,
         )
-        before = measure(t.a, t.b)
-        _, _, results = apply_edits(t.a, t.b, measure)
+        results = review.results
+        if not results:
+            print(f"{inst.name:<24} {'-':>20} {'-':>14}  (no edit applies)")
+            continue
+        before = results[0].before
         after = next((r.after for r in reversed(results) if r.accepted), before)
         raised += after[0] > before[0] + 1e-6
         lowered += after[0] < before[0] - 1e-6
-        verdicts = " ".join(("+" if r.accepted else "-") + r.suggestion.name for r in results)
+        verdicts = " ".join(
+            f"{'+' if r.accepted else '-'}{r.suggestion.name}({r.after[0]:.3f})" for r in results
+        )
         print(
             f"{inst.name:<24} {before[0]:>12.3f}/{before[1]:.3f} {after[0]:>8.3f}/{after[1]:.3f}"
-            f"  {verdicts or '(no edit applies)'}  {time.perf_counter() - t0:.1f}"
+            f"  {verdicts}  {time.perf_counter() - t0:.1f}"
         )
     print(
         f"target: raised on >= half ({raised}/{len(insts)}), lowered on none ({lowered}) -> "

@@ -3,7 +3,9 @@
 A local FastAPI server with one hand-written page (no build step, no CDN: everything is served from
 this package) and a JSON API over the library, documented by OpenAPI at ``/docs``.
 
-* :mod:`illuknit.app.design` -- the pipeline the page drives (pure functions over the library);
+* :mod:`illuknit.app.design` -- the pipeline the page drives (pure functions over the library),
+  the front door of :mod:`~illuknit.app.inputs`, :mod:`~illuknit.app.candidates`,
+  :mod:`~illuknit.app.tile_edits` and :mod:`~illuknit.app.exports`;
 * :mod:`illuknit.app.schemas` -- the settings and request models (pydantic), written once;
 * :mod:`illuknit.app.sessions` -- per-tab sessions, so two tabs never share state;
 * :mod:`illuknit.app.jobs` -- cancellable background jobs with progress;

@@ -17,6 +17,7 @@ from fastapi.responses import JSONResponse
 from starlette.exceptions import HTTPException as StarletteHTTPException
 
 from illuknit.app.schemas import DesignSettings, JobIn, OverrideIn, SelectionIn
+from illuknit.app.suggestions import SupersededError
 from illuknit.errors import AppRequestError, IlluknitError
 
 __all__ = ["designer_message", "error_body", "install_handlers"]
@@ -106,7 +107,10 @@ def install_handlers(app: FastAPI) -> None:
 
     @app.exception_handler(AppRequestError)
     async def _app_error(request: Request, exc: AppRequestError) -> JSONResponse:
-        return JSONResponse(error_body(str(exc), exc.field, exc.code), status_code=exc.status)
+        body = error_body(str(exc), exc.field, exc.code)
+        if isinstance(exc, SupersededError):  # where the replaced thing's successor is
+            body["error"]["successor"] = exc.successor
+        return JSONResponse(body, status_code=exc.status)
 
     @app.exception_handler(IlluknitError)
     async def _lib_error(request: Request, exc: IlluknitError) -> JSONResponse:

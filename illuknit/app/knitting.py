@@ -15,7 +15,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-from illuknit.app.design import blame
+from illuknit.app.controls import blame
 from illuknit.errors import AppRequestError
 from illuknit.knit.machine import MACHINES, get_machine
 

@@ -115,10 +115,11 @@ SettingsPatch = _patch_of(DesignSettings, "SettingsPatch")
 class JobIn(BaseModel):
     """Body of ``POST /jobs``."""
 
-    kind: Literal["candidates", "knit", "measures"] = Field(
+    kind: Literal["candidates", "knit", "measures", "suggestions"] = Field(
         ...,
         title="Job",
-        description="candidates, knitout of the picked one, or measures of every candidate",
+        description="candidates, knitout of the picked one, measures of every candidate, or "
+        "suggested edits of the pictures (double view)",
     )
 
 

@@ -85,6 +85,10 @@ class Session:
     selected: int = 0
     overrides: dict[tuple[int, int], str] = field(default_factory=dict)
     knit: Any = None  # design.CheckedKnitout, for pattern_key
+    suggestions: Any = None  # suggestions.SuggestionSet of this revision's design
+    refused: set[str] = field(default_factory=set)  # ids of refused suggestions (hidden)
+    # ids of suggestion sets made for earlier designs of this session (answered 410, not 404)
+    retired_suggestions: OrderedDict[str, None] = field(default_factory=OrderedDict)
     jobs: dict[str, Any] = field(default_factory=dict)  # kind -> Job
     # id of a replaced job -> id of the job that replaced it (a poll of the old id follows it)
     successors: dict[str, str] = field(default_factory=dict)
@@ -92,6 +96,8 @@ class Session:
 
     #: Replaced job ids remembered per session (a page polls only its latest few).
     SUCCESSORS_KEPT = 64
+    #: Suggestion sets of earlier designs remembered per session.
+    RETIRED_KEPT = 64
 
     def replace_job(self, kind: str, job: Any) -> None:
         """Make ``job`` the session's job of ``kind``; polls of the one it replaces follow it."""
@@ -118,14 +124,26 @@ class Session:
         return None
 
     def nbytes(self) -> int:
-        """Memory the session holds: its pictures, quantised inputs, candidates and knitout."""
+        """Memory the session holds: its pictures, quantised inputs, candidates, suggested edits
+        (their pictures) and knitout."""
         n = sum(im.nbytes for im in self.images.values())
         if self.prepared is not None:
             n += sum(q.indices.nbytes for q in self.prepared.quantised.values())
         n += sum(c.pattern.yarn.nbytes + c.pattern.raised.nbytes for c in self.candidates)
         if self.knit is not None:
             n += len(self.knit.knitout) + len(self.knit.report_text)
+        if self.suggestions is not None:
+            n += self.suggestions.nbytes()
         return int(n)
+
+    def set_suggestions(self, suggestions: Any) -> None:
+        """Make ``suggestions`` the current set; the one it replaces is remembered as retired."""
+        if self.suggestions is not None:
+            self.retired_suggestions[self.suggestions.id] = None
+            while len(self.retired_suggestions) > self.RETIRED_KEPT:
+                self.retired_suggestions.popitem(last=False)
+        self.suggestions = suggestions
+        self.refused = set()
 
     def touch(self) -> None:
         self.last_seen = time.time()
@@ -139,7 +157,8 @@ class Session:
         self.selected = 0
         self.overrides = {}
         self.knit = None
-        for kind in ("candidates", "knit", "measures"):
+        self.set_suggestions(None)
+        for kind in ("candidates", "knit", "measures", "suggestions"):
             job = self.jobs.get(kind)
             if job is not None and job.live:
                 job.cancel()

@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import json
 import shutil
-from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -37,51 +36,9 @@ def _choose_yarns(spec: str | None, n_colors: int, pictures: list[np.ndarray]) -
         from illuknit.errors import YarnSpecError
 
         raise YarnSpecError(f"--yarns N must be between 1 and 8, got {n}")
+    from illuknit.tiles.yarn_choice import choose_yarns
+
     return choose_yarns(pictures, n)
-
-
-#: Colours closer than this (CIELAB distance) count as one when choosing yarns.
-SAME_COLOUR_LAB = 10.0
-
-
-def choose_yarns(pictures: list[np.ndarray], n: int) -> tuple[Any, ...]:
-    """``n`` yarns for pictures knitted together, keeping each picture's darkest and lightest.
-
-    Clustering the pictures jointly lets a picture that covers more, or has more shades, take
-    every yarn (four dark yarns for two logos, and one logo's white background lost). So each
-    picture's darkest and lightest colours are chosen first (near-equal ones once); the rest of
-    the ``n`` come from the joint clusters, each time the one farthest from those chosen (CIELAB).
-    """
-    from illuknit.colors import lab_from_rgb, luminance
-    from illuknit.images import auto_yarns, quantise_image
-
-    extremes: list[np.ndarray] = []
-    for p in pictures:
-        cols = quantise_image(p, n_colors=n).colors.astype(np.float64)
-        lum = luminance(cols)
-        extremes += [cols[int(np.argmin(lum))], cols[int(np.argmax(lum))]]
-    joint = quantise_image(np.concatenate(pictures, axis=0), n_colors=n).colors.astype(np.float64)
-    extremes.sort(key=lambda c: float(luminance(c)))
-    # Overall darkest and lightest first, then the other pictures' extremes, then joint clusters.
-    pool = [extremes[0], extremes[-1], *extremes[1:-1], *joint]
-    labs = lab_from_rgb(np.array(pool))
-    chosen = [0]
-    for i in range(1, len(pool)):
-        if len(chosen) == n:
-            break
-        if i < len(extremes):
-            far = min(float(np.linalg.norm(labs[i] - labs[j])) for j in chosen) > SAME_COLOUR_LAB
-            if far:
-                chosen.append(i)
-    while len(chosen) < n:
-        rest = [i for i in range(len(pool)) if i not in chosen]
-        dist = [min(float(np.linalg.norm(labs[i] - labs[j])) for j in chosen) for i in rest]
-        if not rest or max(dist) <= SAME_COLOUR_LAB:
-            break
-        chosen.append(rest[int(np.argmax(dist))])
-    colors = np.array([pool[i] for i in chosen])
-    order = np.argsort(luminance(colors), kind="stable")
-    return auto_yarns(np.round(colors[order]).astype(np.uint8))
 
 
 def run_design(
@@ -126,6 +83,7 @@ def run_design(
     from illuknit.tiles.bank import canonical_bank, load_bank
     from illuknit.tiles.compile import repainted_rgb
     from illuknit.tiles.headon import HEADON_VIEWS, uniform_side
+    from illuknit.tiles.overlaps import group_overlaps
     from illuknit.tiles.perception import rank_designs
 
     if candidates < 1:
@@ -152,12 +110,15 @@ def run_design(
     first: Any = qa
     edits: list[Any] = []
     if simplify or suggest:
-        if qb is None or mode != "double":
+        if qb is None or b is None or mode != "double":
             raise OptionError("--simplify and --suggest work on double-view designs (two pictures)")
         first, second, edits = _simplified(
             qa,
             qb,
             apply=simplify,
+            sources=[a, b],
+            # re-quantising stays within the yarns the designer allows (and the --colors range)
+            max_colors=min(4, max(n_colors, len(ys))),
             candidates=candidates,
             bank=bank,
             solver=solver,
@@ -197,6 +158,7 @@ def run_design(
     )
     rows = []
     chosen = None
+    overlap_lines: list[str] = []
     with staged_dir(outdir) as tmp:
         for rc in ranked:
             cand, pattern, report, meas = rc.assignment, rc.pattern, rc.report, rc.measures
@@ -204,7 +166,13 @@ def run_design(
                 chosen = pattern
             sub = tmp / f"candidate_{cand.rank}"
             s = max(2, unit_scale(pattern.shape))
+            for over, rows_spec in overrides.items():  # the tiles as knit, overrides included
+                cand = cand.with_tile(over, rows_spec)
             cand_json = cand.to_json()  # its "fills" is cand.describe()
+            table = group_overlaps(cand)
+            overlaps = table.to_json()
+            if cand.rank == pick:
+                overlap_lines = table.lines()
             report_json = report.to_json()
             rep = {
                 "mode": mode,
@@ -230,7 +198,12 @@ def run_design(
                 save_png(upscale(average, s), sub / f"repainted_{letter}_average.png")
             diagnostics = _write_diagnostics(pattern, seen_targets, sub, mode=mode, scale=s)
             fills = cand_json["fills"]
-            legend = {"views": list(views), "fills": fills, "tiles": cand_json["tiles"]}
+            legend = {
+                "views": list(views),
+                "fills": fills,
+                "tiles": cand_json["tiles"],
+                "overlaps": overlaps,
+            }
             atomic_write_text(sub / "fills.json", json.dumps(legend, indent=1) + "\n")
             rows.append(
                 {
@@ -245,11 +218,12 @@ def run_design(
                     "error_repainted": report_json["error_repainted"],
                     "error_repainted_interior": report_json["error_repainted_interior"],
                     "color_changes_per_course_max": report_json["color_changes_per_course"]["max"],
+                    "overlaps": overlaps,
                     "folder": sub.name,
                 }
             )
         if edits:
-            _write_edits(edits, qa, qb, tmp / "suggestions", scale=max(2, unit_scale(qa.shape)))
+            _write_edits(edits, tmp / "suggestions", scale=max(2, unit_scale(qa.shape)))
         shutil.copyfile(tmp / f"candidate_{pick}" / "pattern.json", tmp / "pattern.json")
         if knitout and chosen is not None:
             # The default candidate as a checked knitout program (mixed-colourwork scheduler).
@@ -268,45 +242,43 @@ def run_design(
             "candidates": rows,
         }
         atomic_write_text(tmp / "summary.json", json.dumps(summary, indent=1) + "\n")
-        atomic_write_text(tmp / "summary.txt", _summary_text(summary))
+        atomic_write_text(tmp / "summary.txt", _summary_text(summary, overlap_lines))
     return summary
 
 
 def _simplified(
-    qa: Any, qb: Any, *, apply: bool, candidates: int, **assign: Any
+    qa: Any, qb: Any, *, apply: bool, sources: list[np.ndarray], max_colors: int, **assign: Any
 ) -> tuple[Any, Any, list[Any]]:
     """Suggested edits of both pictures, each measured by the best design it leads to against
     the ORIGINAL pictures; with ``apply`` the improving ones are kept (tiles.simplify)."""
-    from functools import partial
+    from illuknit.tiles.simplify import review_edits
 
-    from illuknit.tiles.simplify import apply_edits, best_reading
-
-    measure = partial(
-        best_reading,
-        colors=(qa.colors, qb.colors),
+    review = review_edits(
+        qa,
+        qb,
+        apply=apply,
         targets=[qa.rgb(), qb.rgb()],
-        candidates=candidates,
+        sources=sources,
+        max_colors=max_colors,
         **assign,
     )
-    a, b, results = apply_edits(qa.indices, qb.indices, measure)
-    if not apply:
-        a, b = qa.indices, qb.indices
-        results = [replace(r, accepted=False) for r in results]
-    return (a, qa.colors), (b, qb.colors), results
+    return review.a, review.b, list(review.results)
 
 
-def _write_edits(edits: list[Any], qa: Any, qb: Any, folder: Path, *, scale: int) -> None:
+def _write_edits(edits: list[Any], folder: Path, *, scale: int) -> None:
     """``suggestions/``: each edit as before | after pictures, and ``suggestions.json``."""
     from illuknit.outputs import atomic_write_text
     from illuknit.previews import save_png, upscale
 
     folder.mkdir(parents=True, exist_ok=True)
     for e in edits:
-        for letter, q, after in (("a", qa, e.suggestion.a), ("b", qb, e.suggestion.b)):
-            before_rgb, after_rgb = q.palette[q.indices], q.palette[after]
+        s = e.suggestion
+        for letter, before_rgb, after_rgb in zip(
+            "ab", s.pictures(edited=False), s.pictures(), strict=True
+        ):
             gap = np.full((before_rgb.shape[0], 2, 3), 255, np.uint8)
             pair = np.concatenate([before_rgb, gap, after_rgb], axis=1)
-            save_png(upscale(pair, scale), folder / f"{e.suggestion.name}_{letter}.png")
+            save_png(upscale(pair, scale), folder / f"{s.name}_{letter}.png")
     data = {"edits": [e.to_json() for e in edits]}
     atomic_write_text(folder / "suggestions.json", json.dumps(data, indent=1) + "\n")
 
@@ -361,7 +333,7 @@ def _parse_overrides(specs: tuple[str, ...]) -> dict[tuple[int, int], str]:
     return out
 
 
-def _summary_text(summary: dict[str, Any]) -> str:
+def _summary_text(summary: dict[str, Any], overlap_lines: list[str]) -> str:
     lines = [
         f"{summary['mode']}-view tile design, {summary['size']['rows']} x {summary['size']['cols']} units, "
         f"yarns: {', '.join(y['name'] + ' ' + y['rgb'] for y in summary['yarns'])}",
@@ -384,7 +356,28 @@ def _summary_text(summary: dict[str, Any]) -> str:
     lines.append(
         "* = default candidate (its pattern is also ./pattern.json); each is in candidate_K/"
     )
+    if overlap_lines:
+        lines += ["", f"default candidate: {overlap_lines[0]}", *overlap_lines[1:]]
     return "\n".join(lines) + "\n"
+
+
+def _overlap_digest(table: dict[str, Any]) -> list[str]:
+    """The default candidate's overlap groups, one line each (details in summary.txt)."""
+    views = table["views"]
+    by = "both views" if table["grouped_by"] == "both" else table["grouped_by"]
+    out = [
+        f"default candidate: {table['pairs']} overlap pairs ({views[0]} over {views[1]}), "
+        f"grouped by the fill seen from {by}:"
+    ]
+    for g in table["groups"]:
+        out.append(f"  {g['fill']}: {len(g['overlaps'])} overlap(s), {100 * g['share']:.1f} %")
+    rare = table["rare"]
+    if rare["count"]:
+        out.append(
+            f"  {rare['count']} rare overlaps (each under {100 * table['rare_below']:.1f} %): "
+            f"{100 * rare['share']:.1f} % of the units together"
+        )
+    return out
 
 
 def _fmt(x: float | None, digits: int = 3) -> str:
@@ -427,6 +420,10 @@ def print_summary(summary: dict[str, Any], outdir: Path) -> None:
             "; ".join(r["fills_b"]),
         )
     con.print(t)
+    default = next((r for r in summary["candidates"] if r["default"]), None)
+    if default is not None:
+        for line in _overlap_digest(default["overlaps"]):
+            con.print(line)
     con.print(
         f"wrote {len(summary['candidates'])} candidate(s) to [bold]{outdir}[/] (default: candidate_{summary['default']})"
     )
@@ -454,7 +451,7 @@ def design_options(func: Any) -> Any:
         click.option("--knit-time/--no-knit-time", default=False, show_default=True,
                      help="Also knit every candidate and show the machine's knitting time (ties in the ranking)."),
         click.option("--suggest", is_flag=True,
-                     help="Try simplifying edits of the pictures (merge specks, smooth outlines, drop tiny "
+                     help="Try simplifying edits of the pictures (one colour fewer or more, merge specks, smooth outlines, drop tiny "
                      "overlaps) and write each as before | after with its effect to OUTDIR/suggestions/."),
         click.option("--simplify", is_flag=True,
                      help="Like --suggest, and design with the edits that raise the worse view's readability."),

@@ -30,12 +30,13 @@ def run_knit(
     check: bool = True,
     float_limit: int | None = None,
     float_avoidance: bool = True,
-    catching: bool = True,
+    catching: bool | str = True,
     path_planning: str = "anchor",
     strict_floats: bool = False,
     catch_every: int = 2,
     output_format: str = "knitout",
     tuck_passes: bool = False,
+    allow_long_floats: bool = True,
 ) -> dict[str, Any]:
     """Compile ``pattern_path`` to knitout (or a machine file: ``output_format="dat"``) at
     ``output``; return the summary (and checker verdict).
@@ -79,6 +80,7 @@ def run_knit(
         strict_floats=strict_floats,
         catch_every=catch_every,
         tuck_passes=tuck_passes,
+        allow_long_floats=allow_long_floats,
     )
     summary = result.summary()
     if check:
@@ -156,8 +158,15 @@ def run_knit(
 @click.option(
     "--strict-floats",
     is_flag=True,
-    help="Fail when a course needs more carriers than the machine has to keep floats within "
-    "the limit (default: bridge the shortest gaps with longer floats).",
+    help="Also fail when a course needs more carriers than the machine has to keep floats "
+    "within the limit (default: bridge the shortest gaps with longer floats, then tuck them).",
+)
+@click.option(
+    "--allow-long-floats",
+    is_flag=True,
+    help="Knit a mixed-colourwork piece even where a float stays longer than the float limit "
+    "after tucking, with a warning saying how long and where (default: refuse, naming the "
+    "course and what to change).",
 )
 @click.option(
     "--tuck-passes",
@@ -177,19 +186,28 @@ def run_knit(
     help="Ablation (paper Fig. 20): let floats cross the face of the purls.",
 )
 @click.option(
-    "--catching", "catching_on", is_flag=True, help="Plate at colour changes (the default)."
+    "--catching",
+    "catching_on",
+    is_flag=True,
+    help="Join colour regions at colour changes (the default: tuck joins).",
+)
+@click.option(
+    "--plate",
+    is_flag=True,
+    help="Join colour regions with the paper's plated stitches (Algorithm 2) instead of tuck "
+    "joins (more passes, longer floats).",
 )
 @click.option(
     "--no-catching",
     is_flag=True,
-    help="Ablation (paper Fig. 20): no plated stitches joining colour regions.",
+    help="Ablation (paper Fig. 20): nothing joins colour regions.",
 )
 @click.option(
     "--catch-every",
     type=COUNT,
     default=2,
     show_default=True,
-    help="Plate at colour changes on every N-th course (1 = every course, as in the paper).",
+    help="Join colour regions on every N-th course (1 = every course, as in the paper).",
 )
 @click.option(
     "--path-planning",
@@ -220,10 +238,12 @@ def knit(
     seconds_per_turn: float | None,
     float_limit: int | None,
     strict_floats: bool,
+    allow_long_floats: bool,
     tuck_passes: bool,
     float_avoidance_on: bool,
     no_float_avoidance: bool,
     catching_on: bool,
+    plate: bool,
     no_catching: bool,
     catch_every: int,
     path_planning: tuple[str, ...],
@@ -239,10 +259,13 @@ def knit(
     none switches are the paper's Fig. 20 ablations). Exit code 1 when the checker finds a
     blocking problem, 2 on bad input.
     """
+    if strict_floats and allow_long_floats:
+        raise click.UsageError("--strict-floats and --allow-long-floats contradict each other")
     if float_avoidance_on and no_float_avoidance:
         raise click.UsageError("--float-avoidance and --no-float-avoidance contradict each other")
-    if catching_on and no_catching:
-        raise click.UsageError("--catching and --no-catching contradict each other")
+    if (catching_on or plate) and no_catching:
+        what = "--plate" if plate else "--catching"
+        raise click.UsageError(f"{what} and --no-catching contradict each other")
     if len(set(path_planning)) > 1:
         raise click.UsageError(
             f"--path-planning given contradictory values: {', '.join(sorted(set(path_planning)))}"
@@ -252,9 +275,10 @@ def knit(
         output,
         float_limit=float_limit,
         strict_floats=strict_floats,
+        allow_long_floats=allow_long_floats,
         tuck_passes=tuck_passes,
         float_avoidance=not no_float_avoidance,
-        catching=not no_catching,
+        catching=False if no_catching else ("plate" if plate else True),
         catch_every=catch_every,
         path_planning=path_planning[0] if path_planning else "anchor",
         machine=machine,
@@ -266,6 +290,12 @@ def knit(
         check=not no_check,
         output_format=output_format,
     )
+    if summary.get("long_floats"):
+        click.echo(
+            f"warning: {summary['long_floats']} float(s) longer than the float limit; the "
+            f"longest, {summary['longest_float']} needles: {summary['longest_float_at']}",
+            err=True,
+        )
     if as_json:
         click.echo(json.dumps(summary, indent=1))
     else:
@@ -283,8 +313,9 @@ def knit(
         )
         if s.get("scheduler") == "mixed-colourwork":
             click.echo(
-                f"mixed colourwork: {s['carriers']} carrier(s), {s['plated_stitches']} plated "
-                f"catching stitch(es), {s['explicit_kickbacks']} carrier move pass(es), "
+                f"mixed colourwork: {s['carriers']} carrier(s), {s['tuck_joins']} tuck join(s), "
+                f"{s['plated_stitches']} plated catching stitch(es), "
+                f"{s['explicit_kickbacks']} carrier move pass(es), "
                 f"{s['float_avoidance_transfers']} float-avoidance transfer pass(es), "
                 f"{s['kickbacks']} backend kickback(s)"
             )

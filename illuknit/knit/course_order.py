@@ -10,9 +10,10 @@ carriers -- and plans each with :func:`~illuknit.knit.path_planning.plan_item`.
 from __future__ import annotations
 
 from collections.abc import Sequence
+from dataclasses import replace
 
 from illuknit.errors import SchedulingError
-from illuknit.knit.catching import PlatedStitch
+from illuknit.knit.catching import JoinTuck, PlatedStitch
 from illuknit.knit.path_planning import (
     CarrierState,
     Park,
@@ -31,20 +32,41 @@ def course_items(
     catches: Sequence[PlatedStitch],
     beds: Sequence[str],
     left: int,
+    tucks: Sequence[JoinTuck] = (),
 ) -> list[WorkItem]:
-    """Work items of a course: each carrier's own stitches, then one item per plated pair."""
+    """Work items of a course: each carrier's own stitches, then one item per plated pair.
+
+    A carrier's tuck joins (front-bed tucks on a neighbour's needle) join its own item.
+    """
     plated_wales = {p.wale for p in catches}
+    tucked: dict[str, set[int]] = {}
+    for t in tucks:
+        tucked.setdefault(t.carrier, set()).add(left + t.wale)
     items: list[WorkItem] = []
     for car, wales in plan_segments:
-        st = tuple((left + w, beds[w]) for w in wales if w not in plated_wales)
-        if st:
-            items.append(WorkItem((car,), st))
+        own = [(left + w, beds[w]) for w in wales if w not in plated_wales]
+        extra = tucked.get(car, set())
+        if own or extra:
+            st = tuple(sorted([*own, *((n, "f") for n in extra)]))
+            items.append(WorkItem((car,), st, tucks=frozenset(extra)))
     groups: dict[tuple[str, str], list[int]] = {}
     for p in catches:
         groups.setdefault(p.carriers, []).append(p.wale)
     for cars, wales in groups.items():
         items.append(WorkItem(cars, tuple((left + w, beds[w]) for w in sorted(wales)), plated=True))
-    return items
+    # A tuck that must come first: the item knitting its needle follows the tucking carrier.
+    firsts = [(left + t.wale, t.carrier) for t in tucks if t.first]
+    return [
+        replace(
+            it,
+            follows=frozenset(
+                c for n, c in firsts if any(m == n for m, _ in it.stitches) and n not in it.tucks
+            ),
+        )
+        if firsts
+        else it
+        for it in items
+    ]
 
 
 #: Courses with at most this many work items are ordered by exhaustive search (branch and
@@ -100,8 +122,12 @@ def order_and_plan(
             cache[key] = got
         return got
 
-    def ready(i: int, st: dict[str, CarrierState]) -> bool:
+    own = {it.carriers[0]: i for i, it in enumerate(items) if len(it.carriers) == 1}
+
+    def ready(i: int, st: dict[str, CarrierState], left: list[int]) -> bool:
         it = items[i]
+        if any(own.get(c) in left for c in it.follows):
+            return False
         return len(it.carriers) == 1 or all(
             st.get(c, unused).needle is not None for c in it.carriers
         )
@@ -139,7 +165,7 @@ def order_and_plan(
                     best[0], best[1], best[2] = total, list(acc), st
                 return
             for i in left:
-                if not ready(i, st):
+                if not ready(i, st, left):
                     continue
                 ps, c, sub = plan(i, st)
                 search([j for j in left if j != i], {**st, **sub}, acc + ps, cost + c)
@@ -158,7 +184,7 @@ def order_and_plan(
         grown = []
         for cost, left, st, acc in beam:
             for i in left:
-                if not ready(i, st):
+                if not ready(i, st, left):
                     continue
                 ps, c, sub = plan(i, st)
                 grown.append((cost + c, [j for j in left if j != i], {**st, **sub}, acc + ps))

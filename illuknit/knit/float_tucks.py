@@ -30,7 +30,18 @@ from collections.abc import Sequence
 from dataclasses import dataclass, replace
 from itertools import pairwise
 
-from illuknit.knit.ir import ActionKind, Bed, CarrierAction, Op, OpKind, Pass, PassKind, Role, Step
+from illuknit.knit.ir import (
+    ActionKind,
+    Bed,
+    CarrierAction,
+    Op,
+    OpKind,
+    Pass,
+    PassKind,
+    Role,
+    Step,
+    flip,
+)
 
 __all__ = ["LongFloat", "measure_long_floats", "tuck_long_floats"]
 
@@ -134,7 +145,10 @@ def tuck_long_floats(
     # carrier -> (needle of its last loop, index of the pass that made it, index of its last pass)
     last: dict[str, tuple[int, int, int]] = {}
     adds: dict[int, set[int]] = {}  # pass index -> back needles to tuck
-    solo: dict[int, list[tuple[str, set[int]]]] = {}  # pass index -> (carrier, tucks) before it
+    solo: dict[
+        int, list[tuple[str, set[int], int | None]]
+    ] = {}  # pass index -> (carrier, tucks) before it
+    clear: dict[int, set[int]] = {}  # pass index -> back loops moved front around it
     for i, s in enumerate(passes):
         if isinstance(s, CarrierAction):
             if s.action in ("out", "outhook"):
@@ -164,13 +178,14 @@ def tuck_long_floats(
                         limit,
                         left,
                         right,
+                        clear,
                     )
                 last[c] = (o.needle, i, i)
         for c in s.carriers:
             prev = last.get(c)
             if prev is not None:
                 last[c] = (prev[0], prev[1], i)
-    out = _apply(passes, adds, solo)
+    out = _apply(passes, adds, solo, clear)
     # One yarn's tucks may cut another's float too (a plated pass tucks every yarn): what stays
     # long is measured on the result, loop to loop, as the checker's simulator measures it.
     return out, measure_long_floats(out, limit=limit)
@@ -281,7 +296,7 @@ def _plan_tucks(
     adds: dict[int, set[int]],
     once: tuple[dict[int, list[int]], set[tuple[int, int]]],
     around: list[dict[str, tuple[int | None, int | None]]],
-    solo: dict[int, list[tuple[str, set[int]]]],
+    solo: dict[int, list[tuple[str, set[int], int | None]]],
     carrier: str,
     alone: bool,
     i: int,
@@ -290,6 +305,7 @@ def _plan_tucks(
     limit: int,
     left: int,
     right: int,
+    clear: dict[int, set[int]],
 ) -> bool:
     """Tuck the float ``got[0]`` -> ``n`` in the pass that lays it; False if there is none.
 
@@ -319,15 +335,53 @@ def _plan_tucks(
         # (Not once a yarn of the pass tucks alone before it: the tucks here were not planned
         # from where that yarn then is.)
         if i not in solo and _tuck_in(
-            p, where, a, n, backs, adds, once, around, limit, left, right, outward=False
+            p,
+            where,
+            a,
+            n,
+            backs,
+            adds,
+            once,
+            around,
+            limit,
+            left,
+            right,
+            outward=False,
+            clear=clear,
         ):
             return True
         if made_in == i or not alone:  # (between two loops of this pass, nothing fits before)
             return False
         return _tuck_alone(i, carrier, a, n, backs, (adds, solo), once, limit, left, right)
-    return _tuck_in(
-        p, where, a, n, backs, adds, once, around, limit, left, right, outward=where != i
-    )
+    if _tuck_in(
+        p,
+        where,
+        a,
+        n,
+        backs,
+        adds,
+        once,
+        around,
+        limit,
+        left,
+        right,
+        outward=where != i,
+        clear=clear,
+    ):
+        return True
+    if where == i or len(s.carriers) > 1 or s.racking != 0 or i in solo:
+        return False
+    # The way out is blocked (no free back needle among purls there): the carrier comes back
+    # beside its last loop and tucks alone on its way to ``n``, right before pass ``i``, when
+    # float avoidance has already moved the purls the float crosses to the front.
+    busy = set(adds.get(i, set()))
+    picks = _tuck_needles(a, n, limit, _free_needles(i, a, n, backs, busy, once, left, right))
+    if not picks:
+        return False
+    solo.setdefault(i, []).append((carrier, set(picks), a))
+    stitched, taken = once
+    taken.update((t, bisect_right(stitched.get(t, []), i)) for t in picks)
+    return True
 
 
 def _free_needles(
@@ -357,7 +411,7 @@ def _tuck_alone(
     a: int,
     n: int,
     backs: list[frozenset[int]],
-    plans: tuple[dict[int, set[int]], dict[int, list[tuple[str, set[int]]]]],
+    plans: tuple[dict[int, set[int]], dict[int, list[tuple[str, set[int], int | None]]]],
     once: tuple[dict[int, list[int]], set[tuple[int, int]]],
     limit: int,
     left: int,
@@ -365,7 +419,7 @@ def _tuck_alone(
 ) -> bool:
     """Tuck the float ``a`` -> ``n`` with ``carrier`` alone in a pass of its own before ``i``."""
     adds, solo = plans
-    busy = set(adds.get(i, set())).union(*(t for _, t in solo.get(i, [])))
+    busy = set(adds.get(i, set())).union(*(t for _, t, _ in solo.get(i, [])))
     picks = _tuck_needles(a, n, limit, _free_needles(i, a, n, backs, busy, once, left, right))
     if not picks:
         return False
@@ -373,7 +427,7 @@ def _tuck_alone(
     stop = max(picks) if n > a else min(picks)
     if any((t - stop) * (n - a) <= 0 for t in adds.get(i, set())):
         return False
-    solo.setdefault(i, []).append((carrier, set(picks)))
+    solo.setdefault(i, []).append((carrier, set(picks), None))
     stitched, taken = once
     taken.update((t, bisect_right(stitched.get(t, []), i)) for t in picks)
     return True
@@ -393,18 +447,24 @@ def _tuck_in(
     right: int,
     *,
     outward: bool,
+    clear: dict[int, set[int]],
 ) -> bool:
     """Tuck the float ``a`` -> ``n`` in pass ``where`` (all its yarns tuck); ``outward``: on
-    the way out of the pass that made ``a``."""
+    the way out of the pass that made ``a``. Back-bed loops the float then passes are added to
+    ``clear[where]``: moved to the front before the pass and back right after it."""
     lo, hi = sorted((a, n))
     if len(p.carriers) > 1:
         ends = [e for c in p.carriers for e in around[where].get(c, (None, None)) if e is not None]
         lo, hi = min(*ends, lo), max(*ends, hi)
         if any(lo < t < hi for t in backs[where]):
             return False
-    if p.racking != 0 or (outward and any(lo < t < hi for t in backs[where])):
-        # A tuck on the way out would pull the float in front of those purls' faces: the yarn
-        # that passed them as a miss becomes a float between two loops.
+    if p.racking != 0:
+        return False
+    purls = {t for t in backs[where] if lo < t < hi} if outward else set()
+    if purls and len(p.carriers) > 1:
+        # A tuck on the way out would pull the float in front of those purls' faces (the yarn
+        # that passed them as a miss becomes a float between two loops); a single yarn's pass
+        # has them moved to the front around it, a plated pass is left alone.
         return False
     stitched, taken = once
     busy = {o.needle for o in p.ops} | adds.get(where, set())
@@ -415,6 +475,8 @@ def _tuck_in(
     ):
         return False
     adds.setdefault(where, set()).update(picks)
+    if purls:
+        clear.setdefault(where, set()).update(purls)
     taken.update((t, bisect_right(stitched.get(t, []), where)) for t in picks)
     return True
 
@@ -428,7 +490,10 @@ def _starts_beyond(q: Step, a: int, direction: str | None) -> bool:
 
 
 def _apply(
-    passes: list[Step], adds: dict[int, set[int]], solo: dict[int, list[tuple[str, set[int]]]]
+    passes: list[Step],
+    adds: dict[int, set[int]],
+    solo: dict[int, list[tuple[str, set[int], int | None]]],
+    clear: dict[int, set[int]],
 ) -> list[Step]:
     out: list[Step] = []
     pending: Pass | None = None
@@ -440,14 +505,34 @@ def _apply(
             out.append(pending)
             pending = None
         alone: set[int] = set()
-        for carrier, picks in solo.get(i, []):
-            assert isinstance(s, Pass)
-            sign = 1 if s.direction == "+" else -1
+        for carrier, picks, back_to in solo.get(i, []):
+            assert isinstance(s, Pass) and s.direction is not None
+            d = s.direction
+            trail: tuple[Op, ...] = ()
+            if back_to is not None:
+                # Back beside the last loop, then tuck towards the pass's first needle and stop
+                # just beyond it, behind the carriage for the pass.
+                d = "+" if s.ops[0].needle > back_to else "-"
+                step = 1 if d == "+" else -1
+                out.append(
+                    Pass(
+                        PassKind.KNIT,
+                        (Op(OpKind.MISS, Bed.FRONT, back_to + step),),
+                        flip(d),
+                        (carrier,),
+                        0.0,
+                        Role.ANCHOR,
+                        s.course,
+                    )
+                )
+                trail = (Op(OpKind.MISS, Bed.FRONT, s.ops[0].needle + step),)
+            sign = 1 if d == "+" else -1
+            tucks_op = tuple(Op(OpKind.TUCK, Bed.BACK, t) for t in sorted(picks, key=sign.__mul__))
             out.append(
                 Pass(
                     PassKind.KNIT,
-                    tuple(Op(OpKind.TUCK, Bed.BACK, t) for t in sorted(picks, key=sign.__mul__)),
-                    s.direction,
+                    tucks_op + trail,
+                    d,
                     (carrier,),
                     0.0,
                     Role.FLOAT_AVOIDANCE,
@@ -459,21 +544,30 @@ def _apply(
         if not isinstance(s, Pass) or not (tucks or alone):
             out.append(s)
             continue
+        purls = sorted(clear.get(i, set()))
+        if purls:
+            out.append(_xfers([(t, Bed.BACK, Bed.FRONT) for t in purls], s.course))
         sign = 1 if s.direction == "+" else -1
         ops = [*s.ops, *(Op(OpKind.TUCK, Bed.BACK, t) for t in tucks)]
         # Back and front of one needle are one slot at racking 0: order by needle, and a tuck
         # lands between the pass's own operations (its needles were excluded when choosing).
         ops.sort(key=lambda o: sign * o.needle)
         out.append(replace(s, ops=tuple(ops)))
-        pending = Pass(
-            PassKind.XFER,
-            tuple(Op(OpKind.XFER, Bed.BACK, t, Bed.FRONT, t) for t in sorted(tucks | alone)),
-            None,
-            (),
-            0.0,
-            Role.FLOAT_AVOIDANCE,
+        pending = _xfers(
+            sorted(
+                [
+                    *((t, Bed.BACK, Bed.FRONT) for t in tucks | alone),
+                    *((t, Bed.FRONT, Bed.BACK) for t in purls),
+                ]
+            ),
             s.course,
         )
     if pending is not None:
         out.append(pending)
     return out
+
+
+def _xfers(moves: list[tuple[int, Bed, Bed]], course: int | None) -> Pass:
+    """One transfer pass at racking 0: ``(needle, from bed, to bed)`` each."""
+    ops = tuple(Op(OpKind.XFER, frm, n, to, n) for n, frm, to in moves)
+    return Pass(PassKind.XFER, ops, None, (), 0.0, Role.FLOAT_AVOIDANCE, course)

@@ -59,11 +59,12 @@ passes reported for a program are the machine's (:mod:`illuknit.knit.carriage`).
 from __future__ import annotations
 
 from collections.abc import Sequence
+from dataclasses import dataclass
 
 import numpy as np
 
 from illuknit.errors import OptionError, PatternValidationError, SchedulingError
-from illuknit.knit.catching import plan_catches
+from illuknit.knit.catching import JOIN_METHODS, JoinTuck, PlatedStitch, plan_catches, plan_joins
 from illuknit.knit.color_runs import ColorPlan, plan_color_runs
 from illuknit.knit.course_order import course_items, order_and_plan
 from illuknit.knit.float_avoidance import float_crossings, transfers_before
@@ -91,10 +92,13 @@ __all__ = ["fold_moves", "schedule_mixed", "validate_ablation"]
 
 
 def validate_ablation(*, float_avoidance: object, catching: object, path_planning: object) -> None:
-    """Check the ablation switches (booleans and a known strategy name)."""
-    for name, v in (("float_avoidance", float_avoidance), ("catching", catching)):
-        if not isinstance(v, (bool, np.bool_)):
-            raise OptionError(f"`{name}` must be True or False, got {v!r}")
+    """Check the ablation switches (booleans, a join method and a known strategy name)."""
+    if not isinstance(float_avoidance, (bool, np.bool_)):
+        raise OptionError(f"`float_avoidance` must be True or False, got {float_avoidance!r}")
+    if not isinstance(catching, (bool, np.bool_)) and catching not in JOIN_METHODS:
+        raise OptionError(
+            f"`catching` must be True, False or one of {', '.join(JOIN_METHODS)}, got {catching!r}"
+        )
     if path_planning not in STRATEGIES:
         raise OptionError(
             f"`path_planning` must be one of {', '.join(STRATEGIES)}, got {path_planning!r}"
@@ -181,16 +185,112 @@ def fold_moves(steps: Sequence[Step]) -> list[Step]:
     return out
 
 
+@dataclass(frozen=True, eq=False)
+class _Courses:
+    """What every course of :func:`schedule_mixed` reads: the plan, stitches and switches."""
+
+    plan: ColorPlan
+    kind: np.ndarray  # (courses incl. cast-on, W): KNIT / PURL per stitch
+    beds: list[list[str]]  # the same as "f" / "b"
+    k0: int  # cast-on courses
+    join: str | None  # "tuck", "plate" or None (no catching)
+    catch_every: int
+    path_planning: str
+    float_avoidance: bool
+    park: Park | None
+    last_course: dict[str, int]  # carrier -> last course it knits in
+
+
+def _knit_course(em: Emitter, ctx: _Courses, c: int) -> int:
+    """Emit course ``c`` (joins, ordered passes, transfers); returns its lower bound.
+
+    The course's work items -- every carrier's segment with its tuck joins, one item per
+    plated pair -- are ordered and path-planned, then each pass is emitted after the transfers
+    it needs (float avoidance), and carriers whose last course this is go out.
+    """
+    plan, kind, left = ctx.plan, ctx.kind, em.left
+    cp = plan.courses[c]
+    label = c - ctx.k0 if c >= ctx.k0 else None
+    role = Role.BODY if c >= ctx.k0 else Role.CAST_ON
+    beds = ctx.beds[c]
+    new = frozenset(s.carrier for s in cp.segments if s.carrier not in em.states)
+    tucks: list[JoinTuck] = []
+    catches: list[PlatedStitch] = []
+    if ctx.join is not None and c % ctx.catch_every == 0:
+        if ctx.join == "tuck":
+            nxt = kind[c + 1] if c + 1 < len(kind) else np.zeros_like(kind[c])
+            tucks, catches = plan_joins(
+                cp,
+                knit_now=kind[c] == 0,
+                knit_next=nxt == 0,
+                new_carriers=new,
+                # (without path planning the passes keep their given order)
+                ordered=ctx.path_planning != "none",
+            )
+        else:
+            catches = plan_catches(cp, new_carriers=new)
+    segments = [(s.carrier, s.wales) for s in cp.segments]
+    items = course_items(segments, catches, beds, left, tucks)
+    lookahead: list[WorkItem] = []
+    if c + 1 < len(plan.courses):
+        # The next course's own segments: orders that leave carriers where that work can
+        # start in one pass are preferred (its joins are not known yet).
+        nxt_segments = [(s.carrier, s.wales) for s in plan.courses[c + 1].segments]
+        lookahead = course_items(nxt_segments, [], ctx.beds[c + 1], left)
+    parity = "-" if c % 2 == 0 else "+"
+    planned, _ = order_and_plan(items, em.states, ctx.path_planning, parity, lookahead, ctx.park)
+    prev = kind[c - 1] if c else np.zeros_like(kind[c])
+    changed = bool((kind[c] != prev).any())
+    bound = len({it.carriers for it in items}) + int(changed)
+
+    required = dict(zip(em.needles, beds, strict=True))
+    if not ctx.float_avoidance:
+        em.xfer(
+            {n: b for n, b in required.items() if em.bed[n] != b},
+            role=Role.TRANSFER,
+            course=label,
+        )
+    crossings = float_crossings(planned, em.states, needles=em.needles)
+    # (A tuck join is not the needle's stitch: its own stitch decides when the loop moves.)
+    stitch_pass = {
+        n: i
+        for i, p in enumerate(planned)
+        if p.kind != "move"
+        for n, _ in p.stitches
+        if n not in p.tucks
+    }
+    for i, p in enumerate(planned):
+        if ctx.float_avoidance:
+            # Transfers for the pass after a carrier move go before the move: a carrier
+            # just moved inside the fabric would be in their way.
+            j = next((k for k in range(i, len(planned)) if planned[k].kind != "move"), i)
+            moves, for_floats = transfers_before(
+                j, planned, crossings, bed=em.bed, required=required, stitch_pass=stitch_pass
+            )
+            if moves:
+                em.float_transfer_passes += int(for_floats)
+                em.xfer(
+                    moves,
+                    role=Role.FLOAT_AVOIDANCE if for_floats else Role.TRANSFER,
+                    course=label,
+                )
+        em.knit(p, role=role, course=label)
+    done = [car for car, lc in ctx.last_course.items() if lc == c and c != len(kind) - 1]
+    em.outhook(sorted(done, key=em.machine.carriers.index))
+    return bound
+
+
 def schedule_mixed(
     stitches: StitchPattern,
     *,
     machine: MachineSpec = DEFAULT_MACHINE,
     float_avoidance: bool = True,
-    catching: bool = True,
+    catching: bool | str = True,
     path_planning: str = "anchor",
     catch_every: int = 2,
     float_limit: int | None = None,
     strict_floats: bool = False,
+    allow_long_floats: bool = True,
     tail_stitches: int = 4,
     park_carriers: bool = True,
     tuck_passes: bool = False,
@@ -205,8 +305,11 @@ def schedule_mixed(
         Bed, carriers, float limit, parking, stitch numbers.
     float_avoidance : bool
         Algorithm 1: move purls to the front around floats that cross them.
-    catching : bool
-        Algorithm 2: plated stitches joining neighbouring carriers' regions.
+    catching : bool or {"tuck", "plate"}
+        Join neighbouring carriers' regions. True or ``"tuck"`` (the default): tuck joins, a
+        carrier tucking on the neighbour's edge needle in its own pass, plated stitches only
+        where no tuck is safe (:func:`~illuknit.knit.catching.plan_joins`); ``"plate"``: the
+        paper's plated stitches everywhere (Algorithm 2); False: no joins (the ablation).
     path_planning : {"anchor", "split", "none"}
         Algorithm 3 strategy; ``none`` knits every pass in the course's parity direction.
     catch_every : int
@@ -221,6 +324,10 @@ def schedule_mixed(
         :class:`~illuknit.errors.SchedulingError` naming the course when a float stays longer
         than the limit after tucking; by default such floats are kept and listed in
         ``Schedule.long_floats`` (the checker warns about them).
+    allow_long_floats : bool
+        False: raise :class:`~illuknit.errors.SchedulingError` naming the course when a float
+        stays longer than the limit after tucking (``illuknit knit``'s default); True (the
+        library's default): keep it, list it in ``Schedule.long_floats`` (the checker warns).
     tail_stitches : int
         Knits on the last needle of the bind-off chain.
     park_carriers : bool
@@ -231,8 +338,8 @@ def schedule_mixed(
     tuck_passes : bool
         Where a plated catching pass cannot tuck a long float (its other yarn comes from
         elsewhere), tuck the floating yarn alone in a pass of its own right before it. Off by
-        default: on the bundled instances it costs 1-29 % more machine passes and shortens the
-        longest float by 0-26 % (``docs/mixed-colourwork.md``).
+        default; it matters with ``catching="plate"`` only (on the plated bundled programs it
+        cost 1-29 % more machine passes, ``docs/mixed-colourwork.md``).
 
     Returns
     -------
@@ -273,6 +380,7 @@ def schedule_mixed(
         or catch_every < 1
     ):
         raise OptionError(f"`catch_every` must be an integer >= 1, got {catch_every!r}")
+    join = (str(catching) if isinstance(catching, str) else "tuck") if catching else None
     n_courses, n_wales = stitches.shape
     machine.check_width(n_wales)
     k0 = stitches.cast_on_courses
@@ -304,75 +412,32 @@ def schedule_mixed(
     for n in em.needles:
         em.bed[n] = "f"
 
-    # -- courses -------------------------------------------------------------------------------
-    # Bed of every stitch ("f" knit, "b" purl), once: each course also reads the next one's.
-    course_beds: list[list[str]] = np.array(["f", "b"])[kind].tolist()
+    ctx = _Courses(
+        plan=plan,
+        kind=kind,
+        beds=np.array(["f", "b"])[kind].tolist(),
+        k0=k0,
+        join=join,
+        catch_every=int(catch_every),
+        path_planning=path_planning,
+        float_avoidance=bool(float_avoidance),
+        park=park,
+        last_course=last_course,
+    )
     body_bound = 0
     cast_courses_bound = 0
-    prev_kind = np.zeros(n_wales, dtype=np.uint8)
     for cp in plan.courses:
-        c = cp.course
-        body = c >= k0
-        role = Role.BODY if body else Role.CAST_ON
-        label = c - k0 if body else None
-        need = kind[c]
-        beds = course_beds[c]
-        new = frozenset(s.carrier for s in cp.segments if s.carrier not in em.states)
-        caught = catching and c % catch_every == 0
-        catches = plan_catches(cp, new_carriers=new) if caught else []
-        items = course_items([(s.carrier, s.wales) for s in cp.segments], catches, beds, left)
-        parity = "-" if c % 2 == 0 else "+"
-        lookahead: list[WorkItem] = []
-        if c + 1 < len(plan.courses):
-            # The next course's own segments: orders that leave carriers where that work can
-            # start in one pass are preferred (its plated stitches are not known yet).
-            nxt = plan.courses[c + 1]
-            lookahead = course_items(
-                [(s.carrier, s.wales) for s in nxt.segments], [], course_beds[c + 1], left
-            )
-        planned, _ = order_and_plan(items, em.states, path_planning, parity, lookahead, park)
-        bound = len({it.carriers for it in items}) + int(bool((need != prev_kind).any()))
-        prev_kind = need
-        if body:
+        bound = _knit_course(em, ctx, cp.course)
+        if cp.course >= k0:
             body_bound += bound
         else:
             cast_courses_bound += bound
-
-        required = dict(zip(em.needles, beds, strict=True))
-        if not float_avoidance:
-            em.xfer(
-                {n: b for n, b in required.items() if em.bed[n] != b},
-                role=Role.TRANSFER,
-                course=label,
-            )
-        crossings = float_crossings(planned, em.states, needles=em.needles)
-        stitch_pass = {
-            n: i for i, p in enumerate(planned) if p.kind != "move" for n, _ in p.stitches
-        }
-        for i, p in enumerate(planned):
-            if float_avoidance:
-                # Transfers for the pass after a carrier move go before the move: a carrier
-                # just moved inside the fabric would be in their way.
-                j = next((k for k in range(i, len(planned)) if planned[k].kind != "move"), i)
-                moves, for_floats = transfers_before(
-                    j, planned, crossings, bed=em.bed, required=required, stitch_pass=stitch_pass
-                )
-                if moves:
-                    em.float_transfer_passes += int(for_floats)
-                    em.xfer(
-                        moves,
-                        role=Role.FLOAT_AVOIDANCE if for_floats else Role.TRANSFER,
-                        course=label,
-                    )
-            em.knit(p, role=role, course=label)
-        done = [car for car, lc in last_course.items() if lc == c and c != yarn.shape[0] - 1]
-        em.outhook(sorted(done, key=machine.carriers.index))
 
     bind_fixed = bind_off(
         em,
         plan.courses[-1],
         park=park,
-        catching=bool(catching),
+        catching=join is not None,
         path_planning=path_planning,
         tail_stitches=tail_stitches,
     )
@@ -383,14 +448,15 @@ def schedule_mixed(
         em.steps, long = tuck_long_floats(
             em.steps, limit=int(limit), left=left, right=edge, alone=bool(tuck_passes)
         )
-        if long and strict_floats:
+        if long and (strict_floats or not allow_long_floats):
             worst = max(long, key=lambda f: f.length)
             where = "the bind-off" if worst.course is None else stitches.course_name(worst.course)
             raise SchedulingError(
                 f"{len(long)} float(s) stay longer than the float limit of {limit} needles; the "
                 f"longest, {worst.length} needles of carrier {worst.carrier} (needles "
                 f"{worst.from_needle} to {worst.to_needle}), is at {where}: use fewer colour "
-                "regions per row there, catching off, or a wider float limit"
+                "regions per row there, a wider float limit, or allow long floats "
+                "(allow_long_floats=True, --allow-long-floats)"
             )
     lower = cast_fixed + cast_courses_bound + body_bound + bind_fixed
     return Schedule(
@@ -408,7 +474,9 @@ def schedule_mixed(
         long_floats=tuple(long),
         mixed=MixedReport(
             float_avoidance=bool(float_avoidance),
-            catching=bool(catching),
+            catching=join is not None,
+            join_method=join or "none",
+            tuck_joins=em.join_tucks,
             path_planning=path_planning,
             catch_every=int(catch_every),
             float_limit=int(limit),

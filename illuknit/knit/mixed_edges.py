@@ -57,6 +57,7 @@ class Emitter:
         self.float_transfer_passes = 0
         self.moves = 0
         self.plated = 0
+        self.join_tucks = 0
 
     @property
     def needles(self) -> range:
@@ -103,7 +104,10 @@ class Emitter:
         else:
             if new:
                 self.steps.append(CarrierAction(ActionKind.INHOOK, p.carriers))
-            ops = tuple(Op(op, Bed(b), n) for n, b in p.stitches) + tuple(extra)
+            ops = tuple(
+                Op(OpKind.TUCK if n in p.tucks else op, Bed(b), n) for n, b in p.stitches
+            ) + tuple(extra)
+            self.join_tucks += len(p.tucks)
             if p.park is not None:
                 ops += (Op(OpKind.MISS, Bed.FRONT, p.park),)
             self.steps.append(

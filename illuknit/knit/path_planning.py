@@ -81,11 +81,19 @@ class CarrierState:
 
 @dataclass(frozen=True)
 class WorkItem:
-    """Work of one carrier set in one course: ``stitches`` are ``(needle, bed)``, ascending."""
+    """Work of one carrier set in one course: ``stitches`` are ``(needle, bed)``, ascending.
+
+    ``tucks`` are needles among ``stitches`` that the pass tucks (front-bed tuck joins on a
+    neighbouring region's edge needle) instead of knitting; ``follows`` are carriers whose own
+    items must come before this one in the course (their tucks on its needles must be made
+    before its stitches there).
+    """
 
     carriers: tuple[str, ...]
     stitches: tuple[tuple[int, str], ...]
     plated: bool = False
+    tucks: frozenset[int] = frozenset()
+    follows: frozenset[str] = frozenset()
 
 
 @dataclass(frozen=True)
@@ -93,7 +101,8 @@ class PlannedPass:
     """A pass to emit: ``stitches`` in execution order; ``kind`` ``"knit"`` or ``"move"``.
 
     A ``move`` pass is a single ``miss`` at ``stitches[0][0]`` that carries one carrier to the
-    side it must start from (an anchoring move / explicit kickback). ``park``, when set, is the
+    side it must start from (an anchoring move / explicit kickback). ``tucks`` are the needles
+    of ``stitches`` that are tucked rather than knit (tuck joins). ``park``, when set, is the
     needle of a trailing ``miss`` that carries the pass's carriers out beyond the fabric edge
     (see :data:`Park`): the carriers end there instead of at the last stitch.
     """
@@ -103,6 +112,7 @@ class PlannedPass:
     stitches: tuple[tuple[int, str], ...]
     kind: str = "knit"
     park: int | None = None
+    tucks: frozenset[int] = frozenset()
 
     @property
     def end(self) -> int:
@@ -240,6 +250,25 @@ def plan_item(
         )
     if not item.stitches:
         return []
+    passes = _plan_item(item, states, strategy=strategy, parity=parity, park=park)
+    if not item.tucks:
+        return passes
+    return [
+        replace(p, tucks=item.tucks.intersection(n for n, _ in p.stitches))
+        if p.kind != "move"
+        else p
+        for p in passes
+    ]
+
+
+def _plan_item(
+    item: WorkItem,
+    states: Mapping[str, CarrierState],
+    *,
+    strategy: str,
+    parity: Direction,
+    park: Park | None,
+) -> list[PlannedPass]:
     st = {c: states.get(c, CarrierState()) for c in item.carriers}
     new = any(s.needle is None for s in st.values())
     if new:

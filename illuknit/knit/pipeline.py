@@ -22,7 +22,7 @@ from illuknit.pattern import LogicalPattern
 __all__ = ["KnitResult", "knit_pattern"]
 
 #: :class:`~illuknit.knit.schedule.MixedReport` fields that :meth:`KnitResult.summary` reports.
-_SUMMARY_MIXED = ("plated_stitches", "carriers", "float_avoidance_transfers")
+_SUMMARY_MIXED = ("tuck_joins", "plated_stitches", "carriers", "float_avoidance_transfers")
 
 
 @dataclass(frozen=True, eq=False)
@@ -53,6 +53,14 @@ class KnitResult:
         """The knitout text (same as ``text``)."""
         return self.text
 
+    def _longest_float_at(self) -> str | None:
+        """Where the longest float over the limit is: carrier, needles and course (or None)."""
+        if not self.schedule.long_floats:
+            return None
+        f = max(self.schedule.long_floats, key=lambda x: x.length)
+        where = "the bind-off" if f.course is None else self.stitches.course_name(f.course)
+        return f"carrier {f.carrier}, needles {f.from_needle} to {f.to_needle}, at {where}"
+
     def summary(self) -> dict[str, Any]:
         """JSON-ready numbers: size, passes, bound, ratio, time."""
         c, w = self.stitches.shape
@@ -77,6 +85,7 @@ class KnitResult:
             ),
             "long_floats": len(self.schedule.long_floats),
             "longest_float": max((f.length for f in self.schedule.long_floats), default=0),
+            "longest_float_at": self._longest_float_at(),
             "time_seconds": round(self.time.seconds, 1),
             "time": str(self.time),
             "lines": self.text.count("\n"),
@@ -89,18 +98,20 @@ def knit_pattern(
     machine: MachineSpec | None = None,
     cast_on_courses: int = 2,
     float_avoidance: bool = True,
-    catching: bool = True,
+    catching: bool | str = True,
     path_planning: str = "anchor",
     strict_floats: bool = False,
     catch_every: int = 2,
     tuck_passes: bool = False,
+    allow_long_floats: bool = True,
 ) -> KnitResult:
     """Compile a logical pattern to a knitout program.
 
     Patterns with one colour per course go to :func:`~illuknit.knit.schedule.schedule_courses`;
     patterns that change colour inside a course to the mixed-colourwork scheduler
     :func:`~illuknit.knit.mixed.schedule_mixed`, whose switches (``float_avoidance``,
-    ``catching``, ``catch_every``, ``path_planning``, ``strict_floats``, ``tuck_passes``) apply
+    ``catching``, ``catch_every``, ``path_planning``, ``strict_floats``, ``tuck_passes``,
+    ``allow_long_floats``) apply
     to them only.
 
     Parameters
@@ -151,6 +162,7 @@ def knit_pattern(
                 strict_floats=strict_floats,
                 catch_every=catch_every,
                 tuck_passes=tuck_passes,
+                allow_long_floats=allow_long_floats,
             )
         else:
             schedule = schedule_courses(stitches, machine=plan_machine)

@@ -137,6 +137,8 @@ class MixedReport:
     float_avoidance_transfers: int
     carriers: int
     stranded_segments: int
+    join_method: str = "plate"
+    tuck_joins: int = 0
 
     def as_dict(self) -> dict[str, Any]:
         return {k: getattr(self, k) for k in self.__dataclass_fields__}

@@ -34,6 +34,9 @@ _API: dict[str, str] = {
     "AssignmentWeights": "illuknit.tiles.assignment",
     "assign_headon": "illuknit.tiles.headon",
     "headon_bank": "illuknit.tiles.headon",
+    "Suggestion": "illuknit.tiles.simplify",
+    "suggest_edits": "illuknit.tiles.simplify",
+    "review_edits": "illuknit.tiles.simplify",
 }
 
 __all__ = list(_API)

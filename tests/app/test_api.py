@@ -115,12 +115,20 @@ def double(client):
 def test_page_and_static_files_are_served(client):
     r = client.get("/")
     assert r.status_code == 200 and "illuknit" in r.text
-    for name in ("app.js", "app.css"):
-        assert client.get(f"/static/{name}").status_code == 200
-    # everything the page loads comes from this server: no CDN, works offline
+    import re
+
     from illuknit.app.routers.static import STATIC_DIR
 
-    for src in ("index.html", "app.js", "app.css"):
+    # every script and style sheet the page names is served, and the page names them all
+    named = re.findall(r'(?:src|href)="/static/([^"]+)"', r.text)
+    assert "app.js" in named and "main.js" in named and "app.css" in named
+    assert sorted(named) == sorted(
+        p.name for p in STATIC_DIR.iterdir() if p.suffix in (".js", ".css")
+    )
+    for name in named:
+        assert client.get(f"/static/{name}").status_code == 200, name
+    # everything the page loads comes from this server: no CDN, works offline
+    for src in ("index.html", *named):
         body = (STATIC_DIR / src).read_text(encoding="utf-8")
         assert "http://" not in body and "https://" not in body, src
 
@@ -154,6 +162,11 @@ def test_openapi_documents_every_endpoint(client):
         "/api/sessions/{sid}/render",
         "/api/sessions/{sid}/download/{name}",
         "/api/sessions/{sid}/knit",
+        "/api/sessions/{sid}/suggestions",
+        "/api/sessions/{sid}/suggestions/{edit_id}/{slot}/{which}.png",
+        "/api/sessions/{sid}/suggestions/{edit_id}/accept",
+        "/api/sessions/{sid}/suggestions/{edit_id}/refuse",
+        "/api/sessions/{sid}/diagnostic.png",
     ):
         assert p in paths, p
     docs = client.get("/docs")

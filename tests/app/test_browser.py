@@ -357,3 +357,68 @@ def test_an_evicted_session_is_said_in_the_page(browser, served, tmp_path):
     sync_api.expect(banner).to_contain_text("A new session has started")
     assert page.get_attribute("body", "data-session") != sid
     context.close()
+
+
+def test_accept_a_suggested_edit(browser, base_url, tmp_path):
+    """Two pictures, the suggested edits opened, one accepted: the input picture is replaced by
+    the edited one and the design is made and measured again, so the measures on the page
+    change."""
+    context = browser.new_context(viewport={"width": 1440, "height": 1000})
+    page = context.new_page()
+    page.set_default_timeout(60_000)
+    problems: list[str] = []
+    page.on("pageerror", lambda e: problems.append(f"page error: {e}"))
+    page.goto(base_url)
+    page.wait_for_selector("body[data-ready='1']")
+    page.locator("#width_units").fill("24")
+    page.set_input_files("#file-a", str(lettered(tmp_path / "up.png", "UP")))
+    sync_api.expect(page.locator("#meta-a")).to_contain_text("72×48px")
+    page.set_input_files("#file-b", str(lettered(tmp_path / "on.png", "ON")))
+    sync_api.expect(page.locator("#meta-b")).to_contain_text("72×48px")
+    sync_api.expect(page.locator("#grid-info")).to_contain_text("24 × 16 units")
+    measures = page.locator(".cand .measures")
+    sync_api.expect(measures.first).to_be_visible(timeout=120_000)
+    before_measures = measures.all_text_contents()
+    before_thumbs = {s: page.get_attribute(f"#thumb-{s}", "src") for s in ("a", "b")}
+    before_quant = page.locator("#quant img").evaluate_all("imgs => imgs.map(i => i.src)")
+
+    # open the suggestions: each is a before -> after pair with its effect and two buttons
+    assert page.locator("#suggest-card").is_visible()
+    page.click("#suggest")
+    card = page.locator(".sugg").first
+    sync_api.expect(card).to_be_visible(timeout=120_000)
+    sync_api.expect(card.locator(".effect")).to_contain_text("worse side reads")
+    sync_api.expect(card.locator("img[data-which='after']").first).to_be_visible()
+    page.wait_for_function(
+        "Array.from(document.querySelectorAll('.sugg img')).every(i => i.complete && i.naturalWidth > 0)"
+    )
+    edited = [
+        t.split(" ")[0].lower()
+        for t in card.locator("figcaption").all_text_contents()
+        if t.endswith("after")
+    ]
+    assert edited, "a suggestion edits at least one picture"
+
+    card.locator("[data-accept]").click()
+    # the edited pictures replace the inputs: new thumbnails, said in the picture's notes
+    for slot in edited:
+        sync_api.expect(page.locator(f"#meta-{slot}")).to_contain_text("suggested edit accepted")
+        sync_api.expect(page.locator(f"#thumb-{slot}")).not_to_have_attribute(
+            "src", before_thumbs[slot] or ""
+        )
+    page.wait_for_function(
+        "(old) => { const now = Array.from(document.querySelectorAll('#quant img')).map(i => i.src);"
+        " return now.length === old.length && now.some((s, k) => s !== old[k]); }",
+        arg=before_quant,
+    )
+    assert page.locator(".sugg").count() == 0, "the accepted set belonged to the old design"
+    # designed and measured again, with other numbers
+    sync_api.expect(measures.first).to_be_visible(timeout=120_000)
+    page.wait_for_function(
+        "(old) => { const now = Array.from(document.querySelectorAll('.cand .measures'))"
+        ".map(m => m.textContent); return now.length > 0 && now.join('|') !== old.join('|'); }",
+        arg=before_measures,
+        timeout=120_000,
+    )
+    context.close()
+    assert not problems, problems

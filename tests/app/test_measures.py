@@ -136,4 +136,43 @@ def test_diagnostic_overlay_of_each_side(client, app, measured):
         s = got.shape[0] // ref.shape[0]
         assert np.array_equal(got[::s, ::s], ref)
     r = client.get(f"/api/sessions/{measured}/diagnostic.png", params={"view": "headon"})
+    assert r.status_code == 409 and r.json()["error"]["field"] == "view"
+    r = client.get(f"/api/sessions/{measured}/diagnostic.png", params={"view": "C"})
     assert r.status_code == 422 and r.json()["error"]["field"] == "view"
+
+
+@pytest.mark.parametrize("with_side", [False, True])
+def test_diagnostic_overlay_of_a_headon_design(client, app, with_side):
+    """Head-on: the head-on view is judged against the front picture (the side picture must not
+    show); at an angle each side against the side picture, or a plain field, with the front
+    picture as what must have gone."""
+    from illuknit.tiles.perception import diagnostic_rgb
+
+    sid = client.post("/api/sessions").json()["id"]
+    pics = [("a", box(6, 8))] + ([("b", box(2, 2))] if with_side else [])
+    for slot, pic in pics:
+        client.put(
+            f"/api/sessions/{sid}/images/{slot}", files={"file": ("p.png", pic, "image/png")}
+        )
+    client.put(f"/api/sessions/{sid}/settings", json={"mode": "headon", "width_units": 18})
+    assert run(client, sid, "candidates")["status"] == "done"
+    session = app.state.store.get(sid)
+    q = session.prepared.quantised
+    pattern = session.candidates[0].pattern
+    front = q["a"].rgb()
+    side = q["b"].rgb() if with_side else np.full_like(front, 128)
+    expected = {
+        "headon": (front, q["b"].rgb() if with_side else None),
+        "A": (side, front),
+        "B": (side, front),
+    }
+    for view, (own, other) in expected.items():
+        r = client.get(f"/api/sessions/{sid}/diagnostic.png", params={"view": view})
+        assert r.status_code == 200, r.text
+        got = np.asarray(Image.open(io.BytesIO(r.content)).convert("RGB"))
+        ref, stats = diagnostic_rgb(pattern, own, other, view=view)
+        s = got.shape[0] // ref.shape[0]
+        assert np.array_equal(got[::s, ::s], ref)
+        if view != "headon":
+            # at an angle a head-on design hides its front picture: most units pass
+            assert stats["wrong"] + stats["ghost"] < 0.5, (view, stats)

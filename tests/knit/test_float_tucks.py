@@ -155,3 +155,85 @@ def test_without_tuck_passes_the_plated_float_stays_and_is_reported():
     out, long = tuck_long_floats(steps, limit=10, left=1, right=30)
     assert out == steps
     assert [(f.carrier, f.from_needle, f.to_needle, f.length) for f in long] == [("1", 30, 2, 27)]
+
+
+def test_a_float_laid_on_the_way_out_past_purls_is_tucked_with_the_purls_moved_around_it():
+    # carrier 1 knits 1-2 rightward and parks at 40; it next knits 30 leftward, so the yarn is
+    # laid from 2 to 30 on the way out, past purls held on back needles 20-25.
+    purls = range(20, 26)
+    steps = [
+        CarrierAction("inhook", ("1",)),
+        knit(range(30, 0, -1), "-"),
+        CarrierAction("releasehook", ("1",)),
+        Pass(PassKind.XFER, tuple(Op(OpKind.XFER, Bed.FRONT, n, Bed.BACK, n) for n in purls)),
+        Pass(
+            PassKind.KNIT,
+            (
+                Op(OpKind.KNIT, Bed.FRONT, 1),
+                Op(OpKind.KNIT, Bed.FRONT, 2),
+                Op(OpKind.MISS, "f", 40),
+            ),
+            "+",
+            ("1",),
+        ),
+        knit([30], "-"),
+    ]
+    out, long = tuck_long_floats(steps, limit=10, left=1, right=30)
+    assert not long
+    k = next(i for i, s in enumerate(out) if isinstance(s, Pass) and s.direction == "+")
+    before, tucking, after = out[k - 1], out[k], out[k + 1]
+    assert before.kind is PassKind.XFER
+    assert {(o.needle, o.to_bed) for o in before.ops} == {(n, Bed.FRONT) for n in purls}
+    tucks = {o.needle for o in tucking.ops if o.op is OpKind.TUCK}
+    assert tucks and not tucks & set(purls)
+    assert {(o.needle, o.to_bed) for o in after.ops} == {
+        *((t, Bed.FRONT) for t in tucks),
+        *((n, Bed.BACK) for n in purls),
+    }
+
+
+@settings(max_examples=15, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(seed=st.integers(0, 10_000), wide=st.booleans())
+def test_every_generated_mixed_program_keeps_its_floats_within_the_limit(seed, wide):
+    pattern, limit = _random_mixed(seed)
+    m = replace(MachineSpec(), float_limit=20 if wide else limit)
+    result = knit_pattern(pattern, machine=m)
+    sim = simulate_program(parse_knitout(result.text))
+    assert max((f.length for f in sim.floats), default=0) <= m.float_limit
+    assert not result.schedule.long_floats
+
+
+def test_a_way_out_blocked_by_purls_comes_back_and_tucks_alone_before_the_far_stitch():
+    # carrier 1 knits 1-2 rightward and parks at 40; every needle it passes on the way out holds
+    # a purl on the back bed, so nothing can be tucked there. Float avoidance moves those purls
+    # to the front before the pass knitting 30: the carrier then comes back beside its last loop
+    # and tucks alone on its way to 30.
+    purls = range(3, 30)
+    steps = [
+        CarrierAction("inhook", ("1",)),
+        knit(range(30, 0, -1), "-"),
+        CarrierAction("releasehook", ("1",)),
+        Pass(PassKind.XFER, tuple(Op(OpKind.XFER, Bed.FRONT, n, Bed.BACK, n) for n in purls)),
+        Pass(
+            PassKind.KNIT,
+            (
+                Op(OpKind.KNIT, Bed.FRONT, 1),
+                Op(OpKind.KNIT, Bed.FRONT, 2),
+                Op(OpKind.MISS, "f", 40),
+            ),
+            "+",
+            ("1",),
+        ),
+        Pass(PassKind.XFER, tuple(Op(OpKind.XFER, Bed.BACK, n, Bed.FRONT, n) for n in purls)),
+        knit([30], "-"),
+    ]
+    out, long = tuck_long_floats(steps, limit=10, left=1, right=30)
+    assert not long
+    move, tucking, far, back = out[-4:]
+    assert move.is_move and move.direction == "-" and move.ops[0].needle == 3
+    assert tucking.direction == "+" and tucking.ops[-1].op is OpKind.MISS
+    tucks = [o.needle for o in tucking.ops if o.op is OpKind.TUCK]
+    assert tucks and all(o.bed is Bed.BACK for o in tucking.ops if o.op is OpKind.TUCK)
+    assert all(b - a - 1 <= 10 for a, b in pairwise([2, *tucks, 30]))
+    assert far == steps[-1] and back.kind is PassKind.XFER
+    assert {o.needle for o in back.ops} == set(tucks)

@@ -261,9 +261,18 @@ def test_both_path_strategies_and_any_catch_spacing_make_clean_programs(pattern,
 def test_catching_every_course_plates_twice_as_often():
     p = LogicalPattern(np.array([[0, 1, 1, 0]] * 3), np.zeros((3, 4), bool), YARNS[:2])
     s = lower_to_stitches(p)
-    every = schedule_mixed(s, catch_every=1).mixed.plated_stitches
-    alternate = schedule_mixed(s, catch_every=2).mixed.plated_stitches
+    every = schedule_mixed(s, catch_every=1, catching="plate").mixed.plated_stitches
+    alternate = schedule_mixed(s, catch_every=2, catching="plate").mixed.plated_stitches
     assert every == 2 * alternate > 0
+
+
+def test_catching_every_course_tuck_joins_twice_as_often_and_never_plates_flat_fabric():
+    p = LogicalPattern(np.array([[0, 1, 1, 0]] * 3), np.zeros((3, 4), bool), YARNS[:2])
+    s = lower_to_stitches(p)
+    every = schedule_mixed(s, catch_every=1).mixed
+    alternate = schedule_mixed(s, catch_every=2).mixed
+    assert every.tuck_joins == 2 * alternate.tuck_joins > 0
+    assert every.plated_stitches == alternate.plated_stitches == 0
 
 
 def test_carriers_enter_with_exactly_the_set_they_first_use():

@@ -59,6 +59,8 @@ def test_each_ablation_is_caught_by_the_check_and_exits_1(plus, tmp_path, run_cl
     ("args", "message"),
     [
         (["--catching", "--no-catching"], "contradict"),
+        (["--plate", "--no-catching"], "contradict"),
+        (["--strict-floats", "--allow-long-floats"], "contradict"),
         (["--float-avoidance", "--no-float-avoidance"], "contradict"),
         (["--path-planning", "none", "--path-planning", "split"], "contradictory"),
         (["--path-planning", "zigzag"], "zigzag"),
@@ -132,11 +134,18 @@ def test_tuck_passes_flag_tucks_plated_floats_in_passes_of_their_own(tmp_path, r
     pattern, limit = _random_mixed(3)  # 2 x 14, a plated pass whose float cannot tuck in it
     path = tmp_path / "p.json"
     save_pattern(pattern, path)
-    base = ["knit", str(path), "--float-limit", str(limit), "--json"]
-    code, stdout, _ = run_cli([*base, "-o", str(tmp_path / "a.k")])
+    base = ["knit", str(path), "--float-limit", str(limit), "--json", "--plate"]
+    # by default a float that stays long is refused, naming where and what to change
+    code0, _, err0 = run_cli([*base, "-o", str(tmp_path / "x.k")])
+    assert code0 == 2 and len(err0.strip().splitlines()) == 1
+    assert "longer than the float limit" in err0 and "--allow-long-floats" in err0
+    assert not (tmp_path / "x.k").exists()
+    base.append("--allow-long-floats")
+    code, stdout, err = run_cli([*base, "-o", str(tmp_path / "a.k")])
+    assert "warning:" in err and "needles" in err and " at " in err
     plain = json.loads(stdout)
     code2, stdout2, _ = run_cli([*base, "-o", str(tmp_path / "b.k"), "--tuck-passes"])
     tucked = json.loads(stdout2)
     assert code == code2 == 0
-    assert 0 < tucked["long_floats"] < plain["long_floats"]
+    assert tucked["long_floats"] < plain["long_floats"]
     assert tucked["passes"] > plain["passes"]

@@ -14,7 +14,7 @@ from scipy import ndimage
 
 from illuknit.errors import OptionError
 from illuknit.tiles.simplify import (
-    EDIT_NAMES,
+    EDIT_KINDS,
     apply_edits,
     drop_small_overlaps,
     merge_small_regions,
@@ -81,12 +81,12 @@ def test_apply_edits_never_lowers_readability(scores):
         if r.accepted:
             best = r.after[0]
     assert best >= scores[0]
-    assert all(r.suggestion.name in EDIT_NAMES for r in results)
+    assert all(r.suggestion.kind in EDIT_KINDS for r in results)
 
 
 def test_unknown_edit_is_an_option_error():
     with pytest.raises(OptionError, match="known"):
-        suggest_edits(np.zeros((3, 3), int), np.zeros((3, 3), int), names=["erase-everything"])
+        suggest_edits(np.zeros((3, 3), int), np.zeros((3, 3), int), kinds=["erase-everything"])
 
 
 def test_double_suggest_writes_before_after_and_simplify_designs_with_kept_edits(tmp_path, run_cli):
@@ -110,11 +110,123 @@ def test_double_suggest_writes_before_after_and_simplify_designs_with_kept_edits
         ["double", str(tmp_path / "a.png"), str(tmp_path / "b.png"), "--simplify",
          "-o", str(tmp_path / "t")])  # fmt: skip
     assert code == 0, err
+    # --suggest measures each edit on its own, against the same unedited pictures
+    assert len({e["readability_before"] for e in data["edits"]}) == 1
     kept = json.loads((tmp_path / "t" / "summary.json").read_text())["edits"]
-    assert [e["edit"] for e in kept] == [e["edit"] for e in data["edits"]]
+    assert {e["edit"] for e in kept} <= {e["edit"] for e in data["edits"]}
+    assert kept[0]["readability_before"] == data["edits"][0]["readability_before"]
     for e in kept:
         assert e["accepted"] == (e["readability_after"] > e["readability_before"])
     code, _, err = run_cli(
         ["headon", str(tmp_path / "a.png"), "--simplify", "-o", str(tmp_path / "h")]
     )
     assert code == 2 and "double-view" in err and not (tmp_path / "h").exists()
+
+
+def _photos(shape=(24, 32)):
+    from illuknit.drawings import skimage_image
+
+    return skimage_image("coffee", shape), skimage_image("chelsea", shape)
+
+
+def test_requantise_rereads_the_sources_with_one_colour_fewer_or_more():
+    from illuknit.images import quantise_image
+
+    src = _photos()
+    qa, qb = (quantise_image(s, n_colors=3) for s in src)
+    found = suggest_edits(qa, qb, sources=src, max_colors=4, kinds=["requantise"])
+    assert [s.name for s in found] == ["requantise-2", "requantise-4"]
+    for s, k in zip(found, (2, 4), strict=True):
+        assert s.kind == "requantise" and str(k) in s.description
+        for before, after, q, pic_before, pic_after in zip(
+            s.before, s.after, (qa, qb), s.pictures(edited=False), s.pictures(), strict=True
+        ):
+            assert (before.indices == q.indices).all() and (before.colors == q.colors).all()
+            assert len(after.colors) == k and after.indices.max() < k
+            assert pic_after.shape == (*q.indices.shape, 3) and pic_after.dtype == np.uint8
+            assert (pic_before == q.colors[q.indices]).all()
+        a_changed = int((s.pictures()[0] != s.pictures(edited=False)[0]).any(axis=-1).sum())
+        assert s.changed[0] == a_changed > 0
+        j = s.to_json()
+        assert j["kind"] == "requantise" and j["colors_after"] == [k, k]
+    # without room for more colours only "one fewer" is offered; without sources nothing
+    assert [s.name for s in suggest_edits(qa, qb, sources=src, kinds=["requantise"])] == [
+        "requantise-2"
+    ]
+    assert suggest_edits(qa, qb, kinds=["requantise"]) == []
+    two = [quantise_image(s, n_colors=2) for s in src]
+    assert suggest_edits(*two, sources=src, max_colors=2, kinds=["requantise"]) == []
+
+
+def test_requantise_checks_the_sources_shape():
+    from illuknit.errors import ImageInputError
+    from illuknit.images import quantise_image
+
+    src = _photos()
+    qa, qb = (quantise_image(s, n_colors=3) for s in src)
+    with pytest.raises(ImageInputError, match="source picture A"):
+        suggest_edits(qa, qb, sources=[src[0][:-1], src[1]], kinds=["requantise"])
+
+
+@given(st.lists(st.floats(0, 1), min_size=8, max_size=8))
+@settings(max_examples=15, deadline=None)
+def test_at_most_one_requantisation_is_kept_and_only_when_it_reads_better(scores):
+    from illuknit.images import quantise_image
+
+    src = _photos((12, 16))
+    qa, qb = (quantise_image(s, n_colors=3) for s in src)
+    calls = iter(scores)
+    ea, eb, results = apply_edits(
+        qa, qb, lambda x, y: (next(calls, 0.0), 0.0), sources=src, max_colors=4
+    )
+    requant = [r for r in results if r.suggestion.kind == "requantise"]
+    assert [r.suggestion.name for r in requant] == ["requantise-2", "requantise-4"]
+    assert sum(r.accepted for r in requant) <= 1
+    best = max(requant, key=lambda r: r.after[0])
+    assert best.accepted == (best.after[0] > scores[0] + 1e-6)
+    current = scores[0]
+    for r in results:
+        assert r.before[0] == current or r.suggestion.kind == "requantise"
+        if r.accepted:
+            assert r.after[0] > r.before[0]
+            current = r.after[0]
+    final = [r for r in results if r.accepted]
+    if final:  # the pictures returned are those of the last kept edit
+        assert (ea.indices == final[-1].suggestion.after[0].indices).all()
+        assert (eb.colors == final[-1].suggestion.after[1].colors).all()
+
+
+def test_review_edits_on_real_photos_keeps_only_what_raises_readability():
+    from illuknit.images import quantise_image
+    from illuknit.tiles.simplify import review_edits
+
+    src = _photos((20, 30))
+    qa, qb = (quantise_image(s, n_colors=3) for s in src)
+    kw: dict = dict(sources=src, max_colors=3, candidates=2)
+    shown = review_edits(qa, qb, apply=False, **kw)
+    assert "requantise-2" in [r.suggestion.name for r in shown.results]
+    assert not shown.accepted and shown.a.indices is not None
+    assert len({r.before for r in shown.results}) == 1  # each against the unedited pictures
+    applied = review_edits(qa, qb, apply=True, **kw)
+    start = applied.results[0].before[0]
+    for r in applied.accepted:
+        assert r.after[0] > r.before[0] >= start
+    if not applied.accepted:
+        assert (applied.a.indices == qa.indices).all()
+
+
+def test_double_suggest_offers_fewer_colours_for_a_photo_pair(tmp_path, run_cli):
+    for name, pic in zip(("a.png", "b.png"), _photos((24, 32)), strict=True):
+        Image.fromarray((pic * 255).round().astype(np.uint8)).save(tmp_path / name)
+    code, _, err = run_cli(
+        ["double", str(tmp_path / "a.png"), str(tmp_path / "b.png"), "--colors", "3",
+         "--candidates", "2", "--suggest", "-o", str(tmp_path / "s")])  # fmt: skip
+    assert code == 0, err
+    folder = tmp_path / "s" / "suggestions"
+    edits = json.loads((folder / "suggestions.json").read_text())["edits"]
+    requant = [e for e in edits if e["kind"] == "requantise"]
+    assert [e["edit"] for e in requant] == ["requantise-2"]  # 3 yarns: no room for a 4th colour
+    assert requant[0]["colors_before"] == [3, 3] and requant[0]["colors_after"] == [2, 2]
+    for letter in "ab":
+        pair = np.asarray(Image.open(folder / f"requantise-2_{letter}.png"))
+        assert pair.shape[1] > 2 * pair.shape[0]  # before | after, side by side

@@ -5,12 +5,21 @@
 * :mod:`~illuknit.app.routers.pictures` -- upload pictures and see them quantised;
 * :mod:`~illuknit.app.routers.jobs` -- background jobs (candidates, knitout) with progress;
 * :mod:`~illuknit.app.routers.designs` -- candidates, the pick, tile edits and renders;
+* :mod:`~illuknit.app.routers.suggestions` -- suggested edits of the pictures, accepted or refused;
 * :mod:`~illuknit.app.routers.downloads` -- the files a designer takes away.
 """
 
 from __future__ import annotations
 
-from illuknit.app.routers import designs, downloads, jobs, pictures, sessions, static
+from illuknit.app.routers import (
+    designs,
+    downloads,
+    jobs,
+    pictures,
+    sessions,
+    static,
+    suggestions,
+)
 
 __all__ = ["ROUTERS"]
 
@@ -21,5 +30,6 @@ ROUTERS = (
     pictures.router,
     jobs.router,
     designs.router,
+    suggestions.router,
     downloads.router,
 )

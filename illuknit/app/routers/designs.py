@@ -2,6 +2,7 @@
 
 from typing import Any, Literal
 
+import numpy as np
 from fastapi import APIRouter, Query
 from fastapi.responses import Response
 
@@ -119,11 +120,13 @@ def render(
 
 @router.get(
     "/diagnostic.png",
-    summary="Where a side fails: wrong shade in red, the other picture ghosting through in blue",
+    summary="Where a view fails: wrong shade in red, the other picture showing through in blue",
 )
 def diagnostic(
     s: SessionDep,
-    view: Literal["A", "B"] = Query("A", title="View", description="side A or side B"),
+    view: Literal["A", "B", "headon"] = Query(
+        "A", title="View", description="side A, side B, or head-on (head-on designs)"
+    ),
     angle: float = Query(30.0, gt=0, le=90, title="Viewing angle"),
     candidate: int | None = Query(None, ge=1, title="Candidate"),
 ) -> Response:
@@ -131,22 +134,37 @@ def diagnostic(
     from illuknit.tiles.perception import diagnostic_rgb
 
     pattern = current_pattern(s, candidate)
-    prepared = prepared_of(s)
-    q = prepared.quantised
-    if prepared.mode == "headon":
-        raise AppRequestError(
-            "the diagnostic overlay is for single and double views",
-            field="angle",
-            code="not_available",
-            status=409,
-        )
-    own, other = ("a", "b") if view == "A" else ("b", "a")
-    picture = q.get(own, q["a"]).rgb()
-    other_picture = q[other].rgb() if prepared.mode == "double" else None
-    img, _ = diagnostic_rgb(pattern, picture, other_picture, view=view, angle=angle)
+    picture, other = diagnosed_pictures(prepared_of(s), view)
+    img, _ = diagnostic_rgb(pattern, picture, other, view=view, angle=angle)
     scale = max(1, 480 // max(img.shape[:2]))
     return Response(
         design.png_bytes(upscale(img, scale)),
         media_type="image/png",
         headers={"Cache-Control": "no-store"},
     )
+
+
+def diagnosed_pictures(prepared: design.Prepared, view: str) -> tuple[Any, Any]:
+    """(what ``view`` should show, what must not show through it) in the prepared mode.
+
+    Double view: each side its picture, the other picture must not ghost. Single view: both
+    sides picture A. Head-on: head-on shows the front picture (A) and not the side picture;
+    at an angle the sides show the side picture (B), or a plain field without one, and the
+    front picture must have gone.
+    """
+    q = prepared.quantised
+    if prepared.mode == "headon":
+        front = q["a"].rgb()
+        side = q["b"].rgb() if "b" in q else np.full_like(front, 128)
+        return (front, q["b"].rgb() if "b" in q else None) if view == "headon" else (side, front)
+    if view == "headon":
+        raise AppRequestError(
+            "head-on, a single or double view shows a plain stripe: diagnose side A or B",
+            field="view",
+            code="not_available",
+            status=409,
+        )
+    if prepared.mode == "single":
+        return q["a"].rgb(), None
+    own, other = ("a", "b") if view == "A" else ("b", "a")
+    return q[own].rgb(), q[other].rgb()

@@ -69,6 +69,36 @@ def start_measures(s: Session, runner: JobRunner) -> Job:
     return runner.submit("measures", work, revision=rev, on_done=done)
 
 
+def start_suggestions(s: Session, runner: JobRunner) -> Job:
+    """Suggested edits of the pictures, each measured (kept as the session's suggestion set)."""
+    from illuknit.app.suggestions import require_double, suggest_edits_for
+
+    prepared = prepared_of(s)
+    require_double(prepared)  # refused at once, not as a failed job
+    with s.lock:
+        images, settings, rev = dict(s.images), s.settings, s.revision
+    count = settings.candidates
+
+    def work(job: Job) -> Any:
+        job.report(0.01, "sizing the pictures")
+        sources, _ = design.size_inputs(images, settings)  # what a re-quantisation reads again
+        return suggest_edits_for(
+            prepared,
+            sources=sources,
+            set_id=job.id,
+            revision=rev,
+            count=count,
+            progress=job.report,
+        )
+
+    def done(job: Job) -> None:
+        with s.lock:
+            if s.revision == job.revision:
+                s.set_suggestions(job.result)
+
+    return runner.submit("suggestions", work, revision=rev, on_done=done)
+
+
 def start_knit(s: Session, runner: JobRunner, *, isolate: bool) -> Job:
     pattern = current_pattern(s)
     key = design.pattern_key(pattern)
@@ -113,6 +143,8 @@ def post_job(request: Request, s: SessionDep, runner: RunnerDep, body: JobIn) ->
             job = start_candidates(s, runner)
         elif body.kind == "measures":
             job = start_measures(s, runner)
+        elif body.kind == "suggestions":
+            job = start_suggestions(s, runner)
         else:
             job = start_knit(s, runner, isolate=request.app.state.config.isolate_knit)
         s.replace_job(body.kind, job)

@@ -1,4 +1,8 @@
 // illuknit design app. Plain JavaScript, no build step, no network beyond this server.
+// This file: state, the API helpers, errors next to their controls, the session, settings,
+// uploads, quantised inputs and background jobs. The rest of the page is in candidates.js,
+// tiles.js, suggestions.js and knit.js; main.js wires the controls and starts (index.html loads
+// them in that order: classic scripts share one global scope).
 // One session per tab (sessionStorage is per tab), so tabs never share state.
 "use strict";
 
@@ -202,6 +206,7 @@ function applyState(s) {
   if (st.mode === "single") $("#resize-row").hidden = true;
   renderYarns(st.yarns);
   const single = st.mode === "single";
+  $("#suggest-card").hidden = st.mode !== "double"; // edits of two pictures that share a design
   $("#drop-b").hidden = single;
   $(".drops").classList.toggle("one", single);
   $("#title-a").textContent = single ? "Seen from both sides" : st.mode === "headon" ? "Seen head-on" : "Seen from above";
@@ -406,8 +411,11 @@ async function refreshInputs({ autorun }) {
 // ---------------------------------------------------------------------------------------------
 // jobs with progress and cancel
 
+// the page control a job's problems are shown next to
+const jobField = (kind) => (kind === "knit" || kind === "suggestions" ? kind : "candidates");
+
 async function startJob(kind) {
-  clearError(kind === "knit" ? "knit" : "candidates");
+  clearError(jobField(kind));
   const job = await sapi("POST", "/jobs", { kind });
   state.jobs[kind] = job.id;
   showJob(kind, job);
@@ -423,6 +431,7 @@ function showJob(kind, job) {
   $(".job-msg", box).textContent = job.message;
   if (kind === "candidates") $("#run").disabled = !box.hidden;
   if (kind === "knit") $("#make-knit").disabled = !box.hidden;
+  if (kind === "suggestions") $("#suggest").disabled = !box.hidden;
 }
 
 async function pollJob(kind, id) {
@@ -433,7 +442,7 @@ async function pollJob(kind, id) {
       job = await sapi("GET", `/jobs/${id}`);
     } catch (err) {
       if (state.jobs[kind] !== id) return null; // an edit started newer work meanwhile
-      report(err, kind === "knit" ? "knit" : "candidates");
+      report(err, jobField(kind));
       showJob(kind, { status: "failed", progress: 0, message: "" });
       return null;
     }
@@ -444,7 +453,7 @@ async function pollJob(kind, id) {
     if (job.status === "done") return job;
     if (job.status === "failed") {
       const e = job.error || {};
-      showError(e.field || (kind === "knit" ? "knit" : "candidates"), e.message || "the job failed");
+      showError(e.field || jobField(kind), e.message || "the job failed");
       return null;
     }
     if (job.status === "cancelled") return null;
@@ -475,436 +484,3 @@ async function runCandidates() {
     report(err, "candidates");
   }
 }
-
-// ---------------------------------------------------------------------------------------------
-// candidates, picking, live preview
-
-function clearCandidates(message) {
-  state.candidates = [];
-  state.selected = null;
-  $("#cands").innerHTML = `<p class="empty"></p>`;
-  $("#cands .empty").textContent = message || "Candidates appear here: each is shown from side A, head-on and from side B.";
-  for (const v of ["A", "headon", "B"]) $(`#pv-${v}`).removeAttribute("src");
-  $("#preview-label").textContent = "";
-  $("#pairs").textContent = "";
-  $("#knit-summary").textContent = "";
-  state.knitReady = false;
-  updateKnitButtons();
-}
-
-function renderUrl(view, rank, angle) {
-  const q = new URLSearchParams({ view, angle: String(angle), r: `${state.candRevision}.${state.editTick || 0}` });
-  if (rank) q.set("candidate", String(rank));
-  return `/api/sessions/${state.sid}/render?${q}`;
-}
-
-function diagnosticUrl(view) {
-  const q = new URLSearchParams({ view, angle: String(state.angle), r: `${state.candRevision}.${state.editTick || 0}` });
-  return `/api/sessions/${state.sid}/diagnostic.png?${q}`;
-}
-
-async function measureCandidates() {
-  try {
-    const job = await startJob("measures");
-    if (job) await loadCandidates();
-  } catch (err) {
-    report(err, "candidates");
-  }
-}
-
-function measuresText(m) {
-  const f = (x) => (x == null ? "–" : x.toFixed(2));
-  const parts = [];
-  if (m.views.length) {
-    parts.push(`reads ${m.views.map((v, i) => `${v} ${f(m.readability[i])}`).join(" · ")}`);
-    parts.push(`contrast ${f(m.worse_contrast)}`);
-    if (m.ghosting.some((g) => g != null)) parts.push(`ghosting ${f(m.worst_ghosting)}`);
-  }
-  if (m.knit_minutes != null) parts.push(`${m.knit_minutes.toFixed(1)} min to knit`);
-  else if (m.knit_note) parts.push(m.knit_note);
-  return parts.join(" · ");
-}
-
-async function loadCandidates() {
-  const c = await sapi("GET", `/candidates?order=${encodeURIComponent($("#order").value || "rank")}`);
-  state.candidates = c.candidates;
-  state.selected = c.selected;
-  state.candRevision = c.revision;
-  const box = $("#cands");
-  box.textContent = "";
-  box.dataset.order = c.order;
-  if (!c.candidates.length) {
-    box.innerHTML = `<p class="empty">No candidates.</p>`;
-    return;
-  }
-  for (const cand of c.candidates) {
-    const card = document.createElement("button");
-    card.type = "button";
-    card.className = "cand";
-    card.dataset.rank = cand.rank;
-    const head = document.createElement("div");
-    head.className = "cand-head";
-    head.innerHTML = `<span class="rank">#${cand.rank}</span>${cand.rank === 1 ? '<span class="badge">default</span>' : ""}<span class="cand-label"></span><span class="score"></span>`;
-    $(".cand-label", head).textContent = cand.label;
-    $(".score", head).textContent = cand.score == null ? "" : `score ${cand.score}`;
-    const triple = document.createElement("div");
-    triple.className = "triple";
-    for (const [view, cap] of [["A", "side A"], ["headon", "head-on"], ["B", "side B"]]) {
-      const fig = document.createElement("figure");
-      const img = document.createElement("img");
-      img.dataset.view = view;
-      img.alt = `candidate ${cand.rank}, ${cap}`;
-      img.src = renderUrl(view, cand.rank, state.angle);
-      const fc = document.createElement("figcaption");
-      fc.textContent = cap;
-      fig.append(img, fc);
-      triple.appendChild(fig);
-    }
-    card.append(head, triple);
-    if (cand.measures) {
-      const m = document.createElement("div");
-      m.className = "measures";
-      m.textContent = measuresText(cand.measures);
-      m.title = "readability: how well each side's render matches its picture (1 is best); " +
-        "contrast: how much of its light/dark difference survives (1 is all); " +
-        "ghosting: how much of the other picture shows through (0 is best)";
-      card.appendChild(m);
-    }
-    const fills = cand.details && cand.details.fills;
-    if (Array.isArray(fills) && fills.length) {
-      const f = document.createElement("div");
-      f.className = "fills";
-      for (const row of fills) {
-        const chip = document.createElement("span");
-        chip.className = "fill";
-        chip.title = `${row.input} colour ${row.image_color} is shown as ${row.fill}`;
-        chip.innerHTML = `<b></b><span class="sw"></span><span class="arrow">→</span><span class="sw"></span>`;
-        chip.children[0].textContent = row.input;
-        chip.children[1].style.background = row.image_color;
-        chip.children[3].style.background = row.fill_color;
-        if (row.kind !== "solid") chip.children[3].classList.add("striped");
-        f.appendChild(chip);
-      }
-      card.appendChild(f);
-    } else if (cand.details && cand.details.mismatch_A != null) {
-      const f = document.createElement("div");
-      f.className = "fills";
-      f.textContent = `one-row shift; mismatch A ${(100 * cand.details.mismatch_A).toFixed(1)}%, B ${(100 * cand.details.mismatch_B).toFixed(1)}%`;
-      card.appendChild(f);
-    }
-    card.addEventListener("click", () => pick(cand.rank));
-    box.appendChild(card);
-  }
-  markSelected();
-  updatePreview();
-  await loadPairs();
-  await refreshKnit();
-}
-
-function markSelected() {
-  for (const card of $$(".cand")) card.classList.toggle("sel", Number(card.dataset.rank) === state.selected);
-  const cand = state.candidates.find((c) => c.rank === state.selected);
-  $("#preview-label").textContent = cand ? `· candidate #${cand.rank} · ${cand.cols}×${cand.rows} units` : "";
-}
-
-async function pick(rank) {
-  if (rank === state.selected) return;
-  try {
-    await sapi("PUT", "/selection", { candidate: rank });
-    state.selected = rank;
-    state.knitReady = false;
-    markSelected();
-    updatePreview();
-    await loadPairs();
-    await refreshKnit();
-  } catch (err) { report(err, "candidates"); }
-}
-
-// Live preview: at most one request per picture in flight; the latest angle wins.
-const live = {};
-
-function updatePreview() {
-  if (!state.selected) return;
-  for (const view of ["A", "headon", "B"]) loadLive(view);
-}
-
-function loadLive(view) {
-  const img = $(`#pv-${view}`);
-  // "where it fails": the side views as diagnostics (wrong shade red, ghosting blue)
-  const diagnose = $("#where-fails").checked && view !== "headon" && state.settings.mode !== "headon";
-  const want = diagnose ? diagnosticUrl(view) : renderUrl(view, null, state.angle);
-  const slot = live[view] || (live[view] = { busy: false, next: null });
-  if (slot.busy) { slot.next = want; return; }
-  slot.busy = true;
-  const done = () => {
-    slot.busy = false;
-    if (slot.next && slot.next !== img.dataset.want) { const n = slot.next; slot.next = null; img.dataset.want = n; slot.busy = true; img.src = n; }
-    else { slot.next = null; img.dataset.loadedAngle = String(state.angle); document.body.dataset.previewAngle = String(state.angle); }
-  };
-  img.onload = done;
-  img.onerror = () => { done(); showError("angle", "the preview could not be rendered"); };
-  img.dataset.want = want;
-  img.src = want;
-}
-
-function onAngle(final) {
-  state.angle = Number($("#angle").value);
-  $("#angle-out").textContent = `${state.angle}°`;
-  clearError("angle");
-  updatePreview();
-  if (final) {
-    // candidate thumbnails follow once the slider rests (keyboard steps fire "change" each time)
-    clearTimeout(thumbTimer);
-    thumbTimer = setTimeout(() => {
-      for (const img of $$(".cand img")) {
-        if (img.dataset.view === "headon") continue;
-        img.src = renderUrl(img.dataset.view, Number(img.closest(".cand").dataset.rank), state.angle);
-      }
-    }, 350);
-  }
-}
-let thumbTimer = null;
-
-// ---------------------------------------------------------------------------------------------
-// tiles per overlap pair
-
-async function loadPairs() {
-  const box = $("#pairs");
-  box.textContent = "";
-  clearError("tiles");
-  if (!state.selected) return;
-  let p;
-  try { p = await sapi("GET", "/pairs"); } catch (err) { report(err, "tiles"); return; }
-  $("#tiles-hint").textContent = p.editable
-    ? "Each row is a place where a colour of A lies over a colour of B. Choose another tile from the bank to change how it looks; the preview updates."
-    : (p.reason || "This candidate has no tiles to edit.");
-  for (const pair of p.pairs || []) box.appendChild(pairRow(pair));
-}
-
-function pairRow(pair) {
-  const row = document.createElement("div");
-  row.className = "pair" + (pair.overridden ? " edited" : "");
-  const img = document.createElement("img");
-  img.src = `/api/sessions/${state.sid}/${pair.tile_picture}`;
-  img.alt = `tile ${pair.tile}`;
-  const right = document.createElement("div");
-  const over = document.createElement("div");
-  over.className = "over";
-  over.innerHTML = `<span class="sw"></span> A over <span class="sw"></span> B <span class="muted"></span>`;
-  const sws = $$(".sw", over);
-  sws[0].style.background = pair.a_color;
-  sws[1].style.background = pair.b_color;
-  $(".muted", over).textContent = `· ${(100 * pair.share).toFixed(1)}% of units`;
-  const sel = document.createElement("select");
-  sel.setAttribute("aria-label", `tile for A colour ${pair.a} over B colour ${pair.b}`);
-  for (const opt of pair.options) {
-    const o = document.createElement("option");
-    o.value = opt.id;
-    o.textContent = opt.label;
-    if (opt.id === pair.tile) o.selected = true;
-    sel.appendChild(o);
-  }
-  const apply = async (tile) => {
-    try {
-      const res = await sapi("PUT", `/pairs/${pair.a}/${pair.b}`, { tile });
-      state.editTick = (state.editTick || 0) + 1;
-      clearError("tiles");
-      const box = $("#pairs");
-      box.textContent = "";
-      for (const p of res.pairs) box.appendChild(pairRow(p));
-      updatePreview();
-      await refreshKnit();
-    } catch (err) { report(err, "tiles"); sel.value = pair.tile; }
-  };
-  sel.addEventListener("change", () => apply(sel.value === pair.default ? null : sel.value));
-  // power users: any tile written as rows, top row first, ^ marking a raised unit (e.g. 0/1^)
-  const rows = document.createElement("input");
-  rows.type = "text";
-  rows.className = "rows";
-  rows.placeholder = "or type rows, e.g. 0/1^";
-  rows.setAttribute("aria-label", `custom tile rows for A colour ${pair.a} over B colour ${pair.b}`);
-  rows.addEventListener("keydown", (e) => { if (e.key === "Enter" && rows.value.trim()) apply(rows.value.trim()); });
-  right.append(over, sel, rows);
-  const meta = document.createElement("div");
-  meta.className = "meta";
-  meta.textContent = pair.fills || "";
-  row.append(img, right, meta);
-  return row;
-}
-
-// ---------------------------------------------------------------------------------------------
-// downloads and knitout
-
-function updateKnitButtons() {
-  for (const b of $$("[data-needs-knit]")) {
-    const format = b.dataset.format;
-    b.disabled = !state.knitReady || (format && !(state.knitFormats || []).includes(format));
-  }
-  const none = !state.selected;
-  for (const b of $$(".downloads button[data-dl]")) if (!b.hasAttribute("data-needs-knit") && !b.classList.contains("unavail")) b.disabled = none;
-  $("#make-knit").disabled = none || !(state.info && state.info.capabilities.knit) || !$("#job-knit").hidden;
-  if (state.info && !state.info.capabilities.knit) $("#make-knit").title = "the knitout compiler is not in this install";
-}
-
-async function refreshKnit() {
-  state.knitReady = false;
-  $("#knit-summary").textContent = "";
-  if (state.selected) {
-    try {
-      const k = await sapi("GET", "/knit");
-      state.knitReady = k.ready;
-      state.knitFormats = k.ready ? k.formats : [];
-      if (k.ready) showKnitSummary(k);
-    } catch (err) { report(err, "knit"); }
-  }
-  updateKnitButtons();
-}
-
-function showKnitSummary(k) {
-  const box = $("#knit-summary");
-  box.textContent = "";
-  const st = k.stats || {};
-  const parts = [];
-  if (st.wales != null) parts.push(`${st.wales} wales × ${st.courses} courses`);
-  if (st.width_cm != null) parts.push(`${st.width_cm} × ${st.height_cm} cm`);
-  if (st.passes != null) parts.push(`${st.passes} carriage passes`);
-  else if (st.knit_passes != null) parts.push(`${st.knit_passes} knit + ${st.transfer_passes || 0} transfer passes`);
-  if (st.time) parts.push(`about ${st.time} to knit`);
-  parts.push(`${k.lines} lines`);
-  const line = document.createElement("div");
-  line.textContent = `Knitout ready · ${parts.join(" · ")}`;
-  box.appendChild(line);
-  const machine = (state.info.machines || []).find((m) => m.name === k.machine);
-  if (k.needle_range) {
-    const bed = document.createElement("div");
-    bed.id = "knit-needles";
-    bed.textContent = `On the ${machine ? machine.label : k.machine}: needles ${k.needle_range[0]}–${k.needle_range[1]} of ${st.needles}` +
-      (st.time ? ` · estimated machine time ${st.time}` : "");
-    box.appendChild(bed);
-  }
-  if (k.carriers && k.carriers.length) {
-    // which cone goes on which carrier
-    const table = document.createElement("table");
-    table.className = "carriers";
-    table.id = "carrier-table";
-    const head = table.createTHead().insertRow();
-    for (const h of ["Carrier", "Yarn"]) head.appendChild(document.createElement("th")).textContent = h;
-    const body = table.createTBody();
-    for (const row of k.carriers) {
-      const tr = body.insertRow();
-      tr.insertCell().textContent = row.carriers.join(", ");
-      const cell = tr.insertCell();
-      if (row.rgb) {
-        const sw = document.createElement("span");
-        sw.className = "sw";
-        sw.style.background = row.rgb;
-        cell.append(sw, document.createTextNode(` ${row.yarn} (${row.rgb})`));
-      } else {
-        cell.textContent = row.yarn; // the waste yarn and draw thread: any cone of their kind
-      }
-    }
-    box.appendChild(table);
-  }
-  if (k.report) {
-    const r = k.report;
-    const verdict = document.createElement("div");
-    verdict.className = r.ok ? "ok" : "bad";
-    verdict.textContent = r.ok
-      ? `Checker: nothing blocking · ${r.warnings} warning(s) · ${r.pieces} piece(s)`
-      : `Checker: ${r.blocking} blocking problem(s) — see the check report`;
-    box.appendChild(verdict);
-  }
-}
-
-async function makeKnit() {
-  try {
-    const job = await startJob("knit");
-    if (job) await refreshKnit();
-  } catch (err) { report(err, "knit"); }
-}
-
-async function download(name, button) {
-  const field = button.hasAttribute("data-needs-knit") ? "knit" : "downloads";
-  clearError("downloads", "knit");
-  button.disabled = true;
-  try {
-    const res = await sapi("GET", `/download/${name}?angle=${state.angle}`, undefined, { raw: true });
-    const blob = await res.blob();
-    const cd = res.headers.get("content-disposition") || "";
-    const m = /filename="([^"]+)"/.exec(cd);
-    const a = document.createElement("a");
-    a.href = URL.createObjectURL(blob);
-    a.download = m ? m[1] : name;
-    document.body.appendChild(a);
-    a.click();
-    setTimeout(() => { URL.revokeObjectURL(a.href); a.remove(); }, 1000);
-  } catch (err) {
-    report(err, field);
-  } finally {
-    button.disabled = false;
-    updateKnitButtons();
-  }
-}
-
-// ---------------------------------------------------------------------------------------------
-// wiring
-
-function wire() {
-  wireDrop("a");
-  wireDrop("b");
-  for (const b of $$("#modes button")) b.addEventListener("click", () => { if (!b.disabled) saveSettings({ mode: b.dataset.mode }); });
-  for (const b of $$("#size-mode button")) b.addEventListener("click", () => saveSettings({ size_mode: b.dataset.size }));
-  const num = (id, parse) => {
-    const el = $(`#${id}`);
-    el.addEventListener("input", () => {
-      if (el.value === "") return;
-      queueSettings({ [id]: parse(el.value) }, 600);
-    });
-  };
-  num("width_units", (v) => Math.round(Number(v)));
-  $("#machine").addEventListener("change", () => saveSettings({ machine: $("#machine").value }));
-  $("#where-fails").addEventListener("change", () => updatePreview());
-  $("#order").addEventListener("change", () => {
-    clearError("order");
-    if (state.candidates.length) loadCandidates().catch((err) => report(err, "order"));
-  });
-  num("width_cm", Number);
-  num("gauge", Number);
-  $("#n_colors").addEventListener("change", () => saveSettings({ n_colors: Number($("#n_colors").value) }));
-  $("#candidates").addEventListener("change", () => saveSettings({ candidates: Math.round(Number($("#candidates").value)) }));
-  $("#resize").addEventListener("change", () => saveSettings({ resize: $("#resize").checked }));
-  $("#preset").addEventListener("change", () => {
-    const name = $("#preset").value;
-    if (!name) return;
-    const yarns = state.info.presets[name];
-    const change = { yarns };
-    // a single view shows a third colour as a mix of two yarns; other modes need a yarn per colour
-    if (state.settings.mode !== "single" && state.settings.n_colors > yarns.length) change.n_colors = yarns.length;
-    saveSettings(change);
-  });
-  $("#add-yarn").addEventListener("click", () => {
-    const spare = ["#8a8a8a", "#b3202a", "#1d2b53", "#d9a62e", "#1f4d3a", "#c97b84"];
-    const ys = state.settings.yarns.slice();
-    const next = spare.find((c) => !ys.includes(c)) || "#777777";
-    ys.push(next);
-    $("#preset").value = "";
-    saveSettings({ yarns: ys });
-  });
-  $("#run").addEventListener("click", runCandidates);
-  for (const b of $$("[data-cancel]")) b.addEventListener("click", () => cancelJob(b.dataset.cancel));
-  const angle = $("#angle");
-  angle.addEventListener("input", () => onAngle(false));
-  angle.addEventListener("change", () => onAngle(true));
-  $("#make-knit").addEventListener("click", makeKnit);
-  for (const b of $$("[data-dl]")) b.addEventListener("click", () => download(b.dataset.dl, b));
-  $("#banner-close").addEventListener("click", () => { $("#banner").hidden = true; });
-  // a file dropped outside a drop zone must not replace the page
-  window.addEventListener("dragover", (e) => e.preventDefault());
-  window.addEventListener("drop", (e) => e.preventDefault());
-}
-
-wire();
-updateKnitButtons();
-startSession()
-  .then(() => { document.body.dataset.ready = "1"; })
-  .catch((err) => report(err));

@@ -1,0 +1,301 @@
+"""The designer's pictures: uploads decoded to the working grid, then sized and quantised to yarns.
+
+    uploaded file -> decode_upload (header checks, reduction while decoding)
+                  -> prepare_inputs (the library's pair sizing, quantisation, the legend)
+                  -> Prepared (what the page shows as "quantised inputs")
+
+A problem is an :class:`~illuknit.errors.AppRequestError` naming the page control at fault.
+"""
+
+from __future__ import annotations
+
+import io
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from illuknit.app.controls import blame
+from illuknit.errors import AppRequestError, IlluknitError, PictureSizeMismatchError
+from illuknit.images import MAX_PIXELS
+from illuknit.pattern import Yarn, parse_yarns
+
+if TYPE_CHECKING:
+    from illuknit.app.schemas import DesignSettings
+
+__all__ = [
+    "MAX_UPLOAD_BYTES",
+    "MAX_UPLOAD_PIXELS",
+    "MAX_WORKING_SIDE",
+    "Prepared",
+    "decode_upload",
+    "prepare_inputs",
+    "size_inputs",
+    "slots_for",
+    "width_of",
+]
+
+#: Largest accepted upload (bytes): a full-size photograph from a phone or camera. It is reduced to
+#: the working grid on upload and not kept.
+MAX_UPLOAD_BYTES = 32 * 1024 * 1024
+#: Largest accepted picture (pixels), checked from the header before decoding: half the library's
+#: cap (50 megapixels), since the server decodes uploads of many sessions.
+MAX_UPLOAD_PIXELS = MAX_PIXELS // 2
+#: Pictures with a longer side are reduced to it on upload (twice the widest piece in units).
+MAX_WORKING_SIDE = 2000
+
+
+def decode_upload(
+    data: bytes, filename: str, *, field: str
+) -> tuple[NDArray[np.uint8], tuple[str, ...]]:
+    """Decode an uploaded picture to uint8 RGB (H, W, 3) at the working grid, with its notes.
+
+    The library's reader decodes it (:func:`illuknit.pictures.read_picture`: 16-bit, palettes,
+    CMYK, EXIF orientation, alpha on white, the first frame of an animation), reducing pictures
+    over ``MAX_WORKING_SIDE`` pixels while decoding, so no full-size copy (let alone a float one)
+    is ever kept. The notes say what was done (e.g. "reduced from ... while reading").
+
+    Raises AppRequestError (``field``) for an empty, oversized, non-image or too-small file.
+    """
+    from illuknit.pictures import read_picture
+
+    if not data:
+        raise AppRequestError("the file is empty", field=field, code="empty")
+    if len(data) > MAX_UPLOAD_BYTES:
+        raise AppRequestError(
+            f"the file is {len(data) / 1e6:.1f} MB; the limit is {MAX_UPLOAD_BYTES / 1e6:.0f} MB",
+            field=field,
+            code="too_large",
+            status=413,
+        )
+    _check_header(data, field)
+    try:
+        pic = read_picture(data, max_side=MAX_WORKING_SIDE, name=repr(filename or "the file"))
+    except IlluknitError as e:
+        raise AppRequestError(str(e), field=field, code="not_an_image", status=415) from None
+    return pic.rgb, pic.notes
+
+
+def _check_header(data: bytes, field: str) -> tuple[int, int]:
+    """Refuse non-images and decompression bombs from the header alone (before decoding)."""
+    from PIL import Image, UnidentifiedImageError
+
+    try:
+        with Image.open(io.BytesIO(data)) as im:
+            w, h = im.size
+    except UnidentifiedImageError:
+        raise AppRequestError(
+            "this file is not a picture; upload a PNG, JPEG, GIF or BMP image",
+            field=field,
+            code="not_an_image",
+            status=415,
+        ) from None
+    except Exception as e:  # truncated headers and the like
+        raise AppRequestError(
+            f"cannot read this picture: {e}", field=field, code="not_an_image", status=415
+        ) from None
+    if w * h > MAX_UPLOAD_PIXELS:
+        raise AppRequestError(
+            f"the picture is {w} x {h} pixels; the limit is {MAX_UPLOAD_PIXELS // 1_000_000} megapixels",
+            field=field,
+            code="too_large",
+            status=413,
+        )
+    return int(w), int(h)
+
+
+@dataclass(frozen=True, eq=False)
+class Prepared:
+    """The inputs resized to the grid and quantised to yarns (what the page shows as "quantised")."""
+
+    mode: str
+    yarns: tuple[Yarn, ...]
+    quantised: dict[str, Any]  # slot -> QuantisedImage
+    notes: tuple[str, ...] = ()
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        """(rows N, cols M) of the grid (every slot has picture A's)."""
+        shape: tuple[int, int] = self.quantised["a"].shape
+        return shape
+
+    def legend(self) -> dict[str, list[dict[str, Any]]]:
+        return {slot: q.legend() for slot, q in self.quantised.items()}
+
+
+def slots_for(mode: str, present: Any = ("a", "b")) -> tuple[str, ...]:
+    """Image slots a mode uses: one picture for single view, two for double view; head-on takes
+    the front picture and, optionally, a picture seen at an angle (else a plain side)."""
+    if mode == "single":
+        return ("a",)
+    if mode == "headon":
+        return ("a", "b") if "b" in present else ("a",)
+    return ("a", "b")
+
+
+def prepare_inputs(images: dict[str, Any], settings: DesignSettings) -> Prepared:
+    """Resize and quantise the session's pictures under ``settings`` (a DesignSettings).
+
+    Raises AppRequestError naming the control at fault: a missing picture (``image_a``/``image_b``),
+    pictures of different sizes in double view (``image_b``, code ``size_mismatch``, with the
+    offer to resize), a width out of range (``width_units``/``width_cm``), bad yarns (``yarns``),
+    colour count issues (``n_colors``).
+    """
+    from illuknit.images import quantise_image
+
+    mode = settings.mode
+    slots = _require_pictures(images, mode)
+    with blame("yarns"):
+        yarns = parse_yarns(list(settings.yarns))
+    _check_colors(mode, settings.n_colors, len(yarns))
+    resized, notes = size_inputs(images, settings)
+    if mode == "single":
+        q, note = _single_view_input(resized["a"], yarns, settings.n_colors)
+        return Prepared(mode=mode, yarns=yarns, quantised={"a": q}, notes=(*notes, *note))
+    quantised = {}
+    for slot in slots:
+        with blame("n_colors"):
+            quantised[slot] = quantise_image(resized[slot], n_colors=settings.n_colors, yarns=yarns)
+    return Prepared(mode=mode, yarns=yarns, quantised=quantised, notes=notes)
+
+
+def _require_pictures(images: dict[str, Any], mode: str) -> tuple[str, ...]:
+    """The slots ``mode`` uses; AppRequestError on the first one without a picture."""
+    slots = slots_for(mode, images)
+    for slot in slots:
+        if slot not in images:
+            which = "the picture" if len(slots) == 1 else f"picture {slot.upper()}"
+            raise AppRequestError(f"upload {which} first", field=f"image_{slot}", code="missing")
+    return slots
+
+
+def size_inputs(
+    images: dict[str, Any], settings: DesignSettings
+) -> tuple[dict[str, NDArray[np.float64]], tuple[str, ...]]:
+    """The pictures ``settings.mode`` uses on the piece's grid, before quantising, with the notes
+    of the library's pair sizing (:func:`illuknit.sizing.size_pair`, the command line's policy).
+
+    Raises AppRequestError for a missing picture, a width out of range and pictures of
+    different shapes (``image_b``, code ``size_mismatch``).
+    """
+    from illuknit.sizing import size_pair
+
+    slots = _require_pictures(images, settings.mode)
+    width, size_field = width_of(settings)
+    a = images["a"].rgb
+    b = images["b"].rgb if "b" in slots else None
+    with blame(size_field):
+        try:
+            pair = size_pair(a, b, width=width, stretch=settings.resize, smooth=settings.smooth)
+        except PictureSizeMismatchError:
+            assert b is not None
+            raise AppRequestError(
+                f"picture A is {a.shape[1]} x {a.shape[0]} pixels but picture B is "
+                f"{b.shape[1]} x {b.shape[0]}; both pictures must cover the same piece (one "
+                "aspect ratio). Resize B to A's size, or upload pictures of one shape.",
+                field="image_b",
+                code="size_mismatch",
+                status=409,
+            ) from None
+    n = pair.shape[0]
+    if n < 2:
+        raise AppRequestError(
+            f"the picture is only {n} unit tall at this width; use a wider piece",
+            field=size_field,
+            code="range",
+        )
+    resized = {"a": pair.a} if pair.b is None else {"a": pair.a, "b": pair.b}
+    return resized, tuple(pair.notes)
+
+
+def _check_colors(mode: str, n_colors: int, n_yarns: int) -> None:
+    """Colour count against yarn count: what the CLI accepts, refused next to the control."""
+    if mode != "single":
+        if n_colors > n_yarns:
+            raise AppRequestError(
+                f"{n_colors} colours need at least {n_colors} yarns; add a yarn or use fewer "
+                "colours",
+                field="n_colors",
+                code="too_few_yarns",
+            )
+        return
+    if n_colors not in (2, 3):
+        raise AppRequestError(
+            "a single-view illusion shows 2 or 3 colours (the third as a mix of two yarns)",
+            field="n_colors",
+            code="range",
+        )
+    if n_yarns not in (2, 3) or n_yarns > n_colors:
+        raise AppRequestError(
+            f"a single-view illusion of {n_colors} colours is knitted with 2 yarns"
+            + (" (or 3, one per colour)" if n_colors == 3 else "")
+            + f"; remove {n_yarns - 2 if n_colors == 2 else n_yarns - 3} yarn(s)",
+            field="yarns",
+            code="range",
+        )
+
+
+def width_of(settings: DesignSettings) -> tuple[int, str]:
+    """The piece's width in units under ``settings``, and the control that sets it.
+
+    Raises AppRequestError (on that control) for a width outside 2..MAX_UNITS or wider than the
+    chosen machine's bed.
+    """
+    from illuknit.images import units_for_width
+    from illuknit.knit.machine import get_machine
+    from illuknit.pattern import MAX_UNITS
+
+    if settings.size_mode == "physical":
+        with blame("width_cm"):
+            width = units_for_width(width_cm=settings.width_cm, gauge=settings.gauge)
+        size_field = "width_cm"
+    else:
+        width, size_field = settings.width_units, "width_units"
+    if width < 2 or width > MAX_UNITS:
+        raise AppRequestError(
+            f"the piece would be {width} units wide; it must be 2..{MAX_UNITS} units",
+            field=size_field,
+            code="range",
+        )
+    machine = get_machine(settings.machine)
+    if width > machine.max_units:
+        # refused before any work: a pattern that cannot go on the chosen bed is not designed
+        raise AppRequestError(
+            f"the piece would be {width} units = {2 * width} stitches wide, but the "
+            f"{machine.name} bed of {machine.needles} needles holds at most {machine.max_units} "
+            "units; make it narrower or choose a wider machine",
+            field=size_field,
+            code="too_wide",
+        )
+    return width, size_field
+
+
+def _single_view_input(
+    rgb: NDArray[np.float64], yarns: tuple[Yarn, ...], n_colors: int
+) -> tuple[Any, tuple[str, ...]]:
+    """The picture mapped for the single-view compiler, as ``illuknit single`` maps it.
+
+    With two yarns and three colours the middle colour is a mix: rows of the two yarns side by
+    side, which the eye blends. The legend shows it as that, in the colour of the blend.
+    """
+    from illuknit.images import QuantisedImage
+    from illuknit.single_view import prepare_single_view_image, single_view_roles
+
+    n, m = rgb.shape[:2]
+    with blame("n_colors"):
+        q = prepare_single_view_image(rgb, yarns=yarns, n_colors=n_colors, width=m, height=n)
+    mixes = [i for i, y in enumerate(q.yarns) if y not in yarns]
+    if len(yarns) != 2 or not mixes:
+        return q, ()
+    dark, light, _ = single_view_roles(yarns)
+    blend = tuple(
+        round((u + v) / 2) for u, v in zip(yarns[dark].rgb, yarns[light].rgb, strict=True)
+    )
+    name = f"mix of {yarns[dark].name} and {yarns[light].name}"
+    mapped = tuple(Yarn(name, blend) if i in mixes else y for i, y in enumerate(q.yarns))  # type: ignore[arg-type]
+    note = (
+        f"the middle colour is knitted as a mix: rows of {yarns[dark].name} and "
+        f"{yarns[light].name}, which read as their blend",
+    )
+    return QuantisedImage(q.indices, mapped, q.colors, q.counts), note

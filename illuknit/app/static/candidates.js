@@ -1,0 +1,195 @@
+// illuknit design app: candidates, picking one, the live preview and its diagnostic overlay.
+// (plain scripts sharing one global scope, loaded in order by index.html; no build step)
+"use strict";
+
+// ---------------------------------------------------------------------------------------------
+// candidates, picking, live preview
+
+function clearCandidates(message) {
+  state.candidates = [];
+  state.selected = null;
+  $("#cands").innerHTML = `<p class="empty"></p>`;
+  $("#cands .empty").textContent = message || "Candidates appear here: each is shown from side A, head-on and from side B.";
+  for (const v of ["A", "headon", "B"]) $(`#pv-${v}`).removeAttribute("src");
+  $("#preview-label").textContent = "";
+  $("#pairs").textContent = "";
+  $("#knit-summary").textContent = "";
+  $("#suggs").textContent = ""; // suggestions belong to the design they were made for
+  clearError("suggestions");
+  state.knitReady = false;
+  updateKnitButtons();
+}
+
+function renderUrl(view, rank, angle) {
+  const q = new URLSearchParams({ view, angle: String(angle), r: `${state.candRevision}.${state.editTick || 0}` });
+  if (rank) q.set("candidate", String(rank));
+  return `/api/sessions/${state.sid}/render?${q}`;
+}
+
+function diagnosticUrl(view) {
+  const q = new URLSearchParams({ view, angle: String(state.angle), r: `${state.candRevision}.${state.editTick || 0}` });
+  return `/api/sessions/${state.sid}/diagnostic.png?${q}`;
+}
+
+async function measureCandidates() {
+  try {
+    const job = await startJob("measures");
+    if (job) await loadCandidates();
+  } catch (err) {
+    report(err, "candidates");
+  }
+}
+
+function measuresText(m) {
+  const f = (x) => (x == null ? "–" : x.toFixed(2));
+  const parts = [];
+  if (m.views.length) {
+    parts.push(`reads ${m.views.map((v, i) => `${v} ${f(m.readability[i])}`).join(" · ")}`);
+    parts.push(`contrast ${f(m.worse_contrast)}`);
+    if (m.ghosting.some((g) => g != null)) parts.push(`ghosting ${f(m.worst_ghosting)}`);
+  }
+  if (m.knit_minutes != null) parts.push(`${m.knit_minutes.toFixed(1)} min to knit`);
+  else if (m.knit_note) parts.push(m.knit_note);
+  return parts.join(" · ");
+}
+
+async function loadCandidates() {
+  const c = await sapi("GET", `/candidates?order=${encodeURIComponent($("#order").value || "rank")}`);
+  state.candidates = c.candidates;
+  state.selected = c.selected;
+  state.candRevision = c.revision;
+  const box = $("#cands");
+  box.textContent = "";
+  box.dataset.order = c.order;
+  if (!c.candidates.length) {
+    box.innerHTML = `<p class="empty">No candidates.</p>`;
+    return;
+  }
+  for (const cand of c.candidates) {
+    const card = document.createElement("button");
+    card.type = "button";
+    card.className = "cand";
+    card.dataset.rank = cand.rank;
+    const head = document.createElement("div");
+    head.className = "cand-head";
+    head.innerHTML = `<span class="rank">#${cand.rank}</span>${cand.rank === 1 ? '<span class="badge">default</span>' : ""}<span class="cand-label"></span><span class="score"></span>`;
+    $(".cand-label", head).textContent = cand.label;
+    $(".score", head).textContent = cand.score == null ? "" : `score ${cand.score}`;
+    const triple = document.createElement("div");
+    triple.className = "triple";
+    for (const [view, cap] of [["A", "side A"], ["headon", "head-on"], ["B", "side B"]]) {
+      const fig = document.createElement("figure");
+      const img = document.createElement("img");
+      img.dataset.view = view;
+      img.alt = `candidate ${cand.rank}, ${cap}`;
+      img.src = renderUrl(view, cand.rank, state.angle);
+      const fc = document.createElement("figcaption");
+      fc.textContent = cap;
+      fig.append(img, fc);
+      triple.appendChild(fig);
+    }
+    card.append(head, triple);
+    if (cand.measures) {
+      const m = document.createElement("div");
+      m.className = "measures";
+      m.textContent = measuresText(cand.measures);
+      m.title = "readability: how well each side's render matches its picture (1 is best); " +
+        "contrast: how much of its light/dark difference survives (1 is all); " +
+        "ghosting: how much of the other picture shows through (0 is best)";
+      card.appendChild(m);
+    }
+    const fills = cand.details && cand.details.fills;
+    if (Array.isArray(fills) && fills.length) {
+      const f = document.createElement("div");
+      f.className = "fills";
+      for (const row of fills) {
+        const chip = document.createElement("span");
+        chip.className = "fill";
+        chip.title = `${row.input} colour ${row.image_color} is shown as ${row.fill}`;
+        chip.innerHTML = `<b></b><span class="sw"></span><span class="arrow">→</span><span class="sw"></span>`;
+        chip.children[0].textContent = row.input;
+        chip.children[1].style.background = row.image_color;
+        chip.children[3].style.background = row.fill_color;
+        if (row.kind !== "solid") chip.children[3].classList.add("striped");
+        f.appendChild(chip);
+      }
+      card.appendChild(f);
+    } else if (cand.details && cand.details.mismatch_A != null) {
+      const f = document.createElement("div");
+      f.className = "fills";
+      f.textContent = `one-row shift; mismatch A ${(100 * cand.details.mismatch_A).toFixed(1)}%, B ${(100 * cand.details.mismatch_B).toFixed(1)}%`;
+      card.appendChild(f);
+    }
+    card.addEventListener("click", () => pick(cand.rank));
+    box.appendChild(card);
+  }
+  markSelected();
+  updatePreview();
+  await loadPairs();
+  await refreshKnit();
+}
+
+function markSelected() {
+  for (const card of $$(".cand")) card.classList.toggle("sel", Number(card.dataset.rank) === state.selected);
+  const cand = state.candidates.find((c) => c.rank === state.selected);
+  $("#preview-label").textContent = cand ? `· candidate #${cand.rank} · ${cand.cols}×${cand.rows} units` : "";
+}
+
+async function pick(rank) {
+  if (rank === state.selected) return;
+  try {
+    await sapi("PUT", "/selection", { candidate: rank });
+    state.selected = rank;
+    state.knitReady = false;
+    markSelected();
+    updatePreview();
+    await loadPairs();
+    await refreshKnit();
+  } catch (err) { report(err, "candidates"); }
+}
+
+// Live preview: at most one request per picture in flight; the latest angle wins.
+const live = {};
+
+function updatePreview() {
+  if (!state.selected) return;
+  for (const view of ["A", "headon", "B"]) loadLive(view);
+}
+
+function loadLive(view) {
+  const img = $(`#pv-${view}`);
+  // "where it fails": the side views as diagnostics (wrong shade red, ghosting blue)
+  // (a head-on design is diagnosed in all three views: its point is what each one shows)
+  const diagnose = $("#where-fails").checked && (view !== "headon" || state.settings.mode === "headon");
+  const want = diagnose ? diagnosticUrl(view) : renderUrl(view, null, state.angle);
+  const slot = live[view] || (live[view] = { busy: false, next: null });
+  if (slot.busy) { slot.next = want; return; }
+  slot.busy = true;
+  const done = () => {
+    slot.busy = false;
+    if (slot.next && slot.next !== img.dataset.want) { const n = slot.next; slot.next = null; img.dataset.want = n; slot.busy = true; img.src = n; }
+    else { slot.next = null; img.dataset.loadedAngle = String(state.angle); document.body.dataset.previewAngle = String(state.angle); }
+  };
+  img.onload = done;
+  img.onerror = () => { done(); showError("angle", "the preview could not be rendered"); };
+  img.dataset.want = want;
+  img.src = want;
+}
+
+function onAngle(final) {
+  state.angle = Number($("#angle").value);
+  $("#angle-out").textContent = `${state.angle}°`;
+  clearError("angle");
+  updatePreview();
+  if (final) {
+    // candidate thumbnails follow once the slider rests (keyboard steps fire "change" each time)
+    clearTimeout(thumbTimer);
+    thumbTimer = setTimeout(() => {
+      for (const img of $$(".cand img")) {
+        if (img.dataset.view === "headon") continue;
+        img.src = renderUrl(img.dataset.view, Number(img.closest(".cand").dataset.rank), state.angle);
+      }
+    }, 350);
+  }
+}
+let thumbTimer = null;

@@ -1,0 +1,109 @@
+// illuknit design app: suggested edits of the pictures (double view), accepted or refused.
+// (plain scripts sharing one global scope, loaded in order by index.html; no build step)
+"use strict";
+
+// ---------------------------------------------------------------------------------------------
+// suggested edits of the pictures (double view)
+
+async function runSuggestions() {
+  clearError("suggestions");
+  if (!state.inputs) { showError("suggestions", "upload both pictures first"); return; }
+  $("#suggs").textContent = "";
+  try {
+    const job = await startJob("suggestions");
+    if (job) await loadSuggestions();
+  } catch (err) { report(err, "suggestions"); }
+}
+
+async function loadSuggestions() {
+  const box = $("#suggs");
+  let got;
+  try { got = await sapi("GET", "/suggestions"); } catch (err) { report(err, "suggestions"); return; }
+  box.textContent = "";
+  box.dataset.set = got.set || "";
+  if (!got.set) return;
+  if (!got.suggestions.length) {
+    const p = document.createElement("p");
+    p.className = "empty";
+    p.textContent = got.refused
+      ? "Every suggestion was refused."
+      : "No edits to suggest: the pictures have no specks, ragged outlines or overlaps too small to see.";
+    box.appendChild(p);
+    return;
+  }
+  for (const s of got.suggestions) box.appendChild(suggestionCard(s));
+}
+
+function suggestionCard(s) {
+  const f = (x) => (x == null ? "–" : x.toFixed(3));
+  const card = document.createElement("div");
+  card.className = "sugg";
+  card.dataset.id = s.id;
+  const what = document.createElement("div");
+  what.className = "what";
+  const changed = s.slots.map((slot) => `${s.units_changed[slot.toUpperCase()]} units of ${slot.toUpperCase()}`);
+  what.textContent = `${s.description} (${changed.join(", ")} changed)`;
+  const pics = document.createElement("div");
+  pics.className = "pairs-ba";
+  for (const slot of s.slots) {
+    for (const [which, cap] of [["before", "before"], ["after", "after"]]) {
+      const fig = document.createElement("figure");
+      const img = document.createElement("img");
+      img.src = `/api/sessions/${state.sid}/${s.previews[slot][which]}`;
+      img.alt = `picture ${slot.toUpperCase()} ${cap} the edit`;
+      img.dataset.which = which;
+      const fc = document.createElement("figcaption");
+      fc.textContent = `${slot.toUpperCase()} ${cap}`;
+      fig.append(img, fc);
+      pics.appendChild(fig);
+      if (which === "before") pics.appendChild(Object.assign(document.createElement("span"), { className: "arrow", textContent: "→" }));
+    }
+  }
+  const effect = document.createElement("div");
+  effect.className = "effect " + (s.improves ? "better" : s.readability_after < s.readability_before ? "worse" : "");
+  effect.textContent = `worse side reads ${f(s.readability_before)} → ${f(s.readability_after)} · ghosting ${f(s.ghosting_before)} → ${f(s.ghosting_after)}`;
+  effect.title = "readability: how well the worse side's render matches its picture (1 is best); ghosting: how much of the other picture shows through (0 is best)";
+  const acts = document.createElement("div");
+  acts.className = "acts";
+  const yes = Object.assign(document.createElement("button"), { type: "button", className: "primary small", textContent: "Accept" });
+  yes.dataset.accept = s.id;
+  yes.addEventListener("click", () => acceptSuggestion(s.id));
+  const no = Object.assign(document.createElement("button"), { type: "button", className: "ghost small", textContent: "Refuse" });
+  no.dataset.refuse = s.id;
+  no.addEventListener("click", () => refuseSuggestion(s.id));
+  acts.append(yes, no);
+  card.append(what, pics, effect, acts);
+  return card;
+}
+
+async function acceptSuggestion(id) {
+  clearError("suggestions");
+  let answer;
+  try {
+    answer = await sapi("POST", `/suggestions/${id}/accept`);
+  } catch (err) {
+    report(err, "suggestions");
+    await loadSuggestions(); // a superseded suggestion: show what is current
+    return;
+  }
+  // the edited pictures replace the inputs; the server has started designing with them
+  applyState(answer.state);
+  clearCandidates("Designing with the edited pictures…");
+  await refreshInputs({ autorun: false });
+  const job = answer.job;
+  state.jobs.candidates = job.id;
+  showJob("candidates", job);
+  const done = await pollJob("candidates", job.id);
+  if (done) {
+    await loadCandidates();
+    measureCandidates();
+  }
+}
+
+async function refuseSuggestion(id) {
+  clearError("suggestions");
+  try {
+    await sapi("POST", `/suggestions/${id}/refuse`);
+  } catch (err) { report(err, "suggestions"); }
+  await loadSuggestions();
+}

@@ -1,0 +1,275 @@
+"""Suggested edits in the app: the list, before/after pictures, accept, refuse, and bad ids."""
+
+from __future__ import annotations
+
+import io
+import time
+
+import numpy as np
+import pytest
+
+pytest.importorskip("fastapi", reason="the app extra is not installed: pip install 'illuknit[app]'")
+pytest.importorskip("multipart", reason="python-multipart is not installed")
+
+from fastapi.testclient import TestClient
+from PIL import Image
+
+from illuknit.app import create_app
+from illuknit.app.server import AppConfig
+from illuknit.drawings import draw_text
+
+
+def word(text: str, grey: slice | None = None) -> bytes:
+    """A 72 x 48 two-colour picture of a word: at 24 units wide its outlines are ragged, so the
+    library suggests edits of it. ``grey``: rows whose background is a third, mid-grey colour."""
+    mask = draw_text(text, shape=(48, 72))
+    rgb = np.where(mask[..., None], 24, 246).astype(np.uint8).repeat(3, axis=2)
+    if grey is not None:
+        rgb[grey][~mask[grey]] = 140
+    buf = io.BytesIO()
+    Image.fromarray(rgb).save(buf, format="PNG")
+    return buf.getvalue()
+
+
+@pytest.fixture(scope="module")
+def client():
+    with TestClient(create_app(AppConfig(isolate_knit=False))) as c:
+        yield c
+
+
+def run_job(client: TestClient, sid: str, kind: str, timeout: float = 120) -> dict:
+    r = client.post(f"/api/sessions/{sid}/jobs", json={"kind": kind})
+    assert r.status_code == 202, r.text
+    return wait_job(client, sid, r.json()["id"], timeout)
+
+
+def wait_job(client: TestClient, sid: str, jid: str, timeout: float = 120) -> dict:
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        job = client.get(f"/api/sessions/{sid}/jobs/{jid}").json()
+        if job["status"] not in ("queued", "running"):
+            return job
+        time.sleep(0.05)
+    raise AssertionError(f"job {jid} did not end within {timeout} s")
+
+
+def error_of(r) -> dict:
+    body = r.json()
+    assert set(body) == {"error"}, body
+    assert body["error"]["message"], body
+    return body["error"]
+
+
+@pytest.fixture()
+def suggested(client):
+    """(session id, suggestions answer): two words, double view, 24 units, suggestions made."""
+    r = client.post("/api/sessions")
+    sid = r.json()["id"]
+    for slot, text in (("a", "UP"), ("b", "ON")):
+        files = {"file": (f"{text}.png", word(text), "image/png")}
+        assert client.put(f"/api/sessions/{sid}/images/{slot}", files=files).status_code == 200
+    r = client.put(f"/api/sessions/{sid}/settings", json={"mode": "double", "width_units": 24})
+    assert r.status_code == 200
+    assert run_job(client, sid, "candidates")["status"] == "done"
+    job = run_job(client, sid, "suggestions")
+    assert job["status"] == "done", job
+    got = client.get(f"/api/sessions/{sid}/suggestions").json()
+    assert got["suggestions"], "the ragged words must get at least one suggested edit"
+    return sid, got
+
+
+def test_suggestions_list_their_effect_and_pictures(client, suggested):
+    sid, got = suggested
+    assert got["set"] and got["revision"] >= 0 and got["refused"] == 0
+    for s in got["suggestions"]:
+        assert s["id"].startswith(got["set"] + ".")
+        assert s["description"] and s["edit"]
+        assert s["slots"] and all(s["units_changed"][x.upper()] > 0 for x in s["slots"])
+        assert s["readability_before"] == got["readability"]
+        assert s["ghosting_before"] == got["ghosting"]
+        assert -1 <= s["readability_after"] <= 1
+        assert s["improves"] == (s["readability_after"] > s["readability_before"])
+        for slot in s["slots"]:
+            shown = {}
+            for which in ("before", "after"):
+                url = s["previews"][slot][which]
+                r = client.get(f"/api/sessions/{sid}/{url}")
+                assert r.status_code == 200 and r.headers["content-type"] == "image/png"
+                shown[which] = np.asarray(Image.open(io.BytesIO(r.content)).convert("RGB"))
+            assert shown["before"].shape == shown["after"].shape
+            assert (shown["before"] != shown["after"]).any(), "an edit changes its picture"
+
+
+def test_accept_replaces_the_pictures_and_designs_again(client, suggested):
+    sid, got = suggested
+    edit = got["suggestions"][0]
+    before = client.get(f"/api/sessions/{sid}").json()
+    old_inputs = {
+        slot: client.get(f"/api/sessions/{sid}/inputs/{slot}.png").content for slot in ("a", "b")
+    }
+    after_png = {
+        slot: client.get(f"/api/sessions/{sid}/{edit['previews'][slot]['after']}").content
+        for slot in edit["slots"]
+    }
+    r = client.post(f"/api/sessions/{sid}/suggestions/{edit['id']}/accept")
+    assert r.status_code == 200, r.text
+    answer = r.json()
+    state = answer["state"]
+    assert answer["accepted"] == edit["id"]
+    assert state["revision"] > before["revision"]
+    for slot in edit["slots"]:
+        assert "suggested edit accepted" in " ".join(state["images"][slot]["notes"])
+        # the new input picture is the suggestion's "after" picture, at the piece's grid
+        shown = np.asarray(Image.open(io.BytesIO(after_png[slot])).convert("RGB"))
+        r = client.get(f"/api/sessions/{sid}/images/{slot}")
+        new = np.asarray(Image.open(io.BytesIO(r.content)).convert("RGB"))
+        assert new.shape[1] == 24
+        k = shown.shape[1] // new.shape[1]
+        assert np.array_equal(shown[::k, ::k], new)
+        assert client.get(f"/api/sessions/{sid}/inputs/{slot}.png").content != old_inputs[slot]
+    # the design is made again: a candidates job was started by the accept
+    assert answer["job"]["kind"] == "candidates"
+    assert wait_job(client, sid, answer["job"]["id"])["status"] == "done"
+    cands = client.get(f"/api/sessions/{sid}/candidates").json()
+    assert cands["revision"] == state["revision"] and cands["candidates"]
+    # the accepted set belongs to the earlier design now
+    assert client.get(f"/api/sessions/{sid}/suggestions").json()["set"] is None
+
+
+def test_a_suggestion_of_a_superseded_design_answers_410_with_its_successor(client, suggested):
+    sid, got = suggested
+    old = got["suggestions"][0]["id"]
+    r = client.put(f"/api/sessions/{sid}/settings", json={"width_units": 25})
+    assert r.status_code == 200
+    for method, path in (
+        ("post", f"/suggestions/{old}/accept"),
+        ("post", f"/suggestions/{old}/refuse"),
+        ("get", f"/suggestions/{old}/a/after.png"),
+    ):
+        r = getattr(client, method)(f"/api/sessions/{sid}{path}")
+        assert r.status_code == 410, r.text
+        e = r.json()["error"]
+        assert e["code"] == "superseded" and e["field"] == "suggestions"
+        assert "earlier design" in e["message"] and e["successor"] is None
+    # once new suggestions exist, the old id names them as its successor
+    assert run_job(client, sid, "suggestions")["status"] == "done"
+    new_set = client.get(f"/api/sessions/{sid}/suggestions").json()["set"]
+    r = client.post(f"/api/sessions/{sid}/suggestions/{old}/accept")
+    assert r.status_code == 410 and r.json()["error"]["successor"] == new_set
+
+
+def test_refuse_hides_a_suggestion(client, suggested):
+    sid, got = suggested
+    first = got["suggestions"][0]["id"]
+    r = client.post(f"/api/sessions/{sid}/suggestions/{first}/refuse")
+    assert r.status_code == 200
+    body = r.json()
+    assert first not in [s["id"] for s in body["suggestions"]]
+    assert body["refused"] == 1
+    listed = client.get(f"/api/sessions/{sid}/suggestions").json()
+    assert first not in [s["id"] for s in listed["suggestions"]]
+    # refusing changes nothing else: same design, same pictures
+    assert listed["revision"] == got["revision"]
+
+
+@pytest.mark.parametrize("bad", ["nonsense", "abc.1", "", "1.2.3", "x" * 300])
+def test_unknown_suggestion_ids_are_404_with_a_message(client, suggested, bad):
+    sid, _ = suggested
+    for path in (f"/suggestions/{bad}/accept", f"/suggestions/{bad}/refuse"):
+        r = client.post(f"/api/sessions/{sid}{path}")
+        assert 400 <= r.status_code < 500, r.text
+        e = error_of(r)
+        assert "Traceback" not in e["message"]
+        if bad:
+            assert e["code"] == "no_suggestion" and r.status_code == 404
+
+
+def test_a_missing_number_in_the_current_set_is_404_and_lists_the_real_ones(client, suggested):
+    sid, got = suggested
+    r = client.post(f"/api/sessions/{sid}/suggestions/{got['set']}.99/accept")
+    assert r.status_code == 404
+    e = error_of(r)
+    assert e["code"] == "no_suggestion" and got["suggestions"][0]["id"] in e["message"]
+
+
+def test_bad_preview_requests(client, suggested):
+    sid, got = suggested
+    s = got["suggestions"][0]
+    assert client.get(f"/api/sessions/{sid}/suggestions/{s['id']}/c/after.png").status_code == 404
+    r = client.get(f"/api/sessions/{sid}/suggestions/{s['id']}/a/during.png")
+    assert r.status_code == 422 and error_of(r)
+    unchanged = [slot for slot in ("a", "b") if slot not in s["slots"]]
+    for slot in unchanged:
+        r = client.get(f"/api/sessions/{sid}/suggestions/{s['id']}/{slot}/after.png")
+        assert r.status_code == 404 and error_of(r)["code"] == "unchanged"
+
+
+def test_suggestions_are_for_double_view_only(client):
+    sid = client.post("/api/sessions").json()["id"]
+    files = {"file": ("UP.png", word("UP"), "image/png")}
+    assert client.put(f"/api/sessions/{sid}/images/a", files=files).status_code == 200
+    client.put(f"/api/sessions/{sid}/settings", json={"mode": "single", "width_units": 24})
+    r = client.post(f"/api/sessions/{sid}/jobs", json={"kind": "suggestions"})
+    assert r.status_code == 409
+    e = error_of(r)
+    assert e["code"] == "not_double" and e["field"] == "suggestions"
+    assert client.get(f"/api/sessions/{sid}/suggestions").json()["suggestions"] == []
+
+
+def test_suggestions_count_in_the_session_memory(client, suggested):
+    sid, _ = suggested
+    s = client.app.state.store.get(sid)
+    with s.lock:
+        kept = s.suggestions
+        held = kept.nbytes()
+        with_them = s.nbytes()
+        s.suggestions = None
+        without = s.nbytes()
+        s.suggestions = kept
+    pictures = list(kept.originals.values()) + [p for e in kept.edits for p in e.pictures.values()]
+    assert held == sum(p.nbytes for p in pictures) > 0
+    assert with_them - without == held
+
+
+def test_accepting_a_requantisation_changes_the_colour_count_with_it(client):
+    """Three-colour pictures read with two colours, three yarns: the library suggests reading
+    them with three; accepting it sets Colours per picture to 3, and the quantised inputs are
+    exactly the edited pictures (quantising them again does not undo the edit)."""
+    sid = client.post("/api/sessions").json()["id"]
+    for slot, text, rows in (("a", "UP", slice(0, 12)), ("b", "ON", slice(36, 48))):
+        files = {"file": (f"{text}.png", word(text, rows), "image/png")}
+        assert client.put(f"/api/sessions/{sid}/images/{slot}", files=files).status_code == 200
+    yarns = ["#1b1b1b", "#8a8a8a", "#f4f0e8"]
+    r = client.put(
+        f"/api/sessions/{sid}/settings",
+        json={"mode": "double", "width_units": 24, "yarns": yarns, "n_colors": 2},
+    )
+    assert r.status_code == 200
+    assert run_job(client, sid, "suggestions")["status"] == "done"
+    got = client.get(f"/api/sessions/{sid}/suggestions").json()["suggestions"]
+    more = [s for s in got if s["kind"] == "requantise"]
+    assert more, [s["edit"] for s in got]
+    edit = more[0]
+    assert "3 colours" in edit["description"]
+    after = {
+        slot: np.asarray(
+            Image.open(
+                io.BytesIO(
+                    client.get(f"/api/sessions/{sid}/{edit['previews'][slot]['after']}").content
+                )
+            ).convert("RGB")
+        )
+        for slot in edit["slots"]
+    }
+    r = client.post(f"/api/sessions/{sid}/suggestions/{edit['id']}/accept")
+    assert r.status_code == 200, r.text
+    assert r.json()["state"]["settings"]["n_colors"] == 3
+    inputs = client.get(f"/api/sessions/{sid}/inputs").json()
+    for slot in edit["slots"]:
+        assert len(inputs["legend"][slot]) == 3
+        s = client.app.state.store.get(sid)
+        q = s.prepared.quantised[slot]
+        shown = after[slot]
+        k = shown.shape[1] // q.shape[1]
+        assert np.array_equal(q.colors[q.indices], shown[::k, ::k])
+    assert wait_job(client, sid, r.json()["job"]["id"])["status"] == "done"
