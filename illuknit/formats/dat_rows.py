@@ -40,7 +40,7 @@ class DatPass:
     kind : MachinePassKind
     type : PassType
     carriage : CarriageDirection
-        CarriageDirection mark of the row (NONE for transfers).
+        Direction mark of the row (NONE for transfers).
     carriage_move : bool
         Option R5 = 2: the carriage first travels empty to the side the row starts from.
     carriers : tuple of str
