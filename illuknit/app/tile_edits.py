@@ -81,9 +81,12 @@ def _fills_label(views: tuple[str, str], f0: Any, f1: Any, yarns: tuple[Yarn, ..
 
 
 def pairs_json(candidate: Candidate, overrides: dict[tuple[int, int], str]) -> dict[str, Any]:
-    """The overlap pairs of a candidate with their tiles and the bank's alternatives.
+    """The overlap pairs of a candidate with their tiles and the bank's alternatives, grouped.
 
-    Options per pair, best first: tiles showing exactly the assigned fills, then tiles keeping
+    ``pairs`` lists every pair once, in the order of ``groups`` then ``rare``
+    (:func:`illuknit.tiles.overlaps.group_overlaps`): the pairs grouped by the fill the
+    candidate shows from its first view, largest first, and the rare ones (each under 2 % of the
+    units) folded into one line. Options per pair, best first: tiles showing exactly the assigned fills, then tiles keeping
     one side's fill, then the rest of the bank (each labelled with what it shows from each view).
     """
     if candidate.source is None:
@@ -93,15 +96,37 @@ def pairs_json(candidate: Candidate, overrides: dict[tuple[int, int], str]) -> d
             "reason": "Single-view patterns are compiled row by row (paper Fig. 7), not from tiles.",
         }
     from illuknit.tiles.assign import overlap_pairs
+    from illuknit.tiles.overlaps import group_overlaps
 
     assignment = candidate.source
     counts = overlap_pairs(assignment.indices_a, assignment.indices_b)
     total = max(1, sum(counts.values()))
+    # grouped by the candidate's own fills, not the edited ones: a row stays where it is while
+    # the designer tries tiles for it
+    table = group_overlaps(assignment)
     out = [
-        _pair_json(assignment, a, b, overrides, share=counts.get((a, b), 0) / total)
-        for a, b in assignment.pairs
+        _pair_json(assignment, r.a, r.b, overrides, share=counts.get((r.a, r.b), 0) / total)
+        for r in table.rows
     ]
-    return {"editable": True, "views": list(assignment.views), "pairs": out}
+    return {
+        "editable": True,
+        "views": list(assignment.views),
+        "pairs": out,
+        "groups": [
+            {
+                "fill": g.fill,
+                "fill_color": g.fill_color,
+                "share": round(g.share, 4),
+                "pairs": [f"{r.a}/{r.b}" for r in g.rows],
+            }
+            for g in table.groups
+        ],
+        "rare": {
+            "below": table.rare_share,
+            "share": round(table.rare_fraction, 4),
+            "pairs": [f"{r.a}/{r.b}" for r in table.rare],
+        },
+    }
 
 
 def _pair_json(

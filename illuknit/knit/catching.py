@@ -174,7 +174,8 @@ def plan_joins(
     tucks : list of JoinTuck
         Ascending by wale; at most one per wale.
     plated : list of PlatedStitch
-        The fallback plated stitches, ascending by wale.
+        The fallback plated stitches, ascending by wale. A boundary whose two edge wales are
+        both purled in this course gets neither (the knit courses around it join it).
     """
     own_count = {s.carrier: len(s.wales) for s in plan.segments}
     owner = {w: s.carrier for s in plan.segments for w in s.wales}
@@ -203,6 +204,11 @@ def plan_joins(
         if pick is not None:
             used.add(pick.wale)
             tucks.append(pick)
+            continue
+        if not (knit_now[lo] or knit_now[hi]):
+            # Both edges purl in this course (a bump row joined every course): the course's
+            # knit neighbours join it; a plated purl would float its second yarn across purls
+            # of its own pass, which float avoidance cannot move out of the way.
             continue
         wale, prim, sec = _plated(hi, lo, left, right, left_crosses, right_crosses)
         if any(p.wale == wale for p in plated) or (prim in new_carriers and own_count[prim] <= 1):

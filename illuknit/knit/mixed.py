@@ -40,9 +40,10 @@ carrier-placing ``miss`` pass that continues its carrier's previous pass into th
 :func:`~illuknit.knit.float_tucks.tuck_long_floats` tucks floats over the limit onto free back
 needles.
 
-**Bind-off**: every loop to the front, then the one-colour chain
-(:func:`~illuknit.knit.edges.bind_off_steps`) in one yarn, started where the last course ended
-(the carrier whose last loop is nearest an edge it is parked beyond; the others go out first).
+**Bind-off**: a chain in one yarn across both beds
+(:func:`~illuknit.knit.mixed_edges.zigzag_bind_off_steps`, two passes a wale), started where the
+last course ended (the carrier whose last loop is nearest an edge it is parked beyond; the others
+go out first).
 With catching off each run is bound off on its own instead (tail, then the loop is dropped), so
 that nothing the scheduler adds joins the regions.
 

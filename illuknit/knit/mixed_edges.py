@@ -11,9 +11,10 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
+from itertools import pairwise
 
 from illuknit.knit.color_runs import CoursePlan, Segment
-from illuknit.knit.edges import bind_off_steps, cast_on_steps
+from illuknit.knit.edges import cast_on_steps
 from illuknit.knit.ir import (
     ActionKind,
     Bed,
@@ -37,7 +38,7 @@ from illuknit.knit.path_planning import (
     plan_item,
 )
 
-__all__ = ["Emitter", "bind_off", "cast_on"]
+__all__ = ["Emitter", "bind_off", "cast_on", "zigzag_beds", "zigzag_bind_off_steps"]
 
 
 @dataclass
@@ -222,15 +223,21 @@ def bind_off(
 ) -> int:
     """Bind off every wale; returns the passes it takes (carrier moves not counted).
 
-    With parking and catching: the one-colour chain in one yarn from where the last course
-    ended. Otherwise a chain in the last course's colours (each needle knit by its run's carrier),
-    or with catching off one chain per run, so that nothing the scheduler adds joins regions.
+    With parking and catching: the two-bed chain (:func:`zigzag_bind_off_steps`) in one yarn
+    from where the last course ended. Otherwise a chain in the last course's colours (each
+    needle knit by its run's carrier), or with catching off one chain per run, so that nothing
+    the scheduler adds joins regions.
     """
     machine, left = em.machine, em.left
     edge = left + em.wales - 1
     bind_start = len(em.steps)
-    back = {n: "f" for n in em.needles if em.bed[n] == "b"}
-    em.xfer(back, role=Role.BIND_OFF, course=None)
+    one_yarn = catching and park is not None
+    if one_yarn:
+        car, d = _bind_off_start(em.states, left, edge)
+        beds = zigzag_beds(d, left, edge)
+    else:
+        beds = {n: Bed.FRONT for n in em.needles}
+    em.xfer({n: str(b) for n, b in beds.items() if em.bed[n] != b}, role=Role.BIND_OFF, course=None)
     last_plan = last
     runs = sorted(
         ((lo, hi, s.carrier) for s in last_plan.segments for lo, hi in s.runs), key=lambda r: r[0]
@@ -282,11 +289,10 @@ def bind_off(
                 em.knit(p, role=Role.TAIL if t else Role.BIND_OFF, course=None)
         drops.append(last)
 
-    if catching and park is not None:
+    if one_yarn and park is not None:
         # One chain in one yarn, as the one-colour scheduler binds off: started by the carrier
         # whose last loop is nearest an edge it is parked beyond (where the last course ended),
         # so no yarn floats across the piece into the bind-off. The others go out first.
-        car, d = _bind_off_start(em.states, left, edge)
         em.outhook([c for c in machine.carriers if c in em.states and c != car])
         st = em.states[car]
         if (d == "-") != (st.direction == "+"):
@@ -297,7 +303,7 @@ def bind_off(
                 course=None,
             )
         em.steps.extend(
-            bind_off_steps(
+            zigzag_bind_off_steps(
                 car, d, left, edge, stitch_number=machine.stitch_number, tail_stitches=tail_stitches
             )
         )
@@ -325,3 +331,73 @@ def bind_off(
         not all(o.op == "miss" for o in p.ops) or p.kind != "knit" for p in bind_passes
     )
     return bind_fixed
+
+
+def zigzag_beds(direction: Direction, left: int, right: int) -> dict[int, Bed]:
+    """Bed of each needle's loop for :func:`zigzag_bind_off_steps`: alternate from the start."""
+    start = left if direction == "+" else right
+    return {n: Bed.FRONT if (n - start) % 2 == 0 else Bed.BACK for n in range(left, right + 1)}
+
+
+def zigzag_bind_off_steps(
+    carrier: str,
+    direction: Direction,
+    left: int,
+    right: int,
+    *,
+    stitch_number: int | None,
+    tail_stitches: int = 4,
+) -> list[Step]:
+    """Chain bind-off of loops alternating between the beds (:func:`zigzag_beds`), two passes
+    a needle; then a tail, ``outhook`` and a drop.
+
+    The chain bind-off of :func:`~illuknit.knit.edges.bind_off_steps` moves each loop to the
+    next needle on the same bed, which takes two transfers at two rackings (front -> back,
+    back -> next front): three passes a needle, the larger part of a mixed-colourwork piece's
+    passes. With the loops alternating between the beds, each step knits a needle and moves
+    its loop across, at racking -/+1, straight onto the next needle's loop on the other bed:
+    one transfer. The links knit on the back bed show as purls along the bound-off edge, as
+    in a bind-off of 1x1 rib. ``carrier`` must sit beyond the edge it starts from (right of
+    ``right`` for ``"-"``, left of ``left`` for ``"+"``); directions alternate, and every other
+    step a miss carries the yarn past the next stitch so every stitch has the carrier behind
+    the carriage.
+    """
+    order = list(range(left, right + 1)) if direction == "+" else list(range(right, left - 1, -1))
+    shift = 1 if direction == "+" else -1
+    beds = zigzag_beds(direction, left, right)
+    steps: list[Step] = []
+    d: Direction = direction
+    for n, nxt in pairwise(order):
+        chain = [Op(OpKind.KNIT, beds[n], n)]
+        if d == direction:
+            chain.append(Op(OpKind.MISS, Bed.FRONT, n + 2 * shift))
+        steps.append(
+            Pass(
+                PassKind.KNIT, tuple(chain), d, (carrier,), 0.0, Role.BIND_OFF, None, stitch_number
+            )
+        )
+        # back b k faces front f (k + r): f n -> b nxt needs r = n - nxt, b n -> f nxt the other
+        rack = float(n - nxt) if beds[n] is Bed.FRONT else float(nxt - n)
+        move = (Op(OpKind.XFER, beds[n], n, beds[nxt], nxt),)
+        steps.append(Pass(PassKind.XFER, move, None, (), rack, Role.BIND_OFF))
+        d = flip(d)
+    last = order[-1]
+    for _ in range(1 + tail_stitches):
+        steps.append(
+            Pass(
+                PassKind.KNIT,
+                (Op(OpKind.KNIT, beds[last], last),),
+                d,
+                (carrier,),
+                0.0,
+                Role.TAIL,
+                None,
+                stitch_number,
+            )
+        )
+        d = flip(d)
+    steps.append(CarrierAction(ActionKind.OUTHOOK, (carrier,)))
+    steps.append(
+        Pass(PassKind.DROP, (Op(OpKind.DROP, beds[last], last),), None, (), 0.0, Role.TAIL)
+    )
+    return steps

@@ -422,3 +422,49 @@ def test_accept_a_suggested_edit(browser, base_url, tmp_path):
     )
     context.close()
     assert not problems, problems
+
+
+def test_tile_table_grouped_with_rare_overlaps_folded(browser, base_url, tmp_path):
+    """Three-colour pictures with a speck: the tile table shows a heading per fill of A and one
+    closed line for the rare overlap, which opens, and stays open while a tile in it is changed."""
+
+    def speckled(path: Path, split: str) -> Path:
+        rgb = np.full((12, 18, 3), 240, np.uint8)
+        if split == "left":
+            rgb[:, :9] = 20
+        else:
+            rgb[:6] = 20
+        rgb[8:10, 12:14] = 128  # 4 of 216 units: an overlap under 2 % of the units
+        Image.fromarray(rgb).save(path)
+        return path
+
+    context = browser.new_context(viewport={"width": 1440, "height": 1000})
+    page = context.new_page()
+    page.set_default_timeout(60_000)
+    page.goto(base_url)
+    page.wait_for_selector("body[data-ready='1']")
+    page.locator("#width_units").fill("18")
+    page.click("#add-yarn")  # a third yarn (grey) for the third colour
+    sync_api.expect(page.locator("#yarns .yarn")).to_have_count(3)
+    page.select_option("#n_colors", "3")
+    page.set_input_files("#file-a", str(speckled(tmp_path / "top.png", "top")))
+    sync_api.expect(page.locator("#meta-a")).to_contain_text("18×12px")
+    page.set_input_files("#file-b", str(speckled(tmp_path / "left.png", "left")))
+    sync_api.expect(page.locator("#meta-b")).to_contain_text("18×12px")
+    sync_api.expect(page.locator("#pairs .pair").first).to_be_visible(timeout=120_000)
+    heads = page.locator("#pairs .group-head")
+    assert heads.count() >= 2
+    sync_api.expect(heads.first).to_contain_text("A shows")
+    rare = page.locator("#pairs details.rare")
+    sync_api.expect(rare.locator("summary")).to_contain_text("1 rare overlap")
+    rare_row = rare.locator(".pair")
+    assert rare_row.count() == 1 and not rare_row.is_visible()  # folded away
+    rare.locator("summary").click()
+    sync_api.expect(rare_row).to_be_visible()
+    select = rare_row.locator("select")
+    options = select.locator("option").evaluate_all("os => os.map(o => o.value)")
+    current = select.input_value()
+    page.select_option("#pairs details.rare .pair select", next(o for o in options if o != current))
+    sync_api.expect(page.locator("#pairs details.rare .pair.edited")).to_be_visible()
+    assert page.locator("#pairs details.rare").get_attribute("open") is not None
+    context.close()

@@ -15,7 +15,7 @@ async function loadPairs() {
   let p;
   try { p = await sapi("GET", "/pairs"); } catch (err) { report(err, "tiles"); return; }
   $("#tiles-hint").textContent = p.editable
-    ? "Each row is a place where a colour of A lies over a colour of B, grouped by the fill A shows there; overlaps too rare to matter much are folded into one line. Choose another tile from the bank to change how it looks; the preview updates."
+    ? "Each row is a place where a colour of A lies over a colour of B, grouped by the fill side A (head-on, in a head-on design) shows there; overlaps too rare to matter much are folded into one line. Choose another tile from the bank to change how it looks; the preview updates."
     : (p.reason || "This candidate has no tiles to edit.");
   renderPairs(p, rareOpen);
 }
@@ -28,13 +28,15 @@ function renderPairs(p, rareOpen = !!$("#pairs details.rare[open]")) {
   const byKey = new Map((p.pairs || []).map((pair) => [`${pair.a}/${pair.b}`, pair]));
   if (!p.groups) { for (const pair of p.pairs || []) box.appendChild(pairRow(pair)); return; }
   const pct = (x) => `${(100 * x).toFixed(1)}%`;
+  // groups follow the fill seen from the design's first view: side A, or head-on
+  const seenFrom = p.views && p.views[0] === "headon" ? "Head-on" : (p.views ? p.views[0] : "A");
   for (const g of p.groups) {
     const head = document.createElement("div");
     head.className = "group-head";
     head.innerHTML = `<span class="sw"></span><b></b><span class="muted"></span>`;
     if (g.fill_color) $(".sw", head).style.background = g.fill_color;
     else $(".sw", head).remove();
-    $("b", head).textContent = `A shows ${g.fill}`;
+    $("b", head).textContent = `${seenFrom} shows ${g.fill}`;
     $(".muted", head).textContent = ` · ${g.pairs.length} overlap${g.pairs.length > 1 ? "s" : ""} · ${pct(g.share)} of units`;
     box.appendChild(head);
     for (const key of g.pairs) box.appendChild(pairRow(byKey.get(key)));
