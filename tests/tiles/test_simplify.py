@@ -96,10 +96,10 @@ def test_double_suggest_writes_before_after_and_simplify_designs_with_kept_edits
     b = (abs(y - 15) < 8) & (abs(x - 18) < 7)
     for name, img in (("a.png", a), ("b.png", b)):
         Image.fromarray(np.where(img, 20, 235).astype(np.uint8)).save(tmp_path / name)
-    code, r = run_cli(
+    code, _, err = run_cli(
         ["double", str(tmp_path / "a.png"), str(tmp_path / "b.png"), "--suggest",
          "-o", str(tmp_path / "s")])  # fmt: skip
-    assert code == 0, r.err
+    assert code == 0, err
     data = json.loads((tmp_path / "s" / "suggestions" / "suggestions.json").read_text())
     assert data["edits"], "the specks invite at least one edit"
     for e in data["edits"]:
@@ -107,10 +107,10 @@ def test_double_suggest_writes_before_after_and_simplify_designs_with_kept_edits
         assert (tmp_path / "s" / "suggestions" / f"{e['edit']}_a.png").is_file()
     summary = json.loads((tmp_path / "s" / "summary.json").read_text())
     assert summary["edits"] == data["edits"]
-    code, r = run_cli(
+    code, _, err = run_cli(
         ["double", str(tmp_path / "a.png"), str(tmp_path / "b.png"), "--simplify",
          "-o", str(tmp_path / "t")])  # fmt: skip
-    assert code == 0, r.err
+    assert code == 0, err
     # --suggest measures each edit on its own, against the same unedited pictures
     assert len({e["readability_before"] for e in data["edits"]}) == 1
     kept = json.loads((tmp_path / "t" / "summary.json").read_text())["edits"]
@@ -118,8 +118,10 @@ def test_double_suggest_writes_before_after_and_simplify_designs_with_kept_edits
     assert kept[0]["readability_before"] == data["edits"][0]["readability_before"]
     for e in kept:
         assert e["accepted"] == (e["readability_after"] > e["readability_before"])
-    code, r = run_cli(["headon", str(tmp_path / "a.png"), "--simplify", "-o", str(tmp_path / "h")])
-    assert code == 2 and "double-view" in r.err and not (tmp_path / "h").exists()
+    code, _, err = run_cli(
+        ["headon", str(tmp_path / "a.png"), "--simplify", "-o", str(tmp_path / "h")]
+    )
+    assert code == 2 and "double-view" in err and not (tmp_path / "h").exists()
 
 
 def _photos(shape=(24, 32)):
@@ -217,10 +219,10 @@ def test_review_edits_on_real_photos_keeps_only_what_raises_readability():
 def test_double_suggest_offers_fewer_colours_for_a_photo_pair(tmp_path, run_cli):
     for name, pic in zip(("a.png", "b.png"), _photos((24, 32)), strict=True):
         Image.fromarray((pic * 255).round().astype(np.uint8)).save(tmp_path / name)
-    code, r = run_cli(
+    code, _, err = run_cli(
         ["double", str(tmp_path / "a.png"), str(tmp_path / "b.png"), "--colors", "3",
          "--candidates", "2", "--suggest", "-o", str(tmp_path / "s")])  # fmt: skip
-    assert code == 0, r.err
+    assert code == 0, err
     folder = tmp_path / "s" / "suggestions"
     edits = json.loads((folder / "suggestions.json").read_text())["edits"]
     requant = [e for e in edits if e["kind"] == "requantise"]
