@@ -35,7 +35,7 @@ own, so it comes in with exactly the set it first uses -- and each is planned in
 Algorithm 3. Then the course's transfers are placed: lazily and batched, with float avoidance
 (see :mod:`~illuknit.knit.float_avoidance`). Carriers come in with ``inhook`` right before their
 first pass (leftward, as the hook needs) and the hook is released right after it; a carrier
-leaves with ``outhook`` after its last course. Finally :func:`fold_moves` folds each
+leaves with ``outhook`` after its last course. Finally :func:`~illuknit.knit.move_folding.fold_moves` folds each
 carrier-placing ``miss`` pass that continues its carrier's previous pass into that pass, and
 :func:`~illuknit.knit.float_tucks.tuck_long_floats` tucks floats over the limit onto free back
 needles.
@@ -70,17 +70,10 @@ from illuknit.knit.color_runs import ColorPlan, plan_color_runs
 from illuknit.knit.course_order import course_items, order_and_plan
 from illuknit.knit.float_avoidance import float_crossings, transfers_before
 from illuknit.knit.float_tucks import LongFloat, tuck_long_floats
-from illuknit.knit.ir import (
-    Bed,
-    CarrierAction,
-    Op,
-    OpKind,
-    Pass,
-    Role,
-    Step,
-)
+from illuknit.knit.ir import Role
 from illuknit.knit.machine import DEFAULT_MACHINE, MachineSpec
 from illuknit.knit.mixed_edges import Emitter, bind_off, cast_on
+from illuknit.knit.move_folding import fold_moves
 from illuknit.knit.path_planning import (
     STRATEGIES,
     Park,
@@ -89,7 +82,7 @@ from illuknit.knit.path_planning import (
 from illuknit.knit.schedule import MixedReport, Schedule
 from illuknit.knit.stitches import StitchPattern
 
-__all__ = ["fold_moves", "schedule_mixed", "validate_ablation"]
+__all__ = ["schedule_mixed", "validate_ablation"]
 
 
 def validate_ablation(*, float_avoidance: object, catching: object, path_planning: object) -> None:
@@ -104,86 +97,6 @@ def validate_ablation(*, float_avoidance: object, catching: object, path_plannin
         raise OptionError(
             f"`path_planning` must be one of {', '.join(STRATEGIES)}, got {path_planning!r}"
         )
-
-
-def _others_turn(steps: Sequence[Step], j: int, prev: Pass, c: str) -> bool:
-    """True when every other carrier of pass ``j`` next knits in the opposite direction.
-
-    Parking them further along their last direction then only puts them further behind the
-    carriage for that next pass, so a miss may be appended to ``prev`` for ``c``'s sake.
-    """
-    others = [x for x in prev.carriers if x != c]
-    for x in others:
-        for s in steps[j + 1 :]:
-            if isinstance(s, CarrierAction):
-                if x in s.carriers:
-                    return False
-                continue
-            if x in s.carriers:
-                if all(o.op == "miss" for o in s.ops) or s.direction == prev.direction:
-                    return False
-                break
-        else:
-            return False
-    return True
-
-
-def fold_moves(steps: Sequence[Step]) -> list[Step]:
-    """Fold each carrier-placing ``miss`` pass into the carrier's previous pass where possible.
-
-    A move that continues, in the same direction, the last pass its carrier made on its own
-    (no other pass or carrier action of that carrier in between; transfers may be) is the same
-    as parking the carrier a little further at the end of that pass: the miss is appended there
-    and the extra pass disappears. Loops are unchanged, so floats and transfers stay valid.
-    """
-    out: list[Step] = list(steps)
-    last_own: dict[str, int] = {}  # carrier -> index in out of its last pass or action
-    i = 0
-    while i < len(out):
-        s = out[i]
-        if isinstance(s, CarrierAction):
-            for c in s.carriers:
-                last_own[c] = -1
-            i += 1
-            continue
-        if s.kind != "knit":
-            i += 1
-            continue
-        is_move = all(o.op == "miss" for o in s.ops) and len(s.carriers) == 1
-        if is_move:
-            c = s.carriers[0]
-            j = last_own.get(c, -1)
-            prev = out[j] if j >= 0 else None
-            target = s.ops[-1].needle
-            if (
-                isinstance(prev, Pass)
-                and (prev.carriers == s.carriers or _others_turn(out, j, prev, c))
-                and prev.direction == s.direction
-                and (
-                    target > prev.ops[-1].needle
-                    if s.direction == "+"
-                    else target < prev.ops[-1].needle
-                )
-            ):
-                ops = prev.ops
-                if ops[-1].op == "miss":
-                    ops = ops[:-1]
-                out[j] = Pass(
-                    prev.kind,
-                    (*ops, Op(OpKind.MISS, Bed.FRONT, target)),
-                    prev.direction,
-                    prev.carriers,
-                    prev.racking,
-                    prev.role,
-                    prev.course,
-                    prev.stitch_number,
-                )
-                del out[i]
-                continue
-        for c in s.carriers:
-            last_own[c] = i
-        i += 1
-    return out
 
 
 @dataclass(frozen=True, eq=False)

@@ -15,7 +15,8 @@ from illuknit.knit import MachineSpec, Pass, lower_to_stitches, write_knitout
 from illuknit.knit.catching import plan_catches
 from illuknit.knit.color_runs import color_runs, plan_color_runs
 from illuknit.knit.float_avoidance import float_crossings
-from illuknit.knit.mixed import fold_moves, schedule_mixed
+from illuknit.knit.mixed import schedule_mixed
+from illuknit.knit.move_folding import fold_moves
 from illuknit.knit.path_planning import (
     CarrierState,
     PlannedPass,
