@@ -152,3 +152,16 @@ def test_unschedulable_patterns_get_a_reason_instead_of_numbers():
     ks = knit_stats(wide)
     assert ks["carriage_passes"] is None and ks["knit_time_min"] is None
     assert "not schedulable" in ks["knit_note"] and "wide" in ks["knit_note"]
+
+
+def test_knit_stats_measure_a_pattern_with_long_floats_and_note_them(monkeypatch):
+    from illuknit.knit.machine import MACHINES, MachineSpec
+    from tests.knit.test_pipeline import _crowded
+
+    # the bench allows long floats (it compares passes); the note says they are there
+    tight = MachineSpec(name="Tight", float_limit=1, carriers=("1", "2", "3"))
+    monkeypatch.setitem(MACHINES, "tight", tight)
+    ks = knit_stats(_crowded(), machine="tight")
+    assert ks["carriage_passes"] > 0 and ks["knit_time_min"] > 0
+    assert "float(s) longer than the float limit of 1 needles" in ks["knit_note"]
+    assert "the longest" in ks["knit_note"] and "course" in ks["knit_note"]
