@@ -16,8 +16,7 @@ option / value         :class:`OptionError` (a keyword or setting out of range o
 machine rule           :class:`MachineRuleError` (carries the needle / carrier / racking)
 scheduling             :class:`SchedulingError` and its subclasses (a pattern the machine cannot
                        knit, a malformed schedule; :class:`LongFloatError`: a float that stays
-                       longer than the machine's float limit); :class:`LongFloatWarning` when
-                       such floats are allowed
+                       longer than the machine's float limit)
 solver                 :class:`ModelError` (a constraint model built inconsistently),
                        :class:`SolverError`, :class:`BackendUnavailableError`,
                        :class:`InfeasibleError`
@@ -47,7 +46,6 @@ __all__ = [
     "KcodeError",
     "KnitoutParseError",
     "LongFloatError",
-    "LongFloatWarning",
     "MachineFileError",
     "MachineRuleError",
     "ManifestError",
@@ -199,12 +197,6 @@ class LongFloatError(SchedulingError):
         self.where = where
         self.limit = limit
         self.count = count
-
-
-class LongFloatWarning(UserWarning):
-    """Floats longer than the machine's float limit were kept because long floats were allowed
-    (``allow_long_floats=True``); the message says how many, how long the longest is and where.
-    The CLI prints it as one ``illuknit: warning:`` line."""
 
 
 class MachineRuleError(IlluknitError, ValueError):

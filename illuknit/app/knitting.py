@@ -76,8 +76,9 @@ def knit_and_check(
     (``long_floats``, ``longest_float``, ``longest_float_at``), which the page shows.
     """
     from illuknit.check import check_knitout
-    from illuknit.errors import LongFloatError, LongFloatWarning
+    from illuknit.errors import LongFloatError
     from illuknit.knit import knit_pattern
+    from illuknit.knit.pipeline import LongFloatWarning
     from illuknit.pattern import pattern_from_json
 
     spec = get_machine(machine)

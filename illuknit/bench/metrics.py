@@ -328,10 +328,10 @@ def knit_stats(pattern: LogicalPattern, *, machine: str | None = None) -> dict[s
         ``scheduled_passes`` (the scheduler's own count), ``knit_time_min`` (None when
         unavailable) and ``knit_note`` (empty, or why the numbers are missing).
     """
-    from illuknit.errors import IlluknitError, LongFloatWarning
+    from illuknit.errors import IlluknitError
     from illuknit.knit import knit_pattern
     from illuknit.knit.machine import get_machine
-    from illuknit.knit.pipeline import long_float_warning
+    from illuknit.knit.pipeline import LongFloatWarning, long_float_warning
 
     try:
         with warnings.catch_warnings():

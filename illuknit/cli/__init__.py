@@ -130,9 +130,9 @@ def _show_note(
     message: Warning | str, category: type[Warning], *args: object, **kw: object
 ) -> None:
     """Warnings meant for the user as one line: ``warning:`` for long floats kept on request
-    (:class:`~illuknit.errors.LongFloatWarning`), ``note:`` for the rest (e.g. a picture's first
+    (:class:`~illuknit.knit.pipeline.LongFloatWarning`), ``note:`` for the rest (e.g. a picture's first
     frame used)."""
-    from illuknit.errors import LongFloatWarning
+    from illuknit.knit.pipeline import LongFloatWarning
 
     kind = "warning" if issubclass(category, LongFloatWarning) else "note"
     click.echo(f"illuknit: {kind}: {_one_line(str(message))}", err=True)

@@ -46,7 +46,7 @@ def run_knit(
     written when compilation fails. ``output_format`` is ``knitout`` or a machine file the
     machine takes (``kc`` for the Kniterate). A float that stays longer than the float limit
     is refused (:class:`~illuknit.errors.LongFloatError`) unless ``allow_long_floats``, which
-    keeps it with a :class:`~illuknit.errors.LongFloatWarning`.
+    keeps it with a :class:`~illuknit.knit.pipeline.LongFloatWarning`.
     """
     from dataclasses import replace
 

@@ -5,7 +5,7 @@ call. One long-float policy for all of them: a float that stays longer than the 
 limit after tucking is refused (:class:`~illuknit.errors.LongFloatError`, naming the course and
 what to change) unless ``allow_long_floats=True``, which keeps it, reports it in the summary
 (``long_floats``, ``longest_float``, ``longest_float_at``) and issues a
-:class:`~illuknit.errors.LongFloatWarning` saying how long and where.
+:class:`LongFloatWarning` saying how long and where.
 
 It does not run the checker (that is :func:`illuknit.check.check_knitout`, slower); callers
 that want a verdict pass the returned text to it.
@@ -17,12 +17,7 @@ import warnings
 from dataclasses import dataclass, replace
 from typing import Any
 
-from illuknit.errors import (
-    CarrierShortageError,
-    LongFloatWarning,
-    PatternValidationError,
-    SchedulingError,
-)
+from illuknit.errors import CarrierShortageError, PatternValidationError, SchedulingError
 from illuknit.knit.carriage import machine_run, machine_stats, runs_on_swg
 from illuknit.knit.knitout import write_knitout
 from illuknit.knit.machine import DEFAULT_MACHINE, MachineSpec
@@ -31,7 +26,14 @@ from illuknit.knit.stitches import StitchPattern, lower_to_stitches
 from illuknit.knit.timing import TimeEstimate, estimate_knit_time
 from illuknit.pattern import LogicalPattern
 
-__all__ = ["KnitResult", "knit_pattern", "long_float_warning"]
+__all__ = ["KnitResult", "LongFloatWarning", "knit_pattern", "long_float_warning"]
+
+
+class LongFloatWarning(UserWarning):
+    """Floats longer than the machine's float limit were kept because long floats were allowed
+    (``allow_long_floats=True``); the message says how many, how long the longest is and where.
+    The CLI prints it as one ``illuknit: warning:`` line."""
+
 
 #: :class:`~illuknit.knit.schedule.MixedReport` fields that :meth:`KnitResult.summary` reports.
 _SUMMARY_MIXED = ("tuck_joins", "plated_stitches", "carriers", "float_avoidance_transfers")
@@ -230,7 +232,7 @@ def knit_pattern(
 
 
 def long_float_warning(result: KnitResult) -> str:
-    """What the :class:`~illuknit.errors.LongFloatWarning` of ``result`` says: how many floats
+    """What the :class:`LongFloatWarning` of ``result`` says: how many floats
     stay over the float limit, how long the longest is and where (empty when none)."""
     s = result.summary()
     if not s["long_floats"]:

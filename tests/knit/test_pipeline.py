@@ -8,9 +8,10 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from illuknit.errors import LongFloatError, LongFloatWarning, SchedulingError
+from illuknit.errors import LongFloatError, SchedulingError
 from illuknit.knit import knit_pattern
 from illuknit.knit.machine import MachineSpec
+from illuknit.knit.pipeline import LongFloatWarning
 from illuknit.pattern import LogicalPattern, parse_yarns
 
 # Three yarns on three carriers with a float limit of one needle: the first pattern row has
