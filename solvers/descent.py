@@ -47,7 +47,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from illuknit.illusion_problem import IllusionProblem, pass_events, raised_cost
+from illuknit.illusion_problem import IllusionProblem, pass_events, raised_cost, row_passes
 from illuknit.solvers.base import BackendBase, ProgressCallback, ProgressEvent, Solution, Status
 from illuknit.solvers.dp import DPBackend, solve_dp, values_from_pattern
 
@@ -105,8 +105,8 @@ def pattern_cost(
     cost += int(bump[r].sum()) + int(pin[ii, jj, c].sum())
     cost += problem.color_weight * int((c[:, 1:] != c[:, :-1]).sum())
     if problem.pass_weight:
-        used, bump_rows, extra = pass_events(c, r, problem.n_yarns, problem.weights.float_gap)
-        cost += 2 * problem.pass_weight * int(used.sum() + bump_rows.sum() + extra.sum())
+        passes = row_passes(c, r, problem.n_yarns, problem.weights.float_gap)
+        cost += problem.pass_weight * int(passes.sum())
     return int(cost)
 
 
@@ -205,20 +205,26 @@ def update_wales(
 def _row_terms_outside(
     problem: IllusionProblem, yarn: NDArray[np.int64], raised: NDArray[np.bool_], cols: Any
 ) -> NDArray[np.int64]:
-    """Unary costs (L, N, S) of the yarn-used and bump-row pass terms for the wales ``cols``,
-    judged against the rest of each row (the other updated wales left out). Not exact when
+    """Unary costs (L, N, S) of the pass terms for the wales ``cols`` (a yarn new to the row, a
+    first bump and the segments it turns into bump-row segments), judged against the rest of
+    each row (the other updated wales left out). Not exact when
     several updated wales are a row's only users of a yarn; :func:`descend` keeps an update
     only if the whole objective does not increase. Extra carriers are left to that check."""
     n, m = problem.shape
     k = problem.n_yarns
     cs, rs = _state_parts(k)
-    w = 2 * problem.pass_weight
+    p = problem.pass_weight
     rest = np.ones(m, dtype=bool)
     rest[cols] = False
     c = np.asarray(yarn)[:, rest]
     used = np.stack([(c == y).any(axis=1) for y in range(k)], axis=1)  # (N, K)
     bumped: NDArray[np.bool_] = np.asarray(np.asarray(raised)[:, rest].any(axis=1), dtype=bool)
-    u = w * (~used[:, cs]).astype(np.int64) + w * (rs[None, :] & ~bumped[:, None])  # (N, S)
+    _, _, extra = pass_events(yarn, raised, k, problem.weights.float_gap)
+    segments = used.sum(axis=1) + extra  # (N,), the rest's segments (extras of the whole row)
+    new_yarn = ~used[:, cs]  # (N, S)
+    new_bump = rs[None, :] & ~bumped[:, None]
+    u = (2 * p) * new_yarn + p * (new_yarn & (bumped[:, None] | rs[None, :]))
+    u = u + p * new_bump * (1 + segments[:, None])
     return np.broadcast_to(u[None], (len(cols), n, 2 * k))
 
 
@@ -286,7 +292,7 @@ def _best_row_states(
     per row. (Extra carriers are left to :func:`descend`'s check.)"""
     k = problem.n_yarns
     cs, rs = _state_parts(k)
-    w = 2 * problem.pass_weight
+    p = problem.pass_weight
     best_cost: NDArray[np.int64] | None = None
     best: NDArray[np.int64] | None = None
     for mask in range(1, 2**k):
@@ -297,7 +303,8 @@ def _best_row_states(
             st = _chain_argmin(uu, pair)
             cost = np.take_along_axis(uu, st[:, :, None], axis=2)[:, :, 0].sum(axis=1)
             cost = cost + pair[0][st[:, :-1], st[:, 1:]].sum(axis=1)
-            cost = cost + w * (int(allowed.sum()) + int(bumps))
+            used = int(allowed.sum())
+            cost = cost + p * (2 * used + int(bumps) * (used + 1))
             if best_cost is None or best is None:
                 best_cost, best = cost, st
             else:
