@@ -19,7 +19,7 @@ import time
 
 from illuknit.bench.instances import instance_targets, load_manifest
 from illuknit.drawings import skimage_image
-from illuknit.tiles.simplify import review_edits
+from illuknit.tiles.simplify import MIN_GAIN, review_edits
 
 
 def _is_photo(inst) -> bool:
@@ -61,8 +61,8 @@ def main() -> None:
             continue
         before = results[0].before
         after = next((r.after for r in reversed(results) if r.accepted), before)
-        raised += after[0] > before[0] + 1e-6
-        lowered += after[0] < before[0] - 1e-6
+        raised += after[0] > before[0] + MIN_GAIN
+        lowered += after[0] < before[0] - 1e-9
         verdicts = " ".join(
             f"{'+' if r.accepted else '-'}{r.suggestion.name}({r.after[0]:.3f})" for r in results
         )

@@ -26,7 +26,8 @@ Contract
   soft clauses by their weight, no ``p`` line); ``style="old"`` writes the pre-2022
   ``p wcnf NV NC TOP`` format. pysat's ``WCNF`` reader accepts both.
 
-Clause blocks are stored as numpy arrays of shape (n, width) padded with 0 so that models with
+The pool lives in :mod:`illuknit.var_pool`, the CNF encodings of native constraints in
+:mod:`illuknit.cnf_encodings`. Clause blocks are stored as numpy arrays of shape (n, width) padded with 0 so that models with
 ~10^5 variables (330 x 200 units) are built in milliseconds; ``0`` is never a literal.
 
 Naming: in illuknit a *constraint model* is this module's :class:`Model` (solver-neutral
@@ -45,106 +46,16 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from illuknit.cnf_encodings import encode_card, encode_linear
 from illuknit.errors import ModelError, OptionError
+from illuknit.var_pool import VarPool
 
 __all__ = [
     "CardConstraint",
     "ClauseSet",
     "LinearConstraint",
     "Model",
-    "VarPool",
 ]
-
-
-class VarPool:
-    """Variable ids from readable keys (like pysat's ``IDPool``), plus numpy blocks.
-
-    Examples
-    --------
-    >>> pool = VarPool()
-    >>> ids = pool.block("x", (2, 3))
-    >>> int(ids[1, 2]) == pool.var(("x", 1, 2))
-    True
-    >>> pool.var("aux") == pool.top
-    True
-    """
-
-    def __init__(self) -> None:
-        self.top = 0
-        self._keys: dict[Hashable, int] = {}
-        self._blocks: dict[Hashable, tuple[int, tuple[int, ...]]] = {}
-
-    def block(self, name: Hashable, shape: int | Sequence[int]) -> NDArray[np.int64]:
-        """Allocate ``prod(shape)`` consecutive ids, addressable as ``(name, *index)``.
-
-        Returns
-        -------
-        ndarray of shape ``shape``, int64
-            The ids, in C order.
-        """
-        shp = (int(shape),) if isinstance(shape, int | np.integer) else tuple(int(s) for s in shape)
-        if name in self._blocks:
-            raise ModelError(f"variable block {name!r} already exists")
-        if any(s < 0 for s in shp):
-            raise ModelError(f"block shape must be non-negative, got {shp}")
-        base = self.top + 1
-        size = int(np.prod(shp, dtype=np.int64)) if shp else 1
-        self.top += size
-        self._blocks[name] = (base, shp)
-        return np.arange(base, base + size, dtype=np.int64).reshape(shp)
-
-    def block_ids(self, name: Hashable) -> NDArray[np.int64]:
-        """The id array of an existing block."""
-        try:
-            base, shp = self._blocks[name]
-        except KeyError:
-            raise KeyError(f"no variable block {name!r}") from None
-        size = int(np.prod(shp, dtype=np.int64)) if shp else 1
-        return np.arange(base, base + size, dtype=np.int64).reshape(shp)
-
-    @property
-    def blocks(self) -> tuple[Hashable, ...]:
-        return tuple(self._blocks)
-
-    def _in_block(self, key: Hashable) -> int | None:
-        if isinstance(key, tuple) and key and key[0] in self._blocks:
-            base, shp = self._blocks[key[0]]
-            idx = key[1:]
-            if len(idx) == len(shp) and all(0 <= int(i) < s for i, s in zip(idx, shp, strict=True)):
-                return (
-                    base + int(np.ravel_multi_index(tuple(int(i) for i in idx), shp))
-                    if shp
-                    else base
-                )
-            raise KeyError(f"index {idx} out of range for block {key[0]!r} of shape {shp}")
-        return None
-
-    def var(self, key: Hashable) -> int:
-        """The id of ``key``, allocating a new one on first use."""
-        found = self._in_block(key)
-        if found is not None:
-            return found
-        vid = self._keys.get(key)
-        if vid is None:
-            self.top += 1
-            vid = self._keys[key] = self.top
-        return vid
-
-    def get(self, key: Hashable) -> int | None:
-        """The id of ``key`` if it exists (never allocates)."""
-        found = self._in_block(key)
-        return found if found is not None else self._keys.get(key)
-
-    def key_of(self, vid: int) -> Hashable | None:
-        """Reverse lookup (slow; for messages and debugging)."""
-        for name, (base, shp) in self._blocks.items():
-            size = int(np.prod(shp, dtype=np.int64)) if shp else 1
-            if base <= vid < base + size:
-                return (name, *(int(i) for i in np.unravel_index(vid - base, shp)))
-        for k, v in self._keys.items():
-            if v == vid:
-                return k
-        return None
 
 
 @dataclass(frozen=True)
@@ -345,11 +256,11 @@ class Model:
             fam.extend([f] * len(rows))
         nv = self.pool.top
         for c in self.cards:
-            cls, nv = _encode_card(c.lits, c.op, c.k, nv)
+            cls, nv = encode_card(c.lits, c.op, c.k, nv)
             hard.extend(cls)
             fam.extend([c.family] * len(cls))
         for lc in self.linears:
-            cls, nv = _encode_linear(lc.lits, lc.coeffs, lc.bound, nv)
+            cls, nv = encode_linear(lc.lits, lc.coeffs, lc.bound, nv)
             hard.extend(cls)
             fam.extend([lc.family] * len(cls))
         soft: list[list[int]] = []
@@ -473,72 +384,3 @@ def _block_sat(a: NDArray[np.int64], v: NDArray[np.bool_]) -> NDArray[np.bool_]:
     """Per clause: is it satisfied (0 padding counts as false)."""
     lv = _lit_vals(a, v) & (a != 0)
     return lv.any(axis=1)
-
-
-def _encode_card(lits: tuple[int, ...], op: str, k: int, nv: int) -> tuple[list[list[int]], int]:
-    from pysat.card import CardEnc, EncType
-
-    n = len(lits)
-    ls = list(lits)
-    out: list[list[int]] = []
-    if op in ("<=", "=="):
-        if k < 0:
-            return [[]], nv
-        if k < n:
-            enc = EncType.pairwise if k == 1 and n <= 6 else EncType.seqcounter
-            cnf = CardEnc.atmost(ls, bound=k, top_id=nv, encoding=enc)
-            out.extend(cnf.clauses)
-            nv = max(nv, cnf.nv)
-    if op in (">=", "=="):
-        if k > n:
-            return [[]], nv
-        if k == 1:
-            out.append(ls)
-        elif k > 0:
-            cnf = CardEnc.atleast(ls, bound=k, top_id=nv, encoding=EncType.seqcounter)
-            out.extend(cnf.clauses)
-            nv = max(nv, cnf.nv)
-    return out, nv
-
-
-def _encode_linear(
-    lits: tuple[int, ...], coeffs: tuple[int, ...], bound: int, nv: int
-) -> tuple[list[list[int]], int]:
-    """Sequential weight counter for ``sum c_i l_i <= bound`` (Hölldobler et al. 2012)."""
-    # Normalise negative coefficients: c*l = c - c*(-l) (with -c > 0).
-    ls: list[int] = []
-    cs: list[int] = []
-    for lit, c in zip(lits, coeffs, strict=True):
-        if c < 0:
-            ls.append(-lit)
-            cs.append(-c)
-            bound -= c
-        elif c > 0:
-            ls.append(lit)
-            cs.append(c)
-    if bound < 0:
-        return [[]], nv
-    if sum(cs) <= bound:
-        return [], nv
-    if all(c == 1 for c in cs):
-        return _encode_card(tuple(ls), "<=", bound, nv)
-    out: list[list[int]] = []
-    # lits whose coefficient alone exceeds the bound are false
-    keep = [(lit, c) for lit, c in zip(ls, cs, strict=True) if c <= bound]
-    out.extend([-lit] for lit, c in zip(ls, cs, strict=True) if c > bound)
-    k = bound
-    prev: list[int] | None = None  # prev[j] <-> partial sum >= j+1
-    for lit, c in keep:
-        cur = list(range(nv + 1, nv + k + 1))
-        nv += k
-        for j in range(c):  # x_i -> s_i,j for j < c
-            out.append([-lit, cur[j]])
-        if prev is not None:
-            for j in range(k):
-                out.append([-prev[j], cur[j]])
-                if j + c < k:
-                    out.append([-lit, -prev[j], cur[j + c]])
-            # overflow: prev >= k+1-c and x_i true exceeds the bound
-            out.append([-lit, -prev[k - c]])
-        prev = cur
-    return out, nv

@@ -37,7 +37,7 @@ import time
 from collections.abc import Callable
 from dataclasses import replace
 from importlib.metadata import entry_points
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 from illuknit.errors import (
     BackendUnavailableError,
@@ -66,11 +66,13 @@ __all__ = [
     "BackendBase",
     "ProgressEvent",
     "Solution",
+    "SolverName",
     "Status",
     "available_backends",
     "backend_names",
     "describe_backends",
     "get_backend",
+    "parse_solver_name",
     "register_backend",
     "resolve_backend",
     "solve",
@@ -114,6 +116,38 @@ EXTERNAL_PREFIX = "wcnf:"
 _registered: dict[str, Callable[[], Backend] | Backend] = {}
 
 
+class SolverName(NamedTuple):
+    """A solver name taken apart at its first colon: ``rc2:cd19``, ``wcnf:maxhs {}``, ``dp``."""
+
+    base: str
+    #: What follows the colon (a SAT oracle, or an external command); None without a colon.
+    argument: str | None
+
+    @property
+    def oracle(self) -> str:
+        """The SAT oracle named after a backend of :data:`ORACLE_BACKENDS` ("" when none)."""
+        return (self.argument or "") if self.base in ORACLE_BACKENDS else ""
+
+    @property
+    def external(self) -> bool:
+        """``wcnf:COMMAND``: an external MaxSAT binary."""
+        return self.base == EXTERNAL_PREFIX[:-1] and self.argument is not None
+
+
+def parse_solver_name(name: str) -> SolverName:
+    """The one reading of a solver name (registry, benchmark rows and preloading share it).
+
+    Examples
+    --------
+    >>> parse_solver_name("rc2:cd19").oracle
+    'cd19'
+    >>> parse_solver_name("wcnf:maxhs {}")
+    SolverName(base='wcnf', argument='maxhs {}')
+    """
+    base, sep, arg = name.partition(":")
+    return SolverName(base, arg if sep else None)
+
+
 def register_backend(name: str, backend: Backend | Callable[[], Backend] | str) -> None:
     """Register a backend under ``name`` (an instance, a factory, or "module:attr")."""
     if isinstance(backend, str):
@@ -143,19 +177,20 @@ def _instantiate(obj: Any) -> Backend:
 
 
 def _lookup(name: str) -> Backend:
-    if name.startswith(EXTERNAL_PREFIX):
+    parsed = parse_solver_name(name)
+    if parsed.external:
         from illuknit.solvers.wcnf import ExternalWCNFBackend
 
-        return ExternalWCNFBackend(name[len(EXTERNAL_PREFIX) :])
+        return ExternalWCNFBackend(parsed.argument or "")
     if name in _registered:
         return _instantiate(_registered[name])
-    base, sep, arg = name.partition(":")
-    if base in REGISTRY and (not sep or base in ORACLE_BACKENDS):
+    base, arg = parsed
+    if base in REGISTRY and (arg is None or base in ORACLE_BACKENDS):
         module, _, attr = REGISTRY[base].partition(":")
         obj = getattr(importlib.import_module(module), attr)
         if base in HERMAX_NAMES:
             return obj(base)  # type: ignore[no-any-return,unused-ignore]
-        if sep:
+        if arg is not None:
             return obj(arg)  # type: ignore[no-any-return,unused-ignore]
         return _instantiate(obj)
     eps = _entry_points()

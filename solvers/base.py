@@ -42,12 +42,14 @@ import numpy as np
 from numpy.typing import NDArray
 
 if TYPE_CHECKING:
-    from illuknit.model import Model, VarPool
+    from illuknit.model import Model
+    from illuknit.var_pool import VarPool
 
 __all__ = [
     "ORACLES",
     "Backend",
     "BackendBase",
+    "OracleBackendBase",
     "ProgressCallback",
     "ProgressEvent",
     "Solution",
@@ -382,6 +384,23 @@ def check_oracle(name: str, *, interruptible: bool = False) -> str:
     if name not in valid:
         raise UnknownNameError("SAT oracle", name, valid)
     return name
+
+
+class OracleBackendBase(BackendBase):
+    """A backend that calls a python-sat SAT oracle, named ``NAME:ORACLE`` (``rc2:cd19``).
+
+    Subclasses set ``name`` (the base name), ``default_oracle`` (the one the bare name means)
+    and ``interruptible_oracle`` (whether the search needs an oracle python-sat can interrupt).
+    """
+
+    default_oracle: str = "g3"
+    interruptible_oracle: bool = False
+
+    def __init__(self, oracle: str | None = None) -> None:
+        oracle = self.default_oracle if oracle is None else oracle
+        self.oracle = check_oracle(oracle, interruptible=self.interruptible_oracle)
+        base = type(self).name
+        self.name = base if oracle == self.default_oracle else f"{base}:{oracle}"
 
 
 def interrupt_types() -> tuple[type[BaseException], ...]:

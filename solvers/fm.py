@@ -14,12 +14,11 @@ import time
 from typing import TYPE_CHECKING, Any
 
 from illuknit.solvers.base import (
-    BackendBase,
+    OracleBackendBase,
     ProgressCallback,
     ProgressEvent,
     Solution,
     Status,
-    check_oracle,
 )
 from illuknit.solvers.isolate import run_in_child
 
@@ -47,16 +46,13 @@ def _run_fm(model: Model, oracle: str) -> dict[str, Any]:
         fm.delete()
 
 
-class FMBackend(BackendBase):
+class FMBackend(OracleBackendBase):
     """pysat FM (WMSU1) in a child process; ``fm:ORACLE`` picks the SAT oracle (default m22)."""
 
     name = "fm"
     requires = ("pysat",)
     distribution = "python-sat"
-
-    def __init__(self, oracle: str = "m22") -> None:
-        self.oracle = check_oracle(oracle)
-        self.name = "fm" if oracle == "m22" else f"fm:{oracle}"
+    default_oracle = "m22"
 
     def solve(
         self,

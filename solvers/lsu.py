@@ -22,18 +22,17 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from illuknit.solvers.base import (
-    BackendBase,
+    OracleBackendBase,
     ProgressCallback,
     ProgressEvent,
     Solution,
     Status,
     assignment_from_lits,
-    check_oracle,
     interrupt_types,
 )
 
 if TYPE_CHECKING:
-    from illuknit.model import Model
+    from illuknit.model import ClauseSet, Model
 
 __all__ = ["MAX_TOTAL_WEIGHT", "LSUBackend"]
 
@@ -43,7 +42,7 @@ MAX_TOTAL_WEIGHT = 200_000
 MAX_TOTALIZER_SIZE = 30_000_000
 
 
-class LSUBackend(BackendBase):
+class LSUBackend(OracleBackendBase):
     """pysat linear search from above (SAT-UNSAT), weighted via a repeated-selector totalizer.
 
     ``oracle`` names the SAT solver (python-sat's names, default ``g4``); ``lsu:ORACLE`` by name.
@@ -52,10 +51,8 @@ class LSUBackend(BackendBase):
     name = "lsu"
     requires = ("pysat",)
     distribution = "python-sat"
-
-    def __init__(self, oracle: str = "g4") -> None:
-        self.oracle = check_oracle(oracle, interruptible=True)
-        self.name = "lsu" if oracle == "g4" else f"lsu:{oracle}"
+    default_oracle = "g4"
+    interruptible_oracle = True
 
     def why_not(self, model: Model) -> str | None:
         if model.total_soft_weight() <= MAX_TOTAL_WEIGHT:
@@ -75,18 +72,8 @@ class LSUBackend(BackendBase):
         t0 = time.perf_counter()
         cs = model.to_clauses()
         top = model.pool.top
-        nv = cs.nv
-        sels: list[int] = []
-        wts: list[int] = []
         oracle = Solver(name=self.oracle, bootstrap_with=cs.hard)
-        for cl, w in zip(cs.soft, cs.weights, strict=True):
-            if len(cl) == 1:
-                sels.append(-cl[0])
-            else:
-                nv += 1
-                oracle.add_clause([*cl, nv])
-                sels.append(nv)
-            wts.append(w)
+        sels, wts, nv = _add_selectors(oracle, cs)
         if model.hint is not None:
             h = np.asarray(model.hint, dtype=bool)
             oracle.set_phases([i if h[i] else -i for i in range(1, top + 1)])
@@ -114,15 +101,7 @@ class LSUBackend(BackendBase):
                 budget = None if deadline is None else deadline - time.perf_counter()
                 if budget is not None and budget <= 0:
                     break
-                timer = Timer(budget, oracle.interrupt) if budget is not None else None
-                if timer is not None:
-                    timer.start()
-                try:
-                    res = oracle.solve_limited(expect_interrupt=True)
-                finally:
-                    if timer is not None:
-                        timer.cancel()
-                    oracle.clear_interrupt()
+                res = _timed_solve(oracle, budget)
                 calls += 1
                 if res is None:
                     break
@@ -154,10 +133,25 @@ class LSUBackend(BackendBase):
             oracle.delete()
             if tot is not None:
                 tot.delete()
-        wall = time.perf_counter() - t0
         stats: dict[str, Any] = {"sat_calls": calls, "interrupted": interrupted}
         if stats_note:
             stats["message"] = stats_note
+        return self._solution(model, t0, stats, best_v, best_cost, proven=proven)
+
+    def _solution(
+        self,
+        model: Model,
+        t0: float,
+        stats: dict[str, Any],
+        best_v: np.ndarray | None,
+        best_cost: int | None,
+        *,
+        proven: bool,
+    ) -> Solution:
+        """The search's outcome: optimal when proven, else feasible (stopped) or timeout."""
+        wall = time.perf_counter() - t0
+        interrupted = bool(stats["interrupted"])
+        stats_note = stats.get("message", "")
         if best_v is None:
             if proven:
                 return Solution(
@@ -194,3 +188,36 @@ class LSUBackend(BackendBase):
         oracle.append_formula(tot.cnf.clauses)
         oracle.add_clause([-tot.rhs[raw - 1]])
         return tot
+
+
+def _add_selectors(oracle: Any, cs: ClauseSet) -> tuple[list[int], list[int], int]:
+    """Give each soft clause a selector literal that is true when the clause is violated.
+
+    A unit soft clause ``[l]`` uses ``-l``; a longer one gets a fresh variable added to it.
+    Returns (selectors, their weights, the largest variable id now in use).
+    """
+    nv = cs.nv
+    sels: list[int] = []
+    wts: list[int] = []
+    for cl, w in zip(cs.soft, cs.weights, strict=True):
+        if len(cl) == 1:
+            sels.append(-cl[0])
+        else:
+            nv += 1
+            oracle.add_clause([*cl, nv])
+            sels.append(nv)
+        wts.append(w)
+    return sels, wts, nv
+
+
+def _timed_solve(oracle: Any, budget: float | None) -> bool | None:
+    """One SAT call, interrupted after ``budget`` seconds (None: when interrupted)."""
+    timer = Timer(budget, oracle.interrupt) if budget is not None else None
+    if timer is not None:
+        timer.start()
+    try:
+        return oracle.solve_limited(expect_interrupt=True)
+    finally:
+        if timer is not None:
+            timer.cancel()
+        oracle.clear_interrupt()

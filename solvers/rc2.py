@@ -23,12 +23,11 @@ import numpy as np
 from numpy.typing import NDArray
 
 from illuknit.solvers.base import (
-    BackendBase,
+    OracleBackendBase,
     ProgressCallback,
     ProgressEvent,
     Solution,
     Status,
-    check_oracle,
     fallback_assignment,
     interrupt_types,
 )
@@ -83,7 +82,7 @@ def split_components(cs: ClauseSet) -> list[tuple[list[int], list[int]]]:
     return out
 
 
-class RC2Backend(BackendBase):
+class RC2Backend(OracleBackendBase):
     """pysat RC2 per independent component, adapt + exhaust + minimise cores.
 
     ``oracle`` names the SAT solver RC2 calls (python-sat's names: ``g3``, ``g4``, ``cd15``,
@@ -93,10 +92,7 @@ class RC2Backend(BackendBase):
     name = "rc2"
     requires = ("pysat",)
     distribution = "python-sat"
-
-    def __init__(self, oracle: str = "g3") -> None:
-        self.oracle = check_oracle(oracle)
-        self.name = "rc2" if oracle == "g3" else f"rc2:{oracle}"
+    default_oracle = "g3"
 
     def solve(
         self,

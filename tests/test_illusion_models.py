@@ -294,7 +294,7 @@ def test_machine_pass_terms_match_brute_force_and_the_descent_objective():
     import itertools
 
     from illuknit.illusion_problem import pass_events
-    from illuknit.solvers.descent import pattern_cost
+    from illuknit.solvers.descent_blocks import pattern_cost
     from illuknit.solvers.dp import values_from_pattern
 
     rng = np.random.default_rng(3)

@@ -10,7 +10,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from illuknit.errors import ModelError
-from illuknit.model import Model, VarPool
+from illuknit.model import Model
+from illuknit.var_pool import VarPool
 
 
 def test_pool_blocks_and_keys_agree():

@@ -18,17 +18,13 @@ import importlib.util
 import threading
 from collections.abc import AsyncIterator
 from contextlib import asynccontextmanager
-from pathlib import Path
 from typing import Any
 
 from illuknit import __version__
 from illuknit.app import design
 from illuknit.errors import BackendUnavailableError
 
-__all__ = ["STATIC_DIR", "AppConfig", "create_app"]
-
-#: The page's files (one HTML page, its script and style sheet; no build step).
-STATIC_DIR = Path(__file__).parent / "static"
+__all__ = ["AppConfig", "create_app"]
 
 
 class AppConfig:

@@ -3,7 +3,9 @@
 * :mod:`~illuknit.bench.instances` — the TOML manifest of instances and their drawn targets;
 * :mod:`~illuknit.bench.methods` — one adapter per design method (tiles, solvers, gradient, ...);
 * :mod:`~illuknit.bench.metrics` — logical error, blurred render error, colour changes, knitting;
+* :mod:`~illuknit.bench.cells` — one cell: a method run on an instance, then measured;
 * :mod:`~illuknit.bench.runner` — resumable, parallel execution of the cells;
+* :mod:`~illuknit.bench.results` — the results columns and folder;
 * :mod:`~illuknit.bench.report` — CSV, JSON, Markdown summary, contact sheets, Pareto plot.
 
 Typical use::
@@ -32,7 +34,7 @@ _API: dict[str, str] = {
     "get_method": "illuknit.bench.methods",
     "register_method": "illuknit.bench.methods",
     "run_bench": "illuknit.bench.runner",
-    "load_rows": "illuknit.bench.runner",
+    "load_rows": "illuknit.bench.results",
     "write_outputs": "illuknit.bench.report",
 }
 

@@ -39,6 +39,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from illuknit.errors import ImageInputError, ManifestError, UnknownNameError, YarnSpecError
+from illuknit.model import Model
 from illuknit.pattern import MAX_UNITS, Yarn, parse_yarns
 
 __all__ = [
@@ -47,6 +48,7 @@ __all__ = [
     "Instance",
     "Manifest",
     "Targets",
+    "instance_model",
     "instance_targets",
     "load_manifest",
     "parse_manifest",
@@ -412,3 +414,30 @@ def instance_targets(instance: Instance) -> Targets:
             _TARGETS.clear()
         _TARGETS[key] = Targets(a, b, instance.yarns, {"instance": instance.name})
     return _TARGETS[key]
+
+
+def instance_model(instance: Instance, *, model: str) -> tuple[Model, int | None]:
+    """The constraint model of ``instance`` and its known optimum.
+
+    Parameters
+    ----------
+    instance : Instance
+    model : str
+        Illusion model of a double-view instance (``"logical"``, ``"knit-aware"``); a single-view
+        instance always gets the single-view model.
+
+    Returns
+    -------
+    (Model, int or None)
+        The model, and the DP's optimum where the DP is exact on it (else None).
+    """
+    from illuknit.illusion_models import build_model, make_problem
+    from illuknit.solvers.dp import solve_dp
+
+    t = instance_targets(instance)
+    kind = "single" if instance.kind == "single" else model
+    problem = make_problem(
+        t.a, None if kind == "single" else t.b, n_yarns=len(instance.yarns), kind=kind
+    )
+    optimum = solve_dp(problem)[2] if (problem.per_wale or problem.rows_tied) else None
+    return build_model(problem), optimum

@@ -1,6 +1,6 @@
 """Benchmark outputs: CSV, JSON, a Markdown summary, contact sheets and the Pareto plot.
 
-All are regenerated from the cell rows of a results folder (:func:`illuknit.bench.runner.load_rows`)
+All are regenerated from the cell rows of a results folder (:func:`illuknit.bench.results.load_rows`)
 after every run, so they always describe every finished cell. The Pareto plot needs matplotlib
 (``pip install 'illuknit[plots]'``); without it the summary says so and everything else is written.
 """

@@ -25,9 +25,11 @@ from typing import Any
 
 import numpy as np
 
-from illuknit.bench.instances import Instance, instance_targets
+from illuknit.bench.instances import Instance, instance_model
+from illuknit.bench.wcnf_files import read_wcnf
 from illuknit.errors import IlluknitError
 from illuknit.model import Model
+from illuknit.solvers import HERMAX_NAMES, parse_solver_name
 from illuknit.solvers.base import ProgressEvent, Status
 from illuknit.solvers.isolate import run_in_child
 
@@ -99,21 +101,9 @@ class SolverTask:
 def build_task_model(task: SolverTask) -> tuple[Model, int | None]:
     """(the task's model, the DP's optimum where the DP is exact on it, else None)."""
     if task.wcnf is not None:
-        from illuknit.bench.wcnf_files import read_wcnf
-
         return read_wcnf(task.wcnf), None
-    from illuknit.illusion_models import build_model, make_problem
-    from illuknit.solvers.dp import solve_dp
-
     assert task.instance is not None
-    t = instance_targets(task.instance)
-    kind = "single" if task.instance.kind == "single" else task.model
-    problem = make_problem(
-        t.a, None if kind == "single" else t.b, n_yarns=len(task.instance.yarns), kind=kind
-    )
-    model = build_model(problem)
-    optimum = solve_dp(problem)[2] if (problem.per_wale or problem.rows_tied) else None
-    return model, optimum
+    return instance_model(task.instance, model=task.model)
 
 
 #: Modules a backend imports when it solves, loaded in the parent before the fork so that a
@@ -132,9 +122,7 @@ def preload_backend(solver: str) -> None:
     import importlib
     import importlib.util
 
-    from illuknit.solvers import HERMAX_NAMES
-
-    base = solver.partition(":")[0]
+    base = parse_solver_name(solver).base
     for mod in PRELOAD.get("hermax" if base in HERMAX_NAMES else base, ()):
         if importlib.util.find_spec(mod.partition(".")[0]) is not None:
             importlib.import_module(mod)
@@ -172,13 +160,12 @@ def run_solver_task(task: SolverTask) -> dict[str, Any]:
 
     Never raises for a solver's misbehaviour: that is the row's status and reason.
     """
-    base, _, oracle = task.solver.partition(":")
     row: dict[str, Any] = dict.fromkeys(ROW_FIELDS)
     row.update(
         instance=task.instance_name,
         model=task.model if task.wcnf is None else "wcnf",
         solver=task.solver,
-        oracle=oracle if base in ("rc2", "lsu", "fm") else "",
+        oracle=parse_solver_name(task.solver).oracle,
         warm_start=task.warm_start,
         time_limit=task.time_limit,
         flag="",

@@ -18,8 +18,10 @@ from typing import Any
 
 import numpy as np
 
+from illuknit.bench.instances import instance_model
 from illuknit.errors import PatternFormatError
 from illuknit.model import Model
+from illuknit.outputs import atomic_write_text
 
 __all__ = ["export_wcnf_family", "read_wcnf", "wcnf_model_name"]
 
@@ -108,17 +110,13 @@ def export_wcnf_family(
     Single-view instances get the single-view model only (one target). The known optimum is
     the DP's where it is exact (logical and single-view models), else None.
     """
-    from illuknit.bench.solver_runs import SolverTask, build_task_model
-    from illuknit.outputs import atomic_write_text
-
     out = Path(outdir)
     out.mkdir(parents=True, exist_ok=True)
     entries = []
     for inst in instances:
         kinds = ["single"] if inst.kind == "single" else list(models)
         for kind in kinds:
-            task = SolverTask(instance=inst, model=kind, solver="dp")
-            model, optimum = build_task_model(task)
+            model, optimum = instance_model(inst, model=kind)
             name = wcnf_model_name(inst.name, kind)
             text = model.to_wcnf(style="new")
             atomic_write_text(out / name, text)

@@ -29,7 +29,8 @@ Neither the SWG converter nor the PyPI simulator reports these (paper section 7,
 from __future__ import annotations
 
 from illuknit.check.report import Finding
-from illuknit.check.simulate import MAX_EVENTS_PER_CODE, Simulation
+from illuknit.check.sim_state import MAX_EVENTS_PER_CODE
+from illuknit.check.simulate import Simulation
 
 __all__ = ["FABRIC_RULES", "fabric_findings"]
 

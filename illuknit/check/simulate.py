@@ -19,83 +19,27 @@ operation by operation and records what a real machine would do, without judging
 Besides machine-rule events it records raw fabric observations: every float (a carrier moving
 across needle slots between two consecutive loops), every slot where such a move passed in front
 of back-bed loops with no front loop to hide the yarn (Fig. 14 of the paper), and every stitch
-made while the carrier sat ahead of the needle in the pass direction (Fig. 16).
+made while the carrier sat ahead of the needle in the pass direction (Fig. 16). The state and the
+records live in :mod:`illuknit.check.sim_state`; this module says what each operation does to them.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
-from illuknit.check.parse import CARRIER_OPS, STITCH_OPS, KnitoutProgram, Needle, Operation
+from illuknit.check.parse import CARRIER_OPS, STITCH_OPS, KnitoutProgram, Operation
+from illuknit.check.sim_state import (
+    MAX_EVENTS_PER_CODE,
+    CarrierEnd,
+    Event,
+    FaceFloat,
+    Float,
+    MachineState,
+    WrongSide,
+)
 
-__all__ = [
-    "CarrierEnd",
-    "Event",
-    "FaceFloat",
-    "Float",
-    "Simulation",
-    "WrongSide",
-    "simulate_program",
-]
-
-#: Findings of one code beyond this many are counted, not stored (a systematic error in a large
-#: program would otherwise produce tens of thousands of identical lines).
-MAX_EVENTS_PER_CODE = 200
-
-
-@dataclass(frozen=True)
-class Event:
-    """A machine-rule event: ``code`` (see ``rules.RULES``) at a 1-based line."""
-
-    line: int
-    code: str
-    message: str
-
-
-@dataclass(frozen=True)
-class Float:
-    """Yarn of ``carrier`` crossing ``length`` needle slots between two consecutive loops."""
-
-    line: int
-    carrier: str
-    from_slot: int
-    to_slot: int
-
-    @property
-    def length(self) -> int:
-        """Number of needle slots strictly between the two loops."""
-        return abs(self.to_slot - self.from_slot) - 1
-
-
-@dataclass(frozen=True)
-class FaceFloat:
-    """A float of ``carrier`` passing in front of loops held on back needles ``needles``."""
-
-    line: int
-    carrier: str
-    needles: tuple[str, ...]
-
-
-@dataclass(frozen=True)
-class WrongSide:
-    """A stitch made while ``carrier`` sat ahead of the needle in the pass direction."""
-
-    line: int
-    carrier: str
-    needle: str
-    direction: str
-    carrier_location: float
-    carrier_direction: str
-
-
-@dataclass(frozen=True)
-class CarrierEnd:
-    """A carrier still in action when the program ends."""
-
-    carrier: str
-    in_line: int
-    last_line: int
+__all__ = ["Simulation", "simulate_program"]
 
 
 @dataclass(frozen=True)
@@ -147,149 +91,7 @@ class Simulation:
         return max(self.components, default=-1) + 1
 
 
-@dataclass
-class _Carrier:
-    name: str
-    active: bool = False
-    pending: tuple[str, ...] | None = None  # set named on in/inhook, until first use
-    used: bool = False
-    x: float | None = None  # location of last op
-    dir: str | None = None
-    last_loop: int | None = None
-    last_slot: int | None = None
-    in_line: int = 0
-    last_line: int = 0
-
-
-@dataclass
-class _State:
-    header_carriers: frozenset[str] | None
-    max_racking: float
-    max_loops: int
-    bed_width: int | None
-    keep_position: bool
-    rack: float = 0.0
-    beds: dict[str, dict[int, list[int]]] = field(
-        default_factory=lambda: {b: {} for b in ("f", "b", "fs", "bs")}
-    )
-    carriers: dict[str, _Carrier] = field(default_factory=dict)
-    hook_set: tuple[str, ...] | None = None
-    hook_slot: int | None = None  # None while waiting for the first hooked stitch
-    parent: list[int] = field(default_factory=list)  # union-find over loop ids
-    loop_lines: list[int] = field(default_factory=list)
-    loop_carriers: list[str] = field(default_factory=list)
-    events: list[Event] = field(default_factory=list)
-    counts: dict[str, int] = field(default_factory=dict)
-    floats: list[Float] = field(default_factory=list)
-    face_floats: list[FaceFloat] = field(default_factory=list)
-    wrong_sides: list[WrongSide] = field(default_factory=list)
-    reported_unknown: set[str] = field(default_factory=set)
-    min_index: int | None = None
-    max_index: int | None = None
-    width_reported: bool = False
-
-    # -- bookkeeping ------------------------------------------------------------------------
-    def event(self, line: int, code: str, message: str) -> None:
-        n = self.counts.get(code, 0)
-        self.counts[code] = n + 1
-        if n < MAX_EVENTS_PER_CODE:
-            self.events.append(Event(line, code, message))
-
-    def find(self, a: int) -> int:
-        parent = self.parent
-        root = a
-        while parent[root] != root:
-            root = parent[root]
-        while parent[a] != root:  # path compression
-            parent[a], a = root, parent[a]
-        return root
-
-    def union(self, a: int, b: int) -> None:
-        ra, rb = self.find(a), self.find(b)
-        if ra != rb:
-            # keep the older loop as root so labels follow creation order
-            if ra < rb:
-                self.parent[rb] = ra
-            else:
-                self.parent[ra] = rb
-
-    def new_loop(self, line: int, carrier: str) -> int:
-        lid = len(self.parent)
-        self.parent.append(lid)
-        self.loop_lines.append(line)
-        self.loop_carriers.append(carrier)
-        return lid
-
-    # -- geometry -----------------------------------------------------------------------------
-    def location(self, n: Needle) -> float:
-        return float(n.index) if n.is_front else n.index + self.rack
-
-    def slot(self, n: Needle) -> int:
-        return n.index if n.is_front else n.index + math.floor(self.rack)
-
-    def held(self, n: Needle) -> list[int]:
-        return self.beds[n.bed].get(n.index, [])
-
-    def take(self, n: Needle) -> list[int]:
-        return self.beds[n.bed].pop(n.index, [])
-
-    def put(self, n: Needle, loops: list[int], line: int) -> None:
-        if not loops:
-            return
-        bed = self.beds[n.bed]
-        cur = bed.get(n.index)
-        if cur is None:
-            bed[n.index] = cur = []
-        cur.extend(loops)
-        if len(cur) > self.max_loops:
-            self.event(
-                line,
-                "too-many-loops",
-                f"{n} holds {len(cur)} loops; the machine holds at most {self.max_loops}",
-            )
-
-    def note_needle(self, n: Needle, line: int) -> None:
-        i = n.index
-        if self.min_index is None or i < self.min_index:
-            self.min_index = i
-        if self.max_index is None or i > self.max_index:
-            self.max_index = i
-        w = self.bed_width
-        if w is None or self.width_reported:
-            return
-        if self.keep_position:
-            if not 1 <= i <= w:
-                self.width_reported = True
-                self.event(
-                    line,
-                    "too-wide",
-                    f"{n} is outside the bed (Position: Keep needs needles 1..{w})",
-                )
-        elif self.max_index - self.min_index + 1 > w:
-            self.width_reported = True
-            self.event(
-                line,
-                "too-wide",
-                f"the program spans needles {self.min_index}..{self.max_index}, "
-                f"wider than the {w}-needle bed",
-            )
-
-    def carrier(self, name: str, line: int) -> _Carrier:
-        c = self.carriers.get(name)
-        if c is None:
-            c = self.carriers[name] = _Carrier(name)
-        hc = self.header_carriers
-        if hc is not None and name not in hc and name not in self.reported_unknown:
-            self.reported_unknown.add(name)
-            self.event(
-                line,
-                "carrier-unknown",
-                f"carrier {name} is not listed in the ;;Carriers: header",
-            )
-        return c
-
-
-def _check_pair(state: _State, op: Operation) -> bool:
+def _check_pair(state: MachineState, op: Operation) -> bool:
     """Machine rules of a needle-to-needle move (xfer, split); True when loops may move."""
     src, dst = op.needles
     if src.is_front == dst.is_front:
@@ -317,7 +119,8 @@ def _fmt(x: float) -> str:
     return f"{x:g}"
 
 
-def _stitch(state: _State, op: Operation) -> None:
+def _stitch(state: MachineState, op: Operation) -> None:
+    """A knit, tuck, miss or split: the carriers' rules, fabric observations, new loops."""
     line = op.line
     needle = op.needle
     direction = op.direction
@@ -349,8 +152,27 @@ def _stitch(state: _State, op: Operation) -> None:
         )
     x = state.location(needle)
     slot = state.slot(needle)
+    _use_carriers(state, op, slot, makes_loops=makes_loops)
+    if makes_loops:
+        _observe_fabric(state, op, x, slot)
+    new = _make_loops(state, op) if makes_loops else []
+    for k, name in enumerate(carriers):
+        c = state.carriers[name]
+        c.x = x
+        c.dir = direction
+        c.used = True
+        c.last_line = line
+        if makes_loops:
+            lid = new[k]
+            if c.last_loop is not None:
+                state.union(lid, c.last_loop)
+            c.last_loop = lid
+            c.last_slot = slot
 
-    # carriers: activity, first use, hook
+
+def _use_carriers(state: MachineState, op: Operation, slot: int, *, makes_loops: bool) -> None:
+    """Rules of the carriers a stitch uses: brought in, first use as brought in, the hook."""
+    line, needle, direction, carriers = op.line, op.needle, op.direction, op.carriers
     hook_first = False
     for name in carriers:
         c = state.carrier(name, line)
@@ -392,63 +214,56 @@ def _stitch(state: _State, op: Operation) -> None:
             f"that still holds carrier(s) {' '.join(state.hook_set)}; releasehook first",
         )
 
-    # fabric observations, per carrier, before the needle changes
-    if makes_loops:
-        for name in carriers:
-            c = state.carriers[name]
-            if c.x is not None and c.dir is not None:
-                behind = (
-                    (c.x < x if c.dir == "+" else c.x <= x)
-                    if direction == "+"
-                    else (c.x > x if c.dir == "-" else c.x >= x)
-                )
-                if not behind:
-                    state.wrong_sides.append(
-                        WrongSide(line, name, str(needle), direction, c.x, c.dir)
-                    )
-            if c.last_slot is not None and abs(slot - c.last_slot) > 1:
-                lo, hi = sorted((c.last_slot, slot))
-                state.floats.append(Float(line, name, c.last_slot, slot))
-                _face_float(state, line, name, lo, hi)
 
-    # the operation itself: knit and split pull the new loops through the needle's old ones (split
-    # leaves the old loops on the other needle), tuck adds them beside the old ones
-    new: list[int] = []
-    if makes_loops:
-        parents: list[int] = []
-        if op.op == "knit":
-            parents = state.take(needle)
-            if not parents:
-                state.event(
-                    line, "knit-empty", f"knit on empty needle {needle} (no loop to pull through)"
-                )
-        elif op.op == "split":
-            parents = state.take(needle)
-            if _check_pair(state, op):
-                state.put(op.needles[1], parents, line)
-            else:  # nothing moved; the old loops stay (and get caught)
-                state.put(needle, parents, line)
-        new = [state.new_loop(line, name) for name in carriers]
-        for child in new:
-            for p in parents:
-                state.union(child, p)
-        state.put(needle, new, line)
-
-    for k, name in enumerate(carriers):
+def _observe_fabric(state: MachineState, op: Operation, x: float, slot: int) -> None:
+    """Per carrier, before the needle changes: a stitch made from the wrong side, a float."""
+    line, needle, direction = op.line, op.needle, op.direction
+    assert direction is not None
+    for name in op.carriers:
         c = state.carriers[name]
-        c.x = x
-        c.dir = direction
-        c.used = True
-        c.last_line = line
-        if makes_loops:
-            lid = new[k]
-            if c.last_loop is not None:
-                state.union(lid, c.last_loop)
-            c.last_loop = lid
-            c.last_slot = slot
+        if c.x is not None and c.dir is not None:
+            behind = (
+                (c.x < x if c.dir == "+" else c.x <= x)
+                if direction == "+"
+                else (c.x > x if c.dir == "-" else c.x >= x)
+            )
+            if not behind:
+                state.wrong_sides.append(WrongSide(line, name, str(needle), direction, c.x, c.dir))
+        if c.last_slot is not None and abs(slot - c.last_slot) > 1:
+            lo, hi = sorted((c.last_slot, slot))
+            state.floats.append(Float(line, name, c.last_slot, slot))
+            _face_float(state, line, name, lo, hi)
 
 
-def _face_float(state: _State, line: int, carrier: str, lo: int, hi: int) -> None:
+def _make_loops(state: MachineState, op: Operation) -> list[int]:
+    """The new loops of a knit, tuck or split, one per carrier, joined to the loops they hold.
+
+    Knit and split pull the new loops through the needle's old ones (split leaves the old loops
+    on the other needle), tuck adds them beside the old ones.
+    """
+    line, needle = op.line, op.needle
+    parents: list[int] = []
+    if op.op == "knit":
+        parents = state.take(needle)
+        if not parents:
+            state.event(
+                line, "knit-empty", f"knit on empty needle {needle} (no loop to pull through)"
+            )
+    elif op.op == "split":
+        parents = state.take(needle)
+        if _check_pair(state, op):
+            state.put(op.needles[1], parents, line)
+        else:  # nothing moved; the old loops stay (and get caught)
+            state.put(needle, parents, line)
+    new = [state.new_loop(line, name) for name in op.carriers]
+    for child in new:
+        for p in parents:
+            state.union(child, p)
+    state.put(needle, new, line)
+    return new
+
+
+def _face_float(state: MachineState, line: int, carrier: str, lo: int, hi: int) -> None:
     """Record back-bed loops with no front loop at slots strictly between lo and hi."""
     shift = math.floor(state.rack)
     back, back_s = state.beds["b"], state.beds["bs"]
@@ -469,7 +284,7 @@ def _face_float(state: _State, line: int, carrier: str, lo: int, hi: int) -> Non
         state.face_floats.append(FaceFloat(line, carrier, tuple(hits)))
 
 
-def _carrier_op(state: _State, op: Operation) -> None:
+def _carrier_op(state: MachineState, op: Operation) -> None:
     line = op.line
     cs = op.carriers
     if len(set(cs)) != len(cs):
@@ -547,7 +362,7 @@ def _carrier_op(state: _State, op: Operation) -> None:
             state.hook_slot = None
 
 
-def _rack(state: _State, op: Operation) -> None:
+def _rack(state: MachineState, op: Operation) -> None:
     r = op.value
     assert r is not None
     if abs(r) > state.max_racking:
@@ -593,7 +408,7 @@ def simulate_program(
     if bed_width is None:
         bed_width = program.width
     pos = program.header("Position")
-    state = _State(
+    state = MachineState(
         header_carriers=header_carriers,
         max_racking=max_racking,
         max_loops=max_loops,
@@ -620,7 +435,11 @@ def simulate_program(
         elif name in CARRIER_OPS:
             _carrier_op(state, op)
         # stitch, pause, x-*: no effect on the model
+    return _result(state, program)
 
+
+def _result(state: MachineState, program: KnitoutProgram) -> Simulation:
+    """The frozen :class:`Simulation` of a finished run."""
     last_line = program.operations[-1].line if program.operations else 1
     roots = [state.find(i) for i in range(len(state.parent))]
     labels: dict[int, int] = {}

@@ -14,7 +14,8 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from illuknit.formats.swg_passes import MachinePass, PassKind, machine_passes
+from illuknit.formats.swg_ir import MachinePass, MachinePassKind
+from illuknit.formats.swg_passes import machine_passes
 
 if TYPE_CHECKING:
     from illuknit.knit.machine import MachineSpec
@@ -22,7 +23,7 @@ if TYPE_CHECKING:
 __all__ = [
     "FORMAT_SUFFIXES",
     "MachinePass",
-    "PassKind",
+    "MachinePassKind",
     "check_format",
     "knitout_to_format",
     "machine_formats",

@@ -31,15 +31,15 @@ from numpy.typing import NDArray
 
 from illuknit.errors import DatFormatError, MachineRuleError, UnsupportedKnitoutError
 from illuknit.formats.dat_rows import DatPass, decode_pass_row
-from illuknit.formats.swg_passes import (
-    Direction,
+from illuknit.formats.swg_ir import (
+    CarriageDirection,
     Gripper,
     HookAction,
     MachinePass,
     PassType,
     SwgPlan,
-    plan_swg,
 )
+from illuknit.formats.swg_passes import plan_swg
 
 __all__ = [
     "DatFile",
@@ -147,7 +147,7 @@ def _pass_options(p: MachinePass, hook_active: bool) -> tuple[dict[int, int], di
     return left, right
 
 
-_DIRECTION_MARK = {Direction.LEFT: 7, Direction.RIGHT: 6, Direction.NONE: 1}
+_DIRECTION_MARK = {CarriageDirection.LEFT: 7, CarriageDirection.RIGHT: 6, CarriageDirection.NONE: 1}
 
 
 def _write_options(
@@ -155,7 +155,7 @@ def _write_options(
     span: int,
     left: dict[int, int],
     right: dict[int, int],
-    direction: Direction,
+    direction: CarriageDirection,
 ) -> None:
     right_base = LEFT_SPACE + span + 4
     for o in range(1, 21):
@@ -202,7 +202,7 @@ def raster_from_plan(plan: SwgPlan) -> NDArray[np.uint8]:
     raster[top + 1, LEFT_SPACE - 7] = position // 100
     raster[top, LEFT_SPACE - 5 : LEFT_SPACE + span + 5] = 1
 
-    def full_course(y: int, color: int, direction: Direction, **extra: int) -> None:
+    def full_course(y: int, color: int, direction: CarriageDirection, **extra: int) -> None:
         raster[y, LEFT_SPACE : LEFT_SPACE + span] = color
         raster[y, LEFT_SPACE - 1] = raster[y, LEFT_SPACE + span] = STOP_MARK
         right = {3: 255, 9: 1} | {int(k[1:]): v for k, v in extra.items() if k[0] == "R"}
@@ -210,10 +210,10 @@ def raster_from_plan(plan: SwgPlan) -> NDArray[np.uint8]:
         _write_options(raster[y], span, left, right, direction)
 
     # start-up: a miss course right, then knit front left, knit back right
-    full_course(5, 216, Direction.RIGHT)
-    full_course(6, 51, Direction.LEFT)
-    full_course(7, 52, Direction.RIGHT)
-    carriage = Direction.RIGHT
+    full_course(5, 216, CarriageDirection.RIGHT)
+    full_course(6, 51, CarriageDirection.LEFT)
+    full_course(7, 52, CarriageDirection.RIGHT)
+    carriage = CarriageDirection.RIGHT
     hook_active = False
     for i, p in enumerate(plan.passes):
         row = raster[BOTTOM_ROWS + i]
@@ -227,12 +227,12 @@ def raster_from_plan(plan: SwgPlan) -> NDArray[np.uint8]:
         elif p.hook is HookAction.RELEASE:
             hook_active = False
         _write_options(row, span, left, right, p.carriage)
-        if p.carriage is not Direction.NONE:
+        if p.carriage is not CarriageDirection.NONE:
             carriage = p.carriage
     y = BOTTOM_ROWS + n
-    full_course(y, 51, Direction.LEFT, R5=2 if carriage is Direction.LEFT else 0)
-    full_course(y + 1, 52, Direction.RIGHT)
-    full_course(y + 2, 3, Direction.LEFT, L3=1, R7=11)  # R7 11: drop-failure detection on
+    full_course(y, 51, CarriageDirection.LEFT, R5=2 if carriage is CarriageDirection.LEFT else 0)
+    full_course(y + 1, 52, CarriageDirection.RIGHT)
+    full_course(y + 2, 3, CarriageDirection.LEFT, L3=1, R7=11)  # R7 11: drop-failure detection on
     return raster
 
 

@@ -8,11 +8,11 @@ import numpy as np
 from numpy.typing import NDArray
 
 from illuknit.errors import DatFormatError
-from illuknit.formats.swg_passes import (
-    Direction,
+from illuknit.formats.swg_ir import (
+    CarriageDirection,
     Gripper,
     HookAction,
-    PassKind,
+    MachinePassKind,
     PassType,
     SlotOp,
     pass_kind,
@@ -25,7 +25,7 @@ _OP_OF_COLOR: dict[int, SlotOp] = {}
 for _op in SlotOp:
     _OP_OF_COLOR.setdefault(_op.color, _op)
 _STOP_MARK = 13
-_DIRECTIONS = {7: Direction.LEFT, 6: Direction.RIGHT, 1: Direction.NONE}
+_DIRECTIONS = {7: CarriageDirection.LEFT, 6: CarriageDirection.RIGHT, 1: CarriageDirection.NONE}
 _HOOKS = {0: None, 10: HookAction.IN, 20: HookAction.OUT, 90: HookAction.RELEASE}
 
 
@@ -37,9 +37,9 @@ class DatPass:
     ----------
     row : int
         0-based index among the pass rows (the fixed courses are not counted).
-    kind : PassKind
+    kind : MachinePassKind
     type : PassType
-    carriage : Direction
+    carriage : CarriageDirection
         Direction mark of the row (NONE for transfers).
     carriage_move : bool
         Option R5 = 2: the carriage first travels empty to the side the row starts from.
@@ -59,9 +59,9 @@ class DatPass:
     """
 
     row: int
-    kind: PassKind
+    kind: MachinePassKind
     type: PassType
-    carriage: Direction
+    carriage: CarriageDirection
     carriage_move: bool
     carriers: tuple[str, ...]
     racking: float

@@ -28,7 +28,8 @@ import math
 from dataclasses import dataclass, field
 
 from illuknit.errors import KcodeError
-from illuknit.formats.kc_passes import KcPass, KcProgram, read_kc_passes
+from illuknit.formats.kc_ir import KcPass, KcProgram
+from illuknit.formats.kc_passes import read_kc_passes
 
 __all__ = ["BED_NEEDLES", "knitout_to_kc", "write_kcode"]
 

@@ -3,8 +3,8 @@
 It walks the parsed program once, keeping the machine state the SWG backend keeps (racking,
 stitch/speed numbers, presser mode, pending pause, the inserting hook, and for each live carrier
 where its yarn is attached and where the carrier itself is parked) and grows a list of draft passes.
-Drafts are mutable only inside this module; :func:`build_plan` returns frozen
-:class:`~illuknit.formats.swg_passes.MachinePass` records.
+Drafts are mutable only inside this module; :func:`freeze_passes` turns them into frozen
+:class:`~illuknit.formats.swg_ir.MachinePass` records.
 """
 
 from __future__ import annotations
@@ -13,20 +13,19 @@ import math
 import re
 from dataclasses import dataclass, field
 
-from illuknit.check.parse import KnitoutProgram, Needle, parse_knitout
-from illuknit.errors import MachineRuleError, UnsupportedKnitoutError
-from illuknit.formats.swg_passes import (
-    Direction,
+from illuknit.check.parse import KnitoutProgram, Needle
+from illuknit.errors import MachineRuleError
+from illuknit.formats.swg_ir import (
+    CarriageDirection,
     Gripper,
     HookAction,
     MachinePass,
     PassType,
     SlotOp,
-    SwgPlan,
     pass_kind,
 )
 
-__all__ = ["build_plan"]
+__all__ = ["freeze_passes", "read_header"]
 
 _CARRIERS = tuple(str(i) for i in range(1, 11))
 _CARRIER_ORDER = {c: i for i, c in enumerate(_CARRIERS)}
@@ -60,7 +59,7 @@ class _Draft:
     racking: float
     stitch: int
     speed: int
-    direction: Direction
+    direction: CarriageDirection
     carriers: tuple[str, ...]
     slots: dict[int, SlotOp]
     hook: HookAction | None = None
@@ -123,11 +122,13 @@ class _Draft:
         """What slot ``s`` holds once ``op`` joins the pass there, or None when it cannot."""
         quarter = self.racking != math.floor(self.racking)
         old = self.slots.get(s)
-        if self.direction is Direction.NONE:  # undirected: any order, each slot once
+        if self.direction is CarriageDirection.NONE:  # undirected: any order, each slot once
             if old is None:
                 return op
             return _combine(old, op, quarter) or _combine(op, old, quarter)
-        if self.direction is Direction.RIGHT:  # only at or right of the rightmost slot so far
+        if (
+            self.direction is CarriageDirection.RIGHT
+        ):  # only at or right of the rightmost slot so far
             if s < self.hi:
                 return None
             return op if s > self.hi else _combine(self.slots[s], op, quarter)
@@ -144,15 +145,15 @@ class _Carrier:
     name: str
     pending_in: tuple[str, tuple[str, ...]] | None  # (op, carrier set) until first use
     used_hook: bool
-    last: tuple[Needle, Direction] | None = None  # where the yarn is attached
-    kick: tuple[Needle, Direction] | None = None  # where the carrier is parked
+    last: tuple[Needle, CarriageDirection] | None = None  # where the yarn is attached
+    kick: tuple[Needle, CarriageDirection] | None = None  # where the carrier is parked
 
 
 @dataclass(slots=True)
 class _Builder:
     passes: list[_Draft] = field(default_factory=list)
     carriers: dict[str, _Carrier] = field(default_factory=dict)
-    hook: tuple[Direction, tuple[str, ...]] | None = None
+    hook: tuple[CarriageDirection, tuple[str, ...]] | None = None
     racking: float = 0.0
     rack_floor: int = 0
     stitch: int = 5
@@ -171,7 +172,7 @@ class _Builder:
     def draft(
         self,
         type_: PassType,
-        direction: Direction,
+        direction: CarriageDirection,
         carriers: tuple[str, ...],
         slot: int,
         op: SlotOp,
@@ -201,8 +202,8 @@ class _Builder:
             kick_slot = self.slot(car.kick[0])
             if car.kick[1] is new.direction:
                 kicks.setdefault(kick_slot, []).append(c)  # stopping distance unknown: kick
-            elif (new.direction is Direction.RIGHT and kick_slot > pass_slot) or (
-                new.direction is Direction.LEFT and kick_slot < pass_slot
+            elif (new.direction is CarriageDirection.RIGHT and kick_slot > pass_slot) or (
+                new.direction is CarriageDirection.LEFT and kick_slot < pass_slot
             ):
                 kicks.setdefault(pass_slot, []).append(c)
         if not kicks:
@@ -229,17 +230,17 @@ class _Builder:
             last_slot = self.slot(car.last[0])
             # the yarn hangs just left (-) or right (+) of its last needle
             left_of = last_slot < needle_slot or (
-                last_slot == needle_slot and car.last[1] is Direction.LEFT
+                last_slot == needle_slot and car.last[1] is CarriageDirection.LEFT
             )
             kick_slot = self.slot(car.kick[0])
             if left_of:
-                if car.kick[1] is Direction.LEFT and kick_slot <= needle_slot:
+                if car.kick[1] is CarriageDirection.LEFT and kick_slot <= needle_slot:
                     continue
-                way = Direction.LEFT
+                way = CarriageDirection.LEFT
             else:
-                if car.kick[1] is Direction.RIGHT and kick_slot >= needle_slot:
+                if car.kick[1] is CarriageDirection.RIGHT and kick_slot >= needle_slot:
                     continue
-                way = Direction.RIGHT
+                way = CarriageDirection.RIGHT
             self.merge(self.draft(PassType.KNIT_TUCK, way, (name,), last_slot, SlotOp.SOFT_MISS))
             car.kick = (Needle("f", last_slot), way)
 
@@ -271,7 +272,7 @@ class _Builder:
             d.hook = HookAction.IN
             self.hook = (d.direction, cs)
 
-    def set_last(self, cs: tuple[str, ...], d: Direction, n: Needle) -> None:
+    def set_last(self, cs: tuple[str, ...], d: CarriageDirection, n: Needle) -> None:
         for c in cs:
             self.carriers[c].last = (n, d)
             self.carriers[c].kick = (n, d)
@@ -282,7 +283,7 @@ def _js_key_order(slots: dict[int, list[str]]) -> list[int]:
     return sorted(s for s in slots if s >= 0) + [s for s in slots if s < 0]
 
 
-def _header_values(program: KnitoutProgram) -> tuple[int, str]:
+def read_header(program: KnitoutProgram) -> tuple[int, str]:
     """(Width, Position) from the header, checking what the backend checks; last value wins."""
     values = {name: (value, line) for name, value, line in program.headers}
     if "Carriers" not in values:
@@ -312,48 +313,30 @@ def _header_values(program: KnitoutProgram) -> tuple[int, str]:
     return width, position
 
 
-def build_plan(text: str) -> SwgPlan:
-    """Parse ``text`` and build its SWG passes (see :func:`~illuknit.formats.swg_passes.plan_swg`)."""
-    from illuknit.formats.swg_ops import apply_operation
-
-    program = parse_knitout(text)
-    width, position = _header_values(program)
-    b = _Builder()
-    for op in program.operations:
-        b.line = op.line
-        if op.tabs:
-            raise b.error("tokens must be separated by spaces (the SWG backend refuses tabs)")
-        apply_operation(b, op)
-    if b.carriers:
-        raise MachineRuleError(
-            "every carrier must be taken out (out/outhook) before the end; still in: "
-            + " ".join(sorted(b.carriers, key=int))
-        )
-    if not b.passes:
-        raise UnsupportedKnitoutError("the program makes no carriage pass; nothing to write")
-    return SwgPlan(passes=tuple(_freeze(b.passes)), width=width, position=position)
-
-
-def _freeze(drafts: list[_Draft]) -> list[MachinePass]:
+def freeze_passes(drafts: list[_Draft]) -> list[MachinePass]:
     """Frozen passes, with where the carriage really travels (it starts on the right)."""
     out = []
-    carriage = Direction.RIGHT  # the fixed start-up courses leave the carriage on the right
+    carriage = CarriageDirection.RIGHT  # the fixed start-up courses leave the carriage on the right
     for d in drafts:
         if abs(d.racking) > 8:
             raise MachineRuleError(f"racking {d.racking:g} is beyond the machine's 8 needles")
         travel = d.direction
-        if travel is Direction.NONE and d.type in (PassType.KNIT_TUCK, PassType.A_MISS):
-            travel = Direction.RIGHT if carriage is Direction.LEFT else Direction.LEFT
+        if travel is CarriageDirection.NONE and d.type in (PassType.KNIT_TUCK, PassType.A_MISS):
+            travel = (
+                CarriageDirection.RIGHT
+                if carriage is CarriageDirection.LEFT
+                else CarriageDirection.LEFT
+            )
         # a pass moving left must start from the right: if the carriage stands left it travels empty
-        move = (travel is Direction.LEFT and carriage is Direction.LEFT) or (
-            travel is Direction.RIGHT and carriage is Direction.RIGHT
+        move = (travel is CarriageDirection.LEFT and carriage is CarriageDirection.LEFT) or (
+            travel is CarriageDirection.RIGHT and carriage is CarriageDirection.RIGHT
         )
         if move and d.hook is HookAction.RELEASE:
             raise MachineRuleError(
                 "the hook would be released on a pass that starts with an empty carriage move, "
                 "which KnitPaint refuses; knit a pass away from the hook's side first"
             )
-        if travel is not Direction.NONE:
+        if travel is not CarriageDirection.NONE:
             carriage = travel
         slots = tuple(sorted(d.slots.items(), key=lambda item: item[0]))
         ops = [op for _, op in slots]

@@ -9,7 +9,7 @@ from collections.abc import Callable
 from illuknit.check.parse import Needle, Operation
 from illuknit.errors import UnsupportedKnitoutError
 from illuknit.formats.swg_build import _Builder, _Carrier
-from illuknit.formats.swg_passes import Direction, Gripper, HookAction, PassType, SlotOp
+from illuknit.formats.swg_ir import CarriageDirection, Gripper, HookAction, PassType, SlotOp
 
 __all__ = ["apply_operation"]
 
@@ -23,7 +23,11 @@ _STITCH_TABLE: dict[tuple[int, int], int] = {
 _UINT = re.compile(r"^[+]?\d+$")
 
 
-_DIRECTION = {"+": Direction.RIGHT, "-": Direction.LEFT, None: Direction.NONE}
+_DIRECTION = {
+    "+": CarriageDirection.RIGHT,
+    "-": CarriageDirection.LEFT,
+    None: CarriageDirection.NONE,
+}
 _STITCH_OP = {
     ("miss", True): SlotOp.MISS_FRONT,
     ("miss", False): SlotOp.MISS_BACK,
@@ -90,7 +94,7 @@ def _take_out(b: _Builder, op: Operation) -> None:
         if best is None or s > best[0]:
             best = (s, last[0])
     assert best is not None
-    d = b.draft(PassType.KNIT_TUCK, Direction.RIGHT, op.carriers, best[0], SlotOp.SOFT_MISS)
+    d = b.draft(PassType.KNIT_TUCK, CarriageDirection.RIGHT, op.carriers, best[0], SlotOp.SOFT_MISS)
     d.gripper = Gripper.OUT
     if op.op == "outhook":
         d.hook = HookAction.OUT
@@ -106,7 +110,7 @@ def _stitch(b: _Builder, op: Operation) -> None:
     cs = op.carriers
     if name == "miss" and not cs:
         raise b.error("miss needs carriers (a miss without yarn does nothing)")
-    direction = _DIRECTION[op.direction] if cs else Direction.NONE
+    direction = _DIRECTION[op.direction] if cs else CarriageDirection.NONE
     if name != "miss":
         b.kick_others(n, cs)
     type_ = PassType.A_MISS if name == "tuck" and not cs else PassType.KNIT_TUCK
@@ -142,7 +146,7 @@ def _transfer(b: _Builder, op: Operation) -> None:
             else PassType.XFER
         )
         slot_op = SlotOp.XFER_TO_BACK if n.is_front else SlotOp.XFER_TO_FRONT
-        direction = Direction.NONE
+        direction = CarriageDirection.NONE
     else:
         type_ = PassType.SPLIT
         slot_op = SlotOp.SPLIT_TO_BACK if n.is_front else SlotOp.SPLIT_TO_FRONT

@@ -155,9 +155,10 @@ class OverlapTable:
         """The table as text: a line per group, an indented line per overlap, the rare line."""
         v0, v1 = self.views
         seen = f"from {self.by}" if self.by != "both" else "from both views"
+        p0, p1 = (_PICTURE.get(v, v) for v in self.views)
         out = [
             f"{len(self.rows)} overlap pairs, grouped by the fill seen {seen}"
-            f" (a colour of {v0} over a colour of {v1}; share of the units):"
+            f" (a colour of {p0} over a colour of {p1}; share of the units):"
         ]
         for g in self.groups:
             colour = f" ({g.fill_color})" if g.fill_color else ""
@@ -174,6 +175,10 @@ class OverlapTable:
                 f" {_pct(self.rare_fraction)} of the units together"
             )
         return out
+
+
+#: What the input of each view is called in the text table.
+_PICTURE = {"headon": "the front picture", "side": "the side"}
 
 
 def _pct(x: float) -> str:

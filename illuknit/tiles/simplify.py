@@ -47,6 +47,7 @@ from illuknit.tiles.assignment import Regions, regions_of
 __all__ = [
     "EDIT_KINDS",
     "EDIT_NAMES",
+    "MIN_GAIN",
     "EditResult",
     "EditReview",
     "Suggestion",
@@ -66,6 +67,10 @@ __all__ = [
 EDIT_KINDS = ("requantise", "merge-small-regions", "smooth-boundaries", "drop-small-overlaps")
 #: Former name of :data:`EDIT_KINDS`.
 EDIT_NAMES = EDIT_KINDS
+
+#: An edit is kept when it raises the worse view's readability by more than this: a gain the
+#: 4-decimal reports (suggestions.json) can show.
+MIN_GAIN = 1e-4
 
 Measure = Callable[[Regions, Regions], tuple[float, float]]
 
@@ -417,7 +422,8 @@ def apply_edits(
     min_overlap: int = 4,
 ) -> tuple[Regions, Regions, list[EditResult]]:
     """Try each kind of edit on the pictures as edited so far; keep those that raise the worse
-    view's readability (of several suggestions of one kind, the best-reading one).
+    view's readability by more than :data:`MIN_GAIN` (of several suggestions of one kind, the
+    best-reading one).
 
     Parameters
     ----------
@@ -444,7 +450,7 @@ def apply_edits(
         )  # fmt: skip
         after = [measure(*s.after) for s in found]
         best = max(range(len(found)), key=lambda i: after[i][0], default=None)
-        keep = best is not None and after[best][0] > current[0] + 1e-6
+        keep = best is not None and after[best][0] > current[0] + MIN_GAIN
         results += [
             EditResult(s, current, m, keep and i == best)
             for i, (s, m) in enumerate(zip(found, after, strict=True))

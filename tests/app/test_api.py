@@ -117,7 +117,7 @@ def test_page_and_static_files_are_served(client):
     assert r.status_code == 200 and "illuknit" in r.text
     import re
 
-    from illuknit.app.server import STATIC_DIR
+    from illuknit.app.routers.static import STATIC_DIR
 
     # every script and style sheet the page names is served, and the page names them all
     named = re.findall(r'(?:src|href)="/static/([^"]+)"', r.text)

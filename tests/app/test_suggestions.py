@@ -273,3 +273,32 @@ def test_accepting_a_requantisation_changes_the_colour_count_with_it(client):
         k = shown.shape[1] // q.shape[1]
         assert np.array_equal(q.colors[q.indices], shown[::k, ::k])
     assert wait_job(client, sid, r.json()["job"]["id"])["status"] == "done"
+
+
+def test_kept_suggestions_make_room_under_the_memory_bound():
+    """Suggestions count in the sessions' memory bound when they are kept: storing them closes
+    the least recently used session (told so with 410 ``evicted``), never the one at work."""
+    with TestClient(create_app(AppConfig(isolate_knit=False))) as client:
+        _fill_until_suggestions_evict(client)
+
+
+def _fill_until_suggestions_evict(client: TestClient) -> None:
+    store = client.app.state.store
+    idle = client.post("/api/sessions").json()["id"]
+    files = {"file": ("UP.png", word("UP"), "image/png")}
+    assert client.put(f"/api/sessions/{idle}/images/a", files=files).status_code == 200
+    sid = client.post("/api/sessions").json()["id"]
+    for slot, text in (("a", "UP"), ("b", "ON")):
+        files = {"file": (f"{text}.png", word(text), "image/png")}
+        assert client.put(f"/api/sessions/{sid}/images/{slot}", files=files).status_code == 200
+    r = client.put(f"/api/sessions/{sid}/settings", json={"mode": "double", "width_units": 24})
+    assert r.status_code == 200 and client.get(f"/api/sessions/{sid}/inputs").status_code == 200
+    limit = store.max_bytes
+    store.max_bytes = store.nbytes() + 1  # everything fits now, not one more picture
+    try:
+        assert run_job(client, sid, "suggestions")["status"] == "done"
+    finally:
+        store.max_bytes = limit
+    assert client.get(f"/api/sessions/{sid}/suggestions").json()["suggestions"]
+    r = client.get(f"/api/sessions/{idle}")
+    assert r.status_code == 410 and error_of(r)["code"] == "evicted"

@@ -18,7 +18,8 @@ from illuknit.bench.methods import (
     NoPattern,
     register_method,
 )
-from illuknit.bench.runner import FIELDS, load_rows, run_bench
+from illuknit.bench.results import FIELDS, load_rows
+from illuknit.bench.runner import run_bench
 from illuknit.errors import ResultsVersionError, UnknownNameError
 from illuknit.pattern import LogicalPattern
 

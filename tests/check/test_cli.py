@@ -9,58 +9,46 @@ from pathlib import Path
 
 import pytest
 
-from illuknit.cli import main
-
 DATA = Path(__file__).parent / "data"
 
 
-def run(args: list[str], capsys: pytest.CaptureFixture[str]) -> tuple[int, str, str]:
-    code = 0
-    try:
-        main(["check", *args])
-    except SystemExit as e:
-        code = int(e.code or 0)
-    out, err = capsys.readouterr()
-    return code, out, err
-
-
-def test_clean_exits_0(capsys: pytest.CaptureFixture[str]) -> None:
-    code, out, err = run([str(DATA / "clean_garter.k")], capsys)
+def test_clean_exits_0(run_cli) -> None:
+    code, out, err = run_cli(["check", str(DATA / "clean_garter.k")])
     assert code == 0 and err == ""
     assert "OK" in out and "1 piece" in out
 
 
-def test_blocking_exits_1_with_line(capsys: pytest.CaptureFixture[str]) -> None:
+def test_blocking_exits_1_with_line(run_cli) -> None:
     path = DATA / "bad_face_float.k"
-    code, out, _ = run([str(path)], capsys)
+    code, out, _ = run_cli(["check", str(path)])
     assert code == 1
     assert f"{path}:35: error face-float" in out
     assert "BLOCKED" in out
 
 
-def test_json_output(capsys: pytest.CaptureFixture[str]) -> None:
-    code, out, _ = run(["--json", str(DATA / "bad_intarsia_no_catch.k")], capsys)
+def test_json_output(run_cli) -> None:
+    code, out, _ = run_cli(["check", "--json", str(DATA / "bad_intarsia_no_catch.k")])
     assert code == 1
     doc = json.loads(out)
     assert doc["pieces"] == 2 and not doc["ok"]
     assert {"line": 23, "code": "pieces"}.items() <= doc["findings"][0].items()
 
 
-def test_float_limit_option(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
+def test_float_limit_option(run_cli, tmp_path: Path) -> None:
     prog = tmp_path / "float.k"
     prog.write_text(
         ";!knitout-2\n;;Carriers: 1 2 3 4 5 6 7 8 9 10\nin 3\ntuck - f8 3\ntuck - f0 3\n"
         "out 3\ndrop f8\ndrop f0\n"
     )
-    code, out, _ = run(["--json", "--float-limit", "3", str(prog)], capsys)
+    code, out, _ = run_cli(["check", "--json", "--float-limit", "3", str(prog)])
     assert code == 0
     assert [f["code"] for f in json.loads(out)["findings"]] == ["long-float"]
-    code, out, _ = run(["--json", "--float-limit", "7", str(prog)], capsys)
+    code, out, _ = run_cli(["check", "--json", "--float-limit", "7", str(prog)])
     assert json.loads(out)["findings"] == []
 
 
-def test_simulate_flag(capsys: pytest.CaptureFixture[str]) -> None:
-    code, out, _ = run(["--simulate", "--json", str(DATA / "bad_misaligned_xfer.k")], capsys)
+def test_simulate_flag(run_cli) -> None:
+    code, out, _ = run_cli(["check", "--simulate", "--json", str(DATA / "bad_misaligned_xfer.k")])
     assert code == 1
     doc = json.loads(out)
     assert doc["vm"]["ran"] is True
@@ -77,22 +65,20 @@ def test_simulate_flag(capsys: pytest.CaptureFixture[str]) -> None:
     ],
 )
 def test_unreadable_input_exits_2_with_one_line(
-    content: bytes, fragment: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+    content: bytes, fragment: str, tmp_path: Path, run_cli
 ) -> None:
     prog = tmp_path / "PROGRAM.k"
     prog.write_bytes(content)
-    code, out, err = run([str(prog)], capsys)
+    code, out, err = run_cli(["check", str(prog)])
     assert code == 2 and out == ""
     assert err.startswith("illuknit: error: ") and err.count("\n") == 1
     assert fragment in err and "PROGRAM.k" in err
 
 
-def test_missing_file_and_bad_option_exit_2(
-    tmp_path: Path, capsys: pytest.CaptureFixture[str]
-) -> None:
-    code, _, err = run([str(tmp_path / "nope.k")], capsys)
+def test_missing_file_and_bad_option_exit_2(tmp_path: Path, run_cli) -> None:
+    code, _, err = run_cli(["check", str(tmp_path / "nope.k")])
     assert code == 2 and err.startswith("illuknit: error:")
-    code, _, err = run(["--float-limit", "0", str(DATA / "clean_garter.k")], capsys)
+    code, _, err = run_cli(["check", "--float-limit", "0", str(DATA / "clean_garter.k")])
     assert code == 2 and "float-limit" in err
 
 

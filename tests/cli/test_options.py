@@ -12,13 +12,6 @@ from illuknit.cli import COMMANDS, cli, main
 from illuknit.cli.options import FiniteFloat
 
 
-def run(args, capsys):
-    with pytest.raises(SystemExit) as e:
-        main([*args])
-    out = capsys.readouterr()
-    return e.value.code, out.out, out.err
-
-
 def assert_one_line(code, err, *needles):
     assert code == 2, err
     lines = err.strip().splitlines()
@@ -97,52 +90,50 @@ BAD_NUMBERS = [
 
 
 @pytest.mark.parametrize("argv", BAD_NUMBERS)
-def test_bad_number_is_one_line_exit_2(argv, files, capsys):
+def test_bad_number_is_one_line_exit_2(argv, files, run_cli):
     out = files["T"] / "out"
     args = [str(out) if a == "OUT" else a.replace("OUT", str(out)) for a in argv.split()]
     args = [files.get(a, a) if a in ("PIC", "PAT", "K") else a for a in args]
-    code, _, err = run(args, capsys)
+    code, _, err = run_cli(args)
     assert_one_line(code, err)
     assert not out.exists()
 
 
 @pytest.mark.parametrize("command", ["view", "knit", "render"])
-def test_deeply_nested_json_is_one_line(command, tmp_path, capsys):
+def test_deeply_nested_json_is_one_line(command, tmp_path, run_cli):
     deep = tmp_path / "deep.json"
     deep.write_text("[" * 100_000 + "]" * 100_000)
     out = tmp_path / ("out.k" if command == "knit" else "out")
-    code, _, err = run([command, str(deep), "-o", str(out)], capsys)
+    code, _, err = run_cli([command, str(deep), "-o", str(out)])
     assert_one_line(code, err, "nested too deeply")
     assert not out.exists()
 
 
-def test_export_wcnf_to_an_unwritable_path(files, capsys):
+def test_export_wcnf_to_an_unwritable_path(files, run_cli):
     (files["T"] / "afile").write_text("x")
     target = files["T"] / "afile" / "model.wcnf"
-    code, _, err = run(
+    code, _, err = run_cli(
         ["solve", files["PIC"], "--model", "single", "--colors", "2", "--export-wcnf", str(target)],
-        capsys,
     )
     assert_one_line(code, err, str(target))
 
 
-def test_bench_unreachable_dask_scheduler_leaves_nothing(tmp_path, capsys):
+def test_bench_unreachable_dask_scheduler_leaves_nothing(tmp_path, run_cli):
     dask = pytest.importorskip("dask")
     pytest.importorskip("dask.distributed")
     out = tmp_path / "results"
     with dask.config.set({"distributed.comm.timeouts.connect": "1s"}):
-        code, _, err = run(
+        code, _, err = run_cli(
             ["bench", "--instances", "quick", "--methods", "dp", "--executor", "dask",
              "--dask-address", "tcp://127.0.0.1:9", "-o", str(out)],
-            capsys,
         )  # fmt: skip
     assert_one_line(code, err, "cannot reach the Dask scheduler")
     assert not out.exists()
 
 
 @pytest.mark.parametrize("flag", [["--yarns", "black"], ["--colors", "1"]])
-def test_solve_with_one_yarn_is_an_error(flag, files, capsys):
+def test_solve_with_one_yarn_is_an_error(flag, files, run_cli):
     out = files["T"] / "out"
-    code, _, err = run(["solve", files["PIC"], "--model", "single", *flag, "-o", str(out)], capsys)
+    code, _, err = run_cli(["solve", files["PIC"], "--model", "single", *flag, "-o", str(out)])
     assert_one_line(code, err, "at least 2 yarns")
     assert not out.exists()

@@ -12,13 +12,6 @@ from illuknit.cli import COMMANDS, main
 from illuknit.pattern import load_pattern
 
 
-def run(args, capsys):
-    with pytest.raises(SystemExit) as e:
-        main([*args])
-    out = capsys.readouterr()
-    return e.value.code, out.out, out.err
-
-
 def ok(args, capsys):
     # A successful click command returns normally (standalone_mode=False).
     main([*args])
@@ -130,8 +123,8 @@ def _bad_pattern(tmp_path, **changes):
         (lambda t, p: ["nonsense"], "No such command"),
     ],
 )
-def test_bad_input_one_line_exit_2(make_args, message, tmp_path, picture, capsys):
-    code, _, err = run(make_args(tmp_path, picture), capsys)
+def test_bad_input_one_line_exit_2(make_args, message, tmp_path, picture, run_cli):
+    code, _, err = run_cli(make_args(tmp_path, picture))
     assert code == 2
     assert message in err
     assert err.startswith("illuknit: error:") and err.count("\n") == 1
@@ -157,11 +150,11 @@ def _noisy(t):
     return t / "n.png"
 
 
-def test_failure_leaves_existing_output_alone(picture, tmp_path, capsys):
+def test_failure_leaves_existing_output_alone(picture, tmp_path, run_cli):
     out = tmp_path / "keep"
     out.mkdir()
     (out / "mine.txt").write_text("user file")
-    code, _, _ = run(["single", str(picture), "--width", "0", "-o", str(out)], capsys)
+    code, _, _ = run_cli(["single", str(picture), "--width", "0", "-o", str(out)])
     assert code == 2
     assert sorted(p.name for p in out.iterdir()) == ["mine.txt"]
 
@@ -202,11 +195,9 @@ def test_single_dot_writes_into_the_current_folder(picture, tmp_path, capsys, mo
     assert sorted(p.name for p in (tmp_path / "work").iterdir()) == ["here", "pattern.json"]
 
 
-def test_single_output_under_a_file_is_one_line(picture, tmp_path, capsys):
+def test_single_output_under_a_file_is_one_line(picture, tmp_path, run_cli):
     (tmp_path / "existing_file").write_text("x")
-    code, _, err = run(
-        ["single", str(picture), "-o", str(tmp_path / "existing_file" / "sub")], capsys
-    )
+    code, _, err = run_cli(["single", str(picture), "-o", str(tmp_path / "existing_file" / "sub")])
     assert code == 2 and len(err.strip().splitlines()) == 1 and "file in the way" in err
 
 

@@ -7,20 +7,9 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from illuknit.cli import main
 from illuknit.formats.dat import knitout_to_dat, read_dat
 from illuknit.pattern import LogicalPattern, parse_yarns, save_pattern
 from tests.formats.reference import needs_reference, reference_dat
-
-
-def run(args, capsys):
-    try:
-        main([str(a) for a in args])
-        code = 0
-    except SystemExit as e:
-        code = e.code
-    out = capsys.readouterr()
-    return code, out.out, out.err
 
 
 @pytest.fixture
@@ -33,13 +22,11 @@ def pattern_file(tmp_path):
     return path
 
 
-def test_knit_writes_the_dat_of_its_knitout(pattern_file, tmp_path, capsys):
-    code, out, err = run(
-        ["knit", pattern_file, "--format", "dat", "-o", tmp_path / "a.dat"], capsys
-    )
+def test_knit_writes_the_dat_of_its_knitout(pattern_file, tmp_path, run_cli):
+    code, out, err = run_cli(["knit", pattern_file, "--format", "dat", "-o", tmp_path / "a.dat"])
     assert code == 0, err
     assert "dat file" in out
-    code, _, err = run(["knit", pattern_file, "-o", tmp_path / "a.k"], capsys)
+    code, _, err = run_cli(["knit", pattern_file, "-o", tmp_path / "a.k"])
     assert code == 0, err
     text = (tmp_path / "a.k").read_text()
     data = (tmp_path / "a.dat").read_bytes()
@@ -48,29 +35,29 @@ def test_knit_writes_the_dat_of_its_knitout(pattern_file, tmp_path, capsys):
 
 
 @needs_reference
-def test_knit_dat_is_the_reference_backends(pattern_file, tmp_path, capsys):
-    code, _, err = run(["knit", pattern_file, "-o", tmp_path / "a.k"], capsys)
+def test_knit_dat_is_the_reference_backends(pattern_file, tmp_path, run_cli):
+    code, _, err = run_cli(["knit", pattern_file, "-o", tmp_path / "a.k"])
     assert code == 0, err
-    run(["knit", pattern_file, "--format", "dat", "-o", tmp_path / "a.dat"], capsys)
+    run_cli(["knit", pattern_file, "--format", "dat", "-o", tmp_path / "a.dat"])
     assert (tmp_path / "a.dat").read_bytes() == reference_dat((tmp_path / "a.k").read_text())
 
 
-def test_knit_refuses_unknown_format_with_nothing_written(pattern_file, tmp_path, capsys):
-    code, _, err = run(["knit", pattern_file, "--format", "gif", "-o", tmp_path / "a.gif"], capsys)
+def test_knit_refuses_unknown_format_with_nothing_written(pattern_file, tmp_path, run_cli):
+    code, _, err = run_cli(["knit", pattern_file, "--format", "gif", "-o", tmp_path / "a.gif"])
     assert code == 2 and "gif" in err
     assert not (tmp_path / "a.gif").exists()
 
 
-def test_kniterate_cannot_take_a_dat(pattern_file, tmp_path, capsys):
+def test_kniterate_cannot_take_a_dat(pattern_file, tmp_path, run_cli):
     out = tmp_path / "a.dat"
     args = ["knit", pattern_file, "--machine", "kniterate", "--format", "dat", "-o", out]
-    code, _, err = run(args, capsys)
+    code, _, err = run_cli(args)
     assert code == 2 and err.count("\n") == 1 and "valid: knitout, kc" in err
     assert not out.exists()
 
 
-def test_knit_summary_counts_the_machines_passes(pattern_file, tmp_path, capsys):
-    code, out, err = run(["knit", pattern_file, "--json", "-o", tmp_path / "a.k"], capsys)
+def test_knit_summary_counts_the_machines_passes(pattern_file, tmp_path, run_cli):
+    code, out, err = run_cli(["knit", pattern_file, "--json", "-o", tmp_path / "a.k"])
     assert code == 0, err
     import json
 
@@ -89,18 +76,18 @@ def picture(tmp_path):
     return path
 
 
-def test_single_knitout_writes_program_dat_beside_program_k(picture, tmp_path, capsys):
+def test_single_knitout_writes_program_dat_beside_program_k(picture, tmp_path, run_cli):
     out = tmp_path / "out"
-    code, _, err = run(
-        ["single", picture, "--width", 8, "--knitout", "--format", "dat", "-o", out], capsys
+    code, _, err = run_cli(
+        ["single", picture, "--width", 8, "--knitout", "--format", "dat", "-o", out]
     )
     assert code == 0, err
     assert (out / "program.dat").read_bytes() == knitout_to_dat((out / "program.k").read_text())
 
 
-def test_format_without_knitout_is_refused_before_any_work(picture, tmp_path, capsys):
+def test_format_without_knitout_is_refused_before_any_work(picture, tmp_path, run_cli):
     out = tmp_path / "out"
-    code, _, err = run(["single", picture, "--width", 8, "--format", "dat", "-o", out], capsys)
+    code, _, err = run_cli(["single", picture, "--width", 8, "--format", "dat", "-o", out])
     assert code == 2
     assert err.count("\n") == 1 and "--knitout" in err
     assert not out.exists()

@@ -12,7 +12,8 @@ from hypothesis import strategies as st
 from illuknit.errors import DatFormatError, MachineRuleError, UnsupportedKnitoutError
 from illuknit.formats.dat import decode_dat, encode_dat, knitout_to_dat, read_dat
 from illuknit.formats.dat_rows import decode_carriers
-from illuknit.formats.swg_passes import PassType, machine_passes
+from illuknit.formats.swg_ir import PassType
+from illuknit.formats.swg_passes import machine_passes
 from tests.formats.reference import GENERATED, generated_programs, needs_reference, reference_dat
 
 DATA = Path(__file__).parent / "data"

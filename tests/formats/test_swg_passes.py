@@ -8,8 +8,8 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from illuknit.errors import MachineRuleError, UnsupportedKnitoutError
-from illuknit.formats import PassKind, machine_passes
-from illuknit.formats.swg_passes import Direction
+from illuknit.formats import MachinePassKind, machine_passes
+from illuknit.formats.swg_ir import CarriageDirection
 from tests.formats.reference import (
     GENERATED,
     generated_programs,
@@ -40,9 +40,9 @@ def test_same_direction_rows_cost_a_kickback():
     # second rightward row: the carrier may have stopped anywhere right of f2 -> kick it back left
     assert kinds(text) == ["knit", "kickback", "knit"]
     assert [p.direction for p in machine_passes(text)] == [
-        Direction.RIGHT,
-        Direction.LEFT,
-        Direction.RIGHT,
+        CarriageDirection.RIGHT,
+        CarriageDirection.LEFT,
+        CarriageDirection.RIGHT,
     ]
 
 
@@ -77,7 +77,7 @@ def test_other_carrier_in_the_way_is_moved():
         out 4
     """)
     # carrier 3 hangs right of f2: before carrier 4 knits f2 it is kicked right
-    assert PassKind.KICKBACK in {p.kind for p in machine_passes(text)}
+    assert MachinePassKind.KICKBACK in {p.kind for p in machine_passes(text)}
 
 
 def test_transfers_merge_undirected_and_keep_their_racking():
@@ -93,7 +93,7 @@ def test_transfers_merge_undirected_and_keep_their_racking():
         out 3
     """)
     passes = machine_passes(text)
-    xfers = [p for p in passes if p.kind is PassKind.TRANSFER]
+    xfers = [p for p in passes if p.kind is MachinePassKind.TRANSFER]
     assert [len(p.slots) for p in xfers] == [2, 1]
     assert [p.racking for p in xfers] == [0.0, 1.0]
     assert xfers[1].slots[0][0] == 2  # back needle 1 sits in slot 1 + floor(1)
@@ -159,4 +159,4 @@ def test_random_patterns_match_reference(pattern, cast_on):
     text = knit_pattern(pattern, cast_on_courses=cast_on).text
     passes = machine_passes(text)
     assert len(passes) == reference_pass_count(text)
-    assert all(p.carriers or p.kind is not PassKind.KNIT for p in passes)
+    assert all(p.carriers or p.kind is not MachinePassKind.KNIT for p in passes)

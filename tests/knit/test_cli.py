@@ -7,21 +7,9 @@ import json
 import numpy as np
 import pytest
 
-from illuknit.cli import main
 from illuknit.pattern import LogicalPattern, Yarn, save_pattern
 
 YARNS = tuple(Yarn(f"y{i}", (i * 20, 255 - i * 20, 3 * i)) for i in range(12))
-
-
-def run(args, capsys):
-    """Exit code (0 when main returns normally), stdout, stderr."""
-    try:
-        main(args)
-        code = 0
-    except SystemExit as e:
-        code = e.code
-    out = capsys.readouterr()
-    return code, out.out, out.err
 
 
 def save(tmp_path, yarn, raised=None, k=2, name="p.json"):
@@ -32,11 +20,11 @@ def save(tmp_path, yarn, raised=None, k=2, name="p.json"):
     return path
 
 
-def test_knit_writes_a_program_and_reports_passes_time_and_check(tmp_path, capsys):
+def test_knit_writes_a_program_and_reports_passes_time_and_check(tmp_path, run_cli):
     yarn = np.repeat((np.arange(4) % 2)[:, None], 3, axis=1)
     pat = save(tmp_path, yarn, np.eye(4, 3, dtype=bool))
     out = tmp_path / "prog.k"
-    code, stdout, err = run(["knit", str(pat), "-o", str(out)], capsys)
+    code, stdout, err = run_cli(["knit", str(pat), "-o", str(out)])
     assert code == 0, err
     text = out.read_text()
     assert text.startswith(";!knitout-2\n")
@@ -45,11 +33,11 @@ def test_knit_writes_a_program_and_reports_passes_time_and_check(tmp_path, capsy
     assert "check: 0 error(s)" in stdout
 
 
-def test_knit_json_summary_and_overrides(tmp_path, capsys):
+def test_knit_json_summary_and_overrides(tmp_path, run_cli):
     pat = save(tmp_path, np.zeros((2, 2), int), k=1)
     out = tmp_path / "prog.k"
     args = ["knit", str(pat), "-o", str(out), "--json", "--gauge", "14", "--machine-width", "60"]
-    code, stdout, _ = run([*args, "--seconds-per-needle", "0", "--seconds-per-turn", "2"], capsys)
+    code, stdout, _ = run_cli([*args, "--seconds-per-needle", "0", "--seconds-per-turn", "2"])
     assert code == 0
     s = json.loads(stdout)
     assert s["gauge"] == 14 and s["wales"] == 4 and s["courses"] == 4
@@ -69,7 +57,7 @@ def test_knit_json_summary_and_overrides(tmp_path, capsys):
         ("version", "version"),
     ],
 )
-def test_bad_input_is_one_line_exit_2_and_nothing_written(tmp_path, capsys, case, message):
+def test_bad_input_is_one_line_exit_2_and_nothing_written(tmp_path, run_cli, case, message):
     out = tmp_path / "prog.k"
     extra = []
     if case == "mixed":  # one course with more colours than the machine has carriers
@@ -89,7 +77,7 @@ def test_bad_input_is_one_line_exit_2_and_nothing_written(tmp_path, capsys, case
         doc = json.loads(pat.read_text())
         doc["version"] = 99
         pat.write_text(json.dumps(doc))
-    code, _, err = run(["knit", str(pat), "-o", str(out), *extra], capsys)
+    code, _, err = run_cli(["knit", str(pat), "-o", str(out), *extra])
     assert code == 2
     assert err.startswith("illuknit: error:") and message in err
     assert err.count("\n") == 1 and "Traceback" not in err

@@ -11,7 +11,6 @@ import numpy as np
 import pytest
 
 from illuknit.check import check_knitout
-from illuknit.cli import main
 from illuknit.errors import CarrierShortageError, SchedulingError, UnknownNameError
 from illuknit.knit import knit_pattern
 from illuknit.knit.machine import KNITERATE, MACHINES, get_machine
@@ -91,22 +90,12 @@ def test_wider_than_the_bed_refuses() -> None:
         knit_pattern(wide, machine=KNITERATE)
 
 
-def run(args: list[str], capsys) -> tuple[int, str]:
-    try:
-        main(args)
-        code = 0
-    except SystemExit as e:
-        code = int(e.code or 0)
-    out = capsys.readouterr()
-    return code, out.out + out.err
-
-
-def test_cli_writes_kc_and_the_sheet(tmp_path: Path, capsys) -> None:
+def test_cli_writes_kc_and_the_sheet(tmp_path: Path, run_cli) -> None:
     save_pattern(mixed(), tmp_path / "p.json")
     out = tmp_path / "piece.kc"
     args = ["-o", str(out), "--machine", "kniterate", "--format", "kc", "--json", "--no-check"]
-    code, output = run(["knit", str(tmp_path / "p.json"), *args], capsys)
-    assert code == 0, output
+    code, output, err = run_cli(["knit", str(tmp_path / "p.json"), *args])
+    assert code == 0, err
     s = json.loads(output)
     assert out.read_text().startswith("HOME\nRACK:0\n// piece.kc\n")
     assert s["format"] == "kc" and s["machine"] == "Kniterate"
@@ -121,10 +110,10 @@ def test_cli_writes_kc_and_the_sheet(tmp_path: Path, capsys) -> None:
         (["--machine", "swg091n2", "--format", "kc"], "format"),
     ],
 )
-def test_cli_bad_machine_or_format_writes_nothing(args, words, tmp_path: Path, capsys) -> None:
+def test_cli_bad_machine_or_format_writes_nothing(args, words, tmp_path: Path, run_cli) -> None:
     save_pattern(mixed(), tmp_path / "p.json")
     out = tmp_path / "out.x"
-    code, output = run(["knit", str(tmp_path / "p.json"), "-o", str(out), *args], capsys)
+    code, _, output = run_cli(["knit", str(tmp_path / "p.json"), "-o", str(out), *args])
     assert code == 2
     assert words in output
     assert len(output.strip().splitlines()) == 1

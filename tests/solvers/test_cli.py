@@ -29,13 +29,6 @@ def pair(tmp_path):
     return a, b
 
 
-def _run(args, capsys):
-    with pytest.raises(SystemExit) as e:
-        main(args)
-    out = capsys.readouterr()
-    return e.value.code, out.out, out.err
-
-
 def test_solve_writes_pattern_previews_and_report(pair, tmp_path, capsys):
     a, b = pair
     out = tmp_path / "out"
@@ -137,10 +130,10 @@ def test_export_wcnf_round_trips_and_the_external_route_agrees(pair, tmp_path):
     assert rep["solver"]["status"] == "optimal"
 
 
-def test_targets_of_different_sizes(tmp_path, capsys):
+def test_targets_of_different_sizes(tmp_path, run_cli):
     a = _png(tmp_path / "a.png", np.eye(10, dtype=bool))
     b = _png(tmp_path / "b.png", np.eye(20, 10, dtype=bool))
-    code, _, err = _run(["solve", str(a), str(b), "-o", str(tmp_path / "o")], capsys)
+    code, _, err = run_cli(["solve", str(a), str(b), "-o", str(tmp_path / "o")])
     assert code == 2 and "different sizes" in err and "--resize" in err
     assert "Traceback" not in err
     assert not (tmp_path / "o").exists()
@@ -148,18 +141,17 @@ def test_targets_of_different_sizes(tmp_path, capsys):
     assert load_pattern(tmp_path / "o" / "pattern.json").shape == (10, 10)
 
 
-def test_unknown_and_unavailable_solvers(pair, tmp_path, capsys):
+def test_unknown_and_unavailable_solvers(pair, tmp_path, run_cli):
     a, b = pair
-    code, _, err = _run(
-        ["solve", str(a), str(b), "--solver", "magic", "-o", str(tmp_path / "o")], capsys
+    code, _, err = run_cli(
+        ["solve", str(a), str(b), "--solver", "magic", "-o", str(tmp_path / "o")]
     )
     assert code == 2 and "unknown solver 'magic'" in err and "rc2" in err
-    code, _, err = _run(
+    code, _, err = run_cli(
         ["solve", str(a), str(b), "--solver", "wcnf:/no/such/solver", "-o", str(tmp_path / "o")],
-        capsys,
     )
     assert code == 2 and "not found" in err
-    code, _, err = _run(
+    code, _, err = run_cli(
         [
             "solve",
             str(a),
@@ -171,13 +163,12 @@ def test_unknown_and_unavailable_solvers(pair, tmp_path, capsys):
             "-o",
             str(tmp_path / "o"),
         ],
-        capsys,
     )
     assert code == 2 and "couple the wales" in err
     assert not (tmp_path / "o").exists()
 
 
-def test_unavailable_backend_names_the_extra_in_the_cli(pair, tmp_path, capsys, monkeypatch):
+def test_unavailable_backend_names_the_extra_in_the_cli(pair, tmp_path, run_cli, monkeypatch):
     import illuknit.solvers as reg
 
     class Missing(reg.BackendBase):
@@ -187,26 +178,26 @@ def test_unavailable_backend_names_the_extra_in_the_cli(pair, tmp_path, capsys, 
 
     monkeypatch.setitem(reg._registered, "needs-gpu", Missing)
     a, b = pair
-    code, _, err = _run(
-        ["solve", str(a), str(b), "--solver", "needs-gpu", "-o", str(tmp_path / "o")], capsys
+    code, _, err = run_cli(
+        ["solve", str(a), str(b), "--solver", "needs-gpu", "-o", str(tmp_path / "o")]
     )
     assert code == 2 and "illuknit[gpu]" in err
 
 
-def test_bad_input_model_arity_weights_and_time(pair, tmp_path, capsys):
+def test_bad_input_model_arity_weights_and_time(pair, tmp_path, run_cli):
     a, b = pair
     o = str(tmp_path / "o")
-    assert _run(["solve", str(a), str(b), "--model", "single", "-o", o], capsys)[0] == 2
-    assert _run(["solve", str(a), "-o", o], capsys)[0] == 2
-    code, _, err = _run(["solve", str(a), str(b), "--weights", "speed=1", "-o", o], capsys)
+    assert run_cli(["solve", str(a), str(b), "--model", "single", "-o", o])[0] == 2
+    assert run_cli(["solve", str(a), "-o", o])[0] == 2
+    code, _, err = run_cli(["solve", str(a), str(b), "--weights", "speed=1", "-o", o])
     assert code == 2 and "view=N" in err
-    code, _, err = _run(["solve", str(a), str(b), "--time-limit", "0", "-o", o], capsys)
+    code, _, err = run_cli(["solve", str(a), str(b), "--time-limit", "0", "-o", o])
     assert code == 2 and "--time-limit" in err
-    code, _, err = _run(
-        ["solve", str(a), str(b), "--colors", "3", "--yarns", "black,white", "-o", o], capsys
+    code, _, err = run_cli(
+        ["solve", str(a), str(b), "--colors", "3", "--yarns", "black,white", "-o", o]
     )
     assert code == 2 and "yarn" in err
-    code, _, err = _run(["solve", str(a), str(b), "--alternate-rows", "-o", o], capsys)
+    code, _, err = run_cli(["solve", str(a), str(b), "--alternate-rows", "-o", o])
     assert code == 2 and "--alternate-rows" in err and "single" in err
     assert not (tmp_path / "o").exists()
 

@@ -11,12 +11,8 @@ from hypothesis import strategies as st
 
 from illuknit.illusion_models import KnitWeights, build_model, make_problem, solve_illusion
 from illuknit.solvers import solve
-from illuknit.solvers.descent import (
-    optimise_descent,
-    pattern_cost,
-    update_rows,
-    update_wales,
-)
+from illuknit.solvers.descent import optimise_descent
+from illuknit.solvers.descent_blocks import pattern_cost, update_rows, update_wales
 from illuknit.solvers.dp import solve_dp, values_from_pattern
 
 

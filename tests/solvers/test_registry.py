@@ -151,3 +151,15 @@ def test_lsu_refuses_an_oracle_it_cannot_interrupt():
     with pytest.raises(UnknownNameError, match="SAT oracle"):
         get_backend("lsu:cd19")
     assert get_backend("rc2:cd19").name == "rc2:cd19"
+
+
+def test_a_solver_name_is_read_one_way():
+    from illuknit.solvers import parse_solver_name
+
+    assert parse_solver_name("rc2:cd19") == ("rc2", "cd19")
+    assert parse_solver_name("rc2:cd19").oracle == "cd19"
+    assert parse_solver_name("lsu").oracle == "" and parse_solver_name("lsu").argument is None
+    assert parse_solver_name("cpsat:x").oracle == ""  # only oracle backends take an oracle
+    ext = parse_solver_name("wcnf:maxhs {} --cpu-lim=3")
+    assert ext.external and ext.argument == "maxhs {} --cpu-lim=3"
+    assert not parse_solver_name("wcnf").external

@@ -10,7 +10,6 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from illuknit.cli import main
 from illuknit.colors import luminance
 from illuknit.drawings import draw_heart, draw_text
 
@@ -32,18 +31,8 @@ def words(tmp_path_factory):
     return a, b, c
 
 
-def _run(argv, capsys):
-    try:
-        main(argv)
-        code = 0
-    except SystemExit as e:
-        code = e.code
-    out = capsys.readouterr()
-    return code, out.out, out.err
-
-
-def test_tiles_command_lists_and_draws(tmp_path, capsys):
-    code, out, err = _run(["tiles", "--yarns", "black,white", "-o", str(tmp_path / "bank")], capsys)
+def test_tiles_command_lists_and_draws(tmp_path, run_cli):
+    code, out, err = run_cli(["tiles", "--yarns", "black,white", "-o", str(tmp_path / "bank")])
     assert code == 0, err
     assert "tile bank" in out and "0/1/0^" in out
     doc = json.loads((tmp_path / "bank" / "bank.json").read_text())
@@ -52,26 +41,26 @@ def test_tiles_command_lists_and_draws(tmp_path, capsys):
     with Image.open(pictures[0]) as im:
         assert im.width > im.height  # four panels side by side
     # the written bank loads back as a custom bank
-    code, out, err = _run(
-        ["tiles", "--yarns", "black,white", "--bank", str(tmp_path / "bank" / "bank.json")], capsys
+    code, out, err = run_cli(
+        ["tiles", "--yarns", "black,white", "--bank", str(tmp_path / "bank" / "bank.json")]
     )
     assert code == 0, err
 
 
-def test_tiles_command_bad_bank(tmp_path, capsys):
+def test_tiles_command_bad_bank(tmp_path, run_cli):
     bad = tmp_path / "bad.json"
     bad.write_text(json.dumps({"format": "illuknit-tile-bank", "version": 1, "tiles": [
         {"rows": ["0", "1", "0^"], "fills": {"B": {"1": "1"}}}]}))  # fmt: skip
-    code, _out, err = _run(["tiles", "--yarns", "black,white", "--bank", str(bad)], capsys)
+    code, _out, err = run_cli(["tiles", "--yarns", "black,white", "--bank", str(bad)])
     assert code == 2
     assert err.startswith("illuknit: error:") and "can_see gives" in err and err.count("\n") == 1
 
 
-def test_double_writes_ranked_candidates(words, tmp_path, capsys):
+def test_double_writes_ranked_candidates(words, tmp_path, run_cli):
     a, b, _ = words
     out_dir = tmp_path / "out"
-    code, out, err = _run(
-        ["double", str(a), str(b), "--candidates", "2", "--pick", "2", "-o", str(out_dir)], capsys
+    code, out, err = run_cli(
+        ["double", str(a), str(b), "--candidates", "2", "--pick", "2", "-o", str(out_dir)]
     )
     assert code == 0, err
     summary = json.loads((out_dir / "summary.json").read_text())
@@ -89,20 +78,19 @@ def test_double_writes_ranked_candidates(words, tmp_path, capsys):
     assert "default" in out
 
 
-def test_double_sizes_must_match_or_resize(words, tmp_path, capsys):
+def test_double_sizes_must_match_or_resize(words, tmp_path, run_cli):
     a, _, tall = words
-    code, _, err = _run(["double", str(a), str(tall), "-o", str(tmp_path / "x")], capsys)
+    code, _, err = run_cli(["double", str(a), str(tall), "-o", str(tmp_path / "x")])
     assert code == 2 and "different sizes" in err and "--resize" in err
     assert not (tmp_path / "x").exists()
-    code, _, err = _run(
+    code, _, err = run_cli(
         ["double", str(a), str(tall), "--resize", "--candidates", "1", "-o", str(tmp_path / "y")],
-        capsys,
     )
     assert code == 0, err
     assert (tmp_path / "y" / "pattern.json").is_file()
 
 
-def test_double_too_many_colors_for_the_bank(words, tmp_path, capsys):
+def test_double_too_many_colors_for_the_bank(words, tmp_path, run_cli):
     a, b, _ = words
     solids = tmp_path / "solids.json"
     solids.write_text(json.dumps({"format": "illuknit-tile-bank", "version": 1,
@@ -112,8 +100,8 @@ def test_double_too_many_colors_for_the_bank(words, tmp_path, capsys):
         img = np.asarray(Image.open(p)).copy()
         img[:3] = 128
         Image.fromarray(img).save(tmp_path / p.name)
-    code, _, err = _run(["double", str(tmp_path / a.name), str(tmp_path / b.name), "--colors", "3",
-                         "--yarns", "black,white", "--bank", str(solids), "-o", str(tmp_path / "o")], capsys)  # fmt: skip
+    code, _, err = run_cli(["double", str(tmp_path / a.name), str(tmp_path / b.name), "--colors", "3",
+                         "--yarns", "black,white", "--bank", str(solids), "-o", str(tmp_path / "o")])  # fmt: skip
     assert code == 2 and "distinct brightness" in err
 
 
@@ -133,19 +121,18 @@ def test_double_without_candidates_explains_and_exits_2(words, tmp_path):
     assert not (tmp_path / "none").exists()
 
 
-def test_double_pick_out_of_range(words, tmp_path, capsys):
+def test_double_pick_out_of_range(words, tmp_path, run_cli):
     a, b, _ = words
-    code, _, err = _run(
+    code, _, err = run_cli(
         ["double", str(a), str(b), "--candidates", "1", "--pick", "3", "-o", str(tmp_path / "p")],
-        capsys,
     )
     assert code == 2 and "--pick" in err
 
 
-def test_headon_command(tmp_path, capsys):
+def test_headon_command(tmp_path, run_cli):
     front = _png(tmp_path / "heart.png", draw_heart((20, 20)))
-    code, _out, err = _run(
-        ["headon", str(front), "--candidates", "1", "-o", str(tmp_path / "h")], capsys
+    code, _out, err = run_cli(
+        ["headon", str(front), "--candidates", "1", "-o", str(tmp_path / "h")]
     )
     assert code == 0, err
     s = json.loads((tmp_path / "h" / "summary.json").read_text())
@@ -184,12 +171,11 @@ def test_demo_skimage_pair_three_yarns():
         assert bright == sorted(bright) and len(set(bright)) == len(bright)
 
 
-def test_double_tile_override(words, tmp_path, capsys):
+def test_double_tile_override(words, tmp_path, run_cli):
     a, b, _ = words
     out_dir = tmp_path / "ov"
-    code, _, err = _run(
+    code, _, err = run_cli(
         ["double", str(a), str(b), "--candidates", "1", "--tile", "0,1=0/1/1^", "-o", str(out_dir)],
-        capsys,
     )
     assert code == 0, err
     rep = json.loads((out_dir / "candidate_1" / "report.json").read_text())
@@ -197,7 +183,7 @@ def test_double_tile_override(words, tmp_path, capsys):
         {"a": 0, "b": 1, "tile": "0/1/1^", "keeps_fills": False}
     ]
     for bad, msg in (("zz", "A,B=ROWS"), ("7,1=0", "does not occur")):
-        code, _, err = _run(
+        code, _, err = run_cli(
             [
                 "double",
                 str(a),
@@ -209,7 +195,6 @@ def test_double_tile_override(words, tmp_path, capsys):
                 "-o",
                 str(tmp_path / "bad"),
             ],
-            capsys,
         )
         assert code == 2 and msg in err
         assert not (tmp_path / "bad").exists()

@@ -99,18 +99,18 @@ def test_double_writes_the_grouped_table(tmp_path, run_cli):
     for name, photo in (("a.png", "coffee"), ("b.png", "chelsea")):
         pic = (skimage_image(photo, (24, 32)) * 255).round().astype(np.uint8)
         Image.fromarray(pic).save(tmp_path / name)
-    code, r = run_cli(
+    code, out, err = run_cli(
         ["double", str(tmp_path / "a.png"), str(tmp_path / "b.png"), "--colors", "4",
          "--candidates", "1", "-o", str(tmp_path / "out")])  # fmt: skip
-    assert code == 0, r.err
+    assert code == 0, err
     summary = json.loads((tmp_path / "out" / "summary.json").read_text())
     table = summary["candidates"][0]["overlaps"]
     fills = json.loads((tmp_path / "out" / "candidate_1" / "fills.json").read_text())
     assert fills["overlaps"] == table
     assert table["pairs"] == len(fills["tiles"])
     text = (tmp_path / "out" / "summary.txt").read_text()
-    assert "grouped by the fill seen from A" in text and "grouped by the fill" in r.out
+    assert "grouped by the fill seen from A" in text and "grouped by the fill" in out
     for g in table["groups"]:
-        assert g["fill"] in r.out  # the console shows one line per group
+        assert g["fill"] in out  # the console shows one line per group
     if table["rare"]["count"]:
         assert f"{table['rare']['count']} rare overlaps" in text

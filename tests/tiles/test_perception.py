@@ -129,8 +129,10 @@ def test_double_writes_measures_diagnostics_and_reranks(tmp_path, run_cli):
     for name, img in (("a.png", _disc(30, 10, 15, 11)), ("b.png", _disc(30, 9, 15, 19))):
         Image.fromarray(((1 - img) * 255).astype(np.uint8)).save(tmp_path / name)
     out = tmp_path / "out"
-    code, r = run_cli(["double", str(tmp_path / "a.png"), str(tmp_path / "b.png"), "-o", str(out)])
-    assert code == 0, r.err
+    code, _, err = run_cli(
+        ["double", str(tmp_path / "a.png"), str(tmp_path / "b.png"), "-o", str(out)]
+    )
+    assert code == 0, err
     summary = json.loads((out / "summary.json").read_text())
     assert summary["ranked_by"] == "perception"
     rows = summary["candidates"]
@@ -143,14 +145,14 @@ def test_double_writes_measures_diagnostics_and_reranks(tmp_path, run_cli):
     report = json.loads((out / "candidate_1" / "report.json").read_text())
     assert "perceptual_score" in json.dumps(report)
     by_score = tmp_path / "by_score"
-    code, r = run_cli(
+    code, _, err = run_cli(
         ["double", str(tmp_path / "a.png"), str(tmp_path / "b.png"), "-o", str(by_score),
          "--rank-by", "score"])  # fmt: skip
-    assert code == 0, r.err
+    assert code == 0, err
     rows = json.loads((by_score / "summary.json").read_text())["candidates"]
     assert [row["score_rank"] for row in rows] == [row["rank"] for row in rows]
-    code, r = run_cli(
+    code, _, err = run_cli(
         ["double", str(tmp_path / "a.png"), str(tmp_path / "b.png"), "-o", str(tmp_path / "x"),
          "--rank-by", "beauty"])  # fmt: skip
     assert code == 2 and not (tmp_path / "x").exists()
-    assert len(r.err.strip().splitlines()) == 1
+    assert len(err.strip().splitlines()) == 1

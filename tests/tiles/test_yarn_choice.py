@@ -44,10 +44,10 @@ def test_double_with_four_colours_keeps_both_pictures_lightest_and_darkest(tmp_p
     assert _worst_miss(pictures, joint) > 2 * SAME_COLOUR_LAB
     for name, pic in zip(("a.png", "b.png"), pictures, strict=True):
         Image.fromarray(pic).save(tmp_path / name)
-    code, r = run_cli(
+    code, _, err = run_cli(
         ["double", str(tmp_path / "a.png"), str(tmp_path / "b.png"), "--colors", "4",
          "--candidates", "1", "-o", str(tmp_path / "out")])  # fmt: skip
-    assert code == 0, r.err
+    assert code == 0, err
     summary = json.loads((tmp_path / "out" / "summary.json").read_text())
     yarns = np.array([[int(y["rgb"][i : i + 2], 16) for i in (1, 3, 5)] for y in summary["yarns"]])
     assert len(yarns) == 4

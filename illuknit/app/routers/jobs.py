@@ -10,7 +10,7 @@ from illuknit.app.knitting import CheckedKnitout, knit_and_check
 from illuknit.app.lookups import SessionDep, current_pattern, prepared_of, runner_of, store_of
 from illuknit.app.measures import measure_candidate
 from illuknit.app.schemas import JobIn
-from illuknit.app.sessions import Session
+from illuknit.app.sessions import Session, SessionStore
 from illuknit.errors import AppRequestError
 
 __all__ = ["router"]
@@ -69,8 +69,9 @@ def start_measures(s: Session, runner: JobRunner) -> Job:
     return runner.submit("measures", work, revision=rev, on_done=done)
 
 
-def start_suggestions(s: Session, runner: JobRunner) -> Job:
-    """Suggested edits of the pictures, each measured (kept as the session's suggestion set)."""
+def start_suggestions(s: Session, runner: JobRunner, store: SessionStore) -> Job:
+    """Suggested edits of the pictures, each measured (kept as the session's suggestion set;
+    their pictures count in ``store``'s memory bound, which is enforced once they are kept)."""
     from illuknit.app.suggestions import require_double, suggest_edits_for
 
     prepared = prepared_of(s)
@@ -95,6 +96,7 @@ def start_suggestions(s: Session, runner: JobRunner) -> Job:
         with s.lock:
             if s.revision == job.revision:
                 s.set_suggestions(job.result)
+        store.trim(keep=s.id)
 
     return runner.submit("suggestions", work, revision=rev, on_done=done)
 
@@ -144,7 +146,7 @@ def post_job(request: Request, s: SessionDep, runner: RunnerDep, body: JobIn) ->
         elif body.kind == "measures":
             job = start_measures(s, runner)
         elif body.kind == "suggestions":
-            job = start_suggestions(s, runner)
+            job = start_suggestions(s, runner, store_of(request))
         else:
             job = start_knit(s, runner, isolate=request.app.state.config.isolate_knit)
         s.replace_job(body.kind, job)

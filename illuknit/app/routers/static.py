@@ -1,5 +1,6 @@
 """The page and its files, the plain ``/docs`` page, and ``/api/info``."""
 
+from pathlib import Path
 from typing import Any
 
 from fastapi import APIRouter, FastAPI, Request
@@ -10,10 +11,12 @@ from illuknit import __version__
 from illuknit.app import design
 from illuknit.app.knitting import machines_json
 from illuknit.app.schemas import DesignSettings
-from illuknit.app.server import STATIC_DIR
 from illuknit.pattern import MAX_UNITS
 
-__all__ = ["api_docs_html", "mount_static", "router"]
+__all__ = ["STATIC_DIR", "api_docs_html", "mount_static", "router"]
+
+#: The page's files (one HTML page, its script and style sheet; no build step).
+STATIC_DIR = Path(__file__).parent.parent / "static"
 
 router = APIRouter()
 
