@@ -36,6 +36,11 @@ MODEL_KINDS: tuple[str, ...] = ("logical", "knit-aware", "single")
 class KnitWeights:
     """Objective weights (positive integers, 0 switches a term off).
 
+    By default model (b) weighs view cells against machine passes only: colour changes and
+    bumps cost the machine nothing in themselves (a carrier floats across the other colours'
+    stitches, one transfer pass moves every loop of a course), and weighing them anyway made
+    the model trade real passes for fewer of them (docs/solvers.md, "Machine passes").
+
     Parameters
     ----------
     view : int
@@ -63,8 +68,8 @@ class KnitWeights:
     """
 
     view: int = 4
-    color_change: int = 1
-    transfer: int = 1
+    color_change: int = 0
+    transfer: int = 0
     max_color_changes: int | None = None
     machine_pass: int = 6
     float_gap: int = 10

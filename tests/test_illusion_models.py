@@ -281,7 +281,7 @@ def test_unknown_model_and_weights_names_list_the_valid_ones():
         solve_illusion(np.zeros((2, 2), int), model="fancy")
     with pytest.raises(UnknownNameError, match="view=N"):
         parse_weights("speed=3")
-    assert parse_weights("view=5,colour=2,cap=3") == KnitWeights(5, 2, 1, 3)
+    assert parse_weights("view=5,colour=2,cap=3") == KnitWeights(5, 2, 0, 3)
     with pytest.raises(OptionError, match="integer"):
         parse_weights("view=abc")
     with pytest.raises(OptionError, match="view"):
