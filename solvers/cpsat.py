@@ -236,23 +236,28 @@ def _build(model: Model, cp_model: Any) -> tuple[Any, list[int]]:
     if not cp.Proto().parse_text_format("\n".join(head + parts + tail)):
         raise RuntimeError("CP-SAT could not parse the generated model")
     if model.cards or model.linears:
-        xs = [cp.get_bool_var_from_proto_index(i) for i in range(top)]
-
-        def lit(v: int) -> Any:
-            return xs[v - 1] if v > 0 else xs[-v - 1].Not()
-
-        for c in model.cards:
-            ls = [lit(v) for v in c.lits]
-            if c.op == "==" and c.k == 1:
-                cp.add_exactly_one(ls)
-            elif c.op == "<=" and c.k == 1:
-                cp.add_at_most_one(ls)
-            elif c.op == "<=":
-                cp.add(sum(ls) <= c.k)
-            elif c.op == ">=":
-                cp.add(sum(ls) >= c.k)
-            else:
-                cp.add(sum(ls) == c.k)
-        for lc in model.linears:
-            cp.add(sum(cf * lit(v) for v, cf in zip(lc.lits, lc.coeffs, strict=True)) <= lc.bound)
+        _add_natives(cp, model)
     return cp, obj_idx
+
+
+def _add_natives(cp: Any, model: Model) -> None:
+    """The model's cardinality and linear constraints, through the CP-SAT API (they are few)."""
+    xs = [cp.get_bool_var_from_proto_index(i) for i in range(model.pool.top)]
+
+    def lit(v: int) -> Any:
+        return xs[v - 1] if v > 0 else xs[-v - 1].Not()
+
+    for c in model.cards:
+        ls = [lit(v) for v in c.lits]
+        if c.op == "==" and c.k == 1:
+            cp.add_exactly_one(ls)
+        elif c.op == "<=" and c.k == 1:
+            cp.add_at_most_one(ls)
+        elif c.op == "<=":
+            cp.add(sum(ls) <= c.k)
+        elif c.op == ">=":
+            cp.add(sum(ls) >= c.k)
+        else:
+            cp.add(sum(ls) == c.k)
+    for lc in model.linears:
+        cp.add(sum(cf * lit(v) for v, cf in zip(lc.lits, lc.coeffs, strict=True)) <= lc.bound)

@@ -164,9 +164,23 @@ class RC2Backend(OracleBackendBase):
             return Solution(
                 Status.OPTIMAL, values, cost, float(cost), wall, stats, self.name, model.pool
             )
+        return self._partial(model, t0, values, solved, bound, stats, interrupted=interrupted)
+
+    def _partial(
+        self,
+        model: Model,
+        t0: float,
+        values: NDArray[np.bool_],
+        solved: NDArray[np.bool_],
+        bound: int,
+        stats: dict[str, Any],
+        *,
+        interrupted: bool,
+    ) -> Solution:
+        """A search stopped early: the proven components' values, the rest from a fallback."""
         try:
             fb, _ = fallback_assignment(model, budget=1.0)
-        except interrupts:
+        except interrupt_types():
             fb = None
         wall = time.perf_counter() - t0
         lb = float(bound + model.offset)

@@ -3,9 +3,12 @@
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
+from pathlib import Path
 from typing import NamedTuple
 
+import numpy as np
 import pytest
+from PIL import Image
 
 from illuknit.cli import main
 
@@ -36,3 +39,24 @@ def run_cli(capsys: pytest.CaptureFixture[str]) -> Callable[[Sequence[object]], 
         return CliRun(code, out, err)
 
     return run
+
+
+@pytest.fixture
+def box_picture(tmp_path: Path) -> Callable[[tuple[int, int]], Path]:
+    """Write a light RGB picture of ``shape`` with a dark box over its middle half; its path."""
+
+    def write(shape: tuple[int, int]) -> Path:
+        rows, cols = shape
+        rgb = np.full((rows, cols, 3), 240, np.uint8)
+        rgb[round(rows / 4) : round(3 * rows / 4), round(cols / 4) : round(3 * cols / 4)] = 20
+        path = tmp_path / "pic.png"
+        Image.fromarray(rgb).save(path)
+        return path
+
+    return write
+
+
+@pytest.fixture
+def picture(box_picture: Callable[[tuple[int, int]], Path]) -> Path:
+    """A 20 x 30 picture of a dark box on a light ground (``box_picture``)."""
+    return box_picture((20, 30))

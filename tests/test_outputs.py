@@ -8,9 +8,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-import numpy as np
 import pytest
-from PIL import Image
 
 from illuknit.errors import OutputPathError
 from illuknit.outputs import staged_dir
@@ -221,12 +219,8 @@ needs_mount = pytest.mark.skipif(
 
 
 @pytest.fixture
-def picture(tmp_path):
-    rgb = np.full((12, 16, 3), 240, np.uint8)
-    rgb[3:9, 4:12] = 20
-    path = tmp_path / "pic.png"
-    Image.fromarray(rgb).save(path)
-    return path
+def picture(box_picture):
+    return box_picture((12, 16))
 
 
 def _in_namespace(script: str) -> subprocess.CompletedProcess[str]:

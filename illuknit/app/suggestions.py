@@ -70,6 +70,8 @@ class SuggestedEdit:
     after: tuple[float, float]
 
     def to_json(self) -> dict[str, Any]:
+        from illuknit.tiles.simplify import MIN_GAIN
+
         r = _rounded
         return {
             "id": self.id,
@@ -82,7 +84,8 @@ class SuggestedEdit:
             "readability_after": r(self.after[0]),
             "ghosting_before": r(self.before[1]),
             "ghosting_after": r(self.after[1]),
-            "improves": self.after[0] > self.before[0] + 1e-6,
+            # the gain `illuknit double --simplify` would keep the edit for
+            "improves": self.after[0] > self.before[0] + MIN_GAIN,
             "previews": {
                 slot: {
                     which: f"suggestions/{self.id}/{slot}/{which}.png"

@@ -281,6 +281,79 @@ def _knit_course(em: Emitter, ctx: _Courses, c: int) -> int:
     return bound
 
 
+def _checked_options(
+    stitches: object,
+    *,
+    machine: MachineSpec,
+    float_avoidance: object,
+    catching: object,
+    path_planning: object,
+    float_limit: object,
+    tail_stitches: int,
+    catch_every: object,
+) -> int:
+    """Check :func:`schedule_mixed`'s input and options; returns the float limit to use."""
+    if not isinstance(stitches, StitchPattern):
+        raise PatternValidationError(
+            f"`stitches` must be a StitchPattern, got {type(stitches).__name__}"
+        )
+    validate_ablation(
+        float_avoidance=float_avoidance, catching=catching, path_planning=path_planning
+    )
+    limit = machine.float_limit if float_limit is None else float_limit
+    if isinstance(limit, bool) or not isinstance(limit, (int, np.integer)) or limit < 1:
+        raise OptionError(
+            f"`float_limit` must be an integer >= 1 (wales a yarn may float across), got {limit!r}"
+        )
+    if tail_stitches < 1:
+        raise OptionError(f"`tail_stitches` must be >= 1, got {tail_stitches}")
+    if (
+        isinstance(catch_every, bool)
+        or not isinstance(catch_every, (int, np.integer))
+        or catch_every < 1
+    ):
+        raise OptionError(f"`catch_every` must be an integer >= 1, got {catch_every!r}")
+    return int(limit)
+
+
+def _color_plan(
+    stitches: StitchPattern, *, machine: MachineSpec, limit: int, strict: bool
+) -> tuple[ColorPlan, np.ndarray]:
+    """Carrier plan and stitch kinds of every course, the cast-on courses (course 0's colours,
+    all knits) included."""
+    k0 = stitches.cast_on_courses
+    n_wales = stitches.shape[1]
+    yarn = np.vstack([np.repeat(stitches.yarn[:1], k0, axis=0), stitches.yarn])
+    kind = np.vstack([np.zeros((k0, n_wales), dtype=np.uint8), stitches.kind])
+
+    def course_name(c: int) -> str:
+        return f"cast-on course {c}" if c < k0 else stitches.course_name(c - k0)
+
+    plan = plan_color_runs(
+        yarn,
+        carriers=machine.carriers,
+        float_limit=limit,
+        strict=strict,
+        course_names=[course_name(c) for c in range(yarn.shape[0])],
+    )
+    return plan, kind
+
+
+def _long_float_error(
+    long: Sequence[LongFloat], stitches: StitchPattern, limit: int
+) -> SchedulingError:
+    """The error for floats that stay long: how many, the longest, where, what to change."""
+    worst = max(long, key=lambda f: f.length)
+    where = "the bind-off" if worst.course is None else stitches.course_name(worst.course)
+    return SchedulingError(
+        f"{len(long)} float(s) stay longer than the float limit of {limit} needles; the "
+        f"longest, {worst.length} needles of carrier {worst.carrier} (needles "
+        f"{worst.from_needle} to {worst.to_needle}), is at {where}: use fewer colour "
+        "regions per row there, a wider float limit, or allow long floats "
+        "(allow_long_floats=True, --allow-long-floats)"
+    )
+
+
 def schedule_mixed(
     stitches: StitchPattern,
     *,
@@ -361,49 +434,24 @@ def schedule_mixed(
     PatternValidationError
         If ``stitches`` is not a StitchPattern.
     """
-    if not isinstance(stitches, StitchPattern):
-        raise PatternValidationError(
-            f"`stitches` must be a StitchPattern, got {type(stitches).__name__}"
-        )
-    validate_ablation(
-        float_avoidance=float_avoidance, catching=catching, path_planning=path_planning
+    limit = _checked_options(
+        stitches,
+        machine=machine,
+        float_avoidance=float_avoidance,
+        catching=catching,
+        path_planning=path_planning,
+        float_limit=float_limit,
+        tail_stitches=tail_stitches,
+        catch_every=catch_every,
     )
-    limit = machine.float_limit if float_limit is None else float_limit
-    if isinstance(limit, bool) or not isinstance(limit, (int, np.integer)) or limit < 1:
-        raise OptionError(
-            f"`float_limit` must be an integer >= 1 (wales a yarn may float across), got {limit!r}"
-        )
-    if tail_stitches < 1:
-        raise OptionError(f"`tail_stitches` must be >= 1, got {tail_stitches}")
-    if (
-        isinstance(catch_every, bool)
-        or not isinstance(catch_every, (int, np.integer))
-        or catch_every < 1
-    ):
-        raise OptionError(f"`catch_every` must be an integer >= 1, got {catch_every!r}")
     join = (str(catching) if isinstance(catching, str) else "tuck") if catching else None
     n_courses, n_wales = stitches.shape
     machine.check_width(n_wales)
     k0 = stitches.cast_on_courses
-    yarn = np.vstack([np.repeat(stitches.yarn[:1], k0, axis=0), stitches.yarn])
-    kind = np.vstack([np.zeros((k0, n_wales), dtype=np.uint8), stitches.kind])
-
-    def course_name(c: int) -> str:
-        return f"cast-on course {c}" if c < k0 else stitches.course_name(c - k0)
-
-    plan: ColorPlan = plan_color_runs(
-        yarn,
-        carriers=machine.carriers,
-        float_limit=int(limit),
-        strict=bool(strict_floats),
-        course_names=[course_name(c) for c in range(yarn.shape[0])],
-    )
+    plan, kind = _color_plan(stitches, machine=machine, limit=limit, strict=bool(strict_floats))
     left = machine.fabric_left
     em = Emitter(machine, left, n_wales, path_planning, bool(float_avoidance))
-    last_course: dict[str, int] = {}
-    for cp in plan.courses:
-        for s in cp.segments:
-            last_course[s.carrier] = cp.course
+    last_course = {s.carrier: cp.course for cp in plan.courses for s in cp.segments}
 
     edge = left + n_wales - 1
     park: Park | None = (
@@ -447,18 +495,10 @@ def schedule_mixed(
     long: list[LongFloat] = []
     if park is not None:
         em.steps, long = tuck_long_floats(
-            em.steps, limit=int(limit), left=left, right=edge, alone=bool(tuck_passes)
+            em.steps, limit=limit, left=left, right=edge, alone=bool(tuck_passes)
         )
         if long and (strict_floats or not allow_long_floats):
-            worst = max(long, key=lambda f: f.length)
-            where = "the bind-off" if worst.course is None else stitches.course_name(worst.course)
-            raise SchedulingError(
-                f"{len(long)} float(s) stay longer than the float limit of {limit} needles; the "
-                f"longest, {worst.length} needles of carrier {worst.carrier} (needles "
-                f"{worst.from_needle} to {worst.to_needle}), is at {where}: use fewer colour "
-                "regions per row there, a wider float limit, or allow long floats "
-                "(allow_long_floats=True, --allow-long-floats)"
-            )
+            raise _long_float_error(long, stitches, limit)
     lower = cast_fixed + cast_courses_bound + body_bound + bind_fixed
     return Schedule(
         steps=tuple(em.steps),
@@ -480,7 +520,7 @@ def schedule_mixed(
             tuck_joins=em.join_tucks,
             path_planning=path_planning,
             catch_every=int(catch_every),
-            float_limit=int(limit),
+            float_limit=limit,
             strict_floats=bool(strict_floats),
             plated_stitches=em.plated,
             float_avoidance_transfers=em.float_transfer_passes,

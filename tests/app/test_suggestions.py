@@ -88,7 +88,11 @@ def test_suggestions_list_their_effect_and_pictures(client, suggested):
         assert s["readability_before"] == got["readability"]
         assert s["ghosting_before"] == got["ghosting"]
         assert -1 <= s["readability_after"] <= 1
-        assert s["improves"] == (s["readability_after"] > s["readability_before"])
+        # improves: a gain --simplify would keep the edit for (MIN_GAIN, 1e-4)
+        if s["improves"]:
+            assert s["readability_after"] > s["readability_before"]
+        else:
+            assert s["readability_after"] <= s["readability_before"] + 2e-4
         for slot in s["slots"]:
             shown = {}
             for which in ("before", "after"):

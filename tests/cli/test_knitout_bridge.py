@@ -4,20 +4,9 @@ from __future__ import annotations
 
 import json
 
-import numpy as np
 import pytest
-from PIL import Image
 
 from illuknit.knit.machine import machine_names
-
-
-@pytest.fixture
-def picture(tmp_path):
-    rgb = np.full((20, 30, 3), 240, np.uint8)
-    rgb[5:15, 8:22] = 20
-    path = tmp_path / "pic.png"
-    Image.fromarray(rgb).save(path)
-    return path
 
 
 def test_single_gauge_is_the_gauge_knit_on(picture, tmp_path, run_cli):

@@ -18,15 +18,6 @@ def ok(args, capsys):
     return capsys.readouterr().out
 
 
-@pytest.fixture
-def picture(tmp_path):
-    rgb = np.full((20, 30, 3), 240, np.uint8)
-    rgb[5:15, 8:22] = 20
-    path = tmp_path / "pic.png"
-    Image.fromarray(rgb).save(path)
-    return path
-
-
 def test_single_writes_bundle(picture, tmp_path, capsys):
     out = tmp_path / "out"
     text = ok(["single", str(picture), "--width", "30", "-o", str(out)], capsys)

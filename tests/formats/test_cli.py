@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from PIL import Image
 
 from illuknit.formats.dat import knitout_to_dat, read_dat
 from illuknit.pattern import LogicalPattern, parse_yarns, save_pattern
@@ -68,12 +67,8 @@ def test_knit_summary_counts_the_machines_passes(pattern_file, tmp_path, run_cli
 
 
 @pytest.fixture
-def picture(tmp_path):
-    rgb = np.full((12, 12, 3), 240, np.uint8)
-    rgb[3:9, 3:9] = 20
-    path = tmp_path / "pic.png"
-    Image.fromarray(rgb).save(path)
-    return path
+def picture(box_picture):
+    return box_picture((12, 12))
 
 
 def test_single_knitout_writes_program_dat_beside_program_k(picture, tmp_path, run_cli):

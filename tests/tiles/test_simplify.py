@@ -238,11 +238,11 @@ def test_double_simplify_designs_with_a_kept_requantisation(tmp_path, run_cli):
     # better against the same 3-colour pictures, and --simplify designs with the 2 colours
     for name, photo in (("a.png", "coffee"), ("b.png", "chelsea")):
         Image.fromarray(data_picture(photo)).save(tmp_path / name)
-    code, r = run_cli(
+    code, _, err = run_cli(
         ["double", str(tmp_path / "a.png"), str(tmp_path / "b.png"), "--colors", "3",
          "--yarns", "4", "--width", "28", "--candidates", "1", "--simplify",
          "-o", str(tmp_path / "out")])  # fmt: skip
-    assert code == 0, r.err
+    assert code == 0, err
     edits = json.loads((tmp_path / "out" / "summary.json").read_text())["edits"]
     by_name = {e["edit"]: e for e in edits}
     assert set(by_name) >= {"requantise-2", "requantise-4"}  # 4 yarns: room for one more
