@@ -235,8 +235,8 @@ class DPBackend(BackendBase):
         if p.per_wale or p.rows_tied:
             return None
         return (
-            "colour-change terms couple the wales; use --solver cpsat or rc2 for the knit-aware "
-            "model (or set color_change=0 and no cap)"
+            "machine-pass and colour-change terms couple the wales; use --solver descent, cpsat "
+            "or rc2 for the knit-aware model (or set machine_pass=0, color_change=0 and no cap)"
         )
 
     def solve(
