@@ -84,3 +84,27 @@ def test_allow_long_floats_is_accepted_with_knitout(command, speckled, tight, tm
         assert code == 0, err
         assert json.loads((out / "knit.json").read_text())["long_floats"] == 0
         assert "illuknit: warning:" not in err
+
+
+def _commands():
+    import importlib
+
+    from illuknit.cli import COMMANDS
+
+    for name, target in COMMANDS.items():
+        module, _, attr = target.partition(":")
+        cmd = getattr(importlib.import_module(module), attr)
+        subs = getattr(cmd, "commands", {}) or {"": cmd}
+        for sub, c in subs.items():
+            yield f"{name} {sub}".strip(), c
+
+
+def test_every_command_with_knitout_takes_allow_long_floats():
+    with_knitout = {
+        name: {p.name for p in c.params}
+        for name, c in _commands()
+        if any(p.name == "knitout" for p in c.params)
+    }
+    assert {"single", "double", "headon", "solve", "demo", "calibrate swatch"} <= set(with_knitout)
+    for name, params in with_knitout.items():
+        assert "allow_long_floats" in params, name
