@@ -15,7 +15,8 @@ option / value         :class:`OptionError` (a keyword or setting out of range o
                        :class:`RenderParamsError`
 machine rule           :class:`MachineRuleError` (carries the needle / carrier / racking)
 scheduling             :class:`SchedulingError` and its subclasses (a pattern the machine cannot
-                       knit, a malformed schedule)
+                       knit, a malformed schedule; :class:`LongFloatError`: a float that stays
+                       longer than the machine's float limit)
 solver                 :class:`ModelError` (a constraint model built inconsistently),
                        :class:`SolverError`, :class:`BackendUnavailableError`,
                        :class:`InfeasibleError`
@@ -44,6 +45,7 @@ __all__ = [
     "InfeasibleError",
     "KcodeError",
     "KnitoutParseError",
+    "LongFloatError",
     "MachineFileError",
     "MachineRuleError",
     "ManifestError",
@@ -161,6 +163,40 @@ class CarrierShortageError(SchedulingError):
         self.course = course
         self.needed = needed
         self.available = available
+
+
+class LongFloatError(SchedulingError):
+    """A float stays longer than the machine's float limit after tucking, and long floats were not
+    allowed (``allow_long_floats=False``, the default; ``--allow-long-floats`` on the CLI).
+
+    The message names where the longest float is and what to change. Attributes describe that
+    float: ``length`` (needles crossed), ``carrier``, ``from_needle``, ``to_needle``, ``course``
+    (the course index, None at the bind-off) and ``where`` (the course named as the message names
+    it); ``limit`` is the float limit and ``count`` how many floats stay long.
+    """
+
+    def __init__(
+        self,
+        message: str,
+        *,
+        length: int,
+        carrier: str,
+        from_needle: int,
+        to_needle: int,
+        course: int | None,
+        where: str,
+        limit: int,
+        count: int,
+    ) -> None:
+        super().__init__(message)
+        self.length = length
+        self.carrier = carrier
+        self.from_needle = from_needle
+        self.to_needle = to_needle
+        self.course = course
+        self.where = where
+        self.limit = limit
+        self.count = count
 
 
 class MachineRuleError(IlluknitError, ValueError):

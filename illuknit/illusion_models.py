@@ -29,10 +29,12 @@ and one yarn per course.
 knit<->purl change between consecutive courses. A bump is a knit course followed by a purl course
 in the same wales, and every unit starts with a knit course, so a bump costs two bed changes (knit
 -> purl inside it, purl -> knit into the unit above) — one in the top row, where the bind-off
-follows. And ``weights.machine_pass`` per machine carriage pass the pattern forces, two per unit
-row (two courses) for each yarn the row uses, for a row with a bump (its transfer pass), and for
-each *extra carrier* (a region more than ``weights.float_gap`` units after its yarn's previous
-region in the row, beyond a float's reach) — see :func:`_add_pass_terms`.
+follows. And ``weights.machine_pass`` per machine carriage pass the pattern forces as the
+mixed-colourwork scheduler knits it (:func:`~illuknit.illusion_problem.row_passes`): per unit row
+of ``S`` *segments* (each yarn used, plus an *extra carrier* for a region more than
+``weights.float_gap`` units after its yarn's previous region in the row, beyond a float's reach),
+``2 S`` passes, and ``S + 1`` more for a row with a bump (its transfer passes in and out, and
+one float-avoidance transfer pass per segment beyond the first) -- see :func:`_add_pass_terms`.
 
 Models (a) and (b) without colour-change or pass terms couple only neighbouring units of one wale, so
 :mod:`illuknit.solvers.dp` solves them exactly per wale; model (c) ties each row to one yarn, and
@@ -179,43 +181,66 @@ def build_model(problem: IllusionProblem) -> Model:
 def _add_pass_terms(
     model: Model, problem: IllusionProblem, x: NDArray[np.int64], r: NDArray[np.int64]
 ) -> None:
-    """The machine-pass terms of model (b) (see :class:`KnitWeights`), two passes per unit row:
+    """The machine-pass terms of model (b): :func:`~illuknit.illusion_problem.row_passes` passes
+    per unit row, ``p = weights.machine_pass`` each:
 
-    * ``("yarn used", i, k)``: ``yarn[i,j,k] -> used[i,k]``, soft ``~used`` -- a carrier pass;
-    * ``("bump row", i)``: ``raised[i,j] -> bump_row[i]``, soft ``~bump_row`` -- a transfer pass;
+    * ``("yarn used", i, k)``: ``yarn[i,j,k] -> used[i,k]``, soft ``~used`` (2p) -- a carrier
+      knits the row's two courses;
     * ``("yarn so far", i, j, k)``: some unit at columns <= j of row i is in yarn k
       (``yarn -> so_far``, ``so_far[j-1] -> so_far[j]``), and ``("extra carrier", i, j, k)``:
-      ``yarn[i,j,k] & ~yarn[i,j-1..j-g,k] & so_far[i,j-g-1,k] -> extra[i,j,k]``, soft ``~extra``
-      -- a region more than ``g = float_gap`` units after the yarn's previous one in the row.
+      ``yarn[i,j,k] & ~yarn[i,j-1..j-g-1,k] & so_far[i,j-g-2,k] -> extra[i,j,k]``, soft
+      ``~extra`` (2p) -- a region more than ``g = float_gap`` units after the yarn's previous
+      one (the scheduler's carriers float across ``2 g`` stitches, ``g`` units, at most);
+    * ``("bump row", i)``: ``raised[i,j] -> bump_row[i]``, soft ``~bump_row`` (p) -- the bed
+      changes around a purl course, and ``("bump segment", i, k)`` / ``("bump extra", i, j, k)``:
+      ``bump_row[i] & used[i,k]`` / ``bump_row[i] & extra[i,j,k]`` imply them, soft (p each) --
+      a float-avoidance transfer pass per segment of a bump row (the ``+ 1`` of ``S + 1`` is the
+      bump row's own ``p`` taking the place of one of them).
     """
     n, m, k = x.shape
-    w = 2 * problem.pass_weight
+    p = problem.pass_weight
     used = model.pool.block("yarn used", (n, k))
     model.add_hard_block(
         np.stack([-x, np.broadcast_to(used[:, None, :], x.shape)], axis=-1).reshape(-1, 2),
         family="yarn used in a row",
     )
-    model.add_soft_block(-used.reshape(-1, 1), w)
+    model.add_soft_block(-used.reshape(-1, 1), 2 * p)
     bump_row = model.pool.block("bump row", (n,))
     model.add_hard_block(
         np.stack([-r, np.broadcast_to(bump_row[:, None], r.shape)], axis=-1).reshape(-1, 2),
         family="bump in a row",
     )
-    model.add_soft_block(-bump_row.reshape(-1, 1), w)
+    model.add_soft_block(-bump_row.reshape(-1, 1), p)
+    bump_used = model.pool.block("bump segment", (n, k))
+    model.add_hard_block(
+        np.stack(
+            [-np.broadcast_to(bump_row[:, None], used.shape), -used, bump_used], axis=-1
+        ).reshape(-1, 3),
+        family="segment of a bump row",
+    )
+    model.add_soft_block(-bump_used.reshape(-1, 1), p)
     g = problem.weights.float_gap
-    if m <= g + 1:
+    if m <= g + 2:
         return
     so_far = model.pool.block("yarn so far", (n, m, k))
     model.add_hard_block(np.stack([-x, so_far], axis=-1).reshape(-1, 2), family="yarn so far")
     model.add_hard_block(
         np.stack([-so_far[:, :-1], so_far[:, 1:]], axis=-1).reshape(-1, 2), family="yarn so far"
     )
-    extra = model.pool.block("extra carrier", (n, m - g - 1, k))
-    cols = np.arange(g + 1, m)
-    lits = [-x[:, cols]] + [x[:, cols - d] for d in range(1, g + 1)]
-    lits += [-so_far[:, cols - g - 1], extra]
-    model.add_hard_block(np.stack(lits, axis=-1).reshape(-1, g + 3), family="extra carrier")
-    model.add_soft_block(-extra.reshape(-1, 1), w)
+    extra = model.pool.block("extra carrier", (n, m - g - 2, k))
+    cols = np.arange(g + 2, m)
+    lits = [-x[:, cols]] + [x[:, cols - d] for d in range(1, g + 2)]
+    lits += [-so_far[:, cols - g - 2], extra]
+    model.add_hard_block(np.stack(lits, axis=-1).reshape(-1, g + 4), family="extra carrier")
+    model.add_soft_block(-extra.reshape(-1, 1), 2 * p)
+    bump_extra = model.pool.block("bump extra", extra.shape)
+    model.add_hard_block(
+        np.stack(
+            [-np.broadcast_to(bump_row[:, None, None], extra.shape), -extra, bump_extra], axis=-1
+        ).reshape(-1, 3),
+        family="segment of a bump row",
+    )
+    model.add_soft_block(-bump_extra.reshape(-1, 1), p)
 
 
 def solve_illusion(

@@ -25,6 +25,7 @@ __all__ = [
     "parse_weights",
     "pass_events",
     "raised_cost",
+    "row_passes",
 ]
 
 ModelKind = Literal["logical", "knit-aware", "single"]
@@ -34,6 +35,11 @@ MODEL_KINDS: tuple[str, ...] = ("logical", "knit-aware", "single")
 @dataclass(frozen=True)
 class KnitWeights:
     """Objective weights (positive integers, 0 switches a term off).
+
+    By default model (b) weighs view cells against machine passes only: colour changes and
+    bumps cost the machine nothing in themselves (a carrier floats across the other colours'
+    stitches, one transfer pass moves every loop of a course), and weighing them anyway made
+    the model trade real passes for fewer of them (docs/solvers.md, "Machine passes").
 
     Parameters
     ----------
@@ -46,20 +52,24 @@ class KnitWeights:
     max_color_changes : int or None
         Hard cap on yarn changes per course (per unit row), or None for no cap (model (b)).
     machine_pass : int
-        Per machine carriage pass the pattern forces (model (b)): a unit row is two courses,
-        and each course needs one pass per carrier that knits in it plus a transfer pass when
-        loops change bed. So, per unit row, two passes for every yarn the row uses, two for a
-        row with a bump (knit then purl), and two for every *extra carrier*: a region of a yarn
-        separated from the yarn's previous region in the row by more than ``float_gap`` units
-        cannot be reached by a float, so it needs a carrier of its own, parked inside the work.
+        Per machine carriage pass the pattern forces (model (b)), as the mixed-colourwork
+        scheduler knits it (:func:`row_passes`). A unit row is two courses, and each course needs
+        one pass per carrier that knits in it: two passes per *segment* of the row, a yarn's
+        regions a float can join (one per yarn used, plus an *extra carrier* for a region more
+        than ``float_gap`` units after the yarn's previous region in the row). A row with a bump
+        needs loops moved between the beds (one transfer pass into the purl course, one back),
+        and in its purl course every carrier but one floats across another carrier's purls,
+        whose loops must be moved out of its way first (float avoidance): one transfer pass
+        more per segment beyond the first. So a row costs ``2 S`` passes flat and ``3 S + 1``
+        with a bump.
     float_gap : int
         Longest gap (units) a yarn floats across between its regions of one row: the machine's
         float limit in needles over the two needles of a unit (20 / 2 on the default bed).
     """
 
     view: int = 4
-    color_change: int = 1
-    transfer: int = 1
+    color_change: int = 0
+    transfer: int = 0
     max_color_changes: int | None = None
     machine_pass: int = 6
     float_gap: int = 10
@@ -293,16 +303,40 @@ def pass_events(
     g = int(float_gap)
     for k in range(n_yarns):
         x = c == k
-        if m <= g + 1:
+        if m <= g + 2:
             continue
-        # a start at j: x[j], none of x[j-g..j-1], and some x before j-g
+        # a start at j: x[j], none of x[j-g-1..j-1] (a gap of more than g units), and some x
+        # before that
         seen = np.cumsum(x, axis=1) > 0  # prefix "some x at <= j"
         window = np.zeros((n, m), dtype=bool)
-        for d in range(1, g + 1):
+        for d in range(1, g + 2):
             window[:, d:] |= x[:, :-d]
         start = x & ~window
-        start[:, : g + 1] = False
-        start[:, g + 1 :] &= seen[:, : m - g - 1]
+        start[:, : g + 2] = False
+        start[:, g + 2 :] &= seen[:, : m - g - 2]
         extra += start.sum(axis=1)
     bump_rows: NDArray[np.bool_] = np.asarray(r.any(axis=1), dtype=bool)
     return used.sum(axis=1).astype(np.int64), bump_rows, extra
+
+
+def row_passes(
+    yarn: NDArray[np.integer], raised: NDArray[np.bool_], n_yarns: int, float_gap: int
+) -> NDArray[np.int64]:
+    """Machine passes each unit row forces, as model (b) counts them (see :class:`KnitWeights`).
+
+    With ``S`` the row's segments (yarns used plus extra carriers, :func:`pass_events`): ``2 S``
+    for a flat row, ``2 S + 1 + S`` for a row with a bump (the bed changes in and out of its
+    purl course, and one float-avoidance transfer pass per segment beyond the first).
+
+    Returns
+    -------
+    ndarray of shape (N,), int64
+
+    Examples
+    --------
+    >>> row_passes(np.array([[0, 1], [0, 0]]), np.array([[True, False], [False, False]]), 2, 10)
+    array([7, 2])
+    """
+    used, bump_rows, extra = pass_events(yarn, raised, n_yarns, float_gap)
+    segments = used + extra
+    return 2 * segments + bump_rows.astype(np.int64) * (segments + 1)

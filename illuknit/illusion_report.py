@@ -11,7 +11,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from illuknit.errors import SolverError, YarnSpecError
-from illuknit.illusion_problem import IllusionProblem, pass_events
+from illuknit.illusion_problem import IllusionProblem, pass_events, row_passes
 from illuknit.pattern import LogicalPattern, Yarn
 from illuknit.solvers.base import Solution
 from illuknit.views import can_see, logical_error
@@ -85,7 +85,7 @@ def knit_purl_changes(raised: ArrayLike) -> int:
 
 
 def _pass_report(pattern: LogicalPattern, problem: IllusionProblem) -> dict[str, Any]:
-    """What the knit-aware model's pass terms count for ``pattern`` (two passes each)."""
+    """What the knit-aware model's pass terms count for ``pattern`` (:func:`row_passes`)."""
     used, bump_rows, extra = pass_events(
         pattern.yarn, pattern.raised, problem.n_yarns, problem.weights.float_gap
     )
@@ -93,7 +93,11 @@ def _pass_report(pattern: LogicalPattern, problem: IllusionProblem) -> dict[str,
         "yarns_per_course": {"mean": float(used.mean()), "total": int(used.sum())},
         "bump_rows": int(bump_rows.sum()),
         "extra_carriers": int(extra.sum()),
-        "passes": 2 * int(used.sum() + bump_rows.sum() + extra.sum()),
+        "passes": int(
+            row_passes(
+                pattern.yarn, pattern.raised, problem.n_yarns, problem.weights.float_gap
+            ).sum()
+        ),
     }
 
 

@@ -16,9 +16,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from illuknit.illusion_problem import IllusionProblem, pass_events, raised_cost
+from illuknit.illusion_problem import IllusionProblem, pass_events, raised_cost, row_passes
 
-__all__ = ["descend", "pattern_cost", "update_rows", "update_wales"]
+__all__ = ["descend", "pattern_cost", "update_rows", "update_units", "update_wales"]
 
 _INF = np.int64(1) << np.int64(40)
 
@@ -61,8 +61,8 @@ def pattern_cost(
     cost += int(bump[r].sum()) + int(pin[ii, jj, c].sum())
     cost += problem.color_weight * int((c[:, 1:] != c[:, :-1]).sum())
     if problem.pass_weight:
-        used, bump_rows, extra = pass_events(c, r, problem.n_yarns, problem.weights.float_gap)
-        cost += 2 * problem.pass_weight * int(used.sum() + bump_rows.sum() + extra.sum())
+        passes = row_passes(c, r, problem.n_yarns, problem.weights.float_gap)
+        cost += problem.pass_weight * int(passes.sum())
     return int(cost)
 
 
@@ -161,44 +161,44 @@ def update_wales(
 def _row_terms_outside(
     problem: IllusionProblem, yarn: NDArray[np.int64], raised: NDArray[np.bool_], cols: Any
 ) -> NDArray[np.int64]:
-    """Unary costs (L, N, S) of the yarn-used and bump-row pass terms for the wales ``cols``,
-    judged against the rest of each row (the other updated wales left out). Not exact when
+    """Unary costs (L, N, S) of the pass terms for the wales ``cols`` (a yarn new to the row, a
+    first bump and the segments it turns into bump-row segments), judged against the rest of
+    each row (the other updated wales left out). Not exact when
     several updated wales are a row's only users of a yarn; :func:`descend` keeps an update
     only if the whole objective does not increase. Extra carriers are left to that check."""
     n, m = problem.shape
     k = problem.n_yarns
     cs, rs = _state_parts(k)
-    w = 2 * problem.pass_weight
+    p = problem.pass_weight
     rest = np.ones(m, dtype=bool)
     rest[cols] = False
     c = np.asarray(yarn)[:, rest]
     used = np.stack([(c == y).any(axis=1) for y in range(k)], axis=1)  # (N, K)
     bumped: NDArray[np.bool_] = np.asarray(np.asarray(raised)[:, rest].any(axis=1), dtype=bool)
-    u = w * (~used[:, cs]).astype(np.int64) + w * (rs[None, :] & ~bumped[:, None])  # (N, S)
+    _, _, extra = pass_events(yarn, raised, k, problem.weights.float_gap)
+    segments = used.sum(axis=1) + extra  # (N,), the rest's segments (extras of the whole row)
+    new_yarn = ~used[:, cs]  # (N, S)
+    new_bump = rs[None, :] & ~bumped[:, None]
+    u = (2 * p) * new_yarn + p * (new_yarn & (bumped[:, None] | rs[None, :]))
+    u = u + p * new_bump * (1 + segments[:, None])
     return np.broadcast_to(u[None], (len(cols), n, 2 * k))
 
 
-def update_rows(
+def _row_unary(
     problem: IllusionProblem,
-    yarn: NDArray[np.int64],
-    raised: NDArray[np.bool_],
+    c_all: NDArray[np.int64],
+    r_all: NDArray[np.bool_],
     rows: NDArray[np.int64],
-) -> tuple[NDArray[np.int64], NDArray[np.bool_]]:
-    """Re-optimise the unit rows ``rows`` exactly, all other rows fixed.
-
-    ``rows`` must hold no two neighbouring rows. Returns new (yarn, raised); the objective never
-    increases.
-    """
+) -> NDArray[np.int64]:
+    """Unary costs (L, M, S) of every unit of ``rows`` in each state, the other rows fixed: the
+    view cells that see the unit, its bump's bed changes and its pin."""
     n = problem.shape[0]
     k = problem.n_yarns
     cs, rs = _state_parts(k)
     wv = problem.view_weight
-    wc = problem.color_weight
     a = problem.target_a.astype(np.int64)
     b = problem.target_b.astype(np.int64)
     bump, pin = _unit_costs(problem)
-    c_all = np.asarray(yarn, dtype=np.int64)
-    r_all = np.asarray(raised, dtype=bool)
     u = bump[rows][:, :, None] * rs[None, None, :] + pin[rows][:, :, cs]  # (L, M, S)
     c = cs[None, None, :]
     r = rs[None, None, :]
@@ -225,6 +225,26 @@ def update_rows(
     # view B at the row above sees this unit if raised, else the row above's own colour
     mis += hu & np.where(r, c != bu, cu != bu)
     u = u + wv * mis
+    return u
+
+
+def update_rows(
+    problem: IllusionProblem,
+    yarn: NDArray[np.int64],
+    raised: NDArray[np.bool_],
+    rows: NDArray[np.int64],
+) -> tuple[NDArray[np.int64], NDArray[np.bool_]]:
+    """Re-optimise the unit rows ``rows`` exactly, all other rows fixed.
+
+    ``rows`` must hold no two neighbouring rows. Returns new (yarn, raised); the objective never
+    increases.
+    """
+    k = problem.n_yarns
+    cs, _ = _state_parts(k)
+    wc = problem.color_weight
+    c_all = np.asarray(yarn, dtype=np.int64)
+    r_all = np.asarray(raised, dtype=bool)
+    u = _row_unary(problem, c_all, r_all, rows)
     pair = (wc * (cs[:, None] != cs[None, :])).astype(np.int64)[None]  # (1, S', S)
     st = _best_row_states(problem, u, pair) if problem.pass_weight else _chain_argmin(u, pair)
     y = c_all.copy()
@@ -242,7 +262,7 @@ def _best_row_states(
     per row. (Extra carriers are left to :func:`descend`'s check.)"""
     k = problem.n_yarns
     cs, rs = _state_parts(k)
-    w = 2 * problem.pass_weight
+    p = problem.pass_weight
     best_cost: NDArray[np.int64] | None = None
     best: NDArray[np.int64] | None = None
     for mask in range(1, 2**k):
@@ -253,7 +273,8 @@ def _best_row_states(
             st = _chain_argmin(uu, pair)
             cost = np.take_along_axis(uu, st[:, :, None], axis=2)[:, :, 0].sum(axis=1)
             cost = cost + pair[0][st[:, :-1], st[:, 1:]].sum(axis=1)
-            cost = cost + w * (int(allowed.sum()) + int(bumps))
+            used = int(allowed.sum())
+            cost = cost + p * (2 * used + int(bumps) * (used + 1))
             if best_cost is None or best is None:
                 best_cost, best = cost, st
             else:
@@ -262,6 +283,101 @@ def _best_row_states(
                 best[better] = st[better]
     assert best is not None
     return best
+
+
+def _neighbours(c: NDArray[np.int64], y: int) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
+    """Per unit of the rows ``c`` (L, M): column of the previous and of the next unit in yarn
+    ``y`` (-1 and M where there is none), the unit itself left out."""
+    m = c.shape[1]
+    cols = np.arange(m)
+    prev = np.maximum.accumulate(np.where(c == y, cols, -1), axis=1)
+    nxt = np.minimum.accumulate(np.where(c == y, cols, m)[:, ::-1], axis=1)[:, ::-1]
+    before = np.full_like(prev, -1)
+    before[:, 1:] = prev[:, :-1]
+    after = np.full_like(nxt, m)
+    after[:, :-1] = nxt[:, 1:]
+    return before, after
+
+
+def _segments_added(
+    p: NDArray[np.int64], q: NDArray[np.int64], m: int, g: int
+) -> NDArray[np.int64]:
+    """Carrier segments a yarn gains when column j joins it, with ``p``/``q`` its previous and
+    next column in the yarn (-1 / m: none): the gaps on either side of j replace the gap p..q.
+    """
+    j = np.arange(m)
+    has_p, has_q = p >= 0, q < m
+    left = (j - p - 1 > g) & has_p
+    right = (q - j - 1 > g) & has_q
+    joined = (q - p - 1 > g) & has_p & has_q
+    lone = ~has_p & ~has_q
+    return np.where(lone, 1, left.astype(np.int64) + right - joined)
+
+
+def update_units(
+    problem: IllusionProblem,
+    yarn: NDArray[np.int64],
+    raised: NDArray[np.bool_],
+    rows: NDArray[np.int64],
+) -> tuple[NDArray[np.int64], NDArray[np.bool_]]:
+    """In each of ``rows``, the single unit change (any column, any state) that lowers the
+    objective most, exactly -- extra carriers included, which the row and wale blocks leave
+    to :func:`descend`'s check -- applied when it lowers it at all.
+
+    ``rows`` must hold no two neighbouring rows (a row's units share view cells only with the
+    rows next to it). Returns new (yarn, raised); the objective never increases.
+    """
+    m = problem.shape[1]
+    k = problem.n_yarns
+    cs, rs = _state_parts(k)
+    c_all = np.asarray(yarn, dtype=np.int64)
+    r_all = np.asarray(raised, dtype=bool)
+    if len(rows) == 0:
+        return c_all.copy(), r_all.copy()
+    c, r = c_all[rows], r_all[rows]  # (L, M)
+    u = _row_unary(problem, c_all, r_all, rows)  # (L, M, S)
+    now = c * 2 + r
+    delta = u - np.take_along_axis(u, now[:, :, None], axis=2)
+    wc = problem.color_weight
+    if wc and m > 1:
+        for side in (-1, 1):
+            nb = np.full_like(c, -1)
+            if side < 0:
+                nb[:, 1:] = c[:, :-1]
+            else:
+                nb[:, :-1] = c[:, 1:]
+            ok = (nb >= 0)[:, :, None]
+            delta += (
+                wc
+                * ok
+                * ((cs[None, None, :] != nb[:, :, None]).astype(np.int64) - (c != nb)[:, :, None])
+            )
+    p = problem.pass_weight
+    if p:
+        g = problem.weights.float_gap
+        gained = np.zeros((len(rows), m, k), dtype=np.int64)
+        for y in range(k):
+            gained[:, :, y] = _segments_added(*_neighbours(c, y), m, g)
+        _, _, extra = pass_events(c, r, k, g)
+        seg = np.stack([(c == y).any(axis=1) for y in range(k)], axis=1).sum(axis=1) + extra
+        own = np.take_along_axis(gained, c[:, :, None], axis=2)  # the unit's yarn loses it
+        seg_new = seg[:, None, None] + np.where(
+            cs[None, None, :] == c[:, :, None], 0, gained[:, :, cs] - own
+        )  # (L, M, S)
+        others = (r.sum(axis=1)[:, None] - r) > 0  # (L, M): a bump elsewhere in the row
+        bump_new = others[:, :, None] | rs[None, None, :]
+        bump_old = np.asarray(r.any(axis=1), dtype=bool)[:, None, None]
+        passes_new = 2 * seg_new + bump_new * (seg_new + 1)
+        passes_old = 2 * seg[:, None, None] + bump_old * (seg[:, None, None] + 1)
+        delta += p * (passes_new - passes_old)
+    flat = delta.reshape(len(rows), -1)
+    best = flat.argmin(axis=1)
+    go = flat[np.arange(len(rows)), best] < 0
+    y2, r2 = c_all.copy(), r_all.copy()
+    j, st = best // (2 * k), best % (2 * k)
+    y2[rows[go], j[go]] = cs[st[go]]
+    r2[rows[go], j[go]] = rs[st[go]]
+    return y2, r2
 
 
 def descend(
@@ -274,7 +390,8 @@ def descend(
 ) -> tuple[NDArray[np.int64], NDArray[np.bool_], int, int]:
     """Block coordinate descent from (yarn, raised) to a local optimum.
 
-    One sweep updates even wales, odd wales, even rows, odd rows (each exactly). Stops when a
+    One sweep updates even wales, odd wales, even rows, odd rows (each exactly), then makes the
+    best single-unit change of each even and each odd row (:func:`update_units`). Stops when a
     sweep improves nothing, after ``max_sweeps``, or at ``deadline`` (``time.perf_counter()``).
 
     Returns
@@ -293,6 +410,8 @@ def descend(
         ("wales", np.arange(1, m, 2)),
         ("rows", np.arange(0, n, 2)),
         ("rows", np.arange(1, n, 2)),
+        ("units", np.arange(0, n, 2)),
+        ("units", np.arange(1, n, 2)),
     ]
     sweeps = 0
     for sweeps in range(1, max_sweeps + 1):  # noqa: B007 - the count is returned
@@ -300,7 +419,7 @@ def descend(
         for kind, idx in blocks:
             if idx.size == 0:
                 continue
-            fn = update_wales if kind == "wales" else update_rows
+            fn = {"wales": update_wales, "rows": update_rows, "units": update_units}[kind]
             y2, r2 = fn(problem, y, r, idx)
             c2 = pattern_cost(problem, y2, r2)
             if c2 <= cost:  # always true for an exact block update; kept as a guard

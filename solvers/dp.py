@@ -203,17 +203,21 @@ def values_from_pattern(
         k = x.shape[2]
         onehot = yarn[:, :, None] == np.arange(k)[None, None, :]
         vals[model.pool.block_ids("yarn used")] = onehot.any(axis=1)
-        vals[model.pool.block_ids("bump row")] = np.asarray(raised, dtype=bool).any(axis=1)
+        bump_row: NDArray[np.bool_] = np.asarray(np.asarray(raised, dtype=bool).any(axis=1))
+        vals[model.pool.block_ids("bump row")] = bump_row
+        vals[model.pool.block_ids("bump segment")] = onehot.any(axis=1) & bump_row[:, None]
         if "yarn so far" in model.pool.blocks:
             so_far = np.cumsum(onehot, axis=1) > 0
             vals[model.pool.block_ids("yarn so far")] = so_far
             ex = model.pool.block_ids("extra carrier")
-            g = m - ex.shape[1] - 1
+            g = m - ex.shape[1] - 2
             window = np.zeros_like(onehot)
-            for d in range(1, g + 1):
+            for d in range(1, g + 2):
                 window[:, d:] |= onehot[:, :-d]
             start = onehot & ~window
-            vals[ex] = start[:, g + 1 :] & so_far[:, : m - g - 1]
+            extra = start[:, g + 2 :] & so_far[:, : m - g - 2]
+            vals[ex] = extra
+            vals[model.pool.block_ids("bump extra")] = extra & bump_row[:, None, None]
     return vals
 
 
@@ -231,8 +235,8 @@ class DPBackend(BackendBase):
         if p.per_wale or p.rows_tied:
             return None
         return (
-            "colour-change terms couple the wales; use --solver cpsat or rc2 for the knit-aware "
-            "model (or set color_change=0 and no cap)"
+            "machine-pass and colour-change terms couple the wales; use --solver descent, cpsat "
+            "or rc2 for the knit-aware model (or set machine_pass=0, color_change=0 and no cap)"
         )
 
     def solve(

@@ -281,7 +281,7 @@ def test_unknown_model_and_weights_names_list_the_valid_ones():
         solve_illusion(np.zeros((2, 2), int), model="fancy")
     with pytest.raises(UnknownNameError, match="view=N"):
         parse_weights("speed=3")
-    assert parse_weights("view=5,colour=2,cap=3") == KnitWeights(5, 2, 1, 3)
+    assert parse_weights("view=5,colour=2,cap=3") == KnitWeights(5, 2, 0, 3)
     with pytest.raises(OptionError, match="integer"):
         parse_weights("view=abc")
     with pytest.raises(OptionError, match="view"):
@@ -329,3 +329,86 @@ def test_extra_carriers_count_regions_beyond_the_float_gap():
     used, bumps, extra = pass_events(yarn, np.zeros_like(yarn, bool), 2, 2)
     # yarn 0 jumps 3 units (1..3) -> a new carrier at column 4; yarn 1's gaps are 1 and 0
     assert used.tolist() == [2] and bumps.tolist() == [False] and extra.tolist() == [1]
+
+
+def _scheduler_row_passes(yarn: np.ndarray, raised: np.ndarray, gap: int) -> np.ndarray:
+    """Passes per unit row counted on the scheduler's own carrier plan: the carrier segments
+    :func:`~illuknit.knit.color_runs.plan_color_runs` gives each of the row's two courses (float
+    limit ``2 gap`` stitches = ``gap`` units), plus ``S + 1`` transfer passes for a row with a
+    bump (docs/solvers.md, "Machine passes")."""
+    from illuknit.knit.color_runs import plan_color_runs
+    from illuknit.knit.stitches import lower_to_stitches
+
+    pat = LogicalPattern(yarn, raised, tuple(Yarn(f"y{i}", (i, i, i)) for i in range(3)))
+    st_yarn = lower_to_stitches(pat, cast_on_courses=0).yarn
+    plan = plan_color_runs(st_yarn, carriers=[str(c) for c in range(40)], float_limit=2 * gap)
+    n = yarn.shape[0]
+    out = np.zeros(n, dtype=np.int64)
+    for c, cp in enumerate(plan.courses):
+        out[n - 1 - c // 2] += len(cp.segments)
+    segments = out // 2
+    return out + raised.any(axis=1) * (segments + 1)
+
+
+@settings(max_examples=25, deadline=None)
+@given(
+    n=st.integers(1, 3),
+    m=st.integers(1, 9),
+    k=st.integers(2, 3),
+    gap=st.integers(1, 3),
+    seed=st.integers(0, 2**16),
+)
+def test_pass_term_equals_a_count_on_the_scheduler_plan(n, m, k, gap, seed):
+    """With a pattern pinned, the knit-aware model's optimum (CP-SAT over its auxiliary pass
+    variables) is its view, colour and transfer cost plus ``machine_pass`` times the passes
+    counted on the scheduler's carrier plan of the decoded pattern."""
+    from illuknit.illusion_problem import row_passes
+    from illuknit.solvers.descent import pattern_cost
+
+    rng = np.random.default_rng(seed)
+    yarn = rng.integers(0, k, (n, m))
+    raised = rng.random((n, m)) < 0.3
+    w = KnitWeights(view=2, color_change=1, transfer=1, machine_pass=3, float_gap=gap)
+    problem = make_problem(
+        rng.integers(0, k, (n, m)),
+        rng.integers(0, k, (n, m)),
+        n_yarns=k,
+        kind="knit-aware",
+        weights=w,
+    )
+    model = build_model(problem)
+    x = model.pool.block_ids("yarn")
+    r = model.pool.block_ids("raised")
+    for (i, j), v in np.ndenumerate(yarn):
+        model.add_hard([int(x[i, j, v])], family="test pin")
+        model.add_hard([int(r[i, j]) if raised[i, j] else -int(r[i, j])], family="test pin")
+    sol = solve(model, solver="cpsat", time_limit=30)
+    assert sol.status.value == "optimal"
+    assert np.array_equal(sol.block("yarn").argmax(axis=-1), yarn)
+    direct = _scheduler_row_passes(yarn, raised, gap)
+    assert np.array_equal(row_passes(yarn, raised, k, gap), direct)
+    no_pass = make_problem(
+        problem.target_a,
+        problem.target_b,
+        n_yarns=k,
+        kind="knit-aware",
+        weights=KnitWeights(view=2, color_change=1, transfer=1, machine_pass=0, float_gap=gap),
+    )
+    expected = pattern_cost(no_pass, yarn, raised) + 3 * int(direct.sum())
+    assert sol.objective == expected == pattern_cost(problem, yarn, raised)
+
+
+def test_knit_aware_pattern_knits_in_fewer_machine_passes_than_the_maxsat_optimum():
+    """On a small two-picture instance, counted on the SWG machine's passes for the emitted
+    knitout (:func:`illuknit.formats.machine_passes`)."""
+    from illuknit.bench.instances import instance_targets, load_manifest
+    from illuknit.formats import machine_passes
+    from illuknit.knit import knit_pattern
+
+    inst = next(i for i in load_manifest().instances if i.name == "heart-ecg")
+    t = instance_targets(inst)
+    passes = {}
+    for model, solver in (("logical", "dp"), ("knit-aware", "descent")):
+        res = solve_illusion(t.a, t.b, model=model, solver=solver, yarns=inst.yarns, time_limit=30)
+        passes[model] = len(machine_passes(knit_pattern(res.pattern).text))
+    assert passes["knit-aware"] < passes["logical"], passes

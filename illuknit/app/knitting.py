@@ -12,16 +12,21 @@ it takes and returns plain data.
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from illuknit.app.controls import blame
 from illuknit.errors import AppRequestError
 from illuknit.knit.machine import MACHINES, get_machine
 
+if TYPE_CHECKING:
+    from illuknit.errors import LongFloatError
+
 __all__ = [
     "CheckedKnitout",
     "knit_and_check",
+    "long_float_message",
     "machine_file",
     "machines_json",
 ]
@@ -60,14 +65,33 @@ def machines_json() -> list[dict[str, Any]]:
     ]
 
 
-def knit_and_check(doc: dict[str, Any], machine: str) -> dict[str, Any]:
-    """Compile a pattern (as JSON) to knitout on ``machine`` and check it (in a worker process)."""
+def knit_and_check(
+    doc: dict[str, Any], machine: str, allow_long_floats: bool = False
+) -> dict[str, Any]:
+    """Compile a pattern (as JSON) to knitout on ``machine`` and check it (in a worker process).
+
+    A float that stays longer than the machine's float limit is refused with a message for the
+    designer (:func:`long_float_message`, an :class:`~illuknit.errors.AppRequestError` aimed at
+    the knit controls) unless ``allow_long_floats``; kept long floats are in ``stats``
+    (``long_floats``, ``longest_float``, ``longest_float_at``), which the page shows.
+    """
     from illuknit.check import check_knitout
+    from illuknit.errors import LongFloatError
     from illuknit.knit import knit_pattern
+    from illuknit.knit.pipeline import LongFloatWarning
     from illuknit.pattern import pattern_from_json
 
     spec = get_machine(machine)
-    result = knit_pattern(pattern_from_json(doc), machine=spec)
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", LongFloatWarning)  # the page shows the stats
+            result = knit_pattern(
+                pattern_from_json(doc), machine=spec, allow_long_floats=bool(allow_long_floats)
+            )
+    except LongFloatError as e:
+        raise AppRequestError(
+            long_float_message(e, spec.name), field="knit", code="long_floats", status=409
+        ) from None
     report = check_knitout(result.text)
     sched = result.schedule
     carriers: list[dict[str, Any]] = [
@@ -90,6 +114,23 @@ def knit_and_check(doc: dict[str, Any], machine: str) -> dict[str, Any]:
         "carriers": carriers,
         "needle_range": (sched.left, sched.left + sched.wales - 1),
     }
+
+
+def long_float_message(e: LongFloatError, machine: str) -> str:
+    """What the designer reads when a pattern is refused for a float over the float limit."""
+    where = (
+        "the bind-off (the last row ends far from where the bind-off starts)"
+        if e.course is None
+        else e.where.replace("course", "knitting course", 1)
+    )
+    return (
+        f"This pattern cannot be knit on the {machine} with short floats: at {where} a yarn "
+        f"would float {e.length} needles behind the fabric (the machine's limit is {e.limit}), "
+        "because that row has more colour regions than the machine has carriers to keep them "
+        "apart. Simplify that row (fewer, larger colour regions, e.g. a smoother picture or "
+        "fewer colours), choose a machine with more carriers, or tick 'allow long floats' "
+        "to make the knitout anyway."
+    )
 
 
 def machine_file(knit: CheckedKnitout, fmt: str, *, name: str) -> bytes:

@@ -121,6 +121,13 @@ class JobIn(BaseModel):
         description="candidates, knitout of the picked one, measures of every candidate, or "
         "suggested edits of the pictures (double view)",
     )
+    allow_long_floats: bool = Field(
+        default=False,
+        title="Allow long floats",
+        description="knit job: make the knitout even where a yarn floats further than the "
+        "machine's float limit (the summary says how long and where); by default such a "
+        "pattern is refused with what to change",
+    )
 
 
 class SelectionIn(BaseModel):

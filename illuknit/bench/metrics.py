@@ -41,6 +41,7 @@ from __future__ import annotations
 import os
 import resource
 import threading
+import warnings
 from typing import Any
 
 import numpy as np
@@ -313,6 +314,13 @@ def knit_stats(pattern: LogicalPattern, *, machine: str | None = None) -> dict[s
     passes the SWG machine runs for the program (the pass rows of the reference backend's
     ``.dat``: carrier moves, kickbacks and hook passes included) and the time on them.
 
+    Long floats are allowed here (``allow_long_floats=True``), unlike in the CLI and the app: the
+    bench compares design methods by the passes and time their patterns take, and a pattern
+    with a float over the machine's limit still has passes worth comparing; refusing it would
+    drop that method's numbers from the table. The floats are not hidden: ``knit_note`` says
+    how many stay long and how long the longest is. Any other scheduling refusal is a note too,
+    with the numbers None.
+
     Returns
     -------
     dict
@@ -323,9 +331,13 @@ def knit_stats(pattern: LogicalPattern, *, machine: str | None = None) -> dict[s
     from illuknit.errors import IlluknitError
     from illuknit.knit import knit_pattern
     from illuknit.knit.machine import get_machine
+    from illuknit.knit.pipeline import LongFloatWarning, long_float_warning
 
     try:
-        result = knit_pattern(pattern, machine=get_machine(machine))
+        with warnings.catch_warnings():
+            # kept long floats are reported in the note below, not as a warning per pattern
+            warnings.simplefilter("ignore", LongFloatWarning)
+            result = knit_pattern(pattern, machine=get_machine(machine), allow_long_floats=True)
     except IlluknitError as e:
         return {
             "carriage_passes": None,
@@ -339,7 +351,7 @@ def knit_stats(pattern: LogicalPattern, *, machine: str | None = None) -> dict[s
         "transfer_passes": int(result.stats.transfer_passes),
         "scheduled_passes": int(result.schedule.stats.passes),
         "knit_time_min": float(result.time.seconds) / 60.0,
-        "knit_note": "",
+        "knit_note": long_float_warning(result),
     }
 
 

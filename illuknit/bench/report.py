@@ -90,6 +90,7 @@ def format_summary(rows: Sequence[dict[str, Any]]) -> str:
             "|---|---|---|---|---|---|---|---|---|---|---|---|",
         ]
         notes: dict[str, list[str]] = {}
+        kept: list[str] = []  # long floats the bench knits anyway (see metrics.knit_stats)
         for r in group:
             status = r["status"]
             if r.get("gap") not in (None, 0, 0.0) and status in ("feasible", "timeout"):
@@ -101,6 +102,8 @@ def format_summary(rows: Sequence[dict[str, Any]]) -> str:
             passes = "–"
             if r.get("carriage_passes") is not None:
                 passes = f"{r['carriage_passes']} ({_fmt(r.get('transfer_passes'))})"
+                if r.get("knit_note"):
+                    kept.append(f"{r['method']}: {r['knit_note']}")
             elif r.get("knit_note"):
                 notes.setdefault(_knit_reason(r["knit_note"]), []).append(r["method"])
             knit = "–" if r.get("knit_time_min") is None else f"{r['knit_time_min']:.1f} min"
@@ -121,6 +124,8 @@ def format_summary(rows: Sequence[dict[str, Any]]) -> str:
             )
         for reason, methods in notes.items():
             lines += ["", f"No knitting numbers for {', '.join(methods)}: {reason}"]
+        for note in kept:
+            lines += ["", f"Knit with long floats (measured anyway) -- {note}"]
         renderers = sorted({str(r.get("renderer")) for r in group if r.get("renderer")})
         if renderers and any(not x.startswith("angled") for x in renderers):
             lines += ["", "Renders: " + ", ".join(renderers)]

@@ -129,8 +129,13 @@ def main(argv: list[str] | None = None) -> int:
 def _show_note(
     message: Warning | str, category: type[Warning], *args: object, **kw: object
 ) -> None:
-    """Warnings meant for the user (e.g. a picture's first frame used) as one ``note:`` line."""
-    click.echo(f"illuknit: note: {_one_line(str(message))}", err=True)
+    """Warnings meant for the user as one line: ``warning:`` for long floats kept on request
+    (:class:`~illuknit.knit.pipeline.LongFloatWarning`), ``note:`` for the rest (e.g. a picture's first
+    frame used)."""
+    from illuknit.knit.pipeline import LongFloatWarning
+
+    kind = "warning" if issubclass(category, LongFloatWarning) else "note"
+    click.echo(f"illuknit: {kind}: {_one_line(str(message))}", err=True)
 
 
 def _one_line(text: str) -> str:

@@ -9,6 +9,7 @@ import click
 from illuknit.cli.knitout_bridge import (
     check_fits,
     format_option,
+    long_floats_option,
     machine_option,
     resolve_machine,
     write_program,
@@ -77,6 +78,7 @@ def calibrate() -> None:
 @knitout_option("Also compile the swatch to DIR/program.k (mixed colourwork) and check it.")
 @machine_option()
 @format_option()
+@long_floats_option()
 @outdir_option()
 def swatch(
     bump_sizes: tuple[int, ...],

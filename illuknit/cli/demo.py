@@ -7,7 +7,7 @@ from pathlib import Path
 
 import click
 
-from illuknit.cli.knitout_bridge import format_option, machine_option
+from illuknit.cli.knitout_bridge import format_option, long_floats_option, machine_option
 from illuknit.cli.options import UNITS, outdir_option
 from illuknit.cli.summary import console, print_written, summarise_pattern
 
@@ -30,6 +30,7 @@ def demo_image() -> Path:
 )
 @machine_option()
 @format_option()
+@long_floats_option()
 def demo(outdir: Path, width: int, knitout: bool, machine: str | None) -> None:
     """Make a single-view illusion of the bundled sample picture (a heart in a grey ring).
 

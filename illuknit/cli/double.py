@@ -18,7 +18,7 @@ from typing import Any
 import click
 import numpy as np
 
-from illuknit.cli.knitout_bridge import format_option, machine_option
+from illuknit.cli.knitout_bridge import format_option, long_floats_option, machine_option
 from illuknit.cli.options import knitout_option, outdir_option
 from illuknit.sizing import DEFAULT_MAX_WIDTH
 from illuknit.tiles.perception import RANK_KEYS
@@ -465,6 +465,7 @@ def design_options(func: Any) -> Any:
         knitout_option("Also compile the default candidate to OUTDIR/program.k and check it."),
         machine_option(),
         format_option(),
+        long_floats_option(),
         outdir_option(),
     ]  # fmt: skip
     for opt in reversed(opts):

@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING, Any
 
 import click
 
-from illuknit.cli.knitout_bridge import machine_option
+from illuknit.cli.knitout_bridge import long_floats_option, machine_option
 from illuknit.cli.options import COUNT, NON_NEGATIVE, POSITIVE
 
 if TYPE_CHECKING:
@@ -36,7 +36,7 @@ def run_knit(
     catch_every: int = 2,
     output_format: str = "knitout",
     tuck_passes: bool = False,
-    allow_long_floats: bool = True,
+    allow_long_floats: bool = False,
 ) -> dict[str, Any]:
     """Compile ``pattern_path`` to knitout (or a machine file: ``output_format="dat"``) at
     ``output``; return the summary (and checker verdict).
@@ -44,7 +44,9 @@ def run_knit(
     ``machine`` is a preset name (or a spec); ``gauge``, ``machine_width`` and the other options
     override its values. A pattern wider than the bed is refused before compiling; nothing is
     written when compilation fails. ``output_format`` is ``knitout`` or a machine file the
-    machine takes (``kc`` for the Kniterate).
+    machine takes (``kc`` for the Kniterate). A float that stays longer than the float limit
+    is refused (:class:`~illuknit.errors.LongFloatError`) unless ``allow_long_floats``, which
+    keeps it with a :class:`~illuknit.knit.pipeline.LongFloatWarning`.
     """
     from dataclasses import replace
 
@@ -161,13 +163,7 @@ def run_knit(
     help="Also fail when a course needs more carriers than the machine has to keep floats "
     "within the limit (default: bridge the shortest gaps with longer floats, then tuck them).",
 )
-@click.option(
-    "--allow-long-floats",
-    is_flag=True,
-    help="Knit a mixed-colourwork piece even where a float stays longer than the float limit "
-    "after tucking, with a warning saying how long and where (default: refuse, naming the "
-    "course and what to change).",
-)
+@long_floats_option(expose_value=True)
 @click.option(
     "--tuck-passes",
     is_flag=True,
@@ -290,12 +286,6 @@ def knit(
         check=not no_check,
         output_format=output_format,
     )
-    if summary.get("long_floats"):
-        click.echo(
-            f"warning: {summary['long_floats']} float(s) longer than the float limit; the "
-            f"longest, {summary['longest_float']} needles: {summary['longest_float_at']}",
-            err=True,
-        )
     if as_json:
         click.echo(json.dumps(summary, indent=1))
     else:

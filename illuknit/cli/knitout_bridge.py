@@ -8,6 +8,11 @@ wide for the bed before any design work (:func:`check_fits`), schedules the prog
 The ``--format`` option (:func:`format_option`) asks for machine files beside ``program.k``
 (``--format dat`` writes ``program.dat``); :func:`resolve_machine` refuses a format the machine
 cannot take, or one asked for without ``--knitout``, before any work is done.
+
+One long-float policy (:func:`long_floats_option`): a float that stays longer than the machine's
+float limit after tucking stops the command with one line naming the course and what to change
+(exit code 2, and the output folder is left as it was); ``--allow-long-floats`` writes the program
+anyway, with one ``illuknit: warning:`` line saying how long the longest float is and where.
 """
 
 from __future__ import annotations
@@ -25,6 +30,8 @@ from illuknit.pattern import LogicalPattern
 __all__ = [
     "check_fits",
     "format_option",
+    "long_floats_allowed",
+    "long_floats_option",
     "machine_option",
     "requested_formats",
     "resolve_machine",
@@ -33,6 +40,14 @@ __all__ = [
 
 #: where the ``--format`` choices of the running command are kept (click context meta)
 _FORMATS_KEY = "illuknit.machine_files"
+#: where the running command's ``--allow-long-floats`` is kept (click context meta)
+_LONG_FLOATS_KEY = "illuknit.allow_long_floats"
+
+LONG_FLOATS_HELP = (
+    "Knit a mixed-colourwork piece even where a float stays longer than the machine's float "
+    "limit after tucking (a course with more colour regions than carriers), with a warning "
+    "saying how long and where (default: refuse, naming the course and what to change)."
+)
 
 
 def machine_option(
@@ -71,6 +86,37 @@ def format_option() -> Callable[[Callable[..., Any]], Callable[..., Any]]:
     )
 
 
+def long_floats_option(
+    *, expose_value: bool = False
+) -> Callable[[Callable[..., Any]], Callable[..., Any]]:
+    """``--allow-long-floats``: keep floats longer than the float limit, with a warning.
+
+    The value is kept on the click context (:func:`long_floats_allowed`), where
+    :func:`write_program` reads it, so a command with ``--knitout`` only adds the decorator;
+    ``expose_value=True`` also passes it to the command as ``allow_long_floats``
+    (``illuknit knit``).
+    """
+
+    def remember(ctx: click.Context, _param: click.Parameter, value: bool) -> bool:
+        ctx.meta[_LONG_FLOATS_KEY] = bool(value)
+        return bool(value)
+
+    return click.option(
+        "--allow-long-floats",
+        "allow_long_floats",
+        is_flag=True,
+        expose_value=expose_value,
+        callback=remember,
+        help=LONG_FLOATS_HELP,
+    )
+
+
+def long_floats_allowed() -> bool:
+    """Whether the running command was given ``--allow-long-floats`` (False outside a command)."""
+    ctx = click.get_current_context(silent=True)
+    return bool(ctx is not None and ctx.meta.get(_LONG_FLOATS_KEY, False))
+
+
 def requested_formats() -> tuple[str, ...]:
     """Machine-file formats the running command was asked for with ``--format`` (else none)."""
     ctx = click.get_current_context(silent=True)
@@ -100,6 +146,8 @@ def resolve_machine(name: str | MachineSpec | None, *, gauge: float | None = Non
         raise OptionError(
             f"--format {formats[0]} writes program.{formats[0]} beside program.k: add --knitout"
         )
+    if long_floats_allowed() and ctx is not None and ctx.params.get("knitout") is False:
+        raise OptionError("--allow-long-floats applies to the knitout program: add --knitout")
     return spec
 
 
@@ -118,6 +166,7 @@ def write_program(
     *,
     machine: MachineSpec | str | None = None,
     formats: tuple[str, ...] | None = None,
+    allow_long_floats: bool | None = None,
 ) -> dict[str, Path]:
     """Compile ``pattern`` for ``machine`` to ``program.k`` and write the checker's report beside it.
 
@@ -128,6 +177,10 @@ def write_program(
     one without a choice to make (``program.kc`` for the Kniterate); returns name -> path. Prints
     a one-line summary of each. The checker judges the program by the same machine the scheduler
     used.
+
+    A float longer than the machine's float limit raises
+    :class:`~illuknit.errors.LongFloatError` before anything is written, unless
+    ``allow_long_floats`` (default: whether the command was given ``--allow-long-floats``).
     """
     import json
 
@@ -142,7 +195,9 @@ def write_program(
     formats = requested_formats() if formats is None else formats
     for fmt in formats:
         check_format(spec, fmt)
-    result = knit_pattern(pattern, machine=spec)
+    if allow_long_floats is None:
+        allow_long_floats = long_floats_allowed()
+    result = knit_pattern(pattern, machine=spec, allow_long_floats=allow_long_floats)
     report = check_knitout(result.program, machine=spec)
     summary = result.summary()
     sheet = machine_sheet(result, name="program.kc")

@@ -7,7 +7,7 @@ from typing import TYPE_CHECKING
 
 import click
 
-from illuknit.cli.knitout_bridge import format_option, machine_option
+from illuknit.cli.knitout_bridge import format_option, long_floats_option, machine_option
 from illuknit.cli.options import image_options, knitout_option, outdir_option, parse_yarn_option
 from illuknit.cli.summary import print_written, summarise_pattern
 
@@ -103,6 +103,7 @@ def run_single(
 @knitout_option()
 @machine_option()
 @format_option()
+@long_floats_option()
 @outdir_option()
 def single(
     image: Path,

@@ -17,7 +17,7 @@ from typing import Any
 import click
 import numpy as np
 
-from illuknit.cli.knitout_bridge import format_option, machine_option
+from illuknit.cli.knitout_bridge import format_option, long_floats_option, machine_option
 from illuknit.cli.options import POSITIVE
 from illuknit.sizing import DEFAULT_MAX_WIDTH
 
@@ -432,6 +432,7 @@ def _list_solvers(ctx: click.Context, _param: click.Parameter, value: bool) -> N
 )
 @machine_option()
 @format_option()
+@long_floats_option()
 @click.option(
     "-o",
     "--outdir",

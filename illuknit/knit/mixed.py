@@ -64,7 +64,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from illuknit.errors import OptionError, PatternValidationError, SchedulingError
+from illuknit.errors import LongFloatError, OptionError, PatternValidationError
 from illuknit.knit.catching import JOIN_METHODS, JoinTuck, PlatedStitch, plan_catches, plan_joins
 from illuknit.knit.color_runs import ColorPlan, plan_color_runs
 from illuknit.knit.course_order import course_items, order_and_plan
@@ -254,16 +254,24 @@ def _color_plan(
 
 def _long_float_error(
     long: Sequence[LongFloat], stitches: StitchPattern, limit: int
-) -> SchedulingError:
+) -> LongFloatError:
     """The error for floats that stay long: how many, the longest, where, what to change."""
     worst = max(long, key=lambda f: f.length)
     where = "the bind-off" if worst.course is None else stitches.course_name(worst.course)
-    return SchedulingError(
+    return LongFloatError(
         f"{len(long)} float(s) stay longer than the float limit of {limit} needles; the "
         f"longest, {worst.length} needles of carrier {worst.carrier} (needles "
         f"{worst.from_needle} to {worst.to_needle}), is at {where}: use fewer colour "
         "regions per row there, a wider float limit, or allow long floats "
-        "(allow_long_floats=True, --allow-long-floats)"
+        "(allow_long_floats=True, --allow-long-floats)",
+        length=worst.length,
+        carrier=worst.carrier,
+        from_needle=worst.from_needle,
+        to_needle=worst.to_needle,
+        course=worst.course,
+        where=where,
+        limit=limit,
+        count=len(long),
     )
 
 
@@ -308,13 +316,15 @@ def schedule_mixed(
     strict_floats : bool
         Raise :class:`~illuknit.errors.CarrierShortageError` when a course needs more carriers
         than the machine has to keep every float within the limit, and
-        :class:`~illuknit.errors.SchedulingError` naming the course when a float stays longer
+        :class:`~illuknit.errors.LongFloatError` naming the course when a float stays longer
         than the limit after tucking; by default such floats are kept and listed in
         ``Schedule.long_floats`` (the checker warns about them).
     allow_long_floats : bool
-        False: raise :class:`~illuknit.errors.SchedulingError` naming the course when a float
-        stays longer than the limit after tucking (``illuknit knit``'s default); True (the
-        library's default): keep it, list it in ``Schedule.long_floats`` (the checker warns).
+        False: raise :class:`~illuknit.errors.LongFloatError` naming the course when a float
+        stays longer than the limit after tucking (the default of
+        :func:`~illuknit.knit.pipeline.knit_pattern` and of every command); True (this
+        stage's default, so that its caller decides): keep it, list it in
+        ``Schedule.long_floats``.
     tail_stitches : int
         Knits on the last needle of the bind-off chain.
     park_carriers : bool

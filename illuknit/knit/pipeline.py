@@ -1,12 +1,19 @@
 """The whole knitting path in one call: pattern -> stitches -> schedule -> knitout (+ stats).
 
 :func:`knit_pattern` is what ``illuknit knit`` and the ``--knitout`` options of the other commands
-call. It does not run the checker (that is :func:`illuknit.check.check_knitout`, slower); callers
+call. One long-float policy for all of them: a float that stays longer than the machine's float
+limit after tucking is refused (:class:`~illuknit.errors.LongFloatError`, naming the course and
+what to change) unless ``allow_long_floats=True``, which keeps it, reports it in the summary
+(``long_floats``, ``longest_float``, ``longest_float_at``) and issues a
+:class:`LongFloatWarning` saying how long and where.
+
+It does not run the checker (that is :func:`illuknit.check.check_knitout`, slower); callers
 that want a verdict pass the returned text to it.
 """
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, replace
 from typing import Any
 
@@ -19,7 +26,14 @@ from illuknit.knit.stitches import StitchPattern, lower_to_stitches
 from illuknit.knit.timing import TimeEstimate, estimate_knit_time
 from illuknit.pattern import LogicalPattern
 
-__all__ = ["KnitResult", "knit_pattern"]
+__all__ = ["KnitResult", "LongFloatWarning", "knit_pattern", "long_float_warning"]
+
+
+class LongFloatWarning(UserWarning):
+    """Floats longer than the machine's float limit were kept because long floats were allowed
+    (``allow_long_floats=True``); the message says how many, how long the longest is and where.
+    The CLI prints it as one ``illuknit: warning:`` line."""
+
 
 #: :class:`~illuknit.knit.schedule.MixedReport` fields that :meth:`KnitResult.summary` reports.
 _SUMMARY_MIXED = ("tuck_joins", "plated_stitches", "carriers", "float_avoidance_transfers")
@@ -103,7 +117,7 @@ def knit_pattern(
     strict_floats: bool = False,
     catch_every: int = 2,
     tuck_passes: bool = False,
-    allow_long_floats: bool = True,
+    allow_long_floats: bool = False,
 ) -> KnitResult:
     """Compile a logical pattern to a knitout program.
 
@@ -121,13 +135,25 @@ def knit_pattern(
         Defaults to the paper's 7-gauge SWG091N2 (:data:`DEFAULT_MACHINE`).
     cast_on_courses : int
         Plain courses between the cast-on and the pattern.
+    allow_long_floats : bool
+        False (the default): refuse a float that stays longer than ``machine.float_limit``
+        after tucking. True: keep it, report it in :meth:`KnitResult.summary` and warn.
 
     Returns
     -------
     KnitResult
 
+    Warns
+    -----
+    LongFloatWarning
+        With ``allow_long_floats=True``, when floats longer than the limit are kept: how many,
+        the longest's length, carrier, needles and course.
+
     Raises
     ------
+    LongFloatError
+        If a float stays longer than the float limit after tucking (a course with more yarn
+        regions than the machine has carriers to keep them apart), unless ``allow_long_floats``.
     CarrierShortageError
         If a course needs more carriers at once than the machine has.
     SchedulingError
@@ -188,7 +214,7 @@ def knit_pattern(
     if runs_on_swg(m):
         # Report what the machine runs for this program, not the schedule's own passes.
         run = machine_run(text)
-        return KnitResult(
+        result = KnitResult(
             text,
             stitches,
             schedule,
@@ -196,4 +222,23 @@ def knit_pattern(
             estimate_knit_time(schedule, run=run),
             m,
         )
-    return KnitResult(text, stitches, schedule, schedule.stats, estimate_knit_time(schedule), m)
+    else:
+        result = KnitResult(
+            text, stitches, schedule, schedule.stats, estimate_knit_time(schedule), m
+        )
+    if schedule.long_floats:
+        warnings.warn(LongFloatWarning(long_float_warning(result)), stacklevel=2)
+    return result
+
+
+def long_float_warning(result: KnitResult) -> str:
+    """What the :class:`LongFloatWarning` of ``result`` says: how many floats
+    stay over the float limit, how long the longest is and where (empty when none)."""
+    s = result.summary()
+    if not s["long_floats"]:
+        return ""
+    return (
+        f"{s['long_floats']} float(s) longer than the float limit of "
+        f"{result.machine.float_limit} needles kept (allowed long floats); the longest, "
+        f"{s['longest_float']} needles: {s['longest_float_at']}"
+    )

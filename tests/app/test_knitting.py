@@ -171,3 +171,30 @@ def test_kniterate_gets_its_kc_with_waste_and_draw_carriers(client, sid):
     err = r.json()["error"]
     assert err["field"] == "machine" and err["code"] == "wrong_format"
     assert err["message"].startswith("the Kniterate takes .kc, not .dat")
+
+
+def test_a_long_float_is_refused_for_the_designer_unless_allowed(monkeypatch):
+    from illuknit.app.knitting import knit_and_check
+    from illuknit.app.schemas import JobIn
+    from illuknit.errors import AppRequestError
+    from illuknit.knit.machine import MachineSpec
+    from illuknit.pattern import pattern_to_json
+    from tests.knit.test_pipeline import _crowded
+
+    # three carriers, a float limit of one needle: the crowded pattern keeps a float long
+    monkeypatch.setitem(
+        MACHINES, "tight", MachineSpec(name="Tight", float_limit=1, carriers=("1", "2", "3"))
+    )
+    doc = pattern_to_json(_crowded())
+    with pytest.raises(AppRequestError) as info:
+        knit_and_check(doc, "tight")
+    e = info.value
+    assert e.field == "knit" and e.code == "long_floats"
+    msg = str(e)
+    assert "knitting course" in msg and "pattern row" in msg and "limit is 1" in msg
+    assert "allow long floats" in msg and "allow_long_floats" not in msg
+    out = knit_and_check(doc, "tight", allow_long_floats=True)
+    assert out["stats"]["long_floats"] >= 1 and out["stats"]["longest_float"] > 1
+    assert out["stats"]["longest_float_at"]
+    assert JobIn(kind="knit", allow_long_floats=True).allow_long_floats
+    assert JobIn(kind="knit").allow_long_floats is False

@@ -152,3 +152,46 @@ def test_unschedulable_patterns_get_a_reason_instead_of_numbers():
     ks = knit_stats(wide)
     assert ks["carriage_passes"] is None and ks["knit_time_min"] is None
     assert "not schedulable" in ks["knit_note"] and "wide" in ks["knit_note"]
+
+
+def test_knit_stats_measure_a_pattern_with_long_floats_and_note_them(monkeypatch):
+    from illuknit.knit.machine import MACHINES, MachineSpec
+    from tests.knit.test_pipeline import _crowded
+
+    # the bench allows long floats (it compares passes); the note says they are there
+    tight = MachineSpec(name="Tight", float_limit=1, carriers=("1", "2", "3"))
+    monkeypatch.setitem(MACHINES, "tight", tight)
+    ks = knit_stats(_crowded(), machine="tight")
+    assert ks["carriage_passes"] > 0 and ks["knit_time_min"] > 0
+    assert "float(s) longer than the float limit of 1 needles" in ks["knit_note"]
+    assert "the longest" in ks["knit_note"] and "course" in ks["knit_note"]
+
+
+def test_summary_says_which_methods_were_knit_with_long_floats():
+    from illuknit.bench.report import format_summary
+
+    row = {
+        "instance": "tiny",
+        "kind": "double",
+        "rows": 4,
+        "cols": 4,
+        "n_yarns": 2,
+        "time_limit": 10,
+        "method": "tiles",
+        "status": "feasible",
+        "logical_error_a": 0.0,
+        "logical_error_b": 0.0,
+        "render_mse_a": 0.0,
+        "render_mse_b": 0.0,
+        "render_ssim_a": 1.0,
+        "render_ssim_b": 1.0,
+        "color_changes_mean": 1.0,
+        "color_changes_max": 1,
+        "carriage_passes": 40,
+        "transfer_passes": 4,
+        "knit_time_min": 1.0,
+        "knit_note": "1 float(s) longer than the float limit of 1 needles kept",
+    }
+    text = format_summary([row])
+    assert "Knit with long floats (measured anyway) -- tiles: 1 float(s)" in text
+    assert "No knitting numbers" not in text

@@ -20,7 +20,7 @@ from illuknit.illusion_models import (
     knit_purl_changes,
     make_problem,
 )
-from illuknit.illusion_problem import pass_events
+from illuknit.illusion_problem import row_passes
 from illuknit.model import Model
 from illuknit.solvers import (
     HERMAX_NAMES,
@@ -82,8 +82,8 @@ def _brute_force_cost(problem) -> int | None:
             cost += problem.transfer_weight * knit_purl_changes(raised)
             cost += problem.color_weight * int(cc.sum())
             if problem.pass_weight:
-                used, bumps, extra = pass_events(yarn, raised, k, problem.weights.float_gap)
-                cost += 2 * problem.pass_weight * int(used.sum() + bumps.sum() + extra.sum())
+                passes = row_passes(yarn, raised, k, problem.weights.float_gap)
+                cost += problem.pass_weight * int(passes.sum())
             if best is None or cost < best:
                 best = cost
     return best

@@ -101,7 +101,9 @@ def start_suggestions(s: Session, runner: JobRunner, store: SessionStore) -> Job
     return runner.submit("suggestions", work, revision=rev, on_done=done)
 
 
-def start_knit(s: Session, runner: JobRunner, *, isolate: bool) -> Job:
+def start_knit(
+    s: Session, runner: JobRunner, *, isolate: bool, allow_long_floats: bool = False
+) -> Job:
     pattern = current_pattern(s)
     key = design.pattern_key(pattern)
     doc = design.pattern_to_json(pattern)
@@ -110,9 +112,9 @@ def start_knit(s: Session, runner: JobRunner, *, isolate: bool) -> Job:
     def work(job: Job) -> CheckedKnitout:
         job.report(0.05, "compiling knitout and checking it")
         if isolate:
-            out = job.run_isolated(knit_and_check, doc, machine)
+            out = job.run_isolated(knit_and_check, doc, machine, allow_long_floats)
         else:
-            out = knit_and_check(doc, machine)
+            out = knit_and_check(doc, machine, allow_long_floats)
         return CheckedKnitout(
             key=key,
             machine=machine,
@@ -148,7 +150,12 @@ def post_job(request: Request, s: SessionDep, runner: RunnerDep, body: JobIn) ->
         elif body.kind == "suggestions":
             job = start_suggestions(s, runner, store_of(request))
         else:
-            job = start_knit(s, runner, isolate=request.app.state.config.isolate_knit)
+            job = start_knit(
+                s,
+                runner,
+                isolate=request.app.state.config.isolate_knit,
+                allow_long_floats=body.allow_long_floats,
+            )
         s.replace_job(body.kind, job)
         answer = job.to_json()
     store_of(request).trim(keep=s.id)

@@ -414,9 +414,9 @@ async function refreshInputs({ autorun }) {
 // the page control a job's problems are shown next to
 const jobField = (kind) => (kind === "knit" || kind === "suggestions" ? kind : "candidates");
 
-async function startJob(kind) {
+async function startJob(kind, options = {}) {
   clearError(jobField(kind));
-  const job = await sapi("POST", "/jobs", { kind });
+  const job = await sapi("POST", "/jobs", { kind, ...options });
   state.jobs[kind] = job.id;
   showJob(kind, job);
   return pollJob(kind, job.id);

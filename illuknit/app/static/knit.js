@@ -44,6 +44,14 @@ function showKnitSummary(k) {
   const line = document.createElement("div");
   line.textContent = `Knitout ready · ${parts.join(" · ")}`;
   box.appendChild(line);
+  if (st.long_floats) {
+    // kept on request ("allow long floats"): say how long and where, as the CLI's warning does
+    const warn = document.createElement("div");
+    warn.className = "err";
+    warn.id = "knit-long-floats";
+    warn.textContent = `${st.long_floats} long float(s) kept; the longest, ${st.longest_float} needles: ${st.longest_float_at}`;
+    box.appendChild(warn);
+  }
   const machine = (state.info.machines || []).find((m) => m.name === k.machine);
   if (k.needle_range) {
     const bed = document.createElement("div");
@@ -88,7 +96,7 @@ function showKnitSummary(k) {
 
 async function makeKnit() {
   try {
-    const job = await startJob("knit");
+    const job = await startJob("knit", { allow_long_floats: $("#allow-long-floats").checked });
     if (job) await refreshKnit();
   } catch (err) { report(err, "knit"); }
 }
