@@ -12,12 +12,14 @@ from __future__ import annotations
 
 import json
 import shutil
+from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, Literal
 
 import click
 import numpy as np
 
+from illuknit.cli.design_files import fmt_number, summary_text, write_candidate, write_edits
 from illuknit.cli.knitout_bridge import format_option, long_floats_option, machine_option
 from illuknit.cli.options import knitout_option, outdir_option
 from illuknit.sizing import DEFAULT_MAX_WIDTH
@@ -72,81 +74,42 @@ def run_design(
     knit on ``machine`` (a preset name; a pattern wider than its bed is refused before the
     design work). Returns the summary dict.
     """
-    from illuknit.cli.knitout_bridge import check_fits, resolve_machine
-    from illuknit.errors import OptionError, TileAssignmentError
-    from illuknit.export import export_pattern
-    from illuknit.images import quantise_image
+    from illuknit.cli.knitout_bridge import resolve_machine
+    from illuknit.errors import TileAssignmentError
     from illuknit.outputs import atomic_write_text, staged_dir
-    from illuknit.previews import save_png, unit_scale, upscale
-    from illuknit.sizing import size_pair
-    from illuknit.tiles.assign import assign_tiles
-    from illuknit.tiles.bank import canonical_bank, load_bank
-    from illuknit.tiles.compile import repainted_rgb
-    from illuknit.tiles.headon import HEADON_VIEWS, uniform_side
-    from illuknit.tiles.overlaps import group_overlaps
+    from illuknit.previews import unit_scale
     from illuknit.tiles.perception import rank_designs
 
     if candidates < 1:
         raise TileAssignmentError(f"--candidates must be at least 1, got {candidates}")
     overrides = _parse_overrides(tile)
     spec = resolve_machine(machine)
-    if knitout and width is not None:
-        check_fits(spec, width)
-    pair = size_pair(path_a, path_b, width=width, stretch=resize)
-    a, b = pair.a, pair.b
-    if knitout:
-        check_fits(spec, a.shape[1])
-    pictures = [a] if b is None else [a, b]
-    ys = _choose_yarns(yarns, n_colors, pictures)
-    qa = quantise_image(a, n_colors=n_colors)
-    qb = quantise_image(b, n_colors=n_colors) if b is not None else None
-    quantised = {"A": qa} if qb is None else {"A": qa, "B": qb}
-    views = ("A", "B") if mode == "double" else HEADON_VIEWS
-    if bank_file is not None:
-        bank = load_bank(bank_file, yarns=ys)
-    else:
-        bank = canonical_bank(ys, views=views, one_sided_stripes=one_sided)  # type: ignore[arg-type]
-    second: Any = qb if qb is not None else uniform_side(qa)
-    first: Any = qa
-    edits: list[Any] = []
-    if simplify or suggest:
-        if qb is None or b is None or mode != "double":
-            raise OptionError("--simplify and --suggest work on double-view designs (two pictures)")
-        first, second, edits = _simplified(
-            qa,
-            qb,
-            apply=simplify,
-            sources=[a, b],
-            # re-quantising stays within the yarns the designer allows (and the --colors range)
-            max_colors=min(4, max(n_colors, len(ys))),
-            candidates=candidates,
-            bank=bank,
-            solver=solver,
-            brightness="soft" if soft_brightness else "hard",
-        )
-    found = assign_tiles(
-        first,
-        second,
-        bank=bank,
+    inp = _design_inputs(
+        path_a,
+        path_b,
+        mode=mode,
+        n_colors=n_colors,
+        yarns=yarns,
+        width=width,
+        resize=resize,
+        bank_file=bank_file,
+        one_sided=one_sided,
+        knitout_on=spec if knitout else None,
+    )
+    found, edits = _assign(
+        inp,
+        simplify=simplify,
+        suggest=suggest,
+        n_colors=n_colors,
         candidates=candidates,
-        brightness="soft" if soft_brightness else "hard",
         solver=solver,
-        views=views,  # type: ignore[arg-type]
+        brightness="soft" if soft_brightness else "hard",
     )
     if not 1 <= pick <= len(found):
         raise TileAssignmentError(
             f"--pick must be between 1 and {len(found)} (candidates found), got {pick}"
         )
-    names = (
-        ("front (head-on)", "side") if mode == "headon" else ("A (from above)", "B (from below)")
-    )
-    # What each view should show: the designer's quantised pictures (a plain side otherwise).
-    seen_targets: list[np.ndarray] = [qa.rgb()]
-    if qb is not None:
-        seen_targets.append(qb.rgb())
-    else:
-        side_idx, side_colors = uniform_side(qa)
-        seen_targets.append(np.asarray(side_colors, dtype=np.uint8)[np.asarray(side_idx)])
+    seen_targets = _seen_targets(inp.qa, inp.qb)
     ranked = rank_designs(
         found,
         seen_targets,
@@ -161,69 +124,20 @@ def run_design(
     overlap_lines: list[str] = []
     with staged_dir(outdir) as tmp:
         for rc in ranked:
-            cand, pattern, report, meas = rc.assignment, rc.pattern, rc.report, rc.measures
-            if cand.rank == pick:
-                chosen = pattern
-            sub = tmp / f"candidate_{cand.rank}"
-            s = max(2, unit_scale(pattern.shape))
-            for over, rows_spec in overrides.items():  # the tiles as knit, overrides included
-                cand = cand.with_tile(over, rows_spec)
-            cand_json = cand.to_json()  # its "fills" is cand.describe()
-            table = group_overlaps(cand)
-            overlaps = table.to_json()
-            if cand.rank == pick:
-                overlap_lines = table.lines()
-            report_json = report.to_json()
-            rep = {
-                "mode": mode,
-                "sources": [str(path_a), str(path_b) if path_b else None],
-                "assignment": cand_json,
-                "tiles_report": report_json,
-                "measures": meas.to_json(),
-                "default": cand.rank == pick,
-            }
-            ra = repainted_rgb(cand, 0)
-            rb = repainted_rgb(cand, 1)
-            export_pattern(
-                pattern,
-                sub,
-                quantised=quantised,
-                report=rep,
-                title=f"{mode}-view illusion, candidate {cand.rank}",
-                targets={f"{names[0]} repainted": ra, f"{names[1]} repainted": rb},
+            row, lines = write_candidate(
+                rc,
+                tmp,
+                inp,
+                pick=pick,
+                overrides=overrides,
+                seen_targets=seen_targets,
+                sources=[str(path_a), str(path_b) if path_b else None],
             )
-            for which, letter, striped in ((0, "a", ra), (1, "b", rb)):
-                average = repainted_rgb(cand, which, mode="average")
-                save_png(upscale(striped, s), sub / f"repainted_{letter}.png")
-                save_png(upscale(average, s), sub / f"repainted_{letter}_average.png")
-            diagnostics = _write_diagnostics(pattern, seen_targets, sub, mode=mode, scale=s)
-            fills = cand_json["fills"]
-            legend = {
-                "views": list(views),
-                "fills": fills,
-                "tiles": cand_json["tiles"],
-                "overlaps": overlaps,
-            }
-            atomic_write_text(sub / "fills.json", json.dumps(legend, indent=1) + "\n")
-            rows.append(
-                {
-                    "rank": cand.rank,
-                    "default": cand.rank == pick,
-                    "score": round(cand.score, 2),
-                    "score_rank": rc.score_rank,
-                    **_measure_fields(meas),
-                    "diagnostics": diagnostics,
-                    "fills_a": [f["fill"] for f in fills if f["input"] == "A"],
-                    "fills_b": [f["fill"] for f in fills if f["input"] == "B"],
-                    "error_repainted": report_json["error_repainted"],
-                    "error_repainted_interior": report_json["error_repainted_interior"],
-                    "color_changes_per_course_max": report_json["color_changes_per_course"]["max"],
-                    "overlaps": overlaps,
-                    "folder": sub.name,
-                }
-            )
+            rows.append(row)
+            if row["default"]:
+                chosen, overlap_lines = rc.pattern, lines
         if edits:
-            _write_edits(edits, tmp / "suggestions", scale=max(2, unit_scale(qa.shape)))
+            write_edits(edits, tmp / "suggestions", scale=max(2, unit_scale(inp.qa.shape)))
         shutil.copyfile(tmp / f"candidate_{pick}" / "pattern.json", tmp / "pattern.json")
         if knitout and chosen is not None:
             # The default candidate as a checked knitout program (mixed-colourwork scheduler).
@@ -232,9 +146,9 @@ def run_design(
             write_program(chosen, tmp, machine=spec)
         summary = {
             "mode": mode,
-            "yarns": [{"name": y.name, "rgb": y.hex} for y in ys],
-            "size": {"rows": int(qa.shape[0]), "cols": int(qa.shape[1])},
-            "bank": {"name": bank.name, "tiles": len(bank)},
+            "yarns": [{"name": y.name, "rgb": y.hex} for y in inp.yarns],
+            "size": {"rows": int(inp.qa.shape[0]), "cols": int(inp.qa.shape[1])},
+            "bank": {"name": inp.bank.name, "tiles": len(inp.bank)},
             "solver": solver,
             "ranked_by": rank_by,
             "edits": [e.to_json() for e in edits],
@@ -242,8 +156,124 @@ def run_design(
             "candidates": rows,
         }
         atomic_write_text(tmp / "summary.json", json.dumps(summary, indent=1) + "\n")
-        atomic_write_text(tmp / "summary.txt", _summary_text(summary, overlap_lines))
+        atomic_write_text(tmp / "summary.txt", summary_text(summary, overlap_lines))
     return summary
+
+
+def _assign(
+    inp: _Inputs,
+    *,
+    simplify: bool,
+    suggest: bool,
+    n_colors: int,
+    candidates: int,
+    solver: str,
+    brightness: Literal["hard", "soft"],
+) -> tuple[Any, list[Any]]:
+    """The ranked-by-score tile assignments, after the suggested edits (and the edits)."""
+    from illuknit.errors import OptionError
+    from illuknit.tiles.assign import assign_tiles
+    from illuknit.tiles.headon import uniform_side
+
+    edits: list[Any] = []
+    first: Any = inp.qa
+    second: Any = inp.qb if inp.qb is not None else uniform_side(inp.qa)
+    if simplify or suggest:
+        if inp.qb is None or inp.b is None or inp.mode != "double":
+            raise OptionError("--simplify and --suggest work on double-view designs (two pictures)")
+        first, second, edits = _simplified(
+            inp.qa,
+            inp.qb,
+            apply=simplify,
+            sources=[inp.a, inp.b],
+            # re-quantising stays within the yarns the designer allows (and the --colors range)
+            max_colors=min(4, max(n_colors, len(inp.yarns))),
+            candidates=candidates,
+            bank=inp.bank,
+            solver=solver,
+            brightness=brightness,
+        )
+    found = assign_tiles(
+        first,
+        second,
+        bank=inp.bank,
+        candidates=candidates,
+        brightness=brightness,
+        solver=solver,
+        views=inp.views,  # type: ignore[arg-type]
+    )
+    return found, edits
+
+
+@dataclass(frozen=True, eq=False)
+class _Inputs:
+    """The sized, quantised pictures of a design, its yarns, views and tile bank."""
+
+    mode: str
+    a: np.ndarray
+    b: np.ndarray | None
+    yarns: tuple[Any, ...]
+    qa: Any
+    qb: Any
+    quantised: dict[str, Any]
+    views: tuple[str, ...]
+    bank: Any
+
+
+def _design_inputs(
+    path_a: Path,
+    path_b: Path | None,
+    *,
+    mode: str,
+    n_colors: int,
+    yarns: str | None,
+    width: int | None,
+    resize: bool,
+    bank_file: Path | None,
+    one_sided: bool,
+    knitout_on: Any,
+) -> _Inputs:
+    """Size and quantise the pictures, choose the yarns and load the bank.
+
+    ``knitout_on`` (a MachineSpec, or None without ``--knitout``): a pattern wider than its bed
+    is refused before any design work.
+    """
+    from illuknit.cli.knitout_bridge import check_fits
+    from illuknit.images import quantise_image
+    from illuknit.sizing import size_pair
+    from illuknit.tiles.bank import canonical_bank, load_bank
+    from illuknit.tiles.headon import HEADON_VIEWS
+
+    if knitout_on is not None and width is not None:
+        check_fits(knitout_on, width)
+    pair = size_pair(path_a, path_b, width=width, stretch=resize)
+    a, b = pair.a, pair.b
+    if knitout_on is not None:
+        check_fits(knitout_on, a.shape[1])
+    pictures = [a] if b is None else [a, b]
+    ys = _choose_yarns(yarns, n_colors, pictures)
+    qa = quantise_image(a, n_colors=n_colors)
+    qb = quantise_image(b, n_colors=n_colors) if b is not None else None
+    quantised = {"A": qa} if qb is None else {"A": qa, "B": qb}
+    views = ("A", "B") if mode == "double" else HEADON_VIEWS
+    if bank_file is not None:
+        bank = load_bank(bank_file, yarns=ys)
+    else:
+        bank = canonical_bank(ys, views=views, one_sided_stripes=one_sided)  # type: ignore[arg-type]
+    return _Inputs(mode, a, b, ys, qa, qb, quantised, views, bank)
+
+
+def _seen_targets(qa: Any, qb: Any) -> list[np.ndarray]:
+    """What each view should show: the designer's quantised pictures (a plain side otherwise)."""
+    from illuknit.tiles.headon import uniform_side
+
+    seen_targets: list[np.ndarray] = [qa.rgb()]
+    if qb is not None:
+        seen_targets.append(qb.rgb())
+    else:
+        side_idx, side_colors = uniform_side(qa)
+        seen_targets.append(np.asarray(side_colors, dtype=np.uint8)[np.asarray(side_idx)])
+    return seen_targets
 
 
 def _simplified(
@@ -265,55 +295,6 @@ def _simplified(
     return review.a, review.b, list(review.results)
 
 
-def _write_edits(edits: list[Any], folder: Path, *, scale: int) -> None:
-    """``suggestions/``: each edit as before | after pictures, and ``suggestions.json``."""
-    from illuknit.outputs import atomic_write_text
-    from illuknit.previews import save_png, upscale
-
-    folder.mkdir(parents=True, exist_ok=True)
-    for e in edits:
-        s = e.suggestion
-        for letter, before_rgb, after_rgb in zip(
-            "ab", s.pictures(edited=False), s.pictures(), strict=True
-        ):
-            gap = np.full((before_rgb.shape[0], 2, 3), 255, np.uint8)
-            pair = np.concatenate([before_rgb, gap, after_rgb], axis=1)
-            save_png(upscale(pair, scale), folder / f"{s.name}_{letter}.png")
-    data = {"edits": [e.to_json() for e in edits]}
-    atomic_write_text(folder / "suggestions.json", json.dumps(data, indent=1) + "\n")
-
-
-def _measure_fields(m: Any) -> dict[str, Any]:
-    """A candidate's perceptual measures as summary-table fields (see tiles.perception)."""
-    j = m.to_json()
-    return {
-        "perceptual_score": j["perceptual_score"],
-        "readability": j["readability"],
-        "contrast": j["contrast"],
-        "ghosting": j["ghosting"],
-        "knit_minutes": j["knit_minutes"],
-        "machine_passes": j["machine_passes"],
-    }
-
-
-def _write_diagnostics(
-    pattern: Any, pictures: list[np.ndarray], sub: Path, *, mode: str, scale: int
-) -> dict[str, dict[str, float]]:
-    """``diagnostic_<view>.png`` per view: where it shows the wrong shade, where the other
-    picture ghosts through. Returns the fractions of units marked, per view."""
-    from illuknit.previews import save_png, upscale
-    from illuknit.tiles.perception import diagnostic_rgb
-
-    views = ("A", "B") if mode == "double" else ("headon", "A")
-    out = {}
-    for k, (letter, view) in enumerate(zip(("a", "b"), views, strict=True)):
-        other = pictures[1 - k] if mode == "double" else None
-        img, stats = diagnostic_rgb(pattern, pictures[k], other, view=view)
-        save_png(upscale(img, scale), sub / f"diagnostic_{letter}.png")
-        out[letter.upper()] = {key: round(v, 4) for key, v in stats.items()}
-    return out
-
-
 def _parse_overrides(specs: tuple[str, ...]) -> dict[tuple[int, int], str]:
     """``("0,1=0/1/0^", ...)`` -> ``{(0, 1): "0/1/0^"}`` (colour a of A, colour b of B)."""
     from illuknit.errors import TileAssignmentError
@@ -333,34 +314,6 @@ def _parse_overrides(specs: tuple[str, ...]) -> dict[tuple[int, int], str]:
     return out
 
 
-def _summary_text(summary: dict[str, Any], overlap_lines: list[str]) -> str:
-    lines = [
-        f"{summary['mode']}-view tile design, {summary['size']['rows']} x {summary['size']['cols']} units, "
-        f"yarns: {', '.join(y['name'] + ' ' + y['rgb'] for y in summary['yarns'])}",
-        f"bank {summary['bank']['name']} ({summary['bank']['tiles']} tiles), solver {summary['solver']}",
-        "",
-        f"ranked by {summary.get('ranked_by', 'score')}; readability / contrast / ghosting per view",
-        "rank  default  percept  read A  read B  contr A  contr B  ghost  minutes  score    fills of input A | fills of input B",
-    ]
-    for r in summary["candidates"]:
-        mark = "  *    " if r["default"] else "       "
-        rd, ct = r["readability"], r["contrast"]
-        ghost = max((abs(g) for g in r["ghosting"] if g is not None), default=None)
-        lines.append(
-            f"{r['rank']:>4}  {mark}  {_fmt(r['perceptual_score']):>7}  {_fmt(rd[0]):>6}  "
-            f"{_fmt(rd[1]):>6}  {_fmt(ct[0]):>7}  {_fmt(ct[1]):>7}  {_fmt(ghost):>5}  "
-            f"{_fmt(r['knit_minutes'], 1):>7}  {r['score']:>7.2f}  "
-            f"{'; '.join(r['fills_a'])} | {'; '.join(r['fills_b'])}"
-        )
-    lines.append("")
-    lines.append(
-        "* = default candidate (its pattern is also ./pattern.json); each is in candidate_K/"
-    )
-    if overlap_lines:
-        lines += ["", f"default candidate: {overlap_lines[0]}", *overlap_lines[1:]]
-    return "\n".join(lines) + "\n"
-
-
 def _overlap_digest(table: dict[str, Any]) -> list[str]:
     """The default candidate's overlap groups, one line each (details in summary.txt)."""
     views = table["views"]
@@ -378,10 +331,6 @@ def _overlap_digest(table: dict[str, Any]) -> list[str]:
             f"{100 * rare['share']:.1f} % of the units together"
         )
     return out
-
-
-def _fmt(x: float | None, digits: int = 3) -> str:
-    return "-" if x is None else f"{x:.{digits}f}"
 
 
 def print_summary(summary: dict[str, Any], outdir: Path) -> None:
@@ -410,11 +359,11 @@ def print_summary(summary: dict[str, Any], outdir: Path) -> None:
         t.add_row(
             str(r["rank"]),
             "default" if r["default"] else "",
-            _fmt(r["perceptual_score"]),
-            " / ".join(_fmt(v) for v in r["readability"]),
-            " / ".join(_fmt(v) for v in r["contrast"]),
-            " / ".join(_fmt(v) for v in r["ghosting"]),
-            _fmt(r["knit_minutes"], 1),
+            fmt_number(r["perceptual_score"]),
+            " / ".join(fmt_number(v) for v in r["readability"]),
+            " / ".join(fmt_number(v) for v in r["contrast"]),
+            " / ".join(fmt_number(v) for v in r["ghosting"]),
+            fmt_number(r["knit_minutes"], 1),
             f"{r['score']:.1f}",
             "; ".join(r["fills_a"]),
             "; ".join(r["fills_b"]),

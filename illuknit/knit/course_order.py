@@ -102,95 +102,135 @@ def order_and_plan(
                 st = advance(st, p)
                 planned.append(p)
         return planned, st
+    orders = _Orders(items, strategy, parity, lookahead, park)
+    if len(items) <= EXHAUSTIVE_ITEMS:
+        return _branch_and_bound(orders, states)
+    return _beam_search(orders, states)
 
-    Entry = tuple[list[PlannedPass], int, dict[str, CarrierState]]
-    cache: dict[tuple[int, tuple[CarrierState, ...]], Entry] = {}
-    unused = CarrierState()
 
-    def plan(i: int, st: dict[str, CarrierState]) -> Entry:
+#: A planned item: its passes, their cost and the item carriers' new states.
+_Entry = tuple[list[PlannedPass], int, dict[str, CarrierState]]
+
+
+class _Orders:
+    """What both searches ask about a course's items, with the answers cached.
+
+    :meth:`plan` plans an item from given carrier states, :meth:`ready` says whether an item
+    may come next, :meth:`ahead` charges what the next course's own work would cost.
+    """
+
+    def __init__(
+        self,
+        items: list[WorkItem],
+        strategy: str,
+        parity: str,
+        lookahead: Sequence[WorkItem],
+        park: Park | None,
+    ) -> None:
+        self.items = items
+        self.strategy = strategy
+        self.parity = parity
+        self.lookahead = lookahead
+        self.park = park
+        self.unused = CarrierState()
+        self.cache: dict[tuple[int, tuple[CarrierState, ...]], _Entry] = {}
+        self.ahead_cache: dict[tuple[int, CarrierState], int] = {}
+        self.own = {it.carriers[0]: i for i, it in enumerate(items) if len(it.carriers) == 1}
+
+    def _plan_item(self, it: WorkItem, st: dict[str, CarrierState]) -> list[PlannedPass]:
+        return plan_item(it, st, strategy=self.strategy, parity=self.parity, park=self.park)  # type: ignore[arg-type]
+
+    def plan(self, i: int, st: dict[str, CarrierState]) -> _Entry:
         """Passes of item ``i`` from ``st``, their cost and the item carriers' new states."""
-        it = items[i]
+        it = self.items[i]
+        unused = self.unused
         key = (i, tuple(st.get(c, unused) for c in it.carriers))
-        got = cache.get(key)
+        got = self.cache.get(key)
         if got is None:
-            ps = plan_item(it, st, strategy=strategy, parity=parity, park=park)  # type: ignore[arg-type]
+            ps = self._plan_item(it, st)
             sub = {c: st.get(c, unused) for c in it.carriers}
             cost = pass_cost(ps, sub)
             for p in ps:
                 sub = advance(sub, p)
             got = (ps, cost, sub)
-            cache[key] = got
+            self.cache[key] = got
         return got
 
-    own = {it.carriers[0]: i for i, it in enumerate(items) if len(it.carriers) == 1}
-
-    def ready(i: int, st: dict[str, CarrierState], left: list[int]) -> bool:
-        it = items[i]
-        if any(own.get(c) in left for c in it.follows):
+    def ready(self, i: int, st: dict[str, CarrierState], left: list[int]) -> bool:
+        """True when item ``i`` may come next (its carriers knit, what it follows is done)."""
+        it = self.items[i]
+        if any(self.own.get(c) in left for c in it.follows):
             return False
         return len(it.carriers) == 1 or all(
-            st.get(c, unused).needle is not None for c in it.carriers
+            st.get(c, self.unused).needle is not None for c in it.carriers
         )
 
-    ahead_cache: dict[tuple[int, CarrierState], int] = {}
-
-    def ahead(st: dict[str, CarrierState]) -> int:
+    def ahead(self, st: dict[str, CarrierState]) -> int:
         """Extra passes the next course's own segments would need from these states."""
         extra = 0
-        for k, it in enumerate(lookahead):
+        for k, it in enumerate(self.lookahead):
             car = it.carriers[0]
-            cs = st.get(car, unused)
+            cs = st.get(car, self.unused)
             if cs.needle is None:
                 continue
             key = (k, cs)
-            got = ahead_cache.get(key)
+            got = self.ahead_cache.get(key)
             if got is None:
-                ps = plan_item(it, {car: cs}, strategy=strategy, parity=parity, park=park)  # type: ignore[arg-type]
+                ps = self._plan_item(it, {car: cs})
                 got = pass_cost(ps, {car: cs}) - 1
-                ahead_cache[key] = got
+                self.ahead_cache[key] = got
             extra += got
         return extra
 
-    if len(items) <= EXHAUSTIVE_ITEMS:
-        best: list[object] = [None, None, None]  # cost, passes, states
 
-        def search(
-            left: list[int], st: dict[str, CarrierState], acc: list[PlannedPass], cost: int
-        ) -> None:
-            if best[0] is not None and cost >= best[0]:  # type: ignore[operator]
-                return
-            if not left:
-                total = cost + ahead(st)
-                if best[0] is None or total < best[0]:  # type: ignore[operator]
-                    best[0], best[1], best[2] = total, list(acc), st
-                return
-            for i in left:
-                if not ready(i, st, left):
-                    continue
-                ps, c, sub = plan(i, st)
-                search([j for j in left if j != i], {**st, **sub}, acc + ps, cost + c)
+def _branch_and_bound(
+    orders: _Orders, states: dict[str, CarrierState]
+) -> tuple[list[PlannedPass], dict[str, CarrierState]]:
+    """The cheapest order of every order of the items (next course's cost included)."""
+    best: list[object] = [None, None, None]  # cost, passes, states
 
-        search(list(range(len(items))), dict(states), [], 0)
-        if best[1] is None:  # pragma: no cover - catching never pairs an unused carrier
-            raise SchedulingError("plated stitch with a carrier that never knit")
-        return best[1], best[2]  # type: ignore[return-value]
+    def search(
+        left: list[int], st: dict[str, CarrierState], acc: list[PlannedPass], cost: int
+    ) -> None:
+        if best[0] is not None and cost >= best[0]:  # type: ignore[operator]
+            return
+        if not left:
+            total = cost + orders.ahead(st)
+            if best[0] is None or total < best[0]:  # type: ignore[operator]
+                best[0], best[1], best[2] = total, list(acc), st
+            return
+        for i in left:
+            if not orders.ready(i, st, left):
+                continue
+            ps, c, sub = orders.plan(i, st)
+            search([j for j in left if j != i], {**st, **sub}, acc + ps, cost + c)
 
-    # Beam search: keep the BEAM_WIDTH cheapest partial orders at each depth.
+    search(list(range(len(orders.items))), dict(states), [], 0)
+    if best[1] is None:  # pragma: no cover - catching never pairs an unused carrier
+        raise SchedulingError("plated stitch with a carrier that never knit")
+    return best[1], best[2]  # type: ignore[return-value]
+
+
+def _beam_search(
+    orders: _Orders, states: dict[str, CarrierState]
+) -> tuple[list[PlannedPass], dict[str, CarrierState]]:
+    """Keep the cheapest partial orders at each depth (fewer the more items there are)."""
+    n_items = len(orders.items)
     beam: list[tuple[int, list[int], dict[str, CarrierState], list[PlannedPass]]] = [
-        (0, list(range(len(items))), dict(states), [])
+        (0, list(range(n_items)), dict(states), [])
     ]
-    width = max(2, BEAM_WIDTH * EXHAUSTIVE_ITEMS // len(items))
-    for _ in range(len(items)):
+    width = max(2, BEAM_WIDTH * EXHAUSTIVE_ITEMS // n_items)
+    for _ in range(n_items):
         grown = []
         for cost, left, st, acc in beam:
             for i in left:
-                if not ready(i, st, left):
+                if not orders.ready(i, st, left):
                     continue
-                ps, c, sub = plan(i, st)
+                ps, c, sub = orders.plan(i, st)
                 grown.append((cost + c, [j for j in left if j != i], {**st, **sub}, acc + ps))
         if not grown:  # pragma: no cover - catching never pairs an unused carrier
             raise SchedulingError("plated stitch with a carrier that never knit")
         grown.sort(key=lambda t: t[0])
         beam = grown[:width]
-    _, _, st, planned = min(beam, key=lambda t: t[0] + ahead(t[2]))
+    _, _, st, planned = min(beam, key=lambda t: t[0] + orders.ahead(t[2]))
     return planned, st

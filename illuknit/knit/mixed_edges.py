@@ -238,57 +238,10 @@ def bind_off(
     else:
         beds = {n: Bed.FRONT for n in em.needles}
     em.xfer({n: str(b) for n, b in beds.items() if em.bed[n] != b}, role=Role.BIND_OFF, course=None)
-    last_plan = last
     runs = sorted(
-        ((lo, hi, s.carrier) for s in last_plan.segments for lo, hi in s.runs), key=lambda r: r[0]
+        ((lo, hi, s.carrier) for s in last.segments for lo, hi in s.runs), key=lambda r: r[0]
     )
     drops: list[int] = []
-
-    def chain(run_list: list[tuple[int, int, str]], tail_needle_carrier: str) -> None:
-        owner = {left + w: car for lo, hi, car in run_list for w in range(lo, hi + 1)}
-        order = sorted(owner)
-        for idx, n in enumerate(order[:-1]):
-            car = owner[n]
-            item = WorkItem((car,), ((n, "f"),))
-            ps = plan_item(item, em.states, strategy=path_planning, parity="+" if idx % 2 else "-")
-            for p in ps[:-1]:
-                em.knit(p, role=Role.BIND_OFF, course=None)
-            p = ps[-1]
-            extra: tuple[Op, ...] = ()
-            if p.direction == "+" and owner[order[idx + 1]] == car:
-                # Carry the yarn past the next needle so its opposite-direction stitch is made
-                # with the carrier behind the carriage.
-                extra = (Op(OpKind.MISS, Bed.FRONT, n + 2),)
-            em.knit(p, role=Role.BIND_OFF, course=None, extra=extra)
-            em.steps.append(
-                Pass(
-                    PassKind.XFER,
-                    (Op(OpKind.XFER, Bed.FRONT, n, Bed.BACK, n),),
-                    None,
-                    (),
-                    0.0,
-                    Role.BIND_OFF,
-                )
-            )
-            em.steps.append(
-                Pass(
-                    PassKind.XFER,
-                    (Op(OpKind.XFER, Bed.BACK, n, Bed.FRONT, n + 1),),
-                    None,
-                    (),
-                    1.0,
-                    Role.BIND_OFF,
-                )
-            )
-        last = order[-1]
-        car = tail_needle_carrier
-        for t in range(1 + tail_stitches):
-            item = WorkItem((car,), ((last, "f"),))
-            ps = plan_item(item, em.states, strategy=path_planning, parity="+" if t % 2 else "-")
-            for p in ps:
-                em.knit(p, role=Role.TAIL if t else Role.BIND_OFF, course=None)
-        drops.append(last)
-
     if one_yarn and park is not None:
         # One chain in one yarn, as the one-colour scheduler binds off: started by the carrier
         # whose last loop is nearest an edge it is parked beyond (where the last course ended),
@@ -309,10 +262,22 @@ def bind_off(
         )
         em.states.pop(car)
     elif catching:
-        chain(runs, runs[-1][2])
+        drops.append(
+            _chain_bind_off(
+                em, runs, runs[-1][2], path_planning=path_planning, tail_stitches=tail_stitches
+            )
+        )
     else:
         for lo, hi, car in runs:
-            chain([(lo, hi, car)], car)
+            drops.append(
+                _chain_bind_off(
+                    em,
+                    [(lo, hi, car)],
+                    car,
+                    path_planning=path_planning,
+                    tail_stitches=tail_stitches,
+                )
+            )
     live = [c for c in machine.carriers if c in em.states]
     em.outhook(live)
     if drops:
@@ -331,6 +296,61 @@ def bind_off(
         not all(o.op == "miss" for o in p.ops) or p.kind != "knit" for p in bind_passes
     )
     return bind_fixed
+
+
+def _chain_bind_off(
+    em: Emitter,
+    run_list: list[tuple[int, int, str]],
+    tail_carrier: str,
+    *,
+    path_planning: str,
+    tail_stitches: int,
+) -> int:
+    """Chain-bind-off the wales of ``run_list`` (each needle knit by its run's carrier) on
+    the front bed, then knit the tail on the last needle; returns that needle (to drop)."""
+    left = em.left
+    owner = {left + w: car for lo, hi, car in run_list for w in range(lo, hi + 1)}
+    order = sorted(owner)
+    for idx, n in enumerate(order[:-1]):
+        car = owner[n]
+        item = WorkItem((car,), ((n, "f"),))
+        ps = plan_item(item, em.states, strategy=path_planning, parity="+" if idx % 2 else "-")
+        for p in ps[:-1]:
+            em.knit(p, role=Role.BIND_OFF, course=None)
+        p = ps[-1]
+        extra: tuple[Op, ...] = ()
+        if p.direction == "+" and owner[order[idx + 1]] == car:
+            # Carry the yarn past the next needle so its opposite-direction stitch is made
+            # with the carrier behind the carriage.
+            extra = (Op(OpKind.MISS, Bed.FRONT, n + 2),)
+        em.knit(p, role=Role.BIND_OFF, course=None, extra=extra)
+        em.steps.append(
+            Pass(
+                PassKind.XFER,
+                (Op(OpKind.XFER, Bed.FRONT, n, Bed.BACK, n),),
+                None,
+                (),
+                0.0,
+                Role.BIND_OFF,
+            )
+        )
+        em.steps.append(
+            Pass(
+                PassKind.XFER,
+                (Op(OpKind.XFER, Bed.BACK, n, Bed.FRONT, n + 1),),
+                None,
+                (),
+                1.0,
+                Role.BIND_OFF,
+            )
+        )
+    last = order[-1]
+    for t in range(1 + tail_stitches):
+        item = WorkItem((tail_carrier,), ((last, "f"),))
+        ps = plan_item(item, em.states, strategy=path_planning, parity="+" if t % 2 else "-")
+        for p in ps:
+            em.knit(p, role=Role.TAIL if t else Role.BIND_OFF, course=None)
+    return last
 
 
 def zigzag_beds(direction: Direction, left: int, right: int) -> dict[int, Bed]:

@@ -321,30 +321,8 @@ def schedule_courses(
     SchedulingError
         If the piece is wider than the bed or uses more yarns than the machine has carriers.
     """
-    if not isinstance(stitches, StitchPattern):
-        raise PatternValidationError(
-            f"`stitches` must be a StitchPattern, got {type(stitches).__name__}"
-        )
-    if stitches.wales < 2:
-        raise SchedulingError(f"the cast-on needs at least 2 wales, got {stitches.wales}")
-    if tail_stitches < 1:
-        raise OptionError(f"`tail_stitches` must be >= 1, got {tail_stitches}")
+    carrier_of = _checked_carriers(stitches, machine=machine, tail_stitches=tail_stitches)
     n_courses, n_wales = stitches.shape
-    machine.check_width(n_wales)
-    mixed = stitches.mixed_courses()
-    if mixed.size:
-        c = int(mixed[0])
-        raise MixedColorworkError(
-            f"{mixed.size} course(s) change colour, first {stitches.course_name(c)} uses yarns "
-            f"{list(stitches.course_yarns(c))}; this needs the mixed-colourwork scheduler "
-            f"(one colour per course is all the current scheduler knits)"
-        )
-    used = stitches.used_yarns()
-    if len(used) > len(machine.carriers):
-        raise SchedulingError(
-            f"pattern uses {len(used)} yarns but the {machine.name} has {len(machine.carriers)} carriers"
-        )
-    carrier_of = {y: machine.carriers[i] for i, y in enumerate(used)}
     course_carrier = [carrier_of[int(stitches.yarn[c, 0])] for c in range(n_courses)]
     last_course = {car: c for c, car in enumerate(course_carrier)}
 
@@ -425,6 +403,75 @@ def schedule_courses(
     body_bound = n_courses + transfer_courses
 
     # -- bind-off ----------------------------------------------------------------------------
+    cb = course_carrier[n_courses - 1]
+    bind_fixed = _bind_off(
+        steps,
+        bed,
+        cb,
+        next_dir[cb],
+        left,
+        right,
+        stitch_number=body_sn,
+        tail_stitches=tail_stitches,
+    )
+
+    return Schedule(
+        steps=tuple(steps),
+        machine=machine,
+        yarns=stitches.yarns,
+        carrier_of_yarn={y: (c,) for y, c in carrier_of.items()},
+        left=left,
+        wales=n_wales,
+        courses=n_courses,
+        lower_bound=cast_on_fixed + body_bound + bind_fixed,
+        body_lower_bound=body_bound,
+        units=stitches.units,
+        scheduler="one-colour-per-course",
+    )
+
+
+def _checked_carriers(
+    stitches: object, *, machine: MachineSpec, tail_stitches: int
+) -> dict[int, str]:
+    """Check :func:`schedule_courses`'s input; returns the carrier of each used yarn."""
+    if not isinstance(stitches, StitchPattern):
+        raise PatternValidationError(
+            f"`stitches` must be a StitchPattern, got {type(stitches).__name__}"
+        )
+    if stitches.wales < 2:
+        raise SchedulingError(f"the cast-on needs at least 2 wales, got {stitches.wales}")
+    if tail_stitches < 1:
+        raise OptionError(f"`tail_stitches` must be >= 1, got {tail_stitches}")
+    n_wales = stitches.shape[1]
+    machine.check_width(n_wales)
+    mixed = stitches.mixed_courses()
+    if mixed.size:
+        c = int(mixed[0])
+        raise MixedColorworkError(
+            f"{mixed.size} course(s) change colour, first {stitches.course_name(c)} uses yarns "
+            f"{list(stitches.course_yarns(c))}; this needs the mixed-colourwork scheduler "
+            f"(one colour per course is all the current scheduler knits)"
+        )
+    used = stitches.used_yarns()
+    if len(used) > len(machine.carriers):
+        raise SchedulingError(
+            f"pattern uses {len(used)} yarns but the {machine.name} has {len(machine.carriers)} carriers"
+        )
+    return {y: machine.carriers[i] for i, y in enumerate(used)}
+
+
+def _bind_off(
+    steps: list[Step],
+    bed: np.ndarray,
+    carrier: str,
+    direction: Direction,
+    left: int,
+    right: int,
+    *,
+    stitch_number: int | None,
+    tail_stitches: int,
+) -> int:
+    """Append the bind-off (back loops to the front, then the chain); returns its passes."""
     bind_fixed = 0
     back = np.flatnonzero(bed)
     if back.size:
@@ -441,23 +488,9 @@ def schedule_courses(
             )
         )
         bind_fixed += 1
-    cb = course_carrier[n_courses - 1]
     chain = bind_off_steps(
-        cb, next_dir[cb], left, right, stitch_number=body_sn, tail_stitches=tail_stitches
+        carrier, direction, left, right, stitch_number=stitch_number, tail_stitches=tail_stitches
     )
     steps.extend(chain)
     bind_fixed += sum(isinstance(x, Pass) for x in chain)
-
-    return Schedule(
-        steps=tuple(steps),
-        machine=machine,
-        yarns=stitches.yarns,
-        carrier_of_yarn={y: (c,) for y, c in carrier_of.items()},
-        left=left,
-        wales=n_wales,
-        courses=n_courses,
-        lower_bound=cast_on_fixed + body_bound + bind_fixed,
-        body_lower_bound=body_bound,
-        units=stitches.units,
-        scheduler="one-colour-per-course",
-    )
+    return bind_fixed

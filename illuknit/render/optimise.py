@@ -266,81 +266,33 @@ def optimise_design(
         raise YarnSpecError("`yarns` must be a sequence of at least two Yarn")
     params = RenderParams() if params is None else params
     ta_raw, tb_raw = np.asarray(target_a), np.asarray(target_b)
-    if ta_raw.shape[:2] != tb_raw.shape[:2] or ta_raw.ndim < 2:
-        raise ImageInputError(
-            f"`target_a` and `target_b` must have the same (N, M) shape, got {ta_raw.shape} and {tb_raw.shape}"
-        )
-    if isinstance(steps, bool) or not isinstance(steps, int) or steps < 1:
-        raise OptionError(f"`steps` must be a positive integer, got {steps!r}")
-    for name, v in (
-        ("learning_rate", learning_rate),
-        ("binary_weight", binary_weight),
-        ("change_weight", change_weight),
-    ):
-        if not math.isfinite(v) or v < 0 or (name == "learning_rate" and v == 0):
-            raise OptionError(
-                f"`{name}` must be a {'positive' if name == 'learning_rate' else 'non-negative'} number, got {v!r}"
-            )
-    if not 0 < final_temperature <= 1:
-        raise OptionError(f"`final_temperature` must lie in (0, 1], got {final_temperature!r}")
-    ia = targets_to_indices(ta_raw, yarns, name="target_a")
-    ib = targets_to_indices(tb_raw, yarns, name="target_b")
-    n, m = ia.shape
+    _check_options(
+        steps=steps,
+        learning_rate=learning_rate,
+        binary_weight=binary_weight,
+        change_weight=change_weight,
+        final_temperature=final_temperature,
+        shapes=(ta_raw.shape, tb_raw.shape),
+    )
+    ia, ib, ta, tb, pal_lin, pin = _prepared_targets(ta_raw, tb_raw, yarns, mix=mix, pinned=pinned)
     k = len(yarns)
-    if mix == "rgb":
-        pal_lin = linear_from_srgb(np.array([y.rgb for y in yarns], dtype=np.float64))
-        ta = _target_linear(ta_raw, pal_lin, "target_a")
-        tb = _target_linear(tb_raw, pal_lin, "target_b")
-    elif mix == "yarn":
-        pal_lin = np.eye(k)
-        ta, tb = pal_lin[ia], pal_lin[ib]
-    else:
-        raise OptionError(f"`mix` must be 'rgb' or 'yarn', got {mix!r}")
-    pin = None
-    if pinned is not None:
-        pin = np.asarray(pinned)
-        if pin.shape != (n, m) or not np.issubdtype(pin.dtype, np.integer):
-            raise OptionError(f"`pinned` must be an int array of shape {(n, m)}")
-        if pin.min() < -1 or pin.max() >= k:
-            raise OptionError(f"`pinned` values must lie in -1..{k - 1}")
     objective = _Objective(ta, tb, pal_lin, params, change_weight, raised_weight)
 
-    rng = np.random.default_rng(seed)
-    z = rng.normal(0.0, 0.1, (n, m))
-    # Start each unit leaning towards the yarns its two targets ask for.
-    u = rng.normal(0.0, 0.1, (n, m, k))
-    rows, cols = np.indices((n, m))
-    u[rows, cols, ia] += 0.5
-    u[rows, cols, ib] += 0.5
-    if pin is not None:
-        # Pinned units keep their yarn: saturated logits whose gradient is masked below.
-        fixed = pin >= 0
-        u[fixed] = np.where(np.arange(k) == pin[fixed][:, None], 30.0, -30.0)
-    params_vec = [z, u]
-    mom = [np.zeros_like(z), np.zeros_like(u)]
-    vel = [np.zeros_like(z), np.zeros_like(u)]
-    b1, b2, eps = 0.9, 0.999, 1e-8
-    history = []
+    z, u, fixed = _initial_logits(ia, ib, k, pin, seed=seed)
     start = time.perf_counter()
-    tau = 1.0
-    for step in range(steps):
-        frac = step / max(1, steps - 1)
-        tau = final_temperature**frac
-        loss, render_err, g_z, g_u, _, _ = objective(z, u, tau, binary_weight * frac)
-        if pin is not None:
-            g_u[fixed] = 0.0
-        history.append(loss)
-        for i, g in enumerate((g_z, g_u)):
-            mom[i] = b1 * mom[i] + (1 - b1) * g
-            vel[i] = b2 * vel[i] + (1 - b2) * g * g
-            mhat = mom[i] / (1 - b1 ** (step + 1))
-            vhat = vel[i] / (1 - b2 ** (step + 1))
-            params_vec[i] -= learning_rate * mhat / (np.sqrt(vhat) + eps)
-        elapsed = time.perf_counter() - start
-        if callback is not None:
-            callback(DesignStep(step, loss, render_err, tau, elapsed))
-        if time_limit is not None and elapsed > time_limit:
-            break
+    history, tau = _descend(
+        objective,
+        z,
+        u,
+        fixed=fixed,
+        steps=steps,
+        learning_rate=learning_rate,
+        binary_weight=binary_weight,
+        final_temperature=final_temperature,
+        callback=callback,
+        time_limit=time_limit,
+        start=start,
+    )
 
     loss, render_err, _, _, t, p = objective(z, u, tau, binary_weight)
     la, lb = _expected_logical_error(t, p, ia, ib)
@@ -373,19 +325,154 @@ def optimise_design(
     report = {
         "steps": len(history),
         "seconds": round(time.perf_counter() - start, 3),
-        "before": {
-            "loss": loss,
-            "render_error": render_err,
-            "logical_error": (la + lb) / 2,
-            "logical_error_a": la,
-            "logical_error_b": lb,
-        },
-        "after": {
-            "loss": loss_b,
-            "render_error": render_b,
-            "logical_error": (ea + eb) / 2,
-            "logical_error_a": ea,
-            "logical_error_b": eb,
-        },
+        "before": _errors(loss, render_err, la, lb),
+        "after": _errors(loss_b, render_b, ea, eb),
     }
     return DesignResult(pattern, t, p, np.asarray(history), report)
+
+
+def _prepared_targets(
+    ta_raw: NDArray[Any],
+    tb_raw: NDArray[Any],
+    yarns: tuple[Yarn, ...],
+    *,
+    mix: str,
+    pinned: ArrayLike | None,
+) -> tuple[
+    NDArray[np.int16],
+    NDArray[np.int16],
+    NDArray[np.float64],
+    NDArray[np.float64],
+    NDArray[np.float64],
+    NDArray[Any] | None,
+]:
+    """Target yarn indices, targets and palette in the space ``mix`` renders in, and the
+    checked ``pinned`` array: ``(ia, ib, ta, tb, palette, pin)``."""
+    ia = targets_to_indices(ta_raw, yarns, name="target_a")
+    ib = targets_to_indices(tb_raw, yarns, name="target_b")
+    n, m = ia.shape
+    k = len(yarns)
+    if mix == "rgb":
+        pal_lin = linear_from_srgb(np.array([y.rgb for y in yarns], dtype=np.float64))
+        ta = _target_linear(ta_raw, pal_lin, "target_a")
+        tb = _target_linear(tb_raw, pal_lin, "target_b")
+    elif mix == "yarn":
+        pal_lin = np.eye(k)
+        ta, tb = pal_lin[ia], pal_lin[ib]
+    else:
+        raise OptionError(f"`mix` must be 'rgb' or 'yarn', got {mix!r}")
+    pin = None
+    if pinned is not None:
+        pin = np.asarray(pinned)
+        if pin.shape != (n, m) or not np.issubdtype(pin.dtype, np.integer):
+            raise OptionError(f"`pinned` must be an int array of shape {(n, m)}")
+        if pin.min() < -1 or pin.max() >= k:
+            raise OptionError(f"`pinned` values must lie in -1..{k - 1}")
+    return ia, ib, ta, tb, pal_lin, pin
+
+
+def _initial_logits(
+    ia: NDArray[np.int16], ib: NDArray[np.int16], k: int, pin: NDArray[Any] | None, *, seed: int
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.bool_] | None]:
+    """Small random logits ``(z, u)``, yarns leaning to the targets', and the pinned mask."""
+    n, m = ia.shape
+    rng = np.random.default_rng(seed)
+    z = rng.normal(0.0, 0.1, (n, m))
+    # Start each unit leaning towards the yarns its two targets ask for.
+    u = rng.normal(0.0, 0.1, (n, m, k))
+    rows, cols = np.indices((n, m))
+    u[rows, cols, ia] += 0.5
+    u[rows, cols, ib] += 0.5
+    fixed = None
+    if pin is not None:
+        # Pinned units keep their yarn: saturated logits whose gradient is masked below.
+        fixed = pin >= 0
+        u[fixed] = np.where(np.arange(k) == pin[fixed][:, None], 30.0, -30.0)
+    return z, u, fixed
+
+
+def _check_options(
+    *,
+    steps: object,
+    learning_rate: float,
+    binary_weight: float,
+    change_weight: float,
+    final_temperature: float,
+    shapes: tuple[tuple[int, ...], tuple[int, ...]],
+) -> None:
+    """Check :func:`optimise_design`'s target shapes, step count, weights and temperature."""
+    sa, sb = shapes
+    if sa[:2] != sb[:2] or len(sa) < 2:
+        raise ImageInputError(
+            f"`target_a` and `target_b` must have the same (N, M) shape, got {sa} and {sb}"
+        )
+    if isinstance(steps, bool) or not isinstance(steps, int) or steps < 1:
+        raise OptionError(f"`steps` must be a positive integer, got {steps!r}")
+    for name, v in (
+        ("learning_rate", learning_rate),
+        ("binary_weight", binary_weight),
+        ("change_weight", change_weight),
+    ):
+        if not math.isfinite(v) or v < 0 or (name == "learning_rate" and v == 0):
+            raise OptionError(
+                f"`{name}` must be a {'positive' if name == 'learning_rate' else 'non-negative'} number, got {v!r}"
+            )
+    if not 0 < final_temperature <= 1:
+        raise OptionError(f"`final_temperature` must lie in (0, 1], got {final_temperature!r}")
+
+
+def _descend(
+    objective: _Objective,
+    z: NDArray[np.float64],
+    u: NDArray[np.float64],
+    *,
+    fixed: NDArray[np.bool_] | None,
+    steps: int,
+    learning_rate: float,
+    binary_weight: float,
+    final_temperature: float,
+    callback: Callable[[DesignStep], None] | None,
+    time_limit: float | None,
+    start: float,
+) -> tuple[list[float], float]:
+    """Anneal and run Adam on the logits ``z`` and ``u`` (updated in place).
+
+    Returns the objective at every step and the last temperature. ``fixed`` units' yarn logits
+    keep their values (their gradient is masked).
+    """
+    params_vec = [z, u]
+    mom = [np.zeros_like(z), np.zeros_like(u)]
+    vel = [np.zeros_like(z), np.zeros_like(u)]
+    b1, b2, eps = 0.9, 0.999, 1e-8
+    history = []
+    tau = 1.0
+    for step in range(steps):
+        frac = step / max(1, steps - 1)
+        tau = final_temperature**frac
+        loss, render_err, g_z, g_u, _, _ = objective(z, u, tau, binary_weight * frac)
+        if fixed is not None:
+            g_u[fixed] = 0.0
+        history.append(loss)
+        for i, g in enumerate((g_z, g_u)):
+            mom[i] = b1 * mom[i] + (1 - b1) * g
+            vel[i] = b2 * vel[i] + (1 - b2) * g * g
+            mhat = mom[i] / (1 - b1 ** (step + 1))
+            vhat = vel[i] / (1 - b2 ** (step + 1))
+            params_vec[i] -= learning_rate * mhat / (np.sqrt(vhat) + eps)
+        elapsed = time.perf_counter() - start
+        if callback is not None:
+            callback(DesignStep(step, loss, render_err, tau, elapsed))
+        if time_limit is not None and elapsed > time_limit:
+            break
+    return history, tau
+
+
+def _errors(loss: float, render_error: float, la: float, lb: float) -> dict[str, float]:
+    """A report entry: objective, render error and logical error (mean and per view)."""
+    return {
+        "loss": loss,
+        "render_error": render_error,
+        "logical_error": (la + lb) / 2,
+        "logical_error_a": la,
+        "logical_error_b": lb,
+    }

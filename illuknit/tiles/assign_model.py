@@ -170,23 +170,35 @@ def _pad(rows: list[list[int]]) -> NDArray[np.int64]:
     return out
 
 
+class _Clauses:
+    """Clauses collected per family and added as padded blocks: far faster than one call per
+    clause."""
+
+    def __init__(self) -> None:
+        self.hard_by_family: dict[str, list[list[int]]] = {}
+        self.soft_rows: list[list[int]] = []
+        self.soft_weights: list[int] = []
+
+    def hard(self, clause: Sequence[int], *, family: str) -> None:
+        self.hard_by_family.setdefault(family, []).append(list(clause))
+
+    def soft(self, clause: Sequence[int], weight: int) -> None:
+        self.soft_rows.append(list(clause))
+        self.soft_weights.append(int(weight))
+
+    def add_to(self, m: Any) -> None:
+        for family, rows in self.hard_by_family.items():
+            m.add_hard_block(_pad(rows), family=family)
+        if self.soft_rows:
+            m.add_soft_block(_pad(self.soft_rows), np.array(self.soft_weights, dtype=np.int64))
+
+
 def _encode(prob: _Problem):
     """Build the Model; returns (model, decode) with decode(solution) -> (choice_a, choice_b)."""
     from illuknit.model import Model
 
     m = Model("tile-assignment")
-    # Clauses are collected and added as padded blocks: far faster than one call per clause.
-    hard_by_family: dict[str, list[list[int]]] = {}
-    soft_rows: list[list[int]] = []
-    soft_weights: list[int] = []
-
-    def hard(clause: Sequence[int], *, family: str) -> None:
-        hard_by_family.setdefault(family, []).append(list(clause))
-
-    def soft(clause: Sequence[int], weight: int) -> None:
-        soft_rows.append(list(clause))
-        soft_weights.append(int(weight))
-
+    cl = _Clauses()
     fa, fb = prob.fa, prob.fb
     xa = {(a, f): m.var(("fa", a, f)) for a in prob.cols_a for f in range(len(fa))}
     xb = {(b, g): m.var(("fb", b, g)) for b in prob.cols_b for g in range(len(fb))}
@@ -198,60 +210,21 @@ def _encode(prob: _Problem):
     for a, b in prob.pairs:
         for f in range(len(fa)):
             ok = np.flatnonzero(prob.compat[f])
-            hard([-xa[a, f], *(xb[b, int(g)] for g in ok)], family=f"overlap pair ({a},{b})")
-    # brightness order
-    for side, cols, colors, fills, x in (
-        ("A", prob.cols_a, prob.ra.colors, fa, xa),
-        ("B", prob.cols_b, prob.rb.colors, fb, xb),
-    ):
-        bright = np.array([f.brightness for f in fills])
-        if prob.brightness == "hard":
-            inc, eq = _order_pairs(cols, colors)
-            for lo, hi in inc:
-                for f in range(len(fills)):
-                    up = np.flatnonzero(bright > bright[f] + _EPS)
-                    hard(
-                        [-x[lo, f], *(x[hi, int(g)] for g in up)], family=f"brightness order {side}"
-                    )
-            for p, q in eq:
-                for f in range(len(fills)):
-                    hard([-x[p, f], -x[q, f]], family=f"distinct fills {side}")
-        else:
-            w = max(1, round(prob.weights.order_penalty * SCALE))
-            for lo, hi in _all_order_pairs(cols, colors):
-                for f in range(len(fills)):
-                    for dim in np.flatnonzero(bright <= bright[f] + _EPS).tolist():
-                        soft([-x[lo, f], -x[hi, dim]], w)
+            cl.hard([-xa[a, f], *(xb[b, int(g)] for g in ok)], family=f"overlap pair ({a},{b})")
+    _brightness_order(cl, prob, xa, xb)
     # objective: closeness + stripes
     for a in prob.cols_a:
         for f in range(len(fa)):
             w = int(prob.close_a[a, f] + prob.stripe_a[f])
             if w > 0:
-                soft([-xa[a, f]], w)
+                cl.soft([-xa[a, f]], w)
     for b in prob.cols_b:
         for g in range(len(fb)):
             w = int(prob.close_b[b, g] + prob.stripe_b[g])
             if w > 0:
-                soft([-xb[b, g]], w)
-    # few yarns per course
-    for r, (ka, kb, w) in enumerate(prob.row_classes):
-        if w <= 0:
-            continue
-        for y in range(len(prob.bank.yarns)):
-            u = m.var(("use", r, y))
-            soft([-u], w)
-            for a in ka:
-                for f in range(len(fa)):
-                    if y in fa[f].yarn_indices:
-                        hard([-xa[a, f], u], family="yarns per course")
-            for b in kb:
-                for g in range(len(fb)):
-                    if y in fb[g].yarn_indices:
-                        hard([-xb[b, g], u], family="yarns per course")
-    for family, rows in hard_by_family.items():
-        m.add_hard_block(_pad(rows), family=family)
-    if soft_rows:
-        m.add_soft_block(_pad(soft_rows), np.array(soft_weights, dtype=np.int64))
+                cl.soft([-xb[b, g]], w)
+    _yarns_per_course(cl, m, prob, xa, xb)
+    cl.add_to(m)
 
     def block(ca: Mapping[int, int], cb: Mapping[int, int]) -> None:
         """Forbid exactly this choice of fills (the next solve finds the next candidate)."""
@@ -267,6 +240,59 @@ def _encode(prob: _Problem):
         return ca, cb
 
     return m, decode, block
+
+
+def _brightness_order(
+    cl: _Clauses, prob: _Problem, xa: dict[tuple[int, int], int], xb: dict[tuple[int, int], int]
+) -> None:
+    """Each picture's brightness order: kept (hard), or its breaches penalised (soft)."""
+    for side, cols, colors, fills, x in (
+        ("A", prob.cols_a, prob.ra.colors, prob.fa, xa),
+        ("B", prob.cols_b, prob.rb.colors, prob.fb, xb),
+    ):
+        bright = np.array([f.brightness for f in fills])
+        if prob.brightness == "hard":
+            inc, eq = _order_pairs(cols, colors)
+            for lo, hi in inc:
+                for f in range(len(fills)):
+                    up = np.flatnonzero(bright > bright[f] + _EPS)
+                    cl.hard(
+                        [-x[lo, f], *(x[hi, int(g)] for g in up)], family=f"brightness order {side}"
+                    )
+            for p, q in eq:
+                for f in range(len(fills)):
+                    cl.hard([-x[p, f], -x[q, f]], family=f"distinct fills {side}")
+        else:
+            w = max(1, round(prob.weights.order_penalty * SCALE))
+            for lo, hi in _all_order_pairs(cols, colors):
+                for f in range(len(fills)):
+                    for dim in np.flatnonzero(bright <= bright[f] + _EPS).tolist():
+                        cl.soft([-x[lo, f], -x[hi, dim]], w)
+
+
+def _yarns_per_course(
+    cl: _Clauses,
+    m: Any,
+    prob: _Problem,
+    xa: dict[tuple[int, int], int],
+    xb: dict[tuple[int, int], int],
+) -> None:
+    """Few yarns per course: a ``use`` variable per row class and yarn, each use penalised."""
+    fa, fb = prob.fa, prob.fb
+    for r, (ka, kb, w) in enumerate(prob.row_classes):
+        if w <= 0:
+            continue
+        for y in range(len(prob.bank.yarns)):
+            u = m.var(("use", r, y))
+            cl.soft([-u], w)
+            for a in ka:
+                for f in range(len(fa)):
+                    if y in fa[f].yarn_indices:
+                        cl.hard([-xa[a, f], u], family="yarns per course")
+            for b in kb:
+                for g in range(len(fb)):
+                    if y in fb[g].yarn_indices:
+                        cl.hard([-xb[b, g], u], family="yarns per course")
 
 
 def _cost(prob: _Problem, ca: Mapping[int, int], cb: Mapping[int, int]) -> dict[str, int] | None:

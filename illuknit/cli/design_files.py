@@ -1,0 +1,175 @@
+"""The output folder of a tile design (``illuknit double`` and ``illuknit headon``).
+
+One folder per ranked candidate (pattern, previews, repainted inputs, ``fills.json``,
+diagnostics), the suggested edits, and the text of ``summary.txt``.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+__all__ = ["fmt_number", "summary_text", "write_candidate", "write_edits"]
+
+
+def write_candidate(
+    rc: Any,
+    tmp: Path,
+    inp: Any,
+    *,
+    pick: int,
+    overrides: dict[tuple[int, int], str],
+    seen_targets: list[np.ndarray],
+    sources: list[str | None],
+) -> tuple[dict[str, Any], list[str]]:
+    """Write one ranked candidate's folder; returns its summary row and overlap lines."""
+    from illuknit.export import export_pattern
+    from illuknit.outputs import atomic_write_text
+    from illuknit.previews import save_png, unit_scale, upscale
+    from illuknit.tiles.compile import repainted_rgb
+    from illuknit.tiles.overlaps import group_overlaps
+
+    mode = inp.mode
+    names = (
+        ("front (head-on)", "side") if mode == "headon" else ("A (from above)", "B (from below)")
+    )
+    cand, pattern, report, meas = rc.assignment, rc.pattern, rc.report, rc.measures
+    sub = tmp / f"candidate_{cand.rank}"
+    s = max(2, unit_scale(pattern.shape))
+    for over, rows_spec in overrides.items():  # the tiles as knit, overrides included
+        cand = cand.with_tile(over, rows_spec)
+    cand_json = cand.to_json()  # its "fills" is cand.describe()
+    table = group_overlaps(cand)
+    overlaps = table.to_json()
+    report_json = report.to_json()
+    rep = {
+        "mode": mode,
+        "sources": sources,
+        "assignment": cand_json,
+        "tiles_report": report_json,
+        "measures": meas.to_json(),
+        "default": cand.rank == pick,
+    }
+    ra = repainted_rgb(cand, 0)
+    rb = repainted_rgb(cand, 1)
+    export_pattern(
+        pattern,
+        sub,
+        quantised=inp.quantised,
+        report=rep,
+        title=f"{mode}-view illusion, candidate {cand.rank}",
+        targets={f"{names[0]} repainted": ra, f"{names[1]} repainted": rb},
+    )
+    for which, letter, striped in ((0, "a", ra), (1, "b", rb)):
+        average = repainted_rgb(cand, which, mode="average")
+        save_png(upscale(striped, s), sub / f"repainted_{letter}.png")
+        save_png(upscale(average, s), sub / f"repainted_{letter}_average.png")
+    diagnostics = _write_diagnostics(pattern, seen_targets, sub, mode=mode, scale=s)
+    fills = cand_json["fills"]
+    legend = {
+        "views": list(inp.views),
+        "fills": fills,
+        "tiles": cand_json["tiles"],
+        "overlaps": overlaps,
+    }
+    atomic_write_text(sub / "fills.json", json.dumps(legend, indent=1) + "\n")
+    row = {
+        "rank": cand.rank,
+        "default": cand.rank == pick,
+        "score": round(cand.score, 2),
+        "score_rank": rc.score_rank,
+        **_measure_fields(meas),
+        "diagnostics": diagnostics,
+        "fills_a": [f["fill"] for f in fills if f["input"] == "A"],
+        "fills_b": [f["fill"] for f in fills if f["input"] == "B"],
+        "error_repainted": report_json["error_repainted"],
+        "error_repainted_interior": report_json["error_repainted_interior"],
+        "color_changes_per_course_max": report_json["color_changes_per_course"]["max"],
+        "overlaps": overlaps,
+        "folder": sub.name,
+    }
+    return row, table.lines() if cand.rank == pick else []
+
+
+def write_edits(edits: list[Any], folder: Path, *, scale: int) -> None:
+    """``suggestions/``: each edit as before | after pictures, and ``suggestions.json``."""
+    from illuknit.outputs import atomic_write_text
+    from illuknit.previews import save_png, upscale
+
+    folder.mkdir(parents=True, exist_ok=True)
+    for e in edits:
+        s = e.suggestion
+        for letter, before_rgb, after_rgb in zip(
+            "ab", s.pictures(edited=False), s.pictures(), strict=True
+        ):
+            gap = np.full((before_rgb.shape[0], 2, 3), 255, np.uint8)
+            pair = np.concatenate([before_rgb, gap, after_rgb], axis=1)
+            save_png(upscale(pair, scale), folder / f"{s.name}_{letter}.png")
+    data = {"edits": [e.to_json() for e in edits]}
+    atomic_write_text(folder / "suggestions.json", json.dumps(data, indent=1) + "\n")
+
+
+def _measure_fields(m: Any) -> dict[str, Any]:
+    """A candidate's perceptual measures as summary-table fields (see tiles.perception)."""
+    j = m.to_json()
+    return {
+        "perceptual_score": j["perceptual_score"],
+        "readability": j["readability"],
+        "contrast": j["contrast"],
+        "ghosting": j["ghosting"],
+        "knit_minutes": j["knit_minutes"],
+        "machine_passes": j["machine_passes"],
+    }
+
+
+def _write_diagnostics(
+    pattern: Any, pictures: list[np.ndarray], sub: Path, *, mode: str, scale: int
+) -> dict[str, dict[str, float]]:
+    """``diagnostic_<view>.png`` per view: where it shows the wrong shade, where the other
+    picture ghosts through. Returns the fractions of units marked, per view."""
+    from illuknit.previews import save_png, upscale
+    from illuknit.tiles.perception import diagnostic_rgb
+
+    views = ("A", "B") if mode == "double" else ("headon", "A")
+    out = {}
+    for k, (letter, view) in enumerate(zip(("a", "b"), views, strict=True)):
+        other = pictures[1 - k] if mode == "double" else None
+        img, stats = diagnostic_rgb(pattern, pictures[k], other, view=view)
+        save_png(upscale(img, scale), sub / f"diagnostic_{letter}.png")
+        out[letter.upper()] = {key: round(v, 4) for key, v in stats.items()}
+    return out
+
+
+def summary_text(summary: dict[str, Any], overlap_lines: list[str]) -> str:
+    lines = [
+        f"{summary['mode']}-view tile design, {summary['size']['rows']} x {summary['size']['cols']} units, "
+        f"yarns: {', '.join(y['name'] + ' ' + y['rgb'] for y in summary['yarns'])}",
+        f"bank {summary['bank']['name']} ({summary['bank']['tiles']} tiles), solver {summary['solver']}",
+        "",
+        f"ranked by {summary.get('ranked_by', 'score')}; readability / contrast / ghosting per view",
+        "rank  default  percept  read A  read B  contr A  contr B  ghost  minutes  score    fills of input A | fills of input B",
+    ]
+    for r in summary["candidates"]:
+        mark = "  *    " if r["default"] else "       "
+        rd, ct = r["readability"], r["contrast"]
+        ghost = max((abs(g) for g in r["ghosting"] if g is not None), default=None)
+        lines.append(
+            f"{r['rank']:>4}  {mark}  {fmt_number(r['perceptual_score']):>7}  {fmt_number(rd[0]):>6}  "
+            f"{fmt_number(rd[1]):>6}  {fmt_number(ct[0]):>7}  {fmt_number(ct[1]):>7}  {fmt_number(ghost):>5}  "
+            f"{fmt_number(r['knit_minutes'], 1):>7}  {r['score']:>7.2f}  "
+            f"{'; '.join(r['fills_a'])} | {'; '.join(r['fills_b'])}"
+        )
+    lines.append("")
+    lines.append(
+        "* = default candidate (its pattern is also ./pattern.json); each is in candidate_K/"
+    )
+    if overlap_lines:
+        lines += ["", f"default candidate: {overlap_lines[0]}", *overlap_lines[1:]]
+    return "\n".join(lines) + "\n"
+
+
+def fmt_number(x: float | None, digits: int = 3) -> str:
+    return "-" if x is None else f"{x:.{digits}f}"
