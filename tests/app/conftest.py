@@ -7,6 +7,7 @@ import socket
 import threading
 import time
 from collections.abc import Callable, Iterator
+from types import SimpleNamespace
 from typing import Any
 
 import pytest
@@ -39,3 +40,140 @@ def serve_app() -> Callable[[Any], contextlib.AbstractContextManager[int]]:
     """``with serve_app(app) as port:`` -- the app on uvicorn in a background thread, on a free
     loopback port, stopped on leaving the block."""
     return _serve
+
+
+# -- the JSON API (tests/app/routers/) -----------------------------------------------------------
+
+DARK = (20, 20, 20)
+LIGHT = (245, 240, 230)
+
+
+def _png(rgb: Any) -> bytes:
+    import io
+
+    import numpy as np
+    from PIL import Image
+
+    buf = io.BytesIO()
+    Image.fromarray(np.asarray(rgb, dtype=np.uint8)).save(buf, format="PNG")
+    return buf.getvalue()
+
+
+def _two_tone(mask: Any) -> bytes:
+    import numpy as np
+
+    return _png(np.where(mask[..., None], np.array(DARK), np.array(LIGHT)))
+
+
+def _box_picture(h: int = 24, w: int = 36, *, top: int = 6, left: int = 8) -> bytes:
+    import numpy as np
+
+    m = np.zeros((h, w), bool)
+    m[top : top + h // 2, left : left + w // 2] = True
+    return _two_tone(m)
+
+
+def _bands(h: int, w: int, cut: int) -> bytes:
+    """Rows above ``cut`` dark, below light: one colour per row (knittable one course at a time)."""
+    import numpy as np
+
+    m = np.zeros((h, w), bool)
+    m[:cut] = True
+    return _two_tone(m)
+
+
+def _three_tone(h: int = 24, w: int = 36) -> bytes:
+    """Dark, middle and light bands: a 3-colour picture."""
+    import numpy as np
+
+    rgb = np.zeros((h, w, 3), np.uint8)
+    rgb[: h // 3] = DARK
+    rgb[h // 3 : 2 * h // 3] = (150, 110, 60)
+    rgb[2 * h // 3 :] = LIGHT
+    return _png(rgb)
+
+
+def _new_session(client: Any) -> str:
+    r = client.post("/api/sessions")
+    assert r.status_code == 201
+    return str(r.json()["id"])
+
+
+def _upload(
+    client: Any, sid: str, slot: str, data: bytes, name: str = "pic.png", mime: str = "image/png"
+) -> Any:
+    return client.put(f"/api/sessions/{sid}/images/{slot}", files={"file": (name, data, mime)})
+
+
+def _error_of(r: Any) -> dict[str, Any]:
+    body = r.json()
+    assert set(body) == {"error"}, body
+    assert body["error"]["message"], body
+    return dict(body["error"])
+
+
+def _run_job(client: Any, sid: str, kind: str, timeout: float = 60) -> dict[str, Any]:
+    r = client.post(f"/api/sessions/{sid}/jobs", json={"kind": kind})
+    assert r.status_code == 202, r.text
+    jid = r.json()["id"]
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        job = client.get(f"/api/sessions/{sid}/jobs/{jid}").json()
+        if job["status"] not in ("queued", "running"):
+            return dict(job)
+        time.sleep(0.05)
+    raise AssertionError(f"job {kind} did not end within {timeout} s")
+
+
+@pytest.fixture(scope="session")
+def pictures() -> SimpleNamespace:
+    """Small test pictures as PNG bytes: ``png(rgb)``, ``two_tone(mask)``, ``box_picture()``,
+    ``bands(h, w, cut)``, ``three_tone()``, and the ``DARK`` / ``LIGHT`` colours."""
+    return SimpleNamespace(
+        DARK=DARK,
+        LIGHT=LIGHT,
+        png=_png,
+        two_tone=_two_tone,
+        box_picture=_box_picture,
+        bands=_bands,
+        three_tone=_three_tone,
+    )
+
+
+@pytest.fixture(scope="session")
+def api() -> SimpleNamespace:
+    """Calls of the JSON API: ``new_session(client)``, ``upload(client, sid, slot, data)``,
+    ``run_job(client, sid, kind)`` (waits for its end) and ``error_of(response)``."""
+    return SimpleNamespace(
+        new_session=_new_session, upload=_upload, error_of=_error_of, run_job=_run_job
+    )
+
+
+@pytest.fixture(scope="module")
+def app() -> Any:
+    """The app with a small upload limit, knitting in-process."""
+    from illuknit.app import create_app
+    from illuknit.app.server import AppConfig
+
+    return create_app(AppConfig(max_upload_bytes=200_000, isolate_knit=False))
+
+
+@pytest.fixture(scope="module")
+def client(app: Any) -> Iterator[Any]:
+    from fastapi.testclient import TestClient
+
+    with TestClient(app) as c:
+        yield c
+
+
+@pytest.fixture()
+def double(client: Any) -> str:
+    """A session with two equal-size pictures, 2 colours, candidates computed."""
+    sid = _new_session(client)
+    assert _upload(client, sid, "a", _box_picture()).status_code == 200
+    assert _upload(client, sid, "b", _box_picture(top=2, left=2)).status_code == 200
+    r = client.put(f"/api/sessions/{sid}/settings", json={"mode": "double", "width_units": 18})
+    assert r.status_code == 200
+    job = _run_job(client, sid, "candidates")
+    assert job["status"] == "done", job
+    return sid

@@ -1,0 +1,171 @@
+"""Pictures through the JSON API: uploads and their refusals, quantised inputs
+(``routers/pictures.py``).
+"""
+
+from __future__ import annotations
+
+import io
+
+import numpy as np
+import pytest
+
+pytest.importorskip("fastapi", reason="the app extra is not installed: pip install 'illuknit[app]'")
+pytest.importorskip("multipart", reason="python-multipart is not installed")
+
+from PIL import Image
+
+
+def test_upload_get_and_delete_image(client, api, pictures):
+    sid = api.new_session(client)
+    data = pictures.box_picture()
+    r = api.upload(client, sid, "a", data, name="box.png")
+    assert r.status_code == 200
+    im = r.json()["images"]["a"]
+    assert (im["width"], im["height"], im["filename"]) == (36, 24, "box.png")
+    got = client.get(f"/api/sessions/{sid}/images/a")
+    assert got.status_code == 200 and got.headers["content-type"] == "image/png"
+    assert np.array_equal(
+        np.asarray(Image.open(io.BytesIO(got.content))), np.asarray(Image.open(io.BytesIO(data)))
+    )
+    assert client.delete(f"/api/sessions/{sid}/images/a").json()["images"] == {}
+    r = client.get(f"/api/sessions/{sid}/images/a")
+    assert r.status_code == 404 and api.error_of(r)["field"] == "image_a"
+
+
+def test_reupload_keeps_settings_and_bumps_revision(client, api, pictures):
+    sid = api.new_session(client)
+    api.upload(client, sid, "a", pictures.box_picture())
+    s1 = client.put(f"/api/sessions/{sid}/settings", json={"width_units": 20, "n_colors": 2}).json()
+    s2 = api.upload(client, sid, "a", pictures.box_picture(top=1)).json()
+    assert s2["settings"] == s1["settings"]
+    assert s2["revision"] > s1["revision"]
+
+
+@pytest.mark.parametrize(
+    ("data", "name", "mime", "status", "code"),
+    [
+        (b"hello, not a picture", "notes.txt", "text/plain", 415, "not_an_image"),
+        (b"%PDF-1.4\n%...", "doc.png", "image/png", 415, "not_an_image"),
+        (b"\x89PNG\r\n\x1a\n" + b"\x00" * 40, "broken.png", "image/png", 415, "not_an_image"),
+        (b"", "empty.png", "image/png", 422, "empty"),
+    ],
+)
+def test_bad_uploads_are_refused_next_to_the_control(client, data, name, mime, status, code, api):
+    sid = api.new_session(client)
+    r = api.upload(client, sid, "b", data, name=name, mime=mime)
+    assert r.status_code == status, r.text
+    err = api.error_of(r)
+    assert err["field"] == "image_b" and err["code"] == code
+    assert client.get(f"/api/sessions/{sid}").json()["images"] == {}
+
+
+def test_one_pixel_picture_is_refused(client, api, pictures):
+    sid = api.new_session(client)
+    r = api.upload(client, sid, "a", pictures.png(np.zeros((1, 1, 3), np.uint8)))
+    assert r.status_code == 415
+    assert "2 x 2" in api.error_of(r)["message"]
+
+
+def test_huge_upload_is_refused_with_the_limit(client, api, pictures):
+    sid = api.new_session(client)
+    noise = np.random.default_rng(0).integers(0, 256, (300, 300, 3), dtype=np.uint8)
+    data = pictures.png(noise)
+    assert len(data) > 200_000
+    r = api.upload(client, sid, "a", data)
+    assert r.status_code == 413
+    err = api.error_of(r)
+    assert err["field"] == "image_a" and err["code"] == "too_large"
+    assert "MB" in err["message"]
+
+
+def test_picture_with_too_many_pixels_is_refused_from_its_header(client, api):
+    sid = api.new_session(client)
+    buf = io.BytesIO()
+    Image.new("1", (7200, 7000)).save(buf, format="PNG")  # 50.4 megapixels, a few kB
+    r = api.upload(client, sid, "a", buf.getvalue())
+    assert r.status_code == 413
+    assert "megapixels" in api.error_of(r)["message"]
+
+
+def test_big_picture_is_reduced_on_upload(client, api, pictures):
+    sid = api.new_session(client)
+    buf = io.BytesIO()
+    Image.new("RGB", (2400, 600), pictures.DARK).save(buf, format="JPEG")
+    r = api.upload(client, sid, "a", buf.getvalue(), name="wide.jpg", mime="image/jpeg")
+    assert r.status_code == 200
+    im = r.json()["images"]["a"]
+    # reduced while decoding by a whole factor, to at most 2000 pixels (the library's reader)
+    assert (im["width"], im["height"]) == (1200, 300)
+    assert im["bytes"] == len(buf.getvalue())
+    assert im["notes"] == ["reduced from 2400 x 600 to 1200 x 300 pixels while reading"]
+    kept = Image.open(io.BytesIO(client.get(f"/api/sessions/{sid}/images/a").content))
+    assert kept.size == (1200, 300)
+
+
+def test_upload_without_file_and_bad_slot(client, api, pictures):
+    sid = api.new_session(client)
+    r = client.put(f"/api/sessions/{sid}/images/a", data={"x": "1"})
+    assert r.status_code == 422 and api.error_of(r)["field"] == "image_a"
+    r = api.upload(client, sid, "c", pictures.box_picture())
+    assert r.status_code == 404 and api.error_of(r)["code"] == "bad_slot"
+
+
+def test_inputs_quantise_and_legend(client, api, pictures):
+    sid = api.new_session(client)
+    api.upload(client, sid, "a", pictures.box_picture())
+    client.put(f"/api/sessions/{sid}/settings", json={"mode": "single", "width_units": 18})
+    inp = client.get(f"/api/sessions/{sid}/inputs").json()
+    assert (inp["rows"], inp["cols"]) == (12, 18)
+    legend = inp["legend"]["a"]
+    assert [e["yarn_color"] for e in legend] == ["#1b1b1b", "#f4f0e8"]
+    assert abs(sum(e["share"] for e in legend) - 1) < 1e-3
+    q = client.get(inp["images"]["a"])
+    assert q.status_code == 200
+    arr = np.asarray(Image.open(io.BytesIO(q.content)))
+    assert arr.shape == (12, 18, 3)
+    assert {tuple(c) for c in arr.reshape(-1, 3)} == {(0x1B, 0x1B, 0x1B), (0xF4, 0xF0, 0xE8)}
+    r = client.get(f"/api/sessions/{sid}/inputs/b.png")
+    assert r.status_code == 404
+
+
+def test_physical_size_uses_the_gauge(client, api, pictures):
+    sid = api.new_session(client)
+    api.upload(client, sid, "a", pictures.box_picture())
+    client.put(
+        f"/api/sessions/{sid}/settings",
+        json={"mode": "single", "size_mode": "physical", "width_cm": 10.16, "gauge": 5},
+    )
+    assert client.get(f"/api/sessions/{sid}/inputs").json()["cols"] == 10  # 4 in x 5 st/in / 2
+
+
+def test_inputs_missing_picture_names_the_slot(client, api, pictures):
+    sid = api.new_session(client)
+    api.upload(client, sid, "a", pictures.box_picture())
+    r = client.get(f"/api/sessions/{sid}/inputs")  # default mode is double view
+    assert r.status_code == 422
+    assert api.error_of(r)["field"] == "image_b"
+
+
+def test_mismatched_sizes_offer_resize(client, api, pictures):
+    sid = api.new_session(client)
+    api.upload(client, sid, "a", pictures.box_picture(24, 36))
+    api.upload(client, sid, "b", pictures.box_picture(30, 30))
+    client.put(f"/api/sessions/{sid}/settings", json={"mode": "double", "width_units": 18})
+    r = client.get(f"/api/sessions/{sid}/inputs")
+    assert r.status_code == 409
+    err = api.error_of(r)
+    assert err["field"] == "image_b" and err["code"] == "size_mismatch"
+    assert "Resize" in err["message"]
+    client.put(f"/api/sessions/{sid}/settings", json={"resize": True})
+    inp = client.get(f"/api/sessions/{sid}/inputs").json()
+    assert (inp["rows"], inp["cols"]) == (12, 18)
+    assert inp["notes"] and "stretched" in inp["notes"][0]
+
+
+def test_more_colors_than_yarns_points_at_n_colors(client, api, pictures):
+    sid = api.new_session(client)
+    api.upload(client, sid, "a", pictures.box_picture())
+    api.upload(client, sid, "b", pictures.box_picture(top=2))
+    client.put(f"/api/sessions/{sid}/settings", json={"mode": "double", "n_colors": 3})
+    r = client.get(f"/api/sessions/{sid}/inputs")
+    assert r.status_code == 422 and api.error_of(r)["field"] == "n_colors"
