@@ -262,46 +262,8 @@ def plan_color_runs(
         owned = {v: len(cs) for v, cs in of_yarn.items()}
         if not strict:
             groups = _fit_carriers(groups, owned, len(free))
-        need = sum(len(g) for g in groups.values())
-        if need <= len(pool) and _deficit(groups, owned, len(free)) > 0:
-            name = course_names[c] if course_names is not None else f"course {c}"
-            short = sorted(v for v, g in groups.items() if len(g) > owned.get(v, 0))
-            threaded = len(pool) - len(free)
-            raise CarrierShortageError(
-                f"{name} needs another carrier for yarn {short[0]} but all {threaded} carriers "
-                "are already threaded with other yarns (a carrier keeps its yarn for the whole "
-                f"piece); use fewer yarns or a wider float limit (MachineSpec.float_limit, now "
-                f"{float_limit})",
-                course=c,
-                needed=threaded + 1,
-                available=len(pool),
-            )
-        if need > len(pool):
-            name = course_names[c] if course_names is not None else f"course {c}"
-            detail = ", ".join(f"yarn {v}: {len(g)}" for v, g in sorted(groups.items()))
-            raise CarrierShortageError(
-                f"{name} needs {need} carriers at once for its colour runs ({detail}) but the "
-                f"machine has {len(pool)}; use fewer yarns, fewer separate colour regions per "
-                f"row, or a wider float limit (MachineSpec.float_limit, now {float_limit})",
-                course=c,
-                needed=need,
-                available=len(pool),
-            )
-        segments: list[Segment] = []
-        for v in sorted(groups):
-            own = of_yarn.setdefault(v, [])
-            unused = list(own)
-            for g in groups[v]:
-                centre = (g[0][0] + g[-1][1]) / 2
-                if unused:
-                    # Nearest anchored carrier of this yarn: an intarsia carrier keeps its region.
-                    car = min(unused, key=lambda k: (abs(anchor[k] - centre), own.index(k)))
-                    unused.remove(car)
-                else:
-                    car = free.pop(0)
-                    own.append(car)
-                anchor[car] = centre
-                segments.append(Segment(car, int(v), g))
+        _check_carriers(c, groups, owned, free, pool, float_limit, course_names)
+        segments = _assign_carriers(groups, of_yarn, anchor, free)
         segments.sort(key=lambda s: s.lo)
         plans.append(CoursePlan(c, tuple(segments)))
     return ColorPlan(
@@ -309,3 +271,70 @@ def plan_color_runs(
         carrier_of_yarn={v: tuple(cs) for v, cs in of_yarn.items()},
         float_limit=int(float_limit),
     )
+
+
+def _check_carriers(
+    c: int,
+    groups: dict[int, list[tuple[Run, ...]]],
+    owned: dict[int, int],
+    free: list[str],
+    pool: list[str],
+    float_limit: int,
+    course_names: Sequence[str] | None,
+) -> None:
+    """Raise :class:`CarrierShortageError` when course ``c``'s segments need more carriers than
+    are free for their yarns, or more than the machine has."""
+    need = sum(len(g) for g in groups.values())
+    if need <= len(pool) and _deficit(groups, owned, len(free)) > 0:
+        name = course_names[c] if course_names is not None else f"course {c}"
+        short = sorted(v for v, g in groups.items() if len(g) > owned.get(v, 0))
+        threaded = len(pool) - len(free)
+        raise CarrierShortageError(
+            f"{name} needs another carrier for yarn {short[0]} but all {threaded} carriers "
+            "are already threaded with other yarns (a carrier keeps its yarn for the whole "
+            f"piece); use fewer yarns or a wider float limit (MachineSpec.float_limit, now "
+            f"{float_limit})",
+            course=c,
+            needed=threaded + 1,
+            available=len(pool),
+        )
+    if need > len(pool):
+        name = course_names[c] if course_names is not None else f"course {c}"
+        detail = ", ".join(f"yarn {v}: {len(g)}" for v, g in sorted(groups.items()))
+        raise CarrierShortageError(
+            f"{name} needs {need} carriers at once for its colour runs ({detail}) but the "
+            f"machine has {len(pool)}; use fewer yarns, fewer separate colour regions per "
+            f"row, or a wider float limit (MachineSpec.float_limit, now {float_limit})",
+            course=c,
+            needed=need,
+            available=len(pool),
+        )
+
+
+def _assign_carriers(
+    groups: dict[int, list[tuple[Run, ...]]],
+    of_yarn: dict[int, list[str]],
+    anchor: dict[str, float],
+    free: list[str],
+) -> list[Segment]:
+    """A carrier for each segment: the nearest anchored one of its yarn, else a free one.
+
+    Updates ``of_yarn`` (carriers of each yarn), ``anchor`` (each carrier's last centre) and
+    ``free`` in place; returns the course's segments, by yarn.
+    """
+    segments: list[Segment] = []
+    for v in sorted(groups):
+        own = of_yarn.setdefault(v, [])
+        unused = list(own)
+        for g in groups[v]:
+            centre = (g[0][0] + g[-1][1]) / 2
+            if unused:
+                # Nearest anchored carrier of this yarn: an intarsia carrier keeps its region.
+                car = min(unused, key=lambda k: (abs(anchor[k] - centre), own.index(k)))
+                unused.remove(car)
+            else:
+                car = free.pop(0)
+                own.append(car)
+            anchor[car] = centre
+            segments.append(Segment(car, int(v), g))
+    return segments
