@@ -137,47 +137,30 @@ def run_solve(
     bed is refused before the model is built.
     """
     from illuknit.cli.knitout_bridge import check_fits, resolve_machine
-    from illuknit.errors import ImageInputError
     from illuknit.illusion_models import (
         build_model,
         check_solution,
         make_problem,
-        parse_weights,
         pattern_from_solution,
         report_pattern,
     )
-    from illuknit.outputs import atomic_write_text, staged_dir
-    from illuknit.pattern import parse_yarns
-    from illuknit.solvers import resolve_backend
-    from illuknit.solvers import solve as solve_model
-    from illuknit.solvers.warm_start import resolve_policy
+    from illuknit.outputs import atomic_write_text
 
     if image_a is None:
         raise click.UsageError("give the target picture(s): illuknit solve A.png B.png -o OUTDIR")
-    if model == "single" and image_b is not None:
-        raise ImageInputError("--model single takes one picture (it is seen from both sides)")
-    if model != "single" and image_b is None:
-        raise ImageInputError(f"--model {model} needs two pictures A and B (or use --model single)")
-    if alternate_rows and model != "single":
-        raise click.BadParameter("applies to --model single only", param_hint="--alternate-rows")
-    if outdir is None and export_wcnf is None:
-        raise click.UsageError("give -o OUTDIR (or --export-wcnf FILE)")
-    if time_limit is not None and time_limit <= 0:
-        raise click.BadParameter(
-            f"must be positive seconds, got {time_limit}", param_hint="--time-limit"
-        )
-    w = parse_weights(weights)
-    if max_color_changes is not None:
-        from dataclasses import replace
-
-        w = replace(w, max_color_changes=max_color_changes)
-    ys = parse_yarns(yarns) if yarns else None
-    if (ys is not None and len(ys) < 2) or n_colors == 1:
-        from illuknit.errors import YarnSpecError
-
-        # One yarn knits a plain piece: no picture can appear from any side.
-        given = f"--yarns {yarns}" if ys is not None else "--colors 1"
-        raise YarnSpecError(f"an illusion needs at least 2 yarns, got 1 ({given})")
+    w, ys = _check_solve_options(
+        image_a,
+        image_b,
+        outdir,
+        model=model,
+        weights=weights,
+        max_color_changes=max_color_changes,
+        alternate_rows=alternate_rows,
+        n_colors=n_colors,
+        yarns=yarns,
+        time_limit=time_limit,
+        export_wcnf=export_wcnf,
+    )
     spec = resolve_machine(machine)
     if knitout and width is not None:
         check_fits(spec, width)
@@ -207,9 +190,129 @@ def run_solve(
             )
             return {"wcnf": str(export_wcnf), "model": repr(mdl)}
 
+    sol = _solve_with_progress(
+        mdl,
+        solver=solver,
+        warm_start=warm_start,
+        time_limit=time_limit,
+        seed=seed,
+        label=f"on {model} {problem.shape[0]}x{problem.shape[1]}",
+        show_progress=show_progress,
+    )
+    check_solution(sol, model)
+    pattern = pattern_from_solution(
+        problem,
+        sol,
+        yarns=qa.yarns,
+        meta={"sources": [str(image_a), str(image_b) if image_b else None]},
+    )
+    report = report_pattern(pattern, problem, sol)
+    report["sources"] = {"A": str(image_a), "B": str(image_b) if image_b else None}
+    report["legend"] = qa.legend()
+    if sol.stats.get("interrupted"):
+        report["note"] = "interrupted with Ctrl-C: the best pattern found so far"
+    if outdir is not None:
+        targets = (
+            {"target A": qa.rgb()} if qb is None else {"target A": qa.rgb(), "target B": qb.rgb()}
+        )
+        title = f"{model} illusion solved by {sol.backend}"
+        written.update(
+            _write_outputs(
+                pattern,
+                outdir,
+                report=report,
+                title=title,
+                targets=targets,
+                machine=spec if knitout else None,
+            )
+        )
+    _print_report(report, written, outdir)
+    return report
+
+
+def _write_outputs(
+    pattern: Any,
+    outdir: Path,
+    *,
+    report: dict[str, Any],
+    title: str,
+    targets: dict[str, Any],
+    machine: Any | None,
+) -> dict[str, Path]:
+    """Write the pattern's outputs (and, given a machine, its knitout) into ``outdir`` at once."""
+    from illuknit.cli.knitout_bridge import write_program
+    from illuknit.export import export_pattern
+    from illuknit.outputs import staged_dir
+
+    with staged_dir(outdir) as tmp:
+        paths = export_pattern(pattern, tmp, report=report, title=title, targets=targets)
+        if machine is not None:
+            paths.update(write_program(pattern, tmp, machine=machine))
+    return {k: Path(outdir) / p.name for k, p in paths.items()}
+
+
+def _check_solve_options(
+    image_a: Path,
+    image_b: Path | None,
+    outdir: Path | None,
+    *,
+    model: str,
+    weights: str | None,
+    max_color_changes: int | None,
+    alternate_rows: bool,
+    n_colors: int | None,
+    yarns: str | None,
+    time_limit: float | None,
+    export_wcnf: Path | None,
+) -> tuple[Any, Any]:
+    """Refuse contradictory or impossible options; the parsed ``(weights, yarns)``."""
+    from dataclasses import replace
+
+    from illuknit.errors import ImageInputError, YarnSpecError
+    from illuknit.illusion_models import parse_weights
+    from illuknit.pattern import parse_yarns
+
+    if model == "single" and image_b is not None:
+        raise ImageInputError("--model single takes one picture (it is seen from both sides)")
+    if model != "single" and image_b is None:
+        raise ImageInputError(f"--model {model} needs two pictures A and B (or use --model single)")
+    if alternate_rows and model != "single":
+        raise click.BadParameter("applies to --model single only", param_hint="--alternate-rows")
+    if outdir is None and export_wcnf is None:
+        raise click.UsageError("give -o OUTDIR (or --export-wcnf FILE)")
+    if time_limit is not None and time_limit <= 0:
+        raise click.BadParameter(
+            f"must be positive seconds, got {time_limit}", param_hint="--time-limit"
+        )
+    w = parse_weights(weights)
+    if max_color_changes is not None:
+        w = replace(w, max_color_changes=max_color_changes)
+    ys = parse_yarns(yarns) if yarns else None
+    if (ys is not None and len(ys) < 2) or n_colors == 1:
+        # One yarn knits a plain piece: no picture can appear from any side.
+        given = f"--yarns {yarns}" if ys is not None else "--colors 1"
+        raise YarnSpecError(f"an illusion needs at least 2 yarns, got 1 ({given})")
+    return w, ys
+
+
+def _solve_with_progress(
+    mdl: Any,
+    *,
+    solver: str,
+    warm_start: str,
+    time_limit: float | None,
+    seed: int,
+    label: str,
+    show_progress: bool,
+) -> Any:
+    """Solve ``mdl`` with the chosen backend and warm-start policy, with a live progress line."""
+    from illuknit.solvers import resolve_backend
+    from illuknit.solvers import solve as solve_model
+    from illuknit.solvers.warm_start import resolve_policy
+
     backend = resolve_backend(mdl, solver)
     policy = "none" if backend.name in ("dp", "descent") else resolve_policy(warm_start, mdl)
-    label = f"{backend.name} on {model} {problem.shape[0]}x{problem.shape[1]}"
+    label = f"{backend.name} {label}"
     if policy != "none":
         label += f", warm start {policy}"
     if show_progress and backend.name != "dp":
@@ -226,34 +329,7 @@ def run_solve(
         sol = solve_model(
             mdl, solver=backend.name, warm_start=policy, time_limit=time_limit, seed=seed
         )
-    check_solution(sol, model)
-    pattern = pattern_from_solution(
-        problem,
-        sol,
-        yarns=qa.yarns,
-        meta={"sources": [str(image_a), str(image_b) if image_b else None]},
-    )
-    report = report_pattern(pattern, problem, sol)
-    report["sources"] = {"A": str(image_a), "B": str(image_b) if image_b else None}
-    report["legend"] = qa.legend()
-    if sol.stats.get("interrupted"):
-        report["note"] = "interrupted with Ctrl-C: the best pattern found so far"
-    if outdir is not None:
-        from illuknit.export import export_pattern
-
-        title = f"{model} illusion solved by {sol.backend}"
-        targets = (
-            {"target A": qa.rgb()} if qb is None else {"target A": qa.rgb(), "target B": qb.rgb()}
-        )
-        with staged_dir(outdir) as tmp:
-            paths = export_pattern(pattern, tmp, report=report, title=title, targets=targets)
-            if knitout:
-                from illuknit.cli.knitout_bridge import write_program
-
-                paths.update(write_program(pattern, tmp, machine=spec))
-        written.update({k: Path(outdir) / p.name for k, p in paths.items()})
-    _print_report(report, written, outdir)
-    return report
+    return sol
 
 
 def _print_report(report: dict[str, Any], written: dict[str, Path], outdir: Path | None) -> None:
