@@ -31,7 +31,7 @@ from pathlib import Path
 
 import numpy as np
 
-from illuknit.formats.dat import knitout_to_dat
+from illuknit.formats.dat import knitout_to_dat, read_dat
 from illuknit.formats.kc import knitout_to_kc
 from illuknit.knit import knit_pattern
 from illuknit.knit.machine import KNITERATE, MACHINES
@@ -99,7 +99,7 @@ def bench_dat() -> None:
                 subprocess.run(["node", str(script), str(src), str(out)], capture_output=True)
                 node_s = f"{time.perf_counter() - t3:.2f}"
                 same = "yes" if out.exists() and out.read_bytes() == dat else "NO"
-        passes = int(np.frombuffer(dat[6:8], "<u2")[0]) + 1 - 19  # raster height - 19
+        passes = len(read_dat(dat).passes)
         ok = "ok" if t2 - t1 < TARGET_S else "SLOW"
         print(
             f"{label:<34} {pattern.yarn.size * 4:>9} {t1 - t0:>7.2f}s {t2 - t1:>6.2f}s "
