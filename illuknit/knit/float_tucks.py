@@ -41,7 +41,7 @@ from illuknit.knit.ir import (
     Step,
     flip,
 )
-from illuknit.knit.tuck_planning import LOOP_OPS, Solo, TuckPlan
+from illuknit.knit.tuck_planning import LOOP_OPS, Solo, TuckPlan, knit_pass
 
 __all__ = ["LongFloat", "measure_long_floats", "tuck_long_floats"]
 
@@ -91,13 +91,8 @@ def tuck_long_floats(
     plan = TuckPlan.for_steps(passes, limit=limit, left=left, right=right, alone=alone)
     # carrier -> (needle of its last loop, index of the pass that made it, index of its last pass)
     last: dict[str, tuple[int, int, int]] = {}
-    for i, s in enumerate(passes):
-        if isinstance(s, CarrierAction):
-            if s.action in ("out", "outhook"):
-                for c in s.carriers:
-                    last.pop(c, None)
-            continue
-        if s.kind is not PassKind.KNIT:
+    for i, step in enumerate(passes):
+        if (s := knit_pass(step, last)) is None:
             continue
         for o in s.ops:
             if o.op not in LOOP_OPS:
@@ -125,13 +120,8 @@ def measure_long_floats(steps: Sequence[Step], *, limit: int) -> list[LongFloat]
     """
     long: list[LongFloat] = []
     last: dict[str, int] = {}
-    for i, s in enumerate(steps):
-        if isinstance(s, CarrierAction):
-            if s.action in ("out", "outhook"):
-                for c in s.carriers:
-                    last.pop(c, None)
-            continue
-        if s.kind is not PassKind.KNIT:
+    for i, step in enumerate(steps):
+        if (s := knit_pass(step, last)) is None:
             continue
         shift = math.floor(s.racking)
         for o in s.ops:

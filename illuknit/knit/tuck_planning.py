@@ -21,13 +21,32 @@ from __future__ import annotations
 from bisect import bisect_right
 from dataclasses import dataclass, field
 from itertools import pairwise
+from typing import Any
 
 from illuknit.knit.ir import Bed, CarrierAction, OpKind, Pass, PassKind, Step
 
-__all__ = ["LOOP_OPS", "TuckPlan"]
+__all__ = ["LOOP_OPS", "TuckPlan", "knit_pass"]
 
 #: Operations that leave a loop of the carriers' yarn on a needle.
 LOOP_OPS = (OpKind.KNIT, OpKind.TUCK, OpKind.SPLIT)
+
+
+def knit_pass(
+    step: Step, last: dict[str, Any], *, forget: tuple[str, ...] = ("out", "outhook")
+) -> Pass | None:
+    """``step`` if it is a knit pass, else None.
+
+    The walk of a carrier's loops, step by step: a carrier action in ``forget`` (going out, or
+    coming in when walking backwards) drops its carriers from ``last``, so their next loop starts
+    afresh.
+    """
+    if isinstance(step, CarrierAction):
+        if step.action in forget:
+            for c in step.carriers:
+                last.pop(c, None)
+        return None
+    return step if step.kind is PassKind.KNIT else None
+
 
 #: ``(carrier, back needles, needle it comes back beside first or None)`` per solo tuck pass.
 Solo = tuple[str, set[int], int | None]
@@ -73,13 +92,8 @@ def _neighbour_loops(passes: list[Step]) -> list[dict[str, tuple[int | None, int
     """Per step: each of its carriers' last loop before it and first loop after it (or None)."""
     out: list[dict[str, tuple[int | None, int | None]]] = [{} for _ in passes]
     prev: dict[str, int] = {}
-    for i, s in enumerate(passes):
-        if isinstance(s, CarrierAction):
-            if s.action in ("out", "outhook"):
-                for c in s.carriers:
-                    prev.pop(c, None)
-            continue
-        if s.kind is not PassKind.KNIT:
+    for i, step in enumerate(passes):
+        if (s := knit_pass(step, prev)) is None:
             continue
         out[i] = {c: (prev.get(c), None) for c in s.carriers}
         loops = [o.needle for o in s.ops if o.op in LOOP_OPS]
@@ -88,13 +102,7 @@ def _neighbour_loops(passes: list[Step]) -> list[dict[str, tuple[int | None, int
                 prev[c] = loops[-1]
     nxt: dict[str, int] = {}
     for i in range(len(passes) - 1, -1, -1):
-        s = passes[i]
-        if isinstance(s, CarrierAction):
-            if s.action in ("in", "inhook"):
-                for c in s.carriers:
-                    nxt.pop(c, None)
-            continue
-        if s.kind is not PassKind.KNIT:
+        if (s := knit_pass(passes[i], nxt, forget=("in", "inhook"))) is None:
             continue
         out[i] = {c: (b, nxt.get(c)) for c, (b, _) in out[i].items()}
         loops = [o.needle for o in s.ops if o.op in LOOP_OPS]
