@@ -28,6 +28,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING
 
 from illuknit.knit.ir import (
     ActionKind,
@@ -42,6 +43,9 @@ from illuknit.knit.ir import (
     flip,
 )
 from illuknit.knit.tuck_planning import LOOP_OPS, Solo, TuckPlan, knit_pass
+
+if TYPE_CHECKING:
+    from illuknit.knit.stitches import StitchPattern
 
 __all__ = ["LongFloat", "measure_long_floats", "tuck_long_floats"]
 
@@ -61,6 +65,10 @@ class LongFloat:
     @property
     def length(self) -> int:
         return abs(self.to_needle - self.from_needle) - 1
+
+    def where(self, stitches: StitchPattern) -> str:
+        """The course the float is at, named as ``stitches`` names it, or the bind-off."""
+        return "the bind-off" if self.course is None else stitches.course_name(self.course)
 
 
 def tuck_long_floats(

@@ -257,7 +257,7 @@ def _long_float_error(
 ) -> LongFloatError:
     """The error for floats that stay long: how many, the longest, where, what to change."""
     worst = max(long, key=lambda f: f.length)
-    where = "the bind-off" if worst.course is None else stitches.course_name(worst.course)
+    where = worst.where(stitches)
     return LongFloatError(
         f"{len(long)} float(s) stay longer than the float limit of {limit} needles; the "
         f"longest, {worst.length} needles of carrier {worst.carrier} (needles "

@@ -67,18 +67,23 @@ class KnitResult:
         """The knitout text (same as ``text``)."""
         return self.text
 
-    def _longest_float_at(self) -> str | None:
-        """Where the longest float over the limit is: carrier, needles and course (or None)."""
+    def _longest_float(self) -> tuple[int, str | None]:
+        """The longest float over the limit: its length and where it is (carrier, needles,
+        course), or ``(0, None)``."""
         if not self.schedule.long_floats:
-            return None
+            return 0, None
         f = max(self.schedule.long_floats, key=lambda x: x.length)
-        where = "the bind-off" if f.course is None else self.stitches.course_name(f.course)
-        return f"carrier {f.carrier}, needles {f.from_needle} to {f.to_needle}, at {where}"
+        where = f.where(self.stitches)
+        return (
+            f.length,
+            f"carrier {f.carrier}, needles {f.from_needle} to {f.to_needle}, at {where}",
+        )
 
     def summary(self) -> dict[str, Any]:
         """JSON-ready numbers: size, passes, bound, ratio, time."""
         c, w = self.stitches.shape
         wcm, hcm = self.stitches.size_cm
+        longest, longest_at = self._longest_float()
         return {
             "machine": self.machine.name,
             "needles": self.machine.needles,
@@ -98,8 +103,8 @@ class KnitResult:
                 else {}
             ),
             "long_floats": len(self.schedule.long_floats),
-            "longest_float": max((f.length for f in self.schedule.long_floats), default=0),
-            "longest_float_at": self._longest_float_at(),
+            "longest_float": longest,
+            "longest_float_at": longest_at,
             "time_seconds": round(self.time.seconds, 1),
             "time": str(self.time),
             "lines": self.text.count("\n"),
