@@ -348,7 +348,7 @@ def print_summary(summary: dict[str, Any], outdir: Path) -> None:
         "perceptual",
         "readability",
         "contrast",
-        "ghosting",
+        "ghosting (shows)",
         "knit min",
         "score",
         "fills A",
@@ -362,7 +362,10 @@ def print_summary(summary: dict[str, Any], outdir: Path) -> None:
             fmt_number(r["perceptual_score"]),
             " / ".join(fmt_number(v) for v in r["readability"]),
             " / ".join(fmt_number(v) for v in r["contrast"]),
-            " / ".join(fmt_number(v) for v in r["ghosting"]),
+            " / ".join(
+                f"{fmt_number(g)} ({fmt_number(v)})" if g is not None else "-"
+                for g, v in zip(r["ghosting"], r["visible_ghosting"], strict=True)
+            ),
             fmt_number(r["knit_minutes"], 1),
             f"{r['score']:.1f}",
             "; ".join(r["fills_a"]),

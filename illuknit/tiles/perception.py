@@ -13,20 +13,28 @@ picture (not the repainted one the candidate was designed against):
   Readability is blind to it: a background repainted as a dark stripe against black shapes keeps
   a high correlation but almost no contrast.
 * **ghosting** (double view) -- how much of the *other* picture shows through
-  (:func:`illuknit.bench.metrics.ghosting`).
+  (:func:`illuknit.bench.metrics.ghosting`): the correlation of what the picture leaves
+  unexplained in the render with the other picture.
+* **visible ghosting** -- that correlation scaled by how much of the render the picture leaves
+  unexplained, ``|ghosting| * sqrt(1 - readability**2)`` (the semipartial correlation): the share
+  of the render's light/dark variation that follows the other picture. Ghosting alone says what
+  the *error* looks like, however small: a render that reproduces its picture at readability 0.99
+  leaves 2 % of its variance unexplained, and a 0.3 ghosting correlation of that residue is a
+  faint outline (visible ghosting 0.04), while at readability 0.9 it would be a second picture
+  (0.13). The ranking weighs what shows.
 * optionally the **machine knitting time** and passes (:func:`illuknit.bench.metrics.knit_stats`:
   the passes the SWG machine runs for the candidate's program).
 
 **The default ranking** (``rank_by="perception"``) orders candidates by the *perceptual score*
 
     worse-view readability - CONTRAST_PENALTY * max(0, CONTRAST_FLOOR - worse-view contrast)
-                           - GHOST_WEIGHT * worst ghosting
+                           - GHOST_WEIGHT * worst visible ghosting
 
 higher first, ties broken by knitting time (when measured) and then by the assignment's own
 score. Contrast only costs below a floor, so among candidates that keep a usable contrast the
 one whose worse view reads best leads; a candidate whose picture survives only as a faint
 correlation falls behind. ``rank_by`` may also be ``score`` (the assignment's order),
-``readability``, ``contrast``, ``ghosting`` or ``knit-time``.
+``readability``, ``contrast``, ``ghosting`` (least visible ghosting first) or ``knit-time``.
 
 :func:`diagnostic_rgb` shows *where* a view fails: units whose perceived luminance, after the
 best gain and offset, is far from the picture's (red) and units where the other picture's
@@ -62,7 +70,7 @@ __all__ = [
 CONTRAST_FLOOR = 0.25
 #: Score lost per unit of contrast below :data:`CONTRAST_FLOOR`.
 CONTRAST_PENALTY = 1.0
-#: Score lost per unit of the worst ghosting correlation.
+#: Score lost per unit of the worst visible ghosting (see :attr:`CandidateMeasures.visible_ghosting`).
 GHOST_WEIGHT = 0.25
 #: The orders a user may rank candidates by.
 RANK_KEYS = ("perception", "score", "readability", "contrast", "ghosting", "knit-time")
@@ -113,13 +121,35 @@ class CandidateMeasures:
         return max((abs(g) for g in self.ghosting if g is not None and g == g), default=0.0)
 
     @property
+    def visible_ghosting(self) -> tuple[float | None, ...]:
+        """Per view, the share of the render's variation that follows the other picture.
+
+        ``|ghosting| * sqrt(1 - readability**2)``: the ghosting correlation is taken of what the
+        view's own picture leaves unexplained, and ``sqrt(1 - readability**2)`` is how much that
+        is (all of it where the picture is plain or nothing reads). None where no ghosting is
+        measured.
+        """
+        out: list[float | None] = []
+        for g, r in zip(self.ghosting, self.readability, strict=True):
+            if g is None or g != g:
+                out.append(None)
+                continue
+            read = 0.0 if r is None else min(1.0, abs(_num(r)))
+            out.append(abs(g) * float(np.sqrt(1.0 - read * read)))
+        return tuple(out)
+
+    @property
+    def worst_visible_ghosting(self) -> float:
+        return max((g for g in self.visible_ghosting if g is not None), default=0.0)
+
+    @property
     def perceptual_score(self) -> float:
         """The documented combination the default ranking sorts by (higher is better)."""
         shortfall = max(0.0, CONTRAST_FLOOR - self.worse_contrast)
         return (
             self.worse_readability
             - CONTRAST_PENALTY * shortfall
-            - GHOST_WEIGHT * self.worst_ghosting
+            - GHOST_WEIGHT * self.worst_visible_ghosting
         )
 
     def to_json(self) -> dict[str, Any]:
@@ -134,6 +164,8 @@ class CandidateMeasures:
             "worse_readability": r(self.worse_readability),
             "worse_contrast": r(self.worse_contrast),
             "worst_ghosting": r(self.worst_ghosting),
+            "visible_ghosting": [r(v) for v in self.visible_ghosting],
+            "worst_visible_ghosting": r(self.worst_visible_ghosting),
             "perceptual_score": r(self.perceptual_score),
             "knit_minutes": r(self.knit_minutes),
             "machine_passes": self.machine_passes,
@@ -254,7 +286,7 @@ def _sort_key(m: CandidateMeasures, score: float, by: str) -> tuple[float, ...]:
     if by == "contrast":
         return (-m.worse_contrast, -m.worse_readability, score)
     if by == "ghosting":
-        return (m.worst_ghosting, -m.worse_readability, score)
+        return (m.worst_visible_ghosting, -m.worse_readability, score)
     return (time, -m.perceptual_score, score)  # knit-time
 
 

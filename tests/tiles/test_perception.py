@@ -68,6 +68,47 @@ def test_default_order_is_by_perceptual_score_and_every_key_is_a_permutation(row
     )
 
 
+def test_ghosting_weighs_by_how_much_of_the_render_it_is():
+    # The bundled astronaut/coffee pair in numbers: a design that reproduces its pictures almost
+    # exactly has a tiny residue, and a high ghosting correlation of that residue is a faint
+    # outline; the same correlation next to a poorer reproduction is a second picture.
+    faithful = _m((0.99, 0.98), ghost=(0.29, 0.09))
+    washed = _m((0.96, 0.96), ghost=(0.07, 0.09))
+    assert faithful.worst_visible_ghosting == pytest.approx(0.29 * np.sqrt(1 - 0.99**2))
+    assert rank_candidates([washed, faithful], [1.0, 2.0]) == [1, 0]
+    ghostly = _m((0.90, 0.90), ghost=(0.30, 0.0))
+    clean = _m((0.88, 0.88), ghost=(0.0, 0.0))
+    assert rank_candidates([ghostly, clean], [1.0, 2.0]) == [1, 0]
+    # no picture to read (plain, or nothing reads): all of the ghosting shows
+    assert _m((None, float("nan")), ghost=(0.2, -0.3)).visible_ghosting == (0.2, 0.3)
+    assert _m((0.9, 0.9), ghost=(None, float("nan"))).visible_ghosting == (None, None)
+
+
+@given(st.floats(-1, 1), st.floats(-1, 1))
+def test_visible_ghosting_never_exceeds_ghosting(read, ghost):
+    (v, _) = _m((read, read), ghost=(ghost, ghost)).visible_ghosting
+    assert 0.0 <= v <= abs(ghost) + 1e-12
+
+
+def test_visible_ghosting_is_the_semipartial_correlation_of_the_render():
+    a, b = _disc(30, 9, 15, 10), _disc(30, 8, 15, 20)
+    pal = np.array([[240, 240, 240], [20, 20, 20]], np.uint8)
+    mixed = np.where(b == 1, 1 - a, a)  # picture A, with B punched through part of it
+    p = LogicalPattern(mixed.astype(np.int16), np.zeros_like(a), YARNS[::-1])
+    m = measure_candidate(p, [pal[a], pal[b]])
+    # independently: regress the blurred render on the picture, correlate the residue with B
+    # and scale by the residue's share of the render's spread
+    from illuknit.bench.metrics import BLUR_SIGMA, _grey, angled_renders
+
+    g = _grey(angled_renders(p)[0]["A"], BLUR_SIGMA).ravel()
+    t, o = (_grey(pal[x] / 255.0, BLUR_SIGMA).ravel() for x in (a, b))
+    design = np.stack([np.ones_like(t), t], axis=1)
+    e = g - design @ np.linalg.lstsq(design, g, rcond=None)[0]
+    expected = abs(np.corrcoef(e, o)[0, 1]) * e.std() / g.std()
+    assert m.visible_ghosting[0] == pytest.approx(expected, rel=1e-6)
+    assert 0.05 < m.visible_ghosting[0] < abs(m.ghosting[0])
+
+
 def test_bad_rank_keys_are_option_errors():
     with pytest.raises(OptionError, match="rank by one of"):
         rank_candidates([_m((1, 1))], [0.0], by="beauty")
