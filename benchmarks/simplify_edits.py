@@ -4,12 +4,13 @@ bundled photo instances and lowers it on none.
 For every bundled double-view instance whose pictures are photographs (``image = ...`` in
 ``instances/manifest.toml``; ``--all`` adds the drawn ones), the suggested edits of
 :mod:`illuknit.tiles.simplify` are tried as ``illuknit double --simplify`` tries them
-(:func:`~illuknit.tiles.simplify.review_edits`: five candidates per design, ranked by perception,
+(:func:`~illuknit.tiles.simplify.review_edits`: the tile designs ``double`` searches per design
+-- ``--pool``, default :data:`~illuknit.tiles.perception.DEFAULT_POOL` -- ranked by perception,
 judged against the original pictures; a photograph may also be re-read with one colour fewer,
 or one more while that stays within the instance's yarns). Printed: the worse-view readability
 and worst ghosting before and after, and each edit's verdict.
 
-    python benchmarks/simplify_edits.py [--all] [--candidates 5]
+    python benchmarks/simplify_edits.py [--all] [--pool 20]
 """
 
 from __future__ import annotations
@@ -19,6 +20,7 @@ import time
 
 from illuknit.bench.instances import instance_targets, load_manifest
 from illuknit.drawings import skimage_image
+from illuknit.tiles.perception import DEFAULT_POOL, POOL_SECONDS
 from illuknit.tiles.simplify import MIN_GAIN, review_edits
 
 
@@ -29,7 +31,7 @@ def _is_photo(inst) -> bool:
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--all", action="store_true", help="also the drawn double-view instances")
-    ap.add_argument("--candidates", type=int, default=5)
+    ap.add_argument("--pool", type=int, default=DEFAULT_POOL, help="tile designs searched")
     args = ap.parse_args()
     insts = [i for i in load_manifest().instances if i.kind == "double"]
     if not args.all:
@@ -52,7 +54,9 @@ def main() -> None:
             sources=sources,
             max_colors=len(inst.yarns),
             source_yarns=inst.yarns,
-            candidates=args.candidates,
+            candidates=5,  # as `double` writes by default
+            pool=args.pool,
+            pool_seconds=POOL_SECONDS,
             yarns=inst.yarns,
         )
         results = review.results

@@ -150,6 +150,7 @@ def summary_text(summary: dict[str, Any], overlap_lines: list[str]) -> str:
         f"yarns: {', '.join(y['name'] + ' ' + y['rgb'] for y in summary['yarns'])}",
         f"bank {summary['bank']['name']} ({summary['bank']['tiles']} tiles), solver {summary['solver']}",
         "",
+        f"best {len(summary['candidates'])} of {summary['searched']} tile designs searched, "
         f"ranked by {summary.get('ranked_by', 'score')}; readability / contrast per view; worst ghosting "
         "and how much of it shows (visible ghosting)",
         "rank  default  percept  read A  read B  contr A  contr B  ghost  shows  minutes  score    fills of input A | fills of input B",

@@ -75,10 +75,18 @@ def test_ghosting_weighs_by_how_much_of_the_render_it_is():
     faithful = _m((0.99, 0.98), ghost=(0.29, 0.09))
     washed = _m((0.96, 0.96), ghost=(0.07, 0.09))
     assert faithful.worst_visible_ghosting == pytest.approx(0.29 * np.sqrt(1 - 0.99**2))
+    assert washed.worst_visible_ghosting == pytest.approx(0.09 * np.sqrt(1 - 0.96**2))
+    assert (
+        faithful.worst_visible_ghosting
+        < 0.05
+        < _m((0.9, 0.9), ghost=(0.29, 0)).worst_visible_ghosting
+    )
+    # the default order reads first; between equal readings the less visible ghost leads
     assert rank_candidates([washed, faithful], [1.0, 2.0]) == [1, 0]
     ghostly = _m((0.90, 0.90), ghost=(0.30, 0.0))
-    clean = _m((0.88, 0.88), ghost=(0.0, 0.0))
+    clean = _m((0.90, 0.90), ghost=(0.05, 0.0))
     assert rank_candidates([ghostly, clean], [1.0, 2.0]) == [1, 0]
+    assert rank_candidates([clean, ghostly], [2.0, 1.0], by="ghosting") == [0, 1]
     # no picture to read (plain, or nothing reads): all of the ghosting shows
     assert _m((None, float("nan")), ghost=(0.2, -0.3)).visible_ghosting == (0.2, 0.3)
     assert _m((0.9, 0.9), ghost=(None, float("nan"))).visible_ghosting == (None, None)
