@@ -205,3 +205,41 @@ def test_double_writes_measures_diagnostics_and_reranks(tmp_path, run_cli):
          "--rank-by", "beauty"])  # fmt: skip
     assert code == 2 and not (tmp_path / "x").exists()
     assert len(err.strip().splitlines()) == 1
+
+
+def test_rank_designs_keeps_the_best_of_a_pool_and_knits_only_those():
+    a, b = _disc(20, 7, 10, 7), _disc(20, 6, 9, 13)
+    pal = np.array([[20, 20, 20], [240, 240, 240]], np.uint8)
+    pool = assign_tiles((a, pal), (b, pal), yarns=YARNS, candidates=2, pool=8)
+    assert len(pool) > 2
+    everything = rank_designs(pool, [pal[a], pal[b]])
+    kept = rank_designs(pool, [pal[a], pal[b]], keep=2, knit_time=True)
+    assert [r.score_rank for r in kept] == [r.score_rank for r in everything[:2]]
+    assert [r.assignment.rank for r in kept] == [1, 2]
+    assert all(r.measures.knit_minutes and r.measures.machine_passes for r in kept)
+    with pytest.raises(OptionError, match="keep"):
+        rank_designs(pool, [pal[a], pal[b]], keep=0)
+
+
+def test_double_writes_the_best_of_the_pool_it_searched(tmp_path, run_cli):
+    a, b = _disc(24, 8, 12, 8), _disc(24, 7, 11, 15)
+    for name, img in (("a.png", a), ("b.png", b)):
+        Image.fromarray(((1 - img) * 255).astype(np.uint8)).save(tmp_path / name)
+    out = tmp_path / "out"
+    code, _, err = run_cli(
+        ["double", str(tmp_path / "a.png"), str(tmp_path / "b.png"), "-o", str(out),
+         "--candidates", "2", "--pool", "12"])  # fmt: skip
+    assert code == 0, err
+    summary = json.loads((out / "summary.json").read_text())
+    rows = summary["candidates"]
+    assert len(rows) == 2 and summary["searched"] > 2
+    assert "best 2 of" in (out / "summary.txt").read_text()
+    # the written default is the best-reading design of the whole pool, recomputed here
+    pal = np.array([[255, 255, 255], [0, 0, 0]], np.uint8)
+    pool = assign_tiles((a, pal), (b, pal), candidates=summary["searched"], yarns=YARNS)
+    best = rank_designs(pool, [pal[a], pal[b]])[0].measures
+    assert rows[0]["readability"] == pytest.approx(list(best.readability), abs=1e-4)
+    code, _, err = run_cli(
+        ["double", str(tmp_path / "a.png"), str(tmp_path / "b.png"), "-o", str(tmp_path / "x"),
+         "--pool", "0"])  # fmt: skip
+    assert code == 2 and not (tmp_path / "x").exists() and len(err.strip().splitlines()) == 1
