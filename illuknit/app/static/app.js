@@ -315,7 +315,7 @@ async function upload(slot, file) {
   clearError(`image_${slot}`);
   const limit = state.info.limits.max_upload_bytes;
   if (file.size > limit) {
-    showError(`image_${slot}`, `${file.name} is ${(file.size / 1e6).toFixed(1)} MB; pictures are limited to ${(limit / 1e6).toFixed(0)} MB.`);
+    showError(`image_${slot}`, `${file.name}: ${state.info.limits.too_large}`);
     return;
   }
   const form = new FormData();
