@@ -4,7 +4,8 @@
                               review (:func:`illuknit.tiles.simplify.review_edits`) as the
                               edited pictures, with the worse view's readability and the worst
                               ghosting of the best-reading design before and after
-    SuggestionSet + an edit -> edited_pictures -> the session's new input pictures
+    SuggestionSet + an edit -> accepted (routers.suggestions) -> the session's new input
+                              pictures, the design before kept for undo (app.history)
 
 An edit is measured by the one path ``illuknit double --suggest`` and the benchmark take
 (:func:`~illuknit.tiles.simplify.review_edits` without applying any): the best-reading tile
@@ -114,10 +115,13 @@ class SuggestionSet:
     def find(self, edit_id: str) -> SuggestedEdit | None:
         return next((e for e in self.edits if e.id == edit_id), None)
 
+    def arrays(self) -> list[NDArray[np.uint8]]:
+        """The pictures the set holds: the originals and every edited picture."""
+        return [*self.originals.values(), *(p for e in self.edits for p in e.pictures.values())]
+
     def nbytes(self) -> int:
         """Memory the set holds: every edited picture and the originals."""
-        n = sum(p.nbytes for p in self.originals.values())
-        return int(n + sum(p.nbytes for e in self.edits for p in e.pictures.values()))
+        return int(sum(p.nbytes for p in self.arrays()))
 
 
 def _rounded(x: float) -> float | None:

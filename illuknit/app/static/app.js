@@ -207,6 +207,7 @@ function applyState(s) {
   renderYarns(st.yarns);
   const single = st.mode === "single";
   $("#suggest-card").hidden = st.mode !== "double"; // edits of two pictures that share a design
+  showHistory(s.history);
   $("#drop-b").hidden = single;
   $(".drops").classList.toggle("one", single);
   $("#title-a").textContent = single ? "Seen from both sides" : st.mode === "headon" ? "Seen head-on" : "Seen from above";
