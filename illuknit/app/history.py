@@ -1,7 +1,7 @@
 """Undo and redo of accepted suggested edits: the session's earlier designs, kept whole.
 
-    Session --remember(label)--> DesignState on the undo steps (before an edit is accepted)
-    Session --undo / redo------> the last state undone (redone) is the session's again
+    Session.remember(label) -> a DesignState on the session's undo steps (before an accept)
+    Session.undo() / redo() -> the last state undone (redone) is the session's again
 
 Accepting a suggested edit replaces the session's input pictures (and, for a re-quantisation, the
 colour count) and designs again. Just before, the session keeps a :class:`DesignState`: its
@@ -24,15 +24,12 @@ dropped first. The knitout is not kept (it is made again in seconds from the res
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
-from typing import TYPE_CHECKING, Any
+from dataclasses import dataclass
+from typing import Any
 
 from illuknit.errors import AppRequestError
 
-if TYPE_CHECKING:
-    from illuknit.app.sessions import Session
-
-__all__ = ["STEPS_KEPT", "DesignState", "held_arrays", "redo", "remember", "undo"]
+__all__ = ["STEPS_KEPT", "DesignState", "held_arrays", "nothing_to"]
 
 #: Undo steps (and redo steps) a session keeps; the oldest is dropped first.
 STEPS_KEPT = 10
@@ -100,79 +97,17 @@ def held_arrays(
     return held
 
 
-def snapshot(s: Session, label: str) -> DesignState:
-    """The session's state now (call with ``s.lock`` held); candidates only when current."""
-    current = s.candidates_revision == s.revision
-    return DesignState(
-        label=label,
-        images=dict(s.images),
-        settings=s.settings,
-        prepared=s.prepared,
-        candidates=tuple(s.candidates) if current else (),
-        selected=s.selected if current else 0,
-        overrides=dict(s.overrides) if current else {},
-        suggestions=s.suggestions,
-        refused=frozenset(s.refused),
+def nothing_to(what: str) -> AppRequestError:
+    """The answer to an undo (``what="undo"``) or redo with no step to take: 409."""
+    why = (
+        "no suggested edit has been accepted in this session (or every accepted one has been "
+        "undone already)"
+        if what == "undo"
+        else "nothing has been undone since the pictures or settings last changed"
     )
-
-
-def remember(s: Session, label: str) -> None:
-    """Keep the session's state as an undo step before a change described by ``label`` (call
-    with ``s.lock`` held, before changing anything; the change then forgets the redo steps)."""
-    s.undo_steps.append(snapshot(s, label))
-    del s.undo_steps[:-STEPS_KEPT]
-
-
-def undo(s: Session) -> str:
-    """Return to the state before the last remembered change; its label. 409 ``nothing_to_undo``
-    when there is none (call with ``s.lock`` held)."""
-    if not s.undo_steps:
-        raise AppRequestError(
-            "there is nothing to undo: no suggested edit has been accepted in this session "
-            "(or every accepted one has been undone already)",
-            field="suggestions",
-            code="nothing_to_undo",
-            status=409,
-        )
-    state = s.undo_steps.pop()
-    s.redo_steps.append(snapshot(s, state.label))
-    del s.redo_steps[:-STEPS_KEPT]
-    _restore(s, state)
-    return state.label
-
-
-def redo(s: Session) -> str:
-    """Make the last undone change again; its label. 409 ``nothing_to_redo`` when nothing was
-    undone since the inputs last changed (call with ``s.lock`` held)."""
-    if not s.redo_steps:
-        raise AppRequestError(
-            "there is nothing to redo: nothing has been undone since the pictures or settings "
-            "last changed",
-            field="suggestions",
-            code="nothing_to_redo",
-            status=409,
-        )
-    state = s.redo_steps.pop()
-    s.undo_steps.append(snapshot(s, state.label))
-    del s.undo_steps[:-STEPS_KEPT]
-    _restore(s, state)
-    return state.label
-
-
-def _restore(s: Session, state: DesignState) -> None:
-    """Make ``state`` the session's, as a new revision (work for the state left is cancelled)."""
-    s.cancel_design_jobs()
-    s.revision += 1
-    s.images = dict(state.images)
-    s.settings = state.settings
-    s.prepared = state.prepared
-    s.candidates = list(state.candidates)
-    s.candidates_revision = s.revision if state.candidates else -1
-    s.selected = state.selected
-    s.overrides = dict(state.overrides)
-    s.knit = None
-    s.set_suggestions(None)  # the set of the state left is retired: its ids answer 410
-    if state.suggestions is not None:
-        s.retired_suggestions.pop(state.suggestions.id, None)
-        s.suggestions = replace(state.suggestions, revision=s.revision)
-    s.refused = set(state.refused)
+    return AppRequestError(
+        f"there is nothing to {what}: {why}",
+        field="suggestions",
+        code=f"nothing_to_{what}",
+        status=409,
+    )

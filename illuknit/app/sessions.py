@@ -21,7 +21,7 @@ import secrets
 import threading
 import time
 from collections import OrderedDict
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -154,6 +154,66 @@ class Session:
                 self.retired_suggestions.popitem(last=False)
         self.suggestions = suggestions
         self.refused = set()
+
+    # -- undo and redo of accepted edits (illuknit.app.history) -------------------------------
+    def remember(self, label: str) -> None:
+        """Keep the session's state as an undo step before a change described by ``label``
+        (call with the lock held, before changing anything; the change then forgets the redo
+        steps)."""
+        self.undo_steps.append(self._snapshot(label))
+        del self.undo_steps[: -history.STEPS_KEPT]
+
+    def undo(self) -> str:
+        """Return to the state before the last remembered change; its label (409
+        ``nothing_to_undo`` when there is none)."""
+        return self._step(self.undo_steps, self.redo_steps, "undo")
+
+    def redo(self) -> str:
+        """Make the last undone change again; its label (409 ``nothing_to_redo``)."""
+        return self._step(self.redo_steps, self.undo_steps, "redo")
+
+    def _step(self, source: list[Any], other: list[Any], what: str) -> str:
+        if not source:
+            raise history.nothing_to(what)
+        state: history.DesignState = source.pop()
+        other.append(self._snapshot(state.label))
+        del other[: -history.STEPS_KEPT]
+        self._restore(state)
+        return state.label
+
+    def _snapshot(self, label: str) -> history.DesignState:
+        """The state now; candidates (and the pick, the tile edits) only when current."""
+        current = self.candidates_revision == self.revision
+        return history.DesignState(
+            label=label,
+            images=dict(self.images),
+            settings=self.settings,
+            prepared=self.prepared,
+            candidates=tuple(self.candidates) if current else (),
+            selected=self.selected if current else 0,
+            overrides=dict(self.overrides) if current else {},
+            suggestions=self.suggestions,
+            refused=frozenset(self.refused),
+        )
+
+    def _restore(self, state: history.DesignState) -> None:
+        """Make ``state`` the session's, as a new revision (work on the state left is
+        cancelled, its suggestion set retired: its ids answer 410)."""
+        self.cancel_design_jobs()
+        self.revision += 1
+        self.images = dict(state.images)
+        self.settings = state.settings
+        self.prepared = state.prepared
+        self.candidates = list(state.candidates)
+        self.candidates_revision = self.revision if state.candidates else -1
+        self.selected = state.selected
+        self.overrides = dict(state.overrides)
+        self.knit = None
+        self.set_suggestions(None)
+        if state.suggestions is not None:
+            self.retired_suggestions.pop(state.suggestions.id, None)
+            self.suggestions = replace(state.suggestions, revision=self.revision)
+        self.refused = set(state.refused)
 
     def touch(self) -> None:
         self.last_seen = time.time()

@@ -241,14 +241,13 @@ def test_the_history_counts_in_the_session_memory_once():
 
 
 def test_the_history_is_bounded():
-    from illuknit.app import history
     from illuknit.app.sessions import Session
 
     s = Session(id="x")
     for k in range(STEPS_KEPT + 3):
-        history.remember(s, f"step {k}")
+        s.remember(f"step {k}")
         s.bump()
     assert [st.label for st in s.undo_steps] == [f"step {k}" for k in range(3, STEPS_KEPT + 3)]
     for _ in range(STEPS_KEPT):
-        history.undo(s)
+        s.undo()
     assert len(s.redo_steps) == STEPS_KEPT and not s.undo_steps

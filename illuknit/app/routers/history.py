@@ -11,7 +11,6 @@ from typing import Any
 
 from fastapi import APIRouter, Request
 
-from illuknit.app import history
 from illuknit.app.jobs import Job
 from illuknit.app.lookups import SessionDep, runner_of, state_json, store_of
 from illuknit.app.routers.jobs import start_candidates
@@ -33,7 +32,7 @@ def get_history(s: SessionDep) -> dict[str, Any]:
 @router.post("/undo", summary="Undo the last accepted edit: the design before it comes back")
 def post_undo(request: Request, s: SessionDep) -> dict[str, Any]:
     with s.lock:
-        what = history.undo(s)
+        what = s.undo()
         job = _design_again(request, s)
         answer = {
             "undone": what,
@@ -47,7 +46,7 @@ def post_undo(request: Request, s: SessionDep) -> dict[str, Any]:
 @router.post("/redo", summary="Accept the last undone edit again")
 def post_redo(request: Request, s: SessionDep) -> dict[str, Any]:
     with s.lock:
-        what = history.redo(s)
+        what = s.redo()
         job = _design_again(request, s)
         answer = {
             "redone": what,

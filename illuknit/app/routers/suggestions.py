@@ -13,7 +13,7 @@ from typing import Any, Literal
 from fastapi import APIRouter, Request
 from fastapi.responses import Response
 
-from illuknit.app import design, history
+from illuknit.app import design
 from illuknit.app.lookups import SessionDep, check_slot, runner_of, state_json, store_of
 from illuknit.app.routers.jobs import start_candidates
 from illuknit.app.sessions import Session, UploadedImage
@@ -142,7 +142,7 @@ def accept(request: Request, s: SessionDep, edit_id: str) -> dict[str, Any]:
                 code="too_few_yarns",
                 status=409,
             )
-        history.remember(s, edit.description)  # the design as it is, for Undo
+        s.remember(edit.description)  # the design as it is, for Undo
         if recount:
             s.settings = settings.model_copy(update={"n_colors": colors})
         for slot, rgb in edit.pictures.items():
