@@ -46,6 +46,7 @@ from illuknit.app.inputs import (
     prepare_inputs,
     size_inputs,
     slots_for,
+    too_large_message,
     width_of,
 )
 from illuknit.app.tile_edits import pairs_json, pattern_for, tile_png
@@ -80,6 +81,7 @@ __all__ = [
     "size_inputs",
     "slots_for",
     "tile_png",
+    "too_large_message",
     "warm_up",
     "width_of",
 ]

@@ -33,11 +33,12 @@ __all__ = [
     "prepare_inputs",
     "size_inputs",
     "slots_for",
+    "too_large_message",
     "width_of",
 ]
 
-#: Largest accepted upload (bytes): a full-size photograph from a phone or camera. It is reduced to
-#: the working grid on upload and not kept.
+#: Default of the one upload limit (bytes), ``AppConfig.max_upload_bytes``: a full-size photograph
+#: from a phone or camera. It is reduced to the working grid on upload and not kept.
 MAX_UPLOAD_BYTES = 32 * 1024 * 1024
 #: Largest accepted picture (pixels), checked from the header before decoding: half the library's
 #: cap (50 megapixels), since the server decodes uploads of many sessions.
@@ -56,25 +57,41 @@ def decode_upload(
     over ``MAX_WORKING_SIDE`` pixels while decoding, so no full-size copy (let alone a float one)
     is ever kept. The notes say what was done (e.g. "reduced from ... while reading").
 
-    Raises AppRequestError (``field``) for an empty, oversized, non-image or too-small file.
+    The size of the file is not checked here: the server's configured limit
+    (``AppConfig.max_upload_bytes``) is, once, before the file is read (:func:`too_large_message`).
+
+    Raises AppRequestError (``field``) for an empty, non-image, too-small file or one of too many
+    pixels.
     """
     from illuknit.pictures import read_picture
 
     if not data:
         raise AppRequestError("the file is empty", field=field, code="empty")
-    if len(data) > MAX_UPLOAD_BYTES:
-        raise AppRequestError(
-            f"the file is {len(data) / 1e6:.1f} MB; the limit is {MAX_UPLOAD_BYTES / 1e6:.0f} MB",
-            field=field,
-            code="too_large",
-            status=413,
-        )
     _check_header(data, field)
     try:
         pic = read_picture(data, max_side=MAX_WORKING_SIDE, name=repr(filename or "the file"))
     except IlluknitError as e:
         raise AppRequestError(str(e), field=field, code="not_an_image", status=415) from None
     return pic.rgb, pic.notes
+
+
+def too_large_message(limit: int) -> str:
+    """What the designer is told about a file over the upload limit of ``limit`` bytes (the one
+    message, whichever check finds it: the request's size or the file's)."""
+    from illuknit.pattern import MAX_UNITS
+
+    return (
+        f"the file is over {_size_text(limit)}, the limit for pictures; save a smaller copy (a "
+        f"knitted piece is at most {MAX_UNITS} units across, so a few hundred pixels are plenty)"
+    )
+
+
+def _size_text(n: int) -> str:
+    """``n`` bytes for a reader: ``"32 MB"``, ``"195.3 kB"``, ``"900 bytes"`` (binary units)."""
+    for unit, size in (("MB", 2**20), ("kB", 2**10)):
+        if n >= size:
+            return f"{n / size:.1f}".removesuffix(".0") + f" {unit}"
+    return f"{n} bytes"
 
 
 def _check_header(data: bytes, field: str) -> tuple[int, int]:

@@ -75,6 +75,11 @@ def state_json(s: Session) -> dict[str, Any]:
         "overrides": [{"a": a, "b": b, "tile": t} for (a, b), t in s.overrides.items()],
         "knit_ready": s.knit is not None,
         "jobs": {k: j.to_json() for k, j in s.jobs.items()},
+        # what Undo and Redo would do, newest first (the accepted edits' descriptions)
+        "history": {
+            "undo": [step.label for step in reversed(s.undo_steps)],
+            "redo": [step.label for step in reversed(s.redo_steps)],
+        },
     }
 
 

@@ -7,7 +7,7 @@ from collections.abc import Awaitable, Callable, MutableMapping
 from typing import Any
 
 from illuknit.app.handlers import error_body
-from illuknit.pattern import MAX_UNITS
+from illuknit.app.inputs import too_large_message
 
 __all__ = ["SameOriginGuard", "UploadLimit"]
 
@@ -20,9 +20,12 @@ Send = Callable[[Message], Awaitable[None]]
 class UploadLimit:
     """ASGI middleware: refuse image uploads over the size limit before the app reads them.
 
-    A declared ``Content-Length`` over the limit is refused at once; a chunked body is counted as
-    it arrives and refused as soon as it passes the limit. Either way the answer is a 413 with the
-    usual error body naming the upload control, never a dropped connection.
+    ``limit`` is the server's one upload limit (``AppConfig.max_upload_bytes``), on the file. A
+    request carries the file inside multipart framing, so a request is refused here when it is
+    over the limit plus room for the framing: a declared ``Content-Length`` at once, a chunked
+    body as soon as it passes it. A file over the limit in a request within it is refused by the
+    upload route, with the same 413 and the same message (:func:`~illuknit.app.inputs.
+    too_large_message`), never a dropped connection.
     """
 
     def __init__(self, app: Any, *, limit: int) -> None:
@@ -45,7 +48,7 @@ class UploadLimit:
         headers = dict(scope.get("headers") or [])
         declared = headers.get(b"content-length")
         if declared is not None and declared.isdigit() and int(declared) > self.limit:
-            await self._refuse(send, field, int(declared))
+            await self._refuse(send, field)
             return
         chunks: list[bytes] = []
         total = 0
@@ -57,7 +60,7 @@ class UploadLimit:
             body = message.get("body", b"")
             total += len(body)
             if total > self.limit:
-                await self._refuse(send, field, total)
+                await self._refuse(send, field)
                 return
             chunks.append(body)
             more = message.get("more_body", False)
@@ -70,16 +73,9 @@ class UploadLimit:
 
         await self.app(scope, replay_receive, send)
 
-    async def _refuse(self, send: Send, field: str, size: int) -> None:
-        mb = self.file_limit / 1e6
+    async def _refuse(self, send: Send, field: str) -> None:
         body = json.dumps(
-            error_body(
-                f"the upload is {'over ' if size <= self.limit else ''}{max(size, self.limit) / 1e6:.1f} MB;"
-                f" pictures are limited to {mb:.0f} MB. Save a smaller copy (a knitted piece is at most "
-                f"{MAX_UNITS} units across, so a few hundred pixels are plenty).",
-                field,
-                "too_large",
-            )
+            error_body(too_large_message(self.file_limit), field, "too_large")
         ).encode()
         await send(
             {

@@ -10,7 +10,9 @@ Requests of one session are serialised by its lock; requests of different sessio
 parallel. Pictures are kept as uint8 RGB at the working grid (at most ``MAX_WORKING_SIDE`` on the
 long side), never as the file sent nor as floats. Idle sessions expire, and all sessions together
 are bounded by count and by bytes: the least recently used one is evicted first, and a request
-for an evicted session says so (410, code ``evicted``) instead of "unknown session".
+for an evicted session says so (410, code ``evicted``) instead of "unknown session". A session's
+undo and redo steps (:mod:`illuknit.app.history`: the designs before accepted edits) count in
+those bytes.
 """
 
 from __future__ import annotations
@@ -19,12 +21,13 @@ import secrets
 import threading
 import time
 from collections import OrderedDict
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
+from illuknit.app import history
 from illuknit.app.schemas import DesignSettings
 from illuknit.errors import AppRequestError
 
@@ -89,6 +92,9 @@ class Session:
     refused: set[str] = field(default_factory=set)  # ids of refused suggestions (hidden)
     # ids of suggestion sets made for earlier designs of this session (answered 410, not 404)
     retired_suggestions: OrderedDict[str, None] = field(default_factory=OrderedDict)
+    # earlier and undone designs (history.DesignState), oldest first (see illuknit.app.history)
+    undo_steps: list[Any] = field(default_factory=list)
+    redo_steps: list[Any] = field(default_factory=list)
     jobs: dict[str, Any] = field(default_factory=dict)  # kind -> Job
     # id of a replaced job -> id of the job that replaced it (a poll of the old id follows it)
     successors: dict[str, str] = field(default_factory=dict)
@@ -125,15 +131,19 @@ class Session:
 
     def nbytes(self) -> int:
         """Memory the session holds: its pictures, quantised inputs, candidates, suggested edits
-        (their pictures) and knitout."""
-        n = sum(im.nbytes for im in self.images.values())
-        if self.prepared is not None:
-            n += sum(q.indices.nbytes for q in self.prepared.quantised.values())
-        n += sum(c.pattern.yarn.nbytes + c.pattern.raised.nbytes for c in self.candidates)
+        (their pictures) and knitout, and those of its undo and redo steps; an array the steps
+        share with the session or each other counts once."""
+        held = history.held_arrays(
+            images=self.images,
+            prepared=self.prepared,
+            candidates=self.candidates,
+            suggestions=self.suggestions,
+        )
+        for state in (*self.undo_steps, *self.redo_steps):
+            held.update(state.held())
+        n = sum(held.values())
         if self.knit is not None:
             n += len(self.knit.knitout) + len(self.knit.report_text)
-        if self.suggestions is not None:
-            n += self.suggestions.nbytes()
         return int(n)
 
     def set_suggestions(self, suggestions: Any) -> None:
@@ -145,11 +155,71 @@ class Session:
         self.suggestions = suggestions
         self.refused = set()
 
+    # -- undo and redo of accepted edits (illuknit.app.history) -------------------------------
+    def remember(self, label: str) -> None:
+        """Keep the session's state as an undo step before a change described by ``label``
+        (call with the lock held, before changing anything; the change then forgets the redo
+        steps)."""
+        self.undo_steps.append(self._snapshot(label))
+        del self.undo_steps[: -history.STEPS_KEPT]
+
+    def undo(self) -> str:
+        """Return to the state before the last remembered change; its label (409
+        ``nothing_to_undo`` when there is none)."""
+        return self._step(self.undo_steps, self.redo_steps, "undo")
+
+    def redo(self) -> str:
+        """Make the last undone change again; its label (409 ``nothing_to_redo``)."""
+        return self._step(self.redo_steps, self.undo_steps, "redo")
+
+    def _step(self, source: list[Any], other: list[Any], what: str) -> str:
+        if not source:
+            raise history.nothing_to(what)
+        state: history.DesignState = source.pop()
+        other.append(self._snapshot(state.label))
+        del other[: -history.STEPS_KEPT]
+        self._restore(state)
+        return state.label
+
+    def _snapshot(self, label: str) -> history.DesignState:
+        """The state now; candidates (and the pick, the tile edits) only when current."""
+        current = self.candidates_revision == self.revision
+        return history.DesignState(
+            label=label,
+            images=dict(self.images),
+            settings=self.settings,
+            prepared=self.prepared,
+            candidates=tuple(self.candidates) if current else (),
+            selected=self.selected if current else 0,
+            overrides=dict(self.overrides) if current else {},
+            suggestions=self.suggestions,
+            refused=frozenset(self.refused),
+        )
+
+    def _restore(self, state: history.DesignState) -> None:
+        """Make ``state`` the session's, as a new revision (work on the state left is
+        cancelled, its suggestion set retired: its ids answer 410)."""
+        self.cancel_design_jobs()
+        self.revision += 1
+        self.images = dict(state.images)
+        self.settings = state.settings
+        self.prepared = state.prepared
+        self.candidates = list(state.candidates)
+        self.candidates_revision = self.revision if state.candidates else -1
+        self.selected = state.selected
+        self.overrides = dict(state.overrides)
+        self.knit = None
+        self.set_suggestions(None)
+        if state.suggestions is not None:
+            self.retired_suggestions.pop(state.suggestions.id, None)
+            self.suggestions = replace(state.suggestions, revision=self.revision)
+        self.refused = set(state.refused)
+
     def touch(self) -> None:
         self.last_seen = time.time()
 
     def bump(self) -> None:
-        """Inputs changed: derived results are stale."""
+        """Inputs changed: derived results are stale, and what was undone cannot be redone."""
         self.revision += 1
         self.prepared = None
         self.candidates = []
@@ -158,6 +228,11 @@ class Session:
         self.overrides = {}
         self.knit = None
         self.set_suggestions(None)
+        self.redo_steps.clear()
+        self.cancel_design_jobs()
+
+    def cancel_design_jobs(self) -> None:
+        """Cancel the work on the current design (its inputs are about to change)."""
         for kind in ("candidates", "knit", "measures", "suggestions"):
             job = self.jobs.get(kind)
             if job is not None and job.live:

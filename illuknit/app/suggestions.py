@@ -1,15 +1,17 @@
 """Suggested edits of a double-view design's pictures, as the page offers them (paper Fig. 11-12).
 
     Prepared (double view) -> suggest_edits_for -> SuggestionSet: each edit of the library's
-                              (:func:`illuknit.tiles.simplify.suggest_edits`) as the edited
-                              pictures, with the worse view's readability and the worst ghosting
-                              of the best-reading design before and after
-    SuggestionSet + an edit -> edited_pictures -> the session's new input pictures
+                              review (:func:`illuknit.tiles.simplify.review_edits`) as the
+                              edited pictures, with the worse view's readability and the worst
+                              ghosting of the best-reading design before and after
+    SuggestionSet + an edit -> accepted (routers.suggestions) -> the session's new input
+                              pictures, the design before kept for undo (app.history)
 
-An edit is measured as ``illuknit double --suggest`` measures it: the best-reading tile design of
-the edited pictures, judged against the designer's *original* quantised pictures
-(:func:`illuknit.tiles.simplify.best_reading`). Every kind of edit the library returns is offered
-the same way; nothing here knows the kinds by name.
+An edit is measured by the one path ``illuknit double --suggest`` and the benchmark take
+(:func:`~illuknit.tiles.simplify.review_edits` without applying any): the best-reading tile
+design of the edited pictures, judged against the designer's *original* quantised pictures. Its
+progress hook drives the job's progress bar and cancels it. Every kind of edit the library
+returns is offered the same way; nothing here knows the kinds by name.
 
 The edited pictures are kept in their picture colours (the colours the legend maps to yarns), at
 the piece's grid size, so that accepting one and quantising again gives back exactly the edited
@@ -113,10 +115,13 @@ class SuggestionSet:
     def find(self, edit_id: str) -> SuggestedEdit | None:
         return next((e for e in self.edits if e.id == edit_id), None)
 
+    def arrays(self) -> list[NDArray[np.uint8]]:
+        """The pictures the set holds: the originals and every edited picture."""
+        return [*self.originals.values(), *(p for e in self.edits for p in e.pictures.values())]
+
     def nbytes(self) -> int:
         """Memory the set holds: every edited picture and the originals."""
-        n = sum(p.nbytes for p in self.originals.values())
-        return int(n + sum(p.nbytes for e in self.edits for p in e.pictures.values()))
+        return int(sum(p.nbytes for p in self.arrays()))
 
 
 def _rounded(x: float) -> float | None:
@@ -167,30 +172,24 @@ def suggest_edits_for(
     ``not_double``) outside a double view.
     """
     from illuknit import tiles
-    from illuknit.tiles.simplify import best_reading, measure_edits, suggest_edits
+    from illuknit.tiles.simplify import review_edits
 
     require_double(prepared)
     qa, qb = prepared.quantised["a"], prepared.quantised["b"]
-    progress(0.02, "finding edits")
     with blame("suggestions"):
-        found = suggest_edits(
-            qa, qb, sources=[sources["a"], sources["b"]], max_colors=min(4, len(prepared.yarns))
-        )
-    bank = tiles.canonical_bank(prepared.yarns)
-    done = [0]
-
-    def measure(a: Any, b: Any) -> tuple[float, float]:
-        k = done[0]
-        done[0] += 1
-        what = "the pictures as they are" if k == 0 else found[k - 1].description
-        progress(0.05 + 0.95 * k / (len(found) + 1), f"measuring {what}")
-        with blame("suggestions"):
-            got: tuple[float, float] = best_reading(
-                a, b, targets=[qa.rgb(), qb.rgb()], candidates=count, bank=bank
-            )
-        return got
-
-    results = measure_edits(found, measure)
+        # the library's one review (as `illuknit double --suggest`): each edit measured on its
+        # own; its progress hook reports here, and a cancelled job raises out of it
+        results = review_edits(
+            qa,
+            qb,
+            apply=False,
+            targets=[qa.rgb(), qb.rgb()],
+            sources=[sources["a"], sources["b"]],
+            max_colors=min(4, len(prepared.yarns)),
+            candidates=count,
+            bank=tiles.canonical_bank(prepared.yarns),
+            progress=lambda fraction, message: progress(0.02 + 0.98 * fraction, message),
+        ).results
     before = results[0].before if results else (float("nan"), float("nan"))
     edits = []
     for k, r in enumerate(results):

@@ -395,6 +395,7 @@ def review_edits(
     candidates: int = 5,
     min_region: int = 4,
     min_overlap: int = 4,
+    progress: Callable[[float, str], None] | None = None,
     **assign: Any,
 ) -> EditReview:
     """Suggest edits of a pair of quantised pictures and measure each by its best design.
@@ -414,17 +415,41 @@ def review_edits(
     candidates, assign
         Tile designs per measurement and the options of
         :func:`~illuknit.tiles.assign.assign_tiles` (bank or yarns, solver, brightness, ...).
+    progress : callable, optional
+        ``progress(fraction, message)`` is called before the edits are found and before each
+        measurement (one tile search each), with a rising fraction in [0, 1) and what comes
+        next. Whatever it raises stops the review and propagates: that is how a caller (the
+        app's cancellable job) cancels it. The results do not depend on it.
     """
     from functools import partial
 
     ra, rb = _as_regions(a, "a"), _as_regions(b, "b")
     goal = list(targets) if targets is not None else [_rgb(ra), _rgb(rb)]
-    measure = partial(best_reading, targets=goal, candidates=candidates, **assign)
+    measure: Measure = partial(best_reading, targets=goal, candidates=candidates, **assign)
     options: dict[str, Any] = dict(
         sources=sources, max_colors=max_colors, source_yarns=source_yarns,
         min_region=min_region, min_overlap=min_overlap,
     )  # fmt: skip
+    if progress is not None:
+        progress(0.0, "finding edits")
+    found = [] if apply else suggest_edits(ra, rb, **options)
+    if progress is not None:
+        # measurements to come: the pictures as they are, then each suggestion (with apply,
+        # at most two re-quantisations and one edit of every other kind, found as it goes)
+        total = 1 + (len(found) if not apply else len(EDIT_KINDS) - 1 + 2 * (sources is not None))
+        named = {(id(s.after[0]), id(s.after[1])): s.description for s in found}
+        done, quiet, report = [0], measure, progress
+
+        def reported(x: Regions, y: Regions) -> tuple[float, float]:
+            k = done[0]
+            done[0] += 1
+            what = named.get((id(x), id(y)), "the pictures as they are" if k == 0 else f"edit {k}")
+            report(min(k + 1, total) / (total + 1), f"measuring {what}")
+            return quiet(x, y)
+
+        measure = reported
+
     if apply:
         ea, eb, results = apply_edits(ra, rb, measure, **options)
         return EditReview(ea, eb, tuple(results))
-    return EditReview(ra, rb, tuple(measure_edits(suggest_edits(ra, rb, **options), measure)))
+    return EditReview(ra, rb, tuple(measure_edits(found, measure)))

@@ -362,7 +362,7 @@ def test_an_evicted_session_is_said_in_the_page(browser, served, tmp_path):
 def test_accept_a_suggested_edit(browser, base_url, tmp_path):
     """Two pictures, the suggested edits opened, one accepted: the input picture is replaced by
     the edited one and the design is made and measured again, so the measures on the page
-    change."""
+    change. Undo brings back the pictures and measures of before."""
     context = browser.new_context(viewport={"width": 1440, "height": 1000})
     page = context.new_page()
     page.set_default_timeout(60_000)
@@ -381,6 +381,8 @@ def test_accept_a_suggested_edit(browser, base_url, tmp_path):
     before_measures = measures.all_text_contents()
     before_thumbs = {s: page.get_attribute(f"#thumb-{s}", "src") for s in ("a", "b")}
     before_quant = page.locator("#quant img").evaluate_all("imgs => imgs.map(i => i.src)")
+    before_bytes = shown_bytes(page, base_url)
+    assert page.locator("#undo-edit").is_hidden()  # nothing accepted yet
 
     # open the suggestions: each is a before -> after pair with its effect and two buttons
     assert page.locator("#suggest-card").is_visible()
@@ -420,8 +422,39 @@ def test_accept_a_suggested_edit(browser, base_url, tmp_path):
         arg=before_measures,
         timeout=120_000,
     )
+
+    # Undo: the pictures, the quantised inputs, the candidates and their measures come back
+    # exactly, with the suggestions made for them; Redo is offered
+    undo = page.locator("#undo-edit")
+    sync_api.expect(undo).to_be_visible()
+    undo.click()
+    for slot in edited:
+        sync_api.expect(page.locator(f"#meta-{slot}")).not_to_contain_text("suggested edit")
+    page.wait_for_function(
+        "(old) => Array.from(document.querySelectorAll('.cand .measures'))"
+        ".map(m => m.textContent).join('|') === old.join('|')",
+        arg=before_measures,
+        timeout=120_000,
+    )
+    sync_api.expect(page.locator(".sugg").first).to_be_visible()
+    sync_api.expect(page.locator("#redo-edit")).to_be_visible()
+    assert undo.is_hidden()
+    assert shown_bytes(page, base_url) == before_bytes
     context.close()
     assert not problems, problems
+
+
+def shown_bytes(page, base_url: str) -> dict[str, bytes]:
+    """The pictures the page shows (thumbnails and quantised inputs), fetched from its URLs."""
+    import urllib.request
+
+    urls = [page.get_attribute(f"#thumb-{s}", "src") or "" for s in ("a", "b")]
+    urls += page.locator("#quant img").evaluate_all("imgs => imgs.map(i => i.getAttribute('src'))")
+    out = {}
+    for url in urls:
+        with urllib.request.urlopen(base_url.rstrip("/") + url, timeout=30) as r:
+            out[url.split("?")[0]] = r.read()
+    return out
 
 
 def test_tile_table_grouped_with_rare_overlaps_folded(browser, base_url, tmp_path):

@@ -306,3 +306,52 @@ def _fill_until_suggestions_evict(client: TestClient) -> None:
     assert client.get(f"/api/sessions/{sid}/suggestions").json()["suggestions"]
     r = client.get(f"/api/sessions/{idle}")
     assert r.status_code == 410 and error_of(r)["code"] == "evicted"
+
+
+def test_suggestions_report_the_library_review_progress_and_cancel_through_it():
+    """The job's progress is the library review's (:func:`review_edits`' hook): finding the
+    edits, then each measurement by name; a cancelled job raises out of the review."""
+    from illuknit.app import design
+    from illuknit.app.jobs import JobCancelled
+    from illuknit.app.schemas import DesignSettings
+    from illuknit.app.sessions import UploadedImage
+    from illuknit.app.suggestions import suggest_edits_for
+
+    images = {
+        slot: UploadedImage(f"{text}.png", 0, np.asarray(Image.open(io.BytesIO(word(text)))))
+        for slot, text in (("a", "UP"), ("b", "ON"))
+    }
+    settings = DesignSettings(mode="double", width_units=24)
+    prepared = design.prepare_inputs(images, settings)
+    sources, _ = design.size_inputs(images, settings)
+    seen: list[tuple[float, str]] = []
+    got = suggest_edits_for(
+        prepared,
+        sources=sources,
+        set_id="s",
+        revision=0,
+        count=2,
+        progress=lambda f, m: seen.append((f, m)),
+    )
+    assert got.edits
+    fractions = [f for f, _ in seen]
+    assert fractions == sorted(fractions) and fractions[0] >= 0.02 and fractions[-1] < 1
+    assert [m for _, m in seen] == [
+        "finding edits",
+        "measuring the pictures as they are",
+        *(f"measuring {e.description}" for e in got.edits),
+    ]
+
+    def cancelled_at_the_second_measurement(fraction: float, message: str) -> None:
+        if message != "finding edits" and message != "measuring the pictures as they are":
+            raise JobCancelled
+
+    with pytest.raises(JobCancelled):
+        suggest_edits_for(
+            prepared,
+            sources=sources,
+            set_id="t",
+            revision=0,
+            count=2,
+            progress=cancelled_at_the_second_measurement,
+        )

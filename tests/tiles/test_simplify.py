@@ -216,6 +216,46 @@ def test_review_edits_on_real_photos_keeps_only_what_raises_readability():
         assert (applied.a.indices == qa.indices).all()
 
 
+@pytest.mark.parametrize("apply", [False, True])
+def test_review_edits_reports_progress_without_changing_its_results(apply):
+    """The progress hook sees every measurement, rising in [0, 1), names each suggestion it
+    measures; the review is the same with and without it; raising from it stops the review."""
+    from illuknit.images import quantise_image
+    from illuknit.tiles.simplify import review_edits
+
+    src = _photos((20, 30))
+    qa, qb = (quantise_image(s, n_colors=3) for s in src)
+    kw: dict = dict(apply=apply, sources=src, max_colors=3, candidates=2)
+    quiet = review_edits(qa, qb, **kw)
+    seen: list[tuple[float, str]] = []
+    told = review_edits(qa, qb, progress=lambda f, m: seen.append((f, m)), **kw)
+    assert told.to_json() == quiet.to_json()
+    assert (told.a.indices == quiet.a.indices).all() and (told.b.colors == quiet.b.colors).all()
+    fractions = [f for f, _ in seen]
+    assert fractions == sorted(fractions) and fractions[0] >= 0 and fractions[-1] < 1
+    assert seen[0] == (0.0, "finding edits")
+    measured = [m for _, m in seen[1:]]
+    assert measured[0] == "measuring the pictures as they are"
+    assert all(m.startswith("measuring ") for m in measured)
+    # one tile search per measurement: the unedited pictures, then every suggestion once
+    assert len(measured) == 1 + len(quiet.results)
+    if not apply:
+        assert measured[1:] == [f"measuring {r.suggestion.description}" for r in quiet.results]
+
+    class Stop(Exception):
+        pass
+
+    def stop_at_third(fraction: float, message: str) -> None:
+        if len(seen) >= 3:
+            raise Stop
+        seen.append((fraction, message))
+
+    seen.clear()
+    with pytest.raises(Stop):
+        review_edits(qa, qb, progress=stop_at_third, **kw)
+    assert len(seen) == 3
+
+
 def test_double_suggest_offers_fewer_colours_for_a_photo_pair(tmp_path, run_cli):
     for name, pic in zip(("a.png", "b.png"), _photos((24, 32)), strict=True):
         Image.fromarray((pic * 255).round().astype(np.uint8)).save(tmp_path / name)

@@ -6,6 +6,7 @@
 * :mod:`~illuknit.app.routers.jobs` -- background jobs (candidates, knitout) with progress;
 * :mod:`~illuknit.app.routers.designs` -- candidates, the pick, tile edits and renders;
 * :mod:`~illuknit.app.routers.suggestions` -- suggested edits of the pictures, accepted or refused;
+* :mod:`~illuknit.app.routers.history` -- undo and redo of accepted edits;
 * :mod:`~illuknit.app.routers.downloads` -- the files a designer takes away.
 """
 
@@ -14,6 +15,7 @@ from __future__ import annotations
 from illuknit.app.routers import (
     designs,
     downloads,
+    history,
     jobs,
     pictures,
     sessions,
@@ -31,5 +33,6 @@ ROUTERS = (
     jobs.router,
     designs.router,
     suggestions.router,
+    history.router,
     downloads.router,
 )

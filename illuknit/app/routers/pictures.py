@@ -28,14 +28,13 @@ def put_image(
         raise AppRequestError(
             "no file in the upload (form field 'file')", field=field, code="missing"
         )
+    # the one upload limit, configured (UploadLimit refuses the request before it is read when
+    # its body alone is over it; this finds a file just over it inside the multipart framing)
     limit = request.app.state.config.max_upload_bytes
     data = file.file.read(limit + 1)
     if len(data) > limit:
         raise AppRequestError(
-            f"the file is over {limit / 1e6:.0f} MB, the limit for pictures",
-            field=field,
-            code="too_large",
-            status=413,
+            design.too_large_message(limit), field=field, code="too_large", status=413
         )
     rgb, notes = design.decode_upload(data, file.filename or "", field=field)
     with s.lock:

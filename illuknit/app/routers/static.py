@@ -46,6 +46,8 @@ def info(request: Request) -> dict[str, Any]:
         "capabilities": design.capabilities(),
         "limits": {
             "max_upload_bytes": cfg.max_upload_bytes,
+            # the words the server refuses a larger file with, for the page's own check
+            "too_large": design.too_large_message(cfg.max_upload_bytes),
             "max_units": MAX_UNITS,
             "max_pixels": design.MAX_UPLOAD_PIXELS,
         },

@@ -1,5 +1,6 @@
 """Suggested edits: the list for the current double-view design, before/after pictures, and
-accepting (the pictures are replaced and the design is made again) or refusing one.
+accepting (the pictures are replaced and the design is made again; the design before is kept
+for undo, :mod:`~illuknit.app.routers.history`) or refusing one.
 
 The list is made by a background job (``POST /jobs {"kind": "suggestions"}``). A suggestion
 belongs to the design it was made for: once the pictures or settings change (an accepted edit
@@ -132,15 +133,17 @@ def accept(request: Request, s: SessionDep, edit_id: str) -> dict[str, Any]:
         settings = s.settings
         # an edit that changes the colour count (a re-quantisation) changes the setting with it,
         # else quantising the edited pictures again would undo it
-        if colors != had and 2 <= colors <= 4:
-            if colors > len(settings.yarns):
-                raise AppRequestError(
-                    f"this edit gives the pictures {colors} colours but there are "
-                    f"{len(settings.yarns)} yarns; add a yarn first",
-                    field="suggestions",
-                    code="too_few_yarns",
-                    status=409,
-                )
+        recount = colors != had and 2 <= colors <= 4
+        if recount and colors > len(settings.yarns):
+            raise AppRequestError(
+                f"this edit gives the pictures {colors} colours but there are "
+                f"{len(settings.yarns)} yarns; add a yarn first",
+                field="suggestions",
+                code="too_few_yarns",
+                status=409,
+            )
+        s.remember(edit.description)  # the design as it is, for Undo
+        if recount:
             s.settings = settings.model_copy(update={"n_colors": colors})
         for slot, rgb in edit.pictures.items():
             old = s.images[slot]

@@ -207,6 +207,7 @@ function applyState(s) {
   renderYarns(st.yarns);
   const single = st.mode === "single";
   $("#suggest-card").hidden = st.mode !== "double"; // edits of two pictures that share a design
+  showHistory(s.history);
   $("#drop-b").hidden = single;
   $(".drops").classList.toggle("one", single);
   $("#title-a").textContent = single ? "Seen from both sides" : st.mode === "headon" ? "Seen head-on" : "Seen from above";
@@ -315,7 +316,7 @@ async function upload(slot, file) {
   clearError(`image_${slot}`);
   const limit = state.info.limits.max_upload_bytes;
   if (file.size > limit) {
-    showError(`image_${slot}`, `${file.name} is ${(file.size / 1e6).toFixed(1)} MB; pictures are limited to ${(limit / 1e6).toFixed(0)} MB.`);
+    showError(`image_${slot}`, `${file.name}: ${state.info.limits.too_large}`);
     return;
   }
   const form = new FormData();

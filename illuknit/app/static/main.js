@@ -48,6 +48,8 @@ function wire() {
   });
   $("#run").addEventListener("click", runCandidates);
   $("#suggest").addEventListener("click", runSuggestions);
+  $("#undo-edit").addEventListener("click", () => stepHistory("undo"));
+  $("#redo-edit").addEventListener("click", () => stepHistory("redo"));
   for (const b of $$("[data-cancel]")) b.addEventListener("click", () => cancelJob(b.dataset.cancel));
   const angle = $("#angle");
   angle.addEventListener("input", () => onAngle(false));

@@ -107,3 +107,42 @@ async function refuseSuggestion(id) {
   } catch (err) { report(err, "suggestions"); }
   await loadSuggestions();
 }
+
+// ---------------------------------------------------------------------------------------------
+// undo and redo of accepted edits: the server keeps the design before each accept, whole
+
+function showHistory(h) {
+  const undo = $("#undo-edit");
+  const redo = $("#redo-edit");
+  const steps = h || { undo: [], redo: [] };
+  undo.hidden = !steps.undo.length;
+  undo.title = steps.undo.length ? `Take back the accepted edit "${steps.undo[0]}": the design before it comes back` : "";
+  redo.hidden = !steps.redo.length;
+  redo.title = steps.redo.length ? `Accept "${steps.redo[0]}" again` : "";
+}
+
+async function stepHistory(which) {
+  clearError("suggestions");
+  let answer;
+  try {
+    answer = await sapi("POST", `/history/${which}`);
+  } catch (err) {
+    report(err, "suggestions");
+    const s = await sapi("GET", "").catch(() => null);
+    if (s) applyState(s);
+    return;
+  }
+  // the pictures, settings and design of that step are the session's again
+  applyState(answer.state);
+  await refreshInputs({ autorun: false });
+  if (answer.job) {
+    // that step had no candidates yet: the server is finding them
+    clearCandidates("Designing again…");
+    state.jobs.candidates = answer.job.id;
+    showJob("candidates", answer.job);
+    if (!(await pollJob("candidates", answer.job.id))) return;
+  }
+  await loadCandidates();
+  await loadSuggestions();
+  if (state.candidates.some((c) => !c.measures)) measureCandidates();
+}

@@ -66,16 +66,68 @@ def test_one_pixel_picture_is_refused(client, api, pictures):
     assert "2 x 2" in api.error_of(r)["message"]
 
 
-def test_huge_upload_is_refused_with_the_limit(client, api, pictures):
+def padded_png(rgb: np.ndarray, size: int) -> bytes:
+    """A PNG of ``rgb`` exactly ``size`` bytes long: a private chunk (``ilKp``, which readers
+    skip) before IEND makes up the difference."""
+    import struct
+    import zlib
+
+    base = io.BytesIO()
+    Image.fromarray(rgb).save(base, format="PNG")
+    head, iend = base.getvalue()[:-12], base.getvalue()[-12:]
+    fill = size - len(head) - len(iend) - 12
+    assert fill >= 0, f"a PNG of this picture is over {size} bytes already"
+    data = bytes(fill)
+    chunk = struct.pack(">I", fill) + b"ilKp" + data + struct.pack(">I", zlib.crc32(b"ilKp" + data))
+    out = head + chunk + iend
+    assert len(out) == size
+    return out
+
+
+def test_one_upload_limit_from_the_configuration(client, api, pictures):
+    """The configured limit (200 000 bytes in these tests) is the one limit: a file of exactly
+    that size is accepted, one byte more is refused once, with the one message, which the page
+    gets from /api/info to say the same before sending a file."""
+    from illuknit.app.inputs import too_large_message
+
+    limit = client.app.state.config.max_upload_bytes
+    message = too_large_message(limit)
+    assert client.get("/api/info").json()["limits"]["too_large"] == message
+    rgb = np.zeros((24, 36, 3), np.uint8)
+    rgb[6:18, 8:26] = pictures.LIGHT
     sid = api.new_session(client)
-    noise = np.random.default_rng(0).integers(0, 256, (300, 300, 3), dtype=np.uint8)
-    data = pictures.png(noise)
-    assert len(data) > 200_000
-    r = api.upload(client, sid, "a", data)
+    r = api.upload(client, sid, "a", padded_png(rgb, limit))
+    assert r.status_code == 200, r.text
+    assert r.json()["images"]["a"]["bytes"] == limit
+    got = np.asarray(Image.open(io.BytesIO(client.get(f"/api/sessions/{sid}/images/a").content)))
+    assert np.array_equal(got, rgb)
+    # one byte over: inside the request's framing allowance, so the upload route refuses it
+    r = api.upload(client, sid, "b", padded_png(rgb, limit + 1))
     assert r.status_code == 413
-    err = api.error_of(r)
-    assert err["field"] == "image_a" and err["code"] == "too_large"
-    assert "MB" in err["message"]
+    assert api.error_of(r) == {"message": message, "field": "image_b", "code": "too_large"}
+    # far over: the request itself is refused before it is read, in the same words
+    r = api.upload(client, sid, "b", padded_png(rgb, 3 * limit))
+    assert r.status_code == 413
+    assert api.error_of(r) == {"message": message, "field": "image_b", "code": "too_large"}
+    assert "195.3 kB" in message and "b" not in client.get(f"/api/sessions/{sid}").json()["images"]
+
+
+def test_a_configured_limit_over_the_default_is_the_limit(api, pictures):
+    """No second, built-in limit: a server configured for larger files takes a file over the
+    default limit (32 MB)."""
+    from fastapi.testclient import TestClient
+
+    from illuknit.app import create_app
+    from illuknit.app.inputs import MAX_UPLOAD_BYTES
+    from illuknit.app.server import AppConfig
+
+    size = MAX_UPLOAD_BYTES + 1000
+    app = create_app(AppConfig(max_upload_bytes=size, isolate_knit=False))
+    with TestClient(app) as c:
+        sid = api.new_session(c)
+        r = api.upload(c, sid, "a", padded_png(np.full((8, 8, 3), 200, np.uint8), size))
+        assert r.status_code == 200, r.text
+        assert r.json()["images"]["a"]["bytes"] == size
 
 
 def test_picture_with_too_many_pixels_is_refused_from_its_header(client, api):

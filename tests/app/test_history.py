@@ -1,0 +1,253 @@
+"""Undo and redo of accepted suggested edits: the design before the accept comes back exactly,
+empty histories and closed sessions answer plainly, and the history counts in the memory bound."""
+
+from __future__ import annotations
+
+import io
+import time
+from typing import Any
+
+import numpy as np
+import pytest
+
+pytest.importorskip("fastapi", reason="the app extra is not installed: pip install 'illuknit[app]'")
+pytest.importorskip("multipart", reason="python-multipart is not installed")
+
+from fastapi.testclient import TestClient
+from PIL import Image
+
+from illuknit.app import create_app
+from illuknit.app.history import STEPS_KEPT
+from illuknit.app.server import AppConfig
+from illuknit.drawings import draw_text
+
+
+def word(text: str, grey: slice | None = None) -> bytes:
+    """A 72 x 48 picture of a word (ragged at 24 units: the library suggests edits of it);
+    ``grey``: rows whose background is a third colour."""
+    mask = draw_text(text, shape=(48, 72))
+    rgb = np.where(mask[..., None], 24, 246).astype(np.uint8).repeat(3, axis=2)
+    if grey is not None:
+        rgb[grey][~mask[grey]] = 140
+    buf = io.BytesIO()
+    Image.fromarray(rgb).save(buf, format="PNG")
+    return buf.getvalue()
+
+
+@pytest.fixture(scope="module")
+def client():
+    with TestClient(create_app(AppConfig(isolate_knit=False))) as c:
+        yield c
+
+
+def wait_job(client: TestClient, sid: str, jid: str, timeout: float = 120) -> dict:
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        job = client.get(f"/api/sessions/{sid}/jobs/{jid}").json()
+        if job["status"] not in ("queued", "running"):
+            return dict(job)
+        time.sleep(0.05)
+    raise AssertionError(f"job {jid} did not end within {timeout} s")
+
+
+def run_job(client: TestClient, sid: str, kind: str) -> dict:
+    r = client.post(f"/api/sessions/{sid}/jobs", json={"kind": kind})
+    assert r.status_code == 202, r.text
+    return wait_job(client, sid, r.json()["id"])
+
+
+def error_of(r: Any) -> dict:
+    body = r.json()
+    assert set(body) == {"error"} and body["error"]["message"], body
+    return dict(body["error"])
+
+
+def two_words(client: TestClient, **settings: Any) -> str:
+    """A double-view session of "UP" over "ON" at 24 units (or ``settings``)."""
+    sid = client.post("/api/sessions").json()["id"]
+    for slot, text, grey in (("a", "UP", settings.pop("grey_a", None)), ("b", "ON", None)):
+        files = {"file": (f"{text}.png", word(text, grey), "image/png")}
+        assert client.put(f"/api/sessions/{sid}/images/{slot}", files=files).status_code == 200
+    body = {"mode": "double", "width_units": 24, **settings}
+    assert client.put(f"/api/sessions/{sid}/settings", json=body).status_code == 200
+    return sid
+
+
+def design_seen(client: TestClient, sid: str) -> dict[str, Any]:
+    """Everything the page shows of a design, revision numbers aside: the pictures (PNG bytes),
+    the quantised inputs, settings, candidates with their measures, the pick, the suggestions."""
+    base = f"/api/sessions/{sid}"
+    state = client.get(base).json()
+    inputs = client.get(f"{base}/inputs").json()
+    cands = client.get(f"{base}/candidates").json()
+    suggs = client.get(f"{base}/suggestions").json()
+    return {
+        "settings": state["settings"],
+        "images": {k: {**v, "url": None} for k, v in state["images"].items()},
+        "pictures": {slot: client.get(f"{base}/images/{slot}").content for slot in ("a", "b")},
+        "quantised": {slot: client.get(f"{base}/inputs/{slot}.png").content for slot in ("a", "b")},
+        "legend": inputs["legend"],
+        "candidates": cands["candidates"],
+        "selected": cands["selected"],
+        "suggestions": {k: v for k, v in suggs.items() if k != "revision"},
+    }
+
+
+def test_undo_brings_back_the_design_before_the_accept_and_redo_the_one_after(client):
+    sid = two_words(client)
+    base = f"/api/sessions/{sid}"
+    assert run_job(client, sid, "candidates")["status"] == "done"
+    assert run_job(client, sid, "measures")["status"] == "done"
+    assert run_job(client, sid, "suggestions")["status"] == "done"
+    before = design_seen(client, sid)
+    assert before["candidates"] and all(c["measures"] for c in before["candidates"])
+    edit = before["suggestions"]["suggestions"][0]
+
+    r = client.post(f"{base}/suggestions/{edit['id']}/accept")
+    assert r.status_code == 200, r.text
+    assert wait_job(client, sid, r.json()["job"]["id"])["status"] == "done"
+    assert run_job(client, sid, "measures")["status"] == "done"
+    after = design_seen(client, sid)
+    assert after["pictures"] != before["pictures"]
+    state = client.get(base).json()
+    assert state["history"] == {"undo": [edit["description"]], "redo": []}
+
+    r = client.post(f"{base}/history/undo")
+    assert r.status_code == 200, r.text
+    answer = r.json()
+    assert answer["undone"] == edit["description"]
+    assert answer["job"] is None  # the candidates come back with the design: no new search
+    assert answer["state"]["revision"] > state["revision"]
+    assert answer["state"]["history"] == {"undo": [], "redo": [edit["description"]]}
+    # byte-identical pictures, the same quantised inputs, candidates, measures, suggestions
+    assert design_seen(client, sid) == before
+    assert client.get(f"{base}/candidates").json()["revision"] == answer["state"]["revision"]
+    # the suggestions of that design are live again: their previews answer, not 410
+    assert client.get(f"{base}/{edit['previews'][edit['slots'][0]]['after']}").status_code == 200
+
+    r = client.post(f"{base}/history/redo")
+    assert r.status_code == 200, r.text
+    assert r.json()["redone"] == edit["description"] and r.json()["job"] is None
+    assert design_seen(client, sid) == after
+    # the ids of the design left behind are superseded again
+    r = client.post(f"{base}/suggestions/{edit['id']}/accept")
+    assert r.status_code == 410 and error_of(r)["code"] == "superseded"
+
+    # undo, then another change: what was undone cannot be redone any more
+    assert client.post(f"{base}/history/undo").status_code == 200
+    assert client.put(f"{base}/settings", json={"width_units": 25}).status_code == 200
+    assert client.get(f"{base}/history").json() == {"undo": [], "redo": []}
+
+
+def test_undo_of_a_requantisation_gives_back_the_colour_count(client):
+    sid = two_words(
+        client, grey_a=slice(0, 12), yarns=["#1b1b1b", "#8a8a8a", "#f4f0e8"], n_colors=2
+    )
+    base = f"/api/sessions/{sid}"
+    assert run_job(client, sid, "suggestions")["status"] == "done"
+    before = design_seen(client, sid)
+    edit = next(s for s in before["suggestions"]["suggestions"] if s["edit"] == "requantise-3")
+    r = client.post(f"{base}/suggestions/{edit['id']}/accept")
+    assert r.status_code == 200 and r.json()["state"]["settings"]["n_colors"] == 3
+    r = client.post(f"{base}/history/undo")
+    assert r.status_code == 200
+    # no candidates had been found before the accept: the search starts again, as after one
+    assert r.json()["job"]["kind"] == "candidates"
+    assert r.json()["state"]["settings"]["n_colors"] == 2
+    assert wait_job(client, sid, r.json()["job"]["id"])["status"] == "done"
+    now = design_seen(client, sid)
+    assert {k: now[k] for k in ("settings", "pictures", "quantised", "legend", "suggestions")} == {
+        k: before[k] for k in ("settings", "pictures", "quantised", "legend", "suggestions")
+    }
+
+
+def test_nothing_to_undo_or_redo_is_409_with_a_message(client):
+    sid = two_words(client)
+    for what in ("undo", "redo"):
+        r = client.post(f"/api/sessions/{sid}/history/{what}")
+        assert r.status_code == 409
+        e = error_of(r)
+        assert e["code"] == f"nothing_to_{what}" and e["field"] == "suggestions"
+        assert f"nothing to {what}" in e["message"]
+    assert client.get(f"/api/sessions/{sid}/history").json() == {"undo": [], "redo": []}
+
+
+def test_undo_in_a_closed_session_says_what_happened(client):
+    store = client.app.state.store
+    sid = two_words(client)
+    limit, store.max_bytes = store.max_bytes, 0
+    try:
+        other = store.create()
+        assert sid in store.trim(keep=other.id)
+    finally:
+        store.max_bytes = limit
+    r = client.post(f"/api/sessions/{sid}/history/undo")
+    assert r.status_code == 410 and error_of(r)["code"] == "evicted"
+    r = client.post("/api/sessions/nonsense/history/redo")
+    assert r.status_code == 404 and error_of(r)["code"] == "no_session"
+
+
+def held(arrays: list[np.ndarray]) -> dict[int, int]:
+    return {id(a): a.nbytes for a in arrays}
+
+
+def design_arrays(images, prepared, candidates, suggestions) -> list[np.ndarray]:
+    out = [im.rgb for im in images.values()]
+    out += [] if prepared is None else [q.indices for q in prepared.quantised.values()]
+    out += [a for c in candidates for a in (c.pattern.yarn, c.pattern.raised)]
+    if suggestions is not None:
+        out += list(suggestions.originals.values())
+        out += [p for e in suggestions.edits for p in e.pictures.values()]
+    return out
+
+
+def test_the_history_counts_in_the_session_memory_once():
+    """After an accept the session holds the design before it too: the pictures the edit
+    replaced, its quantised inputs, candidates and suggestions; a picture the edit left alone is
+    the same array in both and counts once. The bound sees it: keeping it closes the least
+    recently used session."""
+    with TestClient(create_app(AppConfig(isolate_knit=False))) as client:
+        store = client.app.state.store
+        idle = client.post("/api/sessions").json()["id"]
+        sid = two_words(client)
+        assert run_job(client, sid, "candidates")["status"] == "done"
+        assert run_job(client, sid, "suggestions")["status"] == "done"
+        s = store.get(sid)
+        edit = s.suggestions.edits[0]
+        limit = store.max_bytes
+        store.max_bytes = store.nbytes() + 1  # everything fits now, nothing more
+        try:
+            r = client.post(f"/api/sessions/{sid}/suggestions/{edit.id}/accept")
+            assert r.status_code == 200
+            with s.lock:
+                total = s.nbytes()
+                steps, s.undo_steps = s.undo_steps, []
+                without = s.nbytes()
+                s.undo_steps = steps
+                now = held(design_arrays(s.images, s.prepared, s.candidates, s.suggestions))
+            (old,) = steps
+            kept = held(design_arrays(old.images, old.prepared, old.candidates, old.suggestions))
+        finally:
+            store.max_bytes = limit
+        only_kept = {k: v for k, v in kept.items() if k not in now}
+        assert total - without == sum(only_kept.values())
+        for slot in ("a", "b"):
+            replaced = slot in edit.changed
+            assert (old.images[slot] is s.images[slot]) != replaced
+            assert (id(old.images[slot].rgb) in only_kept) == replaced
+        assert sum(old.images[slot].nbytes for slot in edit.changed) > 0
+        r = client.get(f"/api/sessions/{idle}")
+        assert r.status_code == 410 and error_of(r)["code"] == "evicted"
+
+
+def test_the_history_is_bounded():
+    from illuknit.app.sessions import Session
+
+    s = Session(id="x")
+    for k in range(STEPS_KEPT + 3):
+        s.remember(f"step {k}")
+        s.bump()
+    assert [st.label for st in s.undo_steps] == [f"step {k}" for k in range(3, STEPS_KEPT + 3)]
+    for _ in range(STEPS_KEPT):
+        s.undo()
+    assert len(s.redo_steps) == STEPS_KEPT and not s.undo_steps
