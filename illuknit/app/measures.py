@@ -7,7 +7,7 @@ the app, ``illuknit double --rank-by`` and the bench agree:
   picture), **contrast** (how much of its light/dark difference survives) and, in a double view,
   **ghosting** (how much of the other picture shows through);
 * the **perceptual score**: the worse side's readability, penalised for contrast below a floor
-  and for ghosting (the documented default order);
+  and for how much of the other picture shows (the documented default order);
 * the machine's **knitting time** and passes on the chosen machine.
 
 In a single view both sides show picture A and nothing can ghost. A head-on design with no side

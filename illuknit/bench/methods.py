@@ -211,18 +211,25 @@ register_method(
 def run_tiles(instance: Instance, time_limit: float) -> tuple[LogicalPattern, dict[str, Any]]:
     """The tile candidate that reads best, compiled (paper section 6).
 
-    Five candidates are assigned and ranked as ``illuknit double`` ranks them by default
-    (:func:`illuknit.tiles.perception.rank_designs`: how the views read, not the assignment's
-    score); the first is the method's pattern.
+    The candidates ``illuknit double`` searches by default (:data:`~illuknit.tiles.perception.
+    DEFAULT_POOL`, those past the fifth within :data:`~illuknit.tiles.perception.POOL_SECONDS`)
+    are assigned and ranked as it ranks them (:func:`illuknit.tiles.perception.rank_designs`:
+    how the views read, not the assignment's score); the first is the method's pattern.
     """
     from illuknit.tiles.assign import assign_tiles
-    from illuknit.tiles.perception import rank_designs
+    from illuknit.tiles.perception import DEFAULT_POOL, POOL_SECONDS, rank_designs
 
     t = instance_targets(instance)
     palette = t.palette
     t0 = time.perf_counter()
     cands = assign_tiles(
-        (t.a, palette), (t.b, palette), yarns=instance.yarns, candidates=5, time_limit=time_limit
+        (t.a, palette),
+        (t.b, palette),
+        yarns=instance.yarns,
+        candidates=5,
+        pool=DEFAULT_POOL,
+        pool_seconds=POOL_SECONDS,
+        time_limit=time_limit,
     )
     t1 = time.perf_counter()
     best = rank_designs(cands, [t.rgb("A"), t.rgb("B")])[0]

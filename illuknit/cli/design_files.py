@@ -120,6 +120,7 @@ def _measure_fields(m: Any) -> dict[str, Any]:
         "readability": j["readability"],
         "contrast": j["contrast"],
         "ghosting": j["ghosting"],
+        "visible_ghosting": j["visible_ghosting"],
         "knit_minutes": j["knit_minutes"],
         "machine_passes": j["machine_passes"],
     }
@@ -149,16 +150,19 @@ def summary_text(summary: dict[str, Any], overlap_lines: list[str]) -> str:
         f"yarns: {', '.join(y['name'] + ' ' + y['rgb'] for y in summary['yarns'])}",
         f"bank {summary['bank']['name']} ({summary['bank']['tiles']} tiles), solver {summary['solver']}",
         "",
-        f"ranked by {summary.get('ranked_by', 'score')}; readability / contrast / ghosting per view",
-        "rank  default  percept  read A  read B  contr A  contr B  ghost  minutes  score    fills of input A | fills of input B",
+        f"best {len(summary['candidates'])} of {summary['searched']} tile designs searched, "
+        f"ranked by {summary.get('ranked_by', 'score')}; readability / contrast per view; worst ghosting "
+        "and how much of it shows (visible ghosting)",
+        "rank  default  percept  read A  read B  contr A  contr B  ghost  shows  minutes  score    fills of input A | fills of input B",
     ]
     for r in summary["candidates"]:
         mark = "  *    " if r["default"] else "       "
         rd, ct = r["readability"], r["contrast"]
         ghost = max((abs(g) for g in r["ghosting"] if g is not None), default=None)
+        shows = max((g for g in r["visible_ghosting"] if g is not None), default=None)
         lines.append(
             f"{r['rank']:>4}  {mark}  {fmt_number(r['perceptual_score']):>7}  {fmt_number(rd[0]):>6}  "
-            f"{fmt_number(rd[1]):>6}  {fmt_number(ct[0]):>7}  {fmt_number(ct[1]):>7}  {fmt_number(ghost):>5}  "
+            f"{fmt_number(rd[1]):>6}  {fmt_number(ct[0]):>7}  {fmt_number(ct[1]):>7}  {fmt_number(ghost):>5}  {fmt_number(shows):>5}  "
             f"{fmt_number(r['knit_minutes'], 1):>7}  {r['score']:>7.2f}  "
             f"{'; '.join(r['fills_a'])} | {'; '.join(r['fills_b'])}"
         )

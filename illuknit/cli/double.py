@@ -23,7 +23,7 @@ from illuknit.cli.design_files import fmt_number, summary_text, write_candidate,
 from illuknit.cli.knitout_bridge import format_option, long_floats_option, machine_option
 from illuknit.cli.options import knitout_option, outdir_option
 from illuknit.sizing import DEFAULT_MAX_WIDTH
-from illuknit.tiles.perception import RANK_KEYS
+from illuknit.tiles.perception import DEFAULT_POOL, POOL_SECONDS, RANK_KEYS
 
 __all__ = ["double", "run_design"]
 
@@ -54,6 +54,7 @@ def run_design(
     width: int | None = None,
     resize: bool = False,
     candidates: int = 5,
+    pool: int | None = None,
     bank_file: Path | None = None,
     pick: int = 1,
     solver: str = "cpsat",
@@ -72,7 +73,9 @@ def run_design(
     ``mode`` is ``"double"`` (A from above, B from below) or ``"headon"`` (A head-on, B from
     both sides; B may be None for a plain side view). With ``knitout`` the default candidate is
     knit on ``machine`` (a preset name; a pattern wider than its bed is refused before the
-    design work). Returns the summary dict.
+    design work). ``pool`` tile designs (default :data:`~illuknit.tiles.perception.DEFAULT_POOL`,
+    never fewer than ``candidates``) are searched and ranked; the best ``candidates`` are written.
+    Returns the summary dict.
     """
     from illuknit.cli.knitout_bridge import resolve_machine
     from illuknit.errors import TileAssignmentError
@@ -82,6 +85,8 @@ def run_design(
 
     if candidates < 1:
         raise TileAssignmentError(f"--candidates must be at least 1, got {candidates}")
+    if pool is not None and pool < 1:
+        raise TileAssignmentError(f"--pool must be at least 1, got {pool}")
     overrides = _parse_overrides(tile)
     spec = resolve_machine(machine)
     inp = _design_inputs(
@@ -102,12 +107,14 @@ def run_design(
         suggest=suggest,
         n_colors=n_colors,
         candidates=candidates,
+        pool=max(candidates, DEFAULT_POOL if pool is None else pool),
         solver=solver,
         brightness="soft" if soft_brightness else "hard",
     )
-    if not 1 <= pick <= len(found):
+    written = min(candidates, len(found))
+    if not 1 <= pick <= written:
         raise TileAssignmentError(
-            f"--pick must be between 1 and {len(found)} (candidates found), got {pick}"
+            f"--pick must be between 1 and {written} (candidates found), got {pick}"
         )
     seen_targets = _seen_targets(inp.qa, inp.qb)
     ranked = rank_designs(
@@ -118,6 +125,7 @@ def run_design(
         rank_by=rank_by,
         knit_time=knit_time,
         machine=machine,
+        keep=candidates,
     )
     rows = []
     chosen = None
@@ -151,6 +159,7 @@ def run_design(
             "bank": {"name": inp.bank.name, "tiles": len(inp.bank)},
             "solver": solver,
             "ranked_by": rank_by,
+            "searched": len(found),
             "edits": [e.to_json() for e in edits],
             "default": pick,
             "candidates": rows,
@@ -167,10 +176,12 @@ def _assign(
     suggest: bool,
     n_colors: int,
     candidates: int,
+    pool: int,
     solver: str,
     brightness: Literal["hard", "soft"],
 ) -> tuple[Any, list[Any]]:
-    """The ranked-by-score tile assignments, after the suggested edits (and the edits)."""
+    """The ranked-by-score tile assignments (``candidates``, or up to ``pool`` within
+    :data:`~illuknit.tiles.perception.POOL_SECONDS`), after the suggested edits (and the edits)."""
     from illuknit.errors import OptionError
     from illuknit.tiles.assign import assign_tiles
     from illuknit.tiles.headon import uniform_side
@@ -189,6 +200,8 @@ def _assign(
             # re-quantising stays within the yarns the designer allows (and the --colors range)
             max_colors=min(4, max(n_colors, len(inp.yarns))),
             candidates=candidates,
+            pool=pool,
+            pool_seconds=POOL_SECONDS,
             bank=inp.bank,
             solver=solver,
             brightness=brightness,
@@ -198,6 +211,8 @@ def _assign(
         second,
         bank=inp.bank,
         candidates=candidates,
+        pool=pool,
+        pool_seconds=POOL_SECONDS,
         brightness=brightness,
         solver=solver,
         views=inp.views,  # type: ignore[arg-type]
@@ -333,6 +348,13 @@ def _overlap_digest(table: dict[str, Any]) -> list[str]:
     return out
 
 
+def _worst_ghosting(row: dict[str, Any]) -> str:
+    """``"0.293 (0.038)"``: the worst view's ghosting and how much of it shows."""
+    ghost = [abs(g) for g in row["ghosting"] if g is not None]
+    shows = [v for v in row["visible_ghosting"] if v is not None]
+    return f"{max(ghost):.3f} ({max(shows):.3f})" if ghost and shows else "-"
+
+
 def print_summary(summary: dict[str, Any], outdir: Path) -> None:
     from rich.console import Console
     from rich.table import Table
@@ -348,7 +370,7 @@ def print_summary(summary: dict[str, Any], outdir: Path) -> None:
         "perceptual",
         "readability",
         "contrast",
-        "ghosting",
+        "worst ghosting (shows)",
         "knit min",
         "score",
         "fills A",
@@ -362,7 +384,7 @@ def print_summary(summary: dict[str, Any], outdir: Path) -> None:
             fmt_number(r["perceptual_score"]),
             " / ".join(fmt_number(v) for v in r["readability"]),
             " / ".join(fmt_number(v) for v in r["contrast"]),
-            " / ".join(fmt_number(v) for v in r["ghosting"]),
+            _worst_ghosting(r),
             fmt_number(r["knit_minutes"], 1),
             f"{r['score']:.1f}",
             "; ".join(r["fills_a"]),
@@ -374,7 +396,8 @@ def print_summary(summary: dict[str, Any], outdir: Path) -> None:
         for line in _overlap_digest(default["overlaps"]):
             con.print(line)
     con.print(
-        f"wrote {len(summary['candidates'])} candidate(s) to [bold]{outdir}[/] (default: candidate_{summary['default']})"
+        f"wrote {len(summary['candidates'])} candidate(s), the best-ranked of {summary['searched']} tile "
+        f"design(s) searched, to [bold]{outdir}[/] (default: candidate_{summary['default']})"
     )
 
 
@@ -390,6 +413,9 @@ def design_options(func: Any) -> Any:
         click.option("--resize", is_flag=True, help="Stretch the second picture onto the first when their aspect ratios differ."),
         click.option("--candidates", type=click.IntRange(1, 50), default=5, show_default=True,
                      help="How many ranked candidates to write."),
+        click.option("--pool", type=click.IntRange(1, 200), default=None,
+                     help=f"How many tile designs to search and rank before writing the best --candidates "
+                     f"[default: {DEFAULT_POOL}; designs past --candidates only within {POOL_SECONDS:g} s]."),
         click.option("--bank", "bank_file", type=click.Path(dir_okay=False, path_type=Path), default=None,
                      help="Custom tile bank (JSON; see docs/tiles.md)."),
         click.option("--pick", type=click.IntRange(1, 50), default=1, show_default=True,

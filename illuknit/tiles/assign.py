@@ -69,6 +69,8 @@ def assign_tiles(
     bank: TileBank | None = None,
     yarns: Sequence[Yarn] | None = None,
     candidates: int = 5,
+    pool: int | None = None,
+    pool_seconds: float | None = None,
     brightness: Literal["hard", "soft"] = "hard",
     solver: str = "cpsat",
     time_limit: float | None = 10.0,
@@ -76,7 +78,8 @@ def assign_tiles(
     views: ViewPair = ("A", "B"),
     explain: bool = True,
 ) -> list[TileAssignment]:
-    """The top ``candidates`` tile assignments for a pair of quantised inputs, best first.
+    """The top ``candidates`` (up to ``pool``) tile assignments for a pair of quantised inputs,
+    best score first.
 
     Parameters
     ----------
@@ -86,6 +89,12 @@ def assign_tiles(
         Defaults to :func:`canonical_bank` of ``yarns`` (or of ``qa.yarns`` + ``qb.yarns``).
     candidates : int
         How many distinct assignments to return (fewer when fewer exist).
+    pool : int, optional
+        Search on past ``candidates`` for up to this many, to rank them by something the score
+        does not see (:func:`illuknit.tiles.perception.rank_designs` ``keep=candidates``).
+    pool_seconds : float, optional
+        The assignments past ``candidates`` are sought only while the whole search has taken
+        less than this many seconds (each solve may take up to ``time_limit``).
     brightness : {"hard", "soft"}
         Keep each input's brightness order strictly, or only prefer to.
     solver : str
@@ -114,11 +123,21 @@ def assign_tiles(
         bank = canonical_bank(_default_yarns(qa, qb, yarns), views=views)
     if not isinstance(candidates, int) or candidates < 1:
         raise TileAssignmentError(f"`candidates` must be a positive integer, got {candidates!r}")
+    if pool is not None and (not isinstance(pool, int) or pool < 1):
+        raise TileAssignmentError(f"`pool` must be a positive integer, got {pool!r}")
     if brightness not in ("hard", "soft"):
         raise TileAssignmentError(f"`brightness` must be 'hard' or 'soft', got {brightness!r}")
     _check_inputs(ra, rb, bank, views)
     prob = _build_problem(ra, rb, bank, views, brightness, weights or AssignmentWeights())
-    return _solve_candidates(prob, candidates, solver, time_limit, explain=explain)
+    return _solve_candidates(
+        prob,
+        candidates,
+        solver,
+        time_limit,
+        explain=explain,
+        pool=max(candidates, pool or 0),
+        pool_seconds=pool_seconds,
+    )
 
 
 def _yarns_of(*inputs: Any) -> tuple[Yarn, ...]:
@@ -141,14 +160,30 @@ def _default_yarns(qa: Any, qb: Any, yarns: Sequence[Yarn] | None) -> tuple[Yarn
 
 
 def _solve_candidates(
-    prob: _Problem, candidates: int, solver: str, time_limit: float | None, *, explain: bool
+    prob: _Problem,
+    candidates: int,
+    solver: str,
+    time_limit: float | None,
+    *,
+    explain: bool,
+    pool: int = 0,
+    pool_seconds: float | None = None,
 ) -> list[TileAssignment]:
+    import time
+
     from illuknit.solvers import Status, solve
 
     out: list[TileAssignment] = []
     blocked: list[tuple[dict[int, int], dict[int, int]]] = []
     m, decode, block = _encode(prob)
-    for rank in range(1, candidates + 1):
+    start = time.perf_counter()
+    for rank in range(1, max(candidates, pool) + 1):
+        if (
+            rank > candidates
+            and pool_seconds is not None
+            and time.perf_counter() - start >= pool_seconds
+        ):
+            break
         if blocked:
             block(*blocked[-1])
         sol = solve(m, solver=solver, time_limit=time_limit)

@@ -77,6 +77,7 @@ def test_every_candidate_is_measured_with_the_librarys_numbers(client, app, meas
         ref = perception.measure_candidate(cand.pattern, [q["a"].rgb(), q["b"].rgb()])
         assert m["readability"] == pytest.approx(list(ref.readability), abs=1e-4)
         assert m["worst_ghosting"] == pytest.approx(ref.worst_ghosting, abs=1e-4)
+        assert m["visible_ghosting"] == pytest.approx(list(ref.visible_ghosting), abs=1e-4)
         assert m["perceptual_score"] == pytest.approx(ref.perceptual_score, abs=1e-4)
         # and the readability is the bench's render correlation
         renders, _ = angled_renders(cand.pattern)
@@ -95,7 +96,7 @@ def test_candidates_re_rank_by_any_measure(client, measured, order):
         "perception": lambda c: -c["measures"]["perceptual_score"],
         "readability": lambda c: -c["measures"]["worse_readability"],
         "contrast": lambda c: -c["measures"]["worse_contrast"],
-        "ghosting": lambda c: c["measures"]["worst_ghosting"],
+        "ghosting": lambda c: c["measures"]["worst_visible_ghosting"],
         "knit_time": lambda c: c["measures"]["knit_minutes"],
     }[order]
     values = [key(c) for c in got]

@@ -195,3 +195,29 @@ def test_with_tile_override_and_unknown_pair():
         c.with_tile((1, 0), "0")
     with pytest.raises(TileAssignmentError, match="uses yarn"):
         c.with_tile((0, 0), "5")
+
+
+@settings(max_examples=8, deadline=None)
+@given(pair=image_pair(), candidates=st.integers(1, 3), pool=st.integers(1, 40))
+def test_a_pool_finds_every_assignment_up_to_its_size_in_score_order(pair, candidates, pool):
+    qa, qb = pair
+    bank = canonical_bank(Y2)
+    brute = brute_force_assignments(qa, qb, bank=bank)
+    if not brute:
+        return
+    got = assign_tiles(qa, qb, bank=bank, candidates=candidates, pool=pool)
+    n = min(max(candidates, pool), len(brute))
+    assert len(got) == n
+    assert len({(c.fills_a, c.fills_b) for c in got}) == n
+    assert [round(c.score, 6) for c in got] == [round(s, 6) for s, _, _ in brute[:n]]
+
+
+def test_a_pool_past_its_time_stops_at_the_candidates_asked_for():
+    qa = (np.kron(np.array([[0, 1], [1, 0]]), np.ones((4, 4), int)), np.array([[0] * 3, [255] * 3]))
+    qb = (np.kron(np.array([[0, 0], [1, 1]]), np.ones((4, 4), int)), np.array([[0] * 3, [255] * 3]))
+    bank = canonical_bank(Y2)
+    everything = assign_tiles(qa, qb, bank=bank, candidates=2, pool=50)
+    assert len(everything) > 3
+    assert len(assign_tiles(qa, qb, bank=bank, candidates=2, pool=50, pool_seconds=0)) == 2
+    with pytest.raises(TileAssignmentError, match="pool"):
+        assign_tiles(qa, qb, bank=bank, pool=0)

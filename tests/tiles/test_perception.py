@@ -68,6 +68,55 @@ def test_default_order_is_by_perceptual_score_and_every_key_is_a_permutation(row
     )
 
 
+def test_ghosting_weighs_by_how_much_of_the_render_it_is():
+    # The bundled astronaut/coffee pair in numbers: a design that reproduces its pictures almost
+    # exactly has a tiny residue, and a high ghosting correlation of that residue is a faint
+    # outline; the same correlation next to a poorer reproduction is a second picture.
+    faithful = _m((0.99, 0.98), ghost=(0.29, 0.09))
+    washed = _m((0.96, 0.96), ghost=(0.07, 0.09))
+    assert faithful.worst_visible_ghosting == pytest.approx(0.29 * np.sqrt(1 - 0.99**2))
+    assert washed.worst_visible_ghosting == pytest.approx(0.09 * np.sqrt(1 - 0.96**2))
+    assert (
+        faithful.worst_visible_ghosting
+        < 0.05
+        < _m((0.9, 0.9), ghost=(0.29, 0)).worst_visible_ghosting
+    )
+    # the default order reads first; between equal readings the less visible ghost leads
+    assert rank_candidates([washed, faithful], [1.0, 2.0]) == [1, 0]
+    ghostly = _m((0.90, 0.90), ghost=(0.30, 0.0))
+    clean = _m((0.90, 0.90), ghost=(0.05, 0.0))
+    assert rank_candidates([ghostly, clean], [1.0, 2.0]) == [1, 0]
+    assert rank_candidates([clean, ghostly], [2.0, 1.0], by="ghosting") == [0, 1]
+    # no picture to read (plain, or nothing reads): all of the ghosting shows
+    assert _m((None, float("nan")), ghost=(0.2, -0.3)).visible_ghosting == (0.2, 0.3)
+    assert _m((0.9, 0.9), ghost=(None, float("nan"))).visible_ghosting == (None, None)
+
+
+@given(st.floats(-1, 1), st.floats(-1, 1))
+def test_visible_ghosting_never_exceeds_ghosting(read, ghost):
+    (v, _) = _m((read, read), ghost=(ghost, ghost)).visible_ghosting
+    assert 0.0 <= v <= abs(ghost) + 1e-12
+
+
+def test_visible_ghosting_is_the_semipartial_correlation_of_the_render():
+    a, b = _disc(30, 9, 15, 10), _disc(30, 8, 15, 20)
+    pal = np.array([[240, 240, 240], [20, 20, 20]], np.uint8)
+    mixed = np.where(b == 1, 1 - a, a)  # picture A, with B punched through part of it
+    p = LogicalPattern(mixed.astype(np.int16), np.zeros_like(a), YARNS[::-1])
+    m = measure_candidate(p, [pal[a], pal[b]])
+    # independently: regress the blurred render on the picture, correlate the residue with B
+    # and scale by the residue's share of the render's spread
+    from illuknit.bench.metrics import BLUR_SIGMA, _grey, angled_renders
+
+    g = _grey(angled_renders(p)[0]["A"], BLUR_SIGMA).ravel()
+    t, o = (_grey(pal[x] / 255.0, BLUR_SIGMA).ravel() for x in (a, b))
+    design = np.stack([np.ones_like(t), t], axis=1)
+    e = g - design @ np.linalg.lstsq(design, g, rcond=None)[0]
+    expected = abs(np.corrcoef(e, o)[0, 1]) * e.std() / g.std()
+    assert m.visible_ghosting[0] == pytest.approx(expected, rel=1e-6)
+    assert 0.05 < m.visible_ghosting[0] < abs(m.ghosting[0])
+
+
 def test_bad_rank_keys_are_option_errors():
     with pytest.raises(OptionError, match="rank by one of"):
         rank_candidates([_m((1, 1))], [0.0], by="beauty")
@@ -156,3 +205,41 @@ def test_double_writes_measures_diagnostics_and_reranks(tmp_path, run_cli):
          "--rank-by", "beauty"])  # fmt: skip
     assert code == 2 and not (tmp_path / "x").exists()
     assert len(err.strip().splitlines()) == 1
+
+
+def test_rank_designs_keeps_the_best_of_a_pool_and_knits_only_those():
+    a, b = _disc(20, 7, 10, 7), _disc(20, 6, 9, 13)
+    pal = np.array([[20, 20, 20], [240, 240, 240]], np.uint8)
+    pool = assign_tiles((a, pal), (b, pal), yarns=YARNS, candidates=2, pool=8)
+    assert len(pool) > 2
+    everything = rank_designs(pool, [pal[a], pal[b]])
+    kept = rank_designs(pool, [pal[a], pal[b]], keep=2, knit_time=True)
+    assert [r.score_rank for r in kept] == [r.score_rank for r in everything[:2]]
+    assert [r.assignment.rank for r in kept] == [1, 2]
+    assert all(r.measures.knit_minutes and r.measures.machine_passes for r in kept)
+    with pytest.raises(OptionError, match="keep"):
+        rank_designs(pool, [pal[a], pal[b]], keep=0)
+
+
+def test_double_writes_the_best_of_the_pool_it_searched(tmp_path, run_cli):
+    a, b = _disc(24, 8, 12, 8), _disc(24, 7, 11, 15)
+    for name, img in (("a.png", a), ("b.png", b)):
+        Image.fromarray(((1 - img) * 255).astype(np.uint8)).save(tmp_path / name)
+    out = tmp_path / "out"
+    code, _, err = run_cli(
+        ["double", str(tmp_path / "a.png"), str(tmp_path / "b.png"), "-o", str(out),
+         "--candidates", "2", "--pool", "12"])  # fmt: skip
+    assert code == 0, err
+    summary = json.loads((out / "summary.json").read_text())
+    rows = summary["candidates"]
+    assert len(rows) == 2 and summary["searched"] > 2
+    assert "best 2 of" in (out / "summary.txt").read_text()
+    # the written default is the best-reading design of the whole pool, recomputed here
+    pal = np.array([[255, 255, 255], [0, 0, 0]], np.uint8)
+    pool = assign_tiles((a, pal), (b, pal), candidates=summary["searched"], yarns=YARNS)
+    best = rank_designs(pool, [pal[a], pal[b]])[0].measures
+    assert rows[0]["readability"] == pytest.approx(list(best.readability), abs=1e-4)
+    code, _, err = run_cli(
+        ["double", str(tmp_path / "a.png"), str(tmp_path / "b.png"), "-o", str(tmp_path / "x"),
+         "--pool", "0"])  # fmt: skip
+    assert code == 2 and not (tmp_path / "x").exists() and len(err.strip().splitlines()) == 1

@@ -46,7 +46,7 @@ function measuresText(m) {
   if (m.views.length) {
     parts.push(`reads ${m.views.map((v, i) => `${v} ${f(m.readability[i])}`).join(" · ")}`);
     parts.push(`contrast ${f(m.worse_contrast)}`);
-    if (m.ghosting.some((g) => g != null)) parts.push(`ghosting ${f(m.worst_ghosting)}`);
+    if (m.ghosting.some((g) => g != null)) parts.push(`ghosting ${f(m.worst_ghosting)} (shows ${f(m.worst_visible_ghosting)})`);
   }
   if (m.knit_minutes != null) parts.push(`${m.knit_minutes.toFixed(1)} min to knit`);
   else if (m.knit_note) parts.push(m.knit_note);
