@@ -2,8 +2,9 @@
 
 A fresh Python process (so that nothing else counts) starts the app, opens a session, uploads a
 50-megapixel JPEG as picture A and a 50-megapixel PNG as picture B (the two ways a picture is
-reduced: while decoding, and after), quantises them for a double view 120 units wide, and finds
-candidates. It prints the process's resident memory after importing the app and its peak over
+reduced: while decoding, and after), quantises them for a double view 120 units wide, finds
+candidates, then suggested edits, accepts the first and undoes it (what the undo history holds).
+It prints the process's resident memory after importing the app and its peak over
 the whole session (``ru_maxrss``), against the target: peak under 1 GB.
 
 Run: python benchmarks/app_memory.py
@@ -76,6 +77,35 @@ with TestClient(app) as c:
         time.sleep(0.05)
     assert job["status"] == "done", job
     out["session_bytes"] = app.state.store.nbytes()
+    out["peak_after_candidates"] = hwm()
+
+    def run(kind):
+        jid = c.post(f"/api/sessions/{sid}/jobs", json={"kind": kind}).json()["id"]
+        while (job := c.get(f"/api/sessions/{sid}/jobs/{jid}").json())["status"] in ("queued", "running"):
+            time.sleep(0.05)
+        assert job["status"] == "done", job
+
+    # undo's cost: the design before an accepted edit is kept whole (its uploaded pictures most)
+    t = time.perf_counter()
+    run("suggestions")
+    out["suggestions_seconds"] = time.perf_counter() - t
+    edits = c.get(f"/api/sessions/{sid}/suggestions").json()["suggestions"]
+    out["suggestions"] = len(edits)
+    out["session_bytes_suggestions"] = app.state.store.nbytes()
+    out["peak_after_suggestions"] = hwm()
+    if edits:
+        r = c.post(f"/api/sessions/{sid}/suggestions/{edits[0]['id']}/accept")
+        assert r.status_code == 200, r.text
+        run("candidates")
+        out["session_bytes_accepted"] = app.state.store.nbytes()
+        s = app.state.store.get(sid)
+        with s.lock:  # the same session without its undo step: what the step costs
+            steps, s.undo_steps = s.undo_steps, []
+            out["session_bytes_no_history"] = s.nbytes()
+            s.undo_steps = steps
+        assert c.post(f"/api/sessions/{sid}/history/undo").status_code == 200
+        out["session_bytes_undone"] = app.state.store.nbytes()
+    out["peak_after_undo"] = hwm()  # the accept designs again from the edited pictures
     out["rss_end"] = rss()
 out["peak_rss"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
 print(json.dumps(out))
@@ -104,7 +134,20 @@ def main() -> None:
     print(f"upload and reduce both pictures    {m['upload_seconds']:8.1f} s")
     print(f"peak after the uploads             {m['peak_after_upload'] / mb:8.0f} MB")
     print(f"peak after quantising              {m['peak_after_inputs'] / mb:8.0f} MB")
+    print(f"peak after finding candidates      {m['peak_after_candidates'] / mb:8.0f} MB")
     print(f"memory the session holds           {m['session_bytes'] / mb:8.1f} MB")
+    print(
+        f"suggested edits ({m['suggestions']}) found in        {m['suggestions_seconds']:8.1f} s;"
+        f" the session then holds {m['session_bytes_suggestions'] / mb:.1f} MB"
+    )
+    print(f"peak after suggested edits         {m['peak_after_suggestions'] / mb:8.0f} MB")
+    if "session_bytes_accepted" in m:
+        print(
+            f"one edit accepted: the session holds {m['session_bytes_accepted'] / mb:.1f} MB, of which"
+            f" the undo step (the design before) {(m['session_bytes_accepted'] - m['session_bytes_no_history']) / mb:.1f} MB;"
+            f" undone: {m['session_bytes_undone'] / mb:.1f} MB (the redo step kept)"
+        )
+    print(f"peak after accept and undo         {m['peak_after_undo'] / mb:8.0f} MB")
     print(f"resident at the end                {m['rss_end'] / mb:8.0f} MB")
     verdict = "OK" if m["peak_rss"] < TARGET_BYTES else "OVER"
     print(

@@ -491,7 +491,9 @@ def test_tile_table_grouped_with_rare_overlaps_folded(browser, base_url, tmp_pat
     rare = page.locator("#pairs details.rare")
     sync_api.expect(rare.locator("summary")).to_contain_text("1 rare overlap")
     rare_row = rare.locator(".pair")
-    assert rare_row.count() == 1 and not rare_row.is_visible()  # folded away
+    # (auto-retrying: the table is drawn again when the measures arrive)
+    sync_api.expect(rare_row).to_have_count(1)
+    sync_api.expect(rare_row).to_be_hidden()  # folded away
     rare.locator("summary").click()
     sync_api.expect(rare_row).to_be_visible()
     select = rare_row.locator("select")

@@ -251,3 +251,21 @@ def test_the_history_is_bounded():
     for _ in range(STEPS_KEPT):
         s.undo()
     assert len(s.redo_steps) == STEPS_KEPT and not s.undo_steps
+
+
+def test_undo_while_the_accepted_design_is_searched_keeps_the_design_before(client):
+    """Undo right after an accept: the search for the edited pictures is cancelled (or, if it
+    already ended, its candidates belong to the state left behind), and whenever it ends the
+    session shows the candidates of before."""
+    sid = two_words(client)
+    base = f"/api/sessions/{sid}"
+    assert run_job(client, sid, "candidates")["status"] == "done"
+    assert run_job(client, sid, "suggestions")["status"] == "done"
+    before = design_seen(client, sid)
+    edit = before["suggestions"]["suggestions"][0]
+    r = client.post(f"{base}/suggestions/{edit['id']}/accept")
+    search = r.json()["job"]["id"]
+    r = client.post(f"{base}/history/undo")
+    assert r.status_code == 200 and r.json()["job"] is None
+    assert wait_job(client, sid, search)["status"] in ("cancelled", "done")
+    assert design_seen(client, sid) == before
