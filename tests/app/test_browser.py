@@ -440,6 +440,11 @@ def test_accept_a_suggested_edit(browser, base_url, tmp_path):
     sync_api.expect(page.locator("#redo-edit")).to_be_visible()
     assert undo.is_hidden()
     assert shown_bytes(page, base_url) == before_bytes
+    # a reloaded tab shows the same: the suggestions it had, Redo still offered
+    page.reload()
+    page.wait_for_selector("body[data-ready='1']")
+    sync_api.expect(page.locator(".sugg").first).to_be_visible()
+    sync_api.expect(page.locator("#redo-edit")).to_be_visible()
     context.close()
     assert not problems, problems
 

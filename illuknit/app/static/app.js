@@ -178,6 +178,8 @@ async function startSession() {
   if (!caps[s.settings.mode]) await saveSettings({ mode: "single" });
   await refreshInputs({ autorun: false });
   if (s.candidates) await loadCandidates();
+  // a reloaded tab shows the suggested edits it had (and Undo / Redo, from the state)
+  if (s.settings.mode === "double") await loadSuggestions();
 }
 
 function applyState(s) {
