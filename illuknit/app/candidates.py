@@ -1,7 +1,8 @@
 """Candidates: the ranked designs the designer picks from.
 
 Prepared -> make_candidates -> [Candidate]  (single view: both stripe orders; double view
-                                             and head-on: ranked tile mappings, compiled)
+                                             and head-on: the best-reading tile mappings of
+                                             the pool ``illuknit double`` searches, compiled)
 """
 
 from __future__ import annotations
@@ -84,38 +85,46 @@ def _single_candidates(prepared: Prepared, progress: Progress) -> list[Candidate
 
 
 def _tile_candidates(prepared: Prepared, *, count: int, progress: Progress) -> list[Candidate]:
-    mode = prepared.mode
+    """The best-reading ``count`` of the tile designs ``illuknit double`` searches by default
+    (:data:`~illuknit.tiles.perception.DEFAULT_POOL`), ranked as it ranks them."""
     from illuknit import tiles
+    from illuknit.tiles.perception import DEFAULT_POOL, POOL_SECONDS, rank_designs, seen_targets
 
     qa = prepared.quantised["a"]
     qb = prepared.quantised.get("b")
+    pool = {"candidates": count, "pool": max(count, DEFAULT_POOL), "pool_seconds": POOL_SECONDS}
     progress(0.05, "building the tile bank")
-    if mode == "headon":
+    if prepared.mode == "headon":
         bank = tiles.headon_bank(prepared.yarns)
-        progress(0.15, "finding tile mappings (head-on)")
+        progress(0.1, "finding tile mappings (head-on)")
         with blame("n_colors"):
-            found = tiles.assign_headon(qa, qb, bank=bank, candidates=count)
+            found = tiles.assign_headon(qa, qb, bank=bank, **pool)
+        views = ("headon", "side")
     else:
         bank = tiles.canonical_bank(prepared.yarns)
-        progress(0.15, f"finding tile mappings ({len(bank)} tiles in the bank)")
+        progress(0.1, f"finding tile mappings ({len(bank)} tiles in the bank)")
         with blame("n_colors"):
-            found = tiles.assign_tiles(qa, qb, bank=bank, candidates=count)
-    out = []
-    for k, assignment in enumerate(found):
-        progress(0.6 + 0.4 * k / max(1, len(found)), f"compiling candidate {k + 1} of {len(found)}")
-        with blame("tiles"):
-            pattern, report = tiles.compile_tiles(assignment)
-        out.append(
-            Candidate(
-                rank=k + 1,
-                label=_assignment_label(assignment),
-                score=float(assignment.score),
-                pattern=pattern,
-                details=_assignment_details(assignment, report),
-                source=assignment,
-            )
+            found = tiles.assign_tiles(qa, qb, bank=bank, **pool)
+        views = ("A", "B")
+    with blame("tiles"):
+        ranked = rank_designs(
+            found,
+            seen_targets(qa, qb),
+            views=views,
+            keep=count,
+            progress=lambda f, message: progress(0.4 + 0.6 * f, message),
         )
-    return out
+    return [
+        Candidate(
+            rank=k + 1,
+            label=_assignment_label(rc.assignment),
+            score=float(rc.assignment.score),
+            pattern=rc.pattern,
+            details=_assignment_details(rc.assignment, rc.report),
+            source=rc.assignment,
+        )
+        for k, rc in enumerate(ranked)
+    ]
 
 
 def _assignment_label(assignment: Any) -> str:

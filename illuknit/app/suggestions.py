@@ -166,12 +166,14 @@ def suggest_edits_for(
 
     ``sources`` are the pictures on the grid before quantising (:func:`~illuknit.app.inputs.
     size_inputs`), which a re-quantisation reads again; it may use as many colours as there are
-    yarns (at most 4, the app's bound). ``count`` is the number of tile candidates searched per
-    measurement (the session's candidate count); ``progress(fraction, message)`` is called
+    yarns (at most 4, the app's bound). Each measurement searches the tile designs the candidates
+    are found from (``count``, the session's candidate count, or the default pool of
+    :mod:`illuknit.tiles.perception` if larger); ``progress(fraction, message)`` is called
     before each measurement, and may raise to cancel. Raises AppRequestError (409,
     ``not_double``) outside a double view.
     """
     from illuknit import tiles
+    from illuknit.tiles.perception import DEFAULT_POOL, POOL_SECONDS
     from illuknit.tiles.simplify import review_edits
 
     require_double(prepared)
@@ -187,6 +189,8 @@ def suggest_edits_for(
             sources=[sources["a"], sources["b"]],
             max_colors=min(4, len(prepared.yarns)),
             candidates=count,
+            pool=max(count, DEFAULT_POOL),
+            pool_seconds=POOL_SECONDS,
             bank=tiles.canonical_bank(prepared.yarns),
             progress=lambda fraction, message: progress(0.02 + 0.98 * fraction, message),
         ).results

@@ -81,7 +81,7 @@ def run_design(
     from illuknit.errors import TileAssignmentError
     from illuknit.outputs import atomic_write_text, staged_dir
     from illuknit.previews import unit_scale
-    from illuknit.tiles.perception import rank_designs
+    from illuknit.tiles.perception import rank_designs, seen_targets
 
     if candidates < 1:
         raise TileAssignmentError(f"--candidates must be at least 1, got {candidates}")
@@ -116,10 +116,10 @@ def run_design(
         raise TileAssignmentError(
             f"--pick must be between 1 and {written} (candidates found), got {pick}"
         )
-    seen_targets = _seen_targets(inp.qa, inp.qb)
+    targets = seen_targets(inp.qa, inp.qb)
     ranked = rank_designs(
         found,
-        seen_targets,
+        targets,
         views=("A", "B") if mode == "double" else ("headon", "side"),
         overrides=overrides,
         rank_by=rank_by,
@@ -138,7 +138,7 @@ def run_design(
                 inp,
                 pick=pick,
                 overrides=overrides,
-                seen_targets=seen_targets,
+                seen_targets=targets,
                 sources=[str(path_a), str(path_b) if path_b else None],
             )
             rows.append(row)
@@ -276,19 +276,6 @@ def _design_inputs(
     else:
         bank = canonical_bank(ys, views=views, one_sided_stripes=one_sided)  # type: ignore[arg-type]
     return _Inputs(mode, a, b, ys, qa, qb, quantised, views, bank)
-
-
-def _seen_targets(qa: Any, qb: Any) -> list[np.ndarray]:
-    """What each view should show: the designer's quantised pictures (a plain side otherwise)."""
-    from illuknit.tiles.headon import uniform_side
-
-    seen_targets: list[np.ndarray] = [qa.rgb()]
-    if qb is not None:
-        seen_targets.append(qb.rgb())
-    else:
-        side_idx, side_colors = uniform_side(qa)
-        seen_targets.append(np.asarray(side_colors, dtype=np.uint8)[np.asarray(side_idx)])
-    return seen_targets
 
 
 def _simplified(

@@ -49,7 +49,7 @@ pattern shows through (blue), over the picture in grey.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -71,6 +71,7 @@ __all__ = [
     "measure_candidate",
     "rank_candidates",
     "rank_designs",
+    "seen_targets",
 ]
 
 #: Below this worse-view contrast (gain of render on picture luminance) the score is penalised.
@@ -331,6 +332,7 @@ def rank_designs(
     knit_time: bool = False,
     machine: str | None = None,
     keep: int | None = None,
+    progress: Callable[[float, str], None] | None = None,
 ) -> list[RankedCandidate]:
     """Compile every tile candidate, measure how it reads and rank the lot (the best ``keep``).
 
@@ -349,6 +351,9 @@ def rank_designs(
     keep : int, optional
         Return only the best ``keep`` of the ranking (a pool searched wider than it is shown:
         :func:`~illuknit.tiles.assign.assign_tiles` ``pool=``).
+    progress : callable, optional
+        ``progress(fraction, message)`` before each design is compiled and measured; whatever
+        it raises stops the ranking (a user interface's cancel).
     """
     from dataclasses import replace
 
@@ -358,11 +363,15 @@ def rank_designs(
         raise OptionError(f"rank by one of {', '.join(RANK_KEYS)}, got {rank_by!r}")
     if keep is not None and keep < 1:
         raise OptionError(f"keep at least one candidate, got keep={keep}")
-    compiled = [compile_tiles(c, overrides=overrides or {}) for c in found]
-    measures = [
-        measure_candidate(pattern, pictures, views=views, ghost=len(pictures) == 2, machine=machine)
-        for pattern, _ in compiled
-    ]
+    compiled = []
+    measures = []
+    for k, c in enumerate(found):
+        if progress is not None:
+            progress(k / max(1, len(found)), f"measuring tile design {k + 1} of {len(found)}")
+        compiled.append(compile_tiles(c, overrides=overrides or {}))
+        measures.append(
+            measure_candidate(compiled[-1][0], pictures, views=views, ghost=len(pictures) == 2)
+        )
     scores = [c.score for c in found]
     if knit_time or rank_by == "knit-time":
         for i in _to_knit(measures, scores, rank_by=rank_by, keep=keep):
@@ -378,6 +387,19 @@ def rank_designs(
         )
         for k, i in enumerate(order[:keep])
     ]
+
+
+def seen_targets(qa: Any, qb: Any | None) -> list[NDArray[np.uint8]]:
+    """What each view of a tile design should show, as :func:`rank_designs` takes it: the
+    designer's quantised pictures (:class:`~illuknit.quantize.QuantisedImage`), or for a head-on
+    design without a side picture, the plain side :func:`~illuknit.tiles.headon.uniform_side`
+    stands for."""
+    if qb is not None:
+        return [qa.rgb(), qb.rgb()]
+    from illuknit.tiles.headon import uniform_side
+
+    side_idx, side_colors = uniform_side(qa)
+    return [qa.rgb(), np.asarray(side_colors, dtype=np.uint8)[np.asarray(side_idx)]]
 
 
 def _to_knit(
