@@ -243,3 +243,22 @@ def test_double_writes_the_best_of_the_pool_it_searched(tmp_path, run_cli):
         ["double", str(tmp_path / "a.png"), str(tmp_path / "b.png"), "-o", str(tmp_path / "x"),
          "--pool", "0"])  # fmt: skip
     assert code == 2 and not (tmp_path / "x").exists() and len(err.strip().splitlines()) == 1
+
+
+def test_rank_designs_reports_progress_and_a_raising_hook_stops_it():
+    a, b = _disc(16, 5, 8, 5), _disc(16, 5, 8, 11)
+    pal = np.array([[20, 20, 20], [240, 240, 240]], np.uint8)
+    pool = assign_tiles((a, pal), (b, pal), yarns=YARNS, candidates=3)
+    seen: list[float] = []
+    rank_designs(pool, [pal[a], pal[b]], progress=lambda f, _: seen.append(f))
+    assert len(seen) == len(pool) and seen == sorted(seen) and seen[0] == 0.0
+
+    class Cancelled(Exception):
+        pass
+
+    def cancel(fraction, _):
+        if fraction > 0:
+            raise Cancelled
+
+    with pytest.raises(Cancelled):
+        rank_designs(pool, [pal[a], pal[b]], progress=cancel)
