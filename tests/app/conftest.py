@@ -93,6 +93,20 @@ def _three_tone(h: int = 24, w: int = 36) -> bytes:
     return _png(rgb)
 
 
+def _word(text: str, grey: slice | None = None) -> bytes:
+    """A 72 x 48 two-colour picture of a word: at 24 units wide its outlines are ragged, so the
+    library suggests edits of it. ``grey``: rows whose background is a third, mid-grey colour."""
+    import numpy as np
+
+    from illuknit.drawings import draw_text
+
+    mask = draw_text(text, shape=(48, 72))
+    rgb = np.where(mask[..., None], 24, 246).astype(np.uint8).repeat(3, axis=2)
+    if grey is not None:
+        rgb[grey][~mask[grey]] = 140
+    return _png(rgb)
+
+
 def _new_session(client: Any) -> str:
     r = client.post("/api/sessions")
     assert r.status_code == 201
@@ -112,23 +126,38 @@ def _error_of(r: Any) -> dict[str, Any]:
     return dict(body["error"])
 
 
-def _run_job(client: Any, sid: str, kind: str, timeout: float = 60) -> dict[str, Any]:
-    r = client.post(f"/api/sessions/{sid}/jobs", json={"kind": kind})
-    assert r.status_code == 202, r.text
-    jid = r.json()["id"]
+def _wait_job(client: Any, sid: str, jid: str, timeout: float = 120) -> dict[str, Any]:
     deadline = time.monotonic() + timeout
     while time.monotonic() < deadline:
         job = client.get(f"/api/sessions/{sid}/jobs/{jid}").json()
         if job["status"] not in ("queued", "running"):
             return dict(job)
         time.sleep(0.05)
-    raise AssertionError(f"job {kind} did not end within {timeout} s")
+    raise AssertionError(f"job {jid} did not end within {timeout} s")
+
+
+def _run_job(client: Any, sid: str, kind: str, timeout: float = 120) -> dict[str, Any]:
+    r = client.post(f"/api/sessions/{sid}/jobs", json={"kind": kind})
+    assert r.status_code == 202, r.text
+    return _wait_job(client, sid, r.json()["id"], timeout)
+
+
+def _evict(store: Any, sid: str) -> None:
+    """Close session ``sid`` as the memory bound would: with no room at all, a new session
+    pushes it out (the new one stays open)."""
+    limit, store.max_bytes = store.max_bytes, 0
+    try:
+        other = store.create()
+        assert sid in store.trim(keep=other.id)
+    finally:
+        store.max_bytes = limit
 
 
 @pytest.fixture(scope="session")
 def pictures() -> SimpleNamespace:
     """Small test pictures as PNG bytes: ``png(rgb)``, ``two_tone(mask)``, ``box_picture()``,
-    ``bands(h, w, cut)``, ``three_tone()``, and the ``DARK`` / ``LIGHT`` colours."""
+    ``bands(h, w, cut)``, ``three_tone()``, ``word(text, grey)`` (a word whose outlines are ragged
+    at 24 units), and the ``DARK`` / ``LIGHT`` colours."""
     return SimpleNamespace(
         DARK=DARK,
         LIGHT=LIGHT,
@@ -137,15 +166,23 @@ def pictures() -> SimpleNamespace:
         box_picture=_box_picture,
         bands=_bands,
         three_tone=_three_tone,
+        word=_word,
     )
 
 
 @pytest.fixture(scope="session")
 def api() -> SimpleNamespace:
     """Calls of the JSON API: ``new_session(client)``, ``upload(client, sid, slot, data)``,
-    ``run_job(client, sid, kind)`` (waits for its end) and ``error_of(response)``."""
+    ``run_job(client, sid, kind)`` (starts a job and waits for its end), ``wait_job(client, sid,
+    jid)``, ``error_of(response)`` and ``evict(store, sid)`` (closes a session as the memory bound
+    would)."""
     return SimpleNamespace(
-        new_session=_new_session, upload=_upload, error_of=_error_of, run_job=_run_job
+        new_session=_new_session,
+        upload=_upload,
+        error_of=_error_of,
+        run_job=_run_job,
+        wait_job=_wait_job,
+        evict=_evict,
     )
 
 

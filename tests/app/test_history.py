@@ -3,8 +3,7 @@ empty histories and closed sessions answer plainly, and the history counts in th
 
 from __future__ import annotations
 
-import io
-import time
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -14,63 +13,28 @@ pytest.importorskip("fastapi", reason="the app extra is not installed: pip insta
 pytest.importorskip("multipart", reason="python-multipart is not installed")
 
 from fastapi.testclient import TestClient
-from PIL import Image
 
 from illuknit.app import create_app
 from illuknit.app.history import STEPS_KEPT
 from illuknit.app.server import AppConfig
-from illuknit.drawings import draw_text
-
-
-def word(text: str, grey: slice | None = None) -> bytes:
-    """A 72 x 48 picture of a word (ragged at 24 units: the library suggests edits of it);
-    ``grey``: rows whose background is a third colour."""
-    mask = draw_text(text, shape=(48, 72))
-    rgb = np.where(mask[..., None], 24, 246).astype(np.uint8).repeat(3, axis=2)
-    if grey is not None:
-        rgb[grey][~mask[grey]] = 140
-    buf = io.BytesIO()
-    Image.fromarray(rgb).save(buf, format="PNG")
-    return buf.getvalue()
 
 
 @pytest.fixture(scope="module")
-def client():
-    with TestClient(create_app(AppConfig(isolate_knit=False))) as c:
-        yield c
+def two_words(pictures: Any) -> Callable[..., str]:
+    """``two_words(client, **settings)``: a double-view session of "UP" over "ON" at 24 units
+    (or ``settings``; ``grey_a``: rows of "UP" on a third colour)."""
 
+    def make(client: TestClient, **settings: Any) -> str:
+        sid = client.post("/api/sessions").json()["id"]
+        for slot, text, grey in (("a", "UP", settings.pop("grey_a", None)), ("b", "ON", None)):
+            files = {"file": (f"{text}.png", pictures.word(text, grey), "image/png")}
+            r = client.put(f"/api/sessions/{sid}/images/{slot}", files=files)
+            assert r.status_code == 200
+        body = {"mode": "double", "width_units": 24, **settings}
+        assert client.put(f"/api/sessions/{sid}/settings", json=body).status_code == 200
+        return sid
 
-def wait_job(client: TestClient, sid: str, jid: str, timeout: float = 120) -> dict:
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
-        job = client.get(f"/api/sessions/{sid}/jobs/{jid}").json()
-        if job["status"] not in ("queued", "running"):
-            return dict(job)
-        time.sleep(0.05)
-    raise AssertionError(f"job {jid} did not end within {timeout} s")
-
-
-def run_job(client: TestClient, sid: str, kind: str) -> dict:
-    r = client.post(f"/api/sessions/{sid}/jobs", json={"kind": kind})
-    assert r.status_code == 202, r.text
-    return wait_job(client, sid, r.json()["id"])
-
-
-def error_of(r: Any) -> dict:
-    body = r.json()
-    assert set(body) == {"error"} and body["error"]["message"], body
-    return dict(body["error"])
-
-
-def two_words(client: TestClient, **settings: Any) -> str:
-    """A double-view session of "UP" over "ON" at 24 units (or ``settings``)."""
-    sid = client.post("/api/sessions").json()["id"]
-    for slot, text, grey in (("a", "UP", settings.pop("grey_a", None)), ("b", "ON", None)):
-        files = {"file": (f"{text}.png", word(text, grey), "image/png")}
-        assert client.put(f"/api/sessions/{sid}/images/{slot}", files=files).status_code == 200
-    body = {"mode": "double", "width_units": 24, **settings}
-    assert client.put(f"/api/sessions/{sid}/settings", json=body).status_code == 200
-    return sid
+    return make
 
 
 def design_seen(client: TestClient, sid: str) -> dict[str, Any]:
@@ -93,20 +57,22 @@ def design_seen(client: TestClient, sid: str) -> dict[str, Any]:
     }
 
 
-def test_undo_brings_back_the_design_before_the_accept_and_redo_the_one_after(client):
+def test_undo_brings_back_the_design_before_the_accept_and_redo_the_one_after(
+    client, api, two_words
+):
     sid = two_words(client)
     base = f"/api/sessions/{sid}"
-    assert run_job(client, sid, "candidates")["status"] == "done"
-    assert run_job(client, sid, "measures")["status"] == "done"
-    assert run_job(client, sid, "suggestions")["status"] == "done"
+    assert api.run_job(client, sid, "candidates")["status"] == "done"
+    assert api.run_job(client, sid, "measures")["status"] == "done"
+    assert api.run_job(client, sid, "suggestions")["status"] == "done"
     before = design_seen(client, sid)
     assert before["candidates"] and all(c["measures"] for c in before["candidates"])
     edit = before["suggestions"]["suggestions"][0]
 
     r = client.post(f"{base}/suggestions/{edit['id']}/accept")
     assert r.status_code == 200, r.text
-    assert wait_job(client, sid, r.json()["job"]["id"])["status"] == "done"
-    assert run_job(client, sid, "measures")["status"] == "done"
+    assert api.wait_job(client, sid, r.json()["job"]["id"])["status"] == "done"
+    assert api.run_job(client, sid, "measures")["status"] == "done"
     after = design_seen(client, sid)
     assert after["pictures"] != before["pictures"]
     state = client.get(base).json()
@@ -131,7 +97,7 @@ def test_undo_brings_back_the_design_before_the_accept_and_redo_the_one_after(cl
     assert design_seen(client, sid) == after
     # the ids of the design left behind are superseded again
     r = client.post(f"{base}/suggestions/{edit['id']}/accept")
-    assert r.status_code == 410 and error_of(r)["code"] == "superseded"
+    assert r.status_code == 410 and api.error_of(r)["code"] == "superseded"
 
     # undo, then another change: what was undone cannot be redone any more
     assert client.post(f"{base}/history/undo").status_code == 200
@@ -139,12 +105,12 @@ def test_undo_brings_back_the_design_before_the_accept_and_redo_the_one_after(cl
     assert client.get(f"{base}/history").json() == {"undo": [], "redo": []}
 
 
-def test_undo_of_a_requantisation_gives_back_the_colour_count(client):
+def test_undo_of_a_requantisation_gives_back_the_colour_count(client, api, two_words):
     sid = two_words(
         client, grey_a=slice(0, 12), yarns=["#1b1b1b", "#8a8a8a", "#f4f0e8"], n_colors=2
     )
     base = f"/api/sessions/{sid}"
-    assert run_job(client, sid, "suggestions")["status"] == "done"
+    assert api.run_job(client, sid, "suggestions")["status"] == "done"
     before = design_seen(client, sid)
     edit = next(s for s in before["suggestions"]["suggestions"] if s["edit"] == "requantise-3")
     r = client.post(f"{base}/suggestions/{edit['id']}/accept")
@@ -154,37 +120,32 @@ def test_undo_of_a_requantisation_gives_back_the_colour_count(client):
     # no candidates had been found before the accept: the search starts again, as after one
     assert r.json()["job"]["kind"] == "candidates"
     assert r.json()["state"]["settings"]["n_colors"] == 2
-    assert wait_job(client, sid, r.json()["job"]["id"])["status"] == "done"
+    assert api.wait_job(client, sid, r.json()["job"]["id"])["status"] == "done"
     now = design_seen(client, sid)
     assert {k: now[k] for k in ("settings", "pictures", "quantised", "legend", "suggestions")} == {
         k: before[k] for k in ("settings", "pictures", "quantised", "legend", "suggestions")
     }
 
 
-def test_nothing_to_undo_or_redo_is_409_with_a_message(client):
+def test_nothing_to_undo_or_redo_is_409_with_a_message(client, api, two_words):
     sid = two_words(client)
     for what in ("undo", "redo"):
         r = client.post(f"/api/sessions/{sid}/history/{what}")
         assert r.status_code == 409
-        e = error_of(r)
+        e = api.error_of(r)
         assert e["code"] == f"nothing_to_{what}" and e["field"] == "suggestions"
         assert f"nothing to {what}" in e["message"]
     assert client.get(f"/api/sessions/{sid}/history").json() == {"undo": [], "redo": []}
 
 
-def test_undo_in_a_closed_session_says_what_happened(client):
+def test_undo_in_a_closed_session_says_what_happened(client, api, two_words):
     store = client.app.state.store
     sid = two_words(client)
-    limit, store.max_bytes = store.max_bytes, 0
-    try:
-        other = store.create()
-        assert sid in store.trim(keep=other.id)
-    finally:
-        store.max_bytes = limit
+    api.evict(store, sid)
     r = client.post(f"/api/sessions/{sid}/history/undo")
-    assert r.status_code == 410 and error_of(r)["code"] == "evicted"
+    assert r.status_code == 410 and api.error_of(r)["code"] == "evicted"
     r = client.post("/api/sessions/nonsense/history/redo")
-    assert r.status_code == 404 and error_of(r)["code"] == "no_session"
+    assert r.status_code == 404 and api.error_of(r)["code"] == "no_session"
 
 
 def held(arrays: list[np.ndarray]) -> dict[int, int]:
@@ -201,7 +162,7 @@ def design_arrays(images, prepared, candidates, suggestions) -> list[np.ndarray]
     return out
 
 
-def test_the_history_counts_in_the_session_memory_once():
+def test_the_history_counts_in_the_session_memory_once(api, two_words):
     """After an accept the session holds the design before it too: the pictures the edit
     replaced, its quantised inputs, candidates and suggestions; a picture the edit left alone is
     the same array in both and counts once. The bound sees it: keeping it closes the least
@@ -210,8 +171,8 @@ def test_the_history_counts_in_the_session_memory_once():
         store = client.app.state.store
         idle = client.post("/api/sessions").json()["id"]
         sid = two_words(client)
-        assert run_job(client, sid, "candidates")["status"] == "done"
-        assert run_job(client, sid, "suggestions")["status"] == "done"
+        assert api.run_job(client, sid, "candidates")["status"] == "done"
+        assert api.run_job(client, sid, "suggestions")["status"] == "done"
         s = store.get(sid)
         edit = s.suggestions.edits[0]
         limit = store.max_bytes
@@ -237,7 +198,7 @@ def test_the_history_counts_in_the_session_memory_once():
             assert (id(old.images[slot].rgb) in only_kept) == replaced
         assert sum(old.images[slot].nbytes for slot in edit.changed) > 0
         r = client.get(f"/api/sessions/{idle}")
-        assert r.status_code == 410 and error_of(r)["code"] == "evicted"
+        assert r.status_code == 410 and api.error_of(r)["code"] == "evicted"
 
 
 def test_the_history_is_bounded():
@@ -253,19 +214,19 @@ def test_the_history_is_bounded():
     assert len(s.redo_steps) == STEPS_KEPT and not s.undo_steps
 
 
-def test_undo_while_the_accepted_design_is_searched_keeps_the_design_before(client):
+def test_undo_while_the_accepted_design_is_searched_keeps_the_design_before(client, api, two_words):
     """Undo right after an accept: the search for the edited pictures is cancelled (or, if it
     already ended, its candidates belong to the state left behind), and whenever it ends the
     session shows the candidates of before."""
     sid = two_words(client)
     base = f"/api/sessions/{sid}"
-    assert run_job(client, sid, "candidates")["status"] == "done"
-    assert run_job(client, sid, "suggestions")["status"] == "done"
+    assert api.run_job(client, sid, "candidates")["status"] == "done"
+    assert api.run_job(client, sid, "suggestions")["status"] == "done"
     before = design_seen(client, sid)
     edit = before["suggestions"]["suggestions"][0]
     r = client.post(f"{base}/suggestions/{edit['id']}/accept")
     search = r.json()["job"]["id"]
     r = client.post(f"{base}/history/undo")
     assert r.status_code == 200 and r.json()["job"] is None
-    assert wait_job(client, sid, search)["status"] in ("cancelled", "done")
+    assert api.wait_job(client, sid, search)["status"] in ("cancelled", "done")
     assert design_seen(client, sid) == before

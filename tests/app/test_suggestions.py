@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import io
-import time
+from typing import Any
 
 import numpy as np
 import pytest
@@ -16,62 +16,20 @@ from PIL import Image
 
 from illuknit.app import create_app
 from illuknit.app.server import AppConfig
-from illuknit.drawings import draw_text
-
-
-def word(text: str, grey: slice | None = None) -> bytes:
-    """A 72 x 48 two-colour picture of a word: at 24 units wide its outlines are ragged, so the
-    library suggests edits of it. ``grey``: rows whose background is a third, mid-grey colour."""
-    mask = draw_text(text, shape=(48, 72))
-    rgb = np.where(mask[..., None], 24, 246).astype(np.uint8).repeat(3, axis=2)
-    if grey is not None:
-        rgb[grey][~mask[grey]] = 140
-    buf = io.BytesIO()
-    Image.fromarray(rgb).save(buf, format="PNG")
-    return buf.getvalue()
-
-
-@pytest.fixture(scope="module")
-def client():
-    with TestClient(create_app(AppConfig(isolate_knit=False))) as c:
-        yield c
-
-
-def run_job(client: TestClient, sid: str, kind: str, timeout: float = 120) -> dict:
-    r = client.post(f"/api/sessions/{sid}/jobs", json={"kind": kind})
-    assert r.status_code == 202, r.text
-    return wait_job(client, sid, r.json()["id"], timeout)
-
-
-def wait_job(client: TestClient, sid: str, jid: str, timeout: float = 120) -> dict:
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
-        job = client.get(f"/api/sessions/{sid}/jobs/{jid}").json()
-        if job["status"] not in ("queued", "running"):
-            return job
-        time.sleep(0.05)
-    raise AssertionError(f"job {jid} did not end within {timeout} s")
-
-
-def error_of(r) -> dict:
-    body = r.json()
-    assert set(body) == {"error"}, body
-    assert body["error"]["message"], body
-    return body["error"]
 
 
 @pytest.fixture()
-def suggested(client):
+def suggested(client, api, pictures):
     """(session id, suggestions answer): two words, double view, 24 units, suggestions made."""
     r = client.post("/api/sessions")
     sid = r.json()["id"]
     for slot, text in (("a", "UP"), ("b", "ON")):
-        files = {"file": (f"{text}.png", word(text), "image/png")}
+        files = {"file": (f"{text}.png", pictures.word(text), "image/png")}
         assert client.put(f"/api/sessions/{sid}/images/{slot}", files=files).status_code == 200
     r = client.put(f"/api/sessions/{sid}/settings", json={"mode": "double", "width_units": 24})
     assert r.status_code == 200
-    assert run_job(client, sid, "candidates")["status"] == "done"
-    job = run_job(client, sid, "suggestions")
+    assert api.run_job(client, sid, "candidates")["status"] == "done"
+    job = api.run_job(client, sid, "suggestions")
     assert job["status"] == "done", job
     got = client.get(f"/api/sessions/{sid}/suggestions").json()
     assert got["suggestions"], "the ragged words must get at least one suggested edit"
@@ -104,7 +62,7 @@ def test_suggestions_list_their_effect_and_pictures(client, suggested):
             assert (shown["before"] != shown["after"]).any(), "an edit changes its picture"
 
 
-def test_accept_replaces_the_pictures_and_designs_again(client, suggested):
+def test_accept_replaces_the_pictures_and_designs_again(client, api, suggested):
     sid, got = suggested
     edit = got["suggestions"][0]
     before = client.get(f"/api/sessions/{sid}").json()
@@ -133,14 +91,14 @@ def test_accept_replaces_the_pictures_and_designs_again(client, suggested):
         assert client.get(f"/api/sessions/{sid}/inputs/{slot}.png").content != old_inputs[slot]
     # the design is made again: a candidates job was started by the accept
     assert answer["job"]["kind"] == "candidates"
-    assert wait_job(client, sid, answer["job"]["id"])["status"] == "done"
+    assert api.wait_job(client, sid, answer["job"]["id"])["status"] == "done"
     cands = client.get(f"/api/sessions/{sid}/candidates").json()
     assert cands["revision"] == state["revision"] and cands["candidates"]
     # the accepted set belongs to the earlier design now
     assert client.get(f"/api/sessions/{sid}/suggestions").json()["set"] is None
 
 
-def test_a_suggestion_of_a_superseded_design_answers_410_with_its_successor(client, suggested):
+def test_a_suggestion_of_a_superseded_design_answers_410_with_its_successor(client, api, suggested):
     sid, got = suggested
     old = got["suggestions"][0]["id"]
     r = client.put(f"/api/sessions/{sid}/settings", json={"width_units": 25})
@@ -156,7 +114,7 @@ def test_a_suggestion_of_a_superseded_design_answers_410_with_its_successor(clie
         assert e["code"] == "superseded" and e["field"] == "suggestions"
         assert "earlier design" in e["message"] and e["successor"] is None
     # once new suggestions exist, the old id names them as its successor
-    assert run_job(client, sid, "suggestions")["status"] == "done"
+    assert api.run_job(client, sid, "suggestions")["status"] == "done"
     new_set = client.get(f"/api/sessions/{sid}/suggestions").json()["set"]
     r = client.post(f"/api/sessions/{sid}/suggestions/{old}/accept")
     assert r.status_code == 410 and r.json()["error"]["successor"] == new_set
@@ -177,45 +135,45 @@ def test_refuse_hides_a_suggestion(client, suggested):
 
 
 @pytest.mark.parametrize("bad", ["nonsense", "abc.1", "", "1.2.3", "x" * 300])
-def test_unknown_suggestion_ids_are_404_with_a_message(client, suggested, bad):
+def test_unknown_suggestion_ids_are_404_with_a_message(client, api, suggested, bad):
     sid, _ = suggested
     for path in (f"/suggestions/{bad}/accept", f"/suggestions/{bad}/refuse"):
         r = client.post(f"/api/sessions/{sid}{path}")
         assert 400 <= r.status_code < 500, r.text
-        e = error_of(r)
+        e = api.error_of(r)
         assert "Traceback" not in e["message"]
         if bad:
             assert e["code"] == "no_suggestion" and r.status_code == 404
 
 
-def test_a_missing_number_in_the_current_set_is_404_and_lists_the_real_ones(client, suggested):
+def test_a_missing_number_in_the_current_set_is_404_and_lists_the_real_ones(client, api, suggested):
     sid, got = suggested
     r = client.post(f"/api/sessions/{sid}/suggestions/{got['set']}.99/accept")
     assert r.status_code == 404
-    e = error_of(r)
+    e = api.error_of(r)
     assert e["code"] == "no_suggestion" and got["suggestions"][0]["id"] in e["message"]
 
 
-def test_bad_preview_requests(client, suggested):
+def test_bad_preview_requests(client, api, suggested):
     sid, got = suggested
     s = got["suggestions"][0]
     assert client.get(f"/api/sessions/{sid}/suggestions/{s['id']}/c/after.png").status_code == 404
     r = client.get(f"/api/sessions/{sid}/suggestions/{s['id']}/a/during.png")
-    assert r.status_code == 422 and error_of(r)
+    assert r.status_code == 422 and api.error_of(r)
     unchanged = [slot for slot in ("a", "b") if slot not in s["slots"]]
     for slot in unchanged:
         r = client.get(f"/api/sessions/{sid}/suggestions/{s['id']}/{slot}/after.png")
-        assert r.status_code == 404 and error_of(r)["code"] == "unchanged"
+        assert r.status_code == 404 and api.error_of(r)["code"] == "unchanged"
 
 
-def test_suggestions_are_for_double_view_only(client):
+def test_suggestions_are_for_double_view_only(client, api, pictures):
     sid = client.post("/api/sessions").json()["id"]
-    files = {"file": ("UP.png", word("UP"), "image/png")}
+    files = {"file": ("UP.png", pictures.word("UP"), "image/png")}
     assert client.put(f"/api/sessions/{sid}/images/a", files=files).status_code == 200
     client.put(f"/api/sessions/{sid}/settings", json={"mode": "single", "width_units": 24})
     r = client.post(f"/api/sessions/{sid}/jobs", json={"kind": "suggestions"})
     assert r.status_code == 409
-    e = error_of(r)
+    e = api.error_of(r)
     assert e["code"] == "not_double" and e["field"] == "suggestions"
     assert client.get(f"/api/sessions/{sid}/suggestions").json()["suggestions"] == []
 
@@ -235,13 +193,13 @@ def test_suggestions_count_in_the_session_memory(client, suggested):
     assert with_them - without == held
 
 
-def test_accepting_a_requantisation_changes_the_colour_count_with_it(client):
+def test_accepting_a_requantisation_changes_the_colour_count_with_it(client, api, pictures):
     """Three-colour pictures read with two colours, three yarns: the library suggests reading
     them with three; accepting it sets Colours per picture to 3, and the quantised inputs are
     exactly the edited pictures (quantising them again does not undo the edit)."""
     sid = client.post("/api/sessions").json()["id"]
     for slot, text, rows in (("a", "UP", slice(0, 12)), ("b", "ON", slice(36, 48))):
-        files = {"file": (f"{text}.png", word(text, rows), "image/png")}
+        files = {"file": (f"{text}.png", pictures.word(text, rows), "image/png")}
         assert client.put(f"/api/sessions/{sid}/images/{slot}", files=files).status_code == 200
     yarns = ["#1b1b1b", "#8a8a8a", "#f4f0e8"]
     r = client.put(
@@ -249,7 +207,7 @@ def test_accepting_a_requantisation_changes_the_colour_count_with_it(client):
         json={"mode": "double", "width_units": 24, "yarns": yarns, "n_colors": 2},
     )
     assert r.status_code == 200
-    assert run_job(client, sid, "suggestions")["status"] == "done"
+    assert api.run_job(client, sid, "suggestions")["status"] == "done"
     got = client.get(f"/api/sessions/{sid}/suggestions").json()["suggestions"]
     more = [s for s in got if s["kind"] == "requantise"]
     assert more, [s["edit"] for s in got]
@@ -276,39 +234,39 @@ def test_accepting_a_requantisation_changes_the_colour_count_with_it(client):
         shown = after[slot]
         k = shown.shape[1] // q.shape[1]
         assert np.array_equal(q.colors[q.indices], shown[::k, ::k])
-    assert wait_job(client, sid, r.json()["job"]["id"])["status"] == "done"
+    assert api.wait_job(client, sid, r.json()["job"]["id"])["status"] == "done"
 
 
-def test_kept_suggestions_make_room_under_the_memory_bound():
+def test_kept_suggestions_make_room_under_the_memory_bound(api, pictures):
     """Suggestions count in the sessions' memory bound when they are kept: storing them closes
     the least recently used session (told so with 410 ``evicted``), never the one at work."""
     with TestClient(create_app(AppConfig(isolate_knit=False))) as client:
-        _fill_until_suggestions_evict(client)
+        _fill_until_suggestions_evict(client, api, pictures)
 
 
-def _fill_until_suggestions_evict(client: TestClient) -> None:
+def _fill_until_suggestions_evict(client: TestClient, api: Any, pictures: Any) -> None:
     store = client.app.state.store
     idle = client.post("/api/sessions").json()["id"]
-    files = {"file": ("UP.png", word("UP"), "image/png")}
+    files = {"file": ("UP.png", pictures.word("UP"), "image/png")}
     assert client.put(f"/api/sessions/{idle}/images/a", files=files).status_code == 200
     sid = client.post("/api/sessions").json()["id"]
     for slot, text in (("a", "UP"), ("b", "ON")):
-        files = {"file": (f"{text}.png", word(text), "image/png")}
+        files = {"file": (f"{text}.png", pictures.word(text), "image/png")}
         assert client.put(f"/api/sessions/{sid}/images/{slot}", files=files).status_code == 200
     r = client.put(f"/api/sessions/{sid}/settings", json={"mode": "double", "width_units": 24})
     assert r.status_code == 200 and client.get(f"/api/sessions/{sid}/inputs").status_code == 200
     limit = store.max_bytes
     store.max_bytes = store.nbytes() + 1  # everything fits now, not one more picture
     try:
-        assert run_job(client, sid, "suggestions")["status"] == "done"
+        assert api.run_job(client, sid, "suggestions")["status"] == "done"
     finally:
         store.max_bytes = limit
     assert client.get(f"/api/sessions/{sid}/suggestions").json()["suggestions"]
     r = client.get(f"/api/sessions/{idle}")
-    assert r.status_code == 410 and error_of(r)["code"] == "evicted"
+    assert r.status_code == 410 and api.error_of(r)["code"] == "evicted"
 
 
-def test_suggestions_report_the_library_review_progress_and_cancel_through_it():
+def test_suggestions_report_the_library_review_progress_and_cancel_through_it(pictures):
     """The job's progress is the library review's (:func:`review_edits`' hook): finding the
     edits, then each measurement by name; a cancelled job raises out of the review."""
     from illuknit.app import design
@@ -318,7 +276,9 @@ def test_suggestions_report_the_library_review_progress_and_cancel_through_it():
     from illuknit.app.suggestions import suggest_edits_for
 
     images = {
-        slot: UploadedImage(f"{text}.png", 0, np.asarray(Image.open(io.BytesIO(word(text)))))
+        slot: UploadedImage(
+            f"{text}.png", 0, np.asarray(Image.open(io.BytesIO(pictures.word(text))))
+        )
         for slot, text in (("a", "UP"), ("b", "ON"))
     }
     settings = DesignSettings(mode="double", width_units=24)

@@ -7,6 +7,7 @@ the search is started again, as after an accept. With nothing to undo (redo) the
 ``nothing_to_undo`` (``nothing_to_redo``).
 """
 
+from collections.abc import Callable
 from typing import Any
 
 from fastapi import APIRouter, Request
@@ -31,25 +32,22 @@ def get_history(s: SessionDep) -> dict[str, Any]:
 
 @router.post("/undo", summary="Undo the last accepted edit: the design before it comes back")
 def post_undo(request: Request, s: SessionDep) -> dict[str, Any]:
-    with s.lock:
-        what = s.undo()
-        job = _design_again(request, s)
-        answer = {
-            "undone": what,
-            "state": state_json(s),
-            "job": None if job is None else job.to_json(),
-        }
-    store_of(request).trim(keep=s.id)
-    return answer
+    return _step(request, s, Session.undo, "undone")
 
 
 @router.post("/redo", summary="Accept the last undone edit again")
 def post_redo(request: Request, s: SessionDep) -> dict[str, Any]:
+    return _step(request, s, Session.redo, "redone")
+
+
+def _step(request: Request, s: Session, step: Callable[[Session], str], key: str) -> dict[str, Any]:
+    """Undo or redo (``step``) under the session's lock, design the restored state again if it
+    has no candidates, and answer ``{key: what, "state": ..., "job": ...}``."""
     with s.lock:
-        what = s.redo()
+        what = step(s)
         job = _design_again(request, s)
         answer = {
-            "redone": what,
+            key: what,
             "state": state_json(s),
             "job": None if job is None else job.to_json(),
         }
