@@ -34,8 +34,8 @@ higher first, ties broken by the worst visible ghosting (less first), then by kn
 among candidates that keep a usable contrast the one whose worse view reads best leads; a
 candidate whose picture survives only as a faint correlation falls behind. Ghosting is not
 subtracted: a ghost that shows is part of what the picture does not explain, so it lowers the
-readability already, and a second charge would prefer a design that reads worse but whose
-smaller error is less structured. (On the bundled double-view instances a further 0.25 x visible
+readability already, and a second charge would prefer a design that reads worse because its
+larger error is less structured. (On the bundled double-view instances a further 0.25 x visible
 ghosting changes one default in eight: heart / ECG at 100 units, readability 0.985 with visible
 ghosting 0.012 instead of 0.988 with 0.036; the raw ghosting correlation, charged at 0.25, also
 passed over a design reading 0.983 for one reading 0.962 on the photo pair, whose ghost showed
