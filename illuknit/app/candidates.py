@@ -92,7 +92,7 @@ def _tile_candidates(prepared: Prepared, *, count: int, progress: Progress) -> l
 
     qa = prepared.quantised["a"]
     qb = prepared.quantised.get("b")
-    pool = {"candidates": count, "pool": max(count, DEFAULT_POOL), "pool_seconds": POOL_SECONDS}
+    pool = {"candidates": count, "pool": DEFAULT_POOL, "pool_seconds": POOL_SECONDS}
     progress(0.05, "building the tile bank")
     if prepared.mode == "headon":
         bank = tiles.headon_bank(prepared.yarns)

@@ -189,7 +189,7 @@ def suggest_edits_for(
             sources=[sources["a"], sources["b"]],
             max_colors=min(4, len(prepared.yarns)),
             candidates=count,
-            pool=max(count, DEFAULT_POOL),
+            pool=DEFAULT_POOL,
             pool_seconds=POOL_SECONDS,
             bank=tiles.canonical_bank(prepared.yarns),
             progress=lambda fraction, message: progress(0.02 + 0.98 * fraction, message),

@@ -107,7 +107,7 @@ def run_design(
         suggest=suggest,
         n_colors=n_colors,
         candidates=candidates,
-        pool=max(candidates, DEFAULT_POOL if pool is None else pool),
+        pool=DEFAULT_POOL if pool is None else pool,
         solver=solver,
         brightness="soft" if soft_brightness else "hard",
     )
@@ -186,6 +186,15 @@ def _assign(
     from illuknit.tiles.assign import assign_tiles
     from illuknit.tiles.headon import uniform_side
 
+    # one search, for the designs written and for measuring each suggested edit
+    search: dict[str, Any] = dict(
+        bank=inp.bank,
+        candidates=candidates,
+        pool=pool,
+        pool_seconds=POOL_SECONDS,
+        solver=solver,
+        brightness=brightness,
+    )
     edits: list[Any] = []
     first: Any = inp.qa
     second: Any = inp.qb if inp.qb is not None else uniform_side(inp.qa)
@@ -199,24 +208,9 @@ def _assign(
             sources=[inp.a, inp.b],
             # re-quantising stays within the yarns the designer allows (and the --colors range)
             max_colors=min(4, max(n_colors, len(inp.yarns))),
-            candidates=candidates,
-            pool=pool,
-            pool_seconds=POOL_SECONDS,
-            bank=inp.bank,
-            solver=solver,
-            brightness=brightness,
+            **search,
         )
-    found = assign_tiles(
-        first,
-        second,
-        bank=inp.bank,
-        candidates=candidates,
-        pool=pool,
-        pool_seconds=POOL_SECONDS,
-        brightness=brightness,
-        solver=solver,
-        views=inp.views,  # type: ignore[arg-type]
-    )
+    found = assign_tiles(first, second, views=inp.views, **search)  # type: ignore[arg-type]
     return found, edits
 
 
