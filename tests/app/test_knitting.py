@@ -4,7 +4,6 @@ machine, and the export panel has its .dat with the carrier-to-yarn table and ne
 from __future__ import annotations
 
 import io
-import time
 
 import numpy as np
 import pytest
@@ -94,18 +93,19 @@ def test_unknown_machine_lists_the_known_ones(client, sid):
     )
 
 
-def run(client, sid, kind):
-    job = client.post(f"/api/sessions/{sid}/jobs", json={"kind": kind}).json()
-    deadline = time.monotonic() + 120
-    while job["status"] in ("queued", "running"):
-        assert time.monotonic() < deadline
-        time.sleep(0.05)
-        job = client.get(f"/api/sessions/{sid}/jobs/{job['id']}").json()
-    assert job["status"] == "done", job
-    return job
+@pytest.fixture()
+def run(api):
+    """``run(client, sid, kind)``: a job run to its end, which must be done."""
+
+    def run_done(client, sid, kind):
+        job = api.run_job(client, sid, kind)
+        assert job["status"] == "done", job
+        return job
+
+    return run_done
 
 
-def test_knitout_dat_and_the_knitters_facts_for_the_chosen_machine(client, sid):
+def test_knitout_dat_and_the_knitters_facts_for_the_chosen_machine(client, sid, run):
     client.put(f"/api/sessions/{sid}/images/a", files={"file": ("a.png", picture(), "image/png")})
     client.put(
         f"/api/sessions/{sid}/settings",
@@ -142,7 +142,7 @@ def test_knitout_dat_and_the_knitters_facts_for_the_chosen_machine(client, sid):
     assert r.status_code == 409 and r.json()["error"]["code"] == "wrong_format"
 
 
-def test_kniterate_gets_its_kc_with_waste_and_draw_carriers(client, sid):
+def test_kniterate_gets_its_kc_with_waste_and_draw_carriers(client, sid, run):
     from illuknit.formats.kc import knitout_to_kc
 
     client.put(f"/api/sessions/{sid}/images/a", files={"file": ("a.png", picture(), "image/png")})

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import io
-import time
 
 import numpy as np
 import pytest
@@ -39,7 +38,7 @@ def client():
 
 
 @pytest.fixture(scope="module")
-def designed(client):
+def designed(client, api):
     sid = client.post("/api/sessions").json()["id"]
     for slot, split in (("a", "top"), ("b", "left")):
         files = {"file": (f"{slot}.png", speckled(split=split), "image/png")}
@@ -52,12 +51,7 @@ def designed(client):
         "yarns": ["#1b1b1b", "#8a8a8a", "#f4f0e8"],
     }
     assert client.put(f"/api/sessions/{sid}/settings", json=settings).status_code == 200
-    job = client.post(f"/api/sessions/{sid}/jobs", json={"kind": "candidates"}).json()
-    deadline = time.monotonic() + 120
-    while job["status"] in ("queued", "running"):
-        assert time.monotonic() < deadline
-        time.sleep(0.05)
-        job = client.get(f"/api/sessions/{sid}/jobs/{job['id']}").json()
+    job = api.run_job(client, sid, "candidates")
     assert job["status"] == "done", job
     return sid
 
@@ -102,18 +96,13 @@ def test_an_edit_keeps_the_row_in_its_group(client, designed):
     assert r.status_code == 200
 
 
-def test_a_headon_design_groups_by_the_headon_fill(client):
+def test_a_headon_design_groups_by_the_headon_fill(client, api):
     sid = client.post("/api/sessions").json()["id"]
     files = {"file": ("a.png", speckled(split="top"), "image/png")}
     assert client.put(f"/api/sessions/{sid}/images/a", files=files).status_code == 200
     settings = {"mode": "headon", "width_units": 18, "smooth": False}
     assert client.put(f"/api/sessions/{sid}/settings", json=settings).status_code == 200
-    job = client.post(f"/api/sessions/{sid}/jobs", json={"kind": "candidates"}).json()
-    deadline = time.monotonic() + 120
-    while job["status"] in ("queued", "running"):
-        assert time.monotonic() < deadline
-        time.sleep(0.05)
-        job = client.get(f"/api/sessions/{sid}/jobs/{job['id']}").json()
+    job = api.run_job(client, sid, "candidates")
     assert job["status"] == "done", job
     p = client.get(f"/api/sessions/{sid}/pairs").json()
     assert p["views"][0] == "headon"

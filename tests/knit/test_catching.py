@@ -74,21 +74,25 @@ def test_a_purl_next_course_moves_the_tuck_to_the_other_edge_or_falls_back_to_pl
     assert tucks == [] and plated == plan_catches(cp)
 
 
-@settings(max_examples=60, deadline=None)
-@given(
-    cuts=st.lists(st.integers(1, 11), min_size=1, max_size=4, unique=True),
-    owners=st.lists(st.sampled_from("123"), min_size=5, max_size=5),
-    now=st.lists(st.booleans(), min_size=12, max_size=12),
-    nxt=st.lists(st.booleans(), min_size=12, max_size=12),
-)
-def test_tucks_only_on_safe_wales_and_plating_only_where_no_tuck_is_safe(cuts, owners, now, nxt):
-    edges = [0, *sorted(cuts), 12]
+@st.composite
+def _random_courses(draw) -> tuple[CoursePlan, list[bool], list[bool]]:
+    """A 12-wale course cut into runs of up to three carriers (touching runs of one carrier
+    merged), and which wales knit this course and the next."""
+    cuts = draw(st.lists(st.integers(1, 11), min_size=1, max_size=4, unique=True))
+    owners = draw(st.lists(st.sampled_from("123"), min_size=5, max_size=5))
     runs: dict[str, list[tuple[int, int]]] = {}
-    for k, (a, b) in enumerate(pairwise(edges)):
+    for k, (a, b) in enumerate(pairwise([0, *sorted(cuts), 12])):
         runs.setdefault(owners[k], []).append((a, b - 1))
-    # merge touching runs of one carrier
-    merged = {c: _merge(r) for c, r in runs.items()}
-    cp = _plan(list(merged.items()))
+    cp = _plan([(c, _merge(r)) for c, r in runs.items()])
+    now = draw(st.lists(st.booleans(), min_size=12, max_size=12))
+    nxt = draw(st.lists(st.booleans(), min_size=12, max_size=12))
+    return cp, now, nxt
+
+
+@settings(max_examples=60, deadline=None)
+@given(course=_random_courses())
+def test_tucks_only_on_safe_wales_and_plating_only_where_no_tuck_is_safe(course):
+    cp, now, nxt = course
     tucks, plated = plan_joins(cp, knit_now=now, knit_next=nxt, ordered=False)
     assert len({t.wale for t in tucks}) == len(tucks)
     owner = {w: s.carrier for s in cp.segments for w in s.wales}
@@ -165,18 +169,9 @@ def test_a_wale_purled_next_course_takes_a_tuck_made_before_its_knit():
 
 
 @settings(max_examples=60, deadline=None)
-@given(
-    cuts=st.lists(st.integers(1, 11), min_size=1, max_size=4, unique=True),
-    owners=st.lists(st.sampled_from("123"), min_size=5, max_size=5),
-    now=st.lists(st.booleans(), min_size=12, max_size=12),
-    nxt=st.lists(st.booleans(), min_size=12, max_size=12),
-)
-def test_ordered_tucks_never_plate_more_and_never_order_in_a_cycle(cuts, owners, now, nxt):
-    edges = [0, *sorted(cuts), 12]
-    runs: dict[str, list[tuple[int, int]]] = {}
-    for k, (a, b) in enumerate(pairwise(edges)):
-        runs.setdefault(owners[k], []).append((a, b - 1))
-    cp = _plan([(c, _merge(r)) for c, r in runs.items()])
+@given(course=_random_courses())
+def test_ordered_tucks_never_plate_more_and_never_order_in_a_cycle(course):
+    cp, now, nxt = course
     tucks, plated = plan_joins(cp, knit_now=now, knit_next=nxt)
     _, plated_unordered = plan_joins(cp, knit_now=now, knit_next=nxt, ordered=False)
     assert len(plated) <= len(plated_unordered)

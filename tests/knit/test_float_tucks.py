@@ -157,27 +157,34 @@ def test_without_tuck_passes_the_plated_float_stays_and_is_reported():
     assert [(f.carrier, f.from_needle, f.to_needle, f.length) for f in long] == [("1", 30, 2, 27)]
 
 
+def _way_out_past_purls(purls: range, *, purls_back_first: bool = False) -> list:
+    """Carrier 1 knits 1-30, moves ``purls`` to the back bed, knits 1-2 rightward and parks at
+    40, then knits 30 leftward: its yarn is laid from 2 to 30 on the way out, past the purls.
+    ``purls_back_first``: float avoidance has moved the purls to the front before that knit."""
+    to_back = Pass(PassKind.XFER, tuple(Op(OpKind.XFER, Bed.FRONT, n, Bed.BACK, n) for n in purls))
+    out_and_park = Pass(
+        PassKind.KNIT,
+        (Op(OpKind.KNIT, Bed.FRONT, 1), Op(OpKind.KNIT, Bed.FRONT, 2), Op(OpKind.MISS, "f", 40)),
+        "+",
+        ("1",),
+    )
+    back = Pass(PassKind.XFER, tuple(Op(OpKind.XFER, Bed.BACK, n, Bed.FRONT, n) for n in purls))
+    return [
+        CarrierAction("inhook", ("1",)),
+        knit(range(30, 0, -1), "-"),
+        CarrierAction("releasehook", ("1",)),
+        to_back,
+        out_and_park,
+        *([back] if purls_back_first else []),
+        knit([30], "-"),
+    ]
+
+
 def test_a_float_laid_on_the_way_out_past_purls_is_tucked_with_the_purls_moved_around_it():
     # carrier 1 knits 1-2 rightward and parks at 40; it next knits 30 leftward, so the yarn is
     # laid from 2 to 30 on the way out, past purls held on back needles 20-25.
     purls = range(20, 26)
-    steps = [
-        CarrierAction("inhook", ("1",)),
-        knit(range(30, 0, -1), "-"),
-        CarrierAction("releasehook", ("1",)),
-        Pass(PassKind.XFER, tuple(Op(OpKind.XFER, Bed.FRONT, n, Bed.BACK, n) for n in purls)),
-        Pass(
-            PassKind.KNIT,
-            (
-                Op(OpKind.KNIT, Bed.FRONT, 1),
-                Op(OpKind.KNIT, Bed.FRONT, 2),
-                Op(OpKind.MISS, "f", 40),
-            ),
-            "+",
-            ("1",),
-        ),
-        knit([30], "-"),
-    ]
+    steps = _way_out_past_purls(purls)
     out, long = tuck_long_floats(steps, limit=10, left=1, right=30)
     assert not long
     k = next(i for i, s in enumerate(out) if isinstance(s, Pass) and s.direction == "+")
@@ -209,24 +216,7 @@ def test_a_way_out_blocked_by_purls_comes_back_and_tucks_alone_before_the_far_st
     # to the front before the pass knitting 30: the carrier then comes back beside its last loop
     # and tucks alone on its way to 30.
     purls = range(3, 30)
-    steps = [
-        CarrierAction("inhook", ("1",)),
-        knit(range(30, 0, -1), "-"),
-        CarrierAction("releasehook", ("1",)),
-        Pass(PassKind.XFER, tuple(Op(OpKind.XFER, Bed.FRONT, n, Bed.BACK, n) for n in purls)),
-        Pass(
-            PassKind.KNIT,
-            (
-                Op(OpKind.KNIT, Bed.FRONT, 1),
-                Op(OpKind.KNIT, Bed.FRONT, 2),
-                Op(OpKind.MISS, "f", 40),
-            ),
-            "+",
-            ("1",),
-        ),
-        Pass(PassKind.XFER, tuple(Op(OpKind.XFER, Bed.BACK, n, Bed.FRONT, n) for n in purls)),
-        knit([30], "-"),
-    ]
+    steps = _way_out_past_purls(purls, purls_back_first=True)
     out, long = tuck_long_floats(steps, limit=10, left=1, right=30)
     assert not long
     move, tucking, far, back = out[-4:]
