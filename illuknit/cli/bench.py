@@ -51,6 +51,8 @@ def _run_solvers(instances: Any, solvers: list[str], outdir: str, **kw: Any) -> 
         time_limit=kw["time_limit"],
         memory_mb=kw["memory_mb"],
         wcnf_files=kw["wcnf_files"],
+        repeat=kw["repeat"],
+        seed=kw["seed"],
     )
 
     def show(row: dict[str, Any]) -> None:
@@ -68,12 +70,18 @@ def _run_solvers(instances: Any, solvers: list[str], outdir: str, **kw: Any) -> 
         executor=kw["executor"],
         dask_address=kw["dask_address"],
         on_row=show,
+        certify_time=kw["certify_time"],
     )
     click.echo("solver          runs solved  PAR-2   flagged")
     for entry in table.summary:
+        spread = (
+            f"  (PAR-2 over {entry['repeats']} runs: {entry['par2_spread']})"
+            if entry.get("repeats")
+            else ""
+        )
         click.echo(
-            f"{entry['solver']:16s}{entry['runs']:4d} {entry['solved']:5d} "
-            f"{entry['par2']:7.2f}   {entry.get('flagged', '-')}"
+            f"{entry['solver']:16s}{entry['runs']:4d} {entry['solved']:5g} "
+            f"{entry['par2']:7.2f}   {entry.get('flagged', '-')}{spread}"
         )
     click.echo(f"results in {outdir}: {', '.join(table.files)}")
 
@@ -157,6 +165,24 @@ def _run_solvers(instances: Any, solvers: list[str], outdir: str, **kw: Any) -> 
     help="Solver benchmark on this WCNF file (repeatable; instead of the bundled instances).",
 )
 @click.option(
+    "--repeat",
+    type=COUNT,
+    default=1,
+    show_default=True,
+    help="Solver benchmark: run every row N times (seeds --seed, --seed + 1, ...); the summary "
+    "gives medians and spread.",
+)
+@click.option(
+    "--seed", type=int, default=0, show_default=True, help="Solver benchmark: the first seed."
+)
+@click.option(
+    "--certify-time",
+    type=float,
+    default=None,
+    help="Solver benchmark: seconds for each independent SAT check of a claimed optimum or "
+    "UNSATISFIABLE that no reference settles (default: the time limit; 0: no checks).",
+)
+@click.option(
     "--export-wcnf",
     type=click.Path(file_okay=False),
     default=None,
@@ -188,6 +214,9 @@ def bench(
     warm_starts: str,
     memory_mb: float,
     wcnf_files: tuple[str, ...],
+    repeat: int,
+    seed: int,
+    certify_time: float | None,
     export_wcnf: str | None,
     list_only: bool,
     no_progress: bool,
@@ -232,7 +261,15 @@ def bench(
     if time_limit is not None and not time_limit > 0:
         raise click.BadParameter(f"must be positive, got {time_limit}", param_hint="--time-limit")
     chosen = select_instances(man, instances)
+    ctx = click.get_current_context()
     if solvers is not None or wcnf_files:
+        if ctx.get_parameter_source("methods") is not click.core.ParameterSource.DEFAULT:
+            raise click.UsageError(
+                "--methods does not apply to the solver benchmark (--solvers / --wcnf): "
+                "name backends with --solvers"
+            )
+        if repeat < 1:
+            raise click.BadParameter(f"must be at least 1, got {repeat}", param_hint="--repeat")
         _run_solvers(
             [] if wcnf_files else chosen,
             _split(solvers or "rc2"),
@@ -245,8 +282,18 @@ def bench(
             jobs=jobs,
             executor=executor,
             dask_address=dask_address,
+            repeat=repeat,
+            seed=seed,
+            certify_time=certify_time,
         )
         return
+    for name, value, default in (
+        ("--repeat", repeat, 1),
+        ("--seed", seed, 0),
+        ("--certify-time", certify_time, None),
+    ):
+        if value != default:
+            raise click.UsageError(f"{name} applies only to the solver benchmark (--solvers)")
     names = _methods(methods)
     run = run_bench(
         chosen,

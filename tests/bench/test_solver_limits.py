@@ -204,3 +204,53 @@ def test_limits_machine_and_software_are_recorded(tiny, tmp_path):
     head = (tmp_path / "solvers.md").read_text().splitlines()[:8]
     assert any(line.startswith("- **Limits**: 5 s per run") for line in head)
     assert any(line.startswith("- **Machine**") for line in head)
+
+
+class _Nothing(BackendBase):
+    """Honours its limit but never finds anything (as some hermax solvers here)."""
+
+    name = "nothing"
+
+    def solve(self, model, *, time_limit=None, seed=0, progress=None):
+        return self.solution(model, Status.TIMEOUT, time.perf_counter())
+
+
+class _Unlimited(_Late):
+    name = "unlimited"
+    time_limited = False
+
+
+def test_the_smoke_test_tells_answers_from_nothing_and_unlimited(monkeypatch):
+    from illuknit.bench.smoke import smoke_test_backends
+
+    for cls in (_Nothing, _Unlimited):
+        monkeypatch.setitem(reg._registered, cls.name, cls)
+    got = {
+        e["name"]: e
+        for e in smoke_test_backends(["rc2", "nothing", "unlimited", "dp"], time_limit=1.0)
+    }
+    assert got["rc2"]["smoke"].startswith("answers (6 in") and got["rc2"]["limit"] == "yes"
+    assert got["nothing"]["smoke"].startswith("returns nothing in 1 s")
+    assert got["unlimited"]["limit"].startswith("cannot be time-limited")
+    # it proves only when asked to stop, after the limit: a timeout, answer kept
+    assert got["unlimited"]["smoke"].startswith("answers (6 in")
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["--solvers", "dp", "--methods", "tiles"],
+        ["--wcnf", str(FAKE), "--methods", "dp"],
+        ["--methods", "tiles", "--repeat", "2"],
+    ],
+)
+def test_options_that_do_not_apply_are_one_line_errors(args, tmp_path, capsys):
+    from illuknit.cli import main
+
+    with pytest.raises(SystemExit) as e:
+        main(["bench", *args, "-o", str(tmp_path / "out")])
+    assert e.value.code == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1
+    assert "applies only" in err or "does not apply" in err
+    assert not (tmp_path / "out").exists()
