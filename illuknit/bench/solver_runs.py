@@ -227,7 +227,8 @@ def base_solver_row(task: SolverTask) -> dict[str, Any]:
 
 
 def run_solver_task(task: SolverTask, content: bytes | None = None) -> dict[str, Any]:
-    """Run one task; returns ``{"row": dict over ROW_FIELDS, "trace": [(seconds, cost, bound)]}``.
+    """Run one task; returns ``{"row": dict over ROW_FIELDS, "trace": [(seconds, cost, bound)],
+    "values": the verified assignment or None}``.
 
     ``content``: the WCNF file's bytes, for a worker that cannot read the file (see
     :func:`build_task_model`). Never raises for a solver's misbehaviour: that is the row's status
@@ -294,7 +295,8 @@ def run_solver_task(task: SolverTask, content: bytes | None = None) -> dict[str,
         row["reason"] = "; ".join(
             filter(None, [row["reason"], f"answered after the time limit ({res.wall_time:.2f} s)"])
         )
-    return {"row": row, "trace": trace}
+    good = row["verified_cost"] is not None and out["values"] is not None
+    return {"row": row, "trace": trace, "values": out["values"] if good else None}
 
 
 def _verify(row: dict[str, Any], model: Model, out: dict[str, Any], optimum: int | None) -> None:

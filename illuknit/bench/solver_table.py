@@ -206,7 +206,10 @@ def run_solver_table(
     ctime = limit if certify_time is None else certify_time
     if ctime > 0 and tasks:
         memory = max((t.memory_mb or 0 for t in tasks), default=0) or None
-        rows = certify_rows(rows, _task_models(tasks), time_limit=ctime, memory_mb=memory)
+        assignments = {row_key(r): r.get("values") for r in results}
+        rows = certify_rows(
+            rows, _task_models(tasks), time_limit=ctime, memory_mb=memory, values=assignments
+        )
     traces: dict[tuple[Any, ...], list[Any]] = {}
     trace_rows = []
     for r in results:
