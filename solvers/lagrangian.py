@@ -1,0 +1,221 @@
+"""A Lagrangian lower bound for the knit-aware model (b): the machine-pass terms kept, the rows
+and the wales solved apart.
+
+The per-wale DP (:mod:`illuknit.solvers.dp`) bounds model (b) by dropping every term that
+couples the wales -- colour changes and the machine passes, which make up about a third of the
+objective on photo pairs -- so its bound is weak there. The passes of unit row ``i`` are
+``2 S + b (S + 1)`` with ``S`` the row's carrier segments (yarns used plus extra carriers) and
+``b`` whether the row has a bump (:func:`illuknit.illusion_problem.row_passes`). Dropping the
+extra carriers (non-negative) leaves ``f(U, b) = 2 U + b (U + 1)`` with ``U`` the yarns the row
+uses; the row-wide "or"s behind ``U`` and ``b`` are what couple the wales:
+
+    used[i, k] >= x[i, j, k]  (unit (i, j) in yarn k),     bump[i] >= r[i, j]  (unit raised).
+
+Relaxing exactly these with multipliers ``lam[i, j, k] >= 0`` and ``mu[i, j] >= 0`` splits the
+model into
+
+* **wales**: the per-wale chains of the DP with the extra unary cost ``lam[i, j, yarn] +
+  mu[i, j] * raised`` on each unit -- every view and transfer term exact, colour changes
+  (non-negative) dropped;
+* **rows**: per row, the least of ``machine_pass * f(U, b) - sum_k used_k * sum_j lam[i, j, k]
+  - b * sum_j mu[i, j]`` over the ``2 (2^K - 1)`` choices of ``used`` (a row uses at least one
+  yarn) and ``b``.
+
+For any non-negative multipliers the sum of both minima is a lower bound of the optimum (weak
+duality: a feasible pattern satisfies the relaxed inequalities, so their penalty is never
+positive). With zero multipliers it is the DP bound plus two passes per row (the trivial
+additive bound); subgradient ascent (Polyak steps towards the best pattern found) raises it.
+Every wale solution is itself a pattern, so each step also yields an upper bound.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+import time
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from illuknit.illusion_problem import IllusionProblem, raised_cost
+from illuknit.solvers.base import ProgressCallback, ProgressEvent
+
+__all__ = ["LagrangianResult", "additive_bound", "lagrangian_bound"]
+
+_INF = np.int64(1) << np.int64(40)
+
+
+@dataclass(frozen=True)
+class LagrangianResult:
+    """The best bound (an integer: the objective is), the best pattern met on the way and its
+    cost, the number of subgradient steps and the seconds taken."""
+
+    bound: int
+    yarn: NDArray[np.int64]
+    raised: NDArray[np.bool_]
+    cost: int
+    iterations: int
+    seconds: float
+
+
+class _Wales:
+    """The wale subproblem: unary and pairwise costs of the per-wale chains, precomputed."""
+
+    def __init__(self, problem: IllusionProblem) -> None:
+        n, m = problem.shape
+        k = problem.n_yarns
+        self.n, self.m, self.k = n, m, k
+        s = np.arange(2 * k)
+        self.cs, self.rs = s // 2, (s % 2).astype(bool)
+        cs, rs = self.cs, self.rs
+        a = problem.target_a.astype(np.int64)
+        b = problem.target_b.astype(np.int64)
+        wv = problem.view_weight
+        u = np.zeros((n, m, 2 * k), dtype=np.int64)
+        u[0] += wv * (cs[None, :] != a[0][:, None])
+        u[n - 1] += wv * (cs[None, :] != b[n - 1][:, None])
+        u += raised_cost(n, m, problem.transfer_weight)[:, :, None] * rs[None, None, :]
+        if problem.pinned is not None:
+            p = problem.pinned.astype(np.int64)
+            u[(p[:, :, None] >= 0) & (cs[None, None, :] != p[:, :, None])] += _INF
+        self.unary = u
+        seen_a = np.where(rs[:, None], cs[:, None], cs[None, :])  # (S', S)
+        seen_b = np.where(rs[None, :], cs[None, :], cs[:, None])
+        self.pair = np.zeros((n, m, 2 * k, 2 * k), dtype=np.int64)
+        for i in range(1, n):
+            self.pair[i] = wv * (
+                (seen_a[None] != a[i][:, None, None]).astype(np.int64)
+                + (seen_b[None] != b[i - 1][:, None, None])
+            )
+
+    def solve(self, extra: NDArray[np.float64]) -> tuple[float, NDArray[np.int64]]:
+        """(least total cost, states (N, M)) of all wales with unary costs ``extra`` added."""
+        n, m = self.n, self.m
+        u = self.unary + extra
+        back = np.zeros((n, m, 2 * self.k), dtype=np.int64)
+        v = u[0].copy()
+        for i in range(1, n):
+            tot = v[:, :, None] + self.pair[i]  # (M, S', S)
+            back[i] = tot.argmin(axis=1)
+            v = tot.min(axis=1) + u[i]
+        cols = np.arange(m)
+        states = np.empty((n, m), dtype=np.int64)
+        states[n - 1] = v.argmin(axis=1)
+        value = float(v[cols, states[n - 1]].sum())
+        for i in range(n - 1, 0, -1):
+            states[i - 1] = back[i][cols, states[i]]
+        return value, states
+
+
+def _row_choices(k: int) -> tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.int64]]:
+    """Every (used yarns (C, K), bump (C,), passes f(U, b) (C,)) a row can have."""
+    used, bump = [], []
+    for bits in itertools.product((0, 1), repeat=k):
+        if any(bits):
+            for b in (0, 1):
+                used.append(bits)
+                bump.append(b)
+    u = np.asarray(used, dtype=np.int64)
+    bb = np.asarray(bump, dtype=np.int64)
+    count = u.sum(axis=1)
+    return u, bb, 2 * count + bb * (count + 1)
+
+
+def additive_bound(problem: IllusionProblem) -> int:
+    """The DP bound plus two passes (one carrier segment) per unit row: every row is knit."""
+    from illuknit.solvers.dp import solve_dp
+
+    _, _, dp = solve_dp(problem)
+    return int(dp) + 2 * problem.pass_weight * problem.shape[0]
+
+
+def lagrangian_bound(
+    problem: IllusionProblem,
+    *,
+    time_limit: float = 10.0,
+    upper: int | None = None,
+    max_iterations: int = 100_000,
+    progress: ProgressCallback | None = None,
+    theta0: float = 2.0,
+    patience: int = 20,
+    target_gap: float = 1.0,
+) -> LagrangianResult:
+    """The Lagrangian lower bound of ``problem`` (see the module docstring) after subgradient
+    ascent for at most ``time_limit`` seconds; ``upper`` is a known pattern's cost (it steers
+    the steps; the best pattern met on the way is used when it is lower or not given).
+
+    Valid for any illusion problem; for the per-wale models (no pass or colour terms) it is the
+    DP optimum.
+    """
+    from illuknit.solvers.descent_blocks import pattern_cost
+
+    t0 = time.perf_counter()
+    n, m = problem.shape
+    k = problem.n_yarns
+    wp = problem.pass_weight
+    wales = _Wales(problem)
+    used_c, bump_c, passes_c = _row_choices(k)
+    lam = np.zeros((n, m, k))
+    mu = np.zeros((n, m))
+    best_bound = -math.inf
+    best_pattern: tuple[NDArray[np.int64], NDArray[np.bool_], int] | None = None
+    theta, since = theta0, 0
+    it = 0
+    while it < max_iterations:
+        it += 1
+        extra = lam[:, :, wales.cs] + mu[:, :, None] * wales.rs[None, None, :]
+        value, states = wales.solve(extra)
+        yarn, raised = states // 2, (states % 2).astype(bool)
+        lam_row, mu_row = lam.sum(axis=1), mu.sum(axis=1)  # (N, K), (N,)
+        row_cost = wp * passes_c[None, :] - lam_row @ used_c.T - mu_row[:, None] * bump_c
+        pick = row_cost.argmin(axis=1)
+        total = value + float(row_cost[np.arange(n), pick].sum())
+        bound = math.ceil(total - 1e-6)
+        if bound > best_bound:
+            best_bound, since = bound, 0
+            if progress is not None:
+                progress(ProgressEvent(time.perf_counter() - t0, None, float(bound)))
+        else:
+            since += 1
+        candidates = [(yarn, raised)]
+        if wp and it % 5 == 1:
+            # the Lagrangian heuristic: the wales again, each row kept to the yarns (and the
+            # flatness) its row choice priced in
+            banned = (used_c[pick][:, wales.cs] == 0) | (
+                (bump_c[pick][:, None] == 0) & wales.rs[None, :]
+            )  # (N, S)
+            _, st2 = wales.solve(np.where(banned[:, None, :], float(_INF), 0.0) + extra)
+            candidates.append((st2 // 2, (st2 % 2).astype(bool)))
+        for cy, cr in candidates:
+            cost = pattern_cost(problem, cy, cr)
+            if best_pattern is None or cost < best_pattern[2]:
+                best_pattern = (cy, cr, cost)
+        target = min(x for x in (upper, best_pattern[2]) if x is not None)
+        if not wp or best_bound >= target or time.perf_counter() - t0 >= time_limit:
+            break
+        onehot = (yarn[:, :, None] == np.arange(k)[None, None, :]).astype(np.float64)
+        g_lam = onehot - used_c[pick][:, None, :]  # x[i, j, k] - used[i, k]
+        g_mu = raised.astype(np.float64) - bump_c[pick][:, None]
+        # a multiplier at zero with a negative subgradient stays at zero: project it out
+        g_lam[(lam <= 0) & (g_lam < 0)] = 0.0
+        g_mu[(mu <= 0) & (g_mu < 0)] = 0.0
+        norm = float((g_lam**2).sum() + (g_mu**2).sum())
+        if norm == 0:
+            break  # the relaxed constraints hold: the wale solution is optimal
+        if since >= patience:
+            theta, since = theta / 2, 0
+            if theta < 1e-4:
+                break
+        step = theta * max(1.0, target_gap * (target - total)) / norm
+        lam = np.maximum(0.0, lam + step * g_lam)
+        mu = np.maximum(0.0, mu + step * g_mu)
+    assert best_pattern is not None
+    return LagrangianResult(
+        int(best_bound),
+        best_pattern[0],
+        best_pattern[1],
+        int(best_pattern[2]),
+        it,
+        time.perf_counter() - t0,
+    )
