@@ -191,7 +191,8 @@ def lagrangian_bound(
             cost = pattern_cost(problem, cy, cr)
             if best_pattern is None or cost < best_pattern[2]:
                 best_pattern = (cy, cr, cost)
-        target = min(x for x in (upper, best_pattern[2]) if x is not None)
+        assert best_pattern is not None
+        target = best_pattern[2] if upper is None else min(upper, best_pattern[2])
         if not wp or best_bound >= target or time.perf_counter() - t0 >= time_limit:
             break
         onehot = (yarn[:, :, None] == np.arange(k)[None, None, :]).astype(np.float64)
