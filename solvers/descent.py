@@ -31,7 +31,7 @@ colour, flat), each followed by descent; equal-cost results are accepted, so the
 plateaus. It stops at the time limit, or after ``stall`` perturbations without improvement.
 
 The DP optimum of the per-wale part is also a valid **lower bound** (colour-change terms are
-non-negative). With machine-pass terms the backend spends the last quarter of its time on the
+non-negative). With machine-pass terms the backend spends the last 40 % of its time on the
 Lagrangian bound of :mod:`illuknit.solvers.lagrangian`, which keeps the pass terms the DP
 drops (and whose patterns are candidates too); the better bound is reported as ``bound``. The backend is a heuristic (``exact = False``): status
 ``feasible`` (``timeout`` when the time limit stopped it), never ``optimal`` for a model with
@@ -64,7 +64,7 @@ __all__ = ["DescentBackend", "DescentResult", "optimise_descent"]
 
 #: Share of the backend's time limit spent on the Lagrangian bound (model (b) with pass terms),
 #: after the search; without a time limit, this many seconds.
-LAGRANGIAN_SHARE = 0.25
+LAGRANGIAN_SHARE = 0.4
 LAGRANGIAN_SECONDS = 10.0
 
 

@@ -5,11 +5,13 @@ The per-wale DP (:mod:`illuknit.solvers.dp`) bounds model (b) by dropping every 
 couples the wales -- colour changes and the machine passes, which make up about a third of the
 objective on photo pairs -- so its bound is weak there. The passes of unit row ``i`` are
 ``2 S + b (S + 1)`` with ``S`` the row's carrier segments (yarns used plus extra carriers) and
-``b`` whether the row has a bump (:func:`illuknit.illusion_problem.row_passes`). Dropping the
-extra carriers (non-negative) leaves ``f(U, b) = 2 U + b (U + 1)`` with ``U`` the yarns the row
-uses; the row-wide "or"s behind ``U`` and ``b`` are what couple the wales:
+``b`` whether the row has a bump (:func:`illuknit.illusion_problem.row_passes`). Cut the row into
+blocks of ``float_gap + 1`` units: a yarn used in two blocks with a whole unused block between
+them needs an extra carrier there, so ``S`` is at least the number of **runs of used blocks**
+summed over the yarns. The row-wide "or"s behind those runs and behind ``b`` are what couple the
+wales:
 
-    used[i, k] >= x[i, j, k]  (unit (i, j) in yarn k),     bump[i] >= r[i, j]  (unit raised).
+    z[i, t, k] >= x[i, j, k]  (unit (i, j) of block t in yarn k),   bump[i] >= r[i, j]  (raised).
 
 Relaxing exactly these with multipliers ``lam[i, j, k] >= 0`` and ``mu[i, j] >= 0`` splits the
 model into
@@ -17,20 +19,19 @@ model into
 * **wales**: the per-wale chains of the DP with the extra unary cost ``lam[i, j, yarn] +
   mu[i, j] * raised`` on each unit -- every view and transfer term exact, colour changes
   (non-negative) dropped;
-* **rows**: per row, the least of ``machine_pass * f(U, b) - sum_k used_k * sum_j lam[i, j, k]
-  - b * sum_j mu[i, j]`` over the ``2 (2^K - 1)`` choices of ``used`` (a row uses at least one
-  yarn) and ``b``.
+* **rows**: per row and bump flag ``b``, each yarn's block pattern ``z`` minimises
+  ``machine_pass (2 + b) runs(z) - sum_t z[t] sum_(j in t) lam[i, j, k]`` by a shortest path
+  over the blocks (a row uses at least one yarn), plus ``b (machine_pass - sum_j mu[i, j])``.
 
 For any non-negative multipliers the sum of both minima is a lower bound of the optimum (weak
 duality: a feasible pattern satisfies the relaxed inequalities, so their penalty is never
-positive). With zero multipliers it is the DP bound plus two passes per row (the trivial
+positive; the extra carriers the runs do not see are non-negative). With zero multipliers it is the DP bound plus two passes per row (the trivial
 additive bound); subgradient ascent (Polyak steps towards the best pattern found) raises it.
 Every wale solution is itself a pattern, so each step also yields an upper bound.
 """
 
 from __future__ import annotations
 
-import itertools
 import math
 import time
 from dataclasses import dataclass
@@ -108,18 +109,72 @@ class _Wales:
         return value, states
 
 
-def _row_choices(k: int) -> tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.int64]]:
-    """Every (used yarns (C, K), bump (C,), passes f(U, b) (C,)) a row can have."""
-    used, bump = [], []
-    for bits in itertools.product((0, 1), repeat=k):
-        if any(bits):
-            for b in (0, 1):
-                used.append(bits)
-                bump.append(b)
-    u = np.asarray(used, dtype=np.int64)
-    bb = np.asarray(bump, dtype=np.int64)
-    count = u.sum(axis=1)
-    return u, bb, 2 * count + bb * (count + 1)
+_BIG = 1e18
+
+
+def _runs_dp(
+    lam_blocks: NDArray[np.float64], c: float
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.int64], NDArray[np.int64]]:
+    """Per (row, yarn): the least ``c * runs(z) - sum_t lam_blocks[t] * z[t]`` over block
+    patterns ``z`` (any, and with at least one block used), and the minimising patterns.
+
+    ``lam_blocks`` has shape (L, T); returns (best (L,), best with a use (L,), z (L, T), z with a
+    use (L, T)). States per block: 0 nothing used yet, 1 used before but not here, 2 used here.
+    """
+    el, tc = lam_blocks.shape
+    # pair[s', s]: the cost of moving from state s' to s (a run starts when entering 2 from 0/1)
+    pair = np.array([[0.0, _BIG, c], [_BIG, 0.0, c], [_BIG, 0.0, 0.0]], dtype=np.float64)
+    v = np.empty((el, 3))
+    v[:, 0], v[:, 1], v[:, 2] = 0.0, _BIG, c - lam_blocks[:, 0]
+    back = np.zeros((tc, el, 3), dtype=np.int64)
+    for t in range(1, tc):
+        tot = v[:, :, None] + pair[None]  # (L, S', S)
+        back[t] = tot.argmin(axis=1)
+        v = tot.min(axis=1)
+        v[:, 2] -= lam_blocks[:, t]
+    rows = np.arange(el)
+
+    def trace(end: NDArray[np.int64]) -> NDArray[np.int64]:
+        z = np.zeros((el, tc), dtype=np.int64)
+        st = end
+        for t in range(tc - 1, -1, -1):
+            z[:, t] = st == 2
+            if t:
+                st = back[t][rows, st]
+        return z
+
+    end0 = v.argmin(axis=1)
+    end1 = 1 + v[:, 1:].argmin(axis=1)
+    return v[rows, end0], v[rows, end1], trace(end0), trace(end1)
+
+
+def _rows(
+    lam_blocks: NDArray[np.float64], mu_row: NDArray[np.float64], wp: int
+) -> tuple[float, NDArray[np.int64], NDArray[np.int64]]:
+    """The row subproblem: its least total, the chosen block patterns z (N, T, K) and bumps (N,).
+
+    A row with bump flag b and ``runs_k`` runs of used blocks per yarn k costs ``wp * ((2 + b)
+    * sum_k runs_k + b)`` passes at least (every run is a carrier segment: a yarn's first, or an
+    extra carrier after a gap of a whole block), less the multipliers' prices.
+    """
+    n, tc, k = lam_blocks.shape
+    flat = lam_blocks.transpose(0, 2, 1).reshape(n * k, tc)
+    totals, zs = [], []
+    for b in (0, 1):
+        best0, best1, z0, z1 = _runs_dp(flat, float(wp * (2 + b)))
+        best0, best1 = best0.reshape(n, k), best1.reshape(n, k)
+        z0, z1 = z0.reshape(n, k, tc), z1.reshape(n, k, tc)
+        # a row is knit: at least one yarn has a run (free when the optimum already uses one)
+        force = (best1 - best0).argmin(axis=1)
+        extra = (best1 - best0)[np.arange(n), force]
+        z = z0.copy()
+        z[np.arange(n), force] = z1[np.arange(n), force]
+        totals.append(best0.sum(axis=1) + extra + b * (wp - mu_row))
+        zs.append(z)
+    pick = (totals[1] < totals[0]).astype(np.int64)
+    total = float(np.where(pick == 1, totals[1], totals[0]).sum())
+    z = np.where(pick[:, None, None] == 1, zs[1], zs[0])  # (N, K, T)
+    return total, z.transpose(0, 2, 1), pick
 
 
 def additive_bound(problem: IllusionProblem) -> int:
@@ -155,7 +210,9 @@ def lagrangian_bound(
     k = problem.n_yarns
     wp = problem.pass_weight
     wales = _Wales(problem)
-    used_c, bump_c, passes_c = _row_choices(k)
+    width = problem.weights.float_gap + 1  # a block: a whole float's length
+    starts = np.arange(0, m, width)
+    block_of = np.arange(m) // width
     lam = np.zeros((n, m, k))
     mu = np.zeros((n, m))
     best_bound = -math.inf
@@ -167,10 +224,9 @@ def lagrangian_bound(
         extra = lam[:, :, wales.cs] + mu[:, :, None] * wales.rs[None, None, :]
         value, states = wales.solve(extra)
         yarn, raised = states // 2, (states % 2).astype(bool)
-        lam_row, mu_row = lam.sum(axis=1), mu.sum(axis=1)  # (N, K), (N,)
-        row_cost = wp * passes_c[None, :] - lam_row @ used_c.T - mu_row[:, None] * bump_c
-        pick = row_cost.argmin(axis=1)
-        total = value + float(row_cost[np.arange(n), pick].sum())
+        lam_blocks = np.add.reduceat(lam, starts, axis=1)  # (N, T, K)
+        row_total, z, bump = _rows(lam_blocks, mu.sum(axis=1), wp)
+        total = value + row_total
         bound = math.ceil(total - 1e-6)
         if bound > best_bound:
             best_bound, since = bound, 0
@@ -180,12 +236,13 @@ def lagrangian_bound(
             since += 1
         candidates = [(yarn, raised)]
         if wp and it % 5 == 1:
-            # the Lagrangian heuristic: the wales again, each row kept to the yarns (and the
-            # flatness) its row choice priced in
-            banned = (used_c[pick][:, wales.cs] == 0) | (
-                (bump_c[pick][:, None] == 0) & wales.rs[None, :]
-            )  # (N, S)
-            _, st2 = wales.solve(np.where(banned[:, None, :], float(_INF), 0.0) + extra)
+            # the Lagrangian heuristic: the wales again, each unit kept to the yarns its row
+            # choice priced in for its block (and flat where the row has no bump)
+            allowed = z[:, block_of, :]  # (N, M, K)
+            banned = (allowed[:, :, wales.cs] == 0) | (
+                (bump[:, None, None] == 0) & wales.rs[None, None, :]
+            )
+            _, st2 = wales.solve(np.where(banned, float(_INF), 0.0) + extra)
             candidates.append((st2 // 2, (st2 % 2).astype(bool)))
         for cy, cr in candidates:
             cost = pattern_cost(problem, cy, cr)
@@ -196,8 +253,8 @@ def lagrangian_bound(
         if not wp or best_bound >= target or time.perf_counter() - t0 >= time_limit:
             break
         onehot = (yarn[:, :, None] == np.arange(k)[None, None, :]).astype(np.float64)
-        g_lam = onehot - used_c[pick][:, None, :]  # x[i, j, k] - used[i, k]
-        g_mu = raised.astype(np.float64) - bump_c[pick][:, None]
+        g_lam = onehot - z[:, block_of, :]  # x[i, j, k] - z[i, block of j, k]
+        g_mu = raised.astype(np.float64) - bump[:, None]
         # a multiplier at zero with a negative subgradient stays at zero: project it out
         g_lam[(lam <= 0) & (g_lam < 0)] = 0.0
         g_mu[(mu <= 0) & (g_mu < 0)] = 0.0
