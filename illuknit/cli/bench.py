@@ -189,6 +189,14 @@ def _run_solvers(instances: Any, solvers: list[str], outdir: str, **kw: Any) -> 
     help="Write the chosen instances' models as WCNF (2022+) with manifest.json into DIR, then "
     "exit.",
 )
+@click.option(
+    "--export-family",
+    type=click.Path(file_okay=False),
+    default=None,
+    help="Write a MaxSAT Evaluation benchmark family (xz WCNF over sizes 20-100, 2-4 yarns, "
+    "logical and knit-aware, README, manifest.json, SHA256SUMS) into DIR, then exit; "
+    "--time-limit: seconds of descent per knit-aware reference (default 10).",
+)
 @click.option("--list", "list_only", is_flag=True, help="List instances and methods, then exit.")
 @click.option("--no-progress", is_flag=True, help="No progress bar.")
 @machine_option("Knitting machine the patterns are knit on for passes and times.")
@@ -218,6 +226,7 @@ def bench(
     seed: int,
     certify_time: float | None,
     export_wcnf: str | None,
+    export_family: str | None,
     list_only: bool,
     no_progress: bool,
     machine: str | None,
@@ -245,6 +254,29 @@ def bench(
         click.echo("methods:")
         for m in METHODS.values():
             click.echo(f"  {m.name:12s} {m.description}")
+        return
+    if export_family is not None:
+        from illuknit.bench.family import write_family
+
+        def shown(e: dict[str, Any]) -> None:
+            ref = (
+                e["optimum"]
+                if e["optimum"] is not None
+                else (f"{e['lower_bound']}..{e['best_known']}")
+            )
+            click.echo(f"{e['file']:52s} {e['variables']:7d} vars  reference {ref}")
+
+        mf = write_family(
+            export_family,
+            bound_seconds=10.0 if time_limit is None else time_limit,
+            command=f"illuknit bench --export-family {export_family}"
+            + ("" if time_limit is None else f" --time-limit {time_limit:g}"),
+            on_instance=shown,
+        )
+        click.echo(
+            f"wrote {len(mf['instances'])} instances, README.md, manifest.json and "
+            f"SHA256SUMS to {export_family}"
+        )
         return
     if export_wcnf is not None:
         from illuknit.bench.wcnf_files import export_wcnf_family
