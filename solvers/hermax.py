@@ -61,9 +61,17 @@ _OPTIMUM, _SAT, _UNSAT = 30, 10, 20
 
 
 def _run_hermax(
-    class_path: str, model: Model, time_limit: float | None, limited: bool
+    class_path: str,
+    model: Model,
+    time_limit: float | None,
+    limited: bool,
+    started: float | None = None,
 ) -> dict[str, Any]:
-    """Build and solve in the current (child) process; a plain dict goes back to the parent."""
+    """Build and solve in the current (child) process; a plain dict goes back to the parent.
+
+    A solver that takes a time limit gets what is left of ``time_limit`` after the build
+    (``started``: ``time.perf_counter()`` when the backend was called), so it answers on time.
+    """
     module, _, attr = class_path.partition(":")
     cls = getattr(importlib.import_module(module), attr)
     cs = model.to_clauses()
@@ -83,7 +91,10 @@ def _run_hermax(
                 solver.add_soft_relaxed([int(x) for x in c], int(w), relax_var=nv)
         for lit, w in units.items():
             solver.add_soft_unit(lit, w)
-        kwargs = {"time_limit": time_limit} if limited and time_limit is not None else {}
+        kwargs: dict[str, float] = {}
+        if limited and time_limit is not None:
+            used = 0.0 if started is None else time.perf_counter() - started
+            kwargs["time_limit"] = max(0.1, time_limit - used - 0.1 - 0.02 * time_limit)
         t0 = time.perf_counter()
         solver.solve(**kwargs)
         code = int(solver.get_status())
@@ -119,8 +130,11 @@ class HermaxBackend(BackendBase):
     ) -> Solution:
         t0 = time.perf_counter()
         res = run_in_child(
-            lambda _progress: _run_hermax(self.class_path, model, time_limit, self.time_limited),
+            lambda _progress: _run_hermax(
+                self.class_path, model, time_limit, self.time_limited, t0
+            ),
             time_limit=time_limit,
+            interruptible=False,  # a C solver: stopped by its own limit, or by the kill
         )
         stats: dict[str, Any] = {"peak_rss_mb": res.peak_rss_mb}
         if failed := self.child_failure(model, res, t0, stats):

@@ -109,7 +109,11 @@ def _set_memory_backstop(memory_mb: float) -> None:
 
 
 def _child(
-    fn: Callable[[ProgressCallback], Any], conn: Any, own_group: bool, memory_mb: float | None
+    fn: Callable[[ProgressCallback], Any],
+    conn: Any,
+    own_group: bool,
+    memory_mb: float | None,
+    interruptible: bool = True,
 ) -> None:
     global _IN_CHILD, _MEMORY_MB
     _IN_CHILD = True
@@ -124,7 +128,7 @@ def _child(
             asked.append(signum)
             raise KeyboardInterrupt
 
-    signal.signal(signal.SIGINT, on_sigint)
+    signal.signal(signal.SIGINT, on_sigint if interruptible else signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
     if memory_mb is not None:
         _set_memory_backstop(memory_mb)
@@ -253,6 +257,7 @@ def run_in_child(
     grace: float | None = None,
     ask_delay: float | None = None,
     on_event: ProgressCallback | None = None,
+    interruptible: bool = True,
 ) -> ChildResult:
     """Run ``fn(progress)`` in a forked child; see the module docstring.
 
@@ -269,10 +274,19 @@ def run_in_child(
         Seconds after ``time_limit`` before the kill (default ``3 + 0.1 * time_limit``: a
         stopped backend still needs to hand back its best assignment).
     ask_delay : float, optional
-        Seconds after ``time_limit`` before the request to stop (default ``0.2 + 0.02 *
+        Seconds after ``time_limit`` before the request to stop (default ``1 + 0.03 *
         time_limit``, less than ``grace``).
     on_event : callable, optional
         Called in the parent with each progress event as it arrives.
+    interruptible : bool
+        False for a function that stops at its own limit and must not be interrupted (a C
+        solver handed a time limit: an interrupt would only lose its answer); the child then
+        ignores the request to stop, and only the kill at ``time_limit + grace`` ends it.
+
+    A ``KeyboardInterrupt`` in the caller while it waits (Ctrl-C, or the request to stop of an
+    enclosing run) is passed on to the child as its request to stop, and the wait goes on until
+    the child answers or the grace period ends -- so a nested isolation still hands back the
+    answer its solver gives when stopped.
     """
     ctx = mp.get_context("fork")  # only its Pipe: the child is started with os.fork below
     recv, send = ctx.Pipe(duplex=False)
@@ -280,7 +294,7 @@ def run_in_child(
     if grace is None:
         grace = 3.0 if time_limit is None else 3.0 + 0.1 * time_limit
     if ask_delay is None:
-        ask_delay = 0.0 if time_limit is None else 0.2 + 0.02 * time_limit
+        ask_delay = 0.0 if time_limit is None else 1.0 + 0.03 * time_limit
     ask_delay = min(ask_delay, 0.5 * grace)
     t0 = time.perf_counter()
     pid = os.fork()
@@ -288,7 +302,7 @@ def run_in_child(
         code = 0
         try:
             recv.close()
-            _child(fn, send, own_group, memory_mb)
+            _child(fn, send, own_group, memory_mb, interruptible)
         except BaseException:
             code = 1
         finally:
@@ -304,47 +318,53 @@ def run_in_child(
     cpu_child: float | None = None
     try:
         while True:
-            now = time.perf_counter()
-            if deadline is not None and now >= deadline:
-                status = "timeout"
-                reason = f"no answer within {time_limit:g} s + {grace:g} s (then killed)"
+            try:
+                now = time.perf_counter()
+                if deadline is not None and now >= deadline:
+                    status = "timeout"
+                    reason = f"no answer within {time_limit:g} s + {grace:g} s (then killed)"
+                    break
+                if ask_at is not None and now >= ask_at:
+                    tree.ask_to_stop(signal.SIGINT)
+                    ask_at = None
+                wait = POLL if deadline is None else max(0.0, min(POLL, deadline - now))
+                got = recv.poll(wait)
+                rss = tree.sample()
+                if memory_mb is not None and rss is not None and rss > memory_mb:
+                    status = "memout"
+                    reason = f"memory limit: {rss:.0f} MB resident in the process tree > {memory_mb:g} MB"
+                    break
+                if not got:
+                    continue
+                try:
+                    msg = recv.recv()
+                except (EOFError, OSError):
+                    exit_status, cpu_child = _reap(pid, 1.0)
+                    status, reason = _exit_reason(exit_status)
+                    break
+                if msg[0] == "event":
+                    ev = msg[1]
+                    ev = ProgressEvent(time.perf_counter() - t0, ev.objective, ev.bound, ev.message)
+                    events.append(ev)
+                    if on_event is not None:
+                        on_event(ev)
+                    continue
+                if msg[0] == "done":
+                    status, value = "ok", msg[1]
+                    answered_at = time.perf_counter() - t0
+                elif msg[0] == "timeout":
+                    status = "timeout"
+                    reason = f"no answer within {time_limit:g} s (asked to stop, it gave none)"
+                else:
+                    status, reason = ("memout" if msg[0] == "memout" else "error"), str(msg[1])
                 break
-            if ask_at is not None and now >= ask_at:
+            except KeyboardInterrupt:
+                # asked to stop ourselves (Ctrl-C, or an enclosing run's request): ask the
+                # child, and give it the grace period to answer
                 tree.ask_to_stop(signal.SIGINT)
                 ask_at = None
-            wait = POLL if deadline is None else max(0.0, min(POLL, deadline - now))
-            got = recv.poll(wait)
-            rss = tree.sample()
-            if memory_mb is not None and rss is not None and rss > memory_mb:
-                status = "memout"
-                reason = (
-                    f"memory limit: {rss:.0f} MB resident in the process tree > {memory_mb:g} MB"
-                )
-                break
-            if not got:
-                continue
-            try:
-                msg = recv.recv()
-            except (EOFError, OSError):
-                exit_status, cpu_child = _reap(pid, 1.0)
-                status, reason = _exit_reason(exit_status)
-                break
-            if msg[0] == "event":
-                ev = msg[1]
-                ev = ProgressEvent(time.perf_counter() - t0, ev.objective, ev.bound, ev.message)
-                events.append(ev)
-                if on_event is not None:
-                    on_event(ev)
-                continue
-            if msg[0] == "done":
-                status, value = "ok", msg[1]
-                answered_at = time.perf_counter() - t0
-            elif msg[0] == "timeout":
-                status = "timeout"
-                reason = f"no answer within {time_limit:g} s (asked to stop, it gave none)"
-            else:
-                status, reason = ("memout" if msg[0] == "memout" else "error"), str(msg[1])
-            break
+                end = time.perf_counter() + grace
+                deadline = end if deadline is None else min(deadline, end)
     finally:
         wall = time.perf_counter() - t0 if answered_at is None else answered_at
         tree.kill(own_group)

@@ -48,7 +48,7 @@ if TYPE_CHECKING:
 __all__ = ["ExternalWCNFBackend", "parse_maxsat_output"]
 
 #: seconds between SIGTERM and SIGKILL
-GRACE = 2.0
+GRACE = 1.5
 
 
 def parse_maxsat_output(text: str, nv: int) -> tuple[str | None, int | None, np.ndarray | None]:

@@ -285,8 +285,8 @@ def bench_environment(
         "limits": {
             "time_limit_s": limits,
             "memory_mb": memories,
-            "time": "wall clock from the start of the run's process; at the limit (+ 0.2 s + "
-            "2 %) the run is asked to stop (SIGINT to the Python child, SIGTERM to an external "
+            "time": "wall clock from the start of the run's process; at the limit (+ 1 s + "
+            "3 %) the run is asked to stop (SIGINT to the Python child, SIGTERM to an external "
             "binary), then killed after the grace period; an answer after the limit is a "
             "timeout",
             "grace_s": grace,
