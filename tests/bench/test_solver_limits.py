@@ -254,3 +254,34 @@ def test_options_that_do_not_apply_are_one_line_errors(args, tmp_path, capsys):
     assert len(err.splitlines()) == 1
     assert "applies only" in err or "does not apply" in err
     assert not (tmp_path / "out").exists()
+
+
+class _NestedLate(BackendBase):
+    """Isolates a C-like solve of its own that ignores requests to stop and answers a little
+    after the limit (as hermax's anytime solvers may): the answer must reach the row."""
+
+    name = "nested-late"
+
+    def solve(self, model, *, time_limit=None, seed=0, progress=None):
+        from illuknit.solvers.isolate import run_in_child
+
+        t0 = time.perf_counter()
+        answer = solve(model, solver="dp").values
+        # half a second after the benchmark's request to stop (at the limit + 1 s + 3 %)
+        answer_at = t0 + time_limit + 1.0 + 0.03 * time_limit + 0.5
+
+        def late(_p):
+            time.sleep(max(0.0, answer_at - time.perf_counter()))
+            return answer
+
+        res = run_in_child(late, time_limit=time_limit, interruptible=False)
+        assert res.status == "ok", res.reason
+        _ok, cost = model.evaluate(res.value)
+        return self.solution(model, Status.FEASIBLE, t0, res.value, cost)
+
+
+def test_a_nested_isolation_hands_back_its_answer_after_the_request_to_stop(tiny, monkeypatch):
+    monkeypatch.setitem(reg._registered, "nested-late", _NestedLate)
+    row = run_solver_task(SolverTask(tiny, "logical", "nested-late", time_limit=2.0))["row"]
+    assert row["verified_cost"] == row["reference_optimum"], row
+    assert row["wall_s"] > 3.06  # it answered after the request to stop (at 2 s + 1.06 s)
