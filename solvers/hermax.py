@@ -147,7 +147,9 @@ class HermaxBackend(BackendBase):
             return self.solution(model, Status.INFEASIBLE, t0, stats=stats)
         if "lits" not in out:
             stats["message"] = f"solver ended with IPAMIR status {code} and no model"
-            timed_out = self.time_limited and time_limit is not None
+            # no model at the limit (its own, or the request to stop it got): a timeout
+            late = time_limit is not None and time.perf_counter() - t0 >= time_limit
+            timed_out = late or (self.time_limited and time_limit is not None)
             return self.solution(
                 model, Status.TIMEOUT if timed_out else Status.ERROR, t0, stats=stats
             )

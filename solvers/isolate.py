@@ -141,11 +141,14 @@ def _child(
         conn.send(("done", value))
     except MemoryError:
         conn.send(("memout", "an allocation was refused (MemoryError)"))
-    except KeyboardInterrupt:
-        conn.send(("timeout", "stopped at the limit without an answer"))
     except BaseException as e:  # the child reports everything; the parent decides
         tb = traceback.format_exception_only(type(e), e)[-1].strip()
-        conn.send(("error", f"raised {tb}"))
+        if asked or isinstance(e, KeyboardInterrupt):
+            # stopped at the limit: python-sat's C code turns the interrupt into its own
+            # exceptions ("Caught keyboard interrupt") wherever it is, encodings included
+            conn.send(("timeout", f"stopped at the limit without an answer ({tb})"))
+        else:
+            conn.send(("error", f"raised {tb}"))
     finally:
         conn.close()
 
@@ -354,7 +357,7 @@ def run_in_child(
                     answered_at = time.perf_counter() - t0
                 elif msg[0] == "timeout":
                     status = "timeout"
-                    reason = f"no answer within {time_limit:g} s (asked to stop, it gave none)"
+                    reason = f"no answer within {time_limit:g} s: {msg[1]}"
                 else:
                     status, reason = ("memout" if msg[0] == "memout" else "error"), str(msg[1])
                 break

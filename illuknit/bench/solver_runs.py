@@ -18,6 +18,7 @@ another run verified a cheaper assignment or a bound is above a verified cost.
 
 from __future__ import annotations
 
+import contextlib
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -29,7 +30,7 @@ from illuknit.bench.instances import Instance, instance_model
 from illuknit.bench.wcnf_files import read_wcnf, read_wcnf_text
 from illuknit.errors import IlluknitError
 from illuknit.model import Model
-from illuknit.solvers import HERMAX_NAMES, parse_solver_name
+from illuknit.solvers import HERMAX_NAMES, get_backend, parse_solver_name
 from illuknit.solvers.base import ProgressEvent, Status
 from illuknit.solvers.isolate import run_in_child
 
@@ -243,6 +244,8 @@ def run_solver_task(task: SolverTask, content: bytes | None = None) -> dict[str,
     if task.instance is not None:
         row.update(rows=task.instance.size[0], cols=task.instance.size[1])
     row.update(variables=model.pool.top, soft_clauses=model.num_soft, reference_optimum=optimum)
+    with contextlib.suppress(Exception):  # an unknown or broken backend: the run says why
+        row["version"] = get_backend(task.solver, check_available=False).version()
     try:
         why = not_applicable(model, task)
     except IlluknitError as e:
