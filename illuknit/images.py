@@ -15,6 +15,7 @@ Image arrays are float RGB of shape (H, W, 3) in [0, 1], row 0 at the top.
 
 from __future__ import annotations
 
+import math
 import os
 import warnings
 from collections.abc import Sequence
@@ -89,9 +90,18 @@ def check_image(rgb: ArrayLike, *, name: str = "image") -> NDArray[np.float64]:
 
 def units_for_width(*, width_cm: float, gauge: float) -> int:
     """Units across a piece ``width_cm`` wide at ``gauge`` stitches per inch (2 stitches per unit)."""
-    if width_cm <= 0 or gauge <= 0:
-        raise ImageInputError("physical width and gauge must be positive")
-    return max(1, round(width_cm / 2.54 * gauge / 2))
+    if not (math.isfinite(width_cm) and math.isfinite(gauge)) or width_cm <= 0 or gauge <= 0:
+        raise ImageInputError(
+            f"physical width and gauge must be positive finite numbers, got width_cm={width_cm}, "
+            f"gauge={gauge}"
+        )
+    units = width_cm / 2.54 * gauge / 2
+    if not units <= MAX_UNITS:  # also inf
+        raise ImageInputError(
+            f"`width_cm` {width_cm:g} cm at gauge {gauge:g} is {units:.3g} units, above the "
+            f"{MAX_UNITS}-unit limit; ask for a narrower piece"
+        )
+    return max(1, round(units))
 
 
 def resize_to_units(

@@ -284,6 +284,13 @@ def pattern_from_json(doc: Any) -> LogicalPattern:
         raise PatternFormatError(
             f"pattern format version {doc.get('version')!r} is not supported (this illuknit reads version {FORMAT_VERSION})"
         )
+    for key in ("rows", "cols"):
+        v = doc.get(key)
+        if isinstance(v, bool) or not isinstance(v, int) or not 1 <= v <= MAX_UNITS:
+            raise PatternFormatError(
+                f"malformed pattern file: `{key}` must be a whole number from 1 to {MAX_UNITS}, "
+                f"got {v!r}"
+            )
     try:
         n, m = int(doc["rows"]), int(doc["cols"])
         yarns = tuple(Yarn(str(y["name"]), parse_color(str(y["rgb"]))) for y in doc["yarns"])
