@@ -28,6 +28,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from illuknit.arguments import check_path, check_pattern
 from illuknit.colors import color_name, hex_color, luminance, parse_color
 from illuknit.errors import PatternFormatError, PatternValidationError, YarnSpecError
 from illuknit.outputs import atomic_write_text
@@ -448,6 +449,8 @@ def pattern_from_json(doc: Any) -> LogicalPattern:
 
 def save_pattern(pattern: LogicalPattern, path: str | os.PathLike[str]) -> None:
     """Write a pattern as JSON (atomically)."""
+    check_pattern(pattern)
+    check_path(path, "path")
     atomic_write_text(path, json.dumps(pattern_to_json(pattern), indent=1) + "\n")
 
 
@@ -456,6 +459,7 @@ def load_pattern(path: str | os.PathLike[str]) -> LogicalPattern:
 
     Raises :class:`PatternFormatError` for a missing, unreadable, malformed or other-version file.
     """
+    check_path(path, "path")
     from illuknit.documents import read_json_file
 
     return pattern_from_json(read_json_file(path, error=PatternFormatError, what="pattern"))

@@ -18,6 +18,15 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from illuknit.arguments import (
+    check_array,
+    check_instance,
+    check_int,
+    check_mapping,
+    check_number,
+    check_path,
+    check_pattern,
+)
 from illuknit.colors import luminance
 from illuknit.outputs import atomic_write_bytes
 from illuknit.pattern import LogicalPattern
@@ -146,6 +155,18 @@ def write_previews(
     dict of name -> path
     """
     from illuknit.render import RenderParams, render_views
+
+    check_pattern(pattern)
+    check_path(outdir, "outdir")
+    if targets is not None:
+        for key, picture in check_mapping(targets, "targets").items():
+            check_array(picture, f"targets[{key!r}]", ndim=(2, 3))
+    if scale is not None:
+        check_int(scale, "scale", min=1, max=64)
+    if params is not None:
+        check_instance(params, RenderParams, "params")
+    if angle is not None:
+        check_number(angle, "angle", min=0, max=90, min_open=True)
 
     out = Path(outdir)
     s = scale or max(2, unit_scale(pattern.shape))

@@ -23,6 +23,7 @@ from typing import Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from illuknit.arguments import check_array
 from illuknit.errors import ImageInputError, OptionError, PatternValidationError
 from illuknit.pattern import LogicalPattern
 
@@ -45,7 +46,14 @@ VIEWS: tuple[View, ...] = ("A", "B", "headon")
 def _arrays(pattern_or_yarn: LogicalPattern | ArrayLike, raised: ArrayLike | None):
     if isinstance(pattern_or_yarn, LogicalPattern):
         return pattern_or_yarn.yarn, pattern_or_yarn.raised
-    c = np.asarray(pattern_or_yarn)
+    c = check_array(
+        pattern_or_yarn,
+        "pattern_or_yarn",
+        ndim=2,
+        integer=True,
+        what="a LogicalPattern or a 2-D array of yarn indices",
+        error=PatternValidationError,
+    )
     if raised is None:
         raise PatternValidationError("`raised` is required when passing a yarn array")
     r = np.asarray(raised, dtype=bool)
@@ -128,6 +136,8 @@ def logical_error(
 
     ``mask`` (bool, same shape) restricts the comparison to the cells where it is True.
     """
+    check_array(seen, "seen", integer=False)
+    check_array(target, "target", integer=False)
     s, t = np.asarray(seen), np.asarray(target)
     if s.shape != t.shape:
         raise ImageInputError(f"`target` must have shape {s.shape}, got {t.shape}")

@@ -42,8 +42,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from illuknit.arguments import check_instance, check_int, check_yarns, got
 from illuknit.documents import read_text_file
-from illuknit.errors import CalibrationError
+from illuknit.errors import CalibrationError, RenderParamsError
 from illuknit.pattern import LogicalPattern, Yarn, parse_yarns
 from illuknit.render.params import RenderParams
 
@@ -109,6 +110,17 @@ def calibration_swatch(
         ``meta["cells"]`` lists every cell with its sizes and its row and column ranges
         (half-open, picture order) so measurements can be matched to cells.
     """
+    for label, sizes in (("bump_sizes", bump_sizes), ("flat_sizes", flat_sizes)):
+        if isinstance(sizes, (str, bytes)) or not isinstance(sizes, Sequence) or not sizes:
+            raise CalibrationError(
+                f"`{label}` must be a non-empty sequence of whole numbers, got {got(sizes)}"
+            )
+        for v in sizes:
+            check_int(v, f"{label} entries", min=1)
+    check_int(cell_width, "cell_width", min=1)
+    check_int(gap, "gap", min=0)
+    if not isinstance(yarns, str):
+        check_yarns(yarns)
     bumps = _sizes(bump_sizes, "bump_sizes")
     flats = _sizes(flat_sizes, "flat_sizes")
     if isinstance(cell_width, bool) or not isinstance(cell_width, int) or cell_width < 1:
@@ -337,6 +349,17 @@ def fit_bump_height(
         Fewer than two measurements, or all angles equal (they cannot determine a height: the
         angle must fall as the flat runs get longer).
     """
+    if (
+        isinstance(measurements, (str, bytes))
+        or not isinstance(measurements, Sequence)
+        or not all(isinstance(m, Measurement) for m in measurements)
+    ):
+        raise CalibrationError(
+            f"`measurements` must be a sequence of Measurement (see read_measurements), got {got(measurements)}"
+        )
+    if params is not None:
+        check_instance(params, RenderParams, "params", error=RenderParamsError)
+    check_int(skipped, "skipped", min=0)
     params = RenderParams() if params is None else params
     ms = tuple(measurements)
     if len(ms) < 2:

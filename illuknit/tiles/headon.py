@@ -20,7 +20,8 @@ from typing import Any
 
 import numpy as np
 
-from illuknit.errors import TileAssignmentError
+from illuknit.arguments import check_instance, check_int, check_yarns
+from illuknit.errors import TileAssignmentError, TileBankError
 from illuknit.pattern import Yarn
 from illuknit.tiles.assign import _yarns_of, assign_tiles
 from illuknit.tiles.assignment import TileAssignment, regions_of
@@ -79,6 +80,11 @@ def assign_headon(
         With ``views == ("headon", "side")``; compile them with
         :func:`~illuknit.tiles.compile.compile_tiles`.
     """
+    if bank is not None:
+        check_instance(bank, TileBank, "bank", error=TileBankError)
+    if yarns is not None:
+        check_yarns(yarns)
+    check_int(candidates, "candidates", min=1)
     if "views" in options:
         raise TileAssignmentError("assign_headon fixes `views` to ('headon', 'side')")
     if side is None:
