@@ -76,9 +76,13 @@ def check_instance(
     bool_ok = any(issubclass(bool, c) and c is not int for c in classes) or bool in classes
     if not isinstance(value, cls) or (isinstance(value, bool) and not bool_ok):
         if what is None:
-            what = " or ".join(f"a {c.__name__}" for c in classes)
+            what = " or ".join(f"{_article(c.__name__)} {c.__name__}" for c in classes)
         raise error(f"`{name}` must be {what}, got {got(value)}")
     return value  # type: ignore[return-value]
+
+
+def _article(word: str) -> str:
+    return "an" if word[:1].lower() in "aeiou" else "a"
 
 
 def check_bool(value: object, name: str) -> bool:
@@ -202,8 +206,8 @@ def check_array(
         arr = arr.astype(np.uint8)
     if arr.dtype.kind not in "iuf":
         raise error(f"`{name}` must be {what}, got {got(value)} (dtype {arr.dtype})")
-    dims = (ndim,) if isinstance(ndim, int) else ndim
-    if dims is not None and arr.ndim not in dims:
+    wanted = (ndim,) if isinstance(ndim, int) else ndim
+    if wanted is not None and arr.ndim not in wanted:
         raise error(f"`{name}` must be {what}, got shape {arr.shape}")
     if arr.size == 0:
         raise error(f"`{name}` must not be empty, got shape {arr.shape}")

@@ -28,7 +28,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from illuknit.arguments import check_path, check_pattern
+from illuknit.arguments import check_path, check_pattern, got
 from illuknit.colors import color_name, hex_color, luminance, parse_color
 from illuknit.errors import PatternFormatError, PatternValidationError, YarnSpecError
 from illuknit.outputs import atomic_write_text
@@ -110,17 +110,17 @@ class Yarn:
         object.__setattr__(self, "name", name)
         if isinstance(self.rgb, (str, bytes)) or not hasattr(self.rgb, "__len__"):
             raise YarnSpecError(
-                f"yarn {name!r}: rgb must be 3 integers in 0..255, got {self.rgb!r}"
+                f"yarn {name!r}: `rgb` must be 3 integers in 0..255, got {self.rgb!r}"
             )
         try:
             rgb = tuple(int(v) for v in self.rgb)
         except (TypeError, ValueError):
             raise YarnSpecError(
-                f"yarn {name!r}: rgb must be 3 integers in 0..255, got {self.rgb!r}"
+                f"yarn {name!r}: `rgb` must be 3 integers in 0..255, got {self.rgb!r}"
             ) from None
         if len(rgb) != 3 or any(v < 0 or v > 255 for v in rgb):
             raise YarnSpecError(
-                f"yarn {self.name!r}: rgb must be 3 integers in 0..255, got {self.rgb!r}"
+                f"yarn {self.name!r}: `rgb` must be 3 integers in 0..255, got {self.rgb!r}"
             )
         object.__setattr__(self, "rgb", rgb)
 
@@ -153,7 +153,7 @@ def parse_yarns(spec: str | Sequence[str]) -> tuple[Yarn, ...]:
         raw = list(spec)
     else:
         raise YarnSpecError(
-            f"`spec` must be a comma-separated string or a sequence of strings, got {spec!r}"[:200]
+            f"`spec` must be a comma-separated string or a sequence of strings, got {got(spec)}"
         )
     items = [s.strip() for s in raw if s.strip()]
     if not items:
@@ -291,6 +291,10 @@ class LogicalPattern:
             if not np.all(np.isin(raised, (0, 1))):
                 raise PatternValidationError("`raised` must hold booleans (or 0/1)")
             raised = raised.astype(bool)
+        if isinstance(self.yarns, (str, bytes)) or not isinstance(self.yarns, Sequence):
+            raise PatternValidationError(
+                f"`yarns` must be a non-empty sequence of Yarn, got {type(self.yarns).__name__}"
+            )
         yarns = tuple(self.yarns)
         if not yarns or not all(isinstance(y, Yarn) for y in yarns):
             raise PatternValidationError("`yarns` must be a non-empty sequence of Yarn")

@@ -45,7 +45,7 @@ from numpy.typing import NDArray
 from illuknit.arguments import check_instance, check_int, check_yarns, got
 from illuknit.documents import read_text_file
 from illuknit.errors import CalibrationError, RenderParamsError
-from illuknit.pattern import LogicalPattern, Yarn, parse_yarns
+from illuknit.pattern import MAX_UNITS, LogicalPattern, Yarn, parse_yarns
 from illuknit.render.params import RenderParams
 
 __all__ = [
@@ -133,6 +133,11 @@ def calibration_swatch(
     band_h = [2 * n + max(flats) for n in bumps]
     rows = gap + sum(h + gap for h in band_h)
     cols = gap + len(flats) * (cell_width + gap)
+    if max(rows, cols) > MAX_UNITS:
+        raise CalibrationError(
+            f"the swatch would be {rows} x {cols} units, above the {MAX_UNITS}-unit limit; "
+            "use fewer or smaller cells"
+        )
     yarn = np.zeros((rows, cols), dtype=np.int16)
     raised = np.zeros((rows, cols), dtype=bool)
     cells = []
