@@ -3,9 +3,10 @@
 Each check names the parameter and says what was expected and what came, as scikit-image's
 ``check_nD`` does: "`steps` must be a whole number >= 1, got 'ten' (str)". Code behind an entry
 point trusts what passed. Each raises the :mod:`illuknit.errors` class of its kind:
-:class:`~illuknit.errors.OptionError` for options, :class:`~illuknit.errors.PatternValidationError`
-for patterns, :class:`~illuknit.errors.ImageInputError` for pictures and targets,
-:class:`~illuknit.errors.YarnSpecError` for yarns.
+:class:`~illuknit.errors.OptionError` for options, :class:`~illuknit.errors.ImageInputError` for
+pictures and targets, or the class a caller names. Patterns and yarns are checked by
+:func:`illuknit.pattern.check_pattern` and :func:`illuknit.pattern.check_yarns`, beside their
+classes.
 """
 
 from __future__ import annotations
@@ -13,7 +14,7 @@ from __future__ import annotations
 import math
 import numbers
 import os
-from collections.abc import Mapping, Sequence
+from collections.abc import Mapping
 from pathlib import Path
 from typing import Any, TypeVar
 
@@ -24,8 +25,6 @@ from illuknit.errors import (
     IlluknitError,
     ImageInputError,
     OptionError,
-    PatternValidationError,
-    YarnSpecError,
 )
 
 __all__ = [
@@ -36,10 +35,8 @@ __all__ = [
     "check_mapping",
     "check_number",
     "check_path",
-    "check_pattern",
     "check_str",
     "check_views",
-    "check_yarns",
     "got",
 ]
 
@@ -92,14 +89,14 @@ def check_bool(value: object, name: str) -> bool:
     return bool(value)
 
 
-def check_pattern(value: object, name: str = "pattern") -> Any:
-    """A :class:`~illuknit.pattern.LogicalPattern`."""
-    from illuknit.pattern import LogicalPattern
-
-    return check_instance(value, LogicalPattern, name, error=PatternValidationError)
-
-
-def check_int(value: object, name: str, *, min: int | None = None, max: int | None = None) -> int:
+def check_int(
+    value: object,
+    name: str,
+    *,
+    min: int | None = None,
+    max: int | None = None,
+    error: type[IlluknitError] = OptionError,
+) -> int:
     """A whole number (an ``int``, a numpy integer or an integral float) within [min, max]."""
     ok = isinstance(value, numbers.Integral) and not isinstance(value, bool)
     if not ok and isinstance(value, (float, np.floating)) and math.isfinite(value):
@@ -107,7 +104,7 @@ def check_int(value: object, name: str, *, min: int | None = None, max: int | No
     if ok and (min is None or value >= min) and (max is None or value <= max):  # type: ignore[operator]
         return int(value)  # type: ignore[call-overload]
     bounds = _bounds(min, max)
-    raise OptionError(f"`{name}` must be a whole number{bounds}, got {got(value)}")
+    raise error(f"`{name}` must be a whole number{bounds}, got {got(value)}")
 
 
 def check_number(
@@ -117,6 +114,7 @@ def check_number(
     min: float | None = None,
     max: float | None = None,
     min_open: bool = False,
+    error: type[IlluknitError] = OptionError,
 ) -> float:
     """A finite real number within [min, max] (``(min, max]`` with ``min_open``)."""
     if isinstance(value, numbers.Real) and not isinstance(value, bool):
@@ -128,7 +126,7 @@ def check_number(
         ):
             return v
     bounds = _bounds(min, max, min_open=min_open)
-    raise OptionError(f"`{name}` must be a finite number{bounds}, got {got(value)}")
+    raise error(f"`{name}` must be a finite number{bounds}, got {got(value)}")
 
 
 def _bounds(lo: float | None, hi: float | None, *, min_open: bool = False) -> str:
@@ -147,7 +145,9 @@ def check_str(value: object, name: str) -> str:
     return value
 
 
-def check_views(value: object, name: str = "views") -> tuple[str, str]:
+def check_views(
+    value: object, name: str = "views", *, error: type[IlluknitError] = OptionError
+) -> tuple[str, str]:
     """A pair of view names, e.g. ``("A", "B")``."""
     if (
         isinstance(value, (tuple, list))
@@ -155,30 +155,13 @@ def check_views(value: object, name: str = "views") -> tuple[str, str]:
         and all(isinstance(v, str) for v in value)
     ):
         return (value[0], value[1])
-    raise OptionError(f"`{name}` must be a pair of view names like ('A', 'B'), got {got(value)}")
+    raise error(f"`{name}` must be a pair of view names like ('A', 'B'), got {got(value)}")
 
 
 def check_mapping(value: object, name: str) -> Mapping[Any, Any]:
     if not isinstance(value, Mapping):
         raise OptionError(f"`{name}` must be a mapping (a dict), got {got(value)}")
     return value
-
-
-def check_yarns(value: object, name: str = "yarns") -> tuple[Any, ...]:
-    """A non-empty sequence of :class:`~illuknit.pattern.Yarn`."""
-    from illuknit.pattern import Yarn
-
-    if (
-        isinstance(value, Sequence)
-        and not isinstance(value, (str, bytes))
-        and len(value) > 0
-        and all(isinstance(y, Yarn) for y in value)
-    ):
-        return tuple(value)
-    raise YarnSpecError(
-        f"`{name}` must be a non-empty sequence of Yarn (see illuknit.parse_yarns), "
-        f"got {got(value)}"
-    )
 
 
 def check_array(

@@ -21,8 +21,8 @@ from itertools import groupby
 import numpy as np
 from numpy.typing import NDArray
 
-from illuknit.arguments import check_pattern, check_str
-from illuknit.pattern import LogicalPattern
+from illuknit.arguments import check_str
+from illuknit.pattern import LogicalPattern, check_pattern
 
 __all__ = ["HandRow", "chart_key", "chart_png_rgb", "hand_rows", "written_instructions"]
 

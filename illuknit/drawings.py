@@ -134,9 +134,9 @@ def draw_text(
     ((10, 12), True, False)
     """
     check_str(text, "text")
-    margin = check_number(margin, "margin", min=0, max=0.49)
+    margin = check_number(margin, "margin", min=0, max=0.49, error=ImageInputError)
     check_bool(keep_aspect, "keep_aspect")
-    weight = check_number(weight, "weight", min=0, max=1)
+    weight = check_number(weight, "weight", min=0, max=1, error=ImageInputError)
     from PIL import Image, ImageDraw, ImageFont
 
     rows, cols = _check_shape(shape, minimum=3)

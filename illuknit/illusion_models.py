@@ -59,7 +59,6 @@ from illuknit.arguments import (
     check_int,
     check_number,
     check_str,
-    check_yarns,
 )
 from illuknit.errors import InfeasibleError, SolverError, UnknownNameError, YarnSpecError
 from illuknit.illusion_problem import (
@@ -79,7 +78,7 @@ from illuknit.illusion_report import (
     report_pattern,
 )
 from illuknit.model import Model
-from illuknit.pattern import Yarn
+from illuknit.pattern import Yarn, check_yarns
 from illuknit.solvers import solve
 from illuknit.solvers.base import ProgressCallback, Solution
 

@@ -10,10 +10,10 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from illuknit.arguments import check_instance, check_mapping, check_pattern, check_yarns
+from illuknit.arguments import check_instance, check_mapping
 from illuknit.errors import SolverError, YarnSpecError
 from illuknit.illusion_problem import IllusionProblem, pass_events, row_passes
-from illuknit.pattern import LogicalPattern, Yarn
+from illuknit.pattern import LogicalPattern, Yarn, check_pattern, check_yarns
 from illuknit.solvers.base import Solution
 from illuknit.views import can_see, logical_error
 

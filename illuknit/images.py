@@ -26,10 +26,10 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from illuknit.arguments import check_array, check_int, check_number, check_path, check_yarns, got
+from illuknit.arguments import check_array, check_int, check_number, check_path, got
 from illuknit.colors import color_name, hex_color, lab_from_rgb, luminance
 from illuknit.errors import ImageInputError
-from illuknit.pattern import MAX_UNITS, MAX_YARNS, Yarn
+from illuknit.pattern import MAX_UNITS, MAX_YARNS, Yarn, check_yarns
 from illuknit.pictures import DECODE_MAX_SIDE, MAX_PIXELS, PictureNote, read_picture
 
 __all__ = [
@@ -143,7 +143,7 @@ def resize_to_units(
             isinstance(v, numbers.Integral) and not isinstance(v, bool) and 1 <= v <= MAX_UNITS
         ):
             raise ImageInputError(
-                f"`{label}` must be a whole number of units from 1 to {MAX_UNITS}, got {got(v)}"
+                f"`{label}` must be a whole number of units between 1 and {MAX_UNITS}, got {got(v)}"
             )
     unit_aspect = check_number(unit_aspect, "unit_aspect", min=0, min_open=True)
     if width is None and height is None:

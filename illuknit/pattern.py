@@ -28,7 +28,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from illuknit.arguments import check_path, check_pattern, got
+from illuknit.arguments import check_path, got
 from illuknit.colors import color_name, hex_color, luminance, parse_color
 from illuknit.errors import PatternFormatError, PatternValidationError, YarnSpecError
 from illuknit.outputs import atomic_write_text
@@ -41,6 +41,8 @@ __all__ = [
     "LogicalPattern",
     "Yarn",
     "YarnNote",
+    "check_pattern",
+    "check_yarns",
     "clean_yarn_name",
     "load_pattern",
     "parse_yarns",
@@ -136,6 +138,30 @@ class Yarn:
             s = text.strip()
             name = s if not s.startswith(("#", "rgb")) else color_name(rgb)
         return cls(name=name, rgb=rgb)
+
+
+def check_pattern(value: object, name: str = "pattern") -> LogicalPattern:
+    """``value`` when it is a :class:`LogicalPattern`, else :class:`PatternValidationError`
+    naming the parameter."""
+    if not isinstance(value, LogicalPattern):
+        raise PatternValidationError(f"`{name}` must be a LogicalPattern, got {got(value)}")
+    return value
+
+
+def check_yarns(value: object, name: str = "yarns") -> tuple[Yarn, ...]:
+    """``value`` as a tuple when it is a non-empty sequence of :class:`Yarn`, else
+    :class:`YarnSpecError` naming the parameter."""
+    if (
+        isinstance(value, Sequence)
+        and not isinstance(value, (str, bytes))
+        and len(value) > 0
+        and all(isinstance(y, Yarn) for y in value)
+    ):
+        return tuple(value)
+    raise YarnSpecError(
+        f"`{name}` must be a non-empty sequence of Yarn (see illuknit.parse_yarns), "
+        f"got {got(value)}"
+    )
 
 
 def parse_yarns(spec: str | Sequence[str]) -> tuple[Yarn, ...]:

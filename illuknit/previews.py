@@ -25,11 +25,10 @@ from illuknit.arguments import (
     check_mapping,
     check_number,
     check_path,
-    check_pattern,
 )
 from illuknit.colors import luminance
 from illuknit.outputs import atomic_write_bytes
-from illuknit.pattern import LogicalPattern
+from illuknit.pattern import LogicalPattern, check_pattern
 from illuknit.views import View, can_see
 
 __all__ = [

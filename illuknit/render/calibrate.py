@@ -42,10 +42,10 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from illuknit.arguments import check_instance, check_int, check_yarns, got
+from illuknit.arguments import check_instance, check_int, got
 from illuknit.documents import read_text_file
 from illuknit.errors import CalibrationError, RenderParamsError
-from illuknit.pattern import MAX_UNITS, LogicalPattern, Yarn, parse_yarns
+from illuknit.pattern import MAX_UNITS, LogicalPattern, Yarn, check_yarns, parse_yarns
 from illuknit.render.params import RenderParams
 
 __all__ = [
@@ -116,9 +116,9 @@ def calibration_swatch(
                 f"`{label}` must be a non-empty sequence of whole numbers, got {got(sizes)}"
             )
         for v in sizes:
-            check_int(v, f"{label} entries", min=1)
-    check_int(cell_width, "cell_width", min=1)
-    check_int(gap, "gap", min=0)
+            check_int(v, f"{label} entries", min=1, error=CalibrationError)
+    check_int(cell_width, "cell_width", min=1, error=CalibrationError)
+    check_int(gap, "gap", min=1, error=CalibrationError)
     if not isinstance(yarns, str):
         check_yarns(yarns)
     bumps = _sizes(bump_sizes, "bump_sizes")

@@ -36,10 +36,10 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from illuknit.arguments import check_instance, check_int, check_number, check_str, check_yarns
+from illuknit.arguments import check_instance, check_int, check_number, check_str
 from illuknit.colors import lab_from_rgb, linear_from_srgb
 from illuknit.errors import ImageInputError, OptionError, RenderParamsError, YarnSpecError
-from illuknit.pattern import LogicalPattern, Yarn
+from illuknit.pattern import LogicalPattern, Yarn, check_yarns
 from illuknit.render.grad import render_value_and_grad
 from illuknit.render.params import RenderParams
 from illuknit.views import View, can_see, logical_error

@@ -48,10 +48,10 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from illuknit.arguments import check_instance, check_int, check_pattern
+from illuknit.arguments import check_instance, check_int
 from illuknit.colors import linear_from_srgb, srgb_from_linear
 from illuknit.errors import OptionError, PatternValidationError, RenderParamsError
-from illuknit.pattern import LogicalPattern
+from illuknit.pattern import LogicalPattern, check_pattern
 from illuknit.render.params import RenderParams, check_angle
 from illuknit.views import VIEWS, View
 

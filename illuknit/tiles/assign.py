@@ -25,10 +25,9 @@ from illuknit.arguments import (
     check_number,
     check_str,
     check_views,
-    check_yarns,
 )
 from illuknit.errors import ImageInputError, TileAssignmentError, TileBankError
-from illuknit.pattern import Yarn
+from illuknit.pattern import Yarn, check_yarns
 from illuknit.tiles.assign_model import _build_problem, _cost, _encode, _make_assignment, _Problem
 from illuknit.tiles.assignment import (
     SCALE,
@@ -131,11 +130,11 @@ def assign_tiles(
         check_instance(bank, TileBank, "bank", error=TileBankError)
     if yarns is not None:
         check_yarns(yarns)
-    check_int(candidates, "candidates", min=1)
+    check_int(candidates, "candidates", min=1, error=TileAssignmentError)
     if pool is not None:
-        check_int(pool, "pool", min=1)
+        check_int(pool, "pool", min=1, error=TileAssignmentError)
     if pool_seconds is not None:
-        check_number(pool_seconds, "pool_seconds", min=0, min_open=True)
+        check_number(pool_seconds, "pool_seconds", min=0, error=TileAssignmentError)
     check_str(brightness, "brightness")
     check_str(solver, "solver")
     if time_limit is not None:

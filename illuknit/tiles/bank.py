@@ -34,11 +34,11 @@ from typing import Any
 
 import numpy as np
 
-from illuknit.arguments import check_bool, check_int, check_path, check_views, check_yarns
+from illuknit.arguments import check_bool, check_int, check_path, check_views
 from illuknit.colors import parse_color
 from illuknit.errors import TileBankError, YarnSpecError
 from illuknit.outputs import atomic_write_text
-from illuknit.pattern import Yarn
+from illuknit.pattern import Yarn, check_yarns
 from illuknit.tiles.tile import (
     FILL_VIEWS,
     MAX_FILL_COLORS,
@@ -208,8 +208,8 @@ def canonical_bank(
         fewest bumps.
     """
     check_yarns(yarns)
-    check_int(max_height, "max_height", min=1, max=6)
-    check_views(views)
+    check_int(max_height, "max_height", min=1, max=6, error=TileBankError)
+    check_views(views, error=TileBankError)
     check_bool(one_sided_stripes, "one_sided_stripes")
     ys = _check_yarns(yarns)
     if not isinstance(max_height, int) or not 1 <= max_height <= 6:

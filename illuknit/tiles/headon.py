@@ -20,9 +20,9 @@ from typing import Any
 
 import numpy as np
 
-from illuknit.arguments import check_instance, check_int, check_yarns
+from illuknit.arguments import check_instance, check_int
 from illuknit.errors import TileAssignmentError, TileBankError
-from illuknit.pattern import Yarn
+from illuknit.pattern import Yarn, check_yarns
 from illuknit.tiles.assign import _yarns_of, assign_tiles
 from illuknit.tiles.assignment import TileAssignment, regions_of
 from illuknit.tiles.bank import TileBank, ViewPair, canonical_bank
@@ -84,7 +84,7 @@ def assign_headon(
         check_instance(bank, TileBank, "bank", error=TileBankError)
     if yarns is not None:
         check_yarns(yarns)
-    check_int(candidates, "candidates", min=1)
+    check_int(candidates, "candidates", min=1, error=TileAssignmentError)
     if "views" in options:
         raise TileAssignmentError("assign_headon fixes `views` to ('headon', 'side')")
     if side is None:
