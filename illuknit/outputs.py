@@ -263,11 +263,20 @@ def write_output_file(path: str | os.PathLike[str], data: bytes) -> str:
     """
     if os.fspath(path) != STDOUT:
         return str(atomic_write_bytes(path, data))
-    if sys.stdout is None:
+    out = sys.stdout
+    if out is None:
         raise OutputPathError("cannot write to standard output: it is closed")
-    sys.stdout.flush()
-    sys.stdout.buffer.write(data)
-    sys.stdout.flush()
+    buffer = getattr(out, "buffer", None)
+    try:
+        if buffer is None:  # a text-only stand-in
+            out.write(data.decode("utf-8", "surrogateescape"))
+            out.flush()
+        else:
+            out.flush()
+            buffer.write(data)
+            buffer.flush()
+    except OSError as exc:
+        raise OutputPathError(f"cannot write to standard output: {_reason(exc)}") from exc
     return "standard output"
 
 

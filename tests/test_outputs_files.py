@@ -372,3 +372,30 @@ def test_a_really_full_disk_is_one_line_and_keeps_the_old_files(tmp_path, patter
     assert out.count("old") == 2  # both old files kept
     listing = out[out.index("old") + 2 :]
     assert not [n for n in listing if n.startswith(".")], listing  # no temporary files left
+
+
+def test_a_closed_standard_output_is_one_line(tmp_path, pattern_file):
+    def close_stdout() -> None:
+        os.close(1)
+
+    env = dict(os.environ, PYTHONPATH=str(ROOT))
+    runs = {
+        "tiles": ["tiles"],
+        "view": ["view", pattern_file, "-o", tmp_path / "v"],
+        "knit": ["knit", pattern_file, "-o", "-"],
+    }
+    codes = {}
+    for name, args in runs.items():
+        r = subprocess.run(
+            [sys.executable, "-m", "illuknit", *map(str, args)],
+            env=env,
+            stderr=subprocess.PIPE,
+            text=True,
+            timeout=120,
+            preexec_fn=close_stdout,
+        )
+        assert "standard output" in _err_line(r), r.stderr
+        codes[name] = r.returncode
+    # Nothing was printed or written for tiles and knit -o -; view's files were committed.
+    assert codes == {"tiles": 2, "view": 3, "knit": 2}
+    assert (tmp_path / "v" / "pattern.json").exists()

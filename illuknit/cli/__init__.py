@@ -13,6 +13,7 @@ error line names what was written; 130 interrupted.
 
 from __future__ import annotations
 
+import errno
 import importlib
 import io
 import os
@@ -176,12 +177,35 @@ class _GuardedStdout(io.TextIOWrapper):
             raise _StdoutFailed() from exc
 
 
+class _ClosedStdout(io.TextIOBase):
+    """Stands in for a closed standard output, so that printing fails once, clearly, instead of
+    vanishing (Python sets ``sys.stdout`` to None then, and click and rich print nothing)."""
+
+    encoding = "utf-8"
+
+    def isatty(self) -> bool:
+        return False
+
+    def writable(self) -> bool:
+        return True
+
+    def write(self, s: str) -> int:
+        raise _StdoutFailed() from OSError(errno.EBADF, "it is closed")
+
+
 @contextmanager
 def _guarded_stdout() -> Iterator[None]:
     """Route the process's real standard output through :class:`_GuardedStdout` (left alone when
     a caller, e.g. a test, has replaced ``sys.stdout``); flush it at the end, inside the guard."""
     real = sys.stdout
-    if real is None or real is not sys.__stdout__ or not isinstance(real, io.TextIOWrapper):
+    if real is None and sys.__stdout__ is None:  # file descriptor 1 closed (`>&-`)
+        sys.stdout = _ClosedStdout()
+        try:
+            yield
+        finally:
+            sys.stdout = None
+        return
+    if real is not sys.__stdout__ or not isinstance(real, io.TextIOWrapper):
         yield
         return
     try:
