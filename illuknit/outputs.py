@@ -92,6 +92,7 @@ from illuknit.errors import OutputPathError
 
 __all__ = [
     "KILL_AT_COMMIT_STEP_ENV",
+    "STDOUT",
     "OutputRecoveryWarning",
     "atomic_write_bytes",
     "atomic_write_text",

@@ -399,3 +399,11 @@ def test_a_closed_standard_output_is_one_line(tmp_path, pattern_file):
     # Nothing was printed or written for tiles and knit -o -; view's files were committed.
     assert codes == {"tiles": 2, "view": 3, "knit": 2}
     assert (tmp_path / "v" / "pattern.json").exists()
+
+
+def test_calibrate_fit_to_standard_output(tmp_path, run_cli):
+    csv = tmp_path / "m.csv"
+    csv.write_text("flat_rows,bump_rows,angle_deg,note\n1,1,40.0,\n2,1,22.8,\n3,1,15.6,\n")
+    r = run_cli(["calibrate", "fit", csv, "-o", "-"])
+    assert r.code == 0, r.err
+    assert json.loads(r.out)["bump_height"] > 0 and "fitted bump height" in r.err
