@@ -52,14 +52,14 @@ def _valid_calls(tmp: Path) -> dict[str, tuple[tuple[Any, ...], dict[str, Any]]]
     bank = illuknit.canonical_bank(yarns)
     problem = illuknit.build_model.__globals__["make_problem"](target, target, n_yarns=2)
     params_file = tmp / "params.json"
-    from illuknit.render.params import save_params
+    from illuknit.design.render.params import save_params
 
     save_params(illuknit.RenderParams(), params_file)
     bank_file = tmp / "bank.json"
-    from illuknit.tiles.bank import save_bank
+    from illuknit.design.tiles.bank import save_bank
 
     save_bank(bank, bank_file)
-    from illuknit.render.calibrate import Measurement
+    from illuknit.design.render.calibrate import Measurement
 
     ms = [Measurement(2, 40.0, 1, "A", "", 1), Measurement(3, 30.0, 1, "A", "", 2)]
     qa = illuknit.quantise_image(np.tile(rgb[:, :1], (1, 6, 1)), yarns=yarns)

@@ -20,9 +20,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from illuknit.errors import OutputPathError, PatternFormatError
-from illuknit.outputs import atomic_write_bytes, recover_output_dir, staged_dir
-from illuknit.pattern import LogicalPattern, Yarn, load_pattern, save_pattern
+from illuknit.core.errors import OutputPathError, PatternFormatError
+from illuknit.core.files import atomic_write_bytes, recover_output_dir, staged_dir
+from illuknit.core.pattern import LogicalPattern, Yarn, load_pattern, save_pattern
 
 ROOT = Path(__file__).resolve().parent.parent
 

@@ -1,4 +1,4 @@
-"""A folder commit survives ``kill -9`` at any moment (illuknit.outputs, the journal).
+"""A folder commit survives ``kill -9`` at any moment (illuknit.core.files, the journal).
 
 A real ``python -m illuknit view`` writes a new design into a folder that holds an earlier run's
 design and the user's own files, and is killed with SIGKILL: at 30 random moments of its run, and
@@ -28,8 +28,8 @@ import numpy as np
 import pytest
 
 from illuknit.cli import main
-from illuknit.outputs import KILL_AT_COMMIT_STEP_ENV, recover_output_dir
-from illuknit.pattern import LogicalPattern, Yarn, save_pattern
+from illuknit.core.files import KILL_AT_COMMIT_STEP_ENV, recover_output_dir
+from illuknit.core.pattern import LogicalPattern, Yarn, save_pattern
 
 ROOT = Path(__file__).resolve().parent.parent
 RANDOM_KILLS = 30

@@ -14,8 +14,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from skimage.color import deltaE_ciede2000, rgb2lab
 
-from illuknit.colors import hex_color
-from illuknit.pattern import (
+from illuknit.core.colors import hex_color
+from illuknit.core.pattern import (
     JUST_NOTICEABLE_DE,
     Yarn,
     YarnNote,
@@ -80,7 +80,7 @@ def test_control_characters_are_removed_and_told(raw):
 
 
 def test_a_pattern_file_with_control_characters_in_a_name(tmp_path):
-    from illuknit.pattern import LogicalPattern
+    from illuknit.core.pattern import LogicalPattern
 
     p = LogicalPattern(np.zeros((2, 2), int), np.zeros((2, 2), bool), (Yarn("ok", (0, 0, 0)),))
     doc = pattern_to_json(p)

@@ -25,7 +25,7 @@ from contextlib import contextmanager, suppress
 import click
 
 from illuknit import __version__
-from illuknit.errors import IlluknitError
+from illuknit.core.errors import IlluknitError
 
 __all__ = ["COMMANDS", "EXIT_STDOUT_FAILED", "cli", "main"]
 
@@ -112,7 +112,7 @@ def main(argv: list[str] | None = None) -> int:
     something blocking is found) to exit with it; standard output that cannot be written is one
     line and exit code 2, or :data:`EXIT_STDOUT_FAILED` (3) when the outputs were already written.
     """
-    from illuknit.outputs import recording_writes
+    from illuknit.core.files import recording_writes
 
     with recording_writes() as written:
         try:
@@ -246,9 +246,9 @@ def _show_note(
     message: Warning | str, category: type[Warning], *args: object, **kw: object
 ) -> None:
     """Warnings meant for the user as one line: ``warning:`` for long floats kept on request
-    (:class:`~illuknit.knit.pipeline.LongFloatWarning`), ``note:`` for the rest (e.g. a picture's first
+    (:class:`~illuknit.knitting.pipeline.LongFloatWarning`), ``note:`` for the rest (e.g. a picture's first
     frame used)."""
-    from illuknit.knit.pipeline import LongFloatWarning
+    from illuknit.knitting.pipeline import LongFloatWarning
 
     kind = "warning" if issubclass(category, LongFloatWarning) else "note"
     click.echo(f"illuknit: {kind}: {_one_line(str(message))}", err=True)
