@@ -489,6 +489,7 @@ def load_pattern(path: str | os.PathLike[str]) -> LogicalPattern:
 
     Raises :class:`PatternFormatError` for a missing, unreadable, malformed or other-version file.
     """
+    check_path(path, "path")
     from illuknit.core.documents import read_json_file
 
     return pattern_from_json(read_json_file(path, error=PatternFormatError, what="pattern"))

@@ -34,7 +34,7 @@ from typing import Any
 
 import numpy as np
 
-from illuknit.core.arguments import check_bool, check_int, check_views
+from illuknit.core.arguments import check_bool, check_int, check_path, check_views
 from illuknit.core.colors import parse_color
 from illuknit.core.errors import TileBankError, YarnSpecError
 from illuknit.core.files import atomic_write_text
@@ -402,6 +402,9 @@ def save_bank(bank: TileBank, path: str | os.PathLike[str]) -> None:
 
 def load_bank(path: str | os.PathLike[str], *, yarns: Sequence[Yarn] | None = None) -> TileBank:
     """Read a bank file; raises :class:`TileBankError` when it is missing, malformed or wrong."""
+    check_path(path, "path")
+    if yarns is not None:
+        check_yarns(yarns)
     from illuknit.core.documents import read_json_file
 
     doc = read_json_file(path, error=TileBankError, what="tile bank")
