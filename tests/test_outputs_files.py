@@ -303,7 +303,7 @@ def _err_line(r: subprocess.CompletedProcess[str]) -> str:
     return lines[0]
 
 
-def test_a_full_standard_output_is_one_line(tmp_path, pattern_file):
+def test_a_full_standard_output_is_one_line(tmp_path, pattern_file, picture):
     full = tmp_path / "full"
     if not _mknod(full, 7):
         pytest.skip("cannot make a device node here (needs root)")
@@ -315,6 +315,16 @@ def test_a_full_standard_output_is_one_line(tmp_path, pattern_file):
     # The files were committed before the summary was printed: exit 3, and the line says so.
     assert r.returncode == 3 and "written all the same" in _err_line(r)
     assert (tmp_path / "v" / "pattern.json").exists()
+    with open(full, "w") as out:
+        r = _illuknit(["single", picture, "-o", tmp_path / "s"], stdout=out)
+    assert r.returncode == 3 and "written all the same" in _err_line(r)
+    assert (tmp_path / "s" / "pattern.json").exists()
+    # With --knitout the program's summary is printed while the folder is still being written:
+    # the failure comes first, so nothing is committed and it is exit code 2.
+    with open(full, "w") as out:
+        r = _illuknit(["single", picture, "--knitout", "-o", tmp_path / "k"], stdout=out)
+    assert r.returncode == 2 and "standard output" in _err_line(r)
+    assert not (tmp_path / "k").exists()
     assert stat.S_ISCHR(os.stat(full).st_mode)
 
 

@@ -152,9 +152,13 @@ def recording_writes() -> Iterator[list[Path]]:
         _written.reset(token)
 
 
+def _in_staging(path: Path) -> bool:
+    return any(p.startswith(_STAGING_PREFIX) for p in path.parent.parts)
+
+
 def _record(path: Path) -> None:
     log = _written.get()
-    if log is not None and not any(p.startswith(_STAGING_PREFIX) for p in path.parent.parts):
+    if log is not None and not _in_staging(path):
         log.append(path)
 
 
@@ -231,7 +235,8 @@ def atomic_write_bytes(path: str | os.PathLike[str], data: bytes) -> Path:
         with os.fdopen(fd, "wb") as f:
             f.write(data)
             f.flush()
-            os.fsync(f.fileno())
+            if not _in_staging(target):  # a folder commit syncs its staging folder once
+                os.fsync(f.fileno())
         os.chmod(tmp, stat.S_IMODE(existing.st_mode) if existing else 0o666 & ~_umask())
         _existing_regular(path, target)  # again, just before the rename
         os.replace(tmp, target)
