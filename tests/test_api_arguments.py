@@ -163,6 +163,15 @@ def _plain_errors(fn_name: str, fn: Any, args, kwargs, values, params=None) -> l
     return bad
 
 
+@pytest.fixture(scope="module", autouse=True)
+def _inside_a_scratch_folder(tmp_path_factory):
+    """Bad values are also used as paths (``save_pattern(p, "nonsense")`` is a valid call that
+    writes a file): run every call inside a scratch folder so none lands in the checkout."""
+    with pytest.MonkeyPatch.context() as mp:
+        mp.chdir(tmp_path_factory.mktemp("cwd"))
+        yield
+
+
 @pytest.fixture(scope="module")
 def valid(tmp_path_factory):
     return _valid_calls(tmp_path_factory.mktemp("api"))
