@@ -19,7 +19,7 @@ import os
 import time
 
 from illuknit.bench.instances import Instance, instance_model
-from illuknit.pattern import parse_yarns
+from illuknit.core.pattern import parse_yarns
 from illuknit.solvers import solve
 from illuknit.solvers.dp import solve_dp
 from illuknit.solvers.lagrangian import additive_bound

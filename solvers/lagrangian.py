@@ -5,7 +5,7 @@ The per-wale DP (:mod:`illuknit.solvers.dp`) bounds model (b) by dropping every 
 couples the wales -- colour changes and the machine passes, which make up about a third of the
 objective on photo pairs -- so its bound is weak there. The passes of unit row ``i`` are
 ``2 S + b (S + 1)`` with ``S`` the row's carrier segments (yarns used plus extra carriers) and
-``b`` whether the row has a bump (:func:`illuknit.illusion_problem.row_passes`). Cut the row into
+``b`` whether the row has a bump (:func:`illuknit.design.models.illusion_problem.row_passes`). Cut the row into
 blocks of ``float_gap + 1`` units: a yarn used in two blocks with a whole unused block between
 them needs an extra carrier there, so ``S`` is at least the number of **runs of used blocks**
 summed over the yarns. The row-wide "or"s behind those runs and behind ``b`` are what couple the
@@ -39,7 +39,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from illuknit.illusion_problem import IllusionProblem, raised_cost
+from illuknit.design.models.illusion_problem import IllusionProblem, raised_cost
 from illuknit.solvers.base import ProgressCallback, ProgressEvent
 
 __all__ = ["LagrangianResult", "additive_bound", "lagrangian_bound"]

@@ -30,7 +30,7 @@ from typing import Any
 
 import numpy as np
 
-from illuknit.model import Model
+from illuknit.design.models.model import Model
 from illuknit.solvers.base import assignment_from_lits
 from illuknit.solvers.isolate import run_in_child
 

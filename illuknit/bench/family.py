@@ -30,8 +30,8 @@ from pathlib import Path
 from typing import Any
 
 from illuknit.bench.instances import Instance, instance_model
-from illuknit.outputs import atomic_write_text
-from illuknit.pattern import parse_yarns
+from illuknit.core.files import atomic_write_text
+from illuknit.core.pattern import parse_yarns
 
 __all__ = ["DEFAULT_SIZES", "FAMILY_PAIRS", "family_instances", "write_family"]
 

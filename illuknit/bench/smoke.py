@@ -22,7 +22,7 @@ from typing import Any
 
 from illuknit.bench.instances import Instance
 from illuknit.bench.solver_runs import SolverTask, run_solver_task
-from illuknit.pattern import Yarn
+from illuknit.core.pattern import Yarn
 
 __all__ = ["SMOKE_INSTANCE", "smoke_test_backends"]
 

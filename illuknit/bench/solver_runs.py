@@ -28,8 +28,8 @@ import numpy as np
 
 from illuknit.bench.instances import Instance, instance_model
 from illuknit.bench.wcnf_files import read_wcnf, read_wcnf_text
-from illuknit.errors import IlluknitError
-from illuknit.model import Model
+from illuknit.core.errors import IlluknitError
+from illuknit.design.models.model import Model
 from illuknit.solvers import HERMAX_NAMES, get_backend, parse_solver_name
 from illuknit.solvers.base import ProgressEvent, Status
 from illuknit.solvers.isolate import run_in_child
@@ -192,7 +192,7 @@ def not_applicable(model: Model, task: SolverTask) -> str | None:
 
     Such a run is a row with status ``n/a``: not a failure of the solver, and out of the scores.
     """
-    from illuknit.errors import SolverError
+    from illuknit.core.errors import SolverError
     from illuknit.solvers import get_backend
     from illuknit.solvers.warm_start import resolve_policy
 

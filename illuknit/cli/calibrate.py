@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import click
@@ -91,12 +92,12 @@ def swatch(
     outdir: Path,
 ) -> None:
     """Write swatch.json (the pattern), preview.png and measurements.csv (a template)."""
-    from illuknit.outputs import atomic_write_text, staged_dir
-    from illuknit.pattern import save_pattern
-    from illuknit.previews import chart_rgb, contact_sheet, save_png
-    from illuknit.render.calibrate import calibration_swatch, measurements_template
-    from illuknit.render.params import RenderParams, load_params
-    from illuknit.render.raycast import render_image
+    from illuknit.core.files import atomic_write_text, staged_dir
+    from illuknit.core.pattern import save_pattern
+    from illuknit.design.render.calibrate import calibration_swatch, measurements_template
+    from illuknit.design.render.params import RenderParams, load_params
+    from illuknit.design.render.raycast import render_image
+    from illuknit.outputs.previews import chart_rgb, contact_sheet, save_png
 
     params = load_params(params_file) if params_file is not None else RenderParams()
     spec = resolve_machine(machine)
@@ -144,9 +145,10 @@ def swatch(
 @click.option(
     "-o",
     "--output",
-    type=click.Path(dir_okay=False, path_type=Path),
+    type=click.Path(dir_okay=False, allow_dash=True, path_type=Path),
     required=True,
-    help="Parameters JSON to write.",
+    help="Parameters JSON to write (- for standard output; the report then goes to standard "
+    "error).",
 )
 def fit(
     measurements: Path,
@@ -158,8 +160,14 @@ def fit(
     """Fit the bump height to MEASUREMENTS (CSV: flat_rows, angle_deg[, bump_rows, view, note])."""
     from dataclasses import replace
 
-    from illuknit.render.calibrate import fit_bump_height, read_measurements
-    from illuknit.render.params import RenderParams, load_params, save_params
+    from illuknit.core.files import STDOUT, write_output_file
+    from illuknit.design.render.calibrate import fit_bump_height, read_measurements
+    from illuknit.design.render.params import (
+        RenderParams,
+        load_params,
+        params_to_json,
+        save_params,
+    )
 
     base = load_params(params_file) if params_file is not None else RenderParams()
     changes = {
@@ -173,6 +181,11 @@ def fit(
         base = replace(base, bump_height=max(base.bump_height, fh * 2), **changes)
     ms, skipped = read_measurements(measurements)
     result = fit_bump_height(ms, params=base, skipped=skipped)
+    if str(output) == STDOUT:
+        text = json.dumps(params_to_json(result.params), indent=1) + "\n"
+        write_output_file(STDOUT, text.encode("utf-8"))
+        click.echo(result.report(), err=True)
+        return
     save_params(result.params, output)
     click.echo(result.report())
     click.echo(f"\nwrote {output}")

@@ -2,7 +2,7 @@
 
 Two pictures (or one, with ``--model single``) are resized to the unit grid, quantised jointly to
 K yarns (so a colour means the same yarn in both), encoded as model (a) ``logical``, (b)
-``knit-aware`` or (c) ``single`` (:mod:`illuknit.illusion_models`), and solved by the named backend
+``knit-aware`` or (c) ``single`` (:mod:`illuknit.design.models.illusion_models`), and solved by the named backend
 (:mod:`illuknit.solvers`). Writes pattern.json, previews, chart, instructions and report.json;
 ``--export-wcnf`` writes the model for an external MaxSAT solver.
 """
@@ -19,7 +19,7 @@ import numpy as np
 
 from illuknit.cli.knitout_bridge import format_option, long_floats_option, machine_option
 from illuknit.cli.options import POSITIVE
-from illuknit.sizing import DEFAULT_MAX_WIDTH
+from illuknit.pictures.sizing import DEFAULT_MAX_WIDTH
 
 __all__ = ["load_targets", "run_solve", "solve"]
 
@@ -34,15 +34,15 @@ def load_targets(
     yarns: Any = None,
     quantise: bool = True,
 ) -> tuple[Any, Any | None]:
-    """Load, size (:func:`illuknit.sizing.size_pair`) and jointly quantise the target picture(s).
+    """Load, size (:func:`illuknit.pictures.sizing.size_pair`) and jointly quantise the target picture(s).
 
     Returns (QuantisedImage of A, QuantisedImage of B or None) sharing one yarn list.
 
     Raises PictureSizeMismatchError when the pictures do not cover the same piece (unless
     ``resize``).
     """
-    from illuknit.images import QuantisedImage, quantise_image
-    from illuknit.sizing import size_pair
+    from illuknit.pictures.images import QuantisedImage, quantise_image
+    from illuknit.pictures.sizing import size_pair
 
     pair = size_pair(path_a, path_b, width=width, stretch=resize)
     a, b = pair.a, pair.b
@@ -137,14 +137,14 @@ def run_solve(
     bed is refused before the model is built.
     """
     from illuknit.cli.knitout_bridge import check_fits, resolve_machine
-    from illuknit.illusion_models import (
+    from illuknit.core.files import STDOUT, write_output_file
+    from illuknit.design.models.illusion_models import (
         build_model,
         check_solution,
         make_problem,
         pattern_from_solution,
         report_pattern,
     )
-    from illuknit.outputs import atomic_write_text
 
     if image_a is None:
         raise click.UsageError("give the target picture(s): illuknit solve A.png B.png -o OUTDIR")
@@ -180,15 +180,17 @@ def run_solve(
     mdl = build_model(problem)
     written: dict[str, Path] = {}
     if export_wcnf is not None:
-        written["wcnf"] = atomic_write_text(export_wcnf, mdl.to_wcnf(style=wcnf_style))
+        where = write_output_file(export_wcnf, mdl.to_wcnf(style=wcnf_style).encode("utf-8"))
+        if str(export_wcnf) != STDOUT:
+            written["wcnf"] = Path(where)
         if outdir is None:
-            from illuknit.cli.summary import console
+            from rich.console import Console
 
-            console().print(
-                f"wrote {export_wcnf} ({mdl.num_vars} variables, {mdl.num_hard} hard and "
+            Console(highlight=False, soft_wrap=True, stderr=str(export_wcnf) == STDOUT).print(
+                f"wrote {where} ({mdl.num_vars} variables, {mdl.num_hard} hard and "
                 f"{mdl.num_soft} soft clauses before encoding cardinality constraints)"
             )
-            return {"wcnf": str(export_wcnf), "model": repr(mdl)}
+            return {"wcnf": where, "model": repr(mdl)}
 
     sol = _solve_with_progress(
         mdl,
@@ -241,8 +243,8 @@ def _write_outputs(
 ) -> dict[str, Path]:
     """Write the pattern's outputs (and, given a machine, its knitout) into ``outdir`` at once."""
     from illuknit.cli.knitout_bridge import write_program
-    from illuknit.export import export_pattern
-    from illuknit.outputs import staged_dir
+    from illuknit.core.files import staged_dir
+    from illuknit.outputs.export import export_pattern
 
     with staged_dir(outdir) as tmp:
         paths = export_pattern(pattern, tmp, report=report, title=title, targets=targets)
@@ -268,9 +270,9 @@ def _check_solve_options(
     """Refuse contradictory or impossible options; the parsed ``(weights, yarns)``."""
     from dataclasses import replace
 
-    from illuknit.errors import ImageInputError, YarnSpecError
-    from illuknit.illusion_models import parse_weights
-    from illuknit.pattern import parse_yarns
+    from illuknit.core.errors import ImageInputError, YarnSpecError
+    from illuknit.core.pattern import parse_yarns
+    from illuknit.design.models.illusion_models import parse_weights
 
     if model == "single" and image_b is not None:
         raise ImageInputError("--model single takes one picture (it is seen from both sides)")
@@ -280,6 +282,11 @@ def _check_solve_options(
         raise click.BadParameter("applies to --model single only", param_hint="--alternate-rows")
     if outdir is None and export_wcnf is None:
         raise click.UsageError("give -o OUTDIR (or --export-wcnf FILE)")
+    if outdir is not None and export_wcnf is not None and str(export_wcnf) == "-":
+        raise click.BadParameter(
+            "- (standard output) only without -o: the solve prints its summary there",
+            param_hint="--export-wcnf",
+        )
     if time_limit is not None and time_limit <= 0:
         raise click.BadParameter(
             f"must be positive seconds, got {time_limit}", param_hint="--time-limit"
@@ -497,9 +504,10 @@ def _list_solvers(ctx: click.Context, _param: click.Parameter, value: bool) -> N
 @click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True)
 @click.option(
     "--export-wcnf",
-    type=click.Path(dir_okay=False, path_type=Path),
+    type=click.Path(dir_okay=False, allow_dash=True, path_type=Path),
     default=None,
-    help="Also (or, without -o, only) write the model as WCNF for an external MaxSAT solver.",
+    help="Also (or, without -o, only) write the model as WCNF for an external MaxSAT solver "
+    "(- for standard output, without -o).",
 )
 @click.option(
     "--wcnf-style",

@@ -10,7 +10,7 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from illuknit.illusion_models import KnitWeights, build_model, make_problem
+from illuknit.design.models.illusion_models import KnitWeights, build_model, make_problem
 from illuknit.solvers import solve
 from illuknit.solvers.descent_blocks import pattern_cost
 from illuknit.solvers.dp import solve_dp
