@@ -143,9 +143,9 @@ def _child(
         conn.send(("memout", "an allocation was refused (MemoryError)"))
     except BaseException as e:  # the child reports everything; the parent decides
         tb = traceback.format_exception_only(type(e), e)[-1].strip()
-        if asked or isinstance(e, KeyboardInterrupt):
-            # stopped at the limit: python-sat's C code turns the interrupt into its own
-            # exceptions ("Caught keyboard interrupt") wherever it is, encodings included
+        if asked or isinstance(e, KeyboardInterrupt) or "keyboard interrupt" in tb.lower():
+            # stopped at the limit: python-sat's C code catches SIGINT itself (our handler never
+            # runs) and raises its own exceptions ("Caught keyboard interrupt"), encodings too
             conn.send(("timeout", f"stopped at the limit without an answer ({tb})"))
         else:
             conn.send(("error", f"raised {tb}"))

@@ -292,7 +292,7 @@ def run_solver_task(task: SolverTask, content: bytes | None = None) -> dict[str,
     # the child's own trace, else what the parent received (both are re-timed from the start)
     trace = [(float(t), o, b) for t, o, b in out["trace"]] or event_trace
     _timings(row, out, trace)
-    if res.late and row["status"] == Status.OPTIMAL.value:
+    if res.late and row["status"] in (Status.OPTIMAL.value, Status.FEASIBLE.value):
         # the Evaluation's rule: an answer after the limit is a timeout, whatever it claims
         row.update(status=Status.TIMEOUT.value, time_prove=None)
         row["reason"] = "; ".join(
