@@ -7,7 +7,7 @@ from typing import Any
 import click
 
 from illuknit.cli.knitout_bridge import machine_option
-from illuknit.cli.options import COUNT, POSITIVE
+from illuknit.cli.options import COUNT, NON_NEGATIVE, POSITIVE
 from illuknit.core.errors import UnknownNameError
 
 __all__ = ["bench"]
@@ -173,11 +173,15 @@ def _run_solvers(instances: Any, solvers: list[str], outdir: str, **kw: Any) -> 
     "gives medians and spread.",
 )
 @click.option(
-    "--seed", type=int, default=0, show_default=True, help="Solver benchmark: the first seed."
+    "--seed",
+    type=click.IntRange(min=0),
+    default=0,
+    show_default=True,
+    help="Solver benchmark: the first seed.",
 )
 @click.option(
     "--certify-time",
-    type=float,
+    type=NON_NEGATIVE,
     default=None,
     help="Solver benchmark: seconds for each independent SAT check of a claimed optimum or "
     "UNSATISFIABLE that no reference settles (default: the time limit; 0: no checks).",
