@@ -4,15 +4,16 @@
 runs a program (the module docstring there says what each part means): the loops on every
 needle, the racking, each carrier (:class:`SimCarrier`), the inserting hook, and a union-find
 over the loop graph. It records machine-rule :class:`Event` s and raw fabric observations
-(:class:`Float`, :class:`FaceFloat`, :class:`WrongSide`); :class:`CarrierEnd` reports a carrier
+(:class:`~illuknit.check.floats.Float` via its
+:class:`~illuknit.check.floats.FloatTracker`, :class:`FaceFloat`, :class:`WrongSide`); :class:`CarrierEnd` reports a carrier
 left in at the end.
 """
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 
+from illuknit.check.floats import FloatTracker, needle_slot
 from illuknit.check.parse import Needle
 
 __all__ = [
@@ -20,7 +21,6 @@ __all__ = [
     "CarrierEnd",
     "Event",
     "FaceFloat",
-    "Float",
     "MachineState",
     "SimCarrier",
     "WrongSide",
@@ -38,21 +38,6 @@ class Event:
     line: int
     code: str
     message: str
-
-
-@dataclass(frozen=True)
-class Float:
-    """Yarn of ``carrier`` crossing ``length`` needle slots between two consecutive loops."""
-
-    line: int
-    carrier: str
-    from_slot: int
-    to_slot: int
-
-    @property
-    def length(self) -> int:
-        """Number of needle slots strictly between the two loops."""
-        return abs(self.to_slot - self.from_slot) - 1
 
 
 @dataclass(frozen=True)
@@ -96,7 +81,6 @@ class SimCarrier:
     x: float | None = None  # location of last op
     dir: str | None = None
     last_loop: int | None = None
-    last_slot: int | None = None
     in_line: int = 0
     last_line: int = 0
 
@@ -124,7 +108,7 @@ class MachineState:
     loop_carriers: list[str] = field(default_factory=list)
     events: list[Event] = field(default_factory=list)
     counts: dict[str, int] = field(default_factory=dict)
-    floats: list[Float] = field(default_factory=list)
+    floats: FloatTracker = field(default_factory=FloatTracker)
     face_floats: list[FaceFloat] = field(default_factory=list)
     wrong_sides: list[WrongSide] = field(default_factory=list)
     reported_unknown: set[str] = field(default_factory=set)
@@ -169,7 +153,7 @@ class MachineState:
         return float(n.index) if n.is_front else n.index + self.rack
 
     def slot(self, n: Needle) -> int:
-        return n.index if n.is_front else n.index + math.floor(self.rack)
+        return needle_slot(n, self.rack)
 
     def held(self, n: Needle) -> list[int]:
         return self.beds[n.bed].get(n.index, [])

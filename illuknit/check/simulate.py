@@ -28,13 +28,13 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from illuknit.check.floats import Float
 from illuknit.check.parse import CARRIER_OPS, STITCH_OPS, KnitoutProgram, Operation
 from illuknit.check.sim_state import (
     MAX_EVENTS_PER_CODE,
     CarrierEnd,
     Event,
     FaceFloat,
-    Float,
     MachineState,
     WrongSide,
 )
@@ -167,7 +167,6 @@ def _stitch(state: MachineState, op: Operation) -> None:
             if c.last_loop is not None:
                 state.union(lid, c.last_loop)
             c.last_loop = lid
-            c.last_slot = slot
 
 
 def _use_carriers(state: MachineState, op: Operation, slot: int, *, makes_loops: bool) -> None:
@@ -229,9 +228,9 @@ def _observe_fabric(state: MachineState, op: Operation, x: float, slot: int) -> 
             )
             if not behind:
                 state.wrong_sides.append(WrongSide(line, name, str(needle), direction, c.x, c.dir))
-        if c.last_slot is not None and abs(slot - c.last_slot) > 1:
-            lo, hi = sorted((c.last_slot, slot))
-            state.floats.append(Float(line, name, c.last_slot, slot))
+        fl = state.floats.loop(line, name, slot)
+        if fl is not None:
+            lo, hi = sorted((fl.from_slot, fl.to_slot))
             _face_float(state, line, name, lo, hi)
 
 
@@ -307,7 +306,8 @@ def _carrier_op(state: MachineState, op: Operation) -> None:
             c.pending = cs
             c.used = False
             c.x = c.dir = None
-            c.last_loop = c.last_slot = None
+            c.last_loop = None
+            state.floats.cut(name)
             c.in_line = line
             c.last_line = line
         if op.op == "inhook":
@@ -355,7 +355,8 @@ def _carrier_op(state: MachineState, op: Operation) -> None:
                 state.event(line, "out-unused", f"{op.op} {name}: carrier {name} never stitched")
             c.active = False
             c.pending = None
-            c.last_loop = c.last_slot = None  # the yarn is cut (outhook) or parked (out)
+            c.last_loop = None  # the yarn is cut (outhook) or parked (out)
+            state.floats.cut(name)
             c.x = c.dir = None
         if state.hook_set is not None and set(state.hook_set) <= set(cs):
             state.hook_set = None
@@ -461,7 +462,7 @@ def _result(state: MachineState, program: KnitoutProgram) -> Simulation:
     return Simulation(
         events=tuple(state.events),
         suppressed=suppressed,
-        floats=tuple(state.floats),
+        floats=tuple(state.floats.floats),
         face_floats=tuple(state.face_floats),
         wrong_sides=tuple(state.wrong_sides),
         loop_lines=tuple(state.loop_lines),
