@@ -88,10 +88,13 @@ def _back_after(step: Step, back: set[int]) -> None:
             back.discard(o.needle)
 
 
-def _neighbour_loops(passes: list[Step]) -> list[dict[str, tuple[int | None, int | None]]]:
-    """Per step: each of its carriers' last loop before it and first loop after it (or None)."""
+def _neighbour_loops(
+    passes: list[Step], entries: dict[str, int]
+) -> list[dict[str, tuple[int | None, int | None]]]:
+    """Per step: each of its carriers' last loop before it and first loop after it (or None);
+    ``entries``: loops the carriers' yarns hang from before the first step."""
     out: list[dict[str, tuple[int | None, int | None]]] = [{} for _ in passes]
-    prev: dict[str, int] = {}
+    prev: dict[str, int] = dict(entries)
     for i, step in enumerate(passes):
         if (s := knit_pass(step, prev)) is None:
             continue
@@ -195,9 +198,17 @@ class TuckPlan:
 
     @classmethod
     def for_steps(
-        cls, passes: list[Step], *, limit: int, left: int, right: int, alone: bool
+        cls,
+        passes: list[Step],
+        *,
+        limit: int,
+        left: int,
+        right: int,
+        alone: bool,
+        entries: dict[str, int] | None = None,
     ) -> TuckPlan:
-        """An empty plan for ``passes``, with the back-bed loops and stitches read off them."""
+        """An empty plan for ``passes``, with the back-bed loops and stitches read off them
+        (``entries``: the loops carriers' yarns hang from before the first step)."""
         backs: list[frozenset[int]] = []
         back: set[int] = set()
         stitched: dict[int, list[int]] = {}
@@ -210,13 +221,15 @@ class TuckPlan:
                         stitched.setdefault(o.needle, []).append(i)
         # One tuck per needle between two stitches there: the needle then holds its loop and
         # the tucked loops of one pass (two yarns if plated), well within what a needle holds.
-        return cls(passes, backs, stitched, _neighbour_loops(passes), limit, left, right, alone)
+        around = _neighbour_loops(passes, dict(entries or {}))
+        return cls(passes, backs, stitched, around, limit, left, right, alone)
 
     def plan(self, i: int, carrier: str, n: int, got: tuple[int, int, int]) -> bool:
         """Tuck the float ``got[0]`` -> ``n`` in the pass that lays it; False if there is none.
 
         ``got`` is the carrier's last loop: (needle, index of the pass that made it, index of
-        the carrier's last pass); pass ``i`` makes the loop on ``n``. In a plated pass every
+        the carrier's last pass), -1 for a loop made before the steps (the yarn's entry, with
+        the carrier parked beyond it); pass ``i`` makes the loop on ``n``. In a plated pass every
         yarn tucks: the tucks must leave each of them short floats (:func:`_tucks_fit`), and no
         purl face may lie where any of their paths changes. Where the pass that lays the float
         cannot tuck it (a plated catching pass whose other yarn comes from elsewhere), the
@@ -231,7 +244,13 @@ class TuckPlan:
         # ``n``; otherwise on the way out of the pass that made ``a``, if that pass ran on past
         # ``n``.
         where = i
-        if not toward or (made_in != i and not _starts_beyond(passes[last_pass], a, s.direction)):
+        if made_in < 0:
+            # The yarn's entry: the carrier waits beyond ``a`` until its first pass (or a move
+            # of its own) takes it in; only a pass travelling from there towards ``n`` lays it.
+            behind = last_pass < 0 or _starts_beyond(passes[last_pass], a, s.direction)
+            if not toward or not behind:
+                return False
+        elif not toward or (made_in != i and not _starts_beyond(passes[last_pass], a, s.direction)):
             q = passes[made_in]
             if made_in != last_pass or not isinstance(q, Pass):
                 return False
