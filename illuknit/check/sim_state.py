@@ -19,8 +19,10 @@ from illuknit.check.parse import Needle
 __all__ = [
     "MAX_EVENTS_PER_CODE",
     "CarrierEnd",
+    "Drop",
     "Event",
     "FaceFloat",
+    "KnitRun",
     "MachineState",
     "SimCarrier",
     "WrongSide",
@@ -59,6 +61,31 @@ class WrongSide:
     direction: str
     carrier_location: float
     carrier_direction: str
+
+
+@dataclass(frozen=True)
+class Drop:
+    """A ``drop`` (or a knit without yarn) that released live ``loops`` from ``needle``.
+
+    ``made`` is how many loops the program had made by then (the loops made later have ids
+    ``>= made``)."""
+
+    line: int
+    needle: str
+    loops: tuple[int, ...]
+    made: int
+
+
+@dataclass
+class KnitRun:
+    """A carrier's latest run of consecutive knit operations in one direction, each pulled
+    through loops of yarns already taken out: a draw thread, if the carrier goes out right
+    after it and it then holds every loop on the needles."""
+
+    first: int  # loop ids first .. last
+    last: int
+    direction: str
+    op_index: int  # index of its last operation
 
 
 @dataclass(frozen=True)
@@ -115,6 +142,12 @@ class MachineState:
     min_index: int | None = None
     max_index: int | None = None
     width_reported: bool = False
+    op_index: int = 0  # index of the operation being run
+    held_ever: set[tuple[str, int]] = field(default_factory=set)  # needles that held a loop
+    loop_tails: list[int] = field(default_factory=list)  # knits in a row on one needle, per loop
+    drops: list[Drop] = field(default_factory=list)
+    runs: dict[str, KnitRun] = field(default_factory=dict)
+    draw_threads: list[int] = field(default_factory=list)  # first loop id of each
 
     # -- bookkeeping ------------------------------------------------------------------------
     def event(self, line: int, code: str, message: str) -> None:
@@ -161,9 +194,16 @@ class MachineState:
     def take(self, n: Needle) -> list[int]:
         return self.beds[n.bed].pop(n.index, [])
 
+    def drop(self, n: Needle, line: int) -> None:
+        """Release the loops of ``n`` (a ``drop``, or a knit without yarn)."""
+        loops = self.take(n)
+        if loops:
+            self.drops.append(Drop(line, str(n), tuple(loops), len(self.parent)))
+
     def put(self, n: Needle, loops: list[int], line: int) -> None:
         if not loops:
             return
+        self.held_ever.add((n.bed, n.index))
         bed = self.beds[n.bed]
         cur = bed.get(n.index)
         if cur is None:

@@ -33,8 +33,10 @@ from illuknit.check.parse import CARRIER_OPS, STITCH_OPS, KnitoutProgram, Operat
 from illuknit.check.sim_state import (
     MAX_EVENTS_PER_CODE,
     CarrierEnd,
+    Drop,
     Event,
     FaceFloat,
+    KnitRun,
     MachineState,
     WrongSide,
 )
@@ -70,6 +72,15 @@ class Simulation:
         Carrier set still on the inserting hook at the end (empty when released).
     last_line : int
         Line of the last operation (1 when there is none).
+    drops : tuple of Drop
+        Every release of live loops (``drop``, or knit without yarn).
+    draw_threads : tuple of int
+        First loop id of each draw thread: a carrier's last run of knits in one direction,
+        each pulled through loops of yarns already taken out, after which (when it goes out)
+        it holds every loop on the needles. Loops made before it are waste below it.
+    loop_tails : tuple of int
+        Per loop: how many knits in a row its yarn made on that needle before it (a tail
+        knit on the last needle of a bind-off counts up).
     """
 
     events: tuple[Event, ...]
@@ -84,6 +95,9 @@ class Simulation:
     carriers_left: tuple[CarrierEnd, ...]
     hook_left: tuple[str, ...]
     last_line: int
+    drops: tuple[Drop, ...] = ()
+    draw_threads: tuple[int, ...] = ()
+    loop_tails: tuple[int, ...] = ()
 
     @property
     def pieces(self) -> int:
@@ -135,7 +149,7 @@ def _stitch(state: MachineState, op: Operation) -> None:
                 line, "miss-without-carriers", f"miss {direction} {needle} names no carrier"
             )
         elif op.op == "knit":  # knit without yarn = drop
-            state.take(needle)
+            state.drop(needle, line)
         elif op.op == "split" and _check_pair(state, op):  # split without yarn = xfer
             state.put(op.needles[1], state.take(needle), line)
         return
@@ -244,9 +258,14 @@ def _make_loops(state: MachineState, op: Operation) -> list[int]:
     parents: list[int] = []
     if op.op == "knit":
         parents = state.take(needle)
-        if not parents:
+        # A needle that never held a loop starts its wale here: casting on (e.g. a waste
+        # yarn's knits on alternate beds). One that held loops and lost them is a fault.
+        if not parents and (needle.bed, needle.index) in state.held_ever:
             state.event(
-                line, "knit-empty", f"knit on empty needle {needle} (no loop to pull through)"
+                line,
+                "knit-empty",
+                f"knit on empty needle {needle}: it held loops before, and they were dropped "
+                "or moved away (no loop to pull through)",
             )
     elif op.op == "split":
         parents = state.take(needle)
@@ -259,7 +278,45 @@ def _make_loops(state: MachineState, op: Operation) -> list[int]:
         for p in parents:
             state.union(child, p)
     state.put(needle, new, line)
+    _note_structure(state, op, new, parents)
     return new
+
+
+def _note_structure(state: MachineState, op: Operation, new: list[int], parents: list[int]) -> None:
+    """Record what the release checks need of the new loops: how many knits in a row their
+    yarn made on this needle (a tail), and each carrier's run of knits over yarns already taken
+    out (a draw thread candidate)."""
+    over_done = bool(parents) and all(
+        not state.carriers[state.loop_carriers[p]].active for p in parents
+    )
+    for lid, name in zip(new, op.carriers, strict=True):
+        prev = state.carriers[name].last_loop
+        on_own = op.op == "knit" and prev is not None and prev in parents
+        state.loop_tails.append(state.loop_tails[prev] + 1 if on_own and prev is not None else 0)
+        run = state.runs.get(name)
+        if op.op != "knit" or len(op.carriers) > 1 or not over_done:
+            state.runs.pop(name, None)
+        elif (
+            run is not None
+            and run.direction == op.direction
+            and (run.op_index == state.op_index - 1)
+        ):
+            run.last, run.op_index = lid, state.op_index
+        else:
+            assert op.direction is not None
+            state.runs[name] = KnitRun(lid, lid, op.direction, state.op_index)
+
+
+def _note_draw_thread(state: MachineState, name: str) -> None:
+    """``name`` goes out: its last run of knits is a draw thread if it now holds every loop on
+    the needles (a separating course: pulled out later, it frees the piece above from the
+    waste below)."""
+    run = state.runs.pop(name, None)
+    if run is None or run.last == run.first:
+        return
+    held = (lid for bed in state.beds.values() for loops in bed.values() for lid in loops)
+    if all(run.first <= lid <= run.last for lid in held):
+        state.draw_threads.append(run.first)
 
 
 def _face_float(state: MachineState, line: int, carrier: str, lo: int, hi: int) -> None:
@@ -304,6 +361,7 @@ def _carrier_op(state: MachineState, op: Operation) -> None:
                 )
             c.active = True
             c.pending = cs
+            state.runs.pop(name, None)
             c.used = False
             c.x = c.dir = None
             c.last_loop = None
@@ -353,6 +411,7 @@ def _carrier_op(state: MachineState, op: Operation) -> None:
                 state.event(line, "out-inactive", f"{op.op} {name}: carrier {name} is not in")
             elif not c.used:
                 state.event(line, "out-unused", f"{op.op} {name}: carrier {name} never stitched")
+            _note_draw_thread(state, name)
             c.active = False
             c.pending = None
             c.last_loop = None  # the yarn is cut (outhook) or parked (out)
@@ -416,7 +475,8 @@ def simulate_program(
         bed_width=bed_width,
         keep_position=pos is not None and pos[0] == "Keep",
     )
-    for op in program.operations:
+    for i, op in enumerate(program.operations):
+        state.op_index = i
         name = op.op
         if name in STITCH_OPS:
             _stitch(state, op)
@@ -428,7 +488,7 @@ def simulate_program(
                 state.put(dst, state.take(src), op.line)
         elif name == "drop":
             state.note_needle(op.needle, op.line)
-            state.take(op.needle)
+            state.drop(op.needle, op.line)
         elif name == "amiss":
             state.note_needle(op.needle, op.line)
         elif name == "rack":
@@ -472,4 +532,7 @@ def _result(state: MachineState, program: KnitoutProgram) -> Simulation:
         carriers_left=carriers_left,
         hook_left=tuple(state.hook_set or ()),
         last_line=last_line,
+        drops=tuple(state.drops),
+        draw_threads=tuple(state.draw_threads),
+        loop_tails=tuple(state.loop_tails),
     )
