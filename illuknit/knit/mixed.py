@@ -259,13 +259,22 @@ def long_float_error(
     """The error for floats that stay long: how many, the longest, where, what to change."""
     worst = max(long, key=lambda f: f.length)
     where = worst.where(stitches)
+    fix = (
+        "use fewer colour regions per row there (fewer --colors / --yarns, or a smoothed "
+        f"picture), a wider float limit (illuknit knit --float-limit N, now {limit}), or keep "
+        "the long floats (--allow-long-floats)"
+    )
+    waste = [f.length for f in long if f.place == "the waste section"]
+    if waste:
+        # (Its yarn-in tucks are every k-th needle for k yarns: they float k - 1 needles.)
+        fix += (
+            f"; in the waste section the yarns come in with tucks {max(waste) + 1} needles "
+            f"apart: a float limit below {max(waste)} needs fewer yarns (--colors / --yarns)"
+        )
     return LongFloatError(
         f"{len(long)} float(s) stay longer than the float limit of {limit} needles; the "
         f"longest, {worst.length} needles of carrier {worst.carrier} (needles "
-        f"{worst.from_needle} to {worst.to_needle}), is at {where}: use fewer colour "
-        "regions per row there (fewer --colors / --yarns, or a smoothed picture), a wider "
-        f"float limit (illuknit knit --float-limit N, now {limit}), or keep the long floats "
-        "(--allow-long-floats)",
+        f"{worst.from_needle} to {worst.to_needle}), is at {where}: {fix}",
         length=worst.length,
         carrier=worst.carrier,
         from_needle=worst.from_needle,

@@ -25,7 +25,12 @@ from typing import Any
 
 from illuknit.knit.ir import Bed, CarrierAction, OpKind, Pass, PassKind, Step
 
-__all__ = ["LOOP_OPS", "TuckPlan", "knit_pass"]
+__all__ = ["LOOP_OPS", "MAX_TUCKS", "TuckPlan", "knit_pass"]
+
+#: Tucks a needle may already take between two of its stitches and still take a float tuck:
+#: with the loop it holds (and, on a machine without an inserting hook, the draw thread's loop
+#: under the cast-on) that stays within what a needle holds (the PyPI simulator allows 3).
+MAX_TUCKS = 2
 
 #: Operations that leave a loop of the carriers' yarn on a needle.
 LOOP_OPS = (OpKind.KNIT, OpKind.TUCK, OpKind.SPLIT)
@@ -181,6 +186,10 @@ class TuckPlan:
         The plan, per pass index (see the module docstring).
     taken : set of (needle, stitch count)
         Needles that took a tuck, with how many stitches they had had by then.
+    tucked : dict
+        Needle -> indices of the knit passes that tuck on it (cast-on tucks, tuck joins), in
+        order: a needle that already takes :data:`MAX_TUCKS` tucks between two of its stitches
+        takes no float tuck there (it would hold too many loops).
     """
 
     passes: list[Step]
@@ -195,6 +204,7 @@ class TuckPlan:
     solo: dict[int, list[Solo]] = field(default_factory=dict)
     clear: dict[int, set[int]] = field(default_factory=dict)
     taken: set[tuple[int, int]] = field(default_factory=set)
+    tucked: dict[int, list[int]] = field(default_factory=dict)
 
     @classmethod
     def for_steps(
@@ -212,6 +222,7 @@ class TuckPlan:
         backs: list[frozenset[int]] = []
         back: set[int] = set()
         stitched: dict[int, list[int]] = {}
+        tucked: dict[int, list[int]] = {}
         for i, s in enumerate(passes):
             backs.append(frozenset(back))
             _back_after(s, back)
@@ -219,10 +230,12 @@ class TuckPlan:
                 for o in s.ops:
                     if o.op is OpKind.KNIT:
                         stitched.setdefault(o.needle, []).append(i)
+                    elif o.op is OpKind.TUCK:
+                        tucked.setdefault(o.needle, []).append(i)
         # One tuck per needle between two stitches there: the needle then holds its loop and
         # the tucked loops of one pass (two yarns if plated), well within what a needle holds.
         around = _neighbour_loops(passes, dict(entries or {}))
-        return cls(passes, backs, stitched, around, limit, left, right, alone)
+        return cls(passes, backs, stitched, around, limit, left, right, alone, tucked=tucked)
 
     def plan(self, i: int, carrier: str, n: int, got: tuple[int, int, int]) -> bool:
         """Tuck the float ``got[0]`` -> ``n`` in the pass that lays it; False if there is none.
@@ -296,7 +309,18 @@ class TuckPlan:
             if t not in self.backs[where]
             and t not in busy
             and (t, bisect_right(self.stitched.get(t, []), where)) not in self.taken
+            and self._tucks_between_stitches(t, where) < MAX_TUCKS
         }
+
+    def _tucks_between_stitches(self, t: int, where: int) -> int:
+        """Tucks the steps make on needle ``t`` between its last stitch before pass ``where``
+        and its next one."""
+        knits = self.stitched.get(t, [])
+        k = bisect_right(knits, where)
+        lo = knits[k - 1] if k else -1
+        hi = knits[k] if k < len(knits) else len(self.passes)
+        tucks = self.tucked.get(t, [])
+        return bisect_right(tucks, hi) - bisect_right(tucks, lo)
 
     def _tuck_alone(self, i: int, carrier: str, a: int, n: int) -> bool:
         """Tuck the float ``a`` -> ``n`` with ``carrier`` alone in a pass of its own before
