@@ -11,7 +11,9 @@ does:
 1. **bring every yarn in** (waste yarn, draw thread, then the pattern's yarns in order of first
    use): each tucks every k-th front needle of the waste width rightward and back leftward
    (k = number of yarns, so no two share a needle); a yarn whose first pattern pass runs leftward tucks once
-   more rightward, ending on the right;
+   more rightward, ending on the right. Each pattern yarn then hangs from its last tuck at the
+   edge its first pass starts from (:class:`YarnEntry`); the scheduler tucks its float from
+   there to its first stitch like any other long float;
 2. **waste section**: ``waste_passes`` passes of the waste yarn knitting alternate needles on
    alternate beds, then 12 passes of a tube (front rightward, back leftward), at roller advance
    400, stitch number 6, speed 300; the waste yarn goes out and the back bed is dropped;
