@@ -5,7 +5,7 @@ owner would knit -- the tile pattern (``illuknit double``) and a head-on pattern
 (``illuknit headon``) of each double-view instance, the push-button pattern of each single-view
 one -- at a width that fits the Kniterate's bed (instances wider than its 123 units are scaled
 down to 120 units wide, keeping their aspect), knits each for the Kniterate
-(:func:`illuknit.knit.knit_pattern`, what ``illuknit knit --machine kniterate`` runs), converts it
+(:func:`illuknit.knitting.knit_pattern`, what ``illuknit knit --machine kniterate`` runs), converts it
 with the reference backend (``node <oracles>/kniterate/knitout-to-kcode.js``) and prints per
 program:
 
@@ -133,7 +133,7 @@ def design(instance: Any, kind: str) -> Any:
 def pattern_for(instance: Any, kind: str, patterns: Path | None) -> Any:
     """The design's pattern, kept in (or read back from) ``patterns`` when given: the tile
     search is time-limited, so before/after comparisons knit the same saved patterns."""
-    from illuknit.pattern import load_pattern, save_pattern
+    from illuknit.core.pattern import load_pattern, save_pattern
 
     if patterns is None:
         return design(instance, kind)
@@ -147,10 +147,11 @@ def pattern_for(instance: Any, kind: str, patterns: Path | None) -> Any:
 
 
 def measure(instance: Any, kind: str, oracle: Path, patterns: Path | None = None) -> Row:
-    from illuknit.check import check_knitout, parse_knitout
+    from illuknit.check import check_knitout
     from illuknit.check.simulate import simulate_program
-    from illuknit.knit import knit_pattern
-    from illuknit.knit.machine import KNITERATE
+    from illuknit.core.machine import KNITERATE
+    from illuknit.knitout.parse import parse_knitout
+    from illuknit.knitting import knit_pattern
 
     t0 = time.perf_counter()
     inst = fitted(instance)

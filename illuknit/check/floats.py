@@ -10,7 +10,7 @@ carrier without a loop, so a carrier parked far away and brought back does not m
 :class:`FloatTracker` is that rule. The checker's simulator
 (:func:`~illuknit.check.simulate.simulate_program`) feeds it as it runs a program;
 :func:`program_floats` feeds it from the operations alone (no loops, no beds), which is what
-:func:`~illuknit.knit.knit_pattern` uses for the ``long_floats`` / ``longest_float`` it reports.
+:func:`~illuknit.knitting.knit_pattern` uses for the ``long_floats`` / ``longest_float`` it reports.
 Both therefore give the same floats, by construction (and a test holds every generated program
 to it).
 """
@@ -20,7 +20,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from illuknit.check.parse import KnitoutProgram, Needle
+from illuknit.knitout.parse import KnitoutProgram, Needle
 
 __all__ = ["Float", "FloatTracker", "long_floats", "needle_slot", "program_floats"]
 

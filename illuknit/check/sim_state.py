@@ -14,7 +14,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from illuknit.check.floats import FloatTracker, needle_slot
-from illuknit.check.parse import Needle
+from illuknit.knitout.parse import Needle
 
 __all__ = [
     "MAX_EVENTS_PER_CODE",

@@ -29,7 +29,6 @@ import math
 from dataclasses import dataclass
 
 from illuknit.check.floats import Float
-from illuknit.check.parse import CARRIER_OPS, STITCH_OPS, KnitoutProgram, Operation
 from illuknit.check.sim_state import (
     MAX_EVENTS_PER_CODE,
     CarrierEnd,
@@ -40,6 +39,7 @@ from illuknit.check.sim_state import (
     MachineState,
     WrongSide,
 )
+from illuknit.knitout.parse import CARRIER_OPS, STITCH_OPS, KnitoutProgram, Operation
 
 __all__ = ["Simulation", "simulate_program"]
 

@@ -24,7 +24,7 @@ more groups in a course than it has carriers, a free carrier of the machine is t
 second carrier never leaves a later yarn without one; groups are matched to the yarn's carriers
 nearest first, so an intarsia carrier keeps knitting the region where it is anchored. A pattern
 with more yarns than carriers, or (with ``strict=True``) a course short of carriers, is named in
-a :class:`~illuknit.errors.CarrierShortageError`.
+a :class:`~illuknit.core.errors.CarrierShortageError`.
 """
 
 from __future__ import annotations
@@ -37,7 +37,7 @@ from types import MappingProxyType
 import numpy as np
 from numpy.typing import ArrayLike
 
-from illuknit.errors import (
+from illuknit.core.errors import (
     CarrierShortageError,
     OptionError,
     PatternValidationError,

@@ -11,9 +11,10 @@ from pathlib import Path
 
 import pytest
 
-from illuknit.check import check_knitout, parse_knitout
+from illuknit.check import check_knitout
 from illuknit.check.vm import rewrite_for_vm, run_vm
-from illuknit.errors import BackendUnavailableError
+from illuknit.core.errors import BackendUnavailableError
+from illuknit.knitout import parse_knitout
 
 DATA = Path(__file__).parent / "data"
 
@@ -113,9 +114,9 @@ def test_a_drop_just_before_the_bind_off_is_a_dropped_stitch(machine: str) -> No
     before its bind-off (or mid-piece) does not."""
     import numpy as np
 
-    from illuknit.knit import knit_pattern
-    from illuknit.knit.machine import get_machine
-    from illuknit.pattern import LogicalPattern, parse_yarns
+    from illuknit.core.machine import get_machine
+    from illuknit.core.pattern import LogicalPattern, parse_yarns
+    from illuknit.knitting import knit_pattern
 
     rng = np.random.default_rng(5)
     pattern = LogicalPattern(

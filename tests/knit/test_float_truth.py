@@ -20,11 +20,11 @@ from hypothesis import strategies as st
 
 from illuknit.check import check_knitout
 from illuknit.check.floats import program_floats
-from illuknit.check.parse import parse_knitout
 from illuknit.check.simulate import simulate_program
-from illuknit.knit import knit_pattern
-from illuknit.knit.machine import MACHINES
-from illuknit.pattern import LogicalPattern, parse_yarns
+from illuknit.core.machine import MACHINES
+from illuknit.core.pattern import LogicalPattern, parse_yarns
+from illuknit.knitout.parse import parse_knitout
+from illuknit.knitting import knit_pattern
 
 sys.path.insert(0, str(Path(__file__).parents[1] / "formats"))
 from test_kc import assert_same_as_reference
@@ -90,7 +90,7 @@ def test_knit_reports_the_floats_the_checker_finds(machine, pattern, mode, limit
                 allow_long_floats=True,
             )
         except Exception as e:  # a refusal must be one of the documented ones
-            from illuknit.errors import CarrierShortageError
+            from illuknit.core.errors import CarrierShortageError
 
             assert isinstance(e, CarrierShortageError), e
             return

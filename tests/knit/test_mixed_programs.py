@@ -15,10 +15,10 @@ import numpy as np
 import pytest
 
 from illuknit.check import check_knitout
-from illuknit.drawings import draw_shape, to_index_image
-from illuknit.knit import MachineSpec, knit_pattern
-from illuknit.knit.machine import MACHINES
-from illuknit.pattern import LogicalPattern, parse_yarns
+from illuknit.core.machine import MACHINES, MachineSpec
+from illuknit.core.pattern import LogicalPattern, parse_yarns
+from illuknit.knitting import knit_pattern
+from illuknit.pictures.drawings import draw_shape, to_index_image
 
 sys.path.insert(0, str(Path(__file__).parents[1] / "formats"))
 sys.path.insert(0, str(Path(__file__).parent))
@@ -65,7 +65,7 @@ def targets(shape):
 
 
 def test_double_view_from_tiles(machine, tmp_path):
-    from illuknit.tiles import assign_tiles, compile_tiles
+    from illuknit.design.tiles import assign_tiles, compile_tiles
 
     a, b = targets((6, 8))
     found = assign_tiles((a, COLS), (b, COLS), yarns=YARNS, candidates=1, time_limit=10)
@@ -76,7 +76,7 @@ def test_double_view_from_tiles(machine, tmp_path):
 
 
 def test_head_on_tiles(machine, tmp_path):
-    from illuknit.tiles import assign_headon, compile_tiles
+    from illuknit.design.tiles import assign_headon, compile_tiles
 
     a, _ = targets((6, 8))
     found = assign_headon((a, COLS), yarns=YARNS, candidates=1, time_limit=10)
@@ -85,7 +85,7 @@ def test_head_on_tiles(machine, tmp_path):
 
 
 def test_solver_output_dp(machine, tmp_path):
-    from illuknit.illusion_models import solve_illusion
+    from illuknit.design.models.illusion_models import solve_illusion
 
     a, b = targets((5, 6))
     res = solve_illusion(a, b, solver="dp", yarns=YARNS, time_limit=10)
@@ -93,14 +93,14 @@ def test_solver_output_dp(machine, tmp_path):
 
 
 def test_calibration_swatch(machine, tmp_path):
-    from illuknit.render import calibrate
+    from illuknit.design.render import calibrate
 
     swatch = calibrate.calibration_swatch(bump_sizes=(1, 2), flat_sizes=(1, 2), cell_width=3)
     assert_knits(swatch, machine=machine, tmp_path=tmp_path)
 
 
 def test_single_view_still_takes_the_one_color_scheduler(machine, tmp_path):
-    from illuknit.single_view import compile_single_view
+    from illuknit.design.single_view import compile_single_view
 
     img = to_index_image(draw_shape("heart", (5, 6)), ink=0, paper=1)
     r = assert_knits(compile_single_view(img, yarns=YARNS), machine=machine, tmp_path=tmp_path)
@@ -119,7 +119,7 @@ def test_three_yarns_and_long_floats_on_a_narrow_float_limit(machine, tmp_path):
 
 
 def test_a_float_limit_below_the_waste_sections_yarn_in_tucks_is_refused_saying_so():
-    from illuknit.errors import LongFloatError
+    from illuknit.core.errors import LongFloatError
 
     stripes = np.repeat(np.arange(4), 2)[None].repeat(2, axis=0)  # no float in the piece
     pattern = LogicalPattern(stripes, np.zeros(stripes.shape, bool), YARNS4)
