@@ -28,8 +28,10 @@ from illuknit.errors import AppRequestError, IlluknitError
 
 __all__ = ["Job", "JobCancelled", "JobRunner", "JobStatus"]
 
-JobStatus = Literal["queued", "running", "done", "failed", "cancelled"]
-_FINAL = ("done", "failed", "cancelled")
+JobStatus = Literal["queued", "running", "done", "failed", "cancelled", "interrupted"]
+_FINAL = ("done", "failed", "cancelled", "interrupted")
+#: What a job that was running when the server stopped says once the session is read back.
+INTERRUPTED = "interrupted: the server stopped while this ran; run it again"
 
 
 class JobCancelled(Exception):
@@ -45,7 +47,9 @@ class Job:
         Random id, unique per server.
     kind : str
         What the job does (``"candidates"``, ``"knit"``); at most one live job per kind per session.
-    status : {"queued", "running", "done", "failed", "cancelled"}
+    status : {"queued", "running", "done", "failed", "cancelled", "interrupted"}
+        ``interrupted``: the job was live when the server stopped (a session read back from
+        disk, :meth:`restored`); the page offers to run it again.
     progress : float
         0..1, monotone while running.
     message : str
@@ -71,6 +75,42 @@ class Job:
         self._cancel = threading.Event()
         self._done = threading.Event()
         self._lock = threading.Lock()
+        self._finished_callbacks: list[Callable[[Job], None]] = []
+
+    # -- kept on disk with its session (illuknit.app.store) ----------------------------------
+    def record(self) -> dict[str, Any]:
+        """What is stored of the job: its state as polled (never its result, which its session
+        holds, nor its thread)."""
+        rec = self.to_json()
+        rec["created"], rec["started"], rec["finished"] = self.created, self.started, self.finished
+        return rec
+
+    @classmethod
+    def restored(cls, rec: dict[str, Any]) -> Job:
+        """A stored job back, ended: one that was still queued or running is ``interrupted``."""
+        job = cls(str(rec["kind"]), revision=int(rec.get("revision", 0)))
+        job.id = str(rec["id"])
+        job.created = float(rec.get("created") or job.created)
+        job.started = rec.get("started")
+        job.finished = rec.get("finished") or job.created
+        job.progress = float(rec.get("progress", 0.0))
+        job.error = rec.get("error")
+        if rec.get("status") in _FINAL:
+            job.status = rec["status"]
+            job.message = str(rec.get("message", rec["status"]))
+        else:
+            job.status = "interrupted"
+            job.message = INTERRUPTED
+        job._done.set()
+        return job
+
+    def when_finished(self, fn: Callable[[Job], None]) -> None:
+        """Call ``fn(job)`` once the job has ended (at once when it has)."""
+        with self._lock:
+            if self.status not in _FINAL:
+                self._finished_callbacks.append(fn)
+                return
+        fn(self)
 
     # -- used by job functions ---------------------------------------------------------------
     @property
@@ -162,7 +202,13 @@ class Job:
             self.finished = time.time()
             if status == "done":
                 self.progress = 1.0
+            callbacks, self._finished_callbacks = self._finished_callbacks, []
         self._done.set()
+        for fn in callbacks:
+            try:
+                fn(self)
+            except Exception:  # storing a result must not take the job runner down
+                traceback.print_exc()
 
     def to_json(self) -> dict[str, Any]:
         with self._lock:
