@@ -13,7 +13,9 @@ Jobs never raise into the server: a failure is stored as ``error`` (message, and
 
 from __future__ import annotations
 
+import os
 import pickle
+import signal
 import subprocess
 import sys
 import threading
@@ -138,7 +140,7 @@ class Job:
         self.report(self.progress)
         payload = pickle.dumps((fn, args), protocol=pickle.HIGHEST_PROTOCOL)
         proc = subprocess.Popen(
-            [sys.executable, "-m", "illuknit.app.jobs"],
+            [sys.executable, "-m", "illuknit.app.jobs", str(os.getpid())],
             stdin=subprocess.PIPE,
             stdout=subprocess.PIPE,
             stderr=subprocess.PIPE,
@@ -310,8 +312,34 @@ class JobRunner:
         self._pool.shutdown(wait=False, cancel_futures=True)
 
 
+def _die_with_parent(parent: int, poll: float = 0.2) -> None:
+    """End this worker as soon as the server that started it (pid ``parent``) is gone, however
+    it went (Ctrl-C, a crash, ``kill -9``): the kernel kills it on Linux (``PR_SET_PDEATHSIG``),
+    and everywhere a watcher thread ends it within ``poll`` seconds of being orphaned."""
+    if sys.platform.startswith("linux"):
+        try:
+            import ctypes
+
+            libc = ctypes.CDLL(None, use_errno=True)
+            libc.prctl(1, signal.SIGKILL, 0, 0, 0)  # 1 = PR_SET_PDEATHSIG
+        except (OSError, AttributeError):  # no prctl: the watcher does it
+            pass
+    if os.getppid() != parent:  # gone before the kernel was asked
+        os._exit(1)
+
+    def watch() -> None:
+        while os.getppid() == parent:
+            time.sleep(poll)
+        os._exit(1)
+
+    threading.Thread(target=watch, name="illuknit-parent-watch", daemon=True).start()
+
+
 def _worker_main() -> None:
-    """Child side of :meth:`Job.run_isolated`: read ``(fn, args)``, answer a pickled message."""
+    """Child side of :meth:`Job.run_isolated`: read ``(fn, args)``, answer a pickled message.
+    The worker ends with the server that started it (:func:`_die_with_parent`)."""
+    if len(sys.argv) > 1:
+        _die_with_parent(int(sys.argv[1]))
     answer = sys.stdout.buffer
     sys.stdout = sys.stderr  # anything the work prints must not corrupt the answer
     fn, args = pickle.load(sys.stdin.buffer)

@@ -22,17 +22,28 @@ class UploadLimit:
 
     ``limit`` is the server's one upload limit (``AppConfig.max_upload_bytes``), on the file. A
     request carries the file inside multipart framing, so a request is refused here when it is
-    over the limit plus room for the framing: a declared ``Content-Length`` at once, a chunked
+    over the limit plus room for the framing: by its declared ``Content-Length``, or a chunked
     body as soon as it passes it. A file over the limit in a request within it is refused by the
     upload route, with the same 413 and the same message (:func:`~illuknit.app.inputs.
     too_large_message`), never a dropped connection.
+
+    The 413 must reach the client *before* the connection closes. A server that answers and
+    closes while the client is still sending resets the connection, and a client may lose the
+    answer (httpx: "peer closed connection without sending complete message body"). So the rest
+    of the body is read and thrown away (never kept: memory stays flat) up to ``drain`` bytes in
+    all, then the 413 is sent with ``Connection: close``. A client that asked ``Expect:
+    100-continue`` (curl, for big bodies) has sent nothing yet: it is answered at once, and never
+    sends the body. A body declared over ``drain`` is answered at once, unread, as is a chunked
+    body once it passes ``drain``.
     """
 
-    def __init__(self, app: Any, *, limit: int) -> None:
+    def __init__(self, app: Any, *, limit: int, drain: int | None = None) -> None:
         self.app = app
         # multipart framing adds a few hundred bytes; allow some slack over the file limit
         self.limit = limit + 64 * 1024
         self.file_limit = limit
+        #: bytes of a refused body read (and discarded) so that the client hears the 413
+        self.drain = drain if drain is not None else max(8 * limit, 256 * 2**20)
 
     async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
         path = scope.get("path", "")
@@ -48,6 +59,9 @@ class UploadLimit:
         headers = dict(scope.get("headers") or [])
         declared = headers.get(b"content-length")
         if declared is not None and declared.isdigit() and int(declared) > self.limit:
+            waits = headers.get(b"expect", b"").lower() == b"100-continue"
+            if not waits and int(declared) <= self.drain and not await self._discard(receive, 0):
+                return
             await self._refuse(send, field)
             return
         chunks: list[bytes] = []
@@ -59,11 +73,14 @@ class UploadLimit:
                 return
             body = message.get("body", b"")
             total += len(body)
+            more = message.get("more_body", False)
             if total > self.limit:
+                chunks.clear()
+                if more and not await self._discard(receive, total):
+                    return
                 await self._refuse(send, field)
                 return
             chunks.append(body)
-            more = message.get("more_body", False)
         replay = [{"type": "http.request", "body": b"".join(chunks), "more_body": False}]
 
         async def replay_receive() -> Message:
@@ -72,6 +89,18 @@ class UploadLimit:
             return await receive()
 
         await self.app(scope, replay_receive, send)
+
+    async def _discard(self, receive: Receive, seen: int) -> bool:
+        """Read the rest of the body and drop it, up to ``drain`` bytes in all; False when the
+        client went away meanwhile (nobody to answer)."""
+        while seen <= self.drain:
+            message = await receive()
+            if message["type"] == "http.disconnect":
+                return False
+            seen += len(message.get("body", b""))
+            if not message.get("more_body", False):
+                return True
+        return True
 
     async def _refuse(self, send: Send, field: str) -> None:
         body = json.dumps(
