@@ -314,7 +314,8 @@ class SessionStore:
         self._sessions: dict[str, Session] = {}
         self._gone: OrderedDict[str, str] = OrderedDict()
         self._lock = threading.Lock()
-        self._seq = 0
+        # saves are numbered across restarts, so the newest snapshot of a session always wins
+        self._seq = 0 if disk is None else disk.last_seq()
 
     def create(self) -> Session:
         with self._lock:
@@ -331,7 +332,8 @@ class SessionStore:
         with self._lock:
             self._expire_locked()
             session = self._sessions.get(sid)
-            if session is None and self.disk is not None:
+            loaded = session is None and self.disk is not None
+            if loaded:
                 session = self._load_locked(sid)
             gone = self._gone.get(sid)
         if session is None and gone is None and self.disk is not None:
@@ -351,6 +353,8 @@ class SessionStore:
                 status=404,
             )
         session.touch()
+        if loaded:  # it came back into memory: others make room
+            self.trim(keep=sid)
         return session
 
     @contextmanager

@@ -403,6 +403,12 @@ class DiskStore:
             )
         return Loaded(obj, core, {})
 
+    def last_seq(self) -> int:
+        """The highest save number stored (a restarted server numbers its saves after it)."""
+        with self._lock:
+            (seq,) = self._db.execute("SELECT coalesce(max(seq), 0) FROM sessions").fetchone()
+        return int(seq)
+
     def gone_reason(self, sid: str) -> str | None:
         with self._lock:
             row = self._db.execute("SELECT reason FROM gone WHERE id = ?", (sid,)).fetchone()
