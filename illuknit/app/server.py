@@ -108,8 +108,8 @@ def create_app(config: AppConfig | None = None) -> Any:
         # first upload is not the one that waits for scikit-image, SciPy and the solvers to load.
         threading.Thread(target=design.warm_up, name="illuknit-warm-up", daemon=True).start()
         yield
+        store.close()  # first: jobs the stop cuts short are stored as interrupted
         runner.shutdown()
-        store.close()
 
     app = FastAPI(
         title="illuknit design app",

@@ -426,11 +426,14 @@ class SessionStore:
 
     def close(self) -> None:
         """The server is stopping: record when each session in memory was last used, and close
-        the disk (releasing its folder for the next server)."""
+        the disk (releasing its folder for the next server). Call it before cancelling the jobs:
+        a job the stop cuts short then comes back *interrupted*, not *cancelled*."""
         if self.disk is None:
             return
         with self._lock:
             sessions = list(self._sessions.values())
+            for s in sessions:  # work cut short by the stop is stored as it was: interrupted
+                s.detached = True
         for s in sessions:
             self.disk.touch(s.id, s.last_seen)
         self.disk.close()
