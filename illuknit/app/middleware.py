@@ -28,22 +28,21 @@ class UploadLimit:
     too_large_message`), never a dropped connection.
 
     The 413 must reach the client *before* the connection closes. A server that answers and
-    closes while the client is still sending resets the connection, and a client may lose the
-    answer (httpx: "peer closed connection without sending complete message body"). So the rest
-    of the body is read and thrown away (never kept: memory stays flat) up to ``drain`` bytes in
-    all, then the 413 is sent with ``Connection: close``. A client that asked ``Expect:
-    100-continue`` (curl, for big bodies) has sent nothing yet: it is answered at once, and never
-    sends the body. A body declared over ``drain`` is answered at once, unread, as is a chunked
-    body once it passes ``drain``.
+    closes while the client is still sending resets the connection, and the client may lose the
+    answer (httpx: "peer closed connection without sending complete message body"; curl: "Send
+    failure: Connection reset by peer"). So the 413 is sent at once, from the headers (a client
+    that waits for an answer before sending, as with ``Expect: 100-continue``, gets it), and the
+    connection is *not* closed: the server reads the rest of the body and throws it away (uvicorn
+    discards the body of a request that has been answered; nothing is kept, memory stays flat),
+    then the connection serves the next request. Only a client that said ``Expect:
+    100-continue``, and so sends no body after a refusal, is answered with ``Connection: close``.
     """
 
-    def __init__(self, app: Any, *, limit: int, drain: int | None = None) -> None:
+    def __init__(self, app: Any, *, limit: int) -> None:
         self.app = app
         # multipart framing adds a few hundred bytes; allow some slack over the file limit
         self.limit = limit + 64 * 1024
         self.file_limit = limit
-        #: bytes of a refused body read (and discarded) so that the client hears the 413
-        self.drain = drain if drain is not None else max(8 * limit, 256 * 2**20)
 
     async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
         path = scope.get("path", "")
@@ -58,11 +57,9 @@ class UploadLimit:
         field = f"image_{slot}" if slot in ("a", "b") else "image_a"
         headers = dict(scope.get("headers") or [])
         declared = headers.get(b"content-length")
+        waits = headers.get(b"expect", b"").lower() == b"100-continue"
         if declared is not None and declared.isdigit() and int(declared) > self.limit:
-            waits = headers.get(b"expect", b"").lower() == b"100-continue"
-            if not waits and int(declared) <= self.drain and not await self._discard(receive, 0):
-                return
-            await self._refuse(send, field)
+            await self._refuse(send, field, close=waits)
             return
         chunks: list[bytes] = []
         total = 0
@@ -75,10 +72,7 @@ class UploadLimit:
             total += len(body)
             more = message.get("more_body", False)
             if total > self.limit:
-                chunks.clear()
-                if more and not await self._discard(receive, total):
-                    return
-                await self._refuse(send, field)
+                await self._refuse(send, field, close=False)
                 return
             chunks.append(body)
         replay = [{"type": "http.request", "body": b"".join(chunks), "more_body": False}]
@@ -90,33 +84,17 @@ class UploadLimit:
 
         await self.app(scope, replay_receive, send)
 
-    async def _discard(self, receive: Receive, seen: int) -> bool:
-        """Read the rest of the body and drop it, up to ``drain`` bytes in all; False when the
-        client went away meanwhile (nobody to answer)."""
-        while seen <= self.drain:
-            message = await receive()
-            if message["type"] == "http.disconnect":
-                return False
-            seen += len(message.get("body", b""))
-            if not message.get("more_body", False):
-                return True
-        return True
-
-    async def _refuse(self, send: Send, field: str) -> None:
+    async def _refuse(self, send: Send, field: str, *, close: bool) -> None:
         body = json.dumps(
             error_body(too_large_message(self.file_limit), field, "too_large")
         ).encode()
-        await send(
-            {
-                "type": "http.response.start",
-                "status": 413,
-                "headers": [
-                    (b"content-type", b"application/json"),
-                    (b"connection", b"close"),
-                    (b"content-length", str(len(body)).encode()),
-                ],
-            }
-        )
+        headers = [
+            (b"content-type", b"application/json"),
+            (b"content-length", str(len(body)).encode()),
+        ]
+        if close:
+            headers.append((b"connection", b"close"))
+        await send({"type": "http.response.start", "status": 413, "headers": headers})
         await send({"type": "http.response.body", "body": body})
 
 

@@ -266,6 +266,44 @@ def test_an_oversized_upload_is_answered_413_to_curl(app_process, oversized, opt
     assert '"too_large"' in text and "32 MB" in text
 
 
+def test_a_refused_upload_leaves_the_connection_open_while_the_body_is_sent(app_process):
+    """The mechanism behind both tests above, deterministic: the 413 comes from the headers, and
+    the server then reads the body the client goes on sending and serves the next request on the
+    same connection. (Closing at the 413 resets a connection whose client is still sending, and
+    a client may then lose the answer: "peer closed connection without sending complete message
+    body".)"""
+    import json
+    import socket
+
+    server = app_process()
+    sid = httpx.post(f"{server.url}/api/sessions").json()["id"]
+    size = 40 * 2**20
+    with socket.create_connection(("127.0.0.1", server.port), timeout=60) as sock:
+        sock.sendall(
+            (
+                f"PUT /api/sessions/{sid}/images/a HTTP/1.1\r\nHost: 127.0.0.1:{server.port}\r\n"
+                "Content-Type: multipart/form-data; boundary=x\r\n"
+                f"Content-Length: {size}\r\n\r\n"
+            ).encode()
+        )
+        reader = sock.makefile("rb")
+        status = reader.readline()
+        headers = {}
+        while (line := reader.readline()) not in (b"\r\n", b""):
+            key, _, value = line.decode().partition(":")
+            headers[key.strip().lower()] = value.strip()
+        body = json.loads(reader.read(int(headers["content-length"])))
+        assert status.split()[1] == b"413" and body["error"]["code"] == "too_large"
+        assert headers.get("connection") != "close"
+        block = bytes(2**20)
+        for _ in range(size // len(block)):
+            sock.sendall(block)  # the server reads it (and drops it): no reset
+        sock.sendall(
+            f"GET /api/sessions/{sid} HTTP/1.1\r\nHost: 127.0.0.1:{server.port}\r\n\r\n".encode()
+        )
+        assert reader.readline().split()[1] == b"200"
+
+
 def test_the_cli_refuses_a_data_folder_in_use(app_process, tmp_path):
     server = app_process()
     out = subprocess.run(
