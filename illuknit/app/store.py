@@ -8,7 +8,8 @@ A session is stored *whole*: everything on the :class:`~illuknit.app.sessions.Se
 (pictures, settings, candidates with their measures, the pick, tile edits, suggested edits,
 undo and redo steps, the records of its jobs, and any field added to it later) is pickled as one
 value, so a new field persists without a change of schema. Arrays of :data:`BLOB_MIN_BYTES` or
-more are kept out of the pickle: each is stored once as a compressed ``.npy`` blob named by the
+more are kept out of the pickle: each is stored once as an ``.npy`` blob (compressed below
+:data:`COMPRESS_BELOW`) named by the
 SHA-256 of its bytes, so a picture shared by the session and its undo steps, or by two saves, is
 written once. A table of references (session, hash) lets a blob go when no session needs it.
 
@@ -63,6 +64,8 @@ __all__ = [
 
 #: Arrays at least this big are stored as blobs by hash; smaller ones stay inside the pickle.
 BLOB_MIN_BYTES = 16 * 1024
+#: Blobs smaller than this are compressed (zlib); bigger ones (pictures) are stored as ``.npy``.
+COMPRESS_BELOW = 2**20
 #: Version of the stored layout (the tables and the pickle's conventions).
 FORMAT = 1
 
@@ -295,7 +298,9 @@ class DiskStore:
                 if digest in have:
                     continue
                 data = value if isinstance(value, bytes) else _npy_bytes(value)
-                packed = zlib.compress(data, 1)
+                # small arrays (grids) compress well and fast; a picture is stored as it is
+                # (compressing 12 MB takes most of a second on a busy laptop)
+                packed = zlib.compress(data, 1) if len(data) < COMPRESS_BELOW else data
                 db.execute(
                     "INSERT INTO blobs (hash, nbytes, data) VALUES (?, ?, ?)",
                     (digest, len(packed), packed),
@@ -441,9 +446,10 @@ class DiskStore:
             row = self._db.execute("SELECT data FROM blobs WHERE hash = ?", (digest,)).fetchone()
         if row is None:
             raise pickle.UnpicklingError(f"a stored picture is missing (blob {digest[:12]})")
-        arr: np.ndarray = np.lib.format.read_array(
-            io.BytesIO(zlib.decompress(row[0])), allow_pickle=False
-        )
+        data = bytes(row[0])
+        if not data.startswith(b"\x93NUMPY"):  # compressed
+            data = zlib.decompress(data)
+        arr: np.ndarray = np.lib.format.read_array(io.BytesIO(data), allow_pickle=False)
         return arr
 
     @staticmethod

@@ -134,7 +134,8 @@ def test_many_big_sessions_lose_nothing_to_the_memory_bound(tmp_path):
             assert store.nbytes() <= store.max_bytes + 2 * 12 * 2**20
 
 
-def test_a_job_cut_short_by_a_kill_is_interrupted_and_runs_again(app_process, pictures, api):
+@pytest.mark.parametrize("how", ["interrupt", "kill"])
+def test_a_job_cut_short_by_a_stop_is_interrupted_and_runs_again(app_process, pictures, api, how):
     server = app_process()
     with httpx.Client(base_url=server.url, timeout=60) as c:
         sid = api.new_session(c)
@@ -148,7 +149,7 @@ def test_a_job_cut_short_by_a_kill_is_interrupted_and_runs_again(app_process, pi
             "queued",
             "running",
         )
-    server.stop("kill")
+    server.stop(how)
     server.start()
     with httpx.Client(base_url=server.url, timeout=60) as c:
         state = c.get(f"/api/sessions/{sid}").json()
