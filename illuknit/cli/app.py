@@ -9,7 +9,7 @@ from pathlib import Path
 
 import click
 
-from illuknit.errors import BackendUnavailableError
+from illuknit.core.errors import BackendUnavailableError
 
 
 @click.command(name="app")
