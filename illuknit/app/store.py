@@ -52,7 +52,7 @@ from typing import Any
 import numpy as np
 
 from illuknit import __version__
-from illuknit.errors import OutputPathError
+from illuknit.core.errors import OutputPathError
 
 __all__ = [
     "BLOB_MIN_BYTES",

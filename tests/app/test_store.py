@@ -213,7 +213,7 @@ def test_a_session_deleted_by_retention_tells_its_tab(tmp_path):
     with store._lock:
         store._drop_locked(s.id, None)
     store.disk.enforce(force=True)
-    from illuknit.errors import AppRequestError
+    from illuknit.core.errors import AppRequestError
 
     with pytest.raises(AppRequestError) as e:
         store.get(s.id)
