@@ -326,15 +326,18 @@ class SessionStore:
         session.save()
         return session
 
-    def get(self, sid: str) -> Session:
+    def get(self, sid: str, *, pin: bool = False) -> Session:
         """Session ``sid``, read back from disk when it is not in memory (410 ``evicted`` when
-        it was deleted or closed, 404 ``no_session`` when it never was)."""
+        it was deleted or closed, 404 ``no_session`` when it never was). ``pin``: count it as in
+        use, from the moment it is found (:meth:`using` unpins it)."""
         with self._lock:
             self._expire_locked()
             session = self._sessions.get(sid)
             loaded = session is None and self.disk is not None
             if loaded:
                 session = self._load_locked(sid)
+            if session is not None and pin:
+                session.pins += 1
             gone = self._gone.get(sid)
         if session is None and gone is None and self.disk is not None:
             gone = self.disk.gone_reason(sid)
@@ -360,9 +363,7 @@ class SessionStore:
     @contextmanager
     def using(self, sid: str) -> Iterator[Session]:
         """Session ``sid`` (as :meth:`get`), kept in memory while the block runs."""
-        session = self.get(sid)
-        with self._lock:
-            session.pins += 1
+        session = self.get(sid, pin=True)
         try:
             yield session
         finally:

@@ -125,11 +125,15 @@ class Retention:
     max_bytes: int = 2 * 2**30
 
     def describe(self) -> str:
-        days = f"{self.days:g} day" + ("" if self.days == 1 else "s")
+        days = _days(self.days)
         return (
             f"a session unused for {days} is deleted, and when all sessions together pass "
             f"{_size_text(self.max_bytes)} the least recently used go first"
         )
+
+
+def _days(n: float) -> str:
+    return f"{n:g} day" + ("" if n == 1 else "s")
 
 
 def _size_text(n: int) -> str:
@@ -364,8 +368,8 @@ class DiskStore:
                     "SELECT id FROM sessions WHERE last_seen < ? ORDER BY last_seen", (cutoff,)
                 ).fetchall():
                     if sid not in keep:
-                        days = f"{self.retention.days:g}"
-                        self._delete(db, sid, f"this session was deleted after {days} days unused")
+                        why = f"this session was deleted after {_days(self.retention.days)} unused"
+                        self._delete(db, sid, why)
                         deleted.append(sid)
                 order = db.execute("SELECT id FROM sessions ORDER BY last_seen").fetchall()
                 for (sid,) in order:

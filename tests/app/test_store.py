@@ -189,7 +189,7 @@ def test_retention_by_age_and_by_size(tmp_path):
     disk.save(old, seq=1, lock=old.lock)
     disk.save(new, seq=2, lock=new.lock)
     assert disk.enforce(force=True) == ["old"]
-    assert "1 days unused" in (disk.gone_reason("old") or "")
+    assert "1 day unused" in (disk.gone_reason("old") or "")
     # by size: three sessions of ~240 kB of noise each, room for two
     disk.retention = Retention(days=30, max_bytes=600_000)
     for k, sid in enumerate(("x", "y")):
@@ -217,7 +217,7 @@ def test_a_session_deleted_by_retention_tells_its_tab(tmp_path):
 
     with pytest.raises(AppRequestError) as e:
         store.get(s.id)
-    assert e.value.status == 410 and "deleted after 1 days unused" in str(e.value)
+    assert e.value.status == 410 and "deleted after 1 day unused" in str(e.value)
 
 
 def test_an_unreadable_session_keeps_its_pictures_and_settings(tmp_path):
