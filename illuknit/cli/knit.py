@@ -13,6 +13,7 @@ from illuknit.cli.options import COUNT, NON_NEGATIVE, POSITIVE
 
 if TYPE_CHECKING:
     from illuknit.knit.machine import MachineSpec
+    from illuknit.knit.options import KnitOptions
 
 __all__ = ["knit", "run_knit"]
 
@@ -24,19 +25,12 @@ def run_knit(
     machine: str | MachineSpec | None = None,
     gauge: float | None = None,
     machine_width: int | None = None,
-    cast_on_courses: int = 2,
+    options: KnitOptions | None = None,
     seconds_per_needle: float | None = None,
     seconds_per_turn: float | None = None,
     check: bool = True,
     float_limit: int | None = None,
-    float_avoidance: bool = True,
-    catching: bool | str = True,
-    path_planning: str = "anchor",
-    strict_floats: bool = False,
-    catch_every: int = 2,
     output_format: str = "knitout",
-    tuck_passes: bool = False,
-    allow_long_floats: bool = False,
 ) -> dict[str, Any]:
     """Compile ``pattern_path`` to knitout (or a machine file: ``output_format="dat"``) at
     ``output``; return the summary (and checker verdict).
@@ -44,9 +38,11 @@ def run_knit(
     ``machine`` is a preset name (or a spec); ``gauge``, ``machine_width`` and the other options
     override its values. A pattern wider than the bed is refused before compiling; nothing is
     written when compilation fails. ``output_format`` is ``knitout`` or a machine file the
-    machine takes (``kc`` for the Kniterate). A float that stays longer than the float limit
-    is refused (:class:`~illuknit.errors.LongFloatError`) unless ``allow_long_floats``, which
-    keeps it with a :class:`~illuknit.knit.pipeline.LongFloatWarning`.
+    machine takes (``kc`` for the Kniterate). ``options`` says how to knit
+    (:class:`~illuknit.knit.options.KnitOptions`): a float that stays longer than the float
+    limit is refused (:class:`~illuknit.errors.LongFloatError`) unless
+    ``options.allow_long_floats``, which keeps it with a
+    :class:`~illuknit.knit.pipeline.LongFloatWarning`.
     """
     from dataclasses import replace
 
@@ -72,18 +68,7 @@ def run_knit(
         changes["float_limit"] = float_limit
     if changes:
         spec = replace(spec, **changes)
-    result = knit_pattern(
-        pattern,
-        machine=spec,
-        cast_on_courses=cast_on_courses,
-        float_avoidance=float_avoidance,
-        catching=catching,
-        path_planning=path_planning,
-        strict_floats=strict_floats,
-        catch_every=catch_every,
-        tuck_passes=tuck_passes,
-        allow_long_floats=allow_long_floats,
-    )
+    result = knit_pattern(pattern, machine=spec, options=options)
     summary = result.summary()
     if check:
         from illuknit.check import check_knitout
@@ -255,6 +240,8 @@ def knit(
     none switches are the paper's Fig. 20 ablations). Exit code 1 when the checker finds a
     blocking problem, 2 on bad input.
     """
+    from illuknit.knit.options import Catching, KnitOptions, PathPlanning
+
     if strict_floats and allow_long_floats:
         raise click.UsageError("--strict-floats and --allow-long-floats contradict each other")
     if float_avoidance_on and no_float_avoidance:
@@ -270,17 +257,19 @@ def knit(
         pattern,
         output,
         float_limit=float_limit,
-        strict_floats=strict_floats,
-        allow_long_floats=allow_long_floats,
-        tuck_passes=tuck_passes,
-        float_avoidance=not no_float_avoidance,
-        catching=False if no_catching else ("plate" if plate else True),
-        catch_every=catch_every,
-        path_planning=path_planning[0] if path_planning else "anchor",
+        options=KnitOptions(
+            cast_on_courses=cast_on_courses,
+            strict_floats=strict_floats,
+            allow_long_floats=allow_long_floats,
+            tuck_passes=tuck_passes,
+            float_avoidance=not no_float_avoidance,
+            catching=Catching.OFF if no_catching else (Catching.PLATE if plate else Catching.TUCK),
+            catch_every=catch_every,
+            path_planning=PathPlanning(path_planning[0] if path_planning else "anchor"),
+        ),
         machine=machine,
         gauge=gauge,
         machine_width=machine_width,
-        cast_on_courses=cast_on_courses,
         seconds_per_needle=seconds_per_needle,
         seconds_per_turn=seconds_per_turn,
         check=not no_check,

@@ -71,7 +71,7 @@ from illuknit.knit.course_order import course_items, order_and_plan
 from illuknit.knit.float_avoidance import float_crossings, transfers_before
 from illuknit.knit.float_tucks import LongFloat, tuck_long_floats
 from illuknit.knit.ir import Role
-from illuknit.knit.machine import DEFAULT_MACHINE, MachineSpec
+from illuknit.knit.machine import DEFAULT_MACHINE, MachineSpec, resolve_machine
 from illuknit.knit.mixed_edges import Emitter, bind_off, cast_on
 from illuknit.knit.move_folding import fold_moves
 from illuknit.knit.path_planning import (
@@ -278,7 +278,7 @@ def _long_float_error(
 def schedule_mixed(
     stitches: StitchPattern,
     *,
-    machine: MachineSpec = DEFAULT_MACHINE,
+    machine: str | MachineSpec = DEFAULT_MACHINE,
     float_avoidance: bool = True,
     catching: bool | str = True,
     path_planning: str = "anchor",
@@ -296,8 +296,9 @@ def schedule_mixed(
     ----------
     stitches : StitchPattern
         C courses x W wales, any yarns and knit/purl anywhere.
-    machine : MachineSpec
-        Bed, carriers, float limit, parking, stitch numbers.
+    machine : str or MachineSpec
+        Bed, carriers, float limit, parking, stitch numbers (a preset name is read by
+        :func:`~illuknit.knit.machine.resolve_machine`).
     float_avoidance : bool
         Algorithm 1: move purls to the front around floats that cross them.
     catching : bool or {"tuck", "plate"}
@@ -357,6 +358,7 @@ def schedule_mixed(
     PatternValidationError
         If ``stitches`` is not a StitchPattern.
     """
+    machine = resolve_machine(machine)
     limit = _checked_options(
         stitches,
         machine=machine,

@@ -14,13 +14,19 @@ that want a verdict pass the returned text to it.
 from __future__ import annotations
 
 import warnings
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, fields, replace
 from typing import Any
 
-from illuknit.errors import CarrierShortageError, PatternValidationError, SchedulingError
+from illuknit.errors import (
+    CarrierShortageError,
+    OptionError,
+    PatternValidationError,
+    SchedulingError,
+)
 from illuknit.knit.carriage import machine_run, machine_stats, runs_on_swg
 from illuknit.knit.knitout import write_knitout
-from illuknit.knit.machine import DEFAULT_MACHINE, MachineSpec
+from illuknit.knit.machine import MachineSpec, resolve_machine
+from illuknit.knit.options import Catching, KnitOptions
 from illuknit.knit.schedule import Schedule, ScheduleStats, schedule_courses
 from illuknit.knit.stitches import StitchPattern, lower_to_stitches
 from illuknit.knit.timing import TimeEstimate, estimate_knit_time
@@ -114,35 +120,32 @@ class KnitResult:
 def knit_pattern(
     pattern: LogicalPattern,
     *,
-    machine: MachineSpec | None = None,
-    cast_on_courses: int = 2,
-    float_avoidance: bool = True,
-    catching: bool | str = True,
-    path_planning: str = "anchor",
-    strict_floats: bool = False,
-    catch_every: int = 2,
-    tuck_passes: bool = False,
-    allow_long_floats: bool = False,
+    machine: str | MachineSpec | None = None,
+    options: KnitOptions | None = None,
+    **knobs: Any,
 ) -> KnitResult:
     """Compile a logical pattern to a knitout program.
 
     Patterns with one colour per course go to :func:`~illuknit.knit.schedule.schedule_courses`;
     patterns that change colour inside a course to the mixed-colourwork scheduler
-    :func:`~illuknit.knit.mixed.schedule_mixed`, whose switches (``float_avoidance``,
-    ``catching``, ``catch_every``, ``path_planning``, ``strict_floats``, ``tuck_passes``,
-    ``allow_long_floats``) apply
-    to them only.
+    :func:`~illuknit.knit.mixed.schedule_mixed`, to which the switches of
+    :class:`~illuknit.knit.options.KnitOptions` other than ``cast_on_courses`` apply.
 
     Parameters
     ----------
     pattern : LogicalPattern
-    machine : MachineSpec, optional
-        Defaults to the paper's 7-gauge SWG091N2 (:data:`DEFAULT_MACHINE`).
-    cast_on_courses : int
-        Plain courses between the cast-on and the pattern.
-    allow_long_floats : bool
-        False (the default): refuse a float that stays longer than ``machine.float_limit``
-        after tucking. True: keep it, report it in :meth:`KnitResult.summary` and warn.
+    machine : str or MachineSpec, optional
+        A preset name (``"swg091n2"``, ``"kniterate"``, ...) or a spec; defaults to the paper's
+        7-gauge SWG091N2 (:data:`~illuknit.knit.machine.DEFAULT_MACHINE`). Read by
+        :func:`~illuknit.knit.machine.resolve_machine`.
+    options : KnitOptions, optional
+        How to knit (defaults: ``KnitOptions()``). With ``allow_long_floats=False`` (the
+        default) a float that stays longer than ``machine.float_limit`` after tucking is
+        refused; with True it is kept, reported in :meth:`KnitResult.summary` and warned about.
+    **knobs
+        Shorthand for fields of ``options`` (``knit_pattern(p, catching="plate")`` is
+        ``knit_pattern(p, options=KnitOptions(catching="plate"))``); they replace those fields
+        of ``options`` when both are given.
 
     Returns
     -------
@@ -168,7 +171,8 @@ def knit_pattern(
         raise PatternValidationError(
             f"`pattern` must be a LogicalPattern, got {type(pattern).__name__}"
         )
-    m = DEFAULT_MACHINE if machine is None else machine
+    m = resolve_machine(machine)
+    opts = _knit_options(options, knobs)
     # Without an inserting hook, the waste yarn and draw thread hold carriers of their own: the
     # scheduler plans with the others only (and refuses a plan that needs more).
     plan_machine = (
@@ -176,25 +180,14 @@ def knit_pattern(
         if m.inserting_hook
         else replace(m, carriers=m.pattern_carriers, waste_carrier=None, draw_carrier=None)
     )
-    stitches = lower_to_stitches(pattern, machine=plan_machine, cast_on_courses=cast_on_courses)
-    from illuknit.knit.mixed import schedule_mixed, validate_ablation
-
-    validate_ablation(
-        float_avoidance=float_avoidance, catching=catching, path_planning=path_planning
+    stitches = lower_to_stitches(
+        pattern, machine=plan_machine, cast_on_courses=opts.cast_on_courses
     )
+    from illuknit.knit.mixed import schedule_mixed
+
     try:
         if stitches.mixed_courses().size:
-            schedule = schedule_mixed(
-                stitches,
-                machine=plan_machine,
-                float_avoidance=float_avoidance,
-                catching=catching,
-                path_planning=path_planning,
-                strict_floats=strict_floats,
-                catch_every=catch_every,
-                tuck_passes=tuck_passes,
-                allow_long_floats=allow_long_floats,
-            )
+            schedule = schedule_mixed(stitches, machine=plan_machine, **opts.scheduler_kwargs())
         else:
             schedule = schedule_courses(stitches, machine=plan_machine)
     except SchedulingError as e:
@@ -234,6 +227,21 @@ def knit_pattern(
     if schedule.long_floats:
         warnings.warn(LongFloatWarning(long_float_warning(result)), stacklevel=2)
     return result
+
+
+def _knit_options(options: KnitOptions | None, knobs: dict[str, Any]) -> KnitOptions:
+    """``options`` with the shorthand ``knobs`` in place of its fields (one validation)."""
+    if options is not None and not isinstance(options, KnitOptions):
+        raise OptionError(f"`options` must be a KnitOptions, got {type(options).__name__}")
+    base = KnitOptions() if options is None else options
+    unknown = sorted(set(knobs) - {f.name for f in fields(KnitOptions)})
+    if unknown:
+        valid = ", ".join(f.name for f in fields(KnitOptions))
+        raise OptionError(f"unknown knitting option {unknown[0]!r}; valid: {valid}")
+    if "catching" in knobs and isinstance(knobs["catching"], bool):
+        # the scheduler's old spelling: True (tuck joins) / False (no joins)
+        knobs = {**knobs, "catching": Catching.TUCK if knobs["catching"] else Catching.OFF}
+    return replace(base, **knobs) if knobs else base
 
 
 def long_float_warning(result: KnitResult) -> str:
