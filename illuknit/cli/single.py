@@ -39,17 +39,13 @@ def run_single(
     the machine the program is knit on; with ``knitout`` a picture wider than the machine's bed
     is refused before compiling.
     """
-    from illuknit.cli.knitout_bridge import check_fits, resolve_machine
+    from illuknit.cli.knitout_bridge import resolve_machine
+    from illuknit.design.stages import design_single
     from illuknit.export import export_pattern
     from illuknit.outputs import staged_dir
-    from illuknit.single_view import (
-        compile_single_view,
-        prepare_single_view_image,
-        single_view_errors,
-    )
 
     spec = resolve_machine(machine, gauge=gauge)
-    q = prepare_single_view_image(
+    design = design_single(
         image,
         width=width,
         height=height,
@@ -57,12 +53,13 @@ def run_single(
         gauge=spec.gauge,
         n_colors=n_colors,
         yarns=parse_yarn_option(yarns),
-        allow_quantise=quantise,
+        quantise=quantise,
+        first=first,  # type: ignore[arg-type]
+        knit_on=spec if knitout else None,
     )
-    if knitout:
-        check_fits(spec, q.indices.shape[1])
-    pattern = compile_single_view(q, first=first)  # type: ignore[arg-type]
-    err_a, err_b = single_view_errors(q, pattern)
+    q, chosen = design.quantised, design.first(first)  # type: ignore[arg-type]
+    pattern = chosen.pattern
+    err_a, err_b = chosen.measures["mismatch_A"], chosen.measures["mismatch_B"]
     report = {
         "source": str(image),
         "compiler": "single-view",
