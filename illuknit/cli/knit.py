@@ -240,32 +240,22 @@ def knit(
     none switches are the paper's Fig. 20 ablations). Exit code 1 when the checker finds a
     blocking problem, 2 on bad input.
     """
-    from illuknit.knit.options import Catching, KnitOptions, PathPlanning
-
-    if strict_floats and allow_long_floats:
-        raise click.UsageError("--strict-floats and --allow-long-floats contradict each other")
-    if float_avoidance_on and no_float_avoidance:
-        raise click.UsageError("--float-avoidance and --no-float-avoidance contradict each other")
-    if (catching_on or plate) and no_catching:
-        what = "--plate" if plate else "--catching"
-        raise click.UsageError(f"{what} and --no-catching contradict each other")
-    if len(set(path_planning)) > 1:
-        raise click.UsageError(
-            f"--path-planning given contradictory values: {', '.join(sorted(set(path_planning)))}"
-        )
     summary = run_knit(
         pattern,
         output,
         float_limit=float_limit,
-        options=KnitOptions(
+        options=_knit_options(
             cast_on_courses=cast_on_courses,
             strict_floats=strict_floats,
             allow_long_floats=allow_long_floats,
             tuck_passes=tuck_passes,
-            float_avoidance=not no_float_avoidance,
-            catching=Catching.OFF if no_catching else (Catching.PLATE if plate else Catching.TUCK),
+            float_avoidance_on=float_avoidance_on,
+            no_float_avoidance=no_float_avoidance,
+            catching_on=catching_on,
+            plate=plate,
+            no_catching=no_catching,
             catch_every=catch_every,
-            path_planning=PathPlanning(path_planning[0] if path_planning else "anchor"),
+            path_planning=path_planning,
         ),
         machine=machine,
         gauge=gauge,
@@ -324,3 +314,43 @@ def _echo_machine_sheet(s: dict[str, Any]) -> None:
     numbers = ", ".join(map(str, s["stitch_numbers"])) or "machine default"
     lo, hi = s["needle_range"]
     click.echo(f"  stitch numbers: {numbers}; needles {lo}..{hi}")
+
+
+def _knit_options(
+    *,
+    cast_on_courses: int,
+    strict_floats: bool,
+    allow_long_floats: bool,
+    tuck_passes: bool,
+    float_avoidance_on: bool,
+    no_float_avoidance: bool,
+    catching_on: bool,
+    plate: bool,
+    no_catching: bool,
+    catch_every: int,
+    path_planning: tuple[str, ...],
+) -> KnitOptions:
+    """The knitting options the switches of ``illuknit knit`` ask for (contradictions refused)."""
+    from illuknit.knit.options import Catching, KnitOptions, PathPlanning
+
+    if strict_floats and allow_long_floats:
+        raise click.UsageError("--strict-floats and --allow-long-floats contradict each other")
+    if float_avoidance_on and no_float_avoidance:
+        raise click.UsageError("--float-avoidance and --no-float-avoidance contradict each other")
+    if (catching_on or plate) and no_catching:
+        what = "--plate" if plate else "--catching"
+        raise click.UsageError(f"{what} and --no-catching contradict each other")
+    if len(set(path_planning)) > 1:
+        raise click.UsageError(
+            f"--path-planning given contradictory values: {', '.join(sorted(set(path_planning)))}"
+        )
+    return KnitOptions(
+        cast_on_courses=cast_on_courses,
+        strict_floats=strict_floats,
+        allow_long_floats=allow_long_floats,
+        tuck_passes=tuck_passes,
+        float_avoidance=not no_float_avoidance,
+        catching=Catching.OFF if no_catching else (Catching.PLATE if plate else Catching.TUCK),
+        catch_every=catch_every,
+        path_planning=PathPlanning(path_planning[0] if path_planning else "anchor"),
+    )

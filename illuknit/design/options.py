@@ -82,6 +82,15 @@ def count_option(name: str, value: Any, *, minimum: int) -> int:
     return value
 
 
+def _seconds(name: str, value: Any) -> float:
+    """``value``, refused unless it is a positive, finite number of seconds."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise OptionError(f"`{name}` must be a number of seconds, got {value!r}")
+    if not (math.isfinite(value) and value > 0):
+        raise OptionError(f"`{name}` must be positive and finite, got {value!r}")
+    return float(value)
+
+
 class Brightness(StrEnum):
     """Keep each picture's brightness order strictly (``HARD``) or only prefer to (``SOFT``)."""
 
@@ -153,6 +162,8 @@ class SearchOptions:
         Only tiles that are solid from at least one side (the default bank only).
     edits : PictureEdits or str
         Simplifying edits of the pictures (double view only).
+    solve_seconds : float, optional
+        Time limit of each assignment solve (None: no limit).
     """
 
     candidates: int = 5
@@ -162,18 +173,17 @@ class SearchOptions:
     brightness: Brightness = Brightness.HARD
     one_sided: bool = False
     edits: PictureEdits = PictureEdits.NONE
+    solve_seconds: float | None = 10.0
 
     def __post_init__(self) -> None:
         if not 1 <= count_option("candidates", self.candidates, minimum=1) <= 50:
             raise OptionError(f"`candidates` must be between 1 and 50, got {self.candidates}")
         count_option("pool", self.pool, minimum=1)
-        seconds = self.pool_seconds
-        if isinstance(seconds, bool) or not isinstance(seconds, (int, float)):
-            raise OptionError(f"`pool_seconds` must be a number, got {seconds!r}")
-        if not (math.isfinite(seconds) and seconds > 0):
-            raise OptionError(f"`pool_seconds` must be positive and finite, got {seconds!r}")
+        _seconds("pool_seconds", self.pool_seconds)
         if not isinstance(self.solver, str) or not self.solver.strip():
             raise OptionError(f"`solver` must be a backend name, got {self.solver!r}")
+        if self.solve_seconds is not None:
+            _seconds("solve_seconds", self.solve_seconds)
         flag_option("one_sided", self.one_sided)
         object.__setattr__(
             self, "brightness", enum_option(Brightness, "brightness", self.brightness)
@@ -188,6 +198,7 @@ class SearchOptions:
             "pool_seconds": self.pool_seconds,
             "solver": self.solver,
             "brightness": self.brightness.value,
+            "time_limit": self.solve_seconds,
         }
 
 
@@ -296,9 +307,6 @@ class SolveOptions:
         flag_option("alternate_rows", self.alternate_rows)
         if self.alternate_rows and self.model is not ModelKind.SINGLE:
             raise OptionError("`alternate_rows` applies to the single-view model only")
-        t = self.time_limit
-        if t is not None and (
-            isinstance(t, bool) or not isinstance(t, (int, float)) or not math.isfinite(t) or t <= 0
-        ):
-            raise OptionError(f"`time_limit` must be positive finite seconds or None, got {t!r}")
+        if self.time_limit is not None:
+            _seconds("time_limit", self.time_limit)
         count_option("seed", self.seed, minimum=0)

@@ -26,8 +26,9 @@ return, so a script calling them reproduces the commands' files (``docs/library.
 from __future__ import annotations
 
 import os
+import time
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from types import MappingProxyType
 from typing import TYPE_CHECKING, Any, Literal
 
@@ -142,6 +143,9 @@ class TileDesign:
         The options the design was made with.
     pictures : tuple of ndarray
         The sized pictures (sRGB floats), before quantisation.
+    seconds : mapping
+        Wall time of the stage's steps: ``"search"`` (the edits and the tile assignments) and
+        ``"rank"`` (compiling, measuring and ranking them).
     """
 
     mode: Literal["double", "headon"]
@@ -156,6 +160,7 @@ class TileDesign:
     search: SearchOptions
     ranking: RankOptions
     pictures: tuple[NDArray[np.float64], ...] = ()
+    seconds: Mapping[str, float] = field(default_factory=dict)
 
     @property
     def best(self) -> RankedDesign:
@@ -349,8 +354,6 @@ def _design_pictures(
 
 
 def _with_pictures(design: TileDesign, pictures: tuple[Any, ...]) -> TileDesign:
-    from dataclasses import replace
-
     return replace(design, pictures=pictures)
 
 
@@ -399,8 +402,12 @@ def design_tiles(
         bank = canonical_bank(ys, views=views, one_sided_stripes=search.one_sided)
     elif isinstance(bank, (str, os.PathLike)):
         bank = load_bank(bank, yarns=ys)
+    t0 = time.perf_counter()
     found, edits = _search(qa, qb, mode, views, bank, search, sources, edit_colors or len(ys), say)
-    return _rank(qa, qb, mode, views, ys, bank, found, edits, search, ranking, say)
+    t1 = time.perf_counter()
+    design = _rank(qa, qb, mode, views, ys, bank, found, edits, search, ranking, say)
+    seconds = {"search": t1 - t0, "rank": time.perf_counter() - t1}
+    return replace(design, seconds=MappingProxyType(seconds))
 
 
 def _check_type(name: str, value: Any, cls: type) -> None:
@@ -690,8 +697,6 @@ def illusion_model(
 
 
 def _with_meta(pattern: LogicalPattern, meta: Mapping[str, Any]) -> LogicalPattern:
-    from dataclasses import replace
-
     return replace(pattern, meta={**pattern.meta, **meta})
 
 

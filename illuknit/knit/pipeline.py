@@ -183,25 +183,7 @@ def knit_pattern(
     stitches = lower_to_stitches(
         pattern, machine=plan_machine, cast_on_courses=opts.cast_on_courses
     )
-    from illuknit.knit.mixed import schedule_mixed
-
-    try:
-        if stitches.mixed_courses().size:
-            schedule = schedule_mixed(stitches, machine=plan_machine, **opts.scheduler_kwargs())
-        else:
-            schedule = schedule_courses(stitches, machine=plan_machine)
-    except SchedulingError as e:
-        if m.inserting_hook or type(e) not in (SchedulingError, CarrierShortageError):
-            raise
-        reserved = (
-            f"; on the {m.name} carriers {m.draw_carrier} and {m.waste_carrier} hold the draw "
-            f"thread and the waste yarn, leaving {len(plan_machine.carriers)} for the pattern"
-        )
-        if isinstance(e, CarrierShortageError):
-            raise CarrierShortageError(
-                f"{e}{reserved}", course=e.course, needed=e.needed, available=e.available
-            ) from None
-        raise SchedulingError(f"{e}{reserved}") from None
+    schedule = _schedule(stitches, m, plan_machine, opts)
     if m.inserting_hook:
         text = write_knitout(schedule, machine=m)
     else:
@@ -227,6 +209,33 @@ def knit_pattern(
     if schedule.long_floats:
         warnings.warn(LongFloatWarning(long_float_warning(result)), stacklevel=2)
     return result
+
+
+def _schedule(
+    stitches: StitchPattern, m: MachineSpec, plan_machine: MachineSpec, opts: KnitOptions
+) -> Schedule:
+    """Schedule the stitches on ``plan_machine`` (``m`` less its reserved carriers); a carrier
+    shortage on a machine without an inserting hook says which carriers are reserved."""
+    from illuknit.knit.mixed import schedule_mixed
+
+    try:
+        if stitches.mixed_courses().size:
+            schedule = schedule_mixed(stitches, machine=plan_machine, **opts.scheduler_kwargs())
+        else:
+            schedule = schedule_courses(stitches, machine=plan_machine)
+    except SchedulingError as e:
+        if m.inserting_hook or type(e) not in (SchedulingError, CarrierShortageError):
+            raise
+        reserved = (
+            f"; on the {m.name} carriers {m.draw_carrier} and {m.waste_carrier} hold the draw "
+            f"thread and the waste yarn, leaving {len(plan_machine.carriers)} for the pattern"
+        )
+        if isinstance(e, CarrierShortageError):
+            raise CarrierShortageError(
+                f"{e}{reserved}", course=e.course, needed=e.needed, available=e.available
+            ) from None
+        raise SchedulingError(f"{e}{reserved}") from None
+    return schedule
 
 
 def _knit_options(options: KnitOptions | None, knobs: dict[str, Any]) -> KnitOptions:
