@@ -51,7 +51,7 @@ if TYPE_CHECKING:
     from illuknit.model import Model
     from illuknit.pattern import LogicalPattern, Yarn
     from illuknit.solvers.base import ProgressCallback, Solution
-    from illuknit.tiles.bank import TileBank
+    from illuknit.tiles.bank import TileBank, ViewPair
 
 __all__ = [
     "RankedDesign",
@@ -424,7 +424,7 @@ def _search(
     qa: Any,
     qb: Any,
     mode: str,
-    views: tuple[str, str],
+    views: ViewPair,
     bank: TileBank,
     search: SearchOptions,
     sources: Any,
@@ -457,7 +457,18 @@ def _search(
         first, second, edits = review.a, review.b, list(review.results)
     what = "head-on" if mode == "headon" else f"{len(bank)} tiles in the bank"
     say(0.1, f"finding tile mappings ({what})")
-    found = assign_tiles(first, second, views=views, **kw)  # type: ignore[arg-type]
+    found = assign_tiles(
+        first,
+        second,
+        bank=bank,
+        views=views,
+        candidates=search.candidates,
+        pool=search.pool,
+        pool_seconds=search.pool_seconds,
+        solver=search.solver,
+        brightness=search.brightness.value,
+        time_limit=search.solve_seconds,
+    )
     return found, edits
 
 
