@@ -294,3 +294,33 @@ def test_a_machine_of_another_type_is_refused_naming_the_argument():
     with pytest.raises(OptionError, match="`machine` must be a machine name"):
         knit_pattern(_mixed_pattern(), machine=252)  # type: ignore[arg-type]
     assert isinstance(resolve_machine(None), MachineSpec)
+
+
+# -- bad arguments: one specific library error naming what is wrong ------------------------------
+
+_A = _pictures()[0]
+BAD_CALLS = {
+    "search": lambda: design_double(_A, _A, search="x"),
+    "ranking": lambda: design_double(_A, _A, ranking={}),
+    "yarns": lambda: design_double(_A, _A, yarns=0),
+    "two pictures": lambda: design_double(_A, None),
+    "first": lambda: design_single(_A, first="mid"),
+    "qa": lambda: design_tiles("x"),
+    "mode": lambda: design_tiles(quantise_image(_A, n_colors=2), mode="x"),
+    "options": lambda: solve_design(_A, _A, options="x"),
+    "one picture": lambda: solve_design(_A, _A, options=SolveOptions(model="single")),
+    "KnitOptions": lambda: knit_pattern(design_single(_A).best.pattern, options="x"),
+    "knitting option": lambda: knit_pattern(design_single(_A).best.pattern, catchy=1),
+    "machine": lambda: RankOptions(machine=5),
+    "pool": lambda: SearchOptions(pool="3"),
+    "seed": lambda: SolveOptions(seed=-1),
+    "weights": lambda: SolveOptions(weights={}),
+    "cast_on_courses": lambda: KnitOptions(cast_on_courses=-1),
+    "float_avoidance": lambda: KnitOptions(float_avoidance="yes"),
+}
+
+
+@pytest.mark.parametrize("what", sorted(BAD_CALLS))
+def test_a_bad_argument_raises_a_library_error_that_names_it(what):
+    with pytest.raises(IlluknitError, match=what):
+        BAD_CALLS[what]()
