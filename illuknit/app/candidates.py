@@ -13,7 +13,7 @@ from typing import Any
 
 from illuknit.app.controls import blame
 from illuknit.app.inputs import Prepared
-from illuknit.pattern import LogicalPattern
+from illuknit.core.pattern import LogicalPattern
 
 __all__ = ["Candidate", "Progress", "make_candidates"]
 

@@ -17,7 +17,7 @@ note           free text shown in the summary
 =============  ==============================================================================
 
 A method whose optional third-party library is missing raises :class:`MethodUnavailable`
-(a :class:`~illuknit.errors.BackendUnavailableError`); the runner records the cell as
+(a :class:`~illuknit.core.errors.BackendUnavailableError`); the runner records the cell as
 ``skipped`` with that reason instead of failing. Register more methods with
 :func:`register_method`.
 """
@@ -30,8 +30,8 @@ from dataclasses import dataclass
 from typing import Any
 
 from illuknit.bench.instances import Instance, instance_targets
-from illuknit.errors import BackendUnavailableError, UnknownNameError
-from illuknit.pattern import LogicalPattern
+from illuknit.core.errors import BackendUnavailableError, UnknownNameError
+from illuknit.core.pattern import LogicalPattern
 
 __all__ = [
     "DEFAULT_METHODS",
@@ -121,7 +121,7 @@ def _solution_info(sol: Any, compile_s: float) -> dict[str, Any]:
 
 def run_single(instance: Instance, time_limit: float) -> tuple[LogicalPattern, dict[str, Any]]:
     """Paper section 5: alternating stripe rows, raised where the picture has the row's colour."""
-    from illuknit.single_view import compile_single_view
+    from illuknit.design.single_view import compile_single_view
 
     t = instance_targets(instance)
     t0 = time.perf_counter()
@@ -141,13 +141,13 @@ def _solve_model(
     instance: Instance, time_limit: float, *, solver: str, model: str, warm_start: str
 ) -> tuple[LogicalPattern, dict[str, Any]]:
     from illuknit import solvers
-    from illuknit.illusion_models import solve_illusion
+    from illuknit.design.models.illusion_models import solve_illusion
 
     if solver not in solvers.available_backends():
         raise MethodUnavailable(f"solver backend {solver!r} is not available in this install")
     t = instance_targets(instance)
     kind = model if instance.kind == "double" else "single"
-    from illuknit.errors import SolverError
+    from illuknit.core.errors import SolverError
 
     t0 = time.perf_counter()
     try:
@@ -214,7 +214,7 @@ def run_tiles(instance: Instance, time_limit: float) -> tuple[LogicalPattern, di
     default (each solve within ``time_limit``), its first-ranked design compiled."""
     from illuknit.design.options import SearchOptions
     from illuknit.design.stages import design_tiles
-    from illuknit.images import QuantisedImage
+    from illuknit.pictures.images import QuantisedImage
 
     t = instance_targets(instance)
     qa, qb = (QuantisedImage(idx, t.yarns, t.palette) for idx in (t.a, t.b))
@@ -243,7 +243,7 @@ GRADIENT_STEPS = 200
 
 def run_gradient(instance: Instance, time_limit: float) -> tuple[LogicalPattern, dict[str, Any]]:
     """MSE between renders at ±30° and the targets, annealed and binarised (paper Fig. 19 b)."""
-    from illuknit.render.optimise import optimise_design
+    from illuknit.design.render.optimise import optimise_design
 
     t = instance_targets(instance)
     t0 = time.perf_counter()

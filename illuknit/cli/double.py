@@ -20,15 +20,15 @@ import click
 from illuknit.cli.design_files import fmt_number, summary_text, write_candidate, write_edits
 from illuknit.cli.knitout_bridge import format_option, long_floats_option, machine_option
 from illuknit.cli.options import knitout_option, outdir_option
-from illuknit.sizing import DEFAULT_MAX_WIDTH
-from illuknit.tiles.perception import DEFAULT_POOL, POOL_SECONDS, RANK_KEYS
+from illuknit.design.tiles.perception import DEFAULT_POOL, POOL_SECONDS, RANK_KEYS
+from illuknit.pictures.sizing import DEFAULT_MAX_WIDTH
 
 __all__ = ["double", "run_design", "write_design"]
 
 
 def _yarns_option(spec: str | None) -> tuple[Any, ...] | int | None:
     """``--yarns``: a number of yarns to choose from the pictures, or a list of yarns."""
-    from illuknit.pattern import parse_yarns
+    from illuknit.core.pattern import parse_yarns
 
     if spec is not None and not spec.strip().isdigit():
         return parse_yarns(spec)
@@ -36,7 +36,7 @@ def _yarns_option(spec: str | None) -> tuple[Any, ...] | int | None:
         return None
     n = int(spec)
     if not 1 <= n <= 8:
-        from illuknit.errors import YarnSpecError
+        from illuknit.core.errors import YarnSpecError
 
         raise YarnSpecError(f"--yarns N must be between 1 and 8, got {n}")
     return n
@@ -72,6 +72,7 @@ def run_design(
     ``outdir``); with ``knitout`` the default candidate is knit on ``machine``. Returns the
     summary dict."""
     from illuknit.cli.knitout_bridge import resolve_machine
+    from illuknit.core.errors import OptionError, TileAssignmentError
     from illuknit.design.options import (
         Brightness,
         PictureEdits,
@@ -80,7 +81,6 @@ def run_design(
         SearchOptions,
     )
     from illuknit.design.stages import design_double, design_headon
-    from illuknit.errors import OptionError, TileAssignmentError
 
     if candidates < 1:
         raise TileAssignmentError(f"--candidates must be at least 1, got {candidates}")
@@ -139,8 +139,8 @@ def write_design(
     """Write a :class:`~illuknit.design.stages.TileDesign` into ``outdir`` (atomically): each
     candidate's folder, the suggested edits, the default candidate's pattern (and, given a
     machine, its knitout program) and the summary. Returns the summary dict."""
-    from illuknit.outputs import atomic_write_text, staged_dir
-    from illuknit.previews import unit_scale
+    from illuknit.core.files import atomic_write_text, staged_dir
+    from illuknit.outputs.previews import unit_scale
 
     qa = design.quantised["A"]
     rows = []
@@ -187,7 +187,7 @@ def write_design(
 
 def _parse_overrides(specs: tuple[str, ...]) -> dict[tuple[int, int], str]:
     """``("0,1=0/1/0^", ...)`` -> ``{(0, 1): "0/1/0^"}`` (colour a of A, colour b of B)."""
-    from illuknit.errors import TileAssignmentError
+    from illuknit.core.errors import TileAssignmentError
 
     out: dict[tuple[int, int], str] = {}
     for spec in specs:

@@ -2,7 +2,7 @@
 
 Two pictures (or one, with ``--model single``) are resized to the unit grid, quantised jointly to
 K yarns (so a colour means the same yarn in both), encoded as model (a) ``logical``, (b)
-``knit-aware`` or (c) ``single`` (:mod:`illuknit.illusion_models`), and solved by the named backend
+``knit-aware`` or (c) ``single`` (:mod:`illuknit.design.models.illusion_models`), and solved by the named backend
 (:mod:`illuknit.solvers`). Writes pattern.json, previews, chart, instructions and report.json;
 ``--export-wcnf`` writes the model for an external MaxSAT solver.
 """
@@ -18,7 +18,7 @@ import click
 
 from illuknit.cli.knitout_bridge import format_option, long_floats_option, machine_option
 from illuknit.cli.options import POSITIVE
-from illuknit.sizing import DEFAULT_MAX_WIDTH
+from illuknit.pictures.sizing import DEFAULT_MAX_WIDTH
 
 __all__ = ["run_solve", "solve"]
 
@@ -108,9 +108,9 @@ def run_solve(
     """
     from illuknit.cli.knitout_bridge import resolve_machine
     from illuknit.cli.summary import console
+    from illuknit.core.files import atomic_write_text
     from illuknit.design.options import ModelKind, SolveOptions, WarmStart
     from illuknit.design.stages import illusion_model, solve_design
-    from illuknit.outputs import atomic_write_text
 
     if image_a is None:
         raise click.UsageError("give the target picture(s): illuknit solve A.png B.png -o OUTDIR")
@@ -187,8 +187,8 @@ def _write_outputs(
 ) -> dict[str, Path]:
     """Write the pattern's outputs (and, given a machine, its knitout) into ``outdir`` at once."""
     from illuknit.cli.knitout_bridge import write_program
-    from illuknit.export import export_pattern
-    from illuknit.outputs import staged_dir
+    from illuknit.core.files import staged_dir
+    from illuknit.outputs.export import export_pattern
 
     with staged_dir(outdir) as tmp:
         paths = export_pattern(pattern, tmp, report=report, title=title, targets=targets)
@@ -214,9 +214,9 @@ def _check_solve_options(
     """Refuse contradictory or impossible options; the parsed ``(weights, yarns)``."""
     from dataclasses import replace
 
-    from illuknit.errors import ImageInputError, YarnSpecError
-    from illuknit.illusion_models import parse_weights
-    from illuknit.pattern import parse_yarns
+    from illuknit.core.errors import ImageInputError, YarnSpecError
+    from illuknit.core.pattern import parse_yarns
+    from illuknit.design.models.illusion_models import parse_weights
 
     if model == "single" and image_b is not None:
         raise ImageInputError("--model single takes one picture (it is seen from both sides)")

@@ -1,1 +1,1 @@
-"""Design: from pictures to ranked illusion patterns (single view, tiles, constraint models)."""
+"""Design: pictures -> logical patterns (single view, tiles, constraint models, gradient)."""

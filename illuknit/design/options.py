@@ -4,7 +4,7 @@
 ranked, :class:`SolveOptions` how a constraint model is solved. Choices are enums whose values
 are the words the CLI takes (``RankBy("knit-time")`` reads ``--rank-by knit-time``); a string
 given for an enum field is read as its member, and anything else is refused where the options
-are made, with an :class:`~illuknit.errors.OptionError` naming the field.
+are made, with an :class:`~illuknit.core.errors.OptionError` naming the field.
 
 Examples
 --------
@@ -15,7 +15,7 @@ Examples
 >>> SearchOptions(brightness="firm")
 Traceback (most recent call last):
 ...
-illuknit.errors.OptionError: `brightness` must be one of hard, soft, got 'firm'
+illuknit.core.errors.OptionError: `brightness` must be one of hard, soft, got 'firm'
 """
 
 from __future__ import annotations
@@ -23,13 +23,11 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from enum import Enum, StrEnum
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
-from illuknit.errors import OptionError
-from illuknit.illusion_problem import KnitWeights
-
-if TYPE_CHECKING:
-    from illuknit.knit.machine import MachineSpec
+from illuknit.core.errors import OptionError
+from illuknit.core.machine import MachineSpec, resolve_machine
+from illuknit.design.models.illusion_problem import KnitWeights
 
 __all__ = [
     "Brightness",
@@ -43,7 +41,7 @@ __all__ = [
 ]
 
 #: How many tile designs are searched by default before ranking them by how they read
-#: (``illuknit double --pool``; :func:`~illuknit.tiles.assign.assign_tiles` ``pool=``): the
+#: (``illuknit double --pool``; :func:`~illuknit.design.tiles.assign.assign_tiles` ``pool=``): the
 #: assignment's score does not see how a design reads, and on the bundled double-view pairs the
 #: best-reading design is often past the score's fifth place.
 DEFAULT_POOL = 20
@@ -99,7 +97,7 @@ class Brightness(StrEnum):
 
 
 class PictureEdits(StrEnum):
-    """Simplifying edits of the pictures before a double-view design (:mod:`illuknit.tiles.simplify`).
+    """Simplifying edits of the pictures before a double-view design (:mod:`illuknit.design.tiles.simplify`).
 
     ``NONE``: design the pictures as given; ``SUGGEST``: also measure each edit by the best
     design it leads to, and report it; ``APPLY``: as ``SUGGEST``, and design with the edits that
@@ -145,7 +143,7 @@ _KEY_FIELDS = {
 
 @dataclass(frozen=True)
 class SearchOptions:
-    """How tile designs are searched (:func:`~illuknit.tiles.assign.assign_tiles`).
+    """How tile designs are searched (:func:`~illuknit.design.tiles.assign.assign_tiles`).
 
     Parameters
     ----------
@@ -191,7 +189,7 @@ class SearchOptions:
         object.__setattr__(self, "edits", enum_option(PictureEdits, "edits", self.edits))
 
     def assign_kwargs(self) -> dict[str, Any]:
-        """The keywords of :func:`~illuknit.tiles.assign.assign_tiles` these options set."""
+        """The keywords of :func:`~illuknit.design.tiles.assign.assign_tiles` these options set."""
         return {
             "candidates": self.candidates,
             "pool": self.pool,
@@ -204,7 +202,7 @@ class SearchOptions:
 
 @dataclass(frozen=True)
 class RankOptions:
-    """How tile designs are ranked (:func:`~illuknit.tiles.perception.rank_designs`).
+    """How tile designs are ranked (:func:`~illuknit.design.tiles.perception.rank_designs`).
 
     Parameters
     ----------
@@ -226,8 +224,6 @@ class RankOptions:
     def __post_init__(self) -> None:
         object.__setattr__(self, "rank_by", enum_option(RankBy, "rank_by", self.rank_by))
         flag_option("knit_time", self.knit_time)
-        from illuknit.knit.machine import resolve_machine  # the knit package imports this one
-
         resolve_machine(self.machine)
         items = self.overrides.items() if isinstance(self.overrides, dict) else self.overrides
         pairs = []
@@ -247,12 +243,12 @@ class RankOptions:
 
     @property
     def override_map(self) -> dict[tuple[int, int], str]:
-        """The overrides as :func:`~illuknit.tiles.compile.compile_tiles` takes them."""
+        """The overrides as :func:`~illuknit.design.tiles.compile.compile_tiles` takes them."""
         return dict(self.overrides)
 
 
 class ModelKind(StrEnum):
-    """The constraint models (:mod:`illuknit.illusion_models`, paper section 4)."""
+    """The constraint models (:mod:`illuknit.design.models.illusion_models`, paper section 4)."""
 
     LOGICAL = "logical"
     KNIT_AWARE = "knit-aware"
@@ -270,7 +266,7 @@ class WarmStart(StrEnum):
 
 @dataclass(frozen=True)
 class SolveOptions:
-    """How a constraint model is built and solved (:func:`~illuknit.illusion_models.solve_illusion`).
+    """How a constraint model is built and solved (:func:`~illuknit.design.models.illusion_models.solve_illusion`).
 
     Parameters
     ----------

@@ -17,7 +17,7 @@ stage                  what it returns
 Every stage takes frozen option objects (:mod:`illuknit.design.options`), returns a frozen
 result whose designs carry their measures and their rank key (why each ranks where it does),
 and never changes its inputs. Knitting a design is the next step,
-:func:`~illuknit.knit.pipeline.knit_pattern` (a machine name or spec, and
+:func:`~illuknit.knitting.pipeline.knit_pattern` (a machine name or spec, and
 :class:`~illuknit.knit.options.KnitOptions`). The commands ``illuknit single``, ``double``,
 ``headon`` and ``solve``, the app and the benchmark call these stages and only write what they
 return, so a script calling them reproduces the commands' files (``docs/library.md``).
@@ -35,6 +35,8 @@ from typing import TYPE_CHECKING, Any, Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from illuknit.core.errors import ImageInputError, OptionError, YarnSpecError
+from illuknit.core.machine import MachineSpec, resolve_machine
 from illuknit.design.options import (
     ModelKind,
     PictureEdits,
@@ -42,16 +44,14 @@ from illuknit.design.options import (
     SearchOptions,
     SolveOptions,
 )
-from illuknit.errors import ImageInputError, OptionError, YarnSpecError
-from illuknit.knit.machine import MachineSpec, resolve_machine
 
 if TYPE_CHECKING:
-    from illuknit.illusion_problem import IllusionProblem
-    from illuknit.images import QuantisedImage
-    from illuknit.model import Model
-    from illuknit.pattern import LogicalPattern, Yarn
+    from illuknit.core.pattern import LogicalPattern, Yarn
+    from illuknit.design.models.illusion_problem import IllusionProblem
+    from illuknit.design.models.model import Model
+    from illuknit.design.tiles.bank import TileBank, ViewPair
+    from illuknit.pictures.images import QuantisedImage
     from illuknit.solvers.base import ProgressCallback, Solution
-    from illuknit.tiles.bank import TileBank, ViewPair
 
 __all__ = [
     "RankedDesign",
@@ -83,7 +83,7 @@ class RankedDesign:
         1 for the best.
     pattern : LogicalPattern
     measures : Mapping or CandidateMeasures
-        How it reads (tile designs: :class:`~illuknit.tiles.perception.CandidateMeasures`;
+        How it reads (tile designs: :class:`~illuknit.design.tiles.perception.CandidateMeasures`;
         single view: the mismatch of each view).
     rank_key : tuple of float
         The ascending key the ranking sorted by; ``rank_fields`` names its entries (a name
@@ -131,14 +131,14 @@ class TileDesign:
         ``("A", "B")`` or ``("headon", "side")``: the views the assignments are made for.
     bank : TileBank
     targets : tuple of ndarray
-        What each view should show (:func:`~illuknit.tiles.perception.seen_targets`).
+        What each view should show (:func:`~illuknit.design.tiles.perception.seen_targets`).
     designs : tuple of RankedDesign
         The best ``search.candidates`` of the designs searched, best first.
     searched : int
         How many designs were searched and ranked.
     edits : tuple
         The simplifying edits measured (``search.edits``), as
-        :class:`~illuknit.tiles.simplify.EditResult`.
+        :class:`~illuknit.design.tiles.simplify.EditResult`.
     search, ranking
         The options the design was made with.
     pictures : tuple of ndarray
@@ -197,7 +197,7 @@ class SolvedDesign:
         The solver's answer (status, objective, bound, gap, who found it).
     problem : IllusionProblem
     report : mapping
-        :func:`~illuknit.illusion_models.report_pattern`, with the sources and the legend.
+        :func:`~illuknit.design.models.illusion_models.report_pattern`, with the sources and the legend.
     quantised : tuple
         The target pictures as quantised (one for the single-view model).
     options : SolveOptions
@@ -234,7 +234,7 @@ def _source_name(p: Any) -> str | None:
 def _tile_yarns(yarns: Sequence[Yarn] | int | None, n_colors: int, pictures: list[Any]) -> Any:
     """The bank's yarns: given, or ``yarns`` (default ``n_colors``) chosen from the pictures."""
     if yarns is not None and not isinstance(yarns, int):
-        from illuknit.pattern import Yarn
+        from illuknit.core.pattern import Yarn
 
         ys = tuple(yarns)
         if not ys or not all(isinstance(y, Yarn) for y in ys):
@@ -243,7 +243,7 @@ def _tile_yarns(yarns: Sequence[Yarn] | int | None, n_colors: int, pictures: lis
     n = n_colors if yarns is None else yarns
     if isinstance(n, bool) or not 1 <= n <= 8:
         raise YarnSpecError(f"`yarns` must be between 1 and 8 yarns, got {n}")
-    from illuknit.tiles.yarn_choice import choose_yarns
+    from illuknit.design.tiles.yarn_choice import choose_yarns
 
     return choose_yarns(pictures, n)
 
@@ -267,7 +267,7 @@ def design_double(
 ) -> TileDesign:
     """Ranked double-view tile designs: ``picture_a`` seen from above, ``picture_b`` from below.
 
-    The pictures are sized to one unit grid (:func:`~illuknit.sizing.size_pair`: ``width``
+    The pictures are sized to one unit grid (:func:`~illuknit.pictures.sizing.size_pair`: ``width``
     units, at most 80 by default; ``stretch`` a B of another shape onto A's), each quantised to
     ``n_colors`` colours; the bank (default: the canonical bank) is made of ``yarns`` (a
     sequence of Yarn, or how many to choose from the pictures; default ``n_colors``). Tile
@@ -324,8 +324,8 @@ def _design_pictures(
     progress: Progress | None,
 ) -> TileDesign:
     """Size, quantise and choose the yarns, then :func:`design_tiles`."""
-    from illuknit.images import quantise_image
-    from illuknit.sizing import size_pair
+    from illuknit.pictures.images import quantise_image
+    from illuknit.pictures.sizing import size_pair
 
     if mode == "double" and picture_b is None:
         raise ImageInputError("a double-view design needs two pictures (A and B)")
@@ -370,18 +370,18 @@ def design_tiles(
     edit_colors: int | None = None,
     progress: Progress | None = None,
 ) -> TileDesign:
-    """Ranked tile designs of pictures already quantised (:func:`~illuknit.images.quantise_image`).
+    """Ranked tile designs of pictures already quantised (:func:`~illuknit.pictures.images.quantise_image`).
 
     ``mode="double"``: ``qa`` from above, ``qb`` from below; ``"headon"``: ``qa`` head-on,
     ``qb`` (or a plain field when None) at an angle. ``bank`` is a TileBank, a bank file
-    (:func:`~illuknit.tiles.bank.load_bank`, read with ``yarns``) or None: the canonical bank of
+    (:func:`~illuknit.design.tiles.bank.load_bank`, read with ``yarns``) or None: the canonical bank of
     ``yarns`` (default: the pictures' yarns) for those views. Simplifying edits
     (``search.edits``) need the unquantised ``sources`` and re-quantise to at most
     ``edit_colors`` colours (default: the number of yarns, at most 4).
     """
-    from illuknit.images import QuantisedImage
-    from illuknit.tiles.bank import canonical_bank, load_bank
-    from illuknit.tiles.headon import HEADON_VIEWS
+    from illuknit.design.tiles.bank import canonical_bank, load_bank
+    from illuknit.design.tiles.headon import HEADON_VIEWS
+    from illuknit.pictures.images import QuantisedImage
 
     search = SearchOptions() if search is None else search
     ranking = RankOptions() if ranking is None else ranking
@@ -432,9 +432,9 @@ def _search(
     say: Progress,
 ) -> tuple[list[Any], list[Any]]:
     """The tile assignments (by score), after the simplifying edits (and those edits)."""
-    from illuknit.tiles.assign import assign_tiles
-    from illuknit.tiles.headon import uniform_side
-    from illuknit.tiles.simplify import review_edits
+    from illuknit.design.tiles.assign import assign_tiles
+    from illuknit.design.tiles.headon import uniform_side
+    from illuknit.design.tiles.simplify import review_edits
 
     kw = {"bank": bank, **search.assign_kwargs()}
     first: Any = qa
@@ -486,7 +486,7 @@ def _rank(
     say: Progress,
 ) -> TileDesign:
     """Compile, measure and rank the assignments into a :class:`TileDesign`."""
-    from illuknit.tiles.perception import rank_designs, rank_key, seen_targets
+    from illuknit.design.tiles.perception import rank_designs, rank_key, seen_targets
 
     targets = seen_targets(qa, qb)
     ranked = rank_designs(
@@ -559,12 +559,12 @@ def design_single(
 
     ``picture`` is a file, an sRGB array (sized by ``width``/``height``/``width_cm`` at
     ``gauge``, default the machine's, and quantised to ``n_colors`` or onto ``yarns``) or a
-    :class:`~illuknit.images.QuantisedImage` used as it is. The designs are ranked by the worse
-    view's mismatch (:func:`~illuknit.single_view.single_view_errors`), the stripe order
+    :class:`~illuknit.pictures.images.QuantisedImage` used as it is. The designs are ranked by the worse
+    view's mismatch (:func:`~illuknit.design.single_view.single_view_errors`), the stripe order
     ``first`` first on a tie. With ``knit_on`` a picture wider than its bed is refused first.
     """
-    from illuknit.images import QuantisedImage
-    from illuknit.single_view import compile_single_view, prepare_single_view_image
+    from illuknit.design.single_view import compile_single_view, prepare_single_view_image
+    from illuknit.pictures.images import QuantisedImage
 
     if first not in ("dark", "light"):
         raise OptionError(f"`first` must be 'dark' or 'light', got {first!r}")
@@ -589,7 +589,7 @@ def design_single(
 
 
 def _rank_single(q: Any, made: list[tuple[str, Any]]) -> tuple[RankedDesign, ...]:
-    from illuknit.single_view import single_view_errors
+    from illuknit.design.single_view import single_view_errors
 
     scored = []
     for k, (order, pattern) in enumerate(made):
@@ -633,15 +633,15 @@ def solve_design(
     The pictures are sized to one grid and quantised jointly to ``n_colors`` yarns (or onto
     ``yarns``; :func:`quantise_targets`), so a colour means the same yarn in both; the model
     (``options.model``: two pictures for ``logical`` and ``knit-aware``, one for ``single``) is
-    solved by :func:`~illuknit.illusion_models.solve_illusion`. ``progress`` receives the
+    solved by :func:`~illuknit.design.models.illusion_models.solve_illusion`. ``progress`` receives the
     solver's improvements. With ``knit_on`` a pattern wider than its bed is refused first.
 
     Raises
     ------
     InfeasibleError, SolverError
-        As :func:`~illuknit.illusion_models.solve_illusion`.
+        As :func:`~illuknit.design.models.illusion_models.solve_illusion`.
     """
-    from illuknit.illusion_models import solve_illusion
+    from illuknit.design.models.illusion_models import solve_illusion
 
     options = SolveOptions() if options is None else options
     _check_type("options", options, SolveOptions)
@@ -690,7 +690,7 @@ def illusion_model(
 ) -> Model:
     """The constraint model :func:`solve_design` solves for the same arguments, unsolved (to
     export it, ``model.to_wcnf()``, or to hand it to :func:`illuknit.solvers.solve`)."""
-    from illuknit.illusion_models import build_model, make_problem
+    from illuknit.design.models.illusion_models import build_model, make_problem
 
     options = SolveOptions() if options is None else options
     _check_type("options", options, SolveOptions)
@@ -753,7 +753,7 @@ def quantise_targets(
     yarns: Sequence[Yarn] | None = None,
     quantise: bool = True,
 ) -> tuple[QuantisedImage, QuantisedImage | None]:
-    """Size (:func:`~illuknit.sizing.size_pair`) and jointly quantise the target picture(s).
+    """Size (:func:`~illuknit.pictures.sizing.size_pair`) and jointly quantise the target picture(s).
 
     Returns the QuantisedImage of A and of B (or None), sharing one yarn list.
 
@@ -762,8 +762,8 @@ def quantise_targets(
     PictureSizeMismatchError
         The pictures do not cover the same piece (unless ``stretch``).
     """
-    from illuknit.images import QuantisedImage, quantise_image
-    from illuknit.sizing import size_pair
+    from illuknit.pictures.images import QuantisedImage, quantise_image
+    from illuknit.pictures.sizing import size_pair
 
     pair = size_pair(picture_a, picture_b, width=width, stretch=stretch)
     a, b = pair.a, pair.b

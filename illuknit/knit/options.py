@@ -1,6 +1,6 @@
 """The knitting options: one frozen, validated type for every switch of the knitting path.
 
-:class:`KnitOptions` is what :func:`~illuknit.knit.pipeline.knit_pattern`, ``illuknit knit``,
+:class:`KnitOptions` is what :func:`~illuknit.knitting.pipeline.knit_pattern`, ``illuknit knit``,
 the ``--knitout`` options of the design commands and the app pass on; it is checked once, where
 it is made, so a bad value is refused before any work starts. The choices are enums, not
 strings: :class:`Catching` (how neighbouring carriers' regions are joined) and
@@ -16,7 +16,7 @@ Examples
 >>> KnitOptions(catch_every=0)
 Traceback (most recent call last):
 ...
-illuknit.errors.OptionError: `catch_every` must be a positive integer, got 0
+illuknit.core.errors.OptionError: `catch_every` must be a positive integer, got 0
 """
 
 from __future__ import annotations

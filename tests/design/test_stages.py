@@ -31,9 +31,9 @@ from illuknit import (
     schedule_mixed,
     solve_design,
 )
-from illuknit.errors import OptionError, SchedulingError, UnknownNameError
-from illuknit.knit.machine import MACHINES
-from illuknit.pattern import pattern_to_json
+from illuknit.core.errors import OptionError, SchedulingError, UnknownNameError
+from illuknit.core.machine import MACHINES
+from illuknit.core.pattern import pattern_to_json
 
 
 def _pictures(rows: int = 8, cols: int = 10) -> tuple[np.ndarray, np.ndarray]:
