@@ -9,11 +9,14 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from illuknit.app.controls import blame
 from illuknit.app.inputs import Prepared
 from illuknit.core.pattern import LogicalPattern
+
+if TYPE_CHECKING:
+    from illuknit.design.stages import Stripe
 
 __all__ = ["Candidate", "Progress", "make_candidates"]
 
@@ -66,12 +69,14 @@ def _single_candidates(prepared: Prepared, progress: Progress) -> list[Candidate
     """Both stripe orders (:func:`~illuknit.design.stages.design_single`), dark first."""
     from illuknit.design.stages import design_single
 
+    stripes: tuple[Stripe, Stripe] = ("dark", "light")
+
     progress(0.0, "compiling single view (both stripe orders)")
     with blame("n_colors"):
         design = design_single(prepared.quantised["a"])
     out = []
-    for k, first in enumerate(("dark", "light")):
-        d = design.first(first)  # type: ignore[arg-type]
+    for k, first in enumerate(stripes):
+        d = design.first(first)
         err = [round(d.measures["mismatch_A"], 4), round(d.measures["mismatch_B"], 4)]
         out.append(
             Candidate(

@@ -72,7 +72,7 @@ def run_design(
     ``outdir``); with ``knitout`` the default candidate is knit on ``machine``. Returns the
     summary dict."""
     from illuknit.cli.knitout_bridge import resolve_machine
-    from illuknit.core.errors import OptionError, TileAssignmentError
+    from illuknit.core.errors import ImageInputError, OptionError, TileAssignmentError
     from illuknit.design.options import (
         Brightness,
         PictureEdits,
@@ -105,9 +105,7 @@ def run_design(
         else (PictureEdits.SUGGEST if suggest else PictureEdits.NONE),
         **({} if pool is None else {"pool": pool}),
     )
-    design = (design_double if mode == "double" else design_headon)(
-        path_a,
-        path_b,  # type: ignore[arg-type]  # two pictures for double view (click requires them)
+    kw: dict[str, Any] = dict(
         n_colors=n_colors,
         yarns=_yarns_option(yarns),
         width=width,
@@ -117,6 +115,12 @@ def run_design(
         ranking=ranking,
         knit_on=spec if knitout else None,
     )
+    if mode == "double":
+        if path_b is None:
+            raise ImageInputError("a double-view design needs two pictures (A and B)")
+        design = design_double(path_a, path_b, **kw)
+    else:
+        design = design_headon(path_a, path_b, **kw)
     written = len(design.designs)
     if not 1 <= pick <= written:
         raise TileAssignmentError(

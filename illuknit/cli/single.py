@@ -13,6 +13,7 @@ from illuknit.cli.summary import print_written, summarise_pattern
 
 if TYPE_CHECKING:
     from illuknit.core.machine import MachineSpec
+    from illuknit.design.stages import Stripe
 
 __all__ = ["run_single", "single"]
 
@@ -28,7 +29,7 @@ def run_single(
     yarns: str | None = None,
     n_colors: int | None = None,
     quantise: bool = True,
-    first: str = "dark",
+    first: Stripe = "dark",
     knitout: bool = False,
     machine: str | MachineSpec | None = None,
     title: str | None = None,
@@ -54,10 +55,10 @@ def run_single(
         n_colors=n_colors,
         yarns=parse_yarn_option(yarns),
         quantise=quantise,
-        first=first,  # type: ignore[arg-type]
+        first=first,
         knit_on=spec if knitout else None,
     )
-    q, chosen = design.quantised, design.first(first)  # type: ignore[arg-type]
+    q, chosen = design.quantised, design.first(first)
     pattern = chosen.pattern
     err_a, err_b = chosen.measures["mismatch_A"], chosen.measures["mismatch_B"]
     report = {
@@ -111,7 +112,7 @@ def single(
     yarns: str | None,
     n_colors: int | None,
     quantise: bool,
-    first: str,
+    first: Stripe,
     knitout: bool,
     machine: str | None,
     outdir: Path,

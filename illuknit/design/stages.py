@@ -69,6 +69,8 @@ __all__ = [
 
 #: A picture: a file path or an sRGB array of shape (H, W, 3).
 Picture = str | os.PathLike[str] | ArrayLike
+#: The colour of a single-view pattern's top stripe row.
+Stripe = Literal["dark", "light"]
 #: ``progress(fraction, message)``; whatever it raises stops the stage (a user's cancel).
 Progress = Callable[[float, str], None]
 
@@ -181,7 +183,7 @@ class SingleDesign:
         """The first-ranked design."""
         return self.designs[0]
 
-    def first(self, stripe: Literal["dark", "light"]) -> RankedDesign:
+    def first(self, stripe: Stripe) -> RankedDesign:
         """The design whose top stripe row is ``stripe``."""
         return next(d for d in self.designs if d.measures["first"] == stripe)
 
@@ -552,7 +554,7 @@ def design_single(
     yarns: Sequence[Yarn] | None = None,
     n_colors: int | None = None,
     quantise: bool = True,
-    first: Literal["dark", "light"] = "dark",
+    first: Stripe = "dark",
     knit_on: str | MachineSpec | None = None,
 ) -> SingleDesign:
     """The single-view pattern of a 2- or 3-colour picture for each stripe order, ranked.
@@ -583,12 +585,12 @@ def design_single(
             allow_quantise=quantise,
         )
     _check_fits(machine, q.indices.shape[1])
-    orders = (first, "light" if first == "dark" else "dark")
-    made = [(o, compile_single_view(q, first=o)) for o in orders]  # type: ignore[arg-type]
+    orders: tuple[Stripe, Stripe] = (first, "light" if first == "dark" else "dark")
+    made = [(o, compile_single_view(q, first=o)) for o in orders]
     return SingleDesign(q, _rank_single(q, made))
 
 
-def _rank_single(q: Any, made: list[tuple[str, Any]]) -> tuple[RankedDesign, ...]:
+def _rank_single(q: Any, made: Sequence[tuple[str, Any]]) -> tuple[RankedDesign, ...]:
     from illuknit.design.single_view import single_view_errors
 
     scored = []
