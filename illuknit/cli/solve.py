@@ -107,8 +107,7 @@ def run_solve(
     bed is refused before the model is built.
     """
     from illuknit.cli.knitout_bridge import resolve_machine
-    from illuknit.cli.summary import console
-    from illuknit.core.files import atomic_write_text
+    from illuknit.core.files import STDOUT
     from illuknit.design.options import ModelKind, SolveOptions, WarmStart
     from illuknit.design.stages import illusion_model, solve_design
 
@@ -144,13 +143,11 @@ def run_solve(
     written: dict[str, Path] = {}
     if export_wcnf is not None:
         mdl = illusion_model(image_a, image_b, options=options, **targets)
-        written["wcnf"] = atomic_write_text(export_wcnf, mdl.to_wcnf(style=wcnf_style))
+        where = _export_wcnf(mdl, export_wcnf, wcnf_style, say=outdir is None)
+        if str(export_wcnf) != STDOUT:
+            written["wcnf"] = Path(where)
         if outdir is None:
-            console().print(
-                f"wrote {export_wcnf} ({mdl.num_vars} variables, {mdl.num_hard} hard and "
-                f"{mdl.num_soft} soft clauses before encoding cardinality constraints)"
-            )
-            return {"wcnf": str(export_wcnf), "model": repr(mdl)}
+            return {"wcnf": where, "model": repr(mdl)}
     label = f"{solver} on the {model} model"
     if show_progress and solver != "dp":
         with _LiveProgress(time_limit, label) as live:
@@ -174,6 +171,22 @@ def run_solve(
         )
     _print_report(report, written, outdir)
     return report
+
+
+def _export_wcnf(mdl: Any, path: Path, style: str, *, say: bool) -> str:
+    """``--export-wcnf``: write the model (to standard output for ``-``); with ``say``, say so.
+    Returns where it went."""
+    from rich.console import Console
+
+    from illuknit.core.files import STDOUT, write_output_file
+
+    where = write_output_file(path, mdl.to_wcnf(style=style).encode("utf-8"))
+    if say:
+        Console(highlight=False, soft_wrap=True, stderr=str(path) == STDOUT).print(
+            f"wrote {where} ({mdl.num_vars} variables, {mdl.num_hard} hard and "
+            f"{mdl.num_soft} soft clauses before encoding cardinality constraints)"
+        )
+    return str(where)
 
 
 def _write_outputs(
@@ -226,6 +239,11 @@ def _check_solve_options(
         raise click.BadParameter("applies to --model single only", param_hint="--alternate-rows")
     if outdir is None and export_wcnf is None:
         raise click.UsageError("give -o OUTDIR (or --export-wcnf FILE)")
+    if outdir is not None and export_wcnf is not None and str(export_wcnf) == "-":
+        raise click.BadParameter(
+            "- (standard output) only without -o: the solve prints its summary there",
+            param_hint="--export-wcnf",
+        )
     if time_limit is not None and time_limit <= 0:
         raise click.BadParameter(
             f"must be positive seconds, got {time_limit}", param_hint="--time-limit"
@@ -401,9 +419,10 @@ def _list_solvers(ctx: click.Context, _param: click.Parameter, value: bool) -> N
 @click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True)
 @click.option(
     "--export-wcnf",
-    type=click.Path(dir_okay=False, path_type=Path),
+    type=click.Path(dir_okay=False, allow_dash=True, path_type=Path),
     default=None,
-    help="Also (or, without -o, only) write the model as WCNF for an external MaxSAT solver.",
+    help="Also (or, without -o, only) write the model as WCNF for an external MaxSAT solver "
+    "(- for standard output, without -o).",
 )
 @click.option(
     "--wcnf-style",

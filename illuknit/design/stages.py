@@ -233,6 +233,63 @@ def _source_name(p: Any) -> str | None:
     return None
 
 
+def _check_picture(value: Any, name: str, *, optional: bool = False) -> None:
+    """A picture argument: a file path or an sRGB array (None only when ``optional``)."""
+    from illuknit.core.arguments import check_array, check_path, got
+
+    if value is None:
+        if optional:
+            return
+        raise ImageInputError(f"`{name}` must be a picture (a file path or an RGB array), got None")
+    if isinstance(value, (str, os.PathLike)):
+        check_path(value, name)
+    elif not hasattr(value, "indices"):  # a QuantisedImage is checked where it is taken
+        try:
+            check_array(value, name, ndim=(2, 3))
+        except ImageInputError:
+            raise ImageInputError(
+                f"`{name}` must be a picture (a file path or an RGB array), got {got(value)}"
+            ) from None
+
+
+def _check_sizes(**sizes: Any) -> None:
+    """Grid sizes in units (``width``, ``height``: 1-1000) and ``width_cm`` (> 0), or None."""
+    from illuknit.core.arguments import check_int, check_number
+
+    for name, value in sizes.items():
+        if value is None:
+            continue
+        if name == "width_cm" or name == "gauge":
+            check_number(value, name, min=0, min_open=True)
+        else:
+            check_int(value, name, min=1, max=1000)
+
+
+def _check_yarns(yarns: Any, *, count_ok: bool) -> None:
+    """``yarns``: None, a sequence of Yarn, or (``count_ok``) how many to choose (1-8)."""
+    from illuknit.core.arguments import check_int, got
+    from illuknit.core.pattern import Yarn
+
+    if yarns is None:
+        return
+    if count_ok and isinstance(yarns, int) and not isinstance(yarns, bool):
+        check_int(yarns, "yarns", min=1, max=8, error=YarnSpecError)
+        return
+    if not isinstance(yarns, (list, tuple)) or not yarns:
+        what = "a number of yarns or a sequence of Yarn" if count_ok else "a sequence of Yarn"
+        raise YarnSpecError(f"`yarns` must be {what}, got {got(yarns)}")
+    if not all(isinstance(y, Yarn) for y in yarns):
+        raise YarnSpecError(f"`yarns` must hold Yarn objects, got {got(yarns)}")
+
+
+def _check_bank(bank: Any) -> None:
+    from illuknit.core.arguments import got
+    from illuknit.design.tiles.bank import TileBank
+
+    if bank is not None and not isinstance(bank, (TileBank, str, os.PathLike)):
+        raise OptionError(f"`bank` must be a TileBank or a bank file, got {got(bank)}")
+
+
 def _tile_yarns(yarns: Sequence[Yarn] | int | None, n_colors: int, pictures: list[Any]) -> Any:
     """The bank's yarns: given, or ``yarns`` (default ``n_colors``) chosen from the pictures."""
     if yarns is not None and not isinstance(yarns, int):
@@ -326,11 +383,18 @@ def _design_pictures(
     progress: Progress | None,
 ) -> TileDesign:
     """Size, quantise and choose the yarns, then :func:`design_tiles`."""
+    from illuknit.core.arguments import check_bool, check_int
     from illuknit.pictures.images import quantise_image
     from illuknit.pictures.sizing import size_pair
 
-    if mode == "double" and picture_b is None:
-        raise ImageInputError("a double-view design needs two pictures (A and B)")
+    names = ("picture_a", "picture_b") if mode == "double" else ("front", "side")
+    _check_picture(picture_a, names[0])
+    _check_picture(picture_b, names[1], optional=mode == "headon")
+    check_int(n_colors, "n_colors", min=1, max=8)
+    _check_yarns(yarns, count_ok=True)
+    _check_sizes(width=width)
+    check_bool(stretch, "stretch")
+    _check_bank(bank)
     machine = _fit_machine(knit_on)
     _check_fits(machine, width)
     pair = size_pair(picture_a, picture_b, width=width, stretch=stretch)
@@ -381,6 +445,7 @@ def design_tiles(
     (``search.edits``) need the unquantised ``sources`` and re-quantise to at most
     ``edit_colors`` colours (default: the number of yarns, at most 4).
     """
+    from illuknit.core.arguments import check_int
     from illuknit.design.tiles.bank import canonical_bank, load_bank
     from illuknit.design.tiles.headon import HEADON_VIEWS
     from illuknit.pictures.images import QuantisedImage
@@ -392,8 +457,14 @@ def design_tiles(
     if mode not in ("double", "headon"):
         raise OptionError(f"`mode` must be 'double' or 'headon', got {mode!r}")
     for name, q in (("qa", qa), ("qb", qb)):
-        if q is not None and not isinstance(q, QuantisedImage):
+        if (q is not None or name == "qa") and not isinstance(q, QuantisedImage):
             raise ImageInputError(f"`{name}` must be a QuantisedImage, got {type(q).__name__}")
+    _check_yarns(yarns, count_ok=False)
+    _check_bank(bank)
+    if sources is not None and not (isinstance(sources, (tuple, list)) and len(sources) == 2):
+        raise ImageInputError("`sources` must be the two unquantised pictures (A, B)")
+    if edit_colors is not None:
+        check_int(edit_colors, "edit_colors", min=1, max=8)
     if mode == "double" and qb is None:
         raise ImageInputError("a double-view design needs two pictures (A and B)")
     say = progress or (lambda _f, _m: None)
@@ -565,11 +636,16 @@ def design_single(
     view's mismatch (:func:`~illuknit.design.single_view.single_view_errors`), the stripe order
     ``first`` first on a tie. With ``knit_on`` a picture wider than its bed is refused first.
     """
+    from illuknit.core.arguments import check_bool
     from illuknit.design.single_view import compile_single_view, prepare_single_view_image
     from illuknit.pictures.images import QuantisedImage
 
     if first not in ("dark", "light"):
         raise OptionError(f"`first` must be 'dark' or 'light', got {first!r}")
+    _check_picture(picture, "picture")
+    _check_sizes(width=width, height=height, width_cm=width_cm, gauge=gauge)
+    _check_yarns(yarns, count_ok=False)
+    check_bool(quantise, "quantise")
     machine = _fit_machine(knit_on)
     if isinstance(picture, QuantisedImage):
         q = picture
@@ -725,7 +801,17 @@ def _solve_targets(
     knit_on: str | MachineSpec | None,
 ) -> tuple[Any, Any]:
     """Check the pictures against the model and the bed, then :func:`quantise_targets`."""
+    from illuknit.core.arguments import check_bool, check_int
+
     single = options.model is ModelKind.SINGLE
+    _check_picture(picture_a, "picture_a")
+    _check_picture(picture_b, "picture_b", optional=True)
+    if n_colors is not None:
+        check_int(n_colors, "n_colors", min=1, max=8)
+    _check_yarns(yarns, count_ok=False)
+    _check_sizes(width=width)
+    check_bool(stretch, "stretch")
+    check_bool(quantise, "quantise")
     if single and picture_b is not None:
         raise ImageInputError("the single model takes one picture (it is seen from both sides)")
     if not single and picture_b is None:
@@ -764,9 +850,18 @@ def quantise_targets(
     PictureSizeMismatchError
         The pictures do not cover the same piece (unless ``stretch``).
     """
+    from illuknit.core.arguments import check_bool, check_int
     from illuknit.pictures.images import QuantisedImage, quantise_image
     from illuknit.pictures.sizing import size_pair
 
+    _check_picture(picture_a, "picture_a")
+    _check_picture(picture_b, "picture_b", optional=True)
+    if n_colors is not None:
+        check_int(n_colors, "n_colors", min=1, max=8)
+    _check_yarns(yarns, count_ok=False)
+    _check_sizes(width=width)
+    check_bool(stretch, "stretch")
+    check_bool(quantise, "quantise")
     pair = size_pair(picture_a, picture_b, width=width, stretch=stretch)
     a, b = pair.a, pair.b
     both = a if b is None else np.concatenate([a, b], axis=0)

@@ -25,6 +25,7 @@ from dataclasses import dataclass
 from enum import StrEnum
 from typing import Any
 
+from illuknit.core.arguments import check_int
 from illuknit.design.options import count_option, enum_option, flag_option
 
 __all__ = ["Catching", "KnitOptions", "PathPlanning"]
@@ -68,7 +69,7 @@ class KnitOptions:
     Parameters
     ----------
     cast_on_courses : int
-        Plain courses between the cast-on and the pattern (>= 0).
+        Plain courses between the cast-on and the pattern (0 to 100).
     float_avoidance : bool
         Move purls to the front around floats that cross them (paper Algorithm 1).
     catching : Catching or str
@@ -101,7 +102,7 @@ class KnitOptions:
     allow_long_floats: bool = False
 
     def __post_init__(self) -> None:
-        count_option("cast_on_courses", self.cast_on_courses, minimum=0)
+        check_int(self.cast_on_courses, "cast_on_courses", min=0, max=100)
         count_option("catch_every", self.catch_every, minimum=1)
         for name in ("float_avoidance", "strict_floats", "tuck_passes", "allow_long_floats"):
             flag_option(name, getattr(self, name))

@@ -303,7 +303,7 @@ BAD_CALLS = {
     "search": lambda: design_double(_A, _A, search="x"),
     "ranking": lambda: design_double(_A, _A, ranking={}),
     "yarns": lambda: design_double(_A, _A, yarns=0),
-    "two pictures": lambda: design_double(_A, None),
+    "picture_b": lambda: design_double(_A, None),
     "first": lambda: design_single(_A, first="mid"),
     "qa": lambda: design_tiles("x"),
     "mode": lambda: design_tiles(quantise_image(_A, n_colors=2), mode="x"),
