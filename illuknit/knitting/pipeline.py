@@ -292,8 +292,8 @@ def _schedule(
 
     try:
         if stitches.mixed_courses().size:
-            # (Long floats are judged below, on the program as written: a machine without an
-            # inserting hook adds the waste section, and its yarns enter from there.)
+            # (Long floats are judged by knit_pattern, on the program as written: a machine
+            # without an inserting hook adds the waste section, and its yarns enter from there.)
             schedule = schedule_mixed(
                 stitches,
                 machine=plan_machine,
