@@ -2,7 +2,8 @@
 
 The pipeline, one module per stage::
 
-    image(s) -> quantise_image -> compile_single_view / assign_tiles / solve / optimise
+    image(s) -> design_single / design_double / design_headon / solve_design (ranked designs)
+             (quantise_image -> compile_single_view / assign_tiles / solve / optimise)
              -> LogicalPattern -> can_see, render -> lower_to_stitches -> schedule -> write_knitout
              -> check_knitout
 
@@ -43,10 +44,34 @@ _API: dict[str, str] = {
     # previews, charts
     "write_previews": "illuknit.outputs.previews",
     "written_instructions": "illuknit.outputs.chart",
+    # design stages: pictures -> ranked designs (docs/library.md)
+    "design_single": "illuknit.design.stages",
+    "design_double": "illuknit.design.stages",
+    "design_headon": "illuknit.design.stages",
+    "design_tiles": "illuknit.design.stages",
+    "solve_design": "illuknit.design.stages",
+    "illusion_model": "illuknit.design.stages",
+    "quantise_targets": "illuknit.design.stages",
+    "RankedDesign": "illuknit.design.stages",
+    "SingleDesign": "illuknit.design.stages",
+    "TileDesign": "illuknit.design.stages",
+    "SolvedDesign": "illuknit.design.stages",
+    "SearchOptions": "illuknit.design.options",
+    "RankOptions": "illuknit.design.options",
+    "SolveOptions": "illuknit.design.options",
+    "RankBy": "illuknit.design.options",
+    "Brightness": "illuknit.design.options",
+    "PictureEdits": "illuknit.design.options",
+    "ModelKind": "illuknit.design.options",
+    "WarmStart": "illuknit.design.options",
     # knitting (knitout for V-bed machines)
     "knit_pattern": "illuknit.knitting.pipeline",
     "KnitResult": "illuknit.knitting.pipeline",
+    "KnitOptions": "illuknit.knit.options",
+    "Catching": "illuknit.knit.options",
+    "PathPlanning": "illuknit.knit.options",
     "MachineSpec": "illuknit.core.machine",
+    "resolve_machine": "illuknit.core.machine",
     "schedule_mixed": "illuknit.knit.mixed",
     # knitout checker
     "check_knitout": "illuknit.check",

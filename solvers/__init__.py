@@ -32,6 +32,7 @@ Examples
 
 from __future__ import annotations
 
+import copy
 import importlib
 import time
 from collections.abc import Callable
@@ -291,7 +292,8 @@ def solve(
     the warm start (:mod:`illuknit.solvers.warm_start`: ``none``, ``dp``, ``descent`` or
     ``auto``; skipped when the backend is itself the DP or the descent) within ``time_limit``,
     solve with the rest of the time, and keep the warm start's answer only where the backend did
-    worse, saying so in ``found_by``. Every improvement the backend reports lands in
+    worse, saying so in ``found_by``. ``model`` is not changed (the warm start reaches the
+    backend on a copy of it). Every improvement the backend reports lands in
     ``solution.trace``. Infeasible models come back with ``status == "infeasible"`` and
     ``stats["infeasible_families"]`` naming the conflicting hard-constraint families.
 
@@ -313,7 +315,11 @@ def solve(
     info = None
     remaining = time_limit
     if policy != "none":
-        model.hint, info = ws_mod.make_warm_start(model, policy, time_limit=time_limit, seed=seed)
+        hint, info = ws_mod.make_warm_start(model, policy, time_limit=time_limit, seed=seed)
+        # the backend reads the warm start from the model's hint: give it a copy that carries
+        # it, so the caller's model is left as it was given
+        model = copy.copy(model)
+        model.hint = hint
         if time_limit is not None:
             remaining = max(0.1 * time_limit, time_limit - info["seconds"])
     trace: list[TracePoint] = []

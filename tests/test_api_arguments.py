@@ -98,6 +98,18 @@ def _valid_calls(tmp: Path) -> dict[str, tuple[tuple[Any, ...], dict[str, Any]]]
         "render_at": ((p, 30.0), {}),
         "optimise_design": ((rgb, rgb, yarns), {"steps": 2}),
         "calibration_swatch": ((), {}),
+        # the design stages (docs/library.md); one small search each
+        "design_single": ((picture,), {}),
+        "design_double": (
+            (picture, picture),
+            {"search": illuknit.SearchOptions(candidates=1, pool=1)},
+        ),
+        "design_headon": ((picture,), {"search": illuknit.SearchOptions(candidates=1, pool=1)}),
+        "design_tiles": ((q, q), {"search": illuknit.SearchOptions(candidates=1, pool=1)}),
+        "solve_design": ((picture, picture), {"options": illuknit.SolveOptions(solver="dp")}),
+        "illusion_model": ((picture, picture), {}),
+        "quantise_targets": ((picture, picture), {}),
+        "resolve_machine": (("swg091n2",), {}),
         "fit_bump_height": ((ms,), {}),
         "build_model": ((problem,), {}),
         "solve_illusion": ((target, target), {"solver": "dp", "time_limit": 5}),

@@ -9,11 +9,14 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from illuknit.app.controls import blame
 from illuknit.app.inputs import Prepared
 from illuknit.core.pattern import LogicalPattern
+
+if TYPE_CHECKING:
+    from illuknit.design.stages import Stripe
 
 __all__ = ["Candidate", "Progress", "make_candidates"]
 
@@ -63,21 +66,24 @@ def make_candidates(prepared: Prepared, *, count: int, progress: Progress) -> li
 
 
 def _single_candidates(prepared: Prepared, progress: Progress) -> list[Candidate]:
-    from illuknit.design.single_view import compile_single_view, single_view_errors
+    """Both stripe orders (:func:`~illuknit.design.stages.design_single`), dark first."""
+    from illuknit.design.stages import design_single
 
-    q = prepared.quantised["a"]
+    stripes: tuple[Stripe, Stripe] = ("dark", "light")
+
+    progress(0.0, "compiling single view (both stripe orders)")
+    with blame("n_colors"):
+        design = design_single(prepared.quantised["a"])
     out = []
-    for k, first in enumerate(("dark", "light")):
-        progress(k / 2, f"compiling single view ({first} stripe first)")
-        with blame("n_colors"):
-            pattern = compile_single_view(q, first=first)  # type: ignore[arg-type]
-        err = [round(e, 4) for e in single_view_errors(q, pattern)]
+    for k, first in enumerate(stripes):
+        d = design.first(first)
+        err = [round(d.measures["mismatch_A"], 4), round(d.measures["mismatch_B"], 4)]
         out.append(
             Candidate(
                 rank=k + 1,
-                label=f"{first} stripe first",
+                label=d.label,
                 score=None,
-                pattern=pattern,
+                pattern=d.pattern,
                 details={"first": first, "mismatch_A": err[0], "mismatch_B": err[1]},
             )
         )
@@ -85,59 +91,31 @@ def _single_candidates(prepared: Prepared, progress: Progress) -> list[Candidate
 
 
 def _tile_candidates(prepared: Prepared, *, count: int, progress: Progress) -> list[Candidate]:
-    """The best-reading ``count`` of the tile designs ``illuknit double`` searches by default
-    (:data:`~illuknit.design.tiles.perception.DEFAULT_POOL`), ranked as it ranks them."""
-    from illuknit.design import tiles
-    from illuknit.design.tiles.perception import (
-        DEFAULT_POOL,
-        POOL_SECONDS,
-        rank_designs,
-        seen_targets,
-    )
+    """The best-reading ``count`` of the tile designs ``illuknit double`` searches by default,
+    ranked as it ranks them: one call of :func:`~illuknit.design.stages.design_tiles`."""
+    from illuknit.design.options import SearchOptions
+    from illuknit.design.stages import design_tiles
 
-    qa = prepared.quantised["a"]
-    qb = prepared.quantised.get("b")
-    pool = {"candidates": count, "pool": DEFAULT_POOL, "pool_seconds": POOL_SECONDS}
-    progress(0.05, "building the tile bank")
-    if prepared.mode == "headon":
-        bank = tiles.headon_bank(prepared.yarns)
-        progress(0.1, "finding tile mappings (head-on)")
-        with blame("n_colors"):
-            found = tiles.assign_headon(qa, qb, bank=bank, **pool)
-        views = ("headon", "side")
-    else:
-        bank = tiles.canonical_bank(prepared.yarns)
-        progress(0.1, f"finding tile mappings ({len(bank)} tiles in the bank)")
-        with blame("n_colors"):
-            found = tiles.assign_tiles(qa, qb, bank=bank, **pool)
-        views = ("A", "B")
-    with blame("tiles"):
-        ranked = rank_designs(
-            found,
-            seen_targets(qa, qb),
-            views=views,
-            keep=count,
-            progress=lambda f, message: progress(0.4 + 0.6 * f, message),
+    with blame("n_colors"):
+        design = design_tiles(
+            prepared.quantised["a"],
+            prepared.quantised.get("b"),
+            mode="headon" if prepared.mode == "headon" else "double",
+            yarns=prepared.yarns,
+            search=SearchOptions(candidates=count),
+            progress=progress,
         )
     return [
         Candidate(
-            rank=k + 1,
-            label=_assignment_label(rc.assignment),
-            score=float(rc.assignment.score),
-            pattern=rc.pattern,
-            details=_assignment_details(rc.assignment, rc.report),
-            source=rc.assignment,
+            rank=d.rank,
+            label=d.label,
+            score=float(d.assignment.score),
+            pattern=d.pattern,
+            details=_assignment_details(d.assignment, d.report),
+            source=d.assignment,
         )
-        for k, rc in enumerate(ranked)
+        for d in design.designs
     ]
-
-
-def _assignment_label(assignment: Any) -> str:
-    kinds = [f.kind for f in (*assignment.fills_a, *assignment.fills_b) if f is not None]
-    stripes = sum(k != "solid" for k in kinds)
-    return (
-        "all solid fills" if not stripes else f"{stripes} striped fill{'s' if stripes > 1 else ''}"
-    )
 
 
 def _assignment_details(assignment: Any, report: Any) -> dict[str, Any]:

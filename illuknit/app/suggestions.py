@@ -173,7 +173,7 @@ def suggest_edits_for(
     ``not_double``) outside a double view.
     """
     from illuknit.design import tiles
-    from illuknit.design.tiles.perception import DEFAULT_POOL, POOL_SECONDS
+    from illuknit.design.options import SearchOptions
     from illuknit.design.tiles.simplify import review_edits
 
     require_double(prepared)
@@ -188,9 +188,8 @@ def suggest_edits_for(
             targets=[qa.rgb(), qb.rgb()],
             sources=[sources["a"], sources["b"]],
             max_colors=min(4, len(prepared.yarns)),
-            candidates=count,
-            pool=DEFAULT_POOL,
-            pool_seconds=POOL_SECONDS,
+            # the search the double-view stage makes (design.stages.design_tiles)
+            **SearchOptions(candidates=count).assign_kwargs(),
             bank=tiles.canonical_bank(prepared.yarns),
             progress=lambda fraction, message: progress(0.02 + 0.98 * fraction, message),
         ).results

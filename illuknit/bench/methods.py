@@ -209,38 +209,26 @@ register_method(
 
 
 def run_tiles(instance: Instance, time_limit: float) -> tuple[LogicalPattern, dict[str, Any]]:
-    """The tile candidate that reads best, compiled (paper section 6).
-
-    The candidates ``illuknit double`` searches by default (:data:`~illuknit.design.tiles.perception.
-    DEFAULT_POOL`, those past the fifth within :data:`~illuknit.design.tiles.perception.POOL_SECONDS`)
-    are assigned and ranked as it ranks them (:func:`illuknit.design.tiles.perception.rank_designs`:
-    how the views read, not the assignment's score); the first is the method's pattern.
-    """
-    from illuknit.design.tiles.assign import assign_tiles
-    from illuknit.design.tiles.perception import DEFAULT_POOL, POOL_SECONDS, rank_designs
+    """The tile design that reads best (paper section 6): the double-view stage
+    (:func:`illuknit.design.stages.design_tiles`) with the search ``illuknit double`` makes by
+    default (each solve within ``time_limit``), its first-ranked design compiled."""
+    from illuknit.design.options import SearchOptions
+    from illuknit.design.stages import design_tiles
+    from illuknit.pictures.images import QuantisedImage
 
     t = instance_targets(instance)
-    palette = t.palette
-    t0 = time.perf_counter()
-    cands = assign_tiles(
-        (t.a, palette),
-        (t.b, palette),
-        yarns=instance.yarns,
-        candidates=5,
-        pool=DEFAULT_POOL,
-        pool_seconds=POOL_SECONDS,
-        time_limit=time_limit,
+    qa, qb = (QuantisedImage(idx, t.yarns, t.palette) for idx in (t.a, t.b))
+    design = design_tiles(
+        qa, qb, yarns=instance.yarns, search=SearchOptions(solve_seconds=time_limit)
     )
-    t1 = time.perf_counter()
-    best = rank_designs(cands, [t.rgb("A"), t.rgb("B")])[0]
-    t2 = time.perf_counter()
+    best = design.best
     score = getattr(best.assignment, "score", None)
     return best.pattern, {
         "status": "ok",
         "objective": score if isinstance(score, int | float) else None,
-        "solve_s": t1 - t0,
-        "compile_s": t2 - t1,
-        "note": f"best-reading of {len(cands)} candidates (score rank {best.score_rank})",
+        "solve_s": design.seconds["search"],
+        "compile_s": design.seconds["rank"],
+        "note": f"best-reading of {design.searched} candidates (score rank {best.score_rank})",
     }
 
 

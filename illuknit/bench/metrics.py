@@ -42,7 +42,7 @@ import os
 import resource
 import threading
 import warnings
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -51,6 +51,9 @@ from illuknit.bench.instances import Targets
 from illuknit.core.colors import linear_from_srgb, luminance, srgb_from_linear
 from illuknit.core.pattern import LogicalPattern, Yarn
 from illuknit.core.views import View, can_see
+
+if TYPE_CHECKING:
+    from illuknit.core.machine import MachineSpec
 
 __all__ = [
     "BLUR_SIGMA",
@@ -306,7 +309,9 @@ def color_changes(pattern: LogicalPattern) -> dict[str, float]:
     }
 
 
-def knit_stats(pattern: LogicalPattern, *, machine: str | None = None) -> dict[str, Any]:
+def knit_stats(
+    pattern: LogicalPattern, *, machine: str | MachineSpec | None = None
+) -> dict[str, Any]:
     """Carriage passes and knitting time as the machine runs them.
 
     The pattern is knit with :func:`illuknit.knit.knit_pattern` on ``machine`` (a preset of

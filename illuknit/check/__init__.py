@@ -97,7 +97,7 @@ def check_knitout(
     from illuknit.check.rules import check_header, machine_findings
     from illuknit.check.simulate import simulate_program
     from illuknit.core.errors import OptionError
-    from illuknit.core.machine import get_machine, machine_from_headers
+    from illuknit.core.machine import machine_from_headers, resolve_machine
 
     if float_limit is not None and (
         isinstance(float_limit, bool) or not isinstance(float_limit, int) or float_limit < 1
@@ -110,11 +110,12 @@ def check_knitout(
     ):
         raise OptionError(f"`bed_width` must be a positive integer, got {bed_width!r}")
 
+    named = None if machine is None else resolve_machine(machine)  # before any parsing
     program = parse_knitout(text)
-    if machine is None:
+    if named is None:
         spec = machine_from_headers({name: value for name, value, _ in reversed(program.headers)})
     else:
-        spec = get_machine(machine)
+        spec = named
     racking = spec.max_racking if max_racking is None else max_racking
     limit = spec.float_limit if float_limit is None else float_limit
     width = bed_width if bed_width is not None else program.width or spec.needles

@@ -12,12 +12,10 @@ from __future__ import annotations
 
 import json
 import shutil
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Literal
 
 import click
-import numpy as np
 
 from illuknit.cli.design_files import fmt_number, summary_text, write_candidate, write_edits
 from illuknit.cli.knitout_bridge import format_option, long_floats_option, machine_option
@@ -25,22 +23,23 @@ from illuknit.cli.options import knitout_option, outdir_option
 from illuknit.design.tiles.perception import DEFAULT_POOL, POOL_SECONDS, RANK_KEYS
 from illuknit.pictures.sizing import DEFAULT_MAX_WIDTH
 
-__all__ = ["double", "run_design"]
+__all__ = ["double", "run_design", "write_design"]
 
 
-def _choose_yarns(spec: str | None, n_colors: int, pictures: list[np.ndarray]) -> tuple[Any, ...]:
+def _yarns_option(spec: str | None) -> tuple[Any, ...] | int | None:
+    """``--yarns``: a number of yarns to choose from the pictures, or a list of yarns."""
     from illuknit.core.pattern import parse_yarns
 
     if spec is not None and not spec.strip().isdigit():
         return parse_yarns(spec)
-    n = int(spec) if spec is not None else n_colors
+    if spec is None:
+        return None
+    n = int(spec)
     if not 1 <= n <= 8:
         from illuknit.core.errors import YarnSpecError
 
         raise YarnSpecError(f"--yarns N must be between 1 and 8, got {n}")
-    from illuknit.design.tiles.yarn_choice import choose_yarns
-
-    return choose_yarns(pictures, n)
+    return n
 
 
 def run_design(
@@ -48,7 +47,7 @@ def run_design(
     path_b: Path | None,
     outdir: Path,
     *,
-    mode: str = "double",
+    mode: Literal["double", "headon"] = "double",
     n_colors: int = 2,
     yarns: str | None = None,
     width: int | None = None,
@@ -68,227 +67,126 @@ def run_design(
     simplify: bool = False,
     suggest: bool = False,
 ) -> dict[str, Any]:
-    """Load, quantise, assign, compile and write every candidate (atomically into ``outdir``).
-
-    ``mode`` is ``"double"`` (A from above, B from below) or ``"headon"`` (A head-on, B from
-    both sides; B may be None for a plain side view). With ``knitout`` the default candidate is
-    knit on ``machine`` (a preset name; a pattern wider than its bed is refused before the
-    design work). ``pool`` tile designs (default :data:`~illuknit.design.tiles.perception.DEFAULT_POOL`,
-    never fewer than ``candidates``) are searched and ranked; the best ``candidates`` are written.
-    Returns the summary dict.
-    """
+    """Parse the options, call :func:`~illuknit.design.stages.design_double` (or
+    :func:`~illuknit.design.stages.design_headon`) and write every candidate (atomically into
+    ``outdir``); with ``knitout`` the default candidate is knit on ``machine``. Returns the
+    summary dict."""
     from illuknit.cli.knitout_bridge import resolve_machine
-    from illuknit.core.errors import TileAssignmentError
-    from illuknit.core.files import atomic_write_text, staged_dir
-    from illuknit.design.tiles.perception import rank_designs, seen_targets
-    from illuknit.outputs.previews import unit_scale
+    from illuknit.core.errors import ImageInputError, OptionError, TileAssignmentError
+    from illuknit.design.options import (
+        Brightness,
+        PictureEdits,
+        RankBy,
+        RankOptions,
+        SearchOptions,
+    )
+    from illuknit.design.stages import design_double, design_headon
 
     if candidates < 1:
         raise TileAssignmentError(f"--candidates must be at least 1, got {candidates}")
     if pool is not None and pool < 1:
         raise TileAssignmentError(f"--pool must be at least 1, got {pool}")
-    overrides = _parse_overrides(tile)
+    if (simplify or suggest) and (mode != "double" or path_b is None):
+        raise OptionError("--simplify and --suggest work on double-view designs (two pictures)")
+    ranking = RankOptions(
+        rank_by=RankBy(rank_by),
+        knit_time=knit_time,
+        machine=machine,
+        overrides=tuple(_parse_overrides(tile).items()),
+    )
     spec = resolve_machine(machine)
-    inp = _design_inputs(
-        path_a,
-        path_b,
-        mode=mode,
-        n_colors=n_colors,
-        yarns=yarns,
-        width=width,
-        resize=resize,
-        bank_file=bank_file,
-        one_sided=one_sided,
-        knitout_on=spec if knitout else None,
-    )
-    found, edits = _assign(
-        inp,
-        simplify=simplify,
-        suggest=suggest,
-        n_colors=n_colors,
+    search = SearchOptions(
         candidates=candidates,
-        pool=DEFAULT_POOL if pool is None else pool,
         solver=solver,
-        brightness="soft" if soft_brightness else "hard",
+        brightness=Brightness.SOFT if soft_brightness else Brightness.HARD,
+        one_sided=one_sided,
+        edits=PictureEdits.APPLY
+        if simplify
+        else (PictureEdits.SUGGEST if suggest else PictureEdits.NONE),
+        **({} if pool is None else {"pool": pool}),
     )
-    written = min(candidates, len(found))
+    kw: dict[str, Any] = dict(
+        n_colors=n_colors,
+        yarns=_yarns_option(yarns),
+        width=width,
+        stretch=resize,
+        bank=bank_file,
+        search=search,
+        ranking=ranking,
+        knit_on=spec if knitout else None,
+    )
+    if mode == "double":
+        if path_b is None:
+            raise ImageInputError("a double-view design needs two pictures (A and B)")
+        design = design_double(path_a, path_b, **kw)
+    else:
+        design = design_headon(path_a, path_b, **kw)
+    written = len(design.designs)
     if not 1 <= pick <= written:
         raise TileAssignmentError(
             f"--pick must be between 1 and {written} (candidates found), got {pick}"
         )
-    targets = seen_targets(inp.qa, inp.qb)
-    ranked = rank_designs(
-        found,
-        targets,
-        views=("A", "B") if mode == "double" else ("headon", "side"),
-        overrides=overrides,
-        rank_by=rank_by,
-        knit_time=knit_time,
-        machine=machine,
-        keep=candidates,
-    )
+    return write_design(
+        design, outdir, pick=pick, sources=[str(path_a), str(path_b) if path_b else None],
+        machine=spec if knitout else None,
+    )  # fmt: skip
+
+
+def write_design(
+    design: Any,
+    outdir: Path,
+    *,
+    pick: int = 1,
+    sources: list[str | None],
+    machine: Any = None,
+) -> dict[str, Any]:
+    """Write a :class:`~illuknit.design.stages.TileDesign` into ``outdir`` (atomically): each
+    candidate's folder, the suggested edits, the default candidate's pattern (and, given a
+    machine, its knitout program) and the summary. Returns the summary dict."""
+    from illuknit.core.files import atomic_write_text, staged_dir
+    from illuknit.outputs.previews import unit_scale
+
+    qa = design.quantised["A"]
     rows = []
     chosen = None
     overlap_lines: list[str] = []
     with staged_dir(outdir) as tmp:
-        for rc in ranked:
+        for d in design.designs:
             row, lines = write_candidate(
-                rc,
+                d,
                 tmp,
-                inp,
+                design,
                 pick=pick,
-                overrides=overrides,
-                seen_targets=targets,
-                sources=[str(path_a), str(path_b) if path_b else None],
+                overrides=design.ranking.override_map,
+                seen_targets=list(design.targets),
+                sources=sources,
             )
             rows.append(row)
             if row["default"]:
-                chosen, overlap_lines = rc.pattern, lines
-        if edits:
-            write_edits(edits, tmp / "suggestions", scale=max(2, unit_scale(inp.qa.shape)))
+                chosen, overlap_lines = d.pattern, lines
+        if design.edits:
+            write_edits(list(design.edits), tmp / "suggestions", scale=max(2, unit_scale(qa.shape)))
         shutil.copyfile(tmp / f"candidate_{pick}" / "pattern.json", tmp / "pattern.json")
-        if knitout and chosen is not None:
+        if machine is not None and chosen is not None:
             # The default candidate as a checked knitout program (mixed-colourwork scheduler).
             from illuknit.cli.knitout_bridge import write_program
 
-            write_program(chosen, tmp, machine=spec)
+            write_program(chosen, tmp, machine=machine)
         summary = {
-            "mode": mode,
-            "yarns": [{"name": y.name, "rgb": y.hex} for y in inp.yarns],
-            "size": {"rows": int(inp.qa.shape[0]), "cols": int(inp.qa.shape[1])},
-            "bank": {"name": inp.bank.name, "tiles": len(inp.bank)},
-            "solver": solver,
-            "ranked_by": rank_by,
-            "searched": len(found),
-            "edits": [e.to_json() for e in edits],
+            "mode": design.mode,
+            "yarns": [{"name": y.name, "rgb": y.hex} for y in design.yarns],
+            "size": {"rows": int(qa.shape[0]), "cols": int(qa.shape[1])},
+            "bank": {"name": design.bank.name, "tiles": len(design.bank)},
+            "solver": design.search.solver,
+            "ranked_by": design.ranking.rank_by.value,
+            "searched": design.searched,
+            "edits": [e.to_json() for e in design.edits],
             "default": pick,
             "candidates": rows,
         }
         atomic_write_text(tmp / "summary.json", json.dumps(summary, indent=1) + "\n")
         atomic_write_text(tmp / "summary.txt", summary_text(summary, overlap_lines))
     return summary
-
-
-def _assign(
-    inp: _Inputs,
-    *,
-    simplify: bool,
-    suggest: bool,
-    n_colors: int,
-    candidates: int,
-    pool: int,
-    solver: str,
-    brightness: Literal["hard", "soft"],
-) -> tuple[Any, list[Any]]:
-    """The ranked-by-score tile assignments (``candidates``, or up to ``pool`` within
-    :data:`~illuknit.design.tiles.perception.POOL_SECONDS`), after the suggested edits (and the edits)."""
-    from illuknit.core.errors import OptionError
-    from illuknit.design.tiles.assign import assign_tiles
-    from illuknit.design.tiles.headon import uniform_side
-
-    # one search, for the designs written and for measuring each suggested edit
-    search: dict[str, Any] = dict(
-        bank=inp.bank,
-        candidates=candidates,
-        pool=pool,
-        pool_seconds=POOL_SECONDS,
-        solver=solver,
-        brightness=brightness,
-    )
-    edits: list[Any] = []
-    first: Any = inp.qa
-    second: Any = inp.qb if inp.qb is not None else uniform_side(inp.qa)
-    if simplify or suggest:
-        if inp.qb is None or inp.b is None or inp.mode != "double":
-            raise OptionError("--simplify and --suggest work on double-view designs (two pictures)")
-        first, second, edits = _simplified(
-            inp.qa,
-            inp.qb,
-            apply=simplify,
-            sources=[inp.a, inp.b],
-            # re-quantising stays within the yarns the designer allows (and the --colors range)
-            max_colors=min(4, max(n_colors, len(inp.yarns))),
-            **search,
-        )
-    found = assign_tiles(first, second, views=inp.views, **search)  # type: ignore[arg-type]
-    return found, edits
-
-
-@dataclass(frozen=True, eq=False)
-class _Inputs:
-    """The sized, quantised pictures of a design, its yarns, views and tile bank."""
-
-    mode: str
-    a: np.ndarray
-    b: np.ndarray | None
-    yarns: tuple[Any, ...]
-    qa: Any
-    qb: Any
-    quantised: dict[str, Any]
-    views: tuple[str, ...]
-    bank: Any
-
-
-def _design_inputs(
-    path_a: Path,
-    path_b: Path | None,
-    *,
-    mode: str,
-    n_colors: int,
-    yarns: str | None,
-    width: int | None,
-    resize: bool,
-    bank_file: Path | None,
-    one_sided: bool,
-    knitout_on: Any,
-) -> _Inputs:
-    """Size and quantise the pictures, choose the yarns and load the bank.
-
-    ``knitout_on`` (a MachineSpec, or None without ``--knitout``): a pattern wider than its bed
-    is refused before any design work.
-    """
-    from illuknit.cli.knitout_bridge import check_fits
-    from illuknit.design.tiles.bank import canonical_bank, load_bank
-    from illuknit.design.tiles.headon import HEADON_VIEWS
-    from illuknit.pictures.images import quantise_image
-    from illuknit.pictures.sizing import size_pair
-
-    if knitout_on is not None and width is not None:
-        check_fits(knitout_on, width)
-    pair = size_pair(path_a, path_b, width=width, stretch=resize)
-    a, b = pair.a, pair.b
-    if knitout_on is not None:
-        check_fits(knitout_on, a.shape[1])
-    pictures = [a] if b is None else [a, b]
-    ys = _choose_yarns(yarns, n_colors, pictures)
-    qa = quantise_image(a, n_colors=n_colors)
-    qb = quantise_image(b, n_colors=n_colors) if b is not None else None
-    quantised = {"A": qa} if qb is None else {"A": qa, "B": qb}
-    views = ("A", "B") if mode == "double" else HEADON_VIEWS
-    if bank_file is not None:
-        bank = load_bank(bank_file, yarns=ys)
-    else:
-        bank = canonical_bank(ys, views=views, one_sided_stripes=one_sided)  # type: ignore[arg-type]
-    return _Inputs(mode, a, b, ys, qa, qb, quantised, views, bank)
-
-
-def _simplified(
-    qa: Any, qb: Any, *, apply: bool, sources: list[np.ndarray], max_colors: int, **assign: Any
-) -> tuple[Any, Any, list[Any]]:
-    """Suggested edits of both pictures, each measured by the best design it leads to against
-    the ORIGINAL pictures; with ``apply`` the improving ones are kept (tiles.simplify)."""
-    from illuknit.design.tiles.simplify import review_edits
-
-    review = review_edits(
-        qa,
-        qb,
-        apply=apply,
-        targets=[qa.rgb(), qb.rgb()],
-        sources=sources,
-        max_colors=max_colors,
-        **assign,
-    )
-    return review.a, review.b, list(review.results)
 
 
 def _parse_overrides(specs: tuple[str, ...]) -> dict[tuple[int, int], str]:

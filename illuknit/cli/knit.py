@@ -15,6 +15,7 @@ from illuknit.cli.options import COUNT, NON_NEGATIVE, POSITIVE
 
 if TYPE_CHECKING:
     from illuknit.core.machine import MachineSpec
+    from illuknit.knit.options import KnitOptions
 
 __all__ = ["knit", "run_knit"]
 
@@ -26,19 +27,12 @@ def run_knit(
     machine: str | MachineSpec | None = None,
     gauge: float | None = None,
     machine_width: int | None = None,
-    cast_on_courses: int = 2,
+    options: KnitOptions | None = None,
     seconds_per_needle: float | None = None,
     seconds_per_turn: float | None = None,
     check: bool = True,
     float_limit: int | None = None,
-    float_avoidance: bool = True,
-    catching: bool | str = True,
-    path_planning: str = "anchor",
-    strict_floats: bool = False,
-    catch_every: int = 2,
     output_format: str = "knitout",
-    tuck_passes: bool = False,
-    allow_long_floats: bool = False,
 ) -> dict[str, Any]:
     """Compile ``pattern_path`` to knitout (or a machine file: ``output_format="dat"``) at
     ``output``; return the summary (and checker verdict).
@@ -46,9 +40,11 @@ def run_knit(
     ``machine`` is a preset name (or a spec); ``gauge``, ``machine_width`` and the other options
     override its values. A pattern wider than the bed is refused before compiling; nothing is
     written when compilation fails. ``output_format`` is ``knitout`` or a machine file the
-    machine takes (``kc`` for the Kniterate). A float that stays longer than the float limit
-    is refused (:class:`~illuknit.core.errors.LongFloatError`) unless ``allow_long_floats``, which
-    keeps it with a :class:`~illuknit.knitting.pipeline.LongFloatWarning`.
+    machine takes (``kc`` for the Kniterate). ``options`` says how to knit
+    (:class:`~illuknit.knit.options.KnitOptions`): a float that stays longer than the float
+    limit is refused (:class:`~illuknit.core.errors.LongFloatError`) unless
+    ``options.allow_long_floats``, which keeps it with a
+    :class:`~illuknit.knitting.pipeline.LongFloatWarning`.
     """
     from dataclasses import replace
 
@@ -74,18 +70,7 @@ def run_knit(
         changes["float_limit"] = float_limit
     if changes:
         spec = replace(spec, **changes)
-    result = knit_pattern(
-        pattern,
-        machine=spec,
-        cast_on_courses=cast_on_courses,
-        float_avoidance=float_avoidance,
-        catching=catching,
-        path_planning=path_planning,
-        strict_floats=strict_floats,
-        catch_every=catch_every,
-        tuck_passes=tuck_passes,
-        allow_long_floats=allow_long_floats,
-    )
+    result = knit_pattern(pattern, machine=spec, options=options)
     summary = result.summary()
     if check:
         from illuknit.check import check_knitout
@@ -258,32 +243,26 @@ def knit(
     none switches are the paper's Fig. 20 ablations). Exit code 1 when the checker finds a
     blocking problem, 2 on bad input.
     """
-    if strict_floats and allow_long_floats:
-        raise click.UsageError("--strict-floats and --allow-long-floats contradict each other")
-    if float_avoidance_on and no_float_avoidance:
-        raise click.UsageError("--float-avoidance and --no-float-avoidance contradict each other")
-    if (catching_on or plate) and no_catching:
-        what = "--plate" if plate else "--catching"
-        raise click.UsageError(f"{what} and --no-catching contradict each other")
-    if len(set(path_planning)) > 1:
-        raise click.UsageError(
-            f"--path-planning given contradictory values: {', '.join(sorted(set(path_planning)))}"
-        )
     summary = run_knit(
         pattern,
         output,
         float_limit=float_limit,
-        strict_floats=strict_floats,
-        allow_long_floats=allow_long_floats,
-        tuck_passes=tuck_passes,
-        float_avoidance=not no_float_avoidance,
-        catching=False if no_catching else ("plate" if plate else True),
-        catch_every=catch_every,
-        path_planning=path_planning[0] if path_planning else "anchor",
+        options=_knit_options(
+            cast_on_courses=cast_on_courses,
+            strict_floats=strict_floats,
+            allow_long_floats=allow_long_floats,
+            tuck_passes=tuck_passes,
+            float_avoidance_on=float_avoidance_on,
+            no_float_avoidance=no_float_avoidance,
+            catching_on=catching_on,
+            plate=plate,
+            no_catching=no_catching,
+            catch_every=catch_every,
+            path_planning=path_planning,
+        ),
         machine=machine,
         gauge=gauge,
         machine_width=machine_width,
-        cast_on_courses=cast_on_courses,
         seconds_per_needle=seconds_per_needle,
         seconds_per_turn=seconds_per_turn,
         check=not no_check,
@@ -338,3 +317,43 @@ def _echo_machine_sheet(s: dict[str, Any], echo: Callable[[str], object] = click
     numbers = ", ".join(map(str, s["stitch_numbers"])) or "machine default"
     lo, hi = s["needle_range"]
     echo(f"  stitch numbers: {numbers}; needles {lo}..{hi}")
+
+
+def _knit_options(
+    *,
+    cast_on_courses: int,
+    strict_floats: bool,
+    allow_long_floats: bool,
+    tuck_passes: bool,
+    float_avoidance_on: bool,
+    no_float_avoidance: bool,
+    catching_on: bool,
+    plate: bool,
+    no_catching: bool,
+    catch_every: int,
+    path_planning: tuple[str, ...],
+) -> KnitOptions:
+    """The knitting options the switches of ``illuknit knit`` ask for (contradictions refused)."""
+    from illuknit.knit.options import Catching, KnitOptions, PathPlanning
+
+    if strict_floats and allow_long_floats:
+        raise click.UsageError("--strict-floats and --allow-long-floats contradict each other")
+    if float_avoidance_on and no_float_avoidance:
+        raise click.UsageError("--float-avoidance and --no-float-avoidance contradict each other")
+    if (catching_on or plate) and no_catching:
+        what = "--plate" if plate else "--catching"
+        raise click.UsageError(f"{what} and --no-catching contradict each other")
+    if len(set(path_planning)) > 1:
+        raise click.UsageError(
+            f"--path-planning given contradictory values: {', '.join(sorted(set(path_planning)))}"
+        )
+    return KnitOptions(
+        cast_on_courses=cast_on_courses,
+        strict_floats=strict_floats,
+        allow_long_floats=allow_long_floats,
+        tuck_passes=tuck_passes,
+        float_avoidance=not no_float_avoidance,
+        catching=Catching.OFF if no_catching else (Catching.PLATE if plate else Catching.TUCK),
+        catch_every=catch_every,
+        path_planning=PathPlanning(path_planning[0] if path_planning else "anchor"),
+    )

@@ -24,7 +24,8 @@ from typing import Any
 import click
 
 from illuknit.core.files import atomic_write_text
-from illuknit.core.machine import DEFAULT_MACHINE_NAME, MachineSpec, get_machine, machine_names
+from illuknit.core.machine import DEFAULT_MACHINE_NAME, MachineSpec, machine_names
+from illuknit.core.machine import resolve_machine as machine_spec
 from illuknit.core.pattern import LogicalPattern
 
 __all__ = [
@@ -135,7 +136,7 @@ def resolve_machine(name: str | MachineSpec | None, *, gauge: float | None = Non
     from illuknit.core.errors import OptionError
     from illuknit.formats import check_format
 
-    spec = get_machine(name)
+    spec = machine_spec(name)
     if gauge is not None and gauge != spec.gauge:
         spec = spec.with_gauge(gauge)
     formats = requested_formats()
@@ -191,7 +192,7 @@ def write_program(
     from illuknit.knitting import knit_pattern
     from illuknit.outputs.machine_sheet import machine_sheet
 
-    spec = get_machine(machine)
+    spec = machine_spec(machine)
     formats = requested_formats() if formats is None else formats
     for fmt in formats:
         check_format(spec, fmt)

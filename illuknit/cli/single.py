@@ -13,6 +13,7 @@ from illuknit.cli.summary import print_written, summarise_pattern
 
 if TYPE_CHECKING:
     from illuknit.core.machine import MachineSpec
+    from illuknit.design.stages import Stripe
 
 __all__ = ["run_single", "single"]
 
@@ -28,7 +29,7 @@ def run_single(
     yarns: str | None = None,
     n_colors: int | None = None,
     quantise: bool = True,
-    first: str = "dark",
+    first: Stripe = "dark",
     knitout: bool = False,
     machine: str | MachineSpec | None = None,
     title: str | None = None,
@@ -39,17 +40,13 @@ def run_single(
     the machine the program is knit on; with ``knitout`` a picture wider than the machine's bed
     is refused before compiling.
     """
-    from illuknit.cli.knitout_bridge import check_fits, resolve_machine
+    from illuknit.cli.knitout_bridge import resolve_machine
     from illuknit.core.files import staged_dir
-    from illuknit.design.single_view import (
-        compile_single_view,
-        prepare_single_view_image,
-        single_view_errors,
-    )
+    from illuknit.design.stages import design_single
     from illuknit.outputs.export import export_pattern
 
     spec = resolve_machine(machine, gauge=gauge)
-    q = prepare_single_view_image(
+    design = design_single(
         image,
         width=width,
         height=height,
@@ -57,12 +54,13 @@ def run_single(
         gauge=spec.gauge,
         n_colors=n_colors,
         yarns=parse_yarn_option(yarns),
-        allow_quantise=quantise,
+        quantise=quantise,
+        first=first,
+        knit_on=spec if knitout else None,
     )
-    if knitout:
-        check_fits(spec, q.indices.shape[1])
-    pattern = compile_single_view(q, first=first)  # type: ignore[arg-type]
-    err_a, err_b = single_view_errors(q, pattern)
+    q, chosen = design.quantised, design.first(first)
+    pattern = chosen.pattern
+    err_a, err_b = chosen.measures["mismatch_A"], chosen.measures["mismatch_B"]
     report = {
         "source": str(image),
         "compiler": "single-view",
@@ -114,7 +112,7 @@ def single(
     yarns: str | None,
     n_colors: int | None,
     quantise: bool,
-    first: str,
+    first: Stripe,
     knitout: bool,
     machine: str | None,
     outdir: Path,

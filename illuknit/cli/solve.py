@@ -15,43 +15,12 @@ from pathlib import Path
 from typing import Any
 
 import click
-import numpy as np
 
 from illuknit.cli.knitout_bridge import format_option, long_floats_option, machine_option
 from illuknit.cli.options import POSITIVE
 from illuknit.pictures.sizing import DEFAULT_MAX_WIDTH
 
-__all__ = ["load_targets", "run_solve", "solve"]
-
-
-def load_targets(
-    path_a: Path,
-    path_b: Path | None,
-    *,
-    width: int | None = None,
-    resize: bool = False,
-    n_colors: int | None = None,
-    yarns: Any = None,
-    quantise: bool = True,
-) -> tuple[Any, Any | None]:
-    """Load, size (:func:`illuknit.pictures.sizing.size_pair`) and jointly quantise the target picture(s).
-
-    Returns (QuantisedImage of A, QuantisedImage of B or None) sharing one yarn list.
-
-    Raises PictureSizeMismatchError when the pictures do not cover the same piece (unless
-    ``resize``).
-    """
-    from illuknit.pictures.images import QuantisedImage, quantise_image
-    from illuknit.pictures.sizing import size_pair
-
-    pair = size_pair(path_a, path_b, width=width, stretch=resize)
-    a, b = pair.a, pair.b
-    both = a if b is None else np.concatenate([a, b], axis=0)
-    q = quantise_image(both, n_colors=n_colors, yarns=yarns, allow_quantise=quantise)
-    n = a.shape[0]
-    qa = QuantisedImage(q.indices[:n], q.yarns, q.colors)
-    qb = None if b is None else QuantisedImage(q.indices[n:], q.yarns, q.colors)
-    return qa, qb
+__all__ = ["run_solve", "solve"]
 
 
 class _LiveProgress:
@@ -131,20 +100,16 @@ def run_solve(
     machine: str | None = None,
     show_progress: bool = True,
 ) -> dict[str, Any]:
-    """Everything ``illuknit solve`` does; returns the report dict.
+    """Everything ``illuknit solve`` does: parse the options, call
+    :func:`~illuknit.design.stages.solve_design` and write its pattern; returns the report dict.
 
     With ``knitout`` the pattern is knit on ``machine`` (a preset name); a pattern wider than its
     bed is refused before the model is built.
     """
-    from illuknit.cli.knitout_bridge import check_fits, resolve_machine
-    from illuknit.core.files import STDOUT, write_output_file
-    from illuknit.design.models.illusion_models import (
-        build_model,
-        check_solution,
-        make_problem,
-        pattern_from_solution,
-        report_pattern,
-    )
+    from illuknit.cli.knitout_bridge import resolve_machine
+    from illuknit.core.files import STDOUT
+    from illuknit.design.options import ModelKind, SolveOptions, WarmStart
+    from illuknit.design.stages import illusion_model, solve_design
 
     if image_a is None:
         raise click.UsageError("give the target picture(s): illuknit solve A.png B.png -o OUTDIR")
@@ -162,74 +127,66 @@ def run_solve(
         export_wcnf=export_wcnf,
     )
     spec = resolve_machine(machine)
-    if knitout and width is not None:
-        check_fits(spec, width)
-    qa, qb = load_targets(
-        image_a, image_b, width=width, resize=resize, n_colors=n_colors, yarns=ys, quantise=quantise
-    )
-    if knitout:
-        check_fits(spec, qa.indices.shape[1])
-    problem = make_problem(
-        qa.indices,
-        None if qb is None else qb.indices,
-        n_yarns=len(qa.yarns),
-        kind=model,
+    options = SolveOptions(
+        model=ModelKind(model),
+        solver=solver,
+        warm_start=WarmStart(warm_start),
         weights=w,
         alternate_rows=alternate_rows,
+        time_limit=time_limit,
+        seed=seed,
     )
-    mdl = build_model(problem)
+    targets = dict(
+        n_colors=n_colors, yarns=ys, width=width, stretch=resize, quantise=quantise,
+        knit_on=spec if knitout else None,
+    )  # fmt: skip
     written: dict[str, Path] = {}
     if export_wcnf is not None:
-        where = write_output_file(export_wcnf, mdl.to_wcnf(style=wcnf_style).encode("utf-8"))
+        mdl = illusion_model(image_a, image_b, options=options, **targets)
+        where = _export_wcnf(mdl, export_wcnf, wcnf_style, say=outdir is None)
         if str(export_wcnf) != STDOUT:
             written["wcnf"] = Path(where)
         if outdir is None:
-            from rich.console import Console
-
-            Console(highlight=False, soft_wrap=True, stderr=str(export_wcnf) == STDOUT).print(
-                f"wrote {where} ({mdl.num_vars} variables, {mdl.num_hard} hard and "
-                f"{mdl.num_soft} soft clauses before encoding cardinality constraints)"
-            )
             return {"wcnf": where, "model": repr(mdl)}
-
-    sol = _solve_with_progress(
-        mdl,
-        solver=solver,
-        warm_start=warm_start,
-        time_limit=time_limit,
-        seed=seed,
-        label=f"on {model} {problem.shape[0]}x{problem.shape[1]}",
-        show_progress=show_progress,
-    )
-    check_solution(sol, model)
-    pattern = pattern_from_solution(
-        problem,
-        sol,
-        yarns=qa.yarns,
-        meta={"sources": [str(image_a), str(image_b) if image_b else None]},
-    )
-    report = report_pattern(pattern, problem, sol)
-    report["sources"] = {"A": str(image_a), "B": str(image_b) if image_b else None}
-    report["legend"] = qa.legend()
-    if sol.stats.get("interrupted"):
-        report["note"] = "interrupted with Ctrl-C: the best pattern found so far"
+    label = f"{solver} on the {model} model"
+    if show_progress and solver != "dp":
+        with _LiveProgress(time_limit, label) as live:
+            design = solve_design(image_a, image_b, options=options, progress=live, **targets)
+    else:
+        design = solve_design(image_a, image_b, options=options, **targets)
+    report = dict(design.report)
     if outdir is not None:
-        targets = (
-            {"target A": qa.rgb()} if qb is None else {"target A": qa.rgb(), "target B": qb.rgb()}
-        )
-        title = f"{model} illusion solved by {sol.backend}"
+        qa, *rest = design.quantised
+        pictures = {"target A": qa.rgb(), **({"target B": rest[0].rgb()} if rest else {})}
+        title = f"{model} illusion solved by {design.solution.backend}"
         written.update(
             _write_outputs(
-                pattern,
+                design.pattern,
                 outdir,
                 report=report,
                 title=title,
-                targets=targets,
+                targets=pictures,
                 machine=spec if knitout else None,
             )
         )
     _print_report(report, written, outdir)
     return report
+
+
+def _export_wcnf(mdl: Any, path: Path, style: str, *, say: bool) -> str:
+    """``--export-wcnf``: write the model (to standard output for ``-``); with ``say``, say so.
+    Returns where it went."""
+    from rich.console import Console
+
+    from illuknit.core.files import STDOUT, write_output_file
+
+    where = write_output_file(path, mdl.to_wcnf(style=style).encode("utf-8"))
+    if say:
+        Console(highlight=False, soft_wrap=True, stderr=str(path) == STDOUT).print(
+            f"wrote {where} ({mdl.num_vars} variables, {mdl.num_hard} hard and "
+            f"{mdl.num_soft} soft clauses before encoding cardinality constraints)"
+        )
+    return str(where)
 
 
 def _write_outputs(
@@ -300,43 +257,6 @@ def _check_solve_options(
         given = f"--yarns {yarns}" if ys is not None else "--colors 1"
         raise YarnSpecError(f"an illusion needs at least 2 yarns, got 1 ({given})")
     return w, ys
-
-
-def _solve_with_progress(
-    mdl: Any,
-    *,
-    solver: str,
-    warm_start: str,
-    time_limit: float | None,
-    seed: int,
-    label: str,
-    show_progress: bool,
-) -> Any:
-    """Solve ``mdl`` with the chosen backend and warm-start policy, with a live progress line."""
-    from illuknit.solvers import resolve_backend
-    from illuknit.solvers import solve as solve_model
-    from illuknit.solvers.warm_start import resolve_policy
-
-    backend = resolve_backend(mdl, solver)
-    policy = "none" if backend.name in ("dp", "descent") else resolve_policy(warm_start, mdl)
-    label = f"{backend.name} {label}"
-    if policy != "none":
-        label += f", warm start {policy}"
-    if show_progress and backend.name != "dp":
-        with _LiveProgress(time_limit, label) as live:
-            sol = solve_model(
-                mdl,
-                solver=backend.name,
-                warm_start=policy,
-                time_limit=time_limit,
-                seed=seed,
-                progress=live,
-            )
-    else:
-        sol = solve_model(
-            mdl, solver=backend.name, warm_start=policy, time_limit=time_limit, seed=seed
-        )
-    return sol
 
 
 def _print_report(report: dict[str, Any], written: dict[str, Path], outdir: Path | None) -> None:

@@ -47,6 +47,7 @@ __all__ = [
     "get_machine",
     "machine_from_headers",
     "machine_names",
+    "resolve_machine",
 ]
 
 _POSITIONS = ("Left", "Right", "Center", "Keep")
@@ -294,6 +295,37 @@ def get_machine(name: str | MachineSpec | None = None) -> MachineSpec:
     if key not in MACHINES:
         raise UnknownNameError("machine", str(name), machine_names())
     return MACHINES[key]
+
+
+def resolve_machine(machine: str | MachineSpec | None = None) -> MachineSpec:
+    """The machine an argument names: a preset name (case-insensitive), a
+    :class:`MachineSpec` (returned as it is) or None (the default machine).
+
+    Every public call that takes a ``machine`` reads it through this function, so a name and
+    the spec it names give the same result everywhere.
+
+    Raises
+    ------
+    UnknownNameError
+        For a name not in :data:`MACHINES`; the message lists the valid names.
+    OptionError
+        For anything else (the message names the argument and its type).
+
+    Examples
+    --------
+    >>> resolve_machine("Kniterate") is MACHINES["kniterate"]
+    True
+    >>> resolve_machine("swg09")
+    Traceback (most recent call last):
+    ...
+    illuknit.core.errors.UnknownNameError: unknown machine 'swg09'; valid: generic540, swg091n2, kniterate
+    """
+    if machine is not None and not isinstance(machine, (str, MachineSpec)):
+        raise OptionError(
+            "`machine` must be a machine name "
+            f"({', '.join(machine_names())}) or a MachineSpec, got {type(machine).__name__}"
+        )
+    return get_machine(machine)
 
 
 def machine_from_headers(headers: Mapping[str, str]) -> MachineSpec:

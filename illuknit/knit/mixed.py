@@ -65,7 +65,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from illuknit.core.errors import LongFloatError, OptionError, PatternValidationError
-from illuknit.core.machine import DEFAULT_MACHINE, MachineSpec
+from illuknit.core.machine import DEFAULT_MACHINE, MachineSpec, resolve_machine
 from illuknit.knit.catching import JOIN_METHODS, JoinTuck, PlatedStitch, plan_catches, plan_joins
 from illuknit.knit.color_runs import ColorPlan, plan_color_runs
 from illuknit.knit.course_order import course_items, order_and_plan
@@ -289,7 +289,7 @@ def long_float_error(
 def schedule_mixed(
     stitches: StitchPattern,
     *,
-    machine: MachineSpec = DEFAULT_MACHINE,
+    machine: str | MachineSpec = DEFAULT_MACHINE,
     float_avoidance: bool = True,
     catching: bool | str = True,
     path_planning: str = "anchor",
@@ -308,8 +308,9 @@ def schedule_mixed(
     ----------
     stitches : StitchPattern
         C courses x W wales, any yarns and knit/purl anywhere.
-    machine : MachineSpec
-        Bed, carriers, float limit, parking, stitch numbers.
+    machine : str or MachineSpec
+        Bed, carriers, float limit, parking, stitch numbers (a preset name is read by
+        :func:`~illuknit.core.machine.resolve_machine`).
     float_avoidance : bool
         Algorithm 1: move purls to the front around floats that cross them.
     catching : bool or {"tuck", "plate"}
@@ -374,6 +375,7 @@ def schedule_mixed(
     PatternValidationError
         If ``stitches`` is not a StitchPattern.
     """
+    machine = resolve_machine(machine)
     limit = _checked_options(
         stitches,
         machine=machine,

@@ -14,17 +14,22 @@ that want a verdict pass the returned text to it.
 from __future__ import annotations
 
 import warnings
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, fields, replace
 from typing import Any
 
-from illuknit.core.arguments import check_int
-from illuknit.core.errors import CarrierShortageError, PatternValidationError, SchedulingError
-from illuknit.core.machine import DEFAULT_MACHINE, MachineSpec
+from illuknit.core.errors import (
+    CarrierShortageError,
+    OptionError,
+    PatternValidationError,
+    SchedulingError,
+)
+from illuknit.core.machine import MachineSpec, resolve_machine
 from illuknit.core.pattern import LogicalPattern
 from illuknit.knit.float_tucks import LongFloat
 from illuknit.knit.hookless import yarn_entry
 from illuknit.knit.ir import Pass, Role
 from illuknit.knit.knitout import write_knitout
+from illuknit.knit.options import Catching, KnitOptions
 from illuknit.knit.schedule import Schedule, ScheduleStats, schedule_courses
 from illuknit.knit.stitches import StitchPattern, lower_to_stitches
 from illuknit.knit.timing import TimeEstimate, estimate_knit_time
@@ -124,35 +129,32 @@ class KnitResult:
 def knit_pattern(
     pattern: LogicalPattern,
     *,
-    machine: MachineSpec | None = None,
-    cast_on_courses: int = 2,
-    float_avoidance: bool = True,
-    catching: bool | str = True,
-    path_planning: str = "anchor",
-    strict_floats: bool = False,
-    catch_every: int = 2,
-    tuck_passes: bool = False,
-    allow_long_floats: bool = False,
+    machine: str | MachineSpec | None = None,
+    options: KnitOptions | None = None,
+    **knobs: Any,
 ) -> KnitResult:
     """Compile a logical pattern to a knitout program.
 
     Patterns with one colour per course go to :func:`~illuknit.knit.schedule.schedule_courses`;
     patterns that change colour inside a course to the mixed-colourwork scheduler
-    :func:`~illuknit.knit.mixed.schedule_mixed`, whose switches (``float_avoidance``,
-    ``catching``, ``catch_every``, ``path_planning``, ``strict_floats``, ``tuck_passes``,
-    ``allow_long_floats``) apply
-    to them only.
+    :func:`~illuknit.knit.mixed.schedule_mixed`, to which the switches of
+    :class:`~illuknit.knit.options.KnitOptions` other than ``cast_on_courses`` apply.
 
     Parameters
     ----------
     pattern : LogicalPattern
-    machine : MachineSpec, optional
-        Defaults to the paper's 7-gauge SWG091N2 (:data:`DEFAULT_MACHINE`).
-    cast_on_courses : int
-        Plain courses between the cast-on and the pattern.
-    allow_long_floats : bool
-        False (the default): refuse a float that stays longer than ``machine.float_limit``
-        after tucking. True: keep it, report it in :meth:`KnitResult.summary` and warn.
+    machine : str or MachineSpec, optional
+        A preset name (``"swg091n2"``, ``"kniterate"``, ...) or a spec; defaults to the paper's
+        7-gauge SWG091N2 (:data:`~illuknit.core.machine.DEFAULT_MACHINE`). Read by
+        :func:`~illuknit.core.machine.resolve_machine`.
+    options : KnitOptions, optional
+        How to knit (defaults: ``KnitOptions()``). With ``allow_long_floats=False`` (the
+        default) a float that stays longer than ``machine.float_limit`` after tucking is
+        refused; with True it is kept, reported in :meth:`KnitResult.summary` and warned about.
+    **knobs
+        Shorthand for fields of ``options`` (``knit_pattern(p, catching="plate")`` is
+        ``knit_pattern(p, options=KnitOptions(catching="plate"))``); they replace those fields
+        of ``options`` when both are given.
 
     Returns
     -------
@@ -174,12 +176,12 @@ def knit_pattern(
     SchedulingError
         If the pattern is wider than the bed or has more yarns than carriers.
     """
-    check_int(cast_on_courses, "cast_on_courses", min=0, max=100)
     if not isinstance(pattern, LogicalPattern):
         raise PatternValidationError(
             f"`pattern` must be a LogicalPattern, got {type(pattern).__name__}"
         )
-    m = DEFAULT_MACHINE if machine is None else machine
+    m = resolve_machine(machine)
+    opts = _knit_options(options, knobs)
     # Without an inserting hook, the waste yarn and draw thread hold carriers of their own: the
     # scheduler plans with the others only (and refuses a plan that needs more).
     plan_machine = (
@@ -187,42 +189,10 @@ def knit_pattern(
         if m.inserting_hook
         else replace(m, carriers=m.pattern_carriers, waste_carrier=None, draw_carrier=None)
     )
-    stitches = lower_to_stitches(pattern, machine=plan_machine, cast_on_courses=cast_on_courses)
-    from illuknit.knit.mixed import schedule_mixed, validate_ablation
-
-    validate_ablation(
-        float_avoidance=float_avoidance, catching=catching, path_planning=path_planning
+    stitches = lower_to_stitches(
+        pattern, machine=plan_machine, cast_on_courses=opts.cast_on_courses
     )
-    try:
-        if stitches.mixed_courses().size:
-            # (Long floats are judged below, on the program as written: a machine without an
-            # inserting hook adds the waste section, and its yarns enter from there.)
-            schedule = schedule_mixed(
-                stitches,
-                machine=plan_machine,
-                float_avoidance=float_avoidance,
-                catching=catching,
-                path_planning=path_planning,
-                strict_floats=strict_floats,
-                catch_every=catch_every,
-                tuck_passes=tuck_passes,
-                allow_long_floats=True,
-                yarn_entry=None if m.inserting_hook else yarn_entry(m),
-            )
-        else:
-            schedule = schedule_courses(stitches, machine=plan_machine)
-    except SchedulingError as e:
-        if m.inserting_hook or type(e) not in (SchedulingError, CarrierShortageError):
-            raise
-        reserved = (
-            f"; on the {m.name} carriers {m.draw_carrier} and {m.waste_carrier} hold the draw "
-            f"thread and the waste yarn, leaving {len(plan_machine.carriers)} for the pattern"
-        )
-        if isinstance(e, CarrierShortageError):
-            raise CarrierShortageError(
-                f"{e}{reserved}", course=e.course, needed=e.needed, available=e.available
-            ) from None
-        raise SchedulingError(f"{e}{reserved}") from None
+    schedule = _schedule(stitches, m, plan_machine, opts)
     if m.inserting_hook:
         text = write_knitout(schedule, machine=m)
     else:
@@ -235,7 +205,7 @@ def knit_pattern(
     limit = plan_machine.float_limit
     long = program_long_floats(text, schedule, limit)
     schedule = replace(schedule, long_floats=long)
-    if long and (strict_floats or not allow_long_floats):
+    if long and (opts.strict_floats or not opts.allow_long_floats):
         from illuknit.knit.mixed import long_float_error
 
         raise long_float_error(long, stitches, limit)
@@ -311,6 +281,55 @@ def program_long_floats(text: str, schedule: Schedule, limit: int) -> tuple[Long
         place = "the cast-on" if step.role is Role.CAST_ON else None
         out.append(LongFloat(owner[k], f.carrier, f.from_slot, f.to_slot, step.course, place))
     return tuple(out)
+
+
+def _schedule(
+    stitches: StitchPattern, m: MachineSpec, plan_machine: MachineSpec, opts: KnitOptions
+) -> Schedule:
+    """Schedule the stitches on ``plan_machine`` (``m`` less its reserved carriers); a carrier
+    shortage on a machine without an inserting hook says which carriers are reserved."""
+    from illuknit.knit.mixed import schedule_mixed
+
+    try:
+        if stitches.mixed_courses().size:
+            # (Long floats are judged by knit_pattern, on the program as written: a machine
+            # without an inserting hook adds the waste section, and its yarns enter from there.)
+            schedule = schedule_mixed(
+                stitches,
+                machine=plan_machine,
+                **{**opts.scheduler_kwargs(), "allow_long_floats": True},
+                yarn_entry=None if m.inserting_hook else yarn_entry(m),
+            )
+        else:
+            schedule = schedule_courses(stitches, machine=plan_machine)
+    except SchedulingError as e:
+        if m.inserting_hook or type(e) not in (SchedulingError, CarrierShortageError):
+            raise
+        reserved = (
+            f"; on the {m.name} carriers {m.draw_carrier} and {m.waste_carrier} hold the draw "
+            f"thread and the waste yarn, leaving {len(plan_machine.carriers)} for the pattern"
+        )
+        if isinstance(e, CarrierShortageError):
+            raise CarrierShortageError(
+                f"{e}{reserved}", course=e.course, needed=e.needed, available=e.available
+            ) from None
+        raise SchedulingError(f"{e}{reserved}") from None
+    return schedule
+
+
+def _knit_options(options: KnitOptions | None, knobs: dict[str, Any]) -> KnitOptions:
+    """``options`` with the shorthand ``knobs`` in place of its fields (one validation)."""
+    if options is not None and not isinstance(options, KnitOptions):
+        raise OptionError(f"`options` must be a KnitOptions, got {type(options).__name__}")
+    base = KnitOptions() if options is None else options
+    unknown = sorted(set(knobs) - {f.name for f in fields(KnitOptions)})
+    if unknown:
+        valid = ", ".join(f.name for f in fields(KnitOptions))
+        raise OptionError(f"unknown knitting option {unknown[0]!r}; valid: {valid}")
+    if "catching" in knobs and isinstance(knobs["catching"], bool):
+        # the scheduler's old spelling: True (tuck joins) / False (no joins)
+        knobs = {**knobs, "catching": Catching.TUCK if knobs["catching"] else Catching.OFF}
+    return replace(base, **knobs) if knobs else base
 
 
 def long_float_warning(result: KnitResult) -> str:

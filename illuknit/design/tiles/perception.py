@@ -51,13 +51,17 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from illuknit.core.errors import OptionError
 from illuknit.core.pattern import LogicalPattern
+from illuknit.design.options import DEFAULT_POOL, POOL_SECONDS
+
+if TYPE_CHECKING:
+    from illuknit.core.machine import MachineSpec
 
 __all__ = [
     "CONTRAST_FLOOR",
@@ -71,6 +75,7 @@ __all__ = [
     "measure_candidate",
     "rank_candidates",
     "rank_designs",
+    "rank_key",
     "seen_targets",
 ]
 
@@ -78,13 +83,6 @@ __all__ = [
 CONTRAST_FLOOR = 0.25
 #: Score lost per unit of contrast below :data:`CONTRAST_FLOOR`.
 CONTRAST_PENALTY = 1.0
-#: How many tile designs are searched by default before ranking them by how they read
-#: (``illuknit double --pool``; :func:`~illuknit.design.tiles.assign.assign_tiles` ``pool=``): the
-#: assignment's score does not see how a design reads, and on the bundled double-view pairs the
-#: best-reading design is often past the score's fifth place.
-DEFAULT_POOL = 20
-#: Designs past the ones to be written are sought only while the search took less than this.
-POOL_SECONDS = 20.0
 #: The orders a user may rank candidates by.
 RANK_KEYS = ("perception", "score", "readability", "contrast", "ghosting", "knit-time")
 #: A unit is marked "wrong" where the fitted render is off by more than this (linear luminance).
@@ -224,7 +222,7 @@ def measure_candidate(
     views: Sequence[str] = ("A", "B"),
     ghost: bool = True,
     knit_time: bool = False,
-    machine: str | None = None,
+    machine: str | MachineSpec | None = None,
     angle: float | None = None,
 ) -> CandidateMeasures:
     """Measure how a compiled candidate reads in each of its views.
@@ -276,7 +274,7 @@ def measure_candidate(
     return _with_knit_time(measured, pattern, machine=machine) if knit_time else measured
 
 
-def _sort_key(m: CandidateMeasures, score: float, by: str) -> tuple[float, ...]:
+def rank_key(m: CandidateMeasures, score: float, by: str) -> tuple[float, ...]:
     """Ascending key: the best candidate sorts first."""
     time = m.knit_minutes if m.knit_minutes is not None else float("inf")
     if by == "perception":
@@ -303,7 +301,7 @@ def rank_candidates(
         raise OptionError(f"rank by one of {', '.join(RANK_KEYS)}, got {by!r}")
     if by == "knit-time" and any(m.knit_minutes is None for m in measures):
         raise OptionError("ranking by knit-time needs the knitting time of every candidate")
-    keys = [_sort_key(m, s, by) for m, s in zip(measures, scores, strict=True)]
+    keys = [rank_key(m, s, by) for m, s in zip(measures, scores, strict=True)]
     return sorted(range(len(measures)), key=lambda i: (keys[i], i))
 
 
@@ -330,7 +328,7 @@ def rank_designs(
     overrides: Any = None,
     rank_by: str = "perception",
     knit_time: bool = False,
-    machine: str | None = None,
+    machine: str | MachineSpec | None = None,
     keep: int | None = None,
     progress: Callable[[float, str], None] | None = None,
 ) -> list[RankedCandidate]:
@@ -423,7 +421,7 @@ def _to_knit(
 
 
 def _with_knit_time(
-    m: CandidateMeasures, pattern: LogicalPattern, *, machine: str | None
+    m: CandidateMeasures, pattern: LogicalPattern, *, machine: str | MachineSpec | None
 ) -> CandidateMeasures:
     from dataclasses import replace
 

@@ -1,0 +1,308 @@
+"""Frozen, validated options of the design stages (:mod:`illuknit.design.stages`).
+
+:class:`SearchOptions` says how tile designs are searched, :class:`RankOptions` how they are
+ranked, :class:`SolveOptions` how a constraint model is solved. Choices are enums whose values
+are the words the CLI takes (``RankBy("knit-time")`` reads ``--rank-by knit-time``); a string
+given for an enum field is read as its member, and anything else is refused where the options
+are made, with an :class:`~illuknit.core.errors.OptionError` naming the field.
+
+Examples
+--------
+>>> SearchOptions(candidates=3).pool
+20
+>>> RankOptions(rank_by="score").rank_by
+<RankBy.SCORE: 'score'>
+>>> SearchOptions(brightness="firm")
+Traceback (most recent call last):
+...
+illuknit.core.errors.OptionError: `brightness` must be one of hard, soft, got 'firm'
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from enum import Enum, StrEnum
+from typing import Any
+
+from illuknit.core.errors import OptionError
+from illuknit.core.machine import MachineSpec, resolve_machine
+from illuknit.design.models.illusion_problem import KnitWeights
+
+__all__ = [
+    "Brightness",
+    "ModelKind",
+    "PictureEdits",
+    "RankBy",
+    "RankOptions",
+    "SearchOptions",
+    "SolveOptions",
+    "WarmStart",
+]
+
+#: How many tile designs are searched by default before ranking them by how they read
+#: (``illuknit double --pool``; :func:`~illuknit.design.tiles.assign.assign_tiles` ``pool=``): the
+#: assignment's score does not see how a design reads, and on the bundled double-view pairs the
+#: best-reading design is often past the score's fifth place.
+DEFAULT_POOL = 20
+#: Designs past the ones to be written are sought only while the search took less than this.
+POOL_SECONDS = 20.0
+
+
+# -- validators (shared with illuknit.knit.options) ----------------------------------------
+
+
+def enum_option(cls: type[Enum], name: str, value: Any) -> Any:
+    """``value`` as a member of ``cls`` (its value string is read as the member)."""
+    if isinstance(value, cls):
+        return value
+    if isinstance(value, str):
+        try:
+            return cls(value.strip().lower())
+        except ValueError:
+            pass
+    valid = ", ".join(str(m.value) for m in cls)
+    raise OptionError(f"`{name}` must be one of {valid}, got {value!r}")
+
+
+def flag_option(name: str, value: Any) -> bool:
+    """``value``, refused unless it is True or False."""
+    if not isinstance(value, bool):
+        raise OptionError(f"`{name}` must be True or False, got {value!r}")
+    return value
+
+
+def count_option(name: str, value: Any, *, minimum: int) -> int:
+    """``value``, refused unless it is an integer >= ``minimum``."""
+    if not isinstance(value, int) or isinstance(value, bool) or value < minimum:
+        what = "a positive integer" if minimum == 1 else f"an integer >= {minimum}"
+        raise OptionError(f"`{name}` must be {what}, got {value!r}")
+    return value
+
+
+def _seconds(name: str, value: Any) -> float:
+    """``value``, refused unless it is a positive, finite number of seconds."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise OptionError(f"`{name}` must be a number of seconds, got {value!r}")
+    if not (math.isfinite(value) and value > 0):
+        raise OptionError(f"`{name}` must be positive and finite, got {value!r}")
+    return float(value)
+
+
+class Brightness(StrEnum):
+    """Keep each picture's brightness order strictly (``HARD``) or only prefer to (``SOFT``)."""
+
+    HARD = "hard"
+    SOFT = "soft"
+
+
+class PictureEdits(StrEnum):
+    """Simplifying edits of the pictures before a double-view design (:mod:`illuknit.design.tiles.simplify`).
+
+    ``NONE``: design the pictures as given; ``SUGGEST``: also measure each edit by the best
+    design it leads to, and report it; ``APPLY``: as ``SUGGEST``, and design with the edits that
+    raise the worse view's readability.
+    """
+
+    NONE = "none"
+    SUGGEST = "suggest"
+    APPLY = "apply"
+
+
+class RankBy(StrEnum):
+    """The order of ranked tile designs; :attr:`key_fields` names the parts of its rank key."""
+
+    PERCEPTION = "perception"
+    SCORE = "score"
+    READABILITY = "readability"
+    CONTRAST = "contrast"
+    GHOSTING = "ghosting"
+    KNIT_TIME = "knit-time"
+
+    @property
+    def key_fields(self) -> tuple[str, ...]:
+        """What each entry of a design's rank key is (ascending: the best design sorts first;
+        a negated measure is one where higher is better)."""
+        return _KEY_FIELDS[self]
+
+
+_KEY_FIELDS = {
+    RankBy.PERCEPTION: (
+        "-perceptual score",
+        "worst visible ghosting",
+        "knitting minutes",
+        "assignment score",
+    ),
+    RankBy.SCORE: ("assignment score",),
+    RankBy.READABILITY: ("-worse readability", "worst ghosting", "assignment score"),
+    RankBy.CONTRAST: ("-worse contrast", "-worse readability", "assignment score"),
+    RankBy.GHOSTING: ("worst visible ghosting", "-worse readability", "assignment score"),
+    RankBy.KNIT_TIME: ("knitting minutes", "-perceptual score", "assignment score"),
+}
+
+
+@dataclass(frozen=True)
+class SearchOptions:
+    """How tile designs are searched (:func:`~illuknit.design.tiles.assign.assign_tiles`).
+
+    Parameters
+    ----------
+    candidates : int
+        How many ranked designs to keep (1-50).
+    pool : int
+        How many designs to search and rank (at least ``candidates`` are searched).
+    pool_seconds : float
+        The designs past ``candidates`` are sought only within this many seconds.
+    solver : str
+        The backend of each assignment solve (``"cpsat"``, ``"rc2"``, ...).
+    brightness : Brightness or str
+    one_sided : bool
+        Only tiles that are solid from at least one side (the default bank only).
+    edits : PictureEdits or str
+        Simplifying edits of the pictures (double view only).
+    solve_seconds : float, optional
+        Time limit of each assignment solve (None: no limit).
+    """
+
+    candidates: int = 5
+    pool: int = DEFAULT_POOL
+    pool_seconds: float = POOL_SECONDS
+    solver: str = "cpsat"
+    brightness: Brightness = Brightness.HARD
+    one_sided: bool = False
+    edits: PictureEdits = PictureEdits.NONE
+    solve_seconds: float | None = 10.0
+
+    def __post_init__(self) -> None:
+        if not 1 <= count_option("candidates", self.candidates, minimum=1) <= 50:
+            raise OptionError(f"`candidates` must be between 1 and 50, got {self.candidates}")
+        count_option("pool", self.pool, minimum=1)
+        _seconds("pool_seconds", self.pool_seconds)
+        if not isinstance(self.solver, str) or not self.solver.strip():
+            raise OptionError(f"`solver` must be a backend name, got {self.solver!r}")
+        if self.solve_seconds is not None:
+            _seconds("solve_seconds", self.solve_seconds)
+        flag_option("one_sided", self.one_sided)
+        object.__setattr__(
+            self, "brightness", enum_option(Brightness, "brightness", self.brightness)
+        )
+        object.__setattr__(self, "edits", enum_option(PictureEdits, "edits", self.edits))
+
+    def assign_kwargs(self) -> dict[str, Any]:
+        """The keywords of :func:`~illuknit.design.tiles.assign.assign_tiles` these options set."""
+        return {
+            "candidates": self.candidates,
+            "pool": self.pool,
+            "pool_seconds": self.pool_seconds,
+            "solver": self.solver,
+            "brightness": self.brightness.value,
+            "time_limit": self.solve_seconds,
+        }
+
+
+@dataclass(frozen=True)
+class RankOptions:
+    """How tile designs are ranked (:func:`~illuknit.design.tiles.perception.rank_designs`).
+
+    Parameters
+    ----------
+    rank_by : RankBy or str
+    knit_time : bool
+        Also knit the designs that can matter and measure the machine's knitting time (it
+        breaks ties under ``PERCEPTION``; ``KNIT_TIME`` implies it).
+    machine : str or MachineSpec, optional
+        The machine the knitting time is measured on (default machine when None).
+    overrides : mapping or sequence of pairs
+        ``{(colour of A, colour of B): "ROWS"}``: the tile of an overlap pair, as knit.
+    """
+
+    rank_by: RankBy = RankBy.PERCEPTION
+    knit_time: bool = False
+    machine: str | MachineSpec | None = None
+    overrides: tuple[tuple[tuple[int, int], str], ...] = ()
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "rank_by", enum_option(RankBy, "rank_by", self.rank_by))
+        flag_option("knit_time", self.knit_time)
+        resolve_machine(self.machine)
+        items = self.overrides.items() if isinstance(self.overrides, dict) else self.overrides
+        pairs = []
+        for item in items:
+            try:
+                (a, b), rows = item
+            except (TypeError, ValueError):
+                raise OptionError(
+                    f"`overrides` maps (colour of A, colour of B) to tile rows, got {item!r}"
+                ) from None
+            if not all(isinstance(v, int) and not isinstance(v, bool) and v >= 0 for v in (a, b)):
+                raise OptionError(f"`overrides` pairs are colour indices >= 0, got {(a, b)!r}")
+            if not isinstance(rows, str) or not rows.strip():
+                raise OptionError(f"`overrides` tiles are row strings like '0/1/0^', got {rows!r}")
+            pairs.append(((a, b), rows.strip()))
+        object.__setattr__(self, "overrides", tuple(sorted(dict(pairs).items())))
+
+    @property
+    def override_map(self) -> dict[tuple[int, int], str]:
+        """The overrides as :func:`~illuknit.design.tiles.compile.compile_tiles` takes them."""
+        return dict(self.overrides)
+
+
+class ModelKind(StrEnum):
+    """The constraint models (:mod:`illuknit.design.models.illusion_models`, paper section 4)."""
+
+    LOGICAL = "logical"
+    KNIT_AWARE = "knit-aware"
+    SINGLE = "single"
+
+
+class WarmStart(StrEnum):
+    """What a solver backend starts from (:mod:`illuknit.solvers.warm_start`)."""
+
+    AUTO = "auto"
+    NONE = "none"
+    DP = "dp"
+    DESCENT = "descent"
+
+
+@dataclass(frozen=True)
+class SolveOptions:
+    """How a constraint model is built and solved (:func:`~illuknit.design.models.illusion_models.solve_illusion`).
+
+    Parameters
+    ----------
+    model : ModelKind or str
+    solver : str
+        A backend name, ``NAME:ORACLE``, ``wcnf:COMMAND`` or ``"auto"``.
+    warm_start : WarmStart or str
+    weights : KnitWeights, optional
+        Knit-aware weights (default weights when None).
+    alternate_rows : bool
+        Single-view model: neighbouring rows must have different yarns.
+    time_limit : float, optional
+        Seconds; the best pattern found is kept.
+    seed : int
+    """
+
+    model: ModelKind = ModelKind.LOGICAL
+    solver: str = "auto"
+    warm_start: WarmStart = WarmStart.AUTO
+    weights: KnitWeights | None = None
+    alternate_rows: bool = False
+    time_limit: float | None = 60.0
+    seed: int = 0
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "model", enum_option(ModelKind, "model", self.model))
+        object.__setattr__(
+            self, "warm_start", enum_option(WarmStart, "warm_start", self.warm_start)
+        )
+        if not isinstance(self.solver, str) or not self.solver.strip():
+            raise OptionError(f"`solver` must be a backend name, got {self.solver!r}")
+        if self.weights is not None and not isinstance(self.weights, KnitWeights):
+            raise OptionError(f"`weights` must be KnitWeights, got {type(self.weights).__name__}")
+        flag_option("alternate_rows", self.alternate_rows)
+        if self.alternate_rows and self.model is not ModelKind.SINGLE:
+            raise OptionError("`alternate_rows` applies to the single-view model only")
+        if self.time_limit is not None:
+            _seconds("time_limit", self.time_limit)
+        count_option("seed", self.seed, minimum=0)

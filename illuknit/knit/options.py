@@ -1,0 +1,124 @@
+"""The knitting options: one frozen, validated type for every switch of the knitting path.
+
+:class:`KnitOptions` is what :func:`~illuknit.knitting.pipeline.knit_pattern`, ``illuknit knit``,
+the ``--knitout`` options of the design commands and the app pass on; it is checked once, where
+it is made, so a bad value is refused before any work starts. The choices are enums, not
+strings: :class:`Catching` (how neighbouring carriers' regions are joined) and
+:class:`PathPlanning` (the yarn-path strategy of the mixed-colourwork scheduler). Their values
+are the words the CLI takes, so ``Catching("plate")`` reads a command-line value.
+
+Examples
+--------
+>>> KnitOptions().catching
+<Catching.TUCK: 'tuck'>
+>>> KnitOptions(catching="plate", path_planning="split").path_planning
+<PathPlanning.SPLIT: 'split'>
+>>> KnitOptions(catch_every=0)
+Traceback (most recent call last):
+...
+illuknit.core.errors.OptionError: `catch_every` must be a positive integer, got 0
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from enum import StrEnum
+from typing import Any
+
+from illuknit.core.arguments import check_int
+from illuknit.design.options import count_option, enum_option, flag_option
+
+__all__ = ["Catching", "KnitOptions", "PathPlanning"]
+
+
+class Catching(StrEnum):
+    """How the mixed-colourwork scheduler joins neighbouring carriers' regions.
+
+    ``TUCK`` (the default): a carrier tucks on the neighbour's edge needle in its own pass,
+    plated stitches only where no tuck is safe; ``PLATE``: the paper's plated stitches
+    everywhere (Algorithm 2); ``OFF``: no joins (the paper's ablation).
+    """
+
+    TUCK = "tuck"
+    PLATE = "plate"
+    OFF = "off"
+
+    def scheduler_value(self) -> bool | str:
+        """What :func:`~illuknit.knit.mixed.schedule_mixed` takes for it (``catching=``)."""
+        values: dict[Catching, bool | str] = {
+            Catching.TUCK: True,
+            Catching.PLATE: "plate",
+            Catching.OFF: False,
+        }
+        return values[self]
+
+
+class PathPlanning(StrEnum):
+    """The yarn-path strategy (paper Algorithm 3) of the mixed-colourwork scheduler; ``NONE``
+    knits every pass in the course's parity direction (the ablation)."""
+
+    ANCHOR = "anchor"
+    SPLIT = "split"
+    NONE = "none"
+
+
+@dataclass(frozen=True)
+class KnitOptions:
+    """How a pattern is knit (the machine is given beside it, by name or spec).
+
+    Parameters
+    ----------
+    cast_on_courses : int
+        Plain courses between the cast-on and the pattern (0 to 100).
+    float_avoidance : bool
+        Move purls to the front around floats that cross them (paper Algorithm 1).
+    catching : Catching or str
+        How neighbouring carriers' regions are joined (:class:`Catching`); the strings
+        ``"tuck"``, ``"plate"`` and ``"off"`` are read as the members.
+    path_planning : PathPlanning or str
+        Yarn-path strategy (:class:`PathPlanning`).
+    catch_every : int
+        Join on every ``catch_every``-th course (2: once per unit row).
+    strict_floats : bool
+        Refuse a course that needs more carriers than the machine has to keep every float
+        within the limit.
+    tuck_passes : bool
+        Tuck long floats in passes of their own.
+    allow_long_floats : bool
+        Keep a float that stays longer than the machine's float limit after tucking (with a
+        warning) instead of refusing the pattern.
+
+    The last six apply to patterns that change colour inside a course (the mixed-colourwork
+    scheduler) only.
+    """
+
+    cast_on_courses: int = 2
+    float_avoidance: bool = True
+    catching: Catching = Catching.TUCK
+    path_planning: PathPlanning = PathPlanning.ANCHOR
+    catch_every: int = 2
+    strict_floats: bool = False
+    tuck_passes: bool = False
+    allow_long_floats: bool = False
+
+    def __post_init__(self) -> None:
+        check_int(self.cast_on_courses, "cast_on_courses", min=0, max=100)
+        count_option("catch_every", self.catch_every, minimum=1)
+        for name in ("float_avoidance", "strict_floats", "tuck_passes", "allow_long_floats"):
+            flag_option(name, getattr(self, name))
+        object.__setattr__(self, "catching", enum_option(Catching, "catching", self.catching))
+        object.__setattr__(
+            self, "path_planning", enum_option(PathPlanning, "path_planning", self.path_planning)
+        )
+
+    def scheduler_kwargs(self) -> dict[str, Any]:
+        """The switches of :func:`~illuknit.knit.mixed.schedule_mixed`, as it takes them."""
+        return {
+            "float_avoidance": self.float_avoidance,
+            "catching": self.catching.scheduler_value(),
+            "path_planning": self.path_planning.value,
+            "strict_floats": self.strict_floats,
+            "catch_every": self.catch_every,
+            "tuck_passes": self.tuck_passes,
+            "allow_long_floats": self.allow_long_floats,
+        }
