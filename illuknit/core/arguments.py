@@ -97,10 +97,12 @@ def check_int(
     max: int | None = None,
     error: type[IlluknitError] = OptionError,
 ) -> int:
-    """A whole number (an ``int``, a numpy integer or an integral float) within [min, max]."""
+    """A whole number (an ``int`` or a numpy integer) within [min, max].
+
+    Floats are refused even when integral: callers keep using the value they were given, and
+    ``0.0`` is not a seed numpy accepts.
+    """
     ok = isinstance(value, numbers.Integral) and not isinstance(value, bool)
-    if not ok and isinstance(value, (float, np.floating)) and math.isfinite(value):
-        ok = float(value).is_integer()
     if ok and (min is None or value >= min) and (max is None or value <= max):  # type: ignore[operator]
         return int(value)  # type: ignore[call-overload]
     bounds = _bounds(min, max)
