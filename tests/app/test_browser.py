@@ -503,3 +503,46 @@ def test_tile_table_grouped_with_rare_overlaps_folded(browser, base_url, tmp_pat
     sync_api.expect(page.locator("#pairs details.rare .pair.edited")).to_be_visible()
     assert page.locator("#pairs details.rare").get_attribute("open") is not None
     context.close()
+
+
+OFF_SCREEN = """() => {
+    const vw = document.documentElement.clientWidth;
+    const out = [];
+    for (const el of document.querySelectorAll('button, input, select, a, summary, .cand, img')) {
+        const r = el.getBoundingClientRect();
+        if (!r.width || !r.height) continue;  // hidden: nothing to reach
+        if (r.left < -0.5 || r.right > vw + 0.5) out.push(`${el.tagName}#${el.id} ${r.left}..${r.right}`);
+    }
+    return out;
+}"""
+
+
+def test_phone_width_one_column_nothing_cut_off(browser, base_url, tmp_path):
+    """At 390 x 844 (a phone) the page is one column no wider than the screen: the mode buttons,
+    the width, the colour count, picture B and side B of every candidate are all on screen."""
+    context = browser.new_context(viewport={"width": 390, "height": 844})
+    page = context.new_page()
+    page.set_default_timeout(60_000)
+    page.goto(base_url)
+    page.wait_for_selector("body[data-ready='1']")
+    page.locator("#width_units").fill("24")
+    page.set_input_files("#file-a", str(lettered(tmp_path / "up.png", "UP")))
+    sync_api.expect(page.locator("#meta-a")).to_contain_text("72×48px")
+    page.set_input_files("#file-b", str(lettered(tmp_path / "on.png", "ON")))
+    sync_api.expect(page.locator("#meta-b")).to_contain_text("72×48px")
+    sync_api.expect(page.locator(".cand .measures").first).to_be_visible(timeout=120_000)
+    assert page.evaluate("document.documentElement.scrollWidth") <= 390
+    assert page.evaluate(OFF_SCREEN) == []
+    # one column: the inputs above the work, not beside it
+    inputs = page.locator("aside.inputs").bounding_box()
+    work = page.locator("section.work").bounding_box()
+    assert inputs and work and work["y"] >= inputs["y"] + inputs["height"]
+    for sel in ("#modes [data-mode='headon']", "#width_units", "#n_colors", "#drop-b", "#run"):
+        page.locator(sel).scroll_into_view_if_needed()
+        box = page.locator(sel).bounding_box()
+        assert box and box["x"] >= 0 and box["x"] + box["width"] <= 390, (sel, box)
+    side_b = page.locator(".cand").first.locator("img").nth(2).bounding_box()
+    assert side_b and side_b["x"] + side_b["width"] <= 390
+    page.select_option("#n_colors", "3")  # reachable and usable
+    sync_api.expect(page.locator("#n_colors")).to_have_value("3")
+    context.close()
