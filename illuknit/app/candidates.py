@@ -7,15 +7,17 @@ Prepared -> make_candidates -> [Candidate]  (single view: both stripe orders; do
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
 from illuknit.app.controls import blame
 from illuknit.app.inputs import Prepared
+from illuknit.errors import AppRequestError
 from illuknit.pattern import LogicalPattern
 
-__all__ = ["Candidate", "Progress", "make_candidates"]
+__all__ = ["Candidate", "Progress", "Runner", "make_candidates"]
 
 
 @dataclass(eq=False)
@@ -55,11 +57,21 @@ class Candidate:
 Progress = Callable[[float, str], None]
 
 
-def make_candidates(prepared: Prepared, *, count: int, progress: Progress) -> list[Candidate]:
-    """Ranked candidates for the prepared inputs; ``progress(fraction, message)`` may cancel."""
+#: ``run(fn)`` calls ``fn()`` and answers its result: in a killable process for the app's jobs
+#: (:meth:`illuknit.app.jobs.Job.run_isolated`), so Cancel stops a long solve at once.
+Runner = Callable[[Callable[[], Any]], Any]
+
+
+def make_candidates(
+    prepared: Prepared, *, count: int, progress: Progress, run: Runner | None = None
+) -> list[Candidate]:
+    """Ranked candidates for the prepared inputs; ``progress(fraction, message)`` may cancel.
+
+    ``run`` runs the tile search (double view and head-on), by default in this thread.
+    """
     if prepared.mode == "single":
         return _single_candidates(prepared, progress)
-    return _tile_candidates(prepared, count=count, progress=progress)
+    return _tile_candidates(prepared, count=count, progress=progress, run=run)
 
 
 def _single_candidates(prepared: Prepared, progress: Progress) -> list[Candidate]:
@@ -84,7 +96,9 @@ def _single_candidates(prepared: Prepared, progress: Progress) -> list[Candidate
     return out
 
 
-def _tile_candidates(prepared: Prepared, *, count: int, progress: Progress) -> list[Candidate]:
+def _tile_candidates(
+    prepared: Prepared, *, count: int, progress: Progress, run: Runner | None = None
+) -> list[Candidate]:
     """The best-reading ``count`` of the tile designs ``illuknit double`` searches by default
     (:data:`~illuknit.tiles.perception.DEFAULT_POOL`), ranked as it ranks them."""
     from illuknit import tiles
@@ -94,18 +108,23 @@ def _tile_candidates(prepared: Prepared, *, count: int, progress: Progress) -> l
     qb = prepared.quantised.get("b")
     pool = {"candidates": count, "pool": DEFAULT_POOL, "pool_seconds": POOL_SECONDS}
     progress(0.05, "building the tile bank")
+    search: Callable[[], Any]
     if prepared.mode == "headon":
         bank = tiles.headon_bank(prepared.yarns)
         progress(0.1, "finding tile mappings (head-on)")
-        with blame("n_colors"):
-            found = tiles.assign_headon(qa, qb, bank=bank, **pool)
+        search = functools.partial(tiles.assign_headon, qa, qb, bank=bank, **pool)
         views = ("headon", "side")
     else:
         bank = tiles.canonical_bank(prepared.yarns)
         progress(0.1, f"finding tile mappings ({len(bank)} tiles in the bank)")
-        with blame("n_colors"):
-            found = tiles.assign_tiles(qa, qb, bank=bank, **pool)
+        search = functools.partial(tiles.assign_tiles, qa, qb, bank=bank, **pool)
         views = ("A", "B")
+    with blame("n_colors"):
+        try:
+            found = search() if run is None else run(search)
+        except AppRequestError as e:  # raised in the search's own process: name the control
+            e.field = e.field or "n_colors"
+            raise
     with blame("tiles"):
         ranked = rank_designs(
             found,

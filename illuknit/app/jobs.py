@@ -86,8 +86,17 @@ class Job:
             if message is not None:
                 self.message = message
 
-    def run_isolated(self, fn: Callable[..., Any], *args: Any, poll: float = 0.05) -> Any:
+    def run_isolated(
+        self,
+        fn: Callable[..., Any],
+        *args: Any,
+        poll: float = 0.05,
+        tick: Callable[[float], None] | None = None,
+    ) -> Any:
         """Run ``fn(*args)`` in a fresh Python process; kill it if the job is cancelled.
+
+        ``tick(seconds)`` is called with the time spent so far every ``poll`` seconds while the
+        child works (to report progress the child cannot count for itself).
 
         The child is ``python -m illuknit.app.jobs`` fed ``(fn, args)`` pickled on stdin, so
         ``fn`` must be importable by name and its arguments and result picklable. (A
@@ -110,10 +119,13 @@ class Job:
 
         talker = threading.Thread(target=talk, name="illuknit-job-io", daemon=True)
         talker.start()
+        t0 = time.monotonic()
         try:
             while talker.is_alive():
                 if self._cancel.is_set():
                     raise JobCancelled
+                if tick is not None:
+                    tick(time.monotonic() - t0)
                 talker.join(poll)
         finally:
             if proc.poll() is None:

@@ -546,3 +546,51 @@ def test_phone_width_one_column_nothing_cut_off(browser, base_url, tmp_path):
     page.select_option("#n_colors", "3")  # reachable and usable
     sync_api.expect(page.locator("#n_colors")).to_have_value("3")
     context.close()
+
+
+def photo(path: Path, name: str) -> Path:
+    """A 400 x 400 crop of a photograph shipped in scikit-image's wheel."""
+    from skimage import data
+
+    rgb = getattr(data, name)()
+    h, w = rgb.shape[:2]
+    top, left = (h - 400) // 2, (w - 400) // 2
+    Image.fromarray(np.ascontiguousarray(rgb[top : top + 400, left : left + 400])).save(path)
+    return path
+
+
+def test_cancel_a_large_four_colour_search(browser, served, tmp_path):
+    """A 200-unit, 4-colour search is cancelled while the solver works: within 2 s the job is
+    cancelled on the server and the page no longer says it is searching."""
+    url, app = served
+    context = browser.new_context(viewport={"width": 1440, "height": 1000})
+    page = context.new_page()
+    page.set_default_timeout(60_000)
+    page.goto(url)
+    page.wait_for_selector("body[data-ready='1']")
+    page.select_option("#machine", "generic540")
+    page.locator("#width_units").fill("200")
+    for n in (3, 4):
+        page.click("#add-yarn")
+        sync_api.expect(page.locator("#yarns .yarn")).to_have_count(n)
+    page.select_option("#n_colors", "4")
+    page.set_input_files("#file-a", str(photo(tmp_path / "astronaut.png", "astronaut")))
+    sync_api.expect(page.locator("#meta-a")).to_contain_text("400×400px")
+    page.set_input_files("#file-b", str(photo(tmp_path / "coffee.png", "coffee")))
+    sync_api.expect(page.locator("#meta-b")).to_contain_text("400×400px")
+    box = page.locator("#job-candidates")
+    # the solver is at work (the estimate is shown), not a stage that checks between steps
+    sync_api.expect(box.locator(".job-msg")).to_contain_text("s so far", timeout=120_000)
+    sync_api.expect(box.locator(".job-msg")).to_contain_text("2 s so far", timeout=30_000)
+    sid = page.get_attribute("body", "data-session")
+    job = app.state.store.get(sid).jobs["candidates"]
+    assert job.status == "running"
+    t0 = time.monotonic()
+    box.locator("[data-cancel]").click()
+    sync_api.expect(box).to_be_hidden(timeout=2_000)
+    sync_api.expect(page.locator("#cands")).to_contain_text("Search cancelled", timeout=2_000)
+    waited = time.monotonic() - t0
+    assert job.status == "cancelled" and waited < 2.0, (job.status, waited)
+    assert "Finding candidates" not in (page.locator("#cands").text_content() or "")
+    sync_api.expect(page.locator("#run")).to_be_enabled()
+    context.close()

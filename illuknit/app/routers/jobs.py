@@ -20,13 +20,31 @@ router = APIRouter(prefix="/api/sessions/{sid}/jobs", tags=["jobs"])
 RunnerDep = Annotated[JobRunner, Depends(runner_of)]
 
 
-def start_candidates(s: Session, runner: JobRunner) -> Job:
+def start_candidates(s: Session, runner: JobRunner, *, isolate: bool = True) -> Job:
     prepared = prepared_of(s)
     count = s.settings.candidates
     rev = s.revision
 
     def work(job: Job) -> list[design.Candidate]:
-        return design.make_candidates(prepared, count=count, progress=job.report)
+        def run(search: Any) -> Any:
+            # The search stops by the pool's time bound (plus one solve's time limit): the bar
+            # moves with the time spent against that bound, the words say both.
+            from illuknit.tiles.perception import POOL_SECONDS
+
+            bound = POOL_SECONDS + 10.0
+
+            def tick(seconds: float) -> None:
+                job.report(
+                    0.1 + 0.3 * min(1.0, seconds / bound),
+                    f"finding tile mappings: {seconds:.0f} s so far, done in at most "
+                    f"{bound:.0f} s (usually far less)",
+                )
+
+            return job.run_isolated(search, tick=tick, poll=0.1)
+
+        return design.make_candidates(
+            prepared, count=count, progress=job.report, run=run if isolate else None
+        )
 
     def done(job: Job) -> None:
         with s.lock:
@@ -144,7 +162,7 @@ def post_job(request: Request, s: SessionDep, runner: RunnerDep, body: JobIn) ->
         if old is not None and old.live:
             old.cancel()
         if body.kind == "candidates":
-            job = start_candidates(s, runner)
+            job = start_candidates(s, runner, isolate=request.app.state.config.isolate_search)
         elif body.kind == "measures":
             job = start_measures(s, runner)
         elif body.kind == "suggestions":

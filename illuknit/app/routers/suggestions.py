@@ -150,7 +150,9 @@ def accept(request: Request, s: SessionDep, edit_id: str) -> dict[str, Any]:
             note = f"suggested edit accepted: {edit.description}"
             s.images[slot] = UploadedImage(old.filename, old.sent_bytes, rgb.copy(), (note,))
         s.bump()
-        job = start_candidates(s, runner_of(request))
+        job = start_candidates(
+            s, runner_of(request), isolate=request.app.state.config.isolate_search
+        )
         s.replace_job("candidates", job)
         answer = {"accepted": edit_id, "state": state_json(s), "job": job.to_json()}
     store_of(request).trim(keep=s.id)

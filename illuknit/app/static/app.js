@@ -468,10 +468,25 @@ async function cancelJob(kind) {
   const id = state.jobs[kind];
   if (!id) return;
   state.jobs[kind] = null;
+  const box = $(`#job-${kind}`);
+  $(".job-msg", box).textContent = "cancelling…";
   try {
     const job = await sapi("DELETE", `/jobs/${id}`);
     showJob(kind, job);
+    if (job.status === "cancelled") saidCancelled(kind);
   } catch (err) { report(err); }
+}
+
+// what the page says once work is cancelled: it is no longer searching, and how to start again
+function saidCancelled(kind) {
+  if (kind === "candidates") {
+    clearCandidates("Search cancelled: press Find candidates (or change an input) to search again.");
+  } else if (kind === "suggestions") {
+    $("#suggs").textContent = "";
+    showError("suggestions", "Cancelled: press Suggest edits to try again.");
+  } else if (kind === "knit") {
+    $("#knit-summary").textContent = "Cancelled: press Make knitout to make it again.";
+  }
 }
 
 async function runCandidates() {
