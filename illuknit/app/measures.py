@@ -25,8 +25,10 @@ __all__ = ["ORDERS", "measure_candidate", "order_candidates"]
 ORDERS = ("rank", "perception", "readability", "contrast", "ghosting", "knit_time")
 
 
-def measure_candidate(pattern: Any, prepared: Any, *, machine: str) -> Any:
-    """The candidate's :class:`~illuknit.tiles.perception.CandidateMeasures`."""
+def measure_candidate(pattern: Any, prepared: Any, *, machine: str, knit_time: bool = True) -> Any:
+    """The candidate's :class:`~illuknit.tiles.perception.CandidateMeasures` (without the
+    machine's time and passes when not ``knit_time``: how it reads only, in a fraction of a
+    second, for a tile edit measured at once)."""
     from illuknit.tiles import perception
 
     q = prepared.quantised
@@ -39,7 +41,11 @@ def measure_candidate(pattern: Any, prepared: Any, *, machine: str) -> Any:
     else:
         from illuknit.bench.metrics import knit_stats
 
-        k = knit_stats(pattern, machine=machine)
+        k = (
+            knit_stats(pattern, machine=machine)
+            if knit_time
+            else {"knit_time_min": None, "carriage_passes": None, "knit_note": ""}
+        )
         return perception.CandidateMeasures(
             views=(),
             readability=(),
@@ -50,7 +56,7 @@ def measure_candidate(pattern: Any, prepared: Any, *, machine: str) -> Any:
             knit_note=k["knit_note"],
         )
     return perception.measure_candidate(
-        pattern, pictures, views=views, ghost=ghost, knit_time=True, machine=machine
+        pattern, pictures, views=views, ghost=ghost, knit_time=knit_time, machine=machine
     )
 
 

@@ -62,6 +62,40 @@ def test_suggestions_list_their_effect_and_pictures(client, suggested):
             assert (shown["before"] != shown["after"]).any(), "an edit changes its picture"
 
 
+def test_suggestions_are_listed_most_helpful_first(client, suggested):
+    _, got = suggested
+    rank = {"better": 0, "same": 1, "mixed": 2, "worse": 3}
+    keys = [(rank[s["verdict"]], -s["benefit"]) for s in got["suggestions"]]
+    assert keys == sorted(keys)
+    for s in got["suggestions"]:
+        assert "majority" not in s["description"]  # plain words, no image-processing jargon
+        assert s["effect"].startswith("the worse side reads")
+
+
+@pytest.mark.parametrize(
+    ("before", "after", "verdict"),
+    [
+        ((0.90, 0.10), (0.95, 0.10), "better"),
+        ((0.90, 0.10), (0.90, 0.05), "better"),
+        ((0.90, 0.164), (0.90, 0.185), "worse"),  # more ghosting, nothing gained: never green
+        ((0.981, 0.10), (0.664, 0.05), "mixed"),
+        ((0.981, 0.10), (0.664, 0.10), "worse"),
+        ((0.90, 0.10), (0.95, 0.20), "mixed"),
+        ((0.90, 0.10), (0.90, 0.10), "same"),
+    ],
+)
+def test_a_suggestion_says_whether_it_helps(before, after, verdict):
+    from illuknit.app.suggestions import SuggestedEdit
+
+    e = SuggestedEdit("s.1", "k", "n", "d", {"a": 1}, {}, before, after)
+    assert e.verdict == verdict
+    assert e.to_json()["verdict"] == verdict
+    if verdict == "better":
+        assert e.benefit > 0
+    if verdict == "worse":
+        assert e.benefit < 0 and "worse" in e.effect_words() or "more ghosting" in e.effect_words()
+
+
 def test_accept_replaces_the_pictures_and_designs_again(client, api, suggested):
     sid, got = suggested
     edit = got["suggestions"][0]

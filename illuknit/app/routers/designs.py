@@ -14,7 +14,7 @@ from illuknit.app.lookups import (
     prepared_of,
     state_json,
 )
-from illuknit.app.measures import order_candidates
+from illuknit.app.measures import measure_candidate, order_candidates
 from illuknit.app.schemas import OverrideIn, SelectionIn
 from illuknit.errors import AppRequestError
 
@@ -62,7 +62,20 @@ def put_selection(s: SessionDep, body: SelectionIn) -> dict[str, Any]:
 )
 def get_pairs(s: SessionDep) -> dict[str, Any]:
     with s.lock:
-        return design.pairs_json(candidate_of(s, None), s.overrides)
+        return _pairs_measured(s, candidate_of(s, None))
+
+
+def _pairs_measured(s: Any, cand: Any) -> dict[str, Any]:
+    """The pairs, and how the picked design reads with the tile edits (``edited``: None when
+    there are none; ``measures`` the candidate's own, when measured)."""
+    answer = design.pairs_json(cand, s.overrides)
+    answer["measures"] = None if cand.measured is None else cand.measured.to_json()
+    answer["edited"] = None
+    if s.overrides and s.prepared is not None:
+        pattern = design.pattern_for(cand, s.overrides)
+        m = measure_candidate(pattern, s.prepared, machine=s.settings.machine, knit_time=False)
+        answer["edited"] = m.to_json()
+    return answer
 
 
 @router.put(
@@ -80,7 +93,7 @@ def put_pair(s: SessionDep, a: int, b: int, body: OverrideIn) -> dict[str, Any]:
         design.pattern_for(cand, overrides)  # validates before keeping it
         s.overrides = overrides
         s.knit = None
-        return design.pairs_json(cand, s.overrides)
+        return _pairs_measured(s, cand)
 
 
 @router.get("/tiles/{tile_id}.png", summary="Picture of a bank tile")
