@@ -164,9 +164,7 @@ class TileAssignment:
     # Pickled as plain dicts (a read-only mapping proxy cannot be pickled), so an assignment
     # crosses to and from a worker process.
     def __getstate__(self) -> dict[str, Any]:
-        return {
-            k: dict(v) if isinstance(v, MappingProxyType) else v for k, v in vars(self).items()
-        }
+        return {k: dict(v) if isinstance(v, MappingProxyType) else v for k, v in vars(self).items()}
 
     def __setstate__(self, state: dict[str, Any]) -> None:
         for k, v in state.items():

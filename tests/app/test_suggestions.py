@@ -93,7 +93,10 @@ def test_a_suggestion_says_whether_it_helps(before, after, verdict):
     if verdict == "better":
         assert e.benefit > 0
     if verdict == "worse":
-        assert e.benefit < 0 and "worse" in e.effect_words() or "more ghosting" in e.effect_words()
+        words = e.effect_words()
+        assert e.benefit < 0 and (
+            ("reads" in words and "worse" in words) or "more ghosting" in words
+        )
 
 
 def test_accept_replaces_the_pictures_and_designs_again(client, api, suggested):
