@@ -51,8 +51,8 @@ class CheckedKnitout:
 #: What the page's selector calls each preset: two presets are the same machine (its name in the
 #: knitout headers), told apart by their beds.
 MACHINE_LABELS = {
-    "generic540": "SWG091N2, reference tools' bed",
-    "swg091n2": "SWG091N2, physical bed",
+    "generic540": "SWG091N2 modelled",
+    "swg091n2": "SWG091N2 physical",
 }
 
 

@@ -41,7 +41,7 @@ def measure_candidate(pattern: Any, prepared: Any, *, machine: str, knit_time: b
     else:
         from illuknit.bench.metrics import knit_stats
 
-        k = (
+        k: dict[str, Any] = (
             knit_stats(pattern, machine=machine)
             if knit_time
             else {"knit_time_min": None, "carriage_passes": None, "knit_note": ""}

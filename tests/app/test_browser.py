@@ -377,7 +377,9 @@ def test_accept_a_suggested_edit(browser, base_url, tmp_path):
     before_thumbs = {s: page.get_attribute(f"#thumb-{s}", "src") for s in ("a", "b")}
     before_quant = page.locator("#quant img").evaluate_all("imgs => imgs.map(i => i.src)")
     before_bytes = shown_bytes(page, base_url)
-    assert page.locator("#undo-edit").is_hidden()  # nothing accepted yet
+    # the uploads and the width can be undone already; no suggestion accepted yet
+    sync_api.expect(page.locator("#undo-edit")).to_be_enabled()
+    assert "suggested" not in (page.locator("#undo-list").text_content() or "")
 
     # open the suggestions: each is a before -> after pair with its effect and two buttons
     assert page.locator("#suggest-card").is_visible()
@@ -421,7 +423,10 @@ def test_accept_a_suggested_edit(browser, base_url, tmp_path):
     # Undo: the pictures, the quantised inputs, the candidates and their measures come back
     # exactly, with the suggestions made for them; Redo is offered
     undo = page.locator("#undo-edit")
-    sync_api.expect(undo).to_be_visible()
+    sync_api.expect(page.locator("#undo-list li").first).to_contain_text("Undo takes back: smooth")
+    page.click("#history-list summary")  # the list of what Undo takes back, newest first
+    sync_api.expect(page.locator("#undo-list li").first).to_be_visible()
+    page.click("#history-list summary")
     undo.click()
     for slot in edited:
         sync_api.expect(page.locator(f"#meta-{slot}")).not_to_contain_text("suggested edit")
@@ -432,14 +437,14 @@ def test_accept_a_suggested_edit(browser, base_url, tmp_path):
         timeout=120_000,
     )
     sync_api.expect(page.locator(".sugg").first).to_be_visible()
-    sync_api.expect(page.locator("#redo-edit")).to_be_visible()
-    assert undo.is_hidden()
+    sync_api.expect(page.locator("#redo-edit")).to_be_enabled()
+    sync_api.expect(page.locator("#undo-list li").first).not_to_contain_text("smooth")
     assert shown_bytes(page, base_url) == before_bytes
     # a reloaded tab shows the same: the suggestions it had, Redo still offered
     page.reload()
     page.wait_for_selector("body[data-ready='1']")
     sync_api.expect(page.locator(".sugg").first).to_be_visible()
-    sync_api.expect(page.locator("#redo-edit")).to_be_visible()
+    sync_api.expect(page.locator("#redo-edit")).to_be_enabled()
     context.close()
     assert not problems, problems
 
@@ -594,3 +599,53 @@ def test_cancel_a_large_four_colour_search(browser, served, tmp_path):
     assert "Finding candidates" not in (page.locator("#cands").text_content() or "")
     sync_api.expect(page.locator("#run")).to_be_enabled()
     context.close()
+
+
+def test_undo_a_tile_edit_with_the_keyboard(browser, base_url, tmp_path):
+    """A tile edit is undone with Ctrl+Z and redone with Ctrl+Shift+Z; the arrow keys move
+    between candidates and Enter picks one."""
+    context = browser.new_context(viewport={"width": 1440, "height": 1000})
+    page = context.new_page()
+    page.set_default_timeout(60_000)
+    problems: list[str] = []
+    page.on("pageerror", lambda e: problems.append(f"page error: {e}"))
+    page.goto(base_url)
+    page.wait_for_selector("body[data-ready='1']")
+    page.locator("#width_units").fill("24")
+    page.set_input_files("#file-a", str(lettered(tmp_path / "up.png", "UP")))
+    sync_api.expect(page.locator("#meta-a")).to_contain_text("72×48px")
+    page.set_input_files("#file-b", str(lettered(tmp_path / "on.png", "ON")))
+    sync_api.expect(page.locator("#meta-b")).to_contain_text("72×48px")
+    sync_api.expect(page.locator(".cand .measures").first).to_be_visible(timeout=120_000)
+
+    # arrows between candidates, Enter to pick
+    page.locator(".cand").first.focus()
+    page.keyboard.press("ArrowRight")
+    page.keyboard.press("Enter")
+    sync_api.expect(page.locator(".cand.sel")).to_have_attribute("data-rank", "2")
+    page.keyboard.press("ArrowLeft")
+    page.keyboard.press("Enter")
+    sync_api.expect(page.locator(".cand.sel")).to_have_attribute("data-rank", "1")
+
+    row = page.locator("#pairs .pair").first
+    select = row.locator("select")
+    first = select.input_value()
+    other = next(
+        v for v in select.locator("option").evaluate_all("os => os.map(o => o.value)") if v != first
+    )
+    select.select_option(other)
+    sync_api.expect(page.locator("#pairs .pair.edited")).to_have_count(1)
+    sync_api.expect(page.locator("#edit-measures")).to_contain_text("With your tile edits")
+    sync_api.expect(page.locator("#undo-list li").first).to_contain_text("tile edit")
+
+    page.locator("#preview-label").click()  # focus off the select: Ctrl+Z is the page's
+    page.keyboard.press("Control+z")
+    sync_api.expect(page.locator("#pairs .pair.edited")).to_have_count(0)
+    sync_api.expect(page.locator("#pairs .pair select").first).to_have_value(first)
+    sync_api.expect(page.locator("#edit-measures")).to_be_hidden()
+    sync_api.expect(page.locator("#redo-list li").first).to_contain_text("tile edit")
+    page.keyboard.press("Control+Shift+z")
+    sync_api.expect(page.locator("#pairs .pair.edited")).to_have_count(1)
+    sync_api.expect(page.locator("#pairs .pair select").first).to_have_value(other)
+    context.close()
+    assert not problems, problems

@@ -91,6 +91,10 @@ def put_pair(s: SessionDep, a: int, b: int, body: OverrideIn) -> dict[str, Any]:
         else:
             overrides[(a, b)] = body.tile
         design.pattern_for(cand, overrides)  # validates before keeping it
+        if overrides != s.overrides:
+            tile = "its default tile" if body.tile is None else f"tile {body.tile}"
+            s.remember(f"tile edit: A colour {a} over B colour {b} to {tile}")
+            s.redo_steps.clear()  # a new edit: what was undone cannot be redone
         s.overrides = overrides
         s.knit = None
         return _pairs_measured(s, cand)

@@ -149,7 +149,7 @@ async function startSession() {
   for (const m of state.info.machines) {
     const o = document.createElement("option");
     o.value = m.name;
-    o.textContent = `${m.label} · ${m.needles} needles`;
+    o.textContent = `${m.label} · ${m.needles}`; // needles; the line under it says so
     o.title = m.description;
     $("#machine").appendChild(o);
   }

@@ -137,16 +137,34 @@ async function refuseSuggestion(id) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// undo and redo of accepted edits: the server keeps the design before each accept, whole
+// undo and redo of every change (uploads, settings, tile edits, accepted suggestions): the server
+// keeps the design before each change, whole
 
 function showHistory(h) {
   const undo = $("#undo-edit");
   const redo = $("#redo-edit");
   const steps = h || { undo: [], redo: [] };
-  undo.hidden = !steps.undo.length;
-  undo.title = steps.undo.length ? `Take back the accepted edit "${steps.undo[0]}": the design before it comes back` : "";
-  redo.hidden = !steps.redo.length;
-  redo.title = steps.redo.length ? `Accept "${steps.redo[0]}" again` : "";
+  state.history = steps;
+  undo.disabled = !steps.undo.length;
+  undo.title = steps.undo.length ? `Undo the ${steps.undo[0]} (Ctrl+Z)` : "Nothing to undo yet (Ctrl+Z)";
+  redo.disabled = !steps.redo.length;
+  redo.title = steps.redo.length ? `Redo the ${steps.redo[0]} (Ctrl+Shift+Z)` : "Nothing to redo (Ctrl+Shift+Z)";
+  $("#history-list summary").textContent = `History (${steps.undo.length})`;
+  $("#history-empty").hidden = steps.undo.length + steps.redo.length > 0;
+  const fill = (list, labels, verb) => {
+    list.textContent = "";
+    labels.forEach((label, k) => {
+      const li = document.createElement("li");
+      li.textContent = `${k === 0 ? `${verb}: ` : ""}${label.replaceAll(" -> ", " → ")}`;
+      list.appendChild(li);
+    });
+  };
+  fill($("#undo-list"), steps.undo, "Undo takes back");
+  fill($("#redo-list"), steps.redo, "Redo brings back");
+}
+
+async function refreshHistory() {
+  try { showHistory((await sapi("GET", "/history"))); } catch (err) { /* the next state shows it */ }
 }
 
 async function stepHistory(which) {

@@ -87,6 +87,7 @@ function pairRow(pair) {
       clearError("tiles");
       renderPairs(res);
       updatePreview();
+      refreshHistory();
       await refreshKnit();
     } catch (err) { report(err, "tiles"); sel.value = pair.tile; }
   };
