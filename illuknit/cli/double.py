@@ -22,6 +22,7 @@ import numpy as np
 from illuknit.cli.design_files import fmt_number, summary_text, write_candidate, write_edits
 from illuknit.cli.knitout_bridge import format_option, long_floats_option, machine_option
 from illuknit.cli.options import knitout_option, outdir_option
+from illuknit.progress import Report, work_bar
 from illuknit.sizing import DEFAULT_MAX_WIDTH
 from illuknit.tiles.perception import DEFAULT_POOL, POOL_SECONDS, RANK_KEYS
 
@@ -67,6 +68,7 @@ def run_design(
     knit_time: bool = False,
     simplify: bool = False,
     suggest: bool = False,
+    progress: Report | None = None,
 ) -> dict[str, Any]:
     """Load, quantise, assign, compile and write every candidate (atomically into ``outdir``).
 
@@ -75,6 +77,7 @@ def run_design(
     knit on ``machine`` (a preset name; a pattern wider than its bed is refused before the
     design work). ``pool`` tile designs (default :data:`~illuknit.tiles.perception.DEFAULT_POOL`,
     never fewer than ``candidates``) are searched and ranked; the best ``candidates`` are written.
+    ``progress(fraction, message)`` hears how far the work is (the command line's bar).
     Returns the summary dict.
     """
     from illuknit.cli.knitout_bridge import resolve_machine
@@ -87,8 +90,10 @@ def run_design(
         raise TileAssignmentError(f"--candidates must be at least 1, got {candidates}")
     if pool is not None and pool < 1:
         raise TileAssignmentError(f"--pool must be at least 1, got {pool}")
+    report: Report = progress or (lambda fraction, message: None)
     overrides = _parse_overrides(tile)
     spec = resolve_machine(machine)
+    report(0.0, "reading and quantising the pictures")
     inp = _design_inputs(
         path_a,
         path_b,
@@ -110,6 +115,7 @@ def run_design(
         pool=DEFAULT_POOL if pool is None else pool,
         solver=solver,
         brightness="soft" if soft_brightness else "hard",
+        progress=report,
     )
     written = min(candidates, len(found))
     if not 1 <= pick <= written:
@@ -126,12 +132,14 @@ def run_design(
         knit_time=knit_time,
         machine=machine,
         keep=candidates,
+        progress=lambda f, message: report(0.55 + 0.15 * f, message),
     )
     rows = []
     chosen = None
     overlap_lines: list[str] = []
     with staged_dir(outdir) as tmp:
-        for rc in ranked:
+        for k, rc in enumerate(ranked):
+            report(0.7 + 0.24 * k / len(ranked), f"writing candidate {k + 1} of {len(ranked)}")
             row, lines = write_candidate(
                 rc,
                 tmp,
@@ -151,6 +159,7 @@ def run_design(
             # The default candidate as a checked knitout program (mixed-colourwork scheduler).
             from illuknit.cli.knitout_bridge import write_program
 
+            report(0.94, "knitting the default candidate and checking it")
             write_program(chosen, tmp, machine=spec)
         summary = {
             "mode": mode,
@@ -179,6 +188,7 @@ def _assign(
     pool: int,
     solver: str,
     brightness: Literal["hard", "soft"],
+    progress: Report,
 ) -> tuple[Any, list[Any]]:
     """The ranked-by-score tile assignments (``candidates``, or up to ``pool`` within
     :data:`~illuknit.tiles.perception.POOL_SECONDS`), after the suggested edits (and the edits)."""
@@ -208,8 +218,10 @@ def _assign(
             sources=[inp.a, inp.b],
             # re-quantising stays within the yarns the designer allows (and the --colors range)
             max_colors=min(4, max(n_colors, len(inp.yarns))),
+            progress=lambda f, message: progress(0.02 + 0.48 * f, f"suggested edits: {message}"),
             **search,
         )
+    progress(0.5 if edits else 0.05, f"finding tile designs (up to {pool})")
     found = assign_tiles(first, second, views=inp.views, **search)  # type: ignore[arg-type]
     return found, edits
 
@@ -273,7 +285,14 @@ def _design_inputs(
 
 
 def _simplified(
-    qa: Any, qb: Any, *, apply: bool, sources: list[np.ndarray], max_colors: int, **assign: Any
+    qa: Any,
+    qb: Any,
+    *,
+    apply: bool,
+    sources: list[np.ndarray],
+    max_colors: int,
+    progress: Report | None = None,
+    **assign: Any,
 ) -> tuple[Any, Any, list[Any]]:
     """Suggested edits of both pictures, each measured by the best design it leads to against
     the ORIGINAL pictures; with ``apply`` the improving ones are kept (tiles.simplify)."""
@@ -286,6 +305,7 @@ def _simplified(
         targets=[qa.rgb(), qb.rgb()],
         sources=sources,
         max_colors=max_colors,
+        progress=progress,
         **assign,
     )
     return review.a, review.b, list(review.results)
@@ -336,50 +356,117 @@ def _worst_ghosting(row: dict[str, Any]) -> str:
     return f"{max(ghost):.3f} ({max(shows):.3f})" if ghost and shows else "-"
 
 
-def print_summary(summary: dict[str, Any], outdir: Path) -> None:
-    from rich.console import Console
+#: The summary table's columns, most important first: on a narrow terminal the last ones are
+#: dropped (summary.txt has them all).
+SUMMARY_COLUMNS = (
+    "rank",
+    "",
+    "perceptual",
+    "readability",
+    "ghosting (shows)",
+    "contrast",
+    "knit min",
+    "fills A",
+    "fills B",
+    "cost ΔE",
+)
+
+
+def _summary_cells(r: dict[str, Any]) -> dict[str, str]:
+    return {
+        "rank": str(r["rank"]),
+        "": "default" if r["default"] else "",
+        "perceptual": fmt_number(r["perceptual_score"]),
+        "readability": " / ".join(fmt_number(v) for v in r["readability"]),
+        "contrast": " / ".join(fmt_number(v) for v in r["contrast"]),
+        "ghosting (shows)": _worst_ghosting(r),
+        "knit min": fmt_number(r["knit_minutes"], 1),
+        "cost ΔE": f"{r['score']:.1f}",  # the tile search's cost (lower is better)
+        "fills A": "; ".join(r["fills_a"]),
+        "fills B": "; ".join(r["fills_b"]),
+    }
+
+
+def summary_table(summary: dict[str, Any], width: int) -> tuple[Any, list[str]]:
+    """The candidates table that fits ``width`` columns of terminal, and the columns dropped.
+
+    Columns are dropped from the least important (``SUMMARY_COLUMNS`` order) until no header or
+    number would be cut; long cells (the fills) wrap.
+    """
     from rich.table import Table
 
-    con = Console(highlight=False, soft_wrap=True)
-    t = Table(
-        title=f"{summary['mode']}-view candidates ({summary['size']['rows']} x {summary['size']['cols']} units)",
-        header_style="bold",
+    rows = [_summary_cells(r) for r in summary["candidates"]]
+    columns = list(SUMMARY_COLUMNS)
+    title = (
+        f"{summary['mode']}-view candidates "
+        f"({summary['size']['rows']} x {summary['size']['cols']} units)"
     )
-    for col in (
-        "rank",
-        "",
-        "perceptual",
-        "readability",
-        "contrast",
-        "worst ghosting (shows)",
-        "knit min",
-        "score",
-        "fills A",
-        "fills B",
-    ):
-        t.add_column(col)
-    for r in summary["candidates"]:
-        t.add_row(
-            str(r["rank"]),
-            "default" if r["default"] else "",
-            fmt_number(r["perceptual_score"]),
-            " / ".join(fmt_number(v) for v in r["readability"]),
-            " / ".join(fmt_number(v) for v in r["contrast"]),
-            _worst_ghosting(r),
-            fmt_number(r["knit_minutes"], 1),
-            f"{r['score']:.1f}",
-            "; ".join(r["fills_a"]),
-            "; ".join(r["fills_b"]),
+    while True:
+        t = Table(title=title, header_style="bold")
+        for col in columns:
+            wraps = col.startswith("fills")
+            # a header or a number is never cut ("perc...") nor broken: it fits whole or goes
+            t.add_column(col, no_wrap=not wraps, overflow="fold" if wraps else "ellipsis")
+        for cells in rows:
+            t.add_row(*(cells[c] for c in columns))
+        # each column at its widest cell (a wrapping column at 16), plus the borders
+        need = 1 + sum(
+            3 + (16 if c.startswith("fills") else max(len(c), *(len(r[c]) for r in rows)))
+            for c in columns
         )
+        fits = need <= width
+        if fits or len(columns) <= 4:
+            return t, [c for c in SUMMARY_COLUMNS if c not in columns]
+        columns.pop()
+
+
+def _edits_found(summary: dict[str, Any]) -> str:
+    """What the suggested edits found, in a line."""
+    edits = summary.get("edits") or []
+    if not edits:
+        return "suggestions/: no edit to suggest (no specks, ragged outlines or tiny overlaps)"
+    better = [e for e in edits if e["readability_after"] > e["readability_before"] + 1e-4]
+    head = f"suggestions/: {len(edits)} edit(s) measured"
+    if not better:
+        return head + ", none makes the worse side read better (see suggestions/suggestions.json)"
+    best = max(better, key=lambda e: e["readability_after"] - e["readability_before"])
+    return (
+        f"{head}, {len(better)} make(s) the worse side read better; best: {best['description']} "
+        f"({best['readability_before']:.3f} -> {best['readability_after']:.3f}, ghosting "
+        f"{best['ghosting_before']:.3f} -> {best['ghosting_after']:.3f})"
+    )
+
+
+def print_summary(summary: dict[str, Any], outdir: Path) -> None:
+    from illuknit.cli.summary import console
+
+    con = console()
+    t, dropped = summary_table(summary, con.width)
     con.print(t)
+    if dropped:
+        con.print(f"(columns left out to fit the terminal: {', '.join(repr(c) for c in dropped)};"
+                  " the full table is in summary.txt)")  # fmt: skip
     default = next((r for r in summary["candidates"] if r["default"]), None)
     if default is not None:
         for line in _overlap_digest(default["overlaps"]):
             con.print(line)
+    n = len(summary["candidates"])
     con.print(
-        f"wrote {len(summary['candidates'])} candidate(s), the best-ranked of {summary['searched']} tile "
-        f"design(s) searched, to [bold]{outdir}[/] (default: candidate_{summary['default']})"
+        f"wrote {n} candidate(s), the best-ranked of {summary['searched']} tile design(s) "
+        f"searched, to [bold]{outdir}[/] (default: candidate_{summary['default']}):"
     )
+    folders = sorted((p.name for p in outdir.iterdir() if p.is_dir()), key=_natural)
+    files = sorted(p.name for p in outdir.iterdir() if p.is_file())
+    con.print(f"  folders: {', '.join(f + '/' for f in folders)}")
+    con.print(f"  files: {', '.join(files)}")
+    if "suggestions" in folders:
+        con.print(f"  {_edits_found(summary)}")
+
+
+def _natural(name: str) -> tuple[str, int]:
+    """``candidate_10`` after ``candidate_9``."""
+    stem, _, num = name.rpartition("_")
+    return (stem, int(num)) if num.isdigit() else (name, -1)
 
 
 def design_options(func: Any) -> Any:
@@ -441,5 +528,6 @@ def double(image_a: Path, image_b: Path, outdir: Path, **kw: Any) -> None:
     candidates, each with pattern, previews and repainted inputs, and a summary table.
     Exit code 2 with an explanation when no assignment exists.
     """
-    summary = run_design(image_a, image_b, outdir, mode="double", **kw)
+    with work_bar("double") as report:
+        summary = run_design(image_a, image_b, outdir, mode="double", progress=report, **kw)
     print_summary(summary, outdir)

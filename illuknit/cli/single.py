@@ -10,6 +10,7 @@ import click
 from illuknit.cli.knitout_bridge import format_option, long_floats_option, machine_option
 from illuknit.cli.options import image_options, knitout_option, outdir_option, parse_yarn_option
 from illuknit.cli.summary import print_written, summarise_pattern
+from illuknit.progress import Report, work_bar
 
 if TYPE_CHECKING:
     from illuknit.knit.machine import MachineSpec
@@ -32,12 +33,13 @@ def run_single(
     knitout: bool = False,
     machine: str | MachineSpec | None = None,
     title: str | None = None,
+    progress: Report | None = None,
 ) -> dict[str, Path]:
     """Compile ``image`` and write the whole bundle into ``outdir`` (atomically).
 
     ``gauge`` (default: the machine's) sizes ``width_cm`` and, with ``knitout``, is the gauge of
     the machine the program is knit on; with ``knitout`` a picture wider than the machine's bed
-    is refused before compiling.
+    is refused before compiling. ``progress(fraction, message)`` hears how far it is.
     """
     from illuknit.cli.knitout_bridge import check_fits, resolve_machine
     from illuknit.export import export_pattern
@@ -48,7 +50,9 @@ def run_single(
         single_view_errors,
     )
 
+    say: Report = progress or (lambda fraction, message: None)
     spec = resolve_machine(machine, gauge=gauge)
+    say(0.0, "reading and quantising the picture")
     q = prepare_single_view_image(
         image,
         width=width,
@@ -61,6 +65,7 @@ def run_single(
     )
     if knitout:
         check_fits(spec, q.indices.shape[1])
+    say(0.1, "compiling the single view")
     pattern = compile_single_view(q, first=first)  # type: ignore[arg-type]
     err_a, err_b = single_view_errors(q, pattern)
     report = {
@@ -76,6 +81,7 @@ def run_single(
         },
     }
     with staged_dir(outdir) as tmp:
+        say(0.2, "writing the pattern, previews, chart and instructions")
         paths = export_pattern(
             pattern,
             tmp,
@@ -86,6 +92,7 @@ def run_single(
         if knitout:
             from illuknit.cli.knitout_bridge import write_program
 
+            say(0.5, "knitting it and checking the program")
             paths.update(write_program(pattern, tmp, machine=spec))
     return {k: Path(outdir) / p.name for k, p in paths.items()}
 
@@ -127,19 +134,21 @@ def single(
     """
     from illuknit.pattern import load_pattern
 
-    paths = run_single(
-        image,
-        outdir,
-        width=width,
-        height=height,
-        width_cm=width_cm,
-        gauge=gauge,
-        yarns=yarns,
-        n_colors=n_colors,
-        quantise=quantise,
-        first=first,
-        knitout=knitout,
-        machine=machine,
-    )
+    with work_bar("single") as report:
+        paths = run_single(
+            image,
+            outdir,
+            width=width,
+            height=height,
+            width_cm=width_cm,
+            gauge=gauge,
+            yarns=yarns,
+            n_colors=n_colors,
+            quantise=quantise,
+            first=first,
+            knitout=knitout,
+            machine=machine,
+            progress=report,
+        )
     summarise_pattern(load_pattern(paths["pattern"]), legend_path=paths.get("legend"))
     print_written(outdir, paths)

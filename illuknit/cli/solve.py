@@ -58,9 +58,8 @@ class _LiveProgress:
     """A rich progress line: elapsed time against the limit, best objective and bound."""
 
     def __init__(self, time_limit: float | None, label: str) -> None:
+        from rich.console import Console
         from rich.progress import BarColumn, Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
-
-        from illuknit.cli.summary import console
 
         self.limit = time_limit
         self.t0 = time.perf_counter()
@@ -75,7 +74,7 @@ class _LiveProgress:
             BarColumn(),
             TimeElapsedColumn(),
             TextColumn("{task.fields[best]}"),
-            console=console(),
+            console=Console(stderr=True),  # on stderr: stdout stays the command's report
             transient=True,
         )
         self.task = self.progress.add_task("solve", total=time_limit or None, best=self.best)
@@ -315,7 +314,9 @@ def _solve_with_progress(
     label = f"{backend.name} {label}"
     if policy != "none":
         label += f", warm start {policy}"
-    if show_progress and backend.name != "dp":
+    from rich.console import Console
+
+    if show_progress and backend.name != "dp" and Console(stderr=True).is_terminal:
         with _LiveProgress(time_limit, label) as live:
             sol = solve_model(
                 mdl,

@@ -74,7 +74,12 @@ async function loadCandidates() {
     head.className = "cand-head";
     head.innerHTML = `<span class="rank">#${cand.rank}</span>${cand.rank === 1 ? '<span class="badge">default</span>' : ""}<span class="cand-label"></span><span class="score"></span>`;
     $(".cand-label", head).textContent = cand.label;
-    $(".score", head).textContent = cand.score == null ? "" : `score ${cand.score}`;
+    // the search's own cost has no meaning to a designer: the card says how the design reads
+    const ms = cand.measures;
+    if (ms && ms.worse_readability != null) {
+      $(".score", head).textContent = `reads ${ms.worse_readability.toFixed(2)}`;
+      $(".score", head).title = "how well the worse side, as seen at an angle, matches its picture (1 is a perfect match)";
+    }
     const triple = document.createElement("div");
     triple.className = "triple";
     for (const [view, cap] of [["A", "side A"], ["headon", "head-on"], ["B", "side B"]]) {
