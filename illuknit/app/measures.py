@@ -10,8 +10,10 @@ the app, ``illuknit double --rank-by`` and the bench agree:
   and for how much of the other picture shows (the documented default order);
 * the machine's **knitting time** and passes on the chosen machine.
 
-In a single view both sides show picture A and nothing can ghost. A head-on design with no side
-picture gets its knitting time only.
+In a single view both sides show picture A and nothing can ghost. A head-on design is measured in
+all three views: head-on against the front picture, from above and from below against the side
+picture (the worse of the two), or, with no side picture, against the plain field the design
+shows there: nothing to read, and its ghosting is how much of the front picture is left.
 """
 
 from __future__ import annotations
@@ -34,11 +36,16 @@ def measure_candidate(pattern: Any, prepared: Any, *, machine: str, knit_time: b
     q = prepared.quantised
     if prepared.mode == "double":
         pictures, views, ghost = [q["a"].rgb(), q["b"].rgb()], ("A", "B"), True
-    elif prepared.mode == "headon" and "b" in q:
-        pictures, views, ghost = [q["a"].rgb(), q["b"].rgb()], ("headon", "side"), True
+    elif prepared.mode == "headon":
+        # all three views: head-on against the front picture, and from above and from below
+        # against the side picture -- or the plain field that stands for it (nothing to read
+        # there; how much of the front picture is left at an angle is its ghosting)
+        from illuknit.tiles.perception import seen_targets
+
+        pictures, views, ghost = seen_targets(q["a"], q.get("b")), ("headon", "side"), True
     elif prepared.mode == "single":
         pictures, views, ghost = [q["a"].rgb(), q["a"].rgb()], ("A", "B"), False
-    else:
+    else:  # pragma: no cover - every mode is measured above
         from illuknit.bench.metrics import knit_stats
 
         k: dict[str, Any] = (

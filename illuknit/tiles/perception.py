@@ -264,6 +264,10 @@ def measure_candidate(
         if ghost and len(targets) == 2:
             other = targets[1 - k]
             worst = max((_ghost(g, t, other) for g in greys), key=lambda x: abs(_num(x)))
+            if worst != worst and float(np.ptp(other)) >= 1e-9:
+                # what is seen is all explained by this view's own picture (a head-on design
+                # that vanishes into a plain field): none of the other picture shows
+                worst = 0.0
             ghosting.append(None if worst != worst else worst)
         else:
             ghosting.append(None)

@@ -649,3 +649,27 @@ def test_undo_a_tile_edit_with_the_keyboard(browser, base_url, tmp_path):
     sync_api.expect(page.locator("#pairs .pair select").first).to_have_value(other)
     context.close()
     assert not problems, problems
+
+
+def test_headon_candidates_show_their_measures(browser, base_url, tmp_path):
+    """A head-on design from one picture: every card says how it reads head-on and how much of
+    the picture is left at an angle."""
+    context = browser.new_context(viewport={"width": 1440, "height": 1000})
+    page = context.new_page()
+    page.set_default_timeout(60_000)
+    page.goto(base_url)
+    page.wait_for_selector("body[data-ready='1']")
+    page.click("#modes [data-mode='headon']")
+    sync_api.expect(page.locator("#modes [data-mode='headon']")).to_have_attribute(
+        "aria-checked", "true"
+    )
+    page.locator("#width_units").fill("24")
+    page.set_input_files("#file-a", str(lettered(tmp_path / "hi.png", "HI")))
+    sync_api.expect(page.locator("#meta-a")).to_contain_text("72×48px")
+    cards = page.locator(".cand")
+    sync_api.expect(cards.first.locator(".measures")).to_be_visible(timeout=120_000)
+    sync_api.expect(page.locator(".cand .measures")).to_have_count(cards.count(), timeout=120_000)
+    for text in page.locator(".cand .measures").all_text_contents():
+        assert "reads headon" in text and "ghosting" in text, text
+    sync_api.expect(cards.first.locator(".score")).to_contain_text("reads ")
+    context.close()
