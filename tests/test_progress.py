@@ -4,7 +4,7 @@ import io
 
 from rich.console import Console
 
-from illuknit.progress import progress
+from illuknit.core.progress import progress
 
 
 def test_progress_is_silent_when_not_a_terminal(capsys):
@@ -27,7 +27,7 @@ def test_progress_counts_on_a_terminal(monkeypatch):
 
 
 def test_work_bar_is_silent_when_not_a_terminal(capsys):
-    from illuknit.progress import work_bar
+    from illuknit.core.progress import work_bar
 
     with work_bar("double", delay=0) as report:
         report(0.5, "halfway")
@@ -38,7 +38,7 @@ def test_work_bar_shows_only_work_that_lasts(monkeypatch):
     """A bar appears once the work has run ``delay`` seconds; quicker work prints nothing."""
     import time
 
-    from illuknit.progress import work_bar
+    from illuknit.core.progress import work_bar
 
     buf = io.StringIO()
     monkeypatch.setattr(

@@ -1,4 +1,4 @@
-"""The one pair-sizing policy (illuknit.sizing), and that every entry point follows it."""
+"""The one pair-sizing policy (illuknit.pictures.sizing), and that every entry point follows it."""
 
 from __future__ import annotations
 
@@ -10,8 +10,8 @@ import pytest
 from PIL import Image
 
 from illuknit.cli import main
-from illuknit.errors import ImageInputError, PictureSizeMismatchError
-from illuknit.sizing import (
+from illuknit.core.errors import ImageInputError, PictureSizeMismatchError
+from illuknit.pictures.sizing import (
     DEFAULT_MAX_WIDTH,
     grid_width,
     prepare_image,

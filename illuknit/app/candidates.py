@@ -14,8 +14,8 @@ from typing import Any
 
 from illuknit.app.controls import blame
 from illuknit.app.inputs import Prepared
-from illuknit.errors import AppRequestError
-from illuknit.pattern import LogicalPattern
+from illuknit.core.errors import AppRequestError
+from illuknit.core.pattern import LogicalPattern
 
 __all__ = ["Candidate", "Progress", "Runner", "make_candidates"]
 
@@ -75,7 +75,7 @@ def make_candidates(
 
 
 def _single_candidates(prepared: Prepared, progress: Progress) -> list[Candidate]:
-    from illuknit.single_view import compile_single_view, single_view_errors
+    from illuknit.design.single_view import compile_single_view, single_view_errors
 
     q = prepared.quantised["a"]
     out = []
@@ -100,9 +100,14 @@ def _tile_candidates(
     prepared: Prepared, *, count: int, progress: Progress, run: Runner | None = None
 ) -> list[Candidate]:
     """The best-reading ``count`` of the tile designs ``illuknit double`` searches by default
-    (:data:`~illuknit.tiles.perception.DEFAULT_POOL`), ranked as it ranks them."""
-    from illuknit import tiles
-    from illuknit.tiles.perception import DEFAULT_POOL, POOL_SECONDS, rank_designs, seen_targets
+    (:data:`~illuknit.design.tiles.perception.DEFAULT_POOL`), ranked as it ranks them."""
+    from illuknit.design import tiles
+    from illuknit.design.tiles.perception import (
+        DEFAULT_POOL,
+        POOL_SECONDS,
+        rank_designs,
+        seen_targets,
+    )
 
     qa = prepared.quantised["a"]
     qb = prepared.quantised.get("b")

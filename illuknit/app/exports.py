@@ -14,8 +14,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from illuknit.app.controls import blame
-from illuknit.errors import AppRequestError
-from illuknit.pattern import LogicalPattern, pattern_to_json
+from illuknit.core.errors import AppRequestError
+from illuknit.core.pattern import LogicalPattern, pattern_to_json
 
 if TYPE_CHECKING:
     from illuknit.app.inputs import Prepared
@@ -51,7 +51,7 @@ def render_view(pattern: LogicalPattern, view: View, *, angle: float) -> NDArray
         raise AppRequestError(
             f"view must be A, B or headon, got {view!r}", field="view", code="range"
         )
-    from illuknit.render import render_pattern
+    from illuknit.design.render import render_pattern
 
     ss = int(min(6, max(1, round(360 / max(pattern.shape)))))
     with blame("angle"):
@@ -61,7 +61,7 @@ def render_view(pattern: LogicalPattern, view: View, *, angle: float) -> NDArray
 
 def png_bytes(rgb: NDArray[np.uint8]) -> bytes:
     """Fast PNG encoding for live previews (low compression: these are tiny and short-lived)."""
-    from illuknit.previews import png_bytes as encode
+    from illuknit.outputs.previews import png_bytes as encode
 
     return encode(rgb, compress_level=1)
 
@@ -74,7 +74,7 @@ def pattern_json_bytes(pattern: LogicalPattern) -> bytes:
 
 def previews_zip(pattern: LogicalPattern, prepared: Prepared | None, *, angle: float) -> bytes:
     """A zip of the library's previews (chart, side views, contact sheet) plus angled renders."""
-    from illuknit.previews import upscale, write_previews
+    from illuknit.outputs.previews import upscale, write_previews
 
     targets = {}
     if prepared is not None:
@@ -95,13 +95,13 @@ def previews_zip(pattern: LogicalPattern, prepared: Prepared | None, *, angle: f
 
 
 def chart_png(pattern: LogicalPattern) -> bytes:
-    from illuknit.chart import chart_png_rgb
+    from illuknit.outputs.chart import chart_png_rgb
 
     return png_bytes(chart_png_rgb(pattern))
 
 
 def instructions_text(pattern: LogicalPattern) -> str:
-    from illuknit.chart import written_instructions
+    from illuknit.outputs.chart import written_instructions
 
     return written_instructions(pattern)
 

@@ -1,6 +1,6 @@
 """How each candidate reads and knits, and the orders the designer ranks candidates by.
 
-The measures and the default ranking are the library's (:mod:`illuknit.tiles.perception`), so
+The measures and the default ranking are the library's (:mod:`illuknit.design.tiles.perception`), so
 the app, ``illuknit double --rank-by`` and the bench agree:
 
 * per side: **readability** (correlation of the blurred angled render with the quantised
@@ -28,10 +28,10 @@ ORDERS = ("rank", "perception", "readability", "contrast", "ghosting", "knit_tim
 
 
 def measure_candidate(pattern: Any, prepared: Any, *, machine: str, knit_time: bool = True) -> Any:
-    """The candidate's :class:`~illuknit.tiles.perception.CandidateMeasures` (without the
+    """The candidate's :class:`~illuknit.design.tiles.perception.CandidateMeasures` (without the
     machine's time and passes when not ``knit_time``: how it reads only, in a fraction of a
     second, for a tile edit measured at once)."""
-    from illuknit.tiles import perception
+    from illuknit.design.tiles import perception
 
     q = prepared.quantised
     if prepared.mode == "double":
@@ -40,7 +40,7 @@ def measure_candidate(pattern: Any, prepared: Any, *, machine: str, knit_time: b
         # all three views: head-on against the front picture, and from above and from below
         # against the side picture -- or the plain field that stands for it (nothing to read
         # there; how much of the front picture is left at an angle is its ghosting)
-        from illuknit.tiles.perception import seen_targets
+        from illuknit.design.tiles.perception import seen_targets
 
         pictures, views, ghost = seen_targets(q["a"], q.get("b")), ("headon", "side"), True
     elif prepared.mode == "single":
@@ -69,7 +69,7 @@ def measure_candidate(pattern: Any, prepared: Any, *, machine: str, knit_time: b
 
 def order_candidates(candidates: Sequence[Any], order: str) -> list[Any]:
     """``candidates`` in ``order`` (see :data:`ORDERS`); by rank until all are measured."""
-    from illuknit.tiles.perception import rank_candidates
+    from illuknit.design.tiles.perception import rank_candidates
 
     by_rank = sorted(candidates, key=lambda c: c.rank)
     if order == "rank" or not by_rank or any(c.measured is None for c in by_rank):

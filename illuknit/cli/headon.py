@@ -8,7 +8,7 @@ from typing import Any
 import click
 
 from illuknit.cli.double import design_options, print_summary, run_design
-from illuknit.progress import work_bar
+from illuknit.core.progress import work_bar
 
 __all__ = ["headon"]
 

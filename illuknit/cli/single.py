@@ -10,10 +10,10 @@ import click
 from illuknit.cli.knitout_bridge import format_option, long_floats_option, machine_option
 from illuknit.cli.options import image_options, knitout_option, outdir_option, parse_yarn_option
 from illuknit.cli.summary import print_written, summarise_pattern
-from illuknit.progress import Report, work_bar
+from illuknit.core.progress import Report, work_bar
 
 if TYPE_CHECKING:
-    from illuknit.knit.machine import MachineSpec
+    from illuknit.core.machine import MachineSpec
 
 __all__ = ["run_single", "single"]
 
@@ -42,13 +42,13 @@ def run_single(
     is refused before compiling. ``progress(fraction, message)`` hears how far it is.
     """
     from illuknit.cli.knitout_bridge import check_fits, resolve_machine
-    from illuknit.export import export_pattern
-    from illuknit.outputs import staged_dir
-    from illuknit.single_view import (
+    from illuknit.core.files import staged_dir
+    from illuknit.design.single_view import (
         compile_single_view,
         prepare_single_view_image,
         single_view_errors,
     )
+    from illuknit.outputs.export import export_pattern
 
     say: Report = progress or (lambda fraction, message: None)
     spec = resolve_machine(machine, gauge=gauge)
@@ -132,7 +132,7 @@ def single(
     colour is shown as a stripe of the two yarns. Writes pattern.json, previews, a hand-knitting
     chart and written instructions into OUTDIR.
     """
-    from illuknit.pattern import load_pattern
+    from illuknit.core.pattern import load_pattern
 
     with work_bar("single") as report:
         paths = run_single(

@@ -8,7 +8,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:  # annotations only: `illuknit check` uses console() without loading numpy
-    from illuknit.pattern import LogicalPattern
+    from illuknit.core.pattern import LogicalPattern
 
 __all__ = ["console", "print_written", "summarise_pattern"]
 
@@ -22,7 +22,7 @@ def console() -> Any:
 def summarise_pattern(pattern: LogicalPattern, *, legend_path: Path | None = None) -> None:
     from rich.table import Table
 
-    from illuknit.export import pattern_stats
+    from illuknit.outputs.export import pattern_stats
 
     c = console()
     s = pattern_stats(pattern)

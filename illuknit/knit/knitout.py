@@ -11,8 +11,8 @@ each body course starts so that a checker's line numbers can be traced back to p
 
 from __future__ import annotations
 
+from illuknit.core.machine import MachineSpec
 from illuknit.knit.ir import course_row
-from illuknit.knit.machine import MachineSpec
 from illuknit.knit.schedule import CarrierAction, Pass, Schedule
 
 __all__ = ["format_racking", "knitout_header", "write_knitout"]

@@ -36,7 +36,7 @@ def test_the_table_fits_the_terminal_and_the_message_lists_every_folder(
     """At 80 columns no header or number is cut ("perc..."): columns are left out, said so, and
     kept in summary.txt; the last lines name every folder and file written and what the
     suggested edits found."""
-    from illuknit.drawings import draw_text
+    from illuknit.pictures.drawings import draw_text
 
     for name, word in (("a", "UP"), ("b", "ON")):
         mask = draw_text(word, shape=(16, 24))

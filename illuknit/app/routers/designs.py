@@ -16,7 +16,7 @@ from illuknit.app.lookups import (
 )
 from illuknit.app.measures import measure_candidate, order_candidates
 from illuknit.app.schemas import OverrideIn, SelectionIn
-from illuknit.errors import AppRequestError
+from illuknit.core.errors import AppRequestError
 
 __all__ = ["router"]
 
@@ -147,8 +147,8 @@ def diagnostic(
     angle: float = Query(30.0, gt=0, le=90, title="Viewing angle"),
     candidate: int | None = Query(None, ge=1, title="Candidate"),
 ) -> Response:
-    from illuknit.previews import upscale
-    from illuknit.tiles.perception import diagnostic_rgb
+    from illuknit.design.tiles.perception import diagnostic_rgb
+    from illuknit.outputs.previews import upscale
 
     pattern = current_pattern(s, candidate)
     picture, other = diagnosed_pictures(prepared_of(s), view)

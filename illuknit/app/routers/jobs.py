@@ -11,7 +11,7 @@ from illuknit.app.lookups import SessionDep, current_pattern, prepared_of, runne
 from illuknit.app.measures import measure_candidate
 from illuknit.app.schemas import JobIn
 from illuknit.app.sessions import Session, SessionStore
-from illuknit.errors import AppRequestError
+from illuknit.core.errors import AppRequestError
 
 __all__ = ["router"]
 
@@ -29,7 +29,7 @@ def start_candidates(s: Session, runner: JobRunner, *, isolate: bool = True) -> 
         def run(search: Any) -> Any:
             # The search stops by the pool's time bound (plus one solve's time limit): the bar
             # moves with the time spent against that bound, the words say both.
-            from illuknit.tiles.perception import POOL_SECONDS
+            from illuknit.design.tiles.perception import POOL_SECONDS
 
             bound = POOL_SECONDS + 10.0
 

@@ -8,7 +8,7 @@ from fastapi.responses import Response
 from illuknit.app import design
 from illuknit.app.lookups import SessionDep, check_slot, prepared_of, state_json, store_of
 from illuknit.app.sessions import UploadedImage
-from illuknit.errors import AppRequestError
+from illuknit.core.errors import AppRequestError
 
 __all__ = ["router"]
 

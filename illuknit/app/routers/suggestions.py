@@ -23,7 +23,7 @@ from illuknit.app.suggestions import (
     SupersededError,
     colour_counts,
 )
-from illuknit.errors import AppRequestError
+from illuknit.core.errors import AppRequestError
 
 __all__ = ["router"]
 
@@ -107,7 +107,7 @@ def get_suggestions(s: SessionDep) -> dict[str, Any]:
 def get_preview(
     s: SessionDep, edit_id: str, slot: str, which: Literal["before", "after"]
 ) -> Response:
-    from illuknit.previews import upscale
+    from illuknit.outputs.previews import upscale
 
     check_slot(slot)
     with s.lock:
