@@ -127,9 +127,24 @@ def render(
     candidate: int | None = Query(
         None, ge=1, title="Candidate", description="rank; default: the picked one"
     ),
+    distance: float | None = Query(
+        None,
+        gt=0,
+        le=1000,
+        title="Viewing distance",
+        description="metres: the render as a 20/20 eye resolves it from there (the fabric "
+        "at the chosen machine's gauge); default: every detail",
+    ),
 ) -> Response:
     pattern = current_pattern(s, candidate)
     img = design.render_view(pattern, view, angle=angle)
+    if distance is not None:
+        from illuknit.core.machine import MACHINES
+        from illuknit.design.tiles.perception import eye_blur_units, seen_from
+
+        gauge = MACHINES[s.settings.machine].gauge
+        per_unit = img.shape[1] / pattern.shape[1]  # pixels per unit across
+        img = seen_from(img, eye_blur_units(distance, gauge=gauge) * per_unit)
     return Response(
         design.png_bytes(img), media_type="image/png", headers={"Cache-Control": "no-store"}
     )

@@ -159,6 +159,34 @@ const live = {};
 function updatePreview() {
   if (!state.selected) return;
   for (const view of ["A", "headon", "B"]) loadLive(view);
+  updateFar();
+}
+
+// The far view: the render as an eye resolves it from the chosen distance, above what each view
+// should show (the quantised picture; nothing where a view should show a plain field or stripes).
+function updateFar() {
+  const d = Number($("#distance").value);
+  const ok = d > 0 && d <= 1000;
+  const mode = state.settings && state.settings.mode;
+  const pics = (state.inputs && state.inputs.images) || {};
+  const want = mode === "single" ? { A: pics.a, B: pics.a }
+    : mode === "headon" ? { headon: pics.a, A: pics.b, B: pics.b }
+    : { A: pics.a, B: pics.b };
+  for (const view of ["A", "headon", "B"]) {
+    const far = $(`#far-${view}`);
+    if (ok && state.selected) {
+      const url = new URL(renderUrl(view, null, state.angle), location.href);
+      url.searchParams.set("distance", String(d));
+      if (far.getAttribute("src") !== url.pathname + url.search) far.src = url.pathname + url.search;
+    }
+    $("figcaption", far.parentElement).textContent = `${view === "headon" ? "Head-on" : `Side ${view}`} from ${d} m`;
+    const tg = $(`#tg-${view}`);
+    if (want[view]) { tg.src = want[view]; tg.alt = `what ${view === "headon" ? "head-on" : `side ${view}`} should show`; }
+    else { tg.removeAttribute("src"); tg.alt = ""; }
+    $("figcaption", tg.parentElement).textContent = want[view]
+      ? `${view === "headon" ? "Head-on" : `Side ${view}`} should show`
+      : `${view === "headon" ? "Head-on" : `Side ${view}`}: ${view === "headon" ? "stripes (no picture)" : "a plain field"}`;
+  }
 }
 
 function loadLive(view) {

@@ -20,6 +20,7 @@ function wire() {
   num("width_units", (v) => Math.round(Number(v)));
   $("#machine").addEventListener("change", () => saveSettings({ machine: $("#machine").value }));
   $("#where-fails").addEventListener("change", () => updatePreview());
+  $("#distance").addEventListener("change", () => updateFar());
   $("#order").addEventListener("change", () => {
     clearError("order");
     if (state.candidates.length) loadCandidates().catch((err) => report(err, "order"));
