@@ -92,20 +92,23 @@ class Job:
         *args: Any,
         poll: float = 0.05,
         tick: Callable[[float], None] | None = None,
+        progress: tuple[float, float] | None = None,
     ) -> Any:
         """Run ``fn(*args)`` in a fresh Python process; kill it if the job is cancelled.
-
-        ``tick(seconds)`` is called with the time spent so far every ``poll`` seconds while the
-        child works (to report progress the child cannot count for itself).
 
         The child is ``python -m illuknit.app.jobs`` fed ``(fn, args)`` pickled on stdin, so
         ``fn`` must be importable by name and its arguments and result picklable. (A
         ``multiprocessing`` child would re-run the parent's main script, which breaks servers
         started from unguarded scripts.) Library errors raised in the child come back as
         :class:`AppRequestError` with the original message.
+
+        ``tick(seconds)`` is called with the time spent so far every ``poll`` seconds while the
+        child works (to report progress the child cannot count for itself). With ``progress``
+        ``(start, end)``, ``fn`` is called with a ``progress=`` keyword of its own, and the
+        fractions it reports come back as this job's progress, mapped onto ``start..end``.
         """
         self.report(self.progress)
-        payload = pickle.dumps((fn, args), protocol=pickle.HIGHEST_PROTOCOL)
+        payload = pickle.dumps((fn, args, progress is not None), protocol=pickle.HIGHEST_PROTOCOL)
         proc = subprocess.Popen(
             [sys.executable, "-m", "illuknit.app.jobs"],
             stdin=subprocess.PIPE,
@@ -113,12 +116,34 @@ class Job:
             stderr=subprocess.PIPE,
         )
         out: dict[str, bytes] = {}
+        said: list[bytes] = []
 
         def talk() -> None:
-            out["stdout"], out["stderr"] = proc.communicate(payload)
+            assert proc.stdin is not None and proc.stdout is not None
+            try:
+                proc.stdin.write(payload)
+                proc.stdin.close()
+            except BrokenPipeError:  # the child died at once: its stderr says why
+                pass
+            out["stdout"] = proc.stdout.read()
+
+        def listen() -> None:
+            assert proc.stderr is not None
+            for line in proc.stderr:
+                if line.startswith(_PROGRESS) and progress is not None:
+                    _, fraction, message = line.rstrip(b"\n").split(b"\t", 2)
+                    lo, hi = progress
+                    f = lo + (hi - lo) * min(1.0, max(0.0, float(fraction)))
+                    with self._lock:
+                        self.progress = max(self.progress, f)
+                        self.message = message.decode(errors="replace")
+                else:
+                    said.append(line)
 
         talker = threading.Thread(target=talk, name="illuknit-job-io", daemon=True)
+        listener = threading.Thread(target=listen, name="illuknit-job-err", daemon=True)
         talker.start()
+        listener.start()
         t0 = time.monotonic()
         try:
             while talker.is_alive():
@@ -131,9 +156,11 @@ class Job:
             if proc.poll() is None:
                 proc.kill()
             talker.join(10)
+            listener.join(10)
+            proc.wait(10)
         data = out.get("stdout", b"")
         if not data:
-            tail = out.get("stderr", b"").decode(errors="replace").strip().splitlines()[-3:]
+            tail = b"".join(said).decode(errors="replace").strip().splitlines()[-3:]
             raise RuntimeError(
                 f"worker process ended without an answer (exit code {proc.returncode}): {' | '.join(tail)}"
             )
@@ -276,13 +303,27 @@ class JobRunner:
         self._pool.shutdown(wait=False, cancel_futures=True)
 
 
+#: A line the child writes on stderr to report progress: marker, fraction, message (tab-separated).
+_PROGRESS = b"\x00illuknit-progress"
+
+
 def _worker_main() -> None:
     """Child side of :meth:`Job.run_isolated`: read ``(fn, args)``, answer a pickled message."""
     answer = sys.stdout.buffer
     sys.stdout = sys.stderr  # anything the work prints must not corrupt the answer
-    fn, args = pickle.load(sys.stdin.buffer)
+    fn, args, with_progress = pickle.load(sys.stdin.buffer)
+    err = sys.stderr.buffer
+
+    def progress(fraction: float, message: str) -> None:
+        line = message.replace("\n", " ").replace("\t", " ")
+        err.write(_PROGRESS + f"\t{float(fraction):.4f}\t{line}\n".encode())
+        err.flush()
+
     try:
-        msg: tuple[Any, ...] = ("ok", fn(*args))
+        msg: tuple[Any, ...] = (
+            "ok",
+            fn(*args, progress=progress) if with_progress else fn(*args),
+        )
     except IlluknitError as e:
         msg = ("err", type(e).__name__, str(e))
     except BaseException as e:  # a bug in the library: report it, the parent decides

@@ -352,3 +352,44 @@ def test_suggestions_report_the_library_review_progress_and_cancel_through_it(pi
             count=2,
             progress=cancelled_at_the_second_measurement,
         )
+
+
+def test_suggestions_in_their_own_process_report_progress_and_cancel_at_once(api):
+    """Served as by default (the measurements in a worker process): the job's progress comes
+    from the worker as each edit is measured, and Cancel kills it within 2 s."""
+    import time
+
+    from skimage import data
+
+    def crop(rgb: Any) -> bytes:
+        h, w = rgb.shape[:2]
+        buf = io.BytesIO()
+        top, left = (h - 300) // 2, (w - 300) // 2
+        Image.fromarray(np.ascontiguousarray(rgb[top : top + 300, left : left + 300])).save(
+            buf, format="PNG"
+        )
+        return buf.getvalue()
+
+    with TestClient(create_app(AppConfig(isolate_knit=False, isolate_search=True))) as client:
+        sid = client.post("/api/sessions").json()["id"]
+        for slot, name in (("a", "astronaut"), ("b", "coffee")):
+            files = {"file": (f"{name}.png", crop(getattr(data, name)()), "image/png")}
+            assert client.put(f"/api/sessions/{sid}/images/{slot}", files=files).status_code == 200
+        body = {
+            "width_units": 120,
+            "n_colors": 3,
+            "yarns": ["#1b1b1b", "#8a8a8a", "#f4f0e8"],
+            "machine": "generic540",
+        }
+        assert client.put(f"/api/sessions/{sid}/settings", json=body).status_code == 200
+        job = client.post(f"/api/sessions/{sid}/jobs", json={"kind": "suggestions"}).json()
+        deadline = time.monotonic() + 120
+        while not job["message"].startswith("measuring"):
+            assert job["status"] in ("queued", "running"), job
+            assert time.monotonic() < deadline, job
+            time.sleep(0.1)
+            job = client.get(f"/api/sessions/{sid}/jobs/{job['id']}").json()
+        assert job["progress"] >= 0.02
+        t0 = time.monotonic()
+        r = client.delete(f"/api/sessions/{sid}/jobs/{job['id']}")
+        assert r.json()["status"] == "cancelled" and time.monotonic() - t0 < 2.0
