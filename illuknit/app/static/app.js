@@ -431,7 +431,13 @@ function showJob(kind, job) {
   // a stage with no finer progress of its own shows a moving bar, so the page never looks stuck
   box.classList.toggle("busy", !box.hidden && job.progress < 0.1 && job.elapsed > 0.5);
   $(".bar i", box).style.width = `${Math.round(100 * job.progress)}%`;
-  $(".job-msg", box).textContent = job.message;
+  // where the work can be counted, an estimate of what is left (from the pace so far)
+  let left = "";
+  if (!box.hidden && job.progress >= 0.15 && job.progress < 1 && job.elapsed > 2 && !/s so far/.test(job.message)) {
+    const secs = Math.round((job.elapsed * (1 - job.progress)) / job.progress);
+    left = ` · about ${secs < 60 ? `${Math.max(1, secs)} s` : `${Math.round(secs / 60)} min`} left`;
+  }
+  $(".job-msg", box).textContent = job.message + left;
   if (kind === "candidates") $("#run").disabled = !box.hidden;
   if (kind === "knit") $("#make-knit").disabled = !box.hidden;
   if (kind === "suggestions") $("#suggest").disabled = !box.hidden;

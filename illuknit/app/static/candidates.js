@@ -181,8 +181,8 @@ function updateFar() {
     }
     $("figcaption", far.parentElement).textContent = `${view === "headon" ? "Head-on" : `Side ${view}`} from ${d} m`;
     const tg = $(`#tg-${view}`);
-    if (want[view]) { tg.src = want[view]; tg.alt = `what ${view === "headon" ? "head-on" : `side ${view}`} should show`; }
-    else { tg.removeAttribute("src"); tg.alt = ""; }
+    tg.hidden = !want[view];
+    if (want[view]) tg.src = want[view]; else tg.removeAttribute("src");
     $("figcaption", tg.parentElement).textContent = want[view]
       ? `${view === "headon" ? "Head-on" : `Side ${view}`} should show`
       : `${view === "headon" ? "Head-on" : `Side ${view}`}: ${view === "headon" ? "stripes (no picture)" : "a plain field"}`;
