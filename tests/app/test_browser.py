@@ -227,6 +227,7 @@ def test_design_two_pictures_pick_tilt_download(browser, base_url, tmp_path):
     page.wait_for_function("document.querySelector('#pv-A').src.includes('/render?')")
 
     shot = tmp_path / "app.png"
+    page.evaluate("window.scrollTo(0, 0)")  # the sticky top bar over the top of the page
     page.screenshot(path=str(shot), full_page=True)
     assert shot.stat().st_size > 10_000
     keep = os.environ.get("ILLUKNIT_APP_SCREENSHOT")
