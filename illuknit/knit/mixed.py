@@ -71,6 +71,7 @@ from illuknit.knit.color_runs import ColorPlan, plan_color_runs
 from illuknit.knit.course_order import course_items, order_and_plan
 from illuknit.knit.float_avoidance import float_crossings, transfers_before
 from illuknit.knit.float_tucks import LongFloat, tuck_long_floats
+from illuknit.knit.hookless import YarnEntry, fabric_needles, first_directions
 from illuknit.knit.ir import Role
 from illuknit.knit.mixed_edges import Emitter, bind_off, cast_on
 from illuknit.knit.move_folding import fold_moves
@@ -82,7 +83,7 @@ from illuknit.knit.path_planning import (
 from illuknit.knit.schedule import MixedReport, Schedule
 from illuknit.knit.stitches import StitchPattern
 
-__all__ = ["schedule_mixed", "validate_ablation"]
+__all__ = ["long_float_error", "schedule_mixed", "validate_ablation"]
 
 
 def validate_ablation(*, float_avoidance: object, catching: object, path_planning: object) -> None:
@@ -252,18 +253,28 @@ def _color_plan(
     return plan, kind
 
 
-def _long_float_error(
+def long_float_error(
     long: Sequence[LongFloat], stitches: StitchPattern, limit: int
 ) -> LongFloatError:
     """The error for floats that stay long: how many, the longest, where, what to change."""
     worst = max(long, key=lambda f: f.length)
     where = worst.where(stitches)
+    fix = (
+        "use fewer colour regions per row there (fewer --colors / --yarns, or a smoothed "
+        f"picture), a wider float limit (illuknit knit --float-limit N, now {limit}), or keep "
+        "the long floats (--allow-long-floats)"
+    )
+    waste = [f.length for f in long if f.place == "the waste section"]
+    if waste:
+        # (Its yarn-in tucks are every k-th needle for k yarns: they float k - 1 needles.)
+        fix += (
+            f"; in the waste section the yarns come in with tucks {max(waste) + 1} needles "
+            f"apart: a float limit below {max(waste)} needs fewer yarns (--colors / --yarns)"
+        )
     return LongFloatError(
         f"{len(long)} float(s) stay longer than the float limit of {limit} needles; the "
         f"longest, {worst.length} needles of carrier {worst.carrier} (needles "
-        f"{worst.from_needle} to {worst.to_needle}), is at {where}: use fewer colour "
-        "regions per row there, a wider float limit, or allow long floats "
-        "(allow_long_floats=True, --allow-long-floats)",
+        f"{worst.from_needle} to {worst.to_needle}), is at {where}: {fix}",
         length=worst.length,
         carrier=worst.carrier,
         from_needle=worst.from_needle,
@@ -289,6 +300,7 @@ def schedule_mixed(
     tail_stitches: int = 4,
     park_carriers: bool = True,
     tuck_passes: bool = False,
+    yarn_entry: YarnEntry | None = None,
 ) -> Schedule:
     """Schedule a stitch pattern whose courses may change colour (see the module docstring).
 
@@ -337,6 +349,11 @@ def schedule_mixed(
         elsewhere), tuck the floating yarn alone in a pass of its own right before it. Off by
         default; it matters with ``catching="plate"`` only (on the plated bundled programs it
         cost 1-29 % more machine passes, ``docs/mixed-colourwork.md``).
+    yarn_entry : YarnEntry, optional
+        Where the yarns enter on a machine without an inserting hook
+        (:func:`~illuknit.knit.hookless.yarn_entry`): each yarn's float from its entry to its
+        first stitch is then tucked like any other long float. None (machines with a hook): a
+        yarn starts at its first stitch.
 
     Returns
     -------
@@ -415,13 +432,21 @@ def schedule_mixed(
     )
 
     em.steps = fold_moves(em.steps)
+    entries: dict[str, int] = {}
+    if yarn_entry is not None:
+        entries = yarn_entry.needles(first_directions(em.steps), *fabric_needles(em.steps))
     long: list[LongFloat] = []
     if park is not None:
         em.steps, long = tuck_long_floats(
-            em.steps, limit=limit, left=left, right=edge, alone=bool(tuck_passes)
+            em.steps,
+            limit=limit,
+            left=left,
+            right=edge,
+            alone=bool(tuck_passes),
+            entries=entries,
         )
         if long and (strict_floats or not allow_long_floats):
-            raise _long_float_error(long, stitches, limit)
+            raise long_float_error(long, stitches, limit)
     lower = cast_fixed + cast_courses_bound + body_bound + bind_fixed
     return Schedule(
         steps=tuple(em.steps),
