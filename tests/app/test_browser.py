@@ -537,7 +537,12 @@ def test_a_design_survives_restarts_and_an_eviction(browser, app_process, tmp_pa
     card = page.locator(".sugg").first
     sync_api.expect(card).to_be_visible(timeout=120_000)
     card.locator("[data-accept]").click()
-    sync_api.expect(page.locator("#undo-edit")).to_be_visible()
+    # the accept has landed: the edited picture replaced an input (Undo is always on the page)
+    page.wait_for_function(
+        "['a', 'b'].some((s) => document.querySelector('#meta-' + s).textContent"
+        ".includes('suggested edit accepted'))"
+    )
+    sync_api.expect(page.locator("#undo-edit")).to_be_enabled()
     page.wait_for_function(
         "document.querySelectorAll('.cand .measures').length > 0 && "
         "!document.querySelector('#run').disabled",
@@ -560,7 +565,7 @@ def test_a_design_survives_restarts_and_an_eviction(browser, app_process, tmp_pa
             "grid": page.locator("#grid-info").text_content(),
             "measures": measures.all_text_contents(),
             "selected": page.locator(".cand.sel").get_attribute("data-rank"),
-            "undo": page.locator("#undo-edit").is_visible(),
+            "undo": page.locator("#undo-edit").is_enabled(),
             "bytes": shown_bytes(page, url),
         }
 
