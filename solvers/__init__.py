@@ -88,6 +88,8 @@ HERMAX_NAMES = (
     "openwbo",
     "cgss",
     "wmaxcdcl",
+    "aperture",
+    "coretrail",
     "loandra",
     "openwbo-inc",
     "tt-openwbo-inc",

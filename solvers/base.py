@@ -235,6 +235,10 @@ class BackendBase:
     name: str = ""
     extra: str | None = None
     exact: bool = True
+    #: True when the solver itself stops at ``time_limit`` and hands back what it has; False
+    #: when only a kill from outside stops it (the benchmark then enforces the limit, and says
+    #: so in ``--list-solvers``)
+    time_limited: bool = True
     #: importable modules the backend needs (probed with importlib.util.find_spec, not imported)
     requires: tuple[str, ...] = ()
     #: the PyPI distribution whose version :meth:`version` reports
@@ -399,6 +403,7 @@ class OracleBackendBase(BackendBase):
     def __init__(self, oracle: str | None = None) -> None:
         oracle = self.default_oracle if oracle is None else oracle
         self.oracle = check_oracle(oracle, interruptible=self.interruptible_oracle)
+        self.time_limited = oracle not in UNINTERRUPTIBLE
         base = type(self).name
         self.name = base if oracle == self.default_oracle else f"{base}:{oracle}"
 

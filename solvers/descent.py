@@ -31,7 +31,9 @@ colour, flat), each followed by descent; equal-cost results are accepted, so the
 plateaus. It stops at the time limit, or after ``stall`` perturbations without improvement.
 
 The DP optimum of the per-wale part is also a valid **lower bound** (colour-change terms are
-non-negative), reported as ``bound``. The backend is a heuristic (``exact = False``): status
+non-negative). With machine-pass terms the backend spends the last 40 % of its time on the
+Lagrangian bound of :mod:`illuknit.solvers.lagrangian`, which keeps the pass terms the DP
+drops (and whose patterns are candidates too); the better bound is reported as ``bound``. The backend is a heuristic (``exact = False``): status
 ``feasible`` (``timeout`` when the time limit stopped it), never ``optimal`` for a model with
 colour-change terms. Per-wale models (no colour term) and the single-view model are solved
 exactly by the DP instead. A hard colour-change cap per course is not handled.
@@ -53,11 +55,17 @@ from illuknit.design.models.illusion_problem import IllusionProblem
 from illuknit.solvers.base import BackendBase, ProgressCallback, ProgressEvent, Solution, Status
 from illuknit.solvers.descent_blocks import descend, pattern_cost
 from illuknit.solvers.dp import DPBackend, solve_dp, values_from_pattern
+from illuknit.solvers.lagrangian import lagrangian_bound
 
 if TYPE_CHECKING:
     from illuknit.design.models.model import Model
 
 __all__ = ["DescentBackend", "DescentResult", "optimise_descent"]
+
+#: Share of the backend's time limit spent on the Lagrangian bound (model (b) with pass terms),
+#: after the search; without a time limit, this many seconds.
+LAGRANGIAN_SHARE = 0.4
+LAGRANGIAN_SECONDS = 10.0
 
 
 # -- starts, perturbation, and the search -----------------------------------------------------
@@ -270,9 +278,29 @@ class DescentBackend(BackendBase):
             stats = {**sol.stats, "method": "dp (exact for this model)"}
             return replace(sol, stats=stats, backend=self.name)
         t0 = time.perf_counter()
+        search_time = None if time_limit is None else (1 - LAGRANGIAN_SHARE) * time_limit
         res = optimise_descent(
-            problem, time_limit=time_limit, seed=seed, stall=self.stall, progress=progress
+            problem, time_limit=search_time, seed=seed, stall=self.stall, progress=progress
         )
+        lag = None
+        if problem.pass_weight:
+            # the machine-pass terms the DP bound drops: a Lagrangian bound with the rest
+            left = (
+                LAGRANGIAN_SECONDS
+                if time_limit is None
+                else time_limit - (time.perf_counter() - t0)
+            )
+            try:
+                lag = lagrangian_bound(problem, time_limit=max(0.5, left), upper=res.cost)
+            except KeyboardInterrupt:  # asked to stop: the pattern matters more than the bound
+                lag = None
+        if lag is not None:
+            if lag.cost < res.cost:  # its own patterns are candidates too
+                res = replace(res, yarn=lag.yarn, raised=lag.raised, cost=lag.cost)
+            if lag.bound > res.bound:
+                res = replace(res, bound=lag.bound)
+                if progress:
+                    progress(ProgressEvent(time.perf_counter() - t0, res.cost, lag.bound))
         vals = values_from_pattern(model, res.yarn, res.raised)
         ok, cost = model.evaluate(vals)
         wall = time.perf_counter() - t0
@@ -283,6 +311,12 @@ class DescentBackend(BackendBase):
             "sweeps": res.sweeps,
             "interrupted": res.interrupted,
         }
+        if lag is not None:
+            info["lagrangian"] = {
+                "bound": lag.bound,
+                "iterations": lag.iterations,
+                "seconds": round(lag.seconds, 3),
+            }
         if not ok or cost != res.cost:
             info["message"] = (
                 f"descent cost {res.cost} disagrees with the model ({cost}, feasible={ok})"

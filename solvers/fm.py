@@ -54,6 +54,10 @@ class FMBackend(OracleBackendBase):
     distribution = "python-sat"
     default_oracle = "m22"
 
+    def __init__(self, oracle: str | None = None) -> None:
+        super().__init__(oracle)
+        self.time_limited = False  # python-sat's FM takes no limit: only the child's kill stops it
+
     def solve(
         self,
         model: Model,

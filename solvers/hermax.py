@@ -2,11 +2,13 @@
 
 `hermax <https://pypi.org/project/hermax/>`_ wraps EvalMaxSAT, UWrMaxSat, CASHWMaxSAT, Open-WBO,
 CGSS, WMaxCDCL and anytime (incomplete) solvers such as Loandra and Open-WBO-Inc behind one
-IPAMIR-style API (``add_clause``, ``add_soft_unit``, ``solve``, ``get_cost``, ``get_model``).
+IPAMIR-style API (``add_clause``, ``add_soft_unit``, ``solve``, ``get_cost``, ``get_model``),
+and since 1.2.10 the 2026 Evaluation's Aperture and CoreTrail.
 Each backend here encodes the model (:meth:`Model.to_clauses`; a non-unit soft clause gets a
 relaxation variable), and runs the solver **in a child process** (:mod:`illuknit.solvers.isolate`):
-the complete solvers refuse a time limit, so the parent enforces it, and a crash in C code costs
-one result. The anytime solvers get the time limit themselves and return their best model.
+most complete solvers refuse a time limit (``time_limited = False``), so the parent enforces it,
+and a crash in C code costs one result. The anytime solvers and CoreTrail get the time limit
+themselves and return their best model.
 
 The solver's own claims (status, cost) are kept in ``stats`` (``claimed_status``,
 ``claimed_cost``); the returned ``objective`` is always recomputed from the model, and an
@@ -35,19 +37,23 @@ if TYPE_CHECKING:
 
 __all__ = ["HERMAX_SOLVERS", "HermaxBackend"]
 
-#: backend name -> (hermax class "module:attr", anytime: takes a time limit itself)
-HERMAX_SOLVERS: dict[str, tuple[str, bool]] = {
-    "evalmaxsat": ("hermax.incremental:EvalMaxSAT", False),
-    "uwrmaxsat": ("hermax.incremental:UWrMaxSAT", False),
-    "cashwmaxsat": ("hermax.non_incremental:CASHWMaxSAT", False),
-    "openwbo": ("hermax.non_incremental:OpenWBO", False),
-    "cgss": ("hermax.non_incremental:CGSS", False),
-    "wmaxcdcl": ("hermax.non_incremental:WMaxCDCL", False),
-    "loandra": ("hermax.non_incremental.incomplete:Loandra", True),
-    "openwbo-inc": ("hermax.non_incremental.incomplete:OpenWBOInc", True),
-    "tt-openwbo-inc": ("hermax.non_incremental.incomplete:TTOpenWBOInc", True),
-    "nuwls-c-ibr": ("hermax.non_incremental.incomplete:NuWLSCIBR", True),
-    "spb-maxsat-c-fps": ("hermax.non_incremental.incomplete:SPBMaxSATCFPS", True),
+#: backend name -> (hermax class "module:attr", anytime (incomplete), takes a time limit itself:
+#: ``solve(time_limit=...)`` returns the best model so far; the others refuse one and only the
+#: parent's kill stops them)
+HERMAX_SOLVERS: dict[str, tuple[str, bool, bool]] = {
+    "evalmaxsat": ("hermax.incremental:EvalMaxSAT", False, False),
+    "uwrmaxsat": ("hermax.incremental:UWrMaxSAT", False, False),
+    "cashwmaxsat": ("hermax.non_incremental:CASHWMaxSAT", False, False),
+    "openwbo": ("hermax.non_incremental:OpenWBO", False, False),
+    "cgss": ("hermax.non_incremental:CGSS", False, False),
+    "wmaxcdcl": ("hermax.non_incremental:WMaxCDCL", False, False),
+    "aperture": ("hermax.incremental:Aperture", False, False),
+    "coretrail": ("hermax.incremental:CoreTrail", False, True),
+    "loandra": ("hermax.non_incremental.incomplete:Loandra", True, True),
+    "openwbo-inc": ("hermax.non_incremental.incomplete:OpenWBOInc", True, True),
+    "tt-openwbo-inc": ("hermax.non_incremental.incomplete:TTOpenWBOInc", True, True),
+    "nuwls-c-ibr": ("hermax.non_incremental.incomplete:NuWLSCIBR", True, True),
+    "spb-maxsat-c-fps": ("hermax.non_incremental.incomplete:SPBMaxSATCFPS", True, True),
 }
 
 # IPAMIR status codes (hermax.core.ipamir_solver_interface.SolveStatus)
@@ -55,9 +61,17 @@ _OPTIMUM, _SAT, _UNSAT = 30, 10, 20
 
 
 def _run_hermax(
-    class_path: str, model: Model, time_limit: float | None, anytime: bool
+    class_path: str,
+    model: Model,
+    time_limit: float | None,
+    limited: bool,
+    started: float | None = None,
 ) -> dict[str, Any]:
-    """Build and solve in the current (child) process; a plain dict goes back to the parent."""
+    """Build and solve in the current (child) process; a plain dict goes back to the parent.
+
+    A solver that takes a time limit gets what is left of ``time_limit`` after the build
+    (``started``: ``time.perf_counter()`` when the backend was called), so it answers on time.
+    """
     module, _, attr = class_path.partition(":")
     cls = getattr(importlib.import_module(module), attr)
     cs = model.to_clauses()
@@ -77,7 +91,10 @@ def _run_hermax(
                 solver.add_soft_relaxed([int(x) for x in c], int(w), relax_var=nv)
         for lit, w in units.items():
             solver.add_soft_unit(lit, w)
-        kwargs = {"time_limit": time_limit} if anytime and time_limit is not None else {}
+        kwargs: dict[str, float] = {}
+        if limited and time_limit is not None:
+            used = 0.0 if started is None else time.perf_counter() - started
+            kwargs["time_limit"] = max(0.1, time_limit - used - 0.1 - 0.02 * time_limit)
         t0 = time.perf_counter()
         solver.solve(**kwargs)
         code = int(solver.get_status())
@@ -100,7 +117,7 @@ class HermaxBackend(BackendBase):
 
     def __init__(self, name: str) -> None:
         self.name = name
-        self.class_path, self.anytime = HERMAX_SOLVERS[name]
+        self.class_path, self.anytime, self.time_limited = HERMAX_SOLVERS[name]
         self.exact = not self.anytime
 
     def solve(
@@ -113,8 +130,11 @@ class HermaxBackend(BackendBase):
     ) -> Solution:
         t0 = time.perf_counter()
         res = run_in_child(
-            lambda _progress: _run_hermax(self.class_path, model, time_limit, self.anytime),
+            lambda _progress: _run_hermax(
+                self.class_path, model, time_limit, self.time_limited, t0
+            ),
             time_limit=time_limit,
+            interruptible=False,  # a C solver: stopped by its own limit, or by the kill
         )
         stats: dict[str, Any] = {"peak_rss_mb": res.peak_rss_mb}
         if failed := self.child_failure(model, res, t0, stats):
@@ -127,7 +147,9 @@ class HermaxBackend(BackendBase):
             return self.solution(model, Status.INFEASIBLE, t0, stats=stats)
         if "lits" not in out:
             stats["message"] = f"solver ended with IPAMIR status {code} and no model"
-            timed_out = self.anytime and time_limit is not None
+            # no model at the limit (its own, or the request to stop it got): a timeout
+            late = time_limit is not None and time.perf_counter() - t0 >= time_limit
+            timed_out = late or (self.time_limited and time_limit is not None)
             return self.solution(
                 model, Status.TIMEOUT if timed_out else Status.ERROR, t0, stats=stats
             )
@@ -141,6 +163,6 @@ class HermaxBackend(BackendBase):
             progress(ProgressEvent(time.perf_counter() - t0, cost, None))
         if code == _OPTIMUM:
             return self.solution(model, Status.OPTIMAL, t0, values, cost, float(cost), stats)
-        limited = time_limit is not None and self.anytime
+        limited = time_limit is not None and self.time_limited
         st = Status.TIMEOUT if limited else Status.FEASIBLE
         return self.solution(model, st, t0, values, cost, None, stats)

@@ -1,19 +1,37 @@
-"""Run a solve in a child process whose time and memory the parent enforces.
+"""Run a solve in a child process whose time and memory the parent enforces, as the MaxSAT
+Evaluation enforces them on a solver.
 
 Solvers written in C can crash the interpreter, ignore a time limit (several hermax solvers
 refuse one) or eat the machine's memory; python-sat's RC2 even rewrites the formula it is handed.
 :func:`run_in_child` forks a child that runs the solve on its own copy of everything and sends
-back progress events and the answer through a pipe; the parent
+back progress events and the answer through a pipe. The parent watches the child's **whole
+process tree** -- the child, its own children, and programs they start in sessions of their own
+(external MaxSAT binaries, hermax's workers) -- and
 
-* kills the child's whole process group when ``time_limit + grace`` seconds pass without an answer
-  (status ``timeout``), or when the resident memory of the group exceeds ``memory_mb``
-  (status ``error``, "memory limit");
+* **time**: at ``time_limit`` (plus ``ask_delay``, time for a backend honouring its own limit to
+  return) it asks the child to stop with ``SIGINT`` -- the Python ``KeyboardInterrupt`` every
+  backend turns into "return the best assignment so far", which python-sat's C oracles honour
+  too, and on which the external-solver backend sends ``SIGTERM`` to its binary. After
+  ``grace`` more seconds it kills the whole tree (``SIGKILL``, status ``timeout``). An answer
+  that arrives after ``time_limit`` is kept but marked ``late``: a proof after the limit is a
+  timeout, as the Evaluation counts it.
+* **memory**: it samples the resident memory of the whole tree every :data:`POLL` seconds and
+  kills the tree when it exceeds ``memory_mb`` (status ``memout``). As a backstop against an
+  allocation faster than the sampling, the child also sets ``RLIMIT_AS`` to its own address
+  space at the fork plus ``memory_mb`` (inherited by everything it starts); an allocation
+  refused there surfaces as a ``MemoryError`` (status ``memout``) or as a crash of the program
+  that made it. (A cgroup would account memory exactly; the machines this runs on do not
+  always let a process create one, so the tree sampling is the one mechanism everywhere.)
+* **CPU**: it records the CPU seconds (user + system) of the tree: the child's own resource
+  usage (which includes the programs it waited for) or, when larger, the sum of the last
+  sampled CPU time of every process seen in the tree.
 * turns a crash or a silent exit (no answer on the pipe) into status ``error`` with the reason
-  (the signal, or the exit code);
-* measures the group's peak resident memory itself.
+  (the signal, or the exit code).
 
-So a misbehaving solver costs one result, never the caller's process. Linux and macOS (fork);
-memory is read from ``/proc`` and is not enforced where that is missing.
+So a misbehaving solver costs one result, never the caller's process. The child is started with
+``os.fork`` itself (not :mod:`multiprocessing`), so it also works inside daemonic worker
+processes such as a Dask worker's. Linux (``/proc``, ``psutil``); elsewhere memory is not
+enforced.
 """
 
 from __future__ import annotations
@@ -27,29 +45,39 @@ import time
 import traceback
 from collections.abc import Callable
 from dataclasses import dataclass
-from pathlib import Path
 from typing import Any
 
 from illuknit.solvers.base import ProgressCallback, ProgressEvent
 
-__all__ = ["ChildResult", "run_in_child"]
+__all__ = ["ChildResult", "child_memory_limit", "run_in_child"]
 
-#: Seconds of polling between memory checks.
+#: Seconds of polling between memory samples.
 POLL = 0.1
 
 #: True inside a child: a nested child (a backend isolating itself inside a benchmark run) stays
 #: in the outer child's process group, so killing the outer group kills it too.
 _IN_CHILD = False
 
+#: The memory limit (MB) the enclosing run enforces, seen from inside the child (None outside).
+_MEMORY_MB: float | None = None
+
+
+def child_memory_limit() -> float | None:
+    """The memory limit (MB) of the isolated run this code executes in, or None outside one."""
+    return _MEMORY_MB
+
 
 @dataclass(frozen=True)
 class ChildResult:
     """What came back from the child.
 
-    ``status`` is ``ok`` (``value`` holds the function's return value), ``timeout`` (killed at
-    the deadline) or ``error`` (raised, crashed, exited silently or hit the memory limit;
+    ``status`` is ``ok`` (``value`` holds the function's return value), ``timeout`` (killed
+    after the time limit and the grace period), ``memout`` (the tree's resident memory passed
+    the limit, or an allocation was refused) or ``error`` (raised, crashed or exited silently;
     ``reason`` says which). ``events`` are the progress events the child sent, re-timed by the
-    parent (seconds since the child started).
+    parent (seconds since the child started). ``answered_at`` is when the answer arrived
+    (seconds since the start, None without one) and ``late`` says it arrived after
+    ``time_limit``. ``cpu_time`` is the tree's CPU seconds (user + system).
     """
 
     status: str
@@ -58,14 +86,52 @@ class ChildResult:
     wall_time: float
     peak_rss_mb: float | None
     events: tuple[ProgressEvent, ...] = ()
+    cpu_time: float | None = None
+    answered_at: float | None = None
+    late: bool = False
 
 
-def _child(fn: Callable[[ProgressCallback], Any], conn: Any, own_group: bool) -> None:
-    global _IN_CHILD
+def _set_memory_backstop(memory_mb: float) -> None:
+    """RLIMIT_AS = this process's address space now + ``memory_mb`` (see the module docstring)."""
+    try:
+        import resource
+
+        import psutil
+
+        vms = psutil.Process().memory_info().vms
+        limit = int(vms + memory_mb * 2**20)
+        _soft, hard = resource.getrlimit(resource.RLIMIT_AS)
+        if hard != resource.RLIM_INFINITY:
+            limit = min(limit, hard)
+        resource.setrlimit(resource.RLIMIT_AS, (limit, hard))
+    except (ImportError, OSError, ValueError):
+        pass  # no backstop; the parent's sampling still enforces the limit
+
+
+def _child(
+    fn: Callable[[ProgressCallback], Any],
+    conn: Any,
+    own_group: bool,
+    memory_mb: float | None,
+    interruptible: bool = True,
+) -> None:
+    global _IN_CHILD, _MEMORY_MB
     _IN_CHILD = True
+    _MEMORY_MB = memory_mb
     faulthandler.disable()  # a crash is the row's reason, not a traceback on the parent's stderr
     if own_group:
         os.setpgrp()  # one process group: the parent can kill anything the solver starts
+    asked: list[int] = []
+
+    def on_sigint(signum: int, frame: Any) -> None:
+        if not asked:  # the first request to stop interrupts the solve; later ones are ignored
+            asked.append(signum)
+            raise KeyboardInterrupt
+
+    signal.signal(signal.SIGINT, on_sigint if interruptible else signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    if memory_mb is not None:
+        _set_memory_backstop(memory_mb)
     try:
 
         def progress(event: ProgressEvent) -> None:
@@ -74,90 +140,116 @@ def _child(fn: Callable[[ProgressCallback], Any], conn: Any, own_group: bool) ->
         value = fn(progress)
         conn.send(("done", value))
     except MemoryError:
-        conn.send(("error", "out of memory (MemoryError)"))
+        conn.send(("memout", "an allocation was refused (MemoryError)"))
     except BaseException as e:  # the child reports everything; the parent decides
         tb = traceback.format_exception_only(type(e), e)[-1].strip()
-        conn.send(("error", f"raised {tb}"))
+        if asked or isinstance(e, KeyboardInterrupt) or "keyboard interrupt" in tb.lower():
+            # stopped at the limit: python-sat's C code catches SIGINT itself (our handler never
+            # runs) and raises its own exceptions ("Caught keyboard interrupt"), encodings too
+            conn.send(("timeout", f"stopped at the limit without an answer ({tb})"))
+        else:
+            conn.send(("error", f"raised {tb}"))
     finally:
         conn.close()
 
 
-def _group_rss_mb(pid: int, own_group: bool) -> float | None:
-    """Resident memory (MB) of every process in group ``pid`` (or of process ``pid`` alone when
-    it has no group of its own); None without /proc."""
-    proc = Path("/proc")
-    if not proc.is_dir():
-        return None
-    total = 0
-    for d in proc.iterdir() if own_group else [proc / str(pid)]:
-        if not d.name.isdigit():
-            continue
+class _Tree:
+    """The child's process tree as the parent samples it (psutil; nothing without it)."""
+
+    def __init__(self, pid: int) -> None:
+        self.pid = pid
+        self.seen: dict[int, float] = {}  # pid -> create time, for a safe kill later
+        self.cpu: dict[int, float] = {}  # pid -> last sampled user + system seconds
+        self.peak: float | None = None
         try:
-            stat = (d / "stat").read_text()
-            fields = stat[stat.rindex(")") + 2 :].split()
-            if own_group and int(fields[2]) != pid:  # field 5 of /proc/PID/stat: the group
+            import psutil
+
+            self._psutil: Any = psutil
+            self.root: Any = psutil.Process(pid)
+        except Exception:  # no psutil, or the child is already gone
+            self._psutil = None
+            self.root = None
+
+    def sample(self) -> float | None:
+        """Resident memory (MB) of the tree now; also remembers members and CPU times."""
+        if self._psutil is None:
+            return None
+        ps = self._psutil
+        try:
+            procs = [self.root, *self.root.children(recursive=True)]
+        except ps.Error:
+            return None
+        total = 0
+        for p in procs:
+            try:
+                with p.oneshot():
+                    total += p.memory_info().rss
+                    t = p.cpu_times()
+                    self.cpu[p.pid] = max(self.cpu.get(p.pid, 0.0), t.user + t.system)
+                    self.seen.setdefault(p.pid, p.create_time())
+            except ps.Error:
                 continue
-            total += int(fields[21]) * os.sysconf("SC_PAGE_SIZE")  # field 24: rss in pages
-        except (OSError, ValueError, IndexError):
-            continue
-    return total / 2**20
+        mb = total / 2**20
+        if mb > 0:
+            self.peak = mb if self.peak is None else max(self.peak, mb)
+        return mb
 
-
-def _stat(pid: int) -> tuple[int, int] | None:
-    """(parent pid, start time) of process ``pid`` from /proc, or None."""
-    try:
-        stat = (Path("/proc") / str(pid) / "stat").read_text()
-        fields = stat[stat.rindex(")") + 2 :].split()
-        return int(fields[1]), int(fields[19])  # fields 4 and 22 of /proc/PID/stat
-    except (OSError, ValueError, IndexError):
-        return None
-
-
-def _descendants(pid: int) -> dict[int, int]:
-    """Every live descendant of ``pid`` with its start time (from /proc; empty without it).
-    Solvers such as hermax's subprocess workers start their own sessions, out of reach of the
-    process-group kill."""
-    proc = Path("/proc")
-    if not proc.is_dir():
-        return {}
-    children: dict[int, list[tuple[int, int]]] = {}
-    for d in proc.iterdir():
-        if d.name.isdigit() and (st := _stat(int(d.name))) is not None:
-            children.setdefault(st[0], []).append((int(d.name), st[1]))
-    out: dict[int, int] = {}
-    todo = [pid]
-    while todo:
-        for c, start in children.get(todo.pop(), []):
-            if c not in out:
-                out[c] = start
-                todo.append(c)
-    return out
-
-
-def _kill(pid: int, own_group: bool, others: dict[int, int]) -> None:
-    with contextlib.suppress(ProcessLookupError, PermissionError):
-        if own_group:
-            os.killpg(pid, signal.SIGKILL)
-        else:
-            os.kill(pid, signal.SIGKILL)
-    for p, start in others.items():
-        st = _stat(p)
-        if st is None or st[1] != start:
-            continue  # gone, or the id now belongs to another process: never touch that one
+    def kill(self, own_group: bool) -> None:
+        """SIGKILL the child's group and every process ever seen in the tree (by identity)."""
         with contextlib.suppress(ProcessLookupError, PermissionError):
-            os.kill(p, signal.SIGKILL)
+            if own_group:
+                os.killpg(self.pid, signal.SIGKILL)
+        with contextlib.suppress(ProcessLookupError, PermissionError):
+            os.kill(self.pid, signal.SIGKILL)  # also before it made its group
+        if self._psutil is None:
+            return
+        if self.root is not None:
+            with contextlib.suppress(Exception):
+                for p in self.root.children(recursive=True):
+                    self.seen.setdefault(p.pid, p.create_time())
+        for pid, created in self.seen.items():
+            if pid == self.pid:
+                continue
+            try:
+                p = self._psutil.Process(pid)
+                if p.create_time() == created:  # never a process that reused the id
+                    p.kill()
+            except Exception:
+                continue
+
+    def ask_to_stop(self, sig: int) -> None:
+        """Send ``sig`` to the child only (its backend forwards the request to what it runs)."""
+        with contextlib.suppress(ProcessLookupError, PermissionError):
+            os.kill(self.pid, sig)
 
 
-def _exit_reason(code: int | None) -> str:
-    if code is None:
-        return "the child process did not exit"
-    if code < 0:
+def _exit_reason(status: int | None) -> tuple[str, str]:
+    """(status, reason) of a child that exited without an answer."""
+    if status is None:
+        return "error", "the child process did not exit"
+    if os.WIFSIGNALED(status):
+        sig = os.WTERMSIG(status)
         try:
-            name = signal.Signals(-code).name
+            name = signal.Signals(sig).name
         except ValueError:
-            name = f"signal {-code}"
-        return f"crashed ({name})"
-    return f"exited with code {code} without an answer"
+            name = f"signal {sig}"
+        return "error", f"crashed ({name})"
+    return "error", f"exited with code {os.WEXITSTATUS(status)} without an answer"
+
+
+def _reap(pid: int, timeout: float) -> tuple[int | None, float | None]:
+    """(wait status, CPU seconds of the child and what it waited for) within ``timeout``."""
+    end = time.monotonic() + timeout
+    while True:
+        try:
+            got, status, usage = os.wait4(pid, os.WNOHANG)
+        except ChildProcessError:
+            return None, None
+        if got == pid:
+            return status, usage.ru_utime + usage.ru_stime
+        if time.monotonic() >= end:
+            return None, None
+        time.sleep(0.01)
 
 
 def run_in_child(
@@ -166,7 +258,9 @@ def run_in_child(
     time_limit: float | None,
     memory_mb: float | None = None,
     grace: float | None = None,
+    ask_delay: float | None = None,
     on_event: ProgressCallback | None = None,
+    interruptible: bool = True,
 ) -> ChildResult:
     """Run ``fn(progress)`` in a forked child; see the module docstring.
 
@@ -175,70 +269,123 @@ def run_in_child(
     fn : callable
         Called in the child with a progress callback; its return value must pickle.
     time_limit : float or None
-        Seconds the function is allowed; the child is killed at ``time_limit + grace``.
+        Seconds the function is allowed. At ``time_limit + ask_delay`` the child is asked to
+        stop (SIGINT); at ``time_limit + grace`` its tree is killed.
     memory_mb : float, optional
-        Most resident memory of the child's process group.
+        Most resident memory of the child's process tree.
     grace : float, optional
         Seconds after ``time_limit`` before the kill (default ``3 + 0.1 * time_limit``: a
-        backend that stops on time still needs to hand back its best assignment).
+        stopped backend still needs to hand back its best assignment).
+    ask_delay : float, optional
+        Seconds after ``time_limit`` before the request to stop (default ``1 + 0.03 *
+        time_limit``, less than ``grace``).
     on_event : callable, optional
         Called in the parent with each progress event as it arrives.
+    interruptible : bool
+        False for a function that stops at its own limit and must not be interrupted (a C
+        solver handed a time limit: an interrupt would only lose its answer); the child then
+        ignores the request to stop, and only the kill at ``time_limit + grace`` ends it.
+
+    A ``KeyboardInterrupt`` in the caller while it waits (Ctrl-C, or the request to stop of an
+    enclosing run) is passed on to the child as its request to stop, and the wait goes on until
+    the child answers or the grace period ends -- so a nested isolation still hands back the
+    answer its solver gives when stopped.
     """
-    ctx = mp.get_context("fork")
+    ctx = mp.get_context("fork")  # only its Pipe: the child is started with os.fork below
     recv, send = ctx.Pipe(duplex=False)
     own_group = not _IN_CHILD
-    proc = ctx.Process(target=_child, args=(fn, send, own_group))
-    t0 = time.perf_counter()
-    proc.start()
-    send.close()
-    assert proc.pid is not None
-    pid = proc.pid
     if grace is None:
         grace = 3.0 if time_limit is None else 3.0 + 0.1 * time_limit
+    if ask_delay is None:
+        ask_delay = 0.0 if time_limit is None else 1.0 + 0.03 * time_limit
+    ask_delay = min(ask_delay, 0.5 * grace)
+    t0 = time.perf_counter()
+    pid = os.fork()
+    if pid == 0:  # the child: never returns into the caller's code
+        code = 0
+        try:
+            recv.close()
+            _child(fn, send, own_group, memory_mb, interruptible)
+        except BaseException:
+            code = 1
+        finally:
+            os._exit(code)
+    send.close()
+    tree = _Tree(pid)
+    ask_at = None if time_limit is None else t0 + time_limit + ask_delay
     deadline = None if time_limit is None else t0 + time_limit + grace
     events: list[ProgressEvent] = []
-    seen: dict[int, int] = {}  # descendants, remembered while they still hang below the child
-    peak: float | None = None
     status, value, reason = "error", None, ""
+    answered_at: float | None = None
+    exit_status: int | None = None
+    cpu_child: float | None = None
     try:
         while True:
-            now = time.perf_counter()
-            if deadline is not None and now >= deadline:
-                status, reason = "timeout", f"no answer within {time_limit:g} s + {grace:g} s"
-                break
-            wait = POLL if deadline is None else min(POLL, deadline - now)
-            got = recv.poll(wait)
-            seen.update(_descendants(pid))
-            rss = _group_rss_mb(pid, own_group)
-            if rss is not None and rss > 0:
-                peak = rss if peak is None else max(peak, rss)
-                if memory_mb is not None and rss > memory_mb:
-                    reason = f"memory limit: {rss:.0f} MB resident > {memory_mb:g} MB"
-                    break
-            if not got:
-                continue
             try:
-                msg = recv.recv()
-            except (EOFError, OSError):
-                proc.join(timeout=1.0)
-                reason = _exit_reason(proc.exitcode)
+                now = time.perf_counter()
+                if deadline is not None and now >= deadline:
+                    status = "timeout"
+                    reason = f"no answer within {time_limit:g} s + {grace:g} s (then killed)"
+                    break
+                if ask_at is not None and now >= ask_at:
+                    tree.ask_to_stop(signal.SIGINT)
+                    ask_at = None
+                wait = POLL if deadline is None else max(0.0, min(POLL, deadline - now))
+                got = recv.poll(wait)
+                rss = tree.sample()
+                if memory_mb is not None and rss is not None and rss > memory_mb:
+                    status = "memout"
+                    reason = f"memory limit: {rss:.0f} MB resident in the process tree > {memory_mb:g} MB"
+                    break
+                if not got:
+                    continue
+                try:
+                    msg = recv.recv()
+                except (EOFError, OSError):
+                    exit_status, cpu_child = _reap(pid, 1.0)
+                    status, reason = _exit_reason(exit_status)
+                    break
+                if msg[0] == "event":
+                    ev = msg[1]
+                    ev = ProgressEvent(time.perf_counter() - t0, ev.objective, ev.bound, ev.message)
+                    events.append(ev)
+                    if on_event is not None:
+                        on_event(ev)
+                    continue
+                if msg[0] == "done":
+                    status, value = "ok", msg[1]
+                    answered_at = time.perf_counter() - t0
+                elif msg[0] == "timeout":
+                    status = "timeout"
+                    reason = f"no answer within {time_limit:g} s: {msg[1]}"
+                else:
+                    status, reason = ("memout" if msg[0] == "memout" else "error"), str(msg[1])
                 break
-            if msg[0] == "event":
-                ev = msg[1]
-                ev = ProgressEvent(time.perf_counter() - t0, ev.objective, ev.bound, ev.message)
-                events.append(ev)
-                if on_event is not None:
-                    on_event(ev)
-                continue
-            if msg[0] == "done":
-                status, value = "ok", msg[1]
-            else:
-                reason = str(msg[1])
-            break
+            except KeyboardInterrupt:
+                # asked to stop ourselves (Ctrl-C, or an enclosing run's request): ask the
+                # child, and give it the grace period to answer
+                tree.ask_to_stop(signal.SIGINT)
+                ask_at = None
+                end = time.perf_counter() + grace
+                deadline = end if deadline is None else min(deadline, end)
     finally:
-        wall = time.perf_counter() - t0
-        seen.update(_descendants(pid))
-        _kill(pid, own_group, seen)
-        proc.join(timeout=5.0)
+        wall = time.perf_counter() - t0 if answered_at is None else answered_at
+        tree.kill(own_group)
+        if exit_status is None:
+            exit_status, cpu_child = _reap(pid, 5.0)
         recv.close()
-    return ChildResult(status, value, reason, wall, peak, tuple(events))
+    cpu = max(
+        [c for c in (cpu_child, sum(tree.cpu.values()) or None) if c is not None], default=None
+    )
+    late = answered_at is not None and time_limit is not None and answered_at > time_limit
+    return ChildResult(
+        status,
+        value,
+        reason,
+        wall,
+        tree.peak,
+        tuple(events),
+        cpu_time=cpu,
+        answered_at=answered_at,
+        late=late,
+    )

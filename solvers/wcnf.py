@@ -12,7 +12,9 @@ there is no ``{}``). Its standard output is parsed as the Evaluation prescribes:
 
 The returned assignment is checked against the model and its objective recomputed, so a solver
 that lies is reported as an ``error``. On the time limit (or Ctrl-C) the child gets SIGTERM (most
-solvers then print their best model), then SIGKILL after a grace period.
+solvers then print their best model), then SIGKILL after a grace period; the last ``o``/``v``
+lines printed are the answer. Every ``o`` line is reported as a progress event when it is
+printed, so the cost-over-time trace keeps each improvement the solver announced.
 """
 
 from __future__ import annotations
@@ -24,6 +26,7 @@ import shutil
 import signal
 import subprocess
 import tempfile
+import threading
 import time
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -45,7 +48,7 @@ if TYPE_CHECKING:
 __all__ = ["ExternalWCNFBackend", "parse_maxsat_output"]
 
 #: seconds between SIGTERM and SIGKILL
-GRACE = 3.0
+GRACE = 1.5
 
 
 def parse_maxsat_output(text: str, nv: int) -> tuple[str | None, int | None, np.ndarray | None]:
@@ -132,14 +135,20 @@ class ExternalWCNFBackend(BackendBase):
                 argv = [a.replace("{}", str(path)) for a in self.argv]
             else:
                 argv = [*self.argv, str(path)]
-            out_path = Path(tmp) / "stdout.txt"
             err_path = Path(tmp) / "stderr.txt"
             killed = interrupted = False
-            with open(out_path, "wb") as out, open(err_path, "wb") as err:
+            lines: list[str] = []
+            with open(err_path, "wb") as err:
                 try:
-                    proc = subprocess.Popen(argv, stdout=out, stderr=err, start_new_session=True)
+                    proc = subprocess.Popen(
+                        argv, stdout=subprocess.PIPE, stderr=err, start_new_session=True
+                    )
                 except OSError as e:
                     raise SolverError(f"cannot run external solver {argv[0]!r}: {e}") from None
+                reader = threading.Thread(
+                    target=_read_lines, args=(proc, lines, t0, progress), daemon=True
+                )
+                reader.start()
                 try:
                     proc.wait(timeout=time_limit)
                 except subprocess.TimeoutExpired:
@@ -148,7 +157,8 @@ class ExternalWCNFBackend(BackendBase):
                 except KeyboardInterrupt:
                     interrupted = True
                     _stop(proc)
-            text = out_path.read_text(errors="replace")
+                reader.join(timeout=GRACE)
+            text = "\n".join(lines)
             err_text = err_path.read_text(errors="replace").strip()
         wall = time.perf_counter() - t0
         stats: dict[str, object] = {"returncode": proc.returncode, "interrupted": interrupted}
@@ -159,6 +169,7 @@ class ExternalWCNFBackend(BackendBase):
             stats["message"] = str(e)
             return Solution(Status.ERROR, None, None, None, wall, stats, self.name, model.pool)
         if status_word == "UNSATISFIABLE":
+            stats["claimed_status"] = status_word
             return Solution(Status.INFEASIBLE, None, None, None, wall, stats, self.name, model.pool)
         if values is None:
             if killed or interrupted:
@@ -177,8 +188,6 @@ class ExternalWCNFBackend(BackendBase):
             )
         stats["reported_cost"] = cost
         stats["claimed_status"] = status_word or ""
-        if progress:
-            progress(ProgressEvent(wall, evaluated, None))
         if status_word == "OPTIMUM FOUND" and not (killed or interrupted):
             return Solution(
                 Status.OPTIMAL,
@@ -194,15 +203,40 @@ class ExternalWCNFBackend(BackendBase):
         return Solution(st, values, evaluated, None, wall, stats, self.name, model.pool)
 
 
+def _read_lines(
+    proc: subprocess.Popen[bytes],
+    lines: list[str],
+    t0: float,
+    progress: ProgressCallback | None,
+) -> None:
+    """Collect the solver's output as it comes; report each ``o`` line with its time (the
+    solver's claimed cost: the trace keeps every improvement it announced)."""
+    assert proc.stdout is not None
+    for raw in proc.stdout:
+        line = raw.decode(errors="replace").rstrip("\n")
+        lines.append(line)
+        if progress is not None and line.startswith("o "):
+            with contextlib.suppress(ValueError, IndexError):
+                progress(ProgressEvent(time.perf_counter() - t0, int(line[2:].split()[0]), None))
+
+
 def _stop(proc: subprocess.Popen[bytes]) -> None:
-    """SIGTERM the solver's process group, then SIGKILL after the grace period."""
+    """SIGTERM the solver's process group, then SIGKILL after the grace period. A second request
+    to stop (Ctrl-C, the benchmark's SIGINT) does not cut this short: the solver's last answer
+    is printed in the grace period."""
     try:
         os.killpg(proc.pid, signal.SIGTERM)
     except (ProcessLookupError, PermissionError):
         return
-    try:
-        proc.wait(timeout=GRACE)
-    except subprocess.TimeoutExpired:
-        with contextlib.suppress(ProcessLookupError):
-            os.killpg(proc.pid, signal.SIGKILL)
-        proc.wait()
+    end = time.monotonic() + GRACE
+    while True:
+        try:
+            proc.wait(timeout=max(0.0, end - time.monotonic()))
+            return
+        except subprocess.TimeoutExpired:
+            break
+        except KeyboardInterrupt:
+            continue
+    with contextlib.suppress(ProcessLookupError):
+        os.killpg(proc.pid, signal.SIGKILL)
+    proc.wait()

@@ -11,6 +11,11 @@ virtual best solver, and the cactus and cost-over-time plots.
   run's best was found; before that, the last cost its trace reported (the solver's claim --
   intermediate assignments are not kept, so only the final one is verified).
 * **virtual best solver** -- per (instance, model) the fastest unflagged proof of any solver.
+* **repetitions** -- with ``--repeat N`` each figure above is taken per repetition and the
+  summary gives its median with the spread (min-max) over the repetitions.
+
+Rows with status ``n/a`` (a solver that does not apply to the model: the DP on a plain WCNF)
+are listed but stay out of every score.
 """
 
 from __future__ import annotations
@@ -20,7 +25,14 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-__all__ = ["ANYTIME_TIMES", "cost_at", "solver_summary", "summary_markdown", "write_plots"]
+__all__ = [
+    "ANYTIME_TIMES",
+    "cost_at",
+    "environment_markdown",
+    "solver_summary",
+    "summary_markdown",
+    "write_plots",
+]
 
 #: Seconds at which the anytime score is taken (those above a run's time limit use the limit).
 ANYTIME_TIMES = (1.0, 10.0, 60.0)
@@ -29,6 +41,16 @@ ANYTIME_TIMES = (1.0, 10.0, 60.0)
 def _label(r: dict[str, Any]) -> str:
     ws = r.get("warm_start") or "none"
     return r["solver"] if ws == "none" else f"{r['solver']} (+{ws})"
+
+
+def _trace_key(r: dict[str, Any]) -> tuple[Any, ...]:
+    return (r["instance"], r["model"], r["solver"], r.get("warm_start") or "none", r.get("run", 0))
+
+
+def _median(xs: Sequence[float]) -> float:
+    ys = sorted(xs)
+    n = len(ys)
+    return ys[n // 2] if n % 2 else 0.5 * (ys[n // 2 - 1] + ys[n // 2])
 
 
 def _solved(r: dict[str, Any]) -> bool:
@@ -56,46 +78,68 @@ def _best_known(rows: Sequence[dict[str, Any]]) -> dict[tuple[str, str], float]:
 
 
 def solver_summary(
-    rows: Sequence[dict[str, Any]], traces: dict[tuple[str, ...], list[Any]]
+    rows: Sequence[dict[str, Any]], traces: dict[tuple[Any, ...], list[Any]]
 ) -> list[dict[str, Any]]:
     """One summary row per solver label plus the virtual best solver (see the module docstring).
 
-    ``traces`` maps (instance, model, solver, warm_start) to that run's trace.
+    ``traces`` maps (instance, model, solver, warm_start, run) to that run's trace.
     """
-    best = _best_known(rows)
+    scored = [r for r in rows if r.get("status") != "n/a"]
+    best = _best_known(scored)
     groups: dict[str, list[dict[str, Any]]] = defaultdict(list)
     for r in rows:
         groups[_label(r)].append(r)
     out = []
-    for label, rs in groups.items():
-        par2 = [float(r["time_prove"]) if _solved(r) else 2 * float(r["time_limit"]) for r in rs]
-        entry: dict[str, Any] = {
-            "solver": label,
-            "runs": len(rs),
-            "solved": sum(_solved(r) for r in rs),
-            "with_solution": sum(r.get("verified_cost") is not None for r in rs),
-            "flagged": sum(bool(r.get("flag")) for r in rs),
-            "errors": sum(r.get("status") == "error" for r in rs),
-            "par2": round(sum(par2) / len(par2), 3),
-        }
-        for t in ANYTIME_TIMES:
-            scores = []
-            for r in rs:
-                key = (r["instance"], r["model"], r["solver"], r.get("warm_start") or "none")
-                c = cost_at(r, traces.get(key, []), min(t, float(r["time_limit"])))
-                b = best.get((r["instance"], r["model"]))
-                scores.append(0.0 if c is None or b is None else (b + 1) / (c + 1))
-            entry[f"score@{t:g}s"] = round(sum(scores) / len(scores), 4)
+    for label, all_rs in groups.items():
+        rs = [r for r in all_rs if r.get("status") != "n/a"]
+        reps: dict[int, list[dict[str, Any]]] = defaultdict(list)
+        for r in rs:
+            reps[int(r.get("run") or 0)].append(r)
+        entry: dict[str, Any] = {"solver": label, "runs": len(rs)}
+        per_rep = [_figures(rep, traces, best) for rep in reps.values()] or [_figures([], {}, {})]
+        for k in per_rep[0]:
+            vals = [f[k] for f in per_rep]
+            entry[k] = round(_median(vals), 4) if len(vals) > 1 else vals[0]
+        entry["flagged"] = sum(bool(r.get("flag")) for r in rs)
+        entry["errors"] = sum(r.get("status") == "error" for r in rs)
+        entry["memouts"] = sum(r.get("status") == "memout" for r in rs)
+        entry["n/a"] = len(all_rs) - len(rs)
+        if len(per_rep) > 1:
+            entry["repeats"] = len(per_rep)
+            par2 = [f["par2"] for f in per_rep]
+            entry["par2_spread"] = f"{min(par2):g}-{max(par2):g}"
         out.append(entry)
     out.sort(key=lambda e: (-e["solved"], e["par2"]))
-    out.append(_virtual_best(rows))
+    out.append(_virtual_best(scored))
     return out
 
 
+def _figures(
+    rs: Sequence[dict[str, Any]],
+    traces: dict[tuple[Any, ...], list[Any]],
+    best: dict[tuple[str, str], float],
+) -> dict[str, Any]:
+    """solved, with_solution, PAR-2 and the anytime scores of one repetition's runs."""
+    par2 = [float(r["time_prove"]) if _solved(r) else 2 * float(r["time_limit"]) for r in rs]
+    entry: dict[str, Any] = {
+        "solved": sum(_solved(r) for r in rs),
+        "with_solution": sum(r.get("verified_cost") is not None for r in rs),
+        "par2": round(sum(par2) / len(par2), 3) if par2 else 0.0,
+    }
+    for t in ANYTIME_TIMES:
+        scores = []
+        for r in rs:
+            c = cost_at(r, traces.get(_trace_key(r), []), min(t, float(r["time_limit"])))
+            b = best.get((r["instance"], r["model"]))
+            scores.append(0.0 if c is None or b is None else (b + 1) / (c + 1))
+        entry[f"score@{t:g}s"] = round(sum(scores) / len(scores), 4) if scores else 0.0
+    return entry
+
+
 def _virtual_best(rows: Sequence[dict[str, Any]]) -> dict[str, Any]:
-    per: dict[tuple[str, str], list[dict[str, Any]]] = defaultdict(list)
+    per: dict[tuple[str, str, int], list[dict[str, Any]]] = defaultdict(list)
     for r in rows:
-        per[(r["instance"], r["model"])].append(r)
+        per[(r["instance"], r["model"], int(r.get("run") or 0))].append(r)
     par2 = []
     solved = 0
     for rs in per.values():
@@ -119,12 +163,42 @@ def _cell(v: Any) -> str:
         return "-"
     if isinstance(v, float):
         return f"{v:.3g}" if abs(v) < 1000 else f"{v:.0f}"
-    return str(v)
+    return str(v).replace("|", "\\|")
 
 
-def summary_markdown(rows: Sequence[dict[str, Any]], summary: Sequence[dict[str, Any]]) -> str:
-    """solvers.md: the summary table, the flagged runs, then every row."""
-    lines = ["# Solver benchmark", ""]
+def environment_markdown(env: dict[str, Any]) -> list[str]:
+    """The limits, the machine and the software, as the opening lines of solvers.md."""
+    if not env:
+        return []
+    lim, mach, soft = env.get("limits", {}), env.get("machine", {}), env.get("software", {})
+    secs = ", ".join(f"{t:g}" for t in lim.get("time_limit_s", []))
+    mem = ", ".join(f"{m:g}" for m in lim.get("memory_mb", [])) or "none"
+    lines = [
+        f"- **Limits**: {secs} s per run (wall clock); memory {mem} MB. {lim.get('time', '')}.",
+        f"  Memory: {lim.get('memory', '')}. Claims nothing else settles: "
+        f"{lim.get('certifier', '')}, {lim.get('certify_time_s', 0):g} s each.",
+        f"- **Machine**: {mach.get('cpu', '?')}, {mach.get('cores', '?')} cores, "
+        f"{mach.get('memory_mb', '?')} MB memory, {mach.get('platform', '')}; load average "
+        f"{mach.get('load_average_start')} at the start, {env.get('load_average_end')} at "
+        "the end.",
+        "- **Software**: " + ", ".join(f"{k} {v}" for k, v in soft.items()) + ".",
+    ]
+    versions = env.get("solver_versions") or {}
+    if versions:
+        lines.append(
+            "- **Solvers**: " + ", ".join(f"`{k}` {v}" for k, v in sorted(versions.items())) + "."
+        )
+    return [*lines, ""]
+
+
+def summary_markdown(
+    rows: Sequence[dict[str, Any]],
+    summary: Sequence[dict[str, Any]],
+    env: dict[str, Any] | None = None,
+) -> str:
+    """solvers.md: the limits, machine and software, the summary table, the flagged runs, then
+    every row."""
+    lines = ["# Solver benchmark", "", *environment_markdown(env or {})]
     keys = [k for k in summary[0] if k != "solver"] if summary else []
     all_keys = list(dict.fromkeys(k for s in summary for k in s if k != "solver"))
     keys = all_keys or keys
@@ -140,6 +214,7 @@ def summary_markdown(rows: Sequence[dict[str, Any]], summary: Sequence[dict[str,
     cols = [
         "instance",
         "model",
+        "run",
         "solver",
         "warm_start",
         "status",
@@ -150,8 +225,12 @@ def summary_markdown(rows: Sequence[dict[str, Any]], summary: Sequence[dict[str,
         "time_first",
         "time_best",
         "time_prove",
+        "wall_s",
+        "cpu_s",
         "peak_rss_mb",
+        "certificate",
         "found_by",
+        "reason",
     ]
     lines += ["", "## Runs", "", "| " + " | ".join(cols) + " |", "|---" * len(cols) + "|"]
     lines += ["| " + " | ".join(_cell(r.get(c)) for c in cols) + " |" for r in rows]
@@ -196,7 +275,7 @@ def write_plots(
     for (inst, model), rs in per.items():
         fig, ax = plt.subplots(figsize=(6, 4))
         for r in rs:
-            key = (r["instance"], r["model"], r["solver"], r.get("warm_start") or "none")
+            key = _trace_key(r)
             pts = [(s, float(o)) for s, o, _ in traces.get(key, []) if o is not None]
             if r.get("verified_cost") is not None and r.get("time_best") is not None:
                 pts.append((float(r["time_best"]), float(r["verified_cost"])))
@@ -206,7 +285,8 @@ def write_plots(
         ax.set_xlabel("seconds")
         ax.set_ylabel("cost")
         ax.set_title(f"{inst} ({model}): cost over time")
-        ax.legend(fontsize=6, ncol=2)
+        if ax.get_legend_handles_labels()[0]:
+            ax.legend(fontsize=6, ncol=2)
         fig.tight_layout()
         name = f"cost_{inst}_{model}.png".replace("/", "_")
         fig.savefig(outdir / name, dpi=120)

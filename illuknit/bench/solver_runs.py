@@ -18,6 +18,7 @@ another run verified a cheaper assignment or a bound is above a verified cost.
 
 from __future__ import annotations
 
+import contextlib
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -26,10 +27,10 @@ from typing import Any
 import numpy as np
 
 from illuknit.bench.instances import Instance, instance_model
-from illuknit.bench.wcnf_files import read_wcnf
+from illuknit.bench.wcnf_files import read_wcnf, read_wcnf_text
 from illuknit.core.errors import IlluknitError
 from illuknit.design.models.model import Model
-from illuknit.solvers import HERMAX_NAMES, parse_solver_name
+from illuknit.solvers import HERMAX_NAMES, get_backend, parse_solver_name
 from illuknit.solvers.base import ProgressEvent, Status
 from illuknit.solvers.isolate import run_in_child
 
@@ -46,6 +47,8 @@ __all__ = [
 ROW_FIELDS = (
     "instance",
     "model",
+    "run",
+    "seed",
     "rows",
     "cols",
     "variables",
@@ -55,6 +58,7 @@ ROW_FIELDS = (
     "version",
     "warm_start",
     "time_limit",
+    "memory_mb",
     "status",
     "verified_cost",
     "claimed_cost",
@@ -62,16 +66,18 @@ ROW_FIELDS = (
     "bound",
     "gap",
     "reference_optimum",
+    "certificate",
     "time_first",
     "time_best",
     "time_prove",
     "wall_s",
+    "cpu_s",
     "peak_rss_mb",
     "found_by",
     "flag",
     "reason",
 )
-TRACE_FIELDS = ("instance", "model", "solver", "warm_start", "seconds", "cost", "bound")
+TRACE_FIELDS = ("instance", "model", "solver", "warm_start", "run", "seconds", "cost", "bound")
 
 #: Default memory limit of one run (MB of resident memory of the child's process group).
 DEFAULT_MEMORY_MB = 4096.0
@@ -89,6 +95,15 @@ class SolverTask:
     memory_mb: float | None = DEFAULT_MEMORY_MB
     wcnf: str | None = None
     meta: dict[str, Any] = field(default_factory=dict, compare=False)
+    #: repetition number (0-based) and the seed the solver is given
+    run: int = 0
+    seed: int = 0
+
+    @property
+    def key(self) -> tuple[str, str, str, str, int]:
+        """(instance, model, solver, warm start, run): one row of the table."""
+        model = self.model if self.wcnf is None else "wcnf"
+        return (self.instance_name, model, self.solver, self.warm_start, self.run)
 
     @property
     def instance_name(self) -> str:
@@ -98,9 +113,17 @@ class SolverTask:
         return self.instance.name
 
 
-def build_task_model(task: SolverTask) -> tuple[Model, int | None]:
-    """(the task's model, the DP's optimum where the DP is exact on it, else None)."""
+def build_task_model(task: SolverTask, content: bytes | None = None) -> tuple[Model, int | None]:
+    """(the task's model, the DP's optimum where the DP is exact on it, else None).
+
+    ``content`` is the WCNF file's bytes when they travelled with the task (a Dask worker has no
+    access to the file); the file is read otherwise.
+    """
     if task.wcnf is not None:
+        if content is not None:
+            return read_wcnf_text(
+                content.decode("ascii", errors="replace"), Path(task.wcnf).stem
+            ), None
         return read_wcnf(task.wcnf), None
     assert task.instance is not None
     return instance_model(task.instance, model=task.model)
@@ -128,12 +151,21 @@ def preload_backend(solver: str) -> None:
             importlib.import_module(mod)
 
 
-def _child_solve(model: Model, task: SolverTask) -> dict[str, Any]:
-    """In the child: the orchestrated solve, returned as plain data."""
+def _child_solve(model: Model, task: SolverTask, progress: Any = None) -> dict[str, Any]:
+    """In the child: the orchestrated solve, returned as plain data; every improvement it
+    reports is also sent to the parent as it happens (``progress``), so the bounds and costs
+    reported before a kill are not lost."""
     from illuknit.solvers import get_backend, solve
 
     backend = get_backend(task.solver)
-    sol = solve(model, solver=task.solver, warm_start=task.warm_start, time_limit=task.time_limit)
+    sol = solve(
+        model,
+        solver=task.solver,
+        warm_start=task.warm_start,
+        time_limit=task.time_limit,
+        seed=task.seed,
+        progress=progress,
+    )
     stats = dict(sol.stats)
     return {
         "status": sol.status.value,
@@ -155,45 +187,99 @@ def _fmt(x: float | None, nd: int = 3) -> float | None:
     return None if x is None or (isinstance(x, float) and math.isnan(x)) else round(float(x), nd)
 
 
-def run_solver_task(task: SolverTask) -> dict[str, Any]:
-    """Run one task; returns ``{"row": dict over ROW_FIELDS, "trace": [(seconds, cost, bound)]}``.
+def not_applicable(model: Model, task: SolverTask) -> str | None:
+    """Why the task's solver (or warm start) does not apply to its model, or None.
 
-    Never raises for a solver's misbehaviour: that is the row's status and reason.
+    Such a run is a row with status ``n/a``: not a failure of the solver, and out of the scores.
     """
+    from illuknit.core.errors import SolverError
+    from illuknit.solvers import get_backend
+    from illuknit.solvers.warm_start import resolve_policy
+
+    backend = get_backend(task.solver, check_available=False)
+    why = backend.why_not(model)
+    if why is not None:
+        return why
+    if task.warm_start != "none" and backend.name not in ("dp", "descent"):
+        try:
+            resolve_policy(task.warm_start, model)
+        except SolverError as e:
+            return str(e)
+    return None
+
+
+def base_solver_row(task: SolverTask) -> dict[str, Any]:
+    """The row's identifying columns, before anything runs."""
     row: dict[str, Any] = dict.fromkeys(ROW_FIELDS)
     row.update(
         instance=task.instance_name,
         model=task.model if task.wcnf is None else "wcnf",
+        run=task.run,
+        seed=task.seed,
         solver=task.solver,
         oracle=parse_solver_name(task.solver).oracle,
         warm_start=task.warm_start,
         time_limit=task.time_limit,
+        memory_mb=task.memory_mb,
         flag="",
         reason="",
     )
+    return row
+
+
+def run_solver_task(task: SolverTask, content: bytes | None = None) -> dict[str, Any]:
+    """Run one task; returns ``{"row": dict over ROW_FIELDS, "trace": [(seconds, cost, bound)],
+    "values": the verified assignment or None}``.
+
+    ``content``: the WCNF file's bytes, for a worker that cannot read the file (see
+    :func:`build_task_model`). Never raises for a solver's misbehaviour: that is the row's status
+    and reason.
+    """
+    row = base_solver_row(task)
     try:
-        model, optimum = build_task_model(task)
+        model, optimum = build_task_model(task, content)
     except (IlluknitError, OSError) as e:
         row.update(status="error", reason=f"cannot build the model: {e}")
         return {"row": row, "trace": []}
     if task.instance is not None:
         row.update(rows=task.instance.size[0], cols=task.instance.size[1])
     row.update(variables=model.pool.top, soft_clauses=model.num_soft, reference_optimum=optimum)
+    with contextlib.suppress(Exception):  # an unknown or broken backend: the run says why
+        row["version"] = get_backend(task.solver, check_available=False).version()
+    try:
+        why = not_applicable(model, task)
+    except IlluknitError as e:
+        why = None
+        row["reason"] = str(e)
+    if why is not None:
+        row.update(status="n/a", reason=why)
+        return {"row": row, "trace": []}
     try:
         preload_backend(task.solver)
     except ImportError as e:  # a broken optional install: the run itself will say more
         row["reason"] = f"preloading failed: {e}"
     events: list[ProgressEvent] = []
     res = run_in_child(
-        lambda _p: _child_solve(model, task),
+        lambda p: _child_solve(model, task, p),
         time_limit=task.time_limit,
         memory_mb=task.memory_mb,
         on_event=events.append,
     )
-    row.update(peak_rss_mb=_fmt(res.peak_rss_mb, 1), wall_s=_fmt(res.wall_time))
+    row.update(
+        peak_rss_mb=_fmt(res.peak_rss_mb, 1), wall_s=_fmt(res.wall_time), cpu_s=_fmt(res.cpu_time)
+    )
+    event_trace = [(e.elapsed, e.objective, e.bound) for e in events]
     if res.status != "ok":
         row.update(status=res.status, reason=res.reason)
-        return {"row": row, "trace": [(e.elapsed, e.objective, e.bound) for e in events]}
+        # the lower bounds it reported before the end are kept (checked like any bound)
+        bounds = [float(b) for _, _, b in event_trace if b is not None]
+        if bounds:
+            bound = max(bounds)
+            if optimum is not None and bound > optimum:
+                row["flag"] = f"bound {bound:g} above the DP optimum {optimum}"
+            else:
+                row["bound"] = _fmt(bound)
+        return {"row": row, "trace": event_trace}
     out = res.value
     row.update(
         version=out["version"],
@@ -203,9 +289,17 @@ def run_solver_task(task: SolverTask) -> dict[str, Any]:
         reason=out["message"],
     )
     _verify(row, model, out, optimum)
-    trace = [(float(t), o, b) for t, o, b in out["trace"]]
+    # the child's own trace, else what the parent received (both are re-timed from the start)
+    trace = [(float(t), o, b) for t, o, b in out["trace"]] or event_trace
     _timings(row, out, trace)
-    return {"row": row, "trace": trace}
+    if res.late and row["status"] in (Status.OPTIMAL.value, Status.FEASIBLE.value):
+        # the Evaluation's rule: an answer after the limit is a timeout, whatever it claims
+        row.update(status=Status.TIMEOUT.value, time_prove=None)
+        row["reason"] = "; ".join(
+            filter(None, [row["reason"], f"answered after the time limit ({res.wall_time:.2f} s)"])
+        )
+    good = row["verified_cost"] is not None and out["values"] is not None
+    return {"row": row, "trace": trace, "values": out["values"] if good else None}
 
 
 def _verify(row: dict[str, Any], model: Model, out: dict[str, Any], optimum: int | None) -> None:
@@ -230,7 +324,11 @@ def _verify(row: dict[str, Any], model: Model, out: dict[str, Any], optimum: int
             flags.append("claimed optimum without an assignment")
         elif optimum is not None and verified > optimum:
             flags.append(f"claimed optimum {verified} above the DP optimum {optimum}")
+        elif optimum is not None:
+            row["certificate"] = "reference (dp)"
         bound = verified if bound is None else bound
+    if status == Status.INFEASIBLE.value and optimum is not None:
+        flags.append(f"claimed UNSATISFIABLE but the DP found an optimum of {optimum}")
     if bound is not None and optimum is not None and bound > optimum:
         flags.append(f"bound {bound:g} above the DP optimum {optimum}")
         bound = None
@@ -251,27 +349,36 @@ def _timings(row: dict[str, Any], out: dict[str, Any], trace: list[Any]) -> None
         row["time_prove"] = _fmt(out["wall"])
 
 
+def _add_flag(row: dict[str, Any], text: str) -> None:
+    row["flag"] = "; ".join(filter(None, [row.get("flag", ""), text]))
+
+
 def flag_rows(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
     """Cross-row checks per (instance, model): a claimed optimum above another run's verified
-    cost, or a bound above one, is flagged. Returns the rows (updated copies)."""
-    best: dict[tuple[str, str], int] = {}
+    cost, a bound above one, or a claim of UNSATISFIABLE where another run verified an
+    assignment, is flagged. Returns the rows (updated copies)."""
+    best: dict[tuple[str, str], tuple[int, str]] = {}
     for r in rows:
         v = r.get("verified_cost")
         if v is not None and not r.get("flag"):
             key = (r["instance"], r["model"])
-            best[key] = min(best.get(key, v), v)
+            if key not in best or v < best[key][0]:
+                best[key] = (v, r["solver"])
     out = []
     for r in rows:
         r = dict(r)
-        b = best.get((r["instance"], r["model"]))
-        extra: list[str] = []
+        got = best.get((r["instance"], r["model"]))
         v = r.get("verified_cost")
-        if b is not None and r.get("status") == "optimal" and v is not None and v > b:
-            extra.append(f"claimed optimum {v} but another run verified {b}")
-            r["time_prove"] = None
-        if b is not None and r.get("bound") is not None and float(r["bound"]) > b:
-            extra.append(f"bound {r['bound']:g} above a verified cost {b}")
-        if extra:
-            r["flag"] = "; ".join(filter(None, [r.get("flag", ""), *extra]))
+        if got is not None:
+            b, who = got
+            if r.get("status") == "optimal" and v is not None and v > b:
+                _add_flag(r, f"claimed optimum {v} but {who} verified {b}")
+                r["time_prove"] = None
+                r["certificate"] = "refuted (another run)"
+            if r.get("bound") is not None and float(r["bound"]) > b:
+                _add_flag(r, f"bound {r['bound']:g} above a verified cost {b}")
+            if r.get("status") == "infeasible":
+                _add_flag(r, f"claimed UNSATISFIABLE but {who} verified an assignment of cost {b}")
+                r["certificate"] = "refuted (another run)"
         out.append(r)
     return out

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import json
 from collections import defaultdict
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -23,7 +23,7 @@ from illuknit.core.errors import PatternFormatError
 from illuknit.core.files import atomic_write_text
 from illuknit.design.models.model import Model
 
-__all__ = ["export_wcnf_family", "read_wcnf", "wcnf_model_name"]
+__all__ = ["export_wcnf_family", "read_wcnf", "read_wcnf_text", "wcnf_model_name"]
 
 
 def _add_grouped(model: Model, clauses: list[list[int]], weights: list[int] | None) -> None:
@@ -51,43 +51,52 @@ def read_wcnf(path: str | Path) -> Model:
         A line is not a clause of either dialect; the message names the file and line.
     """
     p = Path(path)
+    with p.open(encoding="ascii", errors="replace") as fh:
+        return _parse_wcnf(fh, p.stem, str(p))
+
+
+def read_wcnf_text(text: str, name: str = "wcnf") -> Model:
+    """A WCNF file's text as a Model named ``name`` (as :func:`read_wcnf`)."""
+    return _parse_wcnf(text.splitlines(), name, name)
+
+
+def _parse_wcnf(lines: Iterable[str], name: str, where: str) -> Model:
     hard: list[list[int]] = []
     soft: list[list[int]] = []
     weights: list[int] = []
     top: int | None = None
     nv = 0
-    with p.open(encoding="ascii", errors="replace") as fh:
-        for no, raw in enumerate(fh, 1):
-            line = raw.strip()
-            if not line or line.startswith("c"):
-                continue
-            parts = line.split()
-            if parts[0] == "p":
-                if len(parts) >= 5 and parts[1] == "wcnf":
-                    top = int(parts[4])
-                continue
-            try:
-                nums = [int(t) for t in parts[1:]] if parts[0] == "h" else [int(t) for t in parts]
-            except ValueError:
-                raise PatternFormatError(f"{p}:{no}: not a WCNF clause: {line[:60]!r}") from None
-            if parts[0] == "h":
-                weight = None
-                lits = nums
-            else:
-                weight, lits = nums[0], nums[1:]
-            if not lits or lits[-1] != 0:
-                raise PatternFormatError(f"{p}:{no}: a clause must end with 0: {line[:60]!r}")
-            lits = lits[:-1]
-            if lits:
-                nv = max(nv, max(abs(x) for x in lits))
-            if weight is None or (top is not None and weight >= top):
-                hard.append(lits)
-            elif weight <= 0:
-                raise PatternFormatError(f"{p}:{no}: soft clause weight must be positive")
-            else:
-                soft.append(lits)
-                weights.append(weight)
-    model = Model(p.stem)
+    for no, raw in enumerate(lines, 1):
+        line = raw.strip()
+        if not line or line.startswith("c"):
+            continue
+        parts = line.split()
+        if parts[0] == "p":
+            if len(parts) >= 5 and parts[1] == "wcnf":
+                top = int(parts[4])
+            continue
+        try:
+            nums = [int(t) for t in parts[1:]] if parts[0] == "h" else [int(t) for t in parts]
+        except ValueError:
+            raise PatternFormatError(f"{where}:{no}: not a WCNF clause: {line[:60]!r}") from None
+        if parts[0] == "h":
+            weight = None
+            lits = nums
+        else:
+            weight, lits = nums[0], nums[1:]
+        if not lits or lits[-1] != 0:
+            raise PatternFormatError(f"{where}:{no}: a clause must end with 0: {line[:60]!r}")
+        lits = lits[:-1]
+        if lits:
+            nv = max(nv, max(abs(x) for x in lits))
+        if weight is None or (top is not None and weight >= top):
+            hard.append(lits)
+        elif weight <= 0:
+            raise PatternFormatError(f"{where}:{no}: soft clause weight must be positive")
+        else:
+            soft.append(lits)
+            weights.append(weight)
+    model = Model(name)
     model.pool.block("x", (nv,))
     _add_grouped(model, hard, None)
     _add_grouped(model, soft, weights)

@@ -7,7 +7,7 @@ from typing import Any
 import click
 
 from illuknit.cli.knitout_bridge import machine_option
-from illuknit.cli.options import COUNT, POSITIVE
+from illuknit.cli.options import COUNT, NON_NEGATIVE, POSITIVE
 from illuknit.core.errors import UnknownNameError
 
 __all__ = ["bench"]
@@ -51,6 +51,8 @@ def _run_solvers(instances: Any, solvers: list[str], outdir: str, **kw: Any) -> 
         time_limit=kw["time_limit"],
         memory_mb=kw["memory_mb"],
         wcnf_files=kw["wcnf_files"],
+        repeat=kw["repeat"],
+        seed=kw["seed"],
     )
 
     def show(row: dict[str, Any]) -> None:
@@ -68,12 +70,18 @@ def _run_solvers(instances: Any, solvers: list[str], outdir: str, **kw: Any) -> 
         executor=kw["executor"],
         dask_address=kw["dask_address"],
         on_row=show,
+        certify_time=kw["certify_time"],
     )
     click.echo("solver          runs solved  PAR-2   flagged")
     for entry in table.summary:
+        spread = (
+            f"  (PAR-2 over {entry['repeats']} runs: {entry['par2_spread']})"
+            if entry.get("repeats")
+            else ""
+        )
         click.echo(
-            f"{entry['solver']:16s}{entry['runs']:4d} {entry['solved']:5d} "
-            f"{entry['par2']:7.2f}   {entry.get('flagged', '-')}"
+            f"{entry['solver']:16s}{entry['runs']:4d} {entry['solved']:5g} "
+            f"{entry['par2']:7.2f}   {entry.get('flagged', '-')}{spread}"
         )
     click.echo(f"results in {outdir}: {', '.join(table.files)}")
 
@@ -157,11 +165,41 @@ def _run_solvers(instances: Any, solvers: list[str], outdir: str, **kw: Any) -> 
     help="Solver benchmark on this WCNF file (repeatable; instead of the bundled instances).",
 )
 @click.option(
+    "--repeat",
+    type=COUNT,
+    default=1,
+    show_default=True,
+    help="Solver benchmark: run every row N times (seeds --seed, --seed + 1, ...); the summary "
+    "gives medians and spread.",
+)
+@click.option(
+    "--seed",
+    type=click.IntRange(min=0),
+    default=0,
+    show_default=True,
+    help="Solver benchmark: the first seed.",
+)
+@click.option(
+    "--certify-time",
+    type=NON_NEGATIVE,
+    default=None,
+    help="Solver benchmark: seconds for each independent SAT check of a claimed optimum or "
+    "UNSATISFIABLE that no reference settles (default: the time limit; 0: no checks).",
+)
+@click.option(
     "--export-wcnf",
     type=click.Path(file_okay=False),
     default=None,
     help="Write the chosen instances' models as WCNF (2022+) with manifest.json into DIR, then "
     "exit.",
+)
+@click.option(
+    "--export-family",
+    type=click.Path(file_okay=False),
+    default=None,
+    help="Write a MaxSAT Evaluation benchmark family (xz WCNF over sizes 20-100, 2-4 yarns, "
+    "logical and knit-aware, README, manifest.json, SHA256SUMS) into DIR, then exit; "
+    "--time-limit: seconds of descent per knit-aware reference (default 10).",
 )
 @click.option("--list", "list_only", is_flag=True, help="List instances and methods, then exit.")
 @click.option("--no-progress", is_flag=True, help="No progress bar.")
@@ -188,7 +226,11 @@ def bench(
     warm_starts: str,
     memory_mb: float,
     wcnf_files: tuple[str, ...],
+    repeat: int,
+    seed: int,
+    certify_time: float | None,
     export_wcnf: str | None,
+    export_family: str | None,
     list_only: bool,
     no_progress: bool,
     machine: str | None,
@@ -217,6 +259,29 @@ def bench(
         for m in METHODS.values():
             click.echo(f"  {m.name:12s} {m.description}")
         return
+    if export_family is not None:
+        from illuknit.bench.family import write_family
+
+        def shown(e: dict[str, Any]) -> None:
+            ref = (
+                e["optimum"]
+                if e["optimum"] is not None
+                else (f"{e['lower_bound']}..{e['best_known']}")
+            )
+            click.echo(f"{e['file']:52s} {e['variables']:7d} vars  reference {ref}")
+
+        mf = write_family(
+            export_family,
+            bound_seconds=10.0 if time_limit is None else time_limit,
+            command=f"illuknit bench --export-family {export_family}"
+            + ("" if time_limit is None else f" --time-limit {time_limit:g}"),
+            on_instance=shown,
+        )
+        click.echo(
+            f"wrote {len(mf['instances'])} instances, README.md, manifest.json and "
+            f"SHA256SUMS to {export_family}"
+        )
+        return
     if export_wcnf is not None:
         from illuknit.bench.wcnf_files import export_wcnf_family
 
@@ -232,7 +297,15 @@ def bench(
     if time_limit is not None and not time_limit > 0:
         raise click.BadParameter(f"must be positive, got {time_limit}", param_hint="--time-limit")
     chosen = select_instances(man, instances)
+    ctx = click.get_current_context()
     if solvers is not None or wcnf_files:
+        if ctx.get_parameter_source("methods") is not click.core.ParameterSource.DEFAULT:
+            raise click.UsageError(
+                "--methods does not apply to the solver benchmark (--solvers / --wcnf): "
+                "name backends with --solvers"
+            )
+        if repeat < 1:
+            raise click.BadParameter(f"must be at least 1, got {repeat}", param_hint="--repeat")
         _run_solvers(
             [] if wcnf_files else chosen,
             _split(solvers or "rc2"),
@@ -245,8 +318,18 @@ def bench(
             jobs=jobs,
             executor=executor,
             dask_address=dask_address,
+            repeat=repeat,
+            seed=seed,
+            certify_time=certify_time,
         )
         return
+    for name, value, default in (
+        ("--repeat", repeat, 1),
+        ("--seed", seed, 0),
+        ("--certify-time", certify_time, None),
+    ):
+        if value != default:
+            raise click.UsageError(f"{name} applies only to the solver benchmark (--solvers)")
     names = _methods(methods)
     run = run_bench(
         chosen,

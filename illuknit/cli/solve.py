@@ -386,25 +386,30 @@ def _print_report(report: dict[str, Any], written: dict[str, Path], outdir: Path
 
 
 def _list_solvers(ctx: click.Context, _param: click.Parameter, value: bool) -> None:
-    """Print every backend with its kind, version and availability, then exit."""
+    """Print every backend with its kind, version and availability, smoke-test each installed
+    one on a tiny instance (does it answer within a limit? can it be time-limited?), then exit."""
     if not value or ctx.resilient_parsing:
         return
-    from rich.table import Table
+    from illuknit.bench.smoke import SMOKE_INSTANCE, smoke_test_backends
+    from illuknit.solvers import ORACLE_BACKENDS
 
-    from illuknit.cli.summary import console
-    from illuknit.solvers import ORACLE_BACKENDS, describe_backends
+    rows, cols = SMOKE_INSTANCE.size
+    click.echo(
+        f"Each installed backend runs once on an {rows} x {cols} logical model in its own "
+        f"process ({SMOKE_INSTANCE.time_limit:g} s limit):"
+    )
 
-    t = Table(show_header=True, header_style="bold")
-    for col in ("solver", "kind", "version", "available"):
-        t.add_column(col)
-    for row in describe_backends():
-        t.add_row(row["name"], row["kind"], row["version"], row["available"])
-    c = console()
-    c.print(t)
-    c.print(
+    def show(e: dict[str, str]) -> None:
+        click.echo(
+            f"{e['name']:17s} {e['kind']:9s} {e['version'] or '-':22s} available: "
+            f"{e['available']}; smoke test: {e['smoke']}; time limit: {e['limit']}"
+        )
+
+    smoke_test_backends(time_limit=SMOKE_INSTANCE.time_limit, on_result=show)
+    click.echo(
         f"Also: {', '.join(f'{b}:ORACLE' for b in ORACLE_BACKENDS)} (a python-sat SAT oracle, "
         "e.g. rc2:cd19) and wcnf:COMMAND (any MaxSAT Evaluation solver binary; {} is the WCNF "
-        "path). Missing ones: pip install 'illuknit\\[maxsat]'."
+        "path). Missing ones: pip install 'illuknit[maxsat]'."
     )
     ctx.exit(0)
 

@@ -211,14 +211,21 @@ def test_yarn_index_outside_the_palette_in_a_pattern_target(tmp_path):
         make_problem(np.zeros((2, 2), int), np.array([[0, 1], [2, 0]]), n_yarns=2)
 
 
-def test_list_solvers_prints_every_backend(capsys):
-    from illuknit.solvers import backend_names
+def test_list_solvers_prints_and_smoke_tests_every_backend(capsys, monkeypatch):
+    import illuknit.solvers as reg
 
+    every = reg.describe_backends()
+    assert {r["name"] for r in every} == set(reg.backend_names())
+    # smoke-testing the whole portfolio takes a minute: three backends show each verdict here
+    monkeypatch.setattr(
+        reg, "describe_backends", lambda: [r for r in every if r["name"] in ("dp", "rc2", "fm")]
+    )
     try:
         main(["solve", "--list-solvers"])
     except SystemExit as e:  # standalone click exits; main() may return normally
         assert e.code in (0, None)
     out = capsys.readouterr().out
-    for name in backend_names():
-        assert name in out
+    lines = {line.split()[0]: line for line in out.splitlines() if line.strip()}
+    assert "smoke test: answers (6 in" in lines["rc2"] and "time limit: yes" in lines["rc2"]
+    assert "cannot be time-limited" in lines["fm"]
     assert "rc2:ORACLE" in out and "wcnf:COMMAND" in out

@@ -139,7 +139,7 @@ def test_descent_reaches_the_brute_force_optimum_on_tiny_grids():
     assert hits >= 0.8 * trials, (hits, trials)
 
 
-def test_backend_objective_equals_the_model_and_bound_is_the_dp():
+def test_backend_objective_equals_the_model_and_bound_is_at_least_the_dp():
     rng = np.random.default_rng(1)
     problem = make_problem(
         rng.integers(0, 3, (12, 10)),
@@ -152,7 +152,8 @@ def test_backend_objective_equals_the_model_and_bound_is_the_dp():
     sol = solve(model, solver="descent", time_limit=3)
     assert sol.status.value in ("feasible", "timeout", "optimal")
     assert model.evaluate(sol.values) == (True, sol.objective)
-    assert sol.bound == solve_dp(problem)[2] <= sol.objective
+    # with machine-pass terms the Lagrangian bound (tests/solvers/test_lagrangian.py) is better
+    assert solve_dp(problem)[2] <= sol.bound <= sol.objective
     dp_start = pattern_cost(problem, *solve_dp(problem)[:2])
     assert sol.objective <= dp_start
 

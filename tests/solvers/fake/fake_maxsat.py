@@ -11,6 +11,13 @@ instead of the binary string; ``--sleep`` waits first (printing an incumbent ``o
 optimal; ``--lie-feasible`` prints the first model of the hard clauses alone (feasible, rarely
 optimal) with a false ``o 0`` and ``s OPTIMUM FOUND``; ``--garbage`` prints an unparseable ``v``
 line.
+
+Liars and misbehaviours for the benchmark's tests: ``--lie-unsat`` claims ``s UNSATISFIABLE``
+of a satisfiable instance; ``--lie-optimum`` prints the worst assignment it can find quickly
+(the first model of the hard clauses with every soft variable set against its clause where the
+hard clauses allow), with its true cost, as ``s OPTIMUM FOUND``; ``--hog`` allocates (and
+touches) about 1 GB/s until stopped; ``--late S`` ignores its time limit and prints the optimum
+S seconds in, or as soon as it gets SIGTERM.
 """
 
 from __future__ import annotations
@@ -81,6 +88,25 @@ def solve(nv: int, hard: list[list[int]], soft: list[tuple[int, list[int]]]):
         return rc2.cost, a
 
 
+def _worst_feasible(nv: int, hard: list[list[int]], soft: list[tuple[int, list[int]]]):
+    """A feasible assignment violating as much soft weight as a SAT call that prefers so finds."""
+    from pysat.solvers import Solver
+
+    against = {}
+    for _w, c in soft:
+        for x in c:
+            against.setdefault(abs(x), x < 0)  # the polarity that falsifies this literal
+    with Solver(name="m22", bootstrap_with=hard) as s:
+        s.set_phases([v if against.get(v, False) else -v for v in range(1, nv + 1)])
+        s.solve()
+        m = s.get_model() or []
+    a = {i: False for i in range(1, nv + 1)}
+    for x in m:
+        if abs(x) <= nv:
+            a[abs(x)] = x > 0
+    return cost_of(a, soft), a
+
+
 def emit(assign: dict[int, bool], nv: int, old: bool) -> None:
     if old:
         print("v " + " ".join(str(i if assign[i] else -i) for i in range(1, nv + 1)) + " 0")
@@ -92,6 +118,34 @@ def main(argv: list[str]) -> int:
     old = "--old-v" in argv
     path = argv[-1]
     nv, hard, soft = read_wcnf(path)
+    if "--lie-unsat" in argv:
+        print("s UNSATISFIABLE")
+        return 20
+    if "--lie-optimum" in argv:
+        worst = _worst_feasible(nv, hard, soft)
+        print(f"o {worst[0]}")
+        print("s OPTIMUM FOUND")
+        emit(worst[1], nv, old)
+        return 30
+    if "--hog" in argv:
+        chunks = []
+        while True:  # about 1 GB/s, every page touched
+            chunks.append(b"x" * (50 * 2**20))
+            time.sleep(0.05)
+    if "--late" in argv:
+        delay = float(argv[argv.index("--late") + 1])
+        best = solve(nv, hard, soft)
+
+        def prove(signum=None, frame=None):
+            print(f"o {best[0]}")
+            print("s OPTIMUM FOUND")
+            emit(best[1], nv, old)
+            sys.stdout.flush()
+            sys.exit(0)
+
+        signal.signal(signal.SIGTERM, prove)
+        time.sleep(delay)
+        prove()
     if "--garbage" in argv:
         print("s OPTIMUM FOUND")
         print("v x y z")
