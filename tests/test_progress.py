@@ -24,3 +24,31 @@ def test_progress_counts_on_a_terminal(monkeypatch):
         advance(description="frame 1")
         advance(steps=1)
     assert "sweep" in buf.getvalue()
+
+
+def test_work_bar_is_silent_when_not_a_terminal(capsys):
+    from illuknit.core.progress import work_bar
+
+    with work_bar("double", delay=0) as report:
+        report(0.5, "halfway")
+    assert capsys.readouterr().err == ""
+
+
+def test_work_bar_shows_only_work_that_lasts(monkeypatch):
+    """A bar appears once the work has run ``delay`` seconds; quicker work prints nothing."""
+    import time
+
+    from illuknit.core.progress import work_bar
+
+    buf = io.StringIO()
+    monkeypatch.setattr(
+        "rich.console.Console",
+        lambda **kw: Console(file=buf, force_terminal=True, width=100),
+    )
+    with work_bar("quick", delay=5) as report:
+        report(1.0, "done")
+    assert buf.getvalue() == ""
+    with work_bar("slow", delay=0.05) as report:
+        report(0.25, "finding tile designs")
+        time.sleep(0.5)
+    assert "slow" in buf.getvalue() and "finding tile designs" in buf.getvalue()

@@ -7,18 +7,20 @@ Prepared -> make_candidates -> [Candidate]  (single view: both stripe orders; do
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 from illuknit.app.controls import blame
 from illuknit.app.inputs import Prepared
+from illuknit.core.errors import AppRequestError
 from illuknit.core.pattern import LogicalPattern
 
 if TYPE_CHECKING:
     from illuknit.design.stages import Stripe
 
-__all__ = ["Candidate", "Progress", "make_candidates"]
+__all__ = ["Candidate", "Progress", "Runner", "make_candidates"]
 
 
 @dataclass(eq=False)
@@ -58,11 +60,21 @@ class Candidate:
 Progress = Callable[[float, str], None]
 
 
-def make_candidates(prepared: Prepared, *, count: int, progress: Progress) -> list[Candidate]:
-    """Ranked candidates for the prepared inputs; ``progress(fraction, message)`` may cancel."""
+#: ``run(fn)`` calls ``fn()`` and answers its result: in a killable process for the app's jobs
+#: (:meth:`illuknit.app.jobs.Job.run_isolated`), so Cancel stops a long solve at once.
+Runner = Callable[[Callable[[], Any]], Any]
+
+
+def make_candidates(
+    prepared: Prepared, *, count: int, progress: Progress, run: Runner | None = None
+) -> list[Candidate]:
+    """Ranked candidates for the prepared inputs; ``progress(fraction, message)`` may cancel.
+
+    ``run`` runs the tile search (double view and head-on), by default in this thread.
+    """
     if prepared.mode == "single":
         return _single_candidates(prepared, progress)
-    return _tile_candidates(prepared, count=count, progress=progress)
+    return _tile_candidates(prepared, count=count, progress=progress, run=run)
 
 
 def _single_candidates(prepared: Prepared, progress: Progress) -> list[Candidate]:
@@ -90,21 +102,29 @@ def _single_candidates(prepared: Prepared, progress: Progress) -> list[Candidate
     return out
 
 
-def _tile_candidates(prepared: Prepared, *, count: int, progress: Progress) -> list[Candidate]:
+def _tile_candidates(
+    prepared: Prepared, *, count: int, progress: Progress, run: Runner | None = None
+) -> list[Candidate]:
     """The best-reading ``count`` of the tile designs ``illuknit double`` searches by default,
-    ranked as it ranks them: one call of :func:`~illuknit.design.stages.design_tiles`."""
+    ranked as it ranks them: one call of :func:`~illuknit.design.stages.design_tiles`, inside
+    ``run`` (a killable process, so Cancel stops it at once) when one is given."""
     from illuknit.design.options import SearchOptions
     from illuknit.design.stages import design_tiles
 
+    stage = functools.partial(
+        design_tiles,
+        prepared.quantised["a"],
+        prepared.quantised.get("b"),
+        mode="headon" if prepared.mode == "headon" else "double",
+        yarns=prepared.yarns,
+        search=SearchOptions(candidates=count),
+    )
     with blame("n_colors"):
-        design = design_tiles(
-            prepared.quantised["a"],
-            prepared.quantised.get("b"),
-            mode="headon" if prepared.mode == "headon" else "double",
-            yarns=prepared.yarns,
-            search=SearchOptions(candidates=count),
-            progress=progress,
-        )
+        try:
+            design = stage(progress=progress) if run is None else run(stage)
+        except AppRequestError as e:  # raised in the search's own process: name the control
+            e.field = e.field or "n_colors"
+            raise
     return [
         Candidate(
             rank=d.rank,

@@ -1,17 +1,16 @@
-"""Undo and redo of accepted suggested edits: the session's earlier designs, kept whole.
+"""Undo and redo of every change of a design: its earlier states, kept whole.
 
-    Session.remember(label) -> a DesignState on the session's undo steps (before an accept)
+    Session.remember(label) -> a DesignState on the session's undo steps (before a change:
+                               an upload or removal of a picture, a setting, a tile edit, an
+                               accepted suggested edit)
     Session.undo() / redo() -> the last state undone (redone) is the session's again
 
-Accepting a suggested edit replaces the session's input pictures (and, for a re-quantisation, the
-colour count) and designs again. Just before, the session keeps a :class:`DesignState`: its
-pictures, settings and the design made from them -- quantised inputs, candidates with their
-measures, the pick, tile edits, and the suggested edits with the refused ones. *Undo* makes that
-state the session's again, so the design comes back exactly (no search is run again: the same
-candidates, the same numbers) with the same suggestions, and another edit can be tried. The state
-left by an undo is kept for *Redo*; any other change of the inputs (an upload, a setting, another
-accepted edit) forgets the redo steps, as in any editor. Undo returns to the state before the
-accept as a whole: what was changed after the accept is undone with it, and Redo brings it back.
+Just before a change, the session keeps a :class:`DesignState`: its pictures, settings and the
+design made from them -- quantised inputs, candidates with their measures, the pick, tile edits,
+and the suggested edits with the refused ones. *Undo* makes that state the session's again, so
+the design comes back exactly (no search is run again: the same candidates, the same numbers)
+with the same suggestions. The state left by an undo is kept for *Redo*; any other change
+forgets the redo steps, as in any editor.
 
 Every restored state gets a new revision, so results still being computed for the state left
 behind are never shown as current. A kept state shares its arrays with the session (a picture is
@@ -100,10 +99,9 @@ def held_arrays(
 def nothing_to(what: str) -> AppRequestError:
     """The answer to an undo (``what="undo"``) or redo with no step to take: 409."""
     why = (
-        "no suggested edit has been accepted in this session (or every accepted one has been "
-        "undone already)"
+        "nothing has been changed in this session yet (or every change has been undone already)"
         if what == "undo"
-        else "nothing has been undone since the pictures or settings last changed"
+        else "nothing has been undone since the pictures, settings or tiles last changed"
     )
     return AppRequestError(
         f"there is nothing to {what}: {why}",

@@ -128,7 +128,14 @@ class Job:
             if message is not None:
                 self.message = message
 
-    def run_isolated(self, fn: Callable[..., Any], *args: Any, poll: float = 0.05) -> Any:
+    def run_isolated(
+        self,
+        fn: Callable[..., Any],
+        *args: Any,
+        poll: float = 0.05,
+        tick: Callable[[float], None] | None = None,
+        progress: tuple[float, float] | None = None,
+    ) -> Any:
         """Run ``fn(*args)`` in a fresh Python process; kill it if the job is cancelled.
 
         The child is ``python -m illuknit.app.jobs`` fed ``(fn, args)`` pickled on stdin, so
@@ -136,9 +143,14 @@ class Job:
         ``multiprocessing`` child would re-run the parent's main script, which breaks servers
         started from unguarded scripts.) Library errors raised in the child come back as
         :class:`AppRequestError` with the original message.
+
+        ``tick(seconds)`` is called with the time spent so far every ``poll`` seconds while the
+        child works (to report progress the child cannot count for itself). With ``progress``
+        ``(start, end)``, ``fn`` is called with a ``progress=`` keyword of its own, and the
+        fractions it reports come back as this job's progress, mapped onto ``start..end``.
         """
         self.report(self.progress)
-        payload = pickle.dumps((fn, args), protocol=pickle.HIGHEST_PROTOCOL)
+        payload = _dumps((fn, args, progress is not None))
         proc = subprocess.Popen(
             [sys.executable, "-m", "illuknit.app.jobs", str(os.getpid())],
             stdin=subprocess.PIPE,
@@ -146,24 +158,51 @@ class Job:
             stderr=subprocess.PIPE,
         )
         out: dict[str, bytes] = {}
+        said: list[bytes] = []
 
         def talk() -> None:
-            out["stdout"], out["stderr"] = proc.communicate(payload)
+            assert proc.stdin is not None and proc.stdout is not None
+            try:
+                proc.stdin.write(payload)
+                proc.stdin.close()
+            except BrokenPipeError:  # the child died at once: its stderr says why
+                pass
+            out["stdout"] = proc.stdout.read()
+
+        def listen() -> None:
+            assert proc.stderr is not None
+            for line in proc.stderr:
+                if line.startswith(_PROGRESS) and progress is not None:
+                    _, fraction, message = line.rstrip(b"\n").split(b"\t", 2)
+                    lo, hi = progress
+                    f = lo + (hi - lo) * min(1.0, max(0.0, float(fraction)))
+                    with self._lock:
+                        self.progress = max(self.progress, f)
+                        self.message = message.decode(errors="replace")
+                else:
+                    said.append(line)
 
         talker = threading.Thread(target=talk, name="illuknit-job-io", daemon=True)
+        listener = threading.Thread(target=listen, name="illuknit-job-err", daemon=True)
         talker.start()
+        listener.start()
+        t0 = time.monotonic()
         try:
             while talker.is_alive():
                 if self._cancel.is_set():
                     raise JobCancelled
+                if tick is not None:
+                    tick(time.monotonic() - t0)
                 talker.join(poll)
         finally:
             if proc.poll() is None:
                 proc.kill()
             talker.join(10)
+            listener.join(10)
+            proc.wait(10)
         data = out.get("stdout", b"")
         if not data:
-            tail = out.get("stderr", b"").decode(errors="replace").strip().splitlines()[-3:]
+            tail = b"".join(said).decode(errors="replace").strip().splitlines()[-3:]
             raise RuntimeError(
                 f"worker process ended without an answer (exit code {proc.returncode}): {' | '.join(tail)}"
             )
@@ -226,6 +265,25 @@ class Job:
                     (self.finished or time.time()) - (self.started or self.created), 3
                 ),
             }
+
+
+def _dumps(obj: Any) -> bytes:
+    """Pickle for the job's child process: the library's frozen results hold read-only
+    mappings (``MappingProxyType``), which plain pickle refuses; they travel as their dicts."""
+    import copyreg
+    import io
+    import types
+
+    from illuknit.app.store import _reduce_mapping_proxy
+
+    buf = io.BytesIO()
+    pickler = pickle.Pickler(buf, protocol=pickle.HIGHEST_PROTOCOL)
+    pickler.dispatch_table = {
+        **copyreg.dispatch_table,
+        types.MappingProxyType: _reduce_mapping_proxy,
+    }
+    pickler.dump(obj)
+    return buf.getvalue()
 
 
 class JobRunner:
@@ -312,6 +370,10 @@ class JobRunner:
         self._pool.shutdown(wait=False, cancel_futures=True)
 
 
+#: A line the child writes on stderr to report progress: marker, fraction, message (tab-separated).
+_PROGRESS = b"\x00illuknit-progress"
+
+
 def _die_with_parent(parent: int, poll: float = 0.2) -> None:
     """End this worker as soon as the server that started it (pid ``parent``) is gone, however
     it went (Ctrl-C, a crash, ``kill -9``): the kernel kills it on Linux (``PR_SET_PDEATHSIG``),
@@ -342,14 +404,24 @@ def _worker_main() -> None:
         _die_with_parent(int(sys.argv[1]))
     answer = sys.stdout.buffer
     sys.stdout = sys.stderr  # anything the work prints must not corrupt the answer
-    fn, args = pickle.load(sys.stdin.buffer)
+    fn, args, with_progress = pickle.load(sys.stdin.buffer)
+    err = sys.stderr.buffer
+
+    def progress(fraction: float, message: str) -> None:
+        line = message.replace("\n", " ").replace("\t", " ")
+        err.write(_PROGRESS + f"\t{float(fraction):.4f}\t{line}\n".encode())
+        err.flush()
+
     try:
-        msg: tuple[Any, ...] = ("ok", fn(*args))
+        msg: tuple[Any, ...] = (
+            "ok",
+            fn(*args, progress=progress) if with_progress else fn(*args),
+        )
     except IlluknitError as e:
         msg = ("err", type(e).__name__, str(e))
     except BaseException as e:  # a bug in the library: report it, the parent decides
         msg = ("bug", type(e).__name__, f"{e}\n{traceback.format_exc()}")
-    answer.write(pickle.dumps(msg, protocol=pickle.HIGHEST_PROTOCOL))
+    answer.write(_dumps(msg))
     answer.flush()
 
 

@@ -48,12 +48,20 @@ class CheckedKnitout:
     needle_range: tuple[int, int]
 
 
+#: What the page's selector calls each preset: two presets are the same machine (its name in the
+#: knitout headers), told apart by their beds.
+MACHINE_LABELS = {
+    "generic540": "SWG091N2 modelled",
+    "swg091n2": "SWG091N2 physical",
+}
+
+
 def machines_json() -> list[dict[str, Any]]:
-    """The machine presets as the page's selector shows them."""
+    """The machine presets as the page's selector shows them, each under its own label."""
     return [
         {
             "name": key,
-            "label": spec.name,
+            "label": MACHINE_LABELS.get(key, spec.name),
             "description": spec.description,
             "needles": spec.needles,
             "gauge": spec.gauge,

@@ -10,8 +10,10 @@ the app, ``illuknit double --rank-by`` and the bench agree:
   and for how much of the other picture shows (the documented default order);
 * the machine's **knitting time** and passes on the chosen machine.
 
-In a single view both sides show picture A and nothing can ghost. A head-on design with no side
-picture gets its knitting time only.
+In a single view both sides show picture A and nothing can ghost. A head-on design is measured in
+all three views: head-on against the front picture, from above and from below against the side
+picture (the worse of the two), or, with no side picture, against the plain field the design
+shows there: nothing to read, and its ghosting is how much of the front picture is left.
 """
 
 from __future__ import annotations
@@ -25,21 +27,32 @@ __all__ = ["ORDERS", "measure_candidate", "order_candidates"]
 ORDERS = ("rank", "perception", "readability", "contrast", "ghosting", "knit_time")
 
 
-def measure_candidate(pattern: Any, prepared: Any, *, machine: str) -> Any:
-    """The candidate's :class:`~illuknit.design.tiles.perception.CandidateMeasures`."""
+def measure_candidate(pattern: Any, prepared: Any, *, machine: str, knit_time: bool = True) -> Any:
+    """The candidate's :class:`~illuknit.design.tiles.perception.CandidateMeasures` (without the
+    machine's time and passes when not ``knit_time``: how it reads only, in a fraction of a
+    second, for a tile edit measured at once)."""
     from illuknit.design.tiles import perception
 
     q = prepared.quantised
     if prepared.mode == "double":
         pictures, views, ghost = [q["a"].rgb(), q["b"].rgb()], ("A", "B"), True
-    elif prepared.mode == "headon" and "b" in q:
-        pictures, views, ghost = [q["a"].rgb(), q["b"].rgb()], ("headon", "side"), True
+    elif prepared.mode == "headon":
+        # all three views: head-on against the front picture, and from above and from below
+        # against the side picture -- or the plain field that stands for it (nothing to read
+        # there; how much of the front picture is left at an angle is its ghosting)
+        from illuknit.design.tiles.perception import seen_targets
+
+        pictures, views, ghost = seen_targets(q["a"], q.get("b")), ("headon", "side"), True
     elif prepared.mode == "single":
         pictures, views, ghost = [q["a"].rgb(), q["a"].rgb()], ("A", "B"), False
-    else:
+    else:  # pragma: no cover - every mode is measured above
         from illuknit.bench.metrics import knit_stats
 
-        k = knit_stats(pattern, machine=machine)
+        k: dict[str, Any] = (
+            knit_stats(pattern, machine=machine)
+            if knit_time
+            else {"knit_time_min": None, "carriage_passes": None, "knit_note": ""}
+        )
         return perception.CandidateMeasures(
             views=(),
             readability=(),
@@ -50,7 +63,7 @@ def measure_candidate(pattern: Any, prepared: Any, *, machine: str) -> Any:
             knit_note=k["knit_note"],
         )
     return perception.measure_candidate(
-        pattern, pictures, views=views, ghost=ghost, knit_time=True, machine=machine
+        pattern, pictures, views=views, ghost=ghost, knit_time=knit_time, machine=machine
     )
 
 

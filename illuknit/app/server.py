@@ -40,6 +40,7 @@ class AppConfig:
         session_ttl: float = 6 * 3600,
         workers: int = 2,
         isolate_knit: bool = True,
+        isolate_search: bool | None = None,
         allowed_hosts: tuple[str, ...] = (),
         data_dir: str | os.PathLike[str] | None = None,
         keep_days: float = 30.0,
@@ -52,6 +53,9 @@ class AppConfig:
         self.session_ttl = session_ttl
         self.workers = workers
         self.isolate_knit = isolate_knit
+        #: Run the tile search in its own process, killed by Cancel (a solve may take seconds and
+        #: cannot be interrupted in-process); defaults to ``isolate_knit``.
+        self.isolate_search = isolate_knit if isolate_search is None else isolate_search
         #: Host names besides the bound address that may reach the app (e.g. the machine's name
         #: when it is shared on a network with ``--host 0.0.0.0``).
         self.allowed_hosts = allowed_hosts

@@ -71,6 +71,52 @@ class SuggestedEdit:
     before: tuple[float, float]
     after: tuple[float, float]
 
+    @property
+    def benefit(self) -> float:
+        """What the edit gains: the worse side's readability gained plus the ghosting removed
+        (both on a 0..1 scale; negative when it makes the design worse)."""
+        return (self.after[0] - self.before[0]) - (self.after[1] - self.before[1])
+
+    @property
+    def verdict(self) -> str:
+        """``"better"`` (reads better and ghosts no more), ``"worse"`` (reads worse, or ghosts
+        more for no gain), ``"mixed"`` (one better, the other worse) or ``"same"``."""
+        from illuknit.design.tiles.simplify import MIN_GAIN
+
+        read = self.after[0] - self.before[0]
+        ghost = self.after[1] - self.before[1]
+        up, down = read > MIN_GAIN, read < -MIN_GAIN
+        more, less = ghost > MIN_GAIN, ghost < -MIN_GAIN
+        if (up and not more) or (less and not down):
+            return "better"
+        if (down and not less) or (more and not up):
+            return "worse"
+        if up or down:
+            return "mixed"
+        return "same"
+
+    def effect_words(self) -> str:
+        """The edit's effect in words, e.g. "the worse side reads 2 % better; 13 % more of the
+        other picture shows through"."""
+        from illuknit.design.tiles.simplify import MIN_GAIN
+
+        (r0, g0), (r1, g1) = self.before, self.after
+        parts = []
+        if abs(r1 - r0) <= MIN_GAIN:
+            parts.append("the worse side reads the same")
+        else:
+            parts.append(
+                f"the worse side reads {abs(r1 - r0) / max(abs(r0), 1e-9):.0%} "
+                f"{'better' if r1 > r0 else 'worse'}"
+            )
+        if abs(g1 - g0) <= MIN_GAIN:
+            parts.append("ghosting unchanged")
+        elif g1 > g0:
+            parts.append(f"{(g1 - g0) / max(g0, 1e-9):.0%} more ghosting")
+        else:
+            parts.append(f"{(g0 - g1) / max(g0, 1e-9):.0%} less ghosting")
+        return "; ".join(parts)
+
     def to_json(self) -> dict[str, Any]:
         from illuknit.design.tiles.simplify import MIN_GAIN
 
@@ -88,6 +134,9 @@ class SuggestedEdit:
             "ghosting_after": r(self.after[1]),
             # the gain `illuknit double --simplify` would keep the edit for
             "improves": self.after[0] > self.before[0] + MIN_GAIN,
+            "verdict": self.verdict,
+            "benefit": r(self.benefit),
+            "effect": self.effect_words(),
             "previews": {
                 slot: {
                     which: f"suggestions/{self.id}/{slot}/{which}.png"

@@ -20,6 +20,7 @@ import click
 from illuknit.cli.design_files import fmt_number, summary_text, write_candidate, write_edits
 from illuknit.cli.knitout_bridge import format_option, long_floats_option, machine_option
 from illuknit.cli.options import knitout_option, outdir_option
+from illuknit.core.progress import Report, work_bar
 from illuknit.design.tiles.perception import DEFAULT_POOL, POOL_SECONDS, RANK_KEYS
 from illuknit.pictures.sizing import DEFAULT_MAX_WIDTH
 
@@ -66,11 +67,13 @@ def run_design(
     knit_time: bool = False,
     simplify: bool = False,
     suggest: bool = False,
+    progress: Report | None = None,
 ) -> dict[str, Any]:
     """Parse the options, call :func:`~illuknit.design.stages.design_double` (or
     :func:`~illuknit.design.stages.design_headon`) and write every candidate (atomically into
-    ``outdir``); with ``knitout`` the default candidate is knit on ``machine``. Returns the
-    summary dict."""
+    ``outdir``); with ``knitout`` the default candidate is knit on ``machine``.
+    ``progress(fraction, message)`` hears how far the work is (the command line's bar).
+    Returns the summary dict."""
     from illuknit.cli.knitout_bridge import resolve_machine
     from illuknit.core.errors import ImageInputError, OptionError, TileAssignmentError
     from illuknit.design.options import (
@@ -114,7 +117,9 @@ def run_design(
         search=search,
         ranking=ranking,
         knit_on=spec if knitout else None,
+        progress=lambda f, message: report(0.7 * f, message),
     )
+    report: Report = progress or (lambda fraction, message: None)
     if mode == "double":
         if path_b is None:
             raise ImageInputError("a double-view design needs two pictures (A and B)")
@@ -128,7 +133,7 @@ def run_design(
         )
     return write_design(
         design, outdir, pick=pick, sources=[str(path_a), str(path_b) if path_b else None],
-        machine=spec if knitout else None,
+        machine=spec if knitout else None, progress=report,
     )  # fmt: skip
 
 
@@ -139,10 +144,12 @@ def write_design(
     pick: int = 1,
     sources: list[str | None],
     machine: Any = None,
+    progress: Report | None = None,
 ) -> dict[str, Any]:
     """Write a :class:`~illuknit.design.stages.TileDesign` into ``outdir`` (atomically): each
     candidate's folder, the suggested edits, the default candidate's pattern (and, given a
     machine, its knitout program) and the summary. Returns the summary dict."""
+    report: Report = progress or (lambda fraction, message: None)
     from illuknit.core.files import atomic_write_text, staged_dir
     from illuknit.outputs.previews import unit_scale
 
@@ -151,7 +158,9 @@ def write_design(
     chosen = None
     overlap_lines: list[str] = []
     with staged_dir(outdir) as tmp:
-        for d in design.designs:
+        for k, d in enumerate(design.designs):
+            n = len(design.designs)
+            report(0.7 + 0.24 * k / n, f"writing candidate {k + 1} of {n}")
             row, lines = write_candidate(
                 d,
                 tmp,
@@ -171,6 +180,7 @@ def write_design(
             # The default candidate as a checked knitout program (mixed-colourwork scheduler).
             from illuknit.cli.knitout_bridge import write_program
 
+            report(0.94, "knitting the default candidate and checking it")
             write_program(chosen, tmp, machine=machine)
         summary = {
             "mode": design.mode,
@@ -234,50 +244,117 @@ def _worst_ghosting(row: dict[str, Any]) -> str:
     return f"{max(ghost):.3f} ({max(shows):.3f})" if ghost and shows else "-"
 
 
-def print_summary(summary: dict[str, Any], outdir: Path) -> None:
-    from rich.console import Console
+#: The summary table's columns, most important first: on a narrow terminal the last ones are
+#: dropped (summary.txt has them all).
+SUMMARY_COLUMNS = (
+    "rank",
+    "",
+    "perceptual",
+    "readability",
+    "ghosting (shows)",
+    "contrast",
+    "knit min",
+    "fills A",
+    "fills B",
+    "cost ΔE",
+)
+
+
+def _summary_cells(r: dict[str, Any]) -> dict[str, str]:
+    return {
+        "rank": str(r["rank"]),
+        "": "default" if r["default"] else "",
+        "perceptual": fmt_number(r["perceptual_score"]),
+        "readability": " / ".join(fmt_number(v) for v in r["readability"]),
+        "contrast": " / ".join(fmt_number(v) for v in r["contrast"]),
+        "ghosting (shows)": _worst_ghosting(r),
+        "knit min": fmt_number(r["knit_minutes"], 1),
+        "cost ΔE": f"{r['score']:.1f}",  # the tile search's cost (lower is better)
+        "fills A": "; ".join(r["fills_a"]),
+        "fills B": "; ".join(r["fills_b"]),
+    }
+
+
+def summary_table(summary: dict[str, Any], width: int) -> tuple[Any, list[str]]:
+    """The candidates table that fits ``width`` columns of terminal, and the columns dropped.
+
+    Columns are dropped from the least important (``SUMMARY_COLUMNS`` order) until no header or
+    number would be cut; long cells (the fills) wrap.
+    """
     from rich.table import Table
 
-    con = Console(highlight=False, soft_wrap=True)
-    t = Table(
-        title=f"{summary['mode']}-view candidates ({summary['size']['rows']} x {summary['size']['cols']} units)",
-        header_style="bold",
+    rows = [_summary_cells(r) for r in summary["candidates"]]
+    columns = list(SUMMARY_COLUMNS)
+    title = (
+        f"{summary['mode']}-view candidates "
+        f"({summary['size']['rows']} x {summary['size']['cols']} units)"
     )
-    for col in (
-        "rank",
-        "",
-        "perceptual",
-        "readability",
-        "contrast",
-        "worst ghosting (shows)",
-        "knit min",
-        "score",
-        "fills A",
-        "fills B",
-    ):
-        t.add_column(col)
-    for r in summary["candidates"]:
-        t.add_row(
-            str(r["rank"]),
-            "default" if r["default"] else "",
-            fmt_number(r["perceptual_score"]),
-            " / ".join(fmt_number(v) for v in r["readability"]),
-            " / ".join(fmt_number(v) for v in r["contrast"]),
-            _worst_ghosting(r),
-            fmt_number(r["knit_minutes"], 1),
-            f"{r['score']:.1f}",
-            "; ".join(r["fills_a"]),
-            "; ".join(r["fills_b"]),
+    while True:
+        t = Table(title=title, header_style="bold")
+        for col in columns:
+            wraps = col.startswith("fills")
+            # a header or a number is never cut ("perc...") nor broken: it fits whole or goes
+            t.add_column(col, no_wrap=not wraps, overflow="fold" if wraps else "ellipsis")
+        for cells in rows:
+            t.add_row(*(cells[c] for c in columns))
+        # each column at its widest cell (a wrapping column at 16), plus the borders
+        need = 1 + sum(
+            3 + (16 if c.startswith("fills") else max(len(c), *(len(r[c]) for r in rows)))
+            for c in columns
         )
+        fits = need <= width
+        if fits or len(columns) <= 4:
+            return t, [c for c in SUMMARY_COLUMNS if c not in columns]
+        columns.pop()
+
+
+def _edits_found(summary: dict[str, Any]) -> str:
+    """What the suggested edits found, in a line."""
+    edits = summary.get("edits") or []
+    if not edits:
+        return "suggestions/: no edit to suggest (no specks, ragged outlines or tiny overlaps)"
+    better = [e for e in edits if e["readability_after"] > e["readability_before"] + 1e-4]
+    head = f"suggestions/: {len(edits)} edit(s) measured"
+    if not better:
+        return head + ", none makes the worse side read better (see suggestions/suggestions.json)"
+    best = max(better, key=lambda e: e["readability_after"] - e["readability_before"])
+    return (
+        f"{head}, {len(better)} make(s) the worse side read better; best: {best['description']} "
+        f"({best['readability_before']:.3f} -> {best['readability_after']:.3f}, ghosting "
+        f"{best['ghosting_before']:.3f} -> {best['ghosting_after']:.3f})"
+    )
+
+
+def print_summary(summary: dict[str, Any], outdir: Path) -> None:
+    from illuknit.cli.summary import console
+
+    con = console()
+    t, dropped = summary_table(summary, con.width)
     con.print(t)
+    if dropped:
+        con.print(f"(columns left out to fit the terminal: {', '.join(repr(c) for c in dropped)};"
+                  " the full table is in summary.txt)")  # fmt: skip
     default = next((r for r in summary["candidates"] if r["default"]), None)
     if default is not None:
         for line in _overlap_digest(default["overlaps"]):
             con.print(line)
+    n = len(summary["candidates"])
     con.print(
-        f"wrote {len(summary['candidates'])} candidate(s), the best-ranked of {summary['searched']} tile "
-        f"design(s) searched, to [bold]{outdir}[/] (default: candidate_{summary['default']})"
+        f"wrote {n} candidate(s), the best-ranked of {summary['searched']} tile design(s) "
+        f"searched, to [bold]{outdir}[/] (default: candidate_{summary['default']}):"
     )
+    folders = sorted((p.name for p in outdir.iterdir() if p.is_dir()), key=_natural)
+    files = sorted(p.name for p in outdir.iterdir() if p.is_file())
+    con.print(f"  folders: {', '.join(f + '/' for f in folders)}")
+    con.print(f"  files: {', '.join(files)}")
+    if "suggestions" in folders:
+        con.print(f"  {_edits_found(summary)}")
+
+
+def _natural(name: str) -> tuple[str, int]:
+    """``candidate_10`` after ``candidate_9``."""
+    stem, _, num = name.rpartition("_")
+    return (stem, int(num)) if num.isdigit() else (name, -1)
 
 
 def design_options(func: Any) -> Any:
@@ -339,5 +416,6 @@ def double(image_a: Path, image_b: Path, outdir: Path, **kw: Any) -> None:
     candidates, each with pattern, previews and repainted inputs, and a summary table.
     Exit code 2 with an explanation when no assignment exists.
     """
-    summary = run_design(image_a, image_b, outdir, mode="double", **kw)
+    with work_bar("double") as report:
+        summary = run_design(image_a, image_b, outdir, mode="double", progress=report, **kw)
     print_summary(summary, outdir)

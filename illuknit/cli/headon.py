@@ -8,6 +8,7 @@ from typing import Any
 import click
 
 from illuknit.cli.double import design_options, print_summary, run_design
+from illuknit.core.progress import work_bar
 
 __all__ = ["headon"]
 
@@ -24,5 +25,6 @@ def headon(front: Path, side: Path | None, outdir: Path, **kw: Any) -> None:
     Uses tiles whose head-on fill differs from their side fill (e.g. a bump then a flat unit:
     a stripe head-on, solid from both sides). Writes ranked candidates like ``illuknit double``.
     """
-    summary = run_design(front, side, outdir, mode="headon", **kw)
+    with work_bar("headon") as report:
+        summary = run_design(front, side, outdir, mode="headon", progress=report, **kw)
     print_summary(summary, outdir)

@@ -10,6 +10,7 @@ import click
 from illuknit.cli.knitout_bridge import format_option, long_floats_option, machine_option
 from illuknit.cli.options import image_options, knitout_option, outdir_option, parse_yarn_option
 from illuknit.cli.summary import print_written, summarise_pattern
+from illuknit.core.progress import Report, work_bar
 
 if TYPE_CHECKING:
     from illuknit.core.machine import MachineSpec
@@ -33,19 +34,22 @@ def run_single(
     knitout: bool = False,
     machine: str | MachineSpec | None = None,
     title: str | None = None,
+    progress: Report | None = None,
 ) -> dict[str, Path]:
     """Compile ``image`` and write the whole bundle into ``outdir`` (atomically).
 
     ``gauge`` (default: the machine's) sizes ``width_cm`` and, with ``knitout``, is the gauge of
     the machine the program is knit on; with ``knitout`` a picture wider than the machine's bed
-    is refused before compiling.
+    is refused before compiling. ``progress(fraction, message)`` hears how far it is.
     """
     from illuknit.cli.knitout_bridge import resolve_machine
     from illuknit.core.files import staged_dir
     from illuknit.design.stages import design_single
     from illuknit.outputs.export import export_pattern
 
+    say: Report = progress or (lambda fraction, message: None)
     spec = resolve_machine(machine, gauge=gauge)
+    say(0.0, "reading, quantising and compiling the picture")
     design = design_single(
         image,
         width=width,
@@ -74,6 +78,7 @@ def run_single(
         },
     }
     with staged_dir(outdir) as tmp:
+        say(0.2, "writing the pattern, previews, chart and instructions")
         paths = export_pattern(
             pattern,
             tmp,
@@ -84,6 +89,7 @@ def run_single(
         if knitout:
             from illuknit.cli.knitout_bridge import write_program
 
+            say(0.5, "knitting it and checking the program")
             paths.update(write_program(pattern, tmp, machine=spec))
     return {k: Path(outdir) / p.name for k, p in paths.items()}
 
@@ -125,19 +131,21 @@ def single(
     """
     from illuknit.core.pattern import load_pattern
 
-    paths = run_single(
-        image,
-        outdir,
-        width=width,
-        height=height,
-        width_cm=width_cm,
-        gauge=gauge,
-        yarns=yarns,
-        n_colors=n_colors,
-        quantise=quantise,
-        first=first,
-        knitout=knitout,
-        machine=machine,
-    )
+    with work_bar("single") as report:
+        paths = run_single(
+            image,
+            outdir,
+            width=width,
+            height=height,
+            width_cm=width_cm,
+            gauge=gauge,
+            yarns=yarns,
+            n_colors=n_colors,
+            quantise=quantise,
+            first=first,
+            knitout=knitout,
+            machine=machine,
+            progress=report,
+        )
     summarise_pattern(load_pattern(paths["pattern"]), legend_path=paths.get("legend"))
     print_written(outdir, paths)

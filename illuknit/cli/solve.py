@@ -27,9 +27,8 @@ class _LiveProgress:
     """A rich progress line: elapsed time against the limit, best objective and bound."""
 
     def __init__(self, time_limit: float | None, label: str) -> None:
+        from rich.console import Console
         from rich.progress import BarColumn, Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
-
-        from illuknit.cli.summary import console
 
         self.limit = time_limit
         self.t0 = time.perf_counter()
@@ -44,7 +43,7 @@ class _LiveProgress:
             BarColumn(),
             TimeElapsedColumn(),
             TextColumn("{task.fields[best]}"),
-            console=console(),
+            console=Console(stderr=True),  # on stderr: stdout stays the command's report
             transient=True,
         )
         self.task = self.progress.add_task("solve", total=time_limit or None, best=self.best)
@@ -149,7 +148,9 @@ def run_solve(
         if outdir is None:
             return {"wcnf": where, "model": repr(mdl)}
     label = f"{solver} on the {model} model"
-    if show_progress and solver != "dp":
+    from rich.console import Console
+
+    if show_progress and solver != "dp" and Console(stderr=True).is_terminal:
         with _LiveProgress(time_limit, label) as live:
             design = solve_design(image_a, image_b, options=options, progress=live, **targets)
     else:

@@ -14,10 +14,14 @@ from __future__ import annotations
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 
-__all__ = ["Advance", "progress"]
+__all__ = ["Advance", "Report", "progress", "work_bar"]
 
 #: ``advance(steps=1, description=None)``: count finished steps, optionally relabel the bar.
 Advance = Callable[..., None]
+
+#: ``report(fraction, message)``: how far a piece of work is (0..1) and what it does now; the
+#: progress hook the library's long calls take (``rank_designs``, ``review_edits``, the app's jobs).
+Report = Callable[[float, str], None]
 
 
 @contextmanager
@@ -67,3 +71,70 @@ def progress(total: int | None, label: str, *, force: bool = False) -> Iterator[
 
     with bar:
         yield advance
+
+
+@contextmanager
+def work_bar(label: str, *, delay: float = 1.0, force: bool = False) -> Iterator[Report]:
+    """A progress bar on stderr for work reported as fractions, shown once it has run ``delay``
+    seconds (quick work prints nothing) and only when stderr is a terminal (or ``force``).
+
+    Yields ``report(fraction, message)``; the bar shows the fraction, the time spent, an
+    estimate of the time left once the work can be counted, and the message. It is removed when
+    the block ends, so the command's own output follows on a clean line.
+    """
+    import threading
+
+    from rich.console import Console
+
+    console = Console(stderr=True)
+    if not (force or console.is_terminal):
+        yield lambda fraction, message: None
+        return
+    from rich.markup import escape
+    from rich.progress import (
+        BarColumn,
+        Progress,
+        SpinnerColumn,
+        TaskProgressColumn,
+        TextColumn,
+        TimeElapsedColumn,
+        TimeRemainingColumn,
+    )
+
+    bar = Progress(
+        SpinnerColumn(),
+        TextColumn(f"[bold]{escape(label)}"),
+        BarColumn(),
+        TaskProgressColumn(),
+        TimeElapsedColumn(),
+        TextColumn("left"),
+        TimeRemainingColumn(),
+        TextColumn("{task.description}"),
+        console=console,
+        transient=True,
+    )
+    task = bar.add_task("", total=1.0)
+    lock = threading.Lock()
+    started = [False, False]  # started, stopped
+
+    def start() -> None:
+        with lock:
+            if not started[1]:
+                bar.start()
+                started[0] = True
+
+    timer = threading.Timer(delay, start)
+    timer.daemon = True
+
+    def report(fraction: float, message: str) -> None:
+        bar.update(task, completed=max(0.0, min(1.0, float(fraction))), description=message)
+
+    timer.start()
+    try:
+        yield report
+    finally:
+        timer.cancel()
+        with lock:
+            started[1] = True
+            if started[0]:
+                bar.stop()

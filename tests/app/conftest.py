@@ -145,6 +145,12 @@ def _run_job(client: Any, sid: str, kind: str, timeout: float = 120) -> dict[str
 def _evict(store: Any, sid: str) -> None:
     """Close session ``sid`` as the memory bound would: with no room at all, a new session
     pushes it out (the new one stays open)."""
+    # the bound never closes a session a request is working on (the page's requests after an
+    # upload may still be in flight): wait until none is
+    deadline = time.monotonic() + 30
+    while store._sessions[sid].pins:
+        assert time.monotonic() < deadline, f"a request kept session {sid} busy for 30 s"
+        time.sleep(0.02)
     limit, store.max_bytes = store.max_bytes, 0
     try:
         other = store.create()

@@ -228,6 +228,7 @@ def test_design_two_pictures_pick_tilt_download(browser, base_url, tmp_path):
     page.wait_for_function("document.querySelector('#pv-A').src.includes('/render?')")
 
     shot = tmp_path / "app.png"
+    page.evaluate("window.scrollTo(0, 0)")  # the sticky top bar over the top of the page
     page.screenshot(path=str(shot), full_page=True)
     assert shot.stat().st_size > 10_000
     keep = os.environ.get("ILLUKNIT_APP_SCREENSHOT")
@@ -378,7 +379,9 @@ def test_accept_a_suggested_edit(browser, base_url, tmp_path):
     before_thumbs = {s: page.get_attribute(f"#thumb-{s}", "src") for s in ("a", "b")}
     before_quant = page.locator("#quant img").evaluate_all("imgs => imgs.map(i => i.src)")
     before_bytes = shown_bytes(page, base_url)
-    assert page.locator("#undo-edit").is_hidden()  # nothing accepted yet
+    # the uploads and the width can be undone already; no suggestion accepted yet
+    sync_api.expect(page.locator("#undo-edit")).to_be_enabled()
+    assert "suggested" not in (page.locator("#undo-list").text_content() or "")
 
     # open the suggestions: each is a before -> after pair with its effect and two buttons
     assert page.locator("#suggest-card").is_visible()
@@ -422,7 +425,10 @@ def test_accept_a_suggested_edit(browser, base_url, tmp_path):
     # Undo: the pictures, the quantised inputs, the candidates and their measures come back
     # exactly, with the suggestions made for them; Redo is offered
     undo = page.locator("#undo-edit")
-    sync_api.expect(undo).to_be_visible()
+    sync_api.expect(page.locator("#undo-list li").first).to_contain_text("Undo takes back: smooth")
+    page.click("#history-list summary")  # the list of what Undo takes back, newest first
+    sync_api.expect(page.locator("#undo-list li").first).to_be_visible()
+    page.click("#history-list summary")
     undo.click()
     for slot in edited:
         sync_api.expect(page.locator(f"#meta-{slot}")).not_to_contain_text("suggested edit")
@@ -433,8 +439,8 @@ def test_accept_a_suggested_edit(browser, base_url, tmp_path):
         timeout=120_000,
     )
     sync_api.expect(page.locator(".sugg").first).to_be_visible()
-    sync_api.expect(page.locator("#redo-edit")).to_be_visible()
-    assert undo.is_hidden()
+    sync_api.expect(page.locator("#redo-edit")).to_be_enabled()
+    sync_api.expect(page.locator("#undo-list li").first).not_to_contain_text("smooth")
     assert shown_bytes(page, base_url) == before_bytes
     # a reloaded tab shows the same: the suggestions it had, Redo still offered
     page.reload()
@@ -531,7 +537,12 @@ def test_a_design_survives_restarts_and_an_eviction(browser, app_process, tmp_pa
     card = page.locator(".sugg").first
     sync_api.expect(card).to_be_visible(timeout=120_000)
     card.locator("[data-accept]").click()
-    sync_api.expect(page.locator("#undo-edit")).to_be_visible()
+    # the accept has landed: the edited picture replaced an input (Undo is always on the page)
+    page.wait_for_function(
+        "['a', 'b'].some((s) => document.querySelector('#meta-' + s).textContent"
+        ".includes('suggested edit accepted'))"
+    )
+    sync_api.expect(page.locator("#undo-edit")).to_be_enabled()
     page.wait_for_function(
         "document.querySelectorAll('.cand .measures').length > 0 && "
         "!document.querySelector('#run').disabled",
@@ -554,7 +565,7 @@ def test_a_design_survives_restarts_and_an_eviction(browser, app_process, tmp_pa
             "grid": page.locator("#grid-info").text_content(),
             "measures": measures.all_text_contents(),
             "selected": page.locator(".cand.sel").get_attribute("data-rank"),
-            "undo": page.locator("#undo-edit").is_visible(),
+            "undo": page.locator("#undo-edit").is_enabled(),
             "bytes": shown_bytes(page, url),
         }
 
@@ -606,3 +617,168 @@ def httpx_get(url: str) -> dict:
 
     with urllib.request.urlopen(url, timeout=30) as r:
         return dict(json.loads(r.read()))
+
+
+OFF_SCREEN = """() => {
+    const vw = document.documentElement.clientWidth;
+    const out = [];
+    for (const el of document.querySelectorAll('button, input, select, a, summary, .cand, img')) {
+        const r = el.getBoundingClientRect();
+        if (!r.width || !r.height) continue;  // hidden: nothing to reach
+        if (r.left < -0.5 || r.right > vw + 0.5) out.push(`${el.tagName}#${el.id} ${r.left}..${r.right}`);
+    }
+    return out;
+}"""
+
+
+def test_phone_width_one_column_nothing_cut_off(browser, base_url, tmp_path):
+    """At 390 x 844 (a phone) the page is one column no wider than the screen: the mode buttons,
+    the width, the colour count, picture B and side B of every candidate are all on screen."""
+    context = browser.new_context(viewport={"width": 390, "height": 844})
+    page = context.new_page()
+    page.set_default_timeout(60_000)
+    page.goto(base_url)
+    page.wait_for_selector("body[data-ready='1']")
+    page.locator("#width_units").fill("24")
+    page.set_input_files("#file-a", str(lettered(tmp_path / "up.png", "UP")))
+    sync_api.expect(page.locator("#meta-a")).to_contain_text("72×48px")
+    page.set_input_files("#file-b", str(lettered(tmp_path / "on.png", "ON")))
+    sync_api.expect(page.locator("#meta-b")).to_contain_text("72×48px")
+    sync_api.expect(page.locator(".cand .measures").first).to_be_visible(timeout=120_000)
+    assert page.evaluate("document.documentElement.scrollWidth") <= 390
+    assert page.evaluate(OFF_SCREEN) == []
+    # one column: the inputs above the work, not beside it
+    inputs = page.locator("aside.inputs").bounding_box()
+    work = page.locator("section.work").bounding_box()
+    assert inputs and work and work["y"] >= inputs["y"] + inputs["height"]
+    for sel in ("#modes [data-mode='headon']", "#width_units", "#n_colors", "#drop-b", "#run"):
+        page.locator(sel).scroll_into_view_if_needed()
+        box = page.locator(sel).bounding_box()
+        assert box and box["x"] >= 0 and box["x"] + box["width"] <= 390, (sel, box)
+    side_b = page.locator(".cand").first.locator("img").nth(2).bounding_box()
+    assert side_b and side_b["x"] + side_b["width"] <= 390
+    page.select_option("#n_colors", "3")  # reachable and usable
+    sync_api.expect(page.locator("#n_colors")).to_have_value("3")
+    context.close()
+
+
+def photo(path: Path, name: str) -> Path:
+    """A 400 x 400 crop of a photograph shipped in scikit-image's wheel."""
+    from skimage import data
+
+    rgb = getattr(data, name)()
+    h, w = rgb.shape[:2]
+    top, left = (h - 400) // 2, (w - 400) // 2
+    Image.fromarray(np.ascontiguousarray(rgb[top : top + 400, left : left + 400])).save(path)
+    return path
+
+
+def test_cancel_a_large_four_colour_search(browser, served, tmp_path):
+    """A 200-unit, 4-colour search is cancelled while the solver works: within 2 s the job is
+    cancelled on the server and the page no longer says it is searching."""
+    url, app = served
+    context = browser.new_context(viewport={"width": 1440, "height": 1000})
+    page = context.new_page()
+    page.set_default_timeout(60_000)
+    page.goto(url)
+    page.wait_for_selector("body[data-ready='1']")
+    page.select_option("#machine", "generic540")
+    page.locator("#width_units").fill("200")
+    for n in (3, 4):
+        page.click("#add-yarn")
+        sync_api.expect(page.locator("#yarns .yarn")).to_have_count(n)
+    page.select_option("#n_colors", "4")
+    page.set_input_files("#file-a", str(photo(tmp_path / "astronaut.png", "astronaut")))
+    sync_api.expect(page.locator("#meta-a")).to_contain_text("400×400px")
+    page.set_input_files("#file-b", str(photo(tmp_path / "coffee.png", "coffee")))
+    sync_api.expect(page.locator("#meta-b")).to_contain_text("400×400px")
+    box = page.locator("#job-candidates")
+    # the solver is at work (the estimate is shown), not a stage that checks between steps
+    sync_api.expect(box.locator(".job-msg")).to_contain_text("s so far", timeout=120_000)
+    sync_api.expect(box.locator(".job-msg")).to_contain_text("2 s so far", timeout=30_000)
+    sid = page.get_attribute("body", "data-session")
+    job = app.state.store.get(sid).jobs["candidates"]
+    assert job.status == "running"
+    t0 = time.monotonic()
+    box.locator("[data-cancel]").click()
+    sync_api.expect(box).to_be_hidden(timeout=2_000)
+    sync_api.expect(page.locator("#cands")).to_contain_text("Search cancelled", timeout=2_000)
+    waited = time.monotonic() - t0
+    assert job.status == "cancelled" and waited < 2.0, (job.status, waited)
+    assert "Finding candidates" not in (page.locator("#cands").text_content() or "")
+    sync_api.expect(page.locator("#run")).to_be_enabled()
+    context.close()
+
+
+def test_undo_a_tile_edit_with_the_keyboard(browser, base_url, tmp_path):
+    """A tile edit is undone with Ctrl+Z and redone with Ctrl+Shift+Z; the arrow keys move
+    between candidates and Enter picks one."""
+    context = browser.new_context(viewport={"width": 1440, "height": 1000})
+    page = context.new_page()
+    page.set_default_timeout(60_000)
+    problems: list[str] = []
+    page.on("pageerror", lambda e: problems.append(f"page error: {e}"))
+    page.goto(base_url)
+    page.wait_for_selector("body[data-ready='1']")
+    page.locator("#width_units").fill("24")
+    page.set_input_files("#file-a", str(lettered(tmp_path / "up.png", "UP")))
+    sync_api.expect(page.locator("#meta-a")).to_contain_text("72×48px")
+    page.set_input_files("#file-b", str(lettered(tmp_path / "on.png", "ON")))
+    sync_api.expect(page.locator("#meta-b")).to_contain_text("72×48px")
+    sync_api.expect(page.locator(".cand .measures").first).to_be_visible(timeout=120_000)
+
+    # arrows between candidates, Enter to pick
+    page.locator(".cand").first.focus()
+    page.keyboard.press("ArrowRight")
+    page.keyboard.press("Enter")
+    sync_api.expect(page.locator(".cand.sel")).to_have_attribute("data-rank", "2")
+    page.keyboard.press("ArrowLeft")
+    page.keyboard.press("Enter")
+    sync_api.expect(page.locator(".cand.sel")).to_have_attribute("data-rank", "1")
+
+    row = page.locator("#pairs .pair").first
+    select = row.locator("select")
+    first = select.input_value()
+    other = next(
+        v for v in select.locator("option").evaluate_all("os => os.map(o => o.value)") if v != first
+    )
+    select.select_option(other)
+    sync_api.expect(page.locator("#pairs .pair.edited")).to_have_count(1)
+    sync_api.expect(page.locator("#edit-measures")).to_contain_text("With your tile edits")
+    sync_api.expect(page.locator("#undo-list li").first).to_contain_text("tile edit")
+
+    page.locator("#preview-label").click()  # focus off the select: Ctrl+Z is the page's
+    page.keyboard.press("Control+z")
+    sync_api.expect(page.locator("#pairs .pair.edited")).to_have_count(0)
+    sync_api.expect(page.locator("#pairs .pair select").first).to_have_value(first)
+    sync_api.expect(page.locator("#edit-measures")).to_be_hidden()
+    sync_api.expect(page.locator("#redo-list li").first).to_contain_text("tile edit")
+    page.keyboard.press("Control+Shift+z")
+    sync_api.expect(page.locator("#pairs .pair.edited")).to_have_count(1)
+    sync_api.expect(page.locator("#pairs .pair select").first).to_have_value(other)
+    context.close()
+    assert not problems, problems
+
+
+def test_headon_candidates_show_their_measures(browser, base_url, tmp_path):
+    """A head-on design from one picture: every card says how it reads head-on and how much of
+    the picture is left at an angle."""
+    context = browser.new_context(viewport={"width": 1440, "height": 1000})
+    page = context.new_page()
+    page.set_default_timeout(60_000)
+    page.goto(base_url)
+    page.wait_for_selector("body[data-ready='1']")
+    page.click("#modes [data-mode='headon']")
+    sync_api.expect(page.locator("#modes [data-mode='headon']")).to_have_attribute(
+        "aria-checked", "true"
+    )
+    page.locator("#width_units").fill("24")
+    page.set_input_files("#file-a", str(lettered(tmp_path / "hi.png", "HI")))
+    sync_api.expect(page.locator("#meta-a")).to_contain_text("72×48px")
+    cards = page.locator(".cand")
+    sync_api.expect(cards.first.locator(".measures")).to_be_visible(timeout=120_000)
+    sync_api.expect(page.locator(".cand .measures")).to_have_count(cards.count(), timeout=120_000)
+    for text in page.locator(".cand .measures").all_text_contents():
+        assert "reads headon" in text and "ghosting" in text, text
+    sync_api.expect(cards.first.locator(".score")).to_contain_text("reads ")
+    context.close()

@@ -1,5 +1,6 @@
-"""Undo and redo of accepted suggested edits: the design before the accept comes back exactly,
-empty histories and closed sessions answer plainly, and the history counts in the memory bound."""
+"""Undo and redo of every change (uploads, settings, tile edits, accepted suggested edits): the
+design before the change comes back exactly, empty histories and closed sessions answer plainly,
+and the history counts in the memory bound."""
 
 from __future__ import annotations
 
@@ -76,7 +77,13 @@ def test_undo_brings_back_the_design_before_the_accept_and_redo_the_one_after(
     after = design_seen(client, sid)
     assert after["pictures"] != before["pictures"]
     state = client.get(base).json()
-    assert state["history"] == {"undo": [edit["description"]], "redo": []}
+    assert state["history"]["undo"][0] == edit["description"] and state["history"]["redo"] == []
+    # below it, the changes that made the design: the settings, then the two uploads
+    assert state["history"]["undo"][1] == "change of width (units) 60 -> 24"
+    assert state["history"]["undo"][2:] == [
+        "upload of picture B (ON.png)",
+        "upload of picture A (UP.png)",
+    ]
 
     r = client.post(f"{base}/history/undo")
     assert r.status_code == 200, r.text
@@ -84,7 +91,8 @@ def test_undo_brings_back_the_design_before_the_accept_and_redo_the_one_after(
     assert answer["undone"] == edit["description"]
     assert answer["job"] is None  # the candidates come back with the design: no new search
     assert answer["state"]["revision"] > state["revision"]
-    assert answer["state"]["history"] == {"undo": [], "redo": [edit["description"]]}
+    assert answer["state"]["history"]["redo"] == [edit["description"]]
+    assert answer["state"]["history"]["undo"] == state["history"]["undo"][1:]
     # byte-identical pictures, the same quantised inputs, candidates, measures, suggestions
     assert design_seen(client, sid) == before
     assert client.get(f"{base}/candidates").json()["revision"] == answer["state"]["revision"]
@@ -102,7 +110,8 @@ def test_undo_brings_back_the_design_before_the_accept_and_redo_the_one_after(
     # undo, then another change: what was undone cannot be redone any more
     assert client.post(f"{base}/history/undo").status_code == 200
     assert client.put(f"{base}/settings", json={"width_units": 25}).status_code == 200
-    assert client.get(f"{base}/history").json() == {"undo": [], "redo": []}
+    now = client.get(f"{base}/history").json()
+    assert now["redo"] == [] and now["undo"][0] == "change of width (units) 24 -> 25"
 
 
 def test_undo_of_a_requantisation_gives_back_the_colour_count(client, api, two_words):
@@ -127,8 +136,8 @@ def test_undo_of_a_requantisation_gives_back_the_colour_count(client, api, two_w
     }
 
 
-def test_nothing_to_undo_or_redo_is_409_with_a_message(client, api, two_words):
-    sid = two_words(client)
+def test_nothing_to_undo_or_redo_is_409_with_a_message(client, api):
+    sid = client.post("/api/sessions").json()["id"]
     for what in ("undo", "redo"):
         r = client.post(f"/api/sessions/{sid}/history/{what}")
         assert r.status_code == 409
@@ -186,7 +195,7 @@ def test_the_history_counts_in_the_session_memory_once(api, two_words):
                 without = s.nbytes()
                 s.undo_steps = steps
                 now = held(design_arrays(s.images, s.prepared, s.candidates, s.suggestions))
-            (old,) = steps
+            old = steps[-1]  # the design before the accept (the uploads' steps below it)
             kept = held(design_arrays(old.images, old.prepared, old.candidates, old.suggestions))
         finally:
             store.max_bytes = limit
@@ -230,3 +239,37 @@ def test_undo_while_the_accepted_design_is_searched_keeps_the_design_before(clie
     assert r.status_code == 200 and r.json()["job"] is None
     assert api.wait_job(client, sid, search)["status"] in ("cancelled", "done")
     assert design_seen(client, sid) == before
+
+
+def test_undo_takes_back_a_tile_edit_an_upload_and_a_setting(client, api, two_words, pictures):
+    sid = two_words(client)
+    base = f"/api/sessions/{sid}"
+    assert api.run_job(client, sid, "candidates")["status"] == "done"
+    before = design_seen(client, sid)
+    pairs = client.get(f"{base}/pairs").json()
+    row = pairs["pairs"][0]
+    other = next(o["id"] for o in row["options"] if o["id"] != row["tile"])
+    r = client.put(f"{base}/pairs/{row['a']}/{row['b']}", json={"tile": other})
+    assert r.status_code == 200
+    label = client.get(f"{base}/history").json()["undo"][0]
+    assert label.startswith("tile edit: A colour") and other in label
+    r = client.post(f"{base}/history/undo")
+    assert r.status_code == 200 and r.json()["undone"] == label and r.json()["job"] is None
+    assert r.json()["state"]["overrides"] == []
+    assert design_seen(client, sid) == before
+    r = client.post(f"{base}/history/redo")
+    assert r.json()["state"]["overrides"] == [{"a": row["a"], "b": row["b"], "tile": other}]
+    assert client.post(f"{base}/history/undo").status_code == 200
+
+    # a new picture B, then a setting: each is undone in turn, the pictures byte for byte
+    files = {"file": ("OK.png", pictures.word("OK"), "image/png")}
+    assert client.put(f"{base}/images/b", files=files).status_code == 200
+    assert client.put(f"{base}/settings", json={"n_colors": 3}).status_code == 200
+    hist = client.get(f"{base}/history").json()["undo"]
+    assert hist[:2] == ["change of colours per picture 2 -> 3", "upload of picture B (OK.png)"]
+    r = client.post(f"{base}/history/undo")
+    assert r.json()["state"]["settings"]["n_colors"] == 2
+    r = client.post(f"{base}/history/undo")
+    assert r.json()["undone"] == "upload of picture B (OK.png)"
+    assert r.json()["state"]["images"]["b"]["filename"] == "ON.png"
+    assert design_seen(client, sid)["pictures"] == before["pictures"]

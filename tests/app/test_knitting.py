@@ -46,6 +46,9 @@ def test_info_lists_the_machine_presets(client):
     assert swg["needles"] == 252 and swg["max_units"] == MACHINES["swg091n2"].max_units
     assert machines["generic540"]["needles"] == 540 and "dat" in swg["formats"]
     assert client.get("/api/info").json()["defaults"]["machine"] == "generic540"
+    # the selector tells every preset apart by its label alone
+    labels = [m["label"] for m in machines.values()]
+    assert len(set(labels)) == len(labels), labels
 
 
 def test_width_wider_than_the_bed_is_refused_before_any_work(client, sid):

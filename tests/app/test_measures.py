@@ -177,3 +177,38 @@ def test_diagnostic_overlay_of_a_headon_design(client, app, with_side):
         if view != "headon":
             # at an angle a head-on design hides its front picture: most units pass
             assert stats["wrong"] + stats["ghost"] < 0.5, (view, stats)
+
+
+@pytest.mark.parametrize("with_side", [False, True])
+def test_headon_candidates_are_measured_and_ranked_on_all_three_views(client, app, with_side):
+    """Head-on designs get readability and ghosting (head-on, and from above and below), not an
+    empty measure: "rank by how it reads" ranks them by how they read."""
+    sid = client.post("/api/sessions").json()["id"]
+    pics = [("a", box(6, 8))] + ([("b", box(2, 2))] if with_side else [])
+    for slot, pic in pics:
+        client.put(
+            f"/api/sessions/{sid}/images/{slot}", files={"file": ("p.png", pic, "image/png")}
+        )
+    client.put(f"/api/sessions/{sid}/settings", json={"mode": "headon", "width_units": 18})
+    assert run(client, sid, "candidates")["status"] == "done"
+    assert run(client, sid, "measures")["status"] == "done"
+    cands = client.get(f"/api/sessions/{sid}/candidates", params={"order": "perception"}).json()
+    ms = [c["measures"] for c in cands["candidates"]]
+    for m in ms:
+        assert m["views"] == ["headon", "side"]
+        assert m["readability"][0] is not None and -1 <= m["readability"][0] <= 1
+        assert (m["readability"][1] is not None) == with_side  # a plain side has nothing to read
+        assert m["ghosting"][1] is not None  # how much of the front is left at an angle
+        assert m["perceptual_score"] != -0.25
+    scores = [m["perceptual_score"] for m in ms]
+    assert scores == sorted(scores, reverse=True)
+    session = app.state.store.get(sid)
+    m = perception.measure_candidate(
+        session.candidates[0].pattern,
+        perception.seen_targets(
+            session.prepared.quantised["a"], session.prepared.quantised.get("b")
+        ),
+        views=("headon", "side"),
+    )
+    first = next(c for c in cands["candidates"] if c["rank"] == 1)["measures"]
+    assert first["readability"] == [None if v is None else round(v, 4) for v in m.readability]

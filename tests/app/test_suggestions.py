@@ -62,6 +62,43 @@ def test_suggestions_list_their_effect_and_pictures(client, suggested):
             assert (shown["before"] != shown["after"]).any(), "an edit changes its picture"
 
 
+def test_suggestions_are_listed_most_helpful_first(client, suggested):
+    _, got = suggested
+    rank = {"better": 0, "same": 1, "mixed": 2, "worse": 3}
+    keys = [(rank[s["verdict"]], -s["benefit"]) for s in got["suggestions"]]
+    assert keys == sorted(keys)
+    for s in got["suggestions"]:
+        assert "majority" not in s["description"]  # plain words, no image-processing jargon
+        assert s["effect"].startswith("the worse side reads")
+
+
+@pytest.mark.parametrize(
+    ("before", "after", "verdict"),
+    [
+        ((0.90, 0.10), (0.95, 0.10), "better"),
+        ((0.90, 0.10), (0.90, 0.05), "better"),
+        ((0.90, 0.164), (0.90, 0.185), "worse"),  # more ghosting, nothing gained: never green
+        ((0.981, 0.10), (0.664, 0.05), "mixed"),
+        ((0.981, 0.10), (0.664, 0.10), "worse"),
+        ((0.90, 0.10), (0.95, 0.20), "mixed"),
+        ((0.90, 0.10), (0.90, 0.10), "same"),
+    ],
+)
+def test_a_suggestion_says_whether_it_helps(before, after, verdict):
+    from illuknit.app.suggestions import SuggestedEdit
+
+    e = SuggestedEdit("s.1", "k", "n", "d", {"a": 1}, {}, before, after)
+    assert e.verdict == verdict
+    assert e.to_json()["verdict"] == verdict
+    if verdict == "better":
+        assert e.benefit > 0
+    if verdict == "worse":
+        words = e.effect_words()
+        assert e.benefit < 0 and (
+            ("reads" in words and "worse" in words) or "more ghosting" in words
+        )
+
+
 def test_accept_replaces_the_pictures_and_designs_again(client, api, suggested):
     sid, got = suggested
     edit = got["suggestions"][0]
@@ -315,3 +352,44 @@ def test_suggestions_report_the_library_review_progress_and_cancel_through_it(pi
             count=2,
             progress=cancelled_at_the_second_measurement,
         )
+
+
+def test_suggestions_in_their_own_process_report_progress_and_cancel_at_once(api):
+    """Served as by default (the measurements in a worker process): the job's progress comes
+    from the worker as each edit is measured, and Cancel kills it within 2 s."""
+    import time
+
+    from skimage import data
+
+    def crop(rgb: Any) -> bytes:
+        h, w = rgb.shape[:2]
+        buf = io.BytesIO()
+        top, left = (h - 300) // 2, (w - 300) // 2
+        Image.fromarray(np.ascontiguousarray(rgb[top : top + 300, left : left + 300])).save(
+            buf, format="PNG"
+        )
+        return buf.getvalue()
+
+    with TestClient(create_app(AppConfig(isolate_knit=False, isolate_search=True))) as client:
+        sid = client.post("/api/sessions").json()["id"]
+        for slot, name in (("a", "astronaut"), ("b", "coffee")):
+            files = {"file": (f"{name}.png", crop(getattr(data, name)()), "image/png")}
+            assert client.put(f"/api/sessions/{sid}/images/{slot}", files=files).status_code == 200
+        body = {
+            "width_units": 120,
+            "n_colors": 3,
+            "yarns": ["#1b1b1b", "#8a8a8a", "#f4f0e8"],
+            "machine": "generic540",
+        }
+        assert client.put(f"/api/sessions/{sid}/settings", json=body).status_code == 200
+        job = client.post(f"/api/sessions/{sid}/jobs", json={"kind": "suggestions"}).json()
+        deadline = time.monotonic() + 120
+        while not job["message"].startswith("measuring"):
+            assert job["status"] in ("queued", "running"), job
+            assert time.monotonic() < deadline, job
+            time.sleep(0.1)
+            job = client.get(f"/api/sessions/{sid}/jobs/{job['id']}").json()
+        assert job["progress"] >= 0.02
+        t0 = time.monotonic()
+        r = client.delete(f"/api/sessions/{sid}/jobs/{job['id']}")
+        assert r.json()["status"] == "cancelled" and time.monotonic() - t0 < 2.0

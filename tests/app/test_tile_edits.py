@@ -92,8 +92,15 @@ def test_an_edit_keeps_the_row_in_its_group(client, designed):
     assert after["groups"] == before["groups"] and after["rare"] == before["rare"]
     edited = next(x for x in after["pairs"] if (x["a"], x["b"]) == (row["a"], row["b"]))
     assert edited["overridden"] and edited["tile"] == other
+    # measured at once: the edited design's readability differs from the candidate's own
+    assert before["edited"] is None
+    m = after["edited"]
+    assert m["views"] == ["A", "B"] and all(-1 <= x <= 1 for x in m["readability"])
+    if before["measures"] is not None:
+        assert m["readability"] != before["measures"]["readability"]
     r = client.put(f"/api/sessions/{designed}/pairs/{row['a']}/{row['b']}", json={"tile": None})
     assert r.status_code == 200
+    assert r.json()["edited"] is None
 
 
 def test_a_headon_design_groups_by_the_headon_fill(client, api):

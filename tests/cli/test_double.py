@@ -28,3 +28,34 @@ def test_double_sizes_are_rows_by_columns(tmp_path, capsys):
     text = capsys.readouterr().out
     assert "6 x 10 units" in text and "10 x 6 units" not in text
     assert (out / "summary.txt").read_text().splitlines()[0].count("6 x 10 units") == 1
+
+
+def test_the_table_fits_the_terminal_and_the_message_lists_every_folder(
+    tmp_path, capsys, monkeypatch
+):
+    """At 80 columns no header or number is cut ("perc..."): columns are left out, said so, and
+    kept in summary.txt; the last lines name every folder and file written and what the
+    suggested edits found."""
+    from illuknit.pictures.drawings import draw_text
+
+    for name, word in (("a", "UP"), ("b", "ON")):
+        mask = draw_text(word, shape=(16, 24))
+        Image.fromarray(np.where(mask[..., None], 24, 246).astype(np.uint8).repeat(3, 2)).save(
+            tmp_path / f"{name}.png"
+        )
+    out = tmp_path / "out"
+    monkeypatch.setenv("COLUMNS", "80")
+    main([
+        "double", str(tmp_path / "a.png"), str(tmp_path / "b.png"),
+        "--candidates", "3", "--suggest", "-o", str(out),
+    ])  # fmt: skip
+    text = capsys.readouterr().out
+    lines = text.splitlines()
+    assert max(len(line) for line in lines if line.startswith(("┃", "│", "┏"))) <= 80
+    assert "…" not in text
+    assert "perceptual" in text and "the full table is in summary.txt" in text
+    assert "fills of input A" in (out / "summary.txt").read_text()  # the full table
+    folders = [line for line in lines if line.strip().startswith("folders:")]
+    assert folders and all(f"{p.name}/" in folders[0] for p in out.iterdir() if p.is_dir()), folders
+    assert "suggestions/" in folders[0]
+    assert any(line.strip().startswith("suggestions/: ") and "measured" in line for line in lines)

@@ -145,6 +145,31 @@ def test_measures_see_the_picture_and_the_ghost():
         measure_candidate(flat, [pal[a]])
 
 
+def test_measures_at_the_eyes_resolution_see_stripes_the_fixed_blur_hides():
+    """A picture drawn in row stripes (a striped fill, as the eye sees it from near) reads well
+    under the fixed 1.5-unit blur and worse at the eye's resolution from 3 m; a solid picture
+    reads the same at both."""
+    from illuknit.design.tiles.perception import eye_blur_units
+
+    a = _disc(30, 9, 15, 15)
+    pal = np.array([[240, 240, 240], [20, 20, 20]], np.uint8)
+    striped = a.copy()
+    striped[::2] = False  # the dark disc in alternate dark and light rows
+    p = LogicalPattern(striped.astype(np.int16), np.zeros_like(a), YARNS[::-1])
+    solid = LogicalPattern(a.astype(np.int16), np.zeros_like(a), YARNS[::-1])
+    near = eye_blur_units(3.0)
+    assert measure_candidate(p, [pal[a], pal[a]], ghost=False, blur=near).worse_readability < (
+        measure_candidate(p, [pal[a], pal[a]], ghost=False).worse_readability - 0.1
+    )
+    assert (
+        measure_candidate(solid, [pal[a], pal[a]], ghost=False, blur=near).worse_readability > 0.9
+    )
+    default = measure_candidate(p, [pal[a], pal[a]], ghost=False)
+    assert measure_candidate(p, [pal[a], pal[a]], ghost=False, blur=1.5) == default
+    with pytest.raises(OptionError):
+        measure_candidate(p, [pal[a], pal[a]], blur=-1.0)
+
+
 def test_diagnostic_marks_wrong_units_red():
     a = _disc(30, 9, 15, 15)
     pal = np.array([[240, 240, 240], [20, 20, 20]], np.uint8)

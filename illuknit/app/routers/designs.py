@@ -14,7 +14,7 @@ from illuknit.app.lookups import (
     prepared_of,
     state_json,
 )
-from illuknit.app.measures import order_candidates
+from illuknit.app.measures import measure_candidate, order_candidates
 from illuknit.app.schemas import OverrideIn, SelectionIn
 from illuknit.core.errors import AppRequestError
 
@@ -62,7 +62,20 @@ def put_selection(s: SessionDep, body: SelectionIn) -> dict[str, Any]:
 )
 def get_pairs(s: SessionDep) -> dict[str, Any]:
     with s.lock:
-        return design.pairs_json(candidate_of(s, None), s.overrides)
+        return _pairs_measured(s, candidate_of(s, None))
+
+
+def _pairs_measured(s: Any, cand: Any) -> dict[str, Any]:
+    """The pairs, and how the picked design reads with the tile edits (``edited``: None when
+    there are none; ``measures`` the candidate's own, when measured)."""
+    answer = design.pairs_json(cand, s.overrides)
+    answer["measures"] = None if cand.measured is None else cand.measured.to_json()
+    answer["edited"] = None
+    if s.overrides and s.prepared is not None:
+        pattern = design.pattern_for(cand, s.overrides)
+        m = measure_candidate(pattern, s.prepared, machine=s.settings.machine, knit_time=False)
+        answer["edited"] = m.to_json()
+    return answer
 
 
 @router.put(
@@ -78,9 +91,13 @@ def put_pair(s: SessionDep, a: int, b: int, body: OverrideIn) -> dict[str, Any]:
         else:
             overrides[(a, b)] = body.tile
         design.pattern_for(cand, overrides)  # validates before keeping it
+        if overrides != s.overrides:
+            tile = "its default tile" if body.tile is None else f"tile {body.tile}"
+            s.remember(f"tile edit: A colour {a} over B colour {b} to {tile}")
+            s.redo_steps.clear()  # a new edit: what was undone cannot be redone
         s.overrides = overrides
         s.knit = None
-        return design.pairs_json(cand, s.overrides)
+        return _pairs_measured(s, cand)
 
 
 @router.get("/tiles/{tile_id}.png", summary="Picture of a bank tile")
@@ -110,9 +127,24 @@ def render(
     candidate: int | None = Query(
         None, ge=1, title="Candidate", description="rank; default: the picked one"
     ),
+    distance: float | None = Query(
+        None,
+        gt=0,
+        le=1000,
+        title="Viewing distance",
+        description="metres: the render as a 20/20 eye resolves it from there (the fabric "
+        "at the chosen machine's gauge); default: every detail",
+    ),
 ) -> Response:
     pattern = current_pattern(s, candidate)
     img = design.render_view(pattern, view, angle=angle)
+    if distance is not None:
+        from illuknit.core.machine import MACHINES
+        from illuknit.design.tiles.perception import eye_blur_units, seen_from
+
+        gauge = MACHINES[s.settings.machine].gauge
+        per_unit = img.shape[1] / pattern.shape[1]  # pixels per unit across
+        img = seen_from(img, eye_blur_units(distance, gauge=gauge) * per_unit)
     return Response(
         design.png_bytes(img), media_type="image/png", headers={"Cache-Control": "no-store"}
     )

@@ -61,7 +61,9 @@ def _design_again(request: Request, s: Session) -> Job | None:
     if s.candidates:
         return None
     try:
-        job = start_candidates(s, runner_of(request))
+        job = start_candidates(
+            s, runner_of(request), isolate=request.app.state.config.isolate_search
+        )
     except AppRequestError:
         return None
     s.replace_job("candidates", job)

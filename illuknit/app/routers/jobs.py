@@ -1,5 +1,6 @@
 """Jobs: the long work (candidate search, knitout and its check) in the background."""
 
+import functools
 from typing import Annotated, Any
 
 from fastapi import APIRouter, Depends, Request
@@ -20,13 +21,31 @@ router = APIRouter(prefix="/api/sessions/{sid}/jobs", tags=["jobs"])
 RunnerDep = Annotated[JobRunner, Depends(runner_of)]
 
 
-def start_candidates(s: Session, runner: JobRunner) -> Job:
+def start_candidates(s: Session, runner: JobRunner, *, isolate: bool = True) -> Job:
     prepared = prepared_of(s)
     count = s.settings.candidates
     rev = s.revision
 
     def work(job: Job) -> list[design.Candidate]:
-        return design.make_candidates(prepared, count=count, progress=job.report)
+        def run(search: Any) -> Any:
+            # The search stops by the pool's time bound (plus one solve's time limit): the bar
+            # moves with the time spent against that bound, the words say both.
+            from illuknit.design.tiles.perception import POOL_SECONDS
+
+            bound = POOL_SECONDS + 10.0
+
+            def tick(seconds: float) -> None:
+                job.report(
+                    0.1 + 0.3 * min(1.0, seconds / bound),
+                    f"finding tile mappings: {seconds:.0f} s so far, done in at most "
+                    f"{bound:.0f} s (usually far less)",
+                )
+
+            return job.run_isolated(search, tick=tick, poll=0.1)
+
+        return design.make_candidates(
+            prepared, count=count, progress=job.report, run=run if isolate else None
+        )
 
     def done(job: Job) -> None:
         with s.lock:
@@ -69,9 +88,13 @@ def start_measures(s: Session, runner: JobRunner) -> Job:
     return runner.submit("measures", work, revision=rev, on_done=done)
 
 
-def start_suggestions(s: Session, runner: JobRunner, store: SessionStore) -> Job:
+def start_suggestions(
+    s: Session, runner: JobRunner, store: SessionStore, *, isolate: bool = True
+) -> Job:
     """Suggested edits of the pictures, each measured (kept as the session's suggestion set;
-    their pictures count in ``store``'s memory bound, which is enforced once they are kept)."""
+    their pictures count in ``store``'s memory bound, which is enforced once they are kept).
+    With ``isolate`` the work runs in its own process, killed by Cancel (each measurement is a
+    tile search that cannot be interrupted in-process), reporting its progress from there."""
     from illuknit.app.suggestions import require_double, suggest_edits_for
 
     prepared = prepared_of(s)
@@ -83,14 +106,16 @@ def start_suggestions(s: Session, runner: JobRunner, store: SessionStore) -> Job
     def work(job: Job) -> Any:
         job.report(0.01, "sizing the pictures")
         sources, _ = design.size_inputs(images, settings)  # what a re-quantisation reads again
-        return suggest_edits_for(
-            prepared,
-            sources=sources,
-            set_id=job.id,
-            revision=rev,
-            count=count,
-            progress=job.report,
+        suggest = functools.partial(
+            suggest_edits_for, prepared, sources=sources, set_id=job.id, revision=rev, count=count
         )
+        if not isolate:
+            return suggest(progress=job.report)
+        try:
+            return job.run_isolated(suggest, progress=(0.02, 1.0))
+        except AppRequestError as e:  # raised in the worker process: name the control
+            e.field = e.field or "suggestions"
+            raise
 
     def done(job: Job) -> None:
         with s.lock:
@@ -144,11 +169,13 @@ def post_job(request: Request, s: SessionDep, runner: RunnerDep, body: JobIn) ->
         if old is not None and old.live:
             old.cancel()
         if body.kind == "candidates":
-            job = start_candidates(s, runner)
+            job = start_candidates(s, runner, isolate=request.app.state.config.isolate_search)
         elif body.kind == "measures":
             job = start_measures(s, runner)
         elif body.kind == "suggestions":
-            job = start_suggestions(s, runner, store_of(request))
+            job = start_suggestions(
+                s, runner, store_of(request), isolate=request.app.state.config.isolate_search
+            )
         else:
             job = start_knit(
                 s,

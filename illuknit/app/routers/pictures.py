@@ -38,7 +38,9 @@ def put_image(
         )
     rgb, notes = design.decode_upload(data, file.filename or "", field=field)
     with s.lock:
-        s.images[slot] = UploadedImage(file.filename or f"{slot}.png", len(data), rgb, notes)
+        name = file.filename or f"{slot}.png"
+        s.remember(f"upload of picture {slot.upper()} ({name})")  # the design as it is, for Undo
+        s.images[slot] = UploadedImage(name, len(data), rgb, notes)
         s.bump()
         state = state_json(s)
     del data
@@ -67,7 +69,9 @@ def get_image(s: SessionDep, slot: str) -> Response:
 def delete_image(s: SessionDep, slot: str) -> dict[str, Any]:
     check_slot(slot)
     with s.lock:
-        if s.images.pop(slot, None) is not None:
+        if slot in s.images:
+            s.remember(f"removal of picture {slot.upper()}")
+            del s.images[slot]
             s.bump()
         return state_json(s)
 

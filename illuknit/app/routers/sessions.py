@@ -47,9 +47,40 @@ def put_settings(s: SessionDep, body: SettingsPatch) -> dict[str, Any]:  # type:
         new = DesignSettings.model_validate({**s.settings.model_dump(), **changes})
         _check_fits(new, changes)
         if new != s.settings:
+            s.remember(settings_change(s.settings, new))  # the design as it is, for Undo
             s.settings = new
             s.bump()
         return state_json(s)
+
+
+#: How the page names each setting in the list of what Undo takes back.
+SETTING_WORDS = {
+    "mode": "mode",
+    "size_mode": "size by",
+    "width_units": "width (units)",
+    "width_cm": "width (cm)",
+    "gauge": "gauge",
+    "n_colors": "colours per picture",
+    "yarns": "yarns",
+    "candidates": "candidates shown",
+    "resize": "stretch B to A's size",
+    "machine": "machine",
+    "smooth": "smoothing",
+}
+
+
+def settings_change(old: DesignSettings, new: DesignSettings) -> str:
+    """A change of settings in words, e.g. "width (units) 60 -> 24"."""
+    a, b = old.model_dump(), new.model_dump()
+    parts = []
+    for key in a:
+        if a[key] != b[key]:
+            word = SETTING_WORDS.get(key, key.replace("_", " "))
+            if key == "yarns":
+                parts.append(f"yarns ({len(a[key])} -> {len(b[key])})")
+            else:
+                parts.append(f"{word} {a[key]} -> {b[key]}")
+    return "change of " + ", ".join(parts) if parts else "change of settings"
 
 
 def _check_fits(settings: DesignSettings, changes: dict[str, Any]) -> None:

@@ -35,7 +35,13 @@ def suggestions_json(s: Session) -> dict[str, Any]:
     got: SuggestionSet | None = s.suggestions
     if got is None:
         return {"set": None, "revision": s.revision, "suggestions": [], "refused": 0}
-    shown = [e.to_json() for e in got.edits if e.id not in s.refused]
+    # most helpful first; edits that make the design worse last
+    order = {"better": 0, "same": 1, "mixed": 2, "worse": 3}
+    edits = sorted(
+        (e for e in got.edits if e.id not in s.refused),
+        key=lambda e: (order[e.verdict], -e.benefit),
+    )
+    shown = [e.to_json() for e in edits]
     return {
         "set": got.id,
         "revision": got.revision,
@@ -150,7 +156,9 @@ def accept(request: Request, s: SessionDep, edit_id: str) -> dict[str, Any]:
             note = f"suggested edit accepted: {edit.description}"
             s.images[slot] = UploadedImage(old.filename, old.sent_bytes, rgb.copy(), (note,))
         s.bump()
-        job = start_candidates(s, runner_of(request))
+        job = start_candidates(
+            s, runner_of(request), isolate=request.app.state.config.isolate_search
+        )
         s.replace_job("candidates", job)
         answer = {"accepted": edit_id, "state": state_json(s), "job": job.to_json()}
     store_of(request).trim(keep=s.id)

@@ -149,7 +149,7 @@ async function startSession() {
   for (const m of state.info.machines) {
     const o = document.createElement("option");
     o.value = m.name;
-    o.textContent = `${m.label} · ${m.needles} needles`;
+    o.textContent = `${m.label} · ${m.needles}`; // needles; the line under it says so
     o.title = m.description;
     $("#machine").appendChild(o);
   }
@@ -435,7 +435,13 @@ function showJob(kind, job) {
   // a stage with no finer progress of its own shows a moving bar, so the page never looks stuck
   box.classList.toggle("busy", !box.hidden && job.progress < 0.1 && job.elapsed > 0.5);
   $(".bar i", box).style.width = `${Math.round(100 * job.progress)}%`;
-  $(".job-msg", box).textContent = job.message;
+  // where the work can be counted, an estimate of what is left (from the pace so far)
+  let left = "";
+  if (!box.hidden && job.progress >= 0.15 && job.progress < 1 && job.elapsed > 2 && !/s so far/.test(job.message)) {
+    const secs = Math.round((job.elapsed * (1 - job.progress)) / job.progress);
+    left = ` · about ${secs < 60 ? `${Math.max(1, secs)} s` : `${Math.round(secs / 60)} min`} left`;
+  }
+  $(".job-msg", box).textContent = job.message + left;
   if (kind === "candidates") $("#run").disabled = !box.hidden;
   if (kind === "knit") $("#make-knit").disabled = !box.hidden;
   if (kind === "suggestions") $("#suggest").disabled = !box.hidden;
@@ -493,10 +499,25 @@ async function cancelJob(kind) {
   const id = state.jobs[kind];
   if (!id) return;
   state.jobs[kind] = null;
+  const box = $(`#job-${kind}`);
+  $(".job-msg", box).textContent = "cancelling…";
   try {
     const job = await sapi("DELETE", `/jobs/${id}`);
     showJob(kind, job);
+    if (job.status === "cancelled") saidCancelled(kind);
   } catch (err) { report(err); }
+}
+
+// what the page says once work is cancelled: it is no longer searching, and how to start again
+function saidCancelled(kind) {
+  if (kind === "candidates") {
+    clearCandidates("Search cancelled: press Find candidates (or change an input) to search again.");
+  } else if (kind === "suggestions") {
+    $("#suggs").textContent = "";
+    showError("suggestions", "Cancelled: press Suggest edits to try again.");
+  } else if (kind === "knit") {
+    $("#knit-summary").textContent = "Cancelled: press Make knitout to make it again.";
+  }
 }
 
 async function runCandidates() {

@@ -74,7 +74,12 @@ async function loadCandidates() {
     head.className = "cand-head";
     head.innerHTML = `<span class="rank">#${cand.rank}</span>${cand.rank === 1 ? '<span class="badge">default</span>' : ""}<span class="cand-label"></span><span class="score"></span>`;
     $(".cand-label", head).textContent = cand.label;
-    $(".score", head).textContent = cand.score == null ? "" : `score ${cand.score}`;
+    // the search's own cost has no meaning to a designer: the card says how the design reads
+    const ms = cand.measures;
+    if (ms && ms.worse_readability != null) {
+      $(".score", head).textContent = `reads ${ms.worse_readability.toFixed(2)}`;
+      $(".score", head).title = "how well the worse side, as seen at an angle, matches its picture (1 is a perfect match)";
+    }
     const triple = document.createElement("div");
     triple.className = "triple";
     for (const [view, cap] of [["A", "side A"], ["headon", "head-on"], ["B", "side B"]]) {
@@ -154,6 +159,34 @@ const live = {};
 function updatePreview() {
   if (!state.selected) return;
   for (const view of ["A", "headon", "B"]) loadLive(view);
+  updateFar();
+}
+
+// The far view: the render as an eye resolves it from the chosen distance, above what each view
+// should show (the quantised picture; nothing where a view should show a plain field or stripes).
+function updateFar() {
+  const d = Number($("#distance").value);
+  const ok = d > 0 && d <= 1000;
+  const mode = state.settings && state.settings.mode;
+  const pics = (state.inputs && state.inputs.images) || {};
+  const want = mode === "single" ? { A: pics.a, B: pics.a }
+    : mode === "headon" ? { headon: pics.a, A: pics.b, B: pics.b }
+    : { A: pics.a, B: pics.b };
+  for (const view of ["A", "headon", "B"]) {
+    const far = $(`#far-${view}`);
+    if (ok && state.selected) {
+      const url = new URL(renderUrl(view, null, state.angle), location.href);
+      url.searchParams.set("distance", String(d));
+      if (far.getAttribute("src") !== url.pathname + url.search) far.src = url.pathname + url.search;
+    }
+    $("figcaption", far.parentElement).textContent = `${view === "headon" ? "Head-on" : `Side ${view}`} from ${d} m`;
+    const tg = $(`#tg-${view}`);
+    tg.hidden = !want[view];
+    if (want[view]) tg.src = want[view]; else tg.removeAttribute("src");
+    $("figcaption", tg.parentElement).textContent = want[view]
+      ? `${view === "headon" ? "Head-on" : `Side ${view}`} should show`
+      : `${view === "headon" ? "Head-on" : `Side ${view}`}: ${view === "headon" ? "stripes (no picture)" : "a plain field"}`;
+  }
 }
 
 function loadLive(view) {

@@ -20,6 +20,7 @@ function wire() {
   num("width_units", (v) => Math.round(Number(v)));
   $("#machine").addEventListener("change", () => saveSettings({ machine: $("#machine").value }));
   $("#where-fails").addEventListener("change", () => updatePreview());
+  $("#distance").addEventListener("change", () => updateFar());
   $("#order").addEventListener("change", () => {
     clearError("order");
     if (state.candidates.length) loadCandidates().catch((err) => report(err, "order"));
@@ -57,9 +58,37 @@ function wire() {
   $("#make-knit").addEventListener("click", makeKnit);
   for (const b of $$("[data-dl]")) b.addEventListener("click", () => download(b.dataset.dl, b));
   $("#banner-close").addEventListener("click", () => { $("#banner").hidden = true; });
+  document.addEventListener("keydown", onKey);
   // a file dropped outside a drop zone must not replace the page
   window.addEventListener("dragover", (e) => e.preventDefault());
   window.addEventListener("drop", (e) => e.preventDefault());
+}
+
+// Keyboard: Ctrl+Z / Ctrl+Shift+Z (or Ctrl+Y) undo and redo any change (outside a text field,
+// where they edit the text); arrow keys move between candidates, Enter picks the focused one.
+function onKey(e) {
+  const t = e.target;
+  const typing = t && (t.tagName === "TEXTAREA" || (t.tagName === "INPUT" && !["checkbox", "radio", "range", "color", "button", "file"].includes(t.type)) || t.isContentEditable);
+  const mod = e.ctrlKey || e.metaKey;
+  if (mod && !e.altKey && !typing) {
+    const k = e.key.toLowerCase();
+    if (k === "z" || k === "y") {
+      const which = k === "y" || e.shiftKey ? "redo" : "undo";
+      if (!$(`#${which}-edit`).disabled) stepHistory(which);
+      e.preventDefault();
+      return;
+    }
+  }
+  if (mod || e.altKey || typing || (t && (t.tagName === "SELECT" || t.type === "range"))) return;
+  const cards = $$(".cand");
+  if (!cards.length || !["ArrowLeft", "ArrowRight", "ArrowUp", "ArrowDown"].includes(e.key)) return;
+  const inCands = t && t.closest && t.closest("#cands");
+  if (!inCands && t !== document.body) return;
+  const at = inCands ? cards.indexOf(t.closest(".cand")) : cards.findIndex((c) => c.classList.contains("sel"));
+  const step = e.key === "ArrowLeft" || e.key === "ArrowUp" ? -1 : 1;
+  const next = cards[Math.min(cards.length - 1, Math.max(0, (at < 0 ? 0 : at) + (inCands ? step : 0)))];
+  next.focus();
+  e.preventDefault();
 }
 
 wire();

@@ -31,8 +31,28 @@ async function loadSuggestions() {
     box.appendChild(p);
     return;
   }
-  for (const s of got.suggestions) box.appendChild(suggestionCard(s));
+  // the server lists the most helpful first; edits that make the design worse are folded away
+  const harmful = got.suggestions.filter((s) => s.verdict === "worse");
+  for (const s of got.suggestions) if (s.verdict !== "worse") box.appendChild(suggestionCard(s));
+  if (harmful.length) {
+    const fold = document.createElement("details");
+    fold.className = "harmful";
+    const sum = document.createElement("summary");
+    sum.textContent = `${harmful.length} edit${harmful.length > 1 ? "s" : ""} that would make the design worse`;
+    const inner = document.createElement("div");
+    inner.className = "suggs";
+    for (const s of harmful) inner.appendChild(suggestionCard(s));
+    fold.append(sum, inner);
+    box.appendChild(fold);
+  }
 }
+
+const VERDICT_WORDS = {
+  better: "helps",
+  same: "changes nothing measurable",
+  mixed: "helps one measure, harms the other",
+  worse: "makes it worse",
+};
 
 function suggestionCard(s) {
   const f = (x) => (x == null ? "–" : x.toFixed(3));
@@ -59,13 +79,21 @@ function suggestionCard(s) {
       if (which === "before") pics.appendChild(Object.assign(document.createElement("span"), { className: "arrow", textContent: "→" }));
     }
   }
+  // coloured by what the edit does: green only when it helps and harms nothing
   const effect = document.createElement("div");
-  effect.className = "effect " + (s.improves ? "better" : s.readability_after < s.readability_before ? "worse" : "");
-  effect.textContent = `worse side reads ${f(s.readability_before)} → ${f(s.readability_after)} · ghosting ${f(s.ghosting_before)} → ${f(s.ghosting_after)}`;
-  effect.title = "readability: how well the worse side's render matches its picture (1 is best); ghosting: how much of the other picture shows through (0 is best)";
+  effect.className = `effect ${s.verdict}`;
+  card.classList.add(s.verdict);
+  const words = document.createElement("b");
+  words.textContent = `${VERDICT_WORDS[s.verdict] || s.verdict}: `;
+  const detail = document.createElement("span");
+  detail.textContent = `${s.effect} (worse side reads ${f(s.readability_before)} → ${f(s.readability_after)}, ghosting ${f(s.ghosting_before)} → ${f(s.ghosting_after)})`;
+  effect.append(words, detail);
+  effect.title = "readability: how well the worse side, as seen, matches its picture (1 is best); ghosting: how much of the other picture shows through (0 is best)";
   const acts = document.createElement("div");
   acts.className = "acts";
-  const yes = Object.assign(document.createElement("button"), { type: "button", className: "primary small", textContent: "Accept" });
+  const yes = Object.assign(document.createElement("button"), {
+    type: "button", className: s.verdict === "better" ? "primary small" : "ghost small", textContent: "Accept",
+  });
   yes.dataset.accept = s.id;
   yes.addEventListener("click", () => acceptSuggestion(s.id));
   const no = Object.assign(document.createElement("button"), { type: "button", className: "ghost small", textContent: "Refuse" });
@@ -109,16 +137,34 @@ async function refuseSuggestion(id) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// undo and redo of accepted edits: the server keeps the design before each accept, whole
+// undo and redo of every change (uploads, settings, tile edits, accepted suggestions): the server
+// keeps the design before each change, whole
 
 function showHistory(h) {
   const undo = $("#undo-edit");
   const redo = $("#redo-edit");
   const steps = h || { undo: [], redo: [] };
-  undo.hidden = !steps.undo.length;
-  undo.title = steps.undo.length ? `Take back the accepted edit "${steps.undo[0]}": the design before it comes back` : "";
-  redo.hidden = !steps.redo.length;
-  redo.title = steps.redo.length ? `Accept "${steps.redo[0]}" again` : "";
+  state.history = steps;
+  undo.disabled = !steps.undo.length;
+  undo.title = steps.undo.length ? `Undo the ${steps.undo[0]} (Ctrl+Z)` : "Nothing to undo yet (Ctrl+Z)";
+  redo.disabled = !steps.redo.length;
+  redo.title = steps.redo.length ? `Redo the ${steps.redo[0]} (Ctrl+Shift+Z)` : "Nothing to redo (Ctrl+Shift+Z)";
+  $("#history-list summary").textContent = `History (${steps.undo.length})`;
+  $("#history-empty").hidden = steps.undo.length + steps.redo.length > 0;
+  const fill = (list, labels, verb) => {
+    list.textContent = "";
+    labels.forEach((label, k) => {
+      const li = document.createElement("li");
+      li.textContent = `${k === 0 ? `${verb}: ` : ""}${label.replaceAll(" -> ", " → ")}`;
+      list.appendChild(li);
+    });
+  };
+  fill($("#undo-list"), steps.undo, "Undo takes back");
+  fill($("#redo-list"), steps.redo, "Redo brings back");
+}
+
+async function refreshHistory() {
+  try { showHistory((await sapi("GET", "/history"))); } catch (err) { /* the next state shows it */ }
 }
 
 async function stepHistory(which) {

@@ -25,6 +25,7 @@ async function loadPairs() {
 function renderPairs(p, rareOpen = !!$("#pairs details.rare[open]")) {
   const box = $("#pairs");
   box.textContent = "";
+  showEditMeasures(p);
   const byKey = new Map((p.pairs || []).map((pair) => [`${pair.a}/${pair.b}`, pair]));
   if (!p.groups) { for (const pair of p.pairs || []) box.appendChild(pairRow(pair)); return; }
   const pct = (x) => `${(100 * x).toFixed(1)}%`;
@@ -86,6 +87,7 @@ function pairRow(pair) {
       clearError("tiles");
       renderPairs(res);
       updatePreview();
+      refreshHistory();
       await refreshKnit();
     } catch (err) { report(err, "tiles"); sel.value = pair.tile; }
   };
@@ -103,4 +105,19 @@ function pairRow(pair) {
   meta.textContent = pair.fills || "";
   row.append(img, right, meta);
   return row;
+}
+
+// How the picked design reads with the tile edits, measured by the server at each edit, next to
+// how the candidate read without them.
+function showEditMeasures(p) {
+  const line = $("#edit-measures");
+  if (!p.edited) { line.hidden = true; line.textContent = ""; return; }
+  line.hidden = false;
+  const now = measuresText(p.edited);
+  const was = p.measures ? measuresText({ ...p.measures, knit_minutes: null, knit_note: "" }) : "";
+  const a = p.edited.perceptual_score, b = p.measures && p.measures.perceptual_score;
+  let verdict = "";
+  if (a != null && b != null) verdict = a > b + 1e-4 ? "reads better" : a < b - 1e-4 ? "reads worse" : "reads the same";
+  line.className = "edit-measures " + (verdict === "reads better" ? "better" : verdict === "reads worse" ? "worse" : "");
+  line.textContent = `With your tile edits${verdict ? ` it ${verdict}` : ""}: ${now}` + (was ? ` (without them: ${was})` : "");
 }

@@ -64,6 +64,7 @@ if TYPE_CHECKING:
     from illuknit.core.machine import MachineSpec
 
 __all__ = [
+    "ACUITY_ARCMIN",
     "CONTRAST_FLOOR",
     "CONTRAST_PENALTY",
     "DEFAULT_POOL",
@@ -72,12 +73,17 @@ __all__ = [
     "CandidateMeasures",
     "RankedCandidate",
     "diagnostic_rgb",
+    "eye_blur_units",
     "measure_candidate",
     "rank_candidates",
     "rank_designs",
     "rank_key",
+    "seen_from",
     "seen_targets",
 ]
+
+#: The finest detail a normal eye (20/20) resolves, in minutes of arc.
+ACUITY_ARCMIN = 1.0
 
 #: Below this worse-view contrast (gain of render on picture luminance) the score is penalised.
 CONTRAST_FLOOR = 0.25
@@ -224,6 +230,7 @@ def measure_candidate(
     knit_time: bool = False,
     machine: str | MachineSpec | None = None,
     angle: float | None = None,
+    blur: float | None = None,
 ) -> CandidateMeasures:
     """Measure how a compiled candidate reads in each of its views.
 
@@ -244,11 +251,22 @@ def measure_candidate(
         Machine preset for ``knit_time``.
     angle : float, optional
         Viewing angle of the side renders (default the bench's).
+    blur : float, optional
+        The blur, in units, of what is compared (default the bench's fixed 1.5 units): e.g.
+        :func:`eye_blur_units` of a viewing distance, to judge what an eye resolves from there.
     """
-    from illuknit.bench.metrics import RENDER_ANGLE, _corr, _ghost
+    from illuknit.bench.metrics import BLUR_SIGMA, RENDER_ANGLE, _corr, _ghost
+    from illuknit.bench.metrics import _grey as grey_at
 
     if len(pictures) != len(views):
         raise OptionError(f"need one picture per view {tuple(views)}, got {len(pictures)}")
+    sigma = BLUR_SIGMA if blur is None else float(blur)
+    if not sigma >= 0:
+        raise OptionError(f"`blur` must be a non-negative number of units, got {blur!r}")
+
+    def _grey(rgb: ArrayLike) -> NDArray[np.float64]:
+        return grey_at(rgb, sigma)
+
     targets = [_grey(_float_rgb(p)) for p in pictures]
     seen = _view_renders(pattern, views, angle=RENDER_ANGLE if angle is None else angle)
     read: list[float | None] = []
@@ -262,6 +280,10 @@ def measure_candidate(
         if ghost and len(targets) == 2:
             other = targets[1 - k]
             worst = max((_ghost(g, t, other) for g in greys), key=lambda x: abs(_num(x)))
+            if worst != worst and float(np.ptp(other)) >= 1e-9:
+                # what is seen is all explained by this view's own picture (a head-on design
+                # that vanishes into a plain field): none of the other picture shows
+                worst = 0.0
             ghosting.append(None if worst != worst else worst)
         else:
             ghosting.append(None)
@@ -479,3 +501,42 @@ def diagnostic_rgb(
     img[ghost] = (0.15, 0.35, 0.95)
     stats = {"wrong": float(wrong.mean()), "ghost": float(ghost.mean())}
     return (np.clip(img, 0, 1) * 255 + 0.5).astype(np.uint8), stats
+
+
+def eye_blur_units(
+    distance_m: float, *, gauge: float = 7.0, acuity_arcmin: float = ACUITY_ARCMIN
+) -> float:
+    """The blur, in units, of what an eye resolves of a fabric ``distance_m`` metres away.
+
+    The finest detail the eye resolves spans ``acuity_arcmin`` minutes of arc: at ``distance_m``
+    that is ``distance_m * tan(acuity)`` on the fabric, taken as the full width at half maximum
+    of a Gaussian blur. One unit is 2 stitches wide, ``2 * 25.4 / gauge`` mm. Returns the
+    Gaussian's standard deviation in units (at 7 stitches per inch and 1 arc-minute: 0.034
+    units at 2 m, 0.17 at 10 m; the fixed blur of the readability measures, 1.5 units, is what
+    a 20/20 eye resolves from about 88 m).
+
+    Raises
+    ------
+    OptionError
+        ``distance_m``, ``gauge`` or ``acuity_arcmin`` is not positive.
+    """
+    import math
+
+    for name, value in (("distance", distance_m), ("gauge", gauge), ("acuity", acuity_arcmin)):
+        if not (isinstance(value, int | float) and value > 0 and math.isfinite(value)):
+            raise OptionError(f"`{name}` must be a positive number, got {value!r}")
+    detail_mm = 1000.0 * distance_m * math.tan(math.radians(acuity_arcmin / 60.0))
+    unit_mm = 2 * 25.4 / gauge
+    return detail_mm / unit_mm / (2 * math.sqrt(2 * math.log(2)))
+
+
+def seen_from(rgb: ArrayLike, sigma_px: float) -> NDArray[np.uint8]:
+    """A picture (uint8 sRGB) as an eye sees it through a Gaussian blur of ``sigma_px`` pixels,
+    blurred in linear light (where the colours of stripes mix); see :func:`eye_blur_units`."""
+    from illuknit.bench.metrics import blur_image
+
+    a = np.asarray(rgb, dtype=np.float64) / 255.0
+    if sigma_px <= 0:
+        return np.asarray(rgb, dtype=np.uint8)
+    out = blur_image(a, sigma=float(sigma_px))
+    return np.clip(np.round(out * 255.0), 0, 255).astype(np.uint8)

@@ -180,7 +180,7 @@ def _requantise_suggestions(
     out = []
     for k in counts:
         what = "larger regions, fewer overlaps" if k < n else "finer shading"
-        text = f"re-read both pictures with {k} colours instead of {n} ({what})"
+        text = f"reduce both pictures to {k} colours instead of {n} ({what})"
         out.append(
             _suggestion(
                 "requantise",
@@ -244,11 +244,15 @@ def suggest_edits(
             )
             out.append(_suggestion(kind, kind, text, pair, (after[0], after[1])))
         elif kind == "smooth-boundaries":
-            text = "smooth ragged region boundaries (3 x 3 majority)"
+            text = "smooth ragged outlines (a unit takes the colour most of its neighbours have)"
             after = tuple(replace(r, indices=smooth_boundaries(r.indices)) for r in pair)
             out.append(_suggestion(kind, kind, text, pair, (after[0], after[1])))
         else:
-            text = f"remove overlaps of fewer than {min_overlap} units (repainted in picture B)"
+            text = (
+                f"remove overlaps smaller than {min_overlap} units: where a colour of A lies "
+                "over a colour of B that rarely, B takes the colour it mostly has under that "
+                "colour of A"
+            )
             new_b = drop_small_overlaps(ra.indices, rb.indices, min_overlap=min_overlap)
             out.append(_suggestion(kind, kind, text, pair, (ra, replace(rb, indices=new_b))))
     return [s for s in out if s is not None]

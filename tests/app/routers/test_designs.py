@@ -165,6 +165,8 @@ def test_double_view_candidates_pick_and_render(client, double, api):
         ({"angle": "steep"}, "angle"),
         ({"view": "C"}, "view"),
         ({"candidate": 0}, "candidate"),
+        ({"distance": 0}, "distance"),
+        ({"distance": -3}, "distance"),
     ],
 )
 def test_render_bad_parameters(client, double, params, field, api):
@@ -252,3 +254,36 @@ def test_knit_of_a_double_view_pattern(client, api, pictures):
     job = api.run_job(client, sid, "knit")
     assert job["status"] == "done", job
     assert client.get(f"/api/sessions/{sid}/download/knitout.k").text.startswith(";!knitout-2")
+
+
+def test_the_far_view_is_what_the_eye_resolves(client, double):
+    """From far away the render is blurred by the eye's resolution (1 arc-minute), as much as the
+    library says; from near it is the render itself, to the pixel."""
+    from illuknit.design.tiles.perception import eye_blur_units, seen_from
+
+    def get(**params):
+        r = client.get(f"/api/sessions/{double}/render", params={"view": "A", **params})
+        assert r.status_code == 200, r.text
+        return np.asarray(Image.open(io.BytesIO(r.content)).convert("RGB"))
+
+    near = get()
+    assert (
+        np.array_equal(get(distance=0.5), near)
+        or np.abs(get(distance=0.5).astype(int) - near).max() <= 2
+    )  # at half a metre a unit is far coarser than the eye's resolution
+    far = get(distance=200)
+    cols = client.get(f"/api/sessions/{double}/inputs").json()["cols"]
+    sigma = eye_blur_units(200, gauge=7.0) * near.shape[1] / cols
+    assert np.array_equal(far, seen_from(near, sigma))
+    assert far.astype(float).std() < near.astype(float).std()  # detail is lost from afar
+
+
+def test_eye_blur_grows_with_distance_and_fineness():
+    from illuknit.core.errors import OptionError
+    from illuknit.design.tiles.perception import eye_blur_units
+
+    assert eye_blur_units(2) == pytest.approx(0.034, abs=1e-3)
+    assert eye_blur_units(20) == pytest.approx(10 * eye_blur_units(2))
+    assert eye_blur_units(2, gauge=14) == pytest.approx(2 * eye_blur_units(2))
+    with pytest.raises(OptionError):
+        eye_blur_units(0)
