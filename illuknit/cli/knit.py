@@ -327,6 +327,25 @@ def knit(
         raise click.exceptions.Exit(1)
 
 
+def describe_settings(s: dict[str, Any]) -> str:
+    """One line: the knit and transfer passes' stitch, speed and roller settings, with the source."""
+
+    def v(x: object) -> str:
+        return "machine's own" if x is None else str(x)
+
+    k, t = s["knit_settings"], s["transfer_settings"]
+    roller = (
+        ""
+        if t["roller_advance"] is None
+        else f", roller advance {t['roller_advance']} on the first of a run, 0 after"
+    )
+    return (
+        f"knit passes: stitch {v(k['stitch_number'])}, speed {v(k['speed_number'])}; "
+        f"transfer passes: stitch {v(t['stitch_number'])}, speed {v(t['speed_number'])}"
+        f"{roller} ({t['source']})"
+    )
+
+
 def _echo_machine_sheet(s: dict[str, Any]) -> None:
     """What the machine knitter sets up: cones on carriers, stitch numbers, needles, time."""
     click.echo(f"on the {s['machine']}: {s['machine_passes']} passes, about {s['machine_time']}")
@@ -335,3 +354,4 @@ def _echo_machine_sheet(s: dict[str, Any]) -> None:
     numbers = ", ".join(map(str, s["stitch_numbers"])) or "machine default"
     lo, hi = s["needle_range"]
     click.echo(f"  stitch numbers: {numbers}; needles {lo}..{hi}")
+    click.echo("  " + describe_settings(s))

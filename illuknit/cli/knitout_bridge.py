@@ -18,6 +18,7 @@ anyway, with one ``illuknit: warning:`` line saying how long the longest float i
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -35,6 +36,7 @@ __all__ = [
     "machine_option",
     "requested_formats",
     "resolve_machine",
+    "transfer_overrides",
     "write_program",
 ]
 
@@ -42,6 +44,8 @@ __all__ = [
 _FORMATS_KEY = "illuknit.machine_files"
 #: where the running command's ``--allow-long-floats`` is kept (click context meta)
 _LONG_FLOATS_KEY = "illuknit.allow_long_floats"
+#: where the running command's ``--xfer-*`` transfer settings are kept (click context meta)
+_TRANSFER_KEY = "illuknit.transfer"
 
 LONG_FLOATS_HELP = (
     "Knit a mixed-colourwork piece even where a float stays longer than the machine's float "
@@ -51,16 +55,72 @@ LONG_FLOATS_HELP = (
 
 
 def machine_option(
-    help: str = "Knitting machine the program is made for.",
+    help: str = "Knitting machine the program is made for.", *, transfer: bool = True
 ) -> Callable[[Callable[..., Any]], Callable[..., Any]]:
-    """``--machine NAME``: a machine preset (unknown names are refused with the known ones)."""
-    return click.option(
+    """``--machine NAME``: a machine preset (unknown names are refused with the known ones).
+
+    With ``transfer`` (commands that knit) also ``--xfer-stitch``, ``--xfer-speed`` and
+    ``--xfer-roller``: the transfer passes' settings over the preset's
+    (:class:`~illuknit.knit.machine.TransferSettings`), kept on the click context where
+    :func:`resolve_machine` applies them.
+    """
+    machine = click.option(
         "--machine",
         "machine",
         metavar="NAME",
         default=None,
         help=f"{help} One of {', '.join(machine_names())} [{DEFAULT_MACHINE_NAME}].",
     )
+    if not transfer:
+        return machine
+
+    def remember(ctx: click.Context, param: click.Parameter, value: int | None) -> None:
+        if value is not None:
+            ctx.meta.setdefault(_TRANSFER_KEY, {})[str(param.name)] = value
+
+    flags = [
+        (
+            "--xfer-stitch",
+            "stitch_number",
+            click.IntRange(0, 35),
+            "Stitch number of transfer "
+            "passes (Kniterate x-xfer-stitch-number, 0-35 for 0-9/A-Z) [the machine's: 3 on the "
+            "Kniterate].",
+        ),
+        (
+            "--xfer-speed",
+            "speed_number",
+            click.IntRange(min=0),
+            "Speed number of transfer passes "
+            "(x-speed-number) [the machine's: 100 on the Kniterate, the machine's own table on a "
+            "Shima].",
+        ),
+        (
+            "--xfer-roller",
+            "roller_advance",
+            click.IntRange(min=0),
+            "Kniterate roller advance on the first transfer pass of each run of transfers [0].",
+        ),
+    ]
+    options = [
+        click.option(
+            flag, name, type=kind, default=None, expose_value=False, callback=remember, help=text
+        )
+        for flag, name, kind, text in flags
+    ]
+
+    def decorate(func: Callable[..., Any]) -> Callable[..., Any]:
+        for opt in reversed(options):
+            func = opt(func)
+        return machine(func)
+
+    return decorate
+
+
+def transfer_overrides() -> dict[str, int]:
+    """The running command's ``--xfer-*`` values by :class:`TransferSettings` field (else {})."""
+    ctx = click.get_current_context(silent=True)
+    return dict(ctx.meta.get(_TRANSFER_KEY, {})) if ctx is not None else {}
 
 
 def format_option() -> Callable[[Callable[..., Any]], Callable[..., Any]]:
@@ -138,6 +198,10 @@ def resolve_machine(name: str | MachineSpec | None, *, gauge: float | None = Non
     spec = get_machine(name)
     if gauge is not None and gauge != spec.gauge:
         spec = spec.with_gauge(gauge)
+    overrides = transfer_overrides()
+    if overrides:
+        transfer = replace(spec.transfer, source="set for this run (--xfer-*)", **overrides)
+        spec = replace(spec, transfer=transfer)
     formats = requested_formats()
     for fmt in formats:
         check_format(spec, fmt)

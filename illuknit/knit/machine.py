@@ -44,12 +44,69 @@ __all__ = [
     "KNITERATE",
     "MACHINES",
     "MachineSpec",
+    "TransferSettings",
     "get_machine",
     "machine_from_headers",
     "machine_names",
 ]
 
 _POSITIONS = ("Left", "Right", "Center", "Keep")
+
+
+@dataclass(frozen=True)
+class TransferSettings:
+    """Machine settings of transfer passes, apart from the knitting's.
+
+    A loop moved between beds is stretched over two needles' hooks, so machines transfer with a
+    smaller stitch (loop length) and, on the Kniterate, with no take-down pull. Each value is
+    written explicitly around transfer passes; ``None`` leaves the backend's own value.
+
+    Parameters
+    ----------
+    stitch_number : int or None
+        Stitch number of transfer passes (Kniterate ``x-xfer-stitch-number``, 0-35 for 0-9/A-Z).
+        The SWG backend has no such extension (it always transfers at the machine's own transfer
+        stitch), so it must be ``None`` on a Shima.
+    speed_number : int or None
+        Carriage speed of transfer passes (``x-speed-number`` switched before each transfer pass
+        and back to the knitting speed before the next knit pass).
+    roller_advance : int or None
+        Kniterate take-down roller advance of the first transfer pass of a run of transfers
+        (``x-add-roller-advance`` before its first ``xfer``); the backend runs every other
+        transfer pass at 0. ``None`` or 0 writes nothing (the backend's transfers run at 0).
+    source : str
+        Where the values come from (printed on the set-up sheet).
+
+    Examples
+    --------
+    >>> from dataclasses import replace
+    >>> replace(KNITERATE, transfer=replace(KNITERATE.transfer, speed_number=300)).transfer.speed_number
+    300
+    """
+
+    stitch_number: int | None = None
+    speed_number: int | None = None
+    roller_advance: int | None = None
+    source: str = "the machine's own transfer settings"
+
+    def __post_init__(self) -> None:
+        for name, top in (("stitch_number", 35), ("speed_number", None), ("roller_advance", None)):
+            v = getattr(self, name)
+            if v is None:
+                continue
+            if not isinstance(v, int) or isinstance(v, bool) or v < 0:
+                raise OptionError(f"transfer `{name}` must be a non-negative integer, got {v!r}")
+            if top is not None and v > top:
+                raise OptionError(f"transfer `{name}` must be at most {top}, got {v!r}")
+
+    def describe(self) -> dict[str, object]:
+        """The settings as JSON-ready values (``None``: the machine's own)."""
+        return {
+            "stitch_number": self.stitch_number,
+            "speed_number": self.speed_number,
+            "roller_advance": self.roller_advance or 0,
+            "source": self.source,
+        }
 
 
 @dataclass(frozen=True)
@@ -97,6 +154,9 @@ class MachineSpec:
         without an inserting hook); they are not free for the pattern's colours.
     formats : tuple of str
         Machine files illuknit can write for this machine besides knitout (``"dat"``, ``"kc"``).
+    transfer : TransferSettings
+        Stitch number, speed and roller advance of transfer passes (override per run with
+        ``dataclasses.replace``; ``--xfer-stitch``, ``--xfer-speed``, ``--xfer-roller``).
 
     Examples
     --------
@@ -126,6 +186,7 @@ class MachineSpec:
     waste_carrier: str | None = None
     draw_carrier: str | None = None
     formats: tuple[str, ...] = ("dat",)
+    transfer: TransferSettings = TransferSettings()
 
     def __post_init__(self) -> None:
         def positive(name: str, value: float, *, integer: bool = False) -> None:
@@ -160,6 +221,15 @@ class MachineSpec:
             v = getattr(self, name)
             if v is not None and (not isinstance(v, int) or v < 0):
                 raise OptionError(f"`{name}` must be a non-negative integer or None")
+        if "kc" not in self.formats:
+            # the SWG backend knows neither x-xfer-stitch-number nor take-down roller extensions
+            if self.transfer.stitch_number is not None:
+                raise OptionError(
+                    f"the {self.name} takes no transfer stitch number (the SWG backend transfers "
+                    "at the machine's own transfer stitch); set the transfer speed only"
+                )
+            if self.transfer.roller_advance:
+                raise OptionError(f"the {self.name} has no roller-advance setting")
 
     # -- derived quantities --------------------------------------------------------------------
     @property
@@ -248,10 +318,20 @@ MACHINES: dict[str, MachineSpec] = {
         carriers=("1", "2", "3", "4", "5", "6"),
         max_racking=4,
         stitch_number=6,
+        speed_number=300,
         inserting_hook=False,
         waste_carrier="6",
         draw_carrier="1",
         formats=("kc",),
+        transfer=TransferSettings(
+            stitch_number=3,
+            speed_number=100,
+            roller_advance=0,
+            source=(
+                "Kniterate support, 'Transfers': speed 100 and roller 0 for transfers; "
+                "stitch about half the knitting's (6 -> 3, knitout-backend-kniterate #35)"
+            ),
+        ),
         description="Kniterate, 252 needles, 6 carriers (1 draw thread, 6 waste, 2-5 pattern)",
     ),
 }

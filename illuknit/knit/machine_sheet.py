@@ -67,7 +67,9 @@ def machine_sheet(result: KnitResult, *, name: str = "command.kc") -> MachineShe
     -------
     MachineSheet
         ``summary`` holds ``carrier_table``, ``stitch_numbers``, ``needle_range``,
-        ``machine_passes``, ``machine_time_seconds`` and ``machine_time``.
+        ``machine_passes``, ``machine_time_seconds``, ``machine_time``, and the settings of
+        knit passes (``knit_settings``) and transfer passes (``transfer_settings``: stitch
+        number, speed, roller advance and their source; ``None`` is the machine's own).
     """
     m = result.machine
     files: dict[str, str] = {}
@@ -109,5 +111,11 @@ def machine_sheet(result: KnitResult, *, name: str = "command.kc") -> MachineShe
             "machine_passes": passes,
             "machine_time_seconds": round(seconds, 1),
             "machine_time": format_duration(seconds),
+            "knit_settings": {"stitch_number": m.stitch_number, "speed_number": m.speed_number},
+            "transfer_settings": {
+                **m.transfer.describe(),
+                # the take-down roller is a Kniterate setting (the SWG backend has none)
+                **({} if "kc" in m.formats else {"roller_advance": None}),
+            },
         },
     )
