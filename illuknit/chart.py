@@ -21,6 +21,7 @@ from itertools import groupby
 import numpy as np
 from numpy.typing import NDArray
 
+from illuknit.gauge import Gauge, finished_size
 from illuknit.pattern import LogicalPattern
 
 __all__ = ["HandRow", "chart_key", "chart_png_rgb", "hand_rows", "written_instructions"]
@@ -80,7 +81,9 @@ def _runs(worked: list[tuple[str, int]], names: list[str], single_yarn: bool) ->
     return ", ".join(parts)
 
 
-def written_instructions(pattern: LogicalPattern, *, title: str | None = None) -> str:
+def written_instructions(
+    pattern: LogicalPattern, *, title: str | None = None, gauge: Gauge | None = None
+) -> str:
     """Row-by-row written instructions for knitting the pattern by hand.
 
     Examples
@@ -98,6 +101,14 @@ def written_instructions(pattern: LogicalPattern, *, title: str | None = None) -
     lines = [
         title or "illuknit illusion pattern",
         f"Size: {n} x {m} units = {2 * m} stitches x {2 * n} rows.",
+        *(
+            [
+                f"Finished size: {finished_size(pattern.shape, gauge).describe()} at "
+                f"{gauge.describe()} ({gauge.source})."
+            ]
+            if gauge is not None
+            else []
+        ),
         "Yarns: " + ", ".join(f"{y.name} ({y.hex})" for y in pattern.yarns) + ".",
         "RS rows are worked from the right edge of the chart, WS rows from the left. A purl ridge on",
         "the right side (made by knitting on a WS row) is a raised unit: it hides the row above or",

@@ -17,6 +17,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from illuknit.chart import chart_png_rgb, written_instructions
+from illuknit.gauge import Gauge, finished_size
 from illuknit.images import QuantisedImage
 from illuknit.outputs import atomic_write_text
 from illuknit.pattern import LogicalPattern, save_pattern
@@ -50,12 +51,20 @@ def export_pattern(
     report: Mapping[str, Any] | None = None,
     title: str | None = None,
     targets: Mapping[str, ArrayLike] | None = None,
+    gauge: Gauge | None = None,
 ) -> dict[str, Path]:
     """Write the pattern, previews, chart, instructions, legend and report into ``outdir``.
 
     ``outdir`` should be a fresh folder (use :func:`illuknit.outputs.staged_dir` so a failure
-    leaves nothing behind). Returns name -> path of everything written.
+    leaves nothing behind). ``gauge`` is the finished fabric's (default: the default machine's,
+    :attr:`~illuknit.knit.machine.MachineSpec.fabric_gauge`); it sets the finished size written
+    in the report and instructions and the proportions of the previews. Returns name -> path of
+    everything written.
     """
+    if gauge is None:
+        from illuknit.knit.machine import DEFAULT_MACHINE
+
+        gauge = DEFAULT_MACHINE.fabric_gauge
     out = Path(outdir)
     out.mkdir(parents=True, exist_ok=True)
     paths: dict[str, Path] = {}
@@ -67,17 +76,21 @@ def export_pattern(
         shown.setdefault(name, picture)
         key = f"quantised_{name.lower().replace(' ', '_')}"
         paths[key] = save_png(picture, out / f"{key}.png")
-    paths.update(write_previews(pattern, out, targets=shown))
+    paths.update(write_previews(pattern, out, targets=shown, unit_aspect=gauge.unit_aspect))
     paths["chart"] = save_png(chart_png_rgb(pattern), out / "chart.png")
     paths["instructions"] = atomic_write_text(
-        out / "instructions.txt", written_instructions(pattern, title=title)
+        out / "instructions.txt", written_instructions(pattern, title=title, gauge=gauge)
     )
     if quantised:
         legend = {name: q.legend() for name, q in quantised.items()}
         paths["legend"] = atomic_write_text(
             out / "legend.json", json.dumps(legend, indent=1) + "\n"
         )
-    full = {"pattern": pattern_stats(pattern), **dict(report or {})}
+    full = {
+        "pattern": pattern_stats(pattern),
+        "finished_size": finished_size(pattern.shape, gauge).as_dict(),
+        **dict(report or {}),
+    }
     paths["report"] = atomic_write_text(
         out / "report.json", json.dumps(full, indent=1, default=_jsonable) + "\n"
     )

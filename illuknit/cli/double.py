@@ -22,6 +22,7 @@ import numpy as np
 from illuknit.cli.design_files import fmt_number, summary_text, write_candidate, write_edits
 from illuknit.cli.knitout_bridge import format_option, long_floats_option, machine_option
 from illuknit.cli.options import knitout_option, outdir_option
+from illuknit.gauge import STOCKINETTE_COURSE_ASPECT, finished_size
 from illuknit.sizing import DEFAULT_MAX_WIDTH
 from illuknit.tiles.perception import DEFAULT_POOL, POOL_SECONDS, RANK_KEYS
 
@@ -77,7 +78,7 @@ def run_design(
     never fewer than ``candidates``) are searched and ranked; the best ``candidates`` are written.
     Returns the summary dict.
     """
-    from illuknit.cli.knitout_bridge import resolve_machine
+    from illuknit.cli.knitout_bridge import design_unit_aspect, resolve_machine
     from illuknit.errors import TileAssignmentError
     from illuknit.outputs import atomic_write_text, staged_dir
     from illuknit.previews import unit_scale
@@ -100,6 +101,7 @@ def run_design(
         bank_file=bank_file,
         one_sided=one_sided,
         knitout_on=spec if knitout else None,
+        unit_aspect=design_unit_aspect(spec),
     )
     found, edits = _assign(
         inp,
@@ -140,6 +142,7 @@ def run_design(
                 overrides=overrides,
                 seen_targets=targets,
                 sources=[str(path_a), str(path_b) if path_b else None],
+                gauge=spec.fabric_gauge,
             )
             rows.append(row)
             if row["default"]:
@@ -156,6 +159,7 @@ def run_design(
             "mode": mode,
             "yarns": [{"name": y.name, "rgb": y.hex} for y in inp.yarns],
             "size": {"rows": int(inp.qa.shape[0]), "cols": int(inp.qa.shape[1])},
+            "finished_size": finished_size(inp.qa.shape, spec.fabric_gauge).as_dict(),
             "bank": {"name": inp.bank.name, "tiles": len(inp.bank)},
             "solver": solver,
             "ranked_by": rank_by,
@@ -241,6 +245,7 @@ def _design_inputs(
     bank_file: Path | None,
     one_sided: bool,
     knitout_on: Any,
+    unit_aspect: float = STOCKINETTE_COURSE_ASPECT,
 ) -> _Inputs:
     """Size and quantise the pictures, choose the yarns and load the bank.
 
@@ -255,7 +260,7 @@ def _design_inputs(
 
     if knitout_on is not None and width is not None:
         check_fits(knitout_on, width)
-    pair = size_pair(path_a, path_b, width=width, stretch=resize)
+    pair = size_pair(path_a, path_b, width=width, stretch=resize, unit_aspect=unit_aspect)
     a, b = pair.a, pair.b
     if knitout_on is not None:
         check_fits(knitout_on, a.shape[1])
@@ -372,6 +377,13 @@ def print_summary(summary: dict[str, Any], outdir: Path) -> None:
             "; ".join(r["fills_b"]),
         )
     con.print(t)
+    size = summary.get("finished_size")
+    if size is not None:
+        con.print(
+            f"finished size: [bold]{size['width_cm']} x {size['height_cm']} cm[/] "
+            f"({size['width_in']} x {size['height_in']} in) at {size['gauge']} "
+            f"({size['gauge_source']})"
+        )
     default = next((r for r in summary["candidates"] if r["default"]), None)
     if default is not None:
         for line in _overlap_digest(default["overlaps"]):

@@ -292,9 +292,10 @@ def knit(
         s = summary
         what = f"{s['lines']} lines" if output_format == "knitout" else f"{output_format} file"
         click.echo(f"wrote {s['output']} ({what}) for {s['machine']}")
+        click.echo(f"stitches: {s['wales']} wales x {s['courses']} courses at gauge {s['gauge']:g}")
         click.echo(
-            f"stitches: {s['wales']} wales x {s['courses']} courses "
-            f"(about {s['width_cm']} x {s['height_cm']} cm at gauge {s['gauge']:g})"
+            f"finished size: about {s['finished_size_text']} at "
+            f"{s['finished_size']['gauge']} ({s['finished_size']['gauge_source']})"
         )
         click.echo(
             f"passes: {s['passes']} (knit {s['knit_passes']}, transfer {s['transfer_passes']}, "

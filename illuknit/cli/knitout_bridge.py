@@ -30,6 +30,7 @@ from illuknit.pattern import LogicalPattern
 
 __all__ = [
     "check_fits",
+    "design_unit_aspect",
     "format_option",
     "long_floats_allowed",
     "long_floats_option",
@@ -46,6 +47,8 @@ _FORMATS_KEY = "illuknit.machine_files"
 _LONG_FLOATS_KEY = "illuknit.allow_long_floats"
 #: where the running command's ``--xfer-*`` transfer settings are kept (click context meta)
 _TRANSFER_KEY = "illuknit.transfer"
+#: where the running command's ``--fabric-gauge`` / ``--square-units`` are kept
+_FABRIC_KEY = "illuknit.fabric"
 
 LONG_FLOATS_HELP = (
     "Knit a mixed-colourwork piece even where a float stays longer than the machine's float "
@@ -102,7 +105,33 @@ def machine_option(
             "Kniterate roller advance on the first transfer pass of each run of transfers [0].",
         ),
     ]
+
+    def remember_fabric(ctx: click.Context, param: click.Parameter, value: Any) -> None:
+        if value not in (None, False):
+            ctx.meta.setdefault(_FABRIC_KEY, {})[str(param.name)] = value
+
     options = [
+        click.option(
+            "--fabric-gauge",
+            "fabric_gauge",
+            metavar="SxR/LEN",
+            default=None,
+            expose_value=False,
+            callback=remember_fabric,
+            help="Stitch and row gauge of the finished fabric, e.g. 22x30/10cm or 5.5x7.5/in "
+            "(measure a swatch): sizes the grid so the piece keeps the picture's proportions, "
+            "and the finished size [the machine's: one stitch per needle, rows at 5:7].",
+        ),
+        click.option(
+            "--square-units",
+            "square_units",
+            is_flag=True,
+            expose_value=False,
+            callback=remember_fabric,
+            help="Size the grid with square units (as many rows as the picture is tall): the "
+            "finished piece comes out shorter than the picture by the gauge's ratio.",
+        ),
+    ] + [
         click.option(
             flag, name, type=kind, default=None, expose_value=False, callback=remember, help=text
         )
@@ -115,6 +144,19 @@ def machine_option(
         return machine(func)
 
     return decorate
+
+
+def _fabric_options() -> dict[str, Any]:
+    ctx = click.get_current_context(silent=True)
+    return dict(ctx.meta.get(_FABRIC_KEY, {})) if ctx is not None else {}
+
+
+def design_unit_aspect(spec: MachineSpec) -> float:
+    """Height over width of a unit for sizing a grid: 1.0 with ``--square-units``, else the
+    fabric gauge's (``spec`` from :func:`resolve_machine`, which applies ``--fabric-gauge``)."""
+    if _fabric_options().get("square_units"):
+        return 1.0
+    return spec.fabric_gauge.unit_aspect
 
 
 def transfer_overrides() -> dict[str, int]:
@@ -198,6 +240,11 @@ def resolve_machine(name: str | MachineSpec | None, *, gauge: float | None = Non
     spec = get_machine(name)
     if gauge is not None and gauge != spec.gauge:
         spec = spec.with_gauge(gauge)
+    fabric = _fabric_options().get("fabric_gauge")
+    if fabric is not None:
+        from illuknit.gauge import parse_gauge
+
+        spec = replace(spec, fabric=parse_gauge(fabric, source="--fabric-gauge"))
     overrides = transfer_overrides()
     if overrides:
         transfer = replace(spec.transfer, source="set for this run (--xfer-*)", **overrides)

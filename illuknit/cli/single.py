@@ -39,7 +39,7 @@ def run_single(
     the machine the program is knit on; with ``knitout`` a picture wider than the machine's bed
     is refused before compiling.
     """
-    from illuknit.cli.knitout_bridge import check_fits, resolve_machine
+    from illuknit.cli.knitout_bridge import check_fits, design_unit_aspect, resolve_machine
     from illuknit.export import export_pattern
     from illuknit.outputs import staged_dir
     from illuknit.single_view import (
@@ -55,6 +55,7 @@ def run_single(
         height=height,
         width_cm=width_cm,
         gauge=spec.gauge,
+        unit_aspect=design_unit_aspect(spec),
         n_colors=n_colors,
         yarns=parse_yarn_option(yarns),
         allow_quantise=quantise,
@@ -82,6 +83,7 @@ def run_single(
             quantised={"picture": q},
             report=report,
             title=title or f"Single-view illusion of {Path(str(image)).name}",
+            gauge=spec.fabric_gauge,
         )
         if knitout:
             from illuknit.cli.knitout_bridge import write_program
@@ -141,5 +143,9 @@ def single(
         knitout=knitout,
         machine=machine,
     )
-    summarise_pattern(load_pattern(paths["pattern"]), legend_path=paths.get("legend"))
+    summarise_pattern(
+        load_pattern(paths["pattern"]),
+        legend_path=paths.get("legend"),
+        report_path=paths.get("report"),
+    )
     print_written(outdir, paths)

@@ -19,6 +19,7 @@ import numpy as np
 
 from illuknit.cli.knitout_bridge import format_option, long_floats_option, machine_option
 from illuknit.cli.options import POSITIVE
+from illuknit.gauge import STOCKINETTE_COURSE_ASPECT
 from illuknit.sizing import DEFAULT_MAX_WIDTH
 
 __all__ = ["load_targets", "run_solve", "solve"]
@@ -33,6 +34,7 @@ def load_targets(
     n_colors: int | None = None,
     yarns: Any = None,
     quantise: bool = True,
+    unit_aspect: float = STOCKINETTE_COURSE_ASPECT,
 ) -> tuple[Any, Any | None]:
     """Load, size (:func:`illuknit.sizing.size_pair`) and jointly quantise the target picture(s).
 
@@ -44,7 +46,7 @@ def load_targets(
     from illuknit.images import QuantisedImage, quantise_image
     from illuknit.sizing import size_pair
 
-    pair = size_pair(path_a, path_b, width=width, stretch=resize)
+    pair = size_pair(path_a, path_b, width=width, stretch=resize, unit_aspect=unit_aspect)
     a, b = pair.a, pair.b
     both = a if b is None else np.concatenate([a, b], axis=0)
     q = quantise_image(both, n_colors=n_colors, yarns=yarns, allow_quantise=quantise)
@@ -136,7 +138,7 @@ def run_solve(
     With ``knitout`` the pattern is knit on ``machine`` (a preset name); a pattern wider than its
     bed is refused before the model is built.
     """
-    from illuknit.cli.knitout_bridge import check_fits, resolve_machine
+    from illuknit.cli.knitout_bridge import check_fits, design_unit_aspect, resolve_machine
     from illuknit.illusion_models import (
         build_model,
         check_solution,
@@ -165,7 +167,14 @@ def run_solve(
     if knitout and width is not None:
         check_fits(spec, width)
     qa, qb = load_targets(
-        image_a, image_b, width=width, resize=resize, n_colors=n_colors, yarns=ys, quantise=quantise
+        image_a,
+        image_b,
+        width=width,
+        resize=resize,
+        n_colors=n_colors,
+        yarns=ys,
+        quantise=quantise,
+        unit_aspect=design_unit_aspect(spec),
     )
     if knitout:
         check_fits(spec, qa.indices.shape[1])
@@ -224,6 +233,7 @@ def run_solve(
                 title=title,
                 targets=targets,
                 machine=spec if knitout else None,
+                gauge=spec.fabric_gauge,
             )
         )
     _print_report(report, written, outdir)
@@ -238,6 +248,7 @@ def _write_outputs(
     title: str,
     targets: dict[str, Any],
     machine: Any | None,
+    gauge: Any = None,
 ) -> dict[str, Path]:
     """Write the pattern's outputs (and, given a machine, its knitout) into ``outdir`` at once."""
     from illuknit.cli.knitout_bridge import write_program
@@ -245,7 +256,9 @@ def _write_outputs(
     from illuknit.outputs import staged_dir
 
     with staged_dir(outdir) as tmp:
-        paths = export_pattern(pattern, tmp, report=report, title=title, targets=targets)
+        paths = export_pattern(
+            pattern, tmp, report=report, title=title, targets=targets, gauge=gauge
+        )
         if machine is not None:
             paths.update(write_program(pattern, tmp, machine=machine))
     return {k: Path(outdir) / p.name for k, p in paths.items()}

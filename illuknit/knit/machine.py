@@ -37,6 +37,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass, replace
 
 from illuknit.errors import OptionError, SchedulingError, UnknownNameError
+from illuknit.gauge import STOCKINETTE_COURSE_ASPECT, Gauge
 
 __all__ = [
     "DEFAULT_MACHINE",
@@ -142,7 +143,11 @@ class MachineSpec:
     seconds_per_turn : float
         Time model: fixed time per carriage pass (turning round and clearing the carriage's own length).
     course_aspect : float
-        Course height divided by stitch width, used to estimate the piece's physical height.
+        Course height divided by stitch width (default 0.7, the 5 : 7 stitch-to-row ratio of
+        stocking stitch; unmeasured on illusion fabric): the row gauge of :attr:`fabric_gauge`.
+    fabric : Gauge or None
+        The finished fabric's measured stitch and row gauge (from a swatch, ``--fabric-gauge``);
+        ``None`` derives it from ``gauge`` and ``course_aspect``.
     description : str
         One line for people choosing a machine (the app's selector, ``--help``).
     inserting_hook : bool
@@ -180,13 +185,14 @@ class MachineSpec:
     yarn_weight: str = "50-50"
     seconds_per_needle: float = 0.01
     seconds_per_turn: float = 1.5
-    course_aspect: float = 0.7
+    course_aspect: float = STOCKINETTE_COURSE_ASPECT
     description: str = ""
     inserting_hook: bool = True
     waste_carrier: str | None = None
     draw_carrier: str | None = None
     formats: tuple[str, ...] = ("dat",)
     transfer: TransferSettings = TransferSettings()
+    fabric: Gauge | None = None
 
     def __post_init__(self) -> None:
         def positive(name: str, value: float, *, integer: bool = False) -> None:
@@ -236,6 +242,20 @@ class MachineSpec:
     def needle_pitch_cm(self) -> float:
         """Distance between neighbouring needles, in cm."""
         return 2.54 / self.gauge
+
+    @property
+    def fabric_gauge(self) -> Gauge:
+        """Stitch and row gauge of the fabric: ``fabric`` when measured, else one stitch per
+        needle pitch and courses ``course_aspect`` of a pitch tall (with that source)."""
+        if self.fabric is not None:
+            return self.fabric
+        return Gauge.for_machine(
+            self.gauge,
+            self.course_aspect,
+            source=f"{self.name}: one stitch per needle at gauge {self.gauge:g}, rows at "
+            f"{self.course_aspect:g} of a stitch (the 5:7 stocking-stitch ratio; unmeasured, "
+            "knit a swatch)",
+        )
 
     @property
     def max_fabric_width(self) -> int:

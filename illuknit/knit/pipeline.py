@@ -18,6 +18,7 @@ from dataclasses import dataclass, replace
 from typing import Any
 
 from illuknit.errors import CarrierShortageError, PatternValidationError, SchedulingError
+from illuknit.gauge import FinishedSize
 from illuknit.knit.carriage import machine_run, machine_stats, runs_on_swg
 from illuknit.knit.knitout import write_knitout
 from illuknit.knit.machine import DEFAULT_MACHINE, MachineSpec
@@ -82,7 +83,9 @@ class KnitResult:
     def summary(self) -> dict[str, Any]:
         """JSON-ready numbers: size, passes, bound, ratio, time."""
         c, w = self.stitches.shape
-        wcm, hcm = self.stitches.size_cm
+        fabric = self.machine.fabric_gauge
+        size = FinishedSize(w * fabric.stitch_cm, c * fabric.row_cm, fabric)
+        wcm, hcm = size.width_cm, size.height_cm
         longest, longest_at = self._longest_float()
         return {
             "machine": self.machine.name,
@@ -92,6 +95,8 @@ class KnitResult:
             "courses": c,
             "width_cm": round(wcm, 1),
             "height_cm": round(hcm, 1),
+            "finished_size": size.as_dict(),
+            "finished_size_text": size.describe(),
             **self.stats.as_dict(),
             "scheduler": self.schedule.scheduler,
             # Carrier moves the schedule makes itself (miss-only passes), next to the backend's

@@ -111,8 +111,11 @@ def render(
         None, ge=1, title="Candidate", description="rank; default: the picked one"
     ),
 ) -> Response:
+    from illuknit.knit.machine import get_machine
+
     pattern = current_pattern(s, candidate)
-    img = design.render_view(pattern, view, angle=angle)
+    aspect = get_machine(s.settings.machine).fabric_gauge.unit_aspect
+    img = design.render_view(pattern, view, angle=angle, unit_aspect=aspect)
     return Response(
         design.png_bytes(img), media_type="image/png", headers={"Cache-Control": "no-store"}
     )
