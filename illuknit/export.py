@@ -1,7 +1,8 @@
 """Write everything a user gets for a pattern into one folder.
 
 ``pattern.json`` (the pattern), ``headon.png`` / ``view_a.png`` / ``view_b.png`` / ``contact.png``
-(previews), ``chart.png`` and ``instructions.txt`` (hand knitting), ``legend.json`` (which picture
+(previews), ``chart.png``, ``chart.svg``, ``instructions.txt`` and the print-ready
+``pattern.pdf`` (hand knitting, :mod:`illuknit.pattern_pdf`), ``legend.json`` (which picture
 colour became which yarn, when known) and ``report.json`` (numbers about the pattern).
 """
 
@@ -80,6 +81,11 @@ def export_pattern(
     paths["chart"] = save_png(chart_png_rgb(pattern), out / "chart.png")
     paths["instructions"] = atomic_write_text(
         out / "instructions.txt", written_instructions(pattern, title=title, gauge=gauge)
+    )
+    from illuknit.pattern_pdf import write_pattern_pdf
+
+    paths.update(
+        write_pattern_pdf(pattern, out, gauge=gauge, title=title or "illuknit illusion pattern")
     )
     if quantised:
         legend = {name: q.legend() for name, q in quantised.items()}

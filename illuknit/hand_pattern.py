@@ -293,6 +293,8 @@ class YarnEstimate:
     grams: float
 
     def describe(self) -> str:
+        if not self.stitches:
+            return f"{self.name} ({self.hex}): not used in this design"
         return (
             f"{self.name} ({self.hex}): {self.stitches} sts, about {self.metres:.0f} m "
             f"({self.metres * 1.0936:.0f} yd), {self.grams:.0f} g"

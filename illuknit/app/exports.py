@@ -113,10 +113,12 @@ def chart_png(pattern: LogicalPattern) -> bytes:
     return png_bytes(chart_png_rgb(pattern))
 
 
-def instructions_text(pattern: LogicalPattern) -> str:
+def instructions_text(pattern: LogicalPattern, *, machine: str | None = None) -> str:
+    """Written instructions, with the finished size at ``machine``'s fabric gauge."""
     from illuknit.chart import written_instructions
+    from illuknit.knit.machine import get_machine
 
-    return written_instructions(pattern)
+    return written_instructions(pattern, gauge=get_machine(machine).fabric_gauge)
 
 
 def pattern_key(pattern: LogicalPattern) -> str:

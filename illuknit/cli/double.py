@@ -149,7 +149,8 @@ def run_design(
                 chosen, overlap_lines = rc.pattern, lines
         if edits:
             write_edits(edits, tmp / "suggestions", scale=max(2, unit_scale(inp.qa.shape)))
-        shutil.copyfile(tmp / f"candidate_{pick}" / "pattern.json", tmp / "pattern.json")
+        for name in ("pattern.json", "pattern.pdf", "chart.svg"):  # the picked design's
+            shutil.copyfile(tmp / f"candidate_{pick}" / name, tmp / name)
         if knitout and chosen is not None:
             # The default candidate as a checked knitout program (mixed-colourwork scheduler).
             from illuknit.cli.knitout_bridge import write_program

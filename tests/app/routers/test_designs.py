@@ -93,6 +93,8 @@ def test_single_view_flow_to_checked_knitout(client, api, pictures):
     assert r.status_code == 409 and api.error_of(r)["field"] == "knit"
     for name, kind in (
         ("pattern.json", "application/json"),
+        ("pattern.pdf", "application/pdf"),
+        ("chart.svg", "image/svg+xml"),
         ("chart.png", "image/png"),
         ("instructions.txt", "text/plain"),
         ("previews.zip", "application/zip"),
