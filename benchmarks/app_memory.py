@@ -23,7 +23,7 @@ import numpy as np
 from PIL import Image
 
 TARGET_BYTES = 1 * 2**30
-#: 8640 x 5760 = 49.8 megapixels, under the 50-megapixel cap (illuknit.images.MAX_PIXELS).
+#: 8640 x 5760 = 49.8 megapixels, under the 50-megapixel cap (illuknit.pictures.images.MAX_PIXELS).
 SIZE = (8640, 5760)
 
 

@@ -21,7 +21,7 @@ from fastapi.testclient import TestClient
 from PIL import Image
 
 from illuknit.app import create_app
-from illuknit.drawings import draw_heart, draw_text
+from illuknit.pictures.drawings import draw_heart, draw_text
 
 
 def png(mask: np.ndarray) -> bytes:

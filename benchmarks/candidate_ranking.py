@@ -2,8 +2,8 @@
 
 For every bundled double-view instance (``instances/manifest.toml``; ``--small`` leaves out
 the 330 x 200 piece) the tile designs ``illuknit double`` searches by default are assigned
-(``--pool``, default :data:`~illuknit.tiles.perception.DEFAULT_POOL`), compiled, rendered and
-ranked as it ranks them (:func:`illuknit.tiles.perception.rank_designs`), and the best
+(``--pool``, default :data:`~illuknit.design.tiles.perception.DEFAULT_POOL`), compiled, rendered and
+ranked as it ranks them (:func:`illuknit.design.tiles.perception.rank_designs`), and the best
 ``--candidates`` are the ones written. Printed per instance: the worse-view readability,
 contrast, worst ghosting and how much of it shows (visible ghosting) of the default; the
 default's readability when only ``--candidates`` designs are searched (what the pool gains); the
@@ -21,8 +21,8 @@ import time
 from typing import Any
 
 from illuknit.bench.instances import instance_targets, load_manifest
-from illuknit.tiles.assign import assign_tiles
-from illuknit.tiles.perception import (
+from illuknit.design.tiles.assign import assign_tiles
+from illuknit.design.tiles.perception import (
     DEFAULT_POOL,
     POOL_SECONDS,
     CandidateMeasures,

@@ -82,8 +82,8 @@ def main() -> None:
             f"pieces={report.pieces}"
         )
         if not args.no_vm and (not garter or args.vm_garter):
-            from illuknit.check.parse import parse_knitout
             from illuknit.check.vm import run_vm
+            from illuknit.knitout.parse import parse_knitout
 
             t0 = time.perf_counter()
             vm = run_vm(text, parse_knitout(text))

@@ -13,10 +13,10 @@ import time
 
 import numpy as np
 
-from illuknit.pattern import parse_yarns
-from illuknit.single_view import compile_single_view, prepare_single_view_image
-from illuknit.sizing import prepare_image
-from illuknit.views import can_see
+from illuknit.core.pattern import parse_yarns
+from illuknit.core.views import can_see
+from illuknit.design.single_view import compile_single_view, prepare_single_view_image
+from illuknit.pictures.sizing import prepare_image
 
 
 def best_of(fn, repeat=7):

@@ -13,14 +13,14 @@ import time
 
 import numpy as np
 
+from illuknit.core.machine import get_machine
+from illuknit.core.pattern import LogicalPattern, Yarn
 from illuknit.knit import (
     estimate_knit_time,
     lower_to_stitches,
     schedule_courses,
     write_knitout,
 )
-from illuknit.knit.machine import get_machine
-from illuknit.pattern import LogicalPattern, Yarn
 
 TARGET_S = 5.0
 

@@ -19,8 +19,8 @@ from __future__ import annotations
 import argparse
 import time
 
+from illuknit.core.machine import get_machine
 from illuknit.knit import estimate_knit_time, lower_to_stitches, write_knitout
-from illuknit.knit.machine import get_machine
 from illuknit.knit.mixed import schedule_mixed
 from illuknit.knit.timing import format_duration
 
@@ -66,7 +66,7 @@ def pass_table(include_all: bool) -> list[float]:
 
 
 def speed_table() -> None:
-    from illuknit.tiles.demos import text_pair_demo
+    from illuknit.design.tiles.demos import text_pair_demo
 
     print("\n2. scheduling + writing 660 x 400 stitches (target < 10 s)")
     for rows, cols, needles in ((330, 200, 540), (200, 330, 700)):
@@ -89,7 +89,7 @@ def speed_table() -> None:
 def tiles_vs_solver() -> None:
     from illuknit.bench.instances import load_manifest
     from illuknit.bench.methods import get_method, run_tiles
-    from illuknit.illusion_models import color_changes_per_course
+    from illuknit.design.models.illusion_models import color_changes_per_course
 
     print("\n3. tile pattern vs unconstrained DP pattern of the same pair (estimated knit time)")
     print(

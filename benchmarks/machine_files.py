@@ -31,11 +31,11 @@ from pathlib import Path
 
 import numpy as np
 
+from illuknit.core.machine import KNITERATE, MACHINES
+from illuknit.core.pattern import LogicalPattern, Yarn
 from illuknit.formats.dat import knitout_to_dat, read_dat
 from illuknit.formats.kc import knitout_to_kc
-from illuknit.knit import knit_pattern
-from illuknit.knit.machine import KNITERATE, MACHINES
-from illuknit.pattern import LogicalPattern, Yarn
+from illuknit.knitting import knit_pattern
 
 TARGET_S = 5.0
 ORACLE = Path(__file__).resolve().parents[1] / ".." / "shared" / "oracles" / "kniterate"

@@ -154,8 +154,8 @@ def design(instance: Any, kind: str) -> Any:
     from illuknit.bench.methods import get_method
 
     if kind == "headon":
-        from illuknit.tiles.compile import compile_tiles
-        from illuknit.tiles.headon import assign_headon
+        from illuknit.design.tiles.compile import compile_tiles
+        from illuknit.design.tiles.headon import assign_headon
 
         t = instance_targets(instance)
         cands = assign_headon((t.a, t.palette), yarns=instance.yarns, candidates=1)
@@ -167,10 +167,11 @@ def design(instance: Any, kind: str) -> Any:
 def measure(
     instance: Any, kind: str, oracle: Path, machine_name: str, with_model: bool = False
 ) -> Row:
-    from illuknit.check import check_knitout, parse_knitout
+    from illuknit.check import check_knitout
     from illuknit.check.simulate import simulate_program
-    from illuknit.knit import knit_pattern
-    from illuknit.knit.machine import get_machine
+    from illuknit.core.machine import get_machine
+    from illuknit.knitout import parse_knitout
+    from illuknit.knitting import knit_pattern
 
     t0 = time.perf_counter()
     n_yarns = len(instance.yarns)

@@ -16,12 +16,12 @@ import time
 
 import numpy as np
 
-from illuknit.render.grad import render_value_and_grad
-from illuknit.render.params import RenderParams
+from illuknit.design.render.grad import render_value_and_grad
+from illuknit.design.render.params import RenderParams
 
 
 def torch_value_and_grad(torch, h_np, col_np, tgt_np, params: RenderParams):
-    """The same geometry as illuknit.render.raycast, view A, supersample 1, in torch."""
+    """The same geometry as illuknit.design.render.raycast, view A, supersample 1, in torch."""
     th = np.radians(params.theta)
     sin, cos = float(np.sin(th)), float(np.cos(th))
     h = torch.tensor(h_np, requires_grad=True)

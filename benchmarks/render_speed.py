@@ -14,12 +14,12 @@ import time
 
 import numpy as np
 
-from illuknit.drawings import draw_text
-from illuknit.pattern import LogicalPattern, parse_yarns
-from illuknit.render.grad import render_value_and_grad
-from illuknit.render.optimise import optimise_design
-from illuknit.render.params import RenderParams
-from illuknit.render.raycast import render_pattern
+from illuknit.core.pattern import LogicalPattern, parse_yarns
+from illuknit.design.render.grad import render_value_and_grad
+from illuknit.design.render.optimise import optimise_design
+from illuknit.design.render.params import RenderParams
+from illuknit.design.render.raycast import render_pattern
+from illuknit.pictures.drawings import draw_text
 
 
 def best_of(fn, repeat=11):

@@ -3,9 +3,9 @@ bundled photo instances and lowers it on none.
 
 For every bundled double-view instance whose pictures are photographs (``image = ...`` in
 ``instances/manifest.toml``; ``--all`` adds the drawn ones), the suggested edits of
-:mod:`illuknit.tiles.simplify` are tried as ``illuknit double --simplify`` tries them
-(:func:`~illuknit.tiles.simplify.review_edits`: the tile designs ``double`` searches per design
--- ``--pool``, default :data:`~illuknit.tiles.perception.DEFAULT_POOL` -- ranked by perception,
+:mod:`illuknit.design.tiles.simplify` are tried as ``illuknit double --simplify`` tries them
+(:func:`~illuknit.design.tiles.simplify.review_edits`: the tile designs ``double`` searches per design
+-- ``--pool``, default :data:`~illuknit.design.tiles.perception.DEFAULT_POOL` -- ranked by perception,
 judged against the original pictures; a photograph may also be re-read with one colour fewer,
 or one more while that stays within the instance's yarns). Printed: the worse-view readability
 and worst ghosting before and after, and each edit's verdict.
@@ -19,9 +19,9 @@ import argparse
 import time
 
 from illuknit.bench.instances import instance_targets, load_manifest
-from illuknit.drawings import skimage_image
-from illuknit.tiles.perception import DEFAULT_POOL, POOL_SECONDS
-from illuknit.tiles.simplify import MIN_GAIN, review_edits
+from illuknit.design.tiles.perception import DEFAULT_POOL, POOL_SECONDS
+from illuknit.design.tiles.simplify import MIN_GAIN, review_edits
+from illuknit.pictures.drawings import skimage_image
 
 
 def _is_photo(inst) -> bool:

@@ -23,15 +23,15 @@ import time
 
 import numpy as np
 
-from illuknit.drawings import draw_ecg, draw_heart
-from illuknit.errors import SolverError
-from illuknit.illusion_models import (
+from illuknit.core.errors import SolverError
+from illuknit.design.models.illusion_models import (
     KnitWeights,
     build_model,
     default_yarns,
     make_problem,
     pattern_from_solution,
 )
+from illuknit.pictures.drawings import draw_ecg, draw_heart
 from illuknit.solvers import available_backends, solve
 
 SECTIONS = ("logical", "knit-aware", "sweep", "single")
@@ -65,7 +65,7 @@ def run(kind: str, rows: int, cols: int, backend: str, limit: float, weights: Kn
 
 
 def _knit_numbers(pattern) -> tuple[str, int]:
-    from illuknit.knit import knit_pattern
+    from illuknit.knitting import knit_pattern
 
     s = knit_pattern(pattern).summary()
     return str(s["time"]), int(s["passes"])
@@ -73,7 +73,7 @@ def _knit_numbers(pattern) -> tuple[str, int]:
 
 def sweep(limit: float, size: tuple[int, int]) -> None:
     """Model (b) across colour-change weights: error vs colour changes vs knitting time."""
-    from illuknit.views import can_see
+    from illuknit.core.views import can_see
 
     a, b = pair(*size)
     print(
@@ -103,9 +103,9 @@ def sweep(limit: float, size: tuple[int, int]) -> None:
 
 def single(size: tuple[int, int]) -> None:
     """Model (c) (one yarn per course) against the push-button compiler on the heart."""
-    from illuknit.single_view import compile_single_view
+    from illuknit.core.views import can_see
+    from illuknit.design.single_view import compile_single_view
     from illuknit.solvers.dp import values_from_pattern
-    from illuknit.views import can_see
 
     t = draw_heart(size).astype(np.int16)
     yarns = default_yarns(2)

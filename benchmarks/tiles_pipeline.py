@@ -20,9 +20,9 @@ SHAPE = (200, 330)  # rows x cols = 330 wide, 200 high
 
 
 def _inputs():
-    from illuknit.drawings import draw_text, skimage_image
-    from illuknit.images import quantise_image
-    from illuknit.pattern import parse_yarns
+    from illuknit.core.pattern import parse_yarns
+    from illuknit.pictures.drawings import draw_text, skimage_image
+    from illuknit.pictures.images import quantise_image
 
     cols = np.array([[240, 240, 240], [25, 25, 25]], dtype=np.uint8)
     text = (
@@ -46,10 +46,10 @@ def main() -> None:
 
     from ortools.sat.python import cp_model  # noqa: F401  (one-off import, not timed)
 
-    from illuknit.tiles.assign import assign_tiles
-    from illuknit.tiles.bank import _canonical_bank, canonical_bank
-    from illuknit.tiles.compile import compile_tiles
-    from illuknit.views import can_see
+    from illuknit.core.views import can_see
+    from illuknit.design.tiles.assign import assign_tiles
+    from illuknit.design.tiles.bank import _canonical_bank, canonical_bank
+    from illuknit.design.tiles.compile import compile_tiles
 
     print(f"double-view tile pipeline, {SHAPE[1]} x {SHAPE[0]} units, solver {args.solver}, "
           f"{args.candidates} candidates; target < {TARGET_S:.1f} s")  # fmt: skip

@@ -11,75 +11,75 @@ The public API is re-exported here and imported lazily, so ``import illuknit`` s
 
 from __future__ import annotations
 
-from illuknit.lazy import lazy_api
+from illuknit.core.lazy import lazy_api
 
 __version__ = "0.1.0"
 
 # public name -> module that defines it
 _API: dict[str, str] = {
     # model
-    "LogicalPattern": "illuknit.pattern",
-    "Yarn": "illuknit.pattern",
-    "parse_yarns": "illuknit.pattern",
-    "save_pattern": "illuknit.pattern",
-    "load_pattern": "illuknit.pattern",
+    "LogicalPattern": "illuknit.core.pattern",
+    "Yarn": "illuknit.core.pattern",
+    "parse_yarns": "illuknit.core.pattern",
+    "save_pattern": "illuknit.core.pattern",
+    "load_pattern": "illuknit.core.pattern",
     # boolean views
-    "can_see": "illuknit.views",
-    "view_a": "illuknit.views",
-    "view_b": "illuknit.views",
-    "view_headon": "illuknit.views",
-    "logical_error": "illuknit.views",
+    "can_see": "illuknit.core.views",
+    "view_a": "illuknit.core.views",
+    "view_b": "illuknit.core.views",
+    "view_headon": "illuknit.core.views",
+    "logical_error": "illuknit.core.views",
     # image input
-    "load_image": "illuknit.images",
-    "resize_to_units": "illuknit.images",
-    "quantise_image": "illuknit.images",
-    "QuantisedImage": "illuknit.images",
+    "load_image": "illuknit.pictures.images",
+    "resize_to_units": "illuknit.pictures.images",
+    "quantise_image": "illuknit.pictures.images",
+    "QuantisedImage": "illuknit.pictures.images",
     # code-drawn inputs (benchmarks, demos)
-    "draw_text": "illuknit.drawings",
-    "draw_shape": "illuknit.drawings",
-    "skimage_image": "illuknit.drawings",
+    "draw_text": "illuknit.pictures.drawings",
+    "draw_shape": "illuknit.pictures.drawings",
+    "skimage_image": "illuknit.pictures.drawings",
     # single-view compiler
-    "compile_single_view": "illuknit.single_view",
+    "compile_single_view": "illuknit.design.single_view",
     # previews, charts
-    "write_previews": "illuknit.previews",
-    "written_instructions": "illuknit.chart",
+    "write_previews": "illuknit.outputs.previews",
+    "written_instructions": "illuknit.outputs.chart",
     # knitting (knitout for V-bed machines)
-    "knit_pattern": "illuknit.knit.pipeline",
-    "KnitResult": "illuknit.knit.pipeline",
-    "MachineSpec": "illuknit.knit.machine",
+    "knit_pattern": "illuknit.knitting.pipeline",
+    "KnitResult": "illuknit.knitting.pipeline",
+    "MachineSpec": "illuknit.core.machine",
     "schedule_mixed": "illuknit.knit.mixed",
     # knitout checker
     "check_knitout": "illuknit.check",
     "CheckReport": "illuknit.check",
     "Finding": "illuknit.check",
     # tiles: double-view and head-on design (docs/tiles.md)
-    "Tile": "illuknit.tiles.tile",
-    "TileBank": "illuknit.tiles.bank",
-    "canonical_bank": "illuknit.tiles.bank",
-    "load_bank": "illuknit.tiles.bank",
-    "TileAssignment": "illuknit.tiles.assignment",
-    "assign_tiles": "illuknit.tiles.assign",
-    "compile_tiles": "illuknit.tiles.compile",
-    "assign_headon": "illuknit.tiles.headon",
+    "Tile": "illuknit.design.tiles.tile",
+    "TileBank": "illuknit.design.tiles.bank",
+    "canonical_bank": "illuknit.design.tiles.bank",
+    "load_bank": "illuknit.design.tiles.bank",
+    "TileAssignment": "illuknit.design.tiles.assignment",
+    "assign_tiles": "illuknit.design.tiles.assign",
+    "compile_tiles": "illuknit.design.tiles.compile",
+    "assign_headon": "illuknit.design.tiles.headon",
     # renderer, gradient design, calibration (docs/render.md)
-    "RenderParams": "illuknit.render.params",
-    "load_params": "illuknit.render.params",
-    "render_views": "illuknit.render.raycast",
-    "render_pattern": "illuknit.render.raycast",
-    "render_at": "illuknit.render.raycast",
-    "optimise_design": "illuknit.render.optimise",
-    "calibration_swatch": "illuknit.render.calibrate",
-    "fit_bump_height": "illuknit.render.calibrate",
+    "RenderParams": "illuknit.design.render.params",
+    "load_params": "illuknit.design.render.params",
+    "render_views": "illuknit.design.render.raycast",
+    "render_pattern": "illuknit.design.render.raycast",
+    "render_at": "illuknit.design.render.raycast",
+    "optimise_design": "illuknit.design.render.optimise",
+    "calibration_swatch": "illuknit.design.render.calibrate",
+    "fit_bump_height": "illuknit.design.render.calibrate",
     # constraint models and solvers (docs/solvers.md)
-    "Model": "illuknit.model",
-    "KnitWeights": "illuknit.illusion_models",
-    "IllusionProblem": "illuknit.illusion_models",
-    "build_model": "illuknit.illusion_models",
-    "solve_illusion": "illuknit.illusion_models",
-    "pattern_from_solution": "illuknit.illusion_models",
-    "report_pattern": "illuknit.illusion_models",
+    "Model": "illuknit.design.models.model",
+    "KnitWeights": "illuknit.design.models.illusion_models",
+    "IllusionProblem": "illuknit.design.models.illusion_models",
+    "build_model": "illuknit.design.models.illusion_models",
+    "solve_illusion": "illuknit.design.models.illusion_models",
+    "pattern_from_solution": "illuknit.design.models.illusion_models",
+    "report_pattern": "illuknit.design.models.illusion_models",
     # errors
-    "IlluknitError": "illuknit.errors",
+    "IlluknitError": "illuknit.core.errors",
 }
 
 __all__ = ["__version__", *_API]

@@ -20,7 +20,7 @@ loads either a Backend instance, a Backend class, or a zero-argument factory.
 
 Examples
 --------
->>> from illuknit.model import Model
+>>> from illuknit.design.models.model import Model
 >>> from illuknit.solvers import solve
 >>> m = Model("tiny")
 >>> a, b = m.var("a"), m.var("b")
@@ -39,7 +39,7 @@ from dataclasses import replace
 from importlib.metadata import entry_points
 from typing import TYPE_CHECKING, Any, NamedTuple
 
-from illuknit.errors import (
+from illuknit.core.errors import (
     BackendUnavailableError,
     OptionError,
     SolverError,
@@ -56,7 +56,7 @@ from illuknit.solvers.base import (
 )
 
 if TYPE_CHECKING:
-    from illuknit.model import Model
+    from illuknit.design.models.model import Model
 
 __all__ = [
     "ENTRY_POINT_GROUP",

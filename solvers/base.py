@@ -1,6 +1,6 @@
 """The contract every solver backend implements: ``Status``, ``Solution``, ``Backend``.
 
-A backend takes an :class:`illuknit.model.Model` (solver-neutral data) and returns a frozen
+A backend takes an :class:`illuknit.design.models.model.Model` (solver-neutral data) and returns a frozen
 :class:`Solution`:
 
 * ``status`` — :class:`Status`: ``optimal`` (proven), ``feasible`` (an assignment, optimality not
@@ -42,8 +42,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 if TYPE_CHECKING:
-    from illuknit.model import Model
-    from illuknit.var_pool import VarPool
+    from illuknit.design.models.model import Model
+    from illuknit.design.models.var_pool import VarPool
 
 __all__ = [
     "ORACLES",
@@ -378,7 +378,7 @@ UNINTERRUPTIBLE = ("cd15", "cd19")
 def check_oracle(name: str, *, interruptible: bool = False) -> str:
     """``name`` if python-sat has a SAT oracle called so (and, with ``interruptible``, one it
     can interrupt), else an error listing them."""
-    from illuknit.errors import UnknownNameError
+    from illuknit.core.errors import UnknownNameError
 
     valid = tuple(o for o in ORACLES if not (interruptible and o in UNINTERRUPTIBLE))
     if name not in valid:

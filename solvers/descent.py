@@ -1,6 +1,6 @@
 """Exact-block coordinate descent for the knit-time-aware illusion model (b).
 
-The objective of model (b) (:mod:`illuknit.illusion_models`) is a sum of terms over *pairs of
+The objective of model (b) (:mod:`illuknit.design.models.illusion_models`) is a sum of terms over *pairs of
 units that are neighbours in the grid*:
 
 * view A at row i and view B at row i-1 couple units (i-1, j) and (i, j) of one wale; a bump's
@@ -49,13 +49,13 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import NDArray
 
-from illuknit.illusion_problem import IllusionProblem
+from illuknit.design.models.illusion_problem import IllusionProblem
 from illuknit.solvers.base import BackendBase, ProgressCallback, ProgressEvent, Solution, Status
 from illuknit.solvers.descent_blocks import descend, pattern_cost
 from illuknit.solvers.dp import DPBackend, solve_dp, values_from_pattern
 
 if TYPE_CHECKING:
-    from illuknit.model import Model
+    from illuknit.design.models.model import Model
 
 __all__ = ["DescentBackend", "DescentResult", "optimise_descent"]
 
@@ -250,7 +250,7 @@ class DescentBackend(BackendBase):
     def why_not(self, model: Model) -> str | None:
         p = model.problem
         if not isinstance(p, IllusionProblem):
-            return "block descent solves only illusion models built by illuknit.illusion_models"
+            return "block descent solves only illusion models built by illuknit.design.models.illusion_models"
         if p.color_cap is not None:
             return "block descent cannot guarantee a hard colour-change cap; use --solver cpsat"
         return None

@@ -16,7 +16,12 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from illuknit.illusion_problem import IllusionProblem, pass_events, raised_cost, row_passes
+from illuknit.design.models.illusion_problem import (
+    IllusionProblem,
+    pass_events,
+    raised_cost,
+    row_passes,
+)
 
 __all__ = ["descend", "pattern_cost", "update_rows", "update_units", "update_wales"]
 

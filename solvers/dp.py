@@ -15,7 +15,7 @@ rows (A at row 0, B at row N-1), the bump cost and pinned units. Cost O(N (2K)^2
 vectorised across all wales with numpy (a loop over the N rows only).
 
 Ties prefer flat units and lower yarn indices. The backend reads ``model.problem`` (an
-:class:`illuknit.illusion_models.IllusionProblem`) and refuses any other model.
+:class:`illuknit.design.models.illusion_models.IllusionProblem`) and refuses any other model.
 
 **The single-view model (c)** ties every unit row to one yarn ``c_i``, which couples the wales,
 but only through the row colours. Given the row colours, each raised bit ``R[i, j]`` decides two
@@ -39,11 +39,11 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import NDArray
 
-from illuknit.illusion_problem import IllusionProblem, raised_cost
+from illuknit.design.models.illusion_problem import IllusionProblem, raised_cost
 from illuknit.solvers.base import BackendBase, ProgressCallback, ProgressEvent, Solution, Status
 
 if TYPE_CHECKING:
-    from illuknit.model import Model
+    from illuknit.design.models.model import Model
 
 __all__ = ["DPBackend", "hint_values", "solve_dp"]
 
@@ -229,9 +229,7 @@ class DPBackend(BackendBase):
     def why_not(self, model: Model) -> str | None:
         p = model.problem
         if not isinstance(p, IllusionProblem):
-            return (
-                "the DP solves only illusion models built by illuknit.illusion_models.build_model"
-            )
+            return "the DP solves only illusion models built by illuknit.design.models.illusion_models.build_model"
         if p.per_wale or p.rows_tied:
             return None
         return (

@@ -1,7 +1,7 @@
 """Gradient-descent design through the differentiable renderer (paper section 8.3) as a backend.
 
-The backend recognises models built from an :class:`illuknit.illusion_models.IllusionProblem`
-(``model.problem``) and runs :func:`illuknit.render.optimise.optimise_design` on its two targets:
+The backend recognises models built from an :class:`illuknit.design.models.illusion_models.IllusionProblem`
+(``model.problem``) and runs :func:`illuknit.design.render.optimise.optimise_design` on its two targets:
 yarn probabilities are rendered directly (``mix="yarn"``) at the elevation where a bump hides
 exactly one unit, so the renders of the binarised pattern are the can_see views and the render
 error counts mismatched cells. The model's weights carry over: colour changes along courses and
@@ -18,11 +18,11 @@ from __future__ import annotations
 import time
 from typing import TYPE_CHECKING, Any
 
-from illuknit.illusion_problem import IllusionProblem
+from illuknit.design.models.illusion_problem import IllusionProblem
 from illuknit.solvers.base import BackendBase, ProgressCallback, ProgressEvent, Solution, Status
 
 if TYPE_CHECKING:
-    from illuknit.model import Model
+    from illuknit.design.models.model import Model
 
 __all__ = ["GradientBackend"]
 
@@ -41,7 +41,7 @@ class GradientBackend(BackendBase):
     def why_not(self, model: Model) -> str | None:
         p = model.problem
         if not isinstance(p, IllusionProblem):
-            return "the gradient backend solves only illusion models built by illuknit.illusion_models.build_model"
+            return "the gradient backend solves only illusion models built by illuknit.design.models.illusion_models.build_model"
         if p.n_yarns < 2:
             return "the gradient backend needs at least two yarns"
         if p.color_cap is not None:
@@ -56,9 +56,9 @@ class GradientBackend(BackendBase):
         seed: int = 0,
         progress: ProgressCallback | None = None,
     ) -> Solution:
-        from illuknit.illusion_report import default_yarns
-        from illuknit.render.optimise import optimise_design
-        from illuknit.render.params import RenderParams
+        from illuknit.design.models.illusion_report import default_yarns
+        from illuknit.design.render.optimise import optimise_design
+        from illuknit.design.render.params import RenderParams
         from illuknit.solvers.dp import values_from_pattern
 
         t0 = time.perf_counter()

@@ -31,7 +31,7 @@ from illuknit.solvers.base import (
 from illuknit.solvers.isolate import run_in_child
 
 if TYPE_CHECKING:
-    from illuknit.model import Model
+    from illuknit.design.models.model import Model
 
 __all__ = ["HERMAX_SOLVERS", "HermaxBackend"]
 

@@ -32,7 +32,7 @@ from illuknit.solvers.base import (
 )
 
 if TYPE_CHECKING:
-    from illuknit.model import ClauseSet, Model
+    from illuknit.design.models.model import ClauseSet, Model
 
 __all__ = ["MAX_TOTAL_WEIGHT", "LSUBackend"]
 

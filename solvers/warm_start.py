@@ -27,9 +27,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from illuknit.errors import SolverError, UnknownNameError
-from illuknit.illusion_problem import IllusionProblem
-from illuknit.model import Model
+from illuknit.core.errors import SolverError, UnknownNameError
+from illuknit.design.models.illusion_problem import IllusionProblem
+from illuknit.design.models.model import Model
 from illuknit.solvers.base import Solution, Status
 from illuknit.solvers.descent import optimise_descent
 from illuknit.solvers.dp import hint_values, values_from_pattern

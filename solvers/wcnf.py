@@ -30,7 +30,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from illuknit.errors import SolverError
+from illuknit.core.errors import SolverError
 from illuknit.solvers.base import (
     BackendBase,
     ProgressCallback,
@@ -40,7 +40,7 @@ from illuknit.solvers.base import (
 )
 
 if TYPE_CHECKING:
-    from illuknit.model import Model
+    from illuknit.design.models.model import Model
 
 __all__ = ["ExternalWCNFBackend", "parse_maxsat_output"]
 

@@ -5,8 +5,8 @@ from hypothesis import given
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
-from illuknit.chart import chart_png_rgb, hand_rows, written_instructions
-from illuknit.pattern import LogicalPattern, parse_yarns
+from illuknit.core.pattern import LogicalPattern, parse_yarns
+from illuknit.outputs.chart import chart_png_rgb, hand_rows, written_instructions
 
 Y = parse_yarns("Dark=#1b1b1b,Light=#f4f0e8")
 
@@ -86,7 +86,7 @@ def test_rows_and_chart_image():
 
 
 def test_chart_has_a_key_for_its_dots_and_yarns():
-    from illuknit.chart import chart_key
+    from illuknit.outputs.chart import chart_key
 
     p = LogicalPattern(
         np.array([[0, 1], [1, 0]], np.int16), np.array([[True, False], [False, True]]), Y

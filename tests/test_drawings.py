@@ -7,7 +7,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from illuknit.drawings import (
+from illuknit.core.errors import ImageInputError, UnknownNameError
+from illuknit.pictures.drawings import (
     BUNDLED_IMAGES,
     DRAWINGS,
     draw_circle,
@@ -20,7 +21,6 @@ from illuknit.drawings import (
     skimage_image,
     to_index_image,
 )
-from illuknit.errors import ImageInputError, UnknownNameError
 
 shapes = st.tuples(st.integers(6, 60), st.integers(6, 60))
 

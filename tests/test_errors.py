@@ -2,8 +2,8 @@ import inspect
 
 import pytest
 
-from illuknit import errors
-from illuknit.errors import IlluknitError, OptionError, UnknownNameError
+from illuknit.core import errors
+from illuknit.core.errors import IlluknitError, OptionError, UnknownNameError
 
 
 def test_every_error_is_an_illuknit_error_and_exported():

@@ -10,9 +10,10 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from illuknit.chart import hand_rows, written_instructions
-from illuknit.gauge import parse_gauge
-from illuknit.hand_pattern import (
+from illuknit.core.gauge import parse_gauge
+from illuknit.core.pattern import LogicalPattern, parse_yarns
+from illuknit.outputs.chart import hand_rows, written_instructions
+from illuknit.outputs.hand_pattern import (
     CATCH_EVERY,
     MIN_INTARSIA_BLOCK,
     compress_repeats,
@@ -21,7 +22,6 @@ from illuknit.hand_pattern import (
     written_row,
     yarn_estimate,
 )
-from illuknit.pattern import LogicalPattern, parse_yarns
 
 YARNS3 = parse_yarns("black,firebrick,linen")
 

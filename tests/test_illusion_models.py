@@ -9,14 +9,16 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from illuknit.errors import (
+from illuknit.core.errors import (
     ImageInputError,
     InfeasibleError,
     OptionError,
     SolverError,
     UnknownNameError,
 )
-from illuknit.illusion_models import (
+from illuknit.core.pattern import LogicalPattern, Yarn
+from illuknit.core.views import can_see
+from illuknit.design.models.illusion_models import (
     KnitWeights,
     build_model,
     color_changes_per_course,
@@ -26,10 +28,8 @@ from illuknit.illusion_models import (
     report_pattern,
     solve_illusion,
 )
-from illuknit.pattern import LogicalPattern, Yarn
 from illuknit.solvers import solve
 from illuknit.solvers.dp import solve_dp, values_from_pattern
-from illuknit.views import can_see
 
 
 def _wale_brute_force(problem) -> int:
@@ -160,7 +160,7 @@ def test_single_view_dp_equals_brute_force_with_one_yarn_per_row(n, m, k, altern
     seed=st.integers(0, 2**31),
 )
 def test_single_view_model_contains_and_beats_the_push_button_compiler(n, m, k, first, seed):
-    from illuknit.single_view import compile_single_view, single_view_roles
+    from illuknit.design.single_view import compile_single_view, single_view_roles
 
     rng = np.random.default_rng(seed)
     target = rng.integers(0, k, (n, m)).astype(np.int16)
@@ -293,7 +293,7 @@ def test_machine_pass_terms_match_brute_force_and_the_descent_objective():
     clauses, against a brute force over every pattern of a 1 x 5 strip and a 2 x 2 grid."""
     import itertools
 
-    from illuknit.illusion_problem import pass_events
+    from illuknit.design.models.illusion_problem import pass_events
     from illuknit.solvers.descent_blocks import pattern_cost
     from illuknit.solvers.dp import values_from_pattern
 
@@ -323,7 +323,7 @@ def test_machine_pass_terms_match_brute_force_and_the_descent_objective():
 
 
 def test_extra_carriers_count_regions_beyond_the_float_gap():
-    from illuknit.illusion_problem import pass_events
+    from illuknit.design.models.illusion_problem import pass_events
 
     yarn = np.array([[0, 1, 1, 1, 0, 1, 0, 0]])
     used, bumps, extra = pass_events(yarn, np.zeros_like(yarn, bool), 2, 2)
@@ -362,7 +362,7 @@ def test_pass_term_equals_a_count_on_the_scheduler_plan(n, m, k, gap, seed):
     """With a pattern pinned, the knit-aware model's optimum (CP-SAT over its auxiliary pass
     variables) is its view, colour and transfer cost plus ``machine_pass`` times the passes
     counted on the scheduler's carrier plan of the decoded pattern."""
-    from illuknit.illusion_problem import row_passes
+    from illuknit.design.models.illusion_problem import row_passes
     from illuknit.solvers.descent import pattern_cost
 
     rng = np.random.default_rng(seed)
@@ -403,7 +403,7 @@ def test_knit_aware_pattern_knits_in_fewer_machine_passes_than_the_maxsat_optimu
     knitout (:func:`illuknit.formats.machine_passes`)."""
     from illuknit.bench.instances import instance_targets, load_manifest
     from illuknit.formats import machine_passes
-    from illuknit.knit import knit_pattern
+    from illuknit.knitting import knit_pattern
 
     inst = next(i for i in load_manifest().instances if i.name == "heart-ecg")
     t = instance_targets(inst)

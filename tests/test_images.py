@@ -2,14 +2,14 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from illuknit.errors import ImageInputError
-from illuknit.images import (
+from illuknit.core.errors import ImageInputError
+from illuknit.core.pattern import parse_yarns
+from illuknit.pictures.images import (
     load_image,
     quantise_image,
     resize_to_units,
     units_for_width,
 )
-from illuknit.pattern import parse_yarns
 
 
 def _save(tmp_path, name, arr, mode=None, **kw):

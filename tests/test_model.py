@@ -9,9 +9,9 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from illuknit.errors import ModelError
-from illuknit.model import Model
-from illuknit.var_pool import VarPool
+from illuknit.core.errors import ModelError
+from illuknit.design.models.model import Model
+from illuknit.design.models.var_pool import VarPool
 
 
 def test_pool_blocks_and_keys_agree():

@@ -1,4 +1,4 @@
-"""The output-folder contract (illuknit.outputs): the named folder, resolved; staging inside it;
+"""The output-folder contract (illuknit.core.files): the named folder, resolved; staging inside it;
 other files kept; a failure leaves the folder as it was."""
 
 import errno
@@ -10,8 +10,8 @@ from pathlib import Path
 
 import pytest
 
-from illuknit.errors import OutputPathError
-from illuknit.outputs import staged_dir
+from illuknit.core.errors import OutputPathError
+from illuknit.core.files import staged_dir
 
 
 def write(outdir, **files):

@@ -6,8 +6,8 @@ from hypothesis import given
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
-from illuknit.errors import PatternFormatError, PatternValidationError, YarnSpecError
-from illuknit.pattern import (
+from illuknit.core.errors import PatternFormatError, PatternValidationError, YarnSpecError
+from illuknit.core.pattern import (
     LogicalPattern,
     Yarn,
     load_pattern,
@@ -135,7 +135,7 @@ def test_outputs_get_ordinary_permissions(tmp_path):
     import os
     import stat
 
-    from illuknit.outputs import atomic_write_text, staged_dir
+    from illuknit.core.files import atomic_write_text, staged_dir
 
     mask = os.umask(0o022)
     try:

@@ -14,9 +14,9 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from illuknit.gauge import parse_gauge
-from illuknit.pattern import LogicalPattern, parse_yarns
-from illuknit.pattern_pdf import CELL_MM, chart_svg, chart_tiles, pattern_pdf
+from illuknit.core.gauge import parse_gauge
+from illuknit.core.pattern import LogicalPattern, parse_yarns
+from illuknit.outputs.pattern_pdf import CELL_MM, chart_svg, chart_tiles, pattern_pdf
 
 pypdf = pytest.importorskip("pypdf", reason="the test extra (pypdf) is not installed")
 
@@ -64,7 +64,7 @@ def test_single_view_design_writes_a_pattern_pdf(tmp_path: Path, run_cli=None) -
     Image.fromarray(img).save(tmp_path / "pic.png")
     out = tmp_path / "out"
     main(["single", str(tmp_path / "pic.png"), "--width", "20", "-o", str(out)])
-    from illuknit.pattern import load_pattern
+    from illuknit.core.pattern import load_pattern
 
     pattern = load_pattern(out / "pattern.json")
     pages = pdf_pages((out / "pattern.pdf").read_bytes())
@@ -74,7 +74,7 @@ def test_single_view_design_writes_a_pattern_pdf(tmp_path: Path, run_cli=None) -
 
 def test_three_colour_double_view_writes_a_pattern_pdf(tmp_path: Path) -> None:
     from illuknit.cli import main
-    from illuknit.pattern import load_pattern
+    from illuknit.core.pattern import load_pattern
 
     a = np.full((40, 40, 3), (244, 240, 232), np.uint8)
     a[5:35, 5:35] = (27, 27, 27)

@@ -1,5 +1,5 @@
 """Pictures read right: 16-bit, palettes with transparency, CMYK, EXIF orientation, animations,
-the pixel cap and reduction while decoding (illuknit.pictures)."""
+the pixel cap and reduction while decoding (illuknit.pictures.decode)."""
 
 import io
 import struct
@@ -13,9 +13,9 @@ from hypothesis.extra.numpy import arrays
 from PIL import Image
 
 from illuknit.cli import main
-from illuknit.errors import ImageInputError
-from illuknit.pictures import MAX_PIXELS, read_picture
-from illuknit.sizing import prepare_image
+from illuknit.core.errors import ImageInputError
+from illuknit.pictures.decode import MAX_PIXELS, read_picture
+from illuknit.pictures.sizing import prepare_image
 
 
 def png_chunk(kind: bytes, data: bytes) -> bytes:

@@ -4,7 +4,7 @@ import io
 
 from rich.console import Console
 
-from illuknit.progress import progress
+from illuknit.core.progress import progress
 
 
 def test_progress_is_silent_when_not_a_terminal(capsys):

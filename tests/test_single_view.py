@@ -4,11 +4,15 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
-from illuknit.errors import ImageInputError
-from illuknit.images import QuantisedImage
-from illuknit.pattern import parse_yarns
-from illuknit.single_view import compile_single_view, prepare_single_view_image, single_view_errors
-from illuknit.views import can_see
+from illuknit.core.errors import ImageInputError
+from illuknit.core.pattern import parse_yarns
+from illuknit.core.views import can_see
+from illuknit.design.single_view import (
+    compile_single_view,
+    prepare_single_view_image,
+    single_view_errors,
+)
+from illuknit.pictures.images import QuantisedImage
 
 Y2 = parse_yarns("Dark=#1b1b1b,Light=#f4f0e8")
 Y3 = parse_yarns("Dark=#1b1b1b,Grey=#8c8c8c,Light=#f4f0e8")

@@ -1,4 +1,4 @@
-"""The one pair-sizing policy (illuknit.sizing), and that every entry point follows it."""
+"""The one pair-sizing policy (illuknit.pictures.sizing), and that every entry point follows it."""
 
 from __future__ import annotations
 
@@ -10,8 +10,8 @@ import pytest
 from PIL import Image
 
 from illuknit.cli import main
-from illuknit.errors import ImageInputError, PictureSizeMismatchError
-from illuknit.sizing import (
+from illuknit.core.errors import ImageInputError, PictureSizeMismatchError
+from illuknit.pictures.sizing import (
     DEFAULT_MAX_WIDTH,
     grid_width,
     prepare_image,
@@ -62,15 +62,15 @@ def test_height_follows_picture_a():
 @pytest.mark.parametrize("width", [24, 60, 97])
 def test_a_square_picture_knits_square_at_the_gauge(gauge, width):
     """The grid keeps the picture's proportions in the finished fabric, within 3 %."""
-    from illuknit.gauge import finished_size, parse_gauge
+    from illuknit.core.gauge import finished_size, parse_gauge
 
     g = parse_gauge(gauge)
     pair = size_pair(two_tone(200, 200), width=width, unit_aspect=g.unit_aspect)
     size = finished_size(pair.shape, g)
     assert abs(size.height_cm / size.width_cm - 1) <= 0.03, (pair.shape, size)
     # and the head-on preview is drawn in the same proportion
-    from illuknit.pattern import LogicalPattern, parse_yarns
-    from illuknit.previews import chart_rgb
+    from illuknit.core.pattern import LogicalPattern, parse_yarns
+    from illuknit.outputs.previews import chart_rgb
 
     n, m = pair.shape
     pattern = LogicalPattern(

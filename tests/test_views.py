@@ -6,8 +6,8 @@ from hypothesis import given
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
-from illuknit.errors import ImageInputError, OptionError, PatternValidationError
-from illuknit.views import can_see, logical_error, seen_rows
+from illuknit.core.errors import ImageInputError, OptionError, PatternValidationError
+from illuknit.core.views import can_see, logical_error, seen_rows
 
 
 def _brute(c, r, view):

@@ -13,7 +13,7 @@ from typing import Any
 
 from illuknit.app.controls import blame
 from illuknit.app.inputs import Prepared
-from illuknit.pattern import LogicalPattern
+from illuknit.core.pattern import LogicalPattern
 
 __all__ = ["Candidate", "Progress", "make_candidates"]
 
@@ -63,7 +63,7 @@ def make_candidates(prepared: Prepared, *, count: int, progress: Progress) -> li
 
 
 def _single_candidates(prepared: Prepared, progress: Progress) -> list[Candidate]:
-    from illuknit.single_view import compile_single_view, single_view_errors
+    from illuknit.design.single_view import compile_single_view, single_view_errors
 
     q = prepared.quantised["a"]
     out = []
@@ -86,9 +86,14 @@ def _single_candidates(prepared: Prepared, progress: Progress) -> list[Candidate
 
 def _tile_candidates(prepared: Prepared, *, count: int, progress: Progress) -> list[Candidate]:
     """The best-reading ``count`` of the tile designs ``illuknit double`` searches by default
-    (:data:`~illuknit.tiles.perception.DEFAULT_POOL`), ranked as it ranks them."""
-    from illuknit import tiles
-    from illuknit.tiles.perception import DEFAULT_POOL, POOL_SECONDS, rank_designs, seen_targets
+    (:data:`~illuknit.design.tiles.perception.DEFAULT_POOL`), ranked as it ranks them."""
+    from illuknit.design import tiles
+    from illuknit.design.tiles.perception import (
+        DEFAULT_POOL,
+        POOL_SECONDS,
+        rank_designs,
+        seen_targets,
+    )
 
     qa = prepared.quantised["a"]
     qb = prepared.quantised.get("b")

@@ -1,7 +1,7 @@
 """Errors aimed at the page control that caused them.
 
 The page shows a message next to the control named by the error's ``field``; :func:`blame` turns
-the library's errors raised inside a block into such an :class:`~illuknit.errors.AppRequestError`.
+the library's errors raised inside a block into such an :class:`~illuknit.core.errors.AppRequestError`.
 """
 
 from __future__ import annotations
@@ -9,7 +9,7 @@ from __future__ import annotations
 from collections.abc import Iterator
 from contextlib import contextmanager
 
-from illuknit.errors import AppRequestError, IlluknitError
+from illuknit.core.errors import AppRequestError, IlluknitError
 
 __all__ = ["blame"]
 

@@ -50,8 +50,8 @@ from illuknit.app.inputs import (
     width_of,
 )
 from illuknit.app.tile_edits import pairs_json, pattern_for, tile_png
-from illuknit.errors import AppRequestError
-from illuknit.pattern import pattern_to_json
+from illuknit.core.errors import AppRequestError
+from illuknit.core.pattern import pattern_to_json
 
 __all__ = [
     "MAX_UPLOAD_BYTES",
@@ -118,15 +118,15 @@ def capabilities() -> dict[str, bool]:
 def warm_up() -> None:
     """Import the modules the first request would otherwise wait for (run in a thread)."""
     for name in (
-        "illuknit.images",
+        "illuknit.pictures.images",
         "skimage.transform",
         "scipy.optimize",
-        "illuknit.single_view",
-        "illuknit.previews",
-        "illuknit.render",
-        "illuknit.tiles.assign",
-        "illuknit.tiles.compile",
-        "illuknit.tiles.headon",
+        "illuknit.design.single_view",
+        "illuknit.outputs.previews",
+        "illuknit.design.render",
+        "illuknit.design.tiles.assign",
+        "illuknit.design.tiles.compile",
+        "illuknit.design.tiles.headon",
         "ortools.sat.python.cp_model",
     ):
         importlib.import_module(name)

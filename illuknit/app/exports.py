@@ -14,9 +14,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from illuknit.app.controls import blame
-from illuknit.errors import AppRequestError
-from illuknit.gauge import STOCKINETTE_COURSE_ASPECT
-from illuknit.pattern import LogicalPattern, pattern_to_json
+from illuknit.core.errors import AppRequestError
+from illuknit.core.gauge import STOCKINETTE_COURSE_ASPECT
+from illuknit.core.pattern import LogicalPattern, pattern_to_json
 
 if TYPE_CHECKING:
     from illuknit.app.inputs import Prepared
@@ -59,12 +59,12 @@ def render_view(
         raise AppRequestError(
             f"view must be A, B or headon, got {view!r}", field="view", code="range"
         )
-    from illuknit.render import render_pattern
+    from illuknit.design.render import render_pattern
 
     ss = int(min(6, max(1, round(360 / max(pattern.shape)))))
     with blame("angle"):
         img = render_pattern(pattern, view=view, angle=angle, supersample=ss)
-    from illuknit.previews import stretch_rows
+    from illuknit.outputs.previews import stretch_rows
 
     wide = np.repeat(np.asarray(img, dtype=np.uint8), ss, axis=1)
     seen = 90.0 if view == "headon" else angle
@@ -74,7 +74,7 @@ def render_view(
 
 def png_bytes(rgb: NDArray[np.uint8]) -> bytes:
     """Fast PNG encoding for live previews (low compression: these are tiny and short-lived)."""
-    from illuknit.previews import png_bytes as encode
+    from illuknit.outputs.previews import png_bytes as encode
 
     return encode(rgb, compress_level=1)
 
@@ -87,7 +87,7 @@ def pattern_json_bytes(pattern: LogicalPattern) -> bytes:
 
 def previews_zip(pattern: LogicalPattern, prepared: Prepared | None, *, angle: float) -> bytes:
     """A zip of the library's previews (chart, side views, contact sheet) plus angled renders."""
-    from illuknit.previews import upscale, write_previews
+    from illuknit.outputs.previews import upscale, write_previews
 
     targets = {}
     if prepared is not None:
@@ -108,15 +108,15 @@ def previews_zip(pattern: LogicalPattern, prepared: Prepared | None, *, angle: f
 
 
 def chart_png(pattern: LogicalPattern) -> bytes:
-    from illuknit.chart import chart_png_rgb
+    from illuknit.outputs.chart import chart_png_rgb
 
     return png_bytes(chart_png_rgb(pattern))
 
 
 def instructions_text(pattern: LogicalPattern, *, machine: str | None = None) -> str:
     """Written instructions, with the finished size at ``machine``'s fabric gauge."""
-    from illuknit.chart import written_instructions
-    from illuknit.knit.machine import get_machine
+    from illuknit.core.machine import get_machine
+    from illuknit.outputs.chart import written_instructions
 
     return written_instructions(pattern, gauge=get_machine(machine).fabric_gauge)
 

@@ -18,7 +18,7 @@ from starlette.exceptions import HTTPException as StarletteHTTPException
 
 from illuknit.app.schemas import DesignSettings, JobIn, OverrideIn, SelectionIn
 from illuknit.app.suggestions import SupersededError
-from illuknit.errors import AppRequestError, IlluknitError
+from illuknit.core.errors import AppRequestError, IlluknitError
 
 __all__ = ["designer_message", "error_body", "install_handlers"]
 

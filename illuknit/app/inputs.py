@@ -4,7 +4,7 @@
                   -> prepare_inputs (the library's pair sizing, quantisation, the legend)
                   -> Prepared (what the page shows as "quantised inputs")
 
-A problem is an :class:`~illuknit.errors.AppRequestError` naming the page control at fault.
+A problem is an :class:`~illuknit.core.errors.AppRequestError` naming the page control at fault.
 """
 
 from __future__ import annotations
@@ -17,9 +17,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from illuknit.app.controls import blame
-from illuknit.errors import AppRequestError, IlluknitError, PictureSizeMismatchError
-from illuknit.images import MAX_PIXELS
-from illuknit.pattern import Yarn, parse_yarns
+from illuknit.core.errors import AppRequestError, IlluknitError, PictureSizeMismatchError
+from illuknit.core.pattern import Yarn, parse_yarns
+from illuknit.pictures.images import MAX_PIXELS
 
 if TYPE_CHECKING:
     from illuknit.app.schemas import DesignSettings
@@ -52,7 +52,7 @@ def decode_upload(
 ) -> tuple[NDArray[np.uint8], tuple[str, ...]]:
     """Decode an uploaded picture to uint8 RGB (H, W, 3) at the working grid, with its notes.
 
-    The library's reader decodes it (:func:`illuknit.pictures.read_picture`: 16-bit, palettes,
+    The library's reader decodes it (:func:`illuknit.pictures.decode.read_picture`: 16-bit, palettes,
     CMYK, EXIF orientation, alpha on white, the first frame of an animation), reducing pictures
     over ``MAX_WORKING_SIDE`` pixels while decoding, so no full-size copy (let alone a float one)
     is ever kept. The notes say what was done (e.g. "reduced from ... while reading").
@@ -63,7 +63,7 @@ def decode_upload(
     Raises AppRequestError (``field``) for an empty, non-image, too-small file or one of too many
     pixels.
     """
-    from illuknit.pictures import read_picture
+    from illuknit.pictures.decode import read_picture
 
     if not data:
         raise AppRequestError("the file is empty", field=field, code="empty")
@@ -78,7 +78,7 @@ def decode_upload(
 def too_large_message(limit: int) -> str:
     """What the designer is told about a file over the upload limit of ``limit`` bytes (the one
     message, whichever check finds it: the request's size or the file's)."""
-    from illuknit.pattern import MAX_UNITS
+    from illuknit.core.pattern import MAX_UNITS
 
     return (
         f"the file is over {_size_text(limit)}, the limit for pictures; save a smaller copy (a "
@@ -159,7 +159,7 @@ def prepare_inputs(images: dict[str, Any], settings: DesignSettings) -> Prepared
     offer to resize), a width out of range (``width_units``/``width_cm``), bad yarns (``yarns``),
     colour count issues (``n_colors``).
     """
-    from illuknit.images import quantise_image
+    from illuknit.pictures.images import quantise_image
 
     mode = settings.mode
     slots = _require_pictures(images, mode)
@@ -191,13 +191,13 @@ def size_inputs(
     images: dict[str, Any], settings: DesignSettings
 ) -> tuple[dict[str, NDArray[np.float64]], tuple[str, ...]]:
     """The pictures ``settings.mode`` uses on the piece's grid, before quantising, with the notes
-    of the library's pair sizing (:func:`illuknit.sizing.size_pair`, the command line's policy).
+    of the library's pair sizing (:func:`illuknit.pictures.sizing.size_pair`, the command line's policy).
 
     Raises AppRequestError for a missing picture, a width out of range and pictures of
     different shapes (``image_b``, code ``size_mismatch``).
     """
-    from illuknit.knit.machine import get_machine
-    from illuknit.sizing import size_pair
+    from illuknit.core.machine import get_machine
+    from illuknit.pictures.sizing import size_pair
 
     slots = _require_pictures(images, settings.mode)
     width, size_field = width_of(settings)
@@ -210,7 +210,7 @@ def size_inputs(
                 b,
                 width=width,
                 stretch=settings.resize,
-                # an accepted edit is a grid picture (illuknit.sizing.grid_picture): smoothing
+                # an accepted edit is a grid picture (illuknit.pictures.sizing.grid_picture): smoothing
                 # would blend its units' colours
                 smooth=False if any(_is_grid(images[k]) for k in slots) else settings.smooth,
                 unit_aspect=get_machine(settings.machine).fabric_gauge.unit_aspect,
@@ -277,9 +277,9 @@ def width_of(settings: DesignSettings) -> tuple[int, str]:
     Raises AppRequestError (on that control) for a width outside 2..MAX_UNITS or wider than the
     chosen machine's bed.
     """
-    from illuknit.images import units_for_width
-    from illuknit.knit.machine import get_machine
-    from illuknit.pattern import MAX_UNITS
+    from illuknit.core.machine import get_machine
+    from illuknit.core.pattern import MAX_UNITS
+    from illuknit.pictures.images import units_for_width
 
     if settings.size_mode == "physical":
         with blame("width_cm"):
@@ -314,8 +314,8 @@ def _single_view_input(
     With two yarns and three colours the middle colour is a mix: rows of the two yarns side by
     side, which the eye blends. The legend shows it as that, in the colour of the blend.
     """
-    from illuknit.images import QuantisedImage
-    from illuknit.single_view import prepare_single_view_image, single_view_roles
+    from illuknit.design.single_view import prepare_single_view_image, single_view_roles
+    from illuknit.pictures.images import QuantisedImage
 
     n, m = rgb.shape[:2]
     with blame("n_colors"):

@@ -24,7 +24,7 @@ from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
 from typing import Any, Literal
 
-from illuknit.errors import AppRequestError, IlluknitError
+from illuknit.core.errors import AppRequestError, IlluknitError
 
 __all__ = ["Job", "JobCancelled", "JobRunner", "JobStatus"]
 

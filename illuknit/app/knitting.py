@@ -17,11 +17,11 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 from illuknit.app.controls import blame
-from illuknit.errors import AppRequestError
-from illuknit.knit.machine import MACHINES, get_machine
+from illuknit.core.errors import AppRequestError
+from illuknit.core.machine import MACHINES, get_machine
 
 if TYPE_CHECKING:
-    from illuknit.errors import LongFloatError
+    from illuknit.core.errors import LongFloatError
 
 __all__ = [
     "CheckedKnitout",
@@ -71,15 +71,15 @@ def knit_and_check(
     """Compile a pattern (as JSON) to knitout on ``machine`` and check it (in a worker process).
 
     A float that stays longer than the machine's float limit is refused with a message for the
-    designer (:func:`long_float_message`, an :class:`~illuknit.errors.AppRequestError` aimed at
+    designer (:func:`long_float_message`, an :class:`~illuknit.core.errors.AppRequestError` aimed at
     the knit controls) unless ``allow_long_floats``; kept long floats are in ``stats``
     (``long_floats``, ``longest_float``, ``longest_float_at``), which the page shows.
     """
     from illuknit.check import check_knitout
-    from illuknit.errors import LongFloatError
-    from illuknit.knit import knit_pattern
-    from illuknit.knit.pipeline import LongFloatWarning
-    from illuknit.pattern import pattern_from_json
+    from illuknit.core.errors import LongFloatError
+    from illuknit.core.pattern import pattern_from_json
+    from illuknit.knitting import knit_pattern
+    from illuknit.knitting.pipeline import LongFloatWarning
 
     spec = get_machine(machine)
     try:

@@ -14,8 +14,8 @@ from fastapi import Depends, Request
 from illuknit.app import design
 from illuknit.app.jobs import JobRunner
 from illuknit.app.sessions import Session, SessionStore
-from illuknit.errors import AppRequestError
-from illuknit.pattern import LogicalPattern
+from illuknit.core.errors import AppRequestError
+from illuknit.core.pattern import LogicalPattern
 
 __all__ = [
     "SessionDep",

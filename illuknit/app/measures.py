@@ -1,6 +1,6 @@
 """How each candidate reads and knits, and the orders the designer ranks candidates by.
 
-The measures and the default ranking are the library's (:mod:`illuknit.tiles.perception`), so
+The measures and the default ranking are the library's (:mod:`illuknit.design.tiles.perception`), so
 the app, ``illuknit double --rank-by`` and the bench agree:
 
 * per side: **readability** (correlation of the blurred angled render with the quantised
@@ -26,8 +26,8 @@ ORDERS = ("rank", "perception", "readability", "contrast", "ghosting", "knit_tim
 
 
 def measure_candidate(pattern: Any, prepared: Any, *, machine: str) -> Any:
-    """The candidate's :class:`~illuknit.tiles.perception.CandidateMeasures`."""
-    from illuknit.tiles import perception
+    """The candidate's :class:`~illuknit.design.tiles.perception.CandidateMeasures`."""
+    from illuknit.design.tiles import perception
 
     q = prepared.quantised
     if prepared.mode == "double":
@@ -56,7 +56,7 @@ def measure_candidate(pattern: Any, prepared: Any, *, machine: str) -> Any:
 
 def order_candidates(candidates: Sequence[Any], order: str) -> list[Any]:
     """``candidates`` in ``order`` (see :data:`ORDERS`); by rank until all are measured."""
-    from illuknit.tiles.perception import rank_candidates
+    from illuknit.design.tiles.perception import rank_candidates
 
     by_rank = sorted(candidates, key=lambda c: c.rank)
     if order == "rank" or not by_rank or any(c.measured is None for c in by_rank):

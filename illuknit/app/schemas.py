@@ -12,8 +12,8 @@ from typing import Annotated, Any, Literal
 
 from pydantic import AfterValidator, BaseModel, ConfigDict, Field, create_model
 
-from illuknit.knit.machine import DEFAULT_MACHINE_NAME, MACHINES
-from illuknit.pattern import MAX_UNITS
+from illuknit.core.machine import DEFAULT_MACHINE_NAME, MACHINES
+from illuknit.core.pattern import MAX_UNITS
 
 __all__ = [
     "DesignSettings",
@@ -31,7 +31,7 @@ def _known_machine(name: str) -> str:
     return key
 
 
-#: A machine preset's name (:data:`illuknit.knit.machine.MACHINES`), case-insensitive.
+#: A machine preset's name (:data:`illuknit.core.machine.MACHINES`), case-insensitive.
 MachineName = Annotated[str, AfterValidator(_known_machine)]
 
 

@@ -22,7 +22,7 @@ from typing import Any
 
 from illuknit import __version__
 from illuknit.app import design
-from illuknit.errors import BackendUnavailableError
+from illuknit.core.errors import BackendUnavailableError
 
 __all__ = ["AppConfig", "create_app"]
 

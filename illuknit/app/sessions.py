@@ -29,7 +29,7 @@ from numpy.typing import NDArray
 
 from illuknit.app import history
 from illuknit.app.schemas import DesignSettings
-from illuknit.errors import AppRequestError
+from illuknit.core.errors import AppRequestError
 
 __all__ = ["DesignSettings", "Session", "SessionStore", "UploadedImage"]
 

@@ -1,14 +1,14 @@
 """Suggested edits of a double-view design's pictures, as the page offers them (paper Fig. 11-12).
 
     Prepared (double view) -> suggest_edits_for -> SuggestionSet: each edit of the library's
-                              review (:func:`illuknit.tiles.simplify.review_edits`) as the
+                              review (:func:`illuknit.design.tiles.simplify.review_edits`) as the
                               edited pictures, with the worse view's readability and the worst
                               ghosting of the best-reading design before and after
     SuggestionSet + an edit -> accepted (routers.suggestions) -> the session's new input
                               pictures, the design before kept for undo (app.history)
 
 An edit is measured by the one path ``illuknit double --suggest`` and the benchmark take
-(:func:`~illuknit.tiles.simplify.review_edits` without applying any): the best-reading tile
+(:func:`~illuknit.design.tiles.simplify.review_edits` without applying any): the best-reading tile
 design of the edited pictures, judged against the designer's *original* quantised pictures. Its
 progress hook drives the job's progress bar and cancels it. Every kind of edit the library
 returns is offered the same way; nothing here knows the kinds by name.
@@ -30,7 +30,7 @@ from numpy.typing import NDArray
 from illuknit.app.candidates import Progress
 from illuknit.app.controls import blame
 from illuknit.app.inputs import Prepared
-from illuknit.errors import AppRequestError
+from illuknit.core.errors import AppRequestError
 
 __all__ = [
     "SuggestedEdit",
@@ -72,7 +72,7 @@ class SuggestedEdit:
     after: tuple[float, float]
 
     def to_json(self) -> dict[str, Any]:
-        from illuknit.tiles.simplify import MIN_GAIN
+        from illuknit.design.tiles.simplify import MIN_GAIN
 
         r = _rounded
         return {
@@ -168,13 +168,13 @@ def suggest_edits_for(
     size_inputs`), which a re-quantisation reads again; it may use as many colours as there are
     yarns (at most 4, the app's bound). Each measurement searches the tile designs the candidates
     are found from (``count``, the session's candidate count, or the default pool of
-    :mod:`illuknit.tiles.perception` if larger); ``progress(fraction, message)`` is called
+    :mod:`illuknit.design.tiles.perception` if larger); ``progress(fraction, message)`` is called
     before each measurement, and may raise to cancel. Raises AppRequestError (409,
     ``not_double``) outside a double view.
     """
-    from illuknit import tiles
-    from illuknit.tiles.perception import DEFAULT_POOL, POOL_SECONDS
-    from illuknit.tiles.simplify import review_edits
+    from illuknit.design import tiles
+    from illuknit.design.tiles.perception import DEFAULT_POOL, POOL_SECONDS
+    from illuknit.design.tiles.simplify import review_edits
 
     require_double(prepared)
     qa, qb = prepared.quantised["a"], prepared.quantised["b"]

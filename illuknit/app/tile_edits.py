@@ -15,16 +15,16 @@ import numpy as np
 from illuknit.app.candidates import Candidate
 from illuknit.app.controls import blame
 from illuknit.app.exports import png_bytes
-from illuknit.colors import hex_color
-from illuknit.errors import AppRequestError
-from illuknit.pattern import LogicalPattern, Yarn
+from illuknit.core.colors import hex_color
+from illuknit.core.errors import AppRequestError
+from illuknit.core.pattern import LogicalPattern, Yarn
 
 __all__ = ["pairs_json", "pattern_for", "tile_png"]
 
 
 def _override_tile(assignment: Any, tile_id: str) -> Any:
     """A bank tile by its number (as the page sends it), or any tile by its rows (``"0/1^"``)."""
-    from illuknit.tiles.tile import Tile
+    from illuknit.design.tiles.tile import Tile
 
     bank = assignment.bank
     if tile_id.isdigit():
@@ -49,7 +49,7 @@ def pattern_for(candidate: Candidate, overrides: dict[tuple[int, int], str]) -> 
         raise AppRequestError(
             "this candidate has no tiles to edit", field="tiles", code="not_editable", status=409
         )
-    from illuknit import tiles
+    from illuknit.design import tiles
 
     assignment = candidate.source
     chosen = {pair: _override_tile(assignment, t) for pair, t in overrides.items()}
@@ -84,7 +84,7 @@ def pairs_json(candidate: Candidate, overrides: dict[tuple[int, int], str]) -> d
     """The overlap pairs of a candidate with their tiles and the bank's alternatives, grouped.
 
     ``pairs`` lists every pair once, in the order of ``groups`` then ``rare``
-    (:func:`illuknit.tiles.overlaps.group_overlaps`): the pairs grouped by the fill the
+    (:func:`illuknit.design.tiles.overlaps.group_overlaps`): the pairs grouped by the fill the
     candidate shows from its first view, largest first, and the rare ones (each under 2 % of the
     units) folded into one line. Options per pair, best first: tiles showing exactly the assigned fills, then tiles keeping
     one side's fill, then the rest of the bank (each labelled with what it shows from each view).
@@ -95,8 +95,8 @@ def pairs_json(candidate: Candidate, overrides: dict[tuple[int, int], str]) -> d
             "pairs": [],
             "reason": "Single-view patterns are compiled row by row (paper Fig. 7), not from tiles.",
         }
-    from illuknit.tiles.assign import overlap_pairs
-    from illuknit.tiles.overlaps import group_overlaps
+    from illuknit.design.tiles.assign import overlap_pairs
+    from illuknit.design.tiles.overlaps import group_overlaps
 
     assignment = candidate.source
     counts = overlap_pairs(assignment.indices_a, assignment.indices_b)
@@ -201,7 +201,7 @@ def _pair_options(
 
 def tile_png(tile_id: str, candidate: Candidate | None = None) -> bytes:
     """A picture of one tile: its units in yarn colours, raised units marked, a few periods."""
-    from illuknit.previews import chart_rgb
+    from illuknit.outputs.previews import chart_rgb
 
     if candidate is None or candidate.source is None:
         raise AppRequestError(

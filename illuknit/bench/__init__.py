@@ -17,7 +17,7 @@ Typical use::
 
 from __future__ import annotations
 
-from illuknit.lazy import lazy_api
+from illuknit.core.lazy import lazy_api
 
 _API: dict[str, str] = {
     "Instance": "illuknit.bench.instances",

@@ -20,9 +20,9 @@ from illuknit import __version__
 from illuknit.bench.instances import Instance, instance_targets
 from illuknit.bench.methods import MethodUnavailable, NoPattern, get_method
 from illuknit.bench.results import FIELDS, machine_info
-from illuknit.errors import BackendUnavailableError, SolverError
-from illuknit.knit.machine import DEFAULT_MACHINE_NAME
-from illuknit.pattern import LogicalPattern
+from illuknit.core.errors import BackendUnavailableError, SolverError
+from illuknit.core.machine import DEFAULT_MACHINE_NAME
+from illuknit.core.pattern import LogicalPattern
 
 __all__ = ["Cell", "base_row", "execute_cell", "finish_row"]
 
@@ -30,7 +30,7 @@ __all__ = ["Cell", "base_row", "execute_cell", "finish_row"]
 @dataclass(frozen=True)
 class Cell:
     """One benchmark cell: an instance, a method name, the time limit it runs under, and the
-    knitting machine (a preset of :data:`illuknit.knit.machine.MACHINES`) its pattern is knit on."""
+    knitting machine (a preset of :data:`illuknit.core.machine.MACHINES`) its pattern is knit on."""
 
     instance: Instance
     method: str
@@ -152,8 +152,8 @@ def execute_cell(cell: Cell) -> dict[str, Any]:
 def _measure(cell: Cell, pattern: LogicalPattern, row: dict[str, Any]) -> dict[str, bytes]:
     """Fill ``row`` with the pattern's metrics (status ``error`` if measuring fails); its files."""
     from illuknit.bench import metrics
-    from illuknit.pattern import pattern_to_json
-    from illuknit.previews import png_bytes
+    from illuknit.core.pattern import pattern_to_json
+    from illuknit.outputs.previews import png_bytes
 
     files: dict[str, bytes] = {}
     tm = time.perf_counter()

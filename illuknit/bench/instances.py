@@ -14,7 +14,7 @@ A manifest (``instances/manifest.toml`` in the source tree) is a list of ``[[ins
 
 An input is exactly one of
 
-* ``{ draw = "heart" | "ecg" | "plus" | "circle" }`` — a shape from :mod:`illuknit.drawings`;
+* ``{ draw = "heart" | "ecg" | "plus" | "circle" }`` — a shape from :mod:`illuknit.pictures.drawings`;
 * ``{ text = "ILLUSION" }`` — text in Pillow's bundled font;
 * ``{ image = "coffee" }`` — a scikit-image bundled picture, quantised to the instance's yarns;
 * ``{ layers = [{ draw = "circle", yarn = 2 }, { text = "A", yarn = 1 }], background = 0 }`` —
@@ -38,9 +38,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from illuknit.errors import ImageInputError, ManifestError, UnknownNameError, YarnSpecError
-from illuknit.model import Model
-from illuknit.pattern import MAX_UNITS, Yarn, parse_yarns
+from illuknit.core.errors import ImageInputError, ManifestError, UnknownNameError, YarnSpecError
+from illuknit.core.pattern import MAX_UNITS, Yarn, parse_yarns
+from illuknit.design.models.model import Model
 
 __all__ = [
     "DEFAULT_MANIFEST",
@@ -157,7 +157,7 @@ def _fail(where: str, message: str) -> ManifestError:
 
 
 def _check_input(where: str, spec: Any, n_yarns: int, *, layer: bool = False) -> dict[str, Any]:
-    from illuknit.drawings import BUNDLED_IMAGES, DRAWINGS
+    from illuknit.pictures.drawings import BUNDLED_IMAGES, DRAWINGS
 
     if not isinstance(spec, Mapping):
         raise _fail(where, f'must be a table such as {{ draw = "heart" }}, got {spec!r}')
@@ -292,7 +292,7 @@ def load_manifest(path: str | Path | None = None) -> Manifest:
     ManifestError
         Missing or unparseable file, or an invalid entry (the message names it).
     """
-    from illuknit.documents import read_text_file
+    from illuknit.core.documents import read_text_file
 
     p = Path(path) if path is not None else DEFAULT_MANIFEST
     text = read_text_file(p, error=ManifestError, what="manifest")
@@ -369,7 +369,13 @@ class Targets:
 
 
 def _draw_input(spec: Mapping[str, Any], shape: tuple[int, int], yarns: tuple[Yarn, ...]):
-    from illuknit.drawings import draw_shape, draw_text, layer_masks, skimage_image, to_index_image
+    from illuknit.pictures.drawings import (
+        draw_shape,
+        draw_text,
+        layer_masks,
+        skimage_image,
+        to_index_image,
+    )
 
     def mask(s: Mapping[str, Any]) -> NDArray[np.bool_]:
         if "draw" in s:
@@ -377,7 +383,7 @@ def _draw_input(spec: Mapping[str, Any], shape: tuple[int, int], yarns: tuple[Ya
         return draw_text(s["text"], shape=shape)
 
     if "image" in spec:
-        from illuknit.images import quantise_image
+        from illuknit.pictures.images import quantise_image
 
         rgb = skimage_image(spec["image"], shape)
         q = quantise_image(rgb, yarns=yarns, n_colors=len(yarns))
@@ -431,7 +437,7 @@ def instance_model(instance: Instance, *, model: str) -> tuple[Model, int | None
     (Model, int or None)
         The model, and the DP's optimum where the DP is exact on it (else None).
     """
-    from illuknit.illusion_models import build_model, make_problem
+    from illuknit.design.models.illusion_models import build_model, make_problem
     from illuknit.solvers.dp import solve_dp
 
     t = instance_targets(instance)

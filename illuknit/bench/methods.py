@@ -17,7 +17,7 @@ note           free text shown in the summary
 =============  ==============================================================================
 
 A method whose optional third-party library is missing raises :class:`MethodUnavailable`
-(a :class:`~illuknit.errors.BackendUnavailableError`); the runner records the cell as
+(a :class:`~illuknit.core.errors.BackendUnavailableError`); the runner records the cell as
 ``skipped`` with that reason instead of failing. Register more methods with
 :func:`register_method`.
 """
@@ -30,8 +30,8 @@ from dataclasses import dataclass
 from typing import Any
 
 from illuknit.bench.instances import Instance, instance_targets
-from illuknit.errors import BackendUnavailableError, UnknownNameError
-from illuknit.pattern import LogicalPattern
+from illuknit.core.errors import BackendUnavailableError, UnknownNameError
+from illuknit.core.pattern import LogicalPattern
 
 __all__ = [
     "DEFAULT_METHODS",
@@ -121,7 +121,7 @@ def _solution_info(sol: Any, compile_s: float) -> dict[str, Any]:
 
 def run_single(instance: Instance, time_limit: float) -> tuple[LogicalPattern, dict[str, Any]]:
     """Paper section 5: alternating stripe rows, raised where the picture has the row's colour."""
-    from illuknit.single_view import compile_single_view
+    from illuknit.design.single_view import compile_single_view
 
     t = instance_targets(instance)
     t0 = time.perf_counter()
@@ -141,13 +141,13 @@ def _solve_model(
     instance: Instance, time_limit: float, *, solver: str, model: str, warm_start: str
 ) -> tuple[LogicalPattern, dict[str, Any]]:
     from illuknit import solvers
-    from illuknit.illusion_models import solve_illusion
+    from illuknit.design.models.illusion_models import solve_illusion
 
     if solver not in solvers.available_backends():
         raise MethodUnavailable(f"solver backend {solver!r} is not available in this install")
     t = instance_targets(instance)
     kind = model if instance.kind == "double" else "single"
-    from illuknit.errors import SolverError
+    from illuknit.core.errors import SolverError
 
     t0 = time.perf_counter()
     try:
@@ -211,13 +211,13 @@ register_method(
 def run_tiles(instance: Instance, time_limit: float) -> tuple[LogicalPattern, dict[str, Any]]:
     """The tile candidate that reads best, compiled (paper section 6).
 
-    The candidates ``illuknit double`` searches by default (:data:`~illuknit.tiles.perception.
-    DEFAULT_POOL`, those past the fifth within :data:`~illuknit.tiles.perception.POOL_SECONDS`)
-    are assigned and ranked as it ranks them (:func:`illuknit.tiles.perception.rank_designs`:
+    The candidates ``illuknit double`` searches by default (:data:`~illuknit.design.tiles.perception.
+    DEFAULT_POOL`, those past the fifth within :data:`~illuknit.design.tiles.perception.POOL_SECONDS`)
+    are assigned and ranked as it ranks them (:func:`illuknit.design.tiles.perception.rank_designs`:
     how the views read, not the assignment's score); the first is the method's pattern.
     """
-    from illuknit.tiles.assign import assign_tiles
-    from illuknit.tiles.perception import DEFAULT_POOL, POOL_SECONDS, rank_designs
+    from illuknit.design.tiles.assign import assign_tiles
+    from illuknit.design.tiles.perception import DEFAULT_POOL, POOL_SECONDS, rank_designs
 
     t = instance_targets(instance)
     palette = t.palette
@@ -255,7 +255,7 @@ GRADIENT_STEPS = 200
 
 def run_gradient(instance: Instance, time_limit: float) -> tuple[LogicalPattern, dict[str, Any]]:
     """MSE between renders at ±30° and the targets, annealed and binarised (paper Fig. 19 b)."""
-    from illuknit.render.optimise import optimise_design
+    from illuknit.design.render.optimise import optimise_design
 
     t = instance_targets(instance)
     t0 = time.perf_counter()

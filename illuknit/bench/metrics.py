@@ -1,10 +1,10 @@
 """What the benchmark measures for one pattern against its instance's targets.
 
 * **Logical error** per view: the fraction of units whose colour, as the boolean model
-  (:func:`illuknit.views.can_see`) sees it from that side, differs from the *original* target
+  (:func:`illuknit.core.views.can_see`) sees it from that side, differs from the *original* target
   (not from a repainted image a method may have designed against). Colours are compared by yarn
   colour, so a pattern may use a subset or a reordering of the instance's yarns.
-* **Render error** per view: MSE and SSIM between the angled render (:mod:`illuknit.render` at
+* **Render error** per view: MSE and SSIM between the angled render (:mod:`illuknit.design.render` at
   :data:`RENDER_ANGLE` degrees, resampled to one pixel per unit) and the target in yarn colours.
   Both images are first blurred by the same kernel, :func:`blur_image`: a Gaussian of standard
   deviation :data:`BLUR_SIGMA` units along both axes, applied in *linear light* (stripes mix like
@@ -48,9 +48,9 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from illuknit.bench.instances import Targets
-from illuknit.colors import linear_from_srgb, luminance, srgb_from_linear
-from illuknit.pattern import LogicalPattern, Yarn
-from illuknit.views import View, can_see
+from illuknit.core.colors import linear_from_srgb, luminance, srgb_from_linear
+from illuknit.core.pattern import LogicalPattern, Yarn
+from illuknit.core.views import View, can_see
 
 __all__ = [
     "BLUR_SIGMA",
@@ -240,7 +240,7 @@ def picture_scores(
 
 def boolean_render(pattern: LogicalPattern, view: View) -> NDArray[np.float64]:
     """The boolean can_see view in yarn colours, float sRGB of shape (N, M, 3)."""
-    from illuknit.previews import view_rgb
+    from illuknit.outputs.previews import view_rgb
 
     return view_rgb(pattern, view).astype(np.float64) / 255.0
 
@@ -258,7 +258,7 @@ def angled_renders(
 ) -> tuple[dict[str, NDArray[np.float64]], str]:
     """Renders of both sides at ``angle``, one pixel per unit, and the renderer's name.
 
-    Uses :func:`illuknit.render.render_views` (illuknit's own renderer: always there).
+    Uses :func:`illuknit.design.render.render_views` (illuknit's own renderer: always there).
 
     Returns
     -------
@@ -266,7 +266,7 @@ def angled_renders(
         ``{"A": (N, M, 3), "B": (N, M, 3), "headon": (N, M, 3)}`` float sRGB in [0, 1], and the
         renderer's name, e.g. ``"angled@30"``.
     """
-    from illuknit.render import render_views
+    from illuknit.design.render import render_views
 
     views = render_views(pattern, angle=angle)
     out = {}
@@ -289,7 +289,7 @@ def color_changes(pattern: LogicalPattern) -> dict[str, float]:
 
     Examples
     --------
-    >>> from illuknit.pattern import parse_yarns
+    >>> from illuknit.core.pattern import parse_yarns
     >>> p = LogicalPattern([[0, 1, 1, 0], [0, 0, 0, 0]], [[0] * 4] * 2, parse_yarns("black,white"))
     >>> color_changes(p)["changes_mean"]
     1.0
@@ -310,7 +310,7 @@ def knit_stats(pattern: LogicalPattern, *, machine: str | None = None) -> dict[s
     """Carriage passes and knitting time as the machine runs them.
 
     The pattern is knit with :func:`illuknit.knit.knit_pattern` on ``machine`` (a preset of
-    :func:`illuknit.knit.machine.get_machine`; default the ``generic540`` bed), which reports the
+    :func:`illuknit.core.machine.get_machine`; default the ``generic540`` bed), which reports the
     passes the SWG machine runs for the program (the pass rows of the reference backend's
     ``.dat``: carrier moves, kickbacks and hook passes included) and the time on them.
 
@@ -328,10 +328,10 @@ def knit_stats(pattern: LogicalPattern, *, machine: str | None = None) -> dict[s
         ``scheduled_passes`` (the scheduler's own count), ``knit_time_min`` (None when
         unavailable) and ``knit_note`` (empty, or why the numbers are missing).
     """
-    from illuknit.errors import IlluknitError
-    from illuknit.knit import knit_pattern
-    from illuknit.knit.machine import get_machine
-    from illuknit.knit.pipeline import LongFloatWarning, long_float_warning
+    from illuknit.core.errors import IlluknitError
+    from illuknit.core.machine import get_machine
+    from illuknit.knitting import knit_pattern
+    from illuknit.knitting.pipeline import LongFloatWarning, long_float_warning
 
     try:
         with warnings.catch_warnings():

@@ -21,8 +21,8 @@ import numpy as np
 
 from illuknit import __version__
 from illuknit.bench.results import FIELDS, FORMAT, machine_info
-from illuknit.errors import IlluknitError
-from illuknit.outputs import atomic_write_bytes, atomic_write_text
+from illuknit.core.errors import IlluknitError
+from illuknit.core.files import atomic_write_bytes, atomic_write_text
 
 __all__ = [
     "contact_sheet_for",
@@ -153,7 +153,7 @@ def _load_png(path: Path) -> np.ndarray | None:
 
 
 def _scaled(img: np.ndarray, width: int = 200) -> np.ndarray:
-    from illuknit.previews import upscale
+    from illuknit.outputs.previews import upscale
 
     s = max(1, round(width / max(1, img.shape[1])))
     return upscale(img, s)
@@ -162,7 +162,7 @@ def _scaled(img: np.ndarray, width: int = 200) -> np.ndarray:
 def contact_sheet_for(outdir: Path, rows: Sequence[dict[str, Any]]) -> np.ndarray | None:
     """Targets (top) and each method's renders of view A and B for one instance's rows."""
     from illuknit.bench.instances import instance_targets, parse_manifest
-    from illuknit.previews import contact_sheet
+    from illuknit.outputs.previews import contact_sheet
 
     panels: list[tuple[str, np.ndarray]] = []
     spec = next((r["instance_spec"] for r in rows if r.get("instance_spec")), None)
@@ -276,7 +276,7 @@ def _pareto_png(
 
 def write_outputs(outdir: str | Path, rows: Sequence[dict[str, Any]]) -> dict[str, str]:
     """Write results.csv/json, summary.md, contact sheets and pareto.png; return their paths."""
-    from illuknit.previews import png_bytes
+    from illuknit.outputs.previews import png_bytes
 
     out = Path(outdir)
     written: dict[str, str] = {}

@@ -16,8 +16,8 @@ from pathlib import Path
 from typing import Any
 
 from illuknit import __version__
-from illuknit.errors import ResultsVersionError
-from illuknit.outputs import atomic_write_bytes, atomic_write_text
+from illuknit.core.errors import ResultsVersionError
+from illuknit.core.files import atomic_write_bytes, atomic_write_text
 
 __all__ = [
     "FIELDS",

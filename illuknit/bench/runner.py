@@ -38,8 +38,13 @@ from illuknit.bench.cells import Cell, base_row, execute_cell, finish_row
 from illuknit.bench.instances import Instance
 from illuknit.bench.methods import get_method
 from illuknit.bench.results import cell_dir, load_rows, prepare_results_dir, write_cell
-from illuknit.errors import BackendUnavailableError, ExecutorError, OptionError, UnknownNameError
-from illuknit.knit.machine import DEFAULT_MACHINE_NAME, get_machine
+from illuknit.core.errors import (
+    BackendUnavailableError,
+    ExecutorError,
+    OptionError,
+    UnknownNameError,
+)
+from illuknit.core.machine import DEFAULT_MACHINE_NAME, get_machine
 
 __all__ = ["EXECUTORS", "BenchRun", "run_bench", "sort_rows"]
 

@@ -27,8 +27,8 @@ import numpy as np
 
 from illuknit.bench.instances import Instance, instance_model
 from illuknit.bench.wcnf_files import read_wcnf
-from illuknit.errors import IlluknitError
-from illuknit.model import Model
+from illuknit.core.errors import IlluknitError
+from illuknit.design.models.model import Model
 from illuknit.solvers import HERMAX_NAMES, parse_solver_name
 from illuknit.solvers.base import ProgressEvent, Status
 from illuknit.solvers.isolate import run_in_child

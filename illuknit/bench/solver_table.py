@@ -25,8 +25,8 @@ from illuknit.bench.solver_runs import (
     flag_rows,
     run_solver_task,
 )
-from illuknit.errors import BackendUnavailableError
-from illuknit.outputs import atomic_write_text
+from illuknit.core.errors import BackendUnavailableError
+from illuknit.core.files import atomic_write_text
 
 __all__ = ["SolverTable", "make_tasks", "run_solver_table"]
 

@@ -2,7 +2,7 @@
 
 Stages, one module each::
 
-    text -> parse.parse_knitout -> KnitoutProgram
+    text -> illuknit.knitout.parse_knitout -> KnitoutProgram
          -> simulate.simulate_program -> Simulation        (illuknit's machine model)
          -> rules.check_header + rules.machine_findings      (what the machine refuses)
          -> fabric.fabric_findings                           (what the machine accepts but ruins)
@@ -17,18 +17,16 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from illuknit.check.parse import KnitoutProgram, parse_knitout
 from illuknit.check.report import CheckReport, Finding, render_report
+from illuknit.knitout.parse import parse_knitout
 
 if TYPE_CHECKING:
-    from illuknit.knit.machine import MachineSpec
+    from illuknit.core.machine import MachineSpec
 
 __all__ = [
     "CheckReport",
     "Finding",
-    "KnitoutProgram",
     "check_knitout",
-    "parse_knitout",
     "render_report",
 ]
 
@@ -46,7 +44,7 @@ def check_knitout(
 
     The machine's limits (bed width, racking, float limit, carriers, model) are those of
     ``machine``; without one, of the machine the program's headers name
-    (:func:`~illuknit.knit.machine.machine_from_headers`): a program made for a preset is judged
+    (:func:`~illuknit.core.machine.machine_from_headers`): a program made for a preset is judged
     by that preset's rules, the same ones its scheduler used.
 
     Parameters
@@ -54,7 +52,7 @@ def check_knitout(
     text : str
         The knitout program.
     machine : MachineSpec or str or None, keyword-only
-        The machine, or a preset name (:data:`~illuknit.knit.machine.MACHINES`); None reads it
+        The machine, or a preset name (:data:`~illuknit.core.machine.MACHINES`); None reads it
         from the program's headers.
     float_limit : int or None, keyword-only
         Override of ``machine.float_limit``: longest float (needle slots crossed between two loops
@@ -94,8 +92,8 @@ def check_knitout(
     from illuknit.check.fabric import fabric_findings
     from illuknit.check.rules import check_header, machine_findings
     from illuknit.check.simulate import simulate_program
-    from illuknit.errors import OptionError
-    from illuknit.knit.machine import get_machine, machine_from_headers
+    from illuknit.core.errors import OptionError
+    from illuknit.core.machine import get_machine, machine_from_headers
 
     if float_limit is not None and (
         isinstance(float_limit, bool) or not isinstance(float_limit, int) or float_limit < 1

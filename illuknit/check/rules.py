@@ -9,12 +9,12 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from illuknit.check.parse import KnitoutProgram
 from illuknit.check.report import Finding
 from illuknit.check.simulate import Simulation
+from illuknit.knitout.parse import KnitoutProgram
 
 if TYPE_CHECKING:
-    from illuknit.knit.machine import MachineSpec
+    from illuknit.core.machine import MachineSpec
 
 __all__ = ["RULES", "SWG_CARRIERS", "check_header", "machine_findings"]
 
@@ -67,7 +67,7 @@ def check_header(program: KnitoutProgram, *, machine: MachineSpec | None = None)
     ``;;Carriers`` and ``;;Machine`` must be those of ``machine`` (default: the SWG091N2 as the
     reference converter takes it, which requires carriers ``1 .. 10``).
     """
-    from illuknit.knit.machine import DEFAULT_MACHINE
+    from illuknit.core.machine import DEFAULT_MACHINE
 
     m_spec = DEFAULT_MACHINE if machine is None else machine
     carriers = " ".join(m_spec.carriers)

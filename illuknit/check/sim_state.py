@@ -13,7 +13,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from illuknit.check.parse import Needle
+from illuknit.knitout.parse import Needle
 
 __all__ = [
     "MAX_EVENTS_PER_CODE",

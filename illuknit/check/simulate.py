@@ -28,7 +28,6 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from illuknit.check.parse import CARRIER_OPS, STITCH_OPS, KnitoutProgram, Operation
 from illuknit.check.sim_state import (
     MAX_EVENTS_PER_CODE,
     CarrierEnd,
@@ -38,6 +37,7 @@ from illuknit.check.sim_state import (
     MachineState,
     WrongSide,
 )
+from illuknit.knitout.parse import CARRIER_OPS, STITCH_OPS, KnitoutProgram, Operation
 
 __all__ = ["Simulation", "simulate_program"]
 

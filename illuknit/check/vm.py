@@ -27,9 +27,9 @@ import warnings
 from dataclasses import dataclass
 from typing import Any
 
-from illuknit.check.parse import CARRIER_OPS, KnitoutProgram, parse_needle
 from illuknit.check.report import Finding
-from illuknit.errors import BackendUnavailableError
+from illuknit.core.errors import BackendUnavailableError
+from illuknit.knitout.parse import CARRIER_OPS, KnitoutProgram, parse_needle
 
 __all__ = ["Rewrite", "VmResult", "rewrite_for_vm", "run_vm"]
 

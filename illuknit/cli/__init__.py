@@ -17,7 +17,7 @@ import warnings
 import click
 
 from illuknit import __version__
-from illuknit.errors import IlluknitError
+from illuknit.core.errors import IlluknitError
 
 __all__ = ["COMMANDS", "cli", "main"]
 
@@ -130,9 +130,9 @@ def _show_note(
     message: Warning | str, category: type[Warning], *args: object, **kw: object
 ) -> None:
     """Warnings meant for the user as one line: ``warning:`` for long floats kept on request
-    (:class:`~illuknit.knit.pipeline.LongFloatWarning`), ``note:`` for the rest (e.g. a picture's first
+    (:class:`~illuknit.knitting.pipeline.LongFloatWarning`), ``note:`` for the rest (e.g. a picture's first
     frame used)."""
-    from illuknit.knit.pipeline import LongFloatWarning
+    from illuknit.knitting.pipeline import LongFloatWarning
 
     kind = "warning" if issubclass(category, LongFloatWarning) else "note"
     click.echo(f"illuknit: {kind}: {_one_line(str(message))}", err=True)

@@ -8,7 +8,7 @@ import webbrowser
 
 import click
 
-from illuknit.errors import BackendUnavailableError
+from illuknit.core.errors import BackendUnavailableError
 
 
 @click.command(name="app")

@@ -8,7 +8,7 @@ import click
 
 from illuknit.cli.knitout_bridge import machine_option
 from illuknit.cli.options import COUNT, POSITIVE
-from illuknit.errors import UnknownNameError
+from illuknit.core.errors import UnknownNameError
 
 __all__ = ["bench"]
 

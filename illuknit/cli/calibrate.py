@@ -91,12 +91,12 @@ def swatch(
     outdir: Path,
 ) -> None:
     """Write swatch.json (the pattern), preview.png and measurements.csv (a template)."""
-    from illuknit.outputs import atomic_write_text, staged_dir
-    from illuknit.pattern import save_pattern
-    from illuknit.previews import chart_rgb, contact_sheet, save_png
-    from illuknit.render.calibrate import calibration_swatch, measurements_template
-    from illuknit.render.params import RenderParams, load_params
-    from illuknit.render.raycast import render_image
+    from illuknit.core.files import atomic_write_text, staged_dir
+    from illuknit.core.pattern import save_pattern
+    from illuknit.design.render.calibrate import calibration_swatch, measurements_template
+    from illuknit.design.render.params import RenderParams, load_params
+    from illuknit.design.render.raycast import render_image
+    from illuknit.outputs.previews import chart_rgb, contact_sheet, save_png
 
     params = load_params(params_file) if params_file is not None else RenderParams()
     spec = resolve_machine(machine)
@@ -158,8 +158,8 @@ def fit(
     """Fit the bump height to MEASUREMENTS (CSV: flat_rows, angle_deg[, bump_rows, view, note])."""
     from dataclasses import replace
 
-    from illuknit.render.calibrate import fit_bump_height, read_measurements
-    from illuknit.render.params import RenderParams, load_params, save_params
+    from illuknit.design.render.calibrate import fit_bump_height, read_measurements
+    from illuknit.design.render.params import RenderParams, load_params, save_params
 
     base = load_params(params_file) if params_file is not None else RenderParams()
     changes = {

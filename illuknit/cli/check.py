@@ -13,7 +13,7 @@ import click
 
 from illuknit.cli.knitout_bridge import machine_option
 from illuknit.cli.options import POSITIVE
-from illuknit.errors import KnitoutParseError
+from illuknit.core.errors import KnitoutParseError
 
 __all__ = ["check"]
 
@@ -86,7 +86,7 @@ def check(
     bed_width: int | None,
 ) -> None:
     from illuknit.check import check_knitout, render_report
-    from illuknit.knit.machine import get_machine
+    from illuknit.core.machine import get_machine
 
     spec = None if machine is None else get_machine(machine)
     text = read_knitout_file(program)

@@ -38,7 +38,7 @@ def demo(outdir: Path, width: int, knitout: bool, machine: str | None) -> None:
     checked knitout program into OUTDIR, and says where.
     """
     from illuknit.cli.single import run_single
-    from illuknit.pattern import load_pattern
+    from illuknit.core.pattern import load_pattern
 
     paths = run_single(
         demo_image(),

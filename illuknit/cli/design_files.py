@@ -28,12 +28,12 @@ def write_candidate(
 ) -> tuple[dict[str, Any], list[str]]:
     """Write one ranked candidate's folder; returns its summary row and overlap lines.
 
-    ``gauge`` (an :class:`illuknit.gauge.Gauge`) is the fabric's: finished size and previews."""
-    from illuknit.export import export_pattern
-    from illuknit.outputs import atomic_write_text
-    from illuknit.previews import save_png, unit_scale, upscale
-    from illuknit.tiles.compile import repainted_rgb
-    from illuknit.tiles.overlaps import group_overlaps
+    ``gauge`` (an :class:`illuknit.core.gauge.Gauge`) is the fabric's: finished size and previews."""
+    from illuknit.core.files import atomic_write_text
+    from illuknit.design.tiles.compile import repainted_rgb
+    from illuknit.design.tiles.overlaps import group_overlaps
+    from illuknit.outputs.export import export_pattern
+    from illuknit.outputs.previews import save_png, unit_scale, upscale
 
     mode = inp.mode
     names = (
@@ -100,8 +100,8 @@ def write_candidate(
 
 def write_edits(edits: list[Any], folder: Path, *, scale: int) -> None:
     """``suggestions/``: each edit as before | after pictures, and ``suggestions.json``."""
-    from illuknit.outputs import atomic_write_text
-    from illuknit.previews import save_png, upscale
+    from illuknit.core.files import atomic_write_text
+    from illuknit.outputs.previews import save_png, upscale
 
     folder.mkdir(parents=True, exist_ok=True)
     for e in edits:
@@ -135,8 +135,8 @@ def _write_diagnostics(
 ) -> dict[str, dict[str, float]]:
     """``diagnostic_<view>.png`` per view: where it shows the wrong shade, where the other
     picture ghosts through. Returns the fractions of units marked, per view."""
-    from illuknit.previews import save_png, upscale
-    from illuknit.tiles.perception import diagnostic_rgb
+    from illuknit.design.tiles.perception import diagnostic_rgb
+    from illuknit.outputs.previews import save_png, upscale
 
     views = ("A", "B") if mode == "double" else ("headon", "A")
     out = {}

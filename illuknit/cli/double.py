@@ -22,24 +22,24 @@ import numpy as np
 from illuknit.cli.design_files import fmt_number, summary_text, write_candidate, write_edits
 from illuknit.cli.knitout_bridge import format_option, long_floats_option, machine_option
 from illuknit.cli.options import knitout_option, outdir_option
-from illuknit.gauge import STOCKINETTE_COURSE_ASPECT, finished_size
-from illuknit.sizing import DEFAULT_MAX_WIDTH
-from illuknit.tiles.perception import DEFAULT_POOL, POOL_SECONDS, RANK_KEYS
+from illuknit.core.gauge import STOCKINETTE_COURSE_ASPECT, finished_size
+from illuknit.design.tiles.perception import DEFAULT_POOL, POOL_SECONDS, RANK_KEYS
+from illuknit.pictures.sizing import DEFAULT_MAX_WIDTH
 
 __all__ = ["double", "run_design"]
 
 
 def _choose_yarns(spec: str | None, n_colors: int, pictures: list[np.ndarray]) -> tuple[Any, ...]:
-    from illuknit.pattern import parse_yarns
+    from illuknit.core.pattern import parse_yarns
 
     if spec is not None and not spec.strip().isdigit():
         return parse_yarns(spec)
     n = int(spec) if spec is not None else n_colors
     if not 1 <= n <= 8:
-        from illuknit.errors import YarnSpecError
+        from illuknit.core.errors import YarnSpecError
 
         raise YarnSpecError(f"--yarns N must be between 1 and 8, got {n}")
-    from illuknit.tiles.yarn_choice import choose_yarns
+    from illuknit.design.tiles.yarn_choice import choose_yarns
 
     return choose_yarns(pictures, n)
 
@@ -74,15 +74,15 @@ def run_design(
     ``mode`` is ``"double"`` (A from above, B from below) or ``"headon"`` (A head-on, B from
     both sides; B may be None for a plain side view). With ``knitout`` the default candidate is
     knit on ``machine`` (a preset name; a pattern wider than its bed is refused before the
-    design work). ``pool`` tile designs (default :data:`~illuknit.tiles.perception.DEFAULT_POOL`,
+    design work). ``pool`` tile designs (default :data:`~illuknit.design.tiles.perception.DEFAULT_POOL`,
     never fewer than ``candidates``) are searched and ranked; the best ``candidates`` are written.
     Returns the summary dict.
     """
     from illuknit.cli.knitout_bridge import design_unit_aspect, resolve_machine
-    from illuknit.errors import TileAssignmentError
-    from illuknit.outputs import atomic_write_text, staged_dir
-    from illuknit.previews import unit_scale
-    from illuknit.tiles.perception import rank_designs, seen_targets
+    from illuknit.core.errors import TileAssignmentError
+    from illuknit.core.files import atomic_write_text, staged_dir
+    from illuknit.design.tiles.perception import rank_designs, seen_targets
+    from illuknit.outputs.previews import unit_scale
 
     if candidates < 1:
         raise TileAssignmentError(f"--candidates must be at least 1, got {candidates}")
@@ -186,10 +186,10 @@ def _assign(
     brightness: Literal["hard", "soft"],
 ) -> tuple[Any, list[Any]]:
     """The ranked-by-score tile assignments (``candidates``, or up to ``pool`` within
-    :data:`~illuknit.tiles.perception.POOL_SECONDS`), after the suggested edits (and the edits)."""
-    from illuknit.errors import OptionError
-    from illuknit.tiles.assign import assign_tiles
-    from illuknit.tiles.headon import uniform_side
+    :data:`~illuknit.design.tiles.perception.POOL_SECONDS`), after the suggested edits (and the edits)."""
+    from illuknit.core.errors import OptionError
+    from illuknit.design.tiles.assign import assign_tiles
+    from illuknit.design.tiles.headon import uniform_side
 
     # one search, for the designs written and for measuring each suggested edit
     search: dict[str, Any] = dict(
@@ -254,10 +254,10 @@ def _design_inputs(
     is refused before any design work.
     """
     from illuknit.cli.knitout_bridge import check_fits
-    from illuknit.images import quantise_image
-    from illuknit.sizing import size_pair
-    from illuknit.tiles.bank import canonical_bank, load_bank
-    from illuknit.tiles.headon import HEADON_VIEWS
+    from illuknit.design.tiles.bank import canonical_bank, load_bank
+    from illuknit.design.tiles.headon import HEADON_VIEWS
+    from illuknit.pictures.images import quantise_image
+    from illuknit.pictures.sizing import size_pair
 
     if knitout_on is not None and width is not None:
         check_fits(knitout_on, width)
@@ -283,7 +283,7 @@ def _simplified(
 ) -> tuple[Any, Any, list[Any]]:
     """Suggested edits of both pictures, each measured by the best design it leads to against
     the ORIGINAL pictures; with ``apply`` the improving ones are kept (tiles.simplify)."""
-    from illuknit.tiles.simplify import review_edits
+    from illuknit.design.tiles.simplify import review_edits
 
     review = review_edits(
         qa,
@@ -299,7 +299,7 @@ def _simplified(
 
 def _parse_overrides(specs: tuple[str, ...]) -> dict[tuple[int, int], str]:
     """``("0,1=0/1/0^", ...)`` -> ``{(0, 1): "0/1/0^"}`` (colour a of A, colour b of B)."""
-    from illuknit.errors import TileAssignmentError
+    from illuknit.core.errors import TileAssignmentError
 
     out: dict[tuple[int, int], str] = {}
     for spec in specs:

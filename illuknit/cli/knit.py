@@ -12,7 +12,7 @@ from illuknit.cli.knitout_bridge import long_floats_option, machine_option
 from illuknit.cli.options import COUNT, NON_NEGATIVE, POSITIVE
 
 if TYPE_CHECKING:
-    from illuknit.knit.machine import MachineSpec
+    from illuknit.core.machine import MachineSpec
 
 __all__ = ["knit", "run_knit"]
 
@@ -45,17 +45,17 @@ def run_knit(
     override its values. A pattern wider than the bed is refused before compiling; nothing is
     written when compilation fails. ``output_format`` is ``knitout`` or a machine file the
     machine takes (``kc`` for the Kniterate). A float that stays longer than the float limit
-    is refused (:class:`~illuknit.errors.LongFloatError`) unless ``allow_long_floats``, which
-    keeps it with a :class:`~illuknit.knit.pipeline.LongFloatWarning`.
+    is refused (:class:`~illuknit.core.errors.LongFloatError`) unless ``allow_long_floats``, which
+    keeps it with a :class:`~illuknit.knitting.pipeline.LongFloatWarning`.
     """
     from dataclasses import replace
 
     from illuknit.cli.knitout_bridge import check_fits, resolve_machine
+    from illuknit.core.files import atomic_write_bytes
+    from illuknit.core.pattern import load_pattern
     from illuknit.formats import check_format, knitout_to_format
-    from illuknit.knit import knit_pattern
-    from illuknit.knit.machine_sheet import machine_sheet
-    from illuknit.outputs import atomic_write_bytes
-    from illuknit.pattern import load_pattern
+    from illuknit.knitting import knit_pattern
+    from illuknit.outputs.machine_sheet import machine_sheet
 
     spec = resolve_machine(machine, gauge=gauge)
     check_format(spec, output_format)

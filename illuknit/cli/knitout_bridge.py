@@ -1,8 +1,8 @@
 """Writing a knitout program next to a pattern's other outputs (``--knitout`` of the commands).
 
 One machine for the whole path: the ``--machine`` option (:func:`machine_option`) names a preset
-of :data:`illuknit.knit.machine.MACHINES`; :func:`resolve_machine` turns it (and a ``--gauge``)
-into the :class:`~illuknit.knit.machine.MachineSpec` that sizes the picture, refuses a pattern too
+of :data:`illuknit.core.machine.MACHINES`; :func:`resolve_machine` turns it (and a ``--gauge``)
+into the :class:`~illuknit.core.machine.MachineSpec` that sizes the picture, refuses a pattern too
 wide for the bed before any design work (:func:`check_fits`), schedules the program and checks it.
 
 The ``--format`` option (:func:`format_option`) asks for machine files beside ``program.k``
@@ -24,9 +24,9 @@ from typing import Any
 
 import click
 
-from illuknit.knit.machine import DEFAULT_MACHINE_NAME, MachineSpec, get_machine, machine_names
-from illuknit.outputs import atomic_write_text
-from illuknit.pattern import LogicalPattern
+from illuknit.core.files import atomic_write_text
+from illuknit.core.machine import DEFAULT_MACHINE_NAME, MachineSpec, get_machine, machine_names
+from illuknit.core.pattern import LogicalPattern
 
 __all__ = [
     "check_fits",
@@ -64,7 +64,7 @@ def machine_option(
 
     With ``transfer`` (commands that knit) also ``--xfer-stitch``, ``--xfer-speed`` and
     ``--xfer-roller``: the transfer passes' settings over the preset's
-    (:class:`~illuknit.knit.machine.TransferSettings`), kept on the click context where
+    (:class:`~illuknit.core.machine.TransferSettings`), kept on the click context where
     :func:`resolve_machine` applies them.
     """
     machine = click.option(
@@ -230,11 +230,11 @@ def requested_formats() -> tuple[str, ...]:
 def resolve_machine(name: str | MachineSpec | None, *, gauge: float | None = None) -> MachineSpec:
     """The machine called ``name`` (default preset when None), at ``gauge`` when one is given.
 
-    Raises :class:`~illuknit.errors.UnknownNameError` (listing the presets) for unknown names,
-    and for a ``--format`` the machine cannot take; :class:`~illuknit.errors.OptionError` for a
+    Raises :class:`~illuknit.core.errors.UnknownNameError` (listing the presets) for unknown names,
+    and for a ``--format`` the machine cannot take; :class:`~illuknit.core.errors.OptionError` for a
     ``--format`` without ``--knitout``.
     """
-    from illuknit.errors import OptionError
+    from illuknit.core.errors import OptionError
     from illuknit.formats import check_format
 
     spec = get_machine(name)
@@ -242,7 +242,7 @@ def resolve_machine(name: str | MachineSpec | None, *, gauge: float | None = Non
         spec = spec.with_gauge(gauge)
     fabric = _fabric_options().get("fabric_gauge")
     if fabric is not None:
-        from illuknit.gauge import parse_gauge
+        from illuknit.core.gauge import parse_gauge
 
         spec = replace(spec, fabric=parse_gauge(fabric, source="--fabric-gauge"))
     overrides = transfer_overrides()
@@ -263,7 +263,7 @@ def resolve_machine(name: str | MachineSpec | None, *, gauge: float | None = Non
 
 
 def check_fits(machine: MachineSpec, units: int, *, hint: str | None = None) -> None:
-    """Refuse (:class:`~illuknit.errors.SchedulingError`) a pattern ``units`` wide that the bed
+    """Refuse (:class:`~illuknit.core.errors.SchedulingError`) a pattern ``units`` wide that the bed
     cannot hold; call it before designing, so no time is spent on a piece that cannot be knit."""
     if hint is None:
         machine.check_units(units)
@@ -290,17 +290,17 @@ def write_program(
     used.
 
     A float longer than the machine's float limit raises
-    :class:`~illuknit.errors.LongFloatError` before anything is written, unless
+    :class:`~illuknit.core.errors.LongFloatError` before anything is written, unless
     ``allow_long_floats`` (default: whether the command was given ``--allow-long-floats``).
     """
     import json
 
     from illuknit.check import check_knitout
     from illuknit.cli.summary import console
+    from illuknit.core.files import atomic_write_bytes
     from illuknit.formats import FORMAT_SUFFIXES, check_format, knitout_to_format
-    from illuknit.knit import knit_pattern
-    from illuknit.knit.machine_sheet import machine_sheet
-    from illuknit.outputs import atomic_write_bytes
+    from illuknit.knitting import knit_pattern
+    from illuknit.outputs.machine_sheet import machine_sheet
 
     spec = get_machine(machine)
     formats = requested_formats() if formats is None else formats

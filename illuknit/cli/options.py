@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING, Any
 import click
 
 if TYPE_CHECKING:  # `illuknit check` imports these types without loading numpy
-    from illuknit.pattern import Yarn
+    from illuknit.core.pattern import Yarn
 
 __all__ = [
     "ANGLE",
@@ -121,7 +121,7 @@ def image_options(func: Callable[..., Any]) -> Callable[..., Any]:
 
 
 def parse_yarn_option(value: str | None) -> tuple[Yarn, ...] | None:
-    from illuknit.pattern import parse_yarns
+    from illuknit.core.pattern import parse_yarns
 
     return None if value is None else parse_yarns(value)
 
@@ -129,7 +129,7 @@ def parse_yarn_option(value: str | None) -> tuple[Yarn, ...] | None:
 def outdir_option(
     *, required: bool = True, default: Path | None = None, help: str = OUTDIR_HELP
 ) -> Callable[[Callable[..., Any]], Callable[..., Any]]:
-    """``-o/--outdir``: the folder a command writes into (through :func:`illuknit.outputs.staged_dir`).
+    """``-o/--outdir``: the folder a command writes into (through :func:`illuknit.core.files.staged_dir`).
 
     The folder is checked when the option is parsed (a file in the way, a read-only file system),
     so a long computation does not run only to fail at the end.
@@ -147,8 +147,8 @@ def outdir_option(
 
 
 def _check_outdir(ctx: click.Context, param: click.Parameter, value: Path | None) -> Path | None:
-    from illuknit.errors import OutputPathError
-    from illuknit.outputs import check_output_dir
+    from illuknit.core.errors import OutputPathError
+    from illuknit.core.files import check_output_dir
 
     if value is not None:
         try:

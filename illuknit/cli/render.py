@@ -23,7 +23,7 @@ def check_render_size(shape: tuple[int, int], *, scale: int, frames: int) -> Non
     A view is ``rows * scale`` x ``cols * scale`` pixels; the sweep GIF holds ``2 * frames - 2``
     frames (one side to the other and back).
     """
-    from illuknit.errors import RenderParamsError
+    from illuknit.core.errors import RenderParamsError
 
     rows, cols = shape
     per_frame = rows * scale * cols * scale
@@ -84,12 +84,12 @@ def render(
 ) -> None:
     """Render PATTERN as a person sees it: view A (from above), view B (from below) and head-on
     PNGs, a contact sheet, and sweep.gif walking from one side through head-on to the other."""
-    from illuknit.outputs import staged_dir
-    from illuknit.pattern import load_pattern
-    from illuknit.previews import contact_sheet, save_png, unit_scale
-    from illuknit.progress import progress
-    from illuknit.render.params import RenderParams, check_angle, load_params, save_params
-    from illuknit.render.raycast import render_image, sweep_angles
+    from illuknit.core.files import staged_dir
+    from illuknit.core.pattern import load_pattern
+    from illuknit.core.progress import progress
+    from illuknit.design.render.params import RenderParams, check_angle, load_params, save_params
+    from illuknit.design.render.raycast import render_image, sweep_angles
+    from illuknit.outputs.previews import contact_sheet, save_png, unit_scale
 
     params = load_params(params_file) if params_file is not None else RenderParams()
     a = check_angle(params.theta if angle is None else angle, name="--angle")

@@ -12,7 +12,7 @@ from illuknit.cli.options import image_options, knitout_option, outdir_option, p
 from illuknit.cli.summary import print_written, summarise_pattern
 
 if TYPE_CHECKING:
-    from illuknit.knit.machine import MachineSpec
+    from illuknit.core.machine import MachineSpec
 
 __all__ = ["run_single", "single"]
 
@@ -40,13 +40,13 @@ def run_single(
     is refused before compiling.
     """
     from illuknit.cli.knitout_bridge import check_fits, design_unit_aspect, resolve_machine
-    from illuknit.export import export_pattern
-    from illuknit.outputs import staged_dir
-    from illuknit.single_view import (
+    from illuknit.core.files import staged_dir
+    from illuknit.design.single_view import (
         compile_single_view,
         prepare_single_view_image,
         single_view_errors,
     )
+    from illuknit.outputs.export import export_pattern
 
     spec = resolve_machine(machine, gauge=gauge)
     q = prepare_single_view_image(
@@ -127,7 +127,7 @@ def single(
     colour is shown as a stripe of the two yarns. Writes pattern.json, previews, a hand-knitting
     chart and written instructions into OUTDIR.
     """
-    from illuknit.pattern import load_pattern
+    from illuknit.core.pattern import load_pattern
 
     paths = run_single(
         image,

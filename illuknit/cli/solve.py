@@ -2,7 +2,7 @@
 
 Two pictures (or one, with ``--model single``) are resized to the unit grid, quantised jointly to
 K yarns (so a colour means the same yarn in both), encoded as model (a) ``logical``, (b)
-``knit-aware`` or (c) ``single`` (:mod:`illuknit.illusion_models`), and solved by the named backend
+``knit-aware`` or (c) ``single`` (:mod:`illuknit.design.models.illusion_models`), and solved by the named backend
 (:mod:`illuknit.solvers`). Writes pattern.json, previews, chart, instructions and report.json;
 ``--export-wcnf`` writes the model for an external MaxSAT solver.
 """
@@ -19,8 +19,8 @@ import numpy as np
 
 from illuknit.cli.knitout_bridge import format_option, long_floats_option, machine_option
 from illuknit.cli.options import POSITIVE
-from illuknit.gauge import STOCKINETTE_COURSE_ASPECT
-from illuknit.sizing import DEFAULT_MAX_WIDTH
+from illuknit.core.gauge import STOCKINETTE_COURSE_ASPECT
+from illuknit.pictures.sizing import DEFAULT_MAX_WIDTH
 
 __all__ = ["load_targets", "run_solve", "solve"]
 
@@ -36,15 +36,15 @@ def load_targets(
     quantise: bool = True,
     unit_aspect: float = STOCKINETTE_COURSE_ASPECT,
 ) -> tuple[Any, Any | None]:
-    """Load, size (:func:`illuknit.sizing.size_pair`) and jointly quantise the target picture(s).
+    """Load, size (:func:`illuknit.pictures.sizing.size_pair`) and jointly quantise the target picture(s).
 
     Returns (QuantisedImage of A, QuantisedImage of B or None) sharing one yarn list.
 
     Raises PictureSizeMismatchError when the pictures do not cover the same piece (unless
     ``resize``).
     """
-    from illuknit.images import QuantisedImage, quantise_image
-    from illuknit.sizing import size_pair
+    from illuknit.pictures.images import QuantisedImage, quantise_image
+    from illuknit.pictures.sizing import size_pair
 
     pair = size_pair(path_a, path_b, width=width, stretch=resize, unit_aspect=unit_aspect)
     a, b = pair.a, pair.b
@@ -139,14 +139,14 @@ def run_solve(
     bed is refused before the model is built.
     """
     from illuknit.cli.knitout_bridge import check_fits, design_unit_aspect, resolve_machine
-    from illuknit.illusion_models import (
+    from illuknit.core.files import atomic_write_text
+    from illuknit.design.models.illusion_models import (
         build_model,
         check_solution,
         make_problem,
         pattern_from_solution,
         report_pattern,
     )
-    from illuknit.outputs import atomic_write_text
 
     if image_a is None:
         raise click.UsageError("give the target picture(s): illuknit solve A.png B.png -o OUTDIR")
@@ -252,8 +252,8 @@ def _write_outputs(
 ) -> dict[str, Path]:
     """Write the pattern's outputs (and, given a machine, its knitout) into ``outdir`` at once."""
     from illuknit.cli.knitout_bridge import write_program
-    from illuknit.export import export_pattern
-    from illuknit.outputs import staged_dir
+    from illuknit.core.files import staged_dir
+    from illuknit.outputs.export import export_pattern
 
     with staged_dir(outdir) as tmp:
         paths = export_pattern(
@@ -281,9 +281,9 @@ def _check_solve_options(
     """Refuse contradictory or impossible options; the parsed ``(weights, yarns)``."""
     from dataclasses import replace
 
-    from illuknit.errors import ImageInputError, YarnSpecError
-    from illuknit.illusion_models import parse_weights
-    from illuknit.pattern import parse_yarns
+    from illuknit.core.errors import ImageInputError, YarnSpecError
+    from illuknit.core.pattern import parse_yarns
+    from illuknit.design.models.illusion_models import parse_weights
 
     if model == "single" and image_b is not None:
         raise ImageInputError("--model single takes one picture (it is seen from both sides)")

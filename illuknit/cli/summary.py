@@ -8,7 +8,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:  # annotations only: `illuknit check` uses console() without loading numpy
-    from illuknit.pattern import LogicalPattern
+    from illuknit.core.pattern import LogicalPattern
 
 __all__ = ["console", "print_written", "summarise_pattern"]
 
@@ -27,7 +27,7 @@ def summarise_pattern(
 ) -> None:
     from rich.table import Table
 
-    from illuknit.export import pattern_stats
+    from illuknit.outputs.export import pattern_stats
 
     c = console()
     s = pattern_stats(pattern)
@@ -40,8 +40,8 @@ def summarise_pattern(
     if report_path is not None and Path(report_path).exists():
         size = json.loads(Path(report_path).read_text()).get("finished_size")
     if size is None:
-        from illuknit.gauge import finished_size
-        from illuknit.knit.machine import DEFAULT_MACHINE
+        from illuknit.core.gauge import finished_size
+        from illuknit.core.machine import DEFAULT_MACHINE
 
         size = finished_size(pattern.shape, DEFAULT_MACHINE.fabric_gauge).as_dict()
     c.print(

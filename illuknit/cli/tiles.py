@@ -10,8 +10,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from illuknit.cli.options import outdir_option
-from illuknit.tiles.bank import TileBank
-from illuknit.tiles.tile import Tile
+from illuknit.design.tiles.bank import TileBank
+from illuknit.design.tiles.tile import Tile
 
 __all__ = ["tile_picture", "tiles"]
 
@@ -23,9 +23,9 @@ def tile_picture(
 ) -> NDArray[np.uint8]:
     """One picture of a tile (Fig. 10 style): top-down with bumps marked, height map, view A,
     view B; each over ``periods`` repeats."""
-    from illuknit.pattern import LogicalPattern
-    from illuknit.previews import chart_rgb, contact_sheet, upscale
-    from illuknit.tiles.tile import tile_seen
+    from illuknit.core.pattern import LogicalPattern
+    from illuknit.design.tiles.tile import tile_seen
+    from illuknit.outputs.previews import chart_rgb, contact_sheet, upscale
 
     # repeat across too, so each panel is wide enough for its title
     across = max(1, -(-5 // tile.width))
@@ -91,10 +91,10 @@ def tiles(
     from rich.console import Console
     from rich.table import Table
 
-    from illuknit.outputs import atomic_write_text, staged_dir
-    from illuknit.pattern import parse_yarns
-    from illuknit.previews import save_png
-    from illuknit.tiles.bank import bank_to_json, canonical_bank, load_bank
+    from illuknit.core.files import atomic_write_text, staged_dir
+    from illuknit.core.pattern import parse_yarns
+    from illuknit.design.tiles.bank import bank_to_json, canonical_bank, load_bank
+    from illuknit.outputs.previews import save_png
 
     ys = parse_yarns(yarns)
     views = ("headon", "side") if headon else ("A", "B")

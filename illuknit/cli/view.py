@@ -18,9 +18,9 @@ __all__ = ["view"]
 def view(pattern_file: Path, outdir: Path) -> None:
     """Write previews (head-on, view A, view B, contact sheet), the hand-knitting chart and written
     instructions of a pattern file."""
-    from illuknit.export import export_pattern
-    from illuknit.outputs import staged_dir
-    from illuknit.pattern import load_pattern
+    from illuknit.core.files import staged_dir
+    from illuknit.core.pattern import load_pattern
+    from illuknit.outputs.export import export_pattern
 
     pattern = load_pattern(pattern_file)
     with staged_dir(outdir) as tmp:

@@ -18,7 +18,7 @@ from illuknit.formats.swg_ir import MachinePass, MachinePassKind
 from illuknit.formats.swg_passes import machine_passes
 
 if TYPE_CHECKING:
-    from illuknit.knit.machine import MachineSpec
+    from illuknit.core.machine import MachineSpec
 
 __all__ = [
     "FORMAT_SUFFIXES",
@@ -40,8 +40,8 @@ def machine_formats(machine: MachineSpec) -> tuple[str, ...]:
 
 
 def check_format(machine: MachineSpec, fmt: str) -> None:
-    """Refuse (:class:`~illuknit.errors.UnknownNameError`) a format ``machine`` cannot take."""
-    from illuknit.errors import UnknownNameError
+    """Refuse (:class:`~illuknit.core.errors.UnknownNameError`) a format ``machine`` cannot take."""
+    from illuknit.core.errors import UnknownNameError
 
     valid = machine_formats(machine)
     if fmt not in valid:
@@ -71,6 +71,6 @@ def knitout_to_format(text: str, fmt: str, *, name: str = "program") -> bytes:
         from illuknit.formats.kc import knitout_to_kc
 
         return knitout_to_kc(text, name=name).encode("utf-8")
-    from illuknit.errors import UnknownNameError
+    from illuknit.core.errors import UnknownNameError
 
     raise UnknownNameError("output format", fmt, list(FORMAT_SUFFIXES))

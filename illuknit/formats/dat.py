@@ -29,7 +29,7 @@ from importlib import resources
 import numpy as np
 from numpy.typing import NDArray
 
-from illuknit.errors import DatFormatError, MachineRuleError, UnsupportedKnitoutError
+from illuknit.core.errors import DatFormatError, MachineRuleError, UnsupportedKnitoutError
 from illuknit.formats.dat_rows import DatPass, decode_pass_row
 from illuknit.formats.swg_ir import (
     CarriageDirection,

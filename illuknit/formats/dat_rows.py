@@ -7,7 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from illuknit.errors import DatFormatError
+from illuknit.core.errors import DatFormatError
 from illuknit.formats.swg_ir import (
     CarriageDirection,
     Gripper,

@@ -10,7 +10,7 @@ empty carriage move is inserted whenever the carriage is on the wrong side for t
 
 The output is the CMU Kniterate backend's (``knitout-to-kcode.js``) byte for byte, apart from the
 third line, a comment naming the file. Where that backend's own consistency checks would fail
-(it then still writes a file), :class:`~illuknit.errors.KcodeError` is raised instead.
+(it then still writes a file), :class:`~illuknit.core.errors.KcodeError` is raised instead.
 
 Examples
 --------
@@ -27,7 +27,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from illuknit.errors import KcodeError
+from illuknit.core.errors import KcodeError
 from illuknit.formats.kc_ir import KcPass, KcProgram
 from illuknit.formats.kc_passes import read_kc_passes
 

@@ -10,7 +10,7 @@ is kicked out of the way. These rules, and the values written for each pass (rol
 stitch number, speed), are those of the CMU Kniterate backend ``knitout-to-kcode.js``, so that the
 resulting ``.kc`` is the same file (the pass types and the merge rule are in
 :mod:`illuknit.formats.kc_ir`). Programs that backend would turn into a wrong file (plated
-carriers, slider needles, racking it cannot align) raise :class:`~illuknit.errors.KcodeError`.
+carriers, slider needles, racking it cannot align) raise :class:`~illuknit.core.errors.KcodeError`.
 """
 
 from __future__ import annotations
@@ -20,7 +20,7 @@ import math
 import re
 from dataclasses import dataclass
 
-from illuknit.errors import KcodeError
+from illuknit.core.errors import KcodeError
 from illuknit.formats.kc_ir import (
     CARRIERS,
     SOFT,

@@ -13,8 +13,7 @@ import math
 import re
 from dataclasses import dataclass, field
 
-from illuknit.check.parse import KnitoutProgram, Needle
-from illuknit.errors import MachineRuleError
+from illuknit.core.errors import MachineRuleError
 from illuknit.formats.swg_ir import (
     CarriageDirection,
     Gripper,
@@ -24,6 +23,7 @@ from illuknit.formats.swg_ir import (
     SlotOp,
     pass_kind,
 )
+from illuknit.knitout.parse import KnitoutProgram, Needle
 
 __all__ = ["freeze_passes", "read_header"]
 

@@ -6,10 +6,10 @@ import math
 import re
 from collections.abc import Callable
 
-from illuknit.check.parse import Needle, Operation
-from illuknit.errors import UnsupportedKnitoutError
+from illuknit.core.errors import UnsupportedKnitoutError
 from illuknit.formats.swg_build import _Builder, _Carrier
 from illuknit.formats.swg_ir import CarriageDirection, Gripper, HookAction, PassType, SlotOp
+from illuknit.knitout.parse import Needle, Operation
 
 __all__ = ["apply_operation"]
 

@@ -25,11 +25,11 @@ it in :mod:`illuknit.formats.swg_ops`.
 
 from __future__ import annotations
 
-from illuknit.check.parse import parse_knitout
-from illuknit.errors import MachineRuleError, UnsupportedKnitoutError
+from illuknit.core.errors import MachineRuleError, UnsupportedKnitoutError
 from illuknit.formats.swg_build import _Builder, freeze_passes, read_header
 from illuknit.formats.swg_ir import MachinePass, SwgPlan
 from illuknit.formats.swg_ops import apply_operation
+from illuknit.knitout.parse import parse_knitout
 
 __all__ = ["machine_passes", "plan_swg"]
 

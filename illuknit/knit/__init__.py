@@ -8,15 +8,14 @@ One module per stage::
                    -> knitout.write_knitout      -> knitout-2 text
                       timing.estimate_knit_time  -> TimeEstimate
 
-``machine.MachineSpec`` holds every machine limit; ``pipeline.knit_pattern`` runs the whole path.
+The machine's limits are :class:`illuknit.core.machine.MachineSpec`; the whole path in one call,
+measured on the machine, is :func:`illuknit.knitting.knit_pattern`.
 """
 
 from __future__ import annotations
 
 from illuknit.knit.knitout import write_knitout
-from illuknit.knit.machine import DEFAULT_MACHINE, MachineSpec
 from illuknit.knit.mixed import schedule_mixed
-from illuknit.knit.pipeline import KnitResult, knit_pattern
 from illuknit.knit.schedule import (
     CarrierAction,
     Op,
@@ -29,12 +28,9 @@ from illuknit.knit.stitches import KNIT, PURL, StitchPattern, lower_to_stitches
 from illuknit.knit.timing import TimeEstimate, estimate_knit_time
 
 __all__ = [
-    "DEFAULT_MACHINE",
     "KNIT",
     "PURL",
     "CarrierAction",
-    "KnitResult",
-    "MachineSpec",
     "Op",
     "Pass",
     "Schedule",
@@ -42,7 +38,6 @@ __all__ = [
     "StitchPattern",
     "TimeEstimate",
     "estimate_knit_time",
-    "knit_pattern",
     "lower_to_stitches",
     "schedule_courses",
     "schedule_mixed",

@@ -22,7 +22,7 @@ Carriers belong to one yarn for the whole piece (a carrier is threaded once). Wh
 more groups in a course than it has carriers, a free carrier of the machine is threaded with it;
 groups are matched to the yarn's carriers nearest first, so an intarsia carrier keeps knitting the
 region where it is anchored. If the machine runs out of carriers the course is named in a
-:class:`~illuknit.errors.CarrierShortageError`.
+:class:`~illuknit.core.errors.CarrierShortageError`.
 """
 
 from __future__ import annotations
@@ -35,7 +35,7 @@ from types import MappingProxyType
 import numpy as np
 from numpy.typing import ArrayLike
 
-from illuknit.errors import (
+from illuknit.core.errors import (
     CarrierShortageError,
     OptionError,
     PatternValidationError,

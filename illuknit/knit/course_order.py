@@ -12,7 +12,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import replace
 
-from illuknit.errors import SchedulingError
+from illuknit.core.errors import SchedulingError
 from illuknit.knit.catching import JoinTuck, PlatedStitch
 from illuknit.knit.path_planning import (
     CarrierState,

@@ -23,18 +23,18 @@ does:
    the fabric as catching requires, with one carrier per pass).
 
 The yarns the pattern may use are the machine's carriers minus the waste and draw-thread ones
-(:attr:`~illuknit.knit.machine.MachineSpec.pattern_carriers`): the scheduler is given only those,
-so a plan that needs more refuses with :class:`~illuknit.errors.CarrierShortageError`.
+(:attr:`~illuknit.core.machine.MachineSpec.pattern_carriers`): the scheduler is given only those,
+so a plan that needs more refuses with :class:`~illuknit.core.errors.CarrierShortageError`.
 """
 
 from __future__ import annotations
 
 from dataclasses import replace
 
-from illuknit.errors import SchedulingError
+from illuknit.core.errors import SchedulingError
+from illuknit.core.machine import MachineSpec
 from illuknit.knit.ir import ActionKind, OpKind
 from illuknit.knit.knitout import write_knitout
-from illuknit.knit.machine import MachineSpec
 from illuknit.knit.schedule import CarrierAction, Op, Pass, Schedule, Step
 
 __all__ = ["lower_hookless", "waste_section", "write_hookless_knitout"]

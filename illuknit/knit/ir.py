@@ -19,7 +19,7 @@ from typing import Any, Literal
 
 import numpy as np
 
-from illuknit.errors import MachineRuleError, SchedulingError
+from illuknit.core.errors import MachineRuleError, SchedulingError
 
 __all__ = [
     "ActionKind",

@@ -6,7 +6,7 @@ string ``1 2 3 4 5 6 7 8 9 10`` for the default machine), ``;;Position:`` and on
 carrier used; then one operation per line with tokens separated by single spaces and LF line
 endings. ``rack`` lines are written only when the racking changes; ``x-stitch-number`` /
 ``x-speed-number`` only when the machine spec sets them. Transfer passes run at the spec's
-:class:`~illuknit.knit.machine.TransferSettings`: ``x-xfer-stitch-number`` once after the header,
+:class:`~illuknit.core.machine.TransferSettings`: ``x-xfer-stitch-number`` once after the header,
 ``x-speed-number`` switched to the transfer speed before each run of transfer passes and back to
 the knitting speed before the next knit pass, and ``x-add-roller-advance`` before the first
 transfer of a run (Kniterate). Comments (``; course 12 ...``) mark where
@@ -15,8 +15,8 @@ each body course starts so that a checker's line numbers can be traced back to p
 
 from __future__ import annotations
 
+from illuknit.core.machine import MachineSpec
 from illuknit.knit.ir import course_row
-from illuknit.knit.machine import MachineSpec
 from illuknit.knit.schedule import CarrierAction, Pass, Schedule
 
 __all__ = ["format_racking", "knitout_header", "write_knitout"]

@@ -54,7 +54,7 @@ pass if some loop changes bed* relative to the previous course (both directions 
 racking 0); the cast-on tucks and the bind-off recipe count at their own length. It counts no
 carrier moves, and none is unavoidable: parked carriers are in no pass's way (see
 ``docs/mixed-colourwork.md``). It is a bound for the given carrier plan, not over all plans. The
-passes reported for a program are the machine's (:mod:`illuknit.knit.carriage`).
+passes reported for a program are the machine's (:mod:`illuknit.knitting.carriage`).
 """
 
 from __future__ import annotations
@@ -64,14 +64,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from illuknit.errors import LongFloatError, OptionError, PatternValidationError
+from illuknit.core.errors import LongFloatError, OptionError, PatternValidationError
+from illuknit.core.machine import DEFAULT_MACHINE, MachineSpec
 from illuknit.knit.catching import JOIN_METHODS, JoinTuck, PlatedStitch, plan_catches, plan_joins
 from illuknit.knit.color_runs import ColorPlan, plan_color_runs
 from illuknit.knit.course_order import course_items, order_and_plan
 from illuknit.knit.float_avoidance import float_crossings, transfers_before
 from illuknit.knit.float_tucks import LongFloat, tuck_long_floats
 from illuknit.knit.ir import Role
-from illuknit.knit.machine import DEFAULT_MACHINE, MachineSpec
 from illuknit.knit.mixed_edges import Emitter, bind_off, cast_on
 from illuknit.knit.move_folding import fold_moves
 from illuknit.knit.path_planning import (
@@ -314,15 +314,15 @@ def schedule_mixed(
     float_limit : int, optional
         Longest float in wales; defaults to ``machine.float_limit``.
     strict_floats : bool
-        Raise :class:`~illuknit.errors.CarrierShortageError` when a course needs more carriers
+        Raise :class:`~illuknit.core.errors.CarrierShortageError` when a course needs more carriers
         than the machine has to keep every float within the limit, and
-        :class:`~illuknit.errors.LongFloatError` naming the course when a float stays longer
+        :class:`~illuknit.core.errors.LongFloatError` naming the course when a float stays longer
         than the limit after tucking; by default such floats are kept and listed in
         ``Schedule.long_floats`` (the checker warns about them).
     allow_long_floats : bool
-        False: raise :class:`~illuknit.errors.LongFloatError` naming the course when a float
+        False: raise :class:`~illuknit.core.errors.LongFloatError` naming the course when a float
         stays longer than the limit after tucking (the default of
-        :func:`~illuknit.knit.pipeline.knit_pattern` and of every command); True (this
+        :func:`~illuknit.knitting.pipeline.knit_pattern` and of every command); True (this
         stage's default, so that its caller decides): keep it, list it in
         ``Schedule.long_floats``.
     tail_stitches : int

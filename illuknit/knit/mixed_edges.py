@@ -13,6 +13,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from itertools import pairwise
 
+from illuknit.core.machine import MachineSpec
 from illuknit.knit.color_runs import CoursePlan, Segment
 from illuknit.knit.edges import cast_on_steps
 from illuknit.knit.ir import (
@@ -28,7 +29,6 @@ from illuknit.knit.ir import (
     Step,
     flip,
 )
-from illuknit.knit.machine import MachineSpec
 from illuknit.knit.path_planning import (
     CarrierState,
     Park,

@@ -36,7 +36,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
 from typing import Literal
 
-from illuknit.errors import OptionError
+from illuknit.core.errors import OptionError
 
 __all__ = [
     "STRATEGIES",

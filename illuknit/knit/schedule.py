@@ -49,13 +49,15 @@ from typing import Any
 
 import numpy as np
 
-from illuknit.errors import (
+from illuknit.core.errors import (
     MachineRuleError,
     MixedColorworkError,
     OptionError,
     PatternValidationError,
     SchedulingError,
 )
+from illuknit.core.machine import DEFAULT_MACHINE, MachineSpec
+from illuknit.core.pattern import Yarn
 from illuknit.knit.edges import bind_off_steps, cast_on_steps
 from illuknit.knit.float_tucks import LongFloat
 from illuknit.knit.ir import (
@@ -70,9 +72,7 @@ from illuknit.knit.ir import (
     Role,
     Step,
 )
-from illuknit.knit.machine import DEFAULT_MACHINE, MachineSpec
 from illuknit.knit.stitches import StitchPattern
-from illuknit.pattern import Yarn
 
 __all__ = [
     "CarrierAction",
@@ -94,7 +94,7 @@ class ScheduleStats:
     ``hook_passes`` the extra empty passes the SWG backend adds for each ``releasehook`` and
     ``outhook`` (counted apart); ``kickbacks`` the times a carrier runs two passes in the same
     direction, each of which costs the SWG backend an extra pass.
-    :func:`illuknit.knit.carriage.machine_stats` counts what the machine runs instead: there
+    :func:`illuknit.knitting.carriage.machine_stats` counts what the machine runs instead: there
     ``passes`` is every machine pass (hook passes, carrier moves and kickbacks included),
     ``kickbacks`` the passes the machine adds to move carriers out of the way, and
     ``schedule_passes`` the schedule's own count. ``ratio`` is ``passes / lower_bound``.

@@ -26,10 +26,10 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from illuknit.errors import PatternValidationError, SchedulingError
+from illuknit.core.errors import PatternValidationError, SchedulingError
+from illuknit.core.machine import DEFAULT_MACHINE, MachineSpec
+from illuknit.core.pattern import LogicalPattern, Yarn
 from illuknit.knit.ir import course_row
-from illuknit.knit.machine import DEFAULT_MACHINE, MachineSpec
-from illuknit.pattern import LogicalPattern, Yarn
 
 __all__ = ["KNIT", "PURL", "StitchPattern", "lower_to_stitches"]
 
@@ -198,7 +198,7 @@ def lower_to_stitches(
     Examples
     --------
     >>> import numpy as np
-    >>> from illuknit.pattern import LogicalPattern, Yarn
+    >>> from illuknit.core.pattern import LogicalPattern, Yarn
     >>> p = LogicalPattern(np.array([[0], [1]]), np.array([[True], [False]]),
     ...                    (Yarn("a", (0, 0, 0)), Yarn("b", (255, 255, 255))))
     >>> s = lower_to_stitches(p)

@@ -6,11 +6,11 @@ Model (documented in ``docs/knitting.md``)::
 
 *Needles crossed* is the span of the pass: rightmost minus leftmost needle it touches, plus one
 (transfer targets and parking misses included). The machine's passes
-(:class:`~illuknit.knit.carriage.MachineRun`) include the backend's hook passes, carrier moves
+(:class:`~illuknit.knitting.carriage.MachineRun`) include the backend's hook passes, carrier moves
 and kickbacks; without them the schedule's own passes are used, plus ``seconds_per_turn`` for
 each of the empty passes the SWG backend adds for ``releasehook`` and ``outhook``. The defaults (0.01 s per needle, about 0.36 m/s at
 7 gauge's 3.63 mm needle pitch, and 1.5 s per pass for turning and clearing the carriage) come from
-:class:`~illuknit.knit.machine.MachineSpec` and can be overridden per call. They are rough: real
+:class:`~illuknit.core.machine.MachineSpec` and can be overridden per call. They are rough: real
 machines run transfers, knitting and the yarn-inserting hook at different speeds set by the
 operator; treat the estimate as a way to compare programs, not a promise.
 """
@@ -20,11 +20,11 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-from illuknit.errors import OptionError
+from illuknit.core.errors import OptionError
 from illuknit.knit.schedule import Schedule
 
 if TYPE_CHECKING:
-    from illuknit.knit.carriage import MachineRun
+    from illuknit.knitting.carriage import MachineRun
 
 __all__ = ["TimeEstimate", "estimate_knit_time", "format_duration"]
 
@@ -72,7 +72,7 @@ def estimate_knit_time(
         Override the schedule machine's time model.
     run : MachineRun, optional
         The machine's passes for the schedule's program
-        (:func:`illuknit.knit.carriage.machine_run`): the time is then counted on them, hook
+        (:func:`illuknit.knitting.carriage.machine_run`): the time is then counted on them, hook
         passes, carrier moves and kickbacks included. Without it, on the schedule's own passes
         plus its hook passes.
 

@@ -98,7 +98,7 @@ def _word(text: str, grey: slice | None = None) -> bytes:
     library suggests edits of it. ``grey``: rows whose background is a third, mid-grey colour."""
     import numpy as np
 
-    from illuknit.drawings import draw_text
+    from illuknit.pictures.drawings import draw_text
 
     mask = draw_text(text, shape=(48, 72))
     rgb = np.where(mask[..., None], 24, 246).astype(np.uint8).repeat(3, axis=2)

@@ -89,7 +89,7 @@ def banded(path: Path, rows: slice) -> Path:
 def lettered(path: Path, text: str) -> Path:
     """A two-colour picture of a word, drawn by code (no stored picture); its courses change
     colour, so the knitout goes through the mixed-colourwork scheduler."""
-    from illuknit.drawings import draw_text
+    from illuknit.pictures.drawings import draw_text
 
     mask = draw_text(text, shape=(48, 72))
     Image.fromarray(np.where(mask[..., None], 24, 246).astype(np.uint8).repeat(3, axis=2)).save(

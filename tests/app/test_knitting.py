@@ -16,8 +16,8 @@ from PIL import Image
 
 from illuknit.app import create_app
 from illuknit.app.server import AppConfig
+from illuknit.core.machine import MACHINES
 from illuknit.formats.dat import knitout_to_dat, read_dat
-from illuknit.knit.machine import MACHINES
 
 
 @pytest.fixture(scope="module")
@@ -176,9 +176,9 @@ def test_kniterate_gets_its_kc_with_waste_and_draw_carriers(client, sid, run):
 def test_a_long_float_is_refused_for_the_designer_unless_allowed(monkeypatch):
     from illuknit.app.knitting import knit_and_check
     from illuknit.app.schemas import JobIn
-    from illuknit.errors import AppRequestError
-    from illuknit.knit.machine import MachineSpec
-    from illuknit.pattern import pattern_to_json
+    from illuknit.core.errors import AppRequestError
+    from illuknit.core.machine import MachineSpec
+    from illuknit.core.pattern import pattern_to_json
     from tests.knit.test_pipeline import _crowded
 
     # three carriers, a float limit of one needle: the crowded pattern keeps a float long

@@ -18,7 +18,7 @@ from illuknit.app import create_app
 from illuknit.app.measures import ORDERS, order_candidates
 from illuknit.app.server import AppConfig
 from illuknit.bench.metrics import angled_renders, picture_scores
-from illuknit.tiles import perception
+from illuknit.design.tiles import perception
 
 
 def box(top: int, left: int) -> bytes:
@@ -124,7 +124,7 @@ def test_candidates_stay_in_rank_order_until_measured():
 
 
 def test_diagnostic_overlay_of_each_side(client, app, measured):
-    from illuknit.tiles.perception import diagnostic_rgb
+    from illuknit.design.tiles.perception import diagnostic_rgb
 
     session = app.state.store.get(measured)
     q = session.prepared.quantised
@@ -147,7 +147,7 @@ def test_diagnostic_overlay_of_a_headon_design(client, app, with_side):
     """Head-on: the head-on view is judged against the front picture (the side picture must not
     show); at an angle each side against the side picture, or a plain field, with the front
     picture as what must have gone."""
-    from illuknit.tiles.perception import diagnostic_rgb
+    from illuknit.design.tiles.perception import diagnostic_rgb
 
     sid = client.post("/api/sessions").json()["id"]
     pics = [("a", box(6, 8))] + ([("b", box(2, 2))] if with_side else [])

@@ -80,7 +80,7 @@ def test_deleted_and_unknown_sessions_are_not_called_evicted():
     store = SessionStore(max_bytes=1)
     s = store.create()
     store.delete(s.id)
-    from illuknit.errors import AppRequestError
+    from illuknit.core.errors import AppRequestError
 
     for sid in (s.id, "never-was"):
         with pytest.raises(AppRequestError) as e:
@@ -92,7 +92,7 @@ def test_expired_session_says_it_expired():
     store = SessionStore(ttl=0.0)
     s = store.create()
     time.sleep(0.01)
-    from illuknit.errors import AppRequestError
+    from illuknit.core.errors import AppRequestError
 
     with pytest.raises(AppRequestError) as e:
         store.get(s.id)

@@ -87,7 +87,7 @@ def test_accept_replaces_the_pictures_and_designs_again(client, api, suggested):
         new = np.asarray(Image.open(io.BytesIO(r.content)).convert("RGB"))
         # kept in the fabric's proportions (8 pixels a unit across, 0.7 of that down), so
         # sizing it again at 24 units gives the edited grid back
-        from illuknit.sizing import size_pair
+        from illuknit.pictures.sizing import size_pair
 
         assert new.shape[1] == 24 * 8
         k = shown.shape[1] // 24

@@ -12,7 +12,7 @@ from illuknit.bench.instances import (
     parse_manifest,
     select_instances,
 )
-from illuknit.errors import ManifestError, UnknownNameError
+from illuknit.core.errors import ManifestError, UnknownNameError
 
 
 def entry(**over):

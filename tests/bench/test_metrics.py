@@ -18,8 +18,8 @@ from illuknit.bench.metrics import (
     render_error,
     yarn_map,
 )
-from illuknit.colors import linear_from_srgb, srgb_from_linear
-from illuknit.pattern import LogicalPattern, parse_yarns
+from illuknit.core.colors import linear_from_srgb, srgb_from_linear
+from illuknit.core.pattern import LogicalPattern, parse_yarns
 
 BW = parse_yarns("#000000,#ffffff")
 
@@ -107,7 +107,7 @@ def test_knit_stats_for_one_color_per_course_and_for_mixed_courses():
     ks = knit_stats(stripes)
     assert ks["knit_note"] == ""
     from illuknit.formats import machine_passes
-    from illuknit.knit import knit_pattern
+    from illuknit.knitting import knit_pattern
 
     # the machine's passes (the .dat's rows), not the scheduler's own count
     ref = knit_pattern(stripes)
@@ -155,7 +155,7 @@ def test_unschedulable_patterns_get_a_reason_instead_of_numbers():
 
 
 def test_knit_stats_measure_a_pattern_with_long_floats_and_note_them(monkeypatch):
-    from illuknit.knit.machine import MACHINES, MachineSpec
+    from illuknit.core.machine import MACHINES, MachineSpec
     from tests.knit.test_pipeline import _crowded
 
     # the bench allows long floats (it compares passes); the note says they are there

@@ -20,8 +20,8 @@ from illuknit.bench.methods import (
 )
 from illuknit.bench.results import FIELDS, load_rows
 from illuknit.bench.runner import run_bench
-from illuknit.errors import ResultsVersionError, UnknownNameError
-from illuknit.pattern import LogicalPattern
+from illuknit.core.errors import ResultsVersionError, UnknownNameError
+from illuknit.core.pattern import LogicalPattern
 
 CALLS: list[str] = []
 

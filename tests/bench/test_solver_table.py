@@ -18,7 +18,7 @@ from illuknit.bench.instances import Instance
 from illuknit.bench.solver_runs import SolverTask, run_solver_task
 from illuknit.bench.solver_table import make_tasks, run_solver_table
 from illuknit.bench.wcnf_files import export_wcnf_family, read_wcnf
-from illuknit.pattern import Yarn
+from illuknit.core.pattern import Yarn
 from illuknit.solvers import BackendBase
 
 FAKE = Path(__file__).parents[1] / "solvers" / "fake" / "fake_maxsat.py"

@@ -12,9 +12,10 @@ from __future__ import annotations
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from illuknit.check import CheckReport, check_knitout, parse_knitout
+from illuknit.check import CheckReport, check_knitout
 from illuknit.check.vm import run_vm
-from illuknit.errors import KnitoutParseError
+from illuknit.core.errors import KnitoutParseError
+from illuknit.knitout import parse_knitout
 
 HEAD = ";!knitout-2\n;;Carriers: 1 2 3 4 5 6 7 8 9 10\n"
 

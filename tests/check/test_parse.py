@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import pytest
 
-from illuknit.check.parse import Needle, parse_knitout
-from illuknit.errors import KnitoutParseError
+from illuknit.core.errors import KnitoutParseError
+from illuknit.knitout.parse import Needle, parse_knitout
 
 GOOD = """;!knitout-2
 ;;Machine: SWG091N2

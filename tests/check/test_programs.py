@@ -11,9 +11,10 @@ from pathlib import Path
 
 import pytest
 
-from illuknit.check import check_knitout, parse_knitout
+from illuknit.check import check_knitout
 from illuknit.check.vm import rewrite_for_vm, run_vm
-from illuknit.errors import BackendUnavailableError
+from illuknit.core.errors import BackendUnavailableError
+from illuknit.knitout import parse_knitout
 
 DATA = Path(__file__).parent / "data"
 

@@ -10,7 +10,7 @@ import pytest
 from illuknit.check import CheckReport, check_knitout
 from illuknit.check.fabric import FABRIC_RULES
 from illuknit.check.rules import RULES
-from illuknit.errors import OptionError
+from illuknit.core.errors import OptionError
 
 HEAD = ";!knitout-2\n;;Carriers: 1 2 3 4 5 6 7 8 9 10\n"
 

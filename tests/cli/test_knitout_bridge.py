@@ -6,7 +6,7 @@ import json
 
 import pytest
 
-from illuknit.knit.machine import machine_names
+from illuknit.core.machine import machine_names
 
 
 def test_single_gauge_is_the_gauge_knit_on(picture, tmp_path, run_cli):

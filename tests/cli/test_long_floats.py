@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from illuknit.knit.machine import MACHINES, MachineSpec
+from illuknit.core.machine import MACHINES, MachineSpec
 
 # A machine whose float limit (one needle) a 2-yarn double-view pattern of speckled pictures
 # cannot meet: its courses have more colour regions than carriers to keep them apart.

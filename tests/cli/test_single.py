@@ -9,7 +9,7 @@ import pytest
 from PIL import Image
 
 from illuknit.cli import COMMANDS, main
-from illuknit.pattern import load_pattern
+from illuknit.core.pattern import load_pattern
 
 
 def ok(args, capsys):

@@ -76,11 +76,11 @@ GENERATED = (
 @functools.cache
 def generated_programs() -> dict[str, str]:
     """A small corpus of programs from illuknit's own generators, by name."""
-    from illuknit.drawings import draw_shape, to_index_image
-    from illuknit.knit import knit_pattern
-    from illuknit.pattern import LogicalPattern, parse_yarns
-    from illuknit.single_view import compile_single_view
-    from illuknit.tiles import assign_headon, assign_tiles, compile_tiles
+    from illuknit.core.pattern import LogicalPattern, parse_yarns
+    from illuknit.design.single_view import compile_single_view
+    from illuknit.design.tiles import assign_headon, assign_tiles, compile_tiles
+    from illuknit.knitting import knit_pattern
+    from illuknit.pictures.drawings import draw_shape, to_index_image
 
     yarns = parse_yarns("#1b1b1b,#f4f0e8,#c03030,#3050c0")
     cols = np.array([y.rgb for y in yarns], dtype=np.uint8)

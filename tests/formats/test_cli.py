@@ -6,8 +6,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from illuknit.core.pattern import LogicalPattern, parse_yarns, save_pattern
 from illuknit.formats.dat import knitout_to_dat, read_dat
-from illuknit.pattern import LogicalPattern, parse_yarns, save_pattern
 from tests.formats.reference import needs_reference, reference_dat
 
 

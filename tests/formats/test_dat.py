@@ -9,7 +9,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from illuknit.errors import DatFormatError, MachineRuleError, UnsupportedKnitoutError
+from illuknit.core.errors import DatFormatError, MachineRuleError, UnsupportedKnitoutError
 from illuknit.formats.dat import decode_dat, encode_dat, knitout_to_dat, read_dat
 from illuknit.formats.dat_rows import decode_carriers
 from illuknit.formats.swg_ir import PassType

@@ -4,10 +4,10 @@ from __future__ import annotations
 
 import pytest
 
-from illuknit.errors import UnknownNameError
+from illuknit.core.errors import UnknownNameError
+from illuknit.core.machine import MACHINES, MachineSpec
 from illuknit.formats import check_format, knitout_to_format, machine_formats
 from illuknit.formats.dat import knitout_to_dat
-from illuknit.knit.machine import MACHINES, MachineSpec
 
 K = ";!knitout-2\n;;Carriers: 1 2 3 4 5 6 7 8 9 10\nin 3\nknit - f2 3\nknit - f1 3\nout 3\n"
 

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from illuknit.errors import KcodeError
+from illuknit.core.errors import KcodeError
 from illuknit.formats.kc import knitout_to_kc
 
 DATA = Path(__file__).parent / "data" / "kniterate"

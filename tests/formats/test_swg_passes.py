@@ -7,7 +7,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from illuknit.errors import MachineRuleError, UnsupportedKnitoutError
+from illuknit.core.errors import MachineRuleError, UnsupportedKnitoutError
 from illuknit.formats import MachinePassKind, machine_passes
 from illuknit.formats.swg_ir import CarriageDirection
 from tests.formats.reference import (
@@ -138,7 +138,7 @@ def test_pass_count_matches_reference(name):
 
 @st.composite
 def small_patterns(draw):
-    from illuknit.pattern import LogicalPattern, parse_yarns
+    from illuknit.core.pattern import LogicalPattern, parse_yarns
 
     k = draw(st.integers(1, 4))
     h, w = draw(st.integers(1, 5)), draw(st.integers(1, 6))
@@ -154,7 +154,7 @@ def small_patterns(draw):
 @settings(max_examples=12, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(pattern=small_patterns(), cast_on=st.integers(0, 2))
 def test_random_patterns_match_reference(pattern, cast_on):
-    from illuknit.knit import knit_pattern
+    from illuknit.knitting import knit_pattern
 
     text = knit_pattern(pattern, cast_on_courses=cast_on).text
     passes = machine_passes(text)

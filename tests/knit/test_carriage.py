@@ -15,9 +15,10 @@ import numpy as np
 import pytest
 
 from illuknit.check import check_knitout
-from illuknit.knit import MachineSpec, knit_pattern
-from illuknit.knit.carriage import machine_run, runs_on_swg
-from illuknit.pattern import LogicalPattern, parse_yarns
+from illuknit.core.machine import MachineSpec
+from illuknit.core.pattern import LogicalPattern, parse_yarns
+from illuknit.knitting import knit_pattern
+from illuknit.knitting.carriage import machine_run, runs_on_swg
 
 ORACLE = Path("/work/shared/oracles/swg/knitout-to-dat.js")
 YARNS3 = parse_yarns("#1b1b1b,#8a8a8a,#f4f0e8")

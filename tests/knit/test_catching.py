@@ -10,12 +10,13 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from illuknit.check import check_knitout
-from illuknit.knit import MachineSpec, knit_pattern
+from illuknit.core.machine import MachineSpec
 from illuknit.knit.catching import JoinTuck, _boundaries, plan_catches, plan_joins
 from illuknit.knit.color_runs import CoursePlan, Segment
 from illuknit.knit.course_order import course_items, order_and_plan
 from illuknit.knit.ir import Bed, CarrierAction, OpKind, Pass, PassKind, Role
 from illuknit.knit.path_planning import CarrierState
+from illuknit.knitting import knit_pattern
 from tests.knit.test_float_tucks import _random_mixed
 
 
@@ -136,7 +137,7 @@ def test_every_tuck_join_is_knit_through_by_a_face_stitch_and_the_piece_holds(se
 def test_tuck_joins_replace_plated_passes_on_a_two_colour_block():
     yarn = np.zeros((6, 16), np.int16)
     yarn[:, 8:] = 1
-    from illuknit.pattern import LogicalPattern, parse_yarns
+    from illuknit.core.pattern import LogicalPattern, parse_yarns
 
     pattern = LogicalPattern(yarn, np.zeros(yarn.shape, bool), parse_yarns("#1b1b1b,#f4f0e8"))
     tuck = knit_pattern(pattern)

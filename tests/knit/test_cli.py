@@ -7,7 +7,7 @@ import json
 import numpy as np
 import pytest
 
-from illuknit.pattern import LogicalPattern, Yarn, save_pattern
+from illuknit.core.pattern import LogicalPattern, Yarn, save_pattern
 
 YARNS = tuple(Yarn(f"y{i}", (i * 20, 255 - i * 20, 3 * i)) for i in range(12))
 

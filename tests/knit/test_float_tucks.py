@@ -10,12 +10,13 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from illuknit.check import check_knitout
-from illuknit.check.parse import parse_knitout
 from illuknit.check.simulate import simulate_program
-from illuknit.knit import MachineSpec, knit_pattern
+from illuknit.core.machine import MachineSpec
+from illuknit.core.pattern import LogicalPattern, parse_yarns
 from illuknit.knit.float_tucks import tuck_long_floats
 from illuknit.knit.ir import Bed, CarrierAction, Op, OpKind, Pass, PassKind
-from illuknit.pattern import LogicalPattern, parse_yarns
+from illuknit.knitout.parse import parse_knitout
+from illuknit.knitting import knit_pattern
 
 YARNS = parse_yarns("#1b1b1b,#f4f0e8")
 

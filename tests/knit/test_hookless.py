@@ -11,11 +11,11 @@ import numpy as np
 import pytest
 
 from illuknit.check import check_knitout
-from illuknit.errors import CarrierShortageError, SchedulingError, UnknownNameError
-from illuknit.knit import knit_pattern
-from illuknit.knit.machine import KNITERATE, MACHINES, get_machine
-from illuknit.knit.machine_sheet import machine_sheet
-from illuknit.pattern import LogicalPattern, parse_yarns, save_pattern
+from illuknit.core.errors import CarrierShortageError, SchedulingError, UnknownNameError
+from illuknit.core.machine import KNITERATE, MACHINES, get_machine
+from illuknit.core.pattern import LogicalPattern, parse_yarns, save_pattern
+from illuknit.knitting import knit_pattern
+from illuknit.outputs.machine_sheet import machine_sheet
 
 sys.path.insert(0, str(Path(__file__).parents[1] / "formats"))
 from test_kc import assert_same_as_reference
@@ -30,8 +30,8 @@ def mixed(shape=(4, 10), k=2, seed=3) -> LogicalPattern:
 
 
 def single() -> LogicalPattern:
-    from illuknit.drawings import draw_shape, to_index_image
-    from illuknit.single_view import compile_single_view
+    from illuknit.design.single_view import compile_single_view
+    from illuknit.pictures.drawings import draw_shape, to_index_image
 
     img = to_index_image(draw_shape("heart", (5, 6)), ink=0, paper=1)
     return compile_single_view(img, yarns=YARNS)

@@ -7,10 +7,9 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from illuknit.check import check_knitout, parse_knitout
-from illuknit.errors import SchedulingError, UnknownNameError
-from illuknit.knit import knit_pattern
-from illuknit.knit.machine import (
+from illuknit.check import check_knitout
+from illuknit.core.errors import SchedulingError, UnknownNameError
+from illuknit.core.machine import (
     DEFAULT_MACHINE,
     DEFAULT_MACHINE_NAME,
     MACHINES,
@@ -19,7 +18,9 @@ from illuknit.knit.machine import (
     machine_from_headers,
     machine_names,
 )
-from illuknit.pattern import LogicalPattern, parse_yarns
+from illuknit.core.pattern import LogicalPattern, parse_yarns
+from illuknit.knitout import parse_knitout
+from illuknit.knitting import knit_pattern
 
 
 def test_presets_are_the_default_bed_and_the_physical_swg091n2() -> None:
@@ -93,9 +94,9 @@ def test_shima_transfer_speed_switches_around_transfer_passes_and_the_dat_is_the
     import sys
     from pathlib import Path
 
-    from illuknit.errors import OptionError
+    from illuknit.core.errors import OptionError
+    from illuknit.core.machine import TransferSettings
     from illuknit.formats.dat import knitout_to_dat
-    from illuknit.knit.machine import TransferSettings
 
     sys.path.insert(0, str(Path(__file__).parents[1] / "formats"))
     from reference import reference_available, reference_dat

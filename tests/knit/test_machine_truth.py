@@ -20,8 +20,8 @@ from pathlib import Path
 import pytest
 
 from illuknit.check import check_knitout
-from illuknit.knit import KnitResult, knit_pattern
-from illuknit.pattern import LogicalPattern
+from illuknit.core.pattern import LogicalPattern
+from illuknit.knitting import KnitResult, knit_pattern
 
 ORACLE = Path(os.environ.get("ILLUKNIT_SWG_ORACLE", "/work/shared/oracles/swg/knitout-to-dat.js"))
 
@@ -59,7 +59,7 @@ def _design(case: str) -> LogicalPattern:
     from illuknit.bench.methods import get_method
 
     if case == "swatch":
-        from illuknit.render.calibrate import calibration_swatch
+        from illuknit.design.render.calibrate import calibration_swatch
 
         return calibration_swatch(bump_sizes=(1, 2), flat_sizes=(1, 2), cell_width=3)
     design, yarns = case.rsplit("-", 1)
@@ -72,8 +72,8 @@ def _design(case: str) -> LogicalPattern:
         pair = {"a": {"image": "coffee"}, "b": {"image": "chelsea"}}
     inst = _instance("double", n, (12, 14), **pair)
     if design == "headon":
-        from illuknit.tiles.compile import compile_tiles
-        from illuknit.tiles.headon import assign_headon
+        from illuknit.design.tiles.compile import compile_tiles
+        from illuknit.design.tiles.headon import assign_headon
 
         t = instance_targets(inst)
         cands = assign_headon((t.a, t.palette), yarns=inst.yarns, candidates=1)  # type: ignore[attr-defined]

@@ -10,8 +10,10 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from illuknit.check import check_knitout
-from illuknit.errors import CarrierShortageError, OptionError, PatternValidationError
-from illuknit.knit import MachineSpec, Pass, lower_to_stitches, write_knitout
+from illuknit.core.errors import CarrierShortageError, OptionError, PatternValidationError
+from illuknit.core.machine import MachineSpec
+from illuknit.core.pattern import LogicalPattern, Yarn
+from illuknit.knit import Pass, lower_to_stitches, write_knitout
 from illuknit.knit.catching import plan_catches
 from illuknit.knit.color_runs import color_runs, plan_color_runs
 from illuknit.knit.float_avoidance import float_crossings
@@ -26,7 +28,6 @@ from illuknit.knit.path_planning import (
     plan_item,
 )
 from illuknit.knit.schedule import CarrierAction, Op, count_kickbacks
-from illuknit.pattern import LogicalPattern, Yarn
 
 YARNS = tuple(Yarn(f"y{i}", (i * 20, 255 - i * 20, 7 * i)) for i in range(12))
 

@@ -12,9 +12,9 @@ import numpy as np
 import pytest
 
 from illuknit.check import check_knitout
+from illuknit.core.pattern import LogicalPattern, Yarn
 from illuknit.knit import lower_to_stitches, write_knitout
 from illuknit.knit.mixed import schedule_mixed
-from illuknit.pattern import LogicalPattern, Yarn
 
 YARNS = (Yarn("navy", (29, 43, 83)), Yarn("cream", (244, 240, 232)))
 

@@ -7,7 +7,7 @@ import json
 import numpy as np
 import pytest
 
-from illuknit.pattern import LogicalPattern, Yarn, save_pattern
+from illuknit.core.pattern import LogicalPattern, Yarn, save_pattern
 
 YARNS = (Yarn("navy", (29, 43, 83)), Yarn("cream", (244, 240, 232)))
 
@@ -100,7 +100,7 @@ def test_strict_floats_error_names_the_course_and_row(tmp_path, run_cli):
 def test_design_commands_write_a_checked_program_with_knitout(tmp_path, run_cli, command):
     from PIL import Image
 
-    from illuknit.drawings import draw_shape
+    from illuknit.pictures.drawings import draw_shape
 
     paths = []
     for name in ("plus", "circle"):

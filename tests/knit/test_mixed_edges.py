@@ -8,10 +8,10 @@ import numpy as np
 import pytest
 
 from illuknit.check import check_knitout
-from illuknit.knit import knit_pattern
+from illuknit.core.pattern import LogicalPattern, parse_yarns
 from illuknit.knit.ir import Bed, OpKind, Pass, PassKind, Role
 from illuknit.knit.mixed_edges import zigzag_beds, zigzag_bind_off_steps
-from illuknit.pattern import LogicalPattern, parse_yarns
+from illuknit.knitting import knit_pattern
 
 
 @pytest.mark.parametrize("direction", ["+", "-"])

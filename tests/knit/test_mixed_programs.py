@@ -10,9 +10,10 @@ from __future__ import annotations
 import numpy as np
 
 from illuknit.check import check_knitout
-from illuknit.drawings import draw_shape, to_index_image
-from illuknit.knit import MachineSpec, knit_pattern
-from illuknit.pattern import LogicalPattern, parse_yarns
+from illuknit.core.machine import MachineSpec
+from illuknit.core.pattern import LogicalPattern, parse_yarns
+from illuknit.knitting import knit_pattern
+from illuknit.pictures.drawings import draw_shape, to_index_image
 
 YARNS = parse_yarns("#1b1b1b,#f4f0e8")
 COLS = np.array([[27, 27, 27], [244, 240, 232]], dtype=np.uint8)
@@ -39,7 +40,7 @@ def targets(shape):
 
 
 def test_double_view_from_tiles():
-    from illuknit.tiles import assign_tiles, compile_tiles
+    from illuknit.design.tiles import assign_tiles, compile_tiles
 
     a, b = targets((6, 8))
     found = assign_tiles((a, COLS), (b, COLS), yarns=YARNS, candidates=1, time_limit=10)
@@ -50,7 +51,7 @@ def test_double_view_from_tiles():
 
 
 def test_head_on_tiles():
-    from illuknit.tiles import assign_headon, compile_tiles
+    from illuknit.design.tiles import assign_headon, compile_tiles
 
     a, _ = targets((6, 8))
     found = assign_headon((a, COLS), yarns=YARNS, candidates=1, time_limit=10)
@@ -59,7 +60,7 @@ def test_head_on_tiles():
 
 
 def test_solver_output_dp():
-    from illuknit.illusion_models import solve_illusion
+    from illuknit.design.models.illusion_models import solve_illusion
 
     a, b = targets((5, 6))
     res = solve_illusion(a, b, solver="dp", yarns=YARNS, time_limit=10)
@@ -67,14 +68,14 @@ def test_solver_output_dp():
 
 
 def test_calibration_swatch():
-    from illuknit.render import calibrate
+    from illuknit.design.render import calibrate
 
     swatch = calibrate.calibration_swatch(bump_sizes=(1, 2), flat_sizes=(1, 2), cell_width=3)
     assert_knits(swatch)
 
 
 def test_single_view_still_takes_the_one_color_scheduler():
-    from illuknit.single_view import compile_single_view
+    from illuknit.design.single_view import compile_single_view
 
     img = to_index_image(draw_shape("heart", (5, 6)), ink=0, paper=1)
     r = assert_knits(compile_single_view(img, yarns=YARNS))

@@ -8,11 +8,11 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from illuknit.errors import LongFloatError, SchedulingError
-from illuknit.knit import knit_pattern
-from illuknit.knit.machine import MachineSpec
-from illuknit.knit.pipeline import LongFloatWarning
-from illuknit.pattern import LogicalPattern, parse_yarns
+from illuknit.core.errors import LongFloatError, SchedulingError
+from illuknit.core.machine import MachineSpec
+from illuknit.core.pattern import LogicalPattern, parse_yarns
+from illuknit.knitting import knit_pattern
+from illuknit.knitting.pipeline import LongFloatWarning
 
 # Three yarns on three carriers with a float limit of one needle: the first pattern row has
 # seven colour regions, more than the carriers can keep apart, so one float stays long.

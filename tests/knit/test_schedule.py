@@ -9,10 +9,11 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from illuknit.errors import MachineRuleError, MixedColorworkError, OptionError, SchedulingError
+from illuknit.core.errors import MachineRuleError, MixedColorworkError, OptionError, SchedulingError
+from illuknit.core.machine import MachineSpec
+from illuknit.core.pattern import LogicalPattern, Yarn
 from illuknit.knit import (
     CarrierAction,
-    MachineSpec,
     Op,
     Pass,
     Schedule,
@@ -20,7 +21,6 @@ from illuknit.knit import (
     lower_to_stitches,
     schedule_courses,
 )
-from illuknit.pattern import LogicalPattern, Yarn
 
 YARNS = tuple(Yarn(f"y{i}", (i * 20, 255 - i * 20, 7 * i)) for i in range(12))
 

@@ -7,9 +7,10 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from illuknit.errors import OptionError, PatternValidationError, SchedulingError
-from illuknit.knit import KNIT, PURL, MachineSpec, StitchPattern, lower_to_stitches
-from illuknit.pattern import LogicalPattern, Yarn
+from illuknit.core.errors import OptionError, PatternValidationError, SchedulingError
+from illuknit.core.machine import MachineSpec
+from illuknit.core.pattern import LogicalPattern, Yarn
+from illuknit.knit import KNIT, PURL, StitchPattern, lower_to_stitches
 
 YARNS = (Yarn("dark", (20, 20, 20)), Yarn("light", (240, 240, 240)), Yarn("mid", (128, 0, 0)))
 

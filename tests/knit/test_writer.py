@@ -13,9 +13,10 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from illuknit.knit import MachineSpec, knit_pattern
+from illuknit.core.machine import MachineSpec
+from illuknit.core.pattern import LogicalPattern, Yarn
 from illuknit.knit.knitout import format_racking
-from illuknit.pattern import LogicalPattern, Yarn
+from illuknit.knitting import knit_pattern
 
 DATA = Path(__file__).parent / "data"
 GOLDEN = DATA / "knit_tiny_single_view.k"
@@ -173,7 +174,8 @@ def test_stitch_and_speed_numbers_are_written_when_set():
 @pytest.mark.parametrize("shape", ["heart", "plus"])
 def test_single_view_compiler_output_knits_cleanly(shape):
     """The push-button single-view path end to end: drawing -> pattern -> knitout -> checks."""
-    from illuknit import drawings, single_view
+    from illuknit.design import single_view
+    from illuknit.pictures import drawings
 
     mask = drawings.draw_shape(shape, (10, 8))
     pattern = single_view.compile_single_view(mask.astype(int), yarns=YARNS[:2])

@@ -9,8 +9,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from illuknit.errors import CalibrationError
-from illuknit.render.calibrate import (
+from illuknit.core.errors import CalibrationError
+from illuknit.design.render.calibrate import (
     Measurement,
     calibration_swatch,
     disappearance_angle,
@@ -19,8 +19,8 @@ from illuknit.render.calibrate import (
     parse_measurements,
     read_measurements,
 )
-from illuknit.render.params import RenderParams
-from illuknit.render.raycast import heights_from_pattern, render_soft
+from illuknit.design.render.params import RenderParams
+from illuknit.design.render.raycast import heights_from_pattern, render_soft
 
 
 def test_swatch_layout():

@@ -9,8 +9,8 @@ import pytest
 from PIL import Image
 
 from illuknit.cli import main
-from illuknit.pattern import LogicalPattern, Yarn, save_pattern
-from illuknit.render.params import load_params
+from illuknit.core.pattern import LogicalPattern, Yarn, save_pattern
+from illuknit.design.render.params import load_params
 
 
 @pytest.fixture

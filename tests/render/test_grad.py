@@ -7,10 +7,10 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from illuknit.errors import OptionError
-from illuknit.render.grad import render_value_and_grad, render_vjp
-from illuknit.render.params import RenderParams
-from illuknit.render.raycast import render_soft
+from illuknit.core.errors import OptionError
+from illuknit.design.render.grad import render_value_and_grad, render_vjp
+from illuknit.design.render.params import RenderParams
+from illuknit.design.render.raycast import render_soft
 
 
 def _fd(fun, x, eps=1e-6):

@@ -5,12 +5,12 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from illuknit.drawings import draw_text
-from illuknit.errors import ImageInputError, OptionError, YarnSpecError
-from illuknit.pattern import LogicalPattern, parse_yarns
-from illuknit.render.optimise import DesignStep, optimise_design, targets_to_indices
-from illuknit.render.params import RenderParams
-from illuknit.views import can_see, logical_error
+from illuknit.core.errors import ImageInputError, OptionError, YarnSpecError
+from illuknit.core.pattern import LogicalPattern, parse_yarns
+from illuknit.core.views import can_see, logical_error
+from illuknit.design.render.optimise import DesignStep, optimise_design, targets_to_indices
+from illuknit.design.render.params import RenderParams
+from illuknit.pictures.drawings import draw_text
 
 YARNS = parse_yarns("white,black")
 
@@ -85,7 +85,7 @@ def test_bad_design_input(kwargs, error, message):
 
 def test_objective_gradient_matches_finite_differences():
     """The whole design objective (renders at +-theta, penalties, sigmoid/softmax) by FD."""
-    from illuknit.render.optimise import _Objective
+    from illuknit.design.render.optimise import _Objective
 
     rng = np.random.default_rng(4)
     n, m, k = 5, 4, 3

@@ -10,15 +10,16 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from illuknit.errors import OptionError, PatternValidationError, RenderParamsError
-from illuknit.pattern import LogicalPattern, Yarn
-from illuknit.render.params import (
+from illuknit.core.errors import OptionError, PatternValidationError, RenderParamsError
+from illuknit.core.pattern import LogicalPattern, Yarn
+from illuknit.core.views import can_see, seen_rows
+from illuknit.design.render.params import (
     RenderParams,
     load_params,
     params_from_json,
     save_params,
 )
-from illuknit.render.raycast import (
+from illuknit.design.render.raycast import (
     coverage,
     heights_from_pattern,
     render_at,
@@ -26,7 +27,6 @@ from illuknit.render.raycast import (
     render_soft,
     render_views,
 )
-from illuknit.views import can_see, seen_rows
 
 YARNS = (Yarn("white", (244, 240, 232)), Yarn("black", (27, 27, 27)), Yarn("red", (200, 30, 40)))
 
@@ -209,7 +209,7 @@ def test_bad_render_input():
 
 
 def test_sweep_angles_walk_from_a_through_headon_to_b():
-    from illuknit.render.raycast import render_image, sweep_angles
+    from illuknit.design.render.raycast import render_image, sweep_angles
 
     angles = sweep_angles(30, 5)
     assert angles == [30.0, 60.0, 90.0, -60.0, -30.0]

@@ -4,13 +4,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from illuknit.drawings import draw_text
-from illuknit.illusion_models import KnitWeights, build_model, make_problem
-from illuknit.model import Model
+from illuknit.core.views import can_see
+from illuknit.design.models.illusion_models import KnitWeights, build_model, make_problem
+from illuknit.design.models.model import Model
+from illuknit.pictures.drawings import draw_text
 from illuknit.solvers.base import Backend
 from illuknit.solvers.dp import solve_dp
 from illuknit.solvers.gradient import GradientBackend
-from illuknit.views import can_see
 
 
 def test_backend_contract_and_scope():

@@ -11,7 +11,7 @@ import pytest
 from PIL import Image
 
 from illuknit.cli import main
-from illuknit.pattern import load_pattern
+from illuknit.core.pattern import load_pattern
 
 FAKE = Path(__file__).parent / "fake" / "fake_maxsat.py"
 
@@ -204,8 +204,8 @@ def test_bad_input_model_arity_weights_and_time(pair, tmp_path, run_cli):
 
 def test_yarn_index_outside_the_palette_in_a_pattern_target(tmp_path):
     # the library check behind the CLI: a target index the palette cannot show
-    from illuknit.errors import ImageInputError
-    from illuknit.illusion_models import make_problem
+    from illuknit.core.errors import ImageInputError
+    from illuknit.design.models.illusion_models import make_problem
 
     with pytest.raises(ImageInputError, match="outside the palette of 2"):
         make_problem(np.zeros((2, 2), int), np.array([[0, 1], [2, 0]]), n_yarns=2)

@@ -13,15 +13,16 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from illuknit.illusion_models import (
+from illuknit.core.views import can_see
+from illuknit.design.models.illusion_models import (
     KnitWeights,
     build_model,
     color_changes_per_course,
     knit_purl_changes,
     make_problem,
 )
-from illuknit.illusion_problem import row_passes
-from illuknit.model import Model
+from illuknit.design.models.illusion_problem import row_passes
+from illuknit.design.models.model import Model
 from illuknit.solvers import (
     HERMAX_NAMES,
     available_backends,
@@ -29,7 +30,6 @@ from illuknit.solvers import (
     get_backend,
     solve,
 )
-from illuknit.views import can_see
 
 FAKE = Path(__file__).parent / "fake" / "fake_maxsat.py"
 EXTERNAL = f"wcnf:{sys.executable} {FAKE} {{}}"

@@ -9,7 +9,12 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from illuknit.illusion_models import KnitWeights, build_model, make_problem, solve_illusion
+from illuknit.design.models.illusion_models import (
+    KnitWeights,
+    build_model,
+    make_problem,
+    solve_illusion,
+)
 from illuknit.solvers import solve
 from illuknit.solvers.descent import optimise_descent
 from illuknit.solvers.descent_blocks import pattern_cost, update_rows, update_units, update_wales

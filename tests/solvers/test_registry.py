@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 import illuknit.solvers as reg
-from illuknit.errors import BackendUnavailableError, SolverError, UnknownNameError
-from illuknit.model import Model
+from illuknit.core.errors import BackendUnavailableError, SolverError, UnknownNameError
+from illuknit.design.models.model import Model
 from illuknit.solvers import (
     Backend,
     BackendBase,
@@ -88,7 +88,7 @@ def test_missing_external_binary_is_a_clear_error():
 
 
 def test_time_limit_must_be_positive():
-    from illuknit.errors import OptionError
+    from illuknit.core.errors import OptionError
 
     m = Model()
     m.add_soft([m.var("a")], 1)
@@ -97,7 +97,7 @@ def test_time_limit_must_be_positive():
 
 
 def test_auto_picks_the_dp_when_it_applies_and_refuses_it_otherwise():
-    from illuknit.illusion_models import build_model, make_problem
+    from illuknit.design.models.illusion_models import build_model, make_problem
 
     per_wale = build_model(make_problem(np.eye(3, dtype=int), np.zeros((3, 3), int)))
     assert solve(per_wale, solver="auto").backend == "dp"
@@ -125,7 +125,7 @@ def test_solution_reads_values_through_the_pool():
 
 
 def test_sat_oracles_are_chosen_by_name():
-    from illuknit.illusion_models import build_model, make_problem
+    from illuknit.design.models.illusion_models import build_model, make_problem
 
     model = build_model(make_problem(np.eye(4, dtype=int), np.ones((4, 4), int)))
     want = solve(model, solver="dp").objective

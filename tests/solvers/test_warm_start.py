@@ -6,10 +6,15 @@ import numpy as np
 import pytest
 
 import illuknit.solvers.dp as dp_mod
-from illuknit.drawings import draw_ecg, draw_heart
-from illuknit.errors import SolverError, UnknownNameError
-from illuknit.illusion_models import KnitWeights, build_model, make_problem, solve_illusion
-from illuknit.model import Model
+from illuknit.core.errors import SolverError, UnknownNameError
+from illuknit.design.models.illusion_models import (
+    KnitWeights,
+    build_model,
+    make_problem,
+    solve_illusion,
+)
+from illuknit.design.models.model import Model
+from illuknit.pictures.drawings import draw_ecg, draw_heart
 from illuknit.solvers import BackendBase, Solution, Status, solve
 from illuknit.solvers.dp import solve_dp
 

@@ -7,17 +7,17 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from illuknit.colors import luminance
-from illuknit.errors import ImageInputError, TileAssignmentError
-from illuknit.pattern import parse_yarns
-from illuknit.solvers import available_backends
-from illuknit.tiles.assign import (
+from illuknit.core.colors import luminance
+from illuknit.core.errors import ImageInputError, TileAssignmentError
+from illuknit.core.pattern import parse_yarns
+from illuknit.design.tiles.assign import (
     assign_tiles,
     brute_force_assignments,
     overlap_pairs,
 )
-from illuknit.tiles.bank import TileBank, canonical_bank
-from illuknit.tiles.tile import Tile
+from illuknit.design.tiles.bank import TileBank, canonical_bank
+from illuknit.design.tiles.tile import Tile
+from illuknit.solvers import available_backends
 
 Y2 = parse_yarns("black=#1b1b1b,white=#f4f0e8")
 Y3 = parse_yarns("black=#1b1b1b,white=#f4f0e8,red=#c03030")

@@ -11,9 +11,9 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from illuknit.errors import TileBankError
-from illuknit.pattern import parse_yarns
-from illuknit.tiles.bank import (
+from illuknit.core.errors import TileBankError
+from illuknit.core.pattern import parse_yarns
+from illuknit.design.tiles.bank import (
     bank_from_json,
     bank_to_json,
     canonical_bank,
@@ -21,7 +21,7 @@ from illuknit.tiles.bank import (
     load_bank,
     save_bank,
 )
-from illuknit.tiles.tile import Tile, tile_fills
+from illuknit.design.tiles.tile import Tile, tile_fills
 
 Y2 = parse_yarns("black=#1b1b1b,white=#f4f0e8")
 Y3 = parse_yarns("black=#1b1b1b,white=#f4f0e8,red=#c03030")
@@ -131,7 +131,7 @@ def test_one_sided_bank_has_a_solid_side():
 
 
 def test_fill_color_is_a_linear_light_mix():
-    from illuknit.colors import luminance, mix_rgb
+    from illuknit.core.colors import luminance, mix_rgb
 
     t = Tile.from_rows(["0", "1"])
     f = tile_fills(t, Y2)["A"]

@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from illuknit.colors import luminance
-from illuknit.drawings import draw_heart, draw_text
+from illuknit.core.colors import luminance
+from illuknit.pictures.drawings import draw_heart, draw_text
 
 
 def _png(path, mask, ink=(20, 20, 20), paper=(240, 240, 240)):
@@ -143,7 +143,7 @@ def test_headon_command(tmp_path, run_cli):
 
 
 def test_demo_illusion_knitting_two_yarns():
-    from illuknit.tiles.demos import text_pair_demo
+    from illuknit.design.tiles.demos import text_pair_demo
 
     r = text_pair_demo((24, 96), candidates=2)
     assert len(r.yarns) == 2 and len(r.pattern.yarns) == 2
@@ -152,13 +152,13 @@ def test_demo_illusion_knitting_two_yarns():
         assert c.fills_a[1].brightness < c.fills_a[0].brightness
         assert c.fills_b[1].brightness < c.fills_b[0].brightness
     # the two views really differ where the words differ
-    from illuknit.views import can_see
+    from illuknit.core.views import can_see
 
     assert (can_see(r.pattern, "A") != can_see(r.pattern, "B")).any()
 
 
 def test_demo_skimage_pair_three_yarns():
-    from illuknit.tiles.demos import skimage_pair_demo
+    from illuknit.design.tiles.demos import skimage_pair_demo
 
     r = skimage_pair_demo((24, 32), candidates=2)
     assert len(r.yarns) == 3

@@ -7,14 +7,14 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from illuknit.errors import TileAssignmentError
-from illuknit.pattern import parse_yarns
-from illuknit.tiles.assign import assign_tiles
-from illuknit.tiles.bank import canonical_bank
-from illuknit.tiles.compile import compile_tiles, repainted_indices, repainted_rgb
-from illuknit.tiles.headon import assign_headon
-from illuknit.tiles.tile import tile_fills
-from illuknit.views import can_see
+from illuknit.core.errors import TileAssignmentError
+from illuknit.core.pattern import parse_yarns
+from illuknit.core.views import can_see
+from illuknit.design.tiles.assign import assign_tiles
+from illuknit.design.tiles.bank import canonical_bank
+from illuknit.design.tiles.compile import compile_tiles, repainted_indices, repainted_rgb
+from illuknit.design.tiles.headon import assign_headon
+from illuknit.design.tiles.tile import tile_fills
 
 Y2 = parse_yarns("black=#1b1b1b,white=#f4f0e8")
 Y3 = parse_yarns("black=#1b1b1b,white=#f4f0e8,red=#c03030")
@@ -148,7 +148,7 @@ def test_repainted_pictures():
 
 
 def test_headon_picture_disappears_at_an_angle():
-    from illuknit.drawings import draw_heart
+    from illuknit.pictures.drawings import draw_heart
 
     front = draw_heart((24, 20)).astype(np.int16)
     cols = np.array([[240, 240, 240], [20, 20, 20]], np.uint8)
@@ -180,7 +180,7 @@ def test_headon_picture_disappears_at_an_angle():
 
 
 def test_headon_with_a_side_picture():
-    from illuknit.drawings import draw_circle, draw_heart
+    from illuknit.pictures.drawings import draw_circle, draw_heart
 
     front = draw_heart((18, 18)).astype(np.int16)
     side = draw_circle((18, 18)).astype(np.int16)

@@ -11,18 +11,18 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from PIL import Image
 
-from illuknit.errors import OptionError
-from illuknit.tiles.overlaps import RARE_SHARE, group_overlaps
+from illuknit.core.errors import OptionError
+from illuknit.design.tiles.overlaps import RARE_SHARE, group_overlaps
 
 
 @cache
 def _photo_design():
     """The best tile design of the bundled coffee / chelsea photos at 4 colours each, on the
     4 yarns ``illuknit double --colors 4`` chooses."""
-    from illuknit.drawings import skimage_image
-    from illuknit.images import quantise_image
-    from illuknit.tiles.assign import assign_tiles
-    from illuknit.tiles.yarn_choice import choose_yarns
+    from illuknit.design.tiles.assign import assign_tiles
+    from illuknit.design.tiles.yarn_choice import choose_yarns
+    from illuknit.pictures.drawings import skimage_image
+    from illuknit.pictures.images import quantise_image
 
     pictures = [skimage_image(n, (24, 32)) for n in ("coffee", "chelsea")]
     qa, qb = (quantise_image(p, n_colors=4) for p in pictures)
@@ -32,7 +32,7 @@ def _photo_design():
 @given(st.floats(0, 1), st.sampled_from(["A", "B", "both"]))
 @settings(max_examples=40, deadline=None)
 def test_groups_and_rare_line_partition_the_overlaps(rare_share, by):
-    from illuknit.tiles.assignment import overlap_pairs
+    from illuknit.design.tiles.assignment import overlap_pairs
 
     design = _photo_design()
     table = group_overlaps(design, by=by, rare_share=rare_share)
@@ -94,7 +94,7 @@ def test_bad_options_are_option_errors():
 
 
 def test_double_writes_the_grouped_table(tmp_path, run_cli):
-    from illuknit.drawings import skimage_image
+    from illuknit.pictures.drawings import skimage_image
 
     for name, photo in (("a.png", "coffee"), ("b.png", "chelsea")):
         pic = (skimage_image(photo, (24, 32)) * 255).round().astype(np.uint8)

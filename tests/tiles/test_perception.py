@@ -10,10 +10,10 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from PIL import Image
 
-from illuknit.errors import OptionError
-from illuknit.pattern import LogicalPattern, parse_yarns
-from illuknit.tiles.assign import assign_tiles
-from illuknit.tiles.perception import (
+from illuknit.core.errors import OptionError
+from illuknit.core.pattern import LogicalPattern, parse_yarns
+from illuknit.design.tiles.assign import assign_tiles
+from illuknit.design.tiles.perception import (
     CONTRAST_FLOOR,
     RANK_KEYS,
     CandidateMeasures,

@@ -12,8 +12,8 @@ from hypothesis.extra.numpy import arrays
 from PIL import Image
 from scipy import ndimage
 
-from illuknit.errors import OptionError
-from illuknit.tiles.simplify import (
+from illuknit.core.errors import OptionError
+from illuknit.design.tiles.simplify import (
     EDIT_KINDS,
     MIN_GAIN,
     apply_edits,
@@ -125,13 +125,13 @@ def test_double_suggest_writes_before_after_and_simplify_designs_with_kept_edits
 
 
 def _photos(shape=(24, 32)):
-    from illuknit.drawings import skimage_image
+    from illuknit.pictures.drawings import skimage_image
 
     return skimage_image("coffee", shape), skimage_image("chelsea", shape)
 
 
 def test_requantise_rereads_the_sources_with_one_colour_fewer_or_more():
-    from illuknit.images import quantise_image
+    from illuknit.pictures.images import quantise_image
 
     src = _photos()
     qa, qb = (quantise_image(s, n_colors=3) for s in src)
@@ -160,8 +160,8 @@ def test_requantise_rereads_the_sources_with_one_colour_fewer_or_more():
 
 
 def test_requantise_checks_the_sources_shape():
-    from illuknit.errors import ImageInputError
-    from illuknit.images import quantise_image
+    from illuknit.core.errors import ImageInputError
+    from illuknit.pictures.images import quantise_image
 
     src = _photos()
     qa, qb = (quantise_image(s, n_colors=3) for s in src)
@@ -172,7 +172,7 @@ def test_requantise_checks_the_sources_shape():
 @given(st.lists(st.floats(0, 1), min_size=8, max_size=8))
 @settings(max_examples=15, deadline=None)
 def test_at_most_one_requantisation_is_kept_and_only_when_it_reads_better(scores):
-    from illuknit.images import quantise_image
+    from illuknit.pictures.images import quantise_image
 
     src = _photos((12, 16))
     qa, qb = (quantise_image(s, n_colors=3) for s in src)
@@ -198,8 +198,8 @@ def test_at_most_one_requantisation_is_kept_and_only_when_it_reads_better(scores
 
 
 def test_review_edits_on_real_photos_keeps_only_what_raises_readability():
-    from illuknit.images import quantise_image
-    from illuknit.tiles.simplify import review_edits
+    from illuknit.design.tiles.simplify import review_edits
+    from illuknit.pictures.images import quantise_image
 
     src = _photos((20, 30))
     qa, qb = (quantise_image(s, n_colors=3) for s in src)
@@ -220,8 +220,8 @@ def test_review_edits_on_real_photos_keeps_only_what_raises_readability():
 def test_review_edits_reports_progress_without_changing_its_results(apply):
     """The progress hook sees every measurement, rising in [0, 1), names each suggestion it
     measures; the review is the same with and without it; raising from it stops the review."""
-    from illuknit.images import quantise_image
-    from illuknit.tiles.simplify import review_edits
+    from illuknit.design.tiles.simplify import review_edits
+    from illuknit.pictures.images import quantise_image
 
     src = _photos((20, 30))
     qa, qb = (quantise_image(s, n_colors=3) for s in src)
@@ -303,6 +303,6 @@ def test_double_simplify_designs_with_a_kept_requantisation(tmp_path, run_cli):
 
 def data_picture(name: str) -> np.ndarray:
     """A bundled scikit-image picture at its own size, uint8 RGB."""
-    from illuknit.drawings import skimage_image
+    from illuknit.pictures.drawings import skimage_image
 
     return (skimage_image(name) * 255).round().astype(np.uint8)

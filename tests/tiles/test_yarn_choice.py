@@ -8,16 +8,16 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from illuknit.colors import lab_from_rgb, luminance
-from illuknit.errors import YarnSpecError
-from illuknit.tiles.yarn_choice import SAME_COLOUR_LAB, choose_yarns, picture_extremes
+from illuknit.core.colors import lab_from_rgb, luminance
+from illuknit.core.errors import YarnSpecError
+from illuknit.design.tiles.yarn_choice import SAME_COLOUR_LAB, choose_yarns, picture_extremes
 
 
 def _logo_and_photo() -> list[np.ndarray]:
     """Picture A of the bundled logos-4 instance (white background, red and blue logo) and the
     bundled coffee photo: clustered jointly into 4 colours, the photo's lightest is lost."""
     from illuknit.bench.instances import instance_targets, load_manifest
-    from illuknit.drawings import skimage_image
+    from illuknit.pictures.drawings import skimage_image
 
     logo = instance_targets(load_manifest().get("logos-4")).rgb("A")
     photo = skimage_image("coffee", logo.shape[:2])
@@ -38,7 +38,7 @@ def _worst_miss(pictures: list[np.ndarray], yarn_rgb: np.ndarray) -> float:
 def test_double_with_four_colours_keeps_both_pictures_lightest_and_darkest(tmp_path, run_cli):
     pictures = _logo_and_photo()
     # the pair is a real test: yarns from joint clusters alone lose an extreme
-    from illuknit.images import quantise_image
+    from illuknit.pictures.images import quantise_image
 
     joint = quantise_image(np.concatenate(pictures) / 255.0, n_colors=4).colors
     assert _worst_miss(pictures, joint) > 2 * SAME_COLOUR_LAB

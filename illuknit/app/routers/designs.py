@@ -16,7 +16,7 @@ from illuknit.app.lookups import (
 )
 from illuknit.app.measures import order_candidates
 from illuknit.app.schemas import OverrideIn, SelectionIn
-from illuknit.errors import AppRequestError
+from illuknit.core.errors import AppRequestError
 
 __all__ = ["router"]
 
@@ -111,7 +111,7 @@ def render(
         None, ge=1, title="Candidate", description="rank; default: the picked one"
     ),
 ) -> Response:
-    from illuknit.knit.machine import get_machine
+    from illuknit.core.machine import get_machine
 
     pattern = current_pattern(s, candidate)
     aspect = get_machine(s.settings.machine).fabric_gauge.unit_aspect
@@ -133,8 +133,8 @@ def diagnostic(
     angle: float = Query(30.0, gt=0, le=90, title="Viewing angle"),
     candidate: int | None = Query(None, ge=1, title="Candidate"),
 ) -> Response:
-    from illuknit.previews import upscale
-    from illuknit.tiles.perception import diagnostic_rgb
+    from illuknit.design.tiles.perception import diagnostic_rgb
+    from illuknit.outputs.previews import upscale
 
     pattern = current_pattern(s, candidate)
     picture, other = diagnosed_pictures(prepared_of(s), view)

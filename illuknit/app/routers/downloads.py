@@ -10,9 +10,9 @@ from illuknit.app import design
 from illuknit.app.knitting import CheckedKnitout, machine_file
 from illuknit.app.lookups import SessionDep, current_pattern
 from illuknit.app.sessions import Session
-from illuknit.errors import AppRequestError
-from illuknit.knit.machine import get_machine
-from illuknit.pattern import LogicalPattern
+from illuknit.core.errors import AppRequestError
+from illuknit.core.machine import get_machine
+from illuknit.core.pattern import LogicalPattern
 
 __all__ = ["DOWNLOADS", "router"]
 
@@ -96,8 +96,8 @@ def download(
             "text/plain; charset=utf-8",
         )
     if name in ("pattern.pdf", "chart.svg"):
-        from illuknit.knit.machine import get_machine
-        from illuknit.pattern_pdf import chart_svg, pattern_pdf
+        from illuknit.core.machine import get_machine
+        from illuknit.outputs.pattern_pdf import chart_svg, pattern_pdf
 
         with s.lock:
             gauge = get_machine(s.settings.machine).fabric_gauge

@@ -16,7 +16,7 @@ from illuknit.app.jobs import Job
 from illuknit.app.lookups import SessionDep, runner_of, state_json, store_of
 from illuknit.app.routers.jobs import start_candidates
 from illuknit.app.sessions import Session
-from illuknit.errors import AppRequestError
+from illuknit.core.errors import AppRequestError
 
 __all__ = ["router"]
 

@@ -11,7 +11,7 @@ from illuknit.app.lookups import SessionDep, current_pattern, prepared_of, runne
 from illuknit.app.measures import measure_candidate
 from illuknit.app.schemas import JobIn
 from illuknit.app.sessions import Session, SessionStore
-from illuknit.errors import AppRequestError
+from illuknit.core.errors import AppRequestError
 
 __all__ = ["router"]
 

@@ -8,7 +8,7 @@ from fastapi.responses import Response
 from illuknit.app import design
 from illuknit.app.lookups import SessionDep, check_slot, prepared_of, state_json, store_of
 from illuknit.app.sessions import UploadedImage
-from illuknit.errors import AppRequestError
+from illuknit.core.errors import AppRequestError
 
 __all__ = ["router"]
 
@@ -74,8 +74,8 @@ def delete_image(s: SessionDep, slot: str) -> dict[str, Any]:
 
 @router.get("/inputs", summary="Quantise the pictures under the settings: sizes and legends")
 def get_inputs(s: SessionDep) -> dict[str, Any]:
-    from illuknit.gauge import finished_size
-    from illuknit.knit.machine import get_machine
+    from illuknit.core.gauge import finished_size
+    from illuknit.core.machine import get_machine
 
     with s.lock:
         p = prepared_of(s)

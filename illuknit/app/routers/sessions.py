@@ -8,8 +8,8 @@ from illuknit.app import design
 from illuknit.app.lookups import SessionDep, state_json, store_of
 from illuknit.app.schemas import DesignSettings, SettingsPatch
 from illuknit.app.sessions import SessionStore
-from illuknit.errors import AppRequestError
-from illuknit.pattern import parse_yarns
+from illuknit.core.errors import AppRequestError
+from illuknit.core.pattern import parse_yarns
 
 __all__ = ["router"]
 

@@ -11,7 +11,7 @@ from illuknit import __version__
 from illuknit.app import design
 from illuknit.app.knitting import machines_json
 from illuknit.app.schemas import DesignSettings
-from illuknit.pattern import MAX_UNITS
+from illuknit.core.pattern import MAX_UNITS
 
 __all__ = ["STATIC_DIR", "api_docs_html", "mount_static", "router"]
 

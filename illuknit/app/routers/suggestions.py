@@ -23,7 +23,7 @@ from illuknit.app.suggestions import (
     SupersededError,
     colour_counts,
 )
-from illuknit.errors import AppRequestError
+from illuknit.core.errors import AppRequestError
 
 __all__ = ["router"]
 
@@ -101,7 +101,7 @@ def get_suggestions(s: SessionDep) -> dict[str, Any]:
 def get_preview(
     s: SessionDep, edit_id: str, slot: str, which: Literal["before", "after"]
 ) -> Response:
-    from illuknit.previews import upscale
+    from illuknit.outputs.previews import upscale
 
     check_slot(slot)
     with s.lock:
@@ -145,8 +145,8 @@ def accept(request: Request, s: SessionDep, edit_id: str) -> dict[str, Any]:
         s.remember(edit.description)  # the design as it is, for Undo
         if recount:
             s.settings = settings.model_copy(update={"n_colors": colors})
-        from illuknit.knit.machine import get_machine
-        from illuknit.sizing import grid_picture
+        from illuknit.core.machine import get_machine
+        from illuknit.pictures.sizing import grid_picture
 
         # the edit is on the unit grid: kept in the fabric's proportions, so that sizing it
         # again gives this grid back (not 1 / 0.7 of its rows)

@@ -1,0 +1,153 @@
+"""Fingerprint of what the CLI writes: sha256 of every file a fixed set of commands writes.
+
+A change that should not change any output (moving modules, splitting functions, renaming) is
+checked by running this before and after and comparing the two listings (``diff``). The commands
+cover every writer: the demo, a single-view design, double-view designs knitted for two machines
+(knitout, Shima ``.dat``, Kniterate ``.kc``), a head-on design, a constraint solve, ``knit`` to each
+machine format, ``view`` and ``tiles``. The input pictures are drawn here with Pillow, so nothing
+depends on the package's own drawing code.
+
+Two things differ between runs and are blanked before hashing: the folder the run wrote into
+(pattern files record the pictures' resolved paths) and the solver's clock readings in
+``report.json`` (``wall_time``, ``found_at``, ``finished_at``). Everything else must match byte for
+byte.
+
+Run: ``python benchmarks/output_hashes.py [--keep DIR]`` from the repository root (the commands run
+``python -m illuknit`` with this checkout first on ``PYTHONPATH``).
+"""
+
+from __future__ import annotations
+
+import argparse
+import hashlib
+import os
+import re
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+from PIL import Image, ImageDraw
+
+REPO = Path(__file__).resolve().parents[1]
+
+# Clock readings a solve records; their values are blanked before hashing.
+CLOCK = re.compile(rb'"(wall_time|found_at|finished_at)": [^,\n]*')
+
+
+def pictures(folder: Path) -> tuple[Path, Path]:
+    """A disc and a plus sign, 60 x 60 pixels, two colours each."""
+    a = Image.new("RGB", (60, 60), (244, 240, 232))
+    ImageDraw.Draw(a).ellipse((10, 10, 50, 50), fill=(27, 27, 27))
+    b = Image.new("RGB", (60, 60), (244, 240, 232))
+    draw = ImageDraw.Draw(b)
+    draw.rectangle((24, 6, 36, 54), fill=(27, 27, 27))
+    draw.rectangle((6, 24, 54, 36), fill=(27, 27, 27))
+    pa, pb = folder / "disc.png", folder / "plus.png"
+    a.save(pa)
+    b.save(pb)
+    return pa, pb
+
+
+def commands(inputs: Path, out: Path) -> list[list[str]]:
+    a, b = pictures(inputs)
+    design = ["--width", "24", "--candidates", "2", "--pool", "2"]
+    return [
+        ["demo", "-o", str(out / "demo"), "--width", "24", "--format", "dat"],
+        ["single", str(a), "--width", "24", "-o", str(out / "single"), "--knitout"],
+        [
+            "double",
+            str(a),
+            str(b),
+            *design,
+            "-o",
+            str(out / "double-swg"),
+            "--knitout",
+            "--machine",
+            "swg091n2",
+            "--format",
+            "dat",
+        ],
+        [
+            "double",
+            str(a),
+            str(b),
+            *design,
+            "-o",
+            str(out / "double-kn"),
+            "--knitout",
+            "--machine",
+            "kniterate",
+            "--format",
+            "kc",
+        ],
+        ["headon", str(a), *design, "-o", str(out / "headon"), "--knitout"],
+        [
+            "solve",
+            str(a),
+            str(b),
+            "--solver",
+            "dp",
+            "--width",
+            "20",
+            "-o",
+            str(out / "solve"),
+            "--knitout",
+        ],
+        [
+            "knit",
+            str(out / "double-swg" / "pattern.json"),
+            "-o",
+            str(out / "knit" / "swg.dat"),
+            "--machine",
+            "swg091n2",
+            "--format",
+            "dat",
+        ],
+        [
+            "knit",
+            str(out / "double-swg" / "pattern.json"),
+            "-o",
+            str(out / "knit" / "kn.k"),
+            "--machine",
+            "kniterate",
+            "--format",
+            "kc",
+        ],
+        ["view", str(out / "solve" / "pattern.json"), "-o", str(out / "view")],
+        ["tiles", "-o", str(out / "tiles")],
+    ]
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--keep", type=Path, help="write the outputs here and keep them")
+    args = parser.parse_args()
+    env = dict(os.environ, PYTHONPATH=str(REPO) + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    with tempfile.TemporaryDirectory() as tmp:
+        root = args.keep or Path(tmp)
+        inputs, out = root / "inputs", root / "out"
+        inputs.mkdir(parents=True, exist_ok=True)
+        out.mkdir(parents=True, exist_ok=True)
+        failed = 0
+        for argv in commands(inputs, out):
+            run = subprocess.run(
+                [sys.executable, "-m", "illuknit", *argv],
+                env=env,
+                cwd=root,
+                capture_output=True,
+                text=True,
+            )
+            print(f"# exit {run.returncode}: illuknit {argv[0]}", flush=True)
+            failed += run.returncode != 0
+        for path in sorted(p for p in out.rglob("*") if p.is_file()):
+            name = path.relative_to(out).as_posix()
+            data = path.read_bytes().replace(str(root.resolve()).encode(), b"<root>")
+            if path.suffix == ".json":
+                data = CLOCK.sub(rb'"\1": _', data)
+            print(f"{hashlib.sha256(data).hexdigest()}  {name}")
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,338 @@
+"""The logical illusion pattern (paper section 4.2) and its JSON file format.
+
+A :class:`LogicalPattern` is an N x M grid of *units*. Each unit has a yarn index into the pattern's
+palette and a *raised* flag (a bump that occludes the next unit along the wale, seen from an
+angle). One unit becomes a 2 x 2 block of stitches when lowered for knitting.
+
+Orientation, used everywhere in illuknit (see the README figure):
+
+* arrays are indexed ``[row, col]`` in *picture order*: row 0 is the top edge of the piece as it
+  hangs, column 0 its left edge seen from the technical face;
+* view A is seen from above (looking down the wales from the top edge), view B from below;
+  both come out upright, in the same ``[row, col]`` order as the pattern and the target images;
+* the machine knits from the bottom edge up: course 0 is pattern row N-1.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from types import MappingProxyType
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from illuknit.core.colors import color_name, hex_color, luminance, parse_color
+from illuknit.core.errors import PatternFormatError, PatternValidationError, YarnSpecError
+from illuknit.core.files import atomic_write_text
+
+__all__ = [
+    "FORMAT_NAME",
+    "FORMAT_VERSION",
+    "MAX_UNITS",
+    "MAX_YARNS",
+    "LogicalPattern",
+    "Yarn",
+    "load_pattern",
+    "parse_yarns",
+    "pattern_from_json",
+    "pattern_to_json",
+    "save_pattern",
+]
+
+FORMAT_NAME = "illuknit-pattern"
+FORMAT_VERSION = 1
+#: Yarn indices are written as one base-36 digit per unit.
+MAX_YARNS = 36
+#: No knitting bed is wider than this many units (2000 needles); also a sanity cap on height.
+MAX_UNITS = 1000
+_DIGITS = "0123456789abcdefghijklmnopqrstuvwxyz"
+
+
+@dataclass(frozen=True)
+class Yarn:
+    """A yarn: a display name and its sRGB colour."""
+
+    name: str
+    rgb: tuple[int, int, int]
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.name, str) or not self.name.strip():
+            raise YarnSpecError("yarn name must be a non-empty string")
+        rgb = tuple(int(v) for v in self.rgb)
+        if len(rgb) != 3 or any(v < 0 or v > 255 for v in rgb):
+            raise YarnSpecError(
+                f"yarn {self.name!r}: rgb must be 3 integers in 0..255, got {self.rgb!r}"
+            )
+        object.__setattr__(self, "rgb", rgb)
+
+    @property
+    def hex(self) -> str:
+        return hex_color(self.rgb)
+
+    @classmethod
+    def from_string(cls, text: str, *, name: str | None = None) -> Yarn:
+        """A yarn from a colour string; named after the colour when no name is given."""
+        rgb = parse_color(text)
+        if name is None:
+            s = text.strip()
+            name = s if not s.startswith(("#", "rgb")) else color_name(rgb)
+        return cls(name=name, rgb=rgb)
+
+
+def parse_yarns(spec: str | Sequence[str]) -> tuple[Yarn, ...]:
+    """Parse ``"#1b1b1b,#f4f0e8"`` or ``["navy", "white"]`` into yarns.
+
+    ``name=#rrggbb`` gives a yarn an explicit name. Raises :class:`YarnSpecError` on an unknown
+    colour, fewer than one yarn, or two yarns with the same colour.
+    """
+    items = [s for s in (spec.split(",") if isinstance(spec, str) else spec)]
+    items = [s.strip() for s in items if s.strip()]
+    if not items:
+        raise YarnSpecError("no yarn colours given")
+    yarns = []
+    for item in items:
+        if "=" in item:
+            name, _, col = item.partition("=")
+            yarns.append(Yarn.from_string(col, name=name.strip()))
+        else:
+            yarns.append(Yarn.from_string(item))
+    return _dedupe_yarns(tuple(yarns))
+
+
+def _dedupe_yarns(yarns: tuple[Yarn, ...]) -> tuple[Yarn, ...]:
+    seen: dict[tuple[int, int, int], str] = {}
+    for y in yarns:
+        if y.rgb in seen:
+            raise YarnSpecError(f"duplicate yarn colour {y.hex} ({seen[y.rgb]!r} and {y.name!r})")
+        seen[y.rgb] = y.name
+    names: dict[str, int] = {}
+    out = []
+    for y in yarns:
+        n = names.get(y.name, 0)
+        names[y.name] = n + 1
+        out.append(y if n == 0 else Yarn(f"{y.name} {n + 1}", y.rgb))
+    return tuple(out)
+
+
+def _readonly(a: NDArray[Any]) -> NDArray[Any]:
+    a = np.array(a, copy=True)
+    a.setflags(write=False)
+    return a
+
+
+@dataclass(frozen=True, eq=False)
+class LogicalPattern:
+    """An N x M logical illusion pattern.
+
+    Parameters
+    ----------
+    yarn : ndarray of shape (N, M), integer
+        Yarn index of each unit, into ``yarns``.
+    raised : ndarray of shape (N, M), bool
+        True where the unit is a bump (a knit with a purl child), False where it is flat.
+    yarns : sequence of Yarn
+        The palette; at least one yarn, all colours distinct.
+    meta : mapping, optional
+        JSON-serialisable provenance (which compiler or solver made it, with what settings).
+
+    Examples
+    --------
+    >>> p = LogicalPattern(np.zeros((2, 3), int), np.zeros((2, 3), bool), (Yarn("white", (255, 255, 255)),))
+    >>> p.shape
+    (2, 3)
+    """
+
+    yarn: NDArray[np.int16]
+    raised: NDArray[np.bool_]
+    yarns: tuple[Yarn, ...]
+    meta: Mapping[str, Any] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        yarn = np.asarray(self.yarn)
+        raised = np.asarray(self.raised)
+        if yarn.ndim != 2:
+            raise PatternValidationError(f"`yarn` must be 2-D (N, M), got shape {yarn.shape}")
+        if raised.shape != yarn.shape:
+            raise PatternValidationError(
+                f"`raised` must have the shape of `yarn` {yarn.shape}, got {raised.shape}"
+            )
+        if yarn.size == 0:
+            raise PatternValidationError(
+                f"pattern must have at least one unit, got shape {yarn.shape}"
+            )
+        if max(yarn.shape) > MAX_UNITS:
+            raise PatternValidationError(
+                f"pattern of {yarn.shape[0]} x {yarn.shape[1]} units exceeds the {MAX_UNITS}-unit limit"
+            )
+        if not np.issubdtype(yarn.dtype, np.integer):
+            if np.issubdtype(yarn.dtype, np.floating) and np.all(np.mod(yarn, 1) == 0):
+                yarn = yarn.astype(np.int64)
+            else:
+                raise PatternValidationError(f"`yarn` must hold integers, got dtype {yarn.dtype}")
+        if raised.dtype != np.bool_:
+            if not np.all(np.isin(raised, (0, 1))):
+                raise PatternValidationError("`raised` must hold booleans (or 0/1)")
+            raised = raised.astype(bool)
+        yarns = tuple(self.yarns)
+        if not yarns or not all(isinstance(y, Yarn) for y in yarns):
+            raise PatternValidationError("`yarns` must be a non-empty sequence of Yarn")
+        if len(yarns) > MAX_YARNS:
+            raise PatternValidationError(f"at most {MAX_YARNS} yarns, got {len(yarns)}")
+        if len({y.rgb for y in yarns}) != len(yarns):
+            raise PatternValidationError("`yarns` must have distinct colours")
+        lo, hi = int(yarn.min()), int(yarn.max())
+        if lo < 0 or hi >= len(yarns):
+            raise PatternValidationError(
+                f"yarn indices must lie in 0..{len(yarns) - 1}, got values in {lo}..{hi}"
+            )
+        object.__setattr__(self, "yarn", _readonly(yarn.astype(np.int16)))
+        object.__setattr__(self, "raised", _readonly(raised))
+        object.__setattr__(self, "yarns", yarns)
+        object.__setattr__(self, "meta", MappingProxyType(dict(self.meta)))
+
+    # -- convenience -------------------------------------------------------------------------
+    @property
+    def shape(self) -> tuple[int, int]:
+        """(rows N, columns M) in units."""
+        return (int(self.yarn.shape[0]), int(self.yarn.shape[1]))
+
+    @property
+    def palette(self) -> NDArray[np.uint8]:
+        """ndarray of shape (K, 3): the yarns' sRGB colours."""
+        return np.array([y.rgb for y in self.yarns], dtype=np.uint8)
+
+    @property
+    def brightness(self) -> NDArray[np.float64]:
+        """ndarray of shape (K,): relative luminance of each yarn."""
+        return luminance(self.palette)
+
+    def rgb(self, indices: ArrayLike | None = None) -> NDArray[np.uint8]:
+        """Colour an index image (default: the head-on yarn grid) with the palette."""
+        idx = self.yarn if indices is None else np.asarray(indices)
+        return self.palette[idx]
+
+    def replace(self, **changes: Any) -> LogicalPattern:
+        """A copy with some fields replaced (the pattern itself is immutable)."""
+        kw: dict[str, Any] = {
+            "yarn": self.yarn,
+            "raised": self.raised,
+            "yarns": self.yarns,
+            "meta": dict(self.meta),
+        }
+        kw.update(changes)
+        return LogicalPattern(**kw)
+
+    def __eq__(self, other: object) -> bool:
+        if not isinstance(other, LogicalPattern):
+            return NotImplemented
+        return (
+            self.yarns == other.yarns
+            and np.array_equal(self.yarn, other.yarn)
+            and np.array_equal(self.raised, other.raised)
+            and dict(self.meta) == dict(other.meta)
+        )
+
+    __hash__ = None  # type: ignore[assignment]
+
+    def __repr__(self) -> str:
+        n, m = self.shape
+        names = ", ".join(y.name for y in self.yarns)
+        return f"LogicalPattern({n}x{m} units, yarns=[{names}], raised={int(self.raised.sum())})"
+
+
+# -- JSON format ------------------------------------------------------------------------------
+
+
+def pattern_to_json(pattern: LogicalPattern) -> dict[str, Any]:
+    """The pattern as a JSON-ready dict (format ``illuknit-pattern`` version 1).
+
+    Layout::
+
+        {"format": "illuknit-pattern", "version": 1, "rows": N, "cols": M,
+         "yarns": [{"name": "black", "rgb": "#1b1b1b"}, ...],
+         "yarn":   ["0101...", ...],   # N strings of M base-36 digits (yarn index per unit)
+         "raised": ["0010...", ...],   # N strings of M '0'/'1'
+         "meta": {...}}
+
+    Rows are in picture order (row 0 = top edge as the piece hangs).
+    """
+    n, m = pattern.shape
+    digits = np.array(list(_DIGITS))
+    return {
+        "format": FORMAT_NAME,
+        "version": FORMAT_VERSION,
+        "rows": n,
+        "cols": m,
+        "yarns": [{"name": y.name, "rgb": y.hex} for y in pattern.yarns],
+        "yarn": ["".join(row) for row in digits[pattern.yarn]],
+        "raised": ["".join(row) for row in np.where(pattern.raised, "1", "0")],
+        "meta": dict(pattern.meta),
+    }
+
+
+def pattern_from_json(doc: Any) -> LogicalPattern:
+    """Inverse of :func:`pattern_to_json`; raises :class:`PatternFormatError` on any problem."""
+    if not isinstance(doc, dict):
+        raise PatternFormatError("pattern file must hold a JSON object")
+    if doc.get("format") != FORMAT_NAME:
+        raise PatternFormatError(f"not an illuknit pattern (format is {doc.get('format')!r})")
+    if doc.get("version") != FORMAT_VERSION:
+        raise PatternFormatError(
+            f"pattern format version {doc.get('version')!r} is not supported (this illuknit reads version {FORMAT_VERSION})"
+        )
+    try:
+        n, m = int(doc["rows"]), int(doc["cols"])
+        yarns = tuple(Yarn(str(y["name"]), parse_color(str(y["rgb"]))) for y in doc["yarns"])
+        rows_y, rows_r = list(doc["yarn"]), list(doc["raised"])
+        meta = doc.get("meta", {})
+    except (KeyError, TypeError, ValueError) as e:
+        raise PatternFormatError(f"malformed pattern file: {e}") from None
+    if len(rows_y) != n or len(rows_r) != n:
+        raise PatternFormatError(
+            f"pattern declares {n} rows but holds {len(rows_y)} / {len(rows_r)}"
+        )
+    lookup = np.full(128, -1, dtype=np.int16)
+    for i, ch in enumerate(_DIGITS):
+        lookup[ord(ch)] = i
+    yarn = np.empty((n, m), dtype=np.int16)
+    raised = np.empty((n, m), dtype=bool)
+    for i, (ry, rr) in enumerate(zip(rows_y, rows_r, strict=True)):
+        if not isinstance(ry, str) or not isinstance(rr, str) or len(ry) != m or len(rr) != m:
+            raise PatternFormatError(f"row {i}: expected two strings of {m} characters")
+        codes = np.frombuffer(ry.lower().encode("ascii", "replace"), dtype=np.uint8)
+        vals = lookup[np.minimum(codes, 127)]
+        if (vals < 0).any():
+            raise PatternFormatError(f"row {i}: yarn digits must be 0-9 or a-z")
+        yarn[i] = vals
+        if set(rr) - {"0", "1"}:
+            raise PatternFormatError(f"row {i}: raised flags must be '0' or '1'")
+        raised[i] = np.frombuffer(rr.encode(), dtype=np.uint8) == ord("1")
+    if not isinstance(meta, dict):
+        raise PatternFormatError("`meta` must be a JSON object")
+    if yarn.size and int(yarn.max()) >= len(yarns):
+        raise PatternFormatError(
+            f"yarn index {int(yarn.max())} is out of range: the palette has {len(yarns)} yarn(s)"
+        )
+    try:
+        return LogicalPattern(yarn, raised, yarns, meta)
+    except (PatternValidationError, YarnSpecError) as e:
+        raise PatternFormatError(f"invalid pattern: {e}") from None
+
+
+def save_pattern(pattern: LogicalPattern, path: str | os.PathLike[str]) -> None:
+    """Write a pattern as JSON (atomically)."""
+    atomic_write_text(path, json.dumps(pattern_to_json(pattern), indent=1) + "\n")
+
+
+def load_pattern(path: str | os.PathLike[str]) -> LogicalPattern:
+    """Read a pattern written by :func:`save_pattern`.
+
+    Raises :class:`PatternFormatError` for a missing, unreadable, malformed or other-version file.
+    """
+    from illuknit.core.documents import read_json_file
+
+    return pattern_from_json(read_json_file(path, error=PatternFormatError, what="pattern"))

@@ -1,0 +1,146 @@
+"""can_see: which unit a viewer sees, in the boolean model of paper sections 4.2 and 5.
+
+Arrays are in picture order (row 0 = top edge as the piece hangs; see :mod:`illuknit.core.pattern`).
+
+* **View A** is seen from above, looking down the wales from the top edge. Row ``i-1`` lies between
+  the viewer and row ``i``, so a raised unit hides the unit below it::
+
+      VA[0] = C[0];   VA[i] = C[i-1] if R[i-1] else C[i]
+
+* **View B** is seen from below, looking up the wales from the bottom edge::
+
+      VB[N-1] = C[N-1];   VB[i] = C[i+1] if R[i+1] else C[i]
+
+* **Head-on**, every unit is seen: ``VH = C``.
+
+Each wale (column) is independent. All functions are vectorised over the whole grid.
+"""
+
+from __future__ import annotations
+
+from typing import Literal
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from illuknit.core.errors import ImageInputError, OptionError, PatternValidationError
+from illuknit.core.pattern import LogicalPattern
+
+__all__ = [
+    "VIEWS",
+    "View",
+    "can_see",
+    "logical_error",
+    "seen_rows",
+    "view_a",
+    "view_b",
+    "view_headon",
+    "views",
+]
+
+View = Literal["A", "B", "headon"]
+VIEWS: tuple[View, ...] = ("A", "B", "headon")
+
+
+def _arrays(pattern_or_yarn: LogicalPattern | ArrayLike, raised: ArrayLike | None):
+    if isinstance(pattern_or_yarn, LogicalPattern):
+        return pattern_or_yarn.yarn, pattern_or_yarn.raised
+    c = np.asarray(pattern_or_yarn)
+    if raised is None:
+        raise PatternValidationError("`raised` is required when passing a yarn array")
+    r = np.asarray(raised, dtype=bool)
+    if c.ndim != 2 or r.shape != c.shape:
+        raise PatternValidationError(
+            f"`yarn` and `raised` must be 2-D of one shape, got {c.shape} and {r.shape}"
+        )
+    return c, r
+
+
+def seen_rows(raised: ArrayLike, view: View) -> NDArray[np.intp]:
+    """ndarray of shape (N, M): the row index of the unit seen at each cell from ``view``."""
+    r = np.asarray(raised, dtype=bool)
+    n = r.shape[0]
+    rows = np.broadcast_to(np.arange(n)[:, None], r.shape).copy()
+    if view == "A":
+        rows[1:] -= r[:-1]
+    elif view == "B":
+        rows[:-1] += r[1:]
+    elif view != "headon":
+        raise OptionError(f"`view` must be one of {VIEWS}, got {view!r}")
+    return rows
+
+
+def can_see(
+    pattern_or_yarn: LogicalPattern | ArrayLike, view: View, raised: ArrayLike | None = None
+) -> NDArray[np.int16]:
+    """Yarn index seen at every cell from ``view`` ("A", "B" or "headon").
+
+    Parameters
+    ----------
+    pattern_or_yarn : LogicalPattern or ndarray of shape (N, M)
+        A pattern, or its yarn-index array (then pass ``raised`` too).
+    view : {"A", "B", "headon"}
+    raised : ndarray of shape (N, M), bool, optional
+
+    Returns
+    -------
+    ndarray of shape (N, M)
+    """
+    c, r = _arrays(pattern_or_yarn, raised)
+    if view == "headon":
+        return np.array(c, dtype=np.int16, copy=True)
+    out = np.array(c, dtype=np.int16, copy=True)
+    if view == "A":
+        out[1:] = np.where(r[:-1], c[:-1], c[1:])
+    elif view == "B":
+        out[:-1] = np.where(r[1:], c[1:], c[:-1])
+    else:
+        raise OptionError(f"`view` must be one of {VIEWS}, got {view!r}")
+    return out
+
+
+def view_a(p: LogicalPattern | ArrayLike, raised: ArrayLike | None = None) -> NDArray[np.int16]:
+    """Yarn indices seen from above (view A)."""
+    return can_see(p, "A", raised)
+
+
+def view_b(p: LogicalPattern | ArrayLike, raised: ArrayLike | None = None) -> NDArray[np.int16]:
+    """Yarn indices seen from below (view B)."""
+    return can_see(p, "B", raised)
+
+
+def view_headon(
+    p: LogicalPattern | ArrayLike, raised: ArrayLike | None = None
+) -> NDArray[np.int16]:
+    """Yarn indices seen head-on (every unit)."""
+    return can_see(p, "headon", raised)
+
+
+def views(p: LogicalPattern) -> dict[View, NDArray[np.int16]]:
+    """All three views of a pattern."""
+    return {v: can_see(p, v) for v in VIEWS}
+
+
+def logical_error(
+    seen: ArrayLike, target: ArrayLike, *, mask: ArrayLike | None = None, normalize: bool = True
+) -> float:
+    """Fraction (or count, with ``normalize=False``) of cells where ``seen != target``.
+
+    ``mask`` (bool, same shape) restricts the comparison to the cells where it is True.
+    """
+    s, t = np.asarray(seen), np.asarray(target)
+    if s.shape != t.shape:
+        raise ImageInputError(f"`target` must have shape {s.shape}, got {t.shape}")
+    wrong = s != t
+    if mask is not None:
+        m = np.asarray(mask, dtype=bool)
+        if m.shape != s.shape:
+            raise OptionError(f"`mask` must have shape {s.shape}, got {m.shape}")
+        wrong = wrong & m
+        total = int(m.sum())
+    else:
+        total = wrong.size
+    count = int(wrong.sum())
+    if not normalize:
+        return float(count)
+    return count / total if total else 0.0

@@ -1,0 +1,1 @@
+"""Design: pictures -> logical patterns (single view, tiles, constraint models, gradient)."""

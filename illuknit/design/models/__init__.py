@@ -1,0 +1,1 @@
+"""Constraint models of illusion patterns, solver-neutral, and their solutions."""

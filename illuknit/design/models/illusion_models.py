@@ -1,0 +1,337 @@
+"""Constraint models of illusion patterns (paper sections 4.2 and 8.3), and their solutions.
+
+Three *illusion models* over an N x M grid of units and K yarns -- (a) ``logical``, (b)
+``knit-aware``, (c) ``single``, the ``kind`` of an :class:`~illuknit.design.models.illusion_problem.IllusionProblem`
+-- each encoded here into one solver-neutral *constraint model* (:class:`illuknit.design.models.model.Model`):
+
+**Variables.** ``("yarn", i, j, k)`` — unit (i, j) is knit in yarn k (one-hot over k);
+``("raised", i, j)`` — unit (i, j) is a bump. Model (b) adds ``("change", i, j)`` — the yarn
+changes between units (i, j) and (i, j+1) along the course.
+
+**Hard constraints.** *one yarn per unit*: exactly one ``yarn`` variable per unit (at-least-one
+clause + pairwise at-most-one). *pinned units* (optional): the designer fixed some units' yarn.
+Model (b): *colour-change definition* ``yarn[i,j,k] & ~yarn[i,j+1,k] -> change[i,j]``, and the
+optional *colour-change cap per course*: at most ``max_color_changes`` true ``change`` per row.
+Model (c): *one yarn per course*: ``yarn[i,j,k] -> yarn[i,0,k]`` — every unit row is knit in one
+yarn, so the piece is a plain stripe head-on (a single-view illusion must hide its picture there;
+without this the optimum simply knits the picture, visible from every side) — and, with
+``alternate_rows``, *alternating row colours*: ``~yarn[i,0,k] | ~yarn[i+1,0,k]`` (neighbouring
+rows differ; with two yarns the rows alternate, as in the push-button compiler).
+
+**Objective (soft).** (a) *logical* — the paper's model: each view cell that does not show its
+target yarn costs ``weights.view``. With ``VA[i] = C[i-1] if R[i-1] else C[i]`` (row 0 always
+``C[0]``), view A at (i, j) is encoded exactly by the two soft clauses
+``(~R[i-1,j] | yarn[i-1,j,A]) `` and ``(R[i-1,j] | yarn[i,j,A])`` — whichever way ``R[i-1,j]``
+goes, exactly one of them is live, so the violated weight equals the mismatch count. View B
+mirrors it with ``R[i+1, j]``. (c) *single* — one target seen from both sides: (a) with A = B
+and one yarn per course.
+(b) *knit-aware* — (a) plus ``weights.color_change`` per ``change`` and ``weights.transfer`` per
+knit<->purl change between consecutive courses. A bump is a knit course followed by a purl course
+in the same wales, and every unit starts with a knit course, so a bump costs two bed changes (knit
+-> purl inside it, purl -> knit into the unit above) — one in the top row, where the bind-off
+follows. And ``weights.machine_pass`` per machine carriage pass the pattern forces as the
+mixed-colourwork scheduler knits it (:func:`~illuknit.design.models.illusion_problem.row_passes`): per unit row
+of ``S`` *segments* (each yarn used, plus an *extra carrier* for a region more than
+``weights.float_gap`` units after its yarn's previous region in the row, beyond a float's reach),
+``2 S`` passes, and ``S + 1`` more for a row with a bump (its transfer passes in and out, and
+one float-avoidance transfer pass per segment beyond the first) -- see :func:`_add_pass_terms`.
+
+Models (a) and (b) without colour-change or pass terms couple only neighbouring units of one wale, so
+:mod:`illuknit.solvers.dp` solves them exactly per wale; model (c) ties each row to one yarn, and
+the DP solves it exactly over the row colours (a raised bit then affects two view cells whose
+colours depend only on three consecutive row colours). The structured :class:`IllusionProblem`
+rides along as ``model.problem`` for it. Model (b) with colour-change terms couples the wales;
+:mod:`illuknit.solvers.descent` re-optimises single wales and courses exactly in turn and warm-
+starts the exact backends.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from illuknit.core.errors import InfeasibleError, SolverError, UnknownNameError, YarnSpecError
+from illuknit.core.pattern import Yarn
+from illuknit.design.models.illusion_problem import (
+    MODEL_KINDS,
+    IllusionProblem,
+    KnitWeights,
+    make_problem,
+    parse_weights,
+    raised_cost,
+)
+from illuknit.design.models.illusion_report import (
+    IllusionResult,
+    color_changes_per_course,
+    default_yarns,
+    knit_purl_changes,
+    pattern_from_solution,
+    report_pattern,
+)
+from illuknit.design.models.model import Model
+from illuknit.solvers import solve
+from illuknit.solvers.base import ProgressCallback, Solution
+
+__all__ = [
+    "MODEL_KINDS",
+    "IllusionProblem",
+    "IllusionResult",
+    "KnitWeights",
+    "build_model",
+    "check_solution",
+    "color_changes_per_course",
+    "default_yarns",
+    "knit_purl_changes",
+    "make_problem",
+    "parse_weights",
+    "pattern_from_solution",
+    "report_pattern",
+    "solve_illusion",
+]
+
+
+def build_model(problem: IllusionProblem) -> Model:
+    """Encode ``problem`` as a :class:`Model` (vectorised; see the module docstring).
+
+    Returns
+    -------
+    Model
+        With variable blocks ``"yarn"`` (N, M, K), ``"raised"`` (N, M) and, when knit-aware with
+        colour terms, ``"change"`` (N, M-1); ``model.problem`` is ``problem``.
+    """
+    n, m = problem.shape
+    k = problem.n_yarns
+    wv = problem.view_weight
+    model = Model(f"illusion-{problem.kind}-{n}x{m}-k{k}", problem=problem)
+    x = model.pool.block("yarn", (n, m, k))
+    r = model.pool.block("raised", (n, m))
+
+    # one yarn per unit: at least one (width K) + pairwise at most one
+    model.add_hard_block(x.reshape(-1, k), family="one yarn per unit")
+    for a in range(k):
+        for b in range(a + 1, k):
+            model.add_hard_block(
+                np.stack([-x[..., a].ravel(), -x[..., b].ravel()], axis=1),
+                family="one yarn per unit",
+            )
+    if problem.pinned is not None:
+        ii, jj = np.nonzero(problem.pinned >= 0)
+        if ii.size:
+            model.add_hard_block(x[ii, jj, problem.pinned[ii, jj]][:, None], family="pinned units")
+    if problem.rows_tied and m > 1:
+        # unit (i, j) in yarn k -> unit (i, 0) in yarn k; with one-hot units all share one yarn
+        first = np.broadcast_to(x[:, :1, :], (n, m - 1, k))
+        model.add_hard_block(
+            np.stack([-x[:, 1:, :], first], axis=-1).reshape(-1, 2), family="one yarn per course"
+        )
+    if problem.alternate_rows and n > 1:
+        model.add_hard_block(
+            np.stack([-x[:-1, 0, :], -x[1:, 0, :]], axis=-1).reshape(-1, 2),
+            family="alternating row colours",
+        )
+
+    cols = np.arange(m)[None, :]
+    ta = problem.target_a.astype(np.int64)
+    tb = problem.target_b.astype(np.int64)
+    soft: list[NDArray[np.int64]] = []
+    # view A, row 0 sees C[0]
+    soft.append(np.stack([x[0, cols[0], ta[0]], np.zeros(m, np.int64)], axis=1))
+    if n > 1:
+        rows = np.arange(1, n)[:, None]
+        # R[i-1] -> C[i-1] == A[i]     and    ~R[i-1] -> C[i] == A[i]
+        soft.append(
+            np.stack([-r[rows - 1, cols], x[rows - 1, cols, ta[1:]]], axis=-1).reshape(-1, 2)
+        )
+        soft.append(np.stack([r[rows - 1, cols], x[rows, cols, ta[1:]]], axis=-1).reshape(-1, 2))
+    # view B, row N-1 sees C[N-1]
+    soft.append(np.stack([x[n - 1, cols[0], tb[n - 1]], np.zeros(m, np.int64)], axis=1))
+    if n > 1:
+        rows = np.arange(0, n - 1)[:, None]
+        soft.append(
+            np.stack([-r[rows + 1, cols], x[rows + 1, cols, tb[:-1]]], axis=-1).reshape(-1, 2)
+        )
+        soft.append(np.stack([r[rows + 1, cols], x[rows, cols, tb[:-1]]], axis=-1).reshape(-1, 2))
+    model.add_soft_block(np.concatenate(soft), wv)
+
+    wt = problem.transfer_weight
+    if wt:
+        model.add_soft_block(-r.reshape(-1, 1), raised_cost(n, m, wt).ravel())
+
+    wc = problem.color_weight
+    cap = problem.color_cap
+    if (wc or cap is not None) and m > 1:
+        d = model.pool.block("change", (n, m - 1))
+        for c in range(k):
+            model.add_hard_block(
+                np.stack([-x[:, :-1, c], x[:, 1:, c], d], axis=-1).reshape(-1, 3),
+                family="colour-change definition",
+            )
+        if wc:
+            model.add_soft_block(-d.reshape(-1, 1), wc)
+        if cap is not None:
+            for i in range(n):
+                model.add_at_most_k(d[i].tolist(), cap, family="colour-change cap per course")
+    if problem.pass_weight:
+        _add_pass_terms(model, problem, x, r)
+    return model
+
+
+def _add_pass_terms(
+    model: Model, problem: IllusionProblem, x: NDArray[np.int64], r: NDArray[np.int64]
+) -> None:
+    """The machine-pass terms of model (b): :func:`~illuknit.design.models.illusion_problem.row_passes` passes
+    per unit row, ``p = weights.machine_pass`` each:
+
+    * ``("yarn used", i, k)``: ``yarn[i,j,k] -> used[i,k]``, soft ``~used`` (2p) -- a carrier
+      knits the row's two courses;
+    * ``("yarn so far", i, j, k)``: some unit at columns <= j of row i is in yarn k
+      (``yarn -> so_far``, ``so_far[j-1] -> so_far[j]``), and ``("extra carrier", i, j, k)``:
+      ``yarn[i,j,k] & ~yarn[i,j-1..j-g-1,k] & so_far[i,j-g-2,k] -> extra[i,j,k]``, soft
+      ``~extra`` (2p) -- a region more than ``g = float_gap`` units after the yarn's previous
+      one (the scheduler's carriers float across ``2 g`` stitches, ``g`` units, at most);
+    * ``("bump row", i)``: ``raised[i,j] -> bump_row[i]``, soft ``~bump_row`` (p) -- the bed
+      changes around a purl course, and ``("bump segment", i, k)`` / ``("bump extra", i, j, k)``:
+      ``bump_row[i] & used[i,k]`` / ``bump_row[i] & extra[i,j,k]`` imply them, soft (p each) --
+      a float-avoidance transfer pass per segment of a bump row (the ``+ 1`` of ``S + 1`` is the
+      bump row's own ``p`` taking the place of one of them).
+    """
+    n, m, k = x.shape
+    p = problem.pass_weight
+    used = model.pool.block("yarn used", (n, k))
+    model.add_hard_block(
+        np.stack([-x, np.broadcast_to(used[:, None, :], x.shape)], axis=-1).reshape(-1, 2),
+        family="yarn used in a row",
+    )
+    model.add_soft_block(-used.reshape(-1, 1), 2 * p)
+    bump_row = model.pool.block("bump row", (n,))
+    model.add_hard_block(
+        np.stack([-r, np.broadcast_to(bump_row[:, None], r.shape)], axis=-1).reshape(-1, 2),
+        family="bump in a row",
+    )
+    model.add_soft_block(-bump_row.reshape(-1, 1), p)
+    bump_used = model.pool.block("bump segment", (n, k))
+    model.add_hard_block(
+        np.stack(
+            [-np.broadcast_to(bump_row[:, None], used.shape), -used, bump_used], axis=-1
+        ).reshape(-1, 3),
+        family="segment of a bump row",
+    )
+    model.add_soft_block(-bump_used.reshape(-1, 1), p)
+    g = problem.weights.float_gap
+    if m <= g + 2:
+        return
+    so_far = model.pool.block("yarn so far", (n, m, k))
+    model.add_hard_block(np.stack([-x, so_far], axis=-1).reshape(-1, 2), family="yarn so far")
+    model.add_hard_block(
+        np.stack([-so_far[:, :-1], so_far[:, 1:]], axis=-1).reshape(-1, 2), family="yarn so far"
+    )
+    extra = model.pool.block("extra carrier", (n, m - g - 2, k))
+    cols = np.arange(g + 2, m)
+    lits = [-x[:, cols]] + [x[:, cols - d] for d in range(1, g + 2)]
+    lits += [-so_far[:, cols - g - 2], extra]
+    model.add_hard_block(np.stack(lits, axis=-1).reshape(-1, g + 4), family="extra carrier")
+    model.add_soft_block(-extra.reshape(-1, 1), 2 * p)
+    bump_extra = model.pool.block("bump extra", extra.shape)
+    model.add_hard_block(
+        np.stack(
+            [-np.broadcast_to(bump_row[:, None, None], extra.shape), -extra, bump_extra], axis=-1
+        ).reshape(-1, 3),
+        family="segment of a bump row",
+    )
+    model.add_soft_block(-bump_extra.reshape(-1, 1), p)
+
+
+def solve_illusion(
+    target_a: ArrayLike,
+    target_b: ArrayLike | None = None,
+    *,
+    model: str = "logical",
+    solver: str = "auto",
+    warm_start: str = "auto",
+    weights: KnitWeights | None = None,
+    yarns: Sequence[Yarn] | None = None,
+    n_yarns: int | None = None,
+    pinned: ArrayLike | None = None,
+    alternate_rows: bool = False,
+    time_limit: float | None = None,
+    seed: int = 0,
+    progress: ProgressCallback | None = None,
+) -> IllusionResult:
+    """Build the illusion model, solve it (:func:`illuknit.solvers.solve`), decode the pattern.
+
+    Parameters
+    ----------
+    target_a, target_b : ndarray of shape (N, M), int
+        Yarn-index targets (``target_b`` omitted for the single-view model).
+    model : {"logical", "knit-aware", "single"}
+    solver : str
+        A backend name (see :func:`illuknit.solvers.available_backends`) or "auto" (the first
+        in preference order that handles the model: the exact DP when it applies).
+    warm_start : {"auto", "none", "dp", "descent"}
+        Warm-start policy (:mod:`illuknit.solvers.warm_start`): the DP optimum, or for the
+        knit-aware model a block descent taking part of ``time_limit``. The result is never worse
+        than the warm start, its ``found_by`` says who found it, and its ``wall_time``
+        includes the warm start.
+    alternate_rows : bool
+        Single-view model: neighbouring rows must have different yarns.
+
+    Raises
+    ------
+    InfeasibleError
+        The hard constraints cannot hold; the message names the constraint families.
+    SolverError
+        The backend found no pattern.
+    """
+    if model not in MODEL_KINDS:
+        raise UnknownNameError("model", model, MODEL_KINDS)
+    if n_yarns is None and yarns is not None:
+        n_yarns = len(yarns)
+    prob = make_problem(
+        target_a,
+        target_b if model != "single" else None,
+        n_yarns=n_yarns,
+        kind=model,
+        weights=weights,
+        pinned=pinned,
+        alternate_rows=alternate_rows,
+    )
+    if yarns is not None and len(yarns) < prob.n_yarns:
+        raise YarnSpecError(f"`yarns` must list {prob.n_yarns} yarns, got {len(yarns)}")
+    mdl = build_model(prob)
+    sol = solve(
+        mdl,
+        solver=solver,
+        warm_start=warm_start,
+        time_limit=time_limit,
+        seed=seed,
+        progress=progress,
+    )
+    check_solution(sol, model)
+    pat = pattern_from_solution(prob, sol, yarns=yarns)
+    return IllusionResult(pat, sol, prob, report_pattern(pat, prob, sol))
+
+
+def check_solution(sol: Solution, model: str) -> None:
+    """Raise the error that says why ``sol`` holds no pattern (no-op when it holds one).
+
+    Raises
+    ------
+    InfeasibleError
+        The hard constraints cannot hold; the message names the conflicting families.
+    SolverError
+        The backend found no pattern (timeout, error).
+    """
+    if sol.status.value == "infeasible":
+        fams = list(sol.stats.get("infeasible_families", [])) or ["(unknown)"]
+        raise InfeasibleError(
+            f"the hard constraints cannot all hold (model {model!r}); conflicting constraint "
+            f"families: {', '.join(fams)}"
+        )
+    if not sol.has_values:
+        msg = sol.stats.get("message", "")
+        raise SolverError(
+            f"solver {sol.backend!r} found no pattern (status {sol.status.value})"
+            + (f": {msg}" if msg else "")
+        )

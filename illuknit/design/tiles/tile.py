@@ -1,0 +1,311 @@
+"""Tiles and fills (paper section 4.2, end, and section 6.1).
+
+A :class:`Tile` is a small block of logical units (``h`` rows by ``w`` columns) that repeats
+periodically over a region. What a viewer sees of a large region tiled with it is called its
+*fill* in that view. Fills are never declared by hand: :func:`tile_fills` tiles the block three
+times vertically, runs :func:`illuknit.core.views.can_see` on that periodic extension and reads the
+middle copy, so the first row of the block sees the last row of the copy above it exactly as it
+would inside a large region.
+
+A :class:`Fill` is the multiset of yarns seen over one period: *solid* (one yarn) or a *stripe*
+of two or three yarns with their proportions (a 1/3 stripe and a 1/2 stripe of the same yarns are
+different fills). Its average colour mixes the yarn colours **in linear light** with
+:func:`illuknit.core.colors.mix_rgb` (light from thin stripes adds up in the eye), and its brightness is
+the relative luminance of that mixture (:func:`illuknit.core.colors.luminance`). Two fills are equal
+when their yarns and proportions are equal; colour and brightness are derived.
+
+Example from the paper: the 3 x 1 tile (c1 flat, c2 flat, c1 bump) shows a c1/c2 stripe from one
+side and solid c1 from the other.
+"""
+
+from __future__ import annotations
+
+from collections import Counter
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from fractions import Fraction
+from typing import Any, Literal
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from illuknit.core.colors import hex_color, lab_from_rgb, luminance, mix_rgb
+from illuknit.core.errors import TileBankError
+from illuknit.core.pattern import Yarn
+from illuknit.core.views import can_see
+
+__all__ = [
+    "FILL_VIEWS",
+    "MAX_FILL_COLORS",
+    "Fill",
+    "FillView",
+    "Tile",
+    "fill_from_seen",
+    "tile_fills",
+    "tile_seen",
+]
+
+#: The views a tile has a fill in. "side" is the fill seen from *both* angles when views A and B
+#: agree (used by the head-on variant); it is undefined (None) when they differ.
+FillView = Literal["A", "B", "headon", "side"]
+FILL_VIEWS: tuple[FillView, ...] = ("A", "B", "headon", "side")
+#: Fills with more yarns than this are not used (they read as noise, not as a colour).
+MAX_FILL_COLORS = 3
+
+
+@dataclass(frozen=True)
+class Fill:
+    """What a large region of one tile looks like from one view.
+
+    Parameters
+    ----------
+    parts : tuple of (yarn index, Fraction)
+        Yarns seen and their proportions, sorted by yarn index; proportions are > 0 and sum to 1.
+    rgb : tuple of 3 floats
+        Average sRGB colour (0..255), mixed in linear light. Not part of equality.
+    brightness : float
+        Relative luminance of ``rgb`` in [0, 1]. Not part of equality.
+    """
+
+    parts: tuple[tuple[int, Fraction], ...]
+    rgb: tuple[float, float, float] = field(compare=False, default=(0.0, 0.0, 0.0))
+    brightness: float = field(compare=False, default=0.0)
+
+    def __post_init__(self) -> None:
+        if not self.parts:
+            raise TileBankError("a fill needs at least one yarn")
+        idx = [p[0] for p in self.parts]
+        if idx != sorted(set(idx)):
+            raise TileBankError(f"fill yarns must be distinct and sorted, got {idx}")
+        if any(p[1] <= 0 for p in self.parts) or sum(p[1] for p in self.parts) != 1:
+            raise TileBankError(f"fill proportions must be positive and sum to 1, got {self.parts}")
+
+    @property
+    def yarn_indices(self) -> tuple[int, ...]:
+        return tuple(p[0] for p in self.parts)
+
+    @property
+    def n_colors(self) -> int:
+        return len(self.parts)
+
+    @property
+    def is_solid(self) -> bool:
+        return len(self.parts) == 1
+
+    @property
+    def kind(self) -> str:
+        """``"solid"``, ``"stripe2"`` or ``"stripe3"``."""
+        return "solid" if self.is_solid else f"stripe{len(self.parts)}"
+
+    @property
+    def hex(self) -> str:
+        return hex_color([round(v) for v in self.rgb])
+
+    def proportion(self, yarn: int) -> Fraction:
+        return dict(self.parts).get(yarn, Fraction(0))
+
+    def label(self, yarns: Sequence[Yarn] | None = None) -> str:
+        """Human-readable: ``"black"`` or ``"black 2/3 + white 1/3"``."""
+
+        def name(i: int) -> str:
+            return yarns[i].name if yarns is not None else f"y{i}"
+
+        if self.is_solid:
+            return name(self.parts[0][0])
+        return " + ".join(f"{name(i)} {q}" for i, q in self.parts)
+
+    def key(self) -> str:
+        """A compact stable string, e.g. ``"0:2/3,1:1/3"`` (used in JSON and summaries)."""
+        return ",".join(f"{i}:{q}" for i, q in self.parts)
+
+    def to_json(self) -> dict[str, str]:
+        return {str(i): str(q) for i, q in self.parts}
+
+
+def fill_from_parts(parts: Sequence[tuple[int, Fraction]], yarns: Sequence[Yarn]) -> Fill:
+    """A :class:`Fill` with its colour and brightness computed from ``yarns``."""
+    parts = tuple(sorted((int(i), Fraction(q)) for i, q in parts))
+    for i, _ in parts:
+        if not 0 <= i < len(yarns):
+            raise TileBankError(f"fill uses yarn {i}, but there are {len(yarns)} yarn(s)")
+    cols = np.array([yarns[i].rgb for i, _ in parts], dtype=np.float64)
+    w = np.array([float(q) for _, q in parts])
+    rgb = mix_rgb(cols, w)
+    return Fill(
+        parts, rgb=(float(rgb[0]), float(rgb[1]), float(rgb[2])), brightness=float(luminance(rgb))
+    )
+
+
+def fill_from_seen(seen: ArrayLike, yarns: Sequence[Yarn]) -> Fill:
+    """The fill made of the yarn indices in ``seen`` (any shape), in their proportions."""
+    counts = Counter(int(v) for v in np.asarray(seen).ravel())
+    total = sum(counts.values())
+    return fill_from_parts([(i, Fraction(n, total)) for i, n in counts.items()], yarns)
+
+
+def fill_lab(fill: Fill) -> NDArray[np.float64]:
+    """CIELAB of a fill's average colour (shape (3,))."""
+    return lab_from_rgb(np.asarray(fill.rgb)[None, :])[0]
+
+
+def _readonly(a: ArrayLike, dtype: type) -> NDArray[Any]:
+    arr: NDArray[Any] = np.array(a, dtype=dtype, copy=True)
+    arr.setflags(write=False)
+    return arr
+
+
+@dataclass(frozen=True, eq=False)
+class Tile:
+    """A periodic block of logical units.
+
+    Parameters
+    ----------
+    yarn : ndarray of shape (h, w), integer
+        Yarn index of each unit (into the bank's yarns).
+    raised : ndarray of shape (h, w), bool
+        True where the unit is a bump.
+    name : str, optional
+        A label for listings; generated from the contents when empty.
+
+    The fills are not stored here: compute them with :func:`tile_fills` (a :class:`TileBank`
+    caches them). Row 0 is the top row, as in every illuknit array.
+
+    Examples
+    --------
+    >>> t = Tile.from_rows(["0", "1", "0^"])   # c1 flat, c2 flat, c1 bump
+    >>> t.shape
+    (3, 1)
+    """
+
+    yarn: NDArray[np.int16]
+    raised: NDArray[np.bool_]
+    name: str = ""
+
+    def __post_init__(self) -> None:
+        y = np.asarray(self.yarn)
+        r = np.asarray(self.raised)
+        if y.ndim == 1:
+            y = y[:, None]
+        if r.ndim == 1:
+            r = r[:, None]
+        if y.ndim != 2 or y.size == 0:
+            raise TileBankError(
+                f"tile `yarn` must be a non-empty (h, w) array, got shape {y.shape}"
+            )
+        if r.shape != y.shape:
+            raise TileBankError(f"tile `raised` must have shape {y.shape}, got {r.shape}")
+        if not np.issubdtype(y.dtype, np.integer) or int(y.min()) < 0:
+            raise TileBankError("tile `yarn` must hold non-negative integers")
+        if r.dtype != np.bool_ and not np.all(np.isin(r, (0, 1))):
+            raise TileBankError("tile `raised` must hold booleans (or 0/1)")
+        object.__setattr__(self, "yarn", _readonly(y, np.int16))
+        object.__setattr__(self, "raised", _readonly(r, np.bool_))
+        if not self.name:
+            object.__setattr__(self, "name", self.code())
+
+    @classmethod
+    def from_rows(cls, rows: Sequence[str], *, name: str = "") -> Tile:
+        """Parse rows of tokens: a yarn digit (0-9, a-z), followed by ``^`` for a bump.
+
+        Units in a row are separated by spaces when the tile is wider than one unit:
+        ``["0 1^", "1 0"]``.
+        """
+        yarn, raised = [], []
+        for k, row in enumerate(rows):
+            toks = row.split() if " " in row.strip() else [row.strip()]
+            yr, rr = [], []
+            for tok in toks:
+                bump = tok.endswith("^")
+                digit = tok.rstrip("^")
+                if len(digit) != 1 or not digit.isalnum():
+                    raise TileBankError(
+                        f"tile row {k}: bad unit {tok!r} (expected e.g. '0' or '1^')"
+                    )
+                yr.append(int(digit, 36))
+                rr.append(bump)
+            yarn.append(yr)
+            raised.append(rr)
+        if not yarn or len({len(r) for r in yarn}) != 1:
+            raise TileBankError(
+                f"tile rows must be non-empty and of equal width, got {list(rows)!r}"
+            )
+        return cls(np.array(yarn), np.array(raised), name=name)
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        return (int(self.yarn.shape[0]), int(self.yarn.shape[1]))
+
+    @property
+    def height(self) -> int:
+        return self.shape[0]
+
+    @property
+    def width(self) -> int:
+        return self.shape[1]
+
+    def rows(self) -> list[str]:
+        """The inverse of :meth:`from_rows`."""
+        digits = "0123456789abcdefghijklmnopqrstuvwxyz"
+        return [
+            " ".join(digits[int(y)] + ("^" if r else "") for y, r in zip(yr, rr, strict=True))
+            for yr, rr in zip(self.yarn, self.raised, strict=True)
+        ]
+
+    def code(self) -> str:
+        """A compact identifier, rows joined by ``/``, e.g. ``"0/1/0^"``."""
+        return "/".join(r.replace(" ", "") for r in self.rows())
+
+    @property
+    def yarns_used(self) -> tuple[int, ...]:
+        return tuple(sorted({int(v) for v in self.yarn.ravel()}))
+
+    def color_changes(self) -> int:
+        """Yarn changes between consecutive units, cyclically, along courses and along wales.
+
+        Changes within a course cost carrier moves; changes from course to course cost carrier
+        swaps. The canonical bank prefers tiles with fewer of both.
+        """
+        y = self.yarn
+        down = int((y != np.roll(y, -1, axis=0)).sum()) if self.height > 1 else 0
+        across = int((y != np.roll(y, -1, axis=1)).sum()) if self.width > 1 else 0
+        return down + across
+
+    def __eq__(self, other: object) -> bool:
+        if not isinstance(other, Tile):
+            return NotImplemented
+        return np.array_equal(self.yarn, other.yarn) and np.array_equal(self.raised, other.raised)
+
+    def __hash__(self) -> int:
+        return hash((self.yarn.tobytes(), self.raised.tobytes(), self.yarn.shape))
+
+    def __repr__(self) -> str:
+        return f"Tile({self.code()!r})"
+
+
+def tile_seen(tile: Tile, view: Literal["A", "B", "headon"]) -> NDArray[np.int16]:
+    """ndarray of shape (h, w): the yarn seen at each unit of the tile inside a large region.
+
+    Computed with :func:`~illuknit.core.views.can_see` on three vertical copies of the tile (the
+    periodic extension) and read from the middle copy, so boundary rows see their periodic
+    neighbours.
+    """
+    h = tile.height
+    ext_y = np.tile(tile.yarn, (3, 1))
+    ext_r = np.tile(tile.raised, (3, 1))
+    return can_see(ext_y, view, ext_r)[h : 2 * h]
+
+
+def tile_fills(tile: Tile, yarns: Sequence[Yarn]) -> dict[FillView, Fill | None]:
+    """The tile's fills in every view: ``{"A": Fill, "B": Fill, "headon": Fill, "side": Fill|None}``.
+
+    ``"side"`` is the common fill of views A and B when they are equal, else None.
+    """
+    if int(tile.yarn.max()) >= len(yarns):
+        raise TileBankError(
+            f"tile {tile.code()} uses yarn {int(tile.yarn.max())}, but there are {len(yarns)} yarn(s)"
+        )
+    out: dict[FillView, Fill | None] = {
+        v: fill_from_seen(tile_seen(tile, v), yarns) for v in ("A", "B", "headon")
+    }
+    out["side"] = out["A"] if out["A"] == out["B"] else None
+    return out

@@ -1,0 +1,88 @@
+"""What the machine runs: pass counts and kinds of a program, as the SWG machine knits it.
+
+A schedule's own passes are not what the machine runs: the SWG backend adds passes for the
+yarn-inserting hook (release, plus an empty carriage move when the hook's pass ran the same way),
+for taking carriers out, and for every carrier it has to move out of a pass's way (kickbacks),
+and it merges neighbouring operations a schedule wrote as separate passes. The reported passes,
+their kinds and the knitting time are therefore counted on the machine's passes for the emitted
+program (:func:`illuknit.formats.swg_passes.machine_passes`, a model of the reference backend
+whose pass count equals the ``.dat``'s), whenever the machine is one the SWG backend drives (the
+ten-carrier Shima header). For other machines the schedule's own passes are reported.
+"""
+
+from __future__ import annotations
+
+from collections import Counter
+from dataclasses import dataclass
+
+from illuknit.core.machine import MachineSpec
+from illuknit.knit.ir import ActionKind, CarrierAction
+from illuknit.knit.schedule import Schedule, ScheduleStats
+
+__all__ = ["SWG_CARRIERS", "MachineRun", "machine_run", "machine_stats", "runs_on_swg"]
+
+#: The carrier header the SWG backend accepts (and the only one it accepts).
+SWG_CARRIERS = tuple(str(i) for i in range(1, 11))
+
+
+@dataclass(frozen=True)
+class MachineRun:
+    """The machine's passes for one program: how many of each kind, and their needle spans.
+
+    ``kinds`` maps the backend's pass kinds (``knit``, ``transfer``, ``miss``, ``kickback``,
+    ``hook-release``, ``carriage-move``, ``carrier-out``, ``drop`` ...) to counts; ``spans`` holds
+    each pass's needle span (rightmost - leftmost slot + 1) in order, for the time model.
+    """
+
+    kinds: dict[str, int]
+    spans: tuple[int, ...]
+
+    @property
+    def passes(self) -> int:
+        return len(self.spans)
+
+
+def runs_on_swg(machine: MachineSpec) -> bool:
+    """True when the SWG backend drives ``machine`` (its carriers are the Shima ten)."""
+    return tuple(machine.carriers) == SWG_CARRIERS
+
+
+def machine_run(text: str) -> MachineRun:
+    """Count the SWG machine's passes for a knitout program (exactly the ``.dat``'s rows)."""
+    from illuknit.formats.swg_passes import machine_passes
+
+    ps = machine_passes(text)
+    kinds = Counter(p.kind.value for p in ps)
+    spans = tuple(p.needle_range[1] - p.needle_range[0] + 1 for p in ps)
+    return MachineRun(dict(kinds), spans)
+
+
+_HOOK_KINDS = ("hook-release", "carriage-move", "carrier-out")
+_TRANSFER_KINDS = ("transfer", "transfer-to-sliders", "transfer-from-sliders")
+
+
+def machine_stats(schedule: Schedule, run: MachineRun) -> ScheduleStats:
+    """Pass counts on the machine's passes; roles (cast-on, body, bind-off) from the schedule.
+
+    The lower bound adds to the schedule's bound the one pass each ``releasehook`` always costs
+    (the machine releases the hook before a pass of its own).
+    """
+    own = schedule.stats
+    k = run.kinds
+    releases = sum(
+        isinstance(s, CarrierAction) and s.action is ActionKind.RELEASEHOOK for s in schedule.steps
+    )
+    return ScheduleStats(
+        passes=run.passes,
+        knit_passes=k.get("knit", 0) + k.get("split", 0),
+        transfer_passes=sum(k.get(n, 0) for n in _TRANSFER_KINDS),
+        miss_passes=k.get("miss", 0),
+        cast_on_passes=own.cast_on_passes,
+        bind_off_passes=own.bind_off_passes,
+        body_passes=own.body_passes,
+        body_lower_bound=own.body_lower_bound,
+        lower_bound=schedule.lower_bound + releases,
+        hook_passes=sum(k.get(n, 0) for n in _HOOK_KINDS),
+        kickbacks=k.get("kickback", 0),
+        schedule_passes=own.passes,
+    )

@@ -1,0 +1,254 @@
+"""The whole knitting path in one call: pattern -> stitches -> schedule -> knitout (+ stats).
+
+:func:`knit_pattern` is what ``illuknit knit`` and the ``--knitout`` options of the other commands
+call. One long-float policy for all of them: a float that stays longer than the machine's float
+limit after tucking is refused (:class:`~illuknit.core.errors.LongFloatError`, naming the course and
+what to change) unless ``allow_long_floats=True``, which keeps it, reports it in the summary
+(``long_floats``, ``longest_float``, ``longest_float_at``) and issues a
+:class:`LongFloatWarning` saying how long and where.
+
+It does not run the checker (that is :func:`illuknit.check.check_knitout`, slower); callers
+that want a verdict pass the returned text to it.
+"""
+
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass, replace
+from typing import Any
+
+from illuknit.core.errors import CarrierShortageError, PatternValidationError, SchedulingError
+from illuknit.core.gauge import FinishedSize
+from illuknit.core.machine import DEFAULT_MACHINE, MachineSpec
+from illuknit.core.pattern import LogicalPattern
+from illuknit.knit.knitout import write_knitout
+from illuknit.knit.schedule import Schedule, ScheduleStats, schedule_courses
+from illuknit.knit.stitches import StitchPattern, lower_to_stitches
+from illuknit.knit.timing import TimeEstimate, estimate_knit_time
+from illuknit.knitting.carriage import machine_run, machine_stats, runs_on_swg
+
+__all__ = ["KnitResult", "LongFloatWarning", "knit_pattern", "long_float_warning"]
+
+
+class LongFloatWarning(UserWarning):
+    """Floats longer than the machine's float limit were kept because long floats were allowed
+    (``allow_long_floats=True``); the message says how many, how long the longest is and where.
+    The CLI prints it as one ``illuknit: warning:`` line."""
+
+
+#: :class:`~illuknit.knit.schedule.MixedReport` fields that :meth:`KnitResult.summary` reports.
+_SUMMARY_MIXED = ("tuck_joins", "plated_stitches", "carriers", "float_avoidance_transfers")
+
+
+@dataclass(frozen=True, eq=False)
+class KnitResult:
+    """A knitout program and what it took to make it.
+
+    Attributes
+    ----------
+    text : str
+        The knitout-2 program.
+    stitches : StitchPattern
+    schedule : Schedule
+    stats : ScheduleStats
+        Pass counts, lower bound and ratio.
+    time : TimeEstimate
+    machine : MachineSpec
+    """
+
+    text: str
+    stitches: StitchPattern
+    schedule: Schedule
+    stats: ScheduleStats
+    time: TimeEstimate
+    machine: MachineSpec
+
+    @property
+    def program(self) -> str:
+        """The knitout text (same as ``text``)."""
+        return self.text
+
+    def _longest_float(self) -> tuple[int, str | None]:
+        """The longest float over the limit: its length and where it is (carrier, needles,
+        course), or ``(0, None)``."""
+        if not self.schedule.long_floats:
+            return 0, None
+        f = max(self.schedule.long_floats, key=lambda x: x.length)
+        where = f.where(self.stitches)
+        return (
+            f.length,
+            f"carrier {f.carrier}, needles {f.from_needle} to {f.to_needle}, at {where}",
+        )
+
+    def summary(self) -> dict[str, Any]:
+        """JSON-ready numbers: size, passes, bound, ratio, time."""
+        c, w = self.stitches.shape
+        fabric = self.machine.fabric_gauge
+        size = FinishedSize(w * fabric.stitch_cm, c * fabric.row_cm, fabric)
+        wcm, hcm = size.width_cm, size.height_cm
+        longest, longest_at = self._longest_float()
+        return {
+            "machine": self.machine.name,
+            "needles": self.machine.needles,
+            "gauge": self.machine.gauge,
+            "wales": w,
+            "courses": c,
+            "width_cm": round(wcm, 1),
+            "height_cm": round(hcm, 1),
+            "finished_size": size.as_dict(),
+            "finished_size_text": size.describe(),
+            **self.stats.as_dict(),
+            "scheduler": self.schedule.scheduler,
+            # Carrier moves the schedule makes itself (miss-only passes), next to the backend's
+            # own kickbacks in ``kickbacks``.
+            "explicit_kickbacks": self.stats.miss_passes,
+            **(
+                {k: getattr(self.schedule.mixed, k) for k in _SUMMARY_MIXED}
+                if self.schedule.mixed is not None
+                else {}
+            ),
+            "long_floats": len(self.schedule.long_floats),
+            "longest_float": longest,
+            "longest_float_at": longest_at,
+            "time_seconds": round(self.time.seconds, 1),
+            "time": str(self.time),
+            "lines": self.text.count("\n"),
+        }
+
+
+def knit_pattern(
+    pattern: LogicalPattern,
+    *,
+    machine: MachineSpec | None = None,
+    cast_on_courses: int = 2,
+    float_avoidance: bool = True,
+    catching: bool | str = True,
+    path_planning: str = "anchor",
+    strict_floats: bool = False,
+    catch_every: int = 2,
+    tuck_passes: bool = False,
+    allow_long_floats: bool = False,
+) -> KnitResult:
+    """Compile a logical pattern to a knitout program.
+
+    Patterns with one colour per course go to :func:`~illuknit.knit.schedule.schedule_courses`;
+    patterns that change colour inside a course to the mixed-colourwork scheduler
+    :func:`~illuknit.knit.mixed.schedule_mixed`, whose switches (``float_avoidance``,
+    ``catching``, ``catch_every``, ``path_planning``, ``strict_floats``, ``tuck_passes``,
+    ``allow_long_floats``) apply
+    to them only.
+
+    Parameters
+    ----------
+    pattern : LogicalPattern
+    machine : MachineSpec, optional
+        Defaults to the paper's 7-gauge SWG091N2 (:data:`DEFAULT_MACHINE`).
+    cast_on_courses : int
+        Plain courses between the cast-on and the pattern.
+    allow_long_floats : bool
+        False (the default): refuse a float that stays longer than ``machine.float_limit``
+        after tucking. True: keep it, report it in :meth:`KnitResult.summary` and warn.
+
+    Returns
+    -------
+    KnitResult
+
+    Warns
+    -----
+    LongFloatWarning
+        With ``allow_long_floats=True``, when floats longer than the limit are kept: how many,
+        the longest's length, carrier, needles and course.
+
+    Raises
+    ------
+    LongFloatError
+        If a float stays longer than the float limit after tucking (a course with more yarn
+        regions than the machine has carriers to keep them apart), unless ``allow_long_floats``.
+    CarrierShortageError
+        If a course needs more carriers at once than the machine has.
+    SchedulingError
+        If the pattern is wider than the bed or has more yarns than carriers.
+    """
+    if not isinstance(pattern, LogicalPattern):
+        raise PatternValidationError(
+            f"`pattern` must be a LogicalPattern, got {type(pattern).__name__}"
+        )
+    m = DEFAULT_MACHINE if machine is None else machine
+    # Without an inserting hook, the waste yarn and draw thread hold carriers of their own: the
+    # scheduler plans with the others only (and refuses a plan that needs more).
+    plan_machine = (
+        m
+        if m.inserting_hook
+        else replace(m, carriers=m.pattern_carriers, waste_carrier=None, draw_carrier=None)
+    )
+    stitches = lower_to_stitches(pattern, machine=plan_machine, cast_on_courses=cast_on_courses)
+    from illuknit.knit.mixed import schedule_mixed, validate_ablation
+
+    validate_ablation(
+        float_avoidance=float_avoidance, catching=catching, path_planning=path_planning
+    )
+    try:
+        if stitches.mixed_courses().size:
+            schedule = schedule_mixed(
+                stitches,
+                machine=plan_machine,
+                float_avoidance=float_avoidance,
+                catching=catching,
+                path_planning=path_planning,
+                strict_floats=strict_floats,
+                catch_every=catch_every,
+                tuck_passes=tuck_passes,
+                allow_long_floats=allow_long_floats,
+            )
+        else:
+            schedule = schedule_courses(stitches, machine=plan_machine)
+    except SchedulingError as e:
+        if m.inserting_hook or type(e) not in (SchedulingError, CarrierShortageError):
+            raise
+        reserved = (
+            f"; on the {m.name} carriers {m.draw_carrier} and {m.waste_carrier} hold the draw "
+            f"thread and the waste yarn, leaving {len(plan_machine.carriers)} for the pattern"
+        )
+        if isinstance(e, CarrierShortageError):
+            raise CarrierShortageError(
+                f"{e}{reserved}", course=e.course, needed=e.needed, available=e.available
+            ) from None
+        raise SchedulingError(f"{e}{reserved}") from None
+    if m.inserting_hook:
+        text = write_knitout(schedule, machine=m)
+    else:
+        from illuknit.knit.hookless import lower_hookless, write_hookless_knitout
+
+        text = write_hookless_knitout(schedule, machine=m)
+        schedule = lower_hookless(schedule, machine=m)
+    if runs_on_swg(m):
+        # Report what the machine runs for this program, not the schedule's own passes.
+        run = machine_run(text)
+        result = KnitResult(
+            text,
+            stitches,
+            schedule,
+            machine_stats(schedule, run),
+            estimate_knit_time(schedule, run=run),
+            m,
+        )
+    else:
+        result = KnitResult(
+            text, stitches, schedule, schedule.stats, estimate_knit_time(schedule), m
+        )
+    if schedule.long_floats:
+        warnings.warn(LongFloatWarning(long_float_warning(result)), stacklevel=2)
+    return result
+
+
+def long_float_warning(result: KnitResult) -> str:
+    """What the :class:`LongFloatWarning` of ``result`` says: how many floats
+    stay over the float limit, how long the longest is and where (empty when none)."""
+    s = result.summary()
+    if not s["long_floats"]:
+        return ""
+    return (
+        f"{s['long_floats']} float(s) longer than the float limit of "
+        f"{result.machine.float_limit} needles kept (allowed long floats); the longest, "
+        f"{s['longest_float']} needles: {s['longest_float_at']}"
+    )

@@ -1,0 +1,220 @@
+"""Hand-knitting output: a stitch chart (PNG) and row-by-row written instructions.
+
+Hand knitters are the traditional makers of single-view ("shadow") illusions, worked flat in garter
+ridges on a stockinette ground. Each logical unit is 2 stitches wide and 2 rows tall:
+
+* the first row of a unit (a right-side row) is knit;
+* the second (a wrong-side row) is purled where the unit is flat (stockinette on the right side)
+  and knit where it is raised, which shows a purl ridge on the right side — the bump.
+
+Rows are numbered from the cast-on edge, which is the **bottom** of the picture (pattern row N-1).
+Odd rows are right-side (RS) rows, worked from the right edge of the chart to the left; even rows
+are wrong-side (WS) rows, worked from the left edge to the right. On the chart a dot marks a
+stitch that shows as a purl on the right side.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from illuknit.core.gauge import Gauge, finished_size
+from illuknit.core.pattern import LogicalPattern
+from illuknit.outputs.hand_pattern import hand_advice, written_row
+
+__all__ = ["HandRow", "chart_key", "chart_png_rgb", "hand_rows", "written_instructions"]
+
+
+@dataclass(frozen=True)
+class HandRow:
+    """One hand-knitting row.
+
+    Attributes
+    ----------
+    number : int
+        1-based row number from the cast-on edge.
+    side : {"RS", "WS"}
+    purl_on_rs : ndarray of shape (2M,), bool
+        Stitches that show as purls on the right side, in chart order (left to right on the RS).
+    yarn : ndarray of shape (2M,), int
+        Yarn index per stitch, chart order.
+    """
+
+    number: int
+    side: str
+    purl_on_rs: NDArray[np.bool_]
+    yarn: NDArray[np.int16]
+
+    def worked(self) -> list[tuple[str, int]]:
+        """(stitch as worked, yarn) in working order: RS rows right-to-left, WS rows left-to-right."""
+        if self.side == "RS":
+            ops = np.where(self.purl_on_rs, "p", "k")[::-1]
+            ys = self.yarn[::-1]
+        else:  # a purl seen on the RS is knit from the WS, and vice versa
+            ops = np.where(self.purl_on_rs, "k", "p")
+            ys = self.yarn
+        return list(zip(ops.tolist(), ys.tolist(), strict=True))
+
+
+def hand_rows(pattern: LogicalPattern) -> list[HandRow]:
+    """The 2N hand-knitting rows of a pattern, from the cast-on edge up."""
+    n, _ = pattern.shape
+    rows: list[HandRow] = []
+    for k in range(2 * n):
+        unit_row = n - 1 - k // 2
+        yarn = np.repeat(pattern.yarn[unit_row], 2)
+        if k % 2 == 0:
+            purl = np.zeros(yarn.shape, dtype=bool)
+        else:
+            purl = np.repeat(pattern.raised[unit_row], 2)
+        rows.append(HandRow(k + 1, "RS" if k % 2 == 0 else "WS", purl, yarn))
+    return rows
+
+
+def written_instructions(
+    pattern: LogicalPattern, *, title: str | None = None, gauge: Gauge | None = None
+) -> str:
+    """Row-by-row written instructions for knitting the pattern by hand.
+
+    Examples
+    --------
+    >>> from illuknit.core.pattern import parse_yarns
+    >>> p = LogicalPattern(np.array([[0, 0], [1, 1]]), np.array([[1, 0], [0, 0]]), parse_yarns("black,white"))
+    >>> for line in written_instructions(p).splitlines()[-3:]:
+    ...     print(line)
+    Row 3 (RS): with black, knit across (4 sts).
+    Row 4 (WS): with black, k2, p2 (4 sts).
+    Bind off all 4 sts knitwise.
+    """
+    n, m = pattern.shape
+    names = [y.name for y in pattern.yarns]
+    lines = [
+        title or "illuknit illusion pattern",
+        f"Size: {n} x {m} units = {2 * m} stitches x {2 * n} rows.",
+        *(
+            [
+                f"Finished size: {finished_size(pattern.shape, gauge).describe()} at "
+                f"{gauge.describe()} ({gauge.source})."
+            ]
+            if gauge is not None
+            else []
+        ),
+        "Yarns: " + ", ".join(f"{y.name} ({y.hex})" for y in pattern.yarns) + ".",
+        "RS rows are worked from the right edge of the chart, WS rows from the left. A purl ridge on",
+        "the right side (made by knitting on a WS row) is a raised unit: it hides the row above or",
+        "below it when the fabric is seen at an angle.",
+    ]
+    advice = hand_advice(pattern)
+    lines += ["", *advice.lines]
+    colourwork = {r.number: r for r in advice.rows}
+    first = hand_rows(pattern)[0]
+    lines.append("")
+    lines.append(f"Cast on {2 * m} sts with {names[int(first.yarn[-1])]}.")
+    for row in hand_rows(pattern):
+        note = colourwork[row.number].note()
+        note = f" [{note}]" if note else ""
+        lines.append(f"Row {row.number} ({row.side}): {written_row(row.worked(), names)}{note}")
+    lines.append(f"Bind off all {2 * m} sts knitwise.")
+    return "\n".join(lines) + "\n"
+
+
+def chart_key(pattern: LogicalPattern) -> list[str]:
+    """The chart's key, one entry per line: each yarn's square, then what a dot means."""
+    lines = [f"square = a stitch in {y.name} ({y.hex})" for y in pattern.yarns]
+    lines.append("dot = purl on the right side (knit on the wrong side): a raised ridge")
+    lines.append("row 1 (RS) at the bottom; RS rows are read right to left, WS rows left to right")
+    return lines
+
+
+def chart_png_rgb(pattern: LogicalPattern, *, cell: int | None = None) -> NDArray[np.uint8]:
+    """A stitch chart as an image: one cell per stitch, purls on the RS dotted, rows numbered.
+
+    Row 1 is at the bottom; RS row numbers are written on the right, WS on the left. Below the
+    chart a key shows each yarn's colour and what a dot means (:func:`chart_key`).
+    """
+    chart = _chart_body(pattern, cell=cell)
+    return _with_key(chart, pattern)
+
+
+def _with_key(chart: NDArray[np.uint8], pattern: LogicalPattern) -> NDArray[np.uint8]:
+    from PIL import Image, ImageDraw, ImageFont
+
+    from illuknit.core.colors import luminance
+
+    try:
+        font = ImageFont.load_default(size=13)
+    except TypeError:
+        font = ImageFont.load_default()
+    lines = chart_key(pattern)
+    line_h, sw = 20, 14
+    key_w = 40 + max(int(font.getlength(t)) for t in lines)
+    width = max(chart.shape[1], key_w)
+    img = Image.new("RGB", (width, chart.shape[0] + 10 + line_h * len(lines)), (255, 255, 255))
+    img.paste(Image.fromarray(chart), (0, 0))
+    draw = ImageDraw.Draw(img)
+    y0 = chart.shape[0] + 8
+    for i, text in enumerate(lines):
+        y = y0 + i * line_h
+        box = (8, y, 8 + sw, y + sw)
+        if i < len(pattern.yarns):
+            draw.rectangle(
+                box, fill=tuple(int(v) for v in pattern.yarns[i].rgb), outline=(90, 90, 90)
+            )
+        elif i == len(pattern.yarns):  # the dot, on the lightest yarn as in the chart
+            light = pattern.palette[int(np.argmax(luminance(pattern.palette)))]
+            draw.rectangle(box, fill=tuple(int(v) for v in light), outline=(90, 90, 90))
+            draw.ellipse((8 + 4, y + 4, 8 + sw - 4, y + sw - 4), fill=(20, 20, 20))
+        draw.text((8 + sw + 8, y), text, fill=(40, 40, 40), font=font)
+    return np.asarray(img)
+
+
+def _chart_body(pattern: LogicalPattern, *, cell: int | None) -> NDArray[np.uint8]:
+    from PIL import Image, ImageDraw, ImageFont
+
+    from illuknit.core.colors import luminance
+
+    n, m = pattern.shape
+    rows = hand_rows(pattern)
+    w, h = 2 * m, 2 * n
+    c = cell or int(max(4, min(14, 2400 // max(w, h))))
+    margin = 40 if c >= 8 else 0
+    img = Image.new("RGB", (w * c + 2 * margin, h * c + 2 * margin), (255, 255, 255))
+    pal = pattern.palette
+    yarn = np.zeros((h, w), dtype=np.int16)
+    purl = np.zeros((h, w), dtype=bool)
+    for r in rows:
+        y = h - r.number  # row 1 at the bottom
+        yarn[y] = r.yarn
+        purl[y] = r.purl_on_rs
+    big = np.repeat(np.repeat(pal[yarn], c, 0), c, 1)
+    if c >= 6:  # grid lines
+        big[::c, :, :] = (big[::c, :, :] * 0.7).astype(np.uint8)
+        big[:, ::c, :] = (big[:, ::c, :] * 0.7).astype(np.uint8)
+    # Purl dots: one disc rasterised once by Pillow, stamped into every purl cell in the stitch's
+    # contrasting tone (a per-stitch ellipse call was the slowest part of writing a chart).
+    rad = max(1, c // 5)
+    stamp = Image.new("1", (c, c), 0)
+    ImageDraw.Draw(stamp).ellipse((c // 2 - rad, c // 2 - rad, c // 2 + rad, c // 2 + rad), fill=1)
+    disc = np.asarray(stamp, dtype=bool)
+    dot_rgb = np.where((luminance(pal) > 0.35)[:, None], 20, 240).astype(np.uint8)
+    dots = np.repeat(np.repeat(purl, c, 0), c, 1) & np.tile(disc, (h, w))
+    big[dots] = np.repeat(np.repeat(dot_rgb[yarn], c, 0), c, 1)[dots]
+    img.paste(Image.fromarray(big), (margin, margin))
+    draw = ImageDraw.Draw(img)
+    if margin:
+        try:
+            font = ImageFont.load_default(size=max(8, min(14, c)))
+        except TypeError:
+            font = ImageFont.load_default()
+        step = max(1, 16 // c) * 2
+        for r in rows:
+            if (r.number - 1) % step and r.number != len(rows):
+                continue
+            y = margin + (h - r.number) * c
+            if r.side == "RS":
+                draw.text((margin + w * c + 4, y), str(r.number), fill=(60, 60, 60), font=font)
+            else:
+                draw.text((4, y), str(r.number), fill=(60, 60, 60), font=font)
+    return np.asarray(img)

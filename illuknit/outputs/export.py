@@ -1,0 +1,115 @@
+"""Write everything a user gets for a pattern into one folder.
+
+``pattern.json`` (the pattern), ``headon.png`` / ``view_a.png`` / ``view_b.png`` / ``contact.png``
+(previews), ``chart.png``, ``chart.svg``, ``instructions.txt`` and the print-ready
+``pattern.pdf`` (hand knitting, :mod:`illuknit.outputs.pattern_pdf`), ``legend.json`` (which picture
+colour became which yarn, when known) and ``report.json`` (numbers about the pattern).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from illuknit.core.files import atomic_write_text
+from illuknit.core.gauge import Gauge, finished_size
+from illuknit.core.pattern import LogicalPattern, save_pattern
+from illuknit.outputs.chart import chart_png_rgb, written_instructions
+from illuknit.outputs.previews import save_png, write_previews
+from illuknit.pictures.images import QuantisedImage
+
+__all__ = ["export_pattern", "pattern_stats"]
+
+
+def pattern_stats(pattern: LogicalPattern) -> dict[str, Any]:
+    """Counts a knitter cares about: size, raised units, colour changes per row, knit/purl changes."""
+    n, m = pattern.shape
+    changes = (np.diff(pattern.yarn, axis=1) != 0).sum(axis=1)
+    texture = int((np.diff(pattern.raised.astype(np.int8), axis=0) != 0).sum())
+    return {
+        "rows": n,
+        "cols": m,
+        "stitches": 2 * m,
+        "courses": 2 * n,
+        "yarns": [{"name": y.name, "rgb": y.hex} for y in pattern.yarns],
+        "raised_units": int(pattern.raised.sum()),
+        "colour_changes_per_row": {"mean": float(changes.mean()), "max": int(changes.max())},
+        "knit_purl_changes_between_rows": texture,
+    }
+
+
+def export_pattern(
+    pattern: LogicalPattern,
+    outdir: str | os.PathLike[str],
+    *,
+    quantised: Mapping[str, QuantisedImage] | None = None,
+    report: Mapping[str, Any] | None = None,
+    title: str | None = None,
+    targets: Mapping[str, ArrayLike] | None = None,
+    gauge: Gauge | None = None,
+) -> dict[str, Path]:
+    """Write the pattern, previews, chart, instructions, legend and report into ``outdir``.
+
+    ``outdir`` should be a fresh folder (use :func:`illuknit.core.files.staged_dir` so a failure
+    leaves nothing behind). ``gauge`` is the finished fabric's (default: the default machine's,
+    :attr:`~illuknit.core.machine.MachineSpec.fabric_gauge`); it sets the finished size written
+    in the report and instructions and the proportions of the previews. Returns name -> path of
+    everything written.
+    """
+    if gauge is None:
+        from illuknit.core.machine import DEFAULT_MACHINE
+
+        gauge = DEFAULT_MACHINE.fabric_gauge
+    out = Path(outdir)
+    out.mkdir(parents=True, exist_ok=True)
+    paths: dict[str, Path] = {}
+    save_pattern(pattern, out / "pattern.json")
+    paths["pattern"] = out / "pattern.json"
+    shown = dict(targets or {})
+    for name, q in (quantised or {}).items():
+        picture = q.rgb()
+        shown.setdefault(name, picture)
+        key = f"quantised_{name.lower().replace(' ', '_')}"
+        paths[key] = save_png(picture, out / f"{key}.png")
+    paths.update(write_previews(pattern, out, targets=shown, unit_aspect=gauge.unit_aspect))
+    paths["chart"] = save_png(chart_png_rgb(pattern), out / "chart.png")
+    paths["instructions"] = atomic_write_text(
+        out / "instructions.txt", written_instructions(pattern, title=title, gauge=gauge)
+    )
+    from illuknit.outputs.pattern_pdf import write_pattern_pdf
+
+    paths.update(
+        write_pattern_pdf(pattern, out, gauge=gauge, title=title or "illuknit illusion pattern")
+    )
+    if quantised:
+        legend = {name: q.legend() for name, q in quantised.items()}
+        paths["legend"] = atomic_write_text(
+            out / "legend.json", json.dumps(legend, indent=1) + "\n"
+        )
+    full = {
+        "pattern": pattern_stats(pattern),
+        "finished_size": finished_size(pattern.shape, gauge).as_dict(),
+        **dict(report or {}),
+    }
+    paths["report"] = atomic_write_text(
+        out / "report.json", json.dumps(full, indent=1, default=_jsonable) + "\n"
+    )
+    return paths
+
+
+def _jsonable(o: Any) -> Any:
+    if isinstance(o, np.integer):
+        return int(o)
+    if isinstance(o, np.floating):
+        return float(o)
+    if isinstance(o, np.ndarray):
+        return o.tolist()
+    if isinstance(o, Path):
+        return str(o)
+    raise TypeError(f"not JSON-serialisable: {type(o).__name__}")

@@ -1,0 +1,121 @@
+"""What a machine knitter needs beside the program: the machine file, and a set-up sheet.
+
+:func:`machine_sheet` turns a :class:`~illuknit.knitting.pipeline.KnitResult` into the files its
+machine reads (the Kniterate's ``.kc``) and the facts to set the machine up with: which cone goes
+on which carrier (waste yarn and draw thread included), the stitch numbers used, the needles the
+piece occupies, and the passes and time on that machine. For the Kniterate these are read from
+the ``.kc`` itself (waste section and the backend's carriage moves included); for a Shima machine
+from the SWG backend's passes (:func:`illuknit.formats.machine_passes`: kickbacks, carrier moves
+and hook passes included).
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+from typing import Any
+
+from illuknit.formats import check_format  # one check for the CLI, the sheet and the app
+from illuknit.knit.timing import format_duration
+from illuknit.knitting.pipeline import KnitResult
+
+__all__ = ["MachineSheet", "check_format", "machine_sheet"]
+
+
+@dataclass(frozen=True)
+class MachineSheet:
+    """Machine files by format (``{"kc": text}``) and the JSON-ready set-up summary."""
+
+    files: dict[str, str]
+    summary: dict[str, Any]
+
+
+def _carrier_table(result: KnitResult) -> list[dict[str, str]]:
+    m = result.machine
+    sched = result.schedule
+    rows: list[dict[str, str]] = []
+    owner: dict[str, int] = {}
+    for y, cars in sched.carrier_of_yarn.items():
+        for c in cars:
+            owner.setdefault(c, y)
+    for c in m.carriers:
+        if c == m.waste_carrier:
+            rows.append(
+                {"carrier": c, "role": "waste yarn", "yarn": "waste yarn (any contrast cone)"}
+            )
+        elif c == m.draw_carrier:
+            rows.append(
+                {"carrier": c, "role": "draw thread", "yarn": "draw thread (smooth, strong)"}
+            )
+        elif c in owner:
+            yarn = sched.yarns[owner[c]]
+            color = "#{:02x}{:02x}{:02x}".format(*yarn.rgb)
+            rows.append({"carrier": c, "role": "pattern", "yarn": f"{yarn.name} ({color})"})
+    return rows
+
+
+def machine_sheet(result: KnitResult, *, name: str = "command.kc") -> MachineSheet:
+    """The machine files and set-up summary of ``result``.
+
+    Parameters
+    ----------
+    result : KnitResult
+    name : str
+        File name written in the ``.kc``'s comment line (Kniterate).
+
+    Returns
+    -------
+    MachineSheet
+        ``summary`` holds ``carrier_table``, ``stitch_numbers``, ``needle_range``,
+        ``machine_passes``, ``machine_time_seconds``, ``machine_time``, and the settings of
+        knit passes (``knit_settings``) and transfer passes (``transfer_settings``: stitch
+        number, speed, roller advance and their source; ``None`` is the machine's own).
+    """
+    m = result.machine
+    files: dict[str, str] = {}
+    if "kc" in m.formats:
+        from illuknit.formats.kc import knitout_to_kc, summarise_kc
+
+        kc = knitout_to_kc(result.text, name=name)
+        files["kc"] = kc
+        facts = summarise_kc(
+            kc, seconds_per_needle=m.seconds_per_needle, seconds_per_turn=m.seconds_per_turn
+        )
+        passes, seconds = int(facts["passes"]), float(facts["time_seconds"])  # type: ignore[call-overload, arg-type]
+        needles = facts["needles"]
+        numbers = list(facts["stitch_numbers"])  # type: ignore[call-overload]
+    elif "dat" in m.formats:
+        # the Shima SWG backend's own passes: its kickbacks, carrier moves and hook passes
+        from illuknit.formats import machine_passes
+
+        runs = [p.needle_range for p in machine_passes(result.text)]
+        passes = len(runs)
+        seconds = sum(m.pass_seconds(hi - lo + 1) for lo, hi in runs)
+        needles = (min(lo for lo, _ in runs), max(hi for _, hi in runs))
+        found = re.findall(r"^x-stitch-number (\S+)", result.text, flags=re.MULTILINE)
+        numbers = sorted(set(found))
+    else:
+        stats = result.stats
+        passes = stats.passes + stats.hook_passes
+        seconds = result.time.seconds
+        spans = [p.needle_span for p in result.schedule.passes]
+        needles = (min(s[0] for s in spans), max(s[1] for s in spans))
+        found = re.findall(r"^x-stitch-number (\S+)", result.text, flags=re.MULTILINE)
+        numbers = sorted(set(found))
+    return MachineSheet(
+        files=files,
+        summary={
+            "carrier_table": _carrier_table(result),
+            "stitch_numbers": numbers,
+            "needle_range": list(needles) if needles else None,  # type: ignore[call-overload]
+            "machine_passes": passes,
+            "machine_time_seconds": round(seconds, 1),
+            "machine_time": format_duration(seconds),
+            "knit_settings": {"stitch_number": m.stitch_number, "speed_number": m.speed_number},
+            "transfer_settings": {
+                **m.transfer.describe(),
+                # the take-down roller is a Kniterate setting (the SWG backend has none)
+                **({} if "kc" in m.formats else {"roller_advance": None}),
+            },
+        },
+    )

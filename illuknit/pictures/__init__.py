@@ -1,0 +1,1 @@
+"""Picture input: decoding picture files, quantising them to yarns, sizing pairs, drawn inputs."""
