@@ -55,7 +55,7 @@ def run_knit(
     from illuknit.core.pattern import load_pattern
     from illuknit.formats import check_format, knitout_to_format
     from illuknit.knitting import knit_pattern
-    from illuknit.outputs.machine_sheet import machine_sheet
+    from illuknit.outputs.machine_sheet import machine_headline, machine_sheet
 
     spec = resolve_machine(machine, gauge=gauge)
     check_format(spec, output_format)
@@ -99,7 +99,8 @@ def run_knit(
             ],
         }
     sheet = machine_sheet(result, name=Path(output).name)
-    summary.update(sheet.summary)
+    # the headline passes and time are the machine's (the .kc's on the Kniterate)
+    summary = machine_headline(summary, sheet)
     if output_format in sheet.files:  # made for the sheet already (the .kc)
         data = sheet.files[output_format].encode("utf-8")
     else:
@@ -297,11 +298,20 @@ def knit(
             f"finished size: about {s['finished_size_text']} at "
             f"{s['finished_size']['gauge']} ({s['finished_size']['gauge_source']})"
         )
-        click.echo(
-            f"passes: {s['passes']} (knit {s['knit_passes']}, transfer {s['transfer_passes']}, "
-            f"cast-on {s['cast_on_passes']}, bind-off {s['bind_off_passes']}); "
-            f"lower bound {s['lower_bound']}, ratio {s['ratio']:.2f}"
-        )
+        if s.get("passes_counted_on") == "kc":
+            click.echo(
+                f"passes: {s['passes']} on the {s['machine']} (its machine file: waste section "
+                f"and the backend's carriage moves included); the schedule's "
+                f"{s['schedule_passes']}: knit {s['knit_passes']}, transfer "
+                f"{s['transfer_passes']}, cast-on {s['cast_on_passes']}, bind-off "
+                f"{s['bind_off_passes']}; lower bound {s['lower_bound']}"
+            )
+        else:
+            click.echo(
+                f"passes: {s['passes']} (knit {s['knit_passes']}, transfer "
+                f"{s['transfer_passes']}, cast-on {s['cast_on_passes']}, bind-off "
+                f"{s['bind_off_passes']}); lower bound {s['lower_bound']}, ratio {s['ratio']:.2f}"
+            )
         if s.get("scheduler") == "mixed-colourwork":
             click.echo(
                 f"mixed colourwork: {s['carriers']} carrier(s), {s['tuck_joins']} tuck join(s), "
@@ -311,7 +321,8 @@ def knit(
                 f"{s['kickbacks']} backend kickback(s)"
             )
         click.echo(
-            f"estimated knitting time: {s['time']} (+{s['hook_passes']} hook passes counted)"
+            f"estimated knitting time: {s['time']}, of which the bind-off {s['bind_off_time']} "
+            f"(+{s['hook_passes']} hook passes counted; an untuned model, docs/knitting.md)"
         )
         _echo_machine_sheet(s)
         chk = s.get("check", False)

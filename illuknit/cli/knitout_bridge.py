@@ -300,7 +300,7 @@ def write_program(
     from illuknit.core.files import atomic_write_bytes
     from illuknit.formats import FORMAT_SUFFIXES, check_format, knitout_to_format
     from illuknit.knitting import knit_pattern
-    from illuknit.outputs.machine_sheet import machine_sheet
+    from illuknit.outputs.machine_sheet import machine_headline, machine_sheet
 
     spec = get_machine(machine)
     formats = requested_formats() if formats is None else formats
@@ -310,9 +310,8 @@ def write_program(
         allow_long_floats = long_floats_allowed()
     result = knit_pattern(pattern, machine=spec, allow_long_floats=allow_long_floats)
     report = check_knitout(result.program, machine=spec)
-    summary = result.summary()
     sheet = machine_sheet(result, name="program.kc")
-    summary.update(sheet.summary)
+    summary = machine_headline(result.summary(), sheet)
     console().print(f"knitout: {_describe(summary)}")
     console().print(f"check: {report.to_text(name='program.k').splitlines()[0]}")
     # convert before writing anything, so a program the machine file cannot hold leaves nothing

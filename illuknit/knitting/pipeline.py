@@ -24,7 +24,7 @@ from illuknit.core.pattern import LogicalPattern
 from illuknit.knit.knitout import write_knitout
 from illuknit.knit.schedule import Schedule, ScheduleStats, schedule_courses
 from illuknit.knit.stitches import StitchPattern, lower_to_stitches
-from illuknit.knit.timing import TimeEstimate, estimate_knit_time
+from illuknit.knit.timing import TimeEstimate, estimate_knit_time, format_duration
 from illuknit.knitting.carriage import machine_run, machine_stats, runs_on_swg
 
 __all__ = ["KnitResult", "LongFloatWarning", "knit_pattern", "long_float_warning"]
@@ -112,6 +112,8 @@ class KnitResult:
             "longest_float_at": longest_at,
             "time_seconds": round(self.time.seconds, 1),
             "time": str(self.time),
+            "bind_off_time_seconds": round(self.time.bind_off_seconds, 1),
+            "bind_off_time": format_duration(self.time.bind_off_seconds),
             "lines": self.text.count("\n"),
         }
 

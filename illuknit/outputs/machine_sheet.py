@@ -19,7 +19,7 @@ from illuknit.formats import check_format  # one check for the CLI, the sheet an
 from illuknit.knit.timing import format_duration
 from illuknit.knitting.pipeline import KnitResult
 
-__all__ = ["MachineSheet", "check_format", "machine_sheet"]
+__all__ = ["MachineSheet", "check_format", "machine_headline", "machine_sheet"]
 
 
 @dataclass(frozen=True)
@@ -119,3 +119,22 @@ def machine_sheet(result: KnitResult, *, name: str = "command.kc") -> MachineShe
             },
         },
     )
+
+
+def machine_headline(summary: dict[str, Any], sheet: MachineSheet) -> dict[str, Any]:
+    """``summary`` (a :meth:`~illuknit.knitting.pipeline.KnitResult.summary`) with the sheet's
+    facts, its headline ``passes`` and ``time`` the machine's on every machine.
+
+    On a Shima they already are (the SWG backend's passes); on the Kniterate they become the
+    ``.kc``'s (waste section and the backend's carriage moves included), the schedule's kept as
+    ``schedule_passes`` and ``schedule_time``, and ``passes_counted_on`` says ``"kc"``.
+    """
+    out = {**summary, **sheet.summary}
+    if "kc" in sheet.files:
+        out["schedule_passes"] = summary["passes"]
+        out["schedule_time"] = summary["time"]
+        out["passes"] = out["machine_passes"]
+        out["time_seconds"] = out["machine_time_seconds"]
+        out["time"] = out["machine_time"]
+        out["passes_counted_on"] = "kc"
+    return out

@@ -99,6 +99,11 @@ def test_cli_writes_kc_and_the_sheet(tmp_path: Path, run_cli) -> None:
     s = json.loads(output)
     assert out.read_text().startswith("HOME\nRACK:0\n// piece.kc\n")
     assert s["format"] == "kc" and s["machine"] == "Kniterate"
+    assert (
+        s["passes"]
+        == s["machine_passes"]
+        == out.read_text().count("\n>>") + out.read_text().count("\n<<")
+    )
     assert {row["role"] for row in s["carrier_table"]} == {"waste yarn", "draw thread", "pattern"}
 
 
@@ -126,7 +131,10 @@ def test_knitout_option_writes_kc_and_the_sheet_in_knit_json(tmp_path: Path) -> 
     paths = write_program(mixed(), tmp_path, machine="kniterate")
     assert paths["kc"].read_text().startswith("HOME\nRACK:0\n// program.kc\n")
     s = json.loads(paths["knit"].read_text())
-    assert s["machine"] == "Kniterate" and s["machine_passes"] > s["passes"]
+    # the headline passes are the machine's (.kc), the schedule's kept apart
+    assert s["machine"] == "Kniterate" and s["machine_passes"] == s["passes"]
+    assert s["schedule_passes"] < s["passes"] and s["passes_counted_on"] == "kc"
+    assert s["time"] == s["machine_time"] and s["bind_off_time_seconds"] > 0
     assert {r["role"] for r in s["carrier_table"]} == {"waste yarn", "draw thread", "pattern"}
     swg = json.loads(
         write_program(mixed(), tmp_path / "swg", machine="swg091n2")["knit"].read_text()
