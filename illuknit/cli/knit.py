@@ -304,7 +304,7 @@ def knit(
                 f"and the backend's carriage moves included); the schedule's "
                 f"{s['schedule_passes']}: knit {s['knit_passes']}, transfer "
                 f"{s['transfer_passes']}, cast-on {s['cast_on_passes']}, bind-off "
-                f"{s['bind_off_passes']}; lower bound {s['lower_bound']}"
+                f"{s['bind_off_passes']}; its lower bound {s['schedule_lower_bound']}"
             )
         else:
             click.echo(

@@ -127,7 +127,8 @@ def machine_headline(summary: dict[str, Any], sheet: MachineSheet) -> dict[str, 
 
     On a Shima they already are (the SWG backend's passes); on the Kniterate they become the
     ``.kc``'s (waste section and the backend's carriage moves included), the schedule's kept as
-    ``schedule_passes`` and ``schedule_time``, and ``passes_counted_on`` says ``"kc"``.
+    ``schedule_passes``, ``schedule_time``, ``schedule_lower_bound`` and ``schedule_ratio``, and
+    ``passes_counted_on`` says ``"kc"``.
     """
     out = {**summary, **sheet.summary}
     if "kc" in sheet.files:
@@ -137,4 +138,7 @@ def machine_headline(summary: dict[str, Any], sheet: MachineSheet) -> dict[str, 
         out["time_seconds"] = out["machine_time_seconds"]
         out["time"] = out["machine_time"]
         out["passes_counted_on"] = "kc"
+        # the lower bound and ratio are the schedule's (the .kc adds the waste section)
+        out["schedule_lower_bound"] = out.pop("lower_bound")
+        out["schedule_ratio"] = out.pop("ratio")
     return out
