@@ -20,8 +20,9 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from illuknit.core.arguments import check_instance, check_str
 from illuknit.core.gauge import Gauge, finished_size
-from illuknit.core.pattern import LogicalPattern
+from illuknit.core.pattern import LogicalPattern, check_pattern
 from illuknit.outputs.hand_pattern import hand_advice, written_row
 
 __all__ = ["HandRow", "chart_key", "chart_png_rgb", "hand_rows", "written_instructions"]
@@ -88,6 +89,11 @@ def written_instructions(
     Row 4 (WS): with black, k2, p2 (4 sts).
     Bind off all 4 sts knitwise.
     """
+    check_pattern(pattern)
+    if title is not None:
+        check_str(title, "title")
+    if gauge is not None:
+        check_instance(gauge, Gauge, "gauge")
     n, m = pattern.shape
     names = [y.name for y in pattern.yarns]
     lines = [

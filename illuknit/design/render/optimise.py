@@ -36,9 +36,10 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from illuknit.core.arguments import check_instance, check_int, check_number, check_str
 from illuknit.core.colors import lab_from_rgb, linear_from_srgb
-from illuknit.core.errors import ImageInputError, OptionError, YarnSpecError
-from illuknit.core.pattern import LogicalPattern, Yarn
+from illuknit.core.errors import ImageInputError, OptionError, RenderParamsError, YarnSpecError
+from illuknit.core.pattern import LogicalPattern, Yarn, check_yarns
 from illuknit.core.views import View, can_see, logical_error
 from illuknit.design.render.grad import render_value_and_grad
 from illuknit.design.render.params import RenderParams
@@ -261,6 +262,19 @@ def optimise_design(
     -------
     DesignResult
     """
+    check_yarns(yarns)
+    if params is not None:
+        check_instance(params, RenderParams, "params", error=RenderParamsError)
+    check_int(steps, "steps", min=1)
+    check_number(learning_rate, "learning_rate", min=0, min_open=True)
+    check_number(binary_weight, "binary_weight", min=0)
+    check_number(change_weight, "change_weight", min=0)
+    check_number(raised_weight, "raised_weight", min=0)
+    check_number(final_temperature, "final_temperature", min=0, min_open=True)
+    check_str(mix, "mix")
+    check_int(seed, "seed", min=0)
+    if time_limit is not None:
+        check_number(time_limit, "time_limit", min=0, min_open=True)
     yarns = tuple(yarns)
     if len(yarns) < 2 or not all(isinstance(y, Yarn) for y in yarns):
         raise YarnSpecError("`yarns` must be a sequence of at least two Yarn")
