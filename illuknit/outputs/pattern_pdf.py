@@ -27,6 +27,7 @@ from __future__ import annotations
 import io
 import os
 from dataclasses import dataclass
+from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any
 
@@ -193,6 +194,8 @@ def pattern_pdf(
     pdf.set_margins(MARGIN_MM, MARGIN_MM, MARGIN_MM)
     pdf.set_title(_latin1(title))
     pdf.set_creator("illuknit")
+    # no time stamp: the same pattern gives the same file (a folder holds one whole design)
+    pdf.set_creation_date(datetime(2000, 1, 1, tzinfo=UTC))
     pw, ph = PAGE_SIZES[page]
     usable = pw - 2 * MARGIN_MM
 
