@@ -21,19 +21,39 @@ def patterns(draw):
     )
 
 
-def _parse_row(line):
-    """Expand 'Row k (WS): with Dark, k2, p4.' or runs with colours into (op, yarn-name) stitches."""
-    body = line.split(": ", 1)[1].rstrip(".")
-    if body.startswith("with "):
-        yarn, _, rest = body[5:].partition(", ")
-        if rest.startswith(("knit across", "purl across")):
-            count = int(re.search(r"\((\d+) sts\)", rest).group(1))
-            return [(rest[0], yarn)] * count
-        return [(tok[0], yarn) for tok in rest.split(", ") for _ in range(int(tok[1:]))]
+def _tokens(text, yarn):
+    """Stitches of a comma list: 'k2, p4' (in ``yarn``) or 'k2 Dark, p4 Light'."""
     out = []
-    for tok in body.split(", "):
-        op_count, yarn = tok.split(" ", 1)
-        out += [(op_count[0], yarn)] * int(op_count[1:])
+    for tok in text.split(", "):
+        op_count, _, name = tok.partition(" ")
+        out += [(op_count[0], name or yarn)] * int(op_count[1:])
+    return out
+
+
+def _parse_row(line):
+    """Expand 'Row k (WS): with Dark, *k2, p4; rep from * to last 2 sts, k2 (8 sts). [note]'
+    or runs with colours into (op, yarn-name) stitches, checking the stitch count."""
+    body = line.split(": ", 1)[1]
+    body = re.sub(r" \[[^]]*\]$", "", body).rstrip(".")
+    m = re.match(r"^(.*) \((\d+) sts\)$", body)
+    assert m is not None, line
+    body, total = m[1], int(m[2])
+    yarn = None
+    if body.startswith("with "):
+        yarn, _, body = body[5:].partition(", ")
+        if body.startswith(("knit across", "purl across")):
+            return [(body[0], yarn)] * total
+    rep = re.match(r"^(?:(.*?), )?\*(.*?); rep from \*(?: to end| to last (\d+) sts?, (.*))$", body)
+    if rep is None:
+        out = _tokens(body, yarn)
+    else:
+        pre = _tokens(rep[1], yarn) if rep[1] else []
+        unit = _tokens(rep[2], yarn)
+        suffix = _tokens(rep[4], yarn) if rep[4] else []
+        reps, left = divmod(total - len(pre) - len(suffix), len(unit))
+        assert left == 0 and reps >= 2, line
+        out = pre + unit * reps + suffix
+    assert len(out) == total, line
     return out
 
 

@@ -48,7 +48,7 @@ def test_16bit_grey_is_not_washed_out():
     grey = np.array([[0, 64], [128, 255]], np.uint8).repeat(4, 0).repeat(4, 1)
     pic = read_picture(png16(grey.astype(np.uint16) * 257))
     assert np.array_equal(pic.rgb[..., 0], grey) and np.array_equal(pic.rgb[..., 2], grey)
-    q = prepare_image(pic.rgb, n_colors=2)
+    q = prepare_image(pic.rgb, n_colors=2, unit_aspect=1.0)  # square units: pixel for pixel
     assert sorted(np.round(q.counts / q.counts.sum(), 2)) == [0.5, 0.5]  # not 99.98 % white
 
 

@@ -49,15 +49,41 @@ def test_default_width_is_the_picture_width_capped():
 
 
 def test_height_follows_picture_a():
+    # a unit (2 stitches x 2 rows) is 0.7 as tall as wide: 1 / 0.7 the rows keep the proportions
     pair = size_pair(two_tone(300, 600), two_tone(150, 300))
-    assert pair.shape == (50, 100) and pair.b is not None and pair.b.shape == pair.a.shape
-    assert size_picture(two_tone(30, 60), height=10).shape[:2] == (10, 20)
+    assert pair.shape == (71, 100) and pair.b is not None and pair.b.shape == pair.a.shape
+    assert size_picture(two_tone(30, 60), height=10).shape[:2] == (10, 14)
+    # square units on request: as many rows as the picture's proportions in units
+    assert size_pair(two_tone(300, 600), unit_aspect=1.0).shape == (50, 100)
+    assert size_picture(two_tone(30, 60), height=10, unit_aspect=1.0).shape[:2] == (10, 20)
+
+
+@pytest.mark.parametrize("gauge", ["22x30/10cm", "27.6x39.4/10cm", "5x8/in", "18x20/4in"])
+@pytest.mark.parametrize("width", [24, 60, 97])
+def test_a_square_picture_knits_square_at_the_gauge(gauge, width):
+    """The grid keeps the picture's proportions in the finished fabric, within 3 %."""
+    from illuknit.core.gauge import finished_size, parse_gauge
+
+    g = parse_gauge(gauge)
+    pair = size_pair(two_tone(200, 200), width=width, unit_aspect=g.unit_aspect)
+    size = finished_size(pair.shape, g)
+    assert abs(size.height_cm / size.width_cm - 1) <= 0.03, (pair.shape, size)
+    # and the head-on preview is drawn in the same proportion
+    from illuknit.core.pattern import LogicalPattern, parse_yarns
+    from illuknit.outputs.previews import chart_rgb
+
+    n, m = pair.shape
+    pattern = LogicalPattern(
+        np.zeros((n, m), int), np.zeros((n, m), bool), parse_yarns("black,white")
+    )
+    img = chart_rgb(pattern, unit_aspect=g.unit_aspect)
+    assert abs(img.shape[0] / img.shape[1] - size.height_cm / size.width_cm) <= 0.01
 
 
 def test_b_within_the_aspect_tolerance_is_fitted_silently():
-    # 1 % taller: at 40 units wide it would be 41 rows, but it covers the same piece.
+    # 1 % taller: at 40 units wide it would be 58 rows, but it covers the same piece.
     pair = size_pair(two_tone(200, 200), two_tone(202, 200), width=40)
-    assert pair.shape == (40, 40) and not pair.stretched and pair.notes == ()
+    assert pair.shape == (57, 40) and not pair.stretched and pair.notes == ()
 
 
 def test_b_of_another_aspect_is_an_error_unless_stretched():
@@ -66,7 +92,7 @@ def test_b_of_another_aspect_is_an_error_unless_stretched():
     assert e.value.a_pixels == (200, 200) and e.value.b_pixels == (260, 200)
     assert "a.png" in str(e.value) and isinstance(e.value, ImageInputError)
     pair = size_pair(two_tone(200, 200), two_tone(260, 200), width=40, stretch=True)
-    assert pair.shape == (40, 40) and pair.stretched and "stretched" in pair.notes[0]
+    assert pair.shape == (57, 40) and pair.stretched and "stretched" in pair.notes[0]
 
 
 def test_resampling_is_nearest_for_few_colors_and_smooth_for_photos():
@@ -108,7 +134,7 @@ def test_cli_double_solve_app_and_bench_size_the_same_pictures_alike(pictures, t
     main(["solve", str(pa), str(pb), "--width", "48", "--solver", "dp", "-o", str(tmp_path / "s")])
     grids["solve"] = json.loads((tmp_path / "s" / "pattern.json").read_text())
     shapes = {k: (len(v["yarn"]), len(v["yarn"][0])) for k, v in grids.items()}
-    assert set(shapes.values()) == {expected.shape} == {(36, 48)}
+    assert set(shapes.values()) == {expected.shape} == {(51, 48)}
 
     # the app, at the same width, resizes the same pixels to the same grid
     pytest.importorskip("pydantic", reason="the app extra is not installed")
@@ -135,7 +161,7 @@ def test_default_width_is_the_same_for_single_double_and_solve(pictures, tmp_pat
 
 def test_prepare_image_widths(tmp_path):
     rgb = np.random.default_rng(3).random((30, 60, 3))
-    assert prepare_image(rgb, width=10, n_colors=2).shape == (5, 10)
+    assert prepare_image(rgb, width=10, n_colors=2).shape == (7, 10)
     assert prepare_image(rgb, width_cm=10 * 2 * 2.54 / 7, n_colors=2).shape[1] == 10
     with pytest.raises(ImageInputError, match="not both"):
         prepare_image(rgb, width=10, width_cm=5)

@@ -15,6 +15,7 @@ from numpy.typing import NDArray
 
 from illuknit.app.controls import blame
 from illuknit.core.errors import AppRequestError
+from illuknit.core.gauge import STOCKINETTE_COURSE_ASPECT
 from illuknit.core.pattern import LogicalPattern, pattern_to_json
 
 if TYPE_CHECKING:
@@ -35,11 +36,18 @@ __all__ = [
 View = Literal["A", "B", "headon"]
 
 
-def render_view(pattern: LogicalPattern, view: View, *, angle: float) -> NDArray[np.uint8]:
+def render_view(
+    pattern: LogicalPattern,
+    view: View,
+    *,
+    angle: float,
+    unit_aspect: float = STOCKINETTE_COURSE_ASPECT,
+) -> NDArray[np.uint8]:
     """(H, W, 3) uint8 picture of ``view`` ("A", "B", "headon") at elevation ``angle`` degrees.
 
-    The angled renderer, supersampled along the wales and widened by the same factor so that the
-    picture has square pixels and shows sub-unit coverage.
+    The angled renderer, supersampled along the wales and widened by the same factor so that it
+    shows sub-unit coverage; drawn in the fabric's proportions (units ``unit_aspect`` as tall as
+    wide, foreshortened by ``sin(angle)``; head-on is 90 degrees).
     """
     if not 0 < angle <= 90:
         raise AppRequestError(
@@ -56,7 +64,12 @@ def render_view(pattern: LogicalPattern, view: View, *, angle: float) -> NDArray
     ss = int(min(6, max(1, round(360 / max(pattern.shape)))))
     with blame("angle"):
         img = render_pattern(pattern, view=view, angle=angle, supersample=ss)
-    return np.repeat(np.asarray(img, dtype=np.uint8), ss, axis=1)
+    from illuknit.outputs.previews import stretch_rows
+
+    wide = np.repeat(np.asarray(img, dtype=np.uint8), ss, axis=1)
+    seen = 90.0 if view == "headon" else angle
+    height = round(pattern.shape[0] * ss * unit_aspect * np.sin(np.radians(seen)))
+    return stretch_rows(wide, height)
 
 
 def png_bytes(rgb: NDArray[np.uint8]) -> bytes:
@@ -100,10 +113,12 @@ def chart_png(pattern: LogicalPattern) -> bytes:
     return png_bytes(chart_png_rgb(pattern))
 
 
-def instructions_text(pattern: LogicalPattern) -> str:
+def instructions_text(pattern: LogicalPattern, *, machine: str | None = None) -> str:
+    """Written instructions, with the finished size at ``machine``'s fabric gauge."""
+    from illuknit.core.machine import get_machine
     from illuknit.outputs.chart import written_instructions
 
-    return written_instructions(pattern)
+    return written_instructions(pattern, gauge=get_machine(machine).fabric_gauge)
 
 
 def pattern_key(pattern: LogicalPattern) -> str:

@@ -196,6 +196,7 @@ def size_inputs(
     Raises AppRequestError for a missing picture, a width out of range and pictures of
     different shapes (``image_b``, code ``size_mismatch``).
     """
+    from illuknit.core.machine import get_machine
     from illuknit.pictures.sizing import size_pair
 
     slots = _require_pictures(images, settings.mode)
@@ -204,7 +205,16 @@ def size_inputs(
     b = images["b"].rgb if "b" in slots else None
     with blame(size_field):
         try:
-            pair = size_pair(a, b, width=width, stretch=settings.resize, smooth=settings.smooth)
+            pair = size_pair(
+                a,
+                b,
+                width=width,
+                stretch=settings.resize,
+                # an accepted edit is a grid picture (illuknit.pictures.sizing.grid_picture): smoothing
+                # would blend its units' colours
+                smooth=False if any(_is_grid(images[k]) for k in slots) else settings.smooth,
+                unit_aspect=get_machine(settings.machine).fabric_gauge.unit_aspect,
+            )
         except PictureSizeMismatchError:
             assert b is not None
             raise AppRequestError(
@@ -224,6 +234,14 @@ def size_inputs(
         )
     resized = {"a": pair.a} if pair.b is None else {"a": pair.a, "b": pair.b}
     return resized, tuple(pair.notes)
+
+
+#: the note an accepted suggested edit leaves on a picture (its pixels are on the unit grid)
+ACCEPTED_EDIT_NOTE = "suggested edit accepted"
+
+
+def _is_grid(image: Any) -> bool:
+    return any(n.startswith(ACCEPTED_EDIT_NOTE) for n in getattr(image, "notes", ()))
 
 
 def _check_colors(mode: str, n_colors: int, n_yarns: int) -> None:

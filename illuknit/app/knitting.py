@@ -100,6 +100,8 @@ def knit_and_check(
         raise AppRequestError(
             long_float_message(e, spec.name), field="knit", code="long_floats", status=409
         ) from None
+    from illuknit.outputs.machine_sheet import machine_headline, machine_sheet
+
     report = check_knitout(result.text)
     sched = result.schedule
     carriers: list[dict[str, Any]] = [
@@ -116,7 +118,13 @@ def knit_and_check(
             carriers.append({"carriers": [carrier], "yarn": role, "rgb": None})
     return {
         "knitout": result.text,
-        "stats": result.summary(),
+        # the machine's passes and time on every machine (the .kc's on the Kniterate; a Shima's
+        # summary counts the SWG backend's passes already)
+        "stats": (
+            machine_headline(result.summary(), machine_sheet(result))
+            if "kc" in spec.formats
+            else result.summary()
+        ),
         "report": report.to_dict(),
         "report_text": report.to_text(name="knitout.k"),
         "carriers": carriers,

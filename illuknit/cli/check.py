@@ -55,7 +55,8 @@ def read_knitout_file(path: Path) -> str:
     help="Also run the PyPI knitout-interpreter simulator (pip install 'illuknit[sim]'); slow.",
 )
 @machine_option(
-    "Machine to judge against (default: the one the program's ;;Machine/;;Width headers name)."
+    "Machine to judge against (default: the one the program's ;;Machine/;;Width headers name).",
+    transfer=False,
 )
 @click.option(
     "--float-limit",

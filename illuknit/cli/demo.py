@@ -49,7 +49,11 @@ def demo(outdir: Path, width: int, knitout: bool, machine: str | None) -> None:
         machine=machine,
         title="illuknit demo: a heart in a ring",
     )
-    summarise_pattern(load_pattern(paths["pattern"]), legend_path=paths.get("legend"))
+    summarise_pattern(
+        load_pattern(paths["pattern"]),
+        legend_path=paths.get("legend"),
+        report_path=paths.get("report"),
+    )
     print_written(outdir, paths)
     console().print(
         f"Open [bold]{outdir / 'contact.png'}[/] to see the stripes head-on and the heart from "

@@ -24,8 +24,11 @@ def write_candidate(
     overrides: dict[tuple[int, int], str],
     seen_targets: list[np.ndarray],
     sources: list[str | None],
+    gauge: Any = None,
 ) -> tuple[dict[str, Any], list[str]]:
-    """Write one ranked candidate's folder; returns its summary row and overlap lines."""
+    """Write one ranked candidate's folder; returns its summary row and overlap lines.
+
+    ``gauge`` (an :class:`illuknit.core.gauge.Gauge`) is the fabric's: finished size and previews."""
     from illuknit.core.files import atomic_write_text
     from illuknit.design.tiles.compile import repainted_rgb
     from illuknit.design.tiles.overlaps import group_overlaps
@@ -62,6 +65,7 @@ def write_candidate(
         report=rep,
         title=f"{mode}-view illusion, candidate {cand.rank}",
         targets={f"{names[0]} repainted": ra, f"{names[1]} repainted": rb},
+        gauge=gauge,
     )
     for which, letter, striped in ((0, "a", ra), (1, "b", rb)):
         average = repainted_rgb(cand, which, mode="average")

@@ -20,6 +20,7 @@ import click
 from illuknit.cli.design_files import fmt_number, summary_text, write_candidate, write_edits
 from illuknit.cli.knitout_bridge import format_option, long_floats_option, machine_option
 from illuknit.cli.options import knitout_option, outdir_option
+from illuknit.core.gauge import finished_size
 from illuknit.core.progress import Report, work_bar
 from illuknit.design.tiles.perception import DEFAULT_POOL, POOL_SECONDS, RANK_KEYS
 from illuknit.pictures.sizing import DEFAULT_MAX_WIDTH
@@ -74,7 +75,7 @@ def run_design(
     ``outdir``); with ``knitout`` the default candidate is knit on ``machine``.
     ``progress(fraction, message)`` hears how far the work is (the command line's bar).
     Returns the summary dict."""
-    from illuknit.cli.knitout_bridge import resolve_machine
+    from illuknit.cli.knitout_bridge import design_unit_aspect, resolve_machine
     from illuknit.core.errors import ImageInputError, OptionError, TileAssignmentError
     from illuknit.design.options import (
         Brightness,
@@ -118,6 +119,7 @@ def run_design(
         ranking=ranking,
         knit_on=spec if knitout else None,
         progress=lambda f, message: report(0.7 * f, message),
+        unit_aspect=design_unit_aspect(spec),
     )
     report: Report = progress or (lambda fraction, message: None)
     if mode == "double":
@@ -133,7 +135,7 @@ def run_design(
         )
     return write_design(
         design, outdir, pick=pick, sources=[str(path_a), str(path_b) if path_b else None],
-        machine=spec if knitout else None, progress=report,
+        machine=spec if knitout else None, progress=report, gauge=spec.fabric_gauge,
     )  # fmt: skip
 
 
@@ -145,10 +147,17 @@ def write_design(
     sources: list[str | None],
     machine: Any = None,
     progress: Report | None = None,
+    gauge: Any = None,
 ) -> dict[str, Any]:
     """Write a :class:`~illuknit.design.stages.TileDesign` into ``outdir`` (atomically): each
     candidate's folder, the suggested edits, the default candidate's pattern (and, given a
-    machine, its knitout program) and the summary. Returns the summary dict."""
+    machine, its knitout program) and the summary. Returns the summary dict. ``gauge`` (the
+    fabric's :class:`~illuknit.core.gauge.Gauge`; default the default machine's) gives the
+    finished size."""
+    if gauge is None:
+        from illuknit.core.machine import resolve_machine
+
+        gauge = resolve_machine(None).fabric_gauge
     report: Report = progress or (lambda fraction, message: None)
     from illuknit.core.files import atomic_write_text, staged_dir
     from illuknit.outputs.previews import unit_scale
@@ -169,13 +178,15 @@ def write_design(
                 overrides=design.ranking.override_map,
                 seen_targets=list(design.targets),
                 sources=sources,
+                gauge=gauge,
             )
             rows.append(row)
             if row["default"]:
                 chosen, overlap_lines = d.pattern, lines
         if design.edits:
             write_edits(list(design.edits), tmp / "suggestions", scale=max(2, unit_scale(qa.shape)))
-        shutil.copyfile(tmp / f"candidate_{pick}" / "pattern.json", tmp / "pattern.json")
+        for name in ("pattern.json", "pattern.pdf", "chart.svg"):  # the picked design's
+            shutil.copyfile(tmp / f"candidate_{pick}" / name, tmp / name)
         if machine is not None and chosen is not None:
             # The default candidate as a checked knitout program (mixed-colourwork scheduler).
             from illuknit.cli.knitout_bridge import write_program
@@ -186,6 +197,7 @@ def write_design(
             "mode": design.mode,
             "yarns": [{"name": y.name, "rgb": y.hex} for y in design.yarns],
             "size": {"rows": int(qa.shape[0]), "cols": int(qa.shape[1])},
+            "finished_size": finished_size(qa.shape, gauge).as_dict(),
             "bank": {"name": design.bank.name, "tiles": len(design.bank)},
             "solver": design.search.solver,
             "ranked_by": design.ranking.rank_by.value,
@@ -334,6 +346,13 @@ def print_summary(summary: dict[str, Any], outdir: Path) -> None:
     if dropped:
         con.print(f"(columns left out to fit the terminal: {', '.join(repr(c) for c in dropped)};"
                   " the full table is in summary.txt)")  # fmt: skip
+    size = summary.get("finished_size")
+    if size is not None:
+        con.print(
+            f"finished size: [bold]{size['width_cm']} x {size['height_cm']} cm[/] "
+            f"({size['width_in']} x {size['height_in']} in) at {size['gauge']} "
+            f"({size['gauge_source']})"
+        )
     default = next((r for r in summary["candidates"] if r["default"]), None)
     if default is not None:
         for line in _overlap_digest(default["overlaps"]):

@@ -53,7 +53,7 @@ def run_knit(
     from illuknit.core.pattern import load_pattern
     from illuknit.formats import check_format, knitout_to_format
     from illuknit.knitting import knit_pattern
-    from illuknit.outputs.machine_sheet import machine_sheet
+    from illuknit.outputs.machine_sheet import machine_headline, machine_sheet
 
     spec = resolve_machine(machine, gauge=gauge)
     check_format(spec, output_format)
@@ -87,7 +87,8 @@ def run_knit(
         }
     name = "program" if str(output) == STDOUT else Path(output).name
     sheet = machine_sheet(result, name=name)
-    summary.update(sheet.summary)
+    # the headline passes and time are the machine's (the .kc's on the Kniterate)
+    summary = machine_headline(summary, sheet)
     if output_format in sheet.files:  # made for the sheet already (the .kc)
         data = sheet.files[output_format].encode("utf-8")
     else:
@@ -276,15 +277,25 @@ def knit(
         s = summary
         what = f"{s['lines']} lines" if output_format == "knitout" else f"{output_format} file"
         echo(f"wrote {s['output']} ({what}) for {s['machine']}")
+        echo(f"stitches: {s['wales']} wales x {s['courses']} courses at gauge {s['gauge']:g}")
         echo(
-            f"stitches: {s['wales']} wales x {s['courses']} courses "
-            f"(about {s['width_cm']} x {s['height_cm']} cm at gauge {s['gauge']:g})"
+            f"finished size: about {s['finished_size_text']} at "
+            f"{s['finished_size']['gauge']} ({s['finished_size']['gauge_source']})"
         )
-        echo(
-            f"passes: {s['passes']} (knit {s['knit_passes']}, transfer {s['transfer_passes']}, "
-            f"cast-on {s['cast_on_passes']}, bind-off {s['bind_off_passes']}); "
-            f"lower bound {s['lower_bound']}, ratio {s['ratio']:.2f}"
-        )
+        if s.get("passes_counted_on") == "kc":
+            echo(
+                f"passes: {s['passes']} on the {s['machine']} (its machine file: waste section "
+                f"and the backend's carriage moves included); the schedule's "
+                f"{s['schedule_passes']}: knit {s['knit_passes']}, transfer "
+                f"{s['transfer_passes']}, cast-on {s['cast_on_passes']}, bind-off "
+                f"{s['bind_off_passes']}; its lower bound {s['schedule_lower_bound']}"
+            )
+        else:
+            echo(
+                f"passes: {s['passes']} (knit {s['knit_passes']}, transfer "
+                f"{s['transfer_passes']}, cast-on {s['cast_on_passes']}, bind-off "
+                f"{s['bind_off_passes']}); lower bound {s['lower_bound']}, ratio {s['ratio']:.2f}"
+            )
         if s.get("scheduler") == "mixed-colourwork":
             echo(
                 f"mixed colourwork: {s['carriers']} carrier(s), {s['tuck_joins']} tuck join(s), "
@@ -293,7 +304,10 @@ def knit(
                 f"{s['float_avoidance_transfers']} float-avoidance transfer pass(es), "
                 f"{s['kickbacks']} backend kickback(s)"
             )
-        echo(f"estimated knitting time: {s['time']} (+{s['hook_passes']} hook passes counted)")
+        echo(
+            f"estimated knitting time: {s['time']}, of which the bind-off {s['bind_off_time']} "
+            f"(+{s['hook_passes']} hook passes counted; an untuned model, docs/knitting.md)"
+        )
         _echo_machine_sheet(s, echo)
         chk = s.get("check", False)
         if chk is None:
@@ -309,6 +323,25 @@ def knit(
         raise click.exceptions.Exit(1)
 
 
+def describe_settings(s: dict[str, Any]) -> str:
+    """One line: the knit and transfer passes' stitch, speed and roller settings, with the source."""
+
+    def v(x: object) -> str:
+        return "machine's own" if x is None else str(x)
+
+    k, t = s["knit_settings"], s["transfer_settings"]
+    roller = (
+        ""
+        if t["roller_advance"] is None
+        else f", roller advance {t['roller_advance']} on the first of a run, 0 after"
+    )
+    return (
+        f"knit passes: stitch {v(k['stitch_number'])}, speed {v(k['speed_number'])}; "
+        f"transfer passes: stitch {v(t['stitch_number'])}, speed {v(t['speed_number'])}"
+        f"{roller} ({t['source']})"
+    )
+
+
 def _echo_machine_sheet(s: dict[str, Any], echo: Callable[[str], object] = click.echo) -> None:
     """What the machine knitter sets up: cones on carriers, stitch numbers, needles, time."""
     echo(f"on the {s['machine']}: {s['machine_passes']} passes, about {s['machine_time']}")
@@ -317,6 +350,7 @@ def _echo_machine_sheet(s: dict[str, Any], echo: Callable[[str], object] = click
     numbers = ", ".join(map(str, s["stitch_numbers"])) or "machine default"
     lo, hi = s["needle_range"]
     echo(f"  stitch numbers: {numbers}; needles {lo}..{hi}")
+    echo("  " + describe_settings(s))
 
 
 def _knit_options(

@@ -18,6 +18,7 @@ anyway, with one ``illuknit: warning:`` line saying how long the longest float i
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -30,12 +31,14 @@ from illuknit.core.pattern import LogicalPattern
 
 __all__ = [
     "check_fits",
+    "design_unit_aspect",
     "format_option",
     "long_floats_allowed",
     "long_floats_option",
     "machine_option",
     "requested_formats",
     "resolve_machine",
+    "transfer_overrides",
     "write_program",
 ]
 
@@ -43,6 +46,10 @@ __all__ = [
 _FORMATS_KEY = "illuknit.machine_files"
 #: where the running command's ``--allow-long-floats`` is kept (click context meta)
 _LONG_FLOATS_KEY = "illuknit.allow_long_floats"
+#: where the running command's ``--xfer-*`` transfer settings are kept (click context meta)
+_TRANSFER_KEY = "illuknit.transfer"
+#: where the running command's ``--fabric-gauge`` / ``--square-units`` are kept
+_FABRIC_KEY = "illuknit.fabric"
 
 LONG_FLOATS_HELP = (
     "Knit a mixed-colourwork piece even where a float stays longer than the machine's float "
@@ -52,16 +59,111 @@ LONG_FLOATS_HELP = (
 
 
 def machine_option(
-    help: str = "Knitting machine the program is made for.",
+    help: str = "Knitting machine the program is made for.", *, transfer: bool = True
 ) -> Callable[[Callable[..., Any]], Callable[..., Any]]:
-    """``--machine NAME``: a machine preset (unknown names are refused with the known ones)."""
-    return click.option(
+    """``--machine NAME``: a machine preset (unknown names are refused with the known ones).
+
+    With ``transfer`` (commands that knit) also ``--xfer-stitch``, ``--xfer-speed`` and
+    ``--xfer-roller``: the transfer passes' settings over the preset's
+    (:class:`~illuknit.core.machine.TransferSettings`), kept on the click context where
+    :func:`resolve_machine` applies them.
+    """
+    machine = click.option(
         "--machine",
         "machine",
         metavar="NAME",
         default=None,
         help=f"{help} One of {', '.join(machine_names())} [{DEFAULT_MACHINE_NAME}].",
     )
+    if not transfer:
+        return machine
+
+    def remember(ctx: click.Context, param: click.Parameter, value: int | None) -> None:
+        if value is not None:
+            ctx.meta.setdefault(_TRANSFER_KEY, {})[str(param.name)] = value
+
+    flags = [
+        (
+            "--xfer-stitch",
+            "stitch_number",
+            click.IntRange(0, 35),
+            "Stitch number of transfer "
+            "passes (Kniterate x-xfer-stitch-number, 0-35 for 0-9/A-Z) [the machine's: 3 on the "
+            "Kniterate].",
+        ),
+        (
+            "--xfer-speed",
+            "speed_number",
+            click.IntRange(min=0),
+            "Speed number of transfer passes "
+            "(x-speed-number) [the machine's: 100 on the Kniterate, the machine's own table on a "
+            "Shima].",
+        ),
+        (
+            "--xfer-roller",
+            "roller_advance",
+            click.IntRange(min=0),
+            "Kniterate roller advance on the first transfer pass of each run of transfers [0].",
+        ),
+    ]
+
+    def remember_fabric(ctx: click.Context, param: click.Parameter, value: Any) -> None:
+        if value not in (None, False):
+            ctx.meta.setdefault(_FABRIC_KEY, {})[str(param.name)] = value
+
+    options = [
+        click.option(
+            "--fabric-gauge",
+            "fabric_gauge",
+            metavar="SxR/LEN",
+            default=None,
+            expose_value=False,
+            callback=remember_fabric,
+            help="Stitch and row gauge of the finished fabric, e.g. 22x30/10cm or 5.5x7.5/in "
+            "(measure a swatch): sizes the grid so the piece keeps the picture's proportions, "
+            "and the finished size [the machine's: one stitch per needle, rows at 5:7].",
+        ),
+        click.option(
+            "--square-units",
+            "square_units",
+            is_flag=True,
+            expose_value=False,
+            callback=remember_fabric,
+            help="Size the grid with square units (as many rows as the picture is tall): the "
+            "finished piece comes out shorter than the picture by the gauge's ratio.",
+        ),
+    ] + [
+        click.option(
+            flag, name, type=kind, default=None, expose_value=False, callback=remember, help=text
+        )
+        for flag, name, kind, text in flags
+    ]
+
+    def decorate(func: Callable[..., Any]) -> Callable[..., Any]:
+        for opt in reversed(options):
+            func = opt(func)
+        return machine(func)
+
+    return decorate
+
+
+def _fabric_options() -> dict[str, Any]:
+    ctx = click.get_current_context(silent=True)
+    return dict(ctx.meta.get(_FABRIC_KEY, {})) if ctx is not None else {}
+
+
+def design_unit_aspect(spec: MachineSpec) -> float:
+    """Height over width of a unit for sizing a grid: 1.0 with ``--square-units``, else the
+    fabric gauge's (``spec`` from :func:`resolve_machine`, which applies ``--fabric-gauge``)."""
+    if _fabric_options().get("square_units"):
+        return 1.0
+    return spec.fabric_gauge.unit_aspect
+
+
+def transfer_overrides() -> dict[str, int]:
+    """The running command's ``--xfer-*`` values by :class:`TransferSettings` field (else {})."""
+    ctx = click.get_current_context(silent=True)
+    return dict(ctx.meta.get(_TRANSFER_KEY, {})) if ctx is not None else {}
 
 
 def format_option() -> Callable[[Callable[..., Any]], Callable[..., Any]]:
@@ -139,6 +241,15 @@ def resolve_machine(name: str | MachineSpec | None, *, gauge: float | None = Non
     spec = machine_spec(name)
     if gauge is not None and gauge != spec.gauge:
         spec = spec.with_gauge(gauge)
+    fabric = _fabric_options().get("fabric_gauge")
+    if fabric is not None:
+        from illuknit.core.gauge import parse_gauge
+
+        spec = replace(spec, fabric=parse_gauge(fabric, source="--fabric-gauge"))
+    overrides = transfer_overrides()
+    if overrides:
+        transfer = replace(spec.transfer, source="set for this run (--xfer-*)", **overrides)
+        spec = replace(spec, transfer=transfer)
     formats = requested_formats()
     for fmt in formats:
         check_format(spec, fmt)
@@ -190,7 +301,7 @@ def write_program(
     from illuknit.core.files import atomic_write_bytes
     from illuknit.formats import FORMAT_SUFFIXES, check_format, knitout_to_format
     from illuknit.knitting import knit_pattern
-    from illuknit.outputs.machine_sheet import machine_sheet
+    from illuknit.outputs.machine_sheet import machine_headline, machine_sheet
 
     spec = machine_spec(machine)
     formats = requested_formats() if formats is None else formats
@@ -200,9 +311,8 @@ def write_program(
         allow_long_floats = long_floats_allowed()
     result = knit_pattern(pattern, machine=spec, allow_long_floats=allow_long_floats)
     report = check_knitout(result.program, machine=spec)
-    summary = result.summary()
     sheet = machine_sheet(result, name="program.kc")
-    summary.update(sheet.summary)
+    summary = machine_headline(result.summary(), sheet)
     console().print(f"knitout: {_describe(summary)}")
     console().print(f"check: {report.to_text(name='program.k').splitlines()[0]}")
     # convert before writing anything, so a program the machine file cannot hold leaves nothing

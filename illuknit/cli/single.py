@@ -42,7 +42,7 @@ def run_single(
     the machine the program is knit on; with ``knitout`` a picture wider than the machine's bed
     is refused before compiling. ``progress(fraction, message)`` hears how far it is.
     """
-    from illuknit.cli.knitout_bridge import resolve_machine
+    from illuknit.cli.knitout_bridge import design_unit_aspect, resolve_machine
     from illuknit.core.files import staged_dir
     from illuknit.design.stages import design_single
     from illuknit.outputs.export import export_pattern
@@ -56,6 +56,7 @@ def run_single(
         height=height,
         width_cm=width_cm,
         gauge=spec.gauge,
+        unit_aspect=design_unit_aspect(spec),
         n_colors=n_colors,
         yarns=parse_yarn_option(yarns),
         quantise=quantise,
@@ -85,6 +86,7 @@ def run_single(
             quantised={"picture": q},
             report=report,
             title=title or f"Single-view illusion of {Path(str(image)).name}",
+            gauge=spec.fabric_gauge,
         )
         if knitout:
             from illuknit.cli.knitout_bridge import write_program
@@ -147,5 +149,9 @@ def single(
             machine=machine,
             progress=report,
         )
-    summarise_pattern(load_pattern(paths["pattern"]), legend_path=paths.get("legend"))
+    summarise_pattern(
+        load_pattern(paths["pattern"]),
+        legend_path=paths.get("legend"),
+        report_path=paths.get("report"),
+    )
     print_written(outdir, paths)

@@ -105,7 +105,7 @@ def run_solve(
     With ``knitout`` the pattern is knit on ``machine`` (a preset name); a pattern wider than its
     bed is refused before the model is built.
     """
-    from illuknit.cli.knitout_bridge import resolve_machine
+    from illuknit.cli.knitout_bridge import design_unit_aspect, resolve_machine
     from illuknit.core.files import STDOUT
     from illuknit.design.options import ModelKind, SolveOptions, WarmStart
     from illuknit.design.stages import illusion_model, solve_design
@@ -137,7 +137,7 @@ def run_solve(
     )
     targets = dict(
         n_colors=n_colors, yarns=ys, width=width, stretch=resize, quantise=quantise,
-        knit_on=spec if knitout else None,
+        knit_on=spec if knitout else None, unit_aspect=design_unit_aspect(spec),
     )  # fmt: skip
     written: dict[str, Path] = {}
     if export_wcnf is not None:
@@ -168,6 +168,7 @@ def run_solve(
                 title=title,
                 targets=pictures,
                 machine=spec if knitout else None,
+                gauge=spec.fabric_gauge,
             )
         )
     _print_report(report, written, outdir)
@@ -198,6 +199,7 @@ def _write_outputs(
     title: str,
     targets: dict[str, Any],
     machine: Any | None,
+    gauge: Any = None,
 ) -> dict[str, Path]:
     """Write the pattern's outputs (and, given a machine, its knitout) into ``outdir`` at once."""
     from illuknit.cli.knitout_bridge import write_program
@@ -205,7 +207,9 @@ def _write_outputs(
     from illuknit.outputs.export import export_pattern
 
     with staged_dir(outdir) as tmp:
-        paths = export_pattern(pattern, tmp, report=report, title=title, targets=targets)
+        paths = export_pattern(
+            pattern, tmp, report=report, title=title, targets=targets, gauge=gauge
+        )
         if machine is not None:
             paths.update(write_program(pattern, tmp, machine=machine))
     return {k: Path(outdir) / p.name for k, p in paths.items()}

@@ -19,7 +19,12 @@ def console() -> Any:
     return Console(highlight=False, soft_wrap=True)
 
 
-def summarise_pattern(pattern: LogicalPattern, *, legend_path: Path | None = None) -> None:
+def summarise_pattern(
+    pattern: LogicalPattern,
+    *,
+    legend_path: Path | None = None,
+    report_path: Path | None = None,
+) -> None:
     from rich.table import Table
 
     from illuknit.outputs.export import pattern_stats
@@ -30,6 +35,19 @@ def summarise_pattern(pattern: LogicalPattern, *, legend_path: Path | None = Non
         f"[bold]{s['rows']} x {s['cols']} units[/] = {s['stitches']} stitches x {s['courses']} courses; "
         f"{s['raised_units']} raised units; colour changes per row: mean "
         f"{s['colour_changes_per_row']['mean']:.2f}, max {s['colour_changes_per_row']['max']}"
+    )
+    size = None
+    if report_path is not None and Path(report_path).exists():
+        size = json.loads(Path(report_path).read_text()).get("finished_size")
+    if size is None:
+        from illuknit.core.gauge import finished_size
+        from illuknit.core.machine import DEFAULT_MACHINE
+
+        size = finished_size(pattern.shape, DEFAULT_MACHINE.fabric_gauge).as_dict()
+    c.print(
+        f"finished size: [bold]{size['width_cm']} x {size['height_cm']} cm[/] "
+        f"({size['width_in']} x {size['height_in']} in) at {size['gauge']} "
+        f"({size['gauge_source']})"
     )
     if legend_path is not None and Path(legend_path).exists():
         legend = json.loads(Path(legend_path).read_text())

@@ -37,6 +37,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass, replace
 
 from illuknit.core.errors import OptionError, SchedulingError, UnknownNameError
+from illuknit.core.gauge import STOCKINETTE_COURSE_ASPECT, Gauge
 
 __all__ = [
     "DEFAULT_MACHINE",
@@ -44,6 +45,7 @@ __all__ = [
     "KNITERATE",
     "MACHINES",
     "MachineSpec",
+    "TransferSettings",
     "get_machine",
     "machine_from_headers",
     "machine_names",
@@ -51,6 +53,62 @@ __all__ = [
 ]
 
 _POSITIONS = ("Left", "Right", "Center", "Keep")
+
+
+@dataclass(frozen=True)
+class TransferSettings:
+    """Machine settings of transfer passes, apart from the knitting's.
+
+    A loop moved between beds is stretched over two needles' hooks, so machines transfer with a
+    smaller stitch (loop length) and, on the Kniterate, with no take-down pull. Each value is
+    written explicitly around transfer passes; ``None`` leaves the backend's own value.
+
+    Parameters
+    ----------
+    stitch_number : int or None
+        Stitch number of transfer passes (Kniterate ``x-xfer-stitch-number``, 0-35 for 0-9/A-Z).
+        The SWG backend has no such extension (it always transfers at the machine's own transfer
+        stitch), so it must be ``None`` on a Shima.
+    speed_number : int or None
+        Carriage speed of transfer passes (``x-speed-number`` switched before each transfer pass
+        and back to the knitting speed before the next knit pass).
+    roller_advance : int or None
+        Kniterate take-down roller advance of the first transfer pass of a run of transfers
+        (``x-add-roller-advance`` before its first ``xfer``); the backend runs every other
+        transfer pass at 0. ``None`` or 0 writes nothing (the backend's transfers run at 0).
+    source : str
+        Where the values come from (printed on the set-up sheet).
+
+    Examples
+    --------
+    >>> from dataclasses import replace
+    >>> replace(KNITERATE, transfer=replace(KNITERATE.transfer, speed_number=300)).transfer.speed_number
+    300
+    """
+
+    stitch_number: int | None = None
+    speed_number: int | None = None
+    roller_advance: int | None = None
+    source: str = "the machine's own transfer settings"
+
+    def __post_init__(self) -> None:
+        for name, top in (("stitch_number", 35), ("speed_number", None), ("roller_advance", None)):
+            v = getattr(self, name)
+            if v is None:
+                continue
+            if not isinstance(v, int) or isinstance(v, bool) or v < 0:
+                raise OptionError(f"transfer `{name}` must be a non-negative integer, got {v!r}")
+            if top is not None and v > top:
+                raise OptionError(f"transfer `{name}` must be at most {top}, got {v!r}")
+
+    def describe(self) -> dict[str, object]:
+        """The settings as JSON-ready values (``None``: the machine's own)."""
+        return {
+            "stitch_number": self.stitch_number,
+            "speed_number": self.speed_number,
+            "roller_advance": self.roller_advance or 0,
+            "source": self.source,
+        }
 
 
 @dataclass(frozen=True)
@@ -86,7 +144,11 @@ class MachineSpec:
     seconds_per_turn : float
         Time model: fixed time per carriage pass (turning round and clearing the carriage's own length).
     course_aspect : float
-        Course height divided by stitch width, used to estimate the piece's physical height.
+        Course height divided by stitch width (default 0.7, the 5 : 7 stitch-to-row ratio of
+        stocking stitch; unmeasured on illusion fabric): the row gauge of :attr:`fabric_gauge`.
+    fabric : Gauge or None
+        The finished fabric's measured stitch and row gauge (from a swatch, ``--fabric-gauge``);
+        ``None`` derives it from ``gauge`` and ``course_aspect``.
     description : str
         One line for people choosing a machine (the app's selector, ``--help``).
     inserting_hook : bool
@@ -98,6 +160,9 @@ class MachineSpec:
         without an inserting hook); they are not free for the pattern's colours.
     formats : tuple of str
         Machine files illuknit can write for this machine besides knitout (``"dat"``, ``"kc"``).
+    transfer : TransferSettings
+        Stitch number, speed and roller advance of transfer passes (override per run with
+        ``dataclasses.replace``; ``--xfer-stitch``, ``--xfer-speed``, ``--xfer-roller``).
 
     Examples
     --------
@@ -121,12 +186,14 @@ class MachineSpec:
     yarn_weight: str = "50-50"
     seconds_per_needle: float = 0.01
     seconds_per_turn: float = 1.5
-    course_aspect: float = 0.7
+    course_aspect: float = STOCKINETTE_COURSE_ASPECT
     description: str = ""
     inserting_hook: bool = True
     waste_carrier: str | None = None
     draw_carrier: str | None = None
     formats: tuple[str, ...] = ("dat",)
+    transfer: TransferSettings = TransferSettings()
+    fabric: Gauge | None = None
 
     def __post_init__(self) -> None:
         def positive(name: str, value: float, *, integer: bool = False) -> None:
@@ -161,12 +228,35 @@ class MachineSpec:
             v = getattr(self, name)
             if v is not None and (not isinstance(v, int) or v < 0):
                 raise OptionError(f"`{name}` must be a non-negative integer or None")
+        if "kc" not in self.formats:
+            # the SWG backend knows neither x-xfer-stitch-number nor take-down roller extensions
+            if self.transfer.stitch_number is not None:
+                raise OptionError(
+                    f"the {self.name} takes no transfer stitch number (the SWG backend transfers "
+                    "at the machine's own transfer stitch); set the transfer speed only"
+                )
+            if self.transfer.roller_advance:
+                raise OptionError(f"the {self.name} has no roller-advance setting")
 
     # -- derived quantities --------------------------------------------------------------------
     @property
     def needle_pitch_cm(self) -> float:
         """Distance between neighbouring needles, in cm."""
         return 2.54 / self.gauge
+
+    @property
+    def fabric_gauge(self) -> Gauge:
+        """Stitch and row gauge of the fabric: ``fabric`` when measured, else one stitch per
+        needle pitch and courses ``course_aspect`` of a pitch tall (with that source)."""
+        if self.fabric is not None:
+            return self.fabric
+        return Gauge.for_machine(
+            self.gauge,
+            self.course_aspect,
+            source=f"{self.name}: one stitch per needle at gauge {self.gauge:g}, rows at "
+            f"{self.course_aspect:g} of a stitch (the 5:7 stocking-stitch ratio; unmeasured, "
+            "knit a swatch)",
+        )
 
     @property
     def max_fabric_width(self) -> int:
@@ -249,10 +339,20 @@ MACHINES: dict[str, MachineSpec] = {
         carriers=("1", "2", "3", "4", "5", "6"),
         max_racking=4,
         stitch_number=6,
+        speed_number=300,
         inserting_hook=False,
         waste_carrier="6",
         draw_carrier="1",
         formats=("kc",),
+        transfer=TransferSettings(
+            stitch_number=3,
+            speed_number=100,
+            roller_advance=0,
+            source=(
+                "Kniterate support, 'Transfers': speed 100 and roller 0 for transfers; "
+                "stitch about half the knitting's (6 -> 3, knitout-backend-kniterate #35)"
+            ),
+        ),
         description="Kniterate, 252 needles, 6 carriers (1 draw thread, 6 waste, 2-5 pattern)",
     ),
 }

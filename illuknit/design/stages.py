@@ -318,6 +318,7 @@ def design_double(
     yarns: Sequence[Yarn] | int | None = None,
     width: int | None = None,
     stretch: bool = False,
+    unit_aspect: float | None = None,
     bank: TileBank | str | os.PathLike[str] | None = None,
     search: SearchOptions | None = None,
     ranking: RankOptions | None = None,
@@ -342,7 +343,7 @@ def design_double(
     """
     return _design_pictures(
         "double", picture_a, picture_b, n_colors, yarns, width, stretch, bank, search, ranking,
-        knit_on, progress,
+        knit_on, progress, unit_aspect=unit_aspect,
     )  # fmt: skip
 
 
@@ -354,6 +355,7 @@ def design_headon(
     yarns: Sequence[Yarn] | int | None = None,
     width: int | None = None,
     stretch: bool = False,
+    unit_aspect: float | None = None,
     bank: TileBank | str | os.PathLike[str] | None = None,
     search: SearchOptions | None = None,
     ranking: RankOptions | None = None,
@@ -364,8 +366,19 @@ def design_headon(
     a plain field when None) at an angle from either end. Options as :func:`design_double`."""
     return _design_pictures(
         "headon", front, side, n_colors, yarns, width, stretch, bank, search, ranking, knit_on,
-        progress,
+        progress, unit_aspect=unit_aspect,
     )  # fmt: skip
+
+
+def _aspect(unit_aspect: float | None) -> float:
+    """``unit_aspect`` for the sizing functions, checked; None is a stocking-stitch unit (the
+    finished piece keeps the picture's proportions)."""
+    from illuknit.core.arguments import check_number
+    from illuknit.core.gauge import STOCKINETTE_COURSE_ASPECT
+
+    if unit_aspect is None:
+        return STOCKINETTE_COURSE_ASPECT
+    return check_number(unit_aspect, "unit_aspect", min=0, min_open=True)
 
 
 def _design_pictures(
@@ -381,6 +394,8 @@ def _design_pictures(
     ranking: RankOptions | None,
     knit_on: str | MachineSpec | None,
     progress: Progress | None,
+    *,
+    unit_aspect: float | None = None,
 ) -> TileDesign:
     """Size, quantise and choose the yarns, then :func:`design_tiles`."""
     from illuknit.core.arguments import check_bool, check_int
@@ -397,7 +412,9 @@ def _design_pictures(
     _check_bank(bank)
     machine = _fit_machine(knit_on)
     _check_fits(machine, width)
-    pair = size_pair(picture_a, picture_b, width=width, stretch=stretch)
+    pair = size_pair(
+        picture_a, picture_b, width=width, stretch=stretch, unit_aspect=_aspect(unit_aspect)
+    )
     a, b = pair.a, pair.b
     _check_fits(machine, a.shape[1])
     pictures = [a] if b is None else [a, b]
@@ -622,6 +639,7 @@ def design_single(
     height: int | None = None,
     width_cm: float | None = None,
     gauge: float | None = None,
+    unit_aspect: float | None = None,
     yarns: Sequence[Yarn] | None = None,
     n_colors: int | None = None,
     quantise: bool = True,
@@ -659,6 +677,7 @@ def design_single(
             n_colors=n_colors,
             yarns=None if yarns is None else tuple(yarns),
             allow_quantise=quantise,
+            unit_aspect=_aspect(unit_aspect),
         )
     _check_fits(machine, q.indices.shape[1])
     orders: tuple[Stripe, Stripe] = (first, "light" if first == "dark" else "dark")
@@ -702,6 +721,7 @@ def solve_design(
     yarns: Sequence[Yarn] | None = None,
     width: int | None = None,
     stretch: bool = False,
+    unit_aspect: float | None = None,
     quantise: bool = True,
     knit_on: str | MachineSpec | None = None,
     progress: ProgressCallback | None = None,
@@ -724,7 +744,7 @@ def solve_design(
     options = SolveOptions() if options is None else options
     _check_type("options", options, SolveOptions)
     qa, qb = _solve_targets(picture_a, picture_b, options, n_colors, yarns, width, stretch,
-                            quantise, knit_on)  # fmt: skip
+                            quantise, knit_on, unit_aspect)  # fmt: skip
     result = solve_illusion(
         qa.indices,
         None if qb is None else qb.indices,
@@ -763,6 +783,7 @@ def illusion_model(
     yarns: Sequence[Yarn] | None = None,
     width: int | None = None,
     stretch: bool = False,
+    unit_aspect: float | None = None,
     quantise: bool = True,
     knit_on: str | MachineSpec | None = None,
 ) -> Model:
@@ -773,7 +794,7 @@ def illusion_model(
     options = SolveOptions() if options is None else options
     _check_type("options", options, SolveOptions)
     qa, qb = _solve_targets(picture_a, picture_b, options, n_colors, yarns, width, stretch,
-                            quantise, knit_on)  # fmt: skip
+                            quantise, knit_on, unit_aspect)  # fmt: skip
     problem = make_problem(
         qa.indices,
         None if qb is None else qb.indices,
@@ -799,6 +820,7 @@ def _solve_targets(
     stretch: bool,
     quantise: bool,
     knit_on: str | MachineSpec | None,
+    unit_aspect: float | None = None,
 ) -> tuple[Any, Any]:
     """Check the pictures against the model and the bed, then :func:`quantise_targets`."""
     from illuknit.core.arguments import check_bool, check_int
@@ -825,7 +847,7 @@ def _solve_targets(
     _check_fits(machine, width)
     qa, qb = quantise_targets(
         picture_a, picture_b, width=width, stretch=stretch, n_colors=n_colors, yarns=yarns,
-        quantise=quantise,
+        quantise=quantise, unit_aspect=unit_aspect,
     )  # fmt: skip
     _check_fits(machine, qa.indices.shape[1])
     return qa, qb
@@ -837,6 +859,7 @@ def quantise_targets(
     *,
     width: int | None = None,
     stretch: bool = False,
+    unit_aspect: float | None = None,
     n_colors: int | None = None,
     yarns: Sequence[Yarn] | None = None,
     quantise: bool = True,
@@ -862,7 +885,9 @@ def quantise_targets(
     _check_sizes(width=width)
     check_bool(stretch, "stretch")
     check_bool(quantise, "quantise")
-    pair = size_pair(picture_a, picture_b, width=width, stretch=stretch)
+    pair = size_pair(
+        picture_a, picture_b, width=width, stretch=stretch, unit_aspect=_aspect(unit_aspect)
+    )
     a, b = pair.a, pair.b
     both = a if b is None else np.concatenate([a, b], axis=0)
     q = quantise_image(both, n_colors=n_colors, yarns=yarns, allow_quantise=quantise)

@@ -5,7 +5,11 @@ The output is what the CMU SWG converter (``knitout-to-dat.js``) accepts: the ma
 string ``1 2 3 4 5 6 7 8 9 10`` for the default machine), ``;;Position:`` and one ``;;Yarn-N:`` per
 carrier used; then one operation per line with tokens separated by single spaces and LF line
 endings. ``rack`` lines are written only when the racking changes; ``x-stitch-number`` /
-``x-speed-number`` only when the machine spec sets them. Comments (``; course 12 ...``) mark where
+``x-speed-number`` only when the machine spec sets them. Transfer passes run at the spec's
+:class:`~illuknit.core.machine.TransferSettings`: ``x-xfer-stitch-number`` once after the header,
+``x-speed-number`` switched to the transfer speed before each run of transfer passes and back to
+the knitting speed before the next knit pass, and ``x-add-roller-advance`` before the first
+transfer of a run (Kniterate). Comments (``; course 12 ...``) mark where
 each body course starts so that a checker's line numbers can be traced back to pattern rows.
 """
 
@@ -64,14 +68,25 @@ def write_knitout(schedule: Schedule, *, machine: MachineSpec | None = None) -> 
         f"; illuknit: {schedule.wales} wales x {schedule.courses} courses, "
         f"wale 0 on needle {schedule.left}; course c is pattern row N-1-c//2"
     )
+    xs = m.transfer
     if m.speed_number is not None:
         lines.append(f"x-speed-number {m.speed_number}")
+    if xs.stitch_number is not None:
+        lines.append(f"x-xfer-stitch-number {_stitch_code(xs.stitch_number)}")
+    # 0 is the SWG's "machine default" speed; the Kniterate presets set a knitting speed
+    knit_speed = m.speed_number if m.speed_number is not None else 0
+    speed = m.speed_number
+    in_transfers = False
     rack = 0.0
     stitch: int | None = None
     last_course: int | None = None
     append = lines.append
     for step in schedule.steps:
         if isinstance(step, CarrierAction):
+            if step.action in ("out", "outhook") and speed is not None and speed != knit_speed:
+                # the backend's carrier-out move runs at the speed in force: not a transfer's
+                speed = knit_speed
+                append(f"x-speed-number {speed}")
             append(f"{step.action} {' '.join(step.carriers)}")
             continue
         assert isinstance(step, Pass)
@@ -86,6 +101,18 @@ def write_knitout(schedule: Schedule, *, machine: MachineSpec | None = None) -> 
         if step.racking != rack:
             rack = step.racking
             append(f"rack {format_racking(rack)}")
+        if step.kind == "xfer":
+            if xs.speed_number is not None and speed != xs.speed_number:
+                speed = xs.speed_number
+                append(f"x-speed-number {speed}")
+            if xs.roller_advance and not in_transfers:
+                append(f"x-add-roller-advance {xs.roller_advance}")
+            in_transfers = True
+        elif step.kind == "knit":
+            in_transfers = False
+            if speed is not None and speed != knit_speed:
+                speed = knit_speed
+                append(f"x-speed-number {speed}")
         if step.kind == "knit":
             if step.stitch_number is not None and step.stitch_number != stitch:
                 stitch = step.stitch_number
@@ -105,3 +132,8 @@ def write_knitout(schedule: Schedule, *, machine: MachineSpec | None = None) -> 
     if rack != 0:
         append("rack 0")
     return "\n".join(lines) + "\n"
+
+
+def _stitch_code(n: int) -> str:
+    """Kniterate stitch numbers: 0-9, then A-Z for 10-35."""
+    return "0123456789ABCDEFGHIJKLMNOPQRSTUVWXYZ"[n]

@@ -39,6 +39,8 @@ class TimeEstimate:
     needles_crossed: int
     seconds_per_needle: float
     seconds_per_turn: float
+    #: of ``seconds``, the chain bind-off and its tail (counted on the schedule's bind-off passes)
+    bind_off_seconds: float = 0.0
 
     def __str__(self) -> str:
         return format_duration(self.seconds)
@@ -85,10 +87,18 @@ def estimate_knit_time(
     spt = m.seconds_per_turn if seconds_per_turn is None else float(seconds_per_turn)
     if spn < 0 or spt < 0:
         raise OptionError("`seconds_per_needle` and `seconds_per_turn` must be >= 0")
+    # the bind-off apart: it is a large share of small pieces (one step per wale)
+    bind_off = sum(
+        (p.needle_span[1] - p.needle_span[0] + 1) * spn + spt
+        for p in schedule.passes
+        if p.role in ("bind-off", "tail")
+    )
     if run is not None:
         crossed = sum(run.spans)
         hooks = sum(run.kinds.get(k, 0) for k in ("hook-release", "carriage-move", "carrier-out"))
-        return TimeEstimate(crossed * spn + run.passes * spt, run.passes, hooks, crossed, spn, spt)
+        return TimeEstimate(
+            crossed * spn + run.passes * spt, run.passes, hooks, crossed, spn, spt, bind_off
+        )
     passes = schedule.passes
     crossed = 0
     for p in passes:
@@ -96,4 +106,4 @@ def estimate_knit_time(
         crossed += hi - lo + 1
     hooks = schedule.stats.hook_passes
     seconds = crossed * spn + (len(passes) + hooks) * spt
-    return TimeEstimate(seconds, len(passes), hooks, crossed, spn, spt)
+    return TimeEstimate(seconds, len(passes), hooks, crossed, spn, spt, bind_off)

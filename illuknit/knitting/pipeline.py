@@ -23,6 +23,7 @@ from illuknit.core.errors import (
     PatternValidationError,
     SchedulingError,
 )
+from illuknit.core.gauge import FinishedSize
 from illuknit.core.machine import MachineSpec, resolve_machine
 from illuknit.core.pattern import LogicalPattern
 from illuknit.knit.float_tucks import LongFloat
@@ -32,7 +33,7 @@ from illuknit.knit.knitout import write_knitout
 from illuknit.knit.options import Catching, KnitOptions
 from illuknit.knit.schedule import Schedule, ScheduleStats, schedule_courses
 from illuknit.knit.stitches import StitchPattern, lower_to_stitches
-from illuknit.knit.timing import TimeEstimate, estimate_knit_time
+from illuknit.knit.timing import TimeEstimate, estimate_knit_time, format_duration
 from illuknit.knitting.carriage import machine_run, machine_stats, runs_on_swg
 
 __all__ = [
@@ -97,7 +98,9 @@ class KnitResult:
     def summary(self) -> dict[str, Any]:
         """JSON-ready numbers: size, passes, bound, ratio, time."""
         c, w = self.stitches.shape
-        wcm, hcm = self.stitches.size_cm
+        fabric = self.machine.fabric_gauge
+        size = FinishedSize(w * fabric.stitch_cm, c * fabric.row_cm, fabric)
+        wcm, hcm = size.width_cm, size.height_cm
         longest, longest_at = self._longest_float()
         return {
             "machine": self.machine.name,
@@ -107,6 +110,8 @@ class KnitResult:
             "courses": c,
             "width_cm": round(wcm, 1),
             "height_cm": round(hcm, 1),
+            "finished_size": size.as_dict(),
+            "finished_size_text": size.describe(),
             **self.stats.as_dict(),
             "scheduler": self.schedule.scheduler,
             # Carrier moves the schedule makes itself (miss-only passes), next to the backend's
@@ -122,6 +127,8 @@ class KnitResult:
             "longest_float_at": longest_at,
             "time_seconds": round(self.time.seconds, 1),
             "time": str(self.time),
+            "bind_off_time_seconds": round(self.time.bind_off_seconds, 1),
+            "bind_off_time": format_duration(self.time.bind_off_seconds),
             "lines": self.text.count("\n"),
         }
 

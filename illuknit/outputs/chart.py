@@ -16,13 +16,14 @@ stitch that shows as a purl on the right side.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from itertools import groupby
 
 import numpy as np
 from numpy.typing import NDArray
 
-from illuknit.core.arguments import check_str
+from illuknit.core.arguments import check_instance, check_str
+from illuknit.core.gauge import Gauge, finished_size
 from illuknit.core.pattern import LogicalPattern, check_pattern
+from illuknit.outputs.hand_pattern import hand_advice, written_row
 
 __all__ = ["HandRow", "chart_key", "chart_png_rgb", "hand_rows", "written_instructions"]
 
@@ -73,15 +74,9 @@ def hand_rows(pattern: LogicalPattern) -> list[HandRow]:
     return rows
 
 
-def _runs(worked: list[tuple[str, int]], names: list[str], single_yarn: bool) -> str:
-    parts = []
-    for (op, y), grp in groupby(worked):
-        count = len(list(grp))
-        parts.append(f"{op}{count}" if single_yarn else f"{op}{count} {names[y]}")
-    return ", ".join(parts)
-
-
-def written_instructions(pattern: LogicalPattern, *, title: str | None = None) -> str:
+def written_instructions(
+    pattern: LogicalPattern, *, title: str | None = None, gauge: Gauge | None = None
+) -> str:
     """Row-by-row written instructions for knitting the pattern by hand.
 
     Examples
@@ -91,47 +86,42 @@ def written_instructions(pattern: LogicalPattern, *, title: str | None = None) -
     >>> for line in written_instructions(p).splitlines()[-3:]:
     ...     print(line)
     Row 3 (RS): with black, knit across (4 sts).
-    Row 4 (WS): with black, k2, p2.
+    Row 4 (WS): with black, k2, p2 (4 sts).
     Bind off all 4 sts knitwise.
     """
     check_pattern(pattern)
     if title is not None:
         check_str(title, "title")
+    if gauge is not None:
+        check_instance(gauge, Gauge, "gauge")
     n, m = pattern.shape
     names = [y.name for y in pattern.yarns]
     lines = [
         title or "illuknit illusion pattern",
         f"Size: {n} x {m} units = {2 * m} stitches x {2 * n} rows.",
+        *(
+            [
+                f"Finished size: {finished_size(pattern.shape, gauge).describe()} at "
+                f"{gauge.describe()} ({gauge.source})."
+            ]
+            if gauge is not None
+            else []
+        ),
         "Yarns: " + ", ".join(f"{y.name} ({y.hex})" for y in pattern.yarns) + ".",
         "RS rows are worked from the right edge of the chart, WS rows from the left. A purl ridge on",
         "the right side (made by knitting on a WS row) is a raised unit: it hides the row above or",
         "below it when the fabric is seen at an angle.",
     ]
-    if (np.diff(pattern.yarn, axis=1) != 0).any():
-        lines.append(
-            "Some rows change colour: work each colour block from its own ball (intarsia), "
-            "twisting the yarns at every colour change so the blocks stay joined."
-        )
+    advice = hand_advice(pattern)
+    lines += ["", *advice.lines]
+    colourwork = {r.number: r for r in advice.rows}
     first = hand_rows(pattern)[0]
     lines.append("")
     lines.append(f"Cast on {2 * m} sts with {names[int(first.yarn[-1])]}.")
     for row in hand_rows(pattern):
-        worked = row.worked()
-        yarns_used = {y for _, y in worked}
-        single = len(yarns_used) == 1
-        head = f"Row {row.number} ({row.side}): "
-        if single:
-            y = names[next(iter(yarns_used))]
-            ops = {op for op, _ in worked}
-            if ops == {"k"}:
-                body = f"with {y}, knit across ({len(worked)} sts)."
-            elif ops == {"p"}:
-                body = f"with {y}, purl across ({len(worked)} sts)."
-            else:
-                body = f"with {y}, {_runs(worked, names, True)}."
-        else:
-            body = _runs(worked, names, False) + "."
-        lines.append(head + body)
+        note = colourwork[row.number].note()
+        note = f" [{note}]" if note else ""
+        lines.append(f"Row {row.number} ({row.side}): {written_row(row.worked(), names)}{note}")
     lines.append(f"Bind off all {2 * m} sts knitwise.")
     return "\n".join(lines) + "\n"
 

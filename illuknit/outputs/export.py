@@ -1,7 +1,8 @@
 """Write everything a user gets for a pattern into one folder.
 
 ``pattern.json`` (the pattern), ``headon.png`` / ``view_a.png`` / ``view_b.png`` / ``contact.png``
-(previews), ``chart.png`` and ``instructions.txt`` (hand knitting), ``legend.json`` (which picture
+(previews), ``chart.png``, ``chart.svg``, ``instructions.txt`` and the print-ready
+``pattern.pdf`` (hand knitting, :mod:`illuknit.outputs.pattern_pdf`), ``legend.json`` (which picture
 colour became which yarn, when known) and ``report.json`` (numbers about the pattern).
 """
 
@@ -17,6 +18,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from illuknit.core.files import atomic_write_text
+from illuknit.core.gauge import Gauge, finished_size
 from illuknit.core.pattern import LogicalPattern, save_pattern
 from illuknit.outputs.chart import chart_png_rgb, written_instructions
 from illuknit.outputs.previews import save_png, write_previews
@@ -50,12 +52,20 @@ def export_pattern(
     report: Mapping[str, Any] | None = None,
     title: str | None = None,
     targets: Mapping[str, ArrayLike] | None = None,
+    gauge: Gauge | None = None,
 ) -> dict[str, Path]:
     """Write the pattern, previews, chart, instructions, legend and report into ``outdir``.
 
     ``outdir`` should be a fresh folder (use :func:`illuknit.core.files.staged_dir` so a failure
-    leaves nothing behind). Returns name -> path of everything written.
+    leaves nothing behind). ``gauge`` is the finished fabric's (default: the default machine's,
+    :attr:`~illuknit.core.machine.MachineSpec.fabric_gauge`); it sets the finished size written
+    in the report and instructions and the proportions of the previews. Returns name -> path of
+    everything written.
     """
+    if gauge is None:
+        from illuknit.core.machine import DEFAULT_MACHINE
+
+        gauge = DEFAULT_MACHINE.fabric_gauge
     out = Path(outdir)
     out.mkdir(parents=True, exist_ok=True)
     paths: dict[str, Path] = {}
@@ -67,17 +77,26 @@ def export_pattern(
         shown.setdefault(name, picture)
         key = f"quantised_{name.lower().replace(' ', '_')}"
         paths[key] = save_png(picture, out / f"{key}.png")
-    paths.update(write_previews(pattern, out, targets=shown))
+    paths.update(write_previews(pattern, out, targets=shown, unit_aspect=gauge.unit_aspect))
     paths["chart"] = save_png(chart_png_rgb(pattern), out / "chart.png")
     paths["instructions"] = atomic_write_text(
-        out / "instructions.txt", written_instructions(pattern, title=title)
+        out / "instructions.txt", written_instructions(pattern, title=title, gauge=gauge)
+    )
+    from illuknit.outputs.pattern_pdf import write_pattern_pdf
+
+    paths.update(
+        write_pattern_pdf(pattern, out, gauge=gauge, title=title or "illuknit illusion pattern")
     )
     if quantised:
         legend = {name: q.legend() for name, q in quantised.items()}
         paths["legend"] = atomic_write_text(
             out / "legend.json", json.dumps(legend, indent=1) + "\n"
         )
-    full = {"pattern": pattern_stats(pattern), **dict(report or {})}
+    full = {
+        "pattern": pattern_stats(pattern),
+        "finished_size": finished_size(pattern.shape, gauge).as_dict(),
+        **dict(report or {}),
+    }
     paths["report"] = atomic_write_text(
         out / "report.json", json.dumps(full, indent=1, default=_jsonable) + "\n"
     )

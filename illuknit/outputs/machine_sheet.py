@@ -19,7 +19,7 @@ from illuknit.formats import check_format  # one check for the CLI, the sheet an
 from illuknit.knit.timing import format_duration
 from illuknit.knitting.pipeline import KnitResult
 
-__all__ = ["MachineSheet", "check_format", "machine_sheet"]
+__all__ = ["MachineSheet", "check_format", "machine_headline", "machine_sheet"]
 
 
 @dataclass(frozen=True)
@@ -67,7 +67,9 @@ def machine_sheet(result: KnitResult, *, name: str = "command.kc") -> MachineShe
     -------
     MachineSheet
         ``summary`` holds ``carrier_table``, ``stitch_numbers``, ``needle_range``,
-        ``machine_passes``, ``machine_time_seconds`` and ``machine_time``.
+        ``machine_passes``, ``machine_time_seconds``, ``machine_time``, and the settings of
+        knit passes (``knit_settings``) and transfer passes (``transfer_settings``: stitch
+        number, speed, roller advance and their source; ``None`` is the machine's own).
     """
     m = result.machine
     files: dict[str, str] = {}
@@ -109,5 +111,34 @@ def machine_sheet(result: KnitResult, *, name: str = "command.kc") -> MachineShe
             "machine_passes": passes,
             "machine_time_seconds": round(seconds, 1),
             "machine_time": format_duration(seconds),
+            "knit_settings": {"stitch_number": m.stitch_number, "speed_number": m.speed_number},
+            "transfer_settings": {
+                **m.transfer.describe(),
+                # the take-down roller is a Kniterate setting (the SWG backend has none)
+                **({} if "kc" in m.formats else {"roller_advance": None}),
+            },
         },
     )
+
+
+def machine_headline(summary: dict[str, Any], sheet: MachineSheet) -> dict[str, Any]:
+    """``summary`` (a :meth:`~illuknit.knitting.pipeline.KnitResult.summary`) with the sheet's
+    facts, its headline ``passes`` and ``time`` the machine's on every machine.
+
+    On a Shima they already are (the SWG backend's passes); on the Kniterate they become the
+    ``.kc``'s (waste section and the backend's carriage moves included), the schedule's kept as
+    ``schedule_passes``, ``schedule_time``, ``schedule_lower_bound`` and ``schedule_ratio``, and
+    ``passes_counted_on`` says ``"kc"``.
+    """
+    out = {**summary, **sheet.summary}
+    if "kc" in sheet.files:
+        out["schedule_passes"] = summary["passes"]
+        out["schedule_time"] = summary["time"]
+        out["passes"] = out["machine_passes"]
+        out["time_seconds"] = out["machine_time_seconds"]
+        out["time"] = out["machine_time"]
+        out["passes_counted_on"] = "kc"
+        # the lower bound and ratio are the schedule's (the .kc adds the waste section)
+        out["schedule_lower_bound"] = out.pop("lower_bound")
+        out["schedule_ratio"] = out.pop("ratio")
+    return out

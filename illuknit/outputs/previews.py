@@ -4,7 +4,9 @@ Two kinds of side view: the boolean model (:mod:`illuknit.core.views`, ``view_a.
 each cell shows the yarn of the unit a viewer sees) and the angled renders of the ray-casting
 renderer (:mod:`illuknit.design.render`, ``render_a.png``/``render_b.png``: what a person sees at the
 render angle, stripes blending where several units share a pixel). Every picture is upscaled with
-nearest-neighbour so one unit is a visible square.
+nearest-neighbour, one unit drawn in the fabric's proportions (``unit_aspect``: a unit of 2
+stitches x 2 rows is about 0.7 as tall as wide), angled renders foreshortened by the sine of
+their elevation.
 """
 
 from __future__ import annotations
@@ -35,7 +37,9 @@ __all__ = [
     "chart_rgb",
     "contact_sheet",
     "png_bytes",
+    "rows_per_unit",
     "save_png",
+    "stretch_rows",
     "unit_scale",
     "upscale",
     "view_rgb",
@@ -54,17 +58,39 @@ def unit_scale(shape: tuple[int, int], *, target: int = 640, max_px: int = 2400)
     return int(max(1, min(max_px // max(longest, 1), round(target / max(longest, 1)))))
 
 
-def upscale(rgb: ArrayLike, scale: int) -> NDArray[np.uint8]:
-    """Nearest-neighbour upscaling of an (N, M, 3) image by an integer factor."""
+def upscale(rgb: ArrayLike, scale: int, scale_y: float | None = None) -> NDArray[np.uint8]:
+    """Nearest-neighbour upscaling of an (N, M, 3) image by an integer factor; ``scale_y``
+    pixel rows per unit (any positive number: ``round(N * scale_y)`` rows) for units that are
+    not square."""
     a = np.asarray(rgb, dtype=np.uint8)
-    return np.repeat(np.repeat(a, scale, axis=0), scale, axis=1)
+    wide = np.repeat(a, scale, axis=1)
+    if scale_y is None:
+        return np.repeat(wide, scale, axis=0)
+    return stretch_rows(wide, round(a.shape[0] * scale_y))
 
 
-def chart_rgb(pattern: LogicalPattern, *, scale: int | None = None) -> NDArray[np.uint8]:
+def stretch_rows(img: ArrayLike, height: int) -> NDArray[np.uint8]:
+    """``img`` resampled (nearest neighbour) to ``height`` rows, columns unchanged."""
+    a = np.asarray(img, dtype=np.uint8)
+    h = max(1, int(height))
+    return a[(np.arange(h) * a.shape[0]) // h]
+
+
+def rows_per_unit(scale: int, unit_aspect: float, *, angle: float = 90.0) -> float:
+    """Pixel rows for one unit ``scale`` pixels wide, as the fabric is seen: ``unit_aspect``
+    (height over width, :attr:`illuknit.core.gauge.Gauge.unit_aspect`) head-on, foreshortened by
+    ``sin(angle)`` at an elevation of ``angle`` degrees."""
+    return float(scale * unit_aspect * np.sin(np.radians(angle)))
+
+
+def chart_rgb(
+    pattern: LogicalPattern, *, scale: int | None = None, unit_aspect: float = 1.0
+) -> NDArray[np.uint8]:
     """The head-on chart: yarn colours, each raised unit marked with a centred square.
 
     The mark is drawn in a contrasting tone of the unit's own colour so raised units read at a
-    glance without hiding the colour.
+    glance without hiding the colour. Units are ``unit_aspect`` as tall as wide (the fabric's
+    proportions, :attr:`illuknit.core.gauge.Gauge.unit_aspect`).
     """
     n, m = pattern.shape
     s = scale or max(4, unit_scale((n, m)))
@@ -79,7 +105,8 @@ def chart_rgb(pattern: LogicalPattern, *, scale: int | None = None) -> NDArray[n
         for dy in range(lo, hi):
             for dx in range(lo, hi):
                 img[ii * s + dy, jj * s + dx] = block
-    return img.clip(0, 255).astype(np.uint8)
+    square = img.clip(0, 255).astype(np.uint8)
+    return square if unit_aspect == 1.0 else stretch_rows(square, round(n * s * unit_aspect))
 
 
 def png_bytes(rgb: ArrayLike, *, compress_level: int = 6) -> bytes:
@@ -136,6 +163,7 @@ def write_previews(
     scale: int | None = None,
     params: Any = None,
     angle: float | None = None,
+    unit_aspect: float = 1.0,
 ) -> dict[str, Path]:
     """Write ``headon.png`` (chart), ``view_a.png``, ``view_b.png`` (boolean views),
     ``render_a.png``, ``render_b.png`` (angled renders) and ``contact.png``.
@@ -148,6 +176,10 @@ def write_previews(
         Renderer parameters (default: the calibrated defaults).
     angle : float, optional
         Viewing elevation in degrees for the renders (default: ``params.theta``).
+    unit_aspect : float
+        Height over width of a unit in the fabric (:attr:`illuknit.core.gauge.Gauge.unit_aspect`):
+        the head-on chart and the side views are drawn at it, the renders foreshortened by
+        ``sin(angle)`` as seen at that elevation; the input pictures keep their own proportions.
 
     Returns
     -------
@@ -166,14 +198,17 @@ def write_previews(
         check_instance(params, RenderParams, "params")
     if angle is not None:
         check_number(angle, "angle", min=0, max=90, min_open=True)
+    check_number(unit_aspect, "unit_aspect", min=0.05, max=20)
 
     out = Path(outdir)
     s = scale or max(2, unit_scale(pattern.shape))
-    chart = chart_rgb(pattern, scale=max(s, 4))
-    va = upscale(view_rgb(pattern, "A"), s)
-    vb = upscale(view_rgb(pattern, "B"), s)
+    theta = angle if angle is not None else (params or RenderParams()).theta
+    sy, sy_angled = rows_per_unit(s, unit_aspect), rows_per_unit(s, unit_aspect, angle=theta)
+    chart = chart_rgb(pattern, scale=max(s, 4), unit_aspect=unit_aspect)
+    va = upscale(view_rgb(pattern, "A"), s, sy)
+    vb = upscale(view_rgb(pattern, "B"), s, sy)
     renders = render_views(pattern, params=params, angle=angle)
-    ra, rb = upscale(renders["A"], s), upscale(renders["B"], s)
+    ra, rb = upscale(renders["A"], s, sy_angled), upscale(renders["B"], s, sy_angled)
     paths = {
         "headon": save_png(chart, out / "headon.png"),
         "view_a": save_png(va, out / "view_a.png"),
@@ -181,13 +216,13 @@ def write_previews(
         "render_a": save_png(ra, out / "render_a.png"),
         "render_b": save_png(rb, out / "render_b.png"),
     }
-    theta = angle if angle is not None else (params or RenderParams()).theta
     deg = f" at {theta:g} deg"
     panels: list[tuple[str, ArrayLike]] = []
     for title, img in (targets or {}).items():
-        panels.append((title, upscale(np.asarray(img, dtype=np.uint8), s)))
+        # a target on the unit grid has the grid's rows: drawn at the fabric's proportions too
+        panels.append((title, upscale(np.asarray(img, dtype=np.uint8), s, sy)))
     # At 4+ pixels per unit the chart written above is already at the contact sheet's scale.
-    chart_small = chart if s >= 4 else upscale(pattern.rgb(), s)
+    chart_small = chart if s >= 4 else upscale(pattern.rgb(), s, sy)
     panels += [
         ("head-on (raised marked)", chart_small),
         (f"rendered from above{deg}", ra),

@@ -9,7 +9,12 @@ pictures give the same grid everywhere. The policy:
    sets the grid (width from the aspect ratio); else the picture's own width in pixels, at most
    :data:`DEFAULT_MAX_WIDTH` units. A width outside 1..``MAX_UNITS`` is an
    :class:`~illuknit.core.errors.ImageInputError`.
-2. **Height** follows picture A's aspect ratio (one unit is square) unless ``height`` is given.
+2. **Height** follows picture A's aspect ratio *as knitted* unless ``height`` is given: a unit is
+   2 stitches x 2 rows, ``unit_aspect`` (its height over its width, the gauge's
+   :attr:`~illuknit.core.gauge.Gauge.unit_aspect`; default 0.7, stocking stitch's 5 : 7) times as
+   tall as wide, so the grid gets ``1 / unit_aspect`` times the rows a square grid would and
+   the finished piece has the picture's proportions. ``unit_aspect=1`` gives square units
+   (``--square-units``): as many rows as the picture is tall, a piece 0.7 as tall.
 3. **Picture B** is fitted onto A's grid. It is accepted when it covers the same piece: its grid at
    A's width has A's height, or its aspect ratio (height / width) is within
    :data:`ASPECT_TOLERANCE` of A's. Otherwise the pictures do not match: a
@@ -22,6 +27,8 @@ pictures give the same grid everywhere. The policy:
 >>> import numpy as np
 >>> pair = size_pair(np.zeros((300, 600, 3)), np.ones((150, 300, 3)))
 >>> pair.shape
+(71, 100)
+>>> size_pair(np.zeros((300, 600, 3)), unit_aspect=1.0).shape
 (50, 100)
 """
 
@@ -35,6 +42,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from illuknit.core.errors import ImageInputError, PictureSizeMismatchError
+from illuknit.core.gauge import STOCKINETTE_COURSE_ASPECT
 from illuknit.core.pattern import MAX_UNITS, Yarn
 from illuknit.pictures.images import (
     QuantisedImage,
@@ -51,6 +59,7 @@ __all__ = [
     "DEFAULT_MAX_WIDTH",
     "SMOOTH_ABOVE_COLORS",
     "SizedPair",
+    "grid_picture",
     "grid_width",
     "prepare_image",
     "size_pair",
@@ -152,10 +161,18 @@ def size_picture(
     width_cm: float | None = None,
     gauge: float | None = None,
     smooth: bool | None = None,
+    unit_aspect: float = STOCKINETTE_COURSE_ASPECT,
 ) -> NDArray[np.float64]:
     """One picture on its unit grid (:func:`size_pair` without a picture B)."""
     return size_pair(
-        picture, None, width=width, height=height, width_cm=width_cm, gauge=gauge, smooth=smooth
+        picture,
+        None,
+        width=width,
+        height=height,
+        width_cm=width_cm,
+        gauge=gauge,
+        smooth=smooth,
+        unit_aspect=unit_aspect,
     ).a
 
 
@@ -170,6 +187,7 @@ def size_pair(
     stretch: bool = False,
     smooth: bool | None = None,
     names: tuple[str, str] = ("A", "B"),
+    unit_aspect: float = STOCKINETTE_COURSE_ASPECT,
 ) -> SizedPair:
     """Resample picture A (and B) to one unit grid under the module's policy.
 
@@ -186,6 +204,9 @@ def size_pair(
         Force smooth (True) or nearest-neighbour (False) resampling for both pictures.
     names : (str, str)
         How error messages and notes name array pictures (files are named by their file names).
+    unit_aspect : float
+        Height over width of one unit as knitted (:attr:`illuknit.core.gauge.Gauge.unit_aspect`);
+        1.0 for square units.
 
     Raises
     ------
@@ -197,13 +218,15 @@ def size_pair(
     names = (_name(a, names[0]), _name(b, names[1]))
     ra = _picture(a)
     w = grid_width(ra.shape[1], width=width, width_cm=width_cm, gauge=gauge, height=height)
-    sized_a = resize_to_units(ra, width=w, height=height, smooth=_smooth(ra, smooth))
+    sized_a = resize_to_units(
+        ra, width=w, height=height, smooth=_smooth(ra, smooth), unit_aspect=unit_aspect
+    )
     if b is None:
         return SizedPair(sized_a, None)
     rb = _picture(b)
     n, m = sized_a.shape[:2]
     # B covers A's piece when it lands on A's grid at A's width, or its aspect is close enough.
-    own_height = max(1, round(m * rb.shape[0] / rb.shape[1]))
+    own_height = max(1, round(m * rb.shape[0] / rb.shape[1] / unit_aspect))
     aspect_a, aspect_b = ra.shape[0] / ra.shape[1], rb.shape[0] / rb.shape[1]
     fits = own_height == n or abs(aspect_b - aspect_a) <= ASPECT_TOLERANCE * aspect_a
     notes: tuple[str, ...] = ()
@@ -225,6 +248,21 @@ def size_pair(
     return SizedPair(sized_a, sized_b, stretched=not fits, notes=notes)
 
 
+def grid_picture(rgb: ArrayLike, *, unit_aspect: float, scale: int = 8) -> NDArray[np.uint8]:
+    """A picture in the fabric's proportions whose sizing at its grid's width gives the grid back.
+
+    For a picture already on a unit grid of ``(N, M)`` (an accepted edit of a sized picture), so
+    that sizing it again, at ``M`` units and ``unit_aspect``, keeps its rows instead of
+    stretching it once more: each unit becomes ``scale`` pixels across and ``scale *
+    unit_aspect`` down (nearest-neighbour sizing samples every unit's middle).
+    """
+    a = np.asarray(rgb)
+    if a.dtype != np.uint8:
+        a = np.round(np.clip(a, 0, 1) * 255).astype(np.uint8)
+    rows = max(1, round(a.shape[0] * scale * unit_aspect))
+    return np.repeat(a, scale, axis=1)[(np.arange(rows) * a.shape[0]) // rows]
+
+
 def prepare_image(
     source: str | os.PathLike[str] | ArrayLike,
     *,
@@ -236,9 +274,16 @@ def prepare_image(
     yarns: Sequence[Yarn] | None = None,
     allow_quantise: bool = True,
     smooth: bool | None = None,
+    unit_aspect: float = STOCKINETTE_COURSE_ASPECT,
 ) -> QuantisedImage:
     """Load (if a path), size (:func:`size_picture`) and quantise one picture in one call."""
     small = size_picture(
-        source, width=width, height=height, width_cm=width_cm, gauge=gauge, smooth=smooth
+        source,
+        width=width,
+        height=height,
+        width_cm=width_cm,
+        gauge=gauge,
+        smooth=smooth,
+        unit_aspect=unit_aspect,
     )
     return quantise_image(small, n_colors=n_colors, yarns=yarns, allow_quantise=allow_quantise)

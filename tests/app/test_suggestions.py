@@ -122,9 +122,14 @@ def test_accept_replaces_the_pictures_and_designs_again(client, api, suggested):
         shown = np.asarray(Image.open(io.BytesIO(after_png[slot])).convert("RGB"))
         r = client.get(f"/api/sessions/{sid}/images/{slot}")
         new = np.asarray(Image.open(io.BytesIO(r.content)).convert("RGB"))
-        assert new.shape[1] == 24
-        k = shown.shape[1] // new.shape[1]
-        assert np.array_equal(shown[::k, ::k], new)
+        # kept in the fabric's proportions (8 pixels a unit across, 0.7 of that down), so
+        # sizing it again at 24 units gives the edited grid back
+        from illuknit.pictures.sizing import size_pair
+
+        assert new.shape[1] == 24 * 8
+        k = shown.shape[1] // 24
+        again = np.round(size_pair(new, width=24, smooth=False).a * 255).astype(np.uint8)
+        assert np.array_equal(shown[::k, ::k], again)
         assert client.get(f"/api/sessions/{sid}/inputs/{slot}.png").content != old_inputs[slot]
     # the design is made again: a candidates job was started by the accept
     assert answer["job"]["kind"] == "candidates"

@@ -19,7 +19,8 @@ from illuknit.app.server import AppConfig
 
 def speckled(*, split: str) -> bytes:
     """An 18 x 12 picture, half dark (top half, or left half) and half light, with a 2 x 2 speck
-    of mid grey: 4 of its 216 units, an overlap under 2 % of the units wherever it lies."""
+    of mid grey; on the 17 x 18 grid that keeps its proportions (units 0.7 as tall as wide) the
+    speck is 6 of 306 units, an overlap under 2 % of the units wherever it lies."""
     rgb = np.full((12, 18, 3), 240, np.uint8)
     if split == "left":
         rgb[:, :9] = 20
@@ -64,8 +65,8 @@ def test_pairs_are_grouped_by_fill_and_the_rare_ones_folded(client, designed):
     assert keys == grouped + p["rare"]["pairs"]
     assert len(set(keys)) == len(keys)
     share = {f"{x['a']}/{x['b']}": x["share"] for x in p["pairs"]}
-    assert p["rare"]["pairs"] == ["1/1"]  # the speck over the speck: 4 of 216 units
-    assert p["rare"]["below"] == 0.02 and p["rare"]["share"] == pytest.approx(4 / 216, abs=1e-4)
+    assert p["rare"]["pairs"] == ["1/1"]  # the speck over the speck: 6 of 306 units
+    assert p["rare"]["below"] == 0.02 and p["rare"]["share"] == pytest.approx(6 / 306, abs=1e-4)
     for g in p["groups"]:
         assert g["fill"] and g["share"] == pytest.approx(sum(share[k] for k in g["pairs"]), 1e-3)
         assert all(share[k] >= 0.02 for k in g["pairs"])

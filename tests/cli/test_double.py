@@ -26,8 +26,10 @@ def test_double_sizes_are_rows_by_columns(tmp_path, capsys):
         ]
     )
     text = capsys.readouterr().out
-    assert "6 x 10 units" in text and "10 x 6 units" not in text
-    assert (out / "summary.txt").read_text().splitlines()[0].count("6 x 10 units") == 1
+    # 6 x 10 pixels at units 0.7 as tall as wide: 9 rows keep the picture's proportions
+    assert "9 x 10 units" in text and "10 x 9 units" not in text
+    assert (out / "summary.txt").read_text().splitlines()[0].count("9 x 10 units") == 1
+    assert "finished size: 7.3 x 4.6 cm" in text  # 20 x 18 stitches at 7 x 9.8 per inch
 
 
 def test_the_table_fits_the_terminal_and_the_message_lists_every_folder(

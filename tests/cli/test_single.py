@@ -35,7 +35,8 @@ def test_single_writes_bundle(picture, tmp_path, capsys):
     ):
         assert (out / name).is_file(), name
     p = load_pattern(out / "pattern.json")
-    assert p.shape == (20, 30)
+    assert p.shape == (29, 30)  # the picture's 2:3, at units 0.7 as tall as wide
+    assert "finished size: 21.8 x 14.7 cm" in text  # 60 x 58 stitches at 7 x 9.8 per inch
     report = json.loads((out / "report.json").read_text())
     assert report["logical_error"]["A"] == 0.0
     assert "Row 1 (RS)" in (out / "instructions.txt").read_text()

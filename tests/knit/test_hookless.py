@@ -100,6 +100,11 @@ def test_cli_writes_kc_and_the_sheet(tmp_path: Path, run_cli) -> None:
     s = json.loads(output)
     assert out.read_text().startswith("HOME\nRACK:0\n// piece.kc\n")
     assert s["format"] == "kc" and s["machine"] == "Kniterate"
+    assert (
+        s["passes"]
+        == s["machine_passes"]
+        == out.read_text().count("\n>>") + out.read_text().count("\n<<")
+    )
     assert {row["role"] for row in s["carrier_table"]} == {"waste yarn", "draw thread", "pattern"}
 
 
@@ -127,7 +132,10 @@ def test_knitout_option_writes_kc_and_the_sheet_in_knit_json(tmp_path: Path) -> 
     paths = write_program(mixed(), tmp_path, machine="kniterate")
     assert paths["kc"].read_text().startswith("HOME\nRACK:0\n// program.kc\n")
     s = json.loads(paths["knit"].read_text())
-    assert s["machine"] == "Kniterate" and s["machine_passes"] > s["passes"]
+    # the headline passes are the machine's (.kc), the schedule's kept apart
+    assert s["machine"] == "Kniterate" and s["machine_passes"] == s["passes"]
+    assert s["schedule_passes"] < s["passes"] and s["passes_counted_on"] == "kc"
+    assert s["time"] == s["machine_time"] and s["bind_off_time_seconds"] > 0
     assert {r["role"] for r in s["carrier_table"]} == {"waste yarn", "draw thread", "pattern"}
     swg = json.loads(
         write_program(mixed(), tmp_path / "swg", machine="swg091n2")["knit"].read_text()
@@ -170,3 +178,57 @@ def test_cli_refusal_names_the_course_and_the_options(tmp_path: Path, run_cli) -
     assert code == 2 and len(err.strip().splitlines()) == 1
     assert "course" in err and "--colors / --yarns" in err and "float_limit" not in err
     assert not (tmp_path / "p.k").exists()
+
+
+def _kc_passes(kc: str) -> list[tuple[str, str, str, set[str]]]:
+    """(pass type, speed, roller advance, stitch numbers of its selected needles) per .kc pass."""
+    lines = kc.split("\n")
+    out = []
+    for i, ln in enumerate(lines):
+        if ln.startswith((">>", "<<")):
+            _, kind, _, speed, roller = ln.split()
+            # turning and carrier marks are inserted into the needle rows, not the stitch rows
+            marks = {ord(c): None for c in "/\\123456"}
+            rows = {
+                r[:5]: r[5:].translate(marks) if r.startswith(("FRNT", "REAR")) else r[5:]
+                for r in lines[i - 4 : i]
+            }
+            picked = {
+                num
+                for bed, nums in (("FRNT:", "STIF:"), ("REAR:", "STIR:"))
+                for ch, num in zip(rows[bed], rows[nums], strict=True)
+                if ch not in "._"
+            }
+            out.append((kind, speed, roller, picked))
+    return out
+
+
+@pytest.mark.parametrize("make", [single, mixed], ids=["single-view", "mixed-2-yarns"])
+def test_transfer_passes_carry_the_transfer_settings(make, tmp_path: Path) -> None:
+    from dataclasses import replace
+
+    result = knit_pattern(make(), machine=KNITERATE)
+    kc = assert_same_as_reference(result.text, tmp_path)
+    assert kc is not None
+    passes = _kc_passes(kc)
+    xs = KNITERATE.transfer
+    transfers = [p for p in passes if "T" in p[0] and "Tu" not in p[0]]  # Tr-Rr, Rl-Tr, ...
+    knits = [p for p in passes if p[0] == "Kn-Kn" and p[3] - {"0"}]
+    assert transfers and knits
+    assert all(p[1] == str(xs.speed_number) and p[2] == "0" for p in transfers)
+    assert all(p[3] <= {str(xs.stitch_number)} for p in transfers)
+    assert all(p[1] == str(KNITERATE.speed_number) for p in knits)
+    assert all(p[3] <= {str(KNITERATE.stitch_number)} for p in knits)
+
+    # overridden per run: a roller advance on the first transfer pass of each run, other values
+    custom = replace(
+        KNITERATE,
+        transfer=replace(xs, stitch_number=5, speed_number=150, roller_advance=30),
+    )
+    result = knit_pattern(make(), machine=custom)
+    kc = assert_same_as_reference(result.text, tmp_path)
+    assert kc is not None
+    transfers = [p for p in _kc_passes(kc) if "T" in p[0] and "Tu" not in p[0]]
+    assert {p[1] for p in transfers} == {"150"}
+    assert {p[2] for p in transfers} >= {"30"}
+    assert set().union(*(p[3] for p in transfers)) == {"5"}

@@ -88,3 +88,39 @@ def test_checker_float_limit_is_the_machines() -> None:
     assert long_floats() == 0  # 14 needles: within the default machine's 20
     assert long_floats(machine=replace(DEFAULT_MACHINE, float_limit=10)) > 0
     assert long_floats(float_limit=10) > 0
+
+
+def test_shima_transfer_speed_switches_around_transfer_passes_and_the_dat_is_the_backends() -> None:
+    import sys
+    from pathlib import Path
+
+    from illuknit.core.errors import OptionError
+    from illuknit.core.machine import TransferSettings
+    from illuknit.formats.dat import knitout_to_dat
+
+    sys.path.insert(0, str(Path(__file__).parents[1] / "formats"))
+    from reference import reference_available, reference_dat
+
+    rng = np.random.default_rng(5)
+    shape = (6, 8)
+    pattern = LogicalPattern(
+        np.repeat(rng.integers(0, 2, size=(shape[0], 1)), shape[1], axis=1),
+        rng.random(shape) < 0.4,
+        parse_yarns("#1b1b1b,#f4f0e8"),
+    )
+    m = replace(DEFAULT_MACHINE, speed_number=5, transfer=TransferSettings(speed_number=2))
+    text = knit_pattern(pattern, machine=m).text
+    speed, seen = None, set()
+    for line in text.splitlines():
+        if line.startswith("x-speed-number"):
+            speed = int(line.split()[1])
+        elif line.startswith(("xfer ", "knit ", "tuck ")):
+            seen.add((line.split()[0], speed))
+    assert seen == {("xfer", 2), ("knit", 5), ("tuck", 5)}
+    if reference_available() is None:
+        assert knitout_to_dat(text) == reference_dat(text)
+    # the SWG backend has no transfer-stitch or roller extension: refused, not silently dropped
+    with pytest.raises(OptionError, match="transfer stitch"):
+        replace(DEFAULT_MACHINE, transfer=TransferSettings(stitch_number=2))
+    with pytest.raises(OptionError, match="roller"):
+        replace(DEFAULT_MACHINE, transfer=TransferSettings(roller_advance=20))

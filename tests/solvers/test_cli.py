@@ -43,7 +43,7 @@ def test_solve_writes_pattern_previews_and_report(pair, tmp_path, capsys):
         rep["logical_error"]["A"]["cells"] + rep["logical_error"]["B"]["cells"]
         == rep["solver"]["objective"]
     )
-    assert pat.shape == (12, 10)
+    assert pat.shape == (17, 10)  # the 12 x 10 picture, units 0.7 as tall as wide
 
 
 @pytest.mark.parametrize("solver", ["cpsat", "rc2"])
@@ -88,7 +88,7 @@ def test_single_view_model(pair, tmp_path):
         rep["logical_error"]["A"]["cells"] + rep["logical_error"]["B"]["cells"]
         == rep["solver"]["objective"]
     )
-    assert pat.shape == (12, 10)
+    assert pat.shape == (17, 10)  # the 12 x 10 picture, units 0.7 as tall as wide
     assert np.all(pat.yarn == pat.yarn[:, :1])  # one yarn per course: a stripe head-on
     alt = tmp_path / "alt"
     main(["solve", str(a), "--model", "single", "--alternate-rows", "-o", str(alt)])
@@ -138,7 +138,10 @@ def test_targets_of_different_sizes(tmp_path, run_cli):
     assert "Traceback" not in err
     assert not (tmp_path / "o").exists()
     main(["solve", str(a), str(b), "--resize", "-o", str(tmp_path / "o")])
-    assert load_pattern(tmp_path / "o" / "pattern.json").shape == (10, 10)
+    assert load_pattern(tmp_path / "o" / "pattern.json").shape == (
+        14,
+        10,
+    )  # units 0.7 as tall as wide
 
 
 def test_unknown_and_unavailable_solvers(pair, tmp_path, run_cli):

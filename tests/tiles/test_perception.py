@@ -253,7 +253,7 @@ def test_double_writes_the_best_of_the_pool_it_searched(tmp_path, run_cli):
     out = tmp_path / "out"
     code, _, err = run_cli(
         ["double", str(tmp_path / "a.png"), str(tmp_path / "b.png"), "-o", str(out),
-         "--candidates", "2", "--pool", "12"])  # fmt: skip
+         "--candidates", "2", "--pool", "12", "--square-units"])  # fmt: skip
     assert code == 0, err
     summary = json.loads((out / "summary.json").read_text())
     rows = summary["candidates"]

@@ -261,7 +261,7 @@ def test_double_suggest_offers_fewer_colours_for_a_photo_pair(tmp_path, run_cli)
         Image.fromarray((pic * 255).round().astype(np.uint8)).save(tmp_path / name)
     code, _, err = run_cli(
         ["double", str(tmp_path / "a.png"), str(tmp_path / "b.png"), "--colors", "3",
-         "--candidates", "2", "--suggest", "-o", str(tmp_path / "s")])  # fmt: skip
+         "--candidates", "2", "--suggest", "--square-units", "-o", str(tmp_path / "s")])  # fmt: skip
     assert code == 0, err
     folder = tmp_path / "s" / "suggestions"
     edits = json.loads((folder / "suggestions.json").read_text())["edits"]
@@ -282,7 +282,7 @@ def test_double_simplify_designs_with_a_kept_requantisation(tmp_path, run_cli):
     code, _, err = run_cli(
         ["double", str(tmp_path / "a.png"), str(tmp_path / "b.png"), "--colors", "3",
          "--yarns", "4", "--width", "28", "--candidates", "1", "--pool", "1", "--simplify",
-         "-o", str(tmp_path / "out")])  # fmt: skip
+         "--square-units", "-o", str(tmp_path / "out")])  # fmt: skip
     assert code == 0, err
     edits = json.loads((tmp_path / "out" / "summary.json").read_text())["edits"]
     by_name = {e["edit"]: e for e in edits}

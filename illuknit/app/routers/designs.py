@@ -136,13 +136,15 @@ def render(
         "at the chosen machine's gauge); default: every detail",
     ),
 ) -> Response:
+    from illuknit.core.machine import get_machine
+
     pattern = current_pattern(s, candidate)
-    img = design.render_view(pattern, view, angle=angle)
+    aspect = get_machine(s.settings.machine).fabric_gauge.unit_aspect
+    img = design.render_view(pattern, view, angle=angle, unit_aspect=aspect)
     if distance is not None:
-        from illuknit.core.machine import MACHINES
         from illuknit.design.tiles.perception import eye_blur_units, seen_from
 
-        gauge = MACHINES[s.settings.machine].gauge
+        gauge = get_machine(s.settings.machine).gauge
         per_unit = img.shape[1] / pattern.shape[1]  # pixels per unit across
         img = seen_from(img, eye_blur_units(distance, gauge=gauge) * per_unit)
     return Response(

@@ -23,6 +23,8 @@ DOWNLOADS = (
     "previews.zip",
     "chart.png",
     "instructions.txt",
+    "pattern.pdf",
+    "chart.svg",
     "knitout.k",
     "check.json",
     "check.txt",
@@ -89,10 +91,20 @@ def download(
         return attachment(design.chart_png(pattern), f"{stem}-chart.png", "image/png")
     if name == "instructions.txt":
         return attachment(
-            design.instructions_text(pattern).encode(),
+            design.instructions_text(pattern, machine=s.settings.machine).encode(),
             f"{stem}-instructions.txt",
             "text/plain; charset=utf-8",
         )
+    if name in ("pattern.pdf", "chart.svg"):
+        from illuknit.core.machine import get_machine
+        from illuknit.outputs.pattern_pdf import chart_svg, pattern_pdf
+
+        with s.lock:
+            gauge = get_machine(s.settings.machine).fabric_gauge
+        if name == "chart.svg":
+            return attachment(chart_svg(pattern).encode(), f"{stem}-chart.svg", "image/svg+xml")
+        pdf = pattern_pdf(pattern, gauge=gauge, title="illuknit illusion pattern", angle=angle)
+        return attachment(pdf, f"{stem}-pattern.pdf", "application/pdf")
     knit = knit_of(s, pattern)
     if name == "knitout.k":
         return attachment(knit.knitout.encode(), f"{stem}.k", "text/plain; charset=utf-8")

@@ -78,15 +78,22 @@ def delete_image(s: SessionDep, slot: str) -> dict[str, Any]:
 
 @router.get("/inputs", summary="Quantise the pictures under the settings: sizes and legends")
 def get_inputs(s: SessionDep) -> dict[str, Any]:
+    from illuknit.core.gauge import finished_size
+    from illuknit.core.machine import get_machine
+
     with s.lock:
         p = prepared_of(s)
         rev = s.revision
+        machine = get_machine(s.settings.machine)
     n, m = p.shape
+    size = finished_size((n, m), machine.fabric_gauge)
     return {
         "revision": rev,
         "mode": p.mode,
         "rows": n,
         "cols": m,
+        # the grid keeps the pictures' proportions at this gauge (units 0.7 as tall as wide)
+        "finished_size": {**size.as_dict(), "text": size.describe()},
         "yarns": [{"name": y.name, "rgb": y.hex} for y in p.yarns],
         "legend": p.legend(),
         "notes": list(p.notes),

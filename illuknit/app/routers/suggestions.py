@@ -151,10 +151,17 @@ def accept(request: Request, s: SessionDep, edit_id: str) -> dict[str, Any]:
         s.remember(edit.description)  # the design as it is, for Undo
         if recount:
             s.settings = settings.model_copy(update={"n_colors": colors})
+        from illuknit.core.machine import get_machine
+        from illuknit.pictures.sizing import grid_picture
+
+        # the edit is on the unit grid: kept in the fabric's proportions, so that sizing it
+        # again gives this grid back (not 1 / 0.7 of its rows)
+        aspect = get_machine(s.settings.machine).fabric_gauge.unit_aspect
         for slot, rgb in edit.pictures.items():
             old = s.images[slot]
             note = f"suggested edit accepted: {edit.description}"
-            s.images[slot] = UploadedImage(old.filename, old.sent_bytes, rgb.copy(), (note,))
+            picture = grid_picture(rgb, unit_aspect=aspect)
+            s.images[slot] = UploadedImage(old.filename, old.sent_bytes, picture, (note,))
         s.bump()
         job = start_candidates(
             s, runner_of(request), isolate=request.app.state.config.isolate_search

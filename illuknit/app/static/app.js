@@ -411,7 +411,9 @@ async function refreshInputs({ autorun }) {
   }
   $("#notes").textContent = inp.notes.join(" ");
   const w = inp.cols, h = inp.rows;
-  $("#grid-info").textContent = `${w} × ${h} units = ${2 * w} stitches × ${2 * h} rows. 1 unit = 2 stitches × 2 rows.`;
+  const size = inp.finished_size;
+  $("#grid-info").textContent = `${w} × ${h} units = ${2 * w} stitches × ${2 * h} rows. 1 unit = 2 stitches × 2 rows.` +
+    (size ? ` Finished size about ${size.text} at ${size.gauge}.` : "");
   if (autorun) runCandidates();
 }
 

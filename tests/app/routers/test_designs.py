@@ -93,6 +93,8 @@ def test_single_view_flow_to_checked_knitout(client, api, pictures):
     assert r.status_code == 409 and api.error_of(r)["field"] == "knit"
     for name, kind in (
         ("pattern.json", "application/json"),
+        ("pattern.pdf", "application/pdf"),
+        ("chart.svg", "image/svg+xml"),
         ("chart.png", "image/png"),
         ("instructions.txt", "text/plain"),
         ("previews.zip", "application/zip"),
@@ -102,7 +104,8 @@ def test_single_view_flow_to_checked_knitout(client, api, pictures):
         assert r.headers["content-type"].startswith(kind)
         assert "attachment" in r.headers["content-disposition"]
     doc = client.get(f"/api/sessions/{sid}/download/pattern.json").json()
-    assert doc["format"] == "illuknit-pattern" and (doc["rows"], doc["cols"]) == (12, 18)
+    # a 2 : 3 picture, units 0.7 as tall as wide
+    assert doc["format"] == "illuknit-pattern" and (doc["rows"], doc["cols"]) == (17, 18)
     names = zipfile.ZipFile(
         io.BytesIO(client.get(f"/api/sessions/{sid}/download/previews.zip").content)
     ).namelist()
@@ -190,8 +193,11 @@ def test_render_changes_with_angle_when_the_renderer_is_installed(client, double
         )
         for a in (8, 80)
     ]
-    assert imgs[0].shape == imgs[1].shape
-    assert not np.array_equal(imgs[0], imgs[1])
+    # seen at 8 degrees the piece is foreshortened to sin 8 / sin 80 of its height at 80
+    assert imgs[0].shape[1] == imgs[1].shape[1]
+    ratio = imgs[0].shape[0] / imgs[1].shape[0]
+    assert ratio == pytest.approx(np.sin(np.radians(8)) / np.sin(np.radians(80)), abs=0.03)
+    assert imgs[0].shape != imgs[1].shape
 
 
 def test_tile_override_per_pair(client, double, api):

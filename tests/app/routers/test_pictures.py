@@ -167,14 +167,17 @@ def test_inputs_quantise_and_legend(client, api, pictures):
     api.upload(client, sid, "a", pictures.box_picture())
     client.put(f"/api/sessions/{sid}/settings", json={"mode": "single", "width_units": 18})
     inp = client.get(f"/api/sessions/{sid}/inputs").json()
-    assert (inp["rows"], inp["cols"]) == (12, 18)
+    assert (inp["rows"], inp["cols"]) == (17, 18)  # 2 : 3 picture, units 0.7 as tall as wide
+    size = inp["finished_size"]  # the picture's 2 : 3, knitted: within 3 %
+    assert size["height_cm"] / size["width_cm"] == pytest.approx(2 / 3, rel=0.03)
+    assert "cm" in size["text"] and "in)" in size["text"]
     legend = inp["legend"]["a"]
     assert [e["yarn_color"] for e in legend] == ["#1b1b1b", "#f4f0e8"]
     assert abs(sum(e["share"] for e in legend) - 1) < 1e-3
     q = client.get(inp["images"]["a"])
     assert q.status_code == 200
     arr = np.asarray(Image.open(io.BytesIO(q.content)))
-    assert arr.shape == (12, 18, 3)
+    assert arr.shape == (17, 18, 3)
     assert {tuple(c) for c in arr.reshape(-1, 3)} == {(0x1B, 0x1B, 0x1B), (0xF4, 0xF0, 0xE8)}
     r = client.get(f"/api/sessions/{sid}/inputs/b.png")
     assert r.status_code == 404
@@ -210,7 +213,7 @@ def test_mismatched_sizes_offer_resize(client, api, pictures):
     assert "Resize" in err["message"]
     client.put(f"/api/sessions/{sid}/settings", json={"resize": True})
     inp = client.get(f"/api/sessions/{sid}/inputs").json()
-    assert (inp["rows"], inp["cols"]) == (12, 18)
+    assert (inp["rows"], inp["cols"]) == (17, 18)  # 2 : 3 picture, units 0.7 as tall as wide
     assert inp["notes"] and "stretched" in inp["notes"][0]
 
 

@@ -1,0 +1,340 @@
+"""What a hand knitter needs beyond the chart: written rows, technique advice and materials.
+
+* :func:`written_row` writes one row as a knitter reads it, runs of one stitch in one yarn
+  compressed (``k2, p4``) and the longest repeat folded (``*k2, p4; rep from * to last 2 sts,
+  k2``), with the row's stitch count.
+* :func:`row_colourwork` counts, per row, the colour changes, the colour blocks and the longest
+  float a stranded knitter would carry (a yarn crossing the back of the stitches it skips);
+  :func:`hand_advice` turns those numbers into advice a knitter would follow: stocking stitch
+  stripes when each row has one yarn; stranded knitting, catching floats every
+  :data:`CATCH_EVERY` stitches, when rows use two yarns; intarsia only when the blocks are large
+  (:data:`MIN_INTARSIA_BLOCK` stitches and at most :data:`MAX_INTARSIA_BLOCKS` blocks a row);
+  and when none fits, it says so with the numbers and what would make it knittable (fewer yarns,
+  a simplified design, a machine).
+* :func:`yarn_estimate` estimates each yarn's length and weight from its stitch count and gauge.
+"""
+
+from __future__ import annotations
+
+from collections import Counter
+from dataclasses import dataclass
+from itertools import groupby
+
+import numpy as np
+
+from illuknit.core.gauge import Gauge
+from illuknit.core.pattern import LogicalPattern
+
+__all__ = [
+    "CATCH_EVERY",
+    "MAX_INTARSIA_BLOCKS",
+    "MIN_INTARSIA_BLOCK",
+    "HandAdvice",
+    "RowColourwork",
+    "YarnEstimate",
+    "compress_repeats",
+    "hand_advice",
+    "row_colourwork",
+    "written_row",
+    "yarn_estimate",
+]
+
+#: Stranded knitting: catch (trap) a float behind the work every this many stitches.
+CATCH_EVERY = 5
+#: Intarsia is sensible when every block of a row is at least this many stitches wide ...
+MIN_INTARSIA_BLOCK = 6
+#: ... and a row has at most this many blocks (bobbins hanging at once).
+MAX_INTARSIA_BLOCKS = 8
+#: Stranded knitting carries at most this many yarns in a row comfortably.
+MAX_STRANDED_YARNS = 2
+
+
+def compress_repeats(tokens: list[tuple[str, int]]) -> str:
+    """Tokens ``(text, stitches)`` in working order, as a knitter writes them, with the longest
+    repeat folded: ``*k2, p4; rep from * to last 2 sts, k2``.
+
+    >>> compress_repeats([("k2", 2), ("p4", 4)] * 3 + [("k2", 2)])
+    '*k2, p4; rep from * to last 2 sts, k2'
+    >>> compress_repeats([("k1", 1), ("p1", 1)] * 4)
+    '*k1, p1; rep from * to end'
+    >>> compress_repeats([("k3", 3), ("p2", 2)])
+    'k3, p2'
+    """
+    n = len(tokens)
+    best: tuple[int, int, int, int] | None = None  # (tokens saved, start, period, repeats)
+    for period in range(1, min(8, n // 2) + 1):
+        for start in range(0, n - 2 * period + 1):
+            unit = tokens[start : start + period]
+            reps = 1
+            while tokens[start + reps * period : start + (reps + 1) * period] == unit:
+                reps += 1
+            saved = (reps - 1) * period
+            if reps >= 2 and saved >= 2 and (best is None or saved > best[0]):
+                best = (saved, start, period, reps)
+    if best is None:
+        return ", ".join(t for t, _ in tokens)
+    _, start, period, reps = best
+    prefix = tokens[:start]
+    unit = tokens[start : start + period]
+    suffix = tokens[start + reps * period :]
+    parts = [t for t, _ in prefix]
+    body = "*" + ", ".join(t for t, _ in unit) + "; rep from *"
+    if suffix:
+        last = sum(s for _, s in suffix)
+        body += f" to last {last} st{'s' if last > 1 else ''}, " + ", ".join(t for t, _ in suffix)
+    else:
+        body += " to end"
+    return ", ".join([*parts, body])
+
+
+def written_row(worked: list[tuple[str, int]], names: list[str]) -> str:
+    """One row as written instructions: ``with black, *k2, p4; rep from * ... (120 sts)``.
+
+    ``worked`` is ``(stitch, yarn)`` in working order (:meth:`illuknit.outputs.chart.HandRow.worked`).
+    """
+    yarns = {y for _, y in worked}
+    single = len(yarns) == 1
+    tokens = []
+    for (op, y), grp in groupby(worked):
+        count = len(list(grp))
+        text = f"{op}{count}" if single else f"{op}{count} {names[y]}"
+        tokens.append((text, count))
+    total = len(worked)
+    if single:
+        ops = {op for op, _ in worked}
+        name = names[next(iter(yarns))]
+        if ops == {"k"}:
+            return f"with {name}, knit across ({total} sts)."
+        if ops == {"p"}:
+            return f"with {name}, purl across ({total} sts)."
+        return f"with {name}, {compress_repeats(tokens)} ({total} sts)."
+    return f"{compress_repeats(tokens)} ({total} sts)."
+
+
+@dataclass(frozen=True)
+class RowColourwork:
+    """Colourwork of one hand-knitting row (stitches in chart order).
+
+    Attributes
+    ----------
+    number : int
+        Row number from the cast-on edge.
+    yarns : int
+        Distinct yarns in the row.
+    changes : int
+        Colour changes along the row.
+    blocks : int
+        Runs of one yarn (``changes + 1``).
+    shortest_block : int
+        Narrowest run of one yarn, in stitches.
+    longest_float : int
+        Most stitches a yarn skips between two of its stitches in the row (0 for one yarn).
+    """
+
+    number: int
+    yarns: int
+    changes: int
+    blocks: int
+    shortest_block: int
+    longest_float: int
+
+    @property
+    def technique(self) -> str:
+        """``"plain"`` (one yarn), ``"intarsia"`` (large blocks: a bobbin each, no floats),
+        ``"stranded"`` (two yarns, floats caught every :data:`CATCH_EVERY` stitches) or
+        ``"not-sensible"`` (more yarns than can be stranded, in blocks too small for intarsia)."""
+        if self.yarns == 1:
+            return "plain"
+        if self.shortest_block >= MIN_INTARSIA_BLOCK and self.blocks <= MAX_INTARSIA_BLOCKS:
+            return "intarsia"
+        if self.yarns <= MAX_STRANDED_YARNS:
+            return "stranded"
+        return "not-sensible"
+
+    def note(self) -> str:
+        """What the written row says about its colourwork ("" for one yarn)."""
+        t = self.technique
+        changes = f"{self.changes} colour change{'s' if self.changes > 1 else ''}"
+        if t == "plain":
+            return ""
+        if t == "intarsia":
+            return f"intarsia, {self.blocks} blocks, {changes}"
+        catch = f", catch every {CATCH_EVERY}" if self.longest_float > CATCH_EVERY else ""
+        if t == "stranded":
+            return f"stranded, {changes}, longest float {self.longest_float} sts{catch}"
+        return (
+            f"{self.yarns} yarns, {changes}, blocks from {self.shortest_block} sts, "
+            f"longest float {self.longest_float} sts"
+        )
+
+
+def row_colourwork(pattern: LogicalPattern) -> list[RowColourwork]:
+    """Per hand-knitting row (2 per unit row, from the cast-on edge): yarns, changes, floats.
+
+    Both rows of a unit row have the same colours, so the numbers repeat in pairs.
+    """
+    n, _ = pattern.shape
+    out = []
+    for k in range(2 * n):
+        yarn = np.repeat(pattern.yarn[n - 1 - k // 2], 2)
+        runs = [(int(y), len(list(g))) for y, g in groupby(yarn.tolist())]
+        longest = 0
+        last_end: dict[int, int] = {}
+        pos = 0
+        for y, length in runs:
+            if y in last_end:
+                longest = max(longest, pos - last_end[y])
+            pos += length
+            last_end[y] = pos
+        out.append(
+            RowColourwork(
+                number=k + 1,
+                yarns=len({y for y, _ in runs}),
+                changes=len(runs) - 1,
+                blocks=len(runs),
+                shortest_block=min(length for _, length in runs),
+                longest_float=longest,
+            )
+        )
+    return out
+
+
+@dataclass(frozen=True)
+class HandAdvice:
+    """How to knit a pattern by hand, and whether it is sensible to.
+
+    Attributes
+    ----------
+    technique : {"stripes", "stranded", "intarsia", "not-sensible"}
+    knittable : bool
+        False when no hand technique fits the rows sensibly.
+    lines : tuple of str
+        The advice as sentences, numbers included.
+    rows : tuple of RowColourwork
+    """
+
+    technique: str
+    knittable: bool
+    lines: tuple[str, ...]
+    rows: tuple[RowColourwork, ...]
+
+
+def hand_advice(pattern: LogicalPattern) -> HandAdvice:
+    """Advice on knitting ``pattern`` by hand, from the colourwork of its rows
+    (:attr:`RowColourwork.technique` per row)."""
+    rows = tuple(row_colourwork(pattern))
+    multi = [r for r in rows if r.yarns > 1]
+    if not multi:
+        return HandAdvice(
+            "stripes",
+            True,
+            (
+                "Every row is worked in one yarn: change yarn at the start of a row, carrying "
+                "the unused yarn up the side (twist it with the working yarn every other row).",
+            ),
+            rows,
+        )
+    by = Counter(r.technique for r in rows)
+    most_yarns = max(r.yarns for r in rows)
+    most_changes = max(r.changes for r in rows)
+    stranded = [r for r in multi if r.technique == "stranded"]
+    longest = max((r.longest_float for r in stranded), default=0)
+    smallest = min(r.shortest_block for r in multi)
+    lines = [
+        f"{len(multi)} of {len(rows)} rows change colour: up to {most_yarns} yarns and "
+        f"{most_changes} colour changes in a row, blocks as narrow as {smallest} stitches."
+    ]
+    if by["intarsia"]:
+        lines.append(
+            f"{by['intarsia']} rows have large blocks (each at least {MIN_INTARSIA_BLOCK} "
+            f"stitches, at most {MAX_INTARSIA_BLOCKS} a row): work them in intarsia, each block "
+            "from its own ball or bobbin, twisting the yarns at every colour change so the "
+            "blocks stay joined. No yarn is carried across the back."
+        )
+    if by["stranded"]:
+        lines.append(
+            f"{by['stranded']} rows have small blocks of 2 yarns: work them in stranded "
+            "knitting, one yarn in each hand, carrying the yarn not in use loosely across the "
+            + (
+                f"wrong side; its floats reach {longest} stitches, so catch (trap) it with the "
+                f"working yarn every {CATCH_EVERY} stitches."
+                if longest > CATCH_EVERY
+                else f"wrong side; its floats are at most {longest} stitches, short enough "
+                "to leave uncaught."
+            )
+        )
+    if not by["not-sensible"]:
+        technique = "intarsia" if by["intarsia"] >= by["stranded"] else "stranded"
+        lines.append("Each colour row's note below says which, with its numbers.")
+        return HandAdvice(technique, True, tuple(lines), rows)
+    bad = [r for r in rows if r.technique == "not-sensible"]
+    lines += [
+        f"This design is not sensibly knitted by hand: {len(bad)} rows (the first is row "
+        f"{bad[0].number}) carry {max(r.yarns for r in bad)} yarns in blocks as narrow as "
+        f"{min(r.shortest_block for r in bad)} stitches and up to {max(r.blocks for r in bad)} "
+        f"blocks a row: more than {MAX_STRANDED_YARNS} yarns cannot be stranded, and intarsia "
+        f"needs blocks of at least {MIN_INTARSIA_BLOCK} stitches and at most "
+        f"{MAX_INTARSIA_BLOCKS} bobbins a row.",
+        "To knit it by hand: design it with 2 yarns (stranded knitting then works), simplify "
+        "it so the colour blocks are larger (illuknit double --simplify), or knit it on a "
+        "machine (illuknit knit).",
+    ]
+    return HandAdvice("not-sensible", False, tuple(lines), rows)
+
+
+@dataclass(frozen=True)
+class YarnEstimate:
+    """Yarn needed for one colour."""
+
+    name: str
+    hex: str
+    stitches: int
+    metres: float
+    grams: float
+
+    def describe(self) -> str:
+        if not self.stitches:
+            return f"{self.name} ({self.hex}): not used in this design"
+        return (
+            f"{self.name} ({self.hex}): {self.stitches} sts, about {self.metres:.0f} m "
+            f"({self.metres * 1.0936:.0f} yd), {self.grams:.0f} g"
+        )
+
+
+#: Yarn used per stitch, in stitch widths: Munden's wale constant of dry-relaxed plain knitting
+#: (loop length / stitch width, about 3.8-4.2); the low end, the margin covers the rest.
+LOOP_LENGTH_IN_STITCH_WIDTHS = 3.8
+#: Metres per 100 g of DK yarn (Craft Yarn Council weight 3: roughly 200-250 m per 100 g).
+DK_METRES_PER_100G = 225.0
+
+
+def yarn_estimate(
+    pattern: LogicalPattern,
+    gauge: Gauge,
+    *,
+    margin: float = 0.2,
+    metres_per_100g: float = DK_METRES_PER_100G,
+    floats: bool = True,
+) -> list[YarnEstimate]:
+    """Length and weight of each yarn: its stitches x loop length, floats, plus ``margin``.
+
+    Every stitch takes :data:`LOOP_LENGTH_IN_STITCH_WIDTHS` stitch widths of yarn; with
+    ``floats`` a stranded yarn also crosses the blocks of other yarns between its own stitches.
+    Cast-on, bind-off and tails are covered by ``margin`` (default 20 %).
+    """
+    counts: Counter[int] = Counter()
+    carried: Counter[int] = Counter()
+    n, _ = pattern.shape
+    for r in range(n):
+        row = np.repeat(pattern.yarn[r], 2)
+        for y, c in zip(*np.unique(row, return_counts=True), strict=True):
+            counts[int(y)] += 2 * int(c)  # two rows a unit row
+            if floats:
+                idx = np.flatnonzero(row == y)
+                carried[int(y)] += 2 * int(idx[-1] - idx[0] + 1 - c)
+    loop_cm = LOOP_LENGTH_IN_STITCH_WIDTHS * gauge.stitch_cm
+    out = []
+    for i, y in enumerate(pattern.yarns):
+        metres = (counts[i] * loop_cm + carried[i] * gauge.stitch_cm) / 100 * (1 + margin)
+        out.append(YarnEstimate(y.name, y.hex, counts[i], metres, metres / metres_per_100g * 100))
+    return out

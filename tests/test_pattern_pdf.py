@@ -1,0 +1,172 @@
+"""pattern.pdf and chart.svg: what a knitter prints, read back as text and rendered to pictures."""
+
+from __future__ import annotations
+
+import io
+import re
+import shutil
+import subprocess
+import xml.etree.ElementTree as ET
+from itertools import pairwise
+from pathlib import Path
+
+import numpy as np
+import pytest
+from PIL import Image
+
+from illuknit.core.gauge import parse_gauge
+from illuknit.core.pattern import LogicalPattern, parse_yarns
+from illuknit.outputs.pattern_pdf import CELL_MM, chart_svg, chart_tiles, pattern_pdf
+
+pypdf = pytest.importorskip("pypdf", reason="the test extra (pypdf) is not installed")
+
+
+def pdf_pages(data: bytes) -> list[str]:
+    return [page.extract_text() for page in pypdf.PdfReader(io.BytesIO(data)).pages]
+
+
+def assert_is_a_pattern(pages: list[str], pattern: LogicalPattern, gauge_text: str) -> None:
+    text = "\n".join(pages)
+    n, m = pattern.shape
+    for needed in (
+        "Finished size",
+        "Materials",
+        "Gauge",
+        "Abbreviations",
+        "How to read the chart",
+        "Key",
+        "Written rows",
+        gauge_text,
+    ):
+        assert needed in text, needed
+    assert re.search(r"\d+\.\d x \d+\.\d cm \(\d+\.\d x \d+\.\d in\)", text)
+    # materials: every used yarn with a length
+    for y in pattern.yarns:
+        if (pattern.yarn == pattern.yarns.index(y)).any():
+            assert re.search(rf"{re.escape(y.name)} \({y.hex}\): \d+ sts, about \d+ m", text), y
+    # every row, with its stitch count
+    rows = re.findall(r"Row (\d+) \((RS|WS)\): .*?\((\d+) sts\)", text)
+    assert [int(r[0]) for r in rows] == list(range(1, 2 * n + 1))
+    assert {int(r[2]) for r in rows} == {2 * m}
+
+
+def small_pattern(shape=(6, 10), k=2, seed=1) -> LogicalPattern:
+    rng = np.random.default_rng(seed)
+    yarns = parse_yarns("black,firebrick,linen")[:k]
+    return LogicalPattern(rng.integers(0, k, shape), rng.random(shape) < 0.3, yarns)
+
+
+def test_single_view_design_writes_a_pattern_pdf(tmp_path: Path, run_cli=None) -> None:
+    from illuknit.cli import main
+
+    img = np.full((30, 40, 3), 240, np.uint8)
+    img[8:22, 10:30] = 20
+    Image.fromarray(img).save(tmp_path / "pic.png")
+    out = tmp_path / "out"
+    main(["single", str(tmp_path / "pic.png"), "--width", "20", "-o", str(out)])
+    from illuknit.core.pattern import load_pattern
+
+    pattern = load_pattern(out / "pattern.json")
+    pages = pdf_pages((out / "pattern.pdf").read_bytes())
+    assert_is_a_pattern(pages, pattern, "27.6 sts x 39.4 rows per 10 cm")
+    assert (out / "chart.svg").read_text().startswith("<svg")
+
+
+def test_three_colour_double_view_writes_a_pattern_pdf(tmp_path: Path) -> None:
+    from illuknit.cli import main
+    from illuknit.core.pattern import load_pattern
+
+    a = np.full((40, 40, 3), (244, 240, 232), np.uint8)
+    a[5:35, 5:35] = (27, 27, 27)
+    a[15:25, 15:25] = (179, 32, 42)
+    b = np.full((40, 40, 3), (244, 240, 232), np.uint8)
+    b[10:30, :] = (179, 32, 42)
+    b[:, 18:22] = (27, 27, 27)
+    Image.fromarray(a).save(tmp_path / "a.png")
+    Image.fromarray(b).save(tmp_path / "b.png")
+    out = tmp_path / "out"
+    main(
+        [
+            "double",
+            str(tmp_path / "a.png"),
+            str(tmp_path / "b.png"),
+            "--yarns",
+            "#1b1b1b,#b3202a,#f4f0e8",
+            "--width",
+            "16",
+            "--candidates",
+            "1",
+            "--fabric-gauge",
+            "22x30/10cm",
+            "-o",
+            str(out),
+        ]
+    )
+    pattern = load_pattern(out / "pattern.json")
+    assert len(pattern.yarns) == 3
+    pages = pdf_pages((out / "pattern.pdf").read_bytes())
+    assert_is_a_pattern(pages, pattern, "22 sts x 30 rows per 10 cm")
+    assert "--fabric-gauge: 22x30/10cm" in "\n".join(pages)
+
+
+def test_a_240_stitch_chart_is_tiled_over_printable_pages(tmp_path: Path) -> None:
+    tiles = chart_tiles(240, 340, page="A4")
+    assert len({t.across for t in tiles}) >= 6 and len({t.down for t in tiles}) >= 6
+    # every stitch and row is on a page, neighbours share exactly one column / row
+    across = sorted({(t.c0, t.c1) for t in tiles})
+    assert across[0][0] == 1 and across[-1][1] == 240
+    assert all(a[1] == b[0] for a, b in pairwise(across))
+    letter = chart_tiles(240, 340, page="Letter")
+    assert letter and all(t.c1 - t.c0 + 1 <= 40 for t in letter)
+
+    pattern = small_pattern((20, 120))
+    data = pattern_pdf(pattern, gauge=parse_gauge("22x30/10cm"))
+    pages = pdf_pages(data)
+    chart_pages = [p for p in pages if re.search(r"Chart page \d+ of \d+", p)]
+    assert len(chart_pages) == len(chart_tiles(240, 40)) >= 6
+    for p in chart_pages:
+        flat = " ".join(p.split())
+        assert "Row 1 at the bottom" in flat and "Shaded: shared with page" in flat
+        numbers = [int(w) for w in re.findall(r"\d+", p.split("\n", 1)[1])]
+        # every row number 1..40 once (RS at the right, WS at the left), stitch numbers twice
+        assert all(numbers.count(r) >= 1 for r in range(1, 41)), numbers
+        first, last = map(int, re.search(r"stitches (\d+)-(\d+)", p).groups())
+        assert numbers.count(first) >= 2
+        assert numbers.count(last) >= 2
+    if shutil.which("pdftoppm") is None:
+        pytest.skip("pdftoppm (poppler-utils) is not installed")
+    first_chart = next(i for i, p in enumerate(pages) if re.search(r"Chart page 1 of", p)) + 1
+    pdf = tmp_path / "p.pdf"
+    pdf.write_bytes(data)
+    subprocess.run(
+        [
+            "pdftoppm",
+            "-r",
+            "72",
+            "-f",
+            str(first_chart),
+            "-l",
+            str(first_chart),
+            "-png",
+            "-singlefile",
+            str(pdf),
+            str(tmp_path / "page"),
+        ],
+        check=True,
+    )
+    img = np.asarray(Image.open(tmp_path / "page.png").convert("L"))
+    # A4 at 72 dpi; a chart cell of 4.5 mm is about 13 pixels: the grid is drawn, not blank
+    assert abs(img.shape[0] - 842) <= 1 and abs(img.shape[1] - 595) <= 1
+    assert (img < 128).mean() > 0.05
+    assert CELL_MM >= 4
+
+
+def test_chart_svg_has_every_stitch() -> None:
+    pattern = small_pattern((3, 7), k=3)
+    svg = chart_svg(pattern, cell=10)
+    root = ET.fromstring(svg)
+    ns = "{http://www.w3.org/2000/svg}"
+    rects = [r for r in root.iter(f"{ns}rect") if r.get("width") != "100%"]
+    assert sum(float(r.get("width")) for r in rects) == pytest.approx(6 * 14 * 10)
+    dots = list(root.iter(f"{ns}circle"))
+    assert len(dots) == 2 * int(pattern.raised.sum())  # each raised unit: 2 purls on the WS row
