@@ -18,7 +18,7 @@ pass plus 19 fixed rows) and prints per program:
 ``min``       estimated knitting time in minutes (illuknit's time model on the machine passes)
 ``err``       logical error of views A / B in % (wrongly seen units, ``bench.metrics``)
 ``read``      readability of views A / B: correlation of the 30-degree render with its target
-              (``bench.metrics.picture_scores``), so a design cannot win passes by a worse picture
+              (``design.measures.picture_scores``), so a design cannot win passes by a worse picture
 
 Targets (issue 14): ``dat <= 0.5 x today`` on 3- and 4-yarn instances, ``<= 0.7 x today`` on
 2-yarn ones; moonshot ``dat <= 1.2 x bound``; longest float <= the machine's float limit.
@@ -224,7 +224,8 @@ def picture_measures(
 ) -> tuple[tuple[float, float], tuple[float, float]]:
     """(logical error of views A and B in %, readability of A and B) of ``pattern``."""
     from illuknit.bench.instances import instance_targets
-    from illuknit.bench.metrics import angled_renders, logical_errors, picture_scores
+    from illuknit.bench.metrics import logical_errors
+    from illuknit.design.measures import angled_renders, picture_scores
 
     t = instance_targets(instance)
     err = logical_errors(pattern, t)
