@@ -16,8 +16,11 @@ picture gets its knitting time only.
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Sequence
 from typing import Any
+
+from illuknit.bench.metrics import knit_stats
 
 __all__ = ["ORDERS", "measure_candidate", "order_candidates"]
 
@@ -37,8 +40,6 @@ def measure_candidate(pattern: Any, prepared: Any, *, machine: str) -> Any:
     elif prepared.mode == "single":
         pictures, views, ghost = [q["a"].rgb(), q["a"].rgb()], ("A", "B"), False
     else:
-        from illuknit.bench.metrics import knit_stats
-
         k = knit_stats(pattern, machine=machine)
         return perception.CandidateMeasures(
             views=(),
@@ -50,7 +51,11 @@ def measure_candidate(pattern: Any, prepared: Any, *, machine: str) -> Any:
             knit_note=k["knit_note"],
         )
     return perception.measure_candidate(
-        pattern, pictures, views=views, ghost=ghost, knit_time=True, machine=machine
+        pattern,
+        pictures,
+        views=views,
+        ghost=ghost,
+        knit_time=functools.partial(knit_stats, machine=machine),
     )
 
 

@@ -10,6 +10,7 @@ default candidate's ``pattern.json``.
 
 from __future__ import annotations
 
+import functools
 import json
 import shutil
 from dataclasses import dataclass
@@ -77,6 +78,7 @@ def run_design(
     never fewer than ``candidates``) are searched and ranked; the best ``candidates`` are written.
     Returns the summary dict.
     """
+    from illuknit.bench.metrics import knit_stats
     from illuknit.cli.knitout_bridge import resolve_machine
     from illuknit.core.errors import TileAssignmentError
     from illuknit.core.files import atomic_write_text, staged_dir
@@ -123,8 +125,11 @@ def run_design(
         views=("A", "B") if mode == "double" else ("headon", "side"),
         overrides=overrides,
         rank_by=rank_by,
-        knit_time=knit_time,
-        machine=machine,
+        knit_time=(
+            functools.partial(knit_stats, machine=machine)
+            if knit_time or rank_by == "knit-time"
+            else None
+        ),
         keep=candidates,
     )
     rows = []
