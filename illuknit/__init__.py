@@ -11,9 +11,15 @@ The public API is re-exported here and imported lazily, so ``import illuknit`` s
 
 from __future__ import annotations
 
-from illuknit.core.lazy import lazy_api
+import os
 
+from illuknit.core.lazy import lazy_api
+from illuknit.core.source_tree import find_top_level_folders
+
+#: The one place the version is written (pyproject reads it: ``[tool.setuptools.dynamic]``).
 __version__ = "0.1.0"
+
+find_top_level_folders(os.path.dirname(__file__))
 
 # public name -> module that defines it
 _API: dict[str, str] = {
