@@ -275,10 +275,8 @@ def optimise_design(
         shapes=(ta_raw.shape, tb_raw.shape),
     )
     ia, ib, ta, tb, pal_lin, pin = _prepared_targets(ta_raw, tb_raw, yarns, mix=mix, pinned=pinned)
-    k = len(yarns)
     objective = _Objective(ta, tb, pal_lin, params, change_weight, raised_weight)
-
-    z, u, fixed = _initial_logits(ia, ib, k, pin, seed=seed)
+    z, u, fixed = _initial_logits(ia, ib, len(yarns), pin, seed=seed)
     start = time.perf_counter()
     history, tau = _descend(
         objective,
@@ -293,7 +291,34 @@ def optimise_design(
         time_limit=time_limit,
         start=start,
     )
+    meta = {
+        "method": "gradient",
+        "steps": len(history),
+        "theta": params.theta,
+        "binary_weight": binary_weight,
+        "change_weight": change_weight,
+        "raised_weight": raised_weight,
+        "mix": mix,
+        "seed": seed,
+    }
+    return _binarised(objective, z, u, tau, binary_weight, (ia, ib), yarns, meta, history, start)
 
+
+def _binarised(
+    objective: _Objective,
+    z: NDArray[np.float64],
+    u: NDArray[np.float64],
+    tau: float,
+    binary_weight: float,
+    targets: tuple[NDArray[Any], NDArray[Any]],
+    yarns: tuple[Yarn, ...],
+    meta: dict[str, Any],
+    history: list[float],
+    start: float,
+) -> DesignResult:
+    """The soft design rounded to a pattern, and both scored by the same objective."""
+    ia, ib = targets
+    k = len(yarns)
     loss, render_err, _, _, t, p = objective(z, u, tau, binary_weight)
     la, lb = _expected_logical_error(t, p, ia, ib)
     raised = t > 0.5
@@ -305,21 +330,7 @@ def optimise_design(
         1.0,
         binary_weight,
     )
-    pattern = LogicalPattern(
-        yarn,
-        raised,
-        yarns,
-        meta={
-            "method": "gradient",
-            "steps": len(history),
-            "theta": params.theta,
-            "binary_weight": binary_weight,
-            "change_weight": change_weight,
-            "raised_weight": raised_weight,
-            "mix": mix,
-            "seed": seed,
-        },
-    )
+    pattern = LogicalPattern(yarn, raised, yarns, meta=meta)
     ea = logical_error(can_see(pattern, "A"), ia)
     eb = logical_error(can_see(pattern, "B"), ib)
     report = {
