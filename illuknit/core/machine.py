@@ -163,11 +163,6 @@ class MachineSpec:
 
     # -- derived quantities --------------------------------------------------------------------
     @property
-    def needle_pitch_cm(self) -> float:
-        """Distance between neighbouring needles, in cm."""
-        return 2.54 / self.gauge
-
-    @property
     def max_fabric_width(self) -> int:
         """Widest fabric in stitches: the bed minus room to park carriers on both sides."""
         return self.needles - 2 * self.park_distance - 1
