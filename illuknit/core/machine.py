@@ -39,10 +39,12 @@ from dataclasses import dataclass, replace
 from illuknit.core.errors import OptionError, SchedulingError, UnknownNameError
 
 __all__ = [
+    "BACKENDS",
     "DEFAULT_MACHINE",
     "DEFAULT_MACHINE_NAME",
     "KNITERATE",
     "MACHINES",
+    "SWG_CARRIERS",
     "MachineSpec",
     "get_machine",
     "machine_from_headers",
@@ -50,6 +52,12 @@ __all__ = [
 ]
 
 _POSITIONS = ("Left", "Right", "Center", "Keep")
+
+#: The carriers of a Shima machine, the only carrier header the SWG backend accepts.
+SWG_CARRIERS = tuple(str(i) for i in range(1, 11))
+
+#: Reference backends a machine's knitout can go through (:attr:`MachineSpec.backend`).
+BACKENDS = ("swg", "kniterate")
 
 
 @dataclass(frozen=True)
@@ -97,6 +105,12 @@ class MachineSpec:
         without an inserting hook); they are not free for the pattern's colours.
     formats : tuple of str
         Machine files illuknit can write for this machine besides knitout (``"dat"``, ``"kc"``).
+    backend : {"swg", "kniterate"} or None
+        The reference backend that turns this machine's knitout into what the machine runs:
+        ``"swg"`` (Shima SWG, ``.dat``; the knitting path then counts the machine's passes as
+        that backend makes them), ``"kniterate"`` (``.kc``), or None: not said, taken as
+        ``"swg"`` for a machine with the Shima carriers (:data:`SWG_CARRIERS`), else knitout only
+        (:meth:`runs_on`).
 
     Examples
     --------
@@ -126,6 +140,7 @@ class MachineSpec:
     waste_carrier: str | None = None
     draw_carrier: str | None = None
     formats: tuple[str, ...] = ("dat",)
+    backend: str | None = None
 
     def __post_init__(self) -> None:
         def positive(name: str, value: float, *, integer: bool = False) -> None:
@@ -148,6 +163,12 @@ class MachineSpec:
         if any(not c or any(ch.isspace() for ch in c) for c in carriers):
             raise OptionError("carrier names must be non-empty and contain no spaces")
         object.__setattr__(self, "carriers", carriers)
+        if self.backend is not None and self.backend not in BACKENDS:
+            raise OptionError(
+                f"`backend` must be one of {', '.join(BACKENDS)} or None, got {self.backend!r}"
+            )
+        if self.backend == "swg" and carriers != SWG_CARRIERS:
+            raise OptionError("the SWG backend takes the Shima carriers 1 to 10 only")
         for name in ("waste_carrier", "draw_carrier"):
             c = getattr(self, name)
             if c is not None and c not in carriers:
@@ -226,14 +247,23 @@ class MachineSpec:
         """A copy with another gauge (the ``--gauge`` option)."""
         return replace(self, gauge=gauge, description=f"{self.name} at gauge {gauge:g}")
 
+    def runs_on(self) -> str | None:
+        """The reference backend of this machine: :attr:`backend`, or when it is not said,
+        ``"swg"`` for the Shima carriers and None (knitout only) for any others."""
+        if self.backend is not None:
+            return self.backend
+        return "swg" if self.carriers == SWG_CARRIERS else None
+
 
 #: Machine presets by name (lower case); see the module docstring for their sources.
 MACHINES: dict[str, MachineSpec] = {
     "generic540": MachineSpec(
-        description="7-gauge Shima SWG091N2 as the reference knitout tools model it (540 needles)"
+        backend="swg",
+        description="7-gauge Shima SWG091N2 as the reference knitout tools model it (540 needles)",
     ),
     "swg091n2": MachineSpec(
         needles=252,
+        backend="swg",
         description="7-gauge Shima SWG091N2 with its physical 36-inch bed (252 needles)",
     ),
     "kniterate": MachineSpec(
@@ -247,6 +277,7 @@ MACHINES: dict[str, MachineSpec] = {
         waste_carrier="6",
         draw_carrier="1",
         formats=("kc",),
+        backend="kniterate",
         description="Kniterate, 252 needles, 6 carriers (1 draw thread, 6 waste, 2-5 pattern)",
     ),
 }

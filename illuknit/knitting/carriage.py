@@ -19,15 +19,12 @@ from illuknit.knit.ir import ActionKind, CarrierAction
 from illuknit.knit.schedule import Schedule, ScheduleStats
 from illuknit.knit.timing import MachineRun
 
-__all__ = ["SWG_CARRIERS", "machine_run", "machine_stats", "runs_on_swg"]
-
-#: The carrier header the SWG backend accepts (and the only one it accepts).
-SWG_CARRIERS = tuple(str(i) for i in range(1, 11))
+__all__ = ["machine_run", "machine_stats", "runs_on_swg"]
 
 
 def runs_on_swg(machine: MachineSpec) -> bool:
-    """True when the SWG backend drives ``machine`` (its carriers are the Shima ten)."""
-    return tuple(machine.carriers) == SWG_CARRIERS
+    """True when the SWG backend drives ``machine`` (:attr:`MachineSpec.backend`)."""
+    return machine.runs_on() == "swg"
 
 
 def machine_run(text: str) -> MachineRun:
