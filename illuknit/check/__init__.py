@@ -18,6 +18,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 from illuknit.check.report import CheckReport, Finding, render_report
+from illuknit.core.errors import OptionError
 from illuknit.knitout.parse import KnitoutProgram, parse_knitout
 
 if TYPE_CHECKING:
@@ -133,8 +134,6 @@ def check_knitout(
 def _check_options(
     *, float_limit: int | None, max_racking: float | None, bed_width: int | None
 ) -> None:
-    from illuknit.core.errors import OptionError
-
     if float_limit is not None and (
         isinstance(float_limit, bool) or not isinstance(float_limit, int) or float_limit < 1
     ):

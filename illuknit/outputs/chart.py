@@ -21,6 +21,7 @@ from itertools import groupby
 import numpy as np
 from numpy.typing import NDArray
 
+from illuknit.core.colors import luminance
 from illuknit.core.pattern import LogicalPattern
 
 __all__ = ["HandRow", "chart_key", "chart_png_rgb", "hand_rows", "written_instructions"]
@@ -153,8 +154,6 @@ def chart_png_rgb(pattern: LogicalPattern, *, cell: int | None = None) -> NDArra
 def _with_key(chart: NDArray[np.uint8], pattern: LogicalPattern) -> NDArray[np.uint8]:
     from PIL import Image, ImageDraw, ImageFont
 
-    from illuknit.core.colors import luminance
-
     try:
         font = ImageFont.load_default(size=13)
     except TypeError:
@@ -184,8 +183,6 @@ def _with_key(chart: NDArray[np.uint8], pattern: LogicalPattern) -> NDArray[np.u
 
 def _chart_body(pattern: LogicalPattern, *, cell: int | None) -> NDArray[np.uint8]:
     from PIL import Image, ImageDraw, ImageFont
-
-    from illuknit.core.colors import luminance
 
     n, m = pattern.shape
     rows = hand_rows(pattern)
