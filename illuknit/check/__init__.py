@@ -18,6 +18,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 from illuknit.check.report import CheckReport, Finding, render_report
+from illuknit.core.arguments import check_number, check_str
 from illuknit.core.errors import OptionError
 from illuknit.knitout.parse import KnitoutProgram, parse_knitout
 
@@ -90,6 +91,9 @@ def check_knitout(
     >>> [(f.line, f.code) for f in report.blocking]  # doctest: +SKIP
     [(42, 'face-float')]
     """
+    check_str(text, "text")
+    if max_racking is not None:
+        check_number(max_racking, "max_racking", min=0, min_open=True)
     from illuknit.check.fabric import fabric_findings
     from illuknit.check.rules import check_header, machine_findings
     from illuknit.check.simulate import simulate_program

@@ -5,21 +5,32 @@ Each command lives in its own module of this package and is imported only when i
 command by writing its module and one line in ``COMMANDS``.
 
 Every error that is the user's (bad input, bad options) becomes one line on stderr and exit code 2;
-tracebacks are for bugs only.
+tracebacks are for bugs only. Exit codes: 0 done; 1 a command's own verdict (``check``, ``knit``:
+something blocking found); 2 bad input or an output that cannot be written, nothing written; 3 the
+outputs were written but standard output could not be (closed, a full disk, a broken pipe): the
+error line names what was written; 130 interrupted.
 """
 
 from __future__ import annotations
 
+import errno
 import importlib
+import io
+import os
 import sys
 import warnings
+from collections.abc import Iterator
+from contextlib import contextmanager, suppress
 
 import click
 
 from illuknit import __version__
 from illuknit.core.errors import IlluknitError
 
-__all__ = ["COMMANDS", "cli", "main"]
+__all__ = ["COMMANDS", "EXIT_STDOUT_FAILED", "cli", "main"]
+
+#: Exit code when every output was written but printing to standard output failed.
+EXIT_STDOUT_FAILED = 3
 
 #: command name -> "module:function" (a click.Command), listed in the order ``--help`` shows them.
 COMMANDS: dict[str, str] = {
@@ -98,8 +109,28 @@ def main(argv: list[str] | None = None) -> int:
 
     Returns 0 on success. Otherwise exits through ``SystemExit``: user errors print one line on
     stderr and exit with code 2; a command may return a non-zero int (e.g. 1 from ``check`` when
-    something blocking is found) to exit with it.
+    something blocking is found) to exit with it; standard output that cannot be written is one
+    line and exit code 2, or :data:`EXIT_STDOUT_FAILED` (3) when the outputs were already written.
     """
+    from illuknit.core.files import recording_writes
+
+    with recording_writes() as written:
+        try:
+            with _guarded_stdout():
+                return _run(argv)
+        except _StdoutFailed as e:
+            _silence_stdout()
+            reason = e.__cause__.strerror if isinstance(e.__cause__, OSError) else None
+            line = f"illuknit: error: cannot write to standard output ({reason or 'closed'})"
+            if written:
+                what = ", ".join(str(p) for p in dict.fromkeys(written))
+                _echo_err(f"{line}; the output was written all the same: {what}")
+                sys.exit(EXIT_STDOUT_FAILED)
+            _echo_err(line)
+            sys.exit(2)
+
+
+def _run(argv: list[str] | None) -> int:
     try:
         with warnings.catch_warnings():
             warnings.showwarning = _show_note
@@ -124,6 +155,91 @@ def main(argv: list[str] | None = None) -> int:
     if isinstance(rv, int) and not isinstance(rv, bool) and rv:
         sys.exit(rv)
     return 0
+
+
+class _StdoutFailed(Exception):
+    """Writing to standard output failed (the ``OSError`` is the cause)."""
+
+
+class _GuardedStdout(io.TextIOWrapper):
+    """Standard output whose write failures are told apart from every other ``OSError``."""
+
+    def write(self, s: str) -> int:
+        try:
+            return super().write(s)
+        except OSError as exc:
+            raise _StdoutFailed() from exc
+
+    def flush(self) -> None:
+        try:
+            super().flush()
+        except OSError as exc:
+            raise _StdoutFailed() from exc
+
+
+class _ClosedStdout(io.TextIOBase):
+    """Stands in for a closed standard output, so that printing fails once, clearly, instead of
+    vanishing (Python sets ``sys.stdout`` to None then, and click and rich print nothing)."""
+
+    encoding = "utf-8"
+
+    def isatty(self) -> bool:
+        return False
+
+    def writable(self) -> bool:
+        return True
+
+    def write(self, s: str) -> int:
+        raise _StdoutFailed() from OSError(errno.EBADF, "it is closed")
+
+
+@contextmanager
+def _guarded_stdout() -> Iterator[None]:
+    """Route the process's real standard output through :class:`_GuardedStdout` (left alone when
+    a caller, e.g. a test, has replaced ``sys.stdout``); flush it at the end, inside the guard."""
+    real = sys.stdout
+    if real is None and sys.__stdout__ is None:  # file descriptor 1 closed (`>&-`)
+        sys.stdout = _ClosedStdout()
+        try:
+            yield
+        finally:
+            sys.stdout = None
+        return
+    if real is not sys.__stdout__ or not isinstance(real, io.TextIOWrapper):
+        yield
+        return
+    try:
+        real.flush()
+    except OSError as exc:
+        raise _StdoutFailed() from exc
+    guarded = _GuardedStdout(
+        real.buffer,
+        encoding=real.encoding,
+        errors=real.errors,
+        line_buffering=real.line_buffering,
+    )
+    sys.stdout = guarded
+    try:
+        yield
+        guarded.flush()
+    finally:
+        sys.stdout = real
+        with suppress(OSError, ValueError):
+            guarded.detach()  # the buffer stays the real stdout's
+
+
+def _silence_stdout() -> None:
+    """Point file descriptor 1 at the null device so the interpreter's final flush of what could
+    not be written fails no more (the failure was reported once)."""
+    with suppress(OSError):
+        null = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(null, 1)
+        os.close(null)
+
+
+def _echo_err(line: str) -> None:
+    with suppress(OSError):
+        click.echo(line, err=True)
 
 
 def _show_note(

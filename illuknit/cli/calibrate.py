@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import click
@@ -144,9 +145,10 @@ def swatch(
 @click.option(
     "-o",
     "--output",
-    type=click.Path(dir_okay=False, path_type=Path),
+    type=click.Path(dir_okay=False, allow_dash=True, path_type=Path),
     required=True,
-    help="Parameters JSON to write.",
+    help="Parameters JSON to write (- for standard output; the report then goes to standard "
+    "error).",
 )
 def fit(
     measurements: Path,
@@ -158,8 +160,14 @@ def fit(
     """Fit the bump height to MEASUREMENTS (CSV: flat_rows, angle_deg[, bump_rows, view, note])."""
     from dataclasses import replace
 
+    from illuknit.core.files import STDOUT, write_output_file
     from illuknit.design.render.calibrate import fit_bump_height, read_measurements
-    from illuknit.design.render.params import RenderParams, load_params, save_params
+    from illuknit.design.render.params import (
+        RenderParams,
+        load_params,
+        params_to_json,
+        save_params,
+    )
 
     base = load_params(params_file) if params_file is not None else RenderParams()
     changes = {
@@ -173,6 +181,11 @@ def fit(
         base = replace(base, bump_height=max(base.bump_height, fh * 2), **changes)
     ms, skipped = read_measurements(measurements)
     result = fit_bump_height(ms, params=base, skipped=skipped)
+    if str(output) == STDOUT:
+        text = json.dumps(params_to_json(result.params), indent=1) + "\n"
+        write_output_file(STDOUT, text.encode("utf-8"))
+        click.echo(result.report(), err=True)
+        return
     save_params(result.params, output)
     click.echo(result.report())
     click.echo(f"\nwrote {output}")

@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import json
+from collections.abc import Callable
+from functools import partial
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -51,7 +53,7 @@ def run_knit(
     from dataclasses import replace
 
     from illuknit.cli.knitout_bridge import check_fits, resolve_machine
-    from illuknit.core.files import atomic_write_bytes
+    from illuknit.core.files import STDOUT, write_output_file
     from illuknit.core.pattern import load_pattern
     from illuknit.formats import check_format, knitout_to_format
     from illuknit.knitting import knit_pattern
@@ -98,14 +100,14 @@ def run_knit(
                 for f in report.findings[:20]
             ],
         }
-    sheet = machine_sheet(result, name=Path(output).name)
+    name = "program" if str(output) == STDOUT else Path(output).name
+    sheet = machine_sheet(result, name=name)
     summary.update(sheet.summary)
     if output_format in sheet.files:  # made for the sheet already (the .kc)
         data = sheet.files[output_format].encode("utf-8")
     else:
-        data = knitout_to_format(result.text, output_format, name=Path(output).name)
-    atomic_write_bytes(output, data)
-    summary["output"] = str(output)
+        data = knitout_to_format(result.text, output_format, name=name)
+    summary["output"] = write_output_file(output, data)
     summary["format"] = output_format
     return summary
 
@@ -116,8 +118,9 @@ def run_knit(
     "-o",
     "--output",
     required=True,
-    type=click.Path(dir_okay=False, path_type=Path),
-    help="File to write: knitout (e.g. prog.k) or, with --format dat, a Shima .dat.",
+    type=click.Path(dir_okay=False, allow_dash=True, path_type=Path),
+    help="File to write: knitout (e.g. prog.k) or, with --format dat, a Shima .dat; - for "
+    "standard output (the summary then goes to standard error).",
 )
 @machine_option()
 @click.option(
@@ -286,52 +289,52 @@ def knit(
         check=not no_check,
         output_format=output_format,
     )
+    to_stderr = str(output) == "-"  # standard output holds the program
+    echo = partial(click.echo, err=to_stderr)
     if as_json:
-        click.echo(json.dumps(summary, indent=1))
+        echo(json.dumps(summary, indent=1))
     else:
         s = summary
         what = f"{s['lines']} lines" if output_format == "knitout" else f"{output_format} file"
-        click.echo(f"wrote {s['output']} ({what}) for {s['machine']}")
-        click.echo(
+        echo(f"wrote {s['output']} ({what}) for {s['machine']}")
+        echo(
             f"stitches: {s['wales']} wales x {s['courses']} courses "
             f"(about {s['width_cm']} x {s['height_cm']} cm at gauge {s['gauge']:g})"
         )
-        click.echo(
+        echo(
             f"passes: {s['passes']} (knit {s['knit_passes']}, transfer {s['transfer_passes']}, "
             f"cast-on {s['cast_on_passes']}, bind-off {s['bind_off_passes']}); "
             f"lower bound {s['lower_bound']}, ratio {s['ratio']:.2f}"
         )
         if s.get("scheduler") == "mixed-colourwork":
-            click.echo(
+            echo(
                 f"mixed colourwork: {s['carriers']} carrier(s), {s['tuck_joins']} tuck join(s), "
                 f"{s['plated_stitches']} plated catching stitch(es), "
                 f"{s['explicit_kickbacks']} carrier move pass(es), "
                 f"{s['float_avoidance_transfers']} float-avoidance transfer pass(es), "
                 f"{s['kickbacks']} backend kickback(s)"
             )
-        click.echo(
-            f"estimated knitting time: {s['time']} (+{s['hook_passes']} hook passes counted)"
-        )
-        _echo_machine_sheet(s)
+        echo(f"estimated knitting time: {s['time']} (+{s['hook_passes']} hook passes counted)")
+        _echo_machine_sheet(s, echo)
         chk = s.get("check", False)
         if chk is None:
-            click.echo("check: checker not available in this install")
+            echo("check: checker not available in this install")
         elif chk:
-            click.echo(
+            echo(
                 f"check: {chk['errors']} error(s), {chk['warnings']} warning(s), {chk['pieces']} piece(s)"
             )
             for f in chk["findings"][:10]:
-                click.echo(f"  line {f['line']}: {f['severity']} [{f['code']}] {f['message']}")
+                echo(f"  line {f['line']}: {f['severity']} [{f['code']}] {f['message']}")
     chk = summary.get("check")
     if chk and chk["errors"]:
         raise click.exceptions.Exit(1)
 
 
-def _echo_machine_sheet(s: dict[str, Any]) -> None:
+def _echo_machine_sheet(s: dict[str, Any], echo: Callable[[str], object] = click.echo) -> None:
     """What the machine knitter sets up: cones on carriers, stitch numbers, needles, time."""
-    click.echo(f"on the {s['machine']}: {s['machine_passes']} passes, about {s['machine_time']}")
+    echo(f"on the {s['machine']}: {s['machine_passes']} passes, about {s['machine_time']}")
     for row in s["carrier_table"]:
-        click.echo(f"  carrier {row['carrier']}: {row['yarn']} ({row['role']})")
+        echo(f"  carrier {row['carrier']}: {row['yarn']} ({row['role']})")
     numbers = ", ".join(map(str, s["stitch_numbers"])) or "machine default"
     lo, hi = s["needle_range"]
-    click.echo(f"  stitch numbers: {numbers}; needles {lo}..{hi}")
+    echo(f"  stitch numbers: {numbers}; needles {lo}..{hi}")

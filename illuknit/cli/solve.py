@@ -137,7 +137,7 @@ def run_solve(
     bed is refused before the model is built.
     """
     from illuknit.cli.knitout_bridge import check_fits, resolve_machine
-    from illuknit.core.files import atomic_write_text
+    from illuknit.core.files import STDOUT, write_output_file
     from illuknit.design.models.illusion_models import (
         build_model,
         check_solution,
@@ -180,15 +180,17 @@ def run_solve(
     mdl = build_model(problem)
     written: dict[str, Path] = {}
     if export_wcnf is not None:
-        written["wcnf"] = atomic_write_text(export_wcnf, mdl.to_wcnf(style=wcnf_style))
+        where = write_output_file(export_wcnf, mdl.to_wcnf(style=wcnf_style).encode("utf-8"))
+        if str(export_wcnf) != STDOUT:
+            written["wcnf"] = Path(where)
         if outdir is None:
-            from illuknit.cli.summary import console
+            from rich.console import Console
 
-            console().print(
-                f"wrote {export_wcnf} ({mdl.num_vars} variables, {mdl.num_hard} hard and "
+            Console(highlight=False, soft_wrap=True, stderr=str(export_wcnf) == STDOUT).print(
+                f"wrote {where} ({mdl.num_vars} variables, {mdl.num_hard} hard and "
                 f"{mdl.num_soft} soft clauses before encoding cardinality constraints)"
             )
-            return {"wcnf": str(export_wcnf), "model": repr(mdl)}
+            return {"wcnf": where, "model": repr(mdl)}
 
     sol = _solve_with_progress(
         mdl,
@@ -280,6 +282,11 @@ def _check_solve_options(
         raise click.BadParameter("applies to --model single only", param_hint="--alternate-rows")
     if outdir is None and export_wcnf is None:
         raise click.UsageError("give -o OUTDIR (or --export-wcnf FILE)")
+    if outdir is not None and export_wcnf is not None and str(export_wcnf) == "-":
+        raise click.BadParameter(
+            "- (standard output) only without -o: the solve prints its summary there",
+            param_hint="--export-wcnf",
+        )
     if time_limit is not None and time_limit <= 0:
         raise click.BadParameter(
             f"must be positive seconds, got {time_limit}", param_hint="--time-limit"
@@ -492,9 +499,10 @@ def _list_solvers(ctx: click.Context, _param: click.Parameter, value: bool) -> N
 @click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True)
 @click.option(
     "--export-wcnf",
-    type=click.Path(dir_okay=False, path_type=Path),
+    type=click.Path(dir_okay=False, allow_dash=True, path_type=Path),
     default=None,
-    help="Also (or, without -o, only) write the model as WCNF for an external MaxSAT solver.",
+    help="Also (or, without -o, only) write the model as WCNF for an external MaxSAT solver "
+    "(- for standard output, without -o).",
 )
 @click.option(
     "--wcnf-style",

@@ -23,6 +23,7 @@ from typing import Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from illuknit.core.arguments import check_array
 from illuknit.core.errors import ImageInputError, OptionError, PatternValidationError
 from illuknit.core.pattern import LogicalPattern
 
@@ -42,10 +43,21 @@ View = Literal["A", "B", "headon"]
 VIEWS: tuple[View, ...] = ("A", "B", "headon")
 
 
-def _arrays(pattern_or_yarn: LogicalPattern | ArrayLike, raised: ArrayLike | None):
+def _arrays(
+    pattern_or_yarn: LogicalPattern | ArrayLike,
+    raised: ArrayLike | None,
+    name: str = "pattern_or_yarn",
+):
     if isinstance(pattern_or_yarn, LogicalPattern):
         return pattern_or_yarn.yarn, pattern_or_yarn.raised
-    c = np.asarray(pattern_or_yarn)
+    c = check_array(
+        pattern_or_yarn,
+        name,
+        ndim=2,
+        integer=True,
+        what="a LogicalPattern or a 2-D array of yarn indices",
+        error=PatternValidationError,
+    )
     if raised is None:
         raise PatternValidationError("`raised` is required when passing a yarn array")
     r = np.asarray(raised, dtype=bool)
@@ -86,7 +98,13 @@ def can_see(
     -------
     ndarray of shape (N, M)
     """
-    c, r = _arrays(pattern_or_yarn, raised)
+    return _can_see(pattern_or_yarn, view, raised, "pattern_or_yarn")
+
+
+def _can_see(
+    pattern_or_yarn: LogicalPattern | ArrayLike, view: View, raised: ArrayLike | None, name: str
+) -> NDArray[np.int16]:
+    c, r = _arrays(pattern_or_yarn, raised, name)
     if view == "headon":
         return np.array(c, dtype=np.int16, copy=True)
     out = np.array(c, dtype=np.int16, copy=True)
@@ -101,19 +119,19 @@ def can_see(
 
 def view_a(p: LogicalPattern | ArrayLike, raised: ArrayLike | None = None) -> NDArray[np.int16]:
     """Yarn indices seen from above (view A)."""
-    return can_see(p, "A", raised)
+    return _can_see(p, "A", raised, "p")
 
 
 def view_b(p: LogicalPattern | ArrayLike, raised: ArrayLike | None = None) -> NDArray[np.int16]:
     """Yarn indices seen from below (view B)."""
-    return can_see(p, "B", raised)
+    return _can_see(p, "B", raised, "p")
 
 
 def view_headon(
     p: LogicalPattern | ArrayLike, raised: ArrayLike | None = None
 ) -> NDArray[np.int16]:
     """Yarn indices seen head-on (every unit)."""
-    return can_see(p, "headon", raised)
+    return _can_see(p, "headon", raised, "p")
 
 
 def views(p: LogicalPattern) -> dict[View, NDArray[np.int16]]:
@@ -128,6 +146,8 @@ def logical_error(
 
     ``mask`` (bool, same shape) restricts the comparison to the cells where it is True.
     """
+    check_array(seen, "seen", integer=False)
+    check_array(target, "target", integer=False)
     s, t = np.asarray(seen), np.asarray(target)
     if s.shape != t.shape:
         raise ImageInputError(f"`target` must have shape {s.shape}, got {t.shape}")

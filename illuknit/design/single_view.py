@@ -27,6 +27,7 @@ from typing import Literal
 import numpy as np
 from numpy.typing import ArrayLike
 
+from illuknit.core.arguments import check_array
 from illuknit.core.colors import luminance
 from illuknit.core.errors import ImageInputError
 from illuknit.core.pattern import LogicalPattern, Yarn
@@ -93,6 +94,13 @@ def compile_single_view(
     if isinstance(image, QuantisedImage):
         idx, yarns = np.asarray(image.indices), image.yarns
     else:
+        check_array(
+            image,
+            "image",
+            ndim=2,
+            integer=True,
+            what="a QuantisedImage or a 2-D array of yarn indices",
+        )
         if yarns is None:
             raise ImageInputError("`yarns` is required with a raw index array")
         idx = np.asarray(image)

@@ -17,6 +17,7 @@ import warnings
 from dataclasses import dataclass, replace
 from typing import Any
 
+from illuknit.core.arguments import check_int
 from illuknit.core.errors import CarrierShortageError, PatternValidationError, SchedulingError
 from illuknit.core.machine import DEFAULT_MACHINE, MachineSpec
 from illuknit.core.pattern import LogicalPattern
@@ -164,6 +165,7 @@ def knit_pattern(
     SchedulingError
         If the pattern is wider than the bed or has more yarns than carriers.
     """
+    check_int(cast_on_courses, "cast_on_courses", min=0, max=100)
     if not isinstance(pattern, LogicalPattern):
         raise PatternValidationError(
             f"`pattern` must be a LogicalPattern, got {type(pattern).__name__}"

@@ -21,8 +21,9 @@ from itertools import groupby
 import numpy as np
 from numpy.typing import NDArray
 
+from illuknit.core.arguments import check_str
 from illuknit.core.colors import luminance
-from illuknit.core.pattern import LogicalPattern
+from illuknit.core.pattern import LogicalPattern, check_pattern
 
 __all__ = ["HandRow", "chart_key", "chart_png_rgb", "hand_rows", "written_instructions"]
 
@@ -94,6 +95,9 @@ def written_instructions(pattern: LogicalPattern, *, title: str | None = None) -
     Row 4 (WS): with black, k2, p2.
     Bind off all 4 sts knitwise.
     """
+    check_pattern(pattern)
+    if title is not None:
+        check_str(title, "title")
     n, m = pattern.shape
     names = [y.name for y in pattern.yarns]
     lines = [

@@ -18,9 +18,17 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from illuknit.core.arguments import (
+    check_array,
+    check_instance,
+    check_int,
+    check_mapping,
+    check_number,
+    check_path,
+)
 from illuknit.core.colors import luminance
 from illuknit.core.files import atomic_write_bytes
-from illuknit.core.pattern import LogicalPattern
+from illuknit.core.pattern import LogicalPattern, check_pattern
 from illuknit.core.views import View, can_see
 
 __all__ = [
@@ -146,6 +154,18 @@ def write_previews(
     dict of name -> path
     """
     from illuknit.design.render import RenderParams, render_views
+
+    check_pattern(pattern)
+    check_path(outdir, "outdir")
+    if targets is not None:
+        for key, picture in check_mapping(targets, "targets").items():
+            check_array(picture, f"targets[{key!r}]", ndim=(2, 3))
+    if scale is not None:
+        check_int(scale, "scale", min=1, max=64)
+    if params is not None:
+        check_instance(params, RenderParams, "params")
+    if angle is not None:
+        check_number(angle, "angle", min=0, max=90, min_open=True)
 
     out = Path(outdir)
     s = scale or max(2, unit_scale(pattern.shape))

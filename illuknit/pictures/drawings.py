@@ -23,6 +23,7 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from illuknit.core.arguments import check_bool, check_number, check_str
 from illuknit.core.errors import ImageInputError, UnknownNameError
 
 __all__ = [
@@ -132,6 +133,10 @@ def draw_text(
     >>> m.shape, bool(m.any()), bool(m.all())
     ((10, 12), True, False)
     """
+    check_str(text, "text")
+    margin = check_number(margin, "margin", min=0, max=0.49, error=ImageInputError)
+    check_bool(keep_aspect, "keep_aspect")
+    weight = check_number(weight, "weight", min=0, max=1, error=ImageInputError)
     from PIL import Image, ImageDraw, ImageFont
 
     rows, cols = _check_shape(shape, minimum=3)

@@ -15,6 +15,8 @@ Image arrays are float RGB of shape (H, W, 3) in [0, 1], row 0 at the top.
 
 from __future__ import annotations
 
+import math
+import numbers
 import os
 import warnings
 from collections.abc import Sequence
@@ -24,9 +26,10 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from illuknit.core.arguments import check_array, check_int, check_number, check_path, got
 from illuknit.core.colors import color_name, hex_color, lab_from_rgb, luminance
 from illuknit.core.errors import ImageInputError
-from illuknit.core.pattern import MAX_UNITS, Yarn
+from illuknit.core.pattern import MAX_UNITS, MAX_YARNS, Yarn, check_yarns
 from illuknit.pictures.decode import DECODE_MAX_SIDE, MAX_PIXELS, PictureNote, read_picture
 
 __all__ = [
@@ -57,6 +60,10 @@ def load_image(
     ImageInputError
         Missing or unreadable file, not an image, above the pixel limit, or smaller than 2 x 2.
     """
+    if not isinstance(path, bytes):
+        check_path(path, "path")
+    if max_side is not None:
+        check_int(max_side, "max_side", min=2)
     pic = read_picture(path, max_side=max_side)
     for note in pic.notes:
         warnings.warn(f"{pic.source}: {note}", PictureNote, stacklevel=2)
@@ -65,6 +72,8 @@ def load_image(
 
 def check_image(rgb: ArrayLike, *, name: str = "image") -> NDArray[np.float64]:
     """Validate an RGB array (float in [0, 1] or uint8), returning float RGB (H, W, 3)."""
+    if not isinstance(rgb, np.ndarray) or rgb.dtype.kind not in "biuf":
+        check_array(rgb, name, ndim=(2, 3))  # a clear message for None, text, ragged lists
     a = np.asarray(rgb)
     if a.ndim == 2:
         a = np.repeat(a[..., None], 3, axis=2)
@@ -89,9 +98,18 @@ def check_image(rgb: ArrayLike, *, name: str = "image") -> NDArray[np.float64]:
 
 def units_for_width(*, width_cm: float, gauge: float) -> int:
     """Units across a piece ``width_cm`` wide at ``gauge`` stitches per inch (2 stitches per unit)."""
-    if width_cm <= 0 or gauge <= 0:
-        raise ImageInputError("physical width and gauge must be positive")
-    return max(1, round(width_cm / 2.54 * gauge / 2))
+    if not (math.isfinite(width_cm) and math.isfinite(gauge)) or width_cm <= 0 or gauge <= 0:
+        raise ImageInputError(
+            f"physical width and gauge must be positive finite numbers, got width_cm={width_cm}, "
+            f"gauge={gauge}"
+        )
+    units = width_cm / 2.54 * gauge / 2
+    if not units <= MAX_UNITS:  # also inf
+        raise ImageInputError(
+            f"`width_cm` {width_cm:g} cm at gauge {gauge:g} is {units:.3g} units, above the "
+            f"{MAX_UNITS}-unit limit; ask for a narrower piece"
+        )
+    return max(1, round(units))
 
 
 def resize_to_units(
@@ -118,13 +136,16 @@ def resize_to_units(
     """
     from skimage.transform import resize
 
-    a = check_image(rgb)
+    a = check_image(rgb, name="rgb")
     h0, w0 = a.shape[:2]
     for label, v in (("width", width), ("height", height)):
-        if v is not None and (v < 1 or v > MAX_UNITS):
-            raise ImageInputError(f"`{label}` must be between 1 and {MAX_UNITS} units, got {v}")
-    if unit_aspect <= 0:
-        raise ImageInputError(f"`unit_aspect` must be positive, got {unit_aspect}")
+        if v is not None and not (
+            isinstance(v, numbers.Integral) and not isinstance(v, bool) and 1 <= v <= MAX_UNITS
+        ):
+            raise ImageInputError(
+                f"`{label}` must be a whole number of units between 1 and {MAX_UNITS}, got {got(v)}"
+            )
+    unit_aspect = check_number(unit_aspect, "unit_aspect", min=0, min_open=True)
     if width is None and height is None:
         width, height = w0, max(1, round(h0 / unit_aspect))
     elif height is None:
@@ -248,7 +269,12 @@ def quantise_image(
     ImageInputError
         Too many colours with ``allow_quantise=False``, or ``n_colors`` out of range.
     """
-    a = check_image(rgb)
+    if n_colors is not None:
+        check_int(n_colors, "n_colors", min=1, max=MAX_YARNS)
+    if yarns is not None:
+        check_yarns(yarns)
+    check_int(seed, "seed", min=0)
+    a = check_image(rgb, name="rgb")
     h, w = a.shape[:2]
     pix8 = np.round(a.reshape(-1, 3) * 255).astype(np.uint8)
     uniq, inverse = _unique_colors(pix8)

@@ -52,8 +52,16 @@ from collections.abc import Sequence
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from illuknit.core.arguments import (
+    check_array,
+    check_bool,
+    check_instance,
+    check_int,
+    check_number,
+    check_str,
+)
 from illuknit.core.errors import InfeasibleError, SolverError, UnknownNameError, YarnSpecError
-from illuknit.core.pattern import Yarn
+from illuknit.core.pattern import Yarn, check_yarns
 from illuknit.design.models.illusion_problem import (
     MODEL_KINDS,
     IllusionProblem,
@@ -101,6 +109,7 @@ def build_model(problem: IllusionProblem) -> Model:
         With variable blocks ``"yarn"`` (N, M, K), ``"raised"`` (N, M) and, when knit-aware with
         colour terms, ``"change"`` (N, M-1); ``model.problem`` is ``problem``.
     """
+    check_instance(problem, IllusionProblem, "problem")
     n, m = problem.shape
     k = problem.n_yarns
     wv = problem.view_weight
@@ -284,6 +293,24 @@ def solve_illusion(
     SolverError
         The backend found no pattern.
     """
+    check_array(target_a, "target_a", ndim=2, integer=True)
+    if target_b is not None:
+        check_array(target_b, "target_b", ndim=2, integer=True)
+    check_str(model, "model")
+    check_str(solver, "solver")
+    check_str(warm_start, "warm_start")
+    if weights is not None:
+        check_instance(weights, KnitWeights, "weights")
+    if yarns is not None:
+        check_yarns(yarns)
+    if n_yarns is not None:
+        check_int(n_yarns, "n_yarns", min=1)
+    if pinned is not None:
+        check_array(pinned, "pinned", ndim=2, integer=True)
+    check_bool(alternate_rows, "alternate_rows")
+    if time_limit is not None:
+        check_number(time_limit, "time_limit", min=0, min_open=True)
+    check_int(seed, "seed", min=0)
     if model not in MODEL_KINDS:
         raise UnknownNameError("model", model, MODEL_KINDS)
     if n_yarns is None and yarns is not None:

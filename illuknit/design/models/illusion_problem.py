@@ -15,6 +15,7 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from illuknit.core.arguments import check_int
 from illuknit.core.errors import ImageInputError, OptionError, UnknownNameError
 
 __all__ = [
@@ -75,8 +76,9 @@ class KnitWeights:
     float_gap: int = 10
 
     def __post_init__(self) -> None:
-        if self.float_gap < 1:
-            raise OptionError(f"`float_gap` must be >= 1 unit, got {self.float_gap!r}")
+        g = self.float_gap
+        if not isinstance(g, int | np.integer) or isinstance(g, bool) or g < 1:
+            raise OptionError(f"`float_gap` must be a whole number >= 1 unit, got {g!r}")
         for name in ("view", "color_change", "transfer", "machine_pass"):
             v = getattr(self, name)
             if not isinstance(v, int | np.integer) or isinstance(v, bool) or v < 0:
@@ -179,9 +181,7 @@ class IllusionProblem:
             raise OptionError(
                 f"`alternate_rows` applies to the single-view model only, not {self.kind!r}"
             )
-        k = int(self.n_yarns)
-        if k < 1:
-            raise OptionError(f"`n_yarns` must be >= 1, got {self.n_yarns}")
+        k = check_int(self.n_yarns, "n_yarns", min=1)
         a = _index_image(self.target_a, "target_a", k)
         b = _index_image(self.target_b, "target_b", k)
         if a.shape != b.shape:

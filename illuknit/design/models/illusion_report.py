@@ -10,8 +10,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from illuknit.core.arguments import check_instance, check_mapping
 from illuknit.core.errors import SolverError, YarnSpecError
-from illuknit.core.pattern import LogicalPattern, Yarn
+from illuknit.core.pattern import LogicalPattern, Yarn, check_pattern, check_yarns
 from illuknit.core.views import can_see, logical_error
 from illuknit.design.models.illusion_problem import IllusionProblem, pass_events, row_passes
 from illuknit.solvers.base import Solution
@@ -45,6 +46,12 @@ def pattern_from_solution(
 
     Raises :class:`SolverError` when the solution holds no assignment.
     """
+    check_instance(problem, IllusionProblem, "problem")
+    check_instance(solution, Solution, "solution")
+    if yarns is not None:
+        check_yarns(yarns)
+    if meta is not None:
+        check_mapping(meta, "meta")
     if not solution.has_values:
         raise SolverError(
             f"solver {solution.backend!r} found no pattern (status {solution.status.value})"
@@ -106,6 +113,10 @@ def report_pattern(
 ) -> dict[str, Any]:
     """JSON-ready report: logical error per view, colour changes per course, raised units,
     knit/purl changes, and (with ``solution``) the solver's status, objective, bound and time."""
+    check_pattern(pattern)
+    check_instance(problem, IllusionProblem, "problem")
+    if solution is not None:
+        check_instance(solution, Solution, "solution")
     va = can_see(pattern, "A")
     vb = can_see(pattern, "B")
     cc = color_changes_per_course(pattern)

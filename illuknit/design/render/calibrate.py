@@ -42,9 +42,10 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from illuknit.core.arguments import check_instance, check_int, got
 from illuknit.core.documents import read_text_file
-from illuknit.core.errors import CalibrationError
-from illuknit.core.pattern import LogicalPattern, Yarn, parse_yarns
+from illuknit.core.errors import CalibrationError, RenderParamsError
+from illuknit.core.pattern import MAX_UNITS, LogicalPattern, Yarn, check_yarns, parse_yarns
 from illuknit.design.render.params import RenderParams
 
 __all__ = [
@@ -109,6 +110,17 @@ def calibration_swatch(
         ``meta["cells"]`` lists every cell with its sizes and its row and column ranges
         (half-open, picture order) so measurements can be matched to cells.
     """
+    for label, sizes in (("bump_sizes", bump_sizes), ("flat_sizes", flat_sizes)):
+        if isinstance(sizes, (str, bytes)) or not isinstance(sizes, Sequence) or not sizes:
+            raise CalibrationError(
+                f"`{label}` must be a non-empty sequence of whole numbers, got {got(sizes)}"
+            )
+        for v in sizes:
+            check_int(v, f"{label} entries", min=1, error=CalibrationError)
+    check_int(cell_width, "cell_width", min=1, error=CalibrationError)
+    check_int(gap, "gap", min=1, error=CalibrationError)
+    if not isinstance(yarns, str):
+        check_yarns(yarns)
     bumps = _sizes(bump_sizes, "bump_sizes")
     flats = _sizes(flat_sizes, "flat_sizes")
     if isinstance(cell_width, bool) or not isinstance(cell_width, int) or cell_width < 1:
@@ -121,6 +133,11 @@ def calibration_swatch(
     band_h = [2 * n + max(flats) for n in bumps]
     rows = gap + sum(h + gap for h in band_h)
     cols = gap + len(flats) * (cell_width + gap)
+    if max(rows, cols) > MAX_UNITS:
+        raise CalibrationError(
+            f"the swatch would be {rows} x {cols} units, above the {MAX_UNITS}-unit limit; "
+            "use fewer or smaller cells"
+        )
     yarn = np.zeros((rows, cols), dtype=np.int16)
     raised = np.zeros((rows, cols), dtype=bool)
     cells = []
@@ -337,6 +354,17 @@ def fit_bump_height(
         Fewer than two measurements, or all angles equal (they cannot determine a height: the
         angle must fall as the flat runs get longer).
     """
+    if (
+        isinstance(measurements, (str, bytes))
+        or not isinstance(measurements, Sequence)
+        or not all(isinstance(m, Measurement) for m in measurements)
+    ):
+        raise CalibrationError(
+            f"`measurements` must be a sequence of Measurement (see read_measurements), got {got(measurements)}"
+        )
+    if params is not None:
+        check_instance(params, RenderParams, "params", error=RenderParamsError)
+    check_int(skipped, "skipped", min=0)
     params = RenderParams() if params is None else params
     ms = tuple(measurements)
     if len(ms) < 2:

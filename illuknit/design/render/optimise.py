@@ -36,9 +36,10 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from illuknit.core.arguments import check_instance, check_int, check_number, check_str
 from illuknit.core.colors import lab_from_rgb, linear_from_srgb
-from illuknit.core.errors import ImageInputError, OptionError, YarnSpecError
-from illuknit.core.pattern import LogicalPattern, Yarn
+from illuknit.core.errors import ImageInputError, OptionError, RenderParamsError, YarnSpecError
+from illuknit.core.pattern import LogicalPattern, Yarn, check_yarns
 from illuknit.core.views import View, can_see, logical_error
 from illuknit.design.render.grad import render_value_and_grad
 from illuknit.design.render.params import RenderParams
@@ -231,16 +232,13 @@ def optimise_design(
         The palette (at least two yarns).
     params : RenderParams, optional
         Geometry and the viewing angle ``theta``.
-    steps : int
-        Adam steps.
-    learning_rate : float
-        Adam step size on the logits.
+    steps, learning_rate : int, float
+        Adam steps, and the step size on the logits.
     binary_weight : float
         Final weight of the binariness penalty (ramped up from 0).
-    change_weight : float
-        Weight of the expected share of colour changes along courses (slow to knit).
-    raised_weight : float
-        Weight of the share of raised units (each bump costs knit/purl transfers).
+    change_weight, raised_weight : float
+        Weights of the expected share of colour changes along courses (slow to knit) and of the
+        share of raised units (each bump costs knit/purl transfers).
     final_temperature : float
         Temperature at the last step (annealed from 1), in (0, 1].
     mix : {"rgb", "yarn"}
@@ -261,17 +259,19 @@ def optimise_design(
     -------
     DesignResult
     """
-    yarns = tuple(yarns)
-    if len(yarns) < 2 or not all(isinstance(y, Yarn) for y in yarns):
-        raise YarnSpecError("`yarns` must be a sequence of at least two Yarn")
-    params = RenderParams() if params is None else params
     ta_raw, tb_raw = np.asarray(target_a), np.asarray(target_b)
-    _check_options(
-        steps=steps,
-        learning_rate=learning_rate,
-        binary_weight=binary_weight,
-        change_weight=change_weight,
-        final_temperature=final_temperature,
+    yarns, params = _checked_arguments(
+        yarns,
+        params,
+        steps,
+        learning_rate,
+        binary_weight,
+        change_weight,
+        raised_weight,
+        final_temperature,
+        mix,
+        seed,
+        time_limit,
         shapes=(ta_raw.shape, tb_raw.shape),
     )
     ia, ib, ta, tb, pal_lin, pin = _prepared_targets(ta_raw, tb_raw, yarns, mix=mix, pinned=pinned)
@@ -302,6 +302,50 @@ def optimise_design(
         "seed": seed,
     }
     return _binarised(objective, z, u, tau, binary_weight, (ia, ib), yarns, meta, history, start)
+
+
+def _checked_arguments(
+    yarns: Sequence[Yarn],
+    params: RenderParams | None,
+    steps: int,
+    learning_rate: float,
+    binary_weight: float,
+    change_weight: float,
+    raised_weight: float,
+    final_temperature: float,
+    mix: str,
+    seed: int,
+    time_limit: float | None,
+    *,
+    shapes: tuple[tuple[int, ...], tuple[int, ...]],
+) -> tuple[tuple[Yarn, ...], RenderParams]:
+    """Check the types and ranges of :func:`optimise_design`'s arguments (a library error naming
+    each); the yarns as a tuple and the render parameters (the defaults when None)."""
+    check_yarns(yarns)
+    if params is not None:
+        check_instance(params, RenderParams, "params", error=RenderParamsError)
+    check_int(steps, "steps", min=1)
+    check_number(learning_rate, "learning_rate", min=0, min_open=True)
+    check_number(binary_weight, "binary_weight", min=0)
+    check_number(change_weight, "change_weight", min=0)
+    check_number(raised_weight, "raised_weight", min=0)
+    check_number(final_temperature, "final_temperature", min=0, min_open=True)
+    check_str(mix, "mix")
+    check_int(seed, "seed", min=0)
+    if time_limit is not None:
+        check_number(time_limit, "time_limit", min=0, min_open=True)
+    yarns = tuple(yarns)
+    if len(yarns) < 2 or not all(isinstance(y, Yarn) for y in yarns):
+        raise YarnSpecError("`yarns` must be a sequence of at least two Yarn")
+    _check_options(
+        steps=steps,
+        learning_rate=learning_rate,
+        binary_weight=binary_weight,
+        change_weight=change_weight,
+        final_temperature=final_temperature,
+        shapes=shapes,
+    )
+    return yarns, RenderParams() if params is None else params
 
 
 def _binarised(

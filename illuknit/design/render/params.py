@@ -22,6 +22,7 @@ import os
 from dataclasses import asdict, dataclass, fields, replace
 from typing import Any
 
+from illuknit.core.arguments import check_path
 from illuknit.core.errors import RenderParamsError
 from illuknit.core.files import atomic_write_text
 
@@ -146,6 +147,7 @@ def save_params(params: RenderParams, path: str | os.PathLike[str]) -> None:
 
 def load_params(path: str | os.PathLike[str]) -> RenderParams:
     """Read a parameters file; raises :class:`RenderParamsError` on any problem."""
+    check_path(path, "path")
     from illuknit.core.documents import read_json_file
 
     doc = read_json_file(path, error=RenderParamsError, what="render parameters")

@@ -48,9 +48,10 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from illuknit.core.arguments import check_instance, check_int
 from illuknit.core.colors import linear_from_srgb, srgb_from_linear
 from illuknit.core.errors import OptionError, PatternValidationError, RenderParamsError
-from illuknit.core.pattern import LogicalPattern
+from illuknit.core.pattern import LogicalPattern, check_pattern
 from illuknit.core.views import VIEWS, View
 from illuknit.design.render.params import RenderParams, check_angle
 
@@ -336,6 +337,10 @@ def render_pattern(
     ndarray of shape (N * supersample, M, 3), uint8
         Upright, rows in the pattern's picture order.
     """
+    check_pattern(pattern)
+    if params is not None:
+        check_instance(params, RenderParams, "params", error=RenderParamsError)
+    check_int(supersample, "supersample", min=1, max=8)
     if not isinstance(pattern, LogicalPattern):
         raise PatternValidationError(
             f"`pattern` must be a LogicalPattern, got {type(pattern).__name__}"
@@ -364,6 +369,10 @@ def render_at(
 
     This is what a viewer walking past the hanging piece sees (the CLI's GIF sweeps it).
     """
+    check_pattern(pattern)
+    if params is not None:
+        check_instance(params, RenderParams, "params", error=RenderParamsError)
+    check_int(supersample, "supersample", min=1, max=8)
     if isinstance(angle, bool) or not isinstance(angle, int | float) or angle == 0:
         raise RenderParamsError(
             f"`angle` must be a non-zero number of degrees in [-90, 90], got {angle!r}"
@@ -384,6 +393,10 @@ def render_views(
 
     ``angle`` (degrees, (0, 90]) overrides ``params.theta`` for the side views.
     """
+    check_pattern(pattern)
+    if params is not None:
+        check_instance(params, RenderParams, "params", error=RenderParamsError)
+    check_int(supersample, "supersample", min=1, max=8)
     return {
         v: render_pattern(pattern, params=params, view=v, angle=angle, supersample=supersample)
         for v in VIEWS

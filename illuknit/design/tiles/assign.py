@@ -18,8 +18,16 @@ from typing import Any, Literal
 
 import numpy as np
 
-from illuknit.core.errors import ImageInputError, TileAssignmentError
-from illuknit.core.pattern import Yarn
+from illuknit.core.arguments import (
+    check_bool,
+    check_instance,
+    check_int,
+    check_number,
+    check_str,
+    check_views,
+)
+from illuknit.core.errors import ImageInputError, TileAssignmentError, TileBankError
+from illuknit.core.pattern import Yarn, check_yarns
 from illuknit.design.tiles.assign_model import (
     _build_problem,
     _cost,
@@ -124,6 +132,23 @@ def assign_tiles(
         An input has more colours than the bank can serve, or no assignment exists (the message
         explains which overlap pairs cannot be realised and what would fix it).
     """
+    if bank is not None:
+        check_instance(bank, TileBank, "bank", error=TileBankError)
+    if yarns is not None:
+        check_yarns(yarns)
+    check_int(candidates, "candidates", min=1, error=TileAssignmentError)
+    if pool is not None:
+        check_int(pool, "pool", min=1, error=TileAssignmentError)
+    if pool_seconds is not None:
+        check_number(pool_seconds, "pool_seconds", min=0, error=TileAssignmentError)
+    check_str(brightness, "brightness")
+    check_str(solver, "solver")
+    if time_limit is not None:
+        check_number(time_limit, "time_limit", min=0, min_open=True)
+    if weights is not None:
+        check_instance(weights, AssignmentWeights, "weights")
+    check_views(views)
+    check_bool(explain, "explain")
     ra, rb = regions_of(qa, name="qa"), regions_of(qb, name="qb")
     if bank is None:
         bank = canonical_bank(_default_yarns(qa, qb, yarns), views=views)

@@ -34,10 +34,11 @@ from typing import Any
 
 import numpy as np
 
+from illuknit.core.arguments import check_bool, check_int, check_path, check_views
 from illuknit.core.colors import parse_color
 from illuknit.core.errors import TileBankError, YarnSpecError
 from illuknit.core.files import atomic_write_text
-from illuknit.core.pattern import Yarn
+from illuknit.core.pattern import Yarn, check_yarns
 from illuknit.core.views import can_see
 from illuknit.design.tiles.tile import (
     FILL_VIEWS,
@@ -202,6 +203,10 @@ def canonical_bank(
         One tile per distinct pair of fills: the shortest, then fewest colour changes, then
         fewest bumps.
     """
+    check_yarns(yarns)
+    check_int(max_height, "max_height", min=1, max=6, error=TileBankError)
+    check_views(views, error=TileBankError)
+    check_bool(one_sided_stripes, "one_sided_stripes")
     ys = _check_yarns(yarns)
     if not isinstance(max_height, int) or not 1 <= max_height <= 6:
         raise TileBankError(f"`max_height` must be an integer in 1..6, got {max_height!r}")
@@ -393,6 +398,9 @@ def save_bank(bank: TileBank, path: str | os.PathLike[str]) -> None:
 
 def load_bank(path: str | os.PathLike[str], *, yarns: Sequence[Yarn] | None = None) -> TileBank:
     """Read a bank file; raises :class:`TileBankError` when it is missing, malformed or wrong."""
+    check_path(path, "path")
+    if yarns is not None:
+        check_yarns(yarns)
     from illuknit.core.documents import read_json_file
 
     doc = read_json_file(path, error=TileBankError, what="tile bank")

@@ -25,6 +25,7 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import NDArray
 
+from illuknit.core.arguments import check_instance, check_mapping, check_str
 from illuknit.core.colors import lab_from_rgb
 from illuknit.core.errors import TileAssignmentError
 from illuknit.core.pattern import LogicalPattern
@@ -229,6 +230,10 @@ def compile_tiles(
         Of shape (N, M), over the bank's yarns.
     report : TileReport
     """
+    check_instance(assignment, TileAssignment, "assignment", error=TileAssignmentError)
+    if overrides is not None:
+        check_mapping(overrides, "overrides")
+    check_str(name, "name")
     if not isinstance(assignment, TileAssignment):
         raise TileAssignmentError(
             f"`assignment` must be a TileAssignment, got {type(assignment).__name__}"

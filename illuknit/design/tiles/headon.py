@@ -20,8 +20,9 @@ from typing import Any
 
 import numpy as np
 
-from illuknit.core.errors import TileAssignmentError
-from illuknit.core.pattern import Yarn
+from illuknit.core.arguments import check_instance, check_int
+from illuknit.core.errors import TileAssignmentError, TileBankError
+from illuknit.core.pattern import Yarn, check_yarns
 from illuknit.design.tiles.assign import _yarns_of, assign_tiles
 from illuknit.design.tiles.assignment import TileAssignment, regions_of
 from illuknit.design.tiles.bank import TileBank, ViewPair, canonical_bank
@@ -79,6 +80,11 @@ def assign_headon(
         With ``views == ("headon", "side")``; compile them with
         :func:`~illuknit.design.tiles.compile.compile_tiles`.
     """
+    if bank is not None:
+        check_instance(bank, TileBank, "bank", error=TileBankError)
+    if yarns is not None:
+        check_yarns(yarns)
+    check_int(candidates, "candidates", min=1, error=TileAssignmentError)
     if "views" in options:
         raise TileAssignmentError("assign_headon fixes `views` to ('headon', 'side')")
     if side is None:

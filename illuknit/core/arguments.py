@@ -1,0 +1,202 @@
+"""Checks of the arguments of illuknit's public functions, done once at the entry point.
+
+Each check names the parameter and says what was expected and what came, as scikit-image's
+``check_nD`` does: "`steps` must be a whole number >= 1, got 'ten' (str)". Code behind an entry
+point trusts what passed. Each raises the :mod:`illuknit.core.errors` class of its kind:
+:class:`~illuknit.core.errors.OptionError` for options, :class:`~illuknit.core.errors.ImageInputError` for
+pictures and targets, or the class a caller names. Patterns and yarns are checked by
+:func:`illuknit.core.pattern.check_pattern` and :func:`illuknit.core.pattern.check_yarns`, beside their
+classes.
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+import os
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any, TypeVar
+
+import numpy as np
+from numpy.typing import NDArray
+
+from illuknit.core.errors import (
+    IlluknitError,
+    ImageInputError,
+    OptionError,
+)
+
+__all__ = [
+    "check_array",
+    "check_bool",
+    "check_instance",
+    "check_int",
+    "check_mapping",
+    "check_number",
+    "check_path",
+    "check_str",
+    "check_views",
+    "got",
+]
+
+T = TypeVar("T")
+
+
+def got(value: object) -> str:
+    """``value`` as an error message shows it: short repr and type."""
+    text = repr(value)
+    if len(text) > 40:
+        text = text[:37] + "..."
+    return f"{text} ({type(value).__name__})"
+
+
+def check_path(value: object, name: str) -> Path:
+    """A file or folder path: ``str`` or ``os.PathLike`` (not empty)."""
+    if isinstance(value, (str, os.PathLike)) and not isinstance(value, bytes):
+        path = os.fspath(value)
+        if isinstance(path, str) and path and "\x00" not in path:
+            return Path(path)
+    raise OptionError(f"`{name}` must be a path (str or os.PathLike), got {got(value)}")
+
+
+def check_instance(
+    value: object,
+    cls: type[T] | tuple[type, ...],
+    name: str,
+    *,
+    what: str | None = None,
+    error: type[IlluknitError] = OptionError,
+) -> T:
+    """``value`` when it is an instance of ``cls``."""
+    classes = cls if isinstance(cls, tuple) else (cls,)
+    bool_ok = any(issubclass(bool, c) and c is not int for c in classes) or bool in classes
+    if not isinstance(value, cls) or (isinstance(value, bool) and not bool_ok):
+        if what is None:
+            what = " or ".join(f"{_article(c.__name__)} {c.__name__}" for c in classes)
+        raise error(f"`{name}` must be {what}, got {got(value)}")
+    return value  # type: ignore[return-value]
+
+
+def _article(word: str) -> str:
+    return "an" if word[:1].lower() in "aeiou" else "a"
+
+
+def check_bool(value: object, name: str) -> bool:
+    """``True`` or ``False`` (a numpy bool too)."""
+    if not isinstance(value, (bool, np.bool_)):
+        raise OptionError(f"`{name}` must be True or False, got {got(value)}")
+    return bool(value)
+
+
+def check_int(
+    value: object,
+    name: str,
+    *,
+    min: int | None = None,
+    max: int | None = None,
+    error: type[IlluknitError] = OptionError,
+) -> int:
+    """A whole number (an ``int``, a numpy integer or an integral float) within [min, max]."""
+    ok = isinstance(value, numbers.Integral) and not isinstance(value, bool)
+    if not ok and isinstance(value, (float, np.floating)) and math.isfinite(value):
+        ok = float(value).is_integer()
+    if ok and (min is None or value >= min) and (max is None or value <= max):  # type: ignore[operator]
+        return int(value)  # type: ignore[call-overload]
+    bounds = _bounds(min, max)
+    raise error(f"`{name}` must be a whole number{bounds}, got {got(value)}")
+
+
+def check_number(
+    value: object,
+    name: str,
+    *,
+    min: float | None = None,
+    max: float | None = None,
+    min_open: bool = False,
+    error: type[IlluknitError] = OptionError,
+) -> float:
+    """A finite real number within [min, max] (``(min, max]`` with ``min_open``)."""
+    if isinstance(value, numbers.Real) and not isinstance(value, bool):
+        v = float(value)
+        if (
+            math.isfinite(v)
+            and (min is None or (v > min if min_open else v >= min))
+            and (max is None or v <= max)
+        ):
+            return v
+    bounds = _bounds(min, max, min_open=min_open)
+    raise error(f"`{name}` must be a finite number{bounds}, got {got(value)}")
+
+
+def _bounds(lo: float | None, hi: float | None, *, min_open: bool = False) -> str:
+    if lo is not None and hi is not None:
+        return f" in {'(' if min_open else '['}{lo:g}, {hi:g}]"
+    if lo is not None:
+        return f" {'>' if min_open else '>='} {lo:g}"
+    if hi is not None:
+        return f" <= {hi:g}"
+    return ""
+
+
+def check_str(value: object, name: str) -> str:
+    if not isinstance(value, str):
+        raise OptionError(f"`{name}` must be a string, got {got(value)}")
+    return value
+
+
+def check_views(
+    value: object, name: str = "views", *, error: type[IlluknitError] = OptionError
+) -> tuple[str, str]:
+    """A pair of view names, e.g. ``("A", "B")``."""
+    if (
+        isinstance(value, (tuple, list))
+        and len(value) == 2
+        and all(isinstance(v, str) for v in value)
+    ):
+        return (value[0], value[1])
+    raise error(f"`{name}` must be a pair of view names like ('A', 'B'), got {got(value)}")
+
+
+def check_mapping(value: object, name: str) -> Mapping[Any, Any]:
+    if not isinstance(value, Mapping):
+        raise OptionError(f"`{name}` must be a mapping (a dict), got {got(value)}")
+    return value
+
+
+def check_array(
+    value: object,
+    name: str,
+    *,
+    ndim: int | tuple[int, ...] | None = None,
+    integer: bool = False,
+    what: str | None = None,
+    error: type[IlluknitError] = ImageInputError,
+) -> NDArray[Any]:
+    """``value`` as a numeric ndarray of ``ndim`` dimensions, every entry finite (whole numbers
+    with ``integer``); ``what`` describes what was expected in the message."""
+    if what is None:
+        dims = ndim if isinstance(ndim, tuple) else (() if ndim is None else (ndim,))
+        what = f"a {' or '.join(f'{d}-D' for d in dims)}{' ' if dims else ''}array of "
+        what += f"{'whole ' if integer else ''}numbers"
+    if isinstance(value, (str, bytes, Mapping)) or value is None:
+        raise error(f"`{name}` must be {what}, got {got(value)}")
+    try:
+        arr = np.asarray(value)
+    except (TypeError, ValueError) as exc:
+        raise error(f"`{name}` must be {what}, got {got(value)}: {exc}") from None
+    if arr.dtype == np.bool_:
+        arr = arr.astype(np.uint8)
+    if arr.dtype.kind not in "iuf":
+        raise error(f"`{name}` must be {what}, got {got(value)} (dtype {arr.dtype})")
+    wanted = (ndim,) if isinstance(ndim, int) else ndim
+    if wanted is not None and arr.ndim not in wanted:
+        raise error(f"`{name}` must be {what}, got shape {arr.shape}")
+    if arr.size == 0:
+        raise error(f"`{name}` must not be empty, got shape {arr.shape}")
+    if arr.dtype.kind == "f":
+        if not np.isfinite(arr).all():
+            raise error(f"`{name}` must hold finite numbers, got NaN or infinity")
+        if integer and not (arr == np.round(arr)).all():
+            raise error(f"`{name}` must hold whole numbers (indices), got fractions")
+    return arr
