@@ -2,10 +2,11 @@
 
 A fresh Python process (so that nothing else counts) starts the app, opens a session, uploads a
 50-megapixel JPEG as picture A and a 50-megapixel PNG as picture B (the two ways a picture is
-reduced: while decoding, and after), quantises them for a double view 120 units wide, finds
+reduced: while decoding, and after) into a session kept on disk, quantises them for a double view 120 units wide, finds
 candidates, then suggested edits, accepts the first and undoes it (what the undo history holds).
 It prints the process's resident memory after importing the app and its peak over
-the whole session (``ru_maxrss``), against the target: peak under 1 GB.
+the whole session (``ru_maxrss``), against the target: peak under 1 GB; and what the session
+takes on disk and how long it takes to read it back (as after a restart or an eviction).
 
 Run: python benchmarks/app_memory.py
 """
@@ -55,9 +56,9 @@ def rss() -> int:
     with open("/proc/self/statm") as f:
         return int(f.read().split()[1]) * resource.getpagesize()
 
-a, b = sys.argv[1], sys.argv[2]
+a, b, data = sys.argv[1], sys.argv[2], sys.argv[3]
 out = {}
-app = create_app(AppConfig(isolate_knit=False))
+app = create_app(AppConfig(isolate_knit=False, data_dir=data))
 with TestClient(app) as c:
     out["rss_after_import"] = rss()
     sid = c.post("/api/sessions").json()["id"]
@@ -106,6 +107,17 @@ with TestClient(app) as c:
         assert c.post(f"/api/sessions/{sid}/history/undo").status_code == 200
         out["session_bytes_undone"] = app.state.store.nbytes()
     out["peak_after_undo"] = hwm()  # the accept designs again from the edited pictures
+    disk = app.state.store.disk
+    out["stored_bytes"] = disk.used_bytes()
+    out["disk_file_bytes"] = disk.file_bytes()
+    # the session leaves memory and comes back from disk, as after a restart or an eviction
+    t = time.perf_counter()
+    api_evict = app.state.store
+    with api_evict._lock:
+        api_evict._drop_locked(sid, None)
+    assert c.get(f"/api/sessions/{sid}").status_code == 200
+    out["reload_seconds"] = time.perf_counter() - t
+    out["session_bytes_reloaded"] = app.state.store.nbytes()
     out["rss_end"] = rss()
 out["peak_rss"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
 print(json.dumps(out))
@@ -118,7 +130,7 @@ def main() -> None:
         sizes = {p.name: p.stat().st_size for p in (a, b)}
         t = time.perf_counter()
         run = subprocess.run(
-            [sys.executable, "-c", CHILD, str(a), str(b)],
+            [sys.executable, "-c", CHILD, str(a), str(b), str(Path(tmp) / "data")],
             capture_output=True,
             text=True,
             check=False,
@@ -148,6 +160,11 @@ def main() -> None:
             f" undone: {m['session_bytes_undone'] / mb:.1f} MB (the redo step kept)"
         )
     print(f"peak after accept and undo         {m['peak_after_undo'] / mb:8.0f} MB")
+    print(
+        f"saved on disk: {m['stored_bytes'] / mb:.1f} MB stored (the database file "
+        f"{m['disk_file_bytes'] / mb:.1f} MB); read back from disk in {m['reload_seconds']:.2f} s,"
+        f" holding {m['session_bytes_reloaded'] / mb:.1f} MB"
+    )
     print(f"resident at the end                {m['rss_end'] / mb:8.0f} MB")
     verdict = "OK" if m["peak_rss"] < TARGET_BYTES else "OVER"
     print(

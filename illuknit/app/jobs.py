@@ -13,7 +13,9 @@ Jobs never raise into the server: a failure is stored as ``error`` (message, and
 
 from __future__ import annotations
 
+import os
 import pickle
+import signal
 import subprocess
 import sys
 import threading
@@ -28,8 +30,10 @@ from illuknit.core.errors import AppRequestError, IlluknitError
 
 __all__ = ["Job", "JobCancelled", "JobRunner", "JobStatus"]
 
-JobStatus = Literal["queued", "running", "done", "failed", "cancelled"]
-_FINAL = ("done", "failed", "cancelled")
+JobStatus = Literal["queued", "running", "done", "failed", "cancelled", "interrupted"]
+_FINAL = ("done", "failed", "cancelled", "interrupted")
+#: What a job that was running when the server stopped says once the session is read back.
+INTERRUPTED = "interrupted: the server stopped while this ran; run it again"
 
 
 class JobCancelled(Exception):
@@ -45,7 +49,9 @@ class Job:
         Random id, unique per server.
     kind : str
         What the job does (``"candidates"``, ``"knit"``); at most one live job per kind per session.
-    status : {"queued", "running", "done", "failed", "cancelled"}
+    status : {"queued", "running", "done", "failed", "cancelled", "interrupted"}
+        ``interrupted``: the job was live when the server stopped (a session read back from
+        disk, :meth:`restored`); the page offers to run it again.
     progress : float
         0..1, monotone while running.
     message : str
@@ -71,6 +77,42 @@ class Job:
         self._cancel = threading.Event()
         self._done = threading.Event()
         self._lock = threading.Lock()
+        self._finished_callbacks: list[Callable[[Job], None]] = []
+
+    # -- kept on disk with its session (illuknit.app.store) ----------------------------------
+    def record(self) -> dict[str, Any]:
+        """What is stored of the job: its state as polled (never its result, which its session
+        holds, nor its thread)."""
+        rec = self.to_json()
+        rec["created"], rec["started"], rec["finished"] = self.created, self.started, self.finished
+        return rec
+
+    @classmethod
+    def restored(cls, rec: dict[str, Any]) -> Job:
+        """A stored job back, ended: one that was still queued or running is ``interrupted``."""
+        job = cls(str(rec["kind"]), revision=int(rec.get("revision", 0)))
+        job.id = str(rec["id"])
+        job.created = float(rec.get("created") or job.created)
+        job.started = rec.get("started")
+        job.finished = rec.get("finished") or job.created
+        job.progress = float(rec.get("progress", 0.0))
+        job.error = rec.get("error")
+        if rec.get("status") in _FINAL:
+            job.status = rec["status"]
+            job.message = str(rec.get("message", rec["status"]))
+        else:
+            job.status = "interrupted"
+            job.message = INTERRUPTED
+        job._done.set()
+        return job
+
+    def when_finished(self, fn: Callable[[Job], None]) -> None:
+        """Call ``fn(job)`` once the job has ended (at once when it has)."""
+        with self._lock:
+            if self.status not in _FINAL:
+                self._finished_callbacks.append(fn)
+                return
+        fn(self)
 
     # -- used by job functions ---------------------------------------------------------------
     @property
@@ -98,7 +140,7 @@ class Job:
         self.report(self.progress)
         payload = pickle.dumps((fn, args), protocol=pickle.HIGHEST_PROTOCOL)
         proc = subprocess.Popen(
-            [sys.executable, "-m", "illuknit.app.jobs"],
+            [sys.executable, "-m", "illuknit.app.jobs", str(os.getpid())],
             stdin=subprocess.PIPE,
             stdout=subprocess.PIPE,
             stderr=subprocess.PIPE,
@@ -162,7 +204,13 @@ class Job:
             self.finished = time.time()
             if status == "done":
                 self.progress = 1.0
+            callbacks, self._finished_callbacks = self._finished_callbacks, []
         self._done.set()
+        for fn in callbacks:
+            try:
+                fn(self)
+            except Exception:  # storing a result must not take the job runner down
+                traceback.print_exc()
 
     def to_json(self) -> dict[str, Any]:
         with self._lock:
@@ -264,8 +312,34 @@ class JobRunner:
         self._pool.shutdown(wait=False, cancel_futures=True)
 
 
+def _die_with_parent(parent: int, poll: float = 0.2) -> None:
+    """End this worker as soon as the server that started it (pid ``parent``) is gone, however
+    it went (Ctrl-C, a crash, ``kill -9``): the kernel kills it on Linux (``PR_SET_PDEATHSIG``),
+    and everywhere a watcher thread ends it within ``poll`` seconds of being orphaned."""
+    if sys.platform.startswith("linux"):
+        try:
+            import ctypes
+
+            libc = ctypes.CDLL(None, use_errno=True)
+            libc.prctl(1, signal.SIGKILL, 0, 0, 0)  # 1 = PR_SET_PDEATHSIG
+        except (OSError, AttributeError):  # no prctl: the watcher does it
+            pass
+    if os.getppid() != parent:  # gone before the kernel was asked
+        os._exit(1)
+
+    def watch() -> None:
+        while os.getppid() == parent:
+            time.sleep(poll)
+        os._exit(1)
+
+    threading.Thread(target=watch, name="illuknit-parent-watch", daemon=True).start()
+
+
 def _worker_main() -> None:
-    """Child side of :meth:`Job.run_isolated`: read ``(fn, args)``, answer a pickled message."""
+    """Child side of :meth:`Job.run_isolated`: read ``(fn, args)``, answer a pickled message.
+    The worker ends with the server that started it (:func:`_die_with_parent`)."""
+    if len(sys.argv) > 1:
+        _die_with_parent(int(sys.argv[1]))
     answer = sys.stdout.buffer
     sys.stdout = sys.stderr  # anything the work prints must not corrupt the answer
     fn, args = pickle.load(sys.stdin.buffer)

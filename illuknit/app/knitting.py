@@ -118,11 +118,12 @@ def knit_and_check(
 
 def long_float_message(e: LongFloatError, machine: str) -> str:
     """What the designer reads when a pattern is refused for a float over the float limit."""
-    where = (
-        "the bind-off (the last row ends far from where the bind-off starts)"
-        if e.course is None
-        else e.where.replace("course", "knitting course", 1)
-    )
+    if e.course is not None:
+        where = e.where.replace("course", "knitting course", 1)
+    elif e.where == "the bind-off":
+        where = "the bind-off (the last row ends far from where the bind-off starts)"
+    else:  # the cast-on, or a machine's waste section
+        where = e.where
     return (
         f"This pattern cannot be knit on the {machine} with short floats: at {where} a yarn "
         f"would float {e.length} needles behind the fabric (the machine's limit is {e.limit}), "

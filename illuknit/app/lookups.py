@@ -7,6 +7,7 @@ design pipeline (:mod:`illuknit.app.design`), and answer.
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from typing import Annotated, Any
 
 from fastapi import Depends, Request
@@ -40,13 +41,28 @@ def runner_of(request: Request) -> JobRunner:
     return runner
 
 
-def session_of(request: Request, sid: str) -> Session:
-    """The session named in the path (404 ``no_session`` when unknown or expired)."""
-    return store_of(request).get(sid)
+#: Request methods that change a session: it is stored again after each of them.
+CHANGES = frozenset({"POST", "PUT", "PATCH", "DELETE"})
 
 
-#: A route parameter that is the session of the path's ``{sid}``.
-SessionDep = Annotated[Session, Depends(session_of)]
+def session_of(request: Request, sid: str) -> Iterator[Session]:
+    """The session named in the path (404 ``no_session`` when unknown, 410 ``evicted`` when
+    deleted), read back from disk when it is not in memory, and kept in memory while the
+    request works on it. After a request that changes it, the session is stored whole (one
+    transaction) before the answer is sent, so every change a page saw answered survives a
+    restart. (Work finishing in the background stores it again: ``Session.replace_job``.)"""
+    store = store_of(request)
+    with store.using(sid) as session:
+        try:
+            yield session
+        finally:
+            if request.method in CHANGES:
+                store.save(session)
+
+
+#: A route parameter that is the session of the path's ``{sid}`` (stored, after a change, before
+#: the answer is sent: the dependency's scope is the route function, not the whole request).
+SessionDep = Annotated[Session, Depends(session_of, scope="function")]
 
 
 def image_json(s: Session, slot: str) -> dict[str, Any]:

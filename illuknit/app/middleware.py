@@ -22,10 +22,20 @@ class UploadLimit:
 
     ``limit`` is the server's one upload limit (``AppConfig.max_upload_bytes``), on the file. A
     request carries the file inside multipart framing, so a request is refused here when it is
-    over the limit plus room for the framing: a declared ``Content-Length`` at once, a chunked
+    over the limit plus room for the framing: by its declared ``Content-Length``, or a chunked
     body as soon as it passes it. A file over the limit in a request within it is refused by the
     upload route, with the same 413 and the same message (:func:`~illuknit.app.inputs.
     too_large_message`), never a dropped connection.
+
+    The 413 must reach the client *before* the connection closes. A server that answers and
+    closes while the client is still sending resets the connection, and the client may lose the
+    answer (httpx: "peer closed connection without sending complete message body"; curl: "Send
+    failure: Connection reset by peer"). So the 413 is sent at once, from the headers (a client
+    that waits for an answer before sending, as with ``Expect: 100-continue``, gets it), and the
+    connection is *not* closed: the server reads the rest of the body and throws it away (uvicorn
+    discards the body of a request that has been answered; nothing is kept, memory stays flat),
+    then the connection serves the next request. Only a client that said ``Expect:
+    100-continue``, and so sends no body after a refusal, is answered with ``Connection: close``.
     """
 
     def __init__(self, app: Any, *, limit: int) -> None:
@@ -47,8 +57,9 @@ class UploadLimit:
         field = f"image_{slot}" if slot in ("a", "b") else "image_a"
         headers = dict(scope.get("headers") or [])
         declared = headers.get(b"content-length")
+        waits = headers.get(b"expect", b"").lower() == b"100-continue"
         if declared is not None and declared.isdigit() and int(declared) > self.limit:
-            await self._refuse(send, field)
+            await self._refuse(send, field, close=waits)
             return
         chunks: list[bytes] = []
         total = 0
@@ -59,11 +70,11 @@ class UploadLimit:
                 return
             body = message.get("body", b"")
             total += len(body)
+            more = message.get("more_body", False)
             if total > self.limit:
-                await self._refuse(send, field)
+                await self._refuse(send, field, close=False)
                 return
             chunks.append(body)
-            more = message.get("more_body", False)
         replay = [{"type": "http.request", "body": b"".join(chunks), "more_body": False}]
 
         async def replay_receive() -> Message:
@@ -73,21 +84,17 @@ class UploadLimit:
 
         await self.app(scope, replay_receive, send)
 
-    async def _refuse(self, send: Send, field: str) -> None:
+    async def _refuse(self, send: Send, field: str, *, close: bool) -> None:
         body = json.dumps(
             error_body(too_large_message(self.file_limit), field, "too_large")
         ).encode()
-        await send(
-            {
-                "type": "http.response.start",
-                "status": 413,
-                "headers": [
-                    (b"content-type", b"application/json"),
-                    (b"connection", b"close"),
-                    (b"content-length", str(len(body)).encode()),
-                ],
-            }
-        )
+        headers = [
+            (b"content-type", b"application/json"),
+            (b"content-length", str(len(body)).encode()),
+        ]
+        if close:
+            headers.append((b"connection", b"close"))
+        await send({"type": "http.response.start", "status": 413, "headers": headers})
         await send({"type": "http.response.body", "body": body})
 
 

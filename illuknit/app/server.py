@@ -15,6 +15,7 @@ they are read into memory (:class:`~illuknit.app.middleware.UploadLimit`).
 from __future__ import annotations
 
 import importlib.util
+import os
 import threading
 from collections.abc import AsyncIterator
 from contextlib import asynccontextmanager
@@ -40,6 +41,9 @@ class AppConfig:
         workers: int = 2,
         isolate_knit: bool = True,
         allowed_hosts: tuple[str, ...] = (),
+        data_dir: str | os.PathLike[str] | None = None,
+        keep_days: float = 30.0,
+        keep_bytes: int = 2 * 2**30,
     ) -> None:
         self.max_upload_bytes = max_upload_bytes
         self.max_sessions = max_sessions
@@ -51,6 +55,14 @@ class AppConfig:
         #: Host names besides the bound address that may reach the app (e.g. the machine's name
         #: when it is shared on a network with ``--host 0.0.0.0``).
         self.allowed_hosts = allowed_hosts
+        #: Folder the sessions are kept in (``illuknit app`` uses
+        #: :func:`~illuknit.app.store.default_data_dir` unless told ``--data-dir``); None keeps
+        #: them in memory only (stopping the server forgets them).
+        self.data_dir = data_dir
+        #: Retention of the folder: sessions unused for ``keep_days`` are deleted, and the least
+        #: recently used when all together pass ``keep_bytes``.
+        self.keep_days = keep_days
+        self.keep_bytes = keep_bytes
 
 
 def _require_web_stack() -> None:
@@ -76,8 +88,17 @@ def create_app(config: AppConfig | None = None) -> Any:
     from illuknit.app.sessions import SessionStore
 
     cfg = config or AppConfig()
+    disk = None
+    if cfg.data_dir is not None:
+        from illuknit.app.store import DiskStore, Retention
+
+        disk = DiskStore(cfg.data_dir, Retention(days=cfg.keep_days, max_bytes=cfg.keep_bytes))
+        disk.enforce(force=True)
     store = SessionStore(
-        max_sessions=cfg.max_sessions, ttl=cfg.session_ttl, max_bytes=cfg.max_session_bytes
+        max_sessions=cfg.max_sessions,
+        ttl=cfg.session_ttl,
+        max_bytes=cfg.max_session_bytes,
+        disk=disk,
     )
     runner = JobRunner(workers=cfg.workers)
 
@@ -87,6 +108,7 @@ def create_app(config: AppConfig | None = None) -> Any:
         # first upload is not the one that waits for scikit-image, SciPy and the solvers to load.
         threading.Thread(target=design.warm_up, name="illuknit-warm-up", daemon=True).start()
         yield
+        store.close()  # first: jobs the stop cuts short are stored as interrupted
         runner.shutdown()
 
     app = FastAPI(

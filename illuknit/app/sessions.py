@@ -21,6 +21,8 @@ import secrets
 import threading
 import time
 from collections import OrderedDict
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass, field, replace
 from typing import Any
 
@@ -99,14 +101,49 @@ class Session:
     # id of a replaced job -> id of the job that replaced it (a poll of the old id follows it)
     successors: dict[str, str] = field(default_factory=dict)
     lock: threading.RLock = field(default_factory=threading.RLock, repr=False)
+    # -- kept in memory only (see __getstate__) --
+    #: stores the session (SessionStore.save), or None when sessions are kept in memory only
+    saver: Callable[[Session], None] | None = field(default=None, repr=False)
+    #: requests working on it now (a session in use is never evicted from memory)
+    pins: int = field(default=0, repr=False)
+    #: no longer the store's copy (evicted from memory): never saved again
+    detached: bool = field(default=False, repr=False)
+
+    #: Attributes that are not the designer's work: never stored.
+    RUNTIME = ("lock", "saver", "pins", "detached")
 
     #: Replaced job ids remembered per session (a page polls only its latest few).
     SUCCESSORS_KEPT = 64
     #: Suggestion sets of earlier designs remembered per session.
     RETIRED_KEPT = 64
 
+    # -- kept on disk (illuknit.app.store) ---------------------------------------------------
+    def __getstate__(self) -> dict[str, Any]:
+        """The session as stored: every field (a field added later is stored with no other
+        change) except the runtime ones; jobs as their records (:meth:`Job.record`)."""
+        state = {k: v for k, v in self.__dict__.items() if k not in self.RUNTIME}
+        state["jobs"] = {kind: job.record() for kind, job in self.jobs.items()}
+        return state
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        """A stored session back: fields it was stored without get their defaults, and a job
+        that was still running when it was stored is *interrupted* (it can be run again)."""
+        from illuknit.app.jobs import Job
+
+        fresh = Session(id=state["id"])
+        self.__dict__.update(fresh.__dict__)
+        self.__dict__.update({k: v for k, v in state.items() if k in fresh.__dict__})
+        self.jobs = {kind: Job.restored(rec) for kind, rec in state.get("jobs", {}).items()}
+
+    def save(self) -> None:
+        """Store the session now (nothing when it is kept in memory only, or evicted)."""
+        if self.saver is not None and not self.detached:
+            self.saver(self)
+
     def replace_job(self, kind: str, job: Any) -> None:
-        """Make ``job`` the session's job of ``kind``; polls of the one it replaces follow it."""
+        """Make ``job`` the session's job of ``kind``; polls of the one it replaces follow it.
+        The session is stored again when the job ends (its result is part of the session)."""
+        job.when_finished(lambda _job: self.save())
         old = self.jobs.get(kind)
         if old is not None:
             if old.live:
@@ -240,52 +277,70 @@ class Session:
 
 
 class SessionStore:
-    """Thread-safe map of session id -> :class:`Session`, bounded by age, count and bytes.
+    """Thread-safe map of session id -> :class:`Session`, bounded by age, count and bytes in
+    memory, and kept on disk when given a :class:`~illuknit.app.store.DiskStore`.
 
     Parameters
     ----------
     max_sessions : int
-        Live sessions kept; creating one more evicts the least recently used one.
+        Sessions kept in memory; opening one more evicts the least recently used one.
     ttl : float
-        Seconds of inactivity after which a session is forgotten.
+        Seconds of inactivity after which a session leaves memory.
     max_bytes : int
         Memory all sessions together may hold (:meth:`Session.nbytes`); :meth:`trim` evicts the
-        least recently used sessions until they fit, never the one being worked on.
+        least recently used sessions until they fit, never one a request is working on.
+    disk : DiskStore or None
+        Where sessions are kept. With one, every change is stored (:meth:`save`), a session
+        evicted from memory (or from before a restart) is read back when its tab asks for it,
+        and only the disk's retention deletes work. Without one (the library's default), an
+        evicted or expired session is gone, and its tab is told why (410 ``evicted``).
     """
 
     #: Evicted or expired session ids remembered, so that their tab is told what happened.
     GONE_KEPT = 4096
 
     def __init__(
-        self, *, max_sessions: int = 64, ttl: float = 6 * 3600, max_bytes: int = 512 * 2**20
+        self,
+        *,
+        max_sessions: int = 64,
+        ttl: float = 6 * 3600,
+        max_bytes: int = 512 * 2**20,
+        disk: Any = None,
     ) -> None:
         self.max_sessions = max_sessions
         self.ttl = ttl
         self.max_bytes = max_bytes
+        self.disk = disk
         self._sessions: dict[str, Session] = {}
         self._gone: OrderedDict[str, str] = OrderedDict()
         self._lock = threading.Lock()
+        # saves are numbered across restarts, so the newest snapshot of a session always wins
+        self._seq = 0 if disk is None else disk.last_seq()
 
     def create(self) -> Session:
         with self._lock:
             self._expire_locked()
-            while len(self._sessions) >= self.max_sessions:
-                oldest = min(self._sessions.values(), key=lambda s: s.last_seen)
-                self._drop_locked(
-                    oldest.id,
-                    f"this session was closed because more than {self.max_sessions} sessions "
-                    "were open (the least recently used is closed first)",
-                )
+            self._make_room_locked(keep=None)
             sid = secrets.token_urlsafe(12)
-            session = Session(id=sid)
-            self._sessions[sid] = session
-            return session
+            session = self._adopt_locked(Session(id=sid))
+        session.save()
+        return session
 
-    def get(self, sid: str) -> Session:
+    def get(self, sid: str, *, pin: bool = False) -> Session:
+        """Session ``sid``, read back from disk when it is not in memory (410 ``evicted`` when
+        it was deleted or closed, 404 ``no_session`` when it never was). ``pin``: count it as in
+        use, from the moment it is found (:meth:`using` unpins it)."""
         with self._lock:
             self._expire_locked()
             session = self._sessions.get(sid)
+            loaded = session is None and self.disk is not None
+            if loaded:
+                session = self._load_locked(sid)
+            if session is not None and pin:
+                session.pins += 1
             gone = self._gone.get(sid)
+        if session is None and gone is None and self.disk is not None:
+            gone = self.disk.gone_reason(sid)
         if session is None and gone is not None:
             raise AppRequestError(
                 f"{gone}; its pictures and settings are gone: start again (reload the page)",
@@ -301,11 +356,41 @@ class SessionStore:
                 status=404,
             )
         session.touch()
+        if loaded:  # it came back into memory: others make room
+            self.trim(keep=sid)
         return session
+
+    @contextmanager
+    def using(self, sid: str) -> Iterator[Session]:
+        """Session ``sid`` (as :meth:`get`), kept in memory while the block runs."""
+        session = self.get(sid, pin=True)
+        try:
+            yield session
+        finally:
+            with self._lock:
+                session.pins -= 1
+
+    def save(self, session: Session) -> None:
+        """Store ``session`` whole on disk (one transaction), then apply the disk's retention
+        (never to ``session``); nothing without a disk or for an evicted copy."""
+        if self.disk is None or session.detached:
+            return
+        with self._lock:
+            self._seq += 1
+            seq = self._seq
+        self.disk.save(session, seq=seq, lock=session.lock)
+        with self._lock:
+            keep = {session.id, *(s.id for s in self._sessions.values() if s.pins)}
+        for sid in self.disk.enforce(keep=keep):
+            with self._lock:
+                self._drop_locked(sid, None)
 
     def delete(self, sid: str) -> bool:
         with self._lock:
-            return self._drop_locked(sid, None)
+            found = self._drop_locked(sid, None)
+        if self.disk is not None:
+            found = self.disk.delete(sid) or found
+        return found
 
     def nbytes(self) -> int:
         """Memory all live sessions hold together."""
@@ -313,16 +398,22 @@ class SessionStore:
             sessions = list(self._sessions.values())
         return sum(s.nbytes() for s in sessions)
 
+    def in_memory(self) -> list[str]:
+        """Ids of the sessions held in memory now."""
+        with self._lock:
+            return list(self._sessions)
+
     def trim(self, *, keep: str) -> list[str]:
-        """Evict least recently used sessions (never ``keep``) until all fit in ``max_bytes``."""
+        """Evict least recently used sessions (never ``keep``, nor one a request is working on)
+        from memory until all fit in ``max_bytes``; sessions with work running go last."""
         evicted = []
         with self._lock:
             sizes = {sid: s.nbytes() for sid, s in self._sessions.items()}
             total = sum(sizes.values())
-            for s in sorted(self._sessions.values(), key=lambda s: s.last_seen):
+            for s in sorted(self._sessions.values(), key=_eviction_order):
                 if total <= self.max_bytes:
                     break
-                if s.id == keep:
+                if s.id == keep or s.pins:
                     continue
                 total -= sizes[s.id]
                 self._drop_locked(
@@ -334,17 +425,73 @@ class SessionStore:
                 evicted.append(s.id)
         return evicted
 
+    def close(self) -> None:
+        """The server is stopping: record when each session in memory was last used, and close
+        the disk (releasing its folder for the next server). Call it before cancelling the jobs:
+        a job the stop cuts short then comes back *interrupted*, not *cancelled*."""
+        if self.disk is None:
+            return
+        with self._lock:
+            sessions = list(self._sessions.values())
+            for s in sessions:  # work cut short by the stop is stored as it was: interrupted
+                s.detached = True
+        for s in sessions:
+            self.disk.touch(s.id, s.last_seen)
+        self.disk.close()
+
     def __len__(self) -> int:
         with self._lock:
             return len(self._sessions)
 
+    def _adopt_locked(self, session: Session) -> Session:
+        if self.disk is not None:
+            session.saver = self.save
+        self._sessions[session.id] = session
+        return session
+
+    def _load_locked(self, sid: str) -> Session | None:
+        loaded = self.disk.load(sid)
+        if loaded is None:
+            return None
+        session = loaded.state
+        if session is None:  # its design could not be read back: its pictures and settings can
+            session = Session(
+                id=sid, settings=DesignSettings.model_validate(loaded.core["settings"])
+            )
+            for slot, im in loaded.core["images"].items():
+                session.images[slot] = UploadedImage(
+                    im["filename"],
+                    int(im["sent_bytes"]),
+                    loaded.arrays[slot],
+                    (*im["notes"], f"restored without its design: {loaded.problem}"),
+                )
+        self._make_room_locked(keep=sid)
+        return self._adopt_locked(session)
+
+    def _make_room_locked(self, keep: str | None) -> None:
+        while len(self._sessions) >= self.max_sessions:
+            candidates = [s for s in self._sessions.values() if s.id != keep and not s.pins]
+            if not candidates:
+                return
+            oldest = min(candidates, key=_eviction_order)
+            self._drop_locked(
+                oldest.id,
+                f"this session was closed because more than {self.max_sessions} sessions "
+                "were open (the least recently used is closed first)",
+            )
+
     def _drop_locked(self, sid: str, reason: str | None) -> bool:
+        """Take session ``sid`` out of memory (kept on disk when there is one; else gone, its tab
+        told ``reason``)."""
         session = self._sessions.pop(sid, None)
         if session is None:
             return False
+        session.detached = True
         for job in session.jobs.values():
             job.cancel()
-        if reason is not None:
+        if self.disk is not None:
+            self.disk.touch(sid, session.last_seen)
+        elif reason is not None:
             self._gone[sid] = reason
             while len(self._gone) > self.GONE_KEPT:
                 self._gone.popitem(last=False)
@@ -353,4 +500,10 @@ class SessionStore:
     def _expire_locked(self) -> None:
         now = time.time()
         for sid in [s.id for s in self._sessions.values() if now - s.last_seen > self.ttl]:
-            self._drop_locked(sid, "this session expired after a long time unused")
+            if not self._sessions[sid].pins:
+                self._drop_locked(sid, "this session expired after a long time unused")
+
+
+def _eviction_order(s: Session) -> tuple[bool, float]:
+    """Sessions with work running leave memory last; then the least recently used first."""
+    return (any(j.live for j in s.jobs.values()), s.last_seen)

@@ -22,6 +22,13 @@ Neither the SWG converter nor the PyPI simulator reports these (paper section 7,
 ``loops-left`` (error)
     Loops still on needles when the program ends; end with a bind-off, or knit waste and ``drop``
     deliberately.
+``dropped-stitch`` (error)
+    A ``drop`` (or a knit without yarn) released live loops that are still part of the fabric:
+    the wale ladders down from there. Not reported: the release of waste yarn (loops made
+    before a draw thread, the separating course a yarn knits through every loop on the needles
+    before it goes out), the final release (no loop is made after the drop), and the end of a
+    tail (a loop knit at least :data:`TAIL_KNITS` times in a row on its needle by its own yarn,
+    as a bind-off chain ends).
 ``carrier-left-in`` / ``hook-left`` (error)
     A carrier never taken out (``outhook``/``out``), or the inserting hook still holding a yarn.
 """
@@ -29,10 +36,10 @@ Neither the SWG converter nor the PyPI simulator reports these (paper section 7,
 from __future__ import annotations
 
 from illuknit.check.report import Finding
-from illuknit.check.sim_state import MAX_EVENTS_PER_CODE
+from illuknit.check.sim_state import MAX_EVENTS_PER_CODE, Drop
 from illuknit.check.simulate import Simulation
 
-__all__ = ["FABRIC_RULES", "fabric_findings"]
+__all__ = ["FABRIC_RULES", "TAIL_KNITS", "dropped_stitches", "fabric_findings"]
 
 #: code -> (severity, what it means)
 FABRIC_RULES: dict[str, tuple[str, str]] = {
@@ -41,9 +48,31 @@ FABRIC_RULES: dict[str, tuple[str, str]] = {
     "pieces": ("error", "the fabric falls apart into separate pieces"),
     "long-float": ("warning", "float longer than the float limit"),
     "loops-left": ("error", "loops left on needles at the end"),
+    "dropped-stitch": ("error", "a live loop of the fabric is dropped (the wale ladders down)"),
     "carrier-left-in": ("error", "carrier never taken out"),
     "hook-left": ("error", "inserting hook still holds a yarn at the end"),
 }
+
+
+#: Knits in a row on one needle by one yarn that make a tail (its last loop may be dropped).
+TAIL_KNITS = 2
+
+
+def dropped_stitches(sim: Simulation) -> list[Drop]:
+    """The drops of ``sim`` that release loops still part of the fabric (see ``dropped-stitch``
+    in the module docstring)."""
+    made = len(sim.loop_lines)
+    first_draw = max(sim.draw_threads, default=-1)
+    out = []
+    for d in sim.drops:
+        if d.made == made:
+            continue  # the final release: nothing is knit after it
+        if all(lid < first_draw for lid in d.loops):
+            continue  # waste yarn below a draw thread
+        if all(sim.loop_tails[lid] >= TAIL_KNITS for lid in d.loops):
+            continue  # the end of a tail
+        out.append(d)
+    return out
 
 
 def _finding(line: int, code: str, message: str) -> Finding:
@@ -104,21 +133,18 @@ def fabric_findings(sim: Simulation, *, float_limit: int) -> tuple[list[Finding]
                 f"carrier {fl.carrier} floats across {fl.length} needles "
                 f"(slot {fl.from_slot} to {fl.to_slot}); limit {float_limit}",
             )
-    if sim.pieces > 1:
-        first: dict[int, int] = {}
-        carriers: dict[int, set[str]] = {}
-        for lid, comp in enumerate(sim.components):
-            first.setdefault(comp, lid)
-            carriers.setdefault(comp, set()).add(sim.loop_carriers[lid])
-        for comp in range(1, sim.pieces):
-            lid = first[comp]
-            add(
-                sim.loop_lines[lid],
-                "pieces",
-                f"piece {comp + 1} of {sim.pieces} starts here (carrier(s) "
-                f"{' '.join(sorted(carriers[comp]))}) and never shares a loop or yarn with piece 1: "
-                "the fabric falls apart; catch the yarns (e.g. a plated stitch at the colour change)",
-            )
+    for line, message in _separate_pieces(sim):
+        add(line, "pieces", message)
+    for d in dropped_stitches(sim):
+        lid = d.loops[0]
+        add(
+            d.line,
+            "dropped-stitch",
+            f"drop of {d.needle} releases {len(d.loops)} live loop(s) of the fabric (carrier "
+            f"{sim.loop_carriers[lid]}, made at line {sim.loop_lines[lid]}) while knitting goes "
+            "on: the wale ladders down; knit or bind off that loop instead, or drop only after "
+            "the last stitch",
+        )
     if sim.loops_left:
         total = sum(n for _, n in sim.loops_left)
         shown = ", ".join(n for n, _ in sim.loops_left[:6]) + (
@@ -145,3 +171,23 @@ def fabric_findings(sim: Simulation, *, float_limit: int) -> tuple[list[Finding]
         )
     suppressed = {k: n - MAX_EVENTS_PER_CODE for k, n in counts.items() if n > MAX_EVENTS_PER_CODE}
     return out, suppressed
+
+
+def _separate_pieces(sim: Simulation) -> list[tuple[int, str]]:
+    """(line, message) where each piece after the first starts, when the fabric falls apart."""
+    if sim.pieces <= 1:
+        return []
+    first: dict[int, int] = {}
+    carriers: dict[int, set[str]] = {}
+    for lid, comp in enumerate(sim.components):
+        first.setdefault(comp, lid)
+        carriers.setdefault(comp, set()).add(sim.loop_carriers[lid])
+    return [
+        (
+            sim.loop_lines[first[comp]],
+            f"piece {comp + 1} of {sim.pieces} starts here (carrier(s) "
+            f"{' '.join(sorted(carriers[comp]))}) and never shares a loop or yarn with piece 1: "
+            "the fabric falls apart; catch the yarns (e.g. a plated stitch at the colour change)",
+        )
+        for comp in range(1, sim.pieces)
+    ]

@@ -53,7 +53,7 @@ RULES: dict[str, tuple[str, str]] = {
     "stitch-on-slider": ("error", "knit/tuck/split on a slider needle (sliders cannot form loops)"),
     "too-many-loops": ("error", "a needle holds more loops than the machine allows"),
     "too-wide": ("error", "needles outside the bed width"),
-    "knit-empty": ("warning", "knit on a needle that holds no loop"),
+    "knit-empty": ("warning", "knit on a needle that held loops and lost them (dropped, moved)"),
 }
 
 

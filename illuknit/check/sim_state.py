@@ -4,23 +4,25 @@
 runs a program (the module docstring there says what each part means): the loops on every
 needle, the racking, each carrier (:class:`SimCarrier`), the inserting hook, and a union-find
 over the loop graph. It records machine-rule :class:`Event` s and raw fabric observations
-(:class:`Float`, :class:`FaceFloat`, :class:`WrongSide`); :class:`CarrierEnd` reports a carrier
+(:class:`~illuknit.check.floats.Float` via its
+:class:`~illuknit.check.floats.FloatTracker`, :class:`FaceFloat`, :class:`WrongSide`); :class:`CarrierEnd` reports a carrier
 left in at the end.
 """
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 
+from illuknit.check.floats import FloatTracker, needle_slot
 from illuknit.knitout.parse import Needle
 
 __all__ = [
     "MAX_EVENTS_PER_CODE",
     "CarrierEnd",
+    "Drop",
     "Event",
     "FaceFloat",
-    "Float",
+    "KnitRun",
     "MachineState",
     "SimCarrier",
     "WrongSide",
@@ -38,21 +40,6 @@ class Event:
     line: int
     code: str
     message: str
-
-
-@dataclass(frozen=True)
-class Float:
-    """Yarn of ``carrier`` crossing ``length`` needle slots between two consecutive loops."""
-
-    line: int
-    carrier: str
-    from_slot: int
-    to_slot: int
-
-    @property
-    def length(self) -> int:
-        """Number of needle slots strictly between the two loops."""
-        return abs(self.to_slot - self.from_slot) - 1
 
 
 @dataclass(frozen=True)
@@ -77,6 +64,31 @@ class WrongSide:
 
 
 @dataclass(frozen=True)
+class Drop:
+    """A ``drop`` (or a knit without yarn) that released live ``loops`` from ``needle``.
+
+    ``made`` is how many loops the program had made by then (the loops made later have ids
+    ``>= made``)."""
+
+    line: int
+    needle: str
+    loops: tuple[int, ...]
+    made: int
+
+
+@dataclass
+class KnitRun:
+    """A carrier's latest run of consecutive knit operations in one direction, each pulled
+    through loops of yarns already taken out: a draw thread, if the carrier goes out right
+    after it and it then holds every loop on the needles."""
+
+    first: int  # loop ids first .. last
+    last: int
+    direction: str
+    op_index: int  # index of its last operation
+
+
+@dataclass(frozen=True)
 class CarrierEnd:
     """A carrier still in action when the program ends."""
 
@@ -96,7 +108,6 @@ class SimCarrier:
     x: float | None = None  # location of last op
     dir: str | None = None
     last_loop: int | None = None
-    last_slot: int | None = None
     in_line: int = 0
     last_line: int = 0
 
@@ -124,13 +135,19 @@ class MachineState:
     loop_carriers: list[str] = field(default_factory=list)
     events: list[Event] = field(default_factory=list)
     counts: dict[str, int] = field(default_factory=dict)
-    floats: list[Float] = field(default_factory=list)
+    floats: FloatTracker = field(default_factory=FloatTracker)
     face_floats: list[FaceFloat] = field(default_factory=list)
     wrong_sides: list[WrongSide] = field(default_factory=list)
     reported_unknown: set[str] = field(default_factory=set)
     min_index: int | None = None
     max_index: int | None = None
     width_reported: bool = False
+    op_index: int = 0  # index of the operation being run
+    held_ever: set[tuple[str, int]] = field(default_factory=set)  # needles that held a loop
+    loop_tails: list[int] = field(default_factory=list)  # knits in a row on one needle, per loop
+    drops: list[Drop] = field(default_factory=list)
+    runs: dict[str, KnitRun] = field(default_factory=dict)
+    draw_threads: list[int] = field(default_factory=list)  # first loop id of each
 
     # -- bookkeeping ------------------------------------------------------------------------
     def event(self, line: int, code: str, message: str) -> None:
@@ -169,7 +186,7 @@ class MachineState:
         return float(n.index) if n.is_front else n.index + self.rack
 
     def slot(self, n: Needle) -> int:
-        return n.index if n.is_front else n.index + math.floor(self.rack)
+        return needle_slot(n, self.rack)
 
     def held(self, n: Needle) -> list[int]:
         return self.beds[n.bed].get(n.index, [])
@@ -177,9 +194,16 @@ class MachineState:
     def take(self, n: Needle) -> list[int]:
         return self.beds[n.bed].pop(n.index, [])
 
+    def drop(self, n: Needle, line: int) -> None:
+        """Release the loops of ``n`` (a ``drop``, or a knit without yarn)."""
+        loops = self.take(n)
+        if loops:
+            self.drops.append(Drop(line, str(n), tuple(loops), len(self.parent)))
+
     def put(self, n: Needle, loops: list[int], line: int) -> None:
         if not loops:
             return
+        self.held_ever.add((n.bed, n.index))
         bed = self.beds[n.bed]
         cur = bed.get(n.index)
         if cur is None:

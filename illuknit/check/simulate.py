@@ -28,12 +28,14 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from illuknit.check.floats import Float
 from illuknit.check.sim_state import (
     MAX_EVENTS_PER_CODE,
     CarrierEnd,
+    Drop,
     Event,
     FaceFloat,
-    Float,
+    KnitRun,
     MachineState,
     WrongSide,
 )
@@ -70,6 +72,15 @@ class Simulation:
         Carrier set still on the inserting hook at the end (empty when released).
     last_line : int
         Line of the last operation (1 when there is none).
+    drops : tuple of Drop
+        Every release of live loops (``drop``, or knit without yarn).
+    draw_threads : tuple of int
+        First loop id of each draw thread: a carrier's last run of knits in one direction,
+        each pulled through loops of yarns already taken out, after which (when it goes out)
+        it holds every loop on the needles. Loops made before it are waste below it.
+    loop_tails : tuple of int
+        Per loop: how many knits in a row its yarn made on that needle before it (a tail
+        knit on the last needle of a bind-off counts up).
     """
 
     events: tuple[Event, ...]
@@ -84,6 +95,9 @@ class Simulation:
     carriers_left: tuple[CarrierEnd, ...]
     hook_left: tuple[str, ...]
     last_line: int
+    drops: tuple[Drop, ...] = ()
+    draw_threads: tuple[int, ...] = ()
+    loop_tails: tuple[int, ...] = ()
 
     @property
     def pieces(self) -> int:
@@ -135,7 +149,7 @@ def _stitch(state: MachineState, op: Operation) -> None:
                 line, "miss-without-carriers", f"miss {direction} {needle} names no carrier"
             )
         elif op.op == "knit":  # knit without yarn = drop
-            state.take(needle)
+            state.drop(needle, line)
         elif op.op == "split" and _check_pair(state, op):  # split without yarn = xfer
             state.put(op.needles[1], state.take(needle), line)
         return
@@ -167,7 +181,6 @@ def _stitch(state: MachineState, op: Operation) -> None:
             if c.last_loop is not None:
                 state.union(lid, c.last_loop)
             c.last_loop = lid
-            c.last_slot = slot
 
 
 def _use_carriers(state: MachineState, op: Operation, slot: int, *, makes_loops: bool) -> None:
@@ -229,9 +242,9 @@ def _observe_fabric(state: MachineState, op: Operation, x: float, slot: int) -> 
             )
             if not behind:
                 state.wrong_sides.append(WrongSide(line, name, str(needle), direction, c.x, c.dir))
-        if c.last_slot is not None and abs(slot - c.last_slot) > 1:
-            lo, hi = sorted((c.last_slot, slot))
-            state.floats.append(Float(line, name, c.last_slot, slot))
+        fl = state.floats.loop(line, name, slot)
+        if fl is not None:
+            lo, hi = sorted((fl.from_slot, fl.to_slot))
             _face_float(state, line, name, lo, hi)
 
 
@@ -245,9 +258,14 @@ def _make_loops(state: MachineState, op: Operation) -> list[int]:
     parents: list[int] = []
     if op.op == "knit":
         parents = state.take(needle)
-        if not parents:
+        # A needle that never held a loop starts its wale here: casting on (e.g. a waste
+        # yarn's knits on alternate beds). One that held loops and lost them is a fault.
+        if not parents and (needle.bed, needle.index) in state.held_ever:
             state.event(
-                line, "knit-empty", f"knit on empty needle {needle} (no loop to pull through)"
+                line,
+                "knit-empty",
+                f"knit on empty needle {needle}: it held loops before, and they were dropped "
+                "or moved away (no loop to pull through)",
             )
     elif op.op == "split":
         parents = state.take(needle)
@@ -260,7 +278,45 @@ def _make_loops(state: MachineState, op: Operation) -> list[int]:
         for p in parents:
             state.union(child, p)
     state.put(needle, new, line)
+    _note_structure(state, op, new, parents)
     return new
+
+
+def _note_structure(state: MachineState, op: Operation, new: list[int], parents: list[int]) -> None:
+    """Record what the release checks need of the new loops: how many knits in a row their
+    yarn made on this needle (a tail), and each carrier's run of knits over yarns already taken
+    out (a draw thread candidate)."""
+    over_done = bool(parents) and all(
+        not state.carriers[state.loop_carriers[p]].active for p in parents
+    )
+    for lid, name in zip(new, op.carriers, strict=True):
+        prev = state.carriers[name].last_loop
+        on_own = op.op == "knit" and prev is not None and prev in parents
+        state.loop_tails.append(state.loop_tails[prev] + 1 if on_own and prev is not None else 0)
+        run = state.runs.get(name)
+        if op.op != "knit" or len(op.carriers) > 1 or not over_done:
+            state.runs.pop(name, None)
+        elif (
+            run is not None
+            and run.direction == op.direction
+            and (run.op_index == state.op_index - 1)
+        ):
+            run.last, run.op_index = lid, state.op_index
+        else:
+            assert op.direction is not None
+            state.runs[name] = KnitRun(lid, lid, op.direction, state.op_index)
+
+
+def _note_draw_thread(state: MachineState, name: str) -> None:
+    """``name`` goes out: its last run of knits is a draw thread if it now holds every loop on
+    the needles (a separating course: pulled out later, it frees the piece above from the
+    waste below)."""
+    run = state.runs.pop(name, None)
+    if run is None or run.last == run.first:
+        return
+    held = (lid for bed in state.beds.values() for loops in bed.values() for lid in loops)
+    if all(run.first <= lid <= run.last for lid in held):
+        state.draw_threads.append(run.first)
 
 
 def _face_float(state: MachineState, line: int, carrier: str, lo: int, hi: int) -> None:
@@ -305,9 +361,11 @@ def _carrier_op(state: MachineState, op: Operation) -> None:
                 )
             c.active = True
             c.pending = cs
+            state.runs.pop(name, None)
             c.used = False
             c.x = c.dir = None
-            c.last_loop = c.last_slot = None
+            c.last_loop = None
+            state.floats.cut(name)
             c.in_line = line
             c.last_line = line
         if op.op == "inhook":
@@ -353,9 +411,11 @@ def _carrier_op(state: MachineState, op: Operation) -> None:
                 state.event(line, "out-inactive", f"{op.op} {name}: carrier {name} is not in")
             elif not c.used:
                 state.event(line, "out-unused", f"{op.op} {name}: carrier {name} never stitched")
+            _note_draw_thread(state, name)
             c.active = False
             c.pending = None
-            c.last_loop = c.last_slot = None  # the yarn is cut (outhook) or parked (out)
+            c.last_loop = None  # the yarn is cut (outhook) or parked (out)
+            state.floats.cut(name)
             c.x = c.dir = None
         if state.hook_set is not None and set(state.hook_set) <= set(cs):
             state.hook_set = None
@@ -415,7 +475,8 @@ def simulate_program(
         bed_width=bed_width,
         keep_position=pos is not None and pos[0] == "Keep",
     )
-    for op in program.operations:
+    for i, op in enumerate(program.operations):
+        state.op_index = i
         name = op.op
         if name in STITCH_OPS:
             _stitch(state, op)
@@ -427,7 +488,7 @@ def simulate_program(
                 state.put(dst, state.take(src), op.line)
         elif name == "drop":
             state.note_needle(op.needle, op.line)
-            state.take(op.needle)
+            state.drop(op.needle, op.line)
         elif name == "amiss":
             state.note_needle(op.needle, op.line)
         elif name == "rack":
@@ -461,7 +522,7 @@ def _result(state: MachineState, program: KnitoutProgram) -> Simulation:
     return Simulation(
         events=tuple(state.events),
         suppressed=suppressed,
-        floats=tuple(state.floats),
+        floats=tuple(state.floats.floats),
         face_floats=tuple(state.face_floats),
         wrong_sides=tuple(state.wrong_sides),
         loop_lines=tuple(state.loop_lines),
@@ -471,4 +532,7 @@ def _result(state: MachineState, program: KnitoutProgram) -> Simulation:
         carriers_left=carriers_left,
         hook_left=tuple(state.hook_set or ()),
         last_line=last_line,
+        drops=tuple(state.drops),
+        draw_threads=tuple(state.draw_threads),
+        loop_tails=tuple(state.loop_tails),
     )

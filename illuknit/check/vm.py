@@ -5,8 +5,9 @@
 narrower than knitout, so :func:`rewrite_for_vm` feeds them a lightly rewritten copy and keeps a
 map from each rewritten line back to the original one:
 
-* ``;;Width``, ``;;X-...`` and ``;;Yarn-N`` headers not of the form ``int-int word`` become
-  comments; ``stitch``, ``amiss`` and ``x-*`` operations become comments;
+* ``;;Width``, ``;;X-...``, ``;;Yarn-N`` headers not of the form ``int-int word`` and a
+  ``;;Machine`` other than ``SWG091N2`` (the one machine it models; a Kniterate program is run on
+  it as it is) become comments; ``stitch``, ``amiss`` and ``x-*`` operations become comments;
 * multi-carrier ``in``/``inhook``/``releasehook``/``out``/``outhook`` lines are split into one
   line per carrier (the interpreter then sees a busy hook on the second part: findings on those
   extra lines are rewrite artefacts and dropped);
@@ -98,6 +99,7 @@ def rewrite_for_vm(text: str, program: KnitoutProgram) -> Rewrite:
                 name, value = m.group(1), m.group(2).strip()
                 if (
                     name == "Width"
+                    or (name == "Machine" and value != "SWG091N2")
                     or name.startswith("X-")
                     or (name.startswith("Yarn-") and not _YARN_OK.match(value))
                 ):

@@ -16,13 +16,15 @@ previous run exceeds the limit. That greedy grouping is optimal: every group mus
 gaps, and interleaving groups only lengthens floats. When a course would need more carriers than
 the machine has, the limit is strict only on request (``strict=True`` raises); by default the
 shortest gaps of the yarns short of carriers are bridged by longer floats until the carriers
-suffice, and the checker warns about those floats.
+suffice, and those floats are tucked later (:mod:`illuknit.knit.float_tucks`).
 
 Carriers belong to one yarn for the whole piece (a carrier is threaded once). When a yarn needs
-more groups in a course than it has carriers, a free carrier of the machine is threaded with it;
-groups are matched to the yarn's carriers nearest first, so an intarsia carrier keeps knitting the
-region where it is anchored. If the machine runs out of carriers the course is named in a
-:class:`~illuknit.core.errors.CarrierShortageError`.
+more groups in a course than it has carriers, a free carrier of the machine is threaded with it
+-- but one free carrier is kept for every yarn that first appears in a later course, so a yarn's
+second carrier never leaves a later yarn without one; groups are matched to the yarn's carriers
+nearest first, so an intarsia carrier keeps knitting the region where it is anchored. A pattern
+with more yarns than carriers, or (with ``strict=True``) a course short of carriers, is named in
+a :class:`~illuknit.core.errors.CarrierShortageError`.
 """
 
 from __future__ import annotations
@@ -254,15 +256,21 @@ def plan_color_runs(
     of_yarn: dict[int, list[str]] = {}
     anchor: dict[str, float] = {}
     plans: list[CoursePlan] = []
+    first_course = {int(v): int(np.argmax((y == v).any(axis=1))) for v in np.unique(y)}
+    _check_yarn_count(y, first_course, pool, int(float_limit), course_names)
     for c in range(y.shape[0]):
         by_yarn: dict[int, list[Run]] = {}
         for lo, hi, v in color_runs(y[c]):
             by_yarn.setdefault(v, []).append((lo, hi))
         groups = {v: _group_runs(rs, int(float_limit)) for v, rs in by_yarn.items()}
         owned = {v: len(cs) for v, cs in of_yarn.items()}
+        # A carrier stays with its yarn for the whole piece: keep one free for every yarn that
+        # first appears in a later course, so that no yarn's extra (intarsia) carrier starves it.
+        later = sum(1 for v, fc in first_course.items() if fc > c and v not in of_yarn)
+        spare = max(0, len(free) - later)
         if not strict:
-            groups = _fit_carriers(groups, owned, len(free))
-        _check_carriers(c, groups, owned, free, pool, float_limit, course_names)
+            groups = _fit_carriers(groups, owned, spare)
+        _check_carriers(c, groups, owned, spare, pool, float_limit, course_names)
         segments = _assign_carriers(groups, of_yarn, anchor, free)
         segments.sort(key=lambda s: s.lo)
         plans.append(CoursePlan(c, tuple(segments)))
@@ -277,38 +285,75 @@ def _check_carriers(
     c: int,
     groups: dict[int, list[tuple[Run, ...]]],
     owned: dict[int, int],
-    free: list[str],
+    spare: int,
     pool: list[str],
     float_limit: int,
     course_names: Sequence[str] | None,
 ) -> None:
     """Raise :class:`CarrierShortageError` when course ``c``'s segments need more carriers than
-    are free for their yarns, or more than the machine has."""
+    its yarns own plus the ``spare`` ones, or more than the machine has.
+
+    The messages name what a user can change on the command line.
+    """
+    name = course_names[c] if course_names is not None else f"course {c}"
     need = sum(len(g) for g in groups.values())
-    if need <= len(pool) and _deficit(groups, owned, len(free)) > 0:
-        name = course_names[c] if course_names is not None else f"course {c}"
-        short = sorted(v for v, g in groups.items() if len(g) > owned.get(v, 0))
-        threaded = len(pool) - len(free)
-        raise CarrierShortageError(
-            f"{name} needs another carrier for yarn {short[0]} but all {threaded} carriers "
-            "are already threaded with other yarns (a carrier keeps its yarn for the whole "
-            f"piece); use fewer yarns or a wider float limit (MachineSpec.float_limit, now "
-            f"{float_limit})",
-            course=c,
-            needed=threaded + 1,
-            available=len(pool),
-        )
     if need > len(pool):
-        name = course_names[c] if course_names is not None else f"course {c}"
         detail = ", ".join(f"yarn {v}: {len(g)}" for v, g in sorted(groups.items()))
         raise CarrierShortageError(
             f"{name} needs {need} carriers at once for its colour runs ({detail}) but the "
-            f"machine has {len(pool)}; use fewer yarns, fewer separate colour regions per "
-            f"row, or a wider float limit (MachineSpec.float_limit, now {float_limit})",
+            f"machine has {len(pool)}; use fewer yarns (--colors / --yarns), fewer separate "
+            "colour regions per row (a smoothed picture), or a wider float limit "
+            f"(illuknit knit --float-limit N, now {float_limit})",
             course=c,
             needed=need,
             available=len(pool),
         )
+    if _deficit(groups, owned, spare) > 0:
+        short = sorted(v for v, g in groups.items() if len(g) > owned.get(v, 0))
+        raise CarrierShortageError(
+            f"{name} needs another carrier for yarn {short[0]} to keep its floats within "
+            f"{float_limit} needles, but every one of the machine's {len(pool)} carriers is "
+            "threaded with another yarn or kept for a yarn that comes later (a carrier keeps "
+            "its yarn for the whole piece); let the long floats be tucked (leave out "
+            "--strict-floats), use fewer yarns (--colors / --yarns), or a wider float limit "
+            f"(illuknit knit --float-limit N, now {float_limit})",
+            course=c,
+            needed=len(pool) + 1,
+            available=len(pool),
+        )
+
+
+def _check_yarn_count(
+    y: np.ndarray,
+    first_course: dict[int, int],
+    pool: list[str],
+    float_limit: int,
+    course_names: Sequence[str] | None,
+) -> None:
+    """Raise :class:`CarrierShortageError` when the pattern has more yarns than carriers (a
+    carrier is threaded with one yarn for the whole piece): at the first course that has more
+    yarns than carriers at once, else where the first yarn too many comes in."""
+    if len(first_course) <= len(pool):
+        return
+    order = sorted(first_course, key=lambda v: (first_course[v], v))
+    arrival = first_course[order[len(pool)]]
+    for c in range(arrival + 1):
+        if len(np.unique(y[c])) > len(pool):
+            runs: dict[int, list[Run]] = {}
+            for lo, hi, v in color_runs(y[c]):
+                runs.setdefault(v, []).append((lo, hi))
+            groups = {v: [tuple(rs)] for v, rs in runs.items()}
+            _check_carriers(c, groups, {}, 0, pool, float_limit, course_names)
+    name = course_names[arrival] if course_names is not None else f"course {arrival}"
+    raise CarrierShortageError(
+        f"the pattern uses {len(first_course)} yarns but the machine has {len(pool)} carriers "
+        f"for them (a carrier keeps its yarn for the whole piece); {name} brings in yarn "
+        f"{order[len(pool)]}, one more than there are carriers: use at most {len(pool)} yarns "
+        "(--colors / --yarns)",
+        course=arrival,
+        needed=len(first_course),
+        available=len(pool),
+    )
 
 
 def _assign_carriers(

@@ -26,7 +26,7 @@ this module walks the steps, applies the plan and measures what stays long.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING
 
@@ -54,25 +54,36 @@ __all__ = ["LongFloat", "measure_long_floats", "tuck_long_floats"]
 class LongFloat:
     """A float still too long: ``carrier`` crosses ``length`` needle slots before ``step``.
 
-    ``step`` indexes the steps the float was measured on (the tucked program's)."""
+    ``step`` indexes the steps the float was measured on (the tucked program's); ``place``,
+    when given, names where it is instead of ``course`` (e.g. ``"the cast-on"``)."""
 
     step: int
     carrier: str
     from_needle: int
     to_needle: int
     course: int | None
+    place: str | None = None
 
     @property
     def length(self) -> int:
         return abs(self.to_needle - self.from_needle) - 1
 
     def where(self, stitches: StitchPattern) -> str:
-        """The course the float is at, named as ``stitches`` names it, or the bind-off."""
-        return "the bind-off" if self.course is None else stitches.course_name(self.course)
+        """The course the float is at, named as ``stitches`` names it, or ``place``, or the
+        bind-off."""
+        if self.course is not None:
+            return stitches.course_name(self.course)
+        return self.place or "the bind-off"
 
 
 def tuck_long_floats(
-    steps: Sequence[Step], *, limit: int, left: int, right: int, alone: bool = False
+    steps: Sequence[Step],
+    *,
+    limit: int,
+    left: int,
+    right: int,
+    alone: bool = False,
+    entries: Mapping[str, int] | None = None,
 ) -> tuple[list[Step], list[LongFloat]]:
     """Cut every float longer than ``limit`` with back-bed tucks (see the module docstring).
 
@@ -87,6 +98,11 @@ def tuck_long_floats(
     alone : bool
         Where a plated pass cannot tuck a float, let the floating yarn tuck alone in a pass of
         its own right before (a knit pass and a transfer pass more); False keeps those floats.
+    entries : mapping of str to int, optional
+        Carriers whose yarn already hangs from a loop when the steps start (a machine without
+        an inserting hook brings its yarns in before the piece): the needle of that loop. The
+        float from there to the carrier's first stitch is tucked like any other, in the
+        carrier's first pass (it starts beyond that needle, where the yarn came in).
 
     Returns
     -------
@@ -96,9 +112,13 @@ def tuck_long_floats(
         Floats still longer than ``limit``.
     """
     passes = list(steps)
-    plan = TuckPlan.for_steps(passes, limit=limit, left=left, right=right, alone=alone)
-    # carrier -> (needle of its last loop, index of the pass that made it, index of its last pass)
-    last: dict[str, tuple[int, int, int]] = {}
+    entries = dict(entries or {})
+    plan = TuckPlan.for_steps(
+        passes, limit=limit, left=left, right=right, alone=alone, entries=entries
+    )
+    # carrier -> (needle of its last loop, index of the pass that made it, index of its last
+    # pass); -1: before the steps (an entry)
+    last: dict[str, tuple[int, int, int]] = {c: (n, -1, -1) for c, n in entries.items()}
     for i, step in enumerate(passes):
         if (s := knit_pass(step, last)) is None:
             continue
@@ -117,17 +137,20 @@ def tuck_long_floats(
     out = _apply(passes, plan.adds, plan.solo, plan.clear)
     # One yarn's tucks may cut another's float too (a plated pass tucks every yarn): what stays
     # long is measured on the result, loop to loop, as the checker's simulator measures it.
-    return out, measure_long_floats(out, limit=limit)
+    return out, measure_long_floats(out, limit=limit, entries=entries)
 
 
-def measure_long_floats(steps: Sequence[Step], *, limit: int) -> list[LongFloat]:
+def measure_long_floats(
+    steps: Sequence[Step], *, limit: int, entries: Mapping[str, int] | None = None
+) -> list[LongFloat]:
     """Every float longer than ``limit`` in ``steps``: from a carrier's loop to its next one.
 
     Needle slots as the machine sees them (a back needle at racking ``r`` sits at slot
-    ``needle + floor(r)``); a carrier taken out (``out``/``outhook``) starts afresh.
+    ``needle + floor(r)``); a carrier taken out (``out``/``outhook``) starts afresh; a carrier
+    in ``entries`` starts from the loop its yarn hangs from there.
     """
     long: list[LongFloat] = []
-    last: dict[str, int] = {}
+    last: dict[str, int] = dict(entries or {})
     for i, step in enumerate(steps):
         if (s := knit_pass(step, last)) is None:
             continue

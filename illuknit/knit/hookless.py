@@ -11,7 +11,9 @@ does:
 1. **bring every yarn in** (waste yarn, draw thread, then the pattern's yarns in order of first
    use): each tucks every k-th front needle of the waste width rightward and back leftward
    (k = number of yarns, so no two share a needle); a yarn whose first pattern pass runs leftward tucks once
-   more rightward, ending on the right;
+   more rightward, ending on the right. Each pattern yarn then hangs from its last tuck at the
+   edge its first pass starts from (:class:`YarnEntry`); the scheduler tucks its float from
+   there to its first stitch like any other long float;
 2. **waste section**: ``waste_passes`` passes of the waste yarn knitting alternate needles on
    alternate beds, then 12 passes of a tube (front rightward, back leftward), at roller advance
    400, stitch number 6, speed 300; the waste yarn goes out and the back bed is dropped;
@@ -29,7 +31,8 @@ so a plan that needs more refuses with :class:`~illuknit.core.errors.CarrierShor
 
 from __future__ import annotations
 
-from dataclasses import replace
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, replace
 
 from illuknit.core.errors import SchedulingError
 from illuknit.core.machine import MachineSpec
@@ -37,7 +40,15 @@ from illuknit.knit.ir import ActionKind, OpKind
 from illuknit.knit.knitout import write_knitout
 from illuknit.knit.schedule import CarrierAction, Op, Pass, Schedule, Step
 
-__all__ = ["lower_hookless", "waste_section", "write_hookless_knitout"]
+__all__ = [
+    "YarnEntry",
+    "fabric_needles",
+    "first_directions",
+    "lower_hookless",
+    "waste_section",
+    "write_hookless_knitout",
+    "yarn_entry",
+]
 
 WASTE_ROLLER_ADVANCE = 400
 WASTE_STITCH_NUMBER = 6
@@ -69,30 +80,94 @@ def _unplate(p: Pass) -> list[Pass]:
     return [*under, replace(p, carriers=p.carriers[:1])]
 
 
-def _first_directions(schedule: Schedule) -> dict[str, str]:
-    """Each carrier's direction in its first pass, in order of first use."""
+def first_directions(steps: Sequence[Step]) -> dict[str, str]:
+    """Each carrier's direction in its first knit pass, in order of first use."""
     first: dict[str, str] = {}
-    for p in schedule.passes:
-        if p.kind == "knit" and p.direction is not None:
+    for p in steps:
+        if isinstance(p, Pass) and p.kind == "knit" and p.direction is not None:
             for c in p.carriers:
                 first.setdefault(c, p.direction)
     return first
 
 
+def fabric_needles(steps: Sequence[Step]) -> tuple[int, int]:
+    """The leftmost and rightmost needle the steps make or move loops on (parking misses beyond
+    the fabric's edges hold no loops)."""
+    needles = [o.needle for p in steps if isinstance(p, Pass) for o in p.ops if o.op != "miss"]
+    return min(needles), max(needles)
+
+
+@dataclass(frozen=True)
+class YarnEntry:
+    """Where each pattern yarn hangs when the piece starts, on a machine without an inserting
+    hook: from its last bring-in tuck in the waste section (see the module docstring).
+
+    Every yarn is brought in by tucks on every k-th front needle of the waste width (k = the
+    number of yarns, the waste yarn and the draw thread first), rightward and back; a yarn whose
+    first pass in the piece runs leftward tucks once more rightward. So its last loop before the
+    piece is its last tuck at the edge its first pass starts from, and its carrier is parked just
+    beyond that edge. The yarn then floats from that tuck to its first stitch in the piece: the
+    schedulers plan that float like any other (:func:`~illuknit.knit.float_tucks.
+    tuck_long_floats`), given :meth:`needles`.
+    """
+
+    machine: MachineSpec
+
+    def waste_width(self, lo: int, hi: int) -> tuple[int, int]:
+        """The waste section's needles for a fabric on needles ``lo`` .. ``hi``."""
+        w_lo, w_hi = lo, max(hi, lo + MIN_WASTE_WIDTH - 1)
+        if w_hi >= self.machine.needles:
+            w_lo, w_hi = max(0, hi - MIN_WASTE_WIDTH + 1), hi
+        return w_lo, w_hi
+
+    def yarns(self, first: Mapping[str, str]) -> list[str]:
+        """Carriers in the order they are brought in: waste yarn, draw thread, then the pattern's
+        yarns in order of first use."""
+        waste, draw = self.machine.waste_carrier, self.machine.draw_carrier
+        if waste is None or draw is None:
+            raise SchedulingError(
+                f"the {self.machine.name} preset names no waste/draw-thread carriers"
+            )
+        return [waste, draw, *(c for c in first if c not in (waste, draw))]
+
+    def needles(self, first: Mapping[str, str], lo: int, hi: int) -> dict[str, int]:
+        """Needle of each pattern yarn's last bring-in tuck.
+
+        Parameters
+        ----------
+        first : mapping of str to str
+            Each pattern carrier's direction in its first pass in the piece, in order of first
+            use (:func:`first_directions`).
+        lo, hi : int
+            The fabric's needles (:func:`fabric_needles`).
+        """
+        w_lo, w_hi = self.waste_width(lo, hi)
+        yarns = self.yarns(first)
+        k = len(yarns)
+        out: dict[str, int] = {}
+        for i, c in enumerate(yarns[2:], start=2):
+            if first[c] == "-":  # last tucks rightward: the rightmost needle of its residue
+                out[c] = w_hi - (w_hi - i) % k
+            else:
+                out[c] = w_lo + (i - w_lo) % k
+        return out
+
+
+def yarn_entry(machine: MachineSpec) -> YarnEntry:
+    """The :class:`YarnEntry` of ``machine`` (which must have no inserting hook)."""
+    if machine.inserting_hook:
+        raise SchedulingError(f"the {machine.name} brings its yarns in on the inserting hook")
+    return YarnEntry(machine)
+
+
 def waste_section(schedule: Schedule, *, machine: MachineSpec, waste_passes: int = 70) -> list[str]:
     """Knitout lines of the yarn-in tucks, waste section and draw thread before the piece."""
+    entry = yarn_entry(machine)
     waste, draw = machine.waste_carrier, machine.draw_carrier
-    if waste is None or draw is None:
-        raise SchedulingError(f"the {machine.name} preset names no waste/draw-thread carriers")
-    # the fabric's needles (parking misses beyond its edges hold no loops)
-    needles = [o.needle for p in schedule.passes for o in p.ops if o.op != "miss"]
-    lo, hi = min(needles), max(needles)
-    w_lo, w_hi = lo, max(hi, lo + MIN_WASTE_WIDTH - 1)
-    if w_hi >= machine.needles:
-        w_lo, w_hi = max(0, hi - MIN_WASTE_WIDTH + 1), hi
-    first = _first_directions(schedule)
-    pattern = [c for c in first if c not in (waste, draw)]
-    yarns = [waste, draw, *pattern]
+    lo, hi = fabric_needles(schedule.steps)
+    w_lo, w_hi = entry.waste_width(lo, hi)
+    first = first_directions(schedule.steps)
+    yarns = entry.yarns(first)
     lines = [
         f"x-roller-advance {WASTE_ROLLER_ADVANCE}",
         f"x-stitch-number {WASTE_STITCH_NUMBER}",

@@ -71,6 +71,7 @@ from illuknit.knit.color_runs import ColorPlan, plan_color_runs
 from illuknit.knit.course_order import course_items, order_and_plan
 from illuknit.knit.float_avoidance import float_crossings, transfers_before
 from illuknit.knit.float_tucks import LongFloat, tuck_long_floats
+from illuknit.knit.hookless import YarnEntry, fabric_needles, first_directions
 from illuknit.knit.ir import Role
 from illuknit.knit.mixed_edges import Emitter, bind_off, cast_on
 from illuknit.knit.move_folding import fold_moves
@@ -82,7 +83,7 @@ from illuknit.knit.path_planning import (
 from illuknit.knit.schedule import MixedReport, Schedule
 from illuknit.knit.stitches import StitchPattern
 
-__all__ = ["schedule_mixed", "validate_ablation"]
+__all__ = ["long_float_error", "schedule_mixed", "validate_ablation"]
 
 
 def validate_ablation(*, float_avoidance: object, catching: object, path_planning: object) -> None:
@@ -252,18 +253,28 @@ def _color_plan(
     return plan, kind
 
 
-def _long_float_error(
+def long_float_error(
     long: Sequence[LongFloat], stitches: StitchPattern, limit: int
 ) -> LongFloatError:
     """The error for floats that stay long: how many, the longest, where, what to change."""
     worst = max(long, key=lambda f: f.length)
     where = worst.where(stitches)
+    fix = (
+        "use fewer colour regions per row there (fewer --colors / --yarns, or a smoothed "
+        f"picture), a wider float limit (illuknit knit --float-limit N, now {limit}), or keep "
+        "the long floats (--allow-long-floats)"
+    )
+    waste = [f.length for f in long if f.place == "the waste section"]
+    if waste:
+        # (Its yarn-in tucks are every k-th needle for k yarns: they float k - 1 needles.)
+        fix += (
+            f"; in the waste section the yarns come in with tucks {max(waste) + 1} needles "
+            f"apart: a float limit below {max(waste)} needs fewer yarns (--colors / --yarns)"
+        )
     return LongFloatError(
         f"{len(long)} float(s) stay longer than the float limit of {limit} needles; the "
         f"longest, {worst.length} needles of carrier {worst.carrier} (needles "
-        f"{worst.from_needle} to {worst.to_needle}), is at {where}: use fewer colour "
-        "regions per row there, a wider float limit, or allow long floats "
-        "(allow_long_floats=True, --allow-long-floats)",
+        f"{worst.from_needle} to {worst.to_needle}), is at {where}: {fix}",
         length=worst.length,
         carrier=worst.carrier,
         from_needle=worst.from_needle,
@@ -289,6 +300,7 @@ def schedule_mixed(
     tail_stitches: int = 4,
     park_carriers: bool = True,
     tuck_passes: bool = False,
+    yarn_entry: YarnEntry | None = None,
 ) -> Schedule:
     """Schedule a stitch pattern whose courses may change colour (see the module docstring).
 
@@ -301,33 +313,47 @@ def schedule_mixed(
     float_avoidance : bool
         Algorithm 1: move purls to the front around floats that cross them.
     catching : bool or {"tuck", "plate"}
-        Join neighbouring carriers' regions: True or ``"tuck"`` (default) with tuck joins, plated
-        stitches only where no tuck is safe (:func:`~illuknit.knit.catching.plan_joins`);
-        ``"plate"`` with the paper's plated stitches (Algorithm 2); False not at all (ablation).
+        Join neighbouring carriers' regions. True or ``"tuck"`` (the default): tuck joins, a
+        carrier tucking on the neighbour's edge needle in its own pass, plated stitches only
+        where no tuck is safe (:func:`~illuknit.knit.catching.plan_joins`); ``"plate"``: the
+        paper's plated stitches everywhere (Algorithm 2); False: no joins (the ablation).
     path_planning : {"anchor", "split", "none"}
         Algorithm 3 strategy; ``none`` knits every pass in the course's parity direction.
     catch_every : int
-        Catch on every ``catch_every``-th course: 2 (default) once per unit row, so no join stays
-        open for more than one course; 1 at every colour change (the paper; more passes).
+        Catch on every ``catch_every``-th course. The default 2 catches once per unit row (a
+        unit is two courses), so no join stays open for more than one course; 1 plates at every
+        colour change of every course, as the paper does, at the price of more passes.
     float_limit : int, optional
         Longest float in wales; defaults to ``machine.float_limit``.
     strict_floats : bool
         Raise :class:`~illuknit.core.errors.CarrierShortageError` when a course needs more carriers
-        than the machine has to keep floats within the limit, and ``LongFloatError`` as below.
+        than the machine has to keep every float within the limit, and
+        :class:`~illuknit.core.errors.LongFloatError` naming the course when a float stays longer
+        than the limit after tucking; by default such floats are kept and listed in
+        ``Schedule.long_floats`` (the checker warns about them).
     allow_long_floats : bool
         False: raise :class:`~illuknit.core.errors.LongFloatError` naming the course when a float
-        stays longer than the limit after tucking (what every command does); True (this stage's
-        default, its caller decides): keep it and list it in ``Schedule.long_floats``.
+        stays longer than the limit after tucking (the default of
+        :func:`~illuknit.knitting.pipeline.knit_pattern` and of every command); True (this
+        stage's default, so that its caller decides): keep it, list it in
+        ``Schedule.long_floats``.
     tail_stitches : int
         Knits on the last needle of the bind-off chain.
     park_carriers : bool
-        Park every pass's carriers just beyond the fabric edge it runs towards (default), so no
-        carrier waits inside the fabric in other passes' way; False leaves each at its last
-        stitch (the paper's intarsia, which the SWG backend pays for with extra passes).
+        End every pass with its carriers parked just beyond the fabric edge it runs towards
+        (the default), so that no carrier waits inside the fabric where the machine would have
+        to move it out of other passes' way; False leaves each carrier at its last stitch (the
+        paper's intarsia behaviour, which the SWG backend pays for with extra passes).
     tuck_passes : bool
-        With ``catching="plate"``: where a plated pass cannot tuck a long float, tuck the
-        floating yarn alone in a pass of its own (1-29 % more passes,
-        ``docs/mixed-colourwork.md``).
+        Where a plated catching pass cannot tuck a long float (its other yarn comes from
+        elsewhere), tuck the floating yarn alone in a pass of its own right before it. Off by
+        default; it matters with ``catching="plate"`` only (on the plated bundled programs it
+        cost 1-29 % more machine passes, ``docs/mixed-colourwork.md``).
+    yarn_entry : YarnEntry, optional
+        Where the yarns enter on a machine without an inserting hook
+        (:func:`~illuknit.knit.hookless.yarn_entry`): each yarn's float from its entry to its
+        first stitch is then tucked like any other long float. None (machines with a hook): a
+        yarn starts at its first stitch.
 
     Returns
     -------
@@ -339,12 +365,14 @@ def schedule_mixed(
     Raises
     ------
     CarrierShortageError
-        A course needs more carriers at once than the machine has (``strict_floats``, or more
-        yarns than carriers).
+        If a course needs more carriers at once than the machine has (with ``strict_floats``,
+        or when it uses more yarns than there are carriers).
     SchedulingError
-        The piece is wider than the bed.
-    OptionError, PatternValidationError
-        Bad options (float limit below 1, unknown strategy, non-boolean switch); not stitches.
+        If the piece is wider than the bed.
+    OptionError
+        For bad options (float limit below 1, unknown strategy, non-boolean switches).
+    PatternValidationError
+        If ``stitches`` is not a StitchPattern.
     """
     limit = _checked_options(
         stitches,
@@ -357,124 +385,94 @@ def schedule_mixed(
         catch_every=catch_every,
     )
     join = (str(catching) if isinstance(catching, str) else "tuck") if catching else None
-    machine.check_width(stitches.shape[1])
+    n_courses, n_wales = stitches.shape
+    machine.check_width(n_wales)
+    k0 = stitches.cast_on_courses
     plan, kind = _color_plan(stitches, machine=machine, limit=limit, strict=bool(strict_floats))
-    em, ctx = _start(
-        stitches,
-        plan,
-        kind,
-        machine=machine,
-        join=join,
-        catch_every=catch_every,
-        path_planning=path_planning,
-        float_avoidance=bool(float_avoidance),
-        park_carriers=park_carriers,
+    left = machine.fabric_left
+    em = Emitter(machine, left, n_wales, path_planning, bool(float_avoidance))
+    last_course = {s.carrier: cp.course for cp in plan.courses for s in cp.segments}
+
+    edge = left + n_wales - 1
+    park: Park | None = (
+        (left - machine.park_distance, edge + machine.park_distance) if park_carriers else None
     )
-    cast_fixed = cast_on(em, plan.courses[0].segments, park=ctx.park)
+    cast_fixed = cast_on(em, plan.courses[0].segments, park=park)
     for n in em.needles:
         em.bed[n] = "f"
-    bounds = [_knit_course(em, ctx, cp.course) for cp in plan.courses]
-    body_bound = sum(b for cp, b in zip(plan.courses, bounds, strict=True) if cp.course >= ctx.k0)
+
+    ctx = _Courses(
+        plan=plan,
+        kind=kind,
+        beds=np.array(["f", "b"])[kind].tolist(),
+        k0=k0,
+        join=join,
+        catch_every=int(catch_every),
+        path_planning=path_planning,
+        float_avoidance=bool(float_avoidance),
+        park=park,
+        last_course=last_course,
+    )
+    body_bound = 0
+    cast_courses_bound = 0
+    for cp in plan.courses:
+        bound = _knit_course(em, ctx, cp.course)
+        if cp.course >= k0:
+            body_bound += bound
+        else:
+            cast_courses_bound += bound
+
     bind_fixed = bind_off(
         em,
         plan.courses[-1],
-        park=ctx.park,
+        park=park,
         catching=join is not None,
         path_planning=path_planning,
         tail_stitches=tail_stitches,
     )
+
     em.steps = fold_moves(em.steps)
-    long = _tucked_long_floats(
-        em,
-        ctx.park,
-        stitches,
-        limit=limit,
-        tuck_passes=tuck_passes,
-        refuse=bool(strict_floats or not allow_long_floats),
-    )
-    report = MixedReport(
-        float_avoidance=bool(float_avoidance),
-        catching=join is not None,
-        join_method=join or "none",
-        tuck_joins=em.join_tucks,
-        path_planning=path_planning,
-        catch_every=int(catch_every),
-        float_limit=limit,
-        strict_floats=bool(strict_floats),
-        plated_stitches=em.plated,
-        float_avoidance_transfers=em.float_transfer_passes,
-        carriers=len(plan.carriers),
-        stranded_segments=plan.stranded_segments,
-    )
+    entries: dict[str, int] = {}
+    if yarn_entry is not None:
+        entries = yarn_entry.needles(first_directions(em.steps), *fabric_needles(em.steps))
+    long: list[LongFloat] = []
+    if park is not None:
+        em.steps, long = tuck_long_floats(
+            em.steps,
+            limit=limit,
+            left=left,
+            right=edge,
+            alone=bool(tuck_passes),
+            entries=entries,
+        )
+        if long and (strict_floats or not allow_long_floats):
+            raise long_float_error(long, stitches, limit)
+    lower = cast_fixed + cast_courses_bound + body_bound + bind_fixed
     return Schedule(
         steps=tuple(em.steps),
         machine=machine,
         yarns=stitches.yarns,
         carrier_of_yarn=plan.carrier_of_yarn,
-        left=em.left,
-        wales=stitches.shape[1],
-        courses=stitches.shape[0],
-        lower_bound=cast_fixed + sum(bounds) + bind_fixed,
+        left=left,
+        wales=n_wales,
+        courses=n_courses,
+        lower_bound=lower,
         body_lower_bound=body_bound,
         units=stitches.units,
         scheduler="mixed-colourwork",
         long_floats=tuple(long),
-        mixed=report,
+        mixed=MixedReport(
+            float_avoidance=bool(float_avoidance),
+            catching=join is not None,
+            join_method=join or "none",
+            tuck_joins=em.join_tucks,
+            path_planning=path_planning,
+            catch_every=int(catch_every),
+            float_limit=limit,
+            strict_floats=bool(strict_floats),
+            plated_stitches=em.plated,
+            float_avoidance_transfers=em.float_transfer_passes,
+            carriers=len(plan.carriers),
+            stranded_segments=plan.stranded_segments,
+        ),
     )
-
-
-def _start(
-    stitches: StitchPattern,
-    plan: ColorPlan,
-    kind: np.ndarray,
-    *,
-    machine: MachineSpec,
-    join: str | None,
-    catch_every: int,
-    path_planning: str,
-    float_avoidance: bool,
-    park_carriers: bool,
-) -> tuple[Emitter, _Courses]:
-    """The emitter of a mixed schedule and what every course of it shares."""
-    n_wales = stitches.shape[1]
-    left = machine.fabric_left
-    em = Emitter(machine, left, n_wales, path_planning, float_avoidance)
-    edge = left + n_wales - 1
-    park: Park | None = (
-        (left - machine.park_distance, edge + machine.park_distance) if park_carriers else None
-    )
-    ctx = _Courses(
-        plan=plan,
-        kind=kind,
-        beds=np.array(["f", "b"])[kind].tolist(),
-        k0=stitches.cast_on_courses,
-        join=join,
-        catch_every=int(catch_every),
-        path_planning=path_planning,
-        float_avoidance=float_avoidance,
-        park=park,
-        last_course={s.carrier: cp.course for cp in plan.courses for s in cp.segments},
-    )
-    return em, ctx
-
-
-def _tucked_long_floats(
-    em: Emitter,
-    park: Park | None,
-    stitches: StitchPattern,
-    *,
-    limit: int,
-    tuck_passes: bool,
-    refuse: bool,
-) -> list[LongFloat]:
-    """Tuck the floats over ``limit`` (with parked carriers); those that stay long, or the
-    :class:`~illuknit.core.errors.LongFloatError` naming them when ``refuse``."""
-    if park is None:
-        return []
-    edge = em.left + stitches.shape[1] - 1
-    em.steps, long = tuck_long_floats(
-        em.steps, limit=limit, left=em.left, right=edge, alone=bool(tuck_passes)
-    )
-    if long and refuse:
-        raise _long_float_error(long, stitches, limit)
-    return long

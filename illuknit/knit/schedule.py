@@ -171,7 +171,9 @@ class Schedule:
     mixed : MixedReport or None
         What the mixed-colourwork scheduler did (None for the one-colour scheduler).
     long_floats : tuple of LongFloat
-        Floats longer than the machine's float limit that the scheduler could not shorten.
+        Floats longer than the machine's float limit that the scheduler could not shorten; in a
+        :class:`~illuknit.knitting.pipeline.KnitResult`, those of the written program, measured as
+        the checker measures them (:mod:`illuknit.check.floats`).
     """
 
     steps: tuple[Step, ...]

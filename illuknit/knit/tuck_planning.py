@@ -25,7 +25,12 @@ from typing import Any
 
 from illuknit.knit.ir import Bed, CarrierAction, OpKind, Pass, PassKind, Step
 
-__all__ = ["LOOP_OPS", "TuckPlan", "knit_pass"]
+__all__ = ["LOOP_OPS", "MAX_TUCKS", "TuckPlan", "knit_pass"]
+
+#: Tucks a needle may already take between two of its stitches and still take a float tuck:
+#: with the loop it holds (and, on a machine without an inserting hook, the draw thread's loop
+#: under the cast-on) that stays within what a needle holds (the PyPI simulator allows 3).
+MAX_TUCKS = 2
 
 #: Operations that leave a loop of the carriers' yarn on a needle.
 LOOP_OPS = (OpKind.KNIT, OpKind.TUCK, OpKind.SPLIT)
@@ -88,10 +93,13 @@ def _back_after(step: Step, back: set[int]) -> None:
             back.discard(o.needle)
 
 
-def _neighbour_loops(passes: list[Step]) -> list[dict[str, tuple[int | None, int | None]]]:
-    """Per step: each of its carriers' last loop before it and first loop after it (or None)."""
+def _neighbour_loops(
+    passes: list[Step], entries: dict[str, int]
+) -> list[dict[str, tuple[int | None, int | None]]]:
+    """Per step: each of its carriers' last loop before it and first loop after it (or None);
+    ``entries``: loops the carriers' yarns hang from before the first step."""
     out: list[dict[str, tuple[int | None, int | None]]] = [{} for _ in passes]
-    prev: dict[str, int] = {}
+    prev: dict[str, int] = dict(entries)
     for i, step in enumerate(passes):
         if (s := knit_pass(step, prev)) is None:
             continue
@@ -178,6 +186,10 @@ class TuckPlan:
         The plan, per pass index (see the module docstring).
     taken : set of (needle, stitch count)
         Needles that took a tuck, with how many stitches they had had by then.
+    tucked : dict
+        Needle -> indices of the knit passes that tuck on it (cast-on tucks, tuck joins), in
+        order: a needle that already takes :data:`MAX_TUCKS` tucks between two of its stitches
+        takes no float tuck there (it would hold too many loops).
     """
 
     passes: list[Step]
@@ -192,15 +204,25 @@ class TuckPlan:
     solo: dict[int, list[Solo]] = field(default_factory=dict)
     clear: dict[int, set[int]] = field(default_factory=dict)
     taken: set[tuple[int, int]] = field(default_factory=set)
+    tucked: dict[int, list[int]] = field(default_factory=dict)
 
     @classmethod
     def for_steps(
-        cls, passes: list[Step], *, limit: int, left: int, right: int, alone: bool
+        cls,
+        passes: list[Step],
+        *,
+        limit: int,
+        left: int,
+        right: int,
+        alone: bool,
+        entries: dict[str, int] | None = None,
     ) -> TuckPlan:
-        """An empty plan for ``passes``, with the back-bed loops and stitches read off them."""
+        """An empty plan for ``passes``, with the back-bed loops and stitches read off them
+        (``entries``: the loops carriers' yarns hang from before the first step)."""
         backs: list[frozenset[int]] = []
         back: set[int] = set()
         stitched: dict[int, list[int]] = {}
+        tucked: dict[int, list[int]] = {}
         for i, s in enumerate(passes):
             backs.append(frozenset(back))
             _back_after(s, back)
@@ -208,15 +230,19 @@ class TuckPlan:
                 for o in s.ops:
                     if o.op is OpKind.KNIT:
                         stitched.setdefault(o.needle, []).append(i)
+                    elif o.op is OpKind.TUCK:
+                        tucked.setdefault(o.needle, []).append(i)
         # One tuck per needle between two stitches there: the needle then holds its loop and
         # the tucked loops of one pass (two yarns if plated), well within what a needle holds.
-        return cls(passes, backs, stitched, _neighbour_loops(passes), limit, left, right, alone)
+        around = _neighbour_loops(passes, dict(entries or {}))
+        return cls(passes, backs, stitched, around, limit, left, right, alone, tucked=tucked)
 
     def plan(self, i: int, carrier: str, n: int, got: tuple[int, int, int]) -> bool:
         """Tuck the float ``got[0]`` -> ``n`` in the pass that lays it; False if there is none.
 
         ``got`` is the carrier's last loop: (needle, index of the pass that made it, index of
-        the carrier's last pass); pass ``i`` makes the loop on ``n``. In a plated pass every
+        the carrier's last pass), -1 for a loop made before the steps (the yarn's entry, with
+        the carrier parked beyond it); pass ``i`` makes the loop on ``n``. In a plated pass every
         yarn tucks: the tucks must leave each of them short floats (:func:`_tucks_fit`), and no
         purl face may lie where any of their paths changes. Where the pass that lays the float
         cannot tuck it (a plated catching pass whose other yarn comes from elsewhere), the
@@ -231,7 +257,13 @@ class TuckPlan:
         # ``n``; otherwise on the way out of the pass that made ``a``, if that pass ran on past
         # ``n``.
         where = i
-        if not toward or (made_in != i and not _starts_beyond(passes[last_pass], a, s.direction)):
+        if made_in < 0:
+            # The yarn's entry: the carrier waits beyond ``a`` until its first pass (or a move
+            # of its own) takes it in; only a pass travelling from there towards ``n`` lays it.
+            behind = last_pass < 0 or _starts_beyond(passes[last_pass], a, s.direction)
+            if not toward or not behind:
+                return False
+        elif not toward or (made_in != i and not _starts_beyond(passes[last_pass], a, s.direction)):
             q = passes[made_in]
             if made_in != last_pass or not isinstance(q, Pass):
                 return False
@@ -277,7 +309,18 @@ class TuckPlan:
             if t not in self.backs[where]
             and t not in busy
             and (t, bisect_right(self.stitched.get(t, []), where)) not in self.taken
+            and self._tucks_between_stitches(t, where) < MAX_TUCKS
         }
+
+    def _tucks_between_stitches(self, t: int, where: int) -> int:
+        """Tucks the steps make on needle ``t`` between its last stitch before pass ``where``
+        and its next one."""
+        knits = self.stitched.get(t, [])
+        k = bisect_right(knits, where)
+        lo = knits[k - 1] if k else -1
+        hi = knits[k] if k < len(knits) else len(self.passes)
+        tucks = self.tucked.get(t, [])
+        return bisect_right(tucks, hi) - bisect_right(tucks, lo)
 
     def _tuck_alone(self, i: int, carrier: str, a: int, n: int) -> bool:
         """Tuck the float ``a`` -> ``n`` with ``carrier`` alone in a pass of its own before

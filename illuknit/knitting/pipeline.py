@@ -21,13 +21,22 @@ from illuknit.core.arguments import check_int
 from illuknit.core.errors import CarrierShortageError, PatternValidationError, SchedulingError
 from illuknit.core.machine import DEFAULT_MACHINE, MachineSpec
 from illuknit.core.pattern import LogicalPattern
+from illuknit.knit.float_tucks import LongFloat
+from illuknit.knit.hookless import yarn_entry
+from illuknit.knit.ir import Pass, Role
 from illuknit.knit.knitout import write_knitout
 from illuknit.knit.schedule import Schedule, ScheduleStats, schedule_courses
 from illuknit.knit.stitches import StitchPattern, lower_to_stitches
 from illuknit.knit.timing import TimeEstimate, estimate_knit_time
 from illuknit.knitting.carriage import machine_run, machine_stats, runs_on_swg
 
-__all__ = ["KnitResult", "LongFloatWarning", "knit_pattern", "long_float_warning"]
+__all__ = [
+    "KnitResult",
+    "LongFloatWarning",
+    "knit_pattern",
+    "long_float_warning",
+    "program_long_floats",
+]
 
 
 class LongFloatWarning(UserWarning):
@@ -186,6 +195,8 @@ def knit_pattern(
     )
     try:
         if stitches.mixed_courses().size:
+            # (Long floats are judged below, on the program as written: a machine without an
+            # inserting hook adds the waste section, and its yarns enter from there.)
             schedule = schedule_mixed(
                 stitches,
                 machine=plan_machine,
@@ -195,7 +206,8 @@ def knit_pattern(
                 strict_floats=strict_floats,
                 catch_every=catch_every,
                 tuck_passes=tuck_passes,
-                allow_long_floats=allow_long_floats,
+                allow_long_floats=True,
+                yarn_entry=None if m.inserting_hook else yarn_entry(m),
             )
         else:
             schedule = schedule_courses(stitches, machine=plan_machine)
@@ -218,6 +230,15 @@ def knit_pattern(
 
         text = write_hookless_knitout(schedule, machine=m)
         schedule = lower_hookless(schedule, machine=m)
+    # One float truth: the floats reported (and refused) are the program's, measured as the
+    # checker measures them.
+    limit = plan_machine.float_limit
+    long = program_long_floats(text, schedule, limit)
+    schedule = replace(schedule, long_floats=long)
+    if long and (strict_floats or not allow_long_floats):
+        from illuknit.knit.mixed import long_float_error
+
+        raise long_float_error(long, stitches, limit)
     if runs_on_swg(m):
         # Report what the machine runs for this program, not the schedule's own passes.
         run = machine_run(text)
@@ -236,6 +257,60 @@ def knit_pattern(
     if schedule.long_floats:
         warnings.warn(LongFloatWarning(long_float_warning(result)), stacklevel=2)
     return result
+
+
+#: Knitout operations written one per line for each operation of a schedule's step.
+_STEP_OPS = frozenset(
+    {
+        "knit",
+        "tuck",
+        "split",
+        "miss",
+        "xfer",
+        "drop",
+        "in",
+        "inhook",
+        "releasehook",
+        "out",
+        "outhook",
+    }
+)
+
+
+def program_long_floats(text: str, schedule: Schedule, limit: int) -> tuple[LongFloat, ...]:
+    """The floats of the program ``text`` longer than ``limit``, as the checker measures them
+    (:func:`illuknit.check.floats.long_floats`), each placed in ``schedule``.
+
+    ``text`` is ``schedule`` written as knitout, after anything a machine puts first (the
+    waste section of a machine without an inserting hook): the schedule's operations, one line
+    each, end the program, so a float's line names its step and course.
+    """
+    from illuknit.check.floats import long_floats
+    from illuknit.knitout.parse import parse_knitout
+
+    program = parse_knitout(text)
+    found = long_floats(program, limit)
+    if not found:
+        return ()
+    owner = [
+        i
+        for i, step in enumerate(schedule.steps)
+        for _ in (step.ops if isinstance(step, Pass) else (step,))
+    ]
+    lines = [op.line for op in program.operations if op.op in _STEP_OPS]
+    offset = len(lines) - len(owner)
+    index = {line: k - offset for k, line in enumerate(lines)}
+    out: list[LongFloat] = []
+    for f in found:
+        k = index[f.line]
+        if k < 0:
+            out.append(LongFloat(-1, f.carrier, f.from_slot, f.to_slot, None, "the waste section"))
+            continue
+        step = schedule.steps[owner[k]]
+        assert isinstance(step, Pass)
+        place = "the cast-on" if step.role is Role.CAST_ON else None
+        out.append(LongFloat(owner[k], f.carrier, f.from_slot, f.to_slot, step.course, place))
+    return tuple(out)
 
 
 def long_float_warning(result: KnitResult) -> str:

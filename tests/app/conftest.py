@@ -214,3 +214,98 @@ def double(client: Any) -> str:
     job = _run_job(client, sid, "candidates")
     assert job["status"] == "done", job
     return sid
+
+
+# -- a real server process (tests/app/test_persistence.py, the browser's restart test) -----------
+
+
+class AppProcess:
+    """``illuknit app`` run as its own process on a data folder, stopped and started again on
+    the same port (so a browser tab keeps its origin and its ``sessionStorage``)."""
+
+    def __init__(self, data_dir: Any, *extra: str) -> None:
+        self.data_dir = data_dir
+        self.extra = extra
+        self.port = 0
+        self.proc: Any = None
+
+    @property
+    def url(self) -> str:
+        return f"http://127.0.0.1:{self.port}"
+
+    def start(self) -> AppProcess:
+        import os
+        import re
+        import subprocess
+        import sys
+
+        import httpx
+
+        self.proc = subprocess.Popen(
+            [
+                *(sys.executable, "-m", "illuknit", "app", "--port", str(self.port)),
+                *("--data-dir", str(self.data_dir), *self.extra),
+            ],
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+            text=True,
+            env=dict(os.environ),
+        )
+        line = self.proc.stdout.readline()
+        found = re.search(r"127\.0\.0\.1:(\d+)/", line)
+        assert found, f"the app did not start: {line!r} {self.proc.stderr.read()[-2000:]!r}"
+        self.port = int(found.group(1))
+        deadline = time.monotonic() + 30
+        while True:
+            try:
+                httpx.get(f"{self.url}/api/info", timeout=5).raise_for_status()
+                return self
+            except httpx.HTTPError:
+                assert time.monotonic() < deadline, "the app did not answer"
+                time.sleep(0.1)
+
+    def stop(self, how: str = "interrupt") -> None:
+        """``interrupt`` (Ctrl-C, waits for a clean stop) or ``kill`` (kill -9)."""
+        import signal
+
+        if self.proc is None:
+            return
+        if self.proc.poll() is None:
+            self.proc.send_signal(signal.SIGINT if how == "interrupt" else signal.SIGKILL)
+        self.proc.wait(30)
+        self.proc.stdout.close()
+        self.proc.stderr.close()
+        self.proc = None
+
+    def children(self) -> list[int]:
+        """Pids of the processes the server started (its knit worker)."""
+        import os
+
+        pid = self.proc.pid
+        out = []
+        for entry in os.listdir("/proc"):
+            if entry.isdigit():
+                try:
+                    with open(f"/proc/{entry}/stat") as f:
+                        stat = f.read()
+                except OSError:
+                    continue
+                if int(stat.rsplit(")", 1)[1].split()[1]) == pid:
+                    out.append(int(entry))
+        return out
+
+
+@pytest.fixture()
+def app_process(tmp_path: Any) -> Iterator[Callable[..., AppProcess]]:
+    """``app_process(*options)``: a started ``illuknit app`` process on a fresh data folder
+    (``.start()``, ``.stop("interrupt" or "kill")``, ``.url``); stopped after the test."""
+    made: list[AppProcess] = []
+
+    def make(*extra: str) -> AppProcess:
+        p = AppProcess(tmp_path / "data", *extra)
+        made.append(p)
+        return p.start()
+
+    yield make
+    for p in made:
+        p.stop("kill")

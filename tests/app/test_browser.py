@@ -12,6 +12,7 @@ Set ``ILLUKNIT_APP_SCREENSHOT=path.png`` to keep the screenshot (the README's pi
 from __future__ import annotations
 
 import os
+import re
 import shutil
 import threading
 import time
@@ -503,3 +504,105 @@ def test_tile_table_grouped_with_rare_overlaps_folded(browser, base_url, tmp_pat
     sync_api.expect(page.locator("#pairs details.rare .pair.edited")).to_be_visible()
     assert page.locator("#pairs details.rare").get_attribute("open") is not None
     context.close()
+
+
+def test_a_design_survives_restarts_and_an_eviction(browser, app_process, tmp_path):
+    """Against a real ``illuknit app`` process: two pictures, a setting changed, a candidate
+    picked, a suggested edit accepted. The server is stopped (Ctrl-C) and started again, killed
+    (kill -9) and started again, and the session is pushed out of memory by another tab: each
+    time the page shows the same design and Undo (then Redo) still works."""
+    server = app_process("--memory-mb", "0")  # any other tab's work evicts this one
+    url = server.url + "/"
+    context = browser.new_context(viewport={"width": 1440, "height": 1000})
+    page = context.new_page()
+    page.set_default_timeout(60_000)
+    problems: list[str] = []
+    page.on("pageerror", lambda e: problems.append(f"page error: {e}"))
+    page.goto(url)
+    page.wait_for_selector("body[data-ready='1']")
+    sync_api.expect(page.locator("#storage-note")).to_contain_text(str(server.data_dir))
+    page.locator("#width_units").fill("24")
+    page.set_input_files("#file-a", str(lettered(tmp_path / "up.png", "UP")))
+    page.set_input_files("#file-b", str(lettered(tmp_path / "on.png", "ON")))
+    sync_api.expect(page.locator("#grid-info")).to_contain_text("24 × 16 units")
+    measures = page.locator(".cand .measures")
+    sync_api.expect(measures.first).to_be_visible(timeout=120_000)
+    page.click("#suggest")
+    card = page.locator(".sugg").first
+    sync_api.expect(card).to_be_visible(timeout=120_000)
+    card.locator("[data-accept]").click()
+    sync_api.expect(page.locator("#undo-edit")).to_be_visible()
+    page.wait_for_function(
+        "document.querySelectorAll('.cand .measures').length > 0 && "
+        "!document.querySelector('#run').disabled",
+        timeout=120_000,
+    )
+    sync_api.expect(measures.first).to_be_visible(timeout=120_000)
+    page.wait_for_function(
+        "!document.querySelector('#job-measures') || document.querySelector('#job-measures').hidden",
+        timeout=120_000,
+    )
+    cards = page.locator(".cand")
+    assert cards.count() > 1
+    cards.nth(1).click()
+    sync_api.expect(cards.nth(1)).to_have_class(re.compile(r"\bsel\b"))
+    page.wait_for_timeout(500)  # the pick is stored before its answer; let the answer land
+
+    def shown() -> dict:
+        return {
+            "meta": [page.locator(f"#meta-{s}").text_content() for s in ("a", "b")],
+            "grid": page.locator("#grid-info").text_content(),
+            "measures": measures.all_text_contents(),
+            "selected": page.locator(".cand.sel").get_attribute("data-rank"),
+            "undo": page.locator("#undo-edit").is_visible(),
+            "bytes": shown_bytes(page, url),
+        }
+
+    before = shown()
+    assert "suggested edit accepted" in " ".join(before["meta"])
+    assert before["selected"] == "2" and before["undo"]
+
+    def back(how: str) -> None:
+        if how == "evict":
+            other = context.new_page()  # another tab (its own session) needs the memory
+            other.goto(url)
+            other.wait_for_selector("body[data-ready='1']")
+            other.set_input_files("#file-a", str(lettered(tmp_path / "hi.png", "HI")))
+            sync_api.expect(other.locator("#meta-a")).to_contain_text("72×48px")
+            storage = httpx_get(server.url + "/api/info")["storage"]
+            assert storage["sessions_in_memory"] == 1, storage  # this tab's session was evicted
+            other.close()
+        seen = len(problems)
+        if how != "evict":
+            server.stop(how)
+            server.start()
+        page.reload()
+        page.wait_for_selector("body[data-ready='1']")
+        # a request the page sent while the server was down was told it is not answering
+        problems[seen:] = [p for p in problems[seen:] if "not answering" not in p]
+        sync_api.expect(page.locator(".cand.sel")).to_be_visible(timeout=60_000)
+
+    for how in ("interrupt", "kill", "evict"):
+        back(how)
+        assert shown() == before, how
+    # Undo still works after all that: the pictures as uploaded come back
+    page.click("#undo-edit")
+    for slot in ("a", "b"):
+        sync_api.expect(page.locator(f"#meta-{slot}")).not_to_contain_text("suggested edit")
+    sync_api.expect(page.locator("#redo-edit")).to_be_visible()
+    back("kill")
+    sync_api.expect(page.locator("#redo-edit")).to_be_visible()
+    page.click("#redo-edit")
+    for slot, meta in zip("ab", before["meta"], strict=True):
+        if "suggested edit accepted" in meta:
+            sync_api.expect(page.locator(f"#meta-{slot}")).to_have_text(meta)
+    context.close()
+    assert not problems, problems
+
+
+def httpx_get(url: str) -> dict:
+    import json
+    import urllib.request
+
+    with urllib.request.urlopen(url, timeout=30) as r:
+        return dict(json.loads(r.read()))

@@ -106,3 +106,32 @@ def test_missing_sim_extra_is_reported_clearly(monkeypatch: pytest.MonkeyPatch) 
     monkeypatch.setitem(sys.modules, "knitout_interpreter.knitout_execution", None)
     with pytest.raises(BackendUnavailableError, match=r"illuknit\[sim\]"):
         check_knitout(read("clean_stockinette.k"), simulate=True)
+
+
+@pytest.mark.parametrize("machine", ["generic540", "kniterate"])
+def test_a_drop_just_before_the_bind_off_is_a_dropped_stitch(machine: str) -> None:
+    """A generated program checks clean; the same program with one live loop dropped right
+    before its bind-off (or mid-piece) does not."""
+    import numpy as np
+
+    from illuknit.core.machine import get_machine
+    from illuknit.core.pattern import LogicalPattern, parse_yarns
+    from illuknit.knitting import knit_pattern
+
+    rng = np.random.default_rng(5)
+    pattern = LogicalPattern(
+        rng.integers(0, 2, size=(3, 8)), rng.random((3, 8)) < 0.3, parse_yarns("#111111,#eeeeee")
+    )
+    text = knit_pattern(pattern, machine=get_machine(machine)).text
+    assert not check_knitout(text).findings
+    lines = text.split("\n")
+    start = next(i for i, ln in enumerate(lines) if ln.startswith("rack ") and ln != "rack 0")
+    needle = next(ln for ln in reversed(lines[:start]) if ln.startswith("knit ")).split()[2]
+    dropped = "\n".join([*lines[:start], f"drop {needle}", *lines[start:]])
+    found = [f for f in check_knitout(dropped).findings if f.code == "dropped-stitch"]
+    assert [f.line for f in found] == [start + 1] and found[0].severity == "error"
+    mid = next(i for i, ln in enumerate(lines) if ln.startswith("; course 3"))
+    needle = next(ln for ln in reversed(lines[:mid]) if ln.startswith("knit ")).split()[2]
+    dropped = "\n".join([*lines[:mid], f"drop {needle}", *lines[mid:]])
+    codes = {f.code for f in check_knitout(dropped).findings}
+    assert {"dropped-stitch", "knit-empty"} <= codes

@@ -84,7 +84,7 @@ def test_clean_minimal_program() -> None:
             ["in 3", "tuck - f1 3", "tuck + f1 3", "tuck - f1 3", "tuck + f1 3", "tuck - f1 3"],
             (8, "too-many-loops"),
         ),
-        (["in 3", "knit - f1 3"], (4, "knit-empty")),
+        (["in 3", "tuck - f1 3", "xfer f1 b1", "knit + f1 3"], (6, "knit-empty")),
     ],
 )
 def test_machine_rule(body: list[str], expected: tuple[int, str]) -> None:
@@ -224,7 +224,9 @@ def test_bad_options() -> None:
 def test_report_json_roundtrip_and_caps() -> None:
     import json
 
-    body = ["in 3", *[f"knit - f{n} 3" for n in range(300, 0, -1)], "out 3"]
+    body = ["in 3", *[f"tuck - f{n} 3" for n in range(300, 0, -1)]]
+    body += [f"xfer f{n} b{n}" for n in range(1, 301)]  # every needle emptied: knits find none
+    body += [*[f"knit + f{n} 3" for n in range(1, 301)], "out 3"]
     r = run(*body)
     doc = json.loads(r.to_json())
     assert doc["blocking"] == 1  # loops left; knit-empty is only a warning
@@ -239,3 +241,47 @@ def test_huge_needle_numbers_stay_fast() -> None:
     r = run("in 3", "tuck - f1 3", "xfer f1 b1", "tuck + f0 3", "tuck + f1000000000 3")
     assert (7, "face-float") in hits(r)
     assert (7, "long-float") in hits(r)
+
+
+# ---- casting on and dropping: recognised by structure ------------------------------------------
+
+
+def test_knitting_needles_that_never_held_a_loop_casts_on() -> None:
+    # the waste yarn's cast-on: knits on alternate beds of empty needles, then a course back
+    body = ["in 3", *[f"knit + {'fb'[n % 2]}{n} 3" for n in range(6)]]
+    body += [f"knit - {'bf'[n % 2]}{n} 3" for n in range(5, -1, -1)]
+    r = run(*body, "out 3", *[f"drop {b}{n}" for n in range(6) for b in "fb"])
+    assert not r.findings, r.findings
+
+
+def test_a_knit_where_the_loop_was_dropped_is_reported() -> None:
+    r = run(*CAST_ON, "drop f2", "knit + f0 3", "knit + f1 3", "knit + f2 3", "knit + f3 3")
+    assert {(15, "dropped-stitch"), (18, "knit-empty")} <= hits(r)
+    f = next(f for f in r.findings if f.code == "dropped-stitch")
+    assert f.severity == "error" and "f2" in f.message and "ladders" in f.message
+
+
+def test_the_final_release_and_a_tail_are_not_dropped_stitches() -> None:
+    assert not run(*CAST_ON, *END).findings  # everything dropped after the last stitch
+    # a chain ending in a tail on f0, its last loop dropped, then more work elsewhere
+    tail = ["knit + f0 3", "knit - f0 3", "knit + f0 3", "drop f0"]
+    r = run(*CAST_ON, *tail, "miss + f0 3", "knit + f1 3", "knit + f2 3", "knit + f3 3", *END)
+    assert "dropped-stitch" not in {f.code for f in r.findings}, r.findings
+
+
+def test_waste_yarn_released_below_a_draw_thread_is_not_a_dropped_stitch() -> None:
+    # waste yarn 6 on both beds, taken out; its back loops dropped; draw thread 1 knits every
+    # loop left and goes out; the piece (3) knits on the draw thread
+    waste = ["in 6", *[f"knit + {'fb'[n % 2]}{n} 6" for n in range(4)]]
+    waste += [f"knit - {'bf'[n % 2]}{n} 6" for n in range(3, -1, -1)]
+    waste += ["knit + f0 6", "knit + f1 6", "knit + f2 6", "knit + f3 6", "out 6"]
+    waste += [f"drop b{n}" for n in range(4)]
+    draw = ["in 1", *[f"knit - f{n} 1" for n in range(3, -1, -1)], "out 1"]
+    piece = ["in 3", *[f"knit + f{n} 3" for n in range(4)]]
+    piece += [*[f"knit - f{n} 3" for n in range(3, -1, -1)], "out 3"]
+    piece += [f"drop f{n}" for n in range(4)]
+    r = run(*waste, *draw, *piece)
+    assert not r.findings, r.findings
+    # without the draw thread the same drops lose loops of the fabric
+    r = run(*waste, *piece)
+    assert "dropped-stitch" in {f.code for f in r.findings}

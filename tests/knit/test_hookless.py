@@ -59,6 +59,7 @@ def test_programs_check_clean_and_the_backend_accepts_them(make, tmp_path: Path)
     assert all(len(ln.split()) == 4 for ln in text.splitlines() if ln.startswith("knit "))
     report = check_knitout(text, float_limit=KNITERATE.float_limit)
     assert report.ok, [f.to_dict() for f in report.blocking][:3]
+    assert not report.findings, report.findings[:3]  # the waste section is known: 0 warnings
     assert report.pieces == 1
     kc = assert_same_as_reference(text, tmp_path)
     assert kc is not None, "the reference backend refused the program"
@@ -133,3 +134,39 @@ def test_knitout_option_writes_kc_and_the_sheet_in_knit_json(tmp_path: Path) -> 
     )
     assert [r["role"] for r in swg["carrier_table"]] == ["pattern", "pattern"]
     assert swg["needle_range"][0] >= 0 and swg["machine_time"]
+
+
+def late_mid_row_yarn(units: int = 40) -> LogicalPattern:
+    """Cream ground; a red block mid-row in the top two unit rows only (knitted last)."""
+    yarn = np.zeros((6, units), int)
+    yarn[:2, units // 2 - 3 : units // 2 + 3] = 2
+    yarn[2:, :4] = 1
+    return LogicalPattern(yarn, np.zeros(yarn.shape, bool), parse_yarns("#f4f0e8,#1b1b1b,#b3202a"))
+
+
+def test_a_yarn_entering_mid_row_floats_no_further_than_the_limit(tmp_path: Path) -> None:
+    from illuknit.check.floats import program_floats
+    from illuknit.knit.hookless import first_directions
+    from illuknit.knitout.parse import parse_knitout
+
+    result = knit_pattern(late_mid_row_yarn(), machine=KNITERATE)
+    floats = program_floats(parse_knitout(result.text))
+    assert max(f.length for f in floats) <= KNITERATE.float_limit
+    assert not check_knitout(result.text).findings
+    red = result.schedule.carrier_of_yarn[2][0]
+    # its first pass runs in from the edge it entered at, tucking on the way (back needles,
+    # then moved to the front by the transfer pass right after)
+    first = next(p for p in result.schedule.passes if red in p.carriers)
+    assert first.direction == first_directions(result.schedule.steps)[red]
+    assert [o.bed for o in first.ops if o.op == "tuck"][:1] == ["b"]
+    assert assert_same_as_reference(result.text, tmp_path) is not None
+
+
+def test_cli_refusal_names_the_course_and_the_options(tmp_path: Path, run_cli) -> None:
+    save_pattern(mixed((4, 10), k=5, seed=1), tmp_path / "p.json")
+    code, _, err = run_cli(
+        ["knit", str(tmp_path / "p.json"), "-o", str(tmp_path / "p.k"), "--machine", "kniterate"]
+    )
+    assert code == 2 and len(err.strip().splitlines()) == 1
+    assert "course" in err and "--colors / --yarns" in err and "float_limit" not in err
+    assert not (tmp_path / "p.k").exists()

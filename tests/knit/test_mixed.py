@@ -115,8 +115,10 @@ def test_more_yarns_in_a_course_than_carriers_always_fails():
 
 def test_a_yarn_arriving_when_every_carrier_is_threaded_is_named():
     rows = np.array([[0, 1, 2], [3, 3, 3]])
-    with pytest.raises(CarrierShortageError, match="another carrier for yarn 3 but all 3"):
+    with pytest.raises(CarrierShortageError, match="course 1 brings in yarn 3") as e:
         plan_color_runs(rows, carriers=("1", "2", "3"), float_limit=20)
+    assert "uses 4 yarns but the machine has 3 carriers" in str(e.value)
+    assert "--colors" in str(e.value) and "float_limit" not in str(e.value)
 
 
 @pytest.mark.parametrize("limit", [0, -1, 1.5, True])

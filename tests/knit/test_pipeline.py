@@ -35,7 +35,8 @@ def test_a_float_that_stays_long_is_refused_naming_the_course_and_the_fix():
     msg = str(e)
     assert e.where in msg and f"{e.length} needles" in msg
     assert f"needles {e.from_needle} to {e.to_needle}" in msg
-    assert "fewer colour regions" in msg and "allow_long_floats=True" in msg
+    assert "fewer colour regions" in msg and "--allow-long-floats" in msg
+    assert "--float-limit" in msg and "float_limit" not in msg
 
 
 def test_allowed_long_floats_are_kept_reported_and_warned_about():

@@ -54,6 +54,29 @@ def info(request: Request) -> dict[str, Any]:
         "presets": {k: list(v) for k, v in design.YARN_PRESETS.items()},
         "machines": machines_json(),
         "defaults": DesignSettings().to_json(),
+        "storage": storage_json(request),
+    }
+
+
+def storage_json(request: Request) -> dict[str, Any]:
+    """Where the sessions are kept and for how long (the page says it in one line)."""
+    store = request.app.state.store
+    disk = store.disk
+    if disk is None:
+        return {
+            "kept": False,
+            "text": "Work is kept in the server's memory only: stopping the app forgets it.",
+            "sessions_in_memory": len(store),
+        }
+    return {
+        "kept": True,
+        "folder": str(disk.folder),
+        "days": disk.retention.days,
+        "max_bytes": disk.retention.max_bytes,
+        "used_bytes": disk.used_bytes(),
+        "sessions_in_memory": len(store),
+        "sessions_saved": len(disk.ids()),
+        "text": f"Your work is saved as you go in {disk.folder}: {disk.retention.describe()}.",
     }
 
 

@@ -175,6 +175,10 @@ async function startSession() {
   sessionStorage.setItem("illuknit.sid", s.id);
   document.body.dataset.session = s.id;
   applyState(s);
+  $("#storage-note").textContent = state.info.storage.text;
+  for (const [kind, job] of Object.entries(s.jobs || {})) {
+    if (job.status === "interrupted") showInterrupted(kind, job);
+  }
   if (!caps[s.settings.mode]) await saveSettings({ mode: "single" });
   await refreshInputs({ autorun: false });
   if (s.candidates) await loadCandidates();
@@ -460,8 +464,29 @@ async function pollJob(kind, id) {
       return null;
     }
     if (job.status === "cancelled") return null;
+    if (job.status === "interrupted") { showInterrupted(kind, job); return null; }
     await new Promise((r) => setTimeout(r, 200));
   }
+}
+
+// A job that was running when the server stopped comes back "interrupted" (its session was read
+// back from disk): say so next to its control, with one click to run it again.
+const RERUN = {
+  candidates: () => runCandidates(),
+  measures: () => measureCandidates(),
+  suggestions: () => runSuggestions(),
+  knit: () => makeKnit(),
+};
+
+function showInterrupted(kind, job) {
+  showJob(kind, job);
+  const again = document.createElement("button");
+  again.type = "button";
+  again.className = "rerun";
+  again.dataset.rerun = kind;
+  again.textContent = "Run again";
+  again.addEventListener("click", () => { clearError(jobField(kind)); RERUN[kind](); });
+  showError(jobField(kind), `${job.message} `, again);
 }
 
 async function cancelJob(kind) {

@@ -1,0 +1,522 @@
+"""The app's sessions on disk: one SQLite file (the standard library's ``sqlite3``) per data folder.
+
+    Session (in memory) --save--> sessions row: the session pickled whole, its arrays by hash
+                                  blobs rows:    each array (a picture, a quantised grid) once
+    sessions row + blobs --load--> Session (an evicted session, or one from before a restart)
+
+A session is stored *whole*: everything on the :class:`~illuknit.app.sessions.Session` object
+(pictures, settings, candidates with their measures, the pick, tile edits, suggested edits,
+undo and redo steps, the records of its jobs, and any field added to it later) is pickled as one
+value, so a new field persists without a change of schema. Arrays of :data:`BLOB_MIN_BYTES` or
+more are kept out of the pickle: each is stored once as an ``.npy`` blob (compressed below
+:data:`COMPRESS_BELOW`) named by the
+SHA-256 of its bytes, so a picture shared by the session and its undo steps, or by two saves, is
+written once. A table of references (session, hash) lets a blob go when no session needs it.
+
+Every save is one SQLite transaction in WAL mode with ``synchronous=FULL``: a crash, a ``kill -9``
+or a power cut during a save leaves the session as it was saved last, never half of two saves.
+Saves of one session are ordered by a sequence number, so an older snapshot written late never
+replaces a newer one.
+
+What the folder may hold is bounded (:class:`Retention`): sessions unused for ``days`` are
+deleted, and when all sessions together pass ``max_bytes`` the least recently used are deleted
+first (never the one being saved). A deleted session's id is remembered with the reason, so its
+tab is told what happened instead of "unknown session".
+
+The pickle is read back only from this folder, which belongs to the user running the app (the
+folder is created readable by them alone). Should a pickle not load (a session saved by a
+version of illuknit whose classes changed), the session's pictures and settings, which are also
+kept in plain JSON and ``.npy`` beside it, come back without the design made from them.
+"""
+
+from __future__ import annotations
+
+import copyreg
+import hashlib
+import io
+import json
+import os
+import pickle
+import sqlite3
+import sys
+import threading
+import time
+import types
+import weakref
+import zlib
+from collections.abc import Iterable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from illuknit import __version__
+from illuknit.core.errors import OutputPathError
+
+__all__ = [
+    "BLOB_MIN_BYTES",
+    "DataDirInUseError",
+    "DiskStore",
+    "Retention",
+    "default_data_dir",
+]
+
+#: Arrays at least this big are stored as blobs by hash; smaller ones stay inside the pickle.
+BLOB_MIN_BYTES = 16 * 1024
+#: Blobs smaller than this are compressed (zlib); bigger ones (pictures) are stored as ``.npy``.
+COMPRESS_BELOW = 2**20
+#: Version of the stored layout (the tables and the pickle's conventions).
+FORMAT = 1
+
+_SCHEMA = """
+CREATE TABLE IF NOT EXISTS meta (key TEXT PRIMARY KEY, value TEXT NOT NULL);
+CREATE TABLE IF NOT EXISTS sessions (
+    id TEXT PRIMARY KEY,
+    created REAL NOT NULL,
+    last_seen REAL NOT NULL,
+    saved REAL NOT NULL,
+    seq INTEGER NOT NULL,
+    version TEXT NOT NULL,
+    core TEXT NOT NULL,
+    state BLOB NOT NULL
+);
+CREATE TABLE IF NOT EXISTS blobs (hash TEXT PRIMARY KEY, nbytes INTEGER NOT NULL, data BLOB NOT NULL);
+CREATE TABLE IF NOT EXISTS refs (
+    session TEXT NOT NULL, hash TEXT NOT NULL, PRIMARY KEY (session, hash)
+) WITHOUT ROWID;
+CREATE INDEX IF NOT EXISTS refs_by_hash ON refs (hash);
+CREATE TABLE IF NOT EXISTS gone (id TEXT PRIMARY KEY, reason TEXT NOT NULL, at REAL NOT NULL);
+"""
+
+
+class DataDirInUseError(OutputPathError):
+    """Another running app keeps its sessions in the same data folder."""
+
+
+def default_data_dir() -> Path:
+    """Where ``illuknit app`` keeps sessions unless told otherwise: the per-user data folder
+    (``$XDG_DATA_HOME/illuknit/app``, else ``~/.local/share/illuknit/app``; on macOS
+    ``~/Library/Application Support/illuknit/app``; on Windows ``%LOCALAPPDATA%\\illuknit\\app``)."""
+    if sys.platform == "win32":
+        base = Path(os.environ.get("LOCALAPPDATA") or Path.home() / "AppData" / "Local")
+    elif sys.platform == "darwin":
+        base = Path.home() / "Library" / "Application Support"
+    else:
+        xdg = os.environ.get("XDG_DATA_HOME", "")
+        base = Path(xdg) if os.path.isabs(xdg) else Path.home() / ".local" / "share"
+    return base / "illuknit" / "app"
+
+
+@dataclass(frozen=True)
+class Retention:
+    """How long and how much the data folder keeps.
+
+    Attributes
+    ----------
+    days : float
+        A session unused for this long is deleted.
+    max_bytes : int
+        All sessions together (their pickles and distinct blobs, as stored) may take this much;
+        beyond it, the least recently used sessions are deleted first.
+    """
+
+    days: float = 30.0
+    max_bytes: int = 2 * 2**30
+
+    def describe(self) -> str:
+        days = _days(self.days)
+        return (
+            f"a session unused for {days} is deleted, and when all sessions together pass "
+            f"{_size_text(self.max_bytes)} the least recently used go first"
+        )
+
+
+def _days(n: float) -> str:
+    return f"{n:g} day" + ("" if n == 1 else "s")
+
+
+def _size_text(n: int) -> str:
+    for unit, size in (("GB", 2**30), ("MB", 2**20), ("kB", 2**10)):
+        if n >= size:
+            return f"{n / size:.1f}".removesuffix(".0") + f" {unit}"
+    return f"{n} bytes"
+
+
+# -- serialising a session -----------------------------------------------------------------------
+
+
+def _mapping_proxy(d: dict[Any, Any]) -> types.MappingProxyType[Any, Any]:
+    """Rebuilds a read-only mapping (the library's frozen tables use them) from a pickle."""
+    return types.MappingProxyType(d)
+
+
+def _reduce_mapping_proxy(m: types.MappingProxyType[Any, Any]) -> tuple[Any, ...]:
+    return (_mapping_proxy, (dict(m),))
+
+
+class _HashCache:
+    """SHA-256 of big arrays, remembered per array object (session arrays are never changed in
+    place: the history already shares them), so a save does not hash every picture again."""
+
+    def __init__(self) -> None:
+        self._known: dict[int, tuple[weakref.ref[np.ndarray], str]] = {}
+        self._lock = threading.Lock()
+
+    def npy(self, arr: np.ndarray) -> tuple[str, bytes | None]:
+        """(hash, npy bytes or None when the hash was remembered)."""
+        with self._lock:
+            got = self._known.get(id(arr))
+            if got is not None and got[0]() is arr:
+                return got[1], None
+        data = _npy_bytes(arr)
+        digest = hashlib.sha256(data).hexdigest()
+        with self._lock:
+            if len(self._known) > 4096:
+                self._known = {k: v for k, v in self._known.items() if v[0]() is not None}
+            self._known[id(arr)] = (weakref.ref(arr), digest)
+        return digest, data
+
+
+def _npy_bytes(arr: np.ndarray) -> bytes:
+    buf = io.BytesIO()
+    np.lib.format.write_array(buf, np.asanyarray(arr), allow_pickle=False)
+    return buf.getvalue()
+
+
+class _Pickler(pickle.Pickler):
+    def __init__(self, file: io.BytesIO, blobs: dict[str, Any], hashes: _HashCache) -> None:
+        super().__init__(file, protocol=5)
+        self.dispatch_table = copyreg.dispatch_table.copy()
+        self.dispatch_table[types.MappingProxyType] = _reduce_mapping_proxy
+        self._blobs = blobs
+        self._hashes = hashes
+
+    def persistent_id(self, obj: Any) -> Any:
+        if type(obj) is np.ndarray and obj.dtype != object and obj.nbytes >= BLOB_MIN_BYTES:
+            digest, data = self._hashes.npy(obj)
+            if digest not in self._blobs or self._blobs[digest] is None:
+                self._blobs[digest] = obj if data is None else data
+            return ("npy", digest)
+        return None
+
+
+class _Unpickler(pickle.Unpickler):
+    def __init__(self, file: io.BytesIO, fetch: Any) -> None:
+        super().__init__(file)
+        self._fetch = fetch
+        self._arrays: dict[str, np.ndarray] = {}
+
+    def persistent_load(self, pid: Any) -> Any:
+        kind, digest = pid
+        if kind != "npy":
+            raise pickle.UnpicklingError(f"unknown stored reference {kind!r}")
+        arr = self._arrays.get(digest)
+        if arr is None:  # an array shared in the session stays shared once loaded
+            arr = self._arrays[digest] = self._fetch(digest)
+        return arr
+
+
+@dataclass
+class Loaded:
+    """A session read back: the object, or only its core (pictures and settings) when the whole
+    state could not be read, with why."""
+
+    state: Any
+    core: dict[str, Any]
+    arrays: dict[str, np.ndarray]
+    problem: str | None = None
+
+
+# -- the store -----------------------------------------------------------------------------------
+
+
+class DiskStore:
+    """The sessions of one data folder, in ``sessions.sqlite3`` (thread-safe; one app at a time).
+
+    Parameters
+    ----------
+    folder : path
+        Created when missing (readable by the user alone). Another app already using it is
+        refused (:class:`DataDirInUseError`), as is a folder that cannot be written
+        (:class:`~illuknit.errors.OutputPathError`).
+    retention : Retention
+    """
+
+    FILE = "sessions.sqlite3"
+    #: Deleted session ids remembered with their reason.
+    GONE_KEPT = 4096
+
+    def __init__(self, folder: str | os.PathLike[str], retention: Retention | None = None) -> None:
+        self.folder = Path(folder).expanduser().absolute()
+        self.retention = retention or Retention()
+        self._lock = threading.RLock()
+        self._hashes = _HashCache()
+        try:
+            self.folder.mkdir(parents=True, exist_ok=True, mode=0o700)
+            self._lockfile = _hold_lock(self.folder / "app.lock")
+            self._db = sqlite3.connect(
+                self.folder / self.FILE, check_same_thread=False, isolation_level=None, timeout=30
+            )
+            self._db.execute("PRAGMA auto_vacuum = INCREMENTAL")  # before the first table only
+            self._db.execute("PRAGMA journal_mode = WAL")
+            self._db.execute("PRAGMA synchronous = FULL")
+            self._db.execute("PRAGMA journal_size_limit = 67108864")
+            self._db.executescript(_SCHEMA)
+            self._db.execute(
+                "INSERT OR IGNORE INTO meta (key, value) VALUES ('format', ?)", (str(FORMAT),)
+            )
+        except DataDirInUseError:
+            raise
+        except (OSError, sqlite3.Error) as e:
+            raise OutputPathError(
+                f"cannot keep the app's sessions in {self.folder}: {e}; choose another folder "
+                "with --data-dir"
+            ) from None
+        self._last_retention = 0.0
+
+    # -- writing -------------------------------------------------------------------------------
+    def save(self, session: Any, *, seq: int, lock: Any) -> None:
+        """Store ``session`` whole (pickled under ``lock``, its arrays as blobs) as save number
+        ``seq`` of that session; an older ``seq`` arriving late is ignored."""
+        blobs: dict[str, Any] = {}
+        buf = io.BytesIO()
+        with lock:
+            _Pickler(buf, blobs, self._hashes).dump(session)
+            core = _core_of(session, self._hashes, blobs)
+            sid, created, last_seen = session.id, session.created, session.last_seen
+        state = buf.getvalue()
+        now = time.time()
+        with self._lock, self._transaction() as db:
+            row = db.execute("SELECT seq FROM sessions WHERE id = ?", (sid,)).fetchone()
+            if row is not None and row[0] >= seq:
+                return
+            have = {
+                h
+                for (h,) in db.execute(
+                    f"SELECT hash FROM blobs WHERE hash IN ({','.join('?' * len(blobs))})",
+                    tuple(blobs),
+                )
+            }
+            for digest, value in blobs.items():
+                if digest in have:
+                    continue
+                data = value if isinstance(value, bytes) else _npy_bytes(value)
+                # small arrays (grids) compress well and fast; a picture is stored as it is
+                # (compressing 12 MB takes most of a second on a busy laptop)
+                packed = zlib.compress(data, 1) if len(data) < COMPRESS_BELOW else data
+                db.execute(
+                    "INSERT INTO blobs (hash, nbytes, data) VALUES (?, ?, ?)",
+                    (digest, len(packed), packed),
+                )
+            db.execute(
+                "INSERT INTO sessions (id, created, last_seen, saved, seq, version, core, state) "
+                "VALUES (?, ?, ?, ?, ?, ?, ?, ?) ON CONFLICT (id) DO UPDATE SET "
+                "last_seen = excluded.last_seen, saved = excluded.saved, seq = excluded.seq, "
+                "version = excluded.version, core = excluded.core, state = excluded.state",
+                (sid, created, last_seen, now, seq, __version__, json.dumps(core), state),
+            )
+            db.execute("DELETE FROM refs WHERE session = ?", (sid,))
+            db.executemany(
+                "INSERT INTO refs (session, hash) VALUES (?, ?)", [(sid, h) for h in blobs]
+            )
+            db.execute("DELETE FROM gone WHERE id = ?", (sid,))
+            _drop_unreferenced(db)
+
+    def touch(self, sid: str, last_seen: float) -> None:
+        """Record that session ``sid`` was used at ``last_seen`` (for the age bound)."""
+        with self._lock:
+            self._db.execute(
+                "UPDATE sessions SET last_seen = max(last_seen, ?) WHERE id = ?", (last_seen, sid)
+            )
+
+    def delete(self, sid: str, reason: str | None = None) -> bool:
+        """Delete session ``sid`` (its blobs when no other session holds them); remember
+        ``reason`` for its tab when given. True if it was stored."""
+        with self._lock, self._transaction() as db:
+            return self._delete(db, sid, reason)
+
+    def _delete(self, db: sqlite3.Connection, sid: str, reason: str | None) -> bool:
+        found = db.execute("DELETE FROM sessions WHERE id = ?", (sid,)).rowcount > 0
+        db.execute("DELETE FROM refs WHERE session = ?", (sid,))
+        _drop_unreferenced(db)
+        if reason is not None and found:
+            db.execute(
+                "INSERT OR REPLACE INTO gone (id, reason, at) VALUES (?, ?, ?)",
+                (sid, reason, time.time()),
+            )
+            db.execute(
+                "DELETE FROM gone WHERE id NOT IN (SELECT id FROM gone ORDER BY at DESC LIMIT ?)",
+                (self.GONE_KEPT,),
+            )
+        return found
+
+    def enforce(self, *, keep: Iterable[str] = (), force: bool = False) -> list[str]:
+        """Apply the retention: delete sessions unused for too long, then the least recently used
+        until all fit (never those in ``keep``). Answers the ids deleted. At most once a second
+        unless ``force``."""
+        now = time.time()
+        if not force and now - self._last_retention < 1.0:
+            return []
+        keep = set(keep)
+        deleted = []
+        with self._lock:
+            self._last_retention = now
+            with self._transaction() as db:
+                cutoff = now - self.retention.days * 86400
+                for (sid,) in db.execute(
+                    "SELECT id FROM sessions WHERE last_seen < ? ORDER BY last_seen", (cutoff,)
+                ).fetchall():
+                    if sid not in keep:
+                        why = f"this session was deleted after {_days(self.retention.days)} unused"
+                        self._delete(db, sid, why)
+                        deleted.append(sid)
+                order = db.execute("SELECT id FROM sessions ORDER BY last_seen").fetchall()
+                for (sid,) in order:
+                    if self._used(db) <= self.retention.max_bytes:
+                        break
+                    if sid in keep:
+                        continue
+                    self._delete(
+                        db,
+                        sid,
+                        "this session was deleted to keep the app's saved work under "
+                        f"{_size_text(self.retention.max_bytes)} (the least recently used "
+                        "goes first)",
+                    )
+                    deleted.append(sid)
+            if deleted:
+                self._db.execute("PRAGMA incremental_vacuum")
+        return deleted
+
+    # -- reading -------------------------------------------------------------------------------
+    def load(self, sid: str) -> Loaded | None:
+        """Session ``sid`` as stored, or None when it is not."""
+        with self._lock:
+            row = self._db.execute(
+                "SELECT state, core, version FROM sessions WHERE id = ?", (sid,)
+            ).fetchone()
+        if row is None:
+            return None
+        state, core_text, version = row
+        core = json.loads(core_text)
+        try:
+            obj = _Unpickler(io.BytesIO(state), self._blob).load()
+        except Exception as e:  # a pickle of another version's classes: keep what is plain
+            arrays = {slot: self._blob(im["hash"]) for slot, im in core["images"].items()}
+            return Loaded(
+                None,
+                core,
+                arrays,
+                problem=f"saved by illuknit {version}, its design could not be read back ({e})",
+            )
+        return Loaded(obj, core, {})
+
+    def last_seq(self) -> int:
+        """The highest save number stored (a restarted server numbers its saves after it)."""
+        with self._lock:
+            (seq,) = self._db.execute("SELECT coalesce(max(seq), 0) FROM sessions").fetchone()
+        return int(seq)
+
+    def gone_reason(self, sid: str) -> str | None:
+        with self._lock:
+            row = self._db.execute("SELECT reason FROM gone WHERE id = ?", (sid,)).fetchone()
+        return None if row is None else str(row[0])
+
+    def ids(self) -> list[str]:
+        with self._lock:
+            return [r[0] for r in self._db.execute("SELECT id FROM sessions ORDER BY last_seen")]
+
+    def used_bytes(self) -> int:
+        """What the sessions take as stored (pickles and distinct blobs)."""
+        with self._lock:
+            return self._used(self._db)
+
+    def file_bytes(self) -> int:
+        """Size of the store's files on disk (the database and its write-ahead log)."""
+        return sum(p.stat().st_size for p in self.folder.glob(self.FILE + "*") if p.is_file())
+
+    def close(self) -> None:
+        with self._lock:
+            try:
+                self._db.execute("PRAGMA wal_checkpoint(TRUNCATE)")
+            finally:
+                self._db.close()
+                self._lockfile.close()
+
+    # -- internals -----------------------------------------------------------------------------
+    def _blob(self, digest: str) -> np.ndarray:
+        with self._lock:
+            row = self._db.execute("SELECT data FROM blobs WHERE hash = ?", (digest,)).fetchone()
+        if row is None:
+            raise pickle.UnpicklingError(f"a stored picture is missing (blob {digest[:12]})")
+        data = bytes(row[0])
+        if not data.startswith(b"\x93NUMPY"):  # compressed
+            data = zlib.decompress(data)
+        arr: np.ndarray = np.lib.format.read_array(io.BytesIO(data), allow_pickle=False)
+        return arr
+
+    @staticmethod
+    def _used(db: sqlite3.Connection) -> int:
+        (states,) = db.execute("SELECT coalesce(sum(length(state)), 0) FROM sessions").fetchone()
+        (blobs,) = db.execute("SELECT coalesce(sum(nbytes), 0) FROM blobs").fetchone()
+        return int(states) + int(blobs)
+
+    def _transaction(self) -> Any:
+        return _Transaction(self._db)
+
+
+class _Transaction:
+    """``BEGIN IMMEDIATE`` ... ``COMMIT`` (``ROLLBACK`` on any error)."""
+
+    def __init__(self, db: sqlite3.Connection) -> None:
+        self.db = db
+
+    def __enter__(self) -> sqlite3.Connection:
+        self.db.execute("BEGIN IMMEDIATE")
+        return self.db
+
+    def __exit__(self, kind: Any, value: Any, tb: Any) -> None:
+        if kind is None:
+            self.db.execute("COMMIT")
+        else:
+            self.db.execute("ROLLBACK")
+
+
+def _drop_unreferenced(db: sqlite3.Connection) -> None:
+    db.execute("DELETE FROM blobs WHERE hash NOT IN (SELECT hash FROM refs)")
+
+
+def _core_of(session: Any, hashes: _HashCache, blobs: dict[str, Any]) -> dict[str, Any]:
+    """What a session is made of in plain JSON (its pictures by hash, its settings): what comes
+    back even if its pickle cannot be read. Its pictures join ``blobs``, whatever their size."""
+    images = {}
+    for slot, im in session.images.items():
+        digest, data = hashes.npy(im.rgb)
+        if blobs.get(digest) is None:
+            blobs[digest] = im.rgb if data is None else data
+        images[slot] = {
+            "filename": im.filename,
+            "sent_bytes": im.sent_bytes,
+            "notes": list(im.notes),
+            "hash": digest,
+        }
+    return {"settings": session.settings.model_dump(mode="json"), "images": images}
+
+
+def _hold_lock(path: Path) -> Any:
+    """An open file holding an exclusive lock on ``path`` while the app runs."""
+    f = open(path, "a+b")  # noqa: SIM115 - held open for the store's life
+    try:
+        import fcntl
+    except ImportError:  # Windows: SQLite's own locking keeps the file consistent
+        return f
+    try:
+        fcntl.flock(f.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except OSError:
+        f.close()
+        raise DataDirInUseError(
+            f"another illuknit app keeps its sessions in {path.parent}; stop it, or give this "
+            "one its own folder with --data-dir"
+        ) from None
+    return f
