@@ -23,6 +23,7 @@ Run: ``python benchmarks/machine_files.py``
 
 from __future__ import annotations
 
+import os
 import shutil
 import subprocess
 import tempfile
@@ -38,8 +39,10 @@ from illuknit.formats.kc import knitout_to_kc
 from illuknit.knitting import knit_pattern
 
 TARGET_S = 5.0
-ORACLE = Path(__file__).resolve().parents[1] / ".." / "shared" / "oracles" / "kniterate"
-SWG_ORACLE = Path(__file__).resolve().parents[1] / ".." / "shared" / "oracles" / "swg"
+#: The reference backends: ``ILLUKNIT_ORACLES``, else ``shared/oracles`` beside the checkout.
+ORACLES = Path(
+    os.environ.get("ILLUKNIT_ORACLES") or Path(__file__).resolve().parents[2] / "shared" / "oracles"
+)
 YARNS = (Yarn("dark", (27, 27, 27)), Yarn("light", (244, 240, 232)))
 
 
@@ -57,19 +60,13 @@ def blocks(rows: int, cols: int, seed: int = 0) -> LogicalPattern:
 
 
 def oracle_script() -> Path | None:
-    for base in (ORACLE, Path("/work/shared/oracles/kniterate")):
-        script = base / "knitout-to-kcode.js"
-        if script.exists() and shutil.which("node"):
-            return script
-    return None
+    script = ORACLES / "kniterate" / "knitout-to-kcode.js"
+    return script if script.exists() and shutil.which("node") else None
 
 
 def swg_oracle_script() -> Path | None:
-    for base in (SWG_ORACLE, Path("/work/shared/oracles/swg")):
-        script = base / "knitout-to-dat.js"
-        if script.exists() and shutil.which("node"):
-            return script
-    return None
+    script = ORACLES / "swg" / "knitout-to-dat.js"
+    return script if script.exists() and shutil.which("node") else None
 
 
 def bench_dat() -> None:

@@ -18,7 +18,7 @@ pass plus 19 fixed rows) and prints per program:
 ``min``       estimated knitting time in minutes (illuknit's time model on the machine passes)
 ``err``       logical error of views A / B in % (wrongly seen units, ``bench.metrics``)
 ``read``      readability of views A / B: correlation of the 30-degree render with its target
-              (``bench.metrics.picture_scores``), so a design cannot win passes by a worse picture
+              (``design.measures.picture_scores``), so a design cannot win passes by a worse picture
 
 Targets (issue 14): ``dat <= 0.5 x today`` on 3- and 4-yarn instances, ``<= 0.7 x today`` on
 2-yarn ones; moonshot ``dat <= 1.2 x bound``; longest float <= the machine's float limit.
@@ -28,7 +28,8 @@ Run: ``python benchmarks/machine_passes.py [--all] [--knit-aware] [--jobs N] [--
 :func:`illuknit.formats.machine_passes` counts (the bench's count), which must equal ``dat``.
 Without ``--all`` the paper-scale instances (no ``quick`` tag, except ``logos-4``, the only
 4-yarn one) are left out. ``--record`` prints the measured ``.dat`` passes as a ``TODAY`` literal.
-Needs ``node`` (Node.js 16+) and the reference backend (``--oracle`` or ``ILLUKNIT_SWG_ORACLE``).
+Needs ``node`` (Node.js 16+) and the reference backend (``--oracle``; by default ``swg/knitout-to-dat.js``
+in ``ILLUKNIT_ORACLES``, else in ``shared/oracles`` beside the checkout).
 """
 
 from __future__ import annotations
@@ -46,7 +47,10 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-DEFAULT_ORACLE = Path("/work/shared/oracles/swg/knitout-to-dat.js")
+ORACLES = Path(
+    os.environ.get("ILLUKNIT_ORACLES") or Path(__file__).resolve().parents[2] / "shared" / "oracles"
+)
+DEFAULT_ORACLE = ORACLES / "swg" / "knitout-to-dat.js"
 
 #: ``.dat`` passes of each (instance, design) on main at 5c69a21 (2026-12-01), before the
 #: machine-aware scheduler: the baseline the issue's targets are relative to. Measured with
@@ -220,7 +224,8 @@ def picture_measures(
 ) -> tuple[tuple[float, float], tuple[float, float]]:
     """(logical error of views A and B in %, readability of A and B) of ``pattern``."""
     from illuknit.bench.instances import instance_targets
-    from illuknit.bench.metrics import angled_renders, logical_errors, picture_scores
+    from illuknit.bench.metrics import logical_errors
+    from illuknit.design.measures import angled_renders, picture_scores
 
     t = instance_targets(instance)
     err = logical_errors(pattern, t)
@@ -328,7 +333,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument(
         "--oracle",
         type=Path,
-        default=Path(os.environ.get("ILLUKNIT_SWG_ORACLE", DEFAULT_ORACLE)),
+        default=DEFAULT_ORACLE,
         help="path of the reference knitout-to-dat.js",
     )
     args = ap.parse_args(argv)

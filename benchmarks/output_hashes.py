@@ -7,10 +7,10 @@ cover every writer: the demo, a single-view design, double-view designs knitted 
 machine format, ``view`` and ``tiles``. The input pictures are drawn here with Pillow, so nothing
 depends on the package's own drawing code.
 
-Two things differ between runs and are blanked before hashing: the folder the run wrote into
-(pattern files record the pictures' resolved paths) and the solver's clock readings in
-``report.json`` (``wall_time``, ``found_at``, ``finished_at``). Everything else must match byte for
-byte.
+Paths and clocks differ between runs and are blanked before hashing: the folder the run wrote
+into and the checkout it ran from (pattern files record the pictures' resolved paths; the demo's
+picture is in the checkout), and the solver's clock readings in ``report.json`` (``wall_time``,
+``found_at``, ``finished_at``). Everything else must match byte for byte.
 
 Run: ``python benchmarks/output_hashes.py [--keep DIR]`` from the repository root (the commands run
 ``python -m illuknit`` with this checkout first on ``PYTHONPATH``).
@@ -143,6 +143,7 @@ def main() -> int:
         for path in sorted(p for p in out.rglob("*") if p.is_file()):
             name = path.relative_to(out).as_posix()
             data = path.read_bytes().replace(str(root.resolve()).encode(), b"<root>")
+            data = data.replace(str(REPO).encode(), b"<repo>")
             if path.suffix == ".json":
                 data = CLOCK.sub(rb'"\1": _', data)
             print(f"{hashlib.sha256(data).hexdigest()}  {name}")

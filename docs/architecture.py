@@ -39,7 +39,8 @@ STAGES: tuple[tuple[str, float, int], ...] = (
     ("illuknit.knit.schedule.schedule_courses", 1, 8),
     ("illuknit.knit.mixed.schedule_mixed", 2, 8),
     ("illuknit.knit.knitout.write_knitout", 1.5, 9),
-    ("illuknit.check.check_knitout", 0.5, 10),
+    ("illuknit.knitout.parse.parse_knitout", 0.5, 10),
+    ("illuknit.check.check_knitout", 0.5, 11),
     ("illuknit.formats.dat.knitout_to_dat", 1.5, 10),
     ("illuknit.formats.kc.knitout_to_kc", 2.5, 10),
 )
@@ -66,7 +67,8 @@ EDGES: tuple[tuple[str, str], ...] = (
     ("lower_to_stitches", "schedule_mixed"),
     ("schedule_courses", "write_knitout"),
     ("schedule_mixed", "write_knitout"),
-    ("write_knitout", "check_knitout"),
+    ("write_knitout", "parse_knitout"),
+    ("parse_knitout", "check_knitout"),
     ("write_knitout", "knitout_to_dat"),
     ("write_knitout", "knitout_to_kc"),
 )
@@ -81,7 +83,7 @@ PLAIN = {
 }
 SKIP = {"list", "tuple", "dict", "NDArray", "ndarray", "Any", "None", "int", "float", "np", "numpy"}
 
-BOX_W, BOX_H, COL_W, ROW_H, MARGIN = 236, 44, 262, 78, 24
+BOX_W, BOX_H, COL_W, ROW_H, MARGIN = 276, 44, 296, 78, 24
 
 
 def describe(dotted: str) -> tuple[str, str, str]:
@@ -112,7 +114,7 @@ def draw() -> str:
         y = MARGIN + row * ROW_H
         nodes[name] = (x, y, where, ir, dotted.endswith("LogicalPattern"))
     width = int(MARGIN * 2 + 3 * COL_W + BOX_W)
-    height = int(MARGIN * 2 + 10 * ROW_H + BOX_H)
+    height = int(MARGIN * 2 + max(row for _, _, row in STAGES) * ROW_H + BOX_H)
     out = [
         f'<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height}" '
         f'viewBox="0 0 {width} {height}" font-family="sans-serif">',

@@ -12,9 +12,15 @@ The public API is re-exported here and imported lazily, so ``import illuknit`` s
 
 from __future__ import annotations
 
-from illuknit.core.lazy import lazy_api
+import os
 
+from illuknit.core.lazy import lazy_api
+from illuknit.core.source_tree import find_top_level_folders
+
+#: The one place the version is written (pyproject reads it: ``[tool.setuptools.dynamic]``).
 __version__ = "0.1.0"
+
+find_top_level_folders(os.path.dirname(__file__))
 
 # public name -> module that defines it
 _API: dict[str, str] = {
@@ -45,17 +51,17 @@ _API: dict[str, str] = {
     "write_previews": "illuknit.outputs.previews",
     "written_instructions": "illuknit.outputs.chart",
     # design stages: pictures -> ranked designs (docs/library.md)
-    "design_single": "illuknit.design.stages",
-    "design_double": "illuknit.design.stages",
-    "design_headon": "illuknit.design.stages",
-    "design_tiles": "illuknit.design.stages",
-    "solve_design": "illuknit.design.stages",
-    "illusion_model": "illuknit.design.stages",
-    "quantise_targets": "illuknit.design.stages",
-    "RankedDesign": "illuknit.design.stages",
-    "SingleDesign": "illuknit.design.stages",
-    "TileDesign": "illuknit.design.stages",
-    "SolvedDesign": "illuknit.design.stages",
+    "design_single": "illuknit.pipeline.stages",
+    "design_double": "illuknit.pipeline.stages",
+    "design_headon": "illuknit.pipeline.stages",
+    "design_tiles": "illuknit.pipeline.stages",
+    "solve_design": "illuknit.pipeline.stages",
+    "illusion_model": "illuknit.pipeline.stages",
+    "quantise_targets": "illuknit.pipeline.stages",
+    "RankedDesign": "illuknit.pipeline.stages",
+    "SingleDesign": "illuknit.pipeline.stages",
+    "TileDesign": "illuknit.pipeline.stages",
+    "SolvedDesign": "illuknit.pipeline.stages",
     "SearchOptions": "illuknit.design.options",
     "RankOptions": "illuknit.design.options",
     "SolveOptions": "illuknit.design.options",

@@ -41,6 +41,8 @@ from typing import TYPE_CHECKING, Any, Protocol, runtime_checkable
 import numpy as np
 from numpy.typing import NDArray
 
+from illuknit.core.errors import UnknownNameError
+
 if TYPE_CHECKING:
     from illuknit.design.models.model import Model
     from illuknit.design.models.var_pool import VarPool
@@ -382,8 +384,6 @@ UNINTERRUPTIBLE = ("cd15", "cd19")
 def check_oracle(name: str, *, interruptible: bool = False) -> str:
     """``name`` if python-sat has a SAT oracle called so (and, with ``interruptible``, one it
     can interrupt), else an error listing them."""
-    from illuknit.core.errors import UnknownNameError
-
     valid = tuple(o for o in ORACLES if not (interruptible and o in UNINTERRUPTIBLE))
     if name not in valid:
         raise UnknownNameError("SAT oracle", name, valid)

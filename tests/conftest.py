@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import os
+import shutil
 from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import NamedTuple
@@ -11,6 +13,45 @@ import pytest
 from PIL import Image
 
 from illuknit.cli import main
+
+#: The reference machine backends: ``shared/oracles`` beside the checkout (``ILLUKNIT_ORACLES``
+#: names another folder). They are judges only; see their README.
+ORACLES = Path(
+    os.environ.get("ILLUKNIT_ORACLES")
+    or Path(__file__).resolve().parents[1].parent / "shared" / "oracles"
+)
+
+
+def reference_backend(script: str) -> Path:
+    """The reference backend ``ORACLES/script``, runnable with ``node``.
+
+    Skips the test when node or the backend is missing, with the reason; under ``CI=true`` (a
+    clean clone with ``shared/`` beside it) a missing backend fails the test instead, so a run
+    that judged nothing never passes for one that did.
+    """
+    path = ORACLES / script
+    reason = None
+    if shutil.which("node") is None:
+        reason = "node is not installed: the reference backends cannot run"
+    elif not path.is_file():
+        reason = f"the reference backend {path} is missing (set ILLUKNIT_ORACLES to its folder)"
+    if reason is None:
+        return path
+    if os.environ.get("CI") == "true":
+        pytest.fail(f"{reason}; under CI=true every reference backend must run", pytrace=False)
+    pytest.skip(reason)
+
+
+@pytest.fixture(scope="session")
+def swg_backend() -> Path:
+    """The reference Shima SWG backend, ``knitout-to-dat.js``."""
+    return reference_backend("swg/knitout-to-dat.js")
+
+
+@pytest.fixture(scope="session")
+def kniterate_backend() -> Path:
+    """The reference Kniterate backend, ``knitout-to-kcode.js``."""
+    return reference_backend("kniterate/knitout-to-kcode.js")
 
 
 class CliRun(NamedTuple):

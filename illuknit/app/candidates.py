@@ -18,7 +18,7 @@ from illuknit.core.errors import AppRequestError
 from illuknit.core.pattern import LogicalPattern
 
 if TYPE_CHECKING:
-    from illuknit.design.stages import Stripe
+    from illuknit.pipeline.stages import Stripe
 
 __all__ = ["Candidate", "Progress", "Runner", "make_candidates"]
 
@@ -78,8 +78,8 @@ def make_candidates(
 
 
 def _single_candidates(prepared: Prepared, progress: Progress) -> list[Candidate]:
-    """Both stripe orders (:func:`~illuknit.design.stages.design_single`), dark first."""
-    from illuknit.design.stages import design_single
+    """Both stripe orders (:func:`~illuknit.pipeline.stages.design_single`), dark first."""
+    from illuknit.pipeline.stages import design_single
 
     stripes: tuple[Stripe, Stripe] = ("dark", "light")
 
@@ -106,10 +106,10 @@ def _tile_candidates(
     prepared: Prepared, *, count: int, progress: Progress, run: Runner | None = None
 ) -> list[Candidate]:
     """The best-reading ``count`` of the tile designs ``illuknit double`` searches by default,
-    ranked as it ranks them: one call of :func:`~illuknit.design.stages.design_tiles`, inside
+    ranked as it ranks them: one call of :func:`~illuknit.pipeline.stages.design_tiles`, inside
     ``run`` (a killable process, so Cancel stops it at once) when one is given."""
     from illuknit.design.options import SearchOptions
-    from illuknit.design.stages import design_tiles
+    from illuknit.pipeline.stages import design_tiles
 
     stage = functools.partial(
         design_tiles,

@@ -18,8 +18,11 @@ shows there: nothing to read, and its ghosting is how much of the front picture 
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Sequence
 from typing import Any
+
+from illuknit.bench.metrics import knit_stats
 
 __all__ = ["ORDERS", "measure_candidate", "order_candidates"]
 
@@ -46,8 +49,6 @@ def measure_candidate(pattern: Any, prepared: Any, *, machine: str, knit_time: b
     elif prepared.mode == "single":
         pictures, views, ghost = [q["a"].rgb(), q["a"].rgb()], ("A", "B"), False
     else:  # pragma: no cover - every mode is measured above
-        from illuknit.bench.metrics import knit_stats
-
         k: dict[str, Any] = (
             knit_stats(pattern, machine=machine)
             if knit_time
@@ -63,7 +64,11 @@ def measure_candidate(pattern: Any, prepared: Any, *, machine: str, knit_time: b
             knit_note=k["knit_note"],
         )
     return perception.measure_candidate(
-        pattern, pictures, views=views, ghost=ghost, knit_time=knit_time, machine=machine
+        pattern,
+        pictures,
+        views=views,
+        ghost=ghost,
+        knit_time=functools.partial(knit_stats, machine=machine) if knit_time else None,
     )
 
 

@@ -237,7 +237,7 @@ def suggest_edits_for(
             targets=[qa.rgb(), qb.rgb()],
             sources=[sources["a"], sources["b"]],
             max_colors=min(4, len(prepared.yarns)),
-            # the search the double-view stage makes (design.stages.design_tiles)
+            # the search the double-view stage makes (pipeline.stages.design_tiles)
             **SearchOptions(candidates=count).assign_kwargs(),
             bank=tiles.canonical_bank(prepared.yarns),
             progress=lambda fraction, message: progress(0.02 + 0.98 * fraction, message),

@@ -2,7 +2,8 @@
 
 * :mod:`~illuknit.bench.instances` — the TOML manifest of instances and their drawn targets;
 * :mod:`~illuknit.bench.methods` — one adapter per design method (tiles, solvers, gradient, ...);
-* :mod:`~illuknit.bench.metrics` — logical error, blurred render error, colour changes, knitting;
+* :mod:`~illuknit.bench.metrics` — logical error, knitting, peak memory (the picture measures are
+  :mod:`illuknit.design.measures`);
 * :mod:`~illuknit.bench.cells` — one cell: a method run on an instance, then measured;
 * :mod:`~illuknit.bench.runner` — resumable, parallel execution of the cells;
 * :mod:`~illuknit.bench.results` — the results columns and folder;

@@ -153,6 +153,7 @@ def _measure(cell: Cell, pattern: LogicalPattern, row: dict[str, Any]) -> dict[s
     """Fill ``row`` with the pattern's metrics (status ``error`` if measuring fails); its files."""
     from illuknit.bench import metrics
     from illuknit.core.pattern import pattern_to_json
+    from illuknit.design import measures
     from illuknit.outputs.previews import png_bytes
 
     files: dict[str, bytes] = {}
@@ -164,12 +165,12 @@ def _measure(cell: Cell, pattern: LogicalPattern, row: dict[str, Any]) -> dict[s
                 f"method returned a {pattern.shape} pattern for a {targets.a.shape} instance"
             )
         errs = metrics.logical_errors(pattern, targets)
-        renders, renderer = metrics.angled_renders(pattern)
+        renders, renderer = measures.angled_renders(pattern)
         ta, tb = targets.rgb("A"), targets.rgb("B")
-        ra = metrics.render_error(renders["A"], ta)
-        rb = metrics.render_error(renders["B"], tb)
-        cc = metrics.color_changes(pattern)
-        row.update(metrics.picture_scores(renders, ta, tb, double=cell.instance.kind == "double"))
+        ra = measures.render_error(renders["A"], ta)
+        rb = measures.render_error(renders["B"], tb)
+        cc = measures.color_changes(pattern)
+        row.update(measures.picture_scores(renders, ta, tb, double=cell.instance.kind == "double"))
         row.update(
             logical_error_a=errs["A"],
             logical_error_b=errs["B"],

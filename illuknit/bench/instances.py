@@ -64,11 +64,11 @@ _INPUT_KEYS = {"draw", "text", "image", "layers", "background", "ink", "paper", 
 
 
 def _default_manifest() -> Path:
-    # Package data (the top-level instances/ folder, linked as illuknit/instances), so an
-    # installed wheel finds it as well as a source checkout.
+    # The subpackage illuknit.instances: the top-level instances/ folder, installed inside the
+    # package (pyproject's package-dir) or found in a checkout (illuknit.core.source_tree).
     from importlib import resources
 
-    return Path(str(resources.files("illuknit") / "instances" / "manifest.toml"))
+    return Path(str(resources.files("illuknit.instances") / "manifest.toml"))
 
 
 #: The manifest shipped in the source tree (``instances/manifest.toml``).

@@ -210,11 +210,11 @@ register_method(
 
 def run_tiles(instance: Instance, time_limit: float) -> tuple[LogicalPattern, dict[str, Any]]:
     """The tile design that reads best (paper section 6): the double-view stage
-    (:func:`illuknit.design.stages.design_tiles`) with the search ``illuknit double`` makes by
+    (:func:`illuknit.pipeline.stages.design_tiles`) with the search ``illuknit double`` makes by
     default (each solve within ``time_limit``), its first-ranked design compiled."""
     from illuknit.design.options import SearchOptions
-    from illuknit.design.stages import design_tiles
     from illuknit.pictures.images import QuantisedImage
+    from illuknit.pipeline.stages import design_tiles
 
     t = instance_targets(instance)
     qa, qb = (QuantisedImage(idx, t.yarns, t.palette) for idx in (t.a, t.b))

@@ -56,7 +56,7 @@ def _knit_reason(note: str) -> str:
 
 def format_summary(rows: Sequence[dict[str, Any]]) -> str:
     """Markdown: one table per instance, one line per method."""
-    from illuknit.bench.metrics import BLUR_SIGMA, RENDER_ANGLE
+    from illuknit.design.measures import BLUR_SIGMA, RENDER_ANGLE
 
     lines = [
         "# illuknit benchmark summary",

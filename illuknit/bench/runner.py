@@ -212,21 +212,7 @@ def run_bench(
             for m in methods:
                 shutil.rmtree(cell_dir(out, inst.name, m), ignore_errors=True)
 
-    cells = [
-        Cell(
-            inst, m, float(time_limit if time_limit is not None else inst.time_limit), knit_machine
-        )
-        for inst in instances
-        for m in methods
-    ]
-    run = BenchRun(out)
-    todo = []
-    for c in cells:
-        if _finished_row(out, c) is not None:
-            run.reused.append(c.id)
-        else:
-            todo.append(c)
-
+    run, todo = _plan(out, instances, methods, time_limit=time_limit, knit_machine=knit_machine)
     stream = _iter_dask(todo, dask_client, close) if executor == "dask" else _iter_local(todo, jobs)
 
     bar = _progress_bar(len(todo)) if progress and todo else None
@@ -250,6 +236,29 @@ def run_bench(
         if write_outputs:
             run.outputs = report.write_outputs(out, run.rows)
     return run
+
+
+def _plan(
+    out: Path,
+    instances: Sequence[Instance],
+    methods: Sequence[str],
+    *,
+    time_limit: float | None,
+    knit_machine: str,
+) -> tuple[BenchRun, list[Cell]]:
+    """The run over the folder ``out`` with its finished cells counted as reused, and the
+    cells still to run."""
+    run = BenchRun(out)
+    todo = []
+    for inst in instances:
+        for m in methods:
+            limit = float(time_limit if time_limit is not None else inst.time_limit)
+            c = Cell(inst, m, limit, knit_machine)
+            if _finished_row(out, c) is not None:
+                run.reused.append(c.id)
+            else:
+                todo.append(c)
+    return run, todo
 
 
 def _check_options(

@@ -15,11 +15,12 @@ generator, not just illuknit's.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from illuknit.check.report import CheckReport, Finding, render_report
 from illuknit.core.arguments import check_number, check_str
-from illuknit.knitout.parse import parse_knitout
+from illuknit.core.errors import OptionError
+from illuknit.knitout.parse import KnitoutProgram, parse_knitout
 
 if TYPE_CHECKING:
     from illuknit.core.machine import MachineSpec
@@ -96,20 +97,9 @@ def check_knitout(
     from illuknit.check.fabric import fabric_findings
     from illuknit.check.rules import check_header, machine_findings
     from illuknit.check.simulate import simulate_program
-    from illuknit.core.errors import OptionError
     from illuknit.core.machine import machine_from_headers, resolve_machine
 
-    if float_limit is not None and (
-        isinstance(float_limit, bool) or not isinstance(float_limit, int) or float_limit < 1
-    ):
-        raise OptionError(f"`float_limit` must be an integer >= 1, got {float_limit!r}")
-    if max_racking is not None and not max_racking > 0:
-        raise OptionError(f"`max_racking` must be > 0, got {max_racking!r}")
-    if bed_width is not None and (
-        isinstance(bed_width, bool) or not isinstance(bed_width, int) or bed_width < 1
-    ):
-        raise OptionError(f"`bed_width` must be a positive integer, got {bed_width!r}")
-
+    _check_options(float_limit=float_limit, max_racking=max_racking, bed_width=bed_width)
     named = None if machine is None else resolve_machine(machine)  # before any parsing
     program = parse_knitout(text)
     if named is None:
@@ -126,17 +116,8 @@ def check_knitout(
     suppressed = {**sim.suppressed, **suppressed}
     vm_summary = None
     if simulate:
-        from illuknit.check.vm import run_vm
-
-        result = run_vm(text, program)
-        findings += result.findings
-        vm_summary = {
-            "ran": True,
-            "seconds": round(result.seconds, 3),
-            "versions": result.versions,
-            "pieces": result.pieces,
-            "findings": len(result.findings),
-        }
+        vm_findings, vm_summary = _second_opinion(text, program)
+        findings += vm_findings
     return CheckReport(
         findings=tuple(findings),
         pieces=sim.pieces,
@@ -153,3 +134,33 @@ def check_knitout(
             "float_limit": limit,
         },
     )
+
+
+def _check_options(
+    *, float_limit: int | None, max_racking: float | None, bed_width: int | None
+) -> None:
+    if float_limit is not None and (
+        isinstance(float_limit, bool) or not isinstance(float_limit, int) or float_limit < 1
+    ):
+        raise OptionError(f"`float_limit` must be an integer >= 1, got {float_limit!r}")
+    if max_racking is not None and not max_racking > 0:
+        raise OptionError(f"`max_racking` must be > 0, got {max_racking!r}")
+    if bed_width is not None and (
+        isinstance(bed_width, bool) or not isinstance(bed_width, int) or bed_width < 1
+    ):
+        raise OptionError(f"`bed_width` must be a positive integer, got {bed_width!r}")
+
+
+def _second_opinion(text: str, program: KnitoutProgram) -> tuple[list[Finding], dict[str, Any]]:
+    """The PyPI simulator's findings (``source="vm"``) and the report's summary of its run."""
+    from illuknit.check.vm import run_vm
+
+    result = run_vm(text, program)
+    summary = {
+        "ran": True,
+        "seconds": round(result.seconds, 3),
+        "versions": result.versions,
+        "pieces": result.pieces,
+        "findings": len(result.findings),
+    }
+    return list(result.findings), summary

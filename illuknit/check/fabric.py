@@ -133,21 +133,8 @@ def fabric_findings(sim: Simulation, *, float_limit: int) -> tuple[list[Finding]
                 f"carrier {fl.carrier} floats across {fl.length} needles "
                 f"(slot {fl.from_slot} to {fl.to_slot}); limit {float_limit}",
             )
-    if sim.pieces > 1:
-        first: dict[int, int] = {}
-        carriers: dict[int, set[str]] = {}
-        for lid, comp in enumerate(sim.components):
-            first.setdefault(comp, lid)
-            carriers.setdefault(comp, set()).add(sim.loop_carriers[lid])
-        for comp in range(1, sim.pieces):
-            lid = first[comp]
-            add(
-                sim.loop_lines[lid],
-                "pieces",
-                f"piece {comp + 1} of {sim.pieces} starts here (carrier(s) "
-                f"{' '.join(sorted(carriers[comp]))}) and never shares a loop or yarn with piece 1: "
-                "the fabric falls apart; catch the yarns (e.g. a plated stitch at the colour change)",
-            )
+    for line, message in _separate_pieces(sim):
+        add(line, "pieces", message)
     for d in dropped_stitches(sim):
         lid = d.loops[0]
         add(
@@ -184,3 +171,23 @@ def fabric_findings(sim: Simulation, *, float_limit: int) -> tuple[list[Finding]
         )
     suppressed = {k: n - MAX_EVENTS_PER_CODE for k, n in counts.items() if n > MAX_EVENTS_PER_CODE}
     return out, suppressed
+
+
+def _separate_pieces(sim: Simulation) -> list[tuple[int, str]]:
+    """(line, message) where each piece after the first starts, when the fabric falls apart."""
+    if sim.pieces <= 1:
+        return []
+    first: dict[int, int] = {}
+    carriers: dict[int, set[str]] = {}
+    for lid, comp in enumerate(sim.components):
+        first.setdefault(comp, lid)
+        carriers.setdefault(comp, set()).add(sim.loop_carriers[lid])
+    return [
+        (
+            sim.loop_lines[first[comp]],
+            f"piece {comp + 1} of {sim.pieces} starts here (carrier(s) "
+            f"{' '.join(sorted(carriers[comp]))}) and never shares a loop or yarn with piece 1: "
+            "the fabric falls apart; catch the yarns (e.g. a plated stitch at the colour change)",
+        )
+        for comp in range(1, sim.pieces)
+    ]

@@ -70,8 +70,8 @@ def run_design(
     suggest: bool = False,
     progress: Report | None = None,
 ) -> dict[str, Any]:
-    """Parse the options, call :func:`~illuknit.design.stages.design_double` (or
-    :func:`~illuknit.design.stages.design_headon`) and write every candidate (atomically into
+    """Parse the options, call :func:`~illuknit.pipeline.stages.design_double` (or
+    :func:`~illuknit.pipeline.stages.design_headon`) and write every candidate (atomically into
     ``outdir``); with ``knitout`` the default candidate is knit on ``machine``.
     ``progress(fraction, message)`` hears how far the work is (the command line's bar).
     Returns the summary dict."""
@@ -84,7 +84,7 @@ def run_design(
         RankOptions,
         SearchOptions,
     )
-    from illuknit.design.stages import design_double, design_headon
+    from illuknit.pipeline.stages import design_double, design_headon
 
     if candidates < 1:
         raise TileAssignmentError(f"--candidates must be at least 1, got {candidates}")
@@ -149,7 +149,7 @@ def write_design(
     progress: Report | None = None,
     gauge: Any = None,
 ) -> dict[str, Any]:
-    """Write a :class:`~illuknit.design.stages.TileDesign` into ``outdir`` (atomically): each
+    """Write a :class:`~illuknit.pipeline.stages.TileDesign` into ``outdir`` (atomically): each
     candidate's folder, the suggested edits, the default candidate's pattern (and, given a
     machine, its knitout program) and the summary. Returns the summary dict. ``gauge`` (the
     fabric's :class:`~illuknit.core.gauge.Gauge`; default the default machine's) gives the

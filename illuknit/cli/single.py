@@ -14,7 +14,7 @@ from illuknit.core.progress import Report, work_bar
 
 if TYPE_CHECKING:
     from illuknit.core.machine import MachineSpec
-    from illuknit.design.stages import Stripe
+    from illuknit.pipeline.stages import Stripe
 
 __all__ = ["run_single", "single"]
 
@@ -44,8 +44,8 @@ def run_single(
     """
     from illuknit.cli.knitout_bridge import design_unit_aspect, resolve_machine
     from illuknit.core.files import staged_dir
-    from illuknit.design.stages import design_single
     from illuknit.outputs.export import export_pattern
+    from illuknit.pipeline.stages import design_single
 
     say: Report = progress or (lambda fraction, message: None)
     spec = resolve_machine(machine, gauge=gauge)

@@ -100,7 +100,7 @@ def run_solve(
     show_progress: bool = True,
 ) -> dict[str, Any]:
     """Everything ``illuknit solve`` does: parse the options, call
-    :func:`~illuknit.design.stages.solve_design` and write its pattern; returns the report dict.
+    :func:`~illuknit.pipeline.stages.solve_design` and write its pattern; returns the report dict.
 
     With ``knitout`` the pattern is knit on ``machine`` (a preset name); a pattern wider than its
     bed is refused before the model is built.
@@ -108,7 +108,7 @@ def run_solve(
     from illuknit.cli.knitout_bridge import design_unit_aspect, resolve_machine
     from illuknit.core.files import STDOUT
     from illuknit.design.options import ModelKind, SolveOptions, WarmStart
-    from illuknit.design.stages import illusion_model, solve_design
+    from illuknit.pipeline.stages import illusion_model, solve_design
 
     if image_a is None:
         raise click.UsageError("give the target picture(s): illuknit solve A.png B.png -o OUTDIR")

@@ -40,10 +40,12 @@ from illuknit.core.errors import OptionError, SchedulingError, UnknownNameError
 from illuknit.core.gauge import STOCKINETTE_COURSE_ASPECT, Gauge
 
 __all__ = [
+    "BACKENDS",
     "DEFAULT_MACHINE",
     "DEFAULT_MACHINE_NAME",
     "KNITERATE",
     "MACHINES",
+    "SWG_CARRIERS",
     "MachineSpec",
     "TransferSettings",
     "get_machine",
@@ -53,6 +55,12 @@ __all__ = [
 ]
 
 _POSITIONS = ("Left", "Right", "Center", "Keep")
+
+#: The carriers of a Shima machine, the only carrier header the SWG backend accepts.
+SWG_CARRIERS = tuple(str(i) for i in range(1, 11))
+
+#: Reference backends a machine's knitout can go through (:attr:`MachineSpec.backend`).
+BACKENDS = ("swg", "kniterate")
 
 
 @dataclass(frozen=True)
@@ -163,6 +171,12 @@ class MachineSpec:
     transfer : TransferSettings
         Stitch number, speed and roller advance of transfer passes (override per run with
         ``dataclasses.replace``; ``--xfer-stitch``, ``--xfer-speed``, ``--xfer-roller``).
+    backend : {"swg", "kniterate"} or None
+        The reference backend that turns this machine's knitout into what the machine runs:
+        ``"swg"`` (Shima SWG, ``.dat``; the knitting path then counts the machine's passes as
+        that backend makes them), ``"kniterate"`` (``.kc``), or None: not said, taken as
+        ``"swg"`` for a machine with the Shima carriers (:data:`SWG_CARRIERS`), else knitout only
+        (:meth:`runs_on`).
 
     Examples
     --------
@@ -194,6 +208,7 @@ class MachineSpec:
     formats: tuple[str, ...] = ("dat",)
     transfer: TransferSettings = TransferSettings()
     fabric: Gauge | None = None
+    backend: str | None = None
 
     def __post_init__(self) -> None:
         def positive(name: str, value: float, *, integer: bool = False) -> None:
@@ -216,6 +231,12 @@ class MachineSpec:
         if any(not c or any(ch.isspace() for ch in c) for c in carriers):
             raise OptionError("carrier names must be non-empty and contain no spaces")
         object.__setattr__(self, "carriers", carriers)
+        if self.backend is not None and self.backend not in BACKENDS:
+            raise OptionError(
+                f"`backend` must be one of {', '.join(BACKENDS)} or None, got {self.backend!r}"
+            )
+        if self.backend == "swg" and carriers != SWG_CARRIERS:
+            raise OptionError("the SWG backend takes the Shima carriers 1 to 10 only")
         for name in ("waste_carrier", "draw_carrier"):
             c = getattr(self, name)
             if c is not None and c not in carriers:
@@ -322,14 +343,23 @@ class MachineSpec:
         """A copy with another gauge (the ``--gauge`` option)."""
         return replace(self, gauge=gauge, description=f"{self.name} at gauge {gauge:g}")
 
+    def runs_on(self) -> str | None:
+        """The reference backend of this machine: :attr:`backend`, or when it is not said,
+        ``"swg"`` for the Shima carriers and None (knitout only) for any others."""
+        if self.backend is not None:
+            return self.backend
+        return "swg" if self.carriers == SWG_CARRIERS else None
+
 
 #: Machine presets by name (lower case); see the module docstring for their sources.
 MACHINES: dict[str, MachineSpec] = {
     "generic540": MachineSpec(
-        description="7-gauge Shima SWG091N2 as the reference knitout tools model it (540 needles)"
+        backend="swg",
+        description="7-gauge Shima SWG091N2 as the reference knitout tools model it (540 needles)",
     ),
     "swg091n2": MachineSpec(
         needles=252,
+        backend="swg",
         description="7-gauge Shima SWG091N2 with its physical 36-inch bed (252 needles)",
     ),
     "kniterate": MachineSpec(
@@ -353,6 +383,7 @@ MACHINES: dict[str, MachineSpec] = {
                 "stitch about half the knitting's (6 -> 3, knitout-backend-kniterate #35)"
             ),
         ),
+        backend="kniterate",
         description="Kniterate, 252 needles, 6 carriers (1 draw thread, 6 waste, 2-5 pattern)",
     ),
 }

@@ -1,4 +1,4 @@
-"""Frozen, validated options of the design stages (:mod:`illuknit.design.stages`).
+"""Frozen, validated options of the design stages (:mod:`illuknit.pipeline.stages`).
 
 :class:`SearchOptions` says how tile designs are searched, :class:`RankOptions` how they are
 ranked, :class:`SolveOptions` how a constraint model is solved. Choices are enums whose values

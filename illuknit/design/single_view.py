@@ -31,7 +31,7 @@ from illuknit.core.arguments import check_array
 from illuknit.core.colors import luminance
 from illuknit.core.errors import ImageInputError
 from illuknit.core.pattern import LogicalPattern, Yarn
-from illuknit.pictures.images import QuantisedImage
+from illuknit.pictures.images import QuantisedImage, check_image, count_colors, load_image
 
 __all__ = [
     "compile_single_view",
@@ -169,7 +169,6 @@ def prepare_single_view_image(
     lightest the lighter yarn, and a middle colour stays a picture colour (never knitted). With
     three user yarns, picture colours map one-to-one to the nearest yarns.
     """
-    from illuknit.pictures.images import check_image, count_colors, load_image
     from illuknit.pictures.sizing import prepare_image
 
     if isinstance(source, (str, bytes)) or hasattr(source, "__fspath__"):

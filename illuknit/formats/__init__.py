@@ -14,6 +14,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
+from illuknit.core.errors import UnknownNameError
 from illuknit.formats.swg_ir import MachinePass, MachinePassKind
 from illuknit.formats.swg_passes import machine_passes
 
@@ -41,8 +42,6 @@ def machine_formats(machine: MachineSpec) -> tuple[str, ...]:
 
 def check_format(machine: MachineSpec, fmt: str) -> None:
     """Refuse (:class:`~illuknit.core.errors.UnknownNameError`) a format ``machine`` cannot take."""
-    from illuknit.core.errors import UnknownNameError
-
     valid = machine_formats(machine)
     if fmt not in valid:
         raise UnknownNameError(f"output format for the {machine.name}", fmt, valid)
@@ -71,6 +70,5 @@ def knitout_to_format(text: str, fmt: str, *, name: str = "program") -> bytes:
         from illuknit.formats.kc import knitout_to_kc
 
         return knitout_to_kc(text, name=name).encode("utf-8")
-    from illuknit.core.errors import UnknownNameError
 
     raise UnknownNameError("output format", fmt, list(FORMAT_SUFFIXES))

@@ -22,7 +22,6 @@ __all__ = [
     "KcPassKind",
     "KcProgram",
     "KcSlotOp",
-    "Needle",
     "combine_kinds",
     "combine_ops",
     "pass_kind",
@@ -160,18 +159,6 @@ def combine_kinds(a: KcPassKind, b: KcPassKind) -> KcPassKind | None:
         stitch.back,
     )
     return split if source_knit else None
-
-
-@dataclass(frozen=True)
-class Needle:
-    """A needle: bed ``"f"`` or ``"b"`` and its index."""
-
-    bed: str
-    index: int
-
-    @property
-    def front(self) -> bool:
-        return self.bed == "f"
 
 
 @dataclass

@@ -15,7 +15,6 @@ carriers, slider needles, racking it cannot align) raise :class:`~illuknit.core.
 
 from __future__ import annotations
 
-import functools
 import math
 import re
 from dataclasses import dataclass
@@ -29,14 +28,13 @@ from illuknit.formats.kc_ir import (
     KcPassKind,
     KcProgram,
     KcSlotOp,
-    Needle,
     pass_kind,
 )
+from illuknit.knitout.parse import Needle, parse_needle
 
 __all__ = ["read_kc_passes"]
 
 _NUMBER = re.compile(r"^[+-]?\d*\.?\d+$")
-_NEEDLE = re.compile(r"^([fb]s?)(-?\d+)$")
 _STITCH_NUMBER = re.compile(r"^[0-9A-Z]$")
 _POSITIONS = ("Left", "Right", "Keep", "Center")
 
@@ -46,12 +44,6 @@ class _Carrier:
     last: tuple[Needle, str] | None = None  # where the yarn is attached
     kick: tuple[Needle, str] | None = None  # where the carrier is parked
     pending_in: tuple[str, ...] | None = None
-
-
-@functools.lru_cache(maxsize=4096)
-def _parse_needle(token: str) -> Needle | None:
-    m = _NEEDLE.match(token)
-    return Needle(m.group(1), int(m.group(2))) if m else None
 
 
 def _opposite(direction: str) -> str:
@@ -165,7 +157,7 @@ class _PassReader:
         return KcodeError(message, line=self.line, needle=needle, carrier=carrier, racking=racking)
 
     def slot(self, n: Needle) -> int:
-        return n.index if n.front else n.index + math.floor(self.racking)
+        return n.index if n.is_front else n.index + math.floor(self.racking)
 
     def new_pass(
         self,
@@ -196,7 +188,7 @@ class _PassReader:
         return value
 
     def needle(self, token: str | None) -> Needle:
-        n = _parse_needle(token or "")
+        n = parse_needle(token or "")
         if n is None:
             raise self.fail(f"invalid needle {token!r}")
         if len(n.bed) > 1:
@@ -410,13 +402,15 @@ class _PassReader:
             kind, slot_op = SOFT, KcSlotOp.SOFT_MISS
         else:
             stitch = "K" if op == "knit" else "T"
-            kind = pass_kind("stitch", stitch if n.front else None, None if n.front else stitch)
+            kind = pass_kind(
+                "stitch", stitch if n.is_front else None, None if n.is_front else stitch
+            )
             slot_op = {
                 ("K", True): KcSlotOp.KNIT_F,
                 ("K", False): KcSlotOp.KNIT_B,
                 ("T", True): KcSlotOp.TUCK_F,
                 ("T", False): KcSlotOp.TUCK_B,
-            }[stitch, n.front]
+            }[stitch, n.is_front]
         p = self.new_pass(
             kind, carriers, direction, slot, slot_op, roller=self.take_roller(self.roller)
         )
@@ -442,9 +436,9 @@ class _PassReader:
         carriers = tuple(args[3:])
         if yarnless and carriers:
             raise self.fail("`xfer` takes no carriers")
-        if n.front == t.front:
+        if n.is_front == t.is_front:
             raise self.fail(f"transfers go between beds, not {n.bed}{n.index} -> {t.bed}{t.index}")
-        front, back = (n, t) if n.front else (t, n)
+        front, back = (n, t) if n.is_front else (t, n)
         if front.index != back.index + self.racking:
             raise self.fail(
                 f"{n.bed}{n.index} and {t.bed}{t.index} are not aligned at racking "
@@ -453,12 +447,12 @@ class _PassReader:
             )
         if carriers:
             self.check_carriers(direction, carriers)
-            kind = pass_kind("split", split_to_back=n.front, split_rightward=direction == "+")
+            kind = pass_kind("split", split_to_back=n.is_front, split_rightward=direction == "+")
             op, size = KcSlotOp.SPLIT, self.stitch
         else:
             direction = ""
             kind = pass_kind("xfer", xfer_style=self.xfer_style)
-            op = KcSlotOp.XFER_TO_BACK if n.front else KcSlotOp.XFER_TO_FRONT
+            op = KcSlotOp.XFER_TO_BACK if n.is_front else KcSlotOp.XFER_TO_FRONT
             size = self.xfer_stitch
         self.kick_others(n, carriers)
         p = self.new_pass(

@@ -43,7 +43,7 @@ scheduler reports against the same definition extended with per-course carrier s
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from types import MappingProxyType
 from typing import Any
 
@@ -326,54 +326,101 @@ def schedule_courses(
     carrier_of = _checked_carriers(stitches, machine=machine, tail_stitches=tail_stitches)
     n_courses, n_wales = stitches.shape
     course_carrier = [carrier_of[int(stitches.yarn[c, 0])] for c in range(n_courses)]
-    last_course = {car: c for c, car in enumerate(course_carrier)}
-
     left = machine.fabric_left
     right = left + n_wales - 1
     park = {"+": right + machine.park_distance, "-": left - machine.park_distance}
-    needles_up = list(range(left, right + 1))
-    needles_down = needles_up[::-1]
-    body_sn = machine.stitch_number
-    cast_sn = machine.cast_on_stitch
+    knitter = _CourseKnitter([], list(range(left, right + 1)), park)
+    cast_on_fixed = _cast_on(knitter, stitches, course_carrier[0], machine=machine)
+    bed, body_bound = _body(knitter, stitches, course_carrier, machine=machine)
+    cb = course_carrier[n_courses - 1]
+    bind_fixed = _bind_off(
+        knitter.steps,
+        bed,
+        cb,
+        knitter.next_dir[cb],
+        left,
+        right,
+        stitch_number=machine.stitch_number,
+        tail_stitches=tail_stitches,
+    )
+    return Schedule(
+        steps=tuple(knitter.steps),
+        machine=machine,
+        yarns=stitches.yarns,
+        carrier_of_yarn={y: (c,) for y, c in carrier_of.items()},
+        left=left,
+        wales=n_wales,
+        courses=n_courses,
+        lower_bound=cast_on_fixed + body_bound + bind_fixed,
+        body_lower_bound=body_bound,
+        units=stitches.units,
+        scheduler="one-colour-per-course",
+    )
 
-    steps: list[Step] = []
-    # Side where each live carrier is parked: the direction its next pass must run.
-    next_dir: dict[str, Direction] = {}
+
+@dataclass
+class _CourseKnitter:
+    """The steps of a one-colour-per-course schedule as they are written, and where each live
+    carrier is parked (the direction its next pass must run)."""
+
+    steps: list[Step]
+    needles_up: list[int]
+    park: dict[str, int]
+    next_dir: dict[str, Direction] = field(default_factory=dict)
+    #: The carrier whose yarn end the inserting hook holds, until it is released.
+    hook_held: str | None = None
 
     def knit_course(
-        car: str, beds: Sequence[str], role: Role, course: int | None, sn: int | None
+        self, car: str, beds: Sequence[str], role: Role, course: int | None, sn: int | None
     ) -> None:
-        d = next_dir.get(car, "-")
-        order = needles_up if d == "+" else needles_down
+        d = self.next_dir.get(car, "-")
+        order = self.needles_up if d == "+" else self.needles_up[::-1]
         b = list(beds) if d == "+" else list(beds)[::-1]
         ops = _knit_ops(order, b)
-        ops.append(Op(OpKind.MISS, Bed.FRONT, park[d]))
-        steps.append(Pass(PassKind.KNIT, tuple(ops), d, (car,), 0.0, role, course, sn))
-        next_dir[car] = "-" if d == "+" else "+"
+        ops.append(Op(OpKind.MISS, Bed.FRONT, self.park[d]))
+        self.steps.append(Pass(PassKind.KNIT, tuple(ops), d, (car,), 0.0, role, course, sn))
+        self.next_dir[car] = "-" if d == "+" else "+"
 
-    # -- cast-on -----------------------------------------------------------------------------
-    c0 = course_carrier[0]
-    steps.extend(
+    def release_hook(self) -> None:
+        if self.hook_held is not None:
+            self.steps.append(CarrierAction(ActionKind.RELEASEHOOK, (self.hook_held,)))
+            self.hook_held = None
+
+
+def _cast_on(k: _CourseKnitter, stitches: StitchPattern, c0: str, *, machine: MachineSpec) -> int:
+    """The cast-on and the plain cast-on courses; their fixed passes."""
+    cast_sn = machine.cast_on_stitch
+    k.steps.extend(
         cast_on_steps(
             c0,
-            needles_up,
-            left_end=park["-"],
-            right_end=right,
+            k.needles_up,
+            left_end=k.park["-"],
+            right_end=k.needles_up[-1],
             hook="held",
             stitch_number=cast_sn,
         )
     )
-    next_dir[c0] = "-"
+    k.next_dir[c0] = "-"
     # The hook holds the yarn end through the first full course (it parks left, clear of the hook).
-    hook_held: str | None = c0
-    cast_on_fixed = 2 + stitches.cast_on_courses
+    k.hook_held = c0
     for _ in range(stitches.cast_on_courses):
-        knit_course(c0, ["f"] * n_wales, Role.CAST_ON, None, cast_sn)
-        if hook_held is not None:
-            steps.append(CarrierAction(ActionKind.RELEASEHOOK, (hook_held,)))
-            hook_held = None
+        k.knit_course(c0, ["f"] * len(k.needles_up), Role.CAST_ON, None, cast_sn)
+        k.release_hook()
+    return 2 + stitches.cast_on_courses
 
-    # -- body --------------------------------------------------------------------------------
+
+def _body(
+    k: _CourseKnitter,
+    stitches: StitchPattern,
+    course_carrier: list[str],
+    *,
+    machine: MachineSpec,
+) -> tuple[np.ndarray, int]:
+    """The pattern's courses, each after the transfers it needs; the beds that hold the last
+    course's loops and the body's lower bound (one pass per course and per transfer course)."""
+    n_courses, n_wales = stitches.shape
+    left = machine.fabric_left
+    last_course = {car: c for c, car in enumerate(course_carrier)}
     bed = np.zeros(n_wales, dtype=np.uint8)  # which bed holds each wale's loop: 0 front, 1 back
     bed_letter = np.array(["f", "b"])
     transfer_courses = 0
@@ -388,48 +435,19 @@ def schedule_courses(
                 else Op(OpKind.XFER, Bed.FRONT, left + int(w), Bed.BACK, left + int(w))
                 for w in moving
             )
-            steps.append(Pass(PassKind.XFER, ops, None, (), 0.0, Role.TRANSFER, c))
+            k.steps.append(Pass(PassKind.XFER, ops, None, (), 0.0, Role.TRANSFER, c))
             bed = need.copy()
         car = course_carrier[c]
-        if car not in next_dir:
-            steps.append(CarrierAction(ActionKind.INHOOK, (car,)))
-            hook_held = car
-        knit_course(car, bed_letter[need].tolist(), Role.BODY, c, body_sn)
-        if hook_held is not None:
-            # Release at once: while the hook holds the yarn nothing may touch the right edge.
-            steps.append(CarrierAction(ActionKind.RELEASEHOOK, (hook_held,)))
-            hook_held = None
+        if car not in k.next_dir:
+            k.steps.append(CarrierAction(ActionKind.INHOOK, (car,)))
+            k.hook_held = car
+        k.knit_course(car, bed_letter[need].tolist(), Role.BODY, c, machine.stitch_number)
+        # Release at once: while the hook holds the yarn nothing may touch the right edge.
+        k.release_hook()
         if last_course[car] == c and c != n_courses - 1:
-            steps.append(CarrierAction(ActionKind.OUTHOOK, (car,)))
-            del next_dir[car]
-    body_bound = n_courses + transfer_courses
-
-    # -- bind-off ----------------------------------------------------------------------------
-    cb = course_carrier[n_courses - 1]
-    bind_fixed = _bind_off(
-        steps,
-        bed,
-        cb,
-        next_dir[cb],
-        left,
-        right,
-        stitch_number=body_sn,
-        tail_stitches=tail_stitches,
-    )
-
-    return Schedule(
-        steps=tuple(steps),
-        machine=machine,
-        yarns=stitches.yarns,
-        carrier_of_yarn={y: (c,) for y, c in carrier_of.items()},
-        left=left,
-        wales=n_wales,
-        courses=n_courses,
-        lower_bound=cast_on_fixed + body_bound + bind_fixed,
-        body_lower_bound=body_bound,
-        units=stitches.units,
-        scheduler="one-colour-per-course",
-    )
+            k.steps.append(CarrierAction(ActionKind.OUTHOOK, (car,)))
+            del k.next_dir[car]
+    return bed, n_courses + transfer_courses
 
 
 def _checked_carriers(

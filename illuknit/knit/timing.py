@@ -6,7 +6,7 @@ Model (documented in ``docs/knitting.md``)::
 
 *Needles crossed* is the span of the pass: rightmost minus leftmost needle it touches, plus one
 (transfer targets and parking misses included). The machine's passes
-(:class:`~illuknit.knitting.carriage.MachineRun`) include the backend's hook passes, carrier moves
+(:class:`MachineRun`, counted by :func:`illuknit.knitting.carriage.machine_run`) include the backend's hook passes, carrier moves
 and kickbacks; without them the schedule's own passes are used, plus ``seconds_per_turn`` for
 each of the empty passes the SWG backend adds for ``releasehook`` and ``outhook``. The defaults (0.01 s per needle, about 0.36 m/s at
 7 gauge's 3.63 mm needle pitch, and 1.5 s per pass for turning and clearing the carriage) come from
@@ -18,15 +18,28 @@ operator; treat the estimate as a way to compare programs, not a promise.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
 from illuknit.core.errors import OptionError
 from illuknit.knit.schedule import Schedule
 
-if TYPE_CHECKING:
-    from illuknit.knitting.carriage import MachineRun
+__all__ = ["MachineRun", "TimeEstimate", "estimate_knit_time", "format_duration"]
 
-__all__ = ["TimeEstimate", "estimate_knit_time", "format_duration"]
+
+@dataclass(frozen=True)
+class MachineRun:
+    """The machine's passes for one program: how many of each kind, and their needle spans.
+
+    ``kinds`` maps the backend's pass kinds (``knit``, ``transfer``, ``miss``, ``kickback``,
+    ``hook-release``, ``carriage-move``, ``carrier-out``, ``drop`` ...) to counts; ``spans`` holds
+    each pass's needle span (rightmost - leftmost slot + 1) in order, for the time model.
+    """
+
+    kinds: dict[str, int]
+    spans: tuple[int, ...]
+
+    @property
+    def passes(self) -> int:
+        return len(self.spans)
 
 
 @dataclass(frozen=True)

@@ -13,38 +13,18 @@ ten-carrier Shima header). For other machines the schedule's own passes are repo
 from __future__ import annotations
 
 from collections import Counter
-from dataclasses import dataclass
 
 from illuknit.core.machine import MachineSpec
 from illuknit.knit.ir import ActionKind, CarrierAction
 from illuknit.knit.schedule import Schedule, ScheduleStats
+from illuknit.knit.timing import MachineRun
 
-__all__ = ["SWG_CARRIERS", "MachineRun", "machine_run", "machine_stats", "runs_on_swg"]
-
-#: The carrier header the SWG backend accepts (and the only one it accepts).
-SWG_CARRIERS = tuple(str(i) for i in range(1, 11))
-
-
-@dataclass(frozen=True)
-class MachineRun:
-    """The machine's passes for one program: how many of each kind, and their needle spans.
-
-    ``kinds`` maps the backend's pass kinds (``knit``, ``transfer``, ``miss``, ``kickback``,
-    ``hook-release``, ``carriage-move``, ``carrier-out``, ``drop`` ...) to counts; ``spans`` holds
-    each pass's needle span (rightmost - leftmost slot + 1) in order, for the time model.
-    """
-
-    kinds: dict[str, int]
-    spans: tuple[int, ...]
-
-    @property
-    def passes(self) -> int:
-        return len(self.spans)
+__all__ = ["machine_run", "machine_stats", "runs_on_swg"]
 
 
 def runs_on_swg(machine: MachineSpec) -> bool:
-    """True when the SWG backend drives ``machine`` (its carriers are the Shima ten)."""
-    return tuple(machine.carriers) == SWG_CARRIERS
+    """True when the SWG backend drives ``machine`` (:attr:`MachineSpec.backend`)."""
+    return machine.runs_on() == "swg"
 
 
 def machine_run(text: str) -> MachineRun:

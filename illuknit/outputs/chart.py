@@ -21,6 +21,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from illuknit.core.arguments import check_instance, check_str
+from illuknit.core.colors import luminance
 from illuknit.core.gauge import Gauge, finished_size
 from illuknit.core.pattern import LogicalPattern, check_pattern
 from illuknit.outputs.hand_pattern import hand_advice, written_row
@@ -147,8 +148,6 @@ def chart_png_rgb(pattern: LogicalPattern, *, cell: int | None = None) -> NDArra
 def _with_key(chart: NDArray[np.uint8], pattern: LogicalPattern) -> NDArray[np.uint8]:
     from PIL import Image, ImageDraw, ImageFont
 
-    from illuknit.core.colors import luminance
-
     try:
         font = ImageFont.load_default(size=13)
     except TypeError:
@@ -178,8 +177,6 @@ def _with_key(chart: NDArray[np.uint8], pattern: LogicalPattern) -> NDArray[np.u
 
 def _chart_body(pattern: LogicalPattern, *, cell: int | None) -> NDArray[np.uint8]:
     from PIL import Image, ImageDraw, ImageFont
-
-    from illuknit.core.colors import luminance
 
     n, m = pattern.shape
     rows = hand_rows(pattern)

@@ -15,7 +15,8 @@ import re
 from dataclasses import dataclass
 from typing import Any
 
-from illuknit.formats import check_format  # one check for the CLI, the sheet and the app
+# one format check for the CLI, the sheet and the app
+from illuknit.formats import check_format, machine_passes
 from illuknit.knit.timing import format_duration
 from illuknit.knitting.pipeline import KnitResult
 
@@ -86,8 +87,6 @@ def machine_sheet(result: KnitResult, *, name: str = "command.kc") -> MachineShe
         numbers = list(facts["stitch_numbers"])  # type: ignore[call-overload]
     elif "dat" in m.formats:
         # the Shima SWG backend's own passes: its kickbacks, carrier moves and hook passes
-        from illuknit.formats import machine_passes
-
         runs = [p.needle_range for p in machine_passes(result.text)]
         passes = len(runs)
         seconds = sum(m.pass_seconds(hi - lo + 1) for lo, hi in runs)

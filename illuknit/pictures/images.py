@@ -237,14 +237,6 @@ class QuantisedImage:
             for i, y in enumerate(self.yarns)
         ]
 
-    def legend_text(self) -> str:
-        lines = ["image colour -> yarn (share of pixels)"]
-        for e in self.legend():
-            lines.append(
-                f"  {e['image_color']} -> {e['yarn']} {e['yarn_color']} ({100 * e['share']:.1f}%)"
-            )
-        return "\n".join(lines)
-
 
 def quantise_image(
     rgb: ArrayLike,

@@ -17,7 +17,7 @@ from PIL import Image
 from illuknit.app import create_app
 from illuknit.app.measures import ORDERS, order_candidates
 from illuknit.app.server import AppConfig
-from illuknit.bench.metrics import angled_renders, picture_scores
+from illuknit.design.measures import angled_renders, picture_scores
 from illuknit.design.tiles import perception
 
 

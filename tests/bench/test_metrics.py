@@ -6,20 +6,17 @@ import numpy as np
 import pytest
 
 from illuknit.bench.instances import Targets
-from illuknit.bench.metrics import (
-    PeakMemory,
+from illuknit.bench.metrics import PeakMemory, knit_stats, logical_errors, yarn_map
+from illuknit.core.colors import linear_from_srgb, srgb_from_linear
+from illuknit.core.pattern import LogicalPattern, parse_yarns
+from illuknit.design.measures import (
     angled_renders,
     blur_image,
     color_changes,
     ghosting,
-    knit_stats,
-    logical_errors,
     render_correlation,
     render_error,
-    yarn_map,
 )
-from illuknit.core.colors import linear_from_srgb, srgb_from_linear
-from illuknit.core.pattern import LogicalPattern, parse_yarns
 
 BW = parse_yarns("#000000,#ffffff")
 

@@ -1,33 +1,18 @@
-"""The reference SWG backend (``knitout-to-dat.js``) as a judge for the tests of this folder."""
+"""The reference SWG backend (``knitout-to-dat.js``) as a judge for the tests of this folder.
+
+The backend's path comes from the ``swg_backend`` fixture (tests/conftest.py).
+"""
 
 from __future__ import annotations
 
 import functools
-import os
-import shutil
 import subprocess
 import tempfile
 from pathlib import Path
 
 import numpy as np
-import pytest
 
-ORACLE = Path(os.environ.get("ILLUKNIT_SWG_ORACLE", "/work/shared/oracles/swg/knitout-to-dat.js"))
 CHECK_DATA = Path(__file__).parents[1] / "check" / "data"
-
-
-def reference_available() -> str | None:
-    """None when node and the reference backend are here, else the reason to skip."""
-    if shutil.which("node") is None:
-        return "node is not installed"
-    if not ORACLE.exists():
-        return f"the reference SWG backend is missing ({ORACLE})"
-    return None
-
-
-needs_reference = pytest.mark.skipif(
-    reference_available() is not None, reason=str(reference_available())
-)
 
 
 #: assertions the backend prints on a-miss passes, with no effect on the file it writes
@@ -38,13 +23,13 @@ BENIGN = {
 }
 
 
-def reference_dat(text: str) -> bytes | None:
+def reference_dat(text: str, backend: Path) -> bytes | None:
     """The reference backend's .dat for ``text``; None when it refuses the program."""
     with tempfile.TemporaryDirectory() as tmp:
         k, dat = Path(tmp) / "in.k", Path(tmp) / "out.dat"
         k.write_text(text)
         run = subprocess.run(
-            ["node", str(ORACLE), str(k), str(dat)], capture_output=True, text=True, timeout=60
+            ["node", str(backend), str(k), str(dat)], capture_output=True, text=True, timeout=60
         )
         asserts = [ln for ln in run.stderr.splitlines() if "Assertion failed" in ln]
         if run.returncode != 0 or "ERROR" in run.stderr or any(a not in BENIGN for a in asserts):
@@ -52,9 +37,9 @@ def reference_dat(text: str) -> bytes | None:
         return dat.read_bytes()
 
 
-def reference_pass_count(text: str) -> int | None:
+def reference_pass_count(text: str, backend: Path) -> int | None:
     """Pass rows of the reference .dat (raster height - 19); None when it refuses the program."""
-    data = reference_dat(text)
+    data = reference_dat(text, backend)
     if data is None:
         return None
     return int(np.frombuffer(data[:8], "<u2")[3]) + 1 - 19

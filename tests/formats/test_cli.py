@@ -8,7 +8,7 @@ import pytest
 
 from illuknit.core.pattern import LogicalPattern, parse_yarns, save_pattern
 from illuknit.formats.dat import knitout_to_dat, read_dat
-from tests.formats.reference import needs_reference, reference_dat
+from tests.formats.reference import reference_dat
 
 
 @pytest.fixture
@@ -33,12 +33,13 @@ def test_knit_writes_the_dat_of_its_knitout(pattern_file, tmp_path, run_cli):
     assert len(read_dat(data).passes) > 0
 
 
-@needs_reference
-def test_knit_dat_is_the_reference_backends(pattern_file, tmp_path, run_cli):
+def test_knit_dat_is_the_reference_backends(pattern_file, tmp_path, run_cli, swg_backend):
     code, _, err = run_cli(["knit", pattern_file, "-o", tmp_path / "a.k"])
     assert code == 0, err
     run_cli(["knit", pattern_file, "--format", "dat", "-o", tmp_path / "a.dat"])
-    assert (tmp_path / "a.dat").read_bytes() == reference_dat((tmp_path / "a.k").read_text())
+    assert (tmp_path / "a.dat").read_bytes() == reference_dat(
+        (tmp_path / "a.k").read_text(), swg_backend
+    )
 
 
 def test_knit_refuses_unknown_format_with_nothing_written(pattern_file, tmp_path, run_cli):

@@ -14,7 +14,7 @@ from illuknit.formats.dat import decode_dat, encode_dat, knitout_to_dat, read_da
 from illuknit.formats.dat_rows import decode_carriers
 from illuknit.formats.swg_ir import PassType
 from illuknit.formats.swg_passes import machine_passes
-from tests.formats.reference import GENERATED, generated_programs, needs_reference, reference_dat
+from tests.formats.reference import GENERATED, generated_programs, reference_dat
 
 DATA = Path(__file__).parent / "data"
 #: hand-written edge cases both writers accept: kickbacks of several carriers, plated pairs with
@@ -36,18 +36,16 @@ def edge(name: str) -> str:
     return (DATA / f"edge_{name}.k").read_text()
 
 
-@needs_reference
 @pytest.mark.parametrize("name", GENERATED)
-def test_generated_programs_are_byte_identical(name):
+def test_generated_programs_are_byte_identical(name, swg_backend):
     text = generated_programs()[name]
-    assert knitout_to_dat(text) == reference_dat(text)
+    assert knitout_to_dat(text) == reference_dat(text, swg_backend)
 
 
-@needs_reference
 @pytest.mark.parametrize("name", ACCEPTED)
-def test_edge_cases_are_byte_identical(name):
+def test_edge_cases_are_byte_identical(name, swg_backend):
     text = edge(name)
-    ref = reference_dat(text)
+    ref = reference_dat(text, swg_backend)
     assert ref is not None
     assert knitout_to_dat(text) == ref
 

@@ -4,7 +4,6 @@ against ``knitout-to-kcode.js``, and the programs it must refuse."""
 from __future__ import annotations
 
 import random
-import shutil
 import subprocess
 from pathlib import Path
 
@@ -12,9 +11,9 @@ import pytest
 
 from illuknit.core.errors import KcodeError
 from illuknit.formats.kc import knitout_to_kc
+from tests.conftest import reference_backend
 
 DATA = Path(__file__).parent / "data" / "kniterate"
-ORACLE = Path("/work/shared/oracles/kniterate/knitout-to-kcode.js")
 HEADER = ";!knitout-2\n;;Carriers: 1 2 3 4 5 6\n"
 
 
@@ -33,15 +32,12 @@ def test_reference_backend_tests_reproduced(case: str) -> None:
 
 def node_kc(text: str, tmp_path: Path) -> tuple[str | None, str]:
     """The reference backend's .kc for ``text`` (None when it refuses or fails an assertion)."""
-    if shutil.which("node") is None:
-        pytest.skip("node is not installed: the reference Kniterate backend cannot run")
-    if not ORACLE.exists():
-        pytest.skip(f"reference backend {ORACLE} is not present")
+    backend = reference_backend("kniterate/knitout-to-kcode.js")
     src, out = tmp_path / "in.k", tmp_path / "out.kc"
     src.write_text(text)
     out.unlink(missing_ok=True)
     r = subprocess.run(
-        ["node", str(ORACLE), str(src), str(out)], capture_output=True, text=True, timeout=60
+        ["node", str(backend), str(src), str(out)], capture_output=True, text=True, timeout=60
     )
     log = r.stdout + r.stderr
     if r.returncode or "Assertion failed" in log or not out.exists():

@@ -13,7 +13,6 @@ from illuknit.formats.swg_ir import CarriageDirection
 from tests.formats.reference import (
     GENERATED,
     generated_programs,
-    needs_reference,
     reference_pass_count,
 )
 
@@ -129,11 +128,10 @@ def test_wrong_carriers_header_is_refused():
         machine_passes(";!knitout-2\n;;Carriers: 1 2 3 4 5 6\nin 3\nknit + f1 3\nout 3\n")
 
 
-@needs_reference
 @pytest.mark.parametrize("name", GENERATED)
-def test_pass_count_matches_reference(name):
+def test_pass_count_matches_reference(name, swg_backend):
     text = generated_programs()[name]
-    assert len(machine_passes(text)) == reference_pass_count(text)
+    assert len(machine_passes(text)) == reference_pass_count(text, swg_backend)
 
 
 @st.composite
@@ -150,13 +148,12 @@ def small_patterns(draw):
     )
 
 
-@needs_reference
 @settings(max_examples=12, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(pattern=small_patterns(), cast_on=st.integers(0, 2))
-def test_random_patterns_match_reference(pattern, cast_on):
+def test_random_patterns_match_reference(swg_backend, pattern, cast_on):
     from illuknit.knitting import knit_pattern
 
     text = knit_pattern(pattern, cast_on_courses=cast_on).text
     passes = machine_passes(text)
-    assert len(passes) == reference_pass_count(text)
+    assert len(passes) == reference_pass_count(text, swg_backend)
     assert all(p.carriers or p.kind is not MachinePassKind.KNIT for p in passes)

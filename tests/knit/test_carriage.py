@@ -6,7 +6,6 @@ pass's way, so the machine adds no kickbacks in the body.
 
 from __future__ import annotations
 
-import shutil
 import struct
 import subprocess
 from pathlib import Path
@@ -20,25 +19,18 @@ from illuknit.core.pattern import LogicalPattern, parse_yarns
 from illuknit.knitting import knit_pattern
 from illuknit.knitting.carriage import machine_run, runs_on_swg
 
-ORACLE = Path("/work/shared/oracles/swg/knitout-to-dat.js")
 YARNS3 = parse_yarns("#1b1b1b,#8a8a8a,#f4f0e8")
 
 
-def dat_passes(text: str, tmp_path: Path) -> int:
+def dat_passes(text: str, tmp_path: Path, backend: Path) -> int:
     """Pass rows of the reference backend's ``.dat`` (raster height - 19); fails on any error."""
     k, dat = tmp_path / "p.k", tmp_path / "p.dat"
     k.write_text(text)
-    r = subprocess.run(["node", str(ORACLE), str(k), str(dat)], capture_output=True, text=True)
+    r = subprocess.run(["node", str(backend), str(k), str(dat)], capture_output=True, text=True)
     log = r.stdout + r.stderr
     assert r.returncode == 0 and "ERROR" not in log and "Assertion" not in log, log[-300:]
     _, y0, _, y1 = struct.unpack("<4H", dat.read_bytes()[:8])
     return y1 - y0 + 1 - 19
-
-
-needs_node = pytest.mark.skipif(
-    shutil.which("node") is None or not ORACLE.exists(),
-    reason="needs node and the reference SWG backend (knitout-to-dat.js)",
-)
 
 
 def mixed_pattern(seed: int, shape=(8, 10), k=3) -> LogicalPattern:
@@ -49,11 +41,10 @@ def mixed_pattern(seed: int, shape=(8, 10), k=3) -> LogicalPattern:
     return LogicalPattern(yarn.astype(np.int16), raised, YARNS3[:k])
 
 
-@needs_node
 @pytest.mark.parametrize("seed", [0, 1])
-def test_reported_passes_equal_the_reference_dat(seed, tmp_path):
+def test_reported_passes_equal_the_reference_dat(seed, tmp_path, swg_backend):
     result = knit_pattern(mixed_pattern(seed))
-    assert result.stats.passes == dat_passes(result.text, tmp_path)
+    assert result.stats.passes == dat_passes(result.text, tmp_path, swg_backend)
     assert result.stats.lower_bound <= result.stats.passes
 
 

@@ -27,7 +27,7 @@ def test_presets_are_the_default_bed_and_the_physical_swg091n2() -> None:
     assert (
         DEFAULT_MACHINE
         is MACHINES[DEFAULT_MACHINE_NAME]
-        == MachineSpec(description=DEFAULT_MACHINE.description)
+        == MachineSpec(description=DEFAULT_MACHINE.description, backend="swg")
     )
     swg = get_machine("swg091n2")
     assert (swg.needles, swg.gauge, swg.name) == (252, 7.0, "SWG091N2")
@@ -124,3 +124,20 @@ def test_shima_transfer_speed_switches_around_transfer_passes_and_the_dat_is_the
         replace(DEFAULT_MACHINE, transfer=TransferSettings(stitch_number=2))
     with pytest.raises(OptionError, match="roller"):
         replace(DEFAULT_MACHINE, transfer=TransferSettings(roller_advance=20))
+
+
+def test_every_preset_names_its_backend_and_a_spec_without_one_is_read_from_its_carriers():
+    from illuknit.core.errors import OptionError
+    from illuknit.core.machine import MACHINES, MachineSpec
+
+    assert {k: m.backend for k, m in MACHINES.items()} == {
+        "generic540": "swg",
+        "swg091n2": "swg",
+        "kniterate": "kniterate",
+    }
+    assert MachineSpec().backend is None and MachineSpec().runs_on() == "swg"
+    assert MachineSpec(carriers=("1", "2", "3")).runs_on() is None
+    with pytest.raises(OptionError, match="Shima carriers"):
+        MachineSpec(carriers=("1", "2", "3"), backend="swg")
+    with pytest.raises(OptionError, match="backend"):
+        MachineSpec(backend="brother")

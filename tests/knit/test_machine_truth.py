@@ -11,8 +11,6 @@ and pass ``illuknit check`` with nothing blocking, and the passes illuknit repor
 from __future__ import annotations
 
 import functools
-import os
-import shutil
 import struct
 import subprocess
 from pathlib import Path
@@ -22,13 +20,6 @@ import pytest
 from illuknit.check import check_knitout
 from illuknit.core.pattern import LogicalPattern
 from illuknit.knitting import KnitResult, knit_pattern
-
-ORACLE = Path(os.environ.get("ILLUKNIT_SWG_ORACLE", "/work/shared/oracles/swg/knitout-to-dat.js"))
-
-pytestmark = pytest.mark.skipif(
-    shutil.which("node") is None or not ORACLE.exists(),
-    reason=f"needs node and the reference SWG backend ({ORACLE}; set ILLUKNIT_SWG_ORACLE)",
-)
 
 #: Fixed raster rows of a SWG ``.dat`` beyond one row per carriage pass.
 DAT_FIXED_ROWS = 19
@@ -87,14 +78,14 @@ def _knit(case: str) -> KnitResult:
 
 
 @functools.cache
-def _dat_passes(case: str) -> int:
+def _dat_passes(case: str, backend: Path) -> int:
     import tempfile
 
     with tempfile.TemporaryDirectory() as tmp:
         k, dat = Path(tmp) / "p.k", Path(tmp) / "p.dat"
         k.write_text(_knit(case).program)
         proc = subprocess.run(
-            ["node", str(ORACLE), str(k), str(dat)], capture_output=True, text=True, check=False
+            ["node", str(backend), str(k), str(dat)], capture_output=True, text=True, check=False
         )
         assert proc.returncode == 0 and dat.exists(), f"backend refused {case}: {proc.stderr}"
         _x0, y0, _x1, y1 = struct.unpack_from("<4H", dat.read_bytes(), 0)
@@ -114,14 +105,16 @@ CASES = [
 
 
 @pytest.mark.parametrize("case", CASES)
-def test_backend_accepts_and_checker_passes(case: str) -> None:
+def test_backend_accepts_and_checker_passes(case: str, swg_backend: Path) -> None:
     result = _knit(case)
-    assert _dat_passes(case) >= result.stats.passes  # the backend only ever adds passes
+    assert (
+        _dat_passes(case, swg_backend) >= result.stats.passes
+    )  # the backend only ever adds passes
     report = check_knitout(result.program, machine=result.machine)
     assert report.ok, [f"{f.line}: {f.code}: {f.message}" for f in report.blocking[:5]]
 
 
 @pytest.mark.parametrize("case", CASES)
-def test_reported_passes_are_the_machines(case: str) -> None:
-    reported, dat = _knit(case).stats.passes, _dat_passes(case)
+def test_reported_passes_are_the_machines(case: str, swg_backend: Path) -> None:
+    reported, dat = _knit(case).stats.passes, _dat_passes(case, swg_backend)
     assert abs(reported - dat) <= 0.01 * dat, f"{case}: reported {reported}, .dat {dat}"

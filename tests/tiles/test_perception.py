@@ -10,6 +10,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from PIL import Image
 
+from illuknit.bench.metrics import knit_stats
 from illuknit.core.errors import OptionError
 from illuknit.core.pattern import LogicalPattern, parse_yarns
 from illuknit.design.tiles.assign import assign_tiles
@@ -106,7 +107,8 @@ def test_visible_ghosting_is_the_semipartial_correlation_of_the_render():
     m = measure_candidate(p, [pal[a], pal[b]])
     # independently: regress the blurred render on the picture, correlate the residue with B
     # and scale by the residue's share of the render's spread
-    from illuknit.bench.metrics import BLUR_SIGMA, _grey, angled_renders
+    from illuknit.design.measures import BLUR_SIGMA, angled_renders
+    from illuknit.design.measures import blurred_luminance as _grey
 
     g = _grey(angled_renders(p)[0]["A"], BLUR_SIGMA).ravel()
     t, o = (_grey(pal[x] / 255.0, BLUR_SIGMA).ravel() for x in (a, b))
@@ -238,12 +240,21 @@ def test_rank_designs_keeps_the_best_of_a_pool_and_knits_only_those():
     pool = assign_tiles((a, pal), (b, pal), yarns=YARNS, candidates=2, pool=8)
     assert len(pool) > 2
     everything = rank_designs(pool, [pal[a], pal[b]])
-    kept = rank_designs(pool, [pal[a], pal[b]], keep=2, knit_time=True)
+    knitted = []
+
+    def knit_time(pattern):
+        knitted.append(pattern)
+        return knit_stats(pattern)
+
+    kept = rank_designs(pool, [pal[a], pal[b]], keep=2, knit_time=knit_time)
     assert [r.score_rank for r in kept] == [r.score_rank for r in everything[:2]]
     assert [r.assignment.rank for r in kept] == [1, 2]
     assert all(r.measures.knit_minutes and r.measures.machine_passes for r in kept)
+    assert len(knitted) == 2
     with pytest.raises(OptionError, match="keep"):
         rank_designs(pool, [pal[a], pal[b]], keep=0)
+    with pytest.raises(OptionError, match="knit_time"):
+        rank_designs(pool, [pal[a], pal[b]], rank_by="knit-time")
 
 
 def test_double_writes_the_best_of_the_pool_it_searched(tmp_path, run_cli):

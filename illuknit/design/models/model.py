@@ -219,13 +219,6 @@ class Model:
     def num_soft(self) -> int:
         return sum(a.shape[0] for a, _ in self._soft)
 
-    @property
-    def families(self) -> tuple[str, ...]:
-        """Names of all hard-constraint families, in order of first appearance."""
-        names = [f for _, f in self._hard] + [c.family for c in self.cards]
-        names += [c.family for c in self.linears]
-        return tuple(dict.fromkeys(names))
-
     def hard_blocks(self) -> Iterator[tuple[NDArray[np.int64], str]]:
         """The hard clause blocks: (array (n, width) padded with 0, family)."""
         yield from self._hard
@@ -233,15 +226,6 @@ class Model:
     def soft_blocks(self) -> Iterator[tuple[NDArray[np.int64], NDArray[np.int64]]]:
         """The soft clause blocks: (array (n, width) padded with 0, weights (n,))."""
         yield from self._soft
-
-    def is_weighted(self) -> bool:
-        """True when some soft clauses have different weights."""
-        ws = [w for _, w in self._soft if w.size]
-        if not ws:
-            return False
-        lo = min(int(w.min()) for w in ws)
-        hi = max(int(w.max()) for w in ws)
-        return lo != hi
 
     def total_soft_weight(self) -> int:
         return int(sum(int(w.sum()) for _, w in self._soft))
@@ -269,17 +253,6 @@ class Model:
             soft.extend(_rows(a))
             weights.extend(int(x) for x in w)
         return ClauseSet(hard, fam, soft, weights, nv)
-
-    def to_pysat_wcnf(self) -> Any:
-        """A ``pysat.formula.WCNF`` of :meth:`to_clauses` (imports pysat)."""
-        from pysat.formula import WCNF
-
-        cs = self.to_clauses()
-        w = WCNF()
-        w.extend(cs.hard)
-        w.extend(cs.soft, weights=cs.weights)
-        w.nv = max(w.nv, cs.nv)
-        return w
 
     def to_wcnf(self, *, style: str = "new") -> str:
         """The model as WCNF text (MaxSAT Evaluation format).

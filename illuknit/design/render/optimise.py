@@ -232,16 +232,13 @@ def optimise_design(
         The palette (at least two yarns).
     params : RenderParams, optional
         Geometry and the viewing angle ``theta``.
-    steps : int
-        Adam steps.
-    learning_rate : float
-        Adam step size on the logits.
+    steps, learning_rate : int, float
+        Adam steps, and the step size on the logits.
     binary_weight : float
         Final weight of the binariness penalty (ramped up from 0).
-    change_weight : float
-        Weight of the expected share of colour changes along courses (slow to knit).
-    raised_weight : float
-        Weight of the share of raised units (each bump costs knit/purl transfers).
+    change_weight, raised_weight : float
+        Weights of the expected share of colour changes along courses (slow to knit) and of the
+        share of raised units (each bump costs knit/purl transfers).
     final_temperature : float
         Temperature at the last step (annealed from 1), in (0, 1].
     mix : {"rgb", "yarn"}
@@ -262,6 +259,68 @@ def optimise_design(
     -------
     DesignResult
     """
+    ta_raw, tb_raw = np.asarray(target_a), np.asarray(target_b)
+    yarns, params = _checked_arguments(
+        yarns,
+        params,
+        steps,
+        learning_rate,
+        binary_weight,
+        change_weight,
+        raised_weight,
+        final_temperature,
+        mix,
+        seed,
+        time_limit,
+        shapes=(ta_raw.shape, tb_raw.shape),
+    )
+    ia, ib, ta, tb, pal_lin, pin = _prepared_targets(ta_raw, tb_raw, yarns, mix=mix, pinned=pinned)
+    objective = _Objective(ta, tb, pal_lin, params, change_weight, raised_weight)
+    z, u, fixed = _initial_logits(ia, ib, len(yarns), pin, seed=seed)
+    start = time.perf_counter()
+    history, tau = _descend(
+        objective,
+        z,
+        u,
+        fixed=fixed,
+        steps=steps,
+        learning_rate=learning_rate,
+        binary_weight=binary_weight,
+        final_temperature=final_temperature,
+        callback=callback,
+        time_limit=time_limit,
+        start=start,
+    )
+    meta = {
+        "method": "gradient",
+        "steps": len(history),
+        "theta": params.theta,
+        "binary_weight": binary_weight,
+        "change_weight": change_weight,
+        "raised_weight": raised_weight,
+        "mix": mix,
+        "seed": seed,
+    }
+    return _binarised(objective, z, u, tau, binary_weight, (ia, ib), yarns, meta, history, start)
+
+
+def _checked_arguments(
+    yarns: Sequence[Yarn],
+    params: RenderParams | None,
+    steps: int,
+    learning_rate: float,
+    binary_weight: float,
+    change_weight: float,
+    raised_weight: float,
+    final_temperature: float,
+    mix: str,
+    seed: int,
+    time_limit: float | None,
+    *,
+    shapes: tuple[tuple[int, ...], tuple[int, ...]],
+) -> tuple[tuple[Yarn, ...], RenderParams]:
+    """Check the types and ranges of :func:`optimise_design`'s arguments (a library error naming
+    each); the yarns as a tuple and the render parameters (the defaults when None)."""
     check_yarns(yarns)
     if params is not None:
         check_instance(params, RenderParams, "params", error=RenderParamsError)
@@ -278,36 +337,32 @@ def optimise_design(
     yarns = tuple(yarns)
     if len(yarns) < 2 or not all(isinstance(y, Yarn) for y in yarns):
         raise YarnSpecError("`yarns` must be a sequence of at least two Yarn")
-    params = RenderParams() if params is None else params
-    ta_raw, tb_raw = np.asarray(target_a), np.asarray(target_b)
     _check_options(
         steps=steps,
         learning_rate=learning_rate,
         binary_weight=binary_weight,
         change_weight=change_weight,
         final_temperature=final_temperature,
-        shapes=(ta_raw.shape, tb_raw.shape),
+        shapes=shapes,
     )
-    ia, ib, ta, tb, pal_lin, pin = _prepared_targets(ta_raw, tb_raw, yarns, mix=mix, pinned=pinned)
+    return yarns, RenderParams() if params is None else params
+
+
+def _binarised(
+    objective: _Objective,
+    z: NDArray[np.float64],
+    u: NDArray[np.float64],
+    tau: float,
+    binary_weight: float,
+    targets: tuple[NDArray[Any], NDArray[Any]],
+    yarns: tuple[Yarn, ...],
+    meta: dict[str, Any],
+    history: list[float],
+    start: float,
+) -> DesignResult:
+    """The soft design rounded to a pattern, and both scored by the same objective."""
+    ia, ib = targets
     k = len(yarns)
-    objective = _Objective(ta, tb, pal_lin, params, change_weight, raised_weight)
-
-    z, u, fixed = _initial_logits(ia, ib, k, pin, seed=seed)
-    start = time.perf_counter()
-    history, tau = _descend(
-        objective,
-        z,
-        u,
-        fixed=fixed,
-        steps=steps,
-        learning_rate=learning_rate,
-        binary_weight=binary_weight,
-        final_temperature=final_temperature,
-        callback=callback,
-        time_limit=time_limit,
-        start=start,
-    )
-
     loss, render_err, _, _, t, p = objective(z, u, tau, binary_weight)
     la, lb = _expected_logical_error(t, p, ia, ib)
     raised = t > 0.5
@@ -319,21 +374,7 @@ def optimise_design(
         1.0,
         binary_weight,
     )
-    pattern = LogicalPattern(
-        yarn,
-        raised,
-        yarns,
-        meta={
-            "method": "gradient",
-            "steps": len(history),
-            "theta": params.theta,
-            "binary_weight": binary_weight,
-            "change_weight": change_weight,
-            "raised_weight": raised_weight,
-            "mix": mix,
-            "seed": seed,
-        },
-    )
+    pattern = LogicalPattern(yarn, raised, yarns, meta=meta)
     ea = logical_error(can_see(pattern, "A"), ia)
     eb = logical_error(can_see(pattern, "B"), ib)
     report = {

@@ -182,9 +182,6 @@ class TileAssignment:
     def pairs(self) -> tuple[tuple[int, int], ...]:
         return tuple(sorted(self.tiles))
 
-    def fill_key(self) -> tuple[tuple[Fill | None, ...], tuple[Fill | None, ...]]:
-        return (self.fills_a, self.fills_b)
-
     def with_tile(self, pair: tuple[int, int], tile: Tile | str) -> TileAssignment:
         """A copy whose overlap ``pair`` uses ``tile`` (a :class:`Tile` or rows like ``"0/1/0^"``).
 

@@ -151,10 +151,6 @@ class TileBank:
         ks = self.index(views).get((f0, f1))
         return self.tiles[ks[0]] if ks else None
 
-    def tiles_for(self, f0: Fill, f1: Fill, *, views: ViewPair = ("A", "B")) -> list[Tile]:
-        """Every tile showing this pair of fills, preferred first."""
-        return [self.tiles[k] for k in self.index(views).get((f0, f1), ())]
-
     def fills_of(self, tile: Tile) -> dict[FillView, Fill | None]:
         """Fills of any tile over this bank's yarns (the tile need not be in the bank)."""
         for k, t in enumerate(self.tiles):
@@ -409,23 +405,3 @@ def load_bank(path: str | os.PathLike[str], *, yarns: Sequence[Yarn] | None = No
 
     doc = read_json_file(path, error=TileBankError, what="tile bank")
     return bank_from_json(doc, yarns=yarns, source=str(path))
-
-
-def _label(fill: Fill | None, yarns: Sequence[Yarn]) -> str:
-    return fill.label(yarns) if fill is not None else "-"
-
-
-def bank_summary(bank: TileBank) -> list[dict[str, Any]]:
-    """One row per tile: name, shape, and fills, for listings."""
-    rows: list[dict[str, Any]] = []
-    for t, f in zip(bank.tiles, bank.fills, strict=True):
-        rows.append(
-            {
-                "tile": t.code(),
-                "name": t.name,
-                "height": t.height,
-                "width": t.width,
-                **{v: _label(f[v], bank.yarns) for v in ("A", "B", "headon")},
-            }
-        )
-    return rows

@@ -2,18 +2,18 @@
 
 The tile assignment ranks candidates by a *score* of colour closeness, stripe and yarn counts
 (:mod:`illuknit.design.tiles.assign`); nothing in it looks at the result. This module renders each
-compiled candidate at the viewing angle (:func:`illuknit.bench.metrics.angled_renders`, the
+compiled candidate at the viewing angle (:func:`illuknit.design.measures.angled_renders`, the
 renderer of :mod:`illuknit.design.render`) and measures, per view, against the designer's quantised
 picture (not the repainted one the candidate was designed against):
 
 * **readability** -- the Pearson correlation of blurred linear-light luminance of the render and
-  of the picture (:func:`illuknit.bench.metrics.render_correlation`): is the picture there?
+  of the picture (:func:`illuknit.design.measures.render_correlation`): is the picture there?
 * **contrast** -- the least-squares gain of render luminance on picture luminance (same blur):
   how much of the picture's light/dark difference survives. 1 reproduces it, 0 is a flat field.
   Readability is blind to it: a background repainted as a dark stripe against black shapes keeps
   a high correlation but almost no contrast.
 * **ghosting** (double view) -- how much of the *other* picture shows through
-  (:func:`illuknit.bench.metrics.ghosting`): the correlation of what the picture leaves
+  (:func:`illuknit.design.measures.ghosting`): the correlation of what the picture leaves
   unexplained in the render with the other picture.
 * **visible ghosting** -- that correlation scaled by how much of the render the picture leaves
   unexplained, ``|ghosting| * sqrt(1 - readability**2)`` (the semipartial correlation): the share
@@ -22,8 +22,10 @@ picture (not the repainted one the candidate was designed against):
   leaves 2 % of its variance unexplained, and a 0.3 ghosting correlation of that residue is a
   faint outline (visible ghosting 0.04), while at readability 0.9 it would be a second picture
   (0.13).
-* optionally the **machine knitting time** and passes (:func:`illuknit.bench.metrics.knit_stats`:
-  the passes the SWG machine runs for the candidate's program).
+* optionally the **machine knitting time** and passes, measured by a function the caller passes
+  (``knit_time``, a :data:`KnitMeasure` such as :func:`illuknit.bench.metrics.knit_stats` with
+  its machine bound: the passes the SWG machine runs for the candidate's program). Knitting sits
+  above design, so the design floor takes the measurement rather than knitting itself.
 
 **The default ranking** (``rank_by="perception"``) orders candidates by the *perceptual score*
 
@@ -49,19 +51,24 @@ pattern shows through (blue), over the picture in grey.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from illuknit.core.errors import OptionError
 from illuknit.core.pattern import LogicalPattern
+from illuknit.design.measures import (
+    BLUR_SIGMA,
+    RENDER_ANGLE,
+    angled_renders,
+    blurred_luminance,
+    correlation,
+    residual_correlation,
+)
 from illuknit.design.options import DEFAULT_POOL, POOL_SECONDS
-
-if TYPE_CHECKING:
-    from illuknit.core.machine import MachineSpec
 
 __all__ = [
     "ACUITY_ARCMIN",
@@ -71,6 +78,7 @@ __all__ = [
     "POOL_SECONDS",
     "RANK_KEYS",
     "CandidateMeasures",
+    "KnitMeasure",
     "RankedCandidate",
     "diagnostic_rgb",
     "eye_blur_units",
@@ -89,6 +97,10 @@ ACUITY_ARCMIN = 1.0
 CONTRAST_FLOOR = 0.25
 #: Score lost per unit of contrast below :data:`CONTRAST_FLOOR`.
 CONTRAST_PENALTY = 1.0
+#: Knits a pattern and measures it on a machine: the fields ``knit_time_min``, ``carriage_passes``
+#: and ``knit_note`` of :func:`illuknit.bench.metrics.knit_stats` (a number may be None, with the
+#: note saying why).
+KnitMeasure = Callable[[LogicalPattern], Mapping[str, Any]]
 #: The orders a user may rank candidates by.
 RANK_KEYS = ("perception", "score", "readability", "contrast", "ghosting", "knit-time")
 #: A unit is marked "wrong" where the fitted render is off by more than this (linear luminance).
@@ -191,9 +203,7 @@ def _num(x: float) -> float:
 
 
 def _grey(rgb: ArrayLike) -> NDArray[np.float64]:
-    from illuknit.bench.metrics import BLUR_SIGMA, _grey
-
-    return _grey(rgb, BLUR_SIGMA)
+    return blurred_luminance(rgb, BLUR_SIGMA)
 
 
 def _gain(render: NDArray[np.float64], target: NDArray[np.float64]) -> float:
@@ -214,8 +224,6 @@ def _view_renders(
     pattern: LogicalPattern, views: Sequence[str], *, angle: float
 ) -> list[list[NDArray[np.float64]]]:
     """For each measured view, the renders it is seen in (a side view is seen from both ends)."""
-    from illuknit.bench.metrics import angled_renders
-
     renders, _ = angled_renders(pattern, angle=angle)
     table = {"A": ["A"], "B": ["B"], "headon": ["headon"], "side": ["A", "B"]}
     return [[renders[k] for k in table[v]] for v in views]
@@ -227,8 +235,7 @@ def measure_candidate(
     *,
     views: Sequence[str] = ("A", "B"),
     ghost: bool = True,
-    knit_time: bool = False,
-    machine: str | MachineSpec | None = None,
+    knit_time: KnitMeasure | None = None,
     angle: float | None = None,
     blur: float | None = None,
 ) -> CandidateMeasures:
@@ -245,19 +252,14 @@ def measure_candidate(
     ghost : bool
         Measure ghosting between the two pictures: how much of the other picture shows in each
         view (for a head-on design, how much of the front picture is left at an angle).
-    knit_time : bool
-        Also knit the pattern and count the machine's passes and time.
-    machine : str, optional
-        Machine preset for ``knit_time``.
+    knit_time : KnitMeasure, optional
+        Also knit the pattern with this function and keep the machine's passes and time.
     angle : float, optional
         Viewing angle of the side renders (default the bench's).
     blur : float, optional
         The blur, in units, of what is compared (default the bench's fixed 1.5 units): e.g.
         :func:`eye_blur_units` of a viewing distance, to judge what an eye resolves from there.
     """
-    from illuknit.bench.metrics import BLUR_SIGMA, RENDER_ANGLE, _corr, _ghost
-    from illuknit.bench.metrics import _grey as grey_at
-
     if len(pictures) != len(views):
         raise OptionError(f"need one picture per view {tuple(views)}, got {len(pictures)}")
     sigma = BLUR_SIGMA if blur is None else float(blur)
@@ -265,7 +267,7 @@ def measure_candidate(
         raise OptionError(f"`blur` must be a non-negative number of units, got {blur!r}")
 
     def _grey(rgb: ArrayLike) -> NDArray[np.float64]:
-        return grey_at(rgb, sigma)
+        return blurred_luminance(rgb, sigma)
 
     targets = [_grey(_float_rgb(p)) for p in pictures]
     seen = _view_renders(pattern, views, angle=RENDER_ANGLE if angle is None else angle)
@@ -275,11 +277,13 @@ def measure_candidate(
     for k, (t, renders) in enumerate(zip(targets, seen, strict=True)):
         greys = [_grey(r) for r in renders]
         plain = float(np.ptp(t)) < 1e-9
-        read.append(None if plain else min((_corr(g, t) for g in greys), key=_num))
+        read.append(None if plain else min((correlation(g, t) for g in greys), key=_num))
         contrast.append(None if plain else min((_gain(g, t) for g in greys), key=_num))
         if ghost and len(targets) == 2:
             other = targets[1 - k]
-            worst = max((_ghost(g, t, other) for g in greys), key=lambda x: abs(_num(x)))
+            worst = max(
+                (residual_correlation(g, t, other) for g in greys), key=lambda x: abs(_num(x))
+            )
             if worst != worst and float(np.ptp(other)) >= 1e-9:
                 # what is seen is all explained by this view's own picture (a head-on design
                 # that vanishes into a plain field): none of the other picture shows
@@ -293,7 +297,7 @@ def measure_candidate(
         contrast=tuple(contrast),
         ghosting=tuple(ghosting),
     )
-    return _with_knit_time(measured, pattern, machine=machine) if knit_time else measured
+    return _with_knit_time(measured, pattern, knit_time) if knit_time is not None else measured
 
 
 def rank_key(m: CandidateMeasures, score: float, by: str) -> tuple[float, ...]:
@@ -349,8 +353,7 @@ def rank_designs(
     views: Sequence[str] = ("A", "B"),
     overrides: Any = None,
     rank_by: str = "perception",
-    knit_time: bool = False,
-    machine: str | MachineSpec | None = None,
+    knit_time: KnitMeasure | None = None,
     keep: int | None = None,
     progress: Callable[[float, str], None] | None = None,
 ) -> list[RankedCandidate]:
@@ -366,8 +369,9 @@ def rank_designs(
         ``("A", "B")`` (double view: ghosting is measured) or ``("headon", "side")``.
     overrides : dict, optional
         Per-pair tile overrides for :func:`illuknit.design.tiles.compile.compile_tiles`.
-    rank_by, knit_time, machine
-        See :func:`rank_candidates` and :func:`measure_candidate`.
+    rank_by, knit_time
+        See :func:`rank_candidates` and :func:`measure_candidate`; ranking by ``"knit-time"``
+        needs ``knit_time``. Only the designs that can reach the ``keep`` best are knit.
     keep : int, optional
         Return only the best ``keep`` of the ranking (a pool searched wider than it is shown:
         :func:`~illuknit.design.tiles.assign.assign_tiles` ``pool=``).
@@ -383,6 +387,8 @@ def rank_designs(
         raise OptionError(f"rank by one of {', '.join(RANK_KEYS)}, got {rank_by!r}")
     if keep is not None and keep < 1:
         raise OptionError(f"keep at least one candidate, got keep={keep}")
+    if rank_by == "knit-time" and knit_time is None:
+        raise OptionError("ranking by knit-time needs knit_time, a function that knits a pattern")
     compiled = []
     measures = []
     for k, c in enumerate(found):
@@ -393,9 +399,9 @@ def rank_designs(
             measure_candidate(compiled[-1][0], pictures, views=views, ghost=len(pictures) == 2)
         )
     scores = [c.score for c in found]
-    if knit_time or rank_by == "knit-time":
+    if knit_time is not None:
         for i in _to_knit(measures, scores, rank_by=rank_by, keep=keep):
-            measures[i] = _with_knit_time(measures[i], compiled[i][0], machine=machine)
+            measures[i] = _with_knit_time(measures[i], compiled[i][0], knit_time)
     order = rank_candidates(measures, scores, by=rank_by)
     return [
         RankedCandidate(
@@ -443,13 +449,11 @@ def _to_knit(
 
 
 def _with_knit_time(
-    m: CandidateMeasures, pattern: LogicalPattern, *, machine: str | MachineSpec | None
+    m: CandidateMeasures, pattern: LogicalPattern, knit_time: KnitMeasure
 ) -> CandidateMeasures:
     from dataclasses import replace
 
-    from illuknit.bench.metrics import knit_stats
-
-    stats = knit_stats(pattern, machine=machine)
+    stats = knit_time(pattern)
     return replace(
         m,
         knit_minutes=stats["knit_time_min"],
@@ -473,8 +477,6 @@ def diagnostic_rgb(
     :data:`WRONG_THRESHOLD` (it shows the wrong shade), and **blue** where the residual follows
     the ``other`` picture by more than :data:`GHOST_THRESHOLD` (it ghosts through).
     """
-    from illuknit.bench.metrics import RENDER_ANGLE
-
     t = _grey(_float_rgb(picture))
     seen = _view_renders(pattern, [view], angle=RENDER_ANGLE if angle is None else angle)[0]
     g = np.mean([_grey(r) for r in seen], axis=0)
@@ -533,7 +535,7 @@ def eye_blur_units(
 def seen_from(rgb: ArrayLike, sigma_px: float) -> NDArray[np.uint8]:
     """A picture (uint8 sRGB) as an eye sees it through a Gaussian blur of ``sigma_px`` pixels,
     blurred in linear light (where the colours of stripes mix); see :func:`eye_blur_units`."""
-    from illuknit.bench.metrics import blur_image
+    from illuknit.design.measures import blur_image
 
     a = np.asarray(rgb, dtype=np.float64) / 255.0
     if sigma_px <= 0:

@@ -29,7 +29,7 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from illuknit.core.colors import hex_color, lab_from_rgb, luminance, mix_rgb
+from illuknit.core.colors import hex_color, luminance, mix_rgb
 from illuknit.core.errors import TileBankError
 from illuknit.core.pattern import Yarn
 from illuknit.core.views import can_see
@@ -141,11 +141,6 @@ def fill_from_seen(seen: ArrayLike, yarns: Sequence[Yarn]) -> Fill:
     counts = Counter(int(v) for v in np.asarray(seen).ravel())
     total = sum(counts.values())
     return fill_from_parts([(i, Fraction(n, total)) for i, n in counts.items()], yarns)
-
-
-def fill_lab(fill: Fill) -> NDArray[np.float64]:
-    """CIELAB of a fill's average colour (shape (3,))."""
-    return lab_from_rgb(np.asarray(fill.rgb)[None, :])[0]
 
 
 def _readonly(a: ArrayLike, dtype: type) -> NDArray[Any]:

@@ -14,6 +14,7 @@ from collections.abc import Sequence
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from illuknit.core.colors import lab_from_rgb, luminance
 from illuknit.core.errors import YarnSpecError
 from illuknit.core.pattern import Yarn
 
@@ -26,7 +27,6 @@ SAME_COLOUR_LAB = 10.0
 def picture_extremes(picture: ArrayLike, n_colors: int) -> NDArray[np.float64]:
     """The darkest and the lightest colour of ``picture`` quantised to ``n_colors``: an ndarray
     of shape (2, 3), sRGB 0-255."""
-    from illuknit.core.colors import luminance
     from illuknit.pictures.images import quantise_image
 
     cols = quantise_image(picture, n_colors=n_colors).colors.astype(np.float64)
@@ -57,7 +57,6 @@ def choose_yarns(pictures: Sequence[ArrayLike], n: int) -> tuple[Yarn, ...]:
     The rest of the ``n`` come from the pictures' joint clusters, each time the one farthest
     (CIELAB) from those chosen.
     """
-    from illuknit.core.colors import lab_from_rgb, luminance
     from illuknit.pictures.images import auto_yarns, quantise_image
 
     if not 1 <= n <= 8:

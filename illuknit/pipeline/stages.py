@@ -25,6 +25,7 @@ return, so a script calling them reproduces the commands' files (``docs/library.
 
 from __future__ import annotations
 
+import functools
 import os
 import time
 from collections.abc import Callable, Mapping, Sequence
@@ -44,6 +45,7 @@ from illuknit.design.options import (
     SearchOptions,
     SolveOptions,
 )
+from illuknit.design.tiles.perception import KnitMeasure
 
 if TYPE_CHECKING:
     from illuknit.core.pattern import LogicalPattern, Yarn
@@ -214,6 +216,17 @@ class SolvedDesign:
 
 
 # -- shared steps ---------------------------------------------------------------------------
+
+
+def _knit_measure(ranking: RankOptions) -> KnitMeasure | None:
+    """What knitting a design costs on ``ranking.machine``, when the ranking needs it (knitting
+    time asked for, or the order is by knitting time)."""
+    from illuknit.design.options import RankBy
+    from illuknit.knitting.stats import knit_stats
+
+    if not (ranking.knit_time or ranking.rank_by is RankBy.KNIT_TIME):
+        return None
+    return functools.partial(knit_stats, machine=ranking.machine)
 
 
 def _fit_machine(knit_on: str | MachineSpec | None) -> MachineSpec | None:
@@ -585,8 +598,7 @@ def _rank(
         views=("A", "B") if mode == "double" else ("headon", "side"),
         overrides=ranking.override_map,
         rank_by=ranking.rank_by.value,
-        knit_time=ranking.knit_time,
-        machine=ranking.machine,
+        knit_time=_knit_measure(ranking),
         keep=search.candidates,
         progress=lambda f, message: say(0.4 + 0.6 * f, message),
     )
