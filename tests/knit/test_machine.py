@@ -90,7 +90,9 @@ def test_checker_float_limit_is_the_machines() -> None:
     assert long_floats(float_limit=10) > 0
 
 
-def test_shima_transfer_speed_switches_around_transfer_passes_and_the_dat_is_the_backends() -> None:
+def test_shima_transfer_speed_switches_around_transfer_passes_and_the_dat_is_the_backends(
+    swg_backend,
+) -> None:
     import sys
     from pathlib import Path
 
@@ -99,7 +101,7 @@ def test_shima_transfer_speed_switches_around_transfer_passes_and_the_dat_is_the
     from illuknit.formats.dat import knitout_to_dat
 
     sys.path.insert(0, str(Path(__file__).parents[1] / "formats"))
-    from reference import reference_available, reference_dat
+    from reference import reference_dat
 
     rng = np.random.default_rng(5)
     shape = (6, 8)
@@ -117,8 +119,7 @@ def test_shima_transfer_speed_switches_around_transfer_passes_and_the_dat_is_the
         elif line.startswith(("xfer ", "knit ", "tuck ")):
             seen.add((line.split()[0], speed))
     assert seen == {("xfer", 2), ("knit", 5), ("tuck", 5)}
-    if reference_available() is None:
-        assert knitout_to_dat(text) == reference_dat(text)
+    assert knitout_to_dat(text) == reference_dat(text, swg_backend)
     # the SWG backend has no transfer-stitch or roller extension: refused, not silently dropped
     with pytest.raises(OptionError, match="transfer stitch"):
         replace(DEFAULT_MACHINE, transfer=TransferSettings(stitch_number=2))
