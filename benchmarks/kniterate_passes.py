@@ -120,8 +120,8 @@ def design(instance: Any, kind: str) -> Any:
     from illuknit.bench.methods import get_method
 
     if kind == "headon":
-        from illuknit.tiles.compile import compile_tiles
-        from illuknit.tiles.headon import assign_headon
+        from illuknit.design.tiles.compile import compile_tiles
+        from illuknit.design.tiles.headon import assign_headon
 
         t = instance_targets(instance)
         cands = assign_headon((t.a, t.palette), yarns=instance.yarns, candidates=1)
