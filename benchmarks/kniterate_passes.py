@@ -43,6 +43,9 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
+# the same designs as the Shima pass benchmark beside this script
+from machine_passes import design
+
 ROOT = Path(__file__).resolve().parents[1]
 DEFAULT_ORACLE = ROOT.parent / "shared" / "oracles" / "kniterate" / "knitout-to-kcode.js"
 
@@ -112,22 +115,6 @@ def fitted(instance: Any) -> Any:
     if cols <= FIT_UNITS:
         return instance
     return replace(instance, size=(max(2, round(rows * FIT_UNITS / cols)), FIT_UNITS))
-
-
-def design(instance: Any, kind: str) -> Any:
-    """The pattern of ``instance`` by design ``kind`` (tiles / headon / single)."""
-    from illuknit.bench.instances import instance_targets
-    from illuknit.bench.methods import get_method
-
-    if kind == "headon":
-        from illuknit.design.tiles.compile import compile_tiles
-        from illuknit.design.tiles.headon import assign_headon
-
-        t = instance_targets(instance)
-        cands = assign_headon((t.a, t.palette), yarns=instance.yarns, candidates=1)
-        return compile_tiles(cands[0])[0]
-    pattern, _ = get_method(kind).run(instance, instance.time_limit)
-    return pattern
 
 
 def pattern_for(instance: Any, kind: str, patterns: Path | None) -> Any:

@@ -30,7 +30,8 @@ from pathlib import Path
 from typing import Any
 
 from illuknit.bench.instances import Instance, instance_model
-from illuknit.core.files import atomic_write_text
+from illuknit.bench.wcnf_files import model_entry
+from illuknit.core.files import atomic_write_bytes, atomic_write_text
 from illuknit.core.pattern import parse_yarns
 
 __all__ = ["DEFAULT_SIZES", "FAMILY_PAIRS", "family_instances", "write_family"]
@@ -68,10 +69,6 @@ def family_instances(
     return out
 
 
-def _sha256(path: Path) -> str:
-    return hashlib.sha256(path.read_bytes()).hexdigest()
-
-
 def write_family(
     outdir: str | Path,
     *,
@@ -94,22 +91,10 @@ def write_family(
             name = f"illuknit-{inst.name}-{kind}.wcnf.xz"
             text = model.to_wcnf(style="new")
             data = lzma.compress(text.encode("ascii"), preset=9)
-            tmp = out / f".{name}.tmp"
-            tmp.write_bytes(data)
-            tmp.replace(out / name)
-            cs = model.to_clauses()
+            atomic_write_bytes(out / name, data)
             entry: dict[str, Any] = {
-                "file": name,
-                "instance": inst.name,
-                "model": kind,
-                "rows": inst.size[0],
-                "cols": inst.size[1],
-                "yarns": len(inst.yarns),
-                "variables": cs.nv,
-                "hard_clauses": len(cs.hard),
-                "soft_clauses": model.num_soft,
-                "total_soft_weight": model.total_soft_weight(),
-                "sha256": _sha256(out / name),
+                **model_entry(name, inst, kind, model),
+                "sha256": hashlib.sha256(data).hexdigest(),
             }
             if optimum is not None:
                 entry.update(optimum=int(optimum), optimum_by="exact per-wale DP")
@@ -133,10 +118,13 @@ def write_family(
         "generator": command,
         "instances": entries,
     }
-    atomic_write_text(out / "manifest.json", json.dumps(manifest, indent=1) + "\n")
-    atomic_write_text(out / "README.md", _readme(manifest, sizes, yarn_counts))
     sums = [f"{e['sha256']}  {e['file']}" for e in entries]
-    sums += [f"{_sha256(out / f)}  {f}" for f in ("manifest.json", "README.md")]
+    for name, text in (
+        ("manifest.json", json.dumps(manifest, indent=1) + "\n"),
+        ("README.md", _readme(manifest, sizes, yarn_counts)),
+    ):
+        atomic_write_text(out / name, text)
+        sums.append(f"{hashlib.sha256(text.encode()).hexdigest()}  {name}")
     atomic_write_text(out / "SHA256SUMS", "\n".join(sums) + "\n")
     return manifest
 

@@ -23,7 +23,13 @@ from illuknit.core.errors import PatternFormatError
 from illuknit.core.files import atomic_write_text
 from illuknit.design.models.model import Model
 
-__all__ = ["export_wcnf_family", "read_wcnf", "read_wcnf_text", "wcnf_model_name"]
+__all__ = [
+    "export_wcnf_family",
+    "model_entry",
+    "read_wcnf",
+    "read_wcnf_text",
+    "wcnf_model_name",
+]
 
 
 def _add_grouped(model: Model, clauses: list[list[int]], weights: list[int] | None) -> None:
@@ -108,6 +114,24 @@ def wcnf_model_name(instance: str, model: str) -> str:
     return f"{instance}.{model}.wcnf"
 
 
+def model_entry(file: str, inst: Any, kind: str, model: Model) -> dict[str, Any]:
+    """A manifest's description of one instance's ``kind`` model written to ``file``: where it
+    comes from and its size (variables, hard and soft clauses, total soft weight)."""
+    cs = model.to_clauses()
+    return {
+        "file": file,
+        "instance": inst.name,
+        "model": kind,
+        "rows": inst.size[0],
+        "cols": inst.size[1],
+        "yarns": len(inst.yarns),
+        "variables": cs.nv,
+        "hard_clauses": len(cs.hard),
+        "soft_clauses": model.num_soft,
+        "total_soft_weight": model.total_soft_weight(),
+    }
+
+
 def export_wcnf_family(
     instances: Sequence[Any],
     outdir: str | Path,
@@ -129,19 +153,9 @@ def export_wcnf_family(
             name = wcnf_model_name(inst.name, kind)
             text = model.to_wcnf(style="new")
             atomic_write_text(out / name, text)
-            cs = model.to_clauses()
             entries.append(
                 {
-                    "file": name,
-                    "instance": inst.name,
-                    "model": kind,
-                    "rows": inst.size[0],
-                    "cols": inst.size[1],
-                    "yarns": len(inst.yarns),
-                    "variables": cs.nv,
-                    "hard_clauses": len(cs.hard),
-                    "soft_clauses": model.num_soft,
-                    "total_soft_weight": model.total_soft_weight(),
+                    **model_entry(name, inst, kind, model),
                     "known_optimum": optimum,
                     "optimum_by": "dp (exact)" if optimum is not None else None,
                     "made_by": f"illuknit bench --export-wcnf (illusion model {kind!r}, "
