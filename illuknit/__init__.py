@@ -14,6 +14,8 @@ from __future__ import annotations
 
 import os
 
+# registers how the IRs' read-only mappings pickle (before any IR is made)
+import illuknit.core.frozen  # noqa: F401
 from illuknit.core.lazy import lazy_api
 from illuknit.core.source_tree import find_top_level_folders
 

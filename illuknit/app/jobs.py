@@ -150,7 +150,7 @@ class Job:
         fractions it reports come back as this job's progress, mapped onto ``start..end``.
         """
         self.report(self.progress)
-        payload = _dumps((fn, args, progress is not None))
+        payload = pickle.dumps((fn, args, progress is not None), protocol=pickle.HIGHEST_PROTOCOL)
         proc = subprocess.Popen(
             [sys.executable, "-m", "illuknit.app.jobs", str(os.getpid())],
             stdin=subprocess.PIPE,
@@ -265,25 +265,6 @@ class Job:
                     (self.finished or time.time()) - (self.started or self.created), 3
                 ),
             }
-
-
-def _dumps(obj: Any) -> bytes:
-    """Pickle for the job's child process: the library's frozen results hold read-only
-    mappings (``MappingProxyType``), which plain pickle refuses; they travel as their dicts."""
-    import copyreg
-    import io
-    import types
-
-    from illuknit.app.store import _reduce_mapping_proxy
-
-    buf = io.BytesIO()
-    pickler = pickle.Pickler(buf, protocol=pickle.HIGHEST_PROTOCOL)
-    pickler.dispatch_table = {
-        **copyreg.dispatch_table,
-        types.MappingProxyType: _reduce_mapping_proxy,
-    }
-    pickler.dump(obj)
-    return buf.getvalue()
 
 
 class JobRunner:
@@ -421,7 +402,7 @@ def _worker_main() -> None:
         msg = ("err", type(e).__name__, str(e))
     except BaseException as e:  # a bug in the library: report it, the parent decides
         msg = ("bug", type(e).__name__, f"{e}\n{traceback.format_exc()}")
-    answer.write(_dumps(msg))
+    answer.write(pickle.dumps(msg, protocol=pickle.HIGHEST_PROTOCOL))
     answer.flush()
 
 

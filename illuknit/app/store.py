@@ -31,7 +31,6 @@ kept in plain JSON and ``.npy`` beside it, come back without the design made fro
 
 from __future__ import annotations
 
-import copyreg
 import hashlib
 import io
 import json
@@ -41,7 +40,6 @@ import sqlite3
 import sys
 import threading
 import time
-import types
 import weakref
 import zlib
 from collections.abc import Iterable
@@ -146,15 +144,6 @@ def _size_text(n: int) -> str:
 # -- serialising a session -----------------------------------------------------------------------
 
 
-def _mapping_proxy(d: dict[Any, Any]) -> types.MappingProxyType[Any, Any]:
-    """Rebuilds a read-only mapping (the library's frozen tables use them) from a pickle."""
-    return types.MappingProxyType(d)
-
-
-def _reduce_mapping_proxy(m: types.MappingProxyType[Any, Any]) -> tuple[Any, ...]:
-    return (_mapping_proxy, (dict(m),))
-
-
 class _HashCache:
     """SHA-256 of big arrays, remembered per array object (session arrays are never changed in
     place: the history already shares them), so a save does not hash every picture again."""
@@ -187,8 +176,6 @@ def _npy_bytes(arr: np.ndarray) -> bytes:
 class _Pickler(pickle.Pickler):
     def __init__(self, file: io.BytesIO, blobs: dict[str, Any], hashes: _HashCache) -> None:
         super().__init__(file, protocol=5)
-        self.dispatch_table = copyreg.dispatch_table.copy()
-        self.dispatch_table[types.MappingProxyType] = _reduce_mapping_proxy
         self._blobs = blobs
         self._hashes = hashes
 

@@ -161,15 +161,6 @@ class TileAssignment:
         object.__setattr__(self, "promised", MappingProxyType(dict(self.promised or self.tiles)))
         object.__setattr__(self, "cost", MappingProxyType(dict(self.cost)))
 
-    # Pickled as plain dicts (a read-only mapping proxy cannot be pickled), so an assignment
-    # crosses to and from a worker process.
-    def __getstate__(self) -> dict[str, Any]:
-        return {k: dict(v) if isinstance(v, MappingProxyType) else v for k, v in vars(self).items()}
-
-    def __setstate__(self, state: dict[str, Any]) -> None:
-        for k, v in state.items():
-            object.__setattr__(self, k, MappingProxyType(v) if isinstance(v, dict) else v)
-
     @property
     def shape(self) -> tuple[int, int]:
         return (int(self.indices_a.shape[0]), int(self.indices_a.shape[1]))
