@@ -109,6 +109,7 @@ def run_design(
         else (PictureEdits.SUGGEST if suggest else PictureEdits.NONE),
         **({} if pool is None else {"pool": pool}),
     )
+    report: Report = progress or (lambda fraction, message: None)
     kw: dict[str, Any] = dict(
         n_colors=n_colors,
         yarns=_yarns_option(yarns),
@@ -121,7 +122,6 @@ def run_design(
         progress=lambda f, message: report(0.7 * f, message),
         unit_aspect=design_unit_aspect(spec),
     )
-    report: Report = progress or (lambda fraction, message: None)
     if mode == "double":
         if path_b is None:
             raise ImageInputError("a double-view design needs two pictures (A and B)")
@@ -154,13 +154,14 @@ def write_design(
     machine, its knitout program) and the summary. Returns the summary dict. ``gauge`` (the
     fabric's :class:`~illuknit.core.gauge.Gauge`; default the default machine's) gives the
     finished size."""
+    from illuknit.core.files import atomic_write_text, staged_dir
+    from illuknit.outputs.previews import unit_scale
+
     if gauge is None:
         from illuknit.core.machine import resolve_machine
 
         gauge = resolve_machine(None).fabric_gauge
     report: Report = progress or (lambda fraction, message: None)
-    from illuknit.core.files import atomic_write_text, staged_dir
-    from illuknit.outputs.previews import unit_scale
 
     qa = design.quantised["A"]
     rows = []
