@@ -18,10 +18,11 @@ What a knitter buying an illusion pattern expects, in this order:
 Written with fpdf2: a maintained, pure-Python PDF writer (on top of Pillow, already a
 dependency) that places text, lines, rectangles and PNGs at exact millimetre positions, which a
 tiled chart needs; reportlab does the same but is a larger dependency with C parts, and
-matplotlib's PDF backend lays out figures, not pages of text. Text is set in DejaVu Sans, bundled
-with its licence, which covers Latin, Greek, Cyrillic and more; characters it lacks (Chinese yarn
-names, say) come from a system font when one is found (:func:`pdf_fonts`), and are otherwise
-written as their code points, with a note in the materials saying which and how to add a font.
+matplotlib's PDF backend lays out figures, not pages of text. Text is set in the core Helvetica
+when it fits Latin-1, else in DejaVu Sans, bundled with its licence, which covers Latin, Greek,
+Cyrillic and more; characters it lacks (Chinese yarn names, say) come from a system font when one
+is found (:func:`pdf_fonts`), and are otherwise written as their code points, with a note in the
+materials saying which and how to add a font.
 """
 
 from __future__ import annotations
@@ -124,16 +125,21 @@ FALLBACK_FONTS = (
 
 @dataclass(frozen=True)
 class PdfFonts:
-    """The fonts a pattern is written in: DejaVu Sans, then fallbacks for what it lacks.
+    """The fonts a pattern is written in.
 
+    ``family`` is Helvetica (the PDF's core font, nothing embedded) when every character fits
+    Latin-1, else :data:`FONT` (DejaVu Sans, embedded) with ``fallbacks`` for what it lacks.
     :meth:`text` keeps every character some font has, and writes any other as its code point
     (``<U+6DF1>``) rather than a blank or a wrong glyph; :meth:`missing` lists those.
     """
 
+    family: str
     fallbacks: tuple[Path, ...]
     covered: frozenset[int]
 
     def install(self, pdf: Any) -> None:
+        if self.family != FONT:
+            return
         for style, path in _FONT_FILES.items():
             pdf.add_font(FONT, style, str(path))
         names = []
@@ -144,6 +150,8 @@ class PdfFonts:
             pdf.set_fallback_fonts(names, exact_match=False)
 
     def text(self, text: str) -> str:
+        if self.family != FONT:
+            text = text.replace("\u2013", "-").replace("\u2014", "-")
         return "".join(ch if ord(ch) in self.covered else f"<U+{ord(ch):04X}>" for ch in text)
 
     def missing(self, text: str) -> list[str]:
@@ -159,9 +167,12 @@ def _cmap(path: str) -> frozenset[int]:
 
 
 def pdf_fonts(text: str = "") -> PdfFonts:
-    """DejaVu Sans, and for the characters of ``text`` (the title and yarn names: all else is
-    ASCII) it lacks, the fallback fonts found that have some (:data:`FONTS_ENV`, then
-    :data:`FALLBACK_FONTS`); with the characters they cover together."""
+    """The fonts for a pattern whose free text (title, yarn names; all else is ASCII) is
+    ``text``: the core Helvetica when it fits Latin-1 (the quickest, smallest file), else DejaVu
+    Sans and, for characters it lacks, the fallback fonts found that have some
+    (:data:`FONTS_ENV`, then :data:`FALLBACK_FONTS`)."""
+    if all(ord(ch) < 256 for ch in text):
+        return PdfFonts("Helvetica", (), frozenset(range(256)))
     # characters every style can draw from DejaVu, plus any a fallback has
     covered = _cmap(str(_FONT_FILES[""])) & _cmap(str(_FONT_FILES["B"])) | {0x0A, 0x0D}
     lacking = {ord(ch) for ch in text} - covered
@@ -175,7 +186,7 @@ def pdf_fonts(text: str = "") -> PdfFonts:
             used.append(path)
             covered |= has
             lacking -= has
-    return PdfFonts(tuple(used), frozenset(covered))
+    return PdfFonts(FONT, tuple(used), frozenset(covered))
 
 
 @dataclass(frozen=True)
@@ -281,7 +292,7 @@ class _Document:
         self.pdf = pdf
 
     def font(self, size_pt: float, style: str = "") -> None:
-        self.pdf.set_font(FONT, style, size_pt)
+        self.pdf.set_font(self.fonts.family, style, size_pt)
 
     def heading(self, text: str, size_pt: float = 14) -> None:
         self.font(size_pt, "B")
