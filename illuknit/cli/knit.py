@@ -306,10 +306,10 @@ def knit(
                 f"{s['float_avoidance_transfers']} float-avoidance transfer pass(es), "
                 f"{s['kickbacks']} backend kickback(s)"
             )
+        basis = "calibrated" if "calibrated on" in s["time_model"] else "documented"
         echo(
-            f"estimated knitting time: {s['time']} (range {s['time_range']}), of which the "
-            f"bind-off {s['bind_off_time']}; {s['passes']} passes at {s['time_model']} "
-            "(docs/knitting.md, 'Time model')"
+            f"estimated knitting time: {s['time']} ({s['time_range']} at the {basis} carriage "
+            f"speeds), of which the bind-off {s['bind_off_time']} (docs/knitting.md, Time model)"
         )
         _echo_machine_sheet(s, echo)
         chk = s.get("check", False)
