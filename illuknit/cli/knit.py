@@ -306,11 +306,7 @@ def knit(
                 f"{s['float_avoidance_transfers']} float-avoidance transfer pass(es), "
                 f"{s['kickbacks']} backend kickback(s)"
             )
-        basis = "calibrated" if "calibrated on" in s["time_model"] else "documented"
-        echo(
-            f"estimated knitting time: {s['time']} ({s['time_range']} at the {basis} carriage "
-            f"speeds), of which the bind-off {s['bind_off_time']} (docs/knitting.md, Time model)"
-        )
+        echo(time_line(s))
         _echo_machine_sheet(s, echo)
         chk = s.get("check", False)
         if chk is None:
@@ -324,6 +320,15 @@ def knit(
     chk = summary.get("check")
     if chk and chk["errors"]:
         raise click.exceptions.Exit(1)
+
+
+def time_line(s: dict[str, Any]) -> str:
+    """One line: the estimated time, its range and the bind-off's part of it."""
+    basis = "calibrated" if "calibrated on" in s["time_model"] else "documented"
+    return (
+        f"estimated knitting time: {s['time']} ({s['time_range']} at the {basis} carriage "
+        f"speeds), of which the bind-off {s['bind_off_time']} (docs/knitting.md, Time model)"
+    )
 
 
 def describe_settings(s: dict[str, Any]) -> str:
