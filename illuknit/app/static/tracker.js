@@ -189,17 +189,21 @@ function wireTracker() {
   // before the page's own keys (the arrow keys move between candidates elsewhere)
   document.addEventListener("keydown", trackerKey, true);
   // The picked pattern changes with the pick or a tile edit (each redraws the preview) and with
-  // new inputs (a new state): the tracker follows them. (Wrapping the two functions keeps this
-  // file apart from the rest of the page.)
-  const preview = updatePreview;
-  updatePreview = function (...args) { const r = preview(...args); trackerRefresh(); return r; };
+  // new inputs (a new state): the tracker follows them, and only them (the preview is also
+  // redrawn at every step of the angle slider). Wrapping the two functions keeps this file
+  // apart from the rest of the page.
   let seen = "";
+  const follow = () => {
+    const now = `${state.revision}:${state.candRevision}:${state.selected}:${state.editTick || 0}`;
+    if (now !== seen) { seen = now; trackerRefresh(); }
+  };
+  const preview = updatePreview;
+  updatePreview = function (...args) { const r = preview(...args); follow(); return r; };
   const apply = applyState;
   applyState = function (s, ...rest) {
     const r = apply(s, ...rest);
     if (s && s.settings) $("#square_units").checked = !!s.settings.square_units;
-    const now = s ? `${s.revision}:${s.selected}` : "";
-    if (now !== seen) { seen = now; trackerRefresh(); }
+    follow();
     return r;
   };
   $("#square_units").addEventListener("change", () => saveSettings({ square_units: $("#square_units").checked }));
