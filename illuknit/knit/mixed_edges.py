@@ -108,7 +108,8 @@ class Emitter:
             ops = tuple(
                 Op(OpKind.TUCK if n in p.tucks else op, Bed(b), n) for n, b in p.stitches
             ) + tuple(extra)
-            self.join_tucks += len(p.tucks)
+            if not p.pretuck:
+                self.join_tucks += len(p.tucks)
             if p.park is not None:
                 ops += (Op(OpKind.MISS, Bed.FRONT, p.park),)
             self.steps.append(

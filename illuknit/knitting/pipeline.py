@@ -145,7 +145,8 @@ def knit_pattern(
     Patterns with one colour per course go to :func:`~illuknit.knit.schedule.schedule_courses`;
     patterns that change colour inside a course to the mixed-colourwork scheduler
     :func:`~illuknit.knit.mixed.schedule_mixed`, to which the switches of
-    :class:`~illuknit.knit.options.KnitOptions` other than ``cast_on_courses`` apply.
+    :class:`~illuknit.knit.options.KnitOptions` other than ``cast_on_courses`` and
+    ``tall_bumps`` (which shape the stitches, for both schedulers) apply.
 
     Parameters
     ----------
@@ -197,7 +198,10 @@ def knit_pattern(
         else replace(m, carriers=m.pattern_carriers, waste_carrier=None, draw_carrier=None)
     )
     stitches = lower_to_stitches(
-        pattern, machine=plan_machine, cast_on_courses=opts.cast_on_courses
+        pattern,
+        machine=plan_machine,
+        cast_on_courses=opts.cast_on_courses,
+        tall_bumps=opts.tall_bumps,
     )
     schedule = _schedule(stitches, m, plan_machine, opts)
     if m.inserting_hook:
