@@ -115,6 +115,7 @@ class _Courses:
     park: Park | None
     last_course: dict[str, int]  # carrier -> last course it knits in
     tuck_first: np.ndarray | None = None  # (courses incl. cast-on, W): tall-bump tucks
+    entry: int | None = None  # where a new yarn hangs without an inserting hook (right edge)
 
 
 def _knit_course(em: Emitter, ctx: _Courses, c: int) -> int:
@@ -168,7 +169,7 @@ def _knit_course(em: Emitter, ctx: _Courses, c: int) -> int:
             role=Role.TRANSFER,
             course=label,
         )
-    crossings = float_crossings(planned, em.states, needles=em.needles)
+    crossings = float_crossings(planned, em.states, needles=em.needles, entry=ctx.entry)
     # (A tuck join is not the needle's stitch: its own stitch decides when the loop moves.)
     stitch_pass = {
         n: i
@@ -417,6 +418,7 @@ def schedule_mixed(
         float_avoidance=bool(float_avoidance),
         park=park,
         last_course=last_course,
+        entry=None if yarn_entry is None else edge + 1,
         tuck_first=None
         if stitches.tuck_first is None
         else np.vstack([np.zeros((k0, n_wales), dtype=bool), stitches.tuck_first]),
