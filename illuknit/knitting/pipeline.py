@@ -69,6 +69,9 @@ class KnitResult:
         Pass counts, lower bound and ratio.
     time : TimeEstimate
     machine : MachineSpec
+    split_bumps : int
+        Raised units knit as split bumps (``LogicalPattern.upper``); check the program with
+        ``check_knitout(..., split_bumps=True)`` when there are any.
     """
 
     text: str
@@ -77,6 +80,7 @@ class KnitResult:
     stats: ScheduleStats
     time: TimeEstimate
     machine: MachineSpec
+    split_bumps: int = 0
 
     @property
     def program(self) -> str:
@@ -130,6 +134,13 @@ class KnitResult:
             "bind_off_time_seconds": round(self.time.bind_off_seconds, 1),
             "bind_off_time": format_duration(self.time.bind_off_seconds),
             "lines": self.text.count("\n"),
+            # (only when asked for: the summary of a plain pattern stays as it was)
+            **({"split_bumps": self.split_bumps} if self.split_bumps else {}),
+            **(
+                {"tall_bump_tucks": int(self.stitches.tuck_first.sum())}
+                if self.stitches.tuck_first is not None
+                else {}
+            ),
         }
 
 
@@ -220,6 +231,7 @@ def knit_pattern(
         from illuknit.knit.mixed import long_float_error
 
         raise long_float_error(long, stitches, limit)
+    split = int(pattern.split.sum())
     if runs_on_swg(m):
         # Report what the machine runs for this program, not the schedule's own passes.
         run = machine_run(text)
@@ -230,10 +242,11 @@ def knit_pattern(
             machine_stats(schedule, run),
             estimate_knit_time(schedule, run=run),
             m,
+            split,
         )
     else:
         result = KnitResult(
-            text, stitches, schedule, schedule.stats, estimate_knit_time(schedule), m
+            text, stitches, schedule, schedule.stats, estimate_knit_time(schedule), m, split
         )
     if schedule.long_floats:
         warnings.warn(LongFloatWarning(long_float_warning(result)), stacklevel=2)
