@@ -23,7 +23,6 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from enum import StrEnum
-from typing import Any
 
 from illuknit.core.arguments import check_int
 from illuknit.design.options import count_option, enum_option, flag_option
@@ -42,15 +41,6 @@ class Catching(StrEnum):
     TUCK = "tuck"
     PLATE = "plate"
     OFF = "off"
-
-    def scheduler_value(self) -> bool | str:
-        """What :func:`~illuknit.knit.mixed.schedule_mixed` takes for it (``catching=``)."""
-        values: dict[Catching, bool | str] = {
-            Catching.TUCK: True,
-            Catching.PLATE: "plate",
-            Catching.OFF: False,
-        }
-        return values[self]
 
 
 class PathPlanning(StrEnum):
@@ -121,15 +111,3 @@ class KnitOptions:
         object.__setattr__(
             self, "path_planning", enum_option(PathPlanning, "path_planning", self.path_planning)
         )
-
-    def scheduler_kwargs(self) -> dict[str, Any]:
-        """The switches of :func:`~illuknit.knit.mixed.schedule_mixed`, as it takes them."""
-        return {
-            "float_avoidance": self.float_avoidance,
-            "catching": self.catching.scheduler_value(),
-            "path_planning": self.path_planning.value,
-            "strict_floats": self.strict_floats,
-            "catch_every": self.catch_every,
-            "tuck_passes": self.tuck_passes,
-            "allow_long_floats": self.allow_long_floats,
-        }

@@ -27,9 +27,10 @@ from illuknit.core.gauge import FinishedSize
 from illuknit.core.machine import MachineSpec, resolve_machine
 from illuknit.core.pattern import LogicalPattern
 from illuknit.knit.float_tucks import LongFloat
-from illuknit.knit.hookless import yarn_entry
+from illuknit.knit.hookless import lower_hookless, write_hookless_knitout, yarn_entry
 from illuknit.knit.ir import Pass, Role
 from illuknit.knit.knitout import write_knitout
+from illuknit.knit.mixed import long_float_error, schedule_mixed
 from illuknit.knit.options import Catching, KnitOptions
 from illuknit.knit.schedule import Schedule, ScheduleStats, schedule_courses
 from illuknit.knit.stitches import StitchPattern, lower_to_stitches
@@ -201,41 +202,53 @@ def knit_pattern(
         )
     m = resolve_machine(machine)
     opts = _knit_options(options, knobs)
-    # Without an inserting hook, the waste yarn and draw thread hold carriers of their own: the
-    # scheduler plans with the others only (and refuses a plan that needs more).
-    plan_machine = (
-        m
-        if m.inserting_hook
-        else replace(m, carriers=m.pattern_carriers, waste_carrier=None, draw_carrier=None)
-    )
+    plan_machine = _planning_machine(m)
     stitches = lower_to_stitches(
         pattern,
         machine=plan_machine,
         cast_on_courses=opts.cast_on_courses,
         tall_bumps=opts.tall_bumps,
     )
-    schedule = _schedule(stitches, m, plan_machine, opts)
-    if m.inserting_hook:
-        text = write_knitout(schedule, machine=m)
-    else:
-        from illuknit.knit.hookless import lower_hookless, write_hookless_knitout
-
-        text = write_hookless_knitout(schedule, machine=m)
-        schedule = lower_hookless(schedule, machine=m)
+    text, schedule = _written(_schedule(stitches, m, plan_machine, opts), m)
     # One float truth: the floats reported (and refused) are the program's, measured as the
     # checker measures them.
     limit = plan_machine.float_limit
     long = program_long_floats(text, schedule, limit)
     schedule = replace(schedule, long_floats=long)
     if long and (opts.strict_floats or not opts.allow_long_floats):
-        from illuknit.knit.mixed import long_float_error
-
         raise long_float_error(long, stitches, limit)
-    split = int(pattern.split.sum())
+    result = _measured(text, stitches, schedule, m, split=int(pattern.split.sum()))
+    if schedule.long_floats:
+        warnings.warn(LongFloatWarning(long_float_warning(result)), stacklevel=2)
+    return result
+
+
+def _planning_machine(m: MachineSpec) -> MachineSpec:
+    """The machine the scheduler plans with: ``m`` itself, or without an inserting hook ``m``
+    less the carriers of the waste yarn and draw thread (the scheduler then plans with the
+    others only, and refuses a plan that needs more)."""
+    if m.inserting_hook:
+        return m
+    return replace(m, carriers=m.pattern_carriers, waste_carrier=None, draw_carrier=None)
+
+
+def _written(schedule: Schedule, m: MachineSpec) -> tuple[str, Schedule]:
+    """The knitout program of ``schedule`` on ``m`` and the schedule it runs: on a machine
+    without an inserting hook, the waste section first and the schedule lowered to match."""
+    if m.inserting_hook:
+        return write_knitout(schedule, machine=m), schedule
+    text = write_hookless_knitout(schedule, machine=m)
+    return text, lower_hookless(schedule, machine=m)
+
+
+def _measured(
+    text: str, stitches: StitchPattern, schedule: Schedule, m: MachineSpec, *, split: int = 0
+) -> KnitResult:
+    """The result with its passes and time: on a Shima, what the machine runs for ``text``
+    (not the schedule's own passes); ``split`` is its count of split bumps."""
     if runs_on_swg(m):
-        # Report what the machine runs for this program, not the schedule's own passes.
         run = machine_run(text)
-        result = KnitResult(
+        return KnitResult(
             text,
             stitches,
             schedule,
@@ -244,13 +257,9 @@ def knit_pattern(
             m,
             split,
         )
-    else:
-        result = KnitResult(
-            text, stitches, schedule, schedule.stats, estimate_knit_time(schedule), m, split
-        )
-    if schedule.long_floats:
-        warnings.warn(LongFloatWarning(long_float_warning(result)), stacklevel=2)
-    return result
+    return KnitResult(
+        text, stitches, schedule, schedule.stats, estimate_knit_time(schedule), m, split
+    )
 
 
 #: Knitout operations written one per line for each operation of a schedule's step.
@@ -312,8 +321,6 @@ def _schedule(
 ) -> Schedule:
     """Schedule the stitches on ``plan_machine`` (``m`` less its reserved carriers); a carrier
     shortage on a machine without an inserting hook says which carriers are reserved."""
-    from illuknit.knit.mixed import schedule_mixed
-
     try:
         if stitches.mixed_courses().size:
             # (Long floats are judged by knit_pattern, on the program as written: a machine
@@ -321,7 +328,7 @@ def _schedule(
             schedule = schedule_mixed(
                 stitches,
                 machine=plan_machine,
-                **{**opts.scheduler_kwargs(), "allow_long_floats": True},
+                options=replace(opts, allow_long_floats=True),
                 yarn_entry=None if m.inserting_hook else yarn_entry(m),
             )
         else:
