@@ -9,6 +9,11 @@ then the fewest bumps. The result contains the solids, the 1-, 2- and 3-colour s
 stripe-one-side / solid-other-side family (e.g. ``0/1/0^``: a 0/1 stripe from A, solid 0 from B),
 with every stripe proportion a tile of height <= 4 can make (1/4, 1/3, 1/2, 2/3, 3/4).
 
+With ``split_bumps=True`` the units also include split bumps (a bump whose second course is
+another yarn, ``1^0``; ``docs/split-bumps.md``), so every pair of solid fills has a tile: ``1^0``
+alone shows solid 0 from A and solid 1 from B. Enumeration then stops at the height where the
+tiles of one height would exceed :data:`MAX_SPLIT_TILES`.
+
 Custom banks are JSON (format ``illuknit-tile-bank`` version 1, see ``docs/tiles.md``)::
 
     {"format": "illuknit-tile-bank", "version": 1,
@@ -54,6 +59,7 @@ __all__ = [
     "BANK_FORMAT",
     "BANK_VERSION",
     "MAX_BANK_YARNS",
+    "MAX_SPLIT_TILES",
     "TileBank",
     "bank_from_json",
     "bank_to_json",
@@ -67,6 +73,8 @@ BANK_FORMAT = "illuknit-tile-bank"
 BANK_VERSION = 1
 #: Enumeration grows as (2 * yarns) ** height; beyond this many yarns it is not worth it.
 MAX_BANK_YARNS = 8
+#: With split bumps a unit has ``K + K**2`` states; heights whose tiles outnumber this are skipped.
+MAX_SPLIT_TILES = 100_000
 ViewPair = tuple[FillView, FillView]
 
 
@@ -183,6 +191,7 @@ def canonical_bank(
     max_height: int = 4,
     views: ViewPair = ("A", "B"),
     one_sided_stripes: bool = False,
+    split_bumps: bool = False,
 ) -> TileBank:
     """Generate the canonical bank for ``yarns``.
 
@@ -196,6 +205,9 @@ def canonical_bank(
         The fills that tiles are deduplicated by. The head-on variant uses ``("headon", "side")``.
     one_sided_stripes : bool, default False
         Keep only tiles that are solid in at least one of ``views`` (the paper's tiles).
+    split_bumps : bool, default False
+        Also enumerate split bumps (see the module docstring); heights whose tiles would
+        exceed :data:`MAX_SPLIT_TILES` are left out.
 
     Returns
     -------
@@ -207,6 +219,7 @@ def canonical_bank(
     check_int(max_height, "max_height", min=1, max=6, error=TileBankError)
     check_views(views, error=TileBankError)
     check_bool(one_sided_stripes, "one_sided_stripes")
+    check_bool(split_bumps, "split_bumps")
     ys = _check_yarns(yarns)
     if not isinstance(max_height, int) or not 1 <= max_height <= 6:
         raise TileBankError(f"`max_height` must be an integer in 1..6, got {max_height!r}")
@@ -214,23 +227,33 @@ def canonical_bank(
         if v not in FILL_VIEWS:
             raise TileBankError(f"`views` must name two of {FILL_VIEWS}, got {views!r}")
     # Banks are immutable and cheap to share; interactive use regenerates the same one often.
-    return _canonical_bank(ys, max_height, tuple(views), bool(one_sided_stripes))
+    return _canonical_bank(ys, max_height, tuple(views), bool(one_sided_stripes), bool(split_bumps))
 
 
 @functools.lru_cache(maxsize=32)
 def _canonical_bank(
-    ys: tuple[Yarn, ...], max_height: int, views: ViewPair, one_sided_stripes: bool
+    ys: tuple[Yarn, ...],
+    max_height: int,
+    views: ViewPair,
+    one_sided_stripes: bool,
+    split_bumps: bool = False,
 ) -> TileBank:
     n_y = len(ys)
     best: dict[tuple[Any, Any], Tile] = {}
-    units = [(y, r) for r in (False, True) for y in range(n_y)]
+    units = [(y, r, y) for r in (False, True) for y in range(n_y)]
+    if split_bumps:
+        units += [(y, True, u) for y in range(n_y) for u in range(n_y) if u != y]
     for h in range(1, max_height + 1):
+        if split_bumps and h > 1 and len(units) ** h > MAX_SPLIT_TILES:
+            break
         combos = np.array(list(itertools.product(range(len(units)), repeat=h)), dtype=np.int64)
         yarn = np.array([u[0] for u in units])[combos].T  # (h, T): one tile per column
         raised = np.array([u[1] for u in units])[combos].T
+        upper = np.array([u[2] for u in units])[combos].T
         ext_y, ext_r = np.tile(yarn, (3, 1)), np.tile(raised, (3, 1))
+        ext_u = np.tile(upper, (3, 1))
         counts = {
-            v: _counts_to_keys(np.asarray(can_see(ext_y, v, ext_r))[h : 2 * h], n_y)
+            v: _counts_to_keys(np.asarray(can_see(ext_y, v, ext_r, upper=ext_u))[h : 2 * h], n_y)
             for v in ("A", "B", "headon")
         }
         counts["side"] = np.where(
@@ -244,12 +267,26 @@ def _canonical_bank(
         # proportions, not counts, identify a fill: reduce each count vector by its gcd
         r0 = c0 // np.maximum(np.gcd.reduce(c0, axis=1), 1)[:, None]
         r1 = c1 // np.maximum(np.gcd.reduce(c1, axis=1), 1)[:, None]
+        # the preference without building a Tile per candidate: colour changes, then bumps
+        # (Tile.color_changes along the wale; one-unit-wide tiles have no changes across)
+        changes = (yarn != upper).sum(axis=0)
+        if h > 1:
+            changes = changes + (upper != np.roll(yarn, -1, axis=0)).sum(axis=0)
+        rank = changes * (h + 1) + raised.sum(axis=0)
+        cand: dict[tuple[bytes, bytes], list[int]] = {}
+        low: dict[tuple[bytes, bytes], int] = {}
         for t in np.flatnonzero(ok):
             key = (r0[t].tobytes(), r1[t].tobytes())
-            tile = Tile(yarn[:, t], raised[:, t])
-            old = best.get(key)
-            if old is None or _tile_preference(tile) < _tile_preference(old):
-                best[key] = tile
+            if key in best:  # a shorter tile already shows this pair
+                continue
+            lo = low.get(key)
+            if lo is None or rank[t] < lo:
+                low[key], cand[key] = int(rank[t]), [int(t)]
+            elif rank[t] == lo:
+                cand[key].append(int(t))
+        for key, ts in cand.items():
+            tiles_h = [Tile(yarn[:, t], raised[:, t], upper=upper[:, t]) for t in ts]
+            best[key] = min(tiles_h, key=_tile_preference)
     tiles = sorted(best.values(), key=_tile_preference)
     return TileBank(ys, tuple(tiles), name="canonical")
 
