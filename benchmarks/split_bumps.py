@@ -8,7 +8,9 @@ For each instance (``instances/manifest.toml``, kind ``double``) this designs th
 ``today``  the tile design, plain bumps
 ``split``  the tile design whose bank holds split bumps, plain bumps
 ``tall``   today's tile design knitted with tall bumps (``KnitOptions.tall_bumps``) and rendered
-           with the tall bump height (``RenderParams.with_tall_bumps``)
+           with the tall bump height (``RenderParams.with_tall_bumps``), seen from where a tall
+           bump hides exactly one unit (``--tall-angle``: 42 degrees with the estimates), as
+           plain bumps are seen from where they do (the bench's 30 degrees)
 ``both``   the split design knitted and rendered with tall bumps
 
 and prints per variant:
@@ -28,11 +30,12 @@ instances drawn from photographs: ``coffee-chelsea-3``, ``astronaut-coffee-3``) 
 1.2 x the machine passes of today's tile design. The verdict line says per instance whether the
 variant met it, and where it does not help.
 
-Every render uses the renderer's split share (``--share``, default the ``RenderParams`` estimate
-0.75) and tall bump height (the estimate of ``RenderParams.tall_height`` unless
-``--tall-height``): both are estimates until a swatch is measured, so ``--shares 0.75,0.9,1``
-also prints the worst visible ghosting of the split designs at other shares, to show what the
-result depends on.
+Every design and render uses the split share (``--share``, default the ``RenderParams``
+estimate 0.75: the tile fills and the ranking count a split bump's far course with the rest) and
+the tall bump height (the estimate of ``RenderParams.tall_height`` unless ``--tall-height``):
+both are estimates until a swatch is measured, so ``--shares 0.9,1`` also designs the split
+variant at other shares and prints its worst visible ghosting there, to show what the result
+depends on.
 
 Passes of the split and tall variants are the machine's only where the knitting side lowers
 split bumps (``LogicalPattern.upper``) and knows ``KnitOptions.tall_bumps``; otherwise the
@@ -81,10 +84,10 @@ class Row:
     shares: tuple[tuple[float, float], ...] = ()
 
 
-def _design(instance: Any, split: bool, time_limit: float) -> Any:
-    from illuknit.bench.methods import get_method
+def _design(instance: Any, split: bool, time_limit: float, share: float) -> Any:
+    from illuknit.bench.methods import run_tiles
 
-    pattern, _ = get_method("tiles-split" if split else "tiles").run(instance, time_limit)
+    pattern, _ = run_tiles(instance, time_limit, split_bumps=split, split_share=share)
     return pattern
 
 
@@ -114,26 +117,30 @@ def _knit(pattern: Any, tall: bool, machine: str, oracle: Path) -> tuple[int | N
     return run_oracle(result.program, oracle, at_least=result.stats.passes)
 
 
-def measure(args: tuple[Any, str, Path, bool, float, Any, tuple[float, ...]]) -> list[Row]:
-    instance, machine, oracle, knit, angle, params, shares = args
+def measure(
+    args: tuple[Any, str, Path, bool, tuple[float, float], Any, tuple[float, ...]],
+) -> list[Row]:
+    instance, machine, oracle, knit, (angle, tall_angle), params, shares = args
     rows = []
     designs = {}
     for split in (False, True):
         t0 = time.perf_counter()
-        designs[split] = (_design(instance, split, instance.time_limit), time.perf_counter() - t0)
+        pattern = _design(instance, split, instance.time_limit, params.split_share)
+        designs[split] = (pattern, time.perf_counter() - t0)
     for variant in VARIANTS:
         split = variant in ("split", "both")
         tall = variant in ("tall", "both")
         pattern, seconds = designs[split]
         t0 = time.perf_counter()
         p = params.with_tall_bumps() if tall else params
-        read, ghost = _measures(instance, pattern, p, angle)
+        read, ghost = _measures(instance, pattern, p, tall_angle if tall else angle)
         dat, note = (None, "") if not knit else _knit(pattern, tall, machine, oracle)
         extra: list[tuple[float, float]] = []
-        if split and shares:
-            for s in shares:
-                q = dataclasses.replace(p, split_share=s)
-                extra.append((s, max(_measures(instance, pattern, q, angle)[1])))
+        if variant == "split":  # designed and seen at other shares
+            for share in shares:
+                q = dataclasses.replace(p, split_share=share)
+                other = _design(instance, True, instance.time_limit, share)
+                extra.append((share, max(_measures(instance, other, q, angle)[1])))
         rows.append(
             Row(
                 instance.name,
@@ -213,6 +220,12 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
     ap.add_argument("--machine", default="generic540", help="machine preset to knit on")
     ap.add_argument("--angle", type=float, default=RENDER_ANGLE, help="viewing elevation")
+    ap.add_argument(
+        "--tall-angle",
+        type=float,
+        default=None,
+        help="viewing elevation of the tall variants (default: where a tall bump hides one unit)",
+    )
     ap.add_argument("--share", type=float, default=None, help="split share of the renders")
     ap.add_argument("--tall-height", type=float, default=None, help="tall bump height")
     ap.add_argument("--shares", default="", help="also the split designs' ghosting at these")
@@ -228,8 +241,9 @@ def main(argv: list[str] | None = None) -> int:
     if args.tall_height is not None:
         params = dataclasses.replace(params, tall_bump_height=args.tall_height)
     shares = tuple(float(s) for s in args.shares.split(",") if s.strip())
+    tall_angle = args.tall_angle or round(params.with_tall_bumps().exact_angle, 1)
     print(
-        f"renders at {args.angle:g} degrees; split share {params.split_share:g}, bump height "
+        f"renders at {args.angle:g} degrees (tall variants at {tall_angle:g}); split share {params.split_share:g}, bump height "
         f"{params.bump_height:g}, tall {params.tall_height:g} (estimates unless measured); "
         f"machine {args.machine}"
     )

@@ -239,7 +239,11 @@ register_method(
 
 
 def run_tiles(
-    instance: Instance, time_limit: float, *, split_bumps: bool = False
+    instance: Instance,
+    time_limit: float,
+    *,
+    split_bumps: bool = False,
+    split_share: float | None = None,
 ) -> tuple[LogicalPattern, dict[str, Any]]:
     """The tile design that reads best (paper section 6): the double-view stage
     (:func:`illuknit.pipeline.stages.design_tiles`) with the search ``illuknit double`` makes by
@@ -255,7 +259,11 @@ def run_tiles(
         qa,
         qb,
         yarns=instance.yarns,
-        search=SearchOptions(solve_seconds=time_limit, split_bumps=split_bumps),
+        search=SearchOptions(
+            solve_seconds=time_limit,
+            split_bumps=split_bumps,
+            **({} if split_share is None else {"split_share": split_share}),
+        ),
     )
     best = design.best
     score = getattr(best.assignment, "score", None)

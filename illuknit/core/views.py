@@ -43,11 +43,13 @@ from illuknit.core.errors import ImageInputError, OptionError, PatternValidation
 from illuknit.core.pattern import LogicalPattern
 
 __all__ = [
+    "DEFAULT_SPLIT_SHARE",
     "VIEWS",
     "View",
     "can_see",
     "logical_error",
     "seen_rows",
+    "seen_shares",
     "view_a",
     "view_b",
     "view_headon",
@@ -56,6 +58,10 @@ __all__ = [
 
 View = Literal["A", "B", "headon"]
 VIEWS: tuple[View, ...] = ("A", "B", "headon")
+#: Share of a split bump's colour, seen from one side, that comes from the course on that side:
+#: the cuboid estimate (``docs/split-bumps.md``) until a swatch is measured. The renderer's
+#: ``RenderParams.split_share`` and the tile fills of split bumps start from it.
+DEFAULT_SPLIT_SHARE = 0.75
 
 
 def _arrays(
@@ -95,6 +101,24 @@ def seen_rows(raised: ArrayLike, view: View) -> NDArray[np.intp]:
     elif view != "headon":
         raise OptionError(f"`view` must be one of {VIEWS}, got {view!r}")
     return rows
+
+
+def seen_shares(
+    yarn: ArrayLike, raised: ArrayLike, upper: ArrayLike | None, view: View, share: float
+) -> tuple[NDArray[np.int16], NDArray[np.int16], NDArray[np.float64]]:
+    """What each cell shows when split bumps show some of their far course: ``(near, far, w)``,
+    each of shape (N, M): the cell shows yarn ``near`` with weight ``w`` and ``far`` with
+    ``1 - w``. ``near`` is :func:`can_see`; ``w`` is ``share`` where the unit seen is a split bump
+    (1/2 head-on) and 1 elsewhere, where ``far == near``."""
+    c = np.asarray(yarn)
+    r = np.asarray(raised, dtype=bool)
+    u = c if upper is None else np.asarray(upper)
+    rows = seen_rows(r, view)
+    cols = np.broadcast_to(np.arange(c.shape[1])[None, :], c.shape)
+    first, second = c[rows, cols], u[rows, cols]
+    near, far = (second, first) if view == "A" else (first, second)
+    w = np.where(near != far, 0.5 if view == "headon" else share, 1.0)
+    return near.astype(np.int16), far.astype(np.int16), w
 
 
 def can_see(

@@ -27,6 +27,7 @@ from typing import Any
 
 from illuknit.core.errors import OptionError
 from illuknit.core.machine import MachineSpec, resolve_machine
+from illuknit.core.views import DEFAULT_SPLIT_SHARE
 from illuknit.design.models.illusion_problem import KnitWeights
 
 __all__ = [
@@ -161,6 +162,11 @@ class SearchOptions:
     split_bumps : bool
         The canonical bank also holds split bumps (``docs/split-bumps.md``): a bump knitted in
         two yarns, one for each side. A bank file lists its own tiles instead.
+    split_share : float
+        How much of a split bump's colour each side sees of its own course, in (0.5, 1]
+        (``RenderParams.split_share``; the estimate 0.75 until a swatch is measured): the
+        bank's fills and the renders the designs are ranked by count the rest as the other
+        course.
     edits : PictureEdits or str
         Simplifying edits of the pictures (double view only).
     solve_seconds : float, optional
@@ -174,6 +180,7 @@ class SearchOptions:
     brightness: Brightness = Brightness.HARD
     one_sided: bool = False
     split_bumps: bool = False
+    split_share: float = DEFAULT_SPLIT_SHARE
     edits: PictureEdits = PictureEdits.NONE
     solve_seconds: float | None = 10.0
 
@@ -188,6 +195,9 @@ class SearchOptions:
             _seconds("solve_seconds", self.solve_seconds)
         flag_option("one_sided", self.one_sided)
         flag_option("split_bumps", self.split_bumps)
+        share = self.split_share
+        if isinstance(share, bool) or not isinstance(share, int | float) or not 0.5 < share <= 1:
+            raise OptionError(f"`split_share` must be a number in (0.5, 1], got {share!r}")
         object.__setattr__(
             self, "brightness", enum_option(Brightness, "brightness", self.brightness)
         )

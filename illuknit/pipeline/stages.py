@@ -508,7 +508,11 @@ def design_tiles(
         )
     if bank is None:
         bank = canonical_bank(
-            ys, views=views, one_sided_stripes=search.one_sided, split_bumps=search.split_bumps
+            ys,
+            views=views,
+            one_sided_stripes=search.one_sided,
+            split_bumps=search.split_bumps,
+            split_share=search.split_share,
         )
     elif isinstance(bank, (str, os.PathLike)):
         bank = load_bank(bank, yarns=ys)
@@ -608,6 +612,7 @@ def _rank(
         knit_time=_knit_measure(ranking),
         keep=search.candidates,
         progress=lambda f, message: say(0.4 + 0.6 * f, message),
+        params=_split_params(search),
     )
     by = ranking.rank_by
     designs = tuple(
@@ -638,6 +643,16 @@ def _rank(
         search=search,
         ranking=ranking,
     )
+
+
+def _split_params(search: SearchOptions) -> Any:
+    """The renderer's parameters the designs are measured with: the default ones, with the
+    search's split share when split bumps are on (None: the defaults)."""
+    if not search.split_bumps:
+        return None
+    from illuknit.design.render.params import RenderParams
+
+    return RenderParams(split_share=search.split_share)
 
 
 def _assignment_label(assignment: Any) -> str:

@@ -34,6 +34,7 @@ from typing import Any
 from illuknit.core.arguments import check_path
 from illuknit.core.errors import RenderParamsError
 from illuknit.core.files import atomic_write_text
+from illuknit.core.views import DEFAULT_SPLIT_SHARE
 
 __all__ = [
     "PARAMS_FORMAT",
@@ -102,7 +103,7 @@ class RenderParams:
     unit_length: float = 1.0
     theta: float = 30.0
     shading: float = 1.0
-    split_share: float = 0.75
+    split_share: float = DEFAULT_SPLIT_SHARE
     tall_bump_height: float | None = None
 
     def __post_init__(self) -> None:

@@ -362,6 +362,7 @@ def rank_designs(
     knit_time: KnitMeasure | None = None,
     keep: int | None = None,
     progress: Callable[[float, str], None] | None = None,
+    params: Any = None,
 ) -> list[RankedCandidate]:
     """Compile every tile candidate, measure how it reads and rank the lot (the best ``keep``).
 
@@ -384,6 +385,8 @@ def rank_designs(
     progress : callable, optional
         ``progress(fraction, message)`` before each design is compiled and measured; whatever
         it raises stops the ranking (a user interface's cancel).
+    params : RenderParams, optional
+        The renderer's parameters the designs are measured with (e.g. a measured split share).
     """
     from dataclasses import replace
 
@@ -402,7 +405,9 @@ def rank_designs(
             progress(k / max(1, len(found)), f"measuring tile design {k + 1} of {len(found)}")
         compiled.append(compile_tiles(c, overrides=overrides or {}))
         measures.append(
-            measure_candidate(compiled[-1][0], pictures, views=views, ghost=len(pictures) == 2)
+            measure_candidate(
+                compiled[-1][0], pictures, views=views, ghost=len(pictures) == 2, params=params
+            )
         )
     scores = [c.score for c in found]
     if knit_time is not None:

@@ -18,8 +18,12 @@ Example from the paper: the 3 x 1 tile (c1 flat, c2 flat, c1 bump) shows a c1/c2
 side and solid c1 from the other.
 
 A tile may hold *split bumps* (``upper``, as in :class:`~illuknit.core.pattern.LogicalPattern`),
-written ``1^0`` in rows: a bump whose first course is yarn 1 and whose second is yarn 0. Its fills
-follow the extended ``can_see``: the one-unit tile ``1^0`` shows solid 0 from A and solid 1 from B.
+written ``1^0`` in rows: a bump whose first course is yarn 1 and whose second is yarn 0. Which
+unit each cell sees follows the extended ``can_see`` (:func:`tile_seen`); a split bump shows its
+near course with weight ``split_share`` and its far course with the rest
+(:func:`illuknit.core.views.seen_shares`), and the fill counts both, so the one-unit tile ``1^0``
+shows 0 3/4 + 1 1/4 from A and 1 3/4 + 0 1/4 from B at the default share 3/4. A fill is what the
+eye mixes, and a split bump's far course is part of the mix; without split bumps nothing changes.
 """
 
 from __future__ import annotations
@@ -36,7 +40,7 @@ from numpy.typing import ArrayLike, NDArray
 from illuknit.core.colors import hex_color, luminance, mix_rgb
 from illuknit.core.errors import TileBankError
 from illuknit.core.pattern import Yarn
-from illuknit.core.views import can_see
+from illuknit.core.views import DEFAULT_SPLIT_SHARE, can_see, seen_shares
 
 __all__ = [
     "FILL_VIEWS",
@@ -45,8 +49,10 @@ __all__ = [
     "FillView",
     "Tile",
     "fill_from_seen",
+    "share_fraction",
     "tile_fills",
     "tile_seen",
+    "tile_weights",
 ]
 
 #: The views a tile has a fill in. "side" is the fill seen from *both* angles when views A and B
@@ -345,17 +351,56 @@ def tile_seen(tile: Tile, view: Literal["A", "B", "headon"]) -> NDArray[np.int16
     return can_see(ext_y, view, ext_r, upper=ext_u)[h : 2 * h]
 
 
-def tile_fills(tile: Tile, yarns: Sequence[Yarn]) -> dict[FillView, Fill | None]:
+def share_fraction(share: float) -> Fraction:
+    """A split share as the fraction fills are counted in (denominator at most 20)."""
+    return Fraction(share).limit_denominator(20)
+
+
+def tile_weights(
+    tile: Tile, view: Literal["A", "B", "headon"], share: Fraction
+) -> dict[int, Fraction]:
+    """Yarn -> weight of what the tile shows from ``view`` in a large region, summing to the
+    tile's height times its width (:func:`illuknit.core.views.seen_shares`)."""
+    h = tile.height
+    ext_u = None if tile.upper is None else np.tile(tile.upper, (3, 1))
+    near, far, w = seen_shares(
+        np.tile(tile.yarn, (3, 1)), np.tile(tile.raised, (3, 1)), ext_u, view, 0.0
+    )
+    out: dict[int, Fraction] = {}
+    # asked with share 0, so a split bump's weight reads 0.0 and the exact fraction replaces it
+    part = {1.0: Fraction(1), 0.5: Fraction(1, 2), 0.0: share}
+    for y, f, ww in zip(
+        near[h : 2 * h].ravel(), far[h : 2 * h].ravel(), w[h : 2 * h].ravel(), strict=True
+    ):
+        q = part[float(ww)]
+        out[int(y)] = out.get(int(y), Fraction(0)) + q
+        if q != 1:
+            out[int(f)] = out.get(int(f), Fraction(0)) + 1 - q
+    return out
+
+
+def tile_fills(
+    tile: Tile, yarns: Sequence[Yarn], *, split_share: float = DEFAULT_SPLIT_SHARE
+) -> dict[FillView, Fill | None]:
     """The tile's fills in every view: ``{"A": Fill, "B": Fill, "headon": Fill, "side": Fill|None}``.
 
-    ``"side"`` is the common fill of views A and B when they are equal, else None.
+    ``"side"`` is the common fill of views A and B when they are equal, else None. Split bumps
+    count with ``split_share`` (see the module docstring).
     """
     if max(tile.yarns_used) >= len(yarns):
         raise TileBankError(
             f"tile {tile.code()} uses yarn {max(tile.yarns_used)}, but there are {len(yarns)} yarn(s)"
         )
-    out: dict[FillView, Fill | None] = {
-        v: fill_from_seen(tile_seen(tile, v), yarns) for v in ("A", "B", "headon")
-    }
+    if tile.upper is None:
+        out: dict[FillView, Fill | None] = {
+            v: fill_from_seen(tile_seen(tile, v), yarns) for v in ("A", "B", "headon")
+        }
+    else:
+        share = share_fraction(split_share)
+        out = {}
+        for v in ("A", "B", "headon"):
+            weights = tile_weights(tile, v, share)  # type: ignore[arg-type]
+            total = sum(weights.values())
+            out[v] = fill_from_parts([(y, q / total) for y, q in weights.items() if q], yarns)
     out["side"] = out["A"] if out["A"] == out["B"] else None
     return out
