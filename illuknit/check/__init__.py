@@ -41,6 +41,7 @@ def check_knitout(
     max_racking: float | None = None,
     bed_width: int | None = None,
     simulate: bool = False,
+    split_bumps: bool = False,
 ) -> CheckReport:
     """Check a knitout program for machine-rule violations and fabric failures.
 
@@ -67,6 +68,9 @@ def check_knitout(
     simulate : bool, keyword-only
         Also run the PyPI knitout-interpreter / virtual-knitting-machine (needs the ``sim`` extra)
         and add its findings with ``source="vm"``. Slow on large programs.
+    split_bumps : bool, keyword-only
+        The program knits split bumps (a pattern with ``LogicalPattern.upper``): a yarn change
+        inside a bump is meant, not a ``bump-yarn-change`` error.
 
     Returns
     -------
@@ -111,7 +115,7 @@ def check_knitout(
     width = bed_width if bed_width is not None else program.width or spec.needles
     sim = simulate_program(program, max_racking=racking, bed_width=width)
     findings = [*check_header(program, machine=spec), *machine_findings(sim)]
-    fabric, suppressed = fabric_findings(sim, float_limit=limit)
+    fabric, suppressed = fabric_findings(sim, float_limit=limit, split_bumps=bool(split_bumps))
     findings += fabric
     suppressed = {**sim.suppressed, **suppressed}
     vm_summary = None

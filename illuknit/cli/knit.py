@@ -75,7 +75,7 @@ def run_knit(
     if check:
         from illuknit.check import check_knitout
 
-        report = check_knitout(result.text, machine=spec)
+        report = check_knitout(result.text, machine=spec, split_bumps=result.split_bumps > 0)
         summary["check"] = {
             "errors": report.n_blocking,
             "warnings": report.n_warnings,
@@ -160,6 +160,14 @@ def run_knit(
     "(fewer long floats, more passes; default: keep them and warn).",
 )
 @click.option(
+    "--tall-bumps",
+    is_flag=True,
+    help="Taller bumps: tuck each bump's purl needle in a pass of its own before the purl "
+    "(more yarn in every raised unit, one more pass per carrier in each purl course; "
+    "docs/split-bumps.md). Measure the new bump height with 'illuknit calibrate swatch "
+    "--tall-bumps'.",
+)
+@click.option(
     "--float-avoidance",
     "float_avoidance_on",
     is_flag=True,
@@ -225,6 +233,7 @@ def knit(
     strict_floats: bool,
     allow_long_floats: bool,
     tuck_passes: bool,
+    tall_bumps: bool,
     float_avoidance_on: bool,
     no_float_avoidance: bool,
     catching_on: bool,
@@ -253,6 +262,7 @@ def knit(
             strict_floats=strict_floats,
             allow_long_floats=allow_long_floats,
             tuck_passes=tuck_passes,
+            tall_bumps=tall_bumps,
             float_avoidance_on=float_avoidance_on,
             no_float_avoidance=no_float_avoidance,
             catching_on=catching_on,
@@ -366,6 +376,7 @@ def _knit_options(
     no_catching: bool,
     catch_every: int,
     path_planning: tuple[str, ...],
+    tall_bumps: bool = False,
 ) -> KnitOptions:
     """The knitting options the switches of ``illuknit knit`` ask for (contradictions refused)."""
     from illuknit.knit.options import Catching, KnitOptions, PathPlanning
@@ -386,6 +397,7 @@ def _knit_options(
         strict_floats=strict_floats,
         allow_long_floats=allow_long_floats,
         tuck_passes=tuck_passes,
+        tall_bumps=tall_bumps,
         float_avoidance=not no_float_avoidance,
         catching=Catching.OFF if no_catching else (Catching.PLATE if plate else Catching.TUCK),
         catch_every=catch_every,

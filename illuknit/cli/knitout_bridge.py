@@ -310,7 +310,7 @@ def write_program(
     if allow_long_floats is None:
         allow_long_floats = long_floats_allowed()
     result = knit_pattern(pattern, machine=spec, allow_long_floats=allow_long_floats)
-    report = check_knitout(result.program, machine=spec)
+    report = check_knitout(result.program, machine=spec, split_bumps=result.split_bumps > 0)
     sheet = machine_sheet(result, name="program.kc")
     summary = machine_headline(result.summary(), sheet)
     console().print(f"knitout: {_describe(summary)}")

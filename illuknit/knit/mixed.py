@@ -114,6 +114,8 @@ class _Courses:
     float_avoidance: bool
     park: Park | None
     last_course: dict[str, int]  # carrier -> last course it knits in
+    tuck_first: np.ndarray | None = None  # (courses incl. cast-on, W): tall-bump tucks
+    entry: int | None = None  # where a new yarn hangs without an inserting hook (right edge)
 
 
 def _knit_course(em: Emitter, ctx: _Courses, c: int) -> int:
@@ -145,7 +147,8 @@ def _knit_course(em: Emitter, ctx: _Courses, c: int) -> int:
         else:
             catches = plan_catches(cp, new_carriers=new)
     segments = [(s.carrier, s.wales) for s in cp.segments]
-    items = course_items(segments, catches, beds, left, tucks)
+    tall = ctx.tuck_first[c] if ctx.tuck_first is not None else None
+    items = course_items(segments, catches, beds, left, tucks, tall)
     lookahead: list[WorkItem] = []
     if c + 1 < len(plan.courses):
         # The next course's own segments: orders that leave carriers where that work can
@@ -156,7 +159,8 @@ def _knit_course(em: Emitter, ctx: _Courses, c: int) -> int:
     planned, _ = order_and_plan(items, em.states, ctx.path_planning, parity, lookahead, ctx.park)
     prev = kind[c - 1] if c else np.zeros_like(kind[c])
     changed = bool((kind[c] != prev).any())
-    bound = len({it.carriers for it in items}) + int(changed)
+    # (A tall-bump tuck and the knit through it cannot share a pass: one more per carrier.)
+    bound = len({it.carriers for it in items}) + sum(it.pretuck for it in items) + int(changed)
 
     required = dict(zip(em.needles, beds, strict=True))
     if not ctx.float_avoidance:
@@ -165,7 +169,7 @@ def _knit_course(em: Emitter, ctx: _Courses, c: int) -> int:
             role=Role.TRANSFER,
             course=label,
         )
-    crossings = float_crossings(planned, em.states, needles=em.needles)
+    crossings = float_crossings(planned, em.states, needles=em.needles, entry=ctx.entry)
     # (A tuck join is not the needle's stitch: its own stitch decides when the loop moves.)
     stitch_pass = {
         n: i
@@ -414,6 +418,10 @@ def schedule_mixed(
         float_avoidance=bool(float_avoidance),
         park=park,
         last_course=last_course,
+        entry=None if yarn_entry is None else edge + 1,
+        tuck_first=None
+        if stitches.tuck_first is None
+        else np.vstack([np.zeros((k0, n_wales), dtype=bool), stitches.tuck_first]),
     )
     body_bound = 0
     cast_courses_bound = 0

@@ -87,9 +87,13 @@ class KnitOptions:
     allow_long_floats : bool
         Keep a float that stays longer than the machine's float limit after tucking (with a
         warning) instead of refusing the pattern.
+    tall_bumps : bool
+        Add yarn to every raised unit: each purl of a bump is preceded by a tuck on its needle,
+        in a pass of its own, which the purl knits through (``docs/split-bumps.md``). One more
+        carriage pass per carrier in every course that purls; off by default.
 
-    The last six apply to patterns that change colour inside a course (the mixed-colourwork
-    scheduler) only.
+    The six before ``tall_bumps`` apply to patterns that change colour inside a course (the
+    mixed-colourwork scheduler) only.
     """
 
     cast_on_courses: int = 2
@@ -100,11 +104,18 @@ class KnitOptions:
     strict_floats: bool = False
     tuck_passes: bool = False
     allow_long_floats: bool = False
+    tall_bumps: bool = False
 
     def __post_init__(self) -> None:
         check_int(self.cast_on_courses, "cast_on_courses", min=0, max=100)
         count_option("catch_every", self.catch_every, minimum=1)
-        for name in ("float_avoidance", "strict_floats", "tuck_passes", "allow_long_floats"):
+        for name in (
+            "float_avoidance",
+            "strict_floats",
+            "tuck_passes",
+            "allow_long_floats",
+            "tall_bumps",
+        ):
             flag_option(name, getattr(self, name))
         object.__setattr__(self, "catching", enum_option(Catching, "catching", self.catching))
         object.__setattr__(

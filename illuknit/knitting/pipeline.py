@@ -69,6 +69,9 @@ class KnitResult:
         Pass counts, lower bound and ratio.
     time : TimeEstimate
     machine : MachineSpec
+    split_bumps : int
+        Raised units knit as split bumps (``LogicalPattern.upper``); check the program with
+        ``check_knitout(..., split_bumps=True)`` when there are any.
     """
 
     text: str
@@ -77,6 +80,7 @@ class KnitResult:
     stats: ScheduleStats
     time: TimeEstimate
     machine: MachineSpec
+    split_bumps: int = 0
 
     @property
     def program(self) -> str:
@@ -130,6 +134,13 @@ class KnitResult:
             "bind_off_time_seconds": round(self.time.bind_off_seconds, 1),
             "bind_off_time": format_duration(self.time.bind_off_seconds),
             "lines": self.text.count("\n"),
+            # (only when asked for: the summary of a plain pattern stays as it was)
+            **({"split_bumps": self.split_bumps} if self.split_bumps else {}),
+            **(
+                {"tall_bump_tucks": int(self.stitches.tuck_first.sum())}
+                if self.stitches.tuck_first is not None
+                else {}
+            ),
         }
 
 
@@ -145,7 +156,8 @@ def knit_pattern(
     Patterns with one colour per course go to :func:`~illuknit.knit.schedule.schedule_courses`;
     patterns that change colour inside a course to the mixed-colourwork scheduler
     :func:`~illuknit.knit.mixed.schedule_mixed`, to which the switches of
-    :class:`~illuknit.knit.options.KnitOptions` other than ``cast_on_courses`` apply.
+    :class:`~illuknit.knit.options.KnitOptions` other than ``cast_on_courses`` and
+    ``tall_bumps`` (which shape the stitches, for both schedulers) apply.
 
     Parameters
     ----------
@@ -197,7 +209,10 @@ def knit_pattern(
         else replace(m, carriers=m.pattern_carriers, waste_carrier=None, draw_carrier=None)
     )
     stitches = lower_to_stitches(
-        pattern, machine=plan_machine, cast_on_courses=opts.cast_on_courses
+        pattern,
+        machine=plan_machine,
+        cast_on_courses=opts.cast_on_courses,
+        tall_bumps=opts.tall_bumps,
     )
     schedule = _schedule(stitches, m, plan_machine, opts)
     if m.inserting_hook:
@@ -216,6 +231,7 @@ def knit_pattern(
         from illuknit.knit.mixed import long_float_error
 
         raise long_float_error(long, stitches, limit)
+    split = int(pattern.split.sum())
     if runs_on_swg(m):
         # Report what the machine runs for this program, not the schedule's own passes.
         run = machine_run(text)
@@ -226,10 +242,11 @@ def knit_pattern(
             machine_stats(schedule, run),
             estimate_knit_time(schedule, run=run),
             m,
+            split,
         )
     else:
         result = KnitResult(
-            text, stitches, schedule, schedule.stats, estimate_knit_time(schedule), m
+            text, stitches, schedule, schedule.stats, estimate_knit_time(schedule), m, split
         )
     if schedule.long_floats:
         warnings.warn(LongFloatWarning(long_float_warning(result)), stacklevel=2)
