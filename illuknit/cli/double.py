@@ -61,6 +61,7 @@ def run_design(
     solver: str = "cpsat",
     soft_brightness: bool = False,
     one_sided: bool = False,
+    split_bumps: bool = False,
     tile: tuple[str, ...] = (),
     knitout: bool = False,
     machine: str | None = None,
@@ -104,6 +105,7 @@ def run_design(
         solver=solver,
         brightness=Brightness.SOFT if soft_brightness else Brightness.HARD,
         one_sided=one_sided,
+        split_bumps=split_bumps,
         edits=PictureEdits.APPLY
         if simplify
         else (PictureEdits.SUGGEST if suggest else PictureEdits.NONE),
@@ -410,6 +412,9 @@ def design_options(func: Any) -> Any:
         click.option("--soft-brightness", is_flag=True,
                      help="Prefer, rather than require, keeping each picture's brightness order."),
         click.option("--one-sided", is_flag=True, help="Only tiles that are solid from at least one side."),
+        click.option("--split-bumps", is_flag=True,
+                     help="Tiles may hold split bumps: a bump knitted in two yarns, one seen from each side "
+                     "(docs/split-bumps.md)."),
         click.option("--tile", multiple=True, metavar="A,B=ROWS",
                      help="Override the tile of overlap pair (colour A of the first picture, colour B "
                      "of the second), e.g. '0,1=0/1/0^' (see fills.json for the pairs). Repeatable."),
