@@ -5,6 +5,7 @@ patterns.
 
 from __future__ import annotations
 
+import json
 import subprocess
 from pathlib import Path
 
@@ -14,7 +15,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from illuknit.check import check_knitout
-from illuknit.core.pattern import LogicalPattern, Yarn
+from illuknit.core.pattern import LogicalPattern, Yarn, load_pattern
+from illuknit.design.render.params import RenderParams, load_params, save_params
 from illuknit.formats.kc import knitout_to_kc
 from illuknit.knit.ir import OpKind, Pass, PassKind
 from illuknit.knit.options import KnitOptions
@@ -176,3 +178,32 @@ def test_random_tall_split_bumps_are_clean_and_every_stitch_made_once(
     report = check_knitout(result.program, split_bumps=bool(p.split.any()))
     assert report.ok and report.pieces == 1, [f"{f.line}: {f.code}" for f in report.blocking[:5]]
     assert "tuck-not-cleared" not in report.codes()
+
+
+def test_calibration_swatch_of_tall_and_split_bumps_and_its_fit(tmp_path: Path, run_cli) -> None:  # type: ignore[no-untyped-def]
+    out = tmp_path / "swatch"
+    args = ["calibrate", "swatch", "-o", str(out), "--bump-sizes", "1", "--flat-sizes", "1,2"]
+    code, _, err = run_cli(
+        [*args, "--cell-width", "3", "--knitout", "--split-bumps", "--tall-bumps"]
+    )
+    assert code == 0, err
+    swatch = load_pattern(out / "swatch.json")
+    r0, r1 = swatch.meta["split_band"]["rows"]
+    assert swatch.split[r0:r1].any() and int(swatch.split.sum()) == int(swatch.split[r0:r1].sum())
+    knit = json.loads((out / "knit.json").read_text())
+    assert knit["split_bumps"] == int(swatch.split.sum())
+    assert knit["tall_bump_tucks"] == 2 * int(swatch.raised.sum())  # one per wale of a bump
+    assert json.loads((out / "check.json").read_text())["ok"]
+    # the tall swatch's fit sets tall_bump_height and keeps the plain bump height
+    plain = tmp_path / "plain.json"
+    save_params(RenderParams(), plain)
+    csv = tmp_path / "m.csv"
+    csv.write_text("bump_rows,flat_rows,angle_deg\n1,1,45\n1,2,27\n")
+    fitted = tmp_path / "p.json"
+    code, _, err = run_cli(
+        ["calibrate", "fit", str(csv), "--tall-bumps", "--params", str(plain), "-o", str(fitted)]
+    )
+    assert code == 0, err
+    p = load_params(fitted)
+    assert p.bump_height == RenderParams().bump_height
+    assert p.tall_bump_height is not None and p.tall_bump_height > p.bump_height
