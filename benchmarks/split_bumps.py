@@ -243,12 +243,12 @@ def main(argv: list[str] | None = None) -> int:
     shares = tuple(float(s) for s in args.shares.split(",") if s.strip())
     tall_angle = args.tall_angle or round(params.with_tall_bumps().exact_angle, 1)
     print(
-        f"renders at {args.angle:g} degrees (tall variants at {tall_angle:g}); split share {params.split_share:g}, bump height "
-        f"{params.bump_height:g}, tall {params.tall_height:g} (estimates unless measured); "
+        f"renders at {args.angle:g} degrees (tall variants at {tall_angle:g}); split share "
+        f"{params.split_share:g}, bump height {params.bump_height:g}, tall {params.tall_height:g} (estimates unless measured); "
         f"machine {args.machine}"
     )
     jobs = [
-        (i, args.machine, args.oracle, knit, args.angle, params, shares)
+        (i, args.machine, args.oracle, knit, (args.angle, tall_angle), params, shares)
         for i in _selected(args.all)
     ]
     if args.jobs > 1:

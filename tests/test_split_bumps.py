@@ -83,16 +83,26 @@ def test_dp_optimum_equals_maxsat_optimum(data):
     assert plain.solution.objective >= cost
 
 
-def test_split_bump_tile_shows_two_solids():
+def test_split_bump_tile_shows_two_colours():
+    """``1^0`` shows solid 0 from A and solid 1 from B to can_see; its fills count the far
+    course with 1 - split_share, so at share 1 they are those solids."""
     t = Tile.from_rows(["1^0"])
     assert t.code() == "1^0" and Tile.from_rows(t.rows()) == t
     assert tile_seen(t, "A").tolist() == [[0]] and tile_seen(t, "B").tolist() == [[1]]
     fills = tile_fills(t, YARNS[:2])
-    assert fills["A"].key() == "0:1" and fills["B"].key() == "1:1" and fills["side"] is None
-    bank = canonical_bank(YARNS[:2], split_bumps=True)
-    assert bank.tile_for(fills["A"], fills["B"]) == t
+    assert (fills["A"].key(), fills["B"].key()) == ("0:3/4,1:1/4", "0:1/4,1:3/4")
+    assert fills["headon"].key() == "0:1/2,1:1/2" and fills["side"] is None
+    solid = tile_fills(t, YARNS[:2], split_share=1.0)
+    assert (solid["A"].key(), solid["B"].key()) == ("0:1", "1:1")
+    for share in (0.75, 1.0):
+        bank = canonical_bank(YARNS[:2], split_bumps=True, split_share=share)
+        f = bank.fills_of(t)
+        assert bank.tile_for(f["A"], f["B"]) == t
+        # the enumeration's weighted counts agree with tile_fills: one tile per pair of fills
+        pairs = [(fl["A"], fl["B"]) for fl in bank.fills]
+        assert len(set(pairs)) == len(pairs)
     plain = canonical_bank(YARNS[:2])
-    assert plain.tile_for(fills["A"], fills["B"]) is None
+    assert plain.tile_for(solid["A"], solid["B"]) is None
     assert all(t.upper is None for t in plain.tiles)
 
 

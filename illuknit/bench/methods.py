@@ -249,6 +249,7 @@ def run_tiles(
     (:func:`illuknit.pipeline.stages.design_tiles`) with the search ``illuknit double`` makes by
     default (each solve within ``time_limit``; with split bumps in the bank when asked), its
     first-ranked design compiled."""
+    from illuknit.core.views import DEFAULT_SPLIT_SHARE
     from illuknit.design.options import SearchOptions
     from illuknit.pictures.images import QuantisedImage
     from illuknit.pipeline.stages import design_tiles
@@ -262,7 +263,7 @@ def run_tiles(
         search=SearchOptions(
             solve_seconds=time_limit,
             split_bumps=split_bumps,
-            **({} if split_share is None else {"split_share": split_share}),
+            split_share=DEFAULT_SPLIT_SHARE if split_share is None else split_share,
         ),
     )
     best = design.best

@@ -399,7 +399,7 @@ def tile_fills(
         share = share_fraction(split_share)
         out = {}
         for v in ("A", "B", "headon"):
-            weights = tile_weights(tile, v, share)  # type: ignore[arg-type]
+            weights = tile_weights(tile, v, share)
             total = sum(weights.values())
             out[v] = fill_from_parts([(y, q / total) for y, q in weights.items() if q], yarns)
     out["side"] = out["A"] if out["A"] == out["B"] else None
