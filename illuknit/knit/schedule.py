@@ -386,12 +386,36 @@ class _CourseKnitter:
     def tuck_pass(
         self, car: str, tucked: np.ndarray, beds: Sequence[str], course: int, machine: MachineSpec
     ) -> None:
-        """A pass of ``car`` tucking the needles ``tucked`` marks (on their stitches' beds)."""
-        d = self.next_dir.get(car, "-")
-        picks = [(n, b) for n, b, t in zip(self.needles_up, beds, tucked, strict=True) if t]
-        if d == "-":
-            picks.reverse()
-        ops = [Op(OpKind.TUCK, Bed(b), n) for n, b in picks]
+        """A pass of ``car`` tucking the needles ``tucked`` marks (on their stitches' beds).
+
+        Where the yarn would float further than ``machine.float_limit`` between the carrier's
+        last loop (the edge it starts from), its tucks and the far edge (where the knit pass
+        through them starts), it also tucks front needles this course knits, which the knit
+        pass then knits through (so the tuck sits behind a face stitch, as a tuck join does).
+        """
+        d = self.next_dir.get(car)
+        seq = self.needles_up if d != "-" and d is not None else self.needles_up[::-1]
+        want = {n for n, t in zip(self.needles_up, tucked, strict=True) if t}
+        front = [n for n, b in zip(self.needles_up, beds, strict=True) if b == "f"]
+        pos = {n: i for i, n in enumerate(seq)}
+        limit = machine.float_limit
+        chosen: set[int] = set()
+        prev = seq[0] if d is not None else None  # a new yarn starts at its first tuck
+        for target in [*(n for n in seq if n in want), seq[-1]]:
+            while prev is not None and abs(target - prev) > limit:
+                reach = [
+                    n for n in front if pos[prev] < pos[n] < pos[target] and abs(n - prev) <= limit
+                ]
+                if not reach:
+                    break
+                prev = max(reach, key=lambda n: pos[n])
+                chosen.add(prev)
+            if target in want:
+                chosen.add(target)
+                prev = target
+        bed = dict(zip(self.needles_up, beds, strict=True))
+        d = d or "-"
+        ops = [Op(OpKind.TUCK, Bed(bed[n]), n) for n in seq if n in chosen]
         ops.append(Op(OpKind.MISS, Bed.FRONT, self.park[d]))
         sn = machine.stitch_number
         self.steps.append(Pass(PassKind.KNIT, tuple(ops), d, (car,), 0.0, Role.BODY, course, sn))

@@ -207,3 +207,23 @@ def test_calibration_swatch_of_tall_and_split_bumps_and_its_fit(tmp_path: Path, 
     p = load_params(fitted)
     assert p.bump_height == RenderParams().bump_height
     assert p.tall_bump_height is not None and p.tall_bump_height > p.bump_height
+
+
+def test_tall_bump_tucks_far_apart_catch_their_float_on_knit_needles() -> None:
+    # one colour, bumps 28 units apart: the tuck pass would float 56 needles; it tucks front
+    # needles of the course's knits in between instead, which the knit pass then knits through
+    raised = np.zeros((2, 30), dtype=bool)
+    raised[0, [0, 29]] = True
+    p = LogicalPattern(np.zeros((2, 30), int), raised, YARNS[:1])
+    result = knit_pattern(p, tall_bumps=True)
+    report = check_knitout(result.program)
+    assert report.findings == (), [f"{f.line}: {f.code}" for f in report.findings[:3]]
+    tucks = [
+        s
+        for s in result.schedule.steps
+        if isinstance(s, Pass)
+        and {o.op for o in s.ops} == {OpKind.TUCK, OpKind.MISS}
+        and s.course is not None
+    ]
+    assert len(tucks) == 1 and {o.bed for o in tucks[0].ops if o.op is OpKind.TUCK} == {"f", "b"}
+    _tucks_then_knits(result.schedule)
