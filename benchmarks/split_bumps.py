@@ -35,7 +35,7 @@ estimate 0.75: the tile fills and the ranking count a split bump's far course wi
 the tall bump height (the estimate of ``RenderParams.tall_height`` unless ``--tall-height``):
 both are estimates until a swatch is measured, so ``--shares 0.9,1`` also designs the split
 variant at other shares and prints its worst visible ghosting there, to show what the result
-depends on.
+depends on (and their machine passes over today's).
 
 Passes of the split and tall variants are the machine's only where the knitting side lowers
 split bumps (``LogicalPattern.upper``) and knows ``KnitOptions.tall_bumps``; otherwise the
@@ -81,7 +81,7 @@ class Row:
     dat: int | None
     note: str = ""
     seconds: float = 0.0
-    shares: tuple[tuple[float, float], ...] = ()
+    shares: tuple[tuple[float, float, int, int | None], ...] = ()
 
 
 def _design(instance: Any, split: bool, time_limit: float, share: float) -> Any:
@@ -135,12 +135,14 @@ def measure(
         p = params.with_tall_bumps() if tall else params
         read, ghost = _measures(instance, pattern, p, tall_angle if tall else angle)
         dat, note = (None, "") if not knit else _knit(pattern, tall, machine, oracle)
-        extra: list[tuple[float, float]] = []
-        if variant == "split":  # designed and seen at other shares
+        extra: list[tuple[float, float, int, int | None]] = []
+        if variant == "split":  # designed, seen and knitted at other shares
             for share in shares:
                 q = dataclasses.replace(p, split_share=share)
                 other = _design(instance, True, instance.time_limit, share)
-                extra.append((share, max(_measures(instance, other, q, angle)[1])))
+                dat_s = _knit(other, False, machine, oracle)[0] if knit else None
+                ghost_s = max(_measures(instance, other, q, angle)[1])
+                extra.append((share, ghost_s, int(other.split.sum()), dat_s))
         rows.append(
             Row(
                 instance.name,
@@ -165,13 +167,15 @@ def _ratio(a: int | None, b: int | None) -> str:
 def print_table(rows: list[Row]) -> None:
     print(
         f"{'instance':24} {'variant':7} {'read A/B':>11} {'ghost A/B':>11} {'split':>11} "
-        f"{'dat':>7} {'x today':>7} {'s':>5}  shares (worst ghost)"
+        f"{'dat':>7} {'x today':>7} {'s':>5}  at other shares: worst ghost (split bumps, x passes)"
     )
     by = {(r.instance, r.variant): r for r in rows}
     for r in rows:
         base = by[r.instance, "today"]
         dat = r.dat if r.dat is not None else ("n/a" if r.note else "-")
-        shares = " ".join(f"{s:g}:{g:.3f}" for s, g in r.shares)
+        shares = "  ".join(
+            f"{s:g}: {g:.3f} ({n} split, {_ratio(d, base.dat)} x)" for s, g, n, d in r.shares
+        )
         print(
             f"{r.instance:24} {r.variant:7} {r.readability[0]:>5.3f}/{r.readability[1]:<5.3f} "
             f"{r.ghosting[0]:>5.3f}/{r.ghosting[1]:<5.3f} {f'{r.split}/{r.bumps}':>11} "
