@@ -1,10 +1,11 @@
 """Machine passes of tall and split bumps on both reference backends (docs/split-bumps.md).
 
-For a few bundled designs -- the single-view pattern of ``camera-single``, the tile design of
-``plus-circle`` and ``coffee-chelsea-3`` (``illuknit double``), the same with split bumps
-(``illuknit double --split-bumps``, bench method ``tiles-split``) and the calibration swatch with
+For a few bundled designs -- the single-view pattern of ``camera-single``, the tile design
+(``illuknit double``) and the exact per-wale DP design without and with split bumps (bench
+methods ``dp`` and ``dp-split``: the tile search rarely picks split bumps on these instances, the
+DP uses hundreds) of ``plus-circle`` and ``coffee-chelsea-3``, and the calibration swatch with
 its split band -- this knits each with and without tall bumps (``KnitOptions.tall_bumps``) for the
-Shima SWG091N2 (540 needles) and the Kniterate (252 needles), converts each program with the
+Shima SWG091N2 and the Kniterate (their presets, bed width printed), converts each program with the
 reference backend of its machine and prints per program:
 
 ``bed``        the machine and its bed
@@ -45,9 +46,11 @@ BACKENDS = {
 DESIGNS = (
     ("camera-single", "single"),
     ("plus-circle", "tiles"),
-    ("plus-circle", "tiles-split"),
+    ("plus-circle", "dp"),
+    ("plus-circle", "dp-split"),
     ("coffee-chelsea-3", "tiles"),
-    ("coffee-chelsea-3", "tiles-split"),
+    ("coffee-chelsea-3", "dp"),
+    ("coffee-chelsea-3", "dp-split"),
     ("swatch", "split band"),
 )
 
