@@ -69,8 +69,7 @@ def check_knitout(
         Also run the PyPI knitout-interpreter / virtual-knitting-machine (needs the ``sim`` extra)
         and add its findings with ``source="vm"``. Slow on large programs.
     split_bumps : bool, keyword-only
-        The program knits split bumps (a pattern with ``LogicalPattern.upper``): a yarn change
-        inside a bump is meant, not a ``bump-yarn-change`` error.
+        The program knits split bumps: a yarn change inside a bump is meant (no error).
 
     Returns
     -------
@@ -106,18 +105,15 @@ def check_knitout(
     _check_options(float_limit=float_limit, max_racking=max_racking, bed_width=bed_width)
     named = None if machine is None else resolve_machine(machine)  # before any parsing
     program = parse_knitout(text)
-    if named is None:
-        spec = machine_from_headers({name: value for name, value, _ in reversed(program.headers)})
-    else:
-        spec = named
+    headers = {name: value for name, value, _ in reversed(program.headers)}
+    spec = machine_from_headers(headers) if named is None else named
     racking = spec.max_racking if max_racking is None else max_racking
     limit = spec.float_limit if float_limit is None else float_limit
     width = bed_width if bed_width is not None else program.width or spec.needles
     sim = simulate_program(program, max_racking=racking, bed_width=width)
     findings = [*check_header(program, machine=spec), *machine_findings(sim)]
     fabric, suppressed = fabric_findings(sim, float_limit=limit, split_bumps=bool(split_bumps))
-    findings += fabric
-    suppressed = {**sim.suppressed, **suppressed}
+    findings, suppressed = [*findings, *fabric], {**sim.suppressed, **suppressed}
     vm_summary = None
     if simulate:
         vm_findings, vm_summary = _second_opinion(text, program)

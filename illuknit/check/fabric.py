@@ -123,23 +123,8 @@ def fabric_findings(
         if n < MAX_EVENTS_PER_CODE:
             out.append(_finding(line, code, message))
 
-    if not split_bumps:
-        for yc in sim.yarn_changes:
-            add(
-                yc.line,
-                "bump-yarn-change",
-                f"purl at {yc.needle} in carrier {' '.join(yc.carriers)} is pulled through a "
-                f"knit loop of carrier {' '.join(yc.below)}: the yarn changes inside a bump. "
-                "Only a split bump does that; check with --split-bumps if the pattern has them",
-            )
-    for ut in sim.uncleared_tucks:
-        add(
-            ut.line,
-            "tuck-not-cleared",
-            f"the tuck on {ut.needle} (line {ut.tuck_line}) joined the loop it holds, but the "
-            "loops are moved or dropped here before a knit on that needle pulled through them: "
-            "the tuck's yarn leaves the bump; knit the needle first",
-        )
+    for line, code, message in _bump_findings(sim, split_bumps=split_bumps):
+        add(line, code, message)
     for ff in sim.face_floats:
         shown = ", ".join(ff.needles[:6]) + (" ..." if len(ff.needles) > 6 else "")
         add(
@@ -204,6 +189,35 @@ def fabric_findings(
         )
     suppressed = {k: n - MAX_EVENTS_PER_CODE for k, n in counts.items() if n > MAX_EVENTS_PER_CODE}
     return out, suppressed
+
+
+def _bump_findings(sim: Simulation, *, split_bumps: bool) -> list[tuple[int, str, str]]:
+    """(line, code, message) of the bump rules: yarn changes inside bumps (unless split bumps
+    are meant) and bump tucks moved or dropped before a knit cleared them."""
+    out = []
+    if not split_bumps:
+        for yc in sim.yarn_changes:
+            out.append(
+                (
+                    yc.line,
+                    "bump-yarn-change",
+                    f"purl at {yc.needle} in carrier {' '.join(yc.carriers)} is pulled through a "
+                    f"knit loop of carrier {' '.join(yc.below)}: the yarn changes inside a bump. "
+                    "Only a split bump does that; check with --split-bumps if the pattern has "
+                    "them",
+                )
+            )
+    for ut in sim.uncleared_tucks:
+        out.append(
+            (
+                ut.line,
+                "tuck-not-cleared",
+                f"the tuck on {ut.needle} (line {ut.tuck_line}) joined the loop it holds, but "
+                "the loops are moved or dropped here before a knit on that needle pulled through "
+                "them: the tuck's yarn leaves the bump; knit the needle first",
+            )
+        )
+    return out
 
 
 def _separate_pieces(sim: Simulation) -> list[tuple[int, str]]:

@@ -15,7 +15,7 @@ from illuknit.cli.knitout_bridge import (
     resolve_machine,
     write_program,
 )
-from illuknit.cli.options import POSITIVE, knitout_option, outdir_option
+from illuknit.cli.options import POSITIVE, FiniteFloat, knitout_option, outdir_option
 
 __all__ = ["calibrate"]
 
@@ -181,7 +181,7 @@ def swatch(
 )
 @click.option(
     "--split-share",
-    type=click.FloatRange(0.5, 1.0, min_open=True),
+    type=FiniteFloat(0.5, 1.0, min_open=True),
     default=None,
     help="The measured split share (0.5 to 1] to store with the parameters.",
 )

@@ -279,8 +279,7 @@ def knit(
         check=not no_check,
         output_format=output_format,
     )
-    to_stderr = str(output) == "-"  # standard output holds the program
-    echo = partial(click.echo, err=to_stderr)
+    echo = partial(click.echo, err=str(output) == "-")  # (stdout may hold the program)
     if as_json:
         echo(json.dumps(summary, indent=1))
     else:
@@ -328,8 +327,7 @@ def knit(
             )
             for f in chk["findings"][:10]:
                 echo(f"  line {f['line']}: {f['severity']} [{f['code']}] {f['message']}")
-    chk = summary.get("check")
-    if chk and chk["errors"]:
+    if (summary.get("check") or {}).get("errors"):
         raise click.exceptions.Exit(1)
 
 
