@@ -19,7 +19,7 @@ import click
 
 from illuknit.cli.design_files import fmt_number, summary_text, write_candidate, write_edits
 from illuknit.cli.knitout_bridge import format_option, long_floats_option, machine_option
-from illuknit.cli.options import knitout_option, outdir_option
+from illuknit.cli.options import FiniteFloat, knitout_option, outdir_option
 from illuknit.core.gauge import finished_size
 from illuknit.core.progress import Report, work_bar
 from illuknit.design.tiles.perception import DEFAULT_POOL, POOL_SECONDS, RANK_KEYS
@@ -417,7 +417,7 @@ def design_options(func: Any) -> Any:
         click.option("--split-bumps", is_flag=True,
                      help="Tiles may hold split bumps: a bump knitted in two yarns, one seen from each side "
                      "(docs/split-bumps.md)."),
-        click.option("--split-share", type=click.FloatRange(0.5, 1.0, min_open=True), default=None,
+        click.option("--split-share", type=FiniteFloat(0.5, 1.0, min_open=True), default=None,
                      help="Share of a split bump's colour each side sees of its own course, as measured "
                      "on a swatch [default: 0.75, an estimate]; implies --split-bumps."),
         click.option("--tile", multiple=True, metavar="A,B=ROWS",
