@@ -55,6 +55,7 @@ import os
 import shutil
 import sys
 import time
+import warnings
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path
@@ -82,6 +83,7 @@ class Row:
     note: str = ""
     seconds: float = 0.0
     shares: tuple[tuple[float, float, int, int | None], ...] = ()
+    share_notes: tuple[tuple[float, str], ...] = ()
 
 
 def _design(instance: Any, split: bool, time_limit: float, share: float) -> Any:
@@ -113,8 +115,15 @@ def _knit(pattern: Any, tall: bool, machine: str, oracle: Path) -> tuple[int | N
     if tall and "tall_bumps" not in {f.name for f in dataclasses.fields(KnitOptions)}:
         return None, "no KnitOptions.tall_bumps in this checkout"
     opts = KnitOptions(tall_bumps=True) if tall else KnitOptions()
-    result = knit_pattern(pattern, machine=machine, options=opts, allow_long_floats=True)
-    return run_oracle(result.program, oracle, at_least=result.stats.passes)
+    with warnings.catch_warnings():  # kept, and said in the note instead
+        warnings.simplefilter("ignore")
+        result = knit_pattern(pattern, machine=machine, options=opts, allow_long_floats=True)
+    dat, note = run_oracle(result.program, oracle, at_least=result.stats.passes)
+    long = result.schedule.long_floats
+    if long:
+        longest = max(f.length for f in long)
+        note = ", ".join(filter(None, [note, f"{len(long)} floats > limit, longest {longest}"]))
+    return dat, note
 
 
 def measure(
@@ -136,11 +145,14 @@ def measure(
         read, ghost = _measures(instance, pattern, p, tall_angle if tall else angle)
         dat, note = (None, "") if not knit else _knit(pattern, tall, machine, oracle)
         extra: list[tuple[float, float, int, int | None]] = []
+        share_notes: list[tuple[float, str]] = []
         if variant == "split":  # designed, seen and knitted at other shares
             for share in shares:
                 q = dataclasses.replace(p, split_share=share)
                 other = _design(instance, True, instance.time_limit, share)
-                dat_s = _knit(other, False, machine, oracle)[0] if knit else None
+                dat_s, note_s = _knit(other, False, machine, oracle) if knit else (None, "")
+                if note_s:
+                    share_notes.append((share, note_s))
                 ghost_s = max(_measures(instance, other, q, angle)[1])
                 extra.append((share, ghost_s, int(other.split.sum()), dat_s))
         rows.append(
@@ -155,6 +167,7 @@ def measure(
                 note,
                 seconds + time.perf_counter() - t0,
                 tuple(extra),
+                tuple(share_notes),
             )
         )
     return rows
@@ -173,6 +186,7 @@ def print_table(rows: list[Row]) -> None:
     for r in rows:
         base = by[r.instance, "today"]
         dat = r.dat if r.dat is not None else ("n/a" if r.note else "-")
+        note = r.note + "".join(f"; at {s:g}: {d}" for s, d in r.share_notes)
         shares = "  ".join(
             f"{s:g}: {g:.3f} ({n} split, {_ratio(d, base.dat)} x)" for s, g, n, d in r.shares
         )
@@ -180,7 +194,7 @@ def print_table(rows: list[Row]) -> None:
             f"{r.instance:24} {r.variant:7} {r.readability[0]:>5.3f}/{r.readability[1]:<5.3f} "
             f"{r.ghosting[0]:>5.3f}/{r.ghosting[1]:<5.3f} {f'{r.split}/{r.bumps}':>11} "
             f"{dat:>7} {_ratio(r.dat, base.dat):>7} {r.seconds:>5.0f}  {shares}"
-            + (f"  ({r.note})" if r.note else "")
+            + (f"  ({note.lstrip('; ')})" if note else "")
         )
     print()
     for inst in dict.fromkeys(r.instance for r in rows):

@@ -131,3 +131,17 @@ def test_plain_patterns_render_and_solve_as_before():
     )  # upper == yarn is no split bump
     with pytest.raises(OptionError, match="logical model only"):
         make_problem(np.zeros((2, 2), int), kind="knit-aware", split_bumps=True)
+
+
+def test_hand_rows_knit_the_second_course_in_its_yarn():
+    from illuknit.outputs.chart import hand_rows
+    from illuknit.outputs.hand_pattern import row_colourwork
+
+    p = LogicalPattern(
+        np.array([[1, 0]]), np.array([[True, False]]), YARNS[:2], upper=np.array([[0, 0]])
+    )
+    rows = hand_rows(p)
+    assert rows[0].yarn.tolist() == [1, 1, 0, 0]  # first course: the unit's yarn
+    assert rows[1].yarn.tolist() == [0, 0, 0, 0]  # second course: the split bump's upper yarn
+    assert rows[1].purl_on_rs.tolist() == [True, True, False, False]
+    assert [r.yarns for r in row_colourwork(p)] == [2, 1]

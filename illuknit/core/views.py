@@ -48,8 +48,8 @@ __all__ = [
     "View",
     "can_see",
     "logical_error",
+    "seen_courses",
     "seen_rows",
-    "seen_shares",
     "view_a",
     "view_b",
     "view_headon",
@@ -103,13 +103,15 @@ def seen_rows(raised: ArrayLike, view: View) -> NDArray[np.intp]:
     return rows
 
 
-def seen_shares(
-    yarn: ArrayLike, raised: ArrayLike, upper: ArrayLike | None, view: View, share: float
-) -> tuple[NDArray[np.int16], NDArray[np.int16], NDArray[np.float64]]:
-    """What each cell shows when split bumps show some of their far course: ``(near, far, w)``,
-    each of shape (N, M): the cell shows yarn ``near`` with weight ``w`` and ``far`` with
-    ``1 - w``. ``near`` is :func:`can_see`; ``w`` is ``share`` where the unit seen is a split bump
-    (1/2 head-on) and 1 elsewhere, where ``far == near``."""
+def seen_courses(
+    yarn: ArrayLike, raised: ArrayLike, upper: ArrayLike | None, view: View
+) -> tuple[NDArray[np.int16], NDArray[np.int16]]:
+    """The two courses of the unit each cell shows, ``(near, far)``, each of shape (N, M).
+
+    ``near`` is :func:`can_see` (the course on the viewer's side: the second from A, the first
+    from B and head-on); ``far`` is the other course of the same unit, equal to ``near`` except at
+    split bumps, which show ``split_share`` of ``near`` and the rest of ``far`` (head-on half of
+    each; see the module docstring)."""
     c = np.asarray(yarn)
     r = np.asarray(raised, dtype=bool)
     u = c if upper is None else np.asarray(upper)
@@ -117,8 +119,7 @@ def seen_shares(
     cols = np.broadcast_to(np.arange(c.shape[1])[None, :], c.shape)
     first, second = c[rows, cols], u[rows, cols]
     near, far = (second, first) if view == "A" else (first, second)
-    w = np.where(near != far, 0.5 if view == "headon" else share, 1.0)
-    return near.astype(np.int16), far.astype(np.int16), w
+    return near.astype(np.int16), far.astype(np.int16)
 
 
 def can_see(

@@ -64,8 +64,8 @@ def test_the_table_fits_the_terminal_and_the_message_lists_every_folder(
 
 
 def test_double_with_split_bumps(tmp_path, capsys):
-    """--split-bumps: the bank holds split bumps, and the design uses them where the pictures
-    differ (a dark A over a light B is one split bump, no stripe)."""
+    """--split-share 1 (a bump whose each side shows only its own course; implies
+    --split-bumps): the design uses split bumps where the pictures differ."""
     from illuknit.core.pattern import load_pattern
 
     a = np.full((6, 8, 3), 240, np.uint8)
@@ -76,7 +76,7 @@ def test_double_with_split_bumps(tmp_path, capsys):
     Image.fromarray(b).save(tmp_path / "b.png")
     out = tmp_path / "out"
     argv = ["double", tmp_path / "a.png", tmp_path / "b.png", "--candidates", "1", "--pool", "1"]
-    argv.append("--split-bumps")
+    argv += ["--split-share", "1"]
     main([str(v) for v in [*argv, "-o", out]])
     capsys.readouterr()
     pattern = load_pattern(out / "pattern.json")

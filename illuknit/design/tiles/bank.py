@@ -45,7 +45,7 @@ from illuknit.core.colors import parse_color
 from illuknit.core.errors import TileBankError, YarnSpecError
 from illuknit.core.files import atomic_write_text
 from illuknit.core.pattern import Yarn, check_yarns
-from illuknit.core.views import DEFAULT_SPLIT_SHARE, can_see, seen_shares
+from illuknit.core.views import DEFAULT_SPLIT_SHARE, can_see, seen_courses
 from illuknit.design.tiles.tile import (
     FILL_VIEWS,
     MAX_FILL_COLORS,
@@ -208,10 +208,11 @@ def _weighted_counts(
     ``view``: ``q = 2 * share.denominator`` per cell, split between a split bump's near and far
     courses as ``share`` (half and half head-on), as :func:`~illuknit.design.tiles.tile.tile_fills`
     counts them."""
-    near, far, w = seen_shares(yarn, raised, upper, view, 0.0)
-    near, far, w = near[h : 2 * h], far[h : 2 * h], w[h : 2 * h]
-    q = 2 * share.denominator
-    part = np.where(w == 1.0, q, np.where(w == 0.5, q // 2, share.numerator * 2))
+    near, far = seen_courses(yarn, raised, upper, view)
+    near, far = near[h : 2 * h], far[h : 2 * h]
+    q = 2 * share.denominator  # a cell's weight; a split bump's near course has share * q
+    split_part = q // 2 if view == "headon" else 2 * share.numerator
+    part = np.where(near == far, q, split_part)
     t = near.shape[1]
     idx = np.arange(t)[None, :] * n_yarns
     out = np.bincount((idx + near).ravel(), weights=part.ravel(), minlength=t * n_yarns)

@@ -21,7 +21,7 @@ A tile may hold *split bumps* (``upper``, as in :class:`~illuknit.core.pattern.L
 written ``1^0`` in rows: a bump whose first course is yarn 1 and whose second is yarn 0. Which
 unit each cell sees follows the extended ``can_see`` (:func:`tile_seen`); a split bump shows its
 near course with weight ``split_share`` and its far course with the rest
-(:func:`illuknit.core.views.seen_shares`), and the fill counts both, so the one-unit tile ``1^0``
+(:func:`illuknit.core.views.seen_courses`), and the fill counts both, so the one-unit tile ``1^0``
 shows 0 3/4 + 1 1/4 from A and 1 3/4 + 0 1/4 from B at the default share 3/4. A fill is what the
 eye mixes, and a split bump's far course is part of the mix; without split bumps nothing changes.
 """
@@ -40,7 +40,7 @@ from numpy.typing import ArrayLike, NDArray
 from illuknit.core.colors import hex_color, luminance, mix_rgb
 from illuknit.core.errors import TileBankError
 from illuknit.core.pattern import Yarn
-from illuknit.core.views import DEFAULT_SPLIT_SHARE, can_see, seen_shares
+from illuknit.core.views import DEFAULT_SPLIT_SHARE, can_see, seen_courses
 
 __all__ = [
     "FILL_VIEWS",
@@ -360,22 +360,19 @@ def tile_weights(
     tile: Tile, view: Literal["A", "B", "headon"], share: Fraction
 ) -> dict[int, Fraction]:
     """Yarn -> weight of what the tile shows from ``view`` in a large region, summing to the
-    tile's height times its width (:func:`illuknit.core.views.seen_shares`)."""
+    tile's height times its width: a cell counts 1 for its unit's near course, except at a split
+    bump, ``share`` for the near course and ``1 - share`` for the far one (1/2 each head-on;
+    :func:`illuknit.core.views.seen_courses`)."""
     h = tile.height
     ext_u = None if tile.upper is None else np.tile(tile.upper, (3, 1))
-    near, far, w = seen_shares(
-        np.tile(tile.yarn, (3, 1)), np.tile(tile.raised, (3, 1)), ext_u, view, 0.0
-    )
+    near, far = seen_courses(np.tile(tile.yarn, (3, 1)), np.tile(tile.raised, (3, 1)), ext_u, view)
+    q = Fraction(1, 2) if view == "headon" else share
     out: dict[int, Fraction] = {}
-    # asked with share 0, so a split bump's weight reads 0.0 and the exact fraction replaces it
-    part = {1.0: Fraction(1), 0.5: Fraction(1, 2), 0.0: share}
-    for y, f, ww in zip(
-        near[h : 2 * h].ravel(), far[h : 2 * h].ravel(), w[h : 2 * h].ravel(), strict=True
-    ):
-        q = part[float(ww)]
-        out[int(y)] = out.get(int(y), Fraction(0)) + q
-        if q != 1:
-            out[int(f)] = out.get(int(f), Fraction(0)) + 1 - q
+    for y, f in zip(near[h : 2 * h].ravel().tolist(), far[h : 2 * h].ravel().tolist(), strict=True):
+        w = Fraction(1) if y == f else q
+        out[y] = out.get(y, Fraction(0)) + w
+        if w != 1:
+            out[f] = out.get(f, Fraction(0)) + 1 - w
     return out
 
 
