@@ -100,13 +100,12 @@ def check_knitout(
     from illuknit.check.fabric import fabric_findings
     from illuknit.check.rules import check_header, machine_findings
     from illuknit.check.simulate import simulate_program
-    from illuknit.core.machine import machine_from_headers, resolve_machine
+    from illuknit.core.machine import resolve_machine
 
     _check_options(float_limit=float_limit, max_racking=max_racking, bed_width=bed_width)
     named = None if machine is None else resolve_machine(machine)  # before any parsing
     program = parse_knitout(text)
-    headers = {name: value for name, value, _ in reversed(program.headers)}
-    spec = machine_from_headers(headers) if named is None else named
+    spec = _judging_machine(program, named)
     racking = spec.max_racking if max_racking is None else max_racking
     limit = spec.float_limit if float_limit is None else float_limit
     width = bed_width if bed_width is not None else program.width or spec.needles
@@ -134,6 +133,16 @@ def check_knitout(
             "float_limit": limit,
         },
     )
+
+
+def _judging_machine(program: KnitoutProgram, named: MachineSpec | None) -> MachineSpec:
+    """The machine ``program`` is judged against: the one named, else the one its headers name
+    (the first of each header counts)."""
+    from illuknit.core.machine import machine_from_headers
+
+    if named is not None:
+        return named
+    return machine_from_headers({name: value for name, value, _ in reversed(program.headers)})
 
 
 def _check_options(

@@ -283,52 +283,58 @@ def knit(
     if as_json:
         echo(json.dumps(summary, indent=1))
     else:
-        s = summary
-        what = f"{s['lines']} lines" if output_format == "knitout" else f"{output_format} file"
-        echo(f"wrote {s['output']} ({what}) for {s['machine']}")
-        echo(f"stitches: {s['wales']} wales x {s['courses']} courses at gauge {s['gauge']:g}")
-        echo(
-            f"finished size: about {s['finished_size_text']} at "
-            f"{s['finished_size']['gauge']} ({s['finished_size']['gauge_source']})"
-        )
-        if s.get("passes_counted_on") == "kc":
-            echo(
-                f"passes: {s['passes']} on the {s['machine']} (its machine file: waste section "
-                f"and the backend's carriage moves included); the schedule's "
-                f"{s['schedule_passes']}: knit {s['knit_passes']}, transfer "
-                f"{s['transfer_passes']}, cast-on {s['cast_on_passes']}, bind-off "
-                f"{s['bind_off_passes']}; its lower bound {s['schedule_lower_bound']}"
-            )
-        else:
-            echo(
-                f"passes: {s['passes']} (knit {s['knit_passes']}, transfer "
-                f"{s['transfer_passes']}, cast-on {s['cast_on_passes']}, bind-off "
-                f"{s['bind_off_passes']}); lower bound {s['lower_bound']}, ratio {s['ratio']:.2f}"
-            )
-        if s.get("scheduler") == "mixed-colourwork":
-            echo(
-                f"mixed colourwork: {s['carriers']} carrier(s), {s['tuck_joins']} tuck join(s), "
-                f"{s['plated_stitches']} plated catching stitch(es), "
-                f"{s['explicit_kickbacks']} carrier move pass(es), "
-                f"{s['float_avoidance_transfers']} float-avoidance transfer pass(es), "
-                f"{s['kickbacks']} backend kickback(s)"
-            )
-        echo(
-            f"estimated knitting time: {s['time']}, of which the bind-off {s['bind_off_time']} "
-            f"(+{s['hook_passes']} hook passes counted; an untuned model, docs/knitting.md)"
-        )
-        _echo_machine_sheet(s, echo)
-        chk = s.get("check", False)
-        if chk is None:
-            echo("check: checker not available in this install")
-        elif chk:
-            echo(
-                f"check: {chk['errors']} error(s), {chk['warnings']} warning(s), {chk['pieces']} piece(s)"
-            )
-            for f in chk["findings"][:10]:
-                echo(f"  line {f['line']}: {f['severity']} [{f['code']}] {f['message']}")
-    if (summary.get("check") or {}).get("errors"):
+        _echo_summary(summary, output_format, echo)
+    chk = summary.get("check")
+    if chk and chk["errors"]:
         raise click.exceptions.Exit(1)
+
+
+def _echo_summary(s: dict[str, Any], output_format: str, echo: Callable[[str], object]) -> None:
+    """The summary for a reader: what was written, size, passes, time, sheet, the checker's
+    verdict."""
+    what = f"{s['lines']} lines" if output_format == "knitout" else f"{output_format} file"
+    echo(f"wrote {s['output']} ({what}) for {s['machine']}")
+    echo(f"stitches: {s['wales']} wales x {s['courses']} courses at gauge {s['gauge']:g}")
+    echo(
+        f"finished size: about {s['finished_size_text']} at "
+        f"{s['finished_size']['gauge']} ({s['finished_size']['gauge_source']})"
+    )
+    if s.get("passes_counted_on") == "kc":
+        echo(
+            f"passes: {s['passes']} on the {s['machine']} (its machine file: waste section "
+            f"and the backend's carriage moves included); the schedule's "
+            f"{s['schedule_passes']}: knit {s['knit_passes']}, transfer "
+            f"{s['transfer_passes']}, cast-on {s['cast_on_passes']}, bind-off "
+            f"{s['bind_off_passes']}; its lower bound {s['schedule_lower_bound']}"
+        )
+    else:
+        echo(
+            f"passes: {s['passes']} (knit {s['knit_passes']}, transfer "
+            f"{s['transfer_passes']}, cast-on {s['cast_on_passes']}, bind-off "
+            f"{s['bind_off_passes']}); lower bound {s['lower_bound']}, ratio {s['ratio']:.2f}"
+        )
+    if s.get("scheduler") == "mixed-colourwork":
+        echo(
+            f"mixed colourwork: {s['carriers']} carrier(s), {s['tuck_joins']} tuck join(s), "
+            f"{s['plated_stitches']} plated catching stitch(es), "
+            f"{s['explicit_kickbacks']} carrier move pass(es), "
+            f"{s['float_avoidance_transfers']} float-avoidance transfer pass(es), "
+            f"{s['kickbacks']} backend kickback(s)"
+        )
+    echo(
+        f"estimated knitting time: {s['time']}, of which the bind-off {s['bind_off_time']} "
+        f"(+{s['hook_passes']} hook passes counted; an untuned model, docs/knitting.md)"
+    )
+    _echo_machine_sheet(s, echo)
+    chk = s.get("check", False)
+    if chk is None:
+        echo("check: checker not available in this install")
+    elif chk:
+        echo(
+            f"check: {chk['errors']} error(s), {chk['warnings']} warning(s), {chk['pieces']} piece(s)"
+        )
+        for f in chk["findings"][:10]:
+            echo(f"  line {f['line']}: {f['severity']} [{f['code']}] {f['message']}")
 
 
 def describe_settings(s: dict[str, Any]) -> str:

@@ -68,12 +68,17 @@ class KnitOptions:
     path_planning : PathPlanning or str
         Yarn-path strategy (:class:`PathPlanning`).
     catch_every : int
-        Join on every ``catch_every``-th course (2: once per unit row).
+        Join on every ``catch_every``-th course. 2: once per unit row (a unit is two courses), so
+        no join stays open for more than one course; 1: at every colour change of every course,
+        as the paper does, at the price of more passes.
     strict_floats : bool
         Refuse a course that needs more carriers than the machine has to keep every float
         within the limit.
     tuck_passes : bool
-        Tuck long floats in passes of their own.
+        Where a plated catching pass cannot tuck a long float (its other yarn comes from
+        elsewhere), tuck the floating yarn alone in a pass of its own right before it. It
+        matters with ``catching="plate"`` only (on the plated bundled programs it cost 1-29 %
+        more machine passes, ``docs/mixed-colourwork.md``).
     allow_long_floats : bool
         Keep a float that stays longer than the machine's float limit after tucking (with a
         warning) instead of refusing the pattern.
