@@ -94,6 +94,12 @@ class DesignSettings(BaseModel):
         "units tall): the piece comes out shorter than the picture by the gauge's row-to-stitch "
         "ratio; by default the grid keeps the picture's proportions in the finished fabric",
     )
+    split_bumps: bool = Field(
+        default=False,
+        title="Split bumps",
+        description="tiles may knit a bump in two yarns, one seen from each side "
+        "(double view and head-on; docs/split-bumps.md)",
+    )
 
     def to_json(self) -> dict[str, Any]:
         return self.model_dump(mode="json")
