@@ -293,7 +293,7 @@ def knit(
 
 def time_line(s: dict[str, Any]) -> str:
     """One line: the estimated time, its range and the bind-off's part of it."""
-    basis = "calibrated" if "calibrated on" in s["time_model"] else "documented"
+    basis = "calibrated" if "calibrated on" in s["time_model"] else "preset's"
     return (
         f"estimated knitting time: {s['time']} ({s['time_range']} at the {basis} carriage "
         f"speeds), of which the bind-off {s['bind_off_time']} (docs/knitting.md, Time model)"
