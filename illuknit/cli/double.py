@@ -79,6 +79,7 @@ def run_design(
     Returns the summary dict."""
     from illuknit.cli.knitout_bridge import design_unit_aspect, resolve_machine
     from illuknit.core.errors import ImageInputError, OptionError, TileAssignmentError
+    from illuknit.core.views import DEFAULT_SPLIT_SHARE
     from illuknit.design.options import (
         Brightness,
         PictureEdits,
@@ -107,7 +108,7 @@ def run_design(
         brightness=Brightness.SOFT if soft_brightness else Brightness.HARD,
         one_sided=one_sided,
         split_bumps=split_bumps or split_share is not None,
-        **({} if split_share is None else {"split_share": split_share}),
+        split_share=DEFAULT_SPLIT_SHARE if split_share is None else split_share,
         edits=PictureEdits.APPLY
         if simplify
         else (PictureEdits.SUGGEST if suggest else PictureEdits.NONE),
