@@ -31,9 +31,11 @@ colour, flat), each followed by descent; equal-cost results are accepted, so the
 plateaus. It stops at the time limit, or after ``stall`` perturbations without improvement.
 
 The DP optimum of the per-wale part is also a valid **lower bound** (colour-change terms are
-non-negative). With machine-pass terms the backend spends the last 40 % of its time on the
-Lagrangian bound of :mod:`illuknit.solvers.lagrangian`, which keeps the pass terms the DP
-drops (and whose patterns are candidates too); the better bound is reported as ``bound``. The backend is a heuristic (``exact = False``): status
+non-negative). With machine-pass terms the backend also computes the Lagrangian bound of
+:mod:`illuknit.solvers.lagrangian`, which keeps the pass terms the DP drops: the search takes
+the first 35 % of the time, the bound the next 50 %, and block descent from the best pattern
+the bound met (the wales solved within its rows' yarn sets) the rest; the better pattern and
+the better bound are reported. The backend is a heuristic (``exact = False``): status
 ``feasible`` (``timeout`` when the time limit stopped it), never ``optimal`` for a model with
 colour-change terms. Per-wale models (no colour term) and the single-view model are solved
 exactly by the DP instead. A hard colour-change cap per course is not handled.
@@ -55,16 +57,18 @@ from illuknit.design.models.illusion_problem import IllusionProblem
 from illuknit.solvers.base import BackendBase, ProgressCallback, ProgressEvent, Solution, Status
 from illuknit.solvers.descent_blocks import descend, pattern_cost
 from illuknit.solvers.dp import DPBackend, solve_dp, values_from_pattern
-from illuknit.solvers.lagrangian import lagrangian_bound
+from illuknit.solvers.lagrangian import LagrangianResult, lagrangian_bound
 
 if TYPE_CHECKING:
     from illuknit.design.models.model import Model
 
 __all__ = ["DescentBackend", "DescentResult", "optimise_descent"]
 
-#: Share of the backend's time limit spent on the Lagrangian bound (model (b) with pass terms),
-#: after the search; without a time limit, this many seconds.
-LAGRANGIAN_SHARE = 0.4
+#: Shares of the backend's time limit on model (b) with pass terms: the search first, then the
+#: Lagrangian bound, then descent from the bound's best pattern (the rest). Without a time
+#: limit, the bound gets this many seconds.
+SEARCH_SHARE = 0.35
+LAGRANGIAN_SHARE = 0.5
 LAGRANGIAN_SECONDS = 10.0
 
 
@@ -263,6 +267,40 @@ class DescentBackend(BackendBase):
             return "block descent cannot guarantee a hard colour-change cap; use --solver cpsat"
         return None
 
+    @staticmethod
+    def _bound_and_repair(
+        problem: IllusionProblem,
+        res: DescentResult,
+        time_limit: float | None,
+        t0: float,
+        progress: ProgressCallback | None,
+    ) -> tuple[DescentResult, LagrangianResult | None]:
+        """The machine-pass terms the DP bound drops: the Lagrangian bound (its share of the
+        time, steered by the search's best cost), then block descent from the best pattern the
+        bound met (the rest of the time); the better pattern and bound are kept."""
+        if time_limit is None:
+            lag_time, deadline = LAGRANGIAN_SECONDS, None
+        else:
+            lag_time = max(0.5, LAGRANGIAN_SHARE * time_limit)
+            deadline = t0 + time_limit
+        try:
+            lag = lagrangian_bound(problem, time_limit=lag_time, upper=res.cost)
+        except KeyboardInterrupt:  # asked to stop: the pattern matters more than the bound
+            return res, None
+        if lag.bound > res.bound:
+            res = replace(res, bound=lag.bound)
+            if progress:
+                progress(ProgressEvent(time.perf_counter() - t0, res.cost, lag.bound))
+        try:
+            y, r, cost, _ = descend(problem, lag.yarn, lag.raised, deadline=deadline)
+        except KeyboardInterrupt:
+            y, r, cost = lag.yarn, lag.raised, lag.cost
+        if cost < res.cost:  # the bound's own patterns, repaired, are candidates too
+            res = replace(res, yarn=y, raised=r, cost=cost)
+            if progress:
+                progress(ProgressEvent(time.perf_counter() - t0, cost, res.bound, "lagrangian"))
+        return res, lag
+
     def solve(
         self,
         model: Model,
@@ -278,29 +316,13 @@ class DescentBackend(BackendBase):
             stats = {**sol.stats, "method": "dp (exact for this model)"}
             return replace(sol, stats=stats, backend=self.name)
         t0 = time.perf_counter()
-        search_time = None if time_limit is None else (1 - LAGRANGIAN_SHARE) * time_limit
+        search_time = None if time_limit is None else SEARCH_SHARE * time_limit
         res = optimise_descent(
             problem, time_limit=search_time, seed=seed, stall=self.stall, progress=progress
         )
         lag = None
         if problem.pass_weight:
-            # the machine-pass terms the DP bound drops: a Lagrangian bound with the rest
-            left = (
-                LAGRANGIAN_SECONDS
-                if time_limit is None
-                else time_limit - (time.perf_counter() - t0)
-            )
-            try:
-                lag = lagrangian_bound(problem, time_limit=max(0.5, left), upper=res.cost)
-            except KeyboardInterrupt:  # asked to stop: the pattern matters more than the bound
-                lag = None
-        if lag is not None:
-            if lag.cost < res.cost:  # its own patterns are candidates too
-                res = replace(res, yarn=lag.yarn, raised=lag.raised, cost=lag.cost)
-            if lag.bound > res.bound:
-                res = replace(res, bound=lag.bound)
-                if progress:
-                    progress(ProgressEvent(time.perf_counter() - t0, res.cost, lag.bound))
+            res, lag = self._bound_and_repair(problem, res, time_limit, t0, progress)
         vals = values_from_pattern(model, res.yarn, res.raised)
         ok, cost = model.evaluate(vals)
         wall = time.perf_counter() - t0
