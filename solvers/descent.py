@@ -32,10 +32,10 @@ plateaus. It stops at the time limit, or after ``stall`` perturbations without i
 
 The DP optimum of the per-wale part is also a valid **lower bound** (colour-change terms are
 non-negative). With machine-pass terms the backend also computes the Lagrangian bound of
-:mod:`illuknit.solvers.lagrangian`, which keeps the pass terms the DP drops: the search takes
-the first 35 % of the time, the bound the next 50 %, and block descent from the best pattern
-the bound met (the wales solved within its rows' yarn sets) the rest; the better pattern and
-the better bound are reported. The backend is a heuristic (``exact = False``): status
+:mod:`illuknit.solvers.lagrangian`, which keeps the pass terms the DP drops: the bound first
+(at most half the time; it stops when its steps die out), then the search for the rest, with
+the best pattern the bound met (the wales solved within its rows' yarn sets) as one more start;
+the better bound is reported. The backend is a heuristic (``exact = False``): status
 ``feasible`` (``timeout`` when the time limit stopped it), never ``optimal`` for a model with
 colour-change terms. Per-wale models (no colour term) and the single-view model are solved
 exactly by the DP instead. A hard colour-change cap per course is not handled.
@@ -64,10 +64,8 @@ if TYPE_CHECKING:
 
 __all__ = ["DescentBackend", "DescentResult", "optimise_descent"]
 
-#: Shares of the backend's time limit on model (b) with pass terms: the search first, then the
-#: Lagrangian bound, then descent from the bound's best pattern (the rest). Without a time
-#: limit, the bound gets this many seconds.
-SEARCH_SHARE = 0.35
+#: Most of the backend's time limit the Lagrangian bound may take on model (b) with pass terms,
+#: before the search (which gets the rest); without a time limit, this many seconds.
 LAGRANGIAN_SHARE = 0.5
 LAGRANGIAN_SECONDS = 10.0
 
@@ -267,38 +265,31 @@ class DescentBackend(BackendBase):
             return "block descent cannot guarantee a hard colour-change cap; use --solver cpsat"
         return None
 
-    @staticmethod
-    def _bound_and_repair(
+    def _bound_then_search(
+        self,
         problem: IllusionProblem,
-        res: DescentResult,
         time_limit: float | None,
-        t0: float,
+        seed: int,
         progress: ProgressCallback | None,
     ) -> tuple[DescentResult, LagrangianResult | None]:
-        """The machine-pass terms the DP bound drops: the Lagrangian bound (its share of the
-        time, steered by the search's best cost), then block descent from the best pattern the
-        bound met (the rest of the time); the better pattern and bound are kept."""
-        if time_limit is None:
-            lag_time, deadline = LAGRANGIAN_SECONDS, None
-        else:
-            lag_time = max(0.5, LAGRANGIAN_SHARE * time_limit)
-            deadline = t0 + time_limit
+        """Model (b) with pass terms: the Lagrangian bound first (at most its share of the time;
+        it stops sooner once its steps die out), then the search for the rest of the time with
+        the best pattern the bound met as one more start; the better bound is kept."""
+        t0 = time.perf_counter()
+        lag_time = LAGRANGIAN_SECONDS if time_limit is None else LAGRANGIAN_SHARE * time_limit
         try:
-            lag = lagrangian_bound(problem, time_limit=lag_time, upper=res.cost)
+            lag = lagrangian_bound(problem, time_limit=max(0.5, lag_time))
         except KeyboardInterrupt:  # asked to stop: the pattern matters more than the bound
-            return res, None
-        if lag.bound > res.bound:
+            lag = None
+        starts = None if lag is None else {"lagrangian": (lag.yarn, lag.raised)}
+        left = None if time_limit is None else max(0.5, time_limit - (time.perf_counter() - t0))
+        res = optimise_descent(
+            problem, time_limit=left, seed=seed, stall=self.stall, starts=starts, progress=progress
+        )
+        if lag is not None and lag.bound > res.bound:
             res = replace(res, bound=lag.bound)
             if progress:
                 progress(ProgressEvent(time.perf_counter() - t0, res.cost, lag.bound))
-        try:
-            y, r, cost, _ = descend(problem, lag.yarn, lag.raised, deadline=deadline)
-        except KeyboardInterrupt:
-            y, r, cost = lag.yarn, lag.raised, lag.cost
-        if cost < res.cost:  # the bound's own patterns, repaired, are candidates too
-            res = replace(res, yarn=y, raised=r, cost=cost)
-            if progress:
-                progress(ProgressEvent(time.perf_counter() - t0, cost, res.bound, "lagrangian"))
         return res, lag
 
     def solve(
@@ -316,13 +307,13 @@ class DescentBackend(BackendBase):
             stats = {**sol.stats, "method": "dp (exact for this model)"}
             return replace(sol, stats=stats, backend=self.name)
         t0 = time.perf_counter()
-        search_time = None if time_limit is None else SEARCH_SHARE * time_limit
-        res = optimise_descent(
-            problem, time_limit=search_time, seed=seed, stall=self.stall, progress=progress
-        )
         lag = None
         if problem.pass_weight:
-            res, lag = self._bound_and_repair(problem, res, time_limit, t0, progress)
+            res, lag = self._bound_then_search(problem, time_limit, seed, progress)
+        else:
+            res = optimise_descent(
+                problem, time_limit=time_limit, seed=seed, stall=self.stall, progress=progress
+            )
         vals = values_from_pattern(model, res.yarn, res.raised)
         ok, cost = model.evaluate(vals)
         wall = time.perf_counter() - t0

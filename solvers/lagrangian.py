@@ -114,23 +114,24 @@ class _Wales:
 
 
 def _option_min(x: NDArray[np.float64], k: int) -> NDArray[np.float64]:
-    """``x`` (..., 2K) over the states ``2 * yarn + raised`` -> (..., D): per row option
-    ``(mask - 1) * 2 + b`` (yarns of ``mask``, bumps allowed when ``b``), the least value over
-    the states it allows. Subset minima built from smaller subsets: no masked copy of ``x``."""
-    sh = x.shape[:-1]
-    y = x.reshape(*sh, k, 2)
-    per = np.empty((*sh, k, 2), dtype=x.dtype)
-    per[..., 0] = y[..., 0]  # flat only
-    np.minimum(y[..., 0], y[..., 1], out=per[..., 1])  # flat or raised
-    out = np.empty((*sh, 2**k - 1, 2), dtype=x.dtype)
+    """``x`` (2K, ...) over the states ``2 * yarn + raised`` (first axis) -> (D, ...): per row
+    option ``(mask - 1) * 2 + b`` (yarns of ``mask``, bumps allowed when ``b``), the least value
+    over the states it allows. Subset minima built from smaller subsets, each a whole
+    contiguous block: no masked copy of ``x``."""
+    out = np.empty((2 * (2**k - 1), *x.shape[1:]), dtype=x.dtype)
     for mask in range(1, 2**k):
         low = mask & -mask
-        y0 = low.bit_length() - 1
+        y = low.bit_length() - 1
+        flat, any_ = out[2 * (mask - 1)], out[2 * (mask - 1) + 1]
         if mask == low:
-            out[..., mask - 1, :] = per[..., y0, :]
+            flat[...] = x[2 * y]
+            np.minimum(x[2 * y], x[2 * y + 1], out=any_)
         else:
-            np.minimum(out[..., (mask ^ low) - 1, :], per[..., y0, :], out=out[..., mask - 1, :])
-    return out.reshape(*sh, (2**k - 1) * 2)
+            rest = 2 * ((mask ^ low) - 1)
+            np.minimum(out[rest], x[2 * y], out=flat)
+            np.minimum(out[rest + 1], x[2 * y], out=any_)
+            np.minimum(any_, x[2 * y + 1], out=any_)
+    return out
 
 
 def _options(k: int, wp: int) -> tuple[NDArray[np.bool_], NDArray[np.float64]]:
@@ -146,41 +147,41 @@ def _options(k: int, wp: int) -> tuple[NDArray[np.bool_], NDArray[np.float64]]:
 
 
 class _RowChain:
-    """The relaxation of the module docstring for one problem: pair terms precomputed."""
+    """The relaxation of the module docstring for one problem: pair terms precomputed, every
+    array state-major (the unit's state on the first axes) so that the subset minima run over
+    contiguous blocks."""
 
     def __init__(self, problem: IllusionProblem, wales: _Wales) -> None:
         n = problem.shape[0]
         self.k = problem.n_yarns
         self.allowed, self.cost = _options(self.k, problem.pass_weight)
-        self.penalty = np.where(self.allowed, 0.0, float(_INF))
-        u = wales.unary.astype(np.float64)
-        share_down = np.full((n, 1, 1), 0.5)  # of row i's own cost, into pair (i, i+1)
-        share_down[0] = 1.0
+        self.penalty = np.where(self.allowed, 0.0, float(_INF))  # (D, 2K)
+        u = np.moveaxis(wales.unary.astype(np.float64), 2, 0)  # (2K, N, M)
+        share_down = np.full((1, n, 1), 0.5)  # of row i's own cost, into pair (i, i+1)
+        share_down[0, 0] = 1.0
         share_up = 1.0 - share_down  # into pair (i-1, i)
-        share_up[n - 1] = 1.0
+        share_up[0, n - 1] = 1.0
         if n > 1:
-            share_down[n - 1] = 0.0
-        self.top = u[:-1] * share_down[:-1]  # row i-1's part of pair (i-1, i)
-        self.bottom = u[1:] * share_up[1:]
-        self.pair = wales.pair[1:].astype(np.float64)
-        self.single = u[0] if n == 1 else None
+            share_down[0, n - 1] = 0.0
+        self.top = u[:, :-1] * share_down[:, :-1]  # row i-1's part of pair (i-1, i)
+        self.bottom = u[:, 1:] * share_up[:, 1:]
+        # pair[i][j, s', s] -> (2K lower s, 2K upper s', N-1, M)
+        self.pair = np.ascontiguousarray(wales.pair[1:].astype(np.float64).transpose(3, 2, 0, 1))
+        self.single = u[:, 0] if n == 1 else None
 
     def solve(
         self, lam: NDArray[np.float64]
     ) -> tuple[float, NDArray[np.int64], NDArray[np.float64] | None]:
-        """(least total, options per row (N,), pair terms (N-1, M, 2K, 2K) or None) for the
-        multipliers ``lam`` (N, M, 2K) (rows 0 and N-1 take none: they lie in one pair)."""
+        """(least total, options per row (N,), pair terms (2K lower, 2K upper, N-1, M) or None)
+        for the multipliers ``lam`` (2K, N, M) (rows 0 and N-1 take none: they lie in one
+        pair)."""
         if self.single is not None:  # one row: no pair, each unit alone
-            per = _option_min(self.single, self.k).sum(axis=0) + self.cost
+            per = _option_min(self.single, self.k).sum(axis=1) + self.cost
             return float(per.min()), np.array([int(per.argmin())]), None
-        theta = (
-            self.pair
-            + (self.top - lam[:-1])[:, :, :, None]
-            + (self.bottom + lam[1:])[:, :, None, :]
-        )
-        lower = _option_min(theta, self.k)  # (N-1, M, 2K upper state, D lower option)
-        both = _option_min(np.ascontiguousarray(lower.swapaxes(2, 3)), self.k)
-        phi = both.sum(axis=1).swapaxes(1, 2)  # (N-1, D upper, D lower)
+        theta = self.pair + (self.bottom + lam[:, 1:])[:, None] + (self.top - lam[:, :-1])[None, :]
+        lower = _option_min(theta, self.k)  # (D lower, 2K upper, N-1, M)
+        both = _option_min(lower.swapaxes(0, 1), self.k)  # (D upper, D lower, N-1, M)
+        phi = both.sum(axis=3).transpose(2, 0, 1)  # (N-1, D upper, D lower)
         n = phi.shape[0] + 1
         v = self.cost.copy()
         back = np.zeros((n, len(v)), dtype=np.int64)
@@ -196,19 +197,21 @@ class _RowChain:
 
     def subgradient(self, theta: NDArray[np.float64], d: NDArray[np.int64]) -> NDArray[np.float64]:
         """d total / d lam at the chosen options: a unit's state in its upper pair less its
-        state in its lower pair (one-hot, (N, M, 2K))."""
-        n1, m, s, _ = theta.shape
+        state in its lower pair (one-hot, (2K, N, M))."""
+        s, _, n1, m = theta.shape
         masked = (
-            theta + self.penalty[d[:-1]][:, None, :, None] + self.penalty[d[1:]][:, None, None, :]
+            theta
+            + self.penalty[d[1:]].T[:, None, :, None]
+            + self.penalty[d[:-1]].T[None, :, :, None]
         )
-        flat = masked.reshape(n1, m, s * s).argmin(axis=2)
-        upper_state, lower_state = flat // s, flat % s  # states of rows i-1 and i in pair i
-        g = np.zeros((n1 + 1, m, s))
+        flat = masked.reshape(s * s, n1, m).argmin(axis=0)
+        lower_state, upper_state = flat // s, flat % s  # states of rows i and i-1 in pair i
+        g = np.zeros((s, n1 + 1, m))
         rows, cols = np.ogrid[:n1, :m]
-        g[1:][rows, cols, lower_state] += 1.0  # unit (i, j) in pair (i-1, i): +lam
-        g[:-1][rows, cols, upper_state] -= 1.0  # unit (i-1, j) in pair (i-1, i): -lam
-        g[0] = 0.0
-        g[-1] = 0.0
+        g[:, 1:][lower_state, rows, cols] += 1.0  # unit (i, j) in pair (i-1, i): +lam
+        g[:, :-1][upper_state, rows, cols] -= 1.0  # unit (i-1, j) in pair (i-1, i): -lam
+        g[:, 0] = 0.0
+        g[:, -1] = 0.0
         return g
 
 
@@ -228,7 +231,7 @@ def lagrangian_bound(
     max_iterations: int = 100_000,
     progress: ProgressCallback | None = None,
     theta0: float = 1.0,
-    patience: int = 10,
+    patience: int = 20,
     heuristic_every: int = 3,
 ) -> LagrangianResult:
     """The Lagrangian lower bound of ``problem`` (see the module docstring) after subgradient
@@ -247,7 +250,7 @@ def lagrangian_bound(
     k = problem.n_yarns
     wales = _Wales(problem)
     chain = _RowChain(problem, wales)
-    lam = np.zeros((n, m, 2 * k))
+    lam = np.zeros((2 * k, n, m))
     best_bound = additive_bound(problem)
     if progress is not None:
         progress(ProgressEvent(time.perf_counter() - t0, None, float(best_bound)))
