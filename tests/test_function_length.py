@@ -17,9 +17,6 @@ KNOWN = {
     "illuknit/check/__init__.py:check_knitout": 101,
     # Commands with many options, each forwarded: to become a parse-then-call of one options type.
     "illuknit/cli/knit.py:knit": 109,
-    "illuknit/cli/bench.py:bench": 143,
-    # The child's protocol of an isolated solver run (limits, signals, answers) in one place.
-    "solvers/isolate.py:run_in_child": 137,
     # The printable pattern's page layouts, drawn in one pass each.
     "illuknit/outputs/pattern_pdf.py:pattern_pdf": 172,
     "illuknit/outputs/pattern_pdf.py:_chart_page": 114,
