@@ -62,7 +62,7 @@ from illuknit.solvers.lagrangian import LagrangianResult, lagrangian_bound
 if TYPE_CHECKING:
     from illuknit.design.models.model import Model
 
-__all__ = ["DescentBackend", "DescentResult", "optimise_descent"]
+__all__ = ["DescentBackend", "DescentResult", "bound_then_search", "optimise_descent"]
 
 #: Most of the backend's time limit the Lagrangian bound may take on model (b) with pass terms,
 #: before the search (which gets the rest); without a time limit, this many seconds.
@@ -244,6 +244,37 @@ def _search(
     return best
 
 
+def bound_then_search(
+    problem: IllusionProblem,
+    *,
+    time_limit: float | None = None,
+    seed: int = 0,
+    stall: int = 40,
+    progress: ProgressCallback | None = None,
+) -> tuple[DescentResult, LagrangianResult | None]:
+    """Model (b) with pass terms: the Lagrangian bound first (at most ``LAGRANGIAN_SHARE`` of
+    the time; it stops sooner once its steps die out), then :func:`optimise_descent` for the
+    rest of the time with the best pattern the bound met as one more start. The result's
+    ``bound`` is the better of the DP's and the Lagrangian's; the Lagrangian result is returned
+    too (None when interrupted)."""
+    t0 = time.perf_counter()
+    lag_time = LAGRANGIAN_SECONDS if time_limit is None else LAGRANGIAN_SHARE * time_limit
+    try:
+        lag = lagrangian_bound(problem, time_limit=max(0.5, lag_time))
+    except KeyboardInterrupt:  # asked to stop: the pattern matters more than the bound
+        lag = None
+    starts = None if lag is None else {"lagrangian": (lag.yarn, lag.raised)}
+    left = None if time_limit is None else max(0.5, time_limit - (time.perf_counter() - t0))
+    res = optimise_descent(
+        problem, time_limit=left, seed=seed, stall=stall, starts=starts, progress=progress
+    )
+    if lag is not None and lag.bound > res.bound:
+        res = replace(res, bound=lag.bound)
+        if progress:
+            progress(ProgressEvent(time.perf_counter() - t0, res.cost, lag.bound))
+    return res, lag
+
+
 # -- the backend ----------------------------------------------------------------------------
 
 
@@ -265,33 +296,6 @@ class DescentBackend(BackendBase):
             return "block descent cannot guarantee a hard colour-change cap; use --solver cpsat"
         return None
 
-    def _bound_then_search(
-        self,
-        problem: IllusionProblem,
-        time_limit: float | None,
-        seed: int,
-        progress: ProgressCallback | None,
-    ) -> tuple[DescentResult, LagrangianResult | None]:
-        """Model (b) with pass terms: the Lagrangian bound first (at most its share of the time;
-        it stops sooner once its steps die out), then the search for the rest of the time with
-        the best pattern the bound met as one more start; the better bound is kept."""
-        t0 = time.perf_counter()
-        lag_time = LAGRANGIAN_SECONDS if time_limit is None else LAGRANGIAN_SHARE * time_limit
-        try:
-            lag = lagrangian_bound(problem, time_limit=max(0.5, lag_time))
-        except KeyboardInterrupt:  # asked to stop: the pattern matters more than the bound
-            lag = None
-        starts = None if lag is None else {"lagrangian": (lag.yarn, lag.raised)}
-        left = None if time_limit is None else max(0.5, time_limit - (time.perf_counter() - t0))
-        res = optimise_descent(
-            problem, time_limit=left, seed=seed, stall=self.stall, starts=starts, progress=progress
-        )
-        if lag is not None and lag.bound > res.bound:
-            res = replace(res, bound=lag.bound)
-            if progress:
-                progress(ProgressEvent(time.perf_counter() - t0, res.cost, lag.bound))
-        return res, lag
-
     def solve(
         self,
         model: Model,
@@ -309,7 +313,9 @@ class DescentBackend(BackendBase):
         t0 = time.perf_counter()
         lag = None
         if problem.pass_weight:
-            res, lag = self._bound_then_search(problem, time_limit, seed, progress)
+            res, lag = bound_then_search(
+                problem, time_limit=time_limit, seed=seed, stall=self.stall, progress=progress
+            )
         else:
             res = optimise_descent(
                 problem, time_limit=time_limit, seed=seed, stall=self.stall, progress=progress

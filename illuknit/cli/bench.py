@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from pathlib import Path
 from typing import Any
 
 import click
@@ -335,7 +336,8 @@ def _export_family(outdir: str, time_limit: float | None) -> None:
     mf = write_family(
         outdir,
         bound_seconds=10.0 if time_limit is None else time_limit,
-        command=f"illuknit bench --export-family {outdir}"
+        # the folder's own name: the command reproduces the family anywhere
+        command=f"illuknit bench --export-family {Path(outdir).name}"
         + ("" if time_limit is None else f" --time-limit {time_limit:g}"),
         on_instance=shown,
     )
