@@ -7,7 +7,7 @@ pair).
 Usage: python benchmarks/knit_aware_gap.py [--time-limit 60] [--pair astronaut,coffee]
 
 Builds the pair as the bench does (scikit-image pictures, quantised together to three yarns),
-runs the ``descent`` backend for the time limit (the Lagrangian bound in at most the first half,
+runs the ``descent`` backend for the time limit (the Lagrangian bound in at most the first 35 %,
 then the search, one of whose starts is the bound's pattern), and prints the DP bound, the additive bound, the Lagrangian bound, the best
 pattern's verified cost and the gap, with the load average: times are wall clock, and a loaded
 machine gives the search less of a core. Nothing is asserted.

@@ -33,7 +33,7 @@ plateaus. It stops at the time limit, or after ``stall`` perturbations without i
 The DP optimum of the per-wale part is also a valid **lower bound** (colour-change terms are
 non-negative). With machine-pass terms the backend also computes the Lagrangian bound of
 :mod:`illuknit.solvers.lagrangian`, which keeps the pass terms the DP drops: the bound first
-(at most half the time; it stops when its steps die out), then the search for the rest, with
+(at most 35 % of the time; it stops when its steps die out), then the search for the rest, with
 the best pattern the bound met (the wales solved within its rows' yarn sets) as one more start;
 the better bound is reported. The backend is a heuristic (``exact = False``): status
 ``feasible`` (``timeout`` when the time limit stopped it), never ``optimal`` for a model with
@@ -66,7 +66,7 @@ __all__ = ["DescentBackend", "DescentResult", "bound_then_search", "optimise_des
 
 #: Most of the backend's time limit the Lagrangian bound may take on model (b) with pass terms,
 #: before the search (which gets the rest); without a time limit, this many seconds.
-LAGRANGIAN_SHARE = 0.5
+LAGRANGIAN_SHARE = 0.35
 LAGRANGIAN_SECONDS = 10.0
 
 
