@@ -11,12 +11,6 @@ LIMIT = 100
 #: Functions over the limit today, at most this long, and why they are not split yet. The test
 #: fails when one grows; once one is split under the limit, its line here can go.
 KNOWN = {
-    # Many documented knitting switches each; the one knitting-options type should replace them.
-    "illuknit/knit/mixed.py:schedule_mixed": 192,
-    "illuknit/knitting/pipeline.py:knit_pattern": 101,
-    "illuknit/check/__init__.py:check_knitout": 101,
-    # Commands with many options, each forwarded: to become a parse-then-call of one options type.
-    "illuknit/cli/knit.py:knit": 109,
     # The printable pattern's page layouts, drawn in one pass each.
     "illuknit/outputs/pattern_pdf.py:pattern_pdf": 172,
     "illuknit/outputs/pattern_pdf.py:_chart_page": 114,

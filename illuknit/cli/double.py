@@ -19,7 +19,7 @@ import click
 
 from illuknit.cli.design_files import fmt_number, summary_text, write_candidate, write_edits
 from illuknit.cli.knitout_bridge import format_option, long_floats_option, machine_option
-from illuknit.cli.options import knitout_option, outdir_option
+from illuknit.cli.options import FiniteFloat, knitout_option, outdir_option
 from illuknit.core.gauge import finished_size
 from illuknit.core.progress import Report, work_bar
 from illuknit.design.tiles.perception import DEFAULT_POOL, POOL_SECONDS, RANK_KEYS
@@ -61,6 +61,8 @@ def run_design(
     solver: str = "cpsat",
     soft_brightness: bool = False,
     one_sided: bool = False,
+    split_bumps: bool = False,
+    split_share: float | None = None,
     tile: tuple[str, ...] = (),
     knitout: bool = False,
     machine: str | None = None,
@@ -104,6 +106,8 @@ def run_design(
         solver=solver,
         brightness=Brightness.SOFT if soft_brightness else Brightness.HARD,
         one_sided=one_sided,
+        split_bumps=split_bumps or split_share is not None,
+        **({} if split_share is None else {"split_share": split_share}),
         edits=PictureEdits.APPLY
         if simplify
         else (PictureEdits.SUGGEST if suggest else PictureEdits.NONE),
@@ -410,6 +414,12 @@ def design_options(func: Any) -> Any:
         click.option("--soft-brightness", is_flag=True,
                      help="Prefer, rather than require, keeping each picture's brightness order."),
         click.option("--one-sided", is_flag=True, help="Only tiles that are solid from at least one side."),
+        click.option("--split-bumps", is_flag=True,
+                     help="Tiles may hold split bumps: a bump knitted in two yarns, one seen from each side "
+                     "(docs/split-bumps.md)."),
+        click.option("--split-share", type=FiniteFloat(0.5, 1.0, min_open=True), default=None,
+                     help="Share of a split bump's colour each side sees of its own course, as measured "
+                     "on a swatch [default: 0.75, an estimate]; implies --split-bumps."),
         click.option("--tile", multiple=True, metavar="A,B=ROWS",
                      help="Override the tile of overlap pair (colour A of the first picture, colour B "
                      "of the second), e.g. '0,1=0/1/0^' (see fills.json for the pairs). Repeatable."),

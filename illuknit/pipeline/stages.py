@@ -501,8 +501,19 @@ def design_tiles(
     views: Any = ("A", "B") if mode == "double" else HEADON_VIEWS
     ys = tuple(yarns) if yarns is not None else _picture_yarns(qa, qb)
     say(0.05, "building the tile bank")
+    if bank is not None and search.split_bumps:
+        raise OptionError(
+            "split bumps extend the canonical bank; a bank of your own lists its tiles "
+            "(write a split bump as 1^0: yarn 1, then yarn 0)"
+        )
     if bank is None:
-        bank = canonical_bank(ys, views=views, one_sided_stripes=search.one_sided)
+        bank = canonical_bank(
+            ys,
+            views=views,
+            one_sided_stripes=search.one_sided,
+            split_bumps=search.split_bumps,
+            split_share=search.split_share,
+        )
     elif isinstance(bank, (str, os.PathLike)):
         bank = load_bank(bank, yarns=ys)
     t0 = time.perf_counter()
@@ -601,6 +612,7 @@ def _rank(
         knit_time=_knit_measure(ranking),
         keep=search.candidates,
         progress=lambda f, message: say(0.4 + 0.6 * f, message),
+        params=_split_params(search),
     )
     by = ranking.rank_by
     designs = tuple(
@@ -631,6 +643,16 @@ def _rank(
         search=search,
         ranking=ranking,
     )
+
+
+def _split_params(search: SearchOptions) -> Any:
+    """The renderer's parameters the designs are measured with: the default ones, with the
+    search's split share when split bumps are on (None: the defaults)."""
+    if not search.split_bumps:
+        return None
+    from illuknit.design.render.params import RenderParams
+
+    return RenderParams(split_share=search.split_share)
 
 
 def _assignment_label(assignment: Any) -> str:
@@ -767,6 +789,7 @@ def solve_design(
         yarns=qa.yarns,
         n_yarns=len(qa.yarns),
         alternate_rows=options.alternate_rows,
+        split_bumps=options.split_bumps,
         time_limit=options.time_limit,
         seed=options.seed,
         progress=progress,
@@ -814,6 +837,7 @@ def illusion_model(
         kind=options.model.value,
         weights=options.weights,
         alternate_rows=options.alternate_rows,
+        split_bumps=options.split_bumps,
     )
     return build_model(problem)
 
