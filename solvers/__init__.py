@@ -34,6 +34,7 @@ from __future__ import annotations
 
 import copy
 import importlib
+import math
 import time
 from collections.abc import Callable
 from dataclasses import replace
@@ -330,7 +331,14 @@ def solve(
             progress(event)
 
     t0 = time.perf_counter()
-    sol = backend.solve(model, time_limit=remaining, seed=seed, progress=record)
+    extra: dict[str, Any] = {}
+    if (
+        info is not None
+        and info.get("bound") is not None
+        and getattr(backend, "accepts_lower_bound", False)
+    ):
+        extra["lower_bound"] = math.ceil(info["bound"])  # proven by the warm start
+    sol = backend.solve(model, time_limit=remaining, seed=seed, progress=record, **extra)
     sol = replace(sol, trace=tuple(trace) or sol.trace, found_at=_found_at(sol, trace))
     if info is not None:
         sol = ws_mod.keep_warm_start(model, sol, info)

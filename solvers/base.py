@@ -241,6 +241,10 @@ class BackendBase:
     #: when only a kill from outside stops it (the benchmark then enforces the limit, and says
     #: so in ``--list-solvers``)
     time_limited: bool = True
+    #: True when ``solve`` takes ``lower_bound=`` (a proven lower bound of the objective, e.g.
+    #: the knit-aware model's Lagrangian bound from a warm start) and uses it in its search;
+    #: :func:`illuknit.solvers.solve` hands it to such backends only
+    accepts_lower_bound: bool = False
     #: importable modules the backend needs (probed with importlib.util.find_spec, not imported)
     requires: tuple[str, ...] = ()
     #: the PyPI distribution whose version :meth:`version` reports

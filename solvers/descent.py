@@ -31,9 +31,11 @@ colour, flat), each followed by descent; equal-cost results are accepted, so the
 plateaus. It stops at the time limit, or after ``stall`` perturbations without improvement.
 
 The DP optimum of the per-wale part is also a valid **lower bound** (colour-change terms are
-non-negative). With machine-pass terms the backend spends the last 40 % of its time on the
-Lagrangian bound of :mod:`illuknit.solvers.lagrangian`, which keeps the pass terms the DP
-drops (and whose patterns are candidates too); the better bound is reported as ``bound``. The backend is a heuristic (``exact = False``): status
+non-negative). With machine-pass terms the backend also computes the Lagrangian bound of
+:mod:`illuknit.solvers.lagrangian`, which keeps the pass terms the DP drops: the bound first
+(at most 35 % of the time; it stops when its steps die out), then the search for the rest, with
+the best pattern the bound met (the wales solved within its rows' yarn sets) as one more start;
+the better bound is reported. The backend is a heuristic (``exact = False``): status
 ``feasible`` (``timeout`` when the time limit stopped it), never ``optimal`` for a model with
 colour-change terms. Per-wale models (no colour term) and the single-view model are solved
 exactly by the DP instead. A hard colour-change cap per course is not handled.
@@ -55,16 +57,16 @@ from illuknit.design.models.illusion_problem import IllusionProblem
 from illuknit.solvers.base import BackendBase, ProgressCallback, ProgressEvent, Solution, Status
 from illuknit.solvers.descent_blocks import descend, pattern_cost
 from illuknit.solvers.dp import DPBackend, solve_dp, values_from_pattern
-from illuknit.solvers.lagrangian import lagrangian_bound
+from illuknit.solvers.lagrangian import LagrangianResult, lagrangian_bound
 
 if TYPE_CHECKING:
     from illuknit.design.models.model import Model
 
-__all__ = ["DescentBackend", "DescentResult", "optimise_descent"]
+__all__ = ["DescentBackend", "DescentResult", "bound_then_search", "optimise_descent"]
 
-#: Share of the backend's time limit spent on the Lagrangian bound (model (b) with pass terms),
-#: after the search; without a time limit, this many seconds.
-LAGRANGIAN_SHARE = 0.4
+#: Most of the backend's time limit the Lagrangian bound may take on model (b) with pass terms,
+#: before the search (which gets the rest); without a time limit, this many seconds.
+LAGRANGIAN_SHARE = 0.35
 LAGRANGIAN_SECONDS = 10.0
 
 
@@ -242,6 +244,37 @@ def _search(
     return best
 
 
+def bound_then_search(
+    problem: IllusionProblem,
+    *,
+    time_limit: float | None = None,
+    seed: int = 0,
+    stall: int = 40,
+    progress: ProgressCallback | None = None,
+) -> tuple[DescentResult, LagrangianResult | None]:
+    """Model (b) with pass terms: the Lagrangian bound first (at most ``LAGRANGIAN_SHARE`` of
+    the time; it stops sooner once its steps die out), then :func:`optimise_descent` for the
+    rest of the time with the best pattern the bound met as one more start. The result's
+    ``bound`` is the better of the DP's and the Lagrangian's; the Lagrangian result is returned
+    too (None when interrupted)."""
+    t0 = time.perf_counter()
+    lag_time = LAGRANGIAN_SECONDS if time_limit is None else LAGRANGIAN_SHARE * time_limit
+    try:
+        lag = lagrangian_bound(problem, time_limit=max(0.5, lag_time))
+    except KeyboardInterrupt:  # asked to stop: the pattern matters more than the bound
+        lag = None
+    starts = None if lag is None else {"lagrangian": (lag.yarn, lag.raised)}
+    left = None if time_limit is None else max(0.5, time_limit - (time.perf_counter() - t0))
+    res = optimise_descent(
+        problem, time_limit=left, seed=seed, stall=stall, starts=starts, progress=progress
+    )
+    if lag is not None and lag.bound > res.bound:
+        res = replace(res, bound=lag.bound)
+        if progress:
+            progress(ProgressEvent(time.perf_counter() - t0, res.cost, lag.bound))
+    return res, lag
+
+
 # -- the backend ----------------------------------------------------------------------------
 
 
@@ -282,29 +315,15 @@ class DescentBackend(BackendBase):
             stats = {**sol.stats, "method": "dp (exact for this model)"}
             return replace(sol, stats=stats, backend=self.name)
         t0 = time.perf_counter()
-        search_time = None if time_limit is None else (1 - LAGRANGIAN_SHARE) * time_limit
-        res = optimise_descent(
-            problem, time_limit=search_time, seed=seed, stall=self.stall, progress=progress
-        )
         lag = None
         if problem.pass_weight:
-            # the machine-pass terms the DP bound drops: a Lagrangian bound with the rest
-            left = (
-                LAGRANGIAN_SECONDS
-                if time_limit is None
-                else time_limit - (time.perf_counter() - t0)
+            res, lag = bound_then_search(
+                problem, time_limit=time_limit, seed=seed, stall=self.stall, progress=progress
             )
-            try:
-                lag = lagrangian_bound(problem, time_limit=max(0.5, left), upper=res.cost)
-            except KeyboardInterrupt:  # asked to stop: the pattern matters more than the bound
-                lag = None
-        if lag is not None:
-            if lag.cost < res.cost:  # its own patterns are candidates too
-                res = replace(res, yarn=lag.yarn, raised=lag.raised, cost=lag.cost)
-            if lag.bound > res.bound:
-                res = replace(res, bound=lag.bound)
-                if progress:
-                    progress(ProgressEvent(time.perf_counter() - t0, res.cost, lag.bound))
+        else:
+            res = optimise_descent(
+                problem, time_limit=time_limit, seed=seed, stall=self.stall, progress=progress
+            )
         vals = values_from_pattern(model, res.yarn, res.raised)
         ok, cost = model.evaluate(vals)
         wall = time.perf_counter() - t0

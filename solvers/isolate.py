@@ -291,14 +291,14 @@ def run_in_child(
     the child answers or the grace period ends -- so a nested isolation still hands back the
     answer its solver gives when stopped.
     """
-    ctx = mp.get_context("fork")  # only its Pipe: the child is started with os.fork below
-    recv, send = ctx.Pipe(duplex=False)
-    own_group = not _IN_CHILD
     if grace is None:
         grace = 3.0 if time_limit is None else 3.0 + 0.1 * time_limit
     if ask_delay is None:
         ask_delay = 0.0 if time_limit is None else 1.0 + 0.03 * time_limit
     ask_delay = min(ask_delay, 0.5 * grace)
+    ctx = mp.get_context("fork")  # only its Pipe: the child is started with os.fork below
+    recv, send = ctx.Pipe(duplex=False)
+    own_group = not _IN_CHILD
     t0 = time.perf_counter()
     pid = os.fork()
     if pid == 0:  # the child: never returns into the caller's code
@@ -311,81 +311,119 @@ def run_in_child(
         finally:
             os._exit(code)
     send.close()
-    tree = _Tree(pid)
-    ask_at = None if time_limit is None else t0 + time_limit + ask_delay
-    deadline = None if time_limit is None else t0 + time_limit + grace
-    events: list[ProgressEvent] = []
-    status, value, reason = "error", None, ""
-    answered_at: float | None = None
-    exit_status: int | None = None
-    cpu_child: float | None = None
+    watch = _Watch(pid, recv, t0, time_limit, grace, memory_mb, on_event)
     try:
-        while True:
-            try:
-                now = time.perf_counter()
-                if deadline is not None and now >= deadline:
-                    status = "timeout"
-                    reason = f"no answer within {time_limit:g} s + {grace:g} s (then killed)"
-                    break
-                if ask_at is not None and now >= ask_at:
-                    tree.ask_to_stop(signal.SIGINT)
-                    ask_at = None
-                wait = POLL if deadline is None else max(0.0, min(POLL, deadline - now))
-                got = recv.poll(wait)
-                rss = tree.sample()
-                if memory_mb is not None and rss is not None and rss > memory_mb:
-                    status = "memout"
-                    reason = f"memory limit: {rss:.0f} MB resident in the process tree > {memory_mb:g} MB"
-                    break
-                if not got:
-                    continue
-                try:
-                    msg = recv.recv()
-                except (EOFError, OSError):
-                    exit_status, cpu_child = _reap(pid, 1.0)
-                    status, reason = _exit_reason(exit_status)
-                    break
-                if msg[0] == "event":
-                    ev = msg[1]
-                    ev = ProgressEvent(time.perf_counter() - t0, ev.objective, ev.bound, ev.message)
-                    events.append(ev)
-                    if on_event is not None:
-                        on_event(ev)
-                    continue
-                if msg[0] == "done":
-                    status, value = "ok", msg[1]
-                    answered_at = time.perf_counter() - t0
-                elif msg[0] == "timeout":
-                    status = "timeout"
-                    reason = f"no answer within {time_limit:g} s: {msg[1]}"
-                else:
-                    status, reason = ("memout" if msg[0] == "memout" else "error"), str(msg[1])
-                break
-            except KeyboardInterrupt:
-                # asked to stop ourselves (Ctrl-C, or an enclosing run's request): ask the
-                # child, and give it the grace period to answer
-                tree.ask_to_stop(signal.SIGINT)
-                ask_at = None
-                end = time.perf_counter() + grace
-                deadline = end if deadline is None else min(deadline, end)
+        watch.run(ask_delay)
     finally:
-        wall = time.perf_counter() - t0 if answered_at is None else answered_at
-        tree.kill(own_group)
-        if exit_status is None:
-            exit_status, cpu_child = _reap(pid, 5.0)
+        wall = time.perf_counter() - t0 if watch.answered_at is None else watch.answered_at
+        watch.tree.kill(own_group)
+        if watch.exit_status is None:
+            watch.exit_status, watch.cpu_child = _reap(pid, 5.0)
         recv.close()
+    tree = watch.tree
     cpu = max(
-        [c for c in (cpu_child, sum(tree.cpu.values()) or None) if c is not None], default=None
+        [c for c in (watch.cpu_child, sum(tree.cpu.values()) or None) if c is not None],
+        default=None,
     )
+    answered_at = watch.answered_at
     late = answered_at is not None and time_limit is not None and answered_at > time_limit
     return ChildResult(
-        status,
-        value,
-        reason,
+        watch.status,
+        watch.value,
+        watch.reason,
         wall,
         tree.peak,
-        tuple(events),
+        tuple(watch.events),
         cpu_time=cpu,
         answered_at=answered_at,
         late=late,
     )
+
+
+class _Watch:
+    """The parent's side of one child: it polls the pipe, enforces the limits on the process
+    tree, and keeps what it saw (status, answer, reason, events, exit status)."""
+
+    def __init__(
+        self,
+        pid: int,
+        recv: Any,
+        t0: float,
+        time_limit: float | None,
+        grace: float,
+        memory_mb: float | None,
+        on_event: ProgressCallback | None,
+    ) -> None:
+        self.pid, self.recv, self.t0 = pid, recv, t0
+        self.time_limit, self.grace, self.memory_mb = time_limit, grace, memory_mb
+        self.on_event = on_event
+        self.tree = _Tree(pid)
+        self.events: list[ProgressEvent] = []
+        self.status, self.value, self.reason = "error", None, ""
+        self.answered_at: float | None = None
+        self.exit_status: int | None = None
+        self.cpu_child: float | None = None
+
+    def run(self, ask_delay: float) -> None:
+        """Wait for the answer: ask the child to stop at ``time_limit + ask_delay``, kill it
+        at ``time_limit + grace`` (or past the memory limit). A ``KeyboardInterrupt`` here is
+        passed on to the child as its request to stop, with the grace period to answer."""
+        limit = self.time_limit
+        ask_at = None if limit is None else self.t0 + limit + ask_delay
+        deadline = None if limit is None else self.t0 + limit + self.grace
+        while True:
+            try:
+                now = time.perf_counter()
+                if deadline is not None and now >= deadline:
+                    self.status = "timeout"
+                    self.reason = f"no answer within {limit:g} s + {self.grace:g} s (then killed)"
+                    return
+                if ask_at is not None and now >= ask_at:
+                    self.tree.ask_to_stop(signal.SIGINT)
+                    ask_at = None
+                wait = POLL if deadline is None else max(0.0, min(POLL, deadline - now))
+                if self._poll(wait):
+                    return
+            except KeyboardInterrupt:
+                # asked to stop ourselves (Ctrl-C, or an enclosing run's request): ask the
+                # child, and give it the grace period to answer
+                self.tree.ask_to_stop(signal.SIGINT)
+                ask_at = None
+                end = time.perf_counter() + self.grace
+                deadline = end if deadline is None else min(deadline, end)
+
+    def _poll(self, wait: float) -> bool:
+        """One poll of the pipe and one memory sample; True once the run is over."""
+        got = self.recv.poll(wait)
+        rss = self.tree.sample()
+        if self.memory_mb is not None and rss is not None and rss > self.memory_mb:
+            self.status = "memout"
+            self.reason = (
+                f"memory limit: {rss:.0f} MB resident in the process tree > {self.memory_mb:g} MB"
+            )
+            return True
+        if not got:
+            return False
+        try:
+            msg = self.recv.recv()
+        except (EOFError, OSError):
+            self.exit_status, self.cpu_child = _reap(self.pid, 1.0)
+            self.status, self.reason = _exit_reason(self.exit_status)
+            return True
+        if msg[0] == "event":
+            ev = msg[1]
+            ev = ProgressEvent(time.perf_counter() - self.t0, ev.objective, ev.bound, ev.message)
+            self.events.append(ev)
+            if self.on_event is not None:
+                self.on_event(ev)
+            return False
+        if msg[0] == "done":
+            self.status, self.value = "ok", msg[1]
+            self.answered_at = time.perf_counter() - self.t0
+        elif msg[0] == "timeout":
+            self.status = "timeout"
+            self.reason = f"no answer within {self.time_limit:g} s: {msg[1]}"
+        else:
+            self.status = "memout" if msg[0] == "memout" else "error"
+            self.reason = str(msg[1])
+        return True

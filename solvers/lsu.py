@@ -5,7 +5,8 @@ the hard formula gains ``clause + [s]``. After each model of cost ``c`` (compute
 the original model), the constraint ``sum w_i s_i <= c - 1`` is added through an incremental
 totalizer over the selectors, each repeated ``w_i`` times (fine for the small integer weights of
 the illusion models; :meth:`LSUBackend.handles` refuses total weights above ``MAX_TOTAL_WEIGHT``).
-UNSAT after a model proves it optimal. Upper bounds improve over time, so a time limit or Ctrl-C
+UNSAT after a model proves it optimal, and so does a model whose cost meets a proven
+``lower_bound`` handed in (the knit-aware model's Lagrangian bound, from a warm start). Upper bounds improve over time, so a time limit or Ctrl-C
 returns the best model so far (status ``timeout`` / ``feasible``); the lower bound is 0 until
 optimality is proven.
 
@@ -49,6 +50,7 @@ class LSUBackend(OracleBackendBase):
     """
 
     name = "lsu"
+    accepts_lower_bound = True
     requires = ("pysat",)
     distribution = "python-sat"
     default_oracle = "g4"
@@ -66,6 +68,7 @@ class LSUBackend(OracleBackendBase):
         time_limit: float | None = None,
         seed: int = 0,
         progress: ProgressCallback | None = None,
+        lower_bound: int | None = None,
     ) -> Solution:
         from pysat.solvers import Solver
 
@@ -91,7 +94,9 @@ class LSUBackend(OracleBackendBase):
                 # start from the warm start: the first SAT call must already beat it
                 best_v, best_cost = np.asarray(model.hint, dtype=bool), hint_cost
         try:
-            if best_cost is not None and best_cost - model.offset == 0:
+            # a model of cost 0 (or of a proven lower bound's cost) needs no UNSAT call
+            floor = model.offset if lower_bound is None else max(model.offset, lower_bound)
+            if best_cost is not None and best_cost <= floor:
                 proven = True
             elif best_cost is not None:
                 tot = self._bound(oracle, sels, wts, best_cost - model.offset, nv)
@@ -116,7 +121,7 @@ class LSUBackend(OracleBackendBase):
                 if progress:
                     progress(ProgressEvent(time.perf_counter() - t0, cost, None))
                 raw = cost - model.offset
-                if raw == 0:
+                if cost <= floor:
                     proven = True
                     break
                 if tot is None:

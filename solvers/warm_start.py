@@ -9,7 +9,9 @@ dp         the DP optimum of the model's per-wale part (for the logical and sing
            colour-change terms are ignored, which may break a colour-change cap)
 descent    the block descent of :mod:`illuknit.solvers.descent`, started from the DP
            optimum, given ``WARM_START_SHARE`` of the time limit (knit-aware model
-           without a cap; elsewhere the DP is already exact and is used instead)
+           without a cap; elsewhere the DP is already exact and is used instead); with
+           machine-pass terms the Lagrangian bound first, whose pattern is one more start
+           and whose bound is handed to backends that accept a lower bound
 auto       ``descent`` for the knit-aware model with colour terms and no cap, else ``dp``
 =========  ==========================================================================
 
@@ -31,7 +33,7 @@ from illuknit.core.errors import SolverError, UnknownNameError
 from illuknit.design.models.illusion_problem import IllusionProblem
 from illuknit.design.models.model import Model
 from illuknit.solvers.base import Solution, Status
-from illuknit.solvers.descent import optimise_descent
+from illuknit.solvers.descent import bound_then_search, optimise_descent
 from illuknit.solvers.dp import hint_values, values_from_pattern
 
 __all__ = [
@@ -96,8 +98,10 @@ def make_warm_start(
     -------
     values : ndarray of bool, indexed by variable id
     info : WarmStart
-        For ``descent`` also ``"bound"``: the DP optimum of the per-wale part, a valid lower
-        bound of the knit-aware model.
+        For ``descent`` also ``"bound"``: a proven lower bound of the knit-aware model (the
+        better of the DP optimum of the per-wale part and, with machine-pass terms, the
+        Lagrangian bound of :mod:`illuknit.solvers.lagrangian`), which
+        :func:`illuknit.solvers.solve` hands to backends that accept one (CP-SAT, LSU).
     """
     problem = model.problem
     if not isinstance(problem, IllusionProblem) or policy not in ("dp", "descent"):
@@ -112,7 +116,10 @@ def make_warm_start(
             if time_limit is None
             else min(WARM_START_SECONDS, WARM_START_SHARE * time_limit)
         )
-        res = optimise_descent(problem, time_limit=budget, seed=seed)
+        if problem.pass_weight:  # the Lagrangian bound too: the pass terms the DP drops
+            res, _ = bound_then_search(problem, time_limit=budget, seed=seed)
+        else:
+            res = optimise_descent(problem, time_limit=budget, seed=seed)
         vals = values_from_pattern(model, res.yarn, res.raised)
         info["bound"] = res.bound
     _, cost = model.evaluate(vals)

@@ -8,15 +8,6 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 LIMIT = 100
 
-#: Functions over the limit today, at most this long, and why they are not split yet. The test
-#: fails when one grows; once one is split under the limit, its line here can go.
-KNOWN = {
-    # A command with many options, each forwarded: to become a parse-then-call of one options type.
-    "illuknit/cli/bench.py:bench": 143,
-    # The child's protocol of an isolated solver run (limits, signals, answers) in one place.
-    "solvers/isolate.py:run_in_child": 137,
-}
-
 
 def function_lengths(source: str) -> dict[str, int]:
     """Lines from ``def`` to the last line of the body of every function in ``source`` (the
@@ -40,11 +31,7 @@ def long_functions() -> dict[str, int]:
 
 
 def test_no_function_is_over_100_lines():
-    found = long_functions()
-    new = {k: n for k, n in found.items() if k not in KNOWN}
-    grown = {k: n for k, n in found.items() if k in KNOWN and n > KNOWN[k]}
-    assert new == {}, "split these functions (at most 100 lines each)"
-    assert grown == {}, "these long functions grew: split them"
+    assert long_functions() == {}, "split these functions (at most 100 lines each)"
 
 
 def test_the_measure_counts_docstring_and_body():

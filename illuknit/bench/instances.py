@@ -422,8 +422,24 @@ def instance_targets(instance: Instance) -> Targets:
     return _TARGETS[key]
 
 
+def stage_arguments(instance: Instance) -> tuple[Any, Any, dict[str, Any]]:
+    """The pipeline stages' arguments that reproduce ``instance``'s targets exactly: the
+    pictures (B None for a single-view instance) drawn in the yarns' own colours, taken unit
+    for unit (square units, the grid's width, no quantisation) onto the instance's yarns.
+
+    :func:`illuknit.pipeline.stages.solve_design` and :func:`~illuknit.pipeline.stages.illusion_model`
+    called with them build the model of :func:`instance_targets` (a yarn neither target uses
+    is left out, as for any picture)."""
+    t = instance_targets(instance)
+    rgb_b = None if instance.kind == "single" else t.palette[t.b]
+    kw = {"yarns": instance.yarns, "quantise": False, "unit_aspect": 1.0, "width": t.a.shape[1]}
+    return t.palette[t.a], rgb_b, kw
+
+
 def instance_model(instance: Instance, *, model: str) -> tuple[Model, int | None]:
-    """The constraint model of ``instance`` and its known optimum.
+    """The constraint model of ``instance`` (the pipeline's
+    :func:`~illuknit.pipeline.stages.illusion_model` on :func:`stage_arguments`) and its
+    known optimum.
 
     Parameters
     ----------
@@ -437,13 +453,13 @@ def instance_model(instance: Instance, *, model: str) -> tuple[Model, int | None
     (Model, int or None)
         The model, and the DP's optimum where the DP is exact on it (else None).
     """
-    from illuknit.design.models.illusion_models import build_model, make_problem
+    from illuknit.design.options import ModelKind, SolveOptions
+    from illuknit.pipeline.stages import illusion_model
     from illuknit.solvers.dp import solve_dp
 
-    t = instance_targets(instance)
     kind = "single" if instance.kind == "single" else model
-    problem = make_problem(
-        t.a, None if kind == "single" else t.b, n_yarns=len(instance.yarns), kind=kind
-    )
+    a, b, kw = stage_arguments(instance)
+    built = illusion_model(a, b, options=SolveOptions(model=ModelKind(kind)), **kw)
+    problem = built.problem
     optimum = solve_dp(problem)[2] if (problem.per_wale or problem.rows_tied) else None
-    return build_model(problem), optimum
+    return built, optimum

@@ -146,36 +146,35 @@ def _solve_model(
     warm_start: str,
     split_bumps: bool = False,
 ) -> tuple[LogicalPattern, dict[str, Any]]:
+    """The pipeline's :func:`~illuknit.pipeline.stages.solve_design` on the instance's targets
+    (:func:`~illuknit.bench.instances.stage_arguments`), as ``illuknit solve`` runs it."""
     from illuknit import solvers
-    from illuknit.design.models.illusion_models import solve_illusion
+    from illuknit.bench.instances import stage_arguments
+    from illuknit.core.errors import SolverError
+    from illuknit.design.options import ModelKind, SolveOptions, WarmStart
+    from illuknit.pipeline.stages import solve_design
 
     if solver not in solvers.available_backends():
         raise MethodUnavailable(f"solver backend {solver!r} is not available in this install")
-    t = instance_targets(instance)
     kind = model if instance.kind == "double" else "single"
-    from illuknit.core.errors import SolverError
-
+    a, b, kw = stage_arguments(instance)
+    options = SolveOptions(
+        model=ModelKind(kind),
+        solver=solver,
+        warm_start=WarmStart(warm_start),
+        split_bumps=split_bumps,
+        time_limit=time_limit,
+    )
     t0 = time.perf_counter()
     try:
-        res = solve_illusion(
-            t.a,
-            t.b if kind != "single" else None,
-            model=kind,
-            solver=solver,
-            warm_start=warm_start,
-            yarns=instance.yarns,
-            split_bumps=split_bumps,
-            time_limit=time_limit,
-        )
+        res = solve_design(a, b, options=options, **kw)
     except SolverError as e:
         if "found no pattern" in str(e):
             raise NoPattern(f"no pattern within {time_limit:g} s ({e})") from None
         raise
-    if res.pattern is None:
-        raise NoPattern(f"no pattern within {time_limit:g} s ({res.solution.status.value})")
     total = time.perf_counter() - t0
-    info = _solution_info(res.solution, compile_s=max(0.0, total - res.solution.wall_time))
     sol = res.solution
+    info = _solution_info(sol, compile_s=max(0.0, total - sol.wall_time))
     info["note"] = (f"model {kind}; warm start {warm_start}; " + info["note"]).rstrip("; ")
     ws = sol.stats.get("warm_start", {})
     if ws.get("method", "none") != "none":

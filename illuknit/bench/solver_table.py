@@ -295,7 +295,8 @@ def bench_environment(
             "RLIMIT_AS backstop in the child"
             + ("" if cgroup_v2_usable() else "; cgroup v2 not writable on this machine"),
             "certify_time_s": max(limits, default=0) if certify_time is None else certify_time,
-            "certifier": f"independent SAT call (Glucose 4) with a {pb_encoder()} encoding",
+            "certifier": "the Lagrangian lower bound (knit-aware models), then an "
+            f"independent SAT call (Glucose 4) with a {pb_encoder()} encoding",
         },
         "machine": {
             "cpu": _cpu_model(),

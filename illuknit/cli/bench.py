@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from pathlib import Path
 from typing import Any
 
 import click
@@ -244,51 +245,16 @@ def bench(
     contact sheets and pareto.png into the results folder.
     """
     from illuknit.bench.instances import load_manifest, select_instances
-    from illuknit.bench.methods import METHODS
-    from illuknit.bench.runner import run_bench
 
     man = load_manifest(manifest)
     if list_only:
-        for inst in man.instances:
-            tag = " [quick]" if inst.quick else ""
-            click.echo(
-                f"{inst.name:24s} {inst.kind:6s} {inst.size[0]}x{inst.size[1]} "
-                f"{len(inst.yarns)} yarns {inst.time_limit:g}s{tag}"
-            )
-        click.echo("methods:")
-        for m in METHODS.values():
-            click.echo(f"  {m.name:12s} {m.description}")
+        _list(man)
         return
     if export_family is not None:
-        from illuknit.bench.family import write_family
-
-        def shown(e: dict[str, Any]) -> None:
-            ref = (
-                e["optimum"]
-                if e["optimum"] is not None
-                else (f"{e['lower_bound']}..{e['best_known']}")
-            )
-            click.echo(f"{e['file']:52s} {e['variables']:7d} vars  reference {ref}")
-
-        mf = write_family(
-            export_family,
-            bound_seconds=10.0 if time_limit is None else time_limit,
-            command=f"illuknit bench --export-family {export_family}"
-            + ("" if time_limit is None else f" --time-limit {time_limit:g}"),
-            on_instance=shown,
-        )
-        click.echo(
-            f"wrote {len(mf['instances'])} instances, README.md, manifest.json and "
-            f"SHA256SUMS to {export_family}"
-        )
+        _export_family(export_family, time_limit)
         return
     if export_wcnf is not None:
-        from illuknit.bench.wcnf_files import export_wcnf_family
-
-        mf = export_wcnf_family(
-            select_instances(man, instances), export_wcnf, models=_split(models)
-        )
-        click.echo(f"wrote {len(mf['files'])} WCNF files and manifest.json to {export_wcnf}")
+        _export_wcnf(select_instances(man, instances), export_wcnf, _split(models))
         return
     if outdir is None:
         raise click.UsageError("missing option '-o' / '--output' (the results folder)")
@@ -330,10 +296,9 @@ def bench(
     ):
         if value != default:
             raise click.UsageError(f"{name} applies only to the solver benchmark (--solvers)")
-    names = _methods(methods)
-    run = run_bench(
+    _run_methods(
         chosen,
-        names,
+        _methods(methods),
         outdir,
         time_limit=time_limit,
         jobs=jobs,
@@ -343,6 +308,58 @@ def bench(
         dask_address=dask_address,
         machine=machine,
     )
+
+
+def _list(man: Any) -> None:
+    """``--list``: the manifest's instances and the design methods."""
+    from illuknit.bench.methods import METHODS
+
+    for inst in man.instances:
+        tag = " [quick]" if inst.quick else ""
+        click.echo(
+            f"{inst.name:24s} {inst.kind:6s} {inst.size[0]}x{inst.size[1]} "
+            f"{len(inst.yarns)} yarns {inst.time_limit:g}s{tag}"
+        )
+    click.echo("methods:")
+    for m in METHODS.values():
+        click.echo(f"  {m.name:12s} {m.description}")
+
+
+def _export_family(outdir: str, time_limit: float | None) -> None:
+    """``--export-family DIR``: write the MaxSAT Evaluation family, one line per instance."""
+    from illuknit.bench.family import write_family
+
+    def shown(e: dict[str, Any]) -> None:
+        ref = e["optimum"] if e["optimum"] is not None else f"{e['lower_bound']}..{e['best_known']}"
+        click.echo(f"{e['file']:52s} {e['variables']:7d} vars  reference {ref}")
+
+    mf = write_family(
+        outdir,
+        bound_seconds=10.0 if time_limit is None else time_limit,
+        # the folder's own name: the command reproduces the family anywhere
+        command=f"illuknit bench --export-family {Path(outdir).name}"
+        + ("" if time_limit is None else f" --time-limit {time_limit:g}"),
+        on_instance=shown,
+    )
+    click.echo(
+        f"wrote {len(mf['instances'])} instances, README.md, manifest.json and "
+        f"SHA256SUMS to {outdir}"
+    )
+
+
+def _export_wcnf(chosen: Any, outdir: str, models: list[str]) -> None:
+    """``--export-wcnf DIR``: the chosen instances' models as WCNF files with a manifest."""
+    from illuknit.bench.wcnf_files import export_wcnf_family
+
+    mf = export_wcnf_family(chosen, outdir, models=models)
+    click.echo(f"wrote {len(mf['files'])} WCNF files and manifest.json to {outdir}")
+
+
+def _run_methods(chosen: Any, names: list[str], outdir: str, **kw: Any) -> None:
+    """The design-method benchmark: run the cells, print the counts and where the results are."""
+    from illuknit.bench.runner import run_bench
+
+    run = run_bench(chosen, names, outdir, **kw)
     counts: dict[str, int] = {}
     for r in run.rows:
         counts[r["status"]] = counts.get(r["status"], 0) + 1

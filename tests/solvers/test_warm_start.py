@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from typing import ClassVar
+
 import numpy as np
 import pytest
 
@@ -72,7 +74,7 @@ def test_a_kept_warm_start_is_credited_to_the_warm_start(monkeypatch):
 def test_descent_warm_start_on_the_knit_aware_model_is_named():
     a, b = _pair()
     model = build_model(make_problem(a, b, kind="knit-aware", weights=KnitWeights(4, 1, 1)))
-    sol = solve(model, solver="rc2", warm_start="descent", time_limit=20)
+    sol = solve(model, solver="rc2", warm_start="descent", time_limit=4)
     assert sol.stats["warm_start"]["method"] == "descent"
     assert sol.found_by in ("rc2", "descent")
     ok, cost = model.evaluate(sol.values)
@@ -106,3 +108,44 @@ def test_a_backend_echoing_its_warm_start_does_not_get_the_credit(monkeypatch):
     a, b = _pair()
     sol = solve(build_model(make_problem(a, b)), solver="echo", warm_start="dp")
     assert sol.backend == "echo" and sol.found_by == "dp"
+
+
+class _Bounded(BackendBase):
+    """Records the lower bound it is handed (it accepts one) and answers nothing."""
+
+    name = "bounded"
+    accepts_lower_bound = True
+    seen: ClassVar[list] = []
+
+    def solve(self, model, *, time_limit=None, seed=0, progress=None, lower_bound=None):
+        _Bounded.seen.append(lower_bound)
+        return Solution(Status.TIMEOUT, None, None, None, 0.01, {}, self.name, model.pool)
+
+
+def test_the_warm_starts_bound_reaches_backends_that_accept_one(monkeypatch):
+    """The descent warm start's Lagrangian bound is handed to a backend that takes a lower
+    bound, not to one that does not (the echo), and is the solution's bound either way."""
+    import illuknit.solvers as reg
+
+    monkeypatch.setitem(reg._registered, "bounded", _Bounded)
+    monkeypatch.setitem(reg._registered, "echo", _Echo)
+    a, b = _pair(8, 6)
+    model = build_model(make_problem(a, b, kind="knit-aware"))
+    sol = solve(model, solver="bounded", warm_start="descent", time_limit=2)
+    bound = sol.stats["warm_start"]["bound"]
+    assert _Bounded.seen == [bound] and sol.bound == bound
+    assert bound > solve_dp(model.problem)[2]  # the pass terms: the Lagrangian's, not the DP's
+    assert solve(model, solver="echo", warm_start="descent", time_limit=2).bound == bound
+
+
+def test_cpsat_and_lsu_stop_at_a_lower_bound_they_meet():
+    """Handed the optimum as a lower bound, both prove it with the first model that meets it."""
+    from illuknit.solvers import get_backend
+
+    a, b = _pair(6, 5)
+    model = build_model(make_problem(a, b, kind="knit-aware"))
+    opt = solve(model, solver="cpsat", time_limit=20)
+    assert opt.status is Status.OPTIMAL
+    for name in ("cpsat", "lsu"):
+        sol = get_backend(name).solve(model, time_limit=20, lower_bound=int(opt.objective))
+        assert sol.status is Status.OPTIMAL and sol.objective == opt.objective == sol.bound
