@@ -589,9 +589,10 @@ def _rank(
     say: Progress,
 ) -> TileDesign:
     """Compile, measure and rank the assignments into a :class:`TileDesign`."""
-    from illuknit.design.tiles.perception import rank_designs, rank_key, seen_targets
+    from illuknit.design.tiles.perception import rank_designs, rank_key, seen_blur, seen_targets
 
     targets = seen_targets(qa, qb)
+    gauge = resolve_machine(ranking.machine).gauge
     ranked = rank_designs(
         found,
         targets,
@@ -601,6 +602,8 @@ def _rank(
         knit_time=_knit_measure(ranking),
         keep=search.candidates,
         progress=lambda f, message: say(0.4 + 0.6 * f, message),
+        angle=ranking.angle,
+        blur=seen_blur(ranking.distance, gauge=gauge),
     )
     by = ranking.rank_by
     designs = tuple(
