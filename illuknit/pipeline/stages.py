@@ -12,6 +12,8 @@ stage                  what it returns
 :func:`design_tiles`   the same from pictures already quantised (what the app calls)
 :func:`solve_design`   :class:`SolvedDesign`: the pattern a constraint model and a solver find
                        (paper section 4), with the solver's answer and its report
+:func:`measure_design` how one pattern reads (a design edited by hand), as the ranking measures
+:func:`retile_design`  a tile design compiled again with per-pair tile overrides
 =====================  ========================================================================
 
 Every stage takes frozen option objects (:mod:`illuknit.design.options`), returns a frozen
@@ -65,7 +67,9 @@ __all__ = [
     "design_single",
     "design_tiles",
     "illusion_model",
+    "measure_design",
     "quantise_targets",
+    "retile_design",
     "solve_design",
 ]
 
@@ -642,6 +646,83 @@ def _assignment_label(assignment: Any) -> str:
     return (
         "all solid fills" if not stripes else f"{stripes} striped fill{'s' if stripes > 1 else ''}"
     )
+
+
+def measure_design(
+    pattern: LogicalPattern,
+    mode: Literal["double", "headon", "single"],
+    picture_a: QuantisedImage,
+    picture_b: QuantisedImage | None = None,
+    *,
+    ranking: RankOptions | None = None,
+) -> Any:
+    """How one pattern reads, measured as the ranking of the tile stages measures its designs.
+
+    The measures (:class:`~illuknit.design.tiles.perception.CandidateMeasures`) are taken at
+    ``ranking.angle`` and ``ranking.distance`` against what each view should show: a double
+    view side A ``picture_a`` and side B ``picture_b``, ghosting measured; a head-on design the
+    front ``picture_a`` head-on and at an angle ``picture_b`` (or the plain field standing for
+    it); a single view ``picture_a`` from both sides, nothing to ghost. With
+    ``ranking.knit_time`` the machine's knitting time and passes on ``ranking.machine`` too.
+    A user interface measuring a design edited by hand (a tile override) calls this.
+    """
+    from illuknit.design.tiles.perception import measure_candidate, seen_blur, seen_targets
+
+    ranking = ranking or RankOptions()
+    _check_type("ranking", ranking, RankOptions)
+    if mode not in ("double", "headon", "single"):
+        raise OptionError(f"`mode` must be double, headon or single, got {mode!r}")
+    if mode == "double" and picture_b is None:
+        raise OptionError("a double-view design is measured against two pictures")
+    views: tuple[str, ...] = ("A", "B")
+    if mode == "double":
+        pictures = [picture_a.rgb(), picture_b.rgb()]  # type: ignore[union-attr]
+    elif mode == "headon":
+        pictures, views = seen_targets(picture_a, picture_b), ("headon", "side")
+    else:
+        pictures = [picture_a.rgb(), picture_a.rgb()]
+    return measure_candidate(
+        pattern,
+        pictures,
+        views=views,
+        ghost=mode != "single",
+        knit_time=_knit_measure(ranking),
+        angle=ranking.angle,
+        blur=seen_blur(ranking.distance, gauge=resolve_machine(ranking.machine).gauge),
+    )
+
+
+def retile_design(
+    assignment: Any, overrides: Mapping[tuple[int, int], Any]
+) -> tuple[LogicalPattern, Any]:
+    """A tile design compiled again with per-pair tile overrides: ``{(colour of A, colour of B):
+    tile}``, a tile being a :class:`~illuknit.design.tiles.tile.Tile` or its rows (``"0/1/0^"``).
+
+    Returns the pattern and the compiler's report (which says whether each override keeps the
+    fills assigned to its pair).
+
+    Raises
+    ------
+    UnknownNameError
+        An override names a pair that never occurs in the pictures.
+    TileBankError
+        An override's rows are not a tile.
+    """
+    from illuknit.design.tiles.compile import compile_tiles
+    from illuknit.design.tiles.tile import Tile
+
+    chosen = {}
+    for pair, tile in overrides.items():
+        if pair not in assignment.tiles:
+            from illuknit.core.errors import UnknownNameError
+
+            raise UnknownNameError(
+                "overlap pair (colour of A / colour of B) in these pictures",
+                f"{pair[0]}/{pair[1]}",
+                [f"{a}/{b}" for a, b in assignment.pairs],
+            )
+        chosen[pair] = tile if isinstance(tile, Tile) else Tile.from_rows(str(tile).split("/"))
+    return compile_tiles(assignment, overrides=chosen)
 
 
 # -- single view ----------------------------------------------------------------------------

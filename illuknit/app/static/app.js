@@ -519,6 +519,14 @@ function saidCancelled(kind) {
     showError("suggestions", "Cancelled: press Suggest edits to try again.");
   } else if (kind === "knit") {
     $("#knit-summary").textContent = "Cancelled: press Make knitout to make it again.";
+  } else if (kind === "measures") {
+    const again = document.createElement("button");
+    again.type = "button";
+    again.className = "rerun";
+    again.dataset.rerun = kind;
+    again.textContent = "Measure them";
+    again.addEventListener("click", () => { clearError("candidates"); measureCandidates(); });
+    showError("candidates", "Measuring cancelled: the candidates are not measured. ", again);
   }
 }
 
