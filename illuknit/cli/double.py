@@ -19,7 +19,7 @@ import click
 
 from illuknit.cli.design_files import fmt_number, summary_text, write_candidate, write_edits
 from illuknit.cli.knitout_bridge import format_option, long_floats_option, machine_option
-from illuknit.cli.options import knitout_option, outdir_option
+from illuknit.cli.options import FiniteFloat, knitout_option, outdir_option
 from illuknit.core.gauge import finished_size
 from illuknit.core.progress import Report, work_bar
 from illuknit.design.tiles.perception import DEFAULT_POOL, POOL_SECONDS, RANK_KEYS
@@ -418,9 +418,9 @@ def design_options(func: Any) -> Any:
                      "overlaps) and write each as before | after with its effect to OUTDIR/suggestions/."),
         click.option("--simplify", is_flag=True,
                      help="Like --suggest, and design with the edits that raise the worse view's readability."),
-        click.option("--angle", type=click.FloatRange(1, 89), default=30.0, show_default=True,
+        click.option("--angle", type=FiniteFloat(1, 89), default=30.0, show_default=True,
                      help="Viewing angle (degrees of elevation) the side views are judged and shown at."),
-        click.option("--distance", type=click.FloatRange(0.1, 1000), default=3.0, show_default=True,
+        click.option("--distance", type=FiniteFloat(0.1, 1000), default=3.0, show_default=True,
                      help="Viewing distance in metres: the ranking's measures see what a 20/20 eye resolves from "
                      "there, and each candidate's seen.png shows it beside the view up close and its picture."),
         click.option("--solver", default="cpsat", show_default=True, help="Solver backend: cpsat, rc2, ..."),
