@@ -817,9 +817,11 @@ def test_cancel_measuring_large_candidates(browser, served, tmp_path):
     t0 = time.monotonic()
     box.locator("[data-cancel]").click()
     sync_api.expect(box).to_be_hidden(timeout=2_000)
-    err = page.locator("[data-error-for='candidates']")
+    err = page.locator("[data-error-for='measures']")
     sync_api.expect(err).to_contain_text("Measuring cancelled", timeout=2_000)
     waited = time.monotonic() - t0
     assert job.status == "cancelled" and waited < 2.0, (job.status, waited)
     assert page.locator(".cand .measures").count() == 0
+    sync_api.expect(page.locator("#candidates")).not_to_have_attribute("aria-invalid", "true")
+    sync_api.expect(err.locator("button")).to_have_text("Measure them")
     context.close()

@@ -421,7 +421,7 @@ async function refreshInputs({ autorun }) {
 // jobs with progress and cancel
 
 // the page control a job's problems are shown next to
-const jobField = (kind) => (kind === "knit" || kind === "suggestions" ? kind : "candidates");
+const jobField = (kind) => (["knit", "suggestions", "measures"].includes(kind) ? kind : "candidates");
 
 async function startJob(kind, options = {}) {
   clearError(jobField(kind));
@@ -525,8 +525,8 @@ function saidCancelled(kind) {
     again.className = "rerun";
     again.dataset.rerun = kind;
     again.textContent = "Measure them";
-    again.addEventListener("click", () => { clearError("candidates"); measureCandidates(); });
-    showError("candidates", "Measuring cancelled: the candidates are not measured. ", again);
+    again.addEventListener("click", () => { clearError("measures"); measureCandidates(); });
+    showError("measures", "Measuring cancelled: the candidates are not measured. ", again);
   }
 }
 
