@@ -12,7 +12,7 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["fmt_number", "summary_text", "write_candidate", "write_edits"]
+__all__ = ["fmt_number", "summary_text", "write_candidate", "write_edits", "write_seen"]
 
 
 def write_candidate(
@@ -166,8 +166,9 @@ def write_seen(
     same render as a 20/20 eye resolves it from ``distance`` metres (the app's far view,
     :func:`~illuknit.design.tiles.perception.seen_from`), side by side.
 
-    The views are side A and side B (double view), or head-on then side A and B (head-on: the
-    front picture head-on, the side picture or a plain field at an angle)."""
+    The views are side A and side B (double view: picture A then B; single view: picture A
+    from both sides), or head-on then side A and B (head-on: the front picture head-on, the
+    side picture or a plain field at an angle)."""
     from illuknit.core.gauge import CM_PER_INCH
     from illuknit.design.render.raycast import render_image
     from illuknit.design.tiles.perception import eye_blur_units, seen_from
@@ -180,8 +181,8 @@ def write_seen(
     s = min(8, max(2, unit_scale(pattern.shape, target=320)))  # the renderer's finest
     per_inch = gauge.stitches_per_10cm * CM_PER_INCH / 10.0
     sigma = eye_blur_units(distance, gauge=per_inch) * s  # in pixels: s per unit across
-    if mode == "double":
-        views = [("side A", angle, pictures[0]), ("side B", -angle, pictures[1])]
+    if mode in ("double", "single"):
+        views = [("side A", angle, pictures[0]), ("side B", -angle, pictures[-1])]
     else:
         views = [("head-on", 90.0, pictures[0])]
         views += [("side A", angle, pictures[1]), ("side B", -angle, pictures[1])]

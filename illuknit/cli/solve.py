@@ -231,6 +231,11 @@ def _write_outputs(
         paths = export_pattern(
             pattern, tmp, report=report, title=title, targets=targets, gauge=gauge
         )
+        from illuknit.cli.design_files import write_seen
+
+        pictures = list(targets.values())
+        mode = "double" if len(pictures) == 2 else "single"
+        paths["seen"] = write_seen(pattern, pictures, tmp, mode=mode, gauge=gauge, distance=3.0)
         if machine is not None:
             say("knitting the pattern and checking the knitout")
             paths.update(write_program(pattern, tmp, machine=machine))
