@@ -92,25 +92,34 @@ def start(pattern_file: Path, outdir: Path, *, kill_at: int | None = None) -> su
     )
 
 
-def test_kill_at_any_moment_leaves_one_whole_design(tmp_path, capsys):
-    p_old, p_new = tmp_path / "old.json", tmp_path / "new.json"
+@pytest.fixture(scope="module")
+def designs(tmp_path_factory) -> tuple[Path, Path, Path, float]:
+    """Two pattern files, the folder ``view`` writes for the first, and how long a real run
+    of the second takes."""
+    root = tmp_path_factory.mktemp("designs")
+    p_old, p_new = root / "old.json", root / "new.json"
     save_pattern(pattern(1), p_old)
     save_pattern(pattern(2), p_new)
-    run_view(p_old, tmp_path / "ref_old", capsys)
+    assert main(["view", str(p_old), "-o", str(root / "ref_old")]) == 0
     t0 = time.monotonic()
-    assert start(p_new, tmp_path / "ref_new").wait(timeout=120) == 0  # a real run, timed
+    assert start(p_new, root / "ref_new").wait(timeout=120) == 0  # a real run, timed
     duration = time.monotonic() - t0
-    ref_old, ref_new = hashes(tmp_path / "ref_old"), hashes(tmp_path / "ref_new")
-    assert ref_old != ref_new and not hidden_leftovers(tmp_path / "ref_new")
-    assert len(ref_new) == 12  # the step numbers above count a commit of 12 entries
+    assert hashes(root / "ref_old") != hashes(root / "ref_new")
+    assert not hidden_leftovers(root / "ref_new")
+    assert len(hashes(root / "ref_new")) == 12  # the step numbers above count 12 entries
+    return p_new, root / "ref_old", root / "ref_new", duration
 
-    rng = random.Random(22)
-    moments = [("random", rng.uniform(0, duration)) for _ in range(RANDOM_KILLS)]
-    moments += [("step", k) for k in CHOSEN_STEPS]
+
+def kill_and_recover(moments, designs, tmp_path, capsys) -> dict[str, int]:
+    """Kill a real ``view`` at each moment, over a folder that held the old design and the
+    user's own files; check what is left, what recovery makes of it and what the next run
+    does. Returns how often each outcome was seen."""
+    p_new, ref_old_dir, ref_new_dir, _ = designs
+    ref_old, ref_new = hashes(ref_old_dir), hashes(ref_new_dir)
     seen = {"old": 0, "new": 0, "journal": 0, "notes": 0}
     for i, (how, when) in enumerate(moments):
         folder = tmp_path / f"trial{i}"
-        shutil.copytree(tmp_path / "ref_old", folder)
+        shutil.copytree(ref_old_dir, folder)
         users = add_users_files(folder)
         old, new = ref_old | users, ref_new | users
         if how == "random":
@@ -149,7 +158,21 @@ def test_kill_at_any_moment_leaves_one_whole_design(tmp_path, capsys):
         assert hashes(folder) == new
         shutil.rmtree(copy)
         shutil.rmtree(folder)
+    assert seen["old"] + seen["new"] == len(moments)
+    assert seen["notes"] >= seen["journal"], seen
+    return seen
+
+
+@pytest.mark.parametrize("half", [0, 1])
+def test_a_kill_at_a_random_moment_leaves_one_whole_design(half, designs, tmp_path, capsys):
+    rng = random.Random(22)
+    duration = designs[3]
+    moments = [("random", rng.uniform(0, duration)) for _ in range(RANDOM_KILLS)]
+    # In two halves, so that test workers share them.
+    kill_and_recover(moments[half::2], designs, tmp_path, capsys)
+
+
+def test_a_kill_at_each_commit_step_leaves_one_whole_design(designs, tmp_path, capsys):
+    seen = kill_and_recover([("step", k) for k in CHOSEN_STEPS], designs, tmp_path, capsys)
     # The chosen steps land inside the commit: at least those from the journal on roll forward.
     assert seen["journal"] >= sum(2 <= k <= 23 for k in CHOSEN_STEPS), seen
-    assert seen["old"] + seen["new"] == RANDOM_KILLS + len(CHOSEN_STEPS)
-    assert seen["notes"] >= seen["journal"], seen
