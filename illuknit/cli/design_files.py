@@ -189,8 +189,14 @@ def write_seen(
     panels = []
     for name, elevation, picture in views:  # a signed elevation: + side A, - side B
         near = render_image(pattern, elevation, scale=s)
+        want = np.asarray(picture, dtype=np.uint8)
+        if want.size and not np.ptp(want.reshape(-1, 3), axis=0).any():
+            # a head-on design without a side picture: any plain field will do, whatever
+            # colour stands for it in the measures
+            panels.append((f"{name}: a plain field", np.full_like(near, 235)))
+        else:
+            panels.append((f"{name} should show", upscale(want, s)))
         panels += [
-            (f"{name} should show", upscale(np.asarray(picture, dtype=np.uint8), s)),
             (f"{name} up close", near),
             (f"{name} from {distance:g} m", seen_from(near, sigma)),
         ]
