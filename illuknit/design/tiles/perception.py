@@ -552,8 +552,8 @@ def seen_blur(distance_m: float, *, gauge: float = 7.0) -> float:
     fill's stripes read as one region, :data:`~illuknit.design.measures.BLUR_SIGMA` (1.5
     units): two Gaussian blurs, so ``hypot(BLUR_SIGMA, eye_blur_units(distance_m))``. From a
     few metres the eye resolves every unit and the pooling alone counts (1.501 units from 3 m
-    at 7 stitches per inch); from 50 m on the eye's blur adds measurably (1.56 units), from
-    100 m it dominates. docs/tiles.md shows, on the bundled pairs, why the pooling is kept
+    at 7 stitches per inch, 1.51 from 10 m); it adds measurably from about 20 m (1.54 units,
+    1.73 from 50 m), and from 88 m the eye's blur is as large as the pooling (2.12 units). docs/tiles.md shows, on the bundled pairs, why the pooling is kept
     rather than the eye's resolution alone or a multi-scale structural similarity.
     """
     import math
