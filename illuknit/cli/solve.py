@@ -159,16 +159,9 @@ def run_solve(
             written["wcnf"] = Path(where)
         if outdir is None:
             return {"wcnf": where, "model": repr(mdl)}
-    label = f"{solver} on the {model} model"
     from contextlib import nullcontext
 
-    from rich.console import Console
-
-    live = (
-        _LiveProgress(None if solver == "dp" else time_limit, label)
-        if show_progress and Console(stderr=True).is_terminal
-        else None
-    )
+    live = _live_progress(solver, model, time_limit) if show_progress else None
     with live or nullcontext():
         design = solve_design(image_a, image_b, options=options, progress=live, **targets)
         report = dict(design.report)
@@ -190,6 +183,16 @@ def run_solve(
             )
     _print_report(report, written, outdir)
     return report
+
+
+def _live_progress(solver: str, model: str, time_limit: float | None) -> _LiveProgress | None:
+    """The progress line of a solve, on a terminal only (the dp solver has no time limit to
+    count against: a spinner with the time spent)."""
+    from rich.console import Console
+
+    if not Console(stderr=True).is_terminal:
+        return None
+    return _LiveProgress(None if solver == "dp" else time_limit, f"{solver} on the {model} model")
 
 
 def _export_wcnf(mdl: Any, path: Path, style: str, *, say: bool) -> str:

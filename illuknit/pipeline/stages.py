@@ -666,14 +666,24 @@ def measure_design(
     ``ranking.knit_time`` the machine's knitting time and passes on ``ranking.machine`` too.
     A user interface measuring a design edited by hand (a tile override) calls this.
     """
+    from illuknit.core.pattern import check_pattern
     from illuknit.design.tiles.perception import measure_candidate, seen_blur, seen_targets
+    from illuknit.pictures.images import QuantisedImage
 
-    ranking = ranking or RankOptions()
+    check_pattern(pattern)
+    ranking = RankOptions() if ranking is None else ranking
     _check_type("ranking", ranking, RankOptions)
-    if mode not in ("double", "headon", "single"):
+    if not isinstance(mode, str) or mode not in ("double", "headon", "single"):
         raise OptionError(f"`mode` must be double, headon or single, got {mode!r}")
+    for name, q in (("picture_a", picture_a), ("picture_b", picture_b)):
+        if (q is not None or name == "picture_a") and not isinstance(q, QuantisedImage):
+            raise ImageInputError(f"`{name}` must be a QuantisedImage, got {type(q).__name__}")
+        if q is not None and q.shape != pattern.shape:
+            raise ImageInputError(
+                f"`{name}` is {q.shape[0]} x {q.shape[1]} units, the pattern {pattern.shape}"
+            )
     if mode == "double" and picture_b is None:
-        raise OptionError("a double-view design is measured against two pictures")
+        raise ImageInputError("`picture_b`: a double-view design is measured against two pictures")
     views: tuple[str, ...] = ("A", "B")
     if mode == "double":
         pictures = [picture_a.rgb(), picture_b.rgb()]  # type: ignore[union-attr]
@@ -708,11 +718,22 @@ def retile_design(
     TileBankError
         An override's rows are not a tile.
     """
+    from illuknit.core.arguments import check_mapping
+    from illuknit.design.tiles.assignment import TileAssignment
     from illuknit.design.tiles.compile import compile_tiles
     from illuknit.design.tiles.tile import Tile
 
+    _check_type("assignment", assignment, TileAssignment)
     chosen = {}
-    for pair, tile in overrides.items():
+    for pair, tile in check_mapping(overrides, "overrides").items():
+        if not (
+            isinstance(pair, tuple)
+            and len(pair) == 2
+            and all(isinstance(v, int) and not isinstance(v, bool) for v in pair)
+        ):
+            raise OptionError(f"`overrides` keys are (colour of A, colour of B), got {pair!r}")
+        if not isinstance(tile, Tile | str):
+            raise OptionError(f"`overrides` tiles are Tiles or rows like '0/1^', got {tile!r}")
         if pair not in assignment.tiles:
             from illuknit.core.errors import UnknownNameError
 
@@ -721,7 +742,7 @@ def retile_design(
                 f"{pair[0]}/{pair[1]}",
                 [f"{a}/{b}" for a, b in assignment.pairs],
             )
-        chosen[pair] = tile if isinstance(tile, Tile) else Tile.from_rows(str(tile).split("/"))
+        chosen[pair] = tile if isinstance(tile, Tile) else Tile.from_rows(tile.split("/"))
     return compile_tiles(assignment, overrides=chosen)
 
 
