@@ -18,11 +18,16 @@ from __future__ import annotations
 
 import argparse
 import time
+from dataclasses import replace
 
 from illuknit.core.machine import get_machine
 from illuknit.knit import estimate_knit_time, lower_to_stitches, write_knitout
 from illuknit.knit.mixed import schedule_mixed
+from illuknit.knit.options import KnitOptions
 from illuknit.knit.timing import format_duration
+
+#: The scheduler's defaults, keeping floats that stay long (they are counted, not refused).
+KEEP = KnitOptions(allow_long_floats=True)
 
 
 def pass_table(include_all: bool) -> list[float]:
@@ -45,7 +50,9 @@ def pass_table(include_all: bool) -> list[float]:
         machine = machine.with_width(max(machine.needles, 2 * m + 20))
         stitches = lower_to_stitches(pattern, machine=machine)
         for every in (2, 1):
-            sch = schedule_mixed(stitches, machine=machine, catch_every=every)
+            sch = schedule_mixed(
+                stitches, machine=machine, options=replace(KEEP, catch_every=every)
+            )
             s = sch.stats
             mixed = sch.mixed
             assert mixed is not None
@@ -74,7 +81,7 @@ def speed_table() -> None:
         machine = get_machine().with_width(needles)
         stitches = lower_to_stitches(pattern, machine=machine)
         t0 = time.perf_counter()
-        sch = schedule_mixed(stitches, machine=machine)
+        sch = schedule_mixed(stitches, machine=machine, options=KEEP)
         t1 = time.perf_counter()
         text = write_knitout(sch)
         t2 = time.perf_counter()
@@ -102,7 +109,7 @@ def tiles_vs_solver() -> None:
             continue
         for name, runner in (("tiles", run_tiles), ("dp", dp.run)):
             pattern, _ = runner(inst, inst.time_limit)
-            sch = schedule_mixed(lower_to_stitches(pattern))
+            sch = schedule_mixed(lower_to_stitches(pattern), options=KEEP)
             s = sch.stats
             t = estimate_knit_time(sch)
             changes = color_changes_per_course(pattern).mean()

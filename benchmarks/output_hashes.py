@@ -116,7 +116,51 @@ def commands(inputs: Path, out: Path) -> list[list[str]]:
         ],
         ["view", str(out / "solve" / "pattern.json"), "-o", str(out / "view")],
         ["tiles", "-o", str(out / "tiles")],
+        *machine_commands(a, b, out),
     ]
+
+
+#: ``illuknit knit`` switches whose every value goes through the mixed-colourwork scheduler.
+KNIT_SWITCHES: tuple[tuple[str, ...], ...] = (
+    ("--plate", "--allow-long-floats"),
+    ("--no-catching",),
+    ("--no-float-avoidance",),
+    ("--path-planning", "split"),
+    ("--path-planning", "none"),
+    ("--catch-every", "1"),
+    ("--plate", "--tuck-passes", "--allow-long-floats"),
+    ("--cast-on-courses", "0"),
+    ("--float-limit", "6", "--allow-long-floats"),
+)
+
+
+def machine_commands(a: Path, b: Path, out: Path) -> list[list[str]]:
+    """Every design command knitted for a Shima and the Kniterate (.dat, .kc), and ``knit`` with
+    each scheduler switch for both machines, as knitout and as the machine's file (its JSON
+    summary is kept too: passes, bound, time, the checker's findings)."""
+    size = ["--width", "24"]
+    design = [*size, "--candidates", "1", "--pool", "2"]
+    solve = ["--solver", "dp", "--width", "20"]
+    argv: list[list[str]] = []
+    for machine, fmt in MACHINES:
+        to = ["--knitout", "--machine", machine, "--format", fmt]
+        argv += [
+            ["single", str(a), *size, "-o", str(out / f"single-{machine}"), *to],
+            ["headon", str(a), str(b), *design, "-o", str(out / f"headon-{machine}"), *to],
+            ["solve", str(b), str(a), *solve, "-o", str(out / f"solve-{machine}"), *to],
+        ]
+    pattern = str(out / "double-swg" / "pattern.json")
+    for i, switches in enumerate(KNIT_SWITCHES):
+        for machine, fmt in MACHINES:
+            target = out / "knit-switches" / f"{i}-{machine}"
+            for suffix, as_format in ((".k", "knitout"), (f".{fmt}", fmt)):
+                output = ["-o", str(target.with_suffix(suffix)), "--format", as_format]
+                argv.append(["knit", pattern, *output, "--machine", machine, "--json", *switches])
+    return argv
+
+
+#: The machines every output is made for, with their machine file format.
+MACHINES = (("swg091n2", "dat"), ("kniterate", "kc"))
 
 
 def main() -> int:
@@ -130,7 +174,7 @@ def main() -> int:
         inputs.mkdir(parents=True, exist_ok=True)
         out.mkdir(parents=True, exist_ok=True)
         failed = 0
-        for argv in commands(inputs, out):
+        for i, argv in enumerate(commands(inputs, out)):
             run = subprocess.run(
                 [sys.executable, "-m", "illuknit", *argv],
                 env=env,
@@ -139,6 +183,10 @@ def main() -> int:
                 text=True,
             )
             print(f"# exit {run.returncode}: illuknit {argv[0]}", flush=True)
+            if "--json" in argv:  # the summary: passes, bound, time, findings
+                summary = out / "summaries" / f"{i:03d}-{argv[0]}.json"
+                summary.parent.mkdir(exist_ok=True)
+                summary.write_text(run.stdout)
             failed += run.returncode != 0
         for path in sorted(p for p in out.rglob("*") if p.is_file()):
             name = path.relative_to(out).as_posix()

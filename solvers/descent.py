@@ -261,6 +261,8 @@ class DescentBackend(BackendBase):
             return "block descent solves only illusion models built by illuknit.design.models.illusion_models"
         if p.color_cap is not None:
             return "block descent cannot guarantee a hard colour-change cap; use --solver cpsat"
+        if p.split_bumps:
+            return "split bumps are solved by the exact DP and the MaxSAT/CP backends (dp, rc2, cpsat)"
         return None
 
     def solve(

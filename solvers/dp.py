@@ -14,6 +14,12 @@ B at row i-1 (sees ``c`` if ``r`` else ``c'``) against their targets, and ``U`` 
 rows (A at row 0, B at row N-1), the bump cost and pinned units. Cost O(N (2K)^2) per wale,
 vectorised across all wales with numpy (a loop over the N rows only).
 
+**Split bumps** (``problem.split_bumps``, :mod:`illuknit.core.views`): a unit's state gains the
+yarn ``u`` of its second course, which view A sees where view B sees the first course's ``c``; a
+flat unit has ``u == c``, so the states are the 2K plain ones plus the ``K (K - 1)`` split bumps
+``(c, raised, u != c)``, and in ``P`` view A reads ``u'`` (raised) or ``u``. Still exact per wale,
+O(N (K + K^2)^2).
+
 Ties prefer flat units and lower yarn indices. The backend reads ``model.problem`` (an
 :class:`illuknit.design.models.illusion_models.IllusionProblem`) and refuses any other model.
 
@@ -45,7 +51,7 @@ from illuknit.solvers.base import BackendBase, ProgressCallback, ProgressEvent, 
 if TYPE_CHECKING:
     from illuknit.design.models.model import Model
 
-__all__ = ["DPBackend", "hint_values", "solve_dp"]
+__all__ = ["DPBackend", "hint_values", "solve_dp", "solve_dp_split"]
 
 _INF = np.int64(1) << np.int64(40)
 
@@ -67,18 +73,41 @@ def solve_dp(problem: IllusionProblem) -> tuple[NDArray[np.int16], NDArray[np.bo
     """
     if problem.rows_tied:
         return solve_single_rows(problem)
+    yarn, raised, _, cost = solve_dp_split(problem)
+    return yarn, raised, cost
+
+
+def _states(k: int, split: bool) -> tuple[NDArray[np.int64], NDArray[np.bool_], NDArray[np.int64]]:
+    """(first-course yarn, raised, second-course yarn) of every unit state: ``2 c + r`` for the
+    plain states (so ties prefer flat units and lower yarns, as without split bumps), then the
+    split bumps ``(c, True, u)`` with ``u != c``."""
+    s = np.arange(2 * k)
+    cs, rs, us = s // 2, (s % 2).astype(bool), s // 2
+    if split:
+        c2, u2 = np.nonzero(~np.eye(k, dtype=bool))
+        cs = np.concatenate([cs, c2])
+        rs = np.concatenate([rs, np.ones(c2.size, dtype=bool)])
+        us = np.concatenate([us, u2])
+    return cs, rs, us
+
+
+def solve_dp_split(
+    problem: IllusionProblem,
+) -> tuple[NDArray[np.int16], NDArray[np.bool_], NDArray[np.int16], int]:
+    """Optimal (yarn, raised, upper, cost) of the per-wale part of ``problem`` (not the
+    single-view model); ``upper`` is the second course's yarn (equal to ``yarn`` unless
+    ``problem.split_bumps`` let a bump split)."""
     a = problem.target_a.astype(np.int64)
     b = problem.target_b.astype(np.int64)
     n, m = problem.shape
     k = problem.n_yarns
     wv = problem.view_weight
-    s_count = 2 * k
-    cs = np.arange(s_count) // 2
-    rs = (np.arange(s_count) % 2).astype(bool)
+    cs, rs, us = _states(k, problem.split_bumps)
+    s_count = cs.size
 
     # unary costs (N, M, S)
     u = np.zeros((n, m, s_count), dtype=np.int64)
-    u[0] += wv * (cs[None, :] != a[0][:, None])
+    u[0] += wv * (us[None, :] != a[0][:, None])
     u[n - 1] += wv * (cs[None, :] != b[n - 1][:, None])
     wt = problem.transfer_weight
     if wt:
@@ -88,9 +117,9 @@ def solve_dp(problem: IllusionProblem) -> tuple[NDArray[np.int16], NDArray[np.bo
         bad = (p[:, :, None] >= 0) & (cs[None, None, :] != p[:, :, None])
         u[bad] += _INF
 
-    seen_a = np.where(rs[:, None], cs[:, None], cs[None, :])  # (S', S)
+    seen_a = np.where(rs[:, None], us[:, None], us[None, :])  # (S', S)
     seen_b = np.where(rs[None, :], cs[None, :], cs[:, None])  # (S', S)
-    back = np.zeros((n, m, s_count), dtype=np.int8)
+    back = np.zeros((n, m, s_count), dtype=np.int8 if s_count < 128 else np.int16)
     v = u[0].copy()
     cols = np.arange(m)
     for i in range(1, n):
@@ -107,7 +136,7 @@ def solve_dp(problem: IllusionProblem) -> tuple[NDArray[np.int16], NDArray[np.bo
     cost = int(v[cols, states[n - 1]].sum())
     for i in range(n - 1, 0, -1):
         states[i - 1] = back[i][cols, states[i]]
-    return (states // 2).astype(np.int16), (states % 2).astype(bool), cost
+    return cs[states].astype(np.int16), rs[states], us[states].astype(np.int16), cost
 
 
 def solve_single_rows(
@@ -183,20 +212,30 @@ def solve_single_rows(
 
 def hint_values(problem: IllusionProblem, model: Model) -> NDArray[np.bool_]:
     """A full assignment of ``model`` from the DP optimum of its per-wale part (a warm start)."""
+    if problem.split_bumps:
+        yarn, raised, upper, _ = solve_dp_split(problem)
+        return values_from_pattern(model, yarn, raised, upper)
     yarn, raised, _ = solve_dp(problem)
     return values_from_pattern(model, yarn, raised)
 
 
 def values_from_pattern(
-    model: Model, yarn: NDArray[np.integer], raised: NDArray[np.bool_]
+    model: Model,
+    yarn: NDArray[np.integer],
+    raised: NDArray[np.bool_],
+    upper: NDArray[np.integer] | None = None,
 ) -> NDArray[np.bool_]:
-    """Bool values by variable id for a (yarn, raised) grid, including ``change`` variables."""
+    """Bool values by variable id for a (yarn, raised) grid, including ``change`` variables
+    and, for a model with split bumps, ``upper`` (the second courses' yarns, default ``yarn``)."""
     vals = np.zeros(model.pool.top + 1, dtype=bool)
     x = model.pool.block_ids("yarn")
     n, m, _ = x.shape
     ii, jj = np.indices((n, m))
     vals[x[ii, jj, yarn.astype(np.int64)]] = True
     vals[model.pool.block_ids("raised")] = raised
+    if "upper" in model.pool.blocks:
+        up = yarn if upper is None else upper
+        vals[model.pool.block_ids("upper")[ii, jj, np.asarray(up, dtype=np.int64)]] = True
     if "change" in model.pool.blocks:
         vals[model.pool.block_ids("change")] = yarn[:, 1:] != yarn[:, :-1]
     if "yarn used" in model.pool.blocks:
@@ -248,11 +287,15 @@ class DPBackend(BackendBase):
         # The DP takes well under a second at the largest supported sizes; time_limit is moot.
         t0 = time.perf_counter()
         problem = model.problem
-        yarn, raised, cost = solve_dp(problem)
+        upper = None
+        if problem.split_bumps:
+            yarn, raised, upper, cost = solve_dp_split(problem)
+        else:
+            yarn, raised, cost = solve_dp(problem)
         if cost >= _INF:
             wall = time.perf_counter() - t0
             return Solution(Status.INFEASIBLE, None, None, None, wall, {}, self.name, model.pool)
-        vals = values_from_pattern(model, yarn, raised)
+        vals = values_from_pattern(model, yarn, raised, upper)
         ok, evaluated = model.evaluate(vals)
         wall = time.perf_counter() - t0
         if not ok or evaluated != cost:

@@ -92,7 +92,7 @@ def _doc():
 @pytest.mark.parametrize(
     ("mutate", "match"),
     [
-        (lambda d: d.update(version=2), "version 2"),
+        (lambda d: d.update(version=3), "version 3"),
         (lambda d: d.update(format="other"), "not an illuknit pattern"),
         (lambda d: d.update(yarn=["02", "10"]), "out of range"),
         (lambda d: d.update(yarn=["0!", "10"]), "digits"),
@@ -146,3 +146,73 @@ def test_outputs_get_ordinary_permissions(tmp_path):
         assert stat.S_IMODE((tmp_path / "out").stat().st_mode) == 0o755
     finally:
         os.umask(mask)
+
+
+@st.composite
+def split_patterns(draw, max_side=8):
+    """Patterns with an ``upper`` array: any yarn on raised units, ``yarn`` on flat ones."""
+    p = draw(patterns(max_side=max_side))
+    other = draw(arrays(np.int16, p.shape, elements=st.integers(0, len(p.yarns) - 1)))
+    return p.replace(upper=np.where(p.raised, other, p.yarn))
+
+
+@given(split_patterns())
+def test_split_json_round_trip_is_identical(p):
+    doc = pattern_to_json(p)
+    assert ("upper" in doc) == (p.upper is not None) == bool(p.split.any())
+    assert doc["version"] == (2 if p.upper is not None else 1)
+    assert pattern_from_json(json.loads(json.dumps(doc))) == p
+
+
+def test_upper_none_writes_todays_file():
+    p = LogicalPattern(np.array([[0, 1]]), np.array([[True, False]]), YARNS3[:2])
+    same = p.replace(upper=p.yarn)  # equal to yarn everywhere: no split bump, stored as None
+    assert same.upper is None and pattern_to_json(same) == pattern_to_json(p)
+    assert list(pattern_to_json(p)) == [
+        "format",
+        "version",
+        "rows",
+        "cols",
+        "yarns",
+        "yarn",
+        "raised",
+        "meta",
+    ]
+    split = p.replace(upper=np.array([[1, 1]]))
+    assert split.split.tolist() == [[True, False]] and split != p
+    assert split.upper_yarn.tolist() == [[1, 1]] and p.upper_yarn.tolist() == [[0, 1]]
+
+
+@pytest.mark.parametrize(
+    "upper, match",
+    [
+        (np.array([[0, 0]]), "flat unit"),  # the flat unit (0, 1) changes yarn
+        (np.array([[2, 1]]), r"0\.\.1"),
+        (np.array([[0, 1, 0]]), "shape"),
+        (np.array([[0.5, 1]]), "integers"),
+    ],
+)
+def test_invalid_upper_is_rejected(upper, match):
+    p = LogicalPattern(np.array([[0, 1]]), np.array([[True, False]]), YARNS3[:2])
+    with pytest.raises(PatternValidationError, match=match):
+        p.replace(upper=upper)
+
+
+@pytest.mark.parametrize(
+    "mutate, match",
+    [
+        (lambda d: d.update(version=1), "needs version 2"),
+        (lambda d: d.update(upper=["1"]), "list of 2 strings"),
+        (lambda d: d.update(upper=["1!", "00"]), "0-9 or a-z"),
+        (lambda d: d.update(upper=["12", "00"]), "out of range"),
+        (lambda d: d.update(upper=["11", "01"]), "flat unit"),
+    ],
+)
+def test_bad_split_pattern_files(mutate, match):
+    p = LogicalPattern(
+        np.zeros((2, 2), int), np.array([[True, False], [False, False]]), YARNS3[:2]
+    ).replace(upper=np.array([[1, 0], [0, 0]]))
+    doc = pattern_to_json(p)
+    mutate(doc)
+    with pytest.raises(PatternFormatError, match=match):
+        pattern_from_json(doc)

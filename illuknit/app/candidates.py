@@ -66,15 +66,23 @@ Runner = Callable[[Callable[[], Any]], Any]
 
 
 def make_candidates(
-    prepared: Prepared, *, count: int, progress: Progress, run: Runner | None = None
+    prepared: Prepared,
+    *,
+    count: int,
+    progress: Progress,
+    run: Runner | None = None,
+    split_bumps: bool = False,
 ) -> list[Candidate]:
     """Ranked candidates for the prepared inputs; ``progress(fraction, message)`` may cancel.
 
-    ``run`` runs the tile search (double view and head-on), by default in this thread.
+    ``run`` runs the tile search (double view and head-on), by default in this thread;
+    ``split_bumps`` lets its tiles hold split bumps.
     """
     if prepared.mode == "single":
         return _single_candidates(prepared, progress)
-    return _tile_candidates(prepared, count=count, progress=progress, run=run)
+    return _tile_candidates(
+        prepared, count=count, progress=progress, run=run, split_bumps=split_bumps
+    )
 
 
 def _single_candidates(prepared: Prepared, progress: Progress) -> list[Candidate]:
@@ -103,7 +111,12 @@ def _single_candidates(prepared: Prepared, progress: Progress) -> list[Candidate
 
 
 def _tile_candidates(
-    prepared: Prepared, *, count: int, progress: Progress, run: Runner | None = None
+    prepared: Prepared,
+    *,
+    count: int,
+    progress: Progress,
+    run: Runner | None = None,
+    split_bumps: bool = False,
 ) -> list[Candidate]:
     """The best-reading ``count`` of the tile designs ``illuknit double`` searches by default,
     ranked as it ranks them: one call of :func:`~illuknit.pipeline.stages.design_tiles`, inside
@@ -117,7 +130,7 @@ def _tile_candidates(
         prepared.quantised.get("b"),
         mode="headon" if prepared.mode == "headon" else "double",
         yarns=prepared.yarns,
-        search=SearchOptions(candidates=count),
+        search=SearchOptions(candidates=count, split_bumps=split_bumps),
     )
     with blame("n_colors"):
         try:

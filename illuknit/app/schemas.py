@@ -87,6 +87,12 @@ class DesignSettings(BaseModel):
         title="Smooth resizing",
         description="anti-aliased resizing (photos) vs nearest (pixel art)",
     )
+    split_bumps: bool = Field(
+        default=False,
+        title="Split bumps",
+        description="tiles may knit a bump in two yarns, one seen from each side "
+        "(double view and head-on; docs/split-bumps.md)",
+    )
 
     def to_json(self) -> dict[str, Any]:
         return self.model_dump(mode="json")

@@ -138,7 +138,13 @@ register_method(
 
 
 def _solve_model(
-    instance: Instance, time_limit: float, *, solver: str, model: str, warm_start: str
+    instance: Instance,
+    time_limit: float,
+    *,
+    solver: str,
+    model: str,
+    warm_start: str,
+    split_bumps: bool = False,
 ) -> tuple[LogicalPattern, dict[str, Any]]:
     from illuknit import solvers
     from illuknit.design.models.illusion_models import solve_illusion
@@ -158,6 +164,7 @@ def _solve_model(
             solver=solver,
             warm_start=warm_start,
             yarns=instance.yarns,
+            split_bumps=split_bumps,
             time_limit=time_limit,
         )
     except SolverError as e:
@@ -178,13 +185,27 @@ def _solve_model(
 
 
 def _solver_method(
-    name: str, solver: str, model: str, description: str, *, warm_start: str = "none"
+    name: str,
+    solver: str,
+    model: str,
+    description: str,
+    *,
+    warm_start: str = "none",
+    split_bumps: bool = False,
 ) -> Method:
     def run(instance: Instance, time_limit: float) -> tuple[LogicalPattern, dict[str, Any]]:
-        return _solve_model(instance, time_limit, solver=solver, model=model, warm_start=warm_start)
+        return _solve_model(
+            instance,
+            time_limit,
+            solver=solver,
+            model=model,
+            warm_start=warm_start,
+            split_bumps=split_bumps,
+        )
 
     run.__name__ = f"run_{name.replace('-', '_')}"
-    return Method(name, run, description)
+    kinds = ("double",) if split_bumps else ("double", "single")
+    return Method(name, run, description, kinds)
 
 
 register_method(
@@ -194,6 +215,15 @@ register_method(
     _solver_method("rc2", "rc2", "logical", "pysat RC2 MaxSAT, model (a): the paper's baseline")
 )
 register_method(_solver_method("cpsat", "cpsat", "logical", "OR-Tools CP-SAT, model (a)"))
+register_method(
+    _solver_method(
+        "dp-split",
+        "dp",
+        "logical",
+        "exact per-wale DP, model (a) with split bumps (docs/split-bumps.md)",
+        split_bumps=True,
+    )
+)
 register_method(
     _solver_method(
         "knit-aware",
@@ -208,10 +238,18 @@ register_method(
 # --- tiles (paper section 6) --------------------------------------------------------------------
 
 
-def run_tiles(instance: Instance, time_limit: float) -> tuple[LogicalPattern, dict[str, Any]]:
+def run_tiles(
+    instance: Instance,
+    time_limit: float,
+    *,
+    split_bumps: bool = False,
+    split_share: float | None = None,
+) -> tuple[LogicalPattern, dict[str, Any]]:
     """The tile design that reads best (paper section 6): the double-view stage
     (:func:`illuknit.pipeline.stages.design_tiles`) with the search ``illuknit double`` makes by
-    default (each solve within ``time_limit``), its first-ranked design compiled."""
+    default (each solve within ``time_limit``; with split bumps in the bank when asked), its
+    first-ranked design compiled."""
+    from illuknit.core.views import DEFAULT_SPLIT_SHARE
     from illuknit.design.options import SearchOptions
     from illuknit.pictures.images import QuantisedImage
     from illuknit.pipeline.stages import design_tiles
@@ -219,7 +257,14 @@ def run_tiles(instance: Instance, time_limit: float) -> tuple[LogicalPattern, di
     t = instance_targets(instance)
     qa, qb = (QuantisedImage(idx, t.yarns, t.palette) for idx in (t.a, t.b))
     design = design_tiles(
-        qa, qb, yarns=instance.yarns, search=SearchOptions(solve_seconds=time_limit)
+        qa,
+        qb,
+        yarns=instance.yarns,
+        search=SearchOptions(
+            solve_seconds=time_limit,
+            split_bumps=split_bumps,
+            split_share=DEFAULT_SPLIT_SHARE if split_share is None else split_share,
+        ),
     )
     best = design.best
     score = getattr(best.assignment, "score", None)
@@ -233,6 +278,21 @@ def run_tiles(instance: Instance, time_limit: float) -> tuple[LogicalPattern, di
 
 
 register_method(Method("tiles", run_tiles, "tile assignment + compile (paper section 6)"))
+
+
+def run_tiles_split(instance: Instance, time_limit: float) -> tuple[LogicalPattern, dict[str, Any]]:
+    """:func:`run_tiles` with split bumps in the canonical bank."""
+    return run_tiles(instance, time_limit, split_bumps=True)
+
+
+register_method(
+    Method(
+        "tiles-split",
+        run_tiles_split,
+        "tile design whose bank holds split bumps (docs/split-bumps.md)",
+        ("double",),
+    )
+)
 
 
 # --- gradient descent through the differentiable renderer (paper section 8.3) ------------------

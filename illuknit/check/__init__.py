@@ -41,6 +41,7 @@ def check_knitout(
     max_racking: float | None = None,
     bed_width: int | None = None,
     simulate: bool = False,
+    split_bumps: bool = False,
 ) -> CheckReport:
     """Check a knitout program for machine-rule violations and fabric failures.
 
@@ -67,6 +68,8 @@ def check_knitout(
     simulate : bool, keyword-only
         Also run the PyPI knitout-interpreter / virtual-knitting-machine (needs the ``sim`` extra)
         and add its findings with ``source="vm"``. Slow on large programs.
+    split_bumps : bool, keyword-only
+        The program knits split bumps: a yarn change inside a bump is meant (no error).
 
     Returns
     -------
@@ -97,23 +100,19 @@ def check_knitout(
     from illuknit.check.fabric import fabric_findings
     from illuknit.check.rules import check_header, machine_findings
     from illuknit.check.simulate import simulate_program
-    from illuknit.core.machine import machine_from_headers, resolve_machine
+    from illuknit.core.machine import resolve_machine
 
     _check_options(float_limit=float_limit, max_racking=max_racking, bed_width=bed_width)
     named = None if machine is None else resolve_machine(machine)  # before any parsing
     program = parse_knitout(text)
-    if named is None:
-        spec = machine_from_headers({name: value for name, value, _ in reversed(program.headers)})
-    else:
-        spec = named
+    spec = _judging_machine(program, named)
     racking = spec.max_racking if max_racking is None else max_racking
     limit = spec.float_limit if float_limit is None else float_limit
     width = bed_width if bed_width is not None else program.width or spec.needles
     sim = simulate_program(program, max_racking=racking, bed_width=width)
     findings = [*check_header(program, machine=spec), *machine_findings(sim)]
-    fabric, suppressed = fabric_findings(sim, float_limit=limit)
-    findings += fabric
-    suppressed = {**sim.suppressed, **suppressed}
+    fabric, suppressed = fabric_findings(sim, float_limit=limit, split_bumps=bool(split_bumps))
+    findings, suppressed = [*findings, *fabric], {**sim.suppressed, **suppressed}
     vm_summary = None
     if simulate:
         vm_findings, vm_summary = _second_opinion(text, program)
@@ -134,6 +133,16 @@ def check_knitout(
             "float_limit": limit,
         },
     )
+
+
+def _judging_machine(program: KnitoutProgram, named: MachineSpec | None) -> MachineSpec:
+    """The machine ``program`` is judged against: the one named, else the one its headers name
+    (the first of each header counts)."""
+    from illuknit.core.machine import machine_from_headers
+
+    if named is not None:
+        return named
+    return machine_from_headers({name: value for name, value, _ in reversed(program.headers)})
 
 
 def _check_options(

@@ -31,6 +31,16 @@ Neither the SWG converter nor the PyPI simulator reports these (paper section 7,
     as a bind-off chain ends).
 ``carrier-left-in`` / ``hook-left`` (error)
     A carrier never taken out (``outhook``/``out``), or the inserting hook still holding a yarn.
+``bump-yarn-change`` (error, unless the program is checked as one with split bumps)
+    A purl (a knit on the back bed) pulled through a loop knit on the front bed -- a bump -- by
+    carriers none of which made that loop: the yarn changes inside the bump. That is exactly a
+    split bump (``docs/split-bumps.md``), which a pattern must ask for; anywhere else it is a
+    colour in the wrong course. ``check_knitout(..., split_bumps=True)`` (``illuknit check
+    --split-bumps``) accepts it.
+``tuck-not-cleared`` (warning)
+    A tuck on a back needle that holds a loop (a tall bump's tuck) whose loops were transferred
+    or dropped before a knit on that needle pulled through them: the tuck's yarn leaves the
+    bump (it ends behind a face stitch instead) and the bump is no taller.
 """
 
 from __future__ import annotations
@@ -51,6 +61,8 @@ FABRIC_RULES: dict[str, tuple[str, str]] = {
     "dropped-stitch": ("error", "a live loop of the fabric is dropped (the wale ladders down)"),
     "carrier-left-in": ("error", "carrier never taken out"),
     "hook-left": ("error", "inserting hook still holds a yarn at the end"),
+    "bump-yarn-change": ("error", "the yarn changes inside a bump that is not a split bump"),
+    "tuck-not-cleared": ("warning", "a bump's tuck is moved or dropped before a knit clears it"),
 }
 
 
@@ -83,7 +95,9 @@ def _side(x: float, d: str) -> str:
     return f"{x:g}{d}"
 
 
-def fabric_findings(sim: Simulation, *, float_limit: int) -> tuple[list[Finding], dict[str, int]]:
+def fabric_findings(
+    sim: Simulation, *, float_limit: int, split_bumps: bool = False
+) -> tuple[list[Finding], dict[str, int]]:
     """Fabric findings of a simulation.
 
     Parameters
@@ -91,6 +105,8 @@ def fabric_findings(sim: Simulation, *, float_limit: int) -> tuple[list[Finding]
     sim : Simulation
     float_limit : int, keyword-only
         Longest allowed float, in needle slots crossed.
+    split_bumps : bool, keyword-only
+        The program knits split bumps: a yarn change inside a bump is meant.
 
     Returns
     -------
@@ -107,6 +123,8 @@ def fabric_findings(sim: Simulation, *, float_limit: int) -> tuple[list[Finding]
         if n < MAX_EVENTS_PER_CODE:
             out.append(_finding(line, code, message))
 
+    for line, code, message in _bump_findings(sim, split_bumps=split_bumps):
+        add(line, code, message)
     for ff in sim.face_floats:
         shown = ", ".join(ff.needles[:6]) + (" ..." if len(ff.needles) > 6 else "")
         add(
@@ -171,6 +189,35 @@ def fabric_findings(sim: Simulation, *, float_limit: int) -> tuple[list[Finding]
         )
     suppressed = {k: n - MAX_EVENTS_PER_CODE for k, n in counts.items() if n > MAX_EVENTS_PER_CODE}
     return out, suppressed
+
+
+def _bump_findings(sim: Simulation, *, split_bumps: bool) -> list[tuple[int, str, str]]:
+    """(line, code, message) of the bump rules: yarn changes inside bumps (unless split bumps
+    are meant) and bump tucks moved or dropped before a knit cleared them."""
+    out = []
+    if not split_bumps:
+        for yc in sim.yarn_changes:
+            out.append(
+                (
+                    yc.line,
+                    "bump-yarn-change",
+                    f"purl at {yc.needle} in carrier {' '.join(yc.carriers)} is pulled through a "
+                    f"knit loop of carrier {' '.join(yc.below)}: the yarn changes inside a bump. "
+                    "Only a split bump does that; check with --split-bumps if the pattern has "
+                    "them",
+                )
+            )
+    for ut in sim.uncleared_tucks:
+        out.append(
+            (
+                ut.line,
+                "tuck-not-cleared",
+                f"the tuck on {ut.needle} (line {ut.tuck_line}) joined the loop it holds, but "
+                "the loops are moved or dropped here before a knit on that needle pulled through "
+                "them: the tuck's yarn leaves the bump; knit the needle first",
+            )
+        )
+    return out
 
 
 def _separate_pieces(sim: Simulation) -> list[tuple[int, str]]:

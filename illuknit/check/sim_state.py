@@ -89,6 +89,27 @@ class KnitRun:
 
 
 @dataclass(frozen=True)
+class BumpYarnChange:
+    """A purl (knit on the back bed) pulled through a loop knit on the front bed -- a bump --
+    by carriers none of which made that loop: the yarn changes inside the bump."""
+
+    line: int
+    needle: str
+    carriers: tuple[str, ...]
+    below: tuple[str, ...]
+
+
+@dataclass(frozen=True)
+class UnclearedTuck:
+    """A tuck on a back needle that held a loop (a tall bump's tuck), whose loops were moved or
+    dropped at ``line`` before a knit on that needle pulled through it."""
+
+    line: int
+    needle: str
+    tuck_line: int
+
+
+@dataclass(frozen=True)
 class CarrierEnd:
     """A carrier still in action when the program ends."""
 
@@ -148,6 +169,10 @@ class MachineState:
     drops: list[Drop] = field(default_factory=list)
     runs: dict[str, KnitRun] = field(default_factory=dict)
     draw_threads: list[int] = field(default_factory=list)  # first loop id of each
+    front_loops: set[int] = field(default_factory=set)  # loops made on a front needle
+    bump_tucks: dict[int, int] = field(default_factory=dict)  # uncleared tuck loop -> its line
+    yarn_changes: list[BumpYarnChange] = field(default_factory=list)
+    uncleared_tucks: list[UnclearedTuck] = field(default_factory=list)
 
     # -- bookkeeping ------------------------------------------------------------------------
     def event(self, line: int, code: str, message: str) -> None:
@@ -194,9 +219,20 @@ class MachineState:
     def take(self, n: Needle) -> list[int]:
         return self.beds[n.bed].pop(n.index, [])
 
+    def move_off(self, n: Needle, line: int) -> list[int]:
+        """Take the loops of ``n`` to move or drop them: a bump tuck among them that no knit
+        has cleared yet is recorded (:class:`UnclearedTuck`)."""
+        loops = self.take(n)
+        if self.bump_tucks:
+            for lid in loops:
+                tuck_line = self.bump_tucks.pop(lid, None)
+                if tuck_line is not None:
+                    self.uncleared_tucks.append(UnclearedTuck(line, str(n), tuck_line))
+        return loops
+
     def drop(self, n: Needle, line: int) -> None:
         """Release the loops of ``n`` (a ``drop``, or a knit without yarn)."""
-        loops = self.take(n)
+        loops = self.move_off(n, line)
         if loops:
             self.drops.append(Drop(line, str(n), tuple(loops), len(self.parent)))
 

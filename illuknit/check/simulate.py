@@ -31,12 +31,14 @@ from dataclasses import dataclass
 from illuknit.check.floats import Float
 from illuknit.check.sim_state import (
     MAX_EVENTS_PER_CODE,
+    BumpYarnChange,
     CarrierEnd,
     Drop,
     Event,
     FaceFloat,
     KnitRun,
     MachineState,
+    UnclearedTuck,
     WrongSide,
 )
 from illuknit.knitout.parse import CARRIER_OPS, STITCH_OPS, KnitoutProgram, Operation
@@ -81,6 +83,10 @@ class Simulation:
     loop_tails : tuple of int
         Per loop: how many knits in a row its yarn made on that needle before it (a tail
         knit on the last needle of a bind-off counts up).
+    yarn_changes : tuple of BumpYarnChange
+        Purls pulled through a front-bed loop of other carriers only (split bumps).
+    uncleared_tucks : tuple of UnclearedTuck
+        Tucks on a back needle holding a loop, moved or dropped before a knit cleared them.
     """
 
     events: tuple[Event, ...]
@@ -98,6 +104,8 @@ class Simulation:
     drops: tuple[Drop, ...] = ()
     draw_threads: tuple[int, ...] = ()
     loop_tails: tuple[int, ...] = ()
+    yarn_changes: tuple[BumpYarnChange, ...] = ()
+    uncleared_tucks: tuple[UnclearedTuck, ...] = ()
 
     @property
     def pieces(self) -> int:
@@ -151,7 +159,7 @@ def _stitch(state: MachineState, op: Operation) -> None:
         elif op.op == "knit":  # knit without yarn = drop
             state.drop(needle, line)
         elif op.op == "split" and _check_pair(state, op):  # split without yarn = xfer
-            state.put(op.needles[1], state.take(needle), line)
+            state.put(op.needles[1], state.move_off(needle, line), line)
         return
     if len(set(carriers)) != len(carriers):
         state.event(
@@ -268,7 +276,7 @@ def _make_loops(state: MachineState, op: Operation) -> list[int]:
                 "or moved away (no loop to pull through)",
             )
     elif op.op == "split":
-        parents = state.take(needle)
+        parents = state.move_off(needle, line)
         if _check_pair(state, op):
             state.put(op.needles[1], parents, line)
         else:  # nothing moved; the old loops stay (and get caught)
@@ -277,9 +285,35 @@ def _make_loops(state: MachineState, op: Operation) -> list[int]:
     for child in new:
         for p in parents:
             state.union(child, p)
+    _note_bump(state, op, new, parents)
     state.put(needle, new, line)
     _note_structure(state, op, new, parents)
     return new
+
+
+def _note_bump(state: MachineState, op: Operation, new: list[int], parents: list[int]) -> None:
+    """Record what the bump rules need: loops made on the front bed, a purl pulled through a
+    front-bed loop of other carriers only (a yarn change inside a bump), tucks on a back needle
+    that holds a loop (a tall bump's tuck) until a knit there clears them."""
+    needle = op.needle
+    if needle.bed == "f":
+        state.front_loops.update(new)
+        return
+    if needle.bed != "b":
+        return
+    if op.op == "tuck":
+        if state.held(needle):
+            state.bump_tucks.update((lid, op.line) for lid in new)
+        return
+    for p in parents:
+        state.bump_tucks.pop(p, None)
+    if op.op != "knit":
+        return
+    below = {state.loop_carriers[p] for p in parents if p in state.front_loops}
+    if below and not below.intersection(op.carriers):
+        state.yarn_changes.append(
+            BumpYarnChange(op.line, str(needle), tuple(op.carriers), tuple(sorted(below)))
+        )
 
 
 def _note_structure(state: MachineState, op: Operation, new: list[int], parents: list[int]) -> None:
@@ -485,7 +519,7 @@ def simulate_program(
                 state.note_needle(n, op.line)
             if _check_pair(state, op):
                 src, dst = op.needles
-                state.put(dst, state.take(src), op.line)
+                state.put(dst, state.move_off(src, op.line), op.line)
         elif name == "drop":
             state.note_needle(op.needle, op.line)
             state.drop(op.needle, op.line)
@@ -535,4 +569,6 @@ def _result(state: MachineState, program: KnitoutProgram) -> Simulation:
         drops=tuple(state.drops),
         draw_threads=tuple(state.draw_threads),
         loop_tails=tuple(state.loop_tails),
+        yarn_changes=tuple(state.yarn_changes),
+        uncleared_tucks=tuple(state.uncleared_tucks),
     )

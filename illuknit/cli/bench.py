@@ -98,8 +98,8 @@ def _run_solvers(instances: Any, solvers: list[str], outdir: str, **kw: Any) -> 
     "--methods",
     default="default",
     show_default=True,
-    help="Comma-separated methods (tiles, single, dp, rc2, cpsat, knit-aware, gradient), "
-    "'default' or 'all'.",
+    help="Comma-separated methods (tiles, single, dp, rc2, cpsat, knit-aware, gradient; and "
+    "tiles-split, dp-split: with split bumps), 'default' or 'all'.",
 )
 @click.option(
     "--time-limit", type=POSITIVE, default=None, help="Seconds per cell (overrides the manifest)."

@@ -15,9 +15,12 @@ from illuknit.cli.knitout_bridge import (
     resolve_machine,
     write_program,
 )
-from illuknit.cli.options import POSITIVE, knitout_option, outdir_option
+from illuknit.cli.options import POSITIVE, FiniteFloat, knitout_option, outdir_option
 
 __all__ = ["calibrate"]
+
+#: Rows of split bumps in the swatch's split band (enough that no flat shows between them).
+SPLIT_BAND_ROWS = 3
 
 
 def _int_list(ctx: click.Context, param: click.Parameter, value: str) -> tuple[int, ...]:
@@ -43,6 +46,9 @@ def calibrate() -> None:
        which the flat stitches just disappear behind the bumps.
     3. illuknit calibrate fit DIR/measurements.csv -o params.json
        fits the bump height (see docs/render.md).
+    For tall bumps knit a second swatch with --tall-bumps and fit it with
+    --tall-bumps; for split bumps add --split-bumps (a band of split bumps)
+    and pass the measured share to fit --split-share (docs/split-bumps.md).
     """
 
 
@@ -76,6 +82,18 @@ def calibrate() -> None:
     default=None,
     help="Current renderer parameters (for the preview and predicted angles).",
 )
+@click.option(
+    "--tall-bumps",
+    is_flag=True,
+    help="Knit every bump of the swatch as a tall bump (with --knitout), and predict its "
+    "angles with the tall bump height; fit its measurements with 'fit --tall-bumps'.",
+)
+@click.option(
+    "--split-bumps",
+    is_flag=True,
+    help="Add a band of split bumps (first course bump yarn, second flat yarn) below the "
+    "cells, to measure the split share from each side.",
+)
 @knitout_option("Also compile the swatch to DIR/program.k (mixed colourwork) and check it.")
 @machine_option()
 @format_option()
@@ -87,6 +105,8 @@ def swatch(
     cell_width: int,
     yarns: str,
     params_file: Path | None,
+    tall_bumps: bool,
+    split_bumps: bool,
     knitout: bool,
     machine: str | None,
     outdir: Path,
@@ -100,9 +120,15 @@ def swatch(
     from illuknit.outputs.previews import chart_rgb, contact_sheet, save_png
 
     params = load_params(params_file) if params_file is not None else RenderParams()
+    if tall_bumps:
+        params = params.with_tall_bumps()
     spec = resolve_machine(machine)
     pattern = calibration_swatch(
-        bump_sizes=bump_sizes, flat_sizes=flat_sizes, cell_width=cell_width, yarns=yarns
+        bump_sizes=bump_sizes,
+        flat_sizes=flat_sizes,
+        cell_width=cell_width,
+        yarns=yarns,
+        split_rows=SPLIT_BAND_ROWS if split_bumps else 0,
     )
     if knitout:
         check_fits(spec, pattern.shape[1])
@@ -125,10 +151,15 @@ def swatch(
         save_png(sheet, tmp / "preview.png")
         atomic_write_text(tmp / "measurements.csv", measurements_template(pattern, params=params))
         if knitout:
-            write_program(pattern, tmp, machine=spec)
+            write_program(pattern, tmp, machine=spec, tall_bumps=tall_bumps)
     click.echo(
         f"wrote {outdir}: swatch.json ({pattern.shape[0]} x {pattern.shape[1]} units), preview.png, measurements.csv"
     )
+    if tall_bumps:
+        click.echo(
+            "tall bumps: fit these measurements with 'illuknit calibrate fit ... --tall-bumps "
+            "--params PARAMS' to keep the plain bump height and set tall_bump_height"
+        )
 
 
 @calibrate.command("fit")
@@ -143,6 +174,18 @@ def swatch(
 @click.option("--flat-height", type=POSITIVE, default=None, help="Override the base flat height.")
 @click.option("--unit-length", type=POSITIVE, default=None, help="Override the base unit length.")
 @click.option(
+    "--tall-bumps",
+    is_flag=True,
+    help="The measurements are of a swatch knit with tall bumps: the fit sets "
+    "tall_bump_height and keeps the base bump height.",
+)
+@click.option(
+    "--split-share",
+    type=FiniteFloat(0.5, 1.0, min_open=True),
+    default=None,
+    help="The measured split share (0.5 to 1] to store with the parameters.",
+)
+@click.option(
     "-o",
     "--output",
     type=click.Path(dir_okay=False, allow_dash=True, path_type=Path),
@@ -155,6 +198,8 @@ def fit(
     params_file: Path | None,
     flat_height: float | None,
     unit_length: float | None,
+    tall_bumps: bool,
+    split_share: float | None,
     output: Path,
 ) -> None:
     """Fit the bump height to MEASUREMENTS (CSV: flat_rows, angle_deg[, bump_rows, view, note])."""
@@ -181,11 +226,24 @@ def fit(
         base = replace(base, bump_height=max(base.bump_height, fh * 2), **changes)
     ms, skipped = read_measurements(measurements)
     result = fit_bump_height(ms, params=base, skipped=skipped)
+    saved = result.params
+    notes = []
+    if tall_bumps:
+        # The swatch had tall bumps: its fitted height is the tall one; the plain one stays.
+        saved = replace(base, tall_bump_height=result.params.bump_height)
+        notes.append(
+            f"tall bumps: tall_bump_height = {saved.tall_bump_height:.4g}; bump_height kept at "
+            f"{saved.bump_height:.4g}"
+        )
+    if split_share is not None:
+        saved = replace(saved, split_share=split_share)
+        notes.append(f"split_share = {split_share:g}")
+    report = "\n".join([result.report(), *notes])
     if str(output) == STDOUT:
-        text = json.dumps(params_to_json(result.params), indent=1) + "\n"
+        text = json.dumps(params_to_json(saved), indent=1) + "\n"
         write_output_file(STDOUT, text.encode("utf-8"))
-        click.echo(result.report(), err=True)
+        click.echo(report, err=True)
         return
-    save_params(result.params, output)
-    click.echo(result.report())
+    save_params(saved, output)
+    click.echo(report)
     click.echo(f"\nwrote {output}")

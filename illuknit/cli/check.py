@@ -76,6 +76,12 @@ def read_knitout_file(path: Path) -> str:
     default=None,
     help="Needles per bed [the ;;Width header, else the machine's].",
 )
+@click.option(
+    "--split-bumps",
+    is_flag=True,
+    help="The program knits split bumps (a pattern with two yarns in some bumps): a yarn "
+    "change inside a bump is meant, not an error.",
+)
 def check(
     program: Path,
     as_json: bool,
@@ -84,6 +90,7 @@ def check(
     float_limit: int | None,
     max_racking: float | None,
     bed_width: int | None,
+    split_bumps: bool,
 ) -> None:
     from illuknit.check import check_knitout, render_report
     from illuknit.core.machine import get_machine
@@ -98,6 +105,7 @@ def check(
             max_racking=max_racking,
             bed_width=bed_width,
             simulate=simulate,
+            split_bumps=split_bumps,
         )
     except KnitoutParseError as e:
         raise KnitoutParseError(

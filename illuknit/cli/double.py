@@ -61,6 +61,8 @@ def run_design(
     solver: str = "cpsat",
     soft_brightness: bool = False,
     one_sided: bool = False,
+    split_bumps: bool = False,
+    split_share: float | None = None,
     tile: tuple[str, ...] = (),
     knitout: bool = False,
     machine: str | None = None,
@@ -75,10 +77,8 @@ def run_design(
     """Parse the options, call :func:`~illuknit.pipeline.stages.design_double` (or
     :func:`~illuknit.pipeline.stages.design_headon`) and write every candidate (atomically into
     ``outdir``); with ``knitout`` the default candidate is knit on ``machine``.
-    ``progress(fraction, message)`` hears how far the work is (the command line's bar);
-    ``angle`` (degrees) and ``distance`` (metres) are where the designs are judged from: the
-    ranking's measures and each candidate's ``seen.png``.
-    Returns the summary dict."""
+    ``progress(fraction, message)`` hears how far the work is (the command line's bar); the
+    designs are judged from ``angle`` degrees and ``distance`` metres. Returns the summary."""
     from illuknit.cli.knitout_bridge import design_unit_aspect, resolve_machine
     from illuknit.core.errors import ImageInputError, OptionError, TileAssignmentError
     from illuknit.design.options import (
@@ -96,24 +96,18 @@ def run_design(
         raise TileAssignmentError(f"--pool must be at least 1, got {pool}")
     if (simplify or suggest) and (mode != "double" or path_b is None):
         raise OptionError("--simplify and --suggest work on double-view designs (two pictures)")
-    ranking = RankOptions(
-        rank_by=RankBy(rank_by),
-        knit_time=knit_time,
-        machine=machine,
-        overrides=tuple(_parse_overrides(tile).items()),
-        angle=angle,
-        distance=distance,
-    )
+    overrides = tuple(_parse_overrides(tile).items())
+    ranking = RankOptions(RankBy(rank_by), knit_time, machine, overrides, angle, distance)
     spec = resolve_machine(machine)
+    optional: dict[str, Any] = {"pool": pool, "split_share": split_share}
     search = SearchOptions(
         candidates=candidates,
         solver=solver,
         brightness=Brightness.SOFT if soft_brightness else Brightness.HARD,
         one_sided=one_sided,
-        edits=PictureEdits.APPLY
-        if simplify
-        else (PictureEdits.SUGGEST if suggest else PictureEdits.NONE),
-        **({} if pool is None else {"pool": pool}),
+        split_bumps=split_bumps or split_share is not None,
+        edits=PictureEdits("apply" if simplify else "suggest" if suggest else "none"),
+        **{k: v for k, v in optional.items() if v is not None},
     )
     report: Report = progress or (lambda fraction, message: None)
     kw: dict[str, Any] = dict(
@@ -427,6 +421,12 @@ def design_options(func: Any) -> Any:
         click.option("--soft-brightness", is_flag=True,
                      help="Prefer, rather than require, keeping each picture's brightness order."),
         click.option("--one-sided", is_flag=True, help="Only tiles that are solid from at least one side."),
+        click.option("--split-bumps", is_flag=True,
+                     help="Tiles may hold split bumps: a bump knitted in two yarns, one seen from each side "
+                     "(docs/split-bumps.md)."),
+        click.option("--split-share", type=FiniteFloat(0.5, 1.0, min_open=True), default=None,
+                     help="Share of a split bump's colour each side sees of its own course, as measured "
+                     "on a swatch [default: 0.75, an estimate]; implies --split-bumps."),
         click.option("--tile", multiple=True, metavar="A,B=ROWS",
                      help="Override the tile of overlap pair (colour A of the first picture, colour B "
                      "of the second), e.g. '0,1=0/1/0^' (see fills.json for the pairs). Repeatable."),

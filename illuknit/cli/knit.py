@@ -75,7 +75,7 @@ def run_knit(
     if check:
         from illuknit.check import check_knitout
 
-        report = check_knitout(result.text, machine=spec)
+        report = check_knitout(result.text, machine=spec, split_bumps=result.split_bumps > 0)
         summary["check"] = {
             "errors": report.n_blocking,
             "warnings": report.n_warnings,
@@ -160,6 +160,14 @@ def run_knit(
     "(fewer long floats, more passes; default: keep them and warn).",
 )
 @click.option(
+    "--tall-bumps",
+    is_flag=True,
+    help="Taller bumps: tuck each bump's purl needle in a pass of its own before the purl "
+    "(more yarn in every raised unit, one more pass per carrier in each purl course; "
+    "docs/split-bumps.md). Measure the new bump height with 'illuknit calibrate swatch "
+    "--tall-bumps'.",
+)
+@click.option(
     "--float-avoidance",
     "float_avoidance_on",
     is_flag=True,
@@ -225,6 +233,7 @@ def knit(
     strict_floats: bool,
     allow_long_floats: bool,
     tuck_passes: bool,
+    tall_bumps: bool,
     float_avoidance_on: bool,
     no_float_avoidance: bool,
     catching_on: bool,
@@ -253,6 +262,7 @@ def knit(
             strict_floats=strict_floats,
             allow_long_floats=allow_long_floats,
             tuck_passes=tuck_passes,
+            tall_bumps=tall_bumps,
             float_avoidance_on=float_avoidance_on,
             no_float_avoidance=no_float_avoidance,
             catching_on=catching_on,
@@ -269,58 +279,62 @@ def knit(
         check=not no_check,
         output_format=output_format,
     )
-    to_stderr = str(output) == "-"  # standard output holds the program
-    echo = partial(click.echo, err=to_stderr)
+    echo = partial(click.echo, err=str(output) == "-")  # (stdout may hold the program)
     if as_json:
         echo(json.dumps(summary, indent=1))
     else:
-        s = summary
-        what = f"{s['lines']} lines" if output_format == "knitout" else f"{output_format} file"
-        echo(f"wrote {s['output']} ({what}) for {s['machine']}")
-        echo(f"stitches: {s['wales']} wales x {s['courses']} courses at gauge {s['gauge']:g}")
-        echo(
-            f"finished size: about {s['finished_size_text']} at "
-            f"{s['finished_size']['gauge']} ({s['finished_size']['gauge_source']})"
-        )
-        if s.get("passes_counted_on") == "kc":
-            echo(
-                f"passes: {s['passes']} on the {s['machine']} (its machine file: waste section "
-                f"and the backend's carriage moves included); the schedule's "
-                f"{s['schedule_passes']}: knit {s['knit_passes']}, transfer "
-                f"{s['transfer_passes']}, cast-on {s['cast_on_passes']}, bind-off "
-                f"{s['bind_off_passes']}; its lower bound {s['schedule_lower_bound']}"
-            )
-        else:
-            echo(
-                f"passes: {s['passes']} (knit {s['knit_passes']}, transfer "
-                f"{s['transfer_passes']}, cast-on {s['cast_on_passes']}, bind-off "
-                f"{s['bind_off_passes']}); lower bound {s['lower_bound']}, ratio {s['ratio']:.2f}"
-            )
-        if s.get("scheduler") == "mixed-colourwork":
-            echo(
-                f"mixed colourwork: {s['carriers']} carrier(s), {s['tuck_joins']} tuck join(s), "
-                f"{s['plated_stitches']} plated catching stitch(es), "
-                f"{s['explicit_kickbacks']} carrier move pass(es), "
-                f"{s['float_avoidance_transfers']} float-avoidance transfer pass(es), "
-                f"{s['kickbacks']} backend kickback(s)"
-            )
-        echo(
-            f"estimated knitting time: {s['time']}, of which the bind-off {s['bind_off_time']} "
-            f"(+{s['hook_passes']} hook passes counted; an untuned model, docs/knitting.md)"
-        )
-        _echo_machine_sheet(s, echo)
-        chk = s.get("check", False)
-        if chk is None:
-            echo("check: checker not available in this install")
-        elif chk:
-            echo(
-                f"check: {chk['errors']} error(s), {chk['warnings']} warning(s), {chk['pieces']} piece(s)"
-            )
-            for f in chk["findings"][:10]:
-                echo(f"  line {f['line']}: {f['severity']} [{f['code']}] {f['message']}")
+        _echo_summary(summary, output_format, echo)
     chk = summary.get("check")
     if chk and chk["errors"]:
         raise click.exceptions.Exit(1)
+
+
+def _echo_summary(s: dict[str, Any], output_format: str, echo: Callable[[str], object]) -> None:
+    """The summary for a reader: what was written, size, passes, time, sheet, the checker's
+    verdict."""
+    what = f"{s['lines']} lines" if output_format == "knitout" else f"{output_format} file"
+    echo(f"wrote {s['output']} ({what}) for {s['machine']}")
+    echo(f"stitches: {s['wales']} wales x {s['courses']} courses at gauge {s['gauge']:g}")
+    echo(
+        f"finished size: about {s['finished_size_text']} at "
+        f"{s['finished_size']['gauge']} ({s['finished_size']['gauge_source']})"
+    )
+    if s.get("passes_counted_on") == "kc":
+        echo(
+            f"passes: {s['passes']} on the {s['machine']} (its machine file: waste section "
+            f"and the backend's carriage moves included); the schedule's "
+            f"{s['schedule_passes']}: knit {s['knit_passes']}, transfer "
+            f"{s['transfer_passes']}, cast-on {s['cast_on_passes']}, bind-off "
+            f"{s['bind_off_passes']}; its lower bound {s['schedule_lower_bound']}"
+        )
+    else:
+        echo(
+            f"passes: {s['passes']} (knit {s['knit_passes']}, transfer "
+            f"{s['transfer_passes']}, cast-on {s['cast_on_passes']}, bind-off "
+            f"{s['bind_off_passes']}); lower bound {s['lower_bound']}, ratio {s['ratio']:.2f}"
+        )
+    if s.get("scheduler") == "mixed-colourwork":
+        echo(
+            f"mixed colourwork: {s['carriers']} carrier(s), {s['tuck_joins']} tuck join(s), "
+            f"{s['plated_stitches']} plated catching stitch(es), "
+            f"{s['explicit_kickbacks']} carrier move pass(es), "
+            f"{s['float_avoidance_transfers']} float-avoidance transfer pass(es), "
+            f"{s['kickbacks']} backend kickback(s)"
+        )
+    echo(
+        f"estimated knitting time: {s['time']}, of which the bind-off {s['bind_off_time']} "
+        f"(+{s['hook_passes']} hook passes counted; an untuned model, docs/knitting.md)"
+    )
+    _echo_machine_sheet(s, echo)
+    chk = s.get("check", False)
+    if chk is None:
+        echo("check: checker not available in this install")
+    elif chk:
+        echo(
+            f"check: {chk['errors']} error(s), {chk['warnings']} warning(s), {chk['pieces']} piece(s)"
+        )
+        for f in chk["findings"][:10]:
+            echo(f"  line {f['line']}: {f['severity']} [{f['code']}] {f['message']}")
 
 
 def describe_settings(s: dict[str, Any]) -> str:
@@ -366,6 +380,7 @@ def _knit_options(
     no_catching: bool,
     catch_every: int,
     path_planning: tuple[str, ...],
+    tall_bumps: bool = False,
 ) -> KnitOptions:
     """The knitting options the switches of ``illuknit knit`` ask for (contradictions refused)."""
     from illuknit.knit.options import Catching, KnitOptions, PathPlanning
@@ -386,6 +401,7 @@ def _knit_options(
         strict_floats=strict_floats,
         allow_long_floats=allow_long_floats,
         tuck_passes=tuck_passes,
+        tall_bumps=tall_bumps,
         float_avoidance=not no_float_avoidance,
         catching=Catching.OFF if no_catching else (Catching.PLATE if plate else Catching.TUCK),
         catch_every=catch_every,

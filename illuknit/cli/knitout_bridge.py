@@ -279,6 +279,7 @@ def write_program(
     machine: MachineSpec | str | None = None,
     formats: tuple[str, ...] | None = None,
     allow_long_floats: bool | None = None,
+    tall_bumps: bool = False,
 ) -> dict[str, Path]:
     """Compile ``pattern`` for ``machine`` to ``program.k`` and write the checker's report beside it.
 
@@ -289,6 +290,8 @@ def write_program(
     one without a choice to make (``program.kc`` for the Kniterate); returns name -> path. Prints
     a one-line summary of each. The checker judges the program by the same machine the scheduler
     used.
+
+    ``tall_bumps`` knits every bump as a tall bump (:class:`~illuknit.knit.options.KnitOptions`).
 
     A float longer than the machine's float limit raises
     :class:`~illuknit.core.errors.LongFloatError` before anything is written, unless
@@ -309,8 +312,10 @@ def write_program(
         check_format(spec, fmt)
     if allow_long_floats is None:
         allow_long_floats = long_floats_allowed()
-    result = knit_pattern(pattern, machine=spec, allow_long_floats=allow_long_floats)
-    report = check_knitout(result.program, machine=spec)
+    result = knit_pattern(
+        pattern, machine=spec, allow_long_floats=allow_long_floats, tall_bumps=tall_bumps
+    )
+    report = check_knitout(result.program, machine=spec, split_bumps=result.split_bumps > 0)
     sheet = machine_sheet(result, name="program.kc")
     summary = machine_headline(result.summary(), sheet)
     console().print(f"knitout: {_describe(summary)}")

@@ -61,6 +61,12 @@ def check_render_size(shape: tuple[int, int], *, scale: int, frames: int) -> Non
     help="Renderer parameters JSON (heights, unit length, theta, shading); see docs/render.md.",
 )
 @click.option(
+    "--tall-bumps",
+    is_flag=True,
+    help="The pattern is knitted with tall bumps (illuknit knit --tall-bumps): render its bumps "
+    "at the params' tall_bump_height (docs/split-bumps.md).",
+)
+@click.option(
     "--scale",
     type=click.IntRange(1, 64),
     default=None,
@@ -78,6 +84,7 @@ def render(
     pattern_file: Path,
     angle: float | None,
     params_file: Path | None,
+    tall_bumps: bool,
     scale: int | None,
     frames: int,
     outdir: Path,
@@ -92,6 +99,8 @@ def render(
     from illuknit.outputs.previews import contact_sheet, save_png, unit_scale
 
     params = load_params(params_file) if params_file is not None else RenderParams()
+    if tall_bumps:
+        params = params.with_tall_bumps()
     a = check_angle(params.theta if angle is None else angle, name="--angle")
     params = params.with_angle(a)
     pattern = load_pattern(pattern_file)

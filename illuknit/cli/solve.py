@@ -98,6 +98,7 @@ def run_solve(
     weights: str | None = None,
     max_color_changes: int | None = None,
     alternate_rows: bool = False,
+    split_bumps: bool = False,
     n_colors: int | None = None,
     yarns: str | None = None,
     width: int | None = None,
@@ -144,6 +145,7 @@ def run_solve(
         warm_start=WarmStart(warm_start),
         weights=w,
         alternate_rows=alternate_rows,
+        split_bumps=split_bumps,
         time_limit=time_limit,
         seed=seed,
     )
@@ -422,6 +424,12 @@ def _list_solvers(ctx: click.Context, _param: click.Parameter, value: bool) -> N
     "--alternate-rows",
     is_flag=True,
     help="Single-view model: neighbouring rows must have different yarns (like `illuknit single`).",
+)
+@click.option(
+    "--split-bumps",
+    is_flag=True,
+    help="Logical model: a bump may be knitted in two yarns, one seen from each side "
+    "(docs/split-bumps.md).",
 )
 @click.option(
     "--colors",

@@ -4,6 +4,11 @@ A :class:`LogicalPattern` is an N x M grid of *units*. Each unit has a yarn inde
 palette and a *raised* flag (a bump that occludes the next unit along the wale, seen from an
 angle). One unit becomes a 2 x 2 block of stitches when lowered for knitting.
 
+A raised unit may be a *split bump*: its two courses are knitted in two yarns, ``yarn`` for the
+first course in machine order (the one nearer the bottom edge) and ``upper`` for the second (nearer
+the top edge). Which view sees which course is described in :mod:`illuknit.core.views` and
+``docs/split-bumps.md``. A pattern without split bumps has ``upper is None``.
+
 Orientation, used everywhere in illuknit (see the README figure):
 
 * arrays are indexed ``[row, col]`` in *picture order*: row 0 is the top edge of the piece as it
@@ -38,6 +43,7 @@ __all__ = [
     "FORMAT_VERSION",
     "MAX_UNITS",
     "MAX_YARNS",
+    "SPLIT_FORMAT_VERSION",
     "LogicalPattern",
     "Yarn",
     "YarnNote",
@@ -53,6 +59,10 @@ __all__ = [
 
 FORMAT_NAME = "illuknit-pattern"
 FORMAT_VERSION = 1
+#: The version written when a pattern has split bumps (the ``upper`` rows); version 1 readers
+#: would drop them silently, so such a file says it needs a newer reader.
+SPLIT_FORMAT_VERSION = 2
+_READ_VERSIONS = (FORMAT_VERSION, SPLIT_FORMAT_VERSION)
 #: Yarn indices are written as one base-36 digit per unit.
 MAX_YARNS = 36
 #: No knitting bed is wider than this many units (2000 needles); also a sanity cap on height.
@@ -278,6 +288,12 @@ class LogicalPattern:
         The palette; at least one yarn, all colours distinct.
     meta : mapping, optional
         JSON-serialisable provenance (which compiler or solver made it, with what settings).
+    upper : ndarray of shape (N, M), integer, optional
+        Split bumps: the yarn of each unit's second course in machine order (the course nearer
+        the top edge as the piece hangs); the first course is ``yarn``. Flat units must have
+        ``upper == yarn``; a raised unit with ``upper != yarn`` is a split bump. ``None`` (the
+        default) means no split bumps anywhere, and an ``upper`` equal to ``yarn`` everywhere is
+        stored as ``None``, so ``upper is None`` exactly when the pattern has no split bump.
 
     Examples
     --------
@@ -290,6 +306,7 @@ class LogicalPattern:
     raised: NDArray[np.bool_]
     yarns: tuple[Yarn, ...]
     meta: Mapping[str, Any] = field(default_factory=dict)
+    upper: NDArray[np.int16] | None = None
 
     def __post_init__(self) -> None:
         yarn = np.asarray(self.yarn)
@@ -337,6 +354,7 @@ class LogicalPattern:
         object.__setattr__(self, "raised", _readonly(raised))
         object.__setattr__(self, "yarns", yarns)
         object.__setattr__(self, "meta", MappingProxyType(dict(self.meta)))
+        object.__setattr__(self, "upper", _check_upper(self.upper, self.yarn, raised, len(yarns)))
 
     # -- convenience -------------------------------------------------------------------------
     @property
@@ -354,6 +372,19 @@ class LogicalPattern:
         """ndarray of shape (K,): relative luminance of each yarn."""
         return luminance(self.palette)
 
+    @property
+    def upper_yarn(self) -> NDArray[np.int16]:
+        """ndarray of shape (N, M): the yarn of every unit's second course (``upper``, or
+        ``yarn`` when the pattern has no split bumps)."""
+        return self.yarn if self.upper is None else self.upper
+
+    @property
+    def split(self) -> NDArray[np.bool_]:
+        """ndarray of shape (N, M), bool: True at the split bumps (raised, two yarns)."""
+        if self.upper is None:
+            return np.zeros(self.yarn.shape, dtype=bool)
+        return self.raised & (self.upper != self.yarn)
+
     def rgb(self, indices: ArrayLike | None = None) -> NDArray[np.uint8]:
         """Colour an index image (default: the head-on yarn grid) with the palette."""
         idx = self.yarn if indices is None else np.asarray(indices)
@@ -366,6 +397,7 @@ class LogicalPattern:
             "raised": self.raised,
             "yarns": self.yarns,
             "meta": dict(self.meta),
+            "upper": self.upper,
         }
         kw.update(changes)
         return LogicalPattern(**kw)
@@ -377,6 +409,7 @@ class LogicalPattern:
             self.yarns == other.yarns
             and np.array_equal(self.yarn, other.yarn)
             and np.array_equal(self.raised, other.raised)
+            and np.array_equal(self.upper_yarn, other.upper_yarn)
             and dict(self.meta) == dict(other.meta)
         )
 
@@ -385,7 +418,44 @@ class LogicalPattern:
     def __repr__(self) -> str:
         n, m = self.shape
         names = ", ".join(y.name for y in self.yarns)
-        return f"LogicalPattern({n}x{m} units, yarns=[{names}], raised={int(self.raised.sum())})"
+        split = "" if self.upper is None else f", split={int(self.split.sum())}"
+        return (
+            f"LogicalPattern({n}x{m} units, yarns=[{names}], raised={int(self.raised.sum())}"
+            f"{split})"
+        )
+
+
+def _check_upper(
+    upper: ArrayLike | None, yarn: NDArray[np.int16], raised: NDArray[np.bool_], k: int
+) -> NDArray[np.int16] | None:
+    """``upper`` validated and read-only, or None when it is None or equals ``yarn``."""
+    if upper is None:
+        return None
+    u = np.asarray(upper)
+    if u.shape != yarn.shape:
+        raise PatternValidationError(
+            f"`upper` must have the shape of `yarn` {yarn.shape}, got {u.shape}"
+        )
+    if not np.issubdtype(u.dtype, np.integer):
+        if np.issubdtype(u.dtype, np.floating) and np.all(np.mod(u, 1) == 0):
+            u = u.astype(np.int64)
+        else:
+            raise PatternValidationError(f"`upper` must hold integers, got dtype {u.dtype}")
+    lo, hi = int(u.min()), int(u.max())
+    if lo < 0 or hi >= k:
+        raise PatternValidationError(
+            f"`upper` yarn indices must lie in 0..{k - 1}, got values in {lo}..{hi}"
+        )
+    flat_split = ~raised & (u != yarn)
+    if flat_split.any():
+        r, c = (int(v) for v in np.argwhere(flat_split)[0])
+        raise PatternValidationError(
+            f"`upper` differs from `yarn` at {int(flat_split.sum())} flat unit(s) (first at row "
+            f"{r}, column {c}): only a raised unit can be a split bump"
+        )
+    if np.array_equal(u, yarn):
+        return None
+    return _readonly(u.astype(np.int16))
 
 
 # -- JSON format ------------------------------------------------------------------------------
@@ -402,20 +472,26 @@ def pattern_to_json(pattern: LogicalPattern) -> dict[str, Any]:
          "raised": ["0010...", ...],   # N strings of M '0'/'1'
          "meta": {...}}
 
-    Rows are in picture order (row 0 = top edge as the piece hangs).
+    Rows are in picture order (row 0 = top edge as the piece hangs). A pattern with split bumps
+    is written as version 2 with one more key, ``"upper"`` (N strings of base-36 digits: the yarn
+    of each unit's second course), placed after ``"raised"``; a pattern without them is written
+    exactly as before.
     """
     n, m = pattern.shape
     digits = np.array(list(_DIGITS))
-    return {
+    doc: dict[str, Any] = {
         "format": FORMAT_NAME,
-        "version": FORMAT_VERSION,
+        "version": FORMAT_VERSION if pattern.upper is None else SPLIT_FORMAT_VERSION,
         "rows": n,
         "cols": m,
         "yarns": [{"name": y.name, "rgb": y.hex} for y in pattern.yarns],
         "yarn": ["".join(row) for row in digits[pattern.yarn]],
         "raised": ["".join(row) for row in np.where(pattern.raised, "1", "0")],
-        "meta": dict(pattern.meta),
     }
+    if pattern.upper is not None:
+        doc["upper"] = ["".join(row) for row in digits[pattern.upper]]
+    doc["meta"] = dict(pattern.meta)
+    return doc
 
 
 def pattern_from_json(doc: Any) -> LogicalPattern:
@@ -424,9 +500,15 @@ def pattern_from_json(doc: Any) -> LogicalPattern:
         raise PatternFormatError("pattern file must hold a JSON object")
     if doc.get("format") != FORMAT_NAME:
         raise PatternFormatError(f"not an illuknit pattern (format is {doc.get('format')!r})")
-    if doc.get("version") != FORMAT_VERSION:
+    version = doc.get("version")
+    if isinstance(version, bool) or version not in _READ_VERSIONS:
         raise PatternFormatError(
-            f"pattern format version {doc.get('version')!r} is not supported (this illuknit reads version {FORMAT_VERSION})"
+            f"pattern format version {version!r} is not supported (this illuknit reads versions "
+            f"{FORMAT_VERSION} and {SPLIT_FORMAT_VERSION})"
+        )
+    if "upper" in doc and version == FORMAT_VERSION:
+        raise PatternFormatError(
+            f"malformed pattern file: `upper` (split bumps) needs version {SPLIT_FORMAT_VERSION}"
         )
     for key in ("rows", "cols"):
         v = doc.get(key)
@@ -449,32 +531,55 @@ def pattern_from_json(doc: Any) -> LogicalPattern:
         raise PatternFormatError(
             f"pattern declares {n} rows but holds {len(rows_y)} / {len(rows_r)}"
         )
-    lookup = np.full(128, -1, dtype=np.int16)
-    for i, ch in enumerate(_DIGITS):
-        lookup[ord(ch)] = i
     yarn = np.empty((n, m), dtype=np.int16)
     raised = np.empty((n, m), dtype=bool)
     for i, (ry, rr) in enumerate(zip(rows_y, rows_r, strict=True)):
         if not isinstance(ry, str) or not isinstance(rr, str) or len(ry) != m or len(rr) != m:
             raise PatternFormatError(f"row {i}: expected two strings of {m} characters")
-        codes = np.frombuffer(ry.lower().encode("ascii", "replace"), dtype=np.uint8)
-        vals = lookup[np.minimum(codes, 127)]
-        if (vals < 0).any():
-            raise PatternFormatError(f"row {i}: yarn digits must be 0-9 or a-z")
-        yarn[i] = vals
+        yarn[i] = _digit_row(ry, i, "yarn")
         if set(rr) - {"0", "1"}:
             raise PatternFormatError(f"row {i}: raised flags must be '0' or '1'")
         raised[i] = np.frombuffer(rr.encode(), dtype=np.uint8) == ord("1")
+    upper = _upper_rows(doc.get("upper"), n, m)
     if not isinstance(meta, dict):
         raise PatternFormatError("`meta` must be a JSON object")
-    if yarn.size and int(yarn.max()) >= len(yarns):
-        raise PatternFormatError(
-            f"yarn index {int(yarn.max())} is out of range: the palette has {len(yarns)} yarn(s)"
-        )
+    for what, arr in (("yarn", yarn), ("upper", upper)):
+        if arr is not None and arr.size and int(arr.max()) >= len(yarns):
+            raise PatternFormatError(
+                f"{what} index {int(arr.max())} is out of range: the palette has "
+                f"{len(yarns)} yarn(s)"
+            )
     try:
-        return LogicalPattern(yarn, raised, yarns, meta)
+        return LogicalPattern(yarn, raised, yarns, meta, upper=upper)
     except (PatternValidationError, YarnSpecError) as e:
         raise PatternFormatError(f"invalid pattern: {e}") from None
+
+
+_LOOKUP = np.full(128, -1, dtype=np.int16)
+for _i, _ch in enumerate(_DIGITS):
+    _LOOKUP[ord(_ch)] = _i
+
+
+def _digit_row(text: str, i: int, what: str) -> NDArray[np.int16]:
+    codes = np.frombuffer(text.lower().encode("ascii", "replace"), dtype=np.uint8)
+    vals = _LOOKUP[np.minimum(codes, 127)]
+    if (vals < 0).any():
+        raise PatternFormatError(f"row {i}: {what} digits must be 0-9 or a-z")
+    return vals
+
+
+def _upper_rows(rows: Any, n: int, m: int) -> NDArray[np.int16] | None:
+    """The ``upper`` rows of a pattern file as an array, None when the key is absent."""
+    if rows is None:
+        return None
+    if not isinstance(rows, list) or len(rows) != n:
+        raise PatternFormatError(f"malformed pattern file: `upper` must be a list of {n} strings")
+    upper = np.empty((n, m), dtype=np.int16)
+    for i, ru in enumerate(rows):
+        if not isinstance(ru, str) or len(ru) != m:
+            raise PatternFormatError(f"row {i}: `upper` must be a string of {m} characters")
+        upper[i] = _digit_row(ru, i, "upper")
+    return upper
 
 
 def save_pattern(pattern: LogicalPattern, path: str | os.PathLike[str]) -> None:

@@ -14,6 +14,21 @@ Arrays are in picture order (row 0 = top edge as the piece hangs; see :mod:`illu
 * **Head-on**, every unit is seen: ``VH = C``.
 
 Each wale (column) is independent. All functions are vectorised over the whole grid.
+
+**Split bumps** (``LogicalPattern.upper``, ``docs/split-bumps.md``). A raised unit is a knit
+course followed, in machine order, by a purl course; a split bump knits them in two yarns, ``C``
+(first course, nearer the bottom edge) and ``U`` (second course, nearer the top edge). Each side of
+the bump is made mostly of the course on that side: view A, looking from the top edge, sees
+mostly ``U``, view B mostly ``C`` (the renderer mixes in the other course with weight
+``1 - split_share``, :class:`illuknit.design.render.params.RenderParams`). In the logical model each
+view sees the dominant course, and since ``U == C`` on flat units the equations stay those above
+with ``U`` in view A::
+
+    VA[0] = U[0];   VA[i] = U[i-1] if R[i-1] else U[i]
+    VB[N-1] = C[N-1];   VB[i] = C[i+1] if R[i+1] else C[i]
+    VH = C          (head-on both courses show alike; the first one is named)
+
+Without split bumps ``U == C`` everywhere and nothing changes.
 """
 
 from __future__ import annotations
@@ -28,10 +43,12 @@ from illuknit.core.errors import ImageInputError, OptionError, PatternValidation
 from illuknit.core.pattern import LogicalPattern
 
 __all__ = [
+    "DEFAULT_SPLIT_SHARE",
     "VIEWS",
     "View",
     "can_see",
     "logical_error",
+    "seen_courses",
     "seen_rows",
     "view_a",
     "view_b",
@@ -41,6 +58,10 @@ __all__ = [
 
 View = Literal["A", "B", "headon"]
 VIEWS: tuple[View, ...] = ("A", "B", "headon")
+#: Share of a split bump's colour, seen from one side, that comes from the course on that side:
+#: the cuboid estimate (``docs/split-bumps.md``) until a swatch is measured. The renderer's
+#: ``RenderParams.split_share`` and the tile fills of split bumps start from it.
+DEFAULT_SPLIT_SHARE = 0.75
 
 
 def _arrays(
@@ -82,8 +103,31 @@ def seen_rows(raised: ArrayLike, view: View) -> NDArray[np.intp]:
     return rows
 
 
+def seen_courses(
+    yarn: ArrayLike, raised: ArrayLike, upper: ArrayLike | None, view: View
+) -> tuple[NDArray[np.int16], NDArray[np.int16]]:
+    """The two courses of the unit each cell shows, ``(near, far)``, each of shape (N, M).
+
+    ``near`` is :func:`can_see` (the course on the viewer's side: the second from A, the first
+    from B and head-on); ``far`` is the other course of the same unit, equal to ``near`` except at
+    split bumps, which show ``split_share`` of ``near`` and the rest of ``far`` (head-on half of
+    each; see the module docstring)."""
+    c = np.asarray(yarn)
+    r = np.asarray(raised, dtype=bool)
+    u = c if upper is None else np.asarray(upper)
+    rows = seen_rows(r, view)
+    cols = np.broadcast_to(np.arange(c.shape[1])[None, :], c.shape)
+    first, second = c[rows, cols], u[rows, cols]
+    near, far = (second, first) if view == "A" else (first, second)
+    return near.astype(np.int16), far.astype(np.int16)
+
+
 def can_see(
-    pattern_or_yarn: LogicalPattern | ArrayLike, view: View, raised: ArrayLike | None = None
+    pattern_or_yarn: LogicalPattern | ArrayLike,
+    view: View,
+    raised: ArrayLike | None = None,
+    *,
+    upper: ArrayLike | None = None,
 ) -> NDArray[np.int16]:
     """Yarn index seen at every cell from ``view`` ("A", "B" or "headon").
 
@@ -93,18 +137,57 @@ def can_see(
         A pattern, or its yarn-index array (then pass ``raised`` too).
     view : {"A", "B", "headon"}
     raised : ndarray of shape (N, M), bool, optional
+    upper : ndarray of shape (N, M), int, optional
+        With a yarn array: the yarn of each unit's second course (split bumps; equal to the yarn
+        on flat units). A pattern brings its own (``LogicalPattern.upper``).
 
     Returns
     -------
     ndarray of shape (N, M)
+        The dominant yarn each cell shows (see the module docstring for split bumps).
     """
-    return _can_see(pattern_or_yarn, view, raised, "pattern_or_yarn")
+    return _can_see(pattern_or_yarn, view, raised, "pattern_or_yarn", upper)
+
+
+def _upper(
+    pattern_or_yarn: LogicalPattern | ArrayLike,
+    c: NDArray[np.integer],
+    r: NDArray[np.bool_],
+    upper: ArrayLike | None,
+) -> NDArray[np.integer]:
+    """The second-course yarns: the pattern's, ``upper`` checked against ``c`` and ``r``, or c."""
+    if isinstance(pattern_or_yarn, LogicalPattern):
+        if upper is not None:
+            raise PatternValidationError("pass `upper` only with a yarn array, not a pattern")
+        return pattern_or_yarn.upper_yarn
+    if upper is None:
+        return c
+    u = check_array(
+        upper,
+        "upper",
+        ndim=2,
+        integer=True,
+        what="a 2-D array of yarn indices",
+        error=PatternValidationError,
+    )
+    if u.shape != c.shape:
+        raise PatternValidationError(f"`upper` must have shape {c.shape}, got {u.shape}")
+    if (~r & (u != c)).any():
+        raise PatternValidationError("`upper` must equal the yarn on flat units")
+    return u
 
 
 def _can_see(
-    pattern_or_yarn: LogicalPattern | ArrayLike, view: View, raised: ArrayLike | None, name: str
+    pattern_or_yarn: LogicalPattern | ArrayLike,
+    view: View,
+    raised: ArrayLike | None,
+    name: str,
+    upper: ArrayLike | None = None,
 ) -> NDArray[np.int16]:
     c, r = _arrays(pattern_or_yarn, raised, name)
+    u = _upper(pattern_or_yarn, c, r, upper)
+    if view == "A":
+        c = u
     if view == "headon":
         return np.array(c, dtype=np.int16, copy=True)
     out = np.array(c, dtype=np.int16, copy=True)
@@ -117,9 +200,14 @@ def _can_see(
     return out
 
 
-def view_a(p: LogicalPattern | ArrayLike, raised: ArrayLike | None = None) -> NDArray[np.int16]:
+def view_a(
+    p: LogicalPattern | ArrayLike,
+    raised: ArrayLike | None = None,
+    *,
+    upper: ArrayLike | None = None,
+) -> NDArray[np.int16]:
     """Yarn indices seen from above (view A)."""
-    return _can_see(p, "A", raised, "p")
+    return _can_see(p, "A", raised, "p", upper)
 
 
 def view_b(p: LogicalPattern | ArrayLike, raised: ArrayLike | None = None) -> NDArray[np.int16]:

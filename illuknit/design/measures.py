@@ -38,6 +38,8 @@ luminance once and score it many times.
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
@@ -257,11 +259,13 @@ def _to_units(img: NDArray[np.float64], shape: tuple[int, int]) -> NDArray[np.fl
 
 
 def angled_renders(
-    pattern: LogicalPattern, *, angle: float = RENDER_ANGLE
+    pattern: LogicalPattern, *, angle: float = RENDER_ANGLE, params: Any = None
 ) -> tuple[dict[str, NDArray[np.float64]], str]:
     """Renders of both sides at ``angle``, one pixel per unit, and the renderer's name.
 
-    Uses :func:`illuknit.design.render.render_views` (illuknit's own renderer: always there).
+    Uses :func:`illuknit.design.render.render_views` (illuknit's own renderer: always there),
+    with ``params`` (a :class:`~illuknit.design.render.params.RenderParams`; default ones when
+    None), e.g. the tall bump height or a measured split share.
 
     Returns
     -------
@@ -271,7 +275,7 @@ def angled_renders(
     """
     from illuknit.design.render import render_views
 
-    views = render_views(pattern, angle=angle)
+    views = render_views(pattern, angle=angle, params=params)
     out = {}
     for v in ("A", "B", "headon"):
         raw = np.asarray(views[v])

@@ -27,6 +27,7 @@ from typing import Any
 
 from illuknit.core.errors import OptionError
 from illuknit.core.machine import MachineSpec, resolve_machine
+from illuknit.core.views import DEFAULT_SPLIT_SHARE
 from illuknit.design.models.illusion_problem import KnitWeights
 
 __all__ = [
@@ -158,6 +159,14 @@ class SearchOptions:
     brightness : Brightness or str
     one_sided : bool
         Only tiles that are solid from at least one side (the default bank only).
+    split_bumps : bool
+        The canonical bank also holds split bumps (``docs/split-bumps.md``): a bump knitted in
+        two yarns, one for each side. A bank file lists its own tiles instead.
+    split_share : float
+        How much of a split bump's colour each side sees of its own course, in (0.5, 1]
+        (``RenderParams.split_share``; the estimate 0.75 until a swatch is measured): the
+        bank's fills and the renders the designs are ranked by count the rest as the other
+        course.
     edits : PictureEdits or str
         Simplifying edits of the pictures (double view only).
     solve_seconds : float, optional
@@ -170,6 +179,8 @@ class SearchOptions:
     solver: str = "cpsat"
     brightness: Brightness = Brightness.HARD
     one_sided: bool = False
+    split_bumps: bool = False
+    split_share: float = DEFAULT_SPLIT_SHARE
     edits: PictureEdits = PictureEdits.NONE
     solve_seconds: float | None = 10.0
 
@@ -183,6 +194,10 @@ class SearchOptions:
         if self.solve_seconds is not None:
             _seconds("solve_seconds", self.solve_seconds)
         flag_option("one_sided", self.one_sided)
+        flag_option("split_bumps", self.split_bumps)
+        share = self.split_share
+        if isinstance(share, bool) or not isinstance(share, int | float) or not 0.5 < share <= 1:
+            raise OptionError(f"`split_share` must be a number in (0.5, 1], got {share!r}")
         object.__setattr__(
             self, "brightness", enum_option(Brightness, "brightness", self.brightness)
         )
@@ -292,6 +307,9 @@ class SolveOptions:
         Knit-aware weights (default weights when None).
     alternate_rows : bool
         Single-view model: neighbouring rows must have different yarns.
+    split_bumps : bool
+        Logical model: bumps may be knitted in two yarns, one seen from each side
+        (``docs/split-bumps.md``).
     time_limit : float, optional
         Seconds; the best pattern found is kept.
     seed : int
@@ -302,6 +320,7 @@ class SolveOptions:
     warm_start: WarmStart = WarmStart.AUTO
     weights: KnitWeights | None = None
     alternate_rows: bool = False
+    split_bumps: bool = False
     time_limit: float | None = 60.0
     seed: int = 0
 
@@ -317,6 +336,12 @@ class SolveOptions:
         flag_option("alternate_rows", self.alternate_rows)
         if self.alternate_rows and self.model is not ModelKind.SINGLE:
             raise OptionError("`alternate_rows` applies to the single-view model only")
+        flag_option("split_bumps", self.split_bumps)
+        if self.split_bumps and self.model is not ModelKind.LOGICAL:
+            raise OptionError(
+                "`split_bumps` applies to the logical model only (the knit-aware model does not "
+                "count a split bump's second yarn; the single-view model shows one picture)"
+            )
         if self.time_limit is not None:
             _seconds("time_limit", self.time_limit)
         count_option("seed", self.seed, minimum=0)

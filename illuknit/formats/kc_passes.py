@@ -1,16 +1,18 @@
 """Knitout -> Kniterate carriage passes: the first stage of the ``.kc`` writer.
 
-The Kniterate runs one yarn carrier per carriage pass. Knitout operations are read in order and
-merged into the current pass while they fit (same racking, speed, direction and carrier; a pass
-kind both can share; the new needle beyond the pass's furthest one in its direction; stitch
-numbers that agree); otherwise a new pass starts. Before a new pass with a carrier, the carrier is
-"kicked" (a yarn-less soft miss in the other direction) when it may be parked on the wrong side;
-before any stitch or transfer, every other live carrier whose yarn is attached across that needle
-is kicked out of the way. These rules, and the values written for each pass (roller advance,
-stitch number, speed), are those of the CMU Kniterate backend ``knitout-to-kcode.js``, so that the
-resulting ``.kc`` is the same file (the pass types and the merge rule are in
-:mod:`illuknit.formats.kc_ir`). Programs that backend would turn into a wrong file (plated
-carriers, slider needles, racking it cannot align) raise :class:`~illuknit.core.errors.KcodeError`.
+The Kniterate runs one yarn carrier per carriage pass. Knitout operations, as the knitout
+parser reads them (:func:`~illuknit.knitout.parse.parse_knitout`, the IR the checker reads too),
+are taken in order and merged into the current pass while they fit (same racking, speed,
+direction and carrier; a pass kind both can share; the new needle beyond the pass's furthest one
+in its direction; stitch numbers that agree); otherwise a new pass starts. Before a new pass with
+a carrier, the carrier is "kicked" (a yarn-less soft miss in the other direction) when it may be
+parked on the wrong side; before any stitch or transfer, every other live carrier whose yarn is
+attached across that needle is kicked out of the way. These rules, and the values written for
+each pass (roller advance, stitch number, speed), are those of the CMU Kniterate backend
+``knitout-to-kcode.js``, so that the resulting ``.kc`` is the same file (the pass types and the
+merge rule are in :mod:`illuknit.formats.kc_ir`). Programs that backend would turn into a wrong
+file (plated carriers, slider needles, racking it cannot align) raise
+:class:`~illuknit.core.errors.KcodeError`.
 """
 
 from __future__ import annotations
@@ -19,7 +21,7 @@ import math
 import re
 from dataclasses import dataclass
 
-from illuknit.core.errors import KcodeError
+from illuknit.core.errors import KcodeError, KnitoutParseError
 from illuknit.formats.kc_ir import (
     CARRIERS,
     SOFT,
@@ -30,7 +32,7 @@ from illuknit.formats.kc_ir import (
     KcSlotOp,
     pass_kind,
 )
-from illuknit.knitout.parse import Needle, parse_needle
+from illuknit.knitout.parse import KnitoutProgram, Needle, Operation, parse_knitout
 
 __all__ = ["read_kc_passes"]
 
@@ -50,13 +52,11 @@ def _opposite(direction: str) -> str:
     return "+" if direction == "-" else "-"
 
 
-def _tokens(line: str) -> list[str]:
-    # only spaces separate tokens (a tab is part of a token, as in the backend)
-    return [t for t in line.split(";", 1)[0].split(" ") if t]
-
-
 def read_kc_passes(text: str) -> KcProgram:
     """Parse knitout text into the Kniterate's carriage passes.
+
+    The text is read by the knitout parser (:func:`~illuknit.knitout.parse.parse_knitout`);
+    its operations are then grouped into passes as the backend groups them.
 
     Parameters
     ----------
@@ -70,58 +70,54 @@ def read_kc_passes(text: str) -> KcProgram:
     Raises
     ------
     KcodeError
-        For knitout the Kniterate backend refuses, or would translate into a wrong file.
+        For knitout the Kniterate backend refuses, or would translate into a wrong file (a line
+        that does not parse as knitout included).
     """
-    lines = [ln[:-1] if ln.endswith("\r") else ln for ln in text.split("\n")]
-    m = re.match(r"^;!knitout-(\d+)$", lines[0])
-    if not m:
-        raise KcodeError(
-            "the file does not start with the knitout magic line ';!knitout-2'", line=1
-        )
-    headers, first = _read_headers(lines)
+    try:
+        program = parse_knitout(text)
+    except KnitoutParseError as e:
+        raise KcodeError(str(e).removeprefix(f"line {e.line}: "), line=e.line) from None
     reader = _PassReader()
-    for number in range(first, len(lines)):
-        tokens = _tokens(lines[number])
-        if tokens:
-            reader.line = number + 1
-            reader.apply(tokens[0], tokens[1:])
+    for operation in program.operations:
+        reader.line = operation.line
+        if operation.tabs:  # the backend splits tokens at spaces only
+            raise reader.fail("tokens must be separated by spaces, not tabs")
+        reader.apply(operation)
     if reader.carriers:
         left = " ".join(sorted(reader.carriers, key=int))
-        raise KcodeError(f"carriers {left} are never taken out (`out`)", line=len(lines))
+        raise KcodeError(f"carriers {left} are never taken out (`out`)", line=len(text.split("\n")))
     return KcProgram(
-        headers=headers,
+        headers=_read_headers(program),
         passes=tuple(reader.passes),
         carrier_spacing=reader.carrier_spacing,
         carrier_stopping_distance=reader.stopping_distance,
     )
 
 
-def _read_headers(lines: list[str]) -> tuple[KcHeaders, int]:
+def _read_headers(program: KnitoutProgram) -> KcHeaders:
     carriers: list[str] | None = None
     position = "Center"
     width = 252
-    index = 1
-    while index < len(lines) and lines[index].startswith(";;") and ": " in lines[index]:
-        name, value = lines[index][2:].split(": ", 1)
-        index += 1
+    for name, value, line in program.headers:
         if name == "Carriers":
             carriers = re.split(" +", value)
         elif name == "Gauge":
             if not (re.match(r"^\d+\.?\d*$", value) and float(value) > 0):
-                raise KcodeError(f"`Gauge` must be a positive number, got {value!r}", line=index)
+                raise KcodeError(f"`Gauge` must be a positive number, got {value!r}", line=line)
         elif name == "Width":
             if not (re.match(r"^\d+$", value) and int(value) > 0):
-                raise KcodeError(f"`Width` must be a positive integer, got {value!r}", line=index)
+                raise KcodeError(f"`Width` must be a positive integer, got {value!r}", line=line)
             width = int(value)
         elif name == "Position":
             if value not in _POSITIONS:
                 raise KcodeError(
-                    f"`Position` must be one of {', '.join(_POSITIONS)}, got {value!r}", line=index
+                    f"`Position` must be one of {', '.join(_POSITIONS)}, got {value!r}", line=line
                 )
             position = value
     if carriers is None or tuple(carriers) != CARRIERS:
-        raise KcodeError("the Kniterate needs the header ';;Carriers: 1 2 3 4 5 6'", line=index + 1)
-    return KcHeaders(position=position, width=width), index
+        line = len(program.headers) + 2  # the first line after the header
+        raise KcodeError("the Kniterate needs the header ';;Carriers: 1 2 3 4 5 6'", line=line)
+    return KcHeaders(position=position, width=width)
 
 
 class _PassReader:
@@ -187,14 +183,9 @@ class _PassReader:
             self.add_roller = 0.0
         return value
 
-    def needle(self, token: str | None) -> Needle:
-        n = parse_needle(token or "")
-        if n is None:
-            raise self.fail(f"invalid needle {token!r}")
-        if len(n.bed) > 1:
-            raise self.fail(
-                f"slider needle {token} is not supported on the Kniterate", needle=token
-            )
+    def needle(self, n: Needle) -> Needle:
+        if n.is_slider:
+            raise self.fail(f"slider needle {n} is not supported on the Kniterate", needle=str(n))
         return n
 
     def number(self, op: str, args: list[str]) -> float:
@@ -281,28 +272,31 @@ class _PassReader:
             self.carriers[c].kick = (n, direction)
 
     # -- operations ----------------------------------------------------------------------------
-    def apply(self, op: str, args: list[str]) -> None:
-        """Apply one knitout operation ``op`` with its arguments."""
-        yarnless = op in ("amiss", "drop", "xfer")
-        if yarnless:
-            op, args = {"amiss": "tuck", "drop": "knit", "xfer": "split"}[op], ["+", *args]
+    def apply(self, operation: Operation) -> None:
+        """Apply one knitout operation (the backend reads a ``drop`` as a knit, an ``amiss``
+        as a tuck and an ``xfer`` as a split, each without yarn)."""
+        op, direction = operation.op, operation.direction or "+"
         if op in ("inhook", "releasehook", "outhook"):
             raise self.fail(f"`{op}`: the Kniterate has no yarn inserting hook (use `in`/`out`)")
         if op == "in":
-            self.bring_in(tuple(args))
+            self.bring_in(operation.carriers)
         elif op == "out":
-            self.take_out(tuple(args))
-        elif op in ("knit", "tuck", "miss"):
-            self.stitch_op(op, args, yarnless=yarnless)
-        elif op == "split":
-            self.split_op(args, yarnless=yarnless)
+            self.take_out(operation.carriers)
+        elif op in ("knit", "tuck", "miss", "drop", "amiss"):
+            op = {"drop": "knit", "amiss": "tuck"}.get(op, op)
+            self.stitch_op(op, direction, operation.needle, operation.carriers)
+        elif op in ("split", "xfer"):
+            source, target = operation.needles
+            self.split_op(direction, source, target, operation.carriers)
+        elif op == "rack":
+            assert operation.value is not None
+            self.set_racking(operation.value)
         else:
-            self.setting(op, args)
+            self.setting(op, list(operation.args))
 
     def setting(self, op: str, args: list[str]) -> None:
-        if op == "rack":
-            self.set_racking(args)
-        elif op == "stitch":
+        """``stitch``, ``pause`` or an extension (``x-...``)."""
+        if op == "stitch":
             if len(args) != 2 or not all(re.match(r"^[+-]?\d+$", a) for a in args):
                 raise self.fail("`stitch` takes two integers")
             # the backend ignores `stitch`; sizes come from x-stitch-number
@@ -341,20 +335,17 @@ class _PassReader:
         elif op == "pause":
             self.pause_pending = True
             self.pause_message = " ".join(args) if args else None
-        elif not op.startswith("x-"):  # other extensions (x-presser-mode, ...) do nothing here
-            raise self.fail(f"unsupported operation {op!r}")
+        # (other extensions, x-presser-mode, ..., do nothing here)
 
-    def set_racking(self, args: list[str]) -> None:
-        racking = self.number("rack", args)
+    def set_racking(self, value: float) -> None:
+        racking = value
         if racking - math.floor(racking) == 0.25:  # quarter pitch is the Kniterate's half pitch
             racking += 0.25
         if racking - math.floor(racking) not in (0.0, 0.5):
-            raise self.fail(f"racking must be whole or whole + 0.5, got {args[0]}", racking=racking)
+            raise self.fail(f"racking must be whole or whole + 0.5, got {value:g}", racking=racking)
         self.racking = racking
 
     def bring_in(self, carriers: tuple[str, ...]) -> None:
-        if not carriers:
-            raise self.fail("`in` needs a carrier")
         for c in carriers:
             if c not in CARRIERS:
                 raise self.fail(f"carrier {c!r} is not one of 1-6", carrier=c)
@@ -383,12 +374,9 @@ class _PassReader:
         self.merge(p)
         del self.carriers[carriers[0]]
 
-    def stitch_op(self, op: str, args: list[str], *, yarnless: bool) -> None:
-        direction = args[0] if args else ""
-        n = self.needle(args[1] if len(args) > 1 else None)
-        carriers = tuple(args[2:])
-        if yarnless and carriers:
-            raise self.fail(f"`{'amiss' if op == 'tuck' else 'drop'}` takes no carriers")
+    def stitch_op(self, op: str, direction: str, n: Needle, carriers: tuple[str, ...]) -> None:
+        """A knit, tuck or miss (without carriers: a drop or an amiss)."""
+        n = self.needle(n)
         if not carriers:
             if op == "miss":
                 raise self.fail("`miss` needs a carrier")
@@ -429,13 +417,9 @@ class _PassReader:
                 carrier=" ".join(carriers),
             )
 
-    def split_op(self, args: list[str], *, yarnless: bool) -> None:
-        direction = args[0] if args else ""
-        n = self.needle(args[1] if len(args) > 1 else None)
-        t = self.needle(args[2] if len(args) > 2 else None)
-        carriers = tuple(args[3:])
-        if yarnless and carriers:
-            raise self.fail("`xfer` takes no carriers")
+    def split_op(self, direction: str, n: Needle, t: Needle, carriers: tuple[str, ...]) -> None:
+        """A split from ``n`` to ``t`` (without carriers: a transfer)."""
+        n, t = self.needle(n), self.needle(t)
         if n.is_front == t.is_front:
             raise self.fail(f"transfers go between beds, not {n.bed}{n.index} -> {t.bed}{t.index}")
         front, back = (n, t) if n.is_front else (t, n)

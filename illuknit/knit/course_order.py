@@ -33,10 +33,13 @@ def course_items(
     beds: Sequence[str],
     left: int,
     tucks: Sequence[JoinTuck] = (),
+    tuck_first: Sequence[bool] | None = None,
 ) -> list[WorkItem]:
     """Work items of a course: each carrier's own stitches, then one item per plated pair.
 
-    A carrier's tuck joins (front-bed tucks on a neighbour's needle) join its own item.
+    A carrier's tuck joins (front-bed tucks on a neighbour's needle) join its own item. Where
+    ``tuck_first`` marks a wale (tall bumps), the carrier's own stitch there is preceded by a
+    tuck on its needle: one ``pretuck`` item per carrier, listed before its own item.
     """
     plated_wales = {p.wale for p in catches}
     tucked: dict[str, set[int]] = {}
@@ -45,6 +48,14 @@ def course_items(
     items: list[WorkItem] = []
     for car, wales in plan_segments:
         own = [(left + w, beds[w]) for w in wales if w not in plated_wales]
+        if tuck_first is not None:
+            pre = tuple(
+                (left + w, beds[w]) for w in wales if tuck_first[w] and w not in plated_wales
+            )
+            if pre:
+                items.append(
+                    WorkItem((car,), pre, tucks=frozenset(n for n, _ in pre), pretuck=True)
+                )
         extra = tucked.get(car, set())
         if own or extra:
             st = tuple(sorted([*own, *((n, "f") for n in extra)]))
@@ -135,7 +146,13 @@ class _Orders:
         self.unused = CarrierState()
         self.cache: dict[tuple[int, tuple[CarrierState, ...]], _Entry] = {}
         self.ahead_cache: dict[tuple[int, CarrierState], int] = {}
-        self.own = {it.carriers[0]: i for i, it in enumerate(items) if len(it.carriers) == 1}
+        self.own = {
+            it.carriers[0]: i
+            for i, it in enumerate(items)
+            if len(it.carriers) == 1 and not it.pretuck
+        }
+        #: carrier -> index of its tall-bump tuck item (its own item comes right after it)
+        self.pre = {it.carriers[0]: i for i, it in enumerate(items) if it.pretuck}
 
     def _plan_item(self, it: WorkItem, st: dict[str, CarrierState]) -> list[PlannedPass]:
         return plan_item(it, st, strategy=self.strategy, parity=self.parity, park=self.park)  # type: ignore[arg-type]
@@ -161,6 +178,19 @@ class _Orders:
         it = self.items[i]
         if any(self.own.get(c) in left for c in it.follows):
             return False
+        if self.pre:
+            # A carrier's own item follows its tall-bump tucks at once: no other pass (nor a
+            # transfer for its floats) comes between a tuck and the knit that clears it.
+            car = it.carriers[0]
+            if not it.pretuck and self.pre.get(car) in left:
+                return False
+            waiting = [
+                self.own[c]
+                for c, j in self.pre.items()
+                if j not in left and self.own.get(c) in left
+            ]
+            if waiting and i not in waiting:
+                return False
         return len(it.carriers) == 1 or all(
             st.get(c, self.unused).needle is not None for c in it.carriers
         )

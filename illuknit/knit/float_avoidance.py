@@ -37,6 +37,7 @@ def float_crossings(
     states: Mapping[str, CarrierState],
     *,
     needles: range,
+    entry: int | None = None,
 ) -> list[frozenset[int]]:
     """Needles (within ``needles``) crossed by floats of each planned pass.
 
@@ -48,6 +49,10 @@ def float_crossings(
         Carrier states before the first pass (their ``last_loop`` starts the first floats).
     needles : range
         The body's needles; crossings outside it are dropped.
+    entry : int, optional
+        Where a carrier's yarn hangs before its first stitch on a machine without an inserting
+        hook (it comes in from the waste section, beyond an edge): its first float starts
+        there. None (a hook holds the yarn end at the first stitch): no first float.
 
     Returns
     -------
@@ -73,6 +78,8 @@ def float_crossings(
         first, end = int(seq[0]), int(seq[-1])
         for car in p.carriers:
             prev = last.get(car)
+            if prev is None and car not in last:
+                prev = entry
             if prev is not None:
                 crossed.update(
                     range(max(min(prev, first) + 1, lo_b), min(max(prev, first), hi_b + 1))

@@ -6,7 +6,9 @@ one pass. The Kniterate has none of that: yarns come in with ``in`` from the gri
 end of the bed, the take-down rollers only grip fabric that spans the bed, and each pass runs one
 carrier. So :func:`lower_hookless` rewrites a schedule's steps, and :func:`write_hookless_knitout`
 puts a waste section in front of the piece, as the Kniterate backend's ``waste-section.js`` helper
-does:
+does. The waste section is made of the schedulers' own steps (:class:`WasteSection`, built by
+:func:`waste_section`, passes of role ``waste``) and written by the same step writer
+(:func:`~illuknit.knit.knitout.step_lines`):
 
 1. **bring every yarn in** (waste yarn, draw thread, then the pattern's yarns in order of first
    use): each tucks every k-th front needle of the waste width rightward and back leftward
@@ -36,15 +38,17 @@ from dataclasses import dataclass, replace
 
 from illuknit.core.errors import SchedulingError
 from illuknit.core.machine import MachineSpec
-from illuknit.knit.ir import ActionKind, OpKind
-from illuknit.knit.knitout import write_knitout
+from illuknit.knit.ir import ActionKind, Bed, Direction, OpKind, PassKind, Role
+from illuknit.knit.knitout import step_lines, write_knitout
 from illuknit.knit.schedule import CarrierAction, Op, Pass, Schedule, Step
 
 __all__ = [
+    "WasteSection",
     "YarnEntry",
     "fabric_needles",
     "first_directions",
     "lower_hookless",
+    "waste_knitout",
     "waste_section",
     "write_hookless_knitout",
     "yarn_entry",
@@ -160,58 +164,136 @@ def yarn_entry(machine: MachineSpec) -> YarnEntry:
     return YarnEntry(machine)
 
 
-def waste_section(schedule: Schedule, *, machine: MachineSpec, waste_passes: int = 70) -> list[str]:
-    """Knitout lines of the yarn-in tucks, waste section and draw thread before the piece."""
+@dataclass(frozen=True)
+class WasteSection:
+    """What a machine without an inserting hook knits before the piece, as schedule steps (the
+    IR the schedulers emit; see the module docstring for the recipe).
+
+    Attributes
+    ----------
+    yarn_in : tuple of Step
+        Each yarn's ``in`` and its bring-in tuck passes (waste yarn, draw thread, then the
+        pattern's yarns in order of first use).
+    waste : tuple of Step
+        The waste yarn's passes on alternate needles and beds, the tube, its ``out``, then the
+        drops: the whole back bed, and the front needles outside the piece.
+    draw_thread : tuple of Step
+        One front course on the piece's needles, then ``out``.
+    """
+
+    yarn_in: tuple[Step, ...]
+    waste: tuple[Step, ...]
+    draw_thread: tuple[Step, ...]
+
+    @property
+    def steps(self) -> tuple[Step, ...]:
+        """Every step, in the order they are knit."""
+        return self.yarn_in + self.waste + self.draw_thread
+
+
+def waste_section(
+    schedule: Schedule, *, machine: MachineSpec, waste_passes: int = 70
+) -> WasteSection:
+    """The yarn-in tucks, waste section and draw thread before ``schedule``'s piece."""
     entry = yarn_entry(machine)
-    waste, draw = machine.waste_carrier, machine.draw_carrier
     lo, hi = fabric_needles(schedule.steps)
     w_lo, w_hi = entry.waste_width(lo, hi)
     first = first_directions(schedule.steps)
     yarns = entry.yarns(first)
-    lines = [
-        f"x-roller-advance {WASTE_ROLLER_ADVANCE}",
-        f"x-stitch-number {WASTE_STITCH_NUMBER}",
-        f"x-speed-number {WASTE_SPEED_NUMBER}",
-        "; bring the yarns in",
-    ]
+    waste, draw = yarns[:2]
+    yarn_in: list[Step] = []
     for i, c in enumerate(yarns):
-        lines.append(f"in {c}")
+        yarn_in.append(CarrierAction(ActionKind.IN, (c,)))
         ends_right = first.get(c) == "-"
         for direction in ("+", "-", "+") if ends_right else ("+", "-"):
-            lines += _tuck_pass(c, i, len(yarns), w_lo, w_hi, direction)
-    lines.append("; waste yarn")
-    for k in range(waste_passes):
-        d = "+" if k % 2 == 0 else "-"
-        order = range(w_lo, w_hi + 1) if d == "+" else range(w_hi, w_lo - 1, -1)
-        parity = 0 if d == "+" else 1
-        lines += [f"knit {d} {'f' if n % 2 == parity else 'b'}{n} {waste}" for n in order]
+            yarn_in.append(_tuck_pass(c, i, len(yarns), w_lo, w_hi, direction))
+    steps: list[Step] = [
+        *_waste_passes(waste, w_lo, w_hi, waste_passes),
+        CarrierAction(ActionKind.OUT, (waste,)),
+    ]
+    steps.append(_drops([(Bed.BACK, n) for n in range(w_lo, w_hi + 1)]))
+    outside = [(Bed.FRONT, n) for n in range(w_lo, w_hi + 1) if not lo <= n <= hi]
+    if outside:
+        steps.append(_drops(outside))
+    draw_thread: tuple[Step, ...] = (
+        _knit_pass(draw, "+", [(Bed.FRONT, n) for n in range(lo, hi + 1)]),
+        CarrierAction(ActionKind.OUT, (draw,)),
+    )
+    return WasteSection(tuple(yarn_in), tuple(steps), draw_thread)
+
+
+def _waste_passes(waste: str, lo: int, hi: int, passes: int) -> list[Pass]:
+    """``passes`` passes of alternate needles on alternate beds, then the tube (front
+    rightward, back leftward)."""
+    out = []
+    for k in range(passes):
+        if k % 2 == 0:
+            out.append(_knit_pass(waste, "+", [(_bed(n % 2 == 0), n) for n in range(lo, hi + 1)]))
+        else:
+            out.append(
+                _knit_pass(waste, "-", [(_bed(n % 2 == 1), n) for n in range(hi, lo - 1, -1)])
+            )
     for k in range(TUBE_PASSES):
         if k % 2 == 0:
-            lines += [f"knit + f{n} {waste}" for n in range(w_lo, w_hi + 1)]
+            out.append(_knit_pass(waste, "+", [(Bed.FRONT, n) for n in range(lo, hi + 1)]))
         else:
-            lines += [f"knit - b{n} {waste}" for n in range(w_hi, w_lo - 1, -1)]
-    lines.append(f"out {waste}")
-    lines += [f"drop b{n}" for n in range(w_lo, w_hi + 1)]
-    lines += [f"drop f{n}" for n in range(w_lo, w_hi + 1) if not lo <= n <= hi]
-    lines.append("; draw thread")
-    lines += [f"knit + f{n} {draw}" for n in range(lo, hi + 1)]
-    lines.append(f"out {draw}")
-    lines.append("; the piece")
-    return lines
+            out.append(_knit_pass(waste, "-", [(Bed.BACK, n) for n in range(hi, lo - 1, -1)]))
+    return out
 
 
-def _tuck_pass(c: str, i: int, k: int, lo: int, hi: int, direction: str) -> list[str]:
+def _bed(front: bool) -> Bed:
+    return Bed.FRONT if front else Bed.BACK
+
+
+def _knit_pass(
+    carrier: str, direction: Direction, needles: Sequence[tuple[Bed, int]], op: OpKind = OpKind.KNIT
+) -> Pass:
+    """A waste-section pass of ``carrier`` making ``op`` on ``needles`` (in pass order)."""
+    ops = tuple(Op(op, bed, n) for bed, n in needles)
+    return Pass(
+        PassKind.KNIT, ops, direction, (carrier,), 0.0, Role.WASTE, None, WASTE_STITCH_NUMBER
+    )
+
+
+def _drops(needles: Sequence[tuple[Bed, int]]) -> Pass:
+    ops = tuple(Op(OpKind.DROP, bed, n) for bed, n in needles)
+    return Pass(PassKind.DROP, ops, None, (), 0.0, Role.WASTE)
+
+
+def _tuck_pass(c: str, i: int, k: int, lo: int, hi: int, direction: Direction) -> Pass:
     """Tucks of yarn ``c`` on every k-th front needle (offset i) across lo..hi.
 
     (``waste-section.js`` alternates beds; front-only tucks leave no back-bed loop for the next
     yarn to float across.)
     """
     needles = list(range(lo, hi + 1)) if direction == "+" else list(range(hi, lo - 1, -1))
-    out = [f"tuck {direction} f{n} {c}" for n in needles if n % k == i]
+    ops = [Op(OpKind.TUCK, Bed.FRONT, n) for n in needles if n % k == i]
     # end at the far edge, so that the next pass starts behind the carriage
-    if not out or needles[-1] % k != i:
-        out.append(f"miss {direction} f{needles[-1]} {c}")
-    return out
+    if not ops or needles[-1] % k != i:
+        ops.append(Op(OpKind.MISS, Bed.FRONT, needles[-1]))
+    return Pass(
+        PassKind.KNIT, tuple(ops), direction, (c,), 0.0, Role.WASTE, None, WASTE_STITCH_NUMBER
+    )
+
+
+def waste_knitout(section: WasteSection) -> list[str]:
+    """Knitout lines of ``section``: its settings (roller advance, stitch number, speed), then
+    each part under a comment naming it."""
+    lines = [
+        f"x-roller-advance {WASTE_ROLLER_ADVANCE}",
+        f"x-stitch-number {WASTE_STITCH_NUMBER}",
+        f"x-speed-number {WASTE_SPEED_NUMBER}",
+    ]
+    parts = (
+        ("bring the yarns in", section.yarn_in),
+        ("waste yarn", section.waste),
+        ("draw thread", section.draw_thread),
+    )
+    for name, steps in parts:
+        lines.append(f"; {name}")
+        lines += [line for step in steps for line in step_lines(step)]
+    lines.append("; the piece")
+    return lines
 
 
 def write_hookless_knitout(
@@ -221,5 +303,5 @@ def write_hookless_knitout(
     lowered = lower_hookless(schedule, machine=machine)
     lines = write_knitout(lowered, machine=machine).split("\n")
     body = next(i for i, ln in enumerate(lines) if not ln.startswith(";;") and i > 0)
-    waste = waste_section(schedule, machine=machine, waste_passes=waste_passes)
+    waste = waste_knitout(waste_section(schedule, machine=machine, waste_passes=waste_passes))
     return "\n".join([*lines[:body], *waste, *lines[body:]])

@@ -80,6 +80,7 @@ class Role(StrEnum):
     TAIL = "tail"
     FLOAT_AVOIDANCE = "float-avoidance"
     ANCHOR = "anchor"
+    WASTE = "waste"
 
 
 class ActionKind(StrEnum):

@@ -17,9 +17,9 @@ from __future__ import annotations
 
 from illuknit.core.machine import MachineSpec
 from illuknit.knit.ir import course_row
-from illuknit.knit.schedule import CarrierAction, Pass, Schedule
+from illuknit.knit.schedule import CarrierAction, Pass, Schedule, Step
 
-__all__ = ["format_racking", "knitout_header", "write_knitout"]
+__all__ = ["format_racking", "knitout_header", "step_lines", "write_knitout"]
 
 
 def format_racking(r: float) -> str:
@@ -87,7 +87,7 @@ def write_knitout(schedule: Schedule, *, machine: MachineSpec | None = None) -> 
                 # the backend's carrier-out move runs at the speed in force: not a transfer's
                 speed = knit_speed
                 append(f"x-speed-number {speed}")
-            append(f"{step.action} {' '.join(step.carriers)}")
+            lines.extend(step_lines(step))
             continue
         assert isinstance(step, Pass)
         if (
@@ -113,25 +113,37 @@ def write_knitout(schedule: Schedule, *, machine: MachineSpec | None = None) -> 
             if speed is not None and speed != knit_speed:
                 speed = knit_speed
                 append(f"x-speed-number {speed}")
-        if step.kind == "knit":
-            if step.stitch_number is not None and step.stitch_number != stitch:
-                stitch = step.stitch_number
-                append(f"x-stitch-number {stitch}")
-            tail = f" {' '.join(step.carriers)}"
-            d = step.direction
-            lines.extend(
-                f"split {d} {o.bed}{o.needle} {o.to_bed}{o.to_needle}{tail}"
-                if o.op == "split"
-                else f"{o.op} {d} {o.bed}{o.needle}{tail}"
-                for o in step.ops
-            )
-        elif step.kind == "xfer":
-            lines.extend(f"xfer {o.bed}{o.needle} {o.to_bed}{o.to_needle}" for o in step.ops)
-        else:
-            lines.extend(f"drop {o.bed}{o.needle}" for o in step.ops)
+        if step.kind == "knit" and step.stitch_number not in (None, stitch):
+            stitch = step.stitch_number
+            append(f"x-stitch-number {stitch}")
+        lines.extend(step_lines(step))
     if rack != 0:
         append("rack 0")
     return "\n".join(lines) + "\n"
+
+
+def step_lines(step: Step) -> list[str]:
+    """The knitout lines of one step: its operations in order (a carrier action is one line);
+    the settings it runs at (racking, stitch number, speed) are the caller's to write.
+
+    >>> from illuknit.knit.ir import Op
+    >>> step_lines(Pass("knit", (Op("knit", "f", 3), Op("tuck", "b", 4)), "+", ("2",)))
+    ['knit + f3 2', 'tuck + b4 2']
+    """
+    if isinstance(step, CarrierAction):
+        return [f"{step.action} {' '.join(step.carriers)}"]
+    if step.kind == "knit":
+        tail = f" {' '.join(step.carriers)}"
+        d = step.direction
+        return [
+            f"split {d} {o.bed}{o.needle} {o.to_bed}{o.to_needle}{tail}"
+            if o.op == "split"
+            else f"{o.op} {d} {o.bed}{o.needle}{tail}"
+            for o in step.ops
+        ]
+    if step.kind == "xfer":
+        return [f"xfer {o.bed}{o.needle} {o.to_bed}{o.to_needle}" for o in step.ops]
+    return [f"drop {o.bed}{o.needle}" for o in step.ops]
 
 
 def _stitch_code(n: int) -> str:

@@ -66,38 +66,25 @@ import numpy as np
 
 from illuknit.core.errors import LongFloatError, OptionError, PatternValidationError
 from illuknit.core.machine import DEFAULT_MACHINE, MachineSpec, resolve_machine
-from illuknit.knit.catching import JOIN_METHODS, JoinTuck, PlatedStitch, plan_catches, plan_joins
+from illuknit.knit.catching import JoinTuck, PlatedStitch, plan_catches, plan_joins
 from illuknit.knit.color_runs import ColorPlan, plan_color_runs
 from illuknit.knit.course_order import course_items, order_and_plan
 from illuknit.knit.float_avoidance import float_crossings, transfers_before
 from illuknit.knit.float_tucks import LongFloat, tuck_long_floats
 from illuknit.knit.hookless import YarnEntry, fabric_needles, first_directions
-from illuknit.knit.ir import Role
+from illuknit.knit.ir import Role, Step
 from illuknit.knit.mixed_edges import Emitter, bind_off, cast_on
 from illuknit.knit.move_folding import fold_moves
-from illuknit.knit.path_planning import (
-    STRATEGIES,
-    Park,
-    WorkItem,
-)
+from illuknit.knit.options import Catching, KnitOptions
+from illuknit.knit.path_planning import Park, WorkItem
 from illuknit.knit.schedule import MixedReport, Schedule
 from illuknit.knit.stitches import StitchPattern
 
-__all__ = ["long_float_error", "schedule_mixed", "validate_ablation"]
+__all__ = ["long_float_error", "schedule_mixed"]
 
-
-def validate_ablation(*, float_avoidance: object, catching: object, path_planning: object) -> None:
-    """Check the ablation switches (booleans, a join method and a known strategy name)."""
-    if not isinstance(float_avoidance, (bool, np.bool_)):
-        raise OptionError(f"`float_avoidance` must be True or False, got {float_avoidance!r}")
-    if not isinstance(catching, (bool, np.bool_)) and catching not in JOIN_METHODS:
-        raise OptionError(
-            f"`catching` must be True, False or one of {', '.join(JOIN_METHODS)}, got {catching!r}"
-        )
-    if path_planning not in STRATEGIES:
-        raise OptionError(
-            f"`path_planning` must be one of {', '.join(STRATEGIES)}, got {path_planning!r}"
-        )
+#: Knits on the last needle of the bind-off chain (as in
+#: :func:`~illuknit.knit.schedule.schedule_courses`).
+TAIL_STITCHES = 4
 
 
 @dataclass(frozen=True, eq=False)
@@ -112,8 +99,11 @@ class _Courses:
     catch_every: int
     path_planning: str
     float_avoidance: bool
-    park: Park | None
+    park: Park
     last_course: dict[str, int]  # carrier -> last course it knits in
+    tuck_passes: bool
+    tuck_first: np.ndarray | None = None  # (courses incl. cast-on, W): tall-bump tucks
+    entry: int | None = None  # where a new yarn hangs without an inserting hook (right edge)
 
 
 def _knit_course(em: Emitter, ctx: _Courses, c: int) -> int:
@@ -145,7 +135,8 @@ def _knit_course(em: Emitter, ctx: _Courses, c: int) -> int:
         else:
             catches = plan_catches(cp, new_carriers=new)
     segments = [(s.carrier, s.wales) for s in cp.segments]
-    items = course_items(segments, catches, beds, left, tucks)
+    tall = ctx.tuck_first[c] if ctx.tuck_first is not None else None
+    items = course_items(segments, catches, beds, left, tucks, tall)
     lookahead: list[WorkItem] = []
     if c + 1 < len(plan.courses):
         # The next course's own segments: orders that leave carriers where that work can
@@ -156,7 +147,8 @@ def _knit_course(em: Emitter, ctx: _Courses, c: int) -> int:
     planned, _ = order_and_plan(items, em.states, ctx.path_planning, parity, lookahead, ctx.park)
     prev = kind[c - 1] if c else np.zeros_like(kind[c])
     changed = bool((kind[c] != prev).any())
-    bound = len({it.carriers for it in items}) + int(changed)
+    # (A tall-bump tuck and the knit through it cannot share a pass: one more per carrier.)
+    bound = len({it.carriers for it in items}) + sum(it.pretuck for it in items) + int(changed)
 
     required = dict(zip(em.needles, beds, strict=True))
     if not ctx.float_avoidance:
@@ -165,7 +157,7 @@ def _knit_course(em: Emitter, ctx: _Courses, c: int) -> int:
             role=Role.TRANSFER,
             course=label,
         )
-    crossings = float_crossings(planned, em.states, needles=em.needles)
+    crossings = float_crossings(planned, em.states, needles=em.needles, entry=ctx.entry)
     # (A tuck join is not the needle's stitch: its own stitch decides when the loop moves.)
     stitch_pass = {
         n: i
@@ -195,39 +187,17 @@ def _knit_course(em: Emitter, ctx: _Courses, c: int) -> int:
     return bound
 
 
-def _checked_options(
-    stitches: object,
-    *,
-    machine: MachineSpec,
-    float_avoidance: object,
-    catching: object,
-    path_planning: object,
-    float_limit: object,
-    tail_stitches: int,
-    catch_every: object,
-) -> int:
-    """Check :func:`schedule_mixed`'s input and options; returns the float limit to use."""
+def _checked_options(stitches: object, options: KnitOptions | None) -> KnitOptions:
+    """Check :func:`schedule_mixed`'s input; returns the options to use."""
     if not isinstance(stitches, StitchPattern):
         raise PatternValidationError(
             f"`stitches` must be a StitchPattern, got {type(stitches).__name__}"
         )
-    validate_ablation(
-        float_avoidance=float_avoidance, catching=catching, path_planning=path_planning
-    )
-    limit = machine.float_limit if float_limit is None else float_limit
-    if isinstance(limit, bool) or not isinstance(limit, (int, np.integer)) or limit < 1:
-        raise OptionError(
-            f"`float_limit` must be an integer >= 1 (wales a yarn may float across), got {limit!r}"
-        )
-    if tail_stitches < 1:
-        raise OptionError(f"`tail_stitches` must be >= 1, got {tail_stitches}")
-    if (
-        isinstance(catch_every, bool)
-        or not isinstance(catch_every, (int, np.integer))
-        or catch_every < 1
-    ):
-        raise OptionError(f"`catch_every` must be an integer >= 1, got {catch_every!r}")
-    return int(limit)
+    if options is None:
+        return KnitOptions()
+    if not isinstance(options, KnitOptions):
+        raise OptionError(f"`options` must be a KnitOptions, got {type(options).__name__}")
+    return options
 
 
 def _color_plan(
@@ -290,16 +260,7 @@ def schedule_mixed(
     stitches: StitchPattern,
     *,
     machine: str | MachineSpec = DEFAULT_MACHINE,
-    float_avoidance: bool = True,
-    catching: bool | str = True,
-    path_planning: str = "anchor",
-    catch_every: int = 2,
-    float_limit: int | None = None,
-    strict_floats: bool = False,
-    allow_long_floats: bool = True,
-    tail_stitches: int = 4,
-    park_carriers: bool = True,
-    tuck_passes: bool = False,
+    options: KnitOptions | None = None,
     yarn_entry: YarnEntry | None = None,
 ) -> Schedule:
     """Schedule a stitch pattern whose courses may change colour (see the module docstring).
@@ -307,49 +268,20 @@ def schedule_mixed(
     Parameters
     ----------
     stitches : StitchPattern
-        C courses x W wales, any yarns and knit/purl anywhere.
+        C courses x W wales, any yarns and knit/purl anywhere (its cast-on courses included).
     machine : str or MachineSpec
         Bed, carriers, float limit, parking, stitch numbers (a preset name is read by
         :func:`~illuknit.core.machine.resolve_machine`).
-    float_avoidance : bool
-        Algorithm 1: move purls to the front around floats that cross them.
-    catching : bool or {"tuck", "plate"}
-        Join neighbouring carriers' regions. True or ``"tuck"`` (the default): tuck joins, a
-        carrier tucking on the neighbour's edge needle in its own pass, plated stitches only
-        where no tuck is safe (:func:`~illuknit.knit.catching.plan_joins`); ``"plate"``: the
-        paper's plated stitches everywhere (Algorithm 2); False: no joins (the ablation).
-    path_planning : {"anchor", "split", "none"}
-        Algorithm 3 strategy; ``none`` knits every pass in the course's parity direction.
-    catch_every : int
-        Catch on every ``catch_every``-th course. The default 2 catches once per unit row (a
-        unit is two courses), so no join stays open for more than one course; 1 plates at every
-        colour change of every course, as the paper does, at the price of more passes.
-    float_limit : int, optional
-        Longest float in wales; defaults to ``machine.float_limit``.
-    strict_floats : bool
-        Raise :class:`~illuknit.core.errors.CarrierShortageError` when a course needs more carriers
-        than the machine has to keep every float within the limit, and
-        :class:`~illuknit.core.errors.LongFloatError` naming the course when a float stays longer
-        than the limit after tucking; by default such floats are kept and listed in
-        ``Schedule.long_floats`` (the checker warns about them).
-    allow_long_floats : bool
-        False: raise :class:`~illuknit.core.errors.LongFloatError` naming the course when a float
-        stays longer than the limit after tucking (the default of
-        :func:`~illuknit.knitting.pipeline.knit_pattern` and of every command); True (this
-        stage's default, so that its caller decides): keep it, list it in
-        ``Schedule.long_floats``.
-    tail_stitches : int
-        Knits on the last needle of the bind-off chain.
-    park_carriers : bool
-        End every pass with its carriers parked just beyond the fabric edge it runs towards
-        (the default), so that no carrier waits inside the fabric where the machine would have
-        to move it out of other passes' way; False leaves each carrier at its last stitch (the
-        paper's intarsia behaviour, which the SWG backend pays for with extra passes).
-    tuck_passes : bool
-        Where a plated catching pass cannot tuck a long float (its other yarn comes from
-        elsewhere), tuck the floating yarn alone in a pass of its own right before it. Off by
-        default; it matters with ``catching="plate"`` only (on the plated bundled programs it
-        cost 1-29 % more machine passes, ``docs/mixed-colourwork.md``).
+    options : KnitOptions, optional
+        The scheduler's switches (:class:`~illuknit.knit.options.KnitOptions`; its
+        ``cast_on_courses`` is the lowering's and is read from ``stitches``): float avoidance
+        (Algorithm 1), catching (tuck joins, the paper's plated stitches of Algorithm 2, or
+        none) on every ``catch_every``-th course, the path-planning strategy (Algorithm 3), and
+        the float policy. A float longer than ``machine.float_limit`` after tucking raises
+        :class:`~illuknit.core.errors.LongFloatError` naming the course unless
+        ``allow_long_floats`` (then it is listed in ``Schedule.long_floats``; ``strict_floats``
+        refuses it either way, and also a course that needs more carriers than the machine has
+        to keep every float within the limit). Defaults: ``KnitOptions()``.
     yarn_entry : YarnEntry, optional
         Where the yarns enter on a machine without an inserting hook
         (:func:`~illuknit.knit.hookless.yarn_entry`): each yarn's float from its entry to its
@@ -368,113 +300,117 @@ def schedule_mixed(
     CarrierShortageError
         If a course needs more carriers at once than the machine has (with ``strict_floats``,
         or when it uses more yarns than there are carriers).
+    LongFloatError
+        If a float stays longer than the float limit (see ``options``).
     SchedulingError
         If the piece is wider than the bed.
     OptionError
-        For bad options (float limit below 1, unknown strategy, non-boolean switches).
+        If ``options`` is not a KnitOptions.
     PatternValidationError
         If ``stitches`` is not a StitchPattern.
     """
     machine = resolve_machine(machine)
-    limit = _checked_options(
-        stitches,
-        machine=machine,
-        float_avoidance=float_avoidance,
-        catching=catching,
-        path_planning=path_planning,
-        float_limit=float_limit,
-        tail_stitches=tail_stitches,
-        catch_every=catch_every,
+    opts = _checked_options(stitches, options)
+    machine.check_width(stitches.shape[1])
+    ctx = _courses(stitches, machine, opts, hookless=yarn_entry is not None)
+    em = Emitter(
+        machine, machine.fabric_left, stitches.shape[1], ctx.path_planning, ctx.float_avoidance
     )
-    join = (str(catching) if isinstance(catching, str) else "tuck") if catching else None
-    n_courses, n_wales = stitches.shape
-    machine.check_width(n_wales)
-    k0 = stitches.cast_on_courses
-    plan, kind = _color_plan(stitches, machine=machine, limit=limit, strict=bool(strict_floats))
-    left = machine.fabric_left
-    em = Emitter(machine, left, n_wales, path_planning, bool(float_avoidance))
-    last_course = {s.carrier: cp.course for cp in plan.courses for s in cp.segments}
-
-    edge = left + n_wales - 1
-    park: Park | None = (
-        (left - machine.park_distance, edge + machine.park_distance) if park_carriers else None
-    )
-    cast_fixed = cast_on(em, plan.courses[0].segments, park=park)
+    cast_fixed = cast_on(em, ctx.plan.courses[0].segments, park=ctx.park)
     for n in em.needles:
         em.bed[n] = "f"
-
-    ctx = _Courses(
-        plan=plan,
-        kind=kind,
-        beds=np.array(["f", "b"])[kind].tolist(),
-        k0=k0,
-        join=join,
-        catch_every=int(catch_every),
-        path_planning=path_planning,
-        float_avoidance=bool(float_avoidance),
-        park=park,
-        last_course=last_course,
-    )
-    body_bound = 0
-    cast_courses_bound = 0
-    for cp in plan.courses:
-        bound = _knit_course(em, ctx, cp.course)
-        if cp.course >= k0:
-            body_bound += bound
-        else:
-            cast_courses_bound += bound
-
+    bounds = [_knit_course(em, ctx, cp.course) for cp in ctx.plan.courses]
     bind_fixed = bind_off(
         em,
-        plan.courses[-1],
-        park=park,
-        catching=join is not None,
-        path_planning=path_planning,
-        tail_stitches=tail_stitches,
+        ctx.plan.courses[-1],
+        park=ctx.park,
+        catching=ctx.join is not None,
+        path_planning=ctx.path_planning,
+        tail_stitches=TAIL_STITCHES,
     )
-
-    em.steps = fold_moves(em.steps)
-    entries: dict[str, int] = {}
-    if yarn_entry is not None:
-        entries = yarn_entry.needles(first_directions(em.steps), *fabric_needles(em.steps))
-    long: list[LongFloat] = []
-    if park is not None:
-        em.steps, long = tuck_long_floats(
-            em.steps,
-            limit=limit,
-            left=left,
-            right=edge,
-            alone=bool(tuck_passes),
-            entries=entries,
-        )
-        if long and (strict_floats or not allow_long_floats):
-            raise long_float_error(long, stitches, limit)
-    lower = cast_fixed + cast_courses_bound + body_bound + bind_fixed
+    steps, long = _finished_steps(em, ctx, yarn_entry)
+    if long and (opts.strict_floats or not opts.allow_long_floats):
+        raise long_float_error(long, stitches, machine.float_limit)
+    body_bound = sum(bounds[ctx.k0 :])
     return Schedule(
-        steps=tuple(em.steps),
+        steps=tuple(steps),
         machine=machine,
         yarns=stitches.yarns,
-        carrier_of_yarn=plan.carrier_of_yarn,
-        left=left,
-        wales=n_wales,
-        courses=n_courses,
-        lower_bound=lower,
+        carrier_of_yarn=ctx.plan.carrier_of_yarn,
+        left=em.left,
+        wales=em.wales,
+        courses=stitches.shape[0],
+        lower_bound=cast_fixed + sum(bounds[: ctx.k0]) + body_bound + bind_fixed,
         body_lower_bound=body_bound,
         units=stitches.units,
         scheduler="mixed-colourwork",
         long_floats=tuple(long),
-        mixed=MixedReport(
-            float_avoidance=bool(float_avoidance),
-            catching=join is not None,
-            join_method=join or "none",
-            tuck_joins=em.join_tucks,
-            path_planning=path_planning,
-            catch_every=int(catch_every),
-            float_limit=limit,
-            strict_floats=bool(strict_floats),
-            plated_stitches=em.plated,
-            float_avoidance_transfers=em.float_transfer_passes,
-            carriers=len(plan.carriers),
-            stranded_segments=plan.stranded_segments,
+        mixed=_report(em, ctx, opts),
+    )
+
+
+def _courses(
+    stitches: StitchPattern, machine: MachineSpec, opts: KnitOptions, *, hookless: bool = False
+) -> _Courses:
+    """The carrier plan of every course and what the courses read while they are scheduled
+    (``hookless``: the yarns enter from beyond the right edge, not on an inserting hook)."""
+    plan, kind = _color_plan(
+        stitches, machine=machine, limit=machine.float_limit, strict=opts.strict_floats
+    )
+    edge = machine.fabric_left + stitches.shape[1] - 1
+    return _Courses(
+        plan=plan,
+        kind=kind,
+        beds=np.array(["f", "b"])[kind].tolist(),
+        k0=stitches.cast_on_courses,
+        join=None if opts.catching is Catching.OFF else opts.catching.value,
+        catch_every=opts.catch_every,
+        path_planning=opts.path_planning.value,
+        float_avoidance=opts.float_avoidance,
+        park=(machine.fabric_left - machine.park_distance, edge + machine.park_distance),
+        last_course={s.carrier: cp.course for cp in plan.courses for s in cp.segments},
+        tuck_passes=opts.tuck_passes,
+        tuck_first=None
+        if stitches.tuck_first is None
+        else np.vstack(
+            [np.zeros((stitches.cast_on_courses, stitches.shape[1]), bool), stitches.tuck_first]
         ),
+        entry=edge + 1 if hookless else None,
+    )
+
+
+def _finished_steps(
+    em: Emitter, ctx: _Courses, yarn_entry: YarnEntry | None
+) -> tuple[list[Step], list[LongFloat]]:
+    """The emitted steps with continuing carrier moves folded into their passes and long floats
+    tucked (each yarn's float from where it enters included); the floats that stay long."""
+    steps = fold_moves(em.steps)
+    entries: dict[str, int] = {}
+    if yarn_entry is not None:
+        entries = yarn_entry.needles(first_directions(steps), *fabric_needles(steps))
+    return tuck_long_floats(
+        steps,
+        limit=em.machine.float_limit,
+        left=em.left,
+        right=em.left + em.wales - 1,
+        alone=ctx.tuck_passes,
+        entries=entries,
+    )
+
+
+def _report(em: Emitter, ctx: _Courses, opts: KnitOptions) -> MixedReport:
+    """The switches used and what they added."""
+    return MixedReport(
+        float_avoidance=ctx.float_avoidance,
+        catching=ctx.join is not None,
+        join_method=ctx.join or "none",
+        tuck_joins=em.join_tucks,
+        path_planning=ctx.path_planning,
+        catch_every=ctx.catch_every,
+        float_limit=em.machine.float_limit,
+        strict_floats=opts.strict_floats,
+        plated_stitches=em.plated,
+        float_avoidance_transfers=em.float_transfer_passes,
+        carriers=len(ctx.plan.carriers),
+        stranded_segments=ctx.plan.stranded_segments,
     )

@@ -108,7 +108,8 @@ class Emitter:
             ops = tuple(
                 Op(OpKind.TUCK if n in p.tucks else op, Bed(b), n) for n, b in p.stitches
             ) + tuple(extra)
-            self.join_tucks += len(p.tucks)
+            if not p.pretuck:
+                self.join_tucks += len(p.tucks)
             if p.park is not None:
                 ops += (Op(OpKind.MISS, Bed.FRONT, p.park),)
             self.steps.append(
@@ -232,12 +233,22 @@ def bind_off(
     edge = left + em.wales - 1
     bind_start = len(em.steps)
     one_yarn = catching and park is not None
+    late: dict[int, str] = {}
     if one_yarn:
         car, d = _bind_off_start(em.states, left, edge)
         beds = zigzag_beds(d, left, edge)
+        # The yarn runs from the carrier's last loop to the chain's first stitch: loops it
+        # crosses wait on the front bed until that stitch is made (else it floats over them).
+        last_loop = em.states[car].last_loop
+        if last_loop is not None:
+            lo, hi = sorted((last_loop, edge if d == "-" else left))
+            late = {n: "b" for n in range(lo + 1, hi) if beds[n] is Bed.BACK}
     else:
         beds = {n: Bed.FRONT for n in em.needles}
-    em.xfer({n: str(b) for n, b in beds.items() if em.bed[n] != b}, role=Role.BIND_OFF, course=None)
+    first_beds = {n: "f" if n in late else str(b) for n, b in beds.items()}
+    em.xfer(
+        {n: b for n, b in first_beds.items() if em.bed[n] != b}, role=Role.BIND_OFF, course=None
+    )
     runs = sorted(
         ((lo, hi, s.carrier) for s in last.segments for lo, hi in s.runs), key=lambda r: r[0]
     )
@@ -255,11 +266,12 @@ def bind_off(
                 role=Role.BIND_OFF,
                 course=None,
             )
-        em.steps.extend(
-            zigzag_bind_off_steps(
-                car, d, left, edge, stitch_number=machine.stitch_number, tail_stitches=tail_stitches
-            )
+        chain = zigzag_bind_off_steps(
+            car, d, left, edge, stitch_number=machine.stitch_number, tail_stitches=tail_stitches
         )
+        em.steps.append(chain[0])
+        em.xfer({n: b for n, b in late.items() if em.bed[n] != b}, role=Role.BIND_OFF, course=None)
+        em.steps.extend(chain[1:])
         em.states.pop(car)
     elif catching:
         drops.append(

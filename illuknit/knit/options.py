@@ -23,7 +23,6 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from enum import StrEnum
-from typing import Any
 
 from illuknit.core.arguments import check_int
 from illuknit.design.options import count_option, enum_option, flag_option
@@ -42,15 +41,6 @@ class Catching(StrEnum):
     TUCK = "tuck"
     PLATE = "plate"
     OFF = "off"
-
-    def scheduler_value(self) -> bool | str:
-        """What :func:`~illuknit.knit.mixed.schedule_mixed` takes for it (``catching=``)."""
-        values: dict[Catching, bool | str] = {
-            Catching.TUCK: True,
-            Catching.PLATE: "plate",
-            Catching.OFF: False,
-        }
-        return values[self]
 
 
 class PathPlanning(StrEnum):
@@ -78,18 +68,27 @@ class KnitOptions:
     path_planning : PathPlanning or str
         Yarn-path strategy (:class:`PathPlanning`).
     catch_every : int
-        Join on every ``catch_every``-th course (2: once per unit row).
+        Join on every ``catch_every``-th course. 2: once per unit row (a unit is two courses), so
+        no join stays open for more than one course; 1: at every colour change of every course,
+        as the paper does, at the price of more passes.
     strict_floats : bool
         Refuse a course that needs more carriers than the machine has to keep every float
         within the limit.
     tuck_passes : bool
-        Tuck long floats in passes of their own.
+        Where a plated catching pass cannot tuck a long float (its other yarn comes from
+        elsewhere), tuck the floating yarn alone in a pass of its own right before it. It
+        matters with ``catching="plate"`` only (on the plated bundled programs it cost 1-29 %
+        more machine passes, ``docs/mixed-colourwork.md``).
     allow_long_floats : bool
         Keep a float that stays longer than the machine's float limit after tucking (with a
         warning) instead of refusing the pattern.
+    tall_bumps : bool
+        Add yarn to every raised unit: each purl of a bump is preceded by a tuck on its needle,
+        in a pass of its own, which the purl knits through (``docs/split-bumps.md``). One more
+        carriage pass per carrier in every course that purls; off by default.
 
-    The last six apply to patterns that change colour inside a course (the mixed-colourwork
-    scheduler) only.
+    The six before ``tall_bumps`` apply to patterns that change colour inside a course (the
+    mixed-colourwork scheduler) only.
     """
 
     cast_on_courses: int = 2
@@ -100,25 +99,20 @@ class KnitOptions:
     strict_floats: bool = False
     tuck_passes: bool = False
     allow_long_floats: bool = False
+    tall_bumps: bool = False
 
     def __post_init__(self) -> None:
         check_int(self.cast_on_courses, "cast_on_courses", min=0, max=100)
         count_option("catch_every", self.catch_every, minimum=1)
-        for name in ("float_avoidance", "strict_floats", "tuck_passes", "allow_long_floats"):
+        for name in (
+            "float_avoidance",
+            "strict_floats",
+            "tuck_passes",
+            "allow_long_floats",
+            "tall_bumps",
+        ):
             flag_option(name, getattr(self, name))
         object.__setattr__(self, "catching", enum_option(Catching, "catching", self.catching))
         object.__setattr__(
             self, "path_planning", enum_option(PathPlanning, "path_planning", self.path_planning)
         )
-
-    def scheduler_kwargs(self) -> dict[str, Any]:
-        """The switches of :func:`~illuknit.knit.mixed.schedule_mixed`, as it takes them."""
-        return {
-            "float_avoidance": self.float_avoidance,
-            "catching": self.catching.scheduler_value(),
-            "path_planning": self.path_planning.value,
-            "strict_floats": self.strict_floats,
-            "catch_every": self.catch_every,
-            "tuck_passes": self.tuck_passes,
-            "allow_long_floats": self.allow_long_floats,
-        }

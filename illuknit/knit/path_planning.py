@@ -86,7 +86,9 @@ class WorkItem:
     ``tucks`` are needles among ``stitches`` that the pass tucks (front-bed tuck joins on a
     neighbouring region's edge needle) instead of knitting; ``follows`` are carriers whose own
     items must come before this one in the course (their tucks on its needles must be made
-    before its stitches there).
+    before its stitches there). A ``pretuck`` item is the tall-bump tucks of its carrier: every
+    stitch a tuck on a needle the carrier's own item then knits, so it comes right before that
+    item.
     """
 
     carriers: tuple[str, ...]
@@ -94,6 +96,7 @@ class WorkItem:
     plated: bool = False
     tucks: frozenset[int] = frozenset()
     follows: frozenset[str] = frozenset()
+    pretuck: bool = False
 
 
 @dataclass(frozen=True)
@@ -113,6 +116,8 @@ class PlannedPass:
     kind: str = "knit"
     park: int | None = None
     tucks: frozenset[int] = frozenset()
+    #: The pass holds a carrier's tall-bump tucks (a :attr:`WorkItem.pretuck` item).
+    pretuck: bool = False
 
     @property
     def end(self) -> int:
@@ -254,7 +259,7 @@ def plan_item(
     if not item.tucks:
         return passes
     return [
-        replace(p, tucks=item.tucks.intersection(n for n, _ in p.stitches))
+        replace(p, tucks=item.tucks.intersection(n for n, _ in p.stitches), pretuck=item.pretuck)
         if p.kind != "move"
         else p
         for p in passes

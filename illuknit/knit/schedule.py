@@ -19,7 +19,8 @@ illusions):
   yarn end after the first of them;
 * **each course**: one transfer pass first if any loop must change bed (front -> back where a purl
   follows a knit in its wale, back -> front where a knit follows a purl; both directions merge
-  into one pass at racking 0), then one knit pass in which purls (back bed) are knit together
+  into one pass at racking 0), then, for tall bumps (``StitchPattern.tuck_first``), one pass of
+  tucks on the needles about to be purled, then one knit pass in which purls (back bed) are knit together
   with their front neighbours. The carrier starts from the side where it is parked, so every
   carrier alternates direction and no kickback pass is ever needed; the pass ends with a ``miss``
   ``park_distance`` needles beyond the fabric edge, which parks the carrier out of the way of the
@@ -35,7 +36,8 @@ illusions):
 **Lower bound.** Each course needs at least one knit pass (its stitches depend on the previous
 course's loops, and one pass runs one way), and a course in which some loop changes bed needs a
 transfer pass between the two knit passes (transfers never share a pass with stitches). So
-``sum over courses of 1 + [some loop changes bed]`` bounds the body; the cast-on and bind-off
+``sum over courses of 1 + [some loop changes bed] + [some stitch is tucked first]`` bounds the
+body (a tuck and the knit through it cannot share a pass either); the cast-on and bind-off
 recipes are counted at their own length. This scheduler meets the bound exactly; the mixed
 scheduler reports against the same definition extended with per-course carrier sets.
 """
@@ -381,6 +383,44 @@ class _CourseKnitter:
         self.steps.append(Pass(PassKind.KNIT, tuple(ops), d, (car,), 0.0, role, course, sn))
         self.next_dir[car] = "-" if d == "+" else "+"
 
+    def tuck_pass(
+        self, car: str, tucked: np.ndarray, beds: Sequence[str], course: int, machine: MachineSpec
+    ) -> None:
+        """A pass of ``car`` tucking the needles ``tucked`` marks (on their stitches' beds).
+
+        Where the yarn would float further than ``machine.float_limit`` between the carrier's
+        last loop (the edge it starts from), its tucks and the far edge (where the knit pass
+        through them starts), it also tucks front needles this course knits, which the knit
+        pass then knits through (so the tuck sits behind a face stitch, as a tuck join does).
+        """
+        d = self.next_dir.get(car)
+        seq = self.needles_up if d != "-" and d is not None else self.needles_up[::-1]
+        want = {n for n, t in zip(self.needles_up, tucked, strict=True) if t}
+        front = [n for n, b in zip(self.needles_up, beds, strict=True) if b == "f"]
+        pos = {n: i for i, n in enumerate(seq)}
+        limit = machine.float_limit
+        chosen: set[int] = set()
+        prev = seq[0] if d is not None else None  # a new yarn starts at its first tuck
+        for target in [*(n for n in seq if n in want), seq[-1]]:
+            while prev is not None and abs(target - prev) > limit:
+                reach = [
+                    n for n in front if pos[prev] < pos[n] < pos[target] and abs(n - prev) <= limit
+                ]
+                if not reach:
+                    break
+                prev = max(reach, key=lambda n: pos[n])
+                chosen.add(prev)
+            if target in want:
+                chosen.add(target)
+                prev = target
+        bed = dict(zip(self.needles_up, beds, strict=True))
+        d = d or "-"
+        ops = [Op(OpKind.TUCK, Bed(bed[n]), n) for n in seq if n in chosen]
+        ops.append(Op(OpKind.MISS, Bed.FRONT, self.park[d]))
+        sn = machine.stitch_number
+        self.steps.append(Pass(PassKind.KNIT, tuple(ops), d, (car,), 0.0, Role.BODY, course, sn))
+        self.next_dir[car] = "-" if d == "+" else "+"
+
     def release_hook(self) -> None:
         if self.hook_held is not None:
             self.steps.append(CarrierAction(ActionKind.RELEASEHOOK, (self.hook_held,)))
@@ -424,6 +464,7 @@ def _body(
     bed = np.zeros(n_wales, dtype=np.uint8)  # which bed holds each wale's loop: 0 front, 1 back
     bed_letter = np.array(["f", "b"])
     transfer_courses = 0
+    tuck_courses = 0
     for c in range(n_courses):
         need = stitches.kind[c]
         moving = np.flatnonzero(need != bed)
@@ -441,13 +482,19 @@ def _body(
         if car not in k.next_dir:
             k.steps.append(CarrierAction(ActionKind.INHOOK, (car,)))
             k.hook_held = car
+        if stitches.tuck_first is not None and stitches.tuck_first[c].any():
+            # Tall bumps: the tucks go in a pass of their own (a needle is used once a pass);
+            # the course's knit pass then runs back and knits through them.
+            k.tuck_pass(car, stitches.tuck_first[c], bed_letter[need].tolist(), c, machine)
+            k.release_hook()
+            tuck_courses += 1
         k.knit_course(car, bed_letter[need].tolist(), Role.BODY, c, machine.stitch_number)
         # Release at once: while the hook holds the yarn nothing may touch the right edge.
         k.release_hook()
         if last_course[car] == c and c != n_courses - 1:
             k.steps.append(CarrierAction(ActionKind.OUTHOOK, (car,)))
             del k.next_dir[car]
-    return bed, n_courses + transfer_courses
+    return bed, n_courses + transfer_courses + tuck_courses
 
 
 def _checked_carriers(

@@ -4,7 +4,14 @@ Each logical unit becomes 2 x 2 stitches (paper 4.1):
 
 * a **flat** unit is two courses of knits in its two wales;
 * a **bump** (raised unit) is a knit course followed by a purl course in its two wales -- "a knit
-  with a purl child" -- so bumps lie in the garter direction, the one the paper found tallest.
+  with a purl child" -- so bumps lie in the garter direction, the one the paper found tallest;
+* a **split bump** (a raised unit whose ``LogicalPattern.upper`` differs from its ``yarn``) knits
+  its first (knit) course in ``yarn`` and its second (purl) course in ``upper``: the yarn changes
+  inside the bump, between the knit loop and the purl loop pulled through it;
+* a **tall bump** (``tall_bumps=True``) adds yarn to every raised unit: each purl of a bump is
+  preceded by a tuck on its own needle (the back needle, holding the bump's knit loop), which the
+  purl then knits through (:attr:`StitchPattern.tuck_first`). A tuck and a knit on one needle
+  cannot share a carriage pass, so each course with tall bumps costs one more pass per carrier.
 
 Course/row mapping (fixed project-wide): the machine knits from the bottom edge of the piece up,
 so knitting course ``c`` belongs to pattern row ``N - 1 - c // 2``; within a unit, course
@@ -12,8 +19,8 @@ so knitting course ``c`` belongs to pattern row ``N - 1 - c // 2``; within a uni
 (knit for flats, purl for bumps). Wale ``w`` belongs to pattern column ``w // 2``; wale 0 is the
 left edge seen from the technical face (the front bed), so it sits on the leftmost needle.
 
-Every stitch carries its unit's yarn. The stitch pattern also records how it starts and ends on the
-machine (``cast_on_courses`` plain courses after a tuck cast-on, then a chain bind-off), which the
+Every stitch carries its unit's yarn (in the second course of a split bump, its ``upper`` yarn).
+The stitch pattern also records how it starts and ends on the machine (``cast_on_courses`` plain courses after a tuck cast-on, then a chain bind-off), which the
 scheduler turns into passes.
 """
 
@@ -66,6 +73,9 @@ class StitchPattern:
         Plain knit courses, in the yarn of course 0, after the tuck cast-on and before course 0.
     bind_off : str
         How the last course is secured: ``"chain"`` (a transfer bind-off across the piece).
+    tuck_first : ndarray of shape (C, W), bool, or None
+        Stitches preceded by a tuck on their own needle in the stitch's yarn, in a pass of its
+        own (tall bumps); None: no such tucks.
     units : (int, int) or None
         Shape (N rows, M columns) of the logical pattern the stitches were lowered from; None
         for stitches made directly. Course ``c`` belongs to pattern row
@@ -83,6 +93,7 @@ class StitchPattern:
     bind_off: BindOff = "chain"
     units: tuple[int, int] | None = None
     meta: Any = field(default_factory=dict)
+    tuck_first: NDArray[np.bool_] | None = None
 
     def __post_init__(self) -> None:
         kind = np.asarray(self.kind)
@@ -119,6 +130,14 @@ class StitchPattern:
                 )
             object.__setattr__(self, "units", units)
         object.__setattr__(self, "meta", MappingProxyType(dict(self.meta)))
+        if self.tuck_first is not None:
+            tf = np.asarray(self.tuck_first)
+            if tf.shape != kind.shape or tf.dtype != np.bool_:
+                raise PatternValidationError(
+                    f"`tuck_first` must be a bool array of shape {kind.shape}, got "
+                    f"{tf.dtype} of shape {tf.shape}"
+                )
+            object.__setattr__(self, "tuck_first", _readonly(tf) if tf.any() else None)
 
     @property
     def shape(self) -> tuple[int, int]:
@@ -173,6 +192,7 @@ def lower_to_stitches(
     *,
     machine: MachineSpec = DEFAULT_MACHINE,
     cast_on_courses: int = 2,
+    tall_bumps: bool = False,
 ) -> StitchPattern:
     """Lower a logical pattern to stitches: each unit -> 2 x 2 stitches, bottom row knitted first.
 
@@ -184,6 +204,9 @@ def lower_to_stitches(
         Gauge and bed width; the pattern must fit on the bed (2 M wales plus parking room).
     cast_on_courses : int
         Plain courses between the cast-on and the first pattern course.
+    tall_bumps : bool
+        Precede every purl of a bump by a tuck on its needle (tall bumps, see the module
+        docstring); False keeps the paper's plain bumps.
 
     Returns
     -------
@@ -222,6 +245,13 @@ def lower_to_stitches(
     raised = np.repeat(pattern.raised[::-1], 2, axis=1)
     kind = np.zeros((2 * n, wales), dtype=np.uint8)
     kind[1::2] = np.where(raised, PURL, KNIT)
+    if pattern.upper is not None:
+        # A raised unit's second course is knit in its upper yarn (split bumps).
+        yarn_rows[1::2] = np.repeat(pattern.upper[::-1], 2, axis=1)
+    tuck_first = None
+    if tall_bumps:
+        tuck_first = np.zeros(kind.shape, dtype=bool)
+        tuck_first[1::2] = raised
     return StitchPattern(
         kind=kind,
         yarn=yarn_rows,
@@ -232,4 +262,5 @@ def lower_to_stitches(
         bind_off="chain",
         units=(n, m),
         meta={"source": dict(pattern.meta)},
+        tuck_first=tuck_first,
     )

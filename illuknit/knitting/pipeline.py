@@ -27,9 +27,10 @@ from illuknit.core.gauge import FinishedSize
 from illuknit.core.machine import MachineSpec, resolve_machine
 from illuknit.core.pattern import LogicalPattern
 from illuknit.knit.float_tucks import LongFloat
-from illuknit.knit.hookless import yarn_entry
+from illuknit.knit.hookless import lower_hookless, write_hookless_knitout, yarn_entry
 from illuknit.knit.ir import Pass, Role
 from illuknit.knit.knitout import write_knitout
+from illuknit.knit.mixed import long_float_error, schedule_mixed
 from illuknit.knit.options import Catching, KnitOptions
 from illuknit.knit.schedule import Schedule, ScheduleStats, schedule_courses
 from illuknit.knit.stitches import StitchPattern, lower_to_stitches
@@ -69,6 +70,9 @@ class KnitResult:
         Pass counts, lower bound and ratio.
     time : TimeEstimate
     machine : MachineSpec
+    split_bumps : int
+        Raised units knit as split bumps (``LogicalPattern.upper``); check the program with
+        ``check_knitout(..., split_bumps=True)`` when there are any.
     """
 
     text: str
@@ -77,6 +81,7 @@ class KnitResult:
     stats: ScheduleStats
     time: TimeEstimate
     machine: MachineSpec
+    split_bumps: int = 0
 
     @property
     def program(self) -> str:
@@ -130,6 +135,13 @@ class KnitResult:
             "bind_off_time_seconds": round(self.time.bind_off_seconds, 1),
             "bind_off_time": format_duration(self.time.bind_off_seconds),
             "lines": self.text.count("\n"),
+            # (only when asked for: the summary of a plain pattern stays as it was)
+            **({"split_bumps": self.split_bumps} if self.split_bumps else {}),
+            **(
+                {"tall_bump_tucks": int(self.stitches.tuck_first.sum())}
+                if self.stitches.tuck_first is not None
+                else {}
+            ),
         }
 
 
@@ -145,7 +157,8 @@ def knit_pattern(
     Patterns with one colour per course go to :func:`~illuknit.knit.schedule.schedule_courses`;
     patterns that change colour inside a course to the mixed-colourwork scheduler
     :func:`~illuknit.knit.mixed.schedule_mixed`, to which the switches of
-    :class:`~illuknit.knit.options.KnitOptions` other than ``cast_on_courses`` apply.
+    :class:`~illuknit.knit.options.KnitOptions` other than ``cast_on_courses`` and
+    ``tall_bumps`` (which shape the stitches, for both schedulers) apply.
 
     Parameters
     ----------
@@ -189,51 +202,64 @@ def knit_pattern(
         )
     m = resolve_machine(machine)
     opts = _knit_options(options, knobs)
-    # Without an inserting hook, the waste yarn and draw thread hold carriers of their own: the
-    # scheduler plans with the others only (and refuses a plan that needs more).
-    plan_machine = (
-        m
-        if m.inserting_hook
-        else replace(m, carriers=m.pattern_carriers, waste_carrier=None, draw_carrier=None)
-    )
+    plan_machine = _planning_machine(m)
     stitches = lower_to_stitches(
-        pattern, machine=plan_machine, cast_on_courses=opts.cast_on_courses
+        pattern,
+        machine=plan_machine,
+        cast_on_courses=opts.cast_on_courses,
+        tall_bumps=opts.tall_bumps,
     )
-    schedule = _schedule(stitches, m, plan_machine, opts)
-    if m.inserting_hook:
-        text = write_knitout(schedule, machine=m)
-    else:
-        from illuknit.knit.hookless import lower_hookless, write_hookless_knitout
-
-        text = write_hookless_knitout(schedule, machine=m)
-        schedule = lower_hookless(schedule, machine=m)
+    text, schedule = _written(_schedule(stitches, m, plan_machine, opts), m)
     # One float truth: the floats reported (and refused) are the program's, measured as the
     # checker measures them.
     limit = plan_machine.float_limit
     long = program_long_floats(text, schedule, limit)
     schedule = replace(schedule, long_floats=long)
     if long and (opts.strict_floats or not opts.allow_long_floats):
-        from illuknit.knit.mixed import long_float_error
-
         raise long_float_error(long, stitches, limit)
+    result = _measured(text, stitches, schedule, m, split=int(pattern.split.sum()))
+    if schedule.long_floats:
+        warnings.warn(LongFloatWarning(long_float_warning(result)), stacklevel=2)
+    return result
+
+
+def _planning_machine(m: MachineSpec) -> MachineSpec:
+    """The machine the scheduler plans with: ``m`` itself, or without an inserting hook ``m``
+    less the carriers of the waste yarn and draw thread (the scheduler then plans with the
+    others only, and refuses a plan that needs more)."""
+    if m.inserting_hook:
+        return m
+    return replace(m, carriers=m.pattern_carriers, waste_carrier=None, draw_carrier=None)
+
+
+def _written(schedule: Schedule, m: MachineSpec) -> tuple[str, Schedule]:
+    """The knitout program of ``schedule`` on ``m`` and the schedule it runs: on a machine
+    without an inserting hook, the waste section first and the schedule lowered to match."""
+    if m.inserting_hook:
+        return write_knitout(schedule, machine=m), schedule
+    text = write_hookless_knitout(schedule, machine=m)
+    return text, lower_hookless(schedule, machine=m)
+
+
+def _measured(
+    text: str, stitches: StitchPattern, schedule: Schedule, m: MachineSpec, *, split: int = 0
+) -> KnitResult:
+    """The result with its passes and time: on a Shima, what the machine runs for ``text``
+    (not the schedule's own passes); ``split`` is its count of split bumps."""
     if runs_on_swg(m):
-        # Report what the machine runs for this program, not the schedule's own passes.
         run = machine_run(text)
-        result = KnitResult(
+        return KnitResult(
             text,
             stitches,
             schedule,
             machine_stats(schedule, run),
             estimate_knit_time(schedule, run=run),
             m,
+            split,
         )
-    else:
-        result = KnitResult(
-            text, stitches, schedule, schedule.stats, estimate_knit_time(schedule), m
-        )
-    if schedule.long_floats:
-        warnings.warn(LongFloatWarning(long_float_warning(result)), stacklevel=2)
-    return result
+    return KnitResult(
+        text, stitches, schedule, schedule.stats, estimate_knit_time(schedule), m, split
+    )
 
 
 #: Knitout operations written one per line for each operation of a schedule's step.
@@ -295,8 +321,6 @@ def _schedule(
 ) -> Schedule:
     """Schedule the stitches on ``plan_machine`` (``m`` less its reserved carriers); a carrier
     shortage on a machine without an inserting hook says which carriers are reserved."""
-    from illuknit.knit.mixed import schedule_mixed
-
     try:
         if stitches.mixed_courses().size:
             # (Long floats are judged by knit_pattern, on the program as written: a machine
@@ -304,7 +328,7 @@ def _schedule(
             schedule = schedule_mixed(
                 stitches,
                 machine=plan_machine,
-                **{**opts.scheduler_kwargs(), "allow_long_floats": True},
+                options=replace(opts, allow_long_floats=True),
                 yarn_entry=None if m.inserting_hook else yarn_entry(m),
             )
         else:

@@ -66,7 +66,8 @@ def hand_rows(pattern: LogicalPattern) -> list[HandRow]:
     rows: list[HandRow] = []
     for k in range(2 * n):
         unit_row = n - 1 - k // 2
-        yarn = np.repeat(pattern.yarn[unit_row], 2)
+        # a unit's second row takes its second course's yarn (split bumps: LogicalPattern.upper)
+        yarn = np.repeat((pattern.yarn if k % 2 == 0 else pattern.upper_yarn)[unit_row], 2)
         if k % 2 == 0:
             purl = np.zeros(yarn.shape, dtype=bool)
         else:

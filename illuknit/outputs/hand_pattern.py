@@ -171,12 +171,13 @@ class RowColourwork:
 def row_colourwork(pattern: LogicalPattern) -> list[RowColourwork]:
     """Per hand-knitting row (2 per unit row, from the cast-on edge): yarns, changes, floats.
 
-    Both rows of a unit row have the same colours, so the numbers repeat in pairs.
+    Both rows of a unit row have the same colours, so the numbers repeat in pairs, except where
+    split bumps knit a unit's second row in another yarn (``LogicalPattern.upper``).
     """
     n, _ = pattern.shape
     out = []
     for k in range(2 * n):
-        yarn = np.repeat(pattern.yarn[n - 1 - k // 2], 2)
+        yarn = np.repeat((pattern.yarn if k % 2 == 0 else pattern.upper_yarn)[n - 1 - k // 2], 2)
         runs = [(int(y), len(list(g))) for y, g in groupby(yarn.tolist())]
         longest = 0
         last_end: dict[int, int] = {}
@@ -326,12 +327,13 @@ def yarn_estimate(
     carried: Counter[int] = Counter()
     n, _ = pattern.shape
     for r in range(n):
-        row = np.repeat(pattern.yarn[r], 2)
-        for y, c in zip(*np.unique(row, return_counts=True), strict=True):
-            counts[int(y)] += 2 * int(c)  # two rows a unit row
-            if floats:
-                idx = np.flatnonzero(row == y)
-                carried[int(y)] += 2 * int(idx[-1] - idx[0] + 1 - c)
+        for course in (pattern.yarn, pattern.upper_yarn):  # a unit row's two rows
+            row = np.repeat(course[r], 2)
+            for y, c in zip(*np.unique(row, return_counts=True), strict=True):
+                counts[int(y)] += int(c)
+                if floats:
+                    idx = np.flatnonzero(row == y)
+                    carried[int(y)] += int(idx[-1] - idx[0] + 1 - c)
     loop_cm = LOOP_LENGTH_IN_STITCH_WIDTHS * gauge.stitch_cm
     out = []
     for i, y in enumerate(pattern.yarns):

@@ -505,8 +505,19 @@ def design_tiles(
     views: Any = ("A", "B") if mode == "double" else HEADON_VIEWS
     ys = tuple(yarns) if yarns is not None else _picture_yarns(qa, qb)
     say(0.05, "building the tile bank")
+    if bank is not None and search.split_bumps:
+        raise OptionError(
+            "split bumps extend the canonical bank; a bank of your own lists its tiles "
+            "(write a split bump as 1^0: yarn 1, then yarn 0)"
+        )
     if bank is None:
-        bank = canonical_bank(ys, views=views, one_sided_stripes=search.one_sided)
+        bank = canonical_bank(
+            ys,
+            views=views,
+            one_sided_stripes=search.one_sided,
+            split_bumps=search.split_bumps,
+            split_share=search.split_share,
+        )
     elif isinstance(bank, (str, os.PathLike)):
         bank = load_bank(bank, yarns=ys)
     t0 = time.perf_counter()
@@ -608,6 +619,7 @@ def _rank(
         progress=lambda f, message: say(0.4 + 0.6 * f, message),
         angle=ranking.angle,
         blur=seen_blur(ranking.distance, gauge=gauge),
+        params=_split_params(search),
     )
     by = ranking.rank_by
     designs = tuple(
@@ -640,6 +652,16 @@ def _rank(
     )
 
 
+def _split_params(search: SearchOptions) -> Any:
+    """The renderer's parameters the designs are measured with: the default ones, with the
+    search's split share when split bumps are on (None: the defaults)."""
+    if not search.split_bumps:
+        return None
+    from illuknit.design.render.params import RenderParams
+
+    return RenderParams(split_share=search.split_share)
+
+
 def _assignment_label(assignment: Any) -> str:
     kinds = [f.kind for f in (*assignment.fills_a, *assignment.fills_b) if f is not None]
     stripes = sum(k != "solid" for k in kinds)
@@ -655,6 +677,7 @@ def measure_design(
     picture_b: QuantisedImage | None = None,
     *,
     ranking: RankOptions | None = None,
+    params: Any = None,
 ) -> Any:
     """How one pattern reads, measured as the ranking of the tile stages measures its designs.
 
@@ -665,6 +688,8 @@ def measure_design(
     it); a single view ``picture_a`` from both sides, nothing to ghost. With
     ``ranking.knit_time`` the machine's knitting time and passes on ``ranking.machine`` too.
     A user interface measuring a design edited by hand (a tile override) calls this.
+    ``params`` (:class:`~illuknit.design.render.params.RenderParams`) are the renderer's, as a
+    split-bump search measures its designs with its split share (default: the calibrated ones).
     """
     from illuknit.core.pattern import check_pattern
     from illuknit.design.tiles.perception import measure_candidate, seen_blur, seen_targets
@@ -699,6 +724,7 @@ def measure_design(
         knit_time=_knit_measure(ranking),
         angle=ranking.angle,
         blur=seen_blur(ranking.distance, gauge=resolve_machine(ranking.machine).gauge),
+        params=params,
     )
 
 
@@ -872,6 +898,7 @@ def solve_design(
         yarns=qa.yarns,
         n_yarns=len(qa.yarns),
         alternate_rows=options.alternate_rows,
+        split_bumps=options.split_bumps,
         time_limit=options.time_limit,
         seed=options.seed,
         progress=progress,
@@ -919,6 +946,7 @@ def illusion_model(
         kind=options.model.value,
         weights=options.weights,
         alternate_rows=options.alternate_rows,
+        split_bumps=options.split_bumps,
     )
     return build_model(problem)
 

@@ -64,3 +64,23 @@ def test_the_table_fits_the_terminal_and_the_message_lists_every_folder(
     assert folders and all(f"{p.name}/" in folders[0] for p in out.iterdir() if p.is_dir()), folders
     assert "suggestions/" in folders[0]
     assert any(line.strip().startswith("suggestions/: ") and "measured" in line for line in lines)
+
+
+def test_double_with_split_bumps(tmp_path, capsys):
+    """--split-share 1 (a bump whose each side shows only its own course; implies
+    --split-bumps): the design uses split bumps where the pictures differ."""
+    from illuknit.core.pattern import load_pattern
+
+    a = np.full((6, 8, 3), 240, np.uint8)
+    a[1:5, 1:7] = 20
+    b = np.full((6, 8, 3), 20, np.uint8)
+    b[2:4, :] = 240
+    Image.fromarray(a).save(tmp_path / "a.png")
+    Image.fromarray(b).save(tmp_path / "b.png")
+    out = tmp_path / "out"
+    argv = ["double", tmp_path / "a.png", tmp_path / "b.png", "--candidates", "1", "--pool", "1"]
+    argv += ["--split-share", "1"]
+    main([str(v) for v in [*argv, "-o", out]])
+    capsys.readouterr()
+    pattern = load_pattern(out / "pattern.json")
+    assert pattern.upper is not None and pattern.split.any()

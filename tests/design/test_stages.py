@@ -186,7 +186,8 @@ def _schedule(machine):
     from illuknit.knit.stitches import lower_to_stitches
 
     stitches = lower_to_stitches(_mixed_pattern(), machine=resolve_machine(machine))
-    return schedule_mixed(stitches, machine=machine).stats.as_dict()
+    options = KnitOptions(allow_long_floats=True)
+    return schedule_mixed(stitches, machine=machine, options=options).stats.as_dict()
 
 
 def _check(machine):

@@ -126,7 +126,8 @@ def test_random_programs_match_the_reference(seed: int, tmp_path: Path) -> None:
         ("in 3\nrack 0.75\nknit + f5 3\nout 3\n", "racking"),
         ("in 3\nknit + f5 3\nknit + f900 3\nout 3\n", "off the Kniterate"),
         ("in 3\nknit + f5 3\nxfer f5 b6\nout 3\n", "aligned"),
-        ("in 3\nfrobnicate f5\n", "unsupported"),
+        ("in 3\nfrobnicate f5\n", "unknown operation"),
+        ("in 3\nknit\t+\tf5\t3\nout 3\n", "tabs"),
     ],
 )
 def test_refuses_what_it_cannot_write(body: str, words: str) -> None:

@@ -232,3 +232,23 @@ def test_transfer_passes_carry_the_transfer_settings(make, tmp_path: Path) -> No
     assert {p[1] for p in transfers} == {"150"}
     assert {p[2] for p in transfers} >= {"30"}
     assert set().union(*(p[3] for p in transfers)) == {"5"}
+
+
+def test_the_waste_section_is_schedule_steps_written_before_the_piece() -> None:
+    from illuknit.knit.hookless import waste_knitout, waste_section
+    from illuknit.knit.ir import CarrierAction, Pass, Role
+
+    result = knit_pattern(mixed(k=3), machine="kniterate")
+    section = waste_section(result.schedule, machine=KNITERATE)
+    waste, draw = KNITERATE.waste_carrier, KNITERATE.draw_carrier
+    passes = [s for s in section.steps if isinstance(s, Pass)]
+    assert passes and all(p.role is Role.WASTE for p in passes)
+    ins = [s.carriers for s in section.yarn_in if isinstance(s, CarrierAction)]
+    assert ins[:2] == [(waste,), (draw,)] and len(ins) == 2 + len(result.schedule.carrier_of_yarn)
+    assert {c for p in passes if p.kind == "knit" for c in p.carriers} == {c for (c,) in ins}
+    outs = [s.carriers for s in section.steps if isinstance(s, CarrierAction) and s.action == "out"]
+    assert outs == [(waste,), (draw,)]
+    lines = waste_knitout(section)
+    text = result.text.split("\n")
+    start = text.index(lines[0])
+    assert text[start : start + len(lines)] == lines

@@ -19,6 +19,7 @@ from illuknit.knit.color_runs import color_runs, plan_color_runs
 from illuknit.knit.float_avoidance import float_crossings
 from illuknit.knit.mixed import schedule_mixed
 from illuknit.knit.move_folding import fold_moves
+from illuknit.knit.options import KnitOptions
 from illuknit.knit.path_planning import (
     CarrierState,
     PlannedPass,
@@ -125,9 +126,8 @@ def test_a_yarn_arriving_when_every_carrier_is_threaded_is_named():
 def test_float_limit_below_one_is_rejected(limit):
     with pytest.raises(OptionError, match="float_limit"):
         plan_color_runs(np.zeros((1, 3), int), carriers=("1",), float_limit=limit)
-    s = lower_to_stitches(LogicalPattern(np.array([[0, 1]]), np.zeros((1, 2), bool), YARNS[:2]))
     with pytest.raises(OptionError, match="float_limit"):
-        schedule_mixed(s, float_limit=limit)
+        MachineSpec(float_limit=limit)
 
 
 def test_machine_float_limit_of_zero_is_rejected():
@@ -145,9 +145,14 @@ def test_machine_float_limit_of_zero_is_rejected():
     ],
 )
 def test_bad_switches_are_rejected(kwargs):
-    s = lower_to_stitches(LogicalPattern(np.array([[0, 1]]), np.zeros((1, 2), bool), YARNS[:2]))
     with pytest.raises(OptionError):
-        schedule_mixed(s, **kwargs)
+        KnitOptions(**kwargs)
+
+
+def test_the_options_must_be_knit_options():
+    s = lower_to_stitches(LogicalPattern(np.array([[0, 1]]), np.zeros((1, 2), bool), YARNS[:2]))
+    with pytest.raises(OptionError, match="`options` must be a KnitOptions"):
+        schedule_mixed(s, options={"catching": "plate"})  # type: ignore[arg-type]
 
 
 # -- catching ---------------------------------------------------------------------------------
@@ -257,7 +262,10 @@ def test_every_program_knits_every_stitch_once_and_passes_the_checker(pattern):
     st.integers(1, 3),
 )
 def test_both_path_strategies_and_any_catch_spacing_make_clean_programs(pattern, strategy, every):
-    sch = schedule_mixed(lower_to_stitches(pattern), path_planning=strategy, catch_every=every)
+    sch = schedule_mixed(
+        lower_to_stitches(pattern),
+        options=KnitOptions(path_planning=strategy, catch_every=every),
+    )
     report = check_knitout(write_knitout(sch), float_limit=500)
     assert report.ok and report.pieces == 1
 
@@ -265,16 +273,20 @@ def test_both_path_strategies_and_any_catch_spacing_make_clean_programs(pattern,
 def test_catching_every_course_plates_twice_as_often():
     p = LogicalPattern(np.array([[0, 1, 1, 0]] * 3), np.zeros((3, 4), bool), YARNS[:2])
     s = lower_to_stitches(p)
-    every = schedule_mixed(s, catch_every=1, catching="plate").mixed.plated_stitches
-    alternate = schedule_mixed(s, catch_every=2, catching="plate").mixed.plated_stitches
+    every = schedule_mixed(
+        s, options=KnitOptions(catch_every=1, catching="plate")
+    ).mixed.plated_stitches
+    alternate = schedule_mixed(
+        s, options=KnitOptions(catch_every=2, catching="plate")
+    ).mixed.plated_stitches
     assert every == 2 * alternate > 0
 
 
 def test_catching_every_course_tuck_joins_twice_as_often_and_never_plates_flat_fabric():
     p = LogicalPattern(np.array([[0, 1, 1, 0]] * 3), np.zeros((3, 4), bool), YARNS[:2])
     s = lower_to_stitches(p)
-    every = schedule_mixed(s, catch_every=1).mixed
-    alternate = schedule_mixed(s, catch_every=2).mixed
+    every = schedule_mixed(s, options=KnitOptions(catch_every=1)).mixed
+    alternate = schedule_mixed(s, options=KnitOptions(catch_every=2)).mixed
     assert every.tuck_joins == 2 * alternate.tuck_joins > 0
     assert every.plated_stitches == alternate.plated_stitches == 0
 

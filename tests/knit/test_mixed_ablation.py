@@ -15,6 +15,7 @@ from illuknit.check import check_knitout
 from illuknit.core.pattern import LogicalPattern, Yarn
 from illuknit.knit import lower_to_stitches, write_knitout
 from illuknit.knit.mixed import schedule_mixed
+from illuknit.knit.options import KnitOptions
 
 YARNS = (Yarn("navy", (29, 43, 83)), Yarn("cream", (244, 240, 232)))
 
@@ -29,7 +30,9 @@ def plus_sign(n: int = 8, m: int = 8) -> LogicalPattern:
 
 
 def program(**switches) -> str:
-    return write_knitout(schedule_mixed(lower_to_stitches(plus_sign()), **switches))
+    return write_knitout(
+        schedule_mixed(lower_to_stitches(plus_sign()), options=KnitOptions(**switches))
+    )
 
 
 @pytest.fixture(scope="module")
@@ -58,7 +61,7 @@ def test_without_float_avoidance_floats_cross_the_purls():
 
 
 def test_without_catching_the_bar_falls_off_the_ground():
-    report = check_knitout(program(catching=False), float_limit=20)
+    report = check_knitout(program(catching="off"), float_limit=20)
     assert report.pieces > 1
     assert report.codes()["pieces"] >= 1
     assert report.codes()["face-float"] == 0 and report.codes()["wrong-side-carrier"] == 0
@@ -72,8 +75,8 @@ def test_without_path_planning_stitches_are_made_from_the_wrong_side():
 def test_the_ablations_cost_or_save_passes_as_expected():
     st = lower_to_stitches(plus_sign())
     full = schedule_mixed(st).stats
-    no_catch = schedule_mixed(st, catching=False).stats
-    plated = schedule_mixed(st, catching="plate").stats
+    no_catch = schedule_mixed(st, options=KnitOptions(catching="off")).stats
+    plated = schedule_mixed(st, options=KnitOptions(catching="plate")).stats
     # plated stitches are passes of their own: dropping them saves passes; tuck joins ride in
     # the carriers' own passes (the body's: without catching each run binds off on its own)
     assert no_catch.body_passes < plated.body_passes

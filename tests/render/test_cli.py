@@ -172,3 +172,21 @@ def test_render_names_only_the_files_it_wrote(tmp_path, pattern_file, capsys):
     main(["render", str(pattern_file), "--frames", "3", "--scale", "2", "-o", str(out)])
     line = capsys.readouterr().out.strip().splitlines()[-1]
     assert line.startswith("wrote 6 files") and "mine.txt" not in line
+
+
+def test_render_tall_bumps_and_split_bumps(tmp_path, pattern_file):
+    """--tall-bumps renders at the tall height (written to params.json), here a pattern with
+    split bumps (a version-2 pattern file)."""
+    from illuknit.core.pattern import load_pattern
+
+    p = load_pattern(pattern_file)
+    split = p.replace(upper=np.where(p.raised, 1 - p.yarn, p.yarn))
+    save_pattern(split, tmp_path / "split.json")
+    plain, tall = tmp_path / "plain", tmp_path / "tall"
+    args = ["render", str(tmp_path / "split.json"), "--scale", "2", "--frames", "2"]
+    main([*args, "-o", str(plain)])
+    main([*args, "--tall-bumps", "-o", str(tall)])
+    assert load_params(tall / "params.json").bump_height == pytest.approx(1.0)
+    assert load_params(plain / "params.json").bump_height == pytest.approx(0.7)
+    a = np.asarray(Image.open(plain / "view_a.png"))
+    assert not np.array_equal(a, np.asarray(Image.open(tall / "view_a.png")))

@@ -232,3 +232,20 @@ def test_list_solvers_prints_and_smoke_tests_every_backend(capsys, monkeypatch):
     assert "smoke test: answers (6 in" in lines["rc2"] and "time limit: yes" in lines["rc2"]
     assert "cannot be time-limited" in lines["fm"]
     assert "rc2:ORACLE" in out and "wcnf:COMMAND" in out
+
+
+def test_solve_with_split_bumps(pair, tmp_path, run_cli):
+    """--split-bumps: the pattern file holds the second courses, the report's error is the
+    solver's objective, and no worse than without; refused by the knit-aware model."""
+    a, b = pair
+    plain, split = tmp_path / "plain", tmp_path / "split"
+    main(["solve", str(a), str(b), "--solver", "dp", "-o", str(plain)])
+    main(["solve", str(a), str(b), "--solver", "dp", "--split-bumps", "-o", str(split)])
+    rep = json.loads((split / "report.json").read_text())
+    pat = load_pattern(split / "pattern.json")
+    assert pat.upper is not None and pat.split.any()
+    errors = rep["logical_error"]["A"]["cells"] + rep["logical_error"]["B"]["cells"]
+    assert errors == rep["solver"]["objective"]
+    assert errors < json.loads((plain / "report.json").read_text())["solver"]["objective"]
+    r = run_cli(["solve", a, b, "--model", "knit-aware", "--split-bumps", "-o", tmp_path / "x"])
+    assert r.code == 2 and "logical model only" in r.err

@@ -24,6 +24,7 @@ RunnerDep = Annotated[JobRunner, Depends(runner_of)]
 def start_candidates(s: Session, runner: JobRunner, *, isolate: bool = True) -> Job:
     prepared = prepared_of(s)
     count = s.settings.candidates
+    split_bumps = s.settings.split_bumps
     rev = s.revision
 
     def work(job: Job) -> list[design.Candidate]:
@@ -44,7 +45,11 @@ def start_candidates(s: Session, runner: JobRunner, *, isolate: bool = True) -> 
             return job.run_isolated(search, tick=tick, poll=0.1)
 
         return design.make_candidates(
-            prepared, count=count, progress=job.report, run=run if isolate else None
+            prepared,
+            count=count,
+            progress=job.report,
+            run=run if isolate else None,
+            split_bumps=split_bumps,
         )
 
     def done(job: Job) -> None:

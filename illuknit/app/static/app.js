@@ -207,6 +207,8 @@ function applyState(s) {
   setValue("#gauge", st.gauge);
   setValue("#n_colors", st.n_colors);
   setValue("#candidates", st.candidates);
+  $("#split_bumps").checked = st.split_bumps;
+  $("#split-row").hidden = st.mode === "single"; // one picture: nothing to split
   $("#resize").checked = st.resize;
   if (st.resize) $("#resize-row").hidden = false;
   if (st.mode === "single") $("#resize-row").hidden = true;

@@ -29,6 +29,7 @@ function wire() {
   num("gauge", Number);
   $("#n_colors").addEventListener("change", () => saveSettings({ n_colors: Number($("#n_colors").value) }));
   $("#candidates").addEventListener("change", () => saveSettings({ candidates: Math.round(Number($("#candidates").value)) }));
+  $("#split_bumps").addEventListener("change", () => saveSettings({ split_bumps: $("#split_bumps").checked }));
   $("#resize").addEventListener("change", () => saveSettings({ resize: $("#resize").checked }));
   $("#preset").addEventListener("change", () => {
     const name = $("#preset").value;

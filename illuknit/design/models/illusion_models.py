@@ -36,6 +36,12 @@ of ``S`` *segments* (each yarn used, plus an *extra carrier* for a region more t
 ``2 S`` passes, and ``S + 1`` more for a row with a bump (its transfer passes in and out, and
 one float-avoidance transfer pass per segment beyond the first) -- see :func:`_add_pass_terms`.
 
+**Split bumps** (``problem.split_bumps``, model (a) only; :mod:`illuknit.core.views`): a block
+``("upper", i, j, k)`` -- the yarn of unit (i, j)'s second course, one-hot -- with the hard
+*flat units keep one yarn*: ``R[i,j] | ~yarn[i,j,k] | upper[i,j,k]`` (and the converse), and view
+A's soft clauses read ``upper`` where view B's read ``yarn``: view A sees ``U[i-1] if R[i-1] else
+U[i]``, and ``U == C`` wherever the unit is flat.
+
 Models (a) and (b) without colour-change or pass terms couple only neighbouring units of one wale, so
 :mod:`illuknit.solvers.dp` solves them exactly per wale; model (c) ties each row to one yarn, and
 the DP solves it exactly over the row colours (a raised bit then affects two view cells whose
@@ -106,8 +112,9 @@ def build_model(problem: IllusionProblem) -> Model:
     Returns
     -------
     Model
-        With variable blocks ``"yarn"`` (N, M, K), ``"raised"`` (N, M) and, when knit-aware with
-        colour terms, ``"change"`` (N, M-1); ``model.problem`` is ``problem``.
+        With variable blocks ``"yarn"`` (N, M, K), ``"raised"`` (N, M), with split bumps
+        ``"upper"`` (N, M, K), and, when knit-aware with colour terms, ``"change"`` (N, M-1);
+        ``model.problem`` is ``problem``.
     """
     check_instance(problem, IllusionProblem, "problem")
     n, m = problem.shape
@@ -116,6 +123,8 @@ def build_model(problem: IllusionProblem) -> Model:
     model = Model(f"illusion-{problem.kind}-{n}x{m}-k{k}", problem=problem)
     x = model.pool.block("yarn", (n, m, k))
     r = model.pool.block("raised", (n, m))
+    # view A reads the second course's yarn: the same variables unless bumps may be split
+    xa = model.pool.block("upper", (n, m, k)) if problem.split_bumps else x
 
     # one yarn per unit: at least one (width K) + pairwise at most one
     model.add_hard_block(x.reshape(-1, k), family="one yarn per unit")
@@ -125,6 +134,8 @@ def build_model(problem: IllusionProblem) -> Model:
                 np.stack([-x[..., a].ravel(), -x[..., b].ravel()], axis=1),
                 family="one yarn per unit",
             )
+    if problem.split_bumps:
+        _add_split_terms(model, x, xa, r)
     if problem.pinned is not None:
         ii, jj = np.nonzero(problem.pinned >= 0)
         if ii.size:
@@ -145,15 +156,15 @@ def build_model(problem: IllusionProblem) -> Model:
     ta = problem.target_a.astype(np.int64)
     tb = problem.target_b.astype(np.int64)
     soft: list[NDArray[np.int64]] = []
-    # view A, row 0 sees C[0]
-    soft.append(np.stack([x[0, cols[0], ta[0]], np.zeros(m, np.int64)], axis=1))
+    # view A, row 0 sees U[0] (the yarn C[0] without split bumps)
+    soft.append(np.stack([xa[0, cols[0], ta[0]], np.zeros(m, np.int64)], axis=1))
     if n > 1:
         rows = np.arange(1, n)[:, None]
-        # R[i-1] -> C[i-1] == A[i]     and    ~R[i-1] -> C[i] == A[i]
+        # R[i-1] -> U[i-1] == A[i]     and    ~R[i-1] -> U[i] == A[i]
         soft.append(
-            np.stack([-r[rows - 1, cols], x[rows - 1, cols, ta[1:]]], axis=-1).reshape(-1, 2)
+            np.stack([-r[rows - 1, cols], xa[rows - 1, cols, ta[1:]]], axis=-1).reshape(-1, 2)
         )
-        soft.append(np.stack([r[rows - 1, cols], x[rows, cols, ta[1:]]], axis=-1).reshape(-1, 2))
+        soft.append(np.stack([r[rows - 1, cols], xa[rows, cols, ta[1:]]], axis=-1).reshape(-1, 2))
     # view B, row N-1 sees C[N-1]
     soft.append(np.stack([x[n - 1, cols[0], tb[n - 1]], np.zeros(m, np.int64)], axis=1))
     if n > 1:
@@ -185,6 +196,31 @@ def build_model(problem: IllusionProblem) -> Model:
     if problem.pass_weight:
         _add_pass_terms(model, problem, x, r)
     return model
+
+
+def _add_split_terms(
+    model: Model, x: NDArray[np.int64], u: NDArray[np.int64], r: NDArray[np.int64]
+) -> None:
+    """The ``upper`` block of split bumps: one-hot, and equal to ``yarn`` on flat units.
+
+    ``R | ~yarn[k] | upper[k]`` for every k makes a flat unit's second course take its yarn;
+    with both one-hot that is equality (the converse clauses make it explicit for propagation).
+    """
+    k = x.shape[2]
+    model.add_hard_block(u.reshape(-1, k), family="one yarn per second course")
+    for a in range(k):
+        for b in range(a + 1, k):
+            model.add_hard_block(
+                np.stack([-u[..., a].ravel(), -u[..., b].ravel()], axis=1),
+                family="one yarn per second course",
+            )
+    rr = np.broadcast_to(r[:, :, None], x.shape)
+    model.add_hard_block(
+        np.stack([rr, -x, u], axis=-1).reshape(-1, 3), family="flat units keep one yarn"
+    )
+    model.add_hard_block(
+        np.stack([rr, x, -u], axis=-1).reshape(-1, 3), family="flat units keep one yarn"
+    )
 
 
 def _add_pass_terms(
@@ -264,6 +300,7 @@ def solve_illusion(
     n_yarns: int | None = None,
     pinned: ArrayLike | None = None,
     alternate_rows: bool = False,
+    split_bumps: bool = False,
     time_limit: float | None = None,
     seed: int = 0,
     progress: ProgressCallback | None = None,
@@ -285,6 +322,9 @@ def solve_illusion(
         includes the warm start.
     alternate_rows : bool
         Single-view model: neighbouring rows must have different yarns.
+    split_bumps : bool
+        Logical model: bumps may knit their second course in another yarn
+        (``docs/split-bumps.md``); the pattern then has ``upper``.
 
     Raises
     ------
@@ -308,6 +348,7 @@ def solve_illusion(
     if pinned is not None:
         check_array(pinned, "pinned", ndim=2, integer=True)
     check_bool(alternate_rows, "alternate_rows")
+    check_bool(split_bumps, "split_bumps")
     if time_limit is not None:
         check_number(time_limit, "time_limit", min=0, min_open=True)
     check_int(seed, "seed", min=0)
@@ -323,6 +364,7 @@ def solve_illusion(
         weights=weights,
         pinned=pinned,
         alternate_rows=alternate_rows,
+        split_bumps=split_bumps,
     )
     if yarns is not None and len(yarns) < prob.n_yarns:
         raise YarnSpecError(f"`yarns` must list {prob.n_yarns} yarns, got {len(yarns)}")

@@ -164,6 +164,10 @@ class IllusionProblem:
         Yarn fixed by the designer per unit, -1 where free.
     alternate_rows : bool
         Single-view model only: neighbouring unit rows must have different yarns.
+    split_bumps : bool
+        Logical model only: a raised unit may knit its second course in another yarn (a split
+        bump, ``LogicalPattern.upper``), which view A sees and view B does not
+        (:mod:`illuknit.core.views`).
     """
 
     target_a: NDArray[np.int16]
@@ -173,10 +177,17 @@ class IllusionProblem:
     weights: KnitWeights = field(default_factory=KnitWeights)
     pinned: NDArray[np.int16] | None = None
     alternate_rows: bool = False
+    split_bumps: bool = False
 
     def __post_init__(self) -> None:
         if self.kind not in MODEL_KINDS:
             raise UnknownNameError("model", str(self.kind), MODEL_KINDS)
+        if self.split_bumps and self.kind != "logical":
+            raise OptionError(
+                "split bumps are modelled in the logical model only (the knit-aware model's "
+                "pass terms do not count a split bump's second yarn; the single-view model "
+                f"shows one picture), not {self.kind!r}"
+            )
         if self.alternate_rows and self.kind != "single":
             raise OptionError(
                 f"`alternate_rows` applies to the single-view model only, not {self.kind!r}"
@@ -255,11 +266,12 @@ def make_problem(
     weights: KnitWeights | None = None,
     pinned: ArrayLike | None = None,
     alternate_rows: bool = False,
+    split_bumps: bool = False,
 ) -> IllusionProblem:
     """An :class:`IllusionProblem`; ``target_b`` defaults to ``target_a`` (single view).
 
     ``n_yarns`` defaults to ``max(target) + 1``. ``alternate_rows`` (single view only): rows
-    alternate yarns.
+    alternate yarns. ``split_bumps`` (logical model only): bumps may be split.
     """
     a = np.asarray(target_a)
     b = a if target_b is None else np.asarray(target_b)
@@ -269,7 +281,14 @@ def make_problem(
         n_yarns = int(max(int(np.max(a)), int(np.max(b)))) + 1 if a.size and b.size else 1
     pin = None if pinned is None else np.asarray(pinned)
     return IllusionProblem(
-        a, b, int(n_yarns), kind, weights or KnitWeights(), pin, bool(alternate_rows)
+        a,
+        b,
+        int(n_yarns),
+        kind,
+        weights or KnitWeights(),
+        pin,
+        bool(alternate_rows),
+        bool(split_bumps),
     )
 
 

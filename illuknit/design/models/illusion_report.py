@@ -72,7 +72,11 @@ def pattern_from_solution(
     }
     if meta:
         info.update(meta)
-    return LogicalPattern(yarn, r, ys, info)
+    upper = None
+    if problem.split_bumps:
+        upper = np.argmax(solution.block("upper"), axis=-1).astype(np.int16)
+        info["split_bumps"] = True
+    return LogicalPattern(yarn, r, ys, info, upper=upper)
 
 
 def color_changes_per_course(pattern_or_yarn: LogicalPattern | ArrayLike) -> NDArray[np.int64]:

@@ -88,6 +88,7 @@ def calibration_swatch(
     cell_width: int = 6,
     gap: int = 2,
     yarns: Sequence[Yarn] | str = "white,black",
+    split_rows: int = 0,
 ) -> LogicalPattern:
     """The calibration swatch as a pattern (see the module docstring).
 
@@ -103,12 +104,16 @@ def calibration_swatch(
         Background units between cells and around the edge.
     yarns : two yarns or a yarn string
         The bump (and background) yarn first, the flat yarn second.
+    split_rows : int
+        Rows of split bumps in a band below the cells (0: none): first course in the bump yarn,
+        second in the flat yarn, to measure the split share (``docs/split-bumps.md``).
 
     Returns
     -------
     LogicalPattern
         ``meta["cells"]`` lists every cell with its sizes and its row and column ranges
-        (half-open, picture order) so measurements can be matched to cells.
+        (half-open, picture order) so measurements can be matched to cells; with
+        ``split_rows``, ``meta["split_band"]`` holds the band's rows and columns.
     """
     for label, sizes in (("bump_sizes", bump_sizes), ("flat_sizes", flat_sizes)):
         if isinstance(sizes, (str, bytes)) or not isinstance(sizes, Sequence) or not sizes:
@@ -130,8 +135,9 @@ def calibration_swatch(
     ys = parse_yarns(yarns) if isinstance(yarns, str) else tuple(yarns)
     if len(ys) != 2:
         raise CalibrationError(f"the swatch needs exactly two yarns (bump, flat), got {len(ys)}")
+    check_int(split_rows, "split_rows", min=0, error=CalibrationError)
     band_h = [2 * n + max(flats) for n in bumps]
-    rows = gap + sum(h + gap for h in band_h)
+    rows = gap + sum(h + gap for h in band_h) + (split_rows + gap if split_rows else 0)
     cols = gap + len(flats) * (cell_width + gap)
     if max(rows, cols) > MAX_UNITS:
         raise CalibrationError(
@@ -160,13 +166,21 @@ def calibration_swatch(
             )
             c += cell_width + gap
         r += h + gap
-    meta = {
+    meta: dict[str, object] = {
         "kind": "calibration-swatch",
         "bump_yarn": ys[0].name,
         "flat_yarn": ys[1].name,
         "cells": cells,
     }
-    return LogicalPattern(yarn, raised, ys, meta)
+    upper = None
+    if split_rows:
+        # Split bumps across the cells' width: first course bump yarn, second flat yarn.
+        sl = slice(gap, cols - gap)
+        raised[r : r + split_rows, sl] = True
+        upper = yarn.copy()
+        upper[r : r + split_rows, sl] = 1
+        meta["split_band"] = {"rows": [r, r + split_rows], "cols": [gap, cols - gap]}
+    return LogicalPattern(yarn, raised, ys, meta, upper=upper)
 
 
 @dataclass(frozen=True)

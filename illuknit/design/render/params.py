@@ -5,10 +5,19 @@ the wale; a flat unit stands ``flat_height`` above the fabric and a bump ``bump_
 is the camera's elevation above the fabric in degrees (90 = head-on). ``shading`` multiplies the
 colour of the leading (vertical) faces a side view sees, 1 = no shading.
 
+Two more parameters describe what the paper's section 9 proposes beyond plain bumps
+(``docs/split-bumps.md``): ``split_share``, the share of a split bump's colour that comes from the
+course on the viewer's side (view A sees ``split_share`` of the second course's yarn and the rest
+of the first's; view B the reverse), and ``tall_bump_height``, the height of a bump knitted with
+extra yarn (the knitting option for tall bumps; :meth:`RenderParams.with_tall_bumps` renders with
+it). Both defaults are estimates until a swatch is measured.
+
 The JSON file is one object holding any of these keys (missing keys take the defaults)::
 
     {"format": "illuknit-render-params", "version": 1,
      "flat_height": 0.1, "bump_height": 0.7, "unit_length": 1.0, "theta": 30.0, "shading": 1.0}
+
+``split_share`` and ``tall_bump_height`` are written only when they differ from their defaults.
 
 Unknown keys, non-numbers, angles outside (0, 90], non-positive sizes and bumps that are not
 taller than flats are rejected with :class:`~illuknit.core.errors.RenderParamsError`.
@@ -25,9 +34,11 @@ from typing import Any
 from illuknit.core.arguments import check_path
 from illuknit.core.errors import RenderParamsError
 from illuknit.core.files import atomic_write_text
+from illuknit.core.views import DEFAULT_SPLIT_SHARE
 
 __all__ = [
     "PARAMS_FORMAT",
+    "TALL_RELIEF_ESTIMATE",
     "RenderParams",
     "check_angle",
     "load_params",
@@ -35,6 +46,10 @@ __all__ = [
     "params_to_json",
     "save_params",
 ]
+
+#: A tall bump's relief over a plain bump's, assumed until measured: an extra tuck per bump
+#: stitch adds a loop's worth of yarn to a bump of two; a guess, not a measurement.
+TALL_RELIEF_ESTIMATE = 1.5
 
 PARAMS_FORMAT = "illuknit-render-params"
 PARAMS_VERSION = 1
@@ -66,6 +81,16 @@ class RenderParams:
         Camera elevation in degrees, in (0, 90]; 90 looks straight down.
     shading : float
         Brightness factor of leading faces, in (0, 1].
+    split_share : float
+        Share of a split bump's colour, seen from one side, that comes from the course on that
+        side, in (0.5, 1] (1 = each side shows only its own course). The default 0.75 is the
+        cuboid estimate at the default geometry: from view A at 30 degrees a bump shows its
+        leading face (the second course) and its top face, half of each course, so the second
+        course covers ``(h cos + L sin / 2) / (h cos + L sin)`` = 0.77 of it.
+    tall_bump_height : float or None
+        Height of a tall bump (>= ``bump_height``). None (the default) estimates it as a relief
+        :data:`TALL_RELIEF_ESTIMATE` times a plain bump's (:attr:`tall_height`) until a
+        tall-bump swatch is measured.
 
     Examples
     --------
@@ -78,10 +103,14 @@ class RenderParams:
     unit_length: float = 1.0
     theta: float = 30.0
     shading: float = 1.0
+    split_share: float = DEFAULT_SPLIT_SHARE
+    tall_bump_height: float | None = None
 
     def __post_init__(self) -> None:
         for f in fields(self):
             v = getattr(self, f.name)
+            if v is None and f.name == "tall_bump_height":
+                continue
             if isinstance(v, bool) or not isinstance(v, int | float):
                 raise RenderParamsError(f"`{f.name}` must be a number, got {v!r}")
             if not math.isfinite(float(v)):
@@ -97,10 +126,32 @@ class RenderParams:
         check_angle(self.theta)
         if not 0.0 < self.shading <= 1.0:
             raise RenderParamsError(f"`shading` must lie in (0, 1], got {self.shading!r}")
+        if not 0.5 < self.split_share <= 1.0:
+            raise RenderParamsError(
+                f"`split_share` must lie in (0.5, 1] (the near course dominates), "
+                f"got {self.split_share!r}"
+            )
+        if self.tall_bump_height is not None and self.tall_bump_height < self.bump_height:
+            raise RenderParamsError(
+                f"`tall_bump_height` must be at least `bump_height` ({self.bump_height}), "
+                f"got {self.tall_bump_height}"
+            )
 
     def with_angle(self, theta: float) -> RenderParams:
         """A copy seen from another elevation (degrees, in (0, 90])."""
         return replace(self, theta=check_angle(theta))
+
+    def with_tall_bumps(self) -> RenderParams:
+        """A copy whose bumps are tall ones (``bump_height = tall_bump_height``), to render a
+        pattern knitted with the tall-bump option."""
+        return replace(self, bump_height=self.tall_height, tall_bump_height=None)
+
+    @property
+    def tall_height(self) -> float:
+        """Height of a tall bump: ``tall_bump_height``, or its estimate when unmeasured."""
+        if self.tall_bump_height is not None:
+            return self.tall_bump_height
+        return self.flat_height + TALL_RELIEF_ESTIMATE * self.relief
 
     @property
     def relief(self) -> float:
@@ -113,9 +164,17 @@ class RenderParams:
         return math.degrees(math.atan2(self.relief, self.unit_length))
 
 
+_OPTIONAL_KEYS = ("split_share", "tall_bump_height")
+_DEFAULTS = {f.name: f.default for f in fields(RenderParams)}
+
+
 def params_to_json(params: RenderParams) -> dict[str, Any]:
     """The parameters as a JSON-ready dict, with the format tag."""
-    return {"format": PARAMS_FORMAT, "version": PARAMS_VERSION, **asdict(params)}
+    doc = {"format": PARAMS_FORMAT, "version": PARAMS_VERSION, **asdict(params)}
+    for name in _OPTIONAL_KEYS:  # written only when set, so older files read and write as before
+        if doc[name] == _DEFAULTS[name]:
+            del doc[name]
+    return doc
 
 
 def params_from_json(doc: Any) -> RenderParams:

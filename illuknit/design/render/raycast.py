@@ -34,6 +34,11 @@ When ``bump_height - flat_height == unit_length * tan(theta)`` a bump hides exac
 and every pixel shows exactly the unit :func:`illuknit.core.views.can_see` names; taller bumps (or
 lower angles) begin to hide the unit after that too.
 
+A *split bump* (``LogicalPattern.upper``) takes a colour per view (:func:`unit_colors`): view A
+sees ``split_share`` of its second course's yarn and ``1 - split_share`` of its first's, view B the
+reverse, head-on half of each; everything else is unchanged. A pattern knitted with tall bumps is
+rendered with :meth:`RenderParams.with_tall_bumps`.
+
 Everything is vectorised over all wales at once; the forward pass keeps a small tape that
 :mod:`illuknit.design.render.grad` uses for the vector-Jacobian product, so previews and optimisation
 share one code path.
@@ -65,6 +70,7 @@ __all__ = [
     "render_soft",
     "render_views",
     "sweep_angles",
+    "unit_colors",
 ]
 
 
@@ -316,6 +322,25 @@ def coverage(
     )
 
 
+def unit_colors(
+    pattern: LogicalPattern, view: View, params: RenderParams | None = None
+) -> NDArray[np.float64]:
+    """ndarray of shape (N, M, 3): the linear-light colour of every unit seen from ``view``.
+
+    A unit's yarn, except at split bumps, which mix their two courses' yarns: from view A
+    ``split_share`` of the second course (``upper``), from view B ``split_share`` of the first
+    (``yarn``), head-on half of each (see :mod:`illuknit.core.views`).
+    """
+    lin = linear_from_srgb(pattern.palette)
+    col = lin[pattern.yarn]
+    if pattern.upper is None:
+        return col
+    params = RenderParams() if params is None else params
+    near = {"A": params.split_share, "B": 1.0 - params.split_share, "headon": 0.5}[view]
+    mixed = near * lin[pattern.upper] + (1.0 - near) * col
+    return np.where(pattern.split[..., None], mixed, col)
+
+
 def _to_uint8(lin: NDArray[np.float64]) -> NDArray[np.uint8]:
     return np.rint(srgb_from_linear(lin)).astype(np.uint8)
 
@@ -346,7 +371,7 @@ def render_pattern(
             f"`pattern` must be a LogicalPattern, got {type(pattern).__name__}"
         )
     params = RenderParams() if params is None else params
-    col = linear_from_srgb(pattern.palette)[pattern.yarn]
+    col = unit_colors(pattern, view, params)
     lin = render_soft(
         heights_from_pattern(pattern, params),
         col,

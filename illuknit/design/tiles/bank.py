@@ -9,6 +9,12 @@ then the fewest bumps. The result contains the solids, the 1-, 2- and 3-colour s
 stripe-one-side / solid-other-side family (e.g. ``0/1/0^``: a 0/1 stripe from A, solid 0 from B),
 with every stripe proportion a tile of height <= 4 can make (1/4, 1/3, 1/2, 2/3, 3/4).
 
+With ``split_bumps=True`` the units also include split bumps (a bump whose second course is
+another yarn, ``1^0``; ``docs/split-bumps.md``) in tiles up to :data:`MAX_SPLIT_HEIGHT` units
+tall. Their fills count a split bump's far course with the weight ``1 - split_share``
+(:func:`~illuknit.design.tiles.tile.tile_fills`): at the default 3/4, ``1^0`` alone shows
+0 3/4 + 1 1/4 from A and 1 3/4 + 0 1/4 from B.
+
 Custom banks are JSON (format ``illuknit-tile-bank`` version 1, see ``docs/tiles.md``)::
 
     {"format": "illuknit-tile-bank", "version": 1,
@@ -39,7 +45,7 @@ from illuknit.core.colors import parse_color
 from illuknit.core.errors import TileBankError, YarnSpecError
 from illuknit.core.files import atomic_write_text
 from illuknit.core.pattern import Yarn, check_yarns
-from illuknit.core.views import can_see
+from illuknit.core.views import DEFAULT_SPLIT_SHARE, can_see, seen_courses
 from illuknit.design.tiles.tile import (
     FILL_VIEWS,
     MAX_FILL_COLORS,
@@ -47,6 +53,7 @@ from illuknit.design.tiles.tile import (
     FillView,
     Tile,
     fill_from_parts,
+    share_fraction,
     tile_fills,
 )
 
@@ -54,6 +61,7 @@ __all__ = [
     "BANK_FORMAT",
     "BANK_VERSION",
     "MAX_BANK_YARNS",
+    "MAX_SPLIT_HEIGHT",
     "TileBank",
     "bank_from_json",
     "bank_to_json",
@@ -67,6 +75,9 @@ BANK_FORMAT = "illuknit-tile-bank"
 BANK_VERSION = 1
 #: Enumeration grows as (2 * yarns) ** height; beyond this many yarns it is not worth it.
 MAX_BANK_YARNS = 8
+#: Tiles with split bumps are enumerated up to this height (taller ones only make fills of
+#: finer proportions, 13/16 and the like, that read as noise and multiply the bank).
+MAX_SPLIT_HEIGHT = 2
 ViewPair = tuple[FillView, FillView]
 
 
@@ -87,6 +98,8 @@ class TileBank:
         is used by default.
     name : str
         ``"canonical"``, a file name, ...
+    split_share : float
+        How much of a split bump's near course its fills count (only tiles with split bumps).
 
     Attributes
     ----------
@@ -97,6 +110,7 @@ class TileBank:
     yarns: tuple[Yarn, ...]
     tiles: tuple[Tile, ...]
     name: str = "custom"
+    split_share: float = DEFAULT_SPLIT_SHARE
     fills: tuple[dict[FillView, Fill | None], ...] = field(init=False, repr=False)
     _index: dict[ViewPair, dict[tuple[Fill, Fill], tuple[int, ...]]] = field(
         init=False, repr=False, default_factory=dict
@@ -111,7 +125,11 @@ class TileBank:
             raise TileBankError("a tile bank needs at least one tile")
         object.__setattr__(self, "yarns", yarns)
         object.__setattr__(self, "tiles", tiles)
-        object.__setattr__(self, "fills", tuple(tile_fills(t, yarns) for t in tiles))
+        object.__setattr__(
+            self,
+            "fills",
+            tuple(tile_fills(t, yarns, split_share=self.split_share) for t in tiles),
+        )
 
     def __len__(self) -> int:
         return len(self.tiles)
@@ -156,7 +174,7 @@ class TileBank:
         for k, t in enumerate(self.tiles):
             if t == tile:
                 return self.fills[k]
-        return tile_fills(tile, self.yarns)
+        return tile_fills(tile, self.yarns, split_share=self.split_share)
 
 
 def _check_yarns(yarns: Sequence[Yarn] | Iterable[Yarn]) -> tuple[Yarn, ...]:
@@ -177,12 +195,39 @@ def _counts_to_keys(seen: np.ndarray, n_yarns: int) -> np.ndarray:
     return np.bincount(flat, minlength=t * n_yarns).reshape(t, n_yarns)
 
 
+def _weighted_counts(
+    yarn: np.ndarray,
+    raised: np.ndarray,
+    upper: np.ndarray,
+    view: Any,
+    h: int,
+    n_yarns: int,
+    share: Fraction,
+) -> np.ndarray:
+    """(T, n_yarns) integer weights of what each tile (a column of the 3-copy arrays) shows from
+    ``view``: ``q = 2 * share.denominator`` per cell, split between a split bump's near and far
+    courses as ``share`` (half and half head-on), as :func:`~illuknit.design.tiles.tile.tile_fills`
+    counts them."""
+    near, far = seen_courses(yarn, raised, upper, view)
+    near, far = near[h : 2 * h], far[h : 2 * h]
+    q = 2 * share.denominator  # a cell's weight; a split bump's near course has share * q
+    split_part = q // 2 if view == "headon" else 2 * share.numerator
+    part = np.where(near == far, q, split_part)
+    t = near.shape[1]
+    idx = np.arange(t)[None, :] * n_yarns
+    out = np.bincount((idx + near).ravel(), weights=part.ravel(), minlength=t * n_yarns)
+    out += np.bincount((idx + far).ravel(), weights=(q - part).ravel(), minlength=t * n_yarns)
+    return np.rint(out).astype(np.int64).reshape(t, n_yarns)
+
+
 def canonical_bank(
     yarns: Sequence[Yarn],
     *,
     max_height: int = 4,
     views: ViewPair = ("A", "B"),
     one_sided_stripes: bool = False,
+    split_bumps: bool = False,
+    split_share: float = DEFAULT_SPLIT_SHARE,
 ) -> TileBank:
     """Generate the canonical bank for ``yarns``.
 
@@ -196,6 +241,11 @@ def canonical_bank(
         The fills that tiles are deduplicated by. The head-on variant uses ``("headon", "side")``.
     one_sided_stripes : bool, default False
         Keep only tiles that are solid in at least one of ``views`` (the paper's tiles).
+    split_bumps : bool, default False
+        Also enumerate split bumps, in tiles up to :data:`MAX_SPLIT_HEIGHT` units tall (see
+        the module docstring).
+    split_share : float
+        The share of a split bump's near course in its fills (``RenderParams.split_share``).
 
     Returns
     -------
@@ -207,6 +257,7 @@ def canonical_bank(
     check_int(max_height, "max_height", min=1, max=6, error=TileBankError)
     check_views(views, error=TileBankError)
     check_bool(one_sided_stripes, "one_sided_stripes")
+    check_bool(split_bumps, "split_bumps")
     ys = _check_yarns(yarns)
     if not isinstance(max_height, int) or not 1 <= max_height <= 6:
         raise TileBankError(f"`max_height` must be an integer in 1..6, got {max_height!r}")
@@ -214,25 +265,47 @@ def canonical_bank(
         if v not in FILL_VIEWS:
             raise TileBankError(f"`views` must name two of {FILL_VIEWS}, got {views!r}")
     # Banks are immutable and cheap to share; interactive use regenerates the same one often.
-    return _canonical_bank(ys, max_height, tuple(views), bool(one_sided_stripes))
+    if isinstance(split_share, bool) or not isinstance(split_share, int | float):
+        raise TileBankError(f"`split_share` must be a number in (0.5, 1], got {split_share!r}")
+    if not 0.5 < split_share <= 1:
+        raise TileBankError(f"`split_share` must lie in (0.5, 1], got {split_share!r}")
+    share = share_fraction(split_share)
+    return _canonical_bank(
+        ys, max_height, tuple(views), bool(one_sided_stripes), bool(split_bumps), share
+    )
 
 
 @functools.lru_cache(maxsize=32)
 def _canonical_bank(
-    ys: tuple[Yarn, ...], max_height: int, views: ViewPair, one_sided_stripes: bool
+    ys: tuple[Yarn, ...],
+    max_height: int,
+    views: ViewPair,
+    one_sided_stripes: bool,
+    split_bumps: bool = False,
+    split_share: Fraction = Fraction(3, 4),
 ) -> TileBank:
     n_y = len(ys)
     best: dict[tuple[Any, Any], Tile] = {}
-    units = [(y, r) for r in (False, True) for y in range(n_y)]
+    plain = [(y, r, y) for r in (False, True) for y in range(n_y)]
+    split = [(y, True, u) for y in range(n_y) for u in range(n_y) if u != y]
     for h in range(1, max_height + 1):
+        units = plain + split if split_bumps and h <= MAX_SPLIT_HEIGHT else plain
         combos = np.array(list(itertools.product(range(len(units)), repeat=h)), dtype=np.int64)
         yarn = np.array([u[0] for u in units])[combos].T  # (h, T): one tile per column
         raised = np.array([u[1] for u in units])[combos].T
+        upper = np.array([u[2] for u in units])[combos].T
         ext_y, ext_r = np.tile(yarn, (3, 1)), np.tile(raised, (3, 1))
-        counts = {
-            v: _counts_to_keys(np.asarray(can_see(ext_y, v, ext_r))[h : 2 * h], n_y)
-            for v in ("A", "B", "headon")
-        }
+        ext_u = np.tile(upper, (3, 1))
+        if split_bumps:
+            counts = {
+                v: _weighted_counts(ext_y, ext_r, ext_u, v, h, n_y, split_share)
+                for v in ("A", "B", "headon")
+            }
+        else:
+            counts = {
+                v: _counts_to_keys(np.asarray(can_see(ext_y, v, ext_r))[h : 2 * h], n_y)
+                for v in ("A", "B", "headon")
+            }
         counts["side"] = np.where(
             np.all(counts["A"] == counts["B"], axis=1)[:, None], counts["A"], -1
         )
@@ -244,13 +317,29 @@ def _canonical_bank(
         # proportions, not counts, identify a fill: reduce each count vector by its gcd
         r0 = c0 // np.maximum(np.gcd.reduce(c0, axis=1), 1)[:, None]
         r1 = c1 // np.maximum(np.gcd.reduce(c1, axis=1), 1)[:, None]
+        # the preference without building a Tile per candidate: colour changes, then bumps
+        # (Tile.color_changes along the wale; one-unit-wide tiles have no changes across)
+        changes = (yarn != upper).sum(axis=0)
+        if h > 1:
+            changes = changes + (upper != np.roll(yarn, -1, axis=0)).sum(axis=0)
+        rank = changes * (h + 1) + raised.sum(axis=0)
+        cand: dict[tuple[bytes, bytes], list[int]] = {}
+        low: dict[tuple[bytes, bytes], int] = {}
         for t in np.flatnonzero(ok):
             key = (r0[t].tobytes(), r1[t].tobytes())
-            tile = Tile(yarn[:, t], raised[:, t])
-            old = best.get(key)
-            if old is None or _tile_preference(tile) < _tile_preference(old):
-                best[key] = tile
+            if key in best:  # a shorter tile already shows this pair
+                continue
+            lo = low.get(key)
+            if lo is None or rank[t] < lo:
+                low[key], cand[key] = int(rank[t]), [int(t)]
+            elif rank[t] == lo:
+                cand[key].append(int(t))
+        for key, ts in cand.items():
+            tiles_h = [Tile(yarn[:, t], raised[:, t], upper=upper[:, t]) for t in ts]
+            best[key] = min(tiles_h, key=_tile_preference)
     tiles = sorted(best.values(), key=_tile_preference)
+    if split_bumps:
+        return TileBank(ys, tuple(tiles), name="canonical", split_share=float(split_share))
     return TileBank(ys, tuple(tiles), name="canonical")
 
 

@@ -244,12 +244,15 @@ def compile_tiles(
     shape = assignment.shape
     yarn = _place(shape, code, kb, {p: t.yarn for p, t in assignment.tiles.items()})
     raised = _place(shape, code, kb, {p: t.raised for p, t in assignment.tiles.items()})
+    upper = None
+    if any(t.upper is not None for t in assignment.tiles.values()):
+        upper = _place(shape, code, kb, {p: t.upper_yarn for p, t in assignment.tiles.items()})
     meta = {
         "compiler": name,
         "views": list(assignment.views),
         "assignment": assignment.to_json(),
     }
-    pattern = LogicalPattern(yarn, raised, assignment.yarns, meta)
+    pattern = LogicalPattern(yarn, raised, assignment.yarns, meta, upper=upper)
     return pattern, _report(assignment, pattern)
 
 

@@ -222,10 +222,10 @@ def _float_rgb(img: ArrayLike) -> NDArray[np.float64]:
 
 
 def _view_renders(
-    pattern: LogicalPattern, views: Sequence[str], *, angle: float
+    pattern: LogicalPattern, views: Sequence[str], *, angle: float, params: Any = None
 ) -> list[list[NDArray[np.float64]]]:
     """For each measured view, the renders it is seen in (a side view is seen from both ends)."""
-    renders, _ = angled_renders(pattern, angle=angle)
+    renders, _ = angled_renders(pattern, angle=angle, params=params)
     table = {"A": ["A"], "B": ["B"], "headon": ["headon"], "side": ["A", "B"]}
     return [[renders[k] for k in table[v]] for v in views]
 
@@ -239,6 +239,7 @@ def measure_candidate(
     knit_time: KnitMeasure | None = None,
     angle: float | None = None,
     blur: float | None = None,
+    params: Any = None,
 ) -> CandidateMeasures:
     """Measure how a compiled candidate reads in each of its views.
 
@@ -260,6 +261,9 @@ def measure_candidate(
     blur : float, optional
         The blur, in units, of what is compared (default the bench's fixed 1.5 units): e.g.
         :func:`eye_blur_units` of a viewing distance, to judge what an eye resolves from there.
+    params : RenderParams, optional
+        The renderer's parameters (default ones when None): e.g. ``with_tall_bumps()`` for a
+        pattern knitted with tall bumps, or a measured split share.
     """
     if len(pictures) != len(views):
         raise OptionError(f"need one picture per view {tuple(views)}, got {len(pictures)}")
@@ -271,7 +275,9 @@ def measure_candidate(
         return blurred_luminance(rgb, sigma)
 
     targets = [_grey(_float_rgb(p)) for p in pictures]
-    seen = _view_renders(pattern, views, angle=RENDER_ANGLE if angle is None else angle)
+    seen = _view_renders(
+        pattern, views, angle=RENDER_ANGLE if angle is None else angle, params=params
+    )
     read: list[float | None] = []
     contrast: list[float | None] = []
     ghosting: list[float | None] = []
@@ -359,6 +365,7 @@ def rank_designs(
     progress: Callable[[float, str], None] | None = None,
     angle: float | None = None,
     blur: float | None = None,
+    params: Any = None,
 ) -> list[RankedCandidate]:
     """Compile every tile candidate, measure how it reads and rank the lot (the best ``keep``).
 
@@ -384,6 +391,8 @@ def rank_designs(
     angle, blur : float, optional
         The viewing angle and the blur (units) each design is measured at, as
         :func:`measure_candidate` (e.g. :func:`seen_blur` of a viewing distance).
+    params : RenderParams, optional
+        The renderer's parameters the designs are measured with (e.g. a measured split share).
     """
     from dataclasses import replace
 
@@ -409,6 +418,7 @@ def rank_designs(
                 ghost=len(pictures) == 2,
                 angle=angle,
                 blur=blur,
+                params=params,
             )
         )
     scores = [c.score for c in found]

@@ -49,11 +49,7 @@ def align_phases(
         t = tiles[pair]
         best, best_score = t, -1
         for s in range(t.height):
-            rt = (
-                t
-                if s == 0
-                else Tile(np.roll(t.yarn, s, axis=0), np.roll(t.raised, s, axis=0), name=t.name)
-            )
+            rt = t if s == 0 else t.rolled(s)
             score = 0
             for side in (0, 1):
                 ref = refs[side].get(pair[side])

@@ -16,6 +16,14 @@ when their yarns and proportions are equal; colour and brightness are derived.
 
 Example from the paper: the 3 x 1 tile (c1 flat, c2 flat, c1 bump) shows a c1/c2 stripe from one
 side and solid c1 from the other.
+
+A tile may hold *split bumps* (``upper``, as in :class:`~illuknit.core.pattern.LogicalPattern`),
+written ``1^0`` in rows: a bump whose first course is yarn 1 and whose second is yarn 0. Which
+unit each cell sees follows the extended ``can_see`` (:func:`tile_seen`); a split bump shows its
+near course with weight ``split_share`` and its far course with the rest
+(:func:`illuknit.core.views.seen_courses`), and the fill counts both, so the one-unit tile ``1^0``
+shows 0 3/4 + 1 1/4 from A and 1 3/4 + 0 1/4 from B at the default share 3/4. A fill is what the
+eye mixes, and a split bump's far course is part of the mix; without split bumps nothing changes.
 """
 
 from __future__ import annotations
@@ -32,7 +40,7 @@ from numpy.typing import ArrayLike, NDArray
 from illuknit.core.colors import hex_color, luminance, mix_rgb
 from illuknit.core.errors import TileBankError
 from illuknit.core.pattern import Yarn
-from illuknit.core.views import can_see
+from illuknit.core.views import DEFAULT_SPLIT_SHARE, can_see, seen_courses
 
 __all__ = [
     "FILL_VIEWS",
@@ -41,8 +49,10 @@ __all__ = [
     "FillView",
     "Tile",
     "fill_from_seen",
+    "share_fraction",
     "tile_fills",
     "tile_seen",
+    "tile_weights",
 ]
 
 #: The views a tile has a fill in. "side" is the fill seen from *both* angles when views A and B
@@ -161,6 +171,9 @@ class Tile:
         True where the unit is a bump.
     name : str, optional
         A label for listings; generated from the contents when empty.
+    upper : ndarray of shape (h, w), integer, optional
+        Split bumps: the yarn of each bump's second course (equal to ``yarn`` on flat units);
+        None, or equal to ``yarn`` everywhere (then stored as None), for a tile without them.
 
     The fills are not stored here: compute them with :func:`tile_fills` (a :class:`TileBank`
     caches them). Row 0 is the top row, as in every illuknit array.
@@ -175,6 +188,7 @@ class Tile:
     yarn: NDArray[np.int16]
     raised: NDArray[np.bool_]
     name: str = ""
+    upper: NDArray[np.int16] | None = None
 
     def __post_init__(self) -> None:
         y = np.asarray(self.yarn)
@@ -195,36 +209,69 @@ class Tile:
             raise TileBankError("tile `raised` must hold booleans (or 0/1)")
         object.__setattr__(self, "yarn", _readonly(y, np.int16))
         object.__setattr__(self, "raised", _readonly(r, np.bool_))
+        object.__setattr__(self, "upper", self._check_upper(self.upper))
         if not self.name:
             object.__setattr__(self, "name", self.code())
 
+    def _check_upper(self, upper: ArrayLike | None) -> NDArray[np.int16] | None:
+        if upper is None:
+            return None
+        u = np.asarray(upper)
+        if u.ndim == 1:
+            u = u[:, None]
+        if u.shape != self.yarn.shape:
+            raise TileBankError(f"tile `upper` must have shape {self.yarn.shape}, got {u.shape}")
+        if not np.issubdtype(u.dtype, np.integer) or int(u.min()) < 0:
+            raise TileBankError("tile `upper` must hold non-negative integers")
+        if (~self.raised & (u != self.yarn)).any():
+            raise TileBankError("tile `upper` must equal `yarn` on flat units")
+        return None if np.array_equal(u, self.yarn) else _readonly(u, np.int16)
+
     @classmethod
     def from_rows(cls, rows: Sequence[str], *, name: str = "") -> Tile:
-        """Parse rows of tokens: a yarn digit (0-9, a-z), followed by ``^`` for a bump.
+        """Parse rows of tokens: a yarn digit (0-9, a-z), followed by ``^`` for a bump, and for
+        a split bump by the digit of its second course's yarn (``1^0``).
 
         Units in a row are separated by spaces when the tile is wider than one unit:
         ``["0 1^", "1 0"]``.
         """
-        yarn, raised = [], []
+        yarn, raised, upper = [], [], []
         for k, row in enumerate(rows):
             toks = row.split() if " " in row.strip() else [row.strip()]
-            yr, rr = [], []
+            yr, rr, ur = [], [], []
             for tok in toks:
-                bump = tok.endswith("^")
-                digit = tok.rstrip("^")
-                if len(digit) != 1 or not digit.isalnum():
+                digit, bump, second = tok.partition("^")
+                second = second or digit
+                if not all(len(d) == 1 and d.isalnum() and d.isascii() for d in (digit, second)):
                     raise TileBankError(
-                        f"tile row {k}: bad unit {tok!r} (expected e.g. '0' or '1^')"
+                        f"tile row {k}: bad unit {tok!r} (expected e.g. '0', '1^' or '1^0')"
                     )
                 yr.append(int(digit, 36))
-                rr.append(bump)
+                rr.append(bool(bump))
+                ur.append(int(second, 36))
             yarn.append(yr)
             raised.append(rr)
+            upper.append(ur)
         if not yarn or len({len(r) for r in yarn}) != 1:
             raise TileBankError(
                 f"tile rows must be non-empty and of equal width, got {list(rows)!r}"
             )
-        return cls(np.array(yarn), np.array(raised), name=name)
+        return cls(np.array(yarn), np.array(raised), name=name, upper=np.array(upper))
+
+    @property
+    def upper_yarn(self) -> NDArray[np.int16]:
+        """The yarn of every unit's second course (``upper``, or ``yarn`` without split bumps)."""
+        return self.yarn if self.upper is None else self.upper
+
+    def rolled(self, shift: int) -> Tile:
+        """The tile with its rows shifted cyclically by ``shift`` (``np.roll``), same name."""
+        up = None if self.upper is None else np.roll(self.upper, shift, axis=0)
+        return Tile(
+            np.roll(self.yarn, shift, axis=0),
+            np.roll(self.raised, shift, axis=0),
+            name=self.name,
+            upper=up,
+        )
 
     @property
     def shape(self) -> tuple[int, int]:
@@ -241,9 +288,13 @@ class Tile:
     def rows(self) -> list[str]:
         """The inverse of :meth:`from_rows`."""
         digits = "0123456789abcdefghijklmnopqrstuvwxyz"
+
+        def unit(y: int, r: bool, u: int) -> str:
+            return digits[y] + ("^" if r else "") + (digits[u] if u != y else "")
+
         return [
-            " ".join(digits[int(y)] + ("^" if r else "") for y, r in zip(yr, rr, strict=True))
-            for yr, rr in zip(self.yarn, self.raised, strict=True)
+            " ".join(unit(int(y), bool(r), int(u)) for y, r, u in zip(yr, rr, ur, strict=True))
+            for yr, rr, ur in zip(self.yarn, self.raised, self.upper_yarn, strict=True)
         ]
 
     def code(self) -> str:
@@ -252,7 +303,9 @@ class Tile:
 
     @property
     def yarns_used(self) -> tuple[int, ...]:
-        return tuple(sorted({int(v) for v in self.yarn.ravel()}))
+        return tuple(
+            sorted({int(v) for v in self.yarn.ravel()} | set(self.upper_yarn.ravel().tolist()))
+        )
 
     def color_changes(self) -> int:
         """Yarn changes between consecutive units, cyclically, along courses and along wales.
@@ -261,17 +314,24 @@ class Tile:
         swaps. The canonical bank prefers tiles with fewer of both.
         """
         y = self.yarn
-        down = int((y != np.roll(y, -1, axis=0)).sum()) if self.height > 1 else 0
+        # along a wale the courses run yarn[i] (first), upper[i] (second), then the row above
+        inside = int((y != self.upper_yarn).sum())
+        down = int((self.upper_yarn != np.roll(y, -1, axis=0)).sum()) if self.height > 1 else 0
         across = int((y != np.roll(y, -1, axis=1)).sum()) if self.width > 1 else 0
-        return down + across
+        return inside + down + across
 
     def __eq__(self, other: object) -> bool:
         if not isinstance(other, Tile):
             return NotImplemented
-        return np.array_equal(self.yarn, other.yarn) and np.array_equal(self.raised, other.raised)
+        return (
+            np.array_equal(self.yarn, other.yarn)
+            and np.array_equal(self.raised, other.raised)
+            and np.array_equal(self.upper_yarn, other.upper_yarn)
+        )
 
     def __hash__(self) -> int:
-        return hash((self.yarn.tobytes(), self.raised.tobytes(), self.yarn.shape))
+        up = b"" if self.upper is None else self.upper.tobytes()
+        return hash((self.yarn.tobytes(), self.raised.tobytes(), up, self.yarn.shape))
 
     def __repr__(self) -> str:
         return f"Tile({self.code()!r})"
@@ -287,20 +347,57 @@ def tile_seen(tile: Tile, view: Literal["A", "B", "headon"]) -> NDArray[np.int16
     h = tile.height
     ext_y = np.tile(tile.yarn, (3, 1))
     ext_r = np.tile(tile.raised, (3, 1))
-    return can_see(ext_y, view, ext_r)[h : 2 * h]
+    ext_u = None if tile.upper is None else np.tile(tile.upper, (3, 1))
+    return can_see(ext_y, view, ext_r, upper=ext_u)[h : 2 * h]
 
 
-def tile_fills(tile: Tile, yarns: Sequence[Yarn]) -> dict[FillView, Fill | None]:
+def share_fraction(share: float) -> Fraction:
+    """A split share as the fraction fills are counted in (denominator at most 20)."""
+    return Fraction(share).limit_denominator(20)
+
+
+def tile_weights(
+    tile: Tile, view: Literal["A", "B", "headon"], share: Fraction
+) -> dict[int, Fraction]:
+    """Yarn -> weight of what the tile shows from ``view`` in a large region, summing to the
+    tile's height times its width: a cell counts 1 for its unit's near course, except at a split
+    bump, ``share`` for the near course and ``1 - share`` for the far one (1/2 each head-on;
+    :func:`illuknit.core.views.seen_courses`)."""
+    h = tile.height
+    ext_u = None if tile.upper is None else np.tile(tile.upper, (3, 1))
+    near, far = seen_courses(np.tile(tile.yarn, (3, 1)), np.tile(tile.raised, (3, 1)), ext_u, view)
+    q = Fraction(1, 2) if view == "headon" else share
+    out: dict[int, Fraction] = {}
+    for y, f in zip(near[h : 2 * h].ravel().tolist(), far[h : 2 * h].ravel().tolist(), strict=True):
+        w = Fraction(1) if y == f else q
+        out[y] = out.get(y, Fraction(0)) + w
+        if w != 1:
+            out[f] = out.get(f, Fraction(0)) + 1 - w
+    return out
+
+
+def tile_fills(
+    tile: Tile, yarns: Sequence[Yarn], *, split_share: float = DEFAULT_SPLIT_SHARE
+) -> dict[FillView, Fill | None]:
     """The tile's fills in every view: ``{"A": Fill, "B": Fill, "headon": Fill, "side": Fill|None}``.
 
-    ``"side"`` is the common fill of views A and B when they are equal, else None.
+    ``"side"`` is the common fill of views A and B when they are equal, else None. Split bumps
+    count with ``split_share`` (see the module docstring).
     """
-    if int(tile.yarn.max()) >= len(yarns):
+    if max(tile.yarns_used) >= len(yarns):
         raise TileBankError(
-            f"tile {tile.code()} uses yarn {int(tile.yarn.max())}, but there are {len(yarns)} yarn(s)"
+            f"tile {tile.code()} uses yarn {max(tile.yarns_used)}, but there are {len(yarns)} yarn(s)"
         )
-    out: dict[FillView, Fill | None] = {
-        v: fill_from_seen(tile_seen(tile, v), yarns) for v in ("A", "B", "headon")
-    }
+    if tile.upper is None:
+        out: dict[FillView, Fill | None] = {
+            v: fill_from_seen(tile_seen(tile, v), yarns) for v in ("A", "B", "headon")
+        }
+    else:
+        share = share_fraction(split_share)
+        out = {}
+        for v in ("A", "B", "headon"):
+            weights = tile_weights(tile, v, share)
+            total = sum(weights.values())
+            out[v] = fill_from_parts([(y, q / total) for y, q in weights.items() if q], yarns)
     out["side"] = out["A"] if out["A"] == out["B"] else None
     return out
