@@ -15,9 +15,6 @@ KNOWN = {
     "illuknit/cli/bench.py:bench": 143,
     # The child's protocol of an isolated solver run (limits, signals, answers) in one place.
     "solvers/isolate.py:run_in_child": 137,
-    # The printable pattern's page layouts, drawn in one pass each.
-    "illuknit/outputs/pattern_pdf.py:pattern_pdf": 172,
-    "illuknit/outputs/pattern_pdf.py:_chart_page": 114,
 }
 
 

@@ -16,7 +16,8 @@ from PIL import Image
 
 from illuknit.core.gauge import parse_gauge
 from illuknit.core.pattern import LogicalPattern, parse_yarns
-from illuknit.outputs.pattern_pdf import CELL_MM, chart_svg, chart_tiles, pattern_pdf
+from illuknit.outputs import pattern_pdf as pdf_module
+from illuknit.outputs.pattern_pdf import CELL_MM, chart_svg, chart_tiles, pattern_pdf, pdf_fonts
 
 pypdf = pytest.importorskip("pypdf", reason="the test extra (pypdf) is not installed")
 
@@ -170,3 +171,27 @@ def test_chart_svg_has_every_stitch() -> None:
     assert sum(float(r.get("width")) for r in rects) == pytest.approx(6 * 14 * 10)
     dots = list(root.iter(f"{ns}circle"))
     assert len(dots) == 2 * int(pattern.raised.sum())  # each raised unit: 2 purls on the WS row
+
+
+def test_yarn_names_outside_latin1_are_written_as_they_are() -> None:
+    """Greek from the bundled DejaVu Sans; Chinese from a system font when one is found (CI
+    installs Debian's fonts-droid-fallback), else as code points with a note saying so."""
+    yarns = parse_yarns("Ø深蓝=#1e2a5a,Ελληνικά=#f4f0e8")
+    pattern = LogicalPattern(np.array([[0, 1], [1, 0]]), np.array([[True, False]] * 2), yarns)
+    text = "\n".join(pdf_pages(pattern_pdf(pattern, gauge=parse_gauge("22x30/10cm"))))
+    assert re.search(r"Ελληνικά \(#f4f0e8\): \d+ sts", text)
+    if pdf_fonts("深蓝").fallbacks:
+        assert re.search(r"Ø深蓝 \(#1e2a5a\): \d+ sts", text)
+        assert "?" not in text.split("Materials")[1].split("Gauge")[0]
+    else:
+        assert "Ø<U+6DF1><U+84DD> (#1e2a5a)" in text
+        assert "U+6DF1, U+84DD" in " ".join(text.split())
+
+
+def test_characters_no_font_has_become_code_points(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(pdf_module, "FALLBACK_FONTS", ())
+    monkeypatch.delenv(pdf_module.FONTS_ENV, raising=False)
+    fonts = pdf_fonts("Ø深蓝 Ελληνικά")
+    assert fonts.fallbacks == ()
+    assert fonts.text("Ø深蓝 Ελληνικά – x") == "Ø<U+6DF1><U+84DD> Ελληνικά – x"
+    assert fonts.missing("深蓝ØA") == ["U+6DF1", "U+84DD"]

@@ -32,6 +32,7 @@ __all__ = [
     "decode_upload",
     "prepare_inputs",
     "size_inputs",
+    "sizing_aspect",
     "slots_for",
     "too_large_message",
     "width_of",
@@ -196,7 +197,6 @@ def size_inputs(
     Raises AppRequestError for a missing picture, a width out of range and pictures of
     different shapes (``image_b``, code ``size_mismatch``).
     """
-    from illuknit.core.machine import get_machine
     from illuknit.pictures.sizing import size_pair
 
     slots = _require_pictures(images, settings.mode)
@@ -213,7 +213,7 @@ def size_inputs(
                 # an accepted edit is a grid picture (illuknit.pictures.sizing.grid_picture): smoothing
                 # would blend its units' colours
                 smooth=False if any(_is_grid(images[k]) for k in slots) else settings.smooth,
-                unit_aspect=get_machine(settings.machine).fabric_gauge.unit_aspect,
+                unit_aspect=sizing_aspect(settings),
             )
         except PictureSizeMismatchError:
             assert b is not None
@@ -334,3 +334,14 @@ def _single_view_input(
         f"{yarns[light].name}, which read as their blend",
     )
     return QuantisedImage(q.indices, mapped, q.colors, q.counts), note
+
+
+def sizing_aspect(settings: DesignSettings) -> float:
+    """Height over width of a unit when sizing the pictures to the grid: 1.0 with
+    ``square_units``, else the machine's fabric gauge's (so the finished piece keeps the
+    picture's proportions)."""
+    from illuknit.core.machine import get_machine
+
+    if settings.square_units:
+        return 1.0
+    return get_machine(settings.machine).fabric_gauge.unit_aspect

@@ -87,6 +87,13 @@ class DesignSettings(BaseModel):
         title="Smooth resizing",
         description="anti-aliased resizing (photos) vs nearest (pixel art)",
     )
+    square_units: bool = Field(
+        default=False,
+        title="Square units",
+        description="size the grid with square units (as many unit rows as the picture is "
+        "units tall): the piece comes out shorter than the picture by the gauge's row-to-stitch "
+        "ratio; by default the grid keeps the picture's proportions in the finished fabric",
+    )
     split_bumps: bool = Field(
         default=False,
         title="Split bumps",

@@ -97,6 +97,8 @@ class Session:
     # earlier and undone designs (history.DesignState), oldest first (see illuknit.app.history)
     undo_steps: list[Any] = field(default_factory=list)
     redo_steps: list[Any] = field(default_factory=list)
+    # the row tracker: the row the knitter is on, per pattern key (illuknit.app.routers.tracker)
+    tracker: dict[str, int] = field(default_factory=dict)
     jobs: dict[str, Any] = field(default_factory=dict)  # kind -> Job
     # id of a replaced job -> id of the job that replaced it (a poll of the old id follows it)
     successors: dict[str, str] = field(default_factory=dict)

@@ -49,6 +49,9 @@ def calibrate() -> None:
     For tall bumps knit a second swatch with --tall-bumps and fit it with
     --tall-bumps; for split bumps add --split-bumps (a band of split bumps)
     and pass the measured share to fit --split-share (docs/split-bumps.md).
+
+    And the knitting time: illuknit calibrate time PROGRAM --minutes M -o my-machine.json
+    fits the time model to one knit you timed; --machine my-machine.json then uses it.
     """
 
 
@@ -247,3 +250,44 @@ def fit(
     save_params(saved, output)
     click.echo(report)
     click.echo(f"\nwrote {output}")
+
+
+@calibrate.command("time")
+@click.argument("program", type=click.Path(dir_okay=False, path_type=Path))
+@click.option(
+    "--minutes",
+    type=POSITIVE,
+    required=True,
+    help="How long the machine took to knit PROGRAM, start to finish, in minutes.",
+)
+@machine_option("Machine PROGRAM was knitted on (a preset, or a machine file).", transfer=False)
+@click.option(
+    "-o",
+    "--output",
+    type=click.Path(dir_okay=False, path_type=Path),
+    required=True,
+    help="Machine file to write (JSON); name it with --machine for later estimates.",
+)
+def time_(program: Path, minutes: float, machine: str | None, output: Path) -> None:
+    """Fit the knitting-time model to one timed knit of PROGRAM (a pattern JSON, a knitout
+    file or a Kniterate .kc): the per-pass overhead that makes its machine passes take
+    MINUTES, written as a machine file (see docs/knitting.md, "Time model")."""
+    from illuknit.core.machine import DEFAULT_MACHINE_NAME, save_machine_file
+    from illuknit.knitting.stats import calibrate_knit_time
+
+    spec = resolve_machine(machine)
+    fit = calibrate_knit_time(program, minutes, machine=spec)
+    base = machine if machine and not machine.lower().endswith(".json") else None
+    if base is None:
+        # a machine file names its own preset; recalibrating keeps it
+        from illuknit.core.documents import read_json_file
+        from illuknit.core.errors import OptionError
+
+        base = (
+            str(read_json_file(machine, error=OptionError, what="machine").get("base"))
+            if machine
+            else DEFAULT_MACHINE_NAME
+        )
+    save_machine_file(fit.machine, output, base=base.lower())
+    click.echo(fit.report())
+    click.echo(f"wrote {output}: use it with --machine {output}")

@@ -81,6 +81,7 @@ def run_design(
     designs are judged from ``angle`` degrees and ``distance`` metres. Returns the summary."""
     from illuknit.cli.knitout_bridge import design_unit_aspect, resolve_machine
     from illuknit.core.errors import ImageInputError, OptionError, TileAssignmentError
+    from illuknit.core.views import DEFAULT_SPLIT_SHARE
     from illuknit.design.options import (
         Brightness,
         PictureEdits,
@@ -99,15 +100,15 @@ def run_design(
     overrides = tuple(_parse_overrides(tile).items())
     ranking = RankOptions(RankBy(rank_by), knit_time, machine, overrides, angle, distance)
     spec = resolve_machine(machine)
-    optional: dict[str, Any] = {"pool": pool, "split_share": split_share}
     search = SearchOptions(
         candidates=candidates,
         solver=solver,
         brightness=Brightness.SOFT if soft_brightness else Brightness.HARD,
         one_sided=one_sided,
         split_bumps=split_bumps or split_share is not None,
+        split_share=DEFAULT_SPLIT_SHARE if split_share is None else split_share,
         edits=PictureEdits("apply" if simplify else "suggest" if suggest else "none"),
-        **{k: v for k, v in optional.items() if v is not None},
+        **({} if pool is None else {"pool": pool}),
     )
     report: Report = progress or (lambda fraction, message: None)
     kw: dict[str, Any] = dict(

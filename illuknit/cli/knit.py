@@ -62,10 +62,10 @@ def run_knit(
     pattern = load_pattern(pattern_path)
     check_fits(spec, pattern.shape[1], hint="use a narrower pattern or a wider --machine-width")
     changes: dict[str, Any] = {}
-    if seconds_per_needle is not None:
-        changes["seconds_per_needle"] = seconds_per_needle
-    if seconds_per_turn is not None:
-        changes["seconds_per_turn"] = seconds_per_turn
+    if seconds_per_needle is not None or seconds_per_turn is not None:
+        # a linear model of the user's own instead of the carriage speeds
+        changes["seconds_per_needle"] = seconds_per_needle or 0.0
+        changes["seconds_per_turn"] = seconds_per_turn or 0.0
     if float_limit is not None:
         changes["float_limit"] = float_limit
     if changes:
@@ -132,13 +132,15 @@ def run_knit(
     "--seconds-per-needle",
     type=NON_NEGATIVE,
     default=None,
-    help="Time model: carriage time per needle crossed [0.01].",
+    help="A linear time model instead of the machine's carriage speeds: seconds per needle "
+    "crossed (with --seconds-per-turn; the other one 0 when not given).",
 )
 @click.option(
     "--seconds-per-turn",
     type=NON_NEGATIVE,
     default=None,
-    help="Time model: fixed time per carriage pass [1.5].",
+    help="A linear time model instead of the machine's: fixed seconds per carriage pass "
+    "(with --seconds-per-needle).",
 )
 @click.option(
     "--float-limit",
@@ -289,6 +291,15 @@ def knit(
         raise click.exceptions.Exit(1)
 
 
+def time_line(s: dict[str, Any]) -> str:
+    """One line: the estimated time, its range and the bind-off's part of it."""
+    basis = "calibrated" if "calibrated on" in s["time_model"] else "preset's"
+    return (
+        f"estimated knitting time: {s['time']} ({s['time_range']} at the {basis} carriage "
+        f"speeds), of which the bind-off {s['bind_off_time']} (docs/knitting.md, Time model)"
+    )
+
+
 def _echo_summary(s: dict[str, Any], output_format: str, echo: Callable[[str], object]) -> None:
     """The summary for a reader: what was written, size, passes, time, sheet, the checker's
     verdict."""
@@ -321,10 +332,7 @@ def _echo_summary(s: dict[str, Any], output_format: str, echo: Callable[[str], o
             f"{s['float_avoidance_transfers']} float-avoidance transfer pass(es), "
             f"{s['kickbacks']} backend kickback(s)"
         )
-    echo(
-        f"estimated knitting time: {s['time']}, of which the bind-off {s['bind_off_time']} "
-        f"(+{s['hook_passes']} hook passes counted; an untuned model, docs/knitting.md)"
-    )
+    echo(time_line(s))
     _echo_machine_sheet(s, echo)
     chk = s.get("check", False)
     if chk is None:
@@ -358,7 +366,10 @@ def describe_settings(s: dict[str, Any]) -> str:
 
 def _echo_machine_sheet(s: dict[str, Any], echo: Callable[[str], object] = click.echo) -> None:
     """What the machine knitter sets up: cones on carriers, stitch numbers, needles, time."""
-    echo(f"on the {s['machine']}: {s['machine_passes']} passes, about {s['machine_time']}")
+    echo(
+        f"on the {s['machine']}: {s['machine_passes']} passes, about {s['machine_time']} "
+        f"({s['machine_time_range']})"
+    )
     for row in s["carrier_table"]:
         echo(f"  carrier {row['carrier']}: {row['yarn']} ({row['role']})")
     numbers = ", ".join(map(str, s["stitch_numbers"])) or "machine default"

@@ -73,7 +73,8 @@ def machine_option(
         "machine",
         metavar="NAME",
         default=None,
-        help=f"{help} One of {', '.join(machine_names())} [{DEFAULT_MACHINE_NAME}].",
+        help=f"{help} One of {', '.join(machine_names())} [{DEFAULT_MACHINE_NAME}], or a "
+        "machine file (FILE.json) from `illuknit calibrate time`.",
     )
     if not transfer:
         return machine

@@ -33,8 +33,11 @@ A program's own headers name its machine: :func:`machine_from_headers` maps ``;;
 
 from __future__ import annotations
 
+import json
+import os
 from collections.abc import Mapping
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, fields, replace
+from pathlib import Path
 
 from illuknit.core.errors import OptionError, SchedulingError, UnknownNameError
 from illuknit.core.gauge import STOCKINETTE_COURSE_ASPECT, Gauge
@@ -44,14 +47,19 @@ __all__ = [
     "DEFAULT_MACHINE",
     "DEFAULT_MACHINE_NAME",
     "KNITERATE",
+    "KNITERATE_TIMING",
     "MACHINES",
     "SWG_CARRIERS",
+    "SWG_TIMING",
+    "CarriageTiming",
     "MachineSpec",
     "TransferSettings",
     "get_machine",
+    "load_machine_file",
     "machine_from_headers",
     "machine_names",
     "resolve_machine",
+    "save_machine_file",
 ]
 
 _POSITIONS = ("Left", "Right", "Center", "Keep")
@@ -120,6 +128,168 @@ class TransferSettings:
 
 
 @dataclass(frozen=True)
+class CarriageTiming:
+    """How long the machine's carriage takes for a pass (the time model of
+    :mod:`illuknit.knit.timing`)::
+
+        pass time = (needles crossed x needle pitch + overrun) / speed + pass overhead
+
+    where the speed is ``knit_speed`` for passes that knit, tuck or only move carriers, and
+    ``transfer_speed`` for transfer passes; or, when the machine file states each pass's speed
+    (the Kniterate's ``.kc``) and ``speed_unit`` is set, that speed number x ``speed_unit``.
+
+    Parameters
+    ----------
+    knit_speed, transfer_speed : float
+        Carriage speed in m/s of knitting and of transfer passes.
+    overrun_m : float
+        Carriage travel beyond the pass's outermost needles, both ends together, in m: a
+        carriage reverses only once its cam system has left the last needle it works.
+    pass_overhead_s : float
+        Seconds per pass besides travel: reversing, racking, selecting carriers. Not published
+        for any machine: fitted to a timed knit (:func:`illuknit.knit.timing.calibrate_timing`).
+    knit_speed_range, transfer_speed_range, overrun_range : tuple of float
+        The spread of the documented values (low, high): the estimate's range
+        (:attr:`illuknit.knit.timing.TimeEstimate.low_seconds`) takes the slow and the fast
+        ends with ``pass_overhead_s`` held.
+    speed_unit : float or None
+        m/s per speed number written in the machine file, for machines whose file states each
+        pass's speed (the Kniterate); None: ``knit_speed`` / ``transfer_speed``.
+    source : str
+        Where the values come from.
+    calibrated_from : str
+        Empty, or the timed knit ``pass_overhead_s`` was fitted to.
+
+    Examples
+    --------
+    >>> t = CarriageTiming(knit_speed=1.0, transfer_speed=0.5, overrun_m=0.3, pass_overhead_s=2.0)
+    >>> round(t.pass_seconds(100, transfer=False, pitch_m=0.0036), 2)
+    2.66
+    """
+
+    knit_speed: float
+    transfer_speed: float
+    overrun_m: float
+    pass_overhead_s: float
+    knit_speed_range: tuple[float, float] | None = None
+    transfer_speed_range: tuple[float, float] | None = None
+    overrun_range: tuple[float, float] | None = None
+    speed_unit: float | None = None
+    source: str = ""
+    calibrated_from: str = ""
+
+    def __post_init__(self) -> None:
+        for name in ("knit_speed", "transfer_speed"):
+            if not getattr(self, name) > 0:
+                raise OptionError(f"`{name}` must be positive m/s, got {getattr(self, name)!r}")
+        for name in ("overrun_m", "pass_overhead_s"):
+            if not getattr(self, name) >= 0:
+                raise OptionError(f"`{name}` must be >= 0, got {getattr(self, name)!r}")
+        if self.speed_unit is not None and not self.speed_unit > 0:
+            raise OptionError(f"`speed_unit` must be positive, got {self.speed_unit!r}")
+        for name in ("knit_speed_range", "transfer_speed_range", "overrun_range"):
+            r = getattr(self, name)
+            if r is None:
+                continue
+            lo, hi = (float(v) for v in r)
+            if not 0 <= lo <= hi or (name != "overrun_range" and lo <= 0):
+                raise OptionError(f"`{name}` must be (low, high) with 0 < low <= high, got {r!r}")
+            object.__setattr__(self, name, (lo, hi))
+
+    def pass_seconds(
+        self,
+        needles: int,
+        *,
+        transfer: bool,
+        pitch_m: float,
+        speed_number: float | None = None,
+        end: str = "",
+    ) -> float:
+        """Seconds for one pass across ``needles`` needles (``end``: ``""`` the nominal values,
+        ``"slow"`` / ``"fast"`` the ends of the documented ranges)."""
+        knit, xfer, overrun = self.knit_speed, self.transfer_speed, self.overrun_m
+        if end:
+            slow = end == "slow"
+            knit = _end(self.knit_speed_range, knit, slow, low_is_slow=True)
+            xfer = _end(self.transfer_speed_range, xfer, slow, low_is_slow=True)
+            overrun = _end(self.overrun_range, overrun, slow, low_is_slow=False)
+        if speed_number is not None and self.speed_unit is not None and speed_number > 0:
+            # the file's own speed, scaled as the nominal speed is within its range
+            speed = speed_number * self.speed_unit * (knit / self.knit_speed)
+        else:
+            speed = xfer if transfer else knit
+        return (needles * pitch_m + overrun) / speed + self.pass_overhead_s
+
+    def describe(self) -> dict[str, object]:
+        """The values as JSON-ready numbers."""
+        return {
+            "knit_speed_m_s": self.knit_speed,
+            "transfer_speed_m_s": self.transfer_speed,
+            "overrun_m": self.overrun_m,
+            "pass_overhead_s": self.pass_overhead_s,
+            "knit_speed_range_m_s": self.knit_speed_range,
+            "transfer_speed_range_m_s": self.transfer_speed_range,
+            "overrun_range_m": self.overrun_range,
+            "speed_unit_m_s": self.speed_unit,
+            "source": self.source,
+            "calibrated_from": self.calibrated_from,
+        }
+
+
+def _end(r: tuple[float, float] | None, nominal: float, slow: bool, *, low_is_slow: bool) -> float:
+    if r is None:
+        return nominal
+    return r[0] if slow == low_is_slow else r[1]
+
+
+#: Time model of the Shima SWG091N2 (:class:`CarriageTiming`). Speeds: flat knitting machines
+#: traverse at 0.8-1.4 m/s (mapofsciences.com, "Flat knitting machine speed and carriage
+#: technology"); Stoll's CMS manual recommends starting at 0.7 m/s and raising it step by step
+#: ("Yarns and stitch tension"); no speed is published for the SWG-N2 itself: 0.7-1.4 m/s,
+#: 1.0 nominal. Transfers: 1/3 of the knitting speed (Kniterate support: speed 100 against
+#: 300) to the same (knitout-backend-kniterate #35: 300 works for transfers): 0.23-1.4 m/s,
+#: 0.5 nominal. Overrun: the carriage reverses once its cam system has left the last needle
+#: it works (Stoll CMS manual, "Carriage assembly"); the SWG-N2's carriage length is not
+#: published: 0.15-0.5 m assumed, 0.3 nominal. Pass overhead: fitted so that the paper's
+#: heart / ECG (200 x 200 stitches, measured 50 min on this machine) comes to 50 min on the
+#: machine passes of illuknit's tile design of it (``benchmarks/knit_time.py``).
+SWG_TIMING = CarriageTiming(
+    knit_speed=1.0,
+    transfer_speed=0.5,
+    overrun_m=0.3,
+    pass_overhead_s=2.65,
+    knit_speed_range=(0.7, 1.4),
+    transfer_speed_range=(0.7 / 3, 1.4),
+    overrun_range=(0.15, 0.5),
+    source=(
+        "carriage 0.7-1.4 m/s (flat machines 0.8-1.4 m/s; Stoll's recommended start 0.7), "
+        "transfers 1/3 to 1 of it, overrun 0.15-0.5 m (not published), 2.65 s a pass "
+        "fitted to the paper's heart / ECG (50 min)"
+    ),
+)
+
+#: Time model of the Kniterate. The ``.kc`` states each pass's speed number (300 knitting,
+#: 100 transfers by default; 0-600, knit.work "Knitout extensions"); its unit is not published
+#: (knitout-backend-kniterate #2: "an actual speed (though the units aren't clear)"): read as
+#: mm/s, with 0.5-1.5x of that as the range. Overrun and pass overhead as on the Shima (no
+#: timed Kniterate knit is published): calibrate with one of yours.
+KNITERATE_TIMING = CarriageTiming(
+    knit_speed=0.3,
+    transfer_speed=0.1,
+    overrun_m=0.3,
+    pass_overhead_s=2.65,
+    knit_speed_range=(0.15, 0.45),
+    transfer_speed_range=(0.05, 0.15),
+    overrun_range=(0.15, 0.5),
+    speed_unit=0.001,
+    source=(
+        "the .kc's speed numbers read as mm/s (unit not published; 0.5-1.5x as the range), "
+        "overrun and pass overhead as the Shima's (no timed Kniterate knit published)"
+    ),
+)
+
+
+@dataclass(frozen=True)
 class MachineSpec:
     """A V-bed knitting machine and the settings illuknit knits with.
 
@@ -147,10 +317,12 @@ class MachineSpec:
         ``x-speed-number``; ``None`` leaves the machine's own defaults.
     yarn_weight : str
         Yarn description for the ``;;Yarn-N:`` headers (e.g. ``"50-50"``).
-    seconds_per_needle : float
-        Time model: carriage time per needle crossed (about 0.36 m/s at 7 gauge's 3.63 mm pitch).
-    seconds_per_turn : float
-        Time model: fixed time per carriage pass (turning round and clearing the carriage's own length).
+    timing : CarriageTiming
+        Time model: carriage speeds, overrun and pass overhead (:data:`SWG_TIMING`,
+        :data:`KNITERATE_TIMING`; calibrate from a timed knit with ``illuknit calibrate time``).
+    seconds_per_needle, seconds_per_turn : float or None
+        A simpler linear model of your own instead of ``timing`` (both must be given): each pass
+        takes ``seconds_per_turn`` plus ``seconds_per_needle`` per needle crossed.
     course_aspect : float
         Course height divided by stitch width (default 0.7, the 5 : 7 stitch-to-row ratio of
         stocking stitch; unmeasured on illusion fabric): the row gauge of :attr:`fabric_gauge`.
@@ -198,8 +370,9 @@ class MachineSpec:
     cast_on_stitch_number: int | None = None
     speed_number: int | None = None
     yarn_weight: str = "50-50"
-    seconds_per_needle: float = 0.01
-    seconds_per_turn: float = 1.5
+    timing: CarriageTiming = SWG_TIMING
+    seconds_per_needle: float | None = None
+    seconds_per_turn: float | None = None
     course_aspect: float = STOCKINETTE_COURSE_ASPECT
     description: str = ""
     inserting_hook: bool = True
@@ -223,7 +396,10 @@ class MachineSpec:
         positive("float_limit", self.float_limit, integer=True)
         positive("park_distance", self.park_distance, integer=True)
         positive("course_aspect", self.course_aspect)
-        if self.seconds_per_needle < 0 or self.seconds_per_turn < 0:
+        linear = (self.seconds_per_needle, self.seconds_per_turn)
+        if (linear[0] is None) != (linear[1] is None):
+            raise OptionError("give both `seconds_per_needle` and `seconds_per_turn`, or neither")
+        if linear[0] is not None and (linear[0] < 0 or linear[1] < 0):  # type: ignore[operator]
             raise OptionError("time model seconds must be >= 0")
         carriers = tuple(str(c) for c in self.carriers)
         if not carriers or len(set(carriers)) != len(carriers):
@@ -302,9 +478,30 @@ class MachineSpec:
         reserved = {self.waste_carrier, self.draw_carrier}
         return tuple(c for c in self.carriers if c not in reserved)
 
-    def pass_seconds(self, needles_crossed: int) -> float:
-        """Time model: seconds for one carriage pass across ``needles_crossed`` needles."""
-        return needles_crossed * self.seconds_per_needle + self.seconds_per_turn
+    @property
+    def needle_pitch_m(self) -> float:
+        """Distance between neighbouring needles, in m."""
+        return 0.0254 / self.gauge
+
+    def pass_seconds(
+        self,
+        needles_crossed: int,
+        *,
+        transfer: bool = False,
+        speed_number: float | None = None,
+        end: str = "",
+    ) -> float:
+        """Time model: seconds for one carriage pass across ``needles_crossed`` needles
+        (:class:`CarriageTiming`, or the linear ``seconds_per_*`` model when set)."""
+        if self.seconds_per_needle is not None and self.seconds_per_turn is not None:
+            return needles_crossed * self.seconds_per_needle + self.seconds_per_turn
+        return self.timing.pass_seconds(
+            needles_crossed,
+            transfer=transfer,
+            pitch_m=self.needle_pitch_m,
+            speed_number=speed_number,
+            end=end,
+        )
 
     @property
     def max_units(self) -> int:
@@ -374,6 +571,7 @@ MACHINES: dict[str, MachineSpec] = {
         waste_carrier="6",
         draw_carrier="1",
         formats=("kc",),
+        timing=KNITERATE_TIMING,
         transfer=TransferSettings(
             stitch_number=3,
             speed_number=100,
@@ -403,8 +601,54 @@ def machine_names() -> list[str]:
     return list(MACHINES)
 
 
+#: ``kind`` of a machine file (:func:`save_machine_file`).
+MACHINE_FILE_KIND = "illuknit-machine"
+
+
+def save_machine_file(spec: MachineSpec, path: str | os.PathLike[str], *, base: str) -> Path:
+    """Write ``spec`` as a machine file: the preset ``base`` and the time model
+    (:class:`CarriageTiming`) measured on your machine. ``--machine FILE.json`` (and
+    :func:`get_machine`) read it back, so later estimates use the calibration."""
+    from illuknit.core.files import atomic_write_text
+
+    doc = {
+        "kind": MACHINE_FILE_KIND,
+        "version": 1,
+        "base": base,
+        "timing": {f.name: getattr(spec.timing, f.name) for f in fields(CarriageTiming)},
+    }
+    return atomic_write_text(path, json.dumps(doc, indent=1) + "\n")
+
+
+def load_machine_file(path: str | os.PathLike[str]) -> MachineSpec:
+    """The machine a machine file describes (:func:`save_machine_file`): its base preset with
+    the file's time model.
+
+    Raises
+    ------
+    OptionError
+        For a missing, unreadable or malformed file (one line saying what is wrong).
+    """
+    from illuknit.core.documents import read_json_file
+
+    doc = read_json_file(path, error=OptionError, what="machine")
+    if not isinstance(doc, dict) or doc.get("kind") != MACHINE_FILE_KIND:
+        raise OptionError(f"{path} is not an illuknit machine file (written by `calibrate time`)")
+    base = get_machine(str(doc.get("base", "")))
+    raw = doc.get("timing")
+    names = {f.name for f in fields(CarriageTiming)}
+    if not isinstance(raw, dict) or not set(raw) <= names:
+        raise OptionError(f"{path}: `timing` must be an object with keys among {sorted(names)}")
+    try:
+        timing = replace(base.timing, **raw)
+    except (TypeError, ValueError) as e:
+        raise OptionError(f"{path}: bad `timing`: {e}") from None
+    return replace(base, timing=timing, description=f"{base.name} calibrated ({Path(path).name})")
+
+
 def get_machine(name: str | MachineSpec | None = None) -> MachineSpec:
-    """The preset called ``name`` (case-insensitive); ``None`` gives the default machine.
+    """The preset called ``name`` (case-insensitive); ``None`` gives the default machine; a
+    name ending in ``.json`` is a machine file (:func:`load_machine_file`).
 
     A :class:`MachineSpec` is returned as it is, so callers may take either.
 
@@ -423,6 +667,8 @@ def get_machine(name: str | MachineSpec | None = None) -> MachineSpec:
     if isinstance(name, MachineSpec):
         return name
     key = str(name).strip().lower()
+    if key.endswith(".json"):
+        return load_machine_file(str(name).strip())
     if key not in MACHINES:
         raise UnknownNameError("machine", str(name), machine_names())
     return MACHINES[key]

@@ -410,19 +410,15 @@ def _check_stops(row: _Row) -> None:
         )
 
 
-def summarise_kc(
-    kc: str, *, seconds_per_needle: float, seconds_per_turn: float
-) -> dict[str, object]:
-    """What a knitter needs from a ``.kc``: passes, needles used, stitch numbers, time.
+def summarise_kc(kc: str) -> dict[str, object]:
+    """What a knitter needs from a ``.kc``: passes, needles used, stitch numbers.
 
     Read from the k-code itself: ``passes`` counts its pass lines (carriage moves included),
     ``needles`` is the (first, last) bed needle selected on either bed, numbered 1..252 from the
-    left end (the numbers ``;;Position: Keep`` uses), ``stitch_numbers`` the stitch numbers set on selected needles, and
-    ``time_seconds`` the time model (``seconds_per_turn`` per pass plus ``seconds_per_needle`` per
-    needle the carriage travels between its turning points).
+    left end (the numbers ``;;Position: Keep`` uses), ``stitch_numbers`` the stitch numbers set on
+    selected needles. (Its time: :func:`illuknit.knitting.carriage.kc_run` and the time model.)
     """
     passes = 0
-    travel = 0.0
     used: set[int] = set()
     numbers: set[str] = set()
     selection: dict[str, str] = {}
@@ -430,7 +426,6 @@ def summarise_kc(
         tag, _, value = line.partition(":")
         if tag in ("FRNT", "REAR"):
             selection[tag] = value
-            travel_row = value
         elif tag in ("STIF", "STIR"):
             bed = "FRNT" if tag == "STIF" else "REAR"
             marks = _selected(selection[bed])
@@ -438,12 +433,10 @@ def summarise_kc(
             used.update(i - _MARGIN + 1 for i in marks)
         elif line.startswith((">>", "<<")):
             passes += 1
-            travel += travel_row.index("\\") - travel_row.index("/")
     return {
         "passes": passes,
         "needles": (min(used), max(used)) if used else None,
         "stitch_numbers": sorted(numbers),
-        "time_seconds": round(passes * seconds_per_turn + travel * seconds_per_needle, 1),
     }
 
 

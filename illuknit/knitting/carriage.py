@@ -19,7 +19,7 @@ from illuknit.knit.ir import ActionKind, CarrierAction
 from illuknit.knit.schedule import Schedule, ScheduleStats
 from illuknit.knit.timing import MachineRun
 
-__all__ = ["machine_run", "machine_stats", "runs_on_swg"]
+__all__ = ["kc_run", "machine_run", "machine_stats", "runs_on_swg"]
 
 
 def runs_on_swg(machine: MachineSpec) -> bool:
@@ -34,7 +34,32 @@ def machine_run(text: str) -> MachineRun:
     ps = machine_passes(text)
     kinds = Counter(p.kind.value for p in ps)
     spans = tuple(p.needle_range[1] - p.needle_range[0] + 1 for p in ps)
-    return MachineRun(dict(kinds), spans)
+    transfers = tuple(p.kind.value in _TRANSFER_KINDS for p in ps)
+    return MachineRun(dict(kinds), spans, transfers)
+
+
+def kc_run(kc: str) -> MachineRun:
+    """The Kniterate's passes of a ``.kc`` (:func:`illuknit.formats.kc.knitout_to_kc`): each
+    ``>>`` / ``<<`` row, its carriage travel between the turning points (``/`` .. ``\\`` of the
+    needle row before it, in needles) and the speed number it states."""
+    spans: list[int] = []
+    transfers: list[bool] = []
+    speeds: list[float | None] = []
+    kinds: Counter[str] = Counter()
+    row = ""
+    for line in kc.split("\n"):
+        if line.startswith("FRNT:"):
+            row = line
+        elif line.startswith((">>", "<<")):
+            fields = line.split()
+            kind = fields[1] if len(fields) > 1 else ""
+            # transfers and splits move loops between beds ("Tr" on either side of the type)
+            xfer = "Tr" in kind.split("-")
+            kinds["transfer" if xfer else "knit" if kind != "Tu-Tu" else "soft-miss"] += 1
+            spans.append(max(0, row.find("\\") - row.find("/")) if row else 0)
+            transfers.append(xfer)
+            speeds.append(float(fields[3]) if len(fields) > 3 else None)
+    return MachineRun(dict(kinds), tuple(spans), tuple(transfers), tuple(speeds))
 
 
 _HOOK_KINDS = ("hook-release", "carriage-move", "carrier-out")

@@ -132,6 +132,12 @@ class KnitResult:
             "longest_float_at": longest_at,
             "time_seconds": round(self.time.seconds, 1),
             "time": str(self.time),
+            "time_range_seconds": [
+                round(self.time.low_seconds, 1),
+                round(self.time.high_seconds, 1),
+            ],
+            "time_range": self.time.range_text,
+            "time_model": self.time.model,
             "bind_off_time_seconds": round(self.time.bind_off_seconds, 1),
             "bind_off_time": format_duration(self.time.bind_off_seconds),
             "lines": self.text.count("\n"),

@@ -17,7 +17,7 @@ from typing import Any
 
 # one format check for the CLI, the sheet and the app
 from illuknit.formats import check_format, machine_passes
-from illuknit.knit.timing import format_duration
+from illuknit.knit.timing import estimate_knit_time, format_duration
 from illuknit.knitting.pipeline import KnitResult
 
 __all__ = ["MachineSheet", "check_format", "machine_headline", "machine_sheet"]
@@ -76,27 +76,28 @@ def machine_sheet(result: KnitResult, *, name: str = "command.kc") -> MachineShe
     files: dict[str, str] = {}
     if "kc" in m.formats:
         from illuknit.formats.kc import knitout_to_kc, summarise_kc
+        from illuknit.knitting.carriage import kc_run
 
         kc = knitout_to_kc(result.text, name=name)
         files["kc"] = kc
-        facts = summarise_kc(
-            kc, seconds_per_needle=m.seconds_per_needle, seconds_per_turn=m.seconds_per_turn
-        )
-        passes, seconds = int(facts["passes"]), float(facts["time_seconds"])  # type: ignore[call-overload, arg-type]
+        facts = summarise_kc(kc)
+        run = kc_run(kc)
+        passes = run.passes
+        estimate = estimate_knit_time(result.schedule, run=run, machine=m)
         needles = facts["needles"]
         numbers = list(facts["stitch_numbers"])  # type: ignore[call-overload]
     elif "dat" in m.formats:
         # the Shima SWG backend's own passes: its kickbacks, carrier moves and hook passes
         runs = [p.needle_range for p in machine_passes(result.text)]
         passes = len(runs)
-        seconds = sum(m.pass_seconds(hi - lo + 1) for lo, hi in runs)
+        estimate = result.time  # counted on these passes (knit_pattern)
         needles = (min(lo for lo, _ in runs), max(hi for _, hi in runs))
         found = re.findall(r"^x-stitch-number (\S+)", result.text, flags=re.MULTILINE)
         numbers = sorted(set(found))
     else:
         stats = result.stats
         passes = stats.passes + stats.hook_passes
-        seconds = result.time.seconds
+        estimate = result.time
         spans = [p.needle_span for p in result.schedule.passes]
         needles = (min(s[0] for s in spans), max(s[1] for s in spans))
         found = re.findall(r"^x-stitch-number (\S+)", result.text, flags=re.MULTILINE)
@@ -108,8 +109,15 @@ def machine_sheet(result: KnitResult, *, name: str = "command.kc") -> MachineShe
             "stitch_numbers": numbers,
             "needle_range": list(needles) if needles else None,  # type: ignore[call-overload]
             "machine_passes": passes,
-            "machine_time_seconds": round(seconds, 1),
-            "machine_time": format_duration(seconds),
+            "machine_time_seconds": round(estimate.seconds, 1),
+            "machine_time": format_duration(estimate.seconds),
+            "machine_time_range": estimate.range_text,
+            "machine_time_range_seconds": [
+                round(estimate.low_seconds, 1),
+                round(estimate.high_seconds, 1),
+            ],
+            "machine_bind_off_time_seconds": round(estimate.bind_off_seconds, 1),
+            "time_model": estimate.model,
             "knit_settings": {"stitch_number": m.stitch_number, "speed_number": m.speed_number},
             "transfer_settings": {
                 **m.transfer.describe(),
@@ -136,6 +144,10 @@ def machine_headline(summary: dict[str, Any], sheet: MachineSheet) -> dict[str, 
         out["passes"] = out["machine_passes"]
         out["time_seconds"] = out["machine_time_seconds"]
         out["time"] = out["machine_time"]
+        out["time_range"] = out["machine_time_range"]
+        out["time_range_seconds"] = out["machine_time_range_seconds"]
+        out["bind_off_time_seconds"] = out["machine_bind_off_time_seconds"]
+        out["bind_off_time"] = format_duration(out["machine_bind_off_time_seconds"])
         out["passes_counted_on"] = "kc"
         # the lower bound and ratio are the schedule's (the .kc adds the waste section)
         out["schedule_lower_bound"] = out.pop("lower_bound")

@@ -18,8 +18,11 @@ What a knitter buying an illusion pattern expects, in this order:
 Written with fpdf2: a maintained, pure-Python PDF writer (on top of Pillow, already a
 dependency) that places text, lines, rectangles and PNGs at exact millimetre positions, which a
 tiled chart needs; reportlab does the same but is a larger dependency with C parts, and
-matplotlib's PDF backend lays out figures, not pages of text. The core fonts cover Latin-1, so
-text outside it (yarn names in other scripts) is written with replacement characters.
+matplotlib's PDF backend lays out figures, not pages of text. Text is set in the core Helvetica
+when it fits Latin-1, else in DejaVu Sans, bundled with its licence, which covers Latin, Greek,
+Cyrillic and more; characters it lacks (Chinese yarn names, say) come from a system font when one
+is found (:func:`pdf_fonts`), and are otherwise written as their code points, with a note in the
+materials saying which and how to add a font.
 """
 
 from __future__ import annotations
@@ -28,6 +31,7 @@ import io
 import os
 from dataclasses import dataclass
 from datetime import UTC, datetime
+from functools import lru_cache
 from pathlib import Path
 from typing import Any
 
@@ -43,13 +47,16 @@ from illuknit.outputs.hand_pattern import hand_advice, written_row, yarn_estimat
 
 __all__ = [
     "CELL_MM",
+    "FONT",
     "PAGE_SIZES",
     "SECTION_ROWS",
     "ChartTile",
+    "PdfFonts",
     "chart_svg",
     "chart_tiles",
     "needles_for_gauge",
     "pattern_pdf",
+    "pdf_fonts",
     "write_pattern_pdf",
 ]
 
@@ -98,6 +105,90 @@ def needles_for_gauge(stitches_per_10cm: float) -> tuple[str, str, float]:
     raise AssertionError("unreachable")  # the last class starts at 0
 
 
+#: Family name the PDF's text is set in: DejaVu Sans, bundled (``illuknit/data``, its licence
+#: beside it), which covers Latin, Greek, Cyrillic and more.
+FONT = "DejaVu"
+_DATA = Path(__file__).resolve().parents[1] / "data"
+_FONT_FILES = {"": _DATA / "DejaVuSans.ttf", "B": _DATA / "DejaVuSans-Bold.ttf"}
+#: Environment variable: more font files (TrueType/OpenType, path-separated) for characters
+#: DejaVu lacks, tried before the system fonts of :data:`FALLBACK_FONTS`.
+FONTS_ENV = "ILLUKNIT_PDF_FONTS"
+#: System fonts tried, in order, for characters DejaVu lacks (Chinese, Japanese, Korean ...):
+#: Debian's fonts-droid-fallback, fonts-noto-cjk, fonts-wqy-microhei / -zenhei.
+FALLBACK_FONTS = (
+    "/usr/share/fonts/truetype/droid/DroidSansFallbackFull.ttf",
+    "/usr/share/fonts/opentype/noto/NotoSansCJK-Regular.ttc",
+    "/usr/share/fonts/truetype/wqy/wqy-microhei.ttc",
+    "/usr/share/fonts/truetype/wqy/wqy-zenhei.ttc",
+)
+
+
+@dataclass(frozen=True)
+class PdfFonts:
+    """The fonts a pattern is written in.
+
+    ``family`` is Helvetica (the PDF's core font, nothing embedded) when every character fits
+    Latin-1, else :data:`FONT` (DejaVu Sans, embedded) with ``fallbacks`` for what it lacks.
+    :meth:`text` keeps every character some font has, and writes any other as its code point
+    (``<U+6DF1>``) rather than a blank or a wrong glyph; :meth:`missing` lists those.
+    """
+
+    family: str
+    fallbacks: tuple[Path, ...]
+    covered: frozenset[int]
+
+    def install(self, pdf: Any) -> None:
+        if self.family != FONT:
+            return
+        for style, path in _FONT_FILES.items():
+            pdf.add_font(FONT, style, str(path))
+        names = []
+        for k, path in enumerate(self.fallbacks):
+            pdf.add_font(f"fallback{k}", "", str(path))
+            names.append(f"fallback{k}")
+        if names:
+            pdf.set_fallback_fonts(names, exact_match=False)
+
+    def text(self, text: str) -> str:
+        if self.family != FONT:
+            text = text.replace("\u2013", "-").replace("\u2014", "-")
+        return "".join(ch if ord(ch) in self.covered else f"<U+{ord(ch):04X}>" for ch in text)
+
+    def missing(self, text: str) -> list[str]:
+        return sorted({f"U+{ord(ch):04X}" for ch in text if ord(ch) not in self.covered})
+
+
+@lru_cache(maxsize=4)
+def _cmap(path: str) -> frozenset[int]:
+    from fontTools.ttLib import TTFont
+
+    with TTFont(path, fontNumber=0, lazy=True) as font:
+        return frozenset(font.getBestCmap() or {})
+
+
+def pdf_fonts(text: str = "") -> PdfFonts:
+    """The fonts for a pattern whose free text (title, yarn names; all else is ASCII) is
+    ``text``: the core Helvetica when it fits Latin-1 (the quickest, smallest file), else DejaVu
+    Sans and, for characters it lacks, the fallback fonts found that have some
+    (:data:`FONTS_ENV`, then :data:`FALLBACK_FONTS`)."""
+    if all(ord(ch) < 256 for ch in text):
+        return PdfFonts("Helvetica", (), frozenset(range(256)))
+    # characters every style can draw from DejaVu, plus any a fallback has
+    covered = _cmap(str(_FONT_FILES[""])) & _cmap(str(_FONT_FILES["B"])) | {0x0A, 0x0D}
+    lacking = {ord(ch) for ch in text} - covered
+    extra = [p for p in os.environ.get(FONTS_ENV, "").split(os.pathsep) if p.strip()]
+    used: list[Path] = []
+    for path in (Path(p) for p in (*extra, *FALLBACK_FONTS)):
+        if not lacking or not path.is_file():
+            continue
+        has = _cmap(str(path))
+        if lacking & has:
+            used.append(path)
+            covered |= has
+            lacking -= has
+    return PdfFonts(FONT, tuple(used), frozenset(covered))
+
+
 @dataclass(frozen=True)
 class ChartTile:
     """One chart page: stitch columns ``c0..c1`` and row numbers ``r0..r1`` (inclusive, stitch 1
@@ -140,16 +231,6 @@ def chart_tiles(
     return tiles
 
 
-def _latin1(text: str) -> str:
-    return (
-        text.replace("\u2013", "-")
-        .replace("\u2014", "-")
-        .replace("\u00d7", "x")
-        .encode("latin-1", "replace")
-        .decode("latin-1")
-    )
-
-
 def _grids(pattern: LogicalPattern) -> tuple[NDArray[np.int16], NDArray[np.bool_]]:
     """(yarn, purl on RS) per chart cell, indexed [row number - 1, stitch number - 1] (stitch 1
     at the right edge, row 1 at the bottom)."""
@@ -174,47 +255,72 @@ def pattern_pdf(
     angle: float | None = None,
 ) -> bytes:
     """The pattern as a print-ready PDF (see the module docstring for its pages)."""
-    from fpdf import FPDF
+    if page not in PAGE_SIZES:
+        raise ValueError(f"`page` must be one of {', '.join(PAGE_SIZES)}, got {page!r}")
+    doc = _Document(pattern, gauge, title, page)
+    _cover(doc, angle)
+    _materials(doc)
+    _chart_pages(doc)
+    _written_rows(doc)
+    return bytes(doc.pdf.output())
 
+
+class _Document:
+    """The PDF being written, its fonts and the facts every page draws on."""
+
+    def __init__(self, pattern: LogicalPattern, gauge: Gauge, title: str, page: str) -> None:
+        from fpdf import FPDF
+
+        self.pattern, self.gauge, self.title, self.page = pattern, gauge, title, page
+        n, m = pattern.shape
+        self.W, self.H = 2 * m, 2 * n
+        self.size = finished_size(pattern.shape, gauge)
+        self.names = [y.name for y in pattern.yarns]
+        self.rows = hand_rows(pattern)
+        self.advice = hand_advice(pattern)
+        self.pw, self.ph = PAGE_SIZES[page]
+        self.usable = self.pw - 2 * MARGIN_MM
+        pdf = FPDF(orientation="P", unit="mm", format=PAGE_SIZES[page])
+        pdf.set_auto_page_break(auto=True, margin=MARGIN_MM)
+        pdf.set_margins(MARGIN_MM, MARGIN_MM, MARGIN_MM)
+        self.fonts = pdf_fonts(title + "".join(self.names))
+        self.fonts.install(pdf)
+        pdf.set_title(self.fonts.text(title))
+        pdf.set_creator("illuknit")
+        # no time stamp: the same pattern gives the same file (a folder holds one whole design)
+        pdf.set_creation_date(datetime(2000, 1, 1, tzinfo=UTC))
+        self.pdf = pdf
+
+    def font(self, size_pt: float, style: str = "") -> None:
+        self.pdf.set_font(self.fonts.family, style, size_pt)
+
+    def heading(self, text: str, size_pt: float = 14) -> None:
+        self.font(size_pt, "B")
+        self.pdf.multi_cell(0, size_pt * 0.5, self.fonts.text(text), new_x="LMARGIN", new_y="NEXT")
+        self.pdf.ln(1.5)
+
+    def para(self, text: str, size_pt: float = 10) -> None:
+        self.font(size_pt)
+        self.pdf.multi_cell(0, size_pt * 0.45, self.fonts.text(text), new_x="LMARGIN", new_y="NEXT")
+        self.pdf.ln(1)
+
+    @property
+    def cast_on_yarn(self) -> str:
+        return self.names[int(self.rows[0].yarn[-1])]
+
+
+def _cover(doc: _Document, angle: float | None) -> None:
+    """Title, finished size, the head-on and both angled previews in the fabric's proportions."""
     from illuknit.design.render import RenderParams, render_views
     from illuknit.outputs.previews import chart_rgb, rows_per_unit, unit_scale, upscale
 
-    if page not in PAGE_SIZES:
-        raise ValueError(f"`page` must be one of {', '.join(PAGE_SIZES)}, got {page!r}")
+    pdf, pattern, gauge = doc.pdf, doc.pattern, doc.gauge
     n, m = pattern.shape
-    W, H = 2 * m, 2 * n
-    size = finished_size(pattern.shape, gauge)
-    advice = hand_advice(pattern)
-    names = [y.name for y in pattern.yarns]
-    yclass, needles, metres_per_100g = needles_for_gauge(gauge.stitches_per_10cm)
-    yarn_need = yarn_estimate(pattern, gauge, metres_per_100g=metres_per_100g)
-
-    pdf = FPDF(orientation="P", unit="mm", format=PAGE_SIZES[page])
-    pdf.set_auto_page_break(auto=True, margin=MARGIN_MM)
-    pdf.set_margins(MARGIN_MM, MARGIN_MM, MARGIN_MM)
-    pdf.set_title(_latin1(title))
-    pdf.set_creator("illuknit")
-    # no time stamp: the same pattern gives the same file (a folder holds one whole design)
-    pdf.set_creation_date(datetime(2000, 1, 1, tzinfo=UTC))
-    pw, ph = PAGE_SIZES[page]
-    usable = pw - 2 * MARGIN_MM
-
-    def heading(text: str, size_pt: float = 14) -> None:
-        pdf.set_font("Helvetica", "B", size_pt)
-        pdf.multi_cell(0, size_pt * 0.5, _latin1(text), new_x="LMARGIN", new_y="NEXT")
-        pdf.ln(1.5)
-
-    def para(text: str, size_pt: float = 10) -> None:
-        pdf.set_font("Helvetica", "", size_pt)
-        pdf.multi_cell(0, size_pt * 0.45, _latin1(text), new_x="LMARGIN", new_y="NEXT")
-        pdf.ln(1)
-
-    # -- cover -------------------------------------------------------------------------------
     pdf.add_page()
-    heading(title, 20)
-    para(
-        f"Finished size: {size.describe()}  -  {W} stitches x {H} rows ({m} x {n} units of "
-        f"2 stitches x 2 rows), at {gauge.describe()}."
+    doc.heading(doc.title, 20)
+    doc.para(
+        f"Finished size: {doc.size.describe()}  -  {doc.W} stitches x {doc.H} rows ({m} x {n} "
+        f"units of 2 stitches x 2 rows), at {gauge.describe()}."
     )
     s = max(2, unit_scale(pattern.shape, target=400))
     theta = angle if angle is not None else RenderParams().theta
@@ -227,68 +333,81 @@ def pattern_pdf(
         (f"Seen from below (cast-on edge) at {theta:g} deg", upscale(renders["B"], s, sy)),
     ]
     y = pdf.get_y() + 2
-    big_w = usable * 0.62
+    big_w = doc.usable * 0.62
     img_h = big_w * headon.shape[0] / headon.shape[1]
-    max_h = ph - y - MARGIN_MM - 10
+    max_h = doc.ph - y - MARGIN_MM - 10
     if img_h > max_h:
         big_w, img_h = big_w * max_h / img_h, max_h
-    pdf.set_font("Helvetica", "", 9)
+    doc.font(9)
     pdf.set_xy(MARGIN_MM, y)
-    pdf.cell(big_w, 5, _latin1(views[0][0]))
+    pdf.cell(big_w, 5, views[0][0])
     pdf.image(_png(views[0][1]), x=MARGIN_MM, y=y + 5, w=big_w, h=img_h)
-    small_w = usable - big_w - 6
+    small_w = doc.usable - big_w - 6
     yy = y
     for label, img in views[1:]:
         h = small_w * img.shape[0] / img.shape[1]
         pdf.set_xy(MARGIN_MM + big_w + 6, yy)
-        pdf.multi_cell(small_w, 4, _latin1(label))
+        pdf.multi_cell(small_w, 4, label)
         pdf.image(_png(img), x=MARGIN_MM + big_w + 6, y=yy + 9, w=small_w, h=h)
         yy += h + 16
     pdf.set_y(max(y + 5 + img_h, yy) + 4)
-    para(
+    doc.para(
         "Head-on the piece shows stripes; look along it from the top or the bottom edge and the "
         "raised purl ridges hide the rows behind them, and the picture appears. The previews "
         "are drawn in the fabric's proportions; angled views are foreshortened as they are seen.",
         9,
     )
 
-    # -- materials, gauge, abbreviations, reading the chart, advice, key -----------------------
+
+def _materials(doc: _Document) -> None:
+    """Materials, gauge, abbreviations, how to read the chart, the advice and the key."""
+    pdf, gauge = doc.pdf, doc.gauge
+    yclass, needles, metres_per_100g = needles_for_gauge(gauge.stitches_per_10cm)
     pdf.add_page()
-    heading("Materials")
-    for e in yarn_need:
-        para(f"- Yarn {e.describe()}")
-    para(
+    doc.heading("Materials")
+    for e in yarn_estimate(doc.pattern, gauge, metres_per_100g=metres_per_100g):
+        doc.para(f"- Yarn {e.describe()}")
+    doc.para(
         f"Lengths are estimates: each stitch takes about 3.8 stitch widths of yarn at this gauge, "
         f"plus the floats of stranded rows and a 20 % margin for the cast-on, bind-off and ends; "
         f"weights assume {yclass} yarn of about {metres_per_100g:.0f} m per 100 g. Check the "
         "meterage on your ball band."
     )
-    para(
+    doc.para(
         f"- Needles: {needles} for {yclass} yarn, or the size that gives the gauge below. "
         "A tapestry needle to weave in ends."
     )
-    heading("Gauge")
-    para(
+    missing = doc.fonts.missing(" ".join(doc.names))
+    if missing:
+        doc.para(
+            "Some characters of the yarn names have no glyph in the fonts found, so they are "
+            f"written as their code points ({', '.join(missing)}); install a font that covers "
+            "them (e.g. Debian's fonts-noto-cjk or fonts-droid-fallback) or name one in "
+            f"{FONTS_ENV}.",
+            8,
+        )
+    doc.heading("Gauge")
+    doc.para(
         f"{gauge.stitches_per_10cm:.1f} stitches and {gauge.rows_per_10cm:.1f} rows = 10 cm "
         f"(4 in) in the pattern stitch ({gauge.describe()}; {gauge.source})."
     )
-    para(
+    doc.para(
         "Gauge swatch: cast on 40 stitches and work 40 rows, every other pair of rows with the "
         "wrong-side row knitted (the purl ridges of the pattern), then wash and dry it flat. "
         "Count the stitches across and the rows up 10 cm in the middle. More stitches than "
         "above: use larger needles; fewer: smaller. illuknit can size the design to your gauge: "
         "--fabric-gauge STSxROWS/10cm."
     )
-    para(f"Finished size at this gauge: {size.describe()}.")
-    heading("Abbreviations")
+    doc.para(f"Finished size at this gauge: {doc.size.describe()}.")
+    doc.heading("Abbreviations")
     for abbr, meaning in ABBREVIATIONS:
-        pdf.set_font("Helvetica", "B", 10)
-        pdf.cell(38, 5, _latin1(abbr))
-        pdf.set_font("Helvetica", "", 10)
-        pdf.cell(0, 5, _latin1(meaning), new_x="LMARGIN", new_y="NEXT")
+        doc.font(10, "B")
+        pdf.cell(38, 5, abbr)
+        doc.font(10)
+        pdf.cell(0, 5, meaning, new_x="LMARGIN", new_y="NEXT")
     pdf.ln(2)
-    heading("How to read the chart")
-    para(
+    doc.heading("How to read the chart")
+    doc.para(
         "Each square is one stitch, in the colour of its yarn. Row 1 is at the bottom (the "
         "cast-on edge). Right-side (RS, odd) rows are read from right to left and have their "
         "number at the right; wrong-side (WS, even) rows are read from left to right and have "
@@ -299,47 +418,51 @@ def pattern_pdf(
         "over pages as the page map shows; neighbouring pages repeat one stitch column and one "
         "row (shaded) so you can line them up."
     )
-    heading("Working it")
-    for line in advice.lines:
-        para(line)
-    para(
-        f"Cast on {W} stitches with {names[int(hand_rows(pattern)[0].yarn[-1])]} and follow the "
-        f"chart (or the written rows) from row 1 to row {H}; bind off all stitches knitwise."
+    doc.heading("Working it")
+    for line in doc.advice.lines:
+        doc.para(line)
+    doc.para(
+        f"Cast on {doc.W} stitches with {doc.cast_on_yarn} and follow the chart (or the written "
+        f"rows) from row 1 to row {doc.H}; bind off all stitches knitwise."
     )
-    heading("Key")
-    _key(pdf, pattern)
+    doc.heading("Key")
+    _key(doc)
 
-    # -- chart pages -----------------------------------------------------------------------------
-    yarn, purl = _grids(pattern)
-    tiles = chart_tiles(W, H, page=page)
-    pdf.add_page()
-    heading(f"Chart: {len(tiles)} page{'s' if len(tiles) > 1 else ''}")
-    para(
+
+def _chart_pages(doc: _Document) -> None:
+    """The page map, then the chart tiled over pages."""
+    yarn, purl = _grids(doc.pattern)
+    tiles = chart_tiles(doc.W, doc.H, page=doc.page)
+    doc.pdf.add_page()
+    doc.heading(f"Chart: {len(tiles)} page{'s' if len(tiles) > 1 else ''}")
+    doc.para(
         "Page map (the chart as knitted: row 1 at the bottom, stitch 1 at the right; knitting "
         "starts on the bottom right page):"
     )
-    _page_map(pdf, tiles)
+    _page_map(doc, tiles)
     for t in tiles:
-        pdf.add_page()
-        _chart_page(pdf, t, tiles, yarn, purl, pattern, pw)
+        doc.pdf.add_page()
+        _chart_page(doc, t, tiles, yarn, purl)
 
-    # -- written rows ---------------------------------------------------------------------------
-    pdf.add_page()
-    heading("Written rows")
-    para(f"CO {W} sts with {names[int(hand_rows(pattern)[0].yarn[-1])]}.", 9)
-    colourwork = {r.number: r for r in advice.rows}
-    pdf.set_font("Helvetica", "", 8.5)
-    for row in hand_rows(pattern):
+
+def _written_rows(doc: _Document) -> None:
+    """Every row written out, with its stitch count and colourwork note."""
+    doc.pdf.add_page()
+    doc.heading("Written rows")
+    doc.para(f"CO {doc.W} sts with {doc.cast_on_yarn}.", 9)
+    colourwork = {r.number: r for r in doc.advice.rows}
+    doc.font(8.5)
+    for row in doc.rows:
         note = colourwork[row.number].note()
-        text = f"Row {row.number} ({row.side}): {written_row(row.worked(), names)}"
+        text = f"Row {row.number} ({row.side}): {written_row(row.worked(), doc.names)}"
         if note:
             text += f" [{note}]"
-        pdf.multi_cell(0, 3.9, _latin1(text), new_x="LMARGIN", new_y="NEXT")
-    para(f"BO all {W} sts knitwise. Weave in the ends; wash and dry flat.", 9)
-    return bytes(pdf.output())
+        doc.pdf.multi_cell(0, 3.9, doc.fonts.text(text), new_x="LMARGIN", new_y="NEXT")
+    doc.para(f"BO all {doc.W} sts knitwise. Weave in the ends; wash and dry flat.", 9)
 
 
-def _key(pdf: Any, pattern: LogicalPattern) -> None:
+def _key(doc: _Document) -> None:
+    pdf, pattern = doc.pdf, doc.pattern
     sw = 5.0
     if pdf.get_y() + (len(pattern.yarns) + 1) * (sw + 2) > pdf.page_break_trigger:
         pdf.add_page()  # the key on one page
@@ -348,8 +471,8 @@ def _key(pdf: Any, pattern: LogicalPattern) -> None:
         pdf.set_fill_color(*y.rgb)
         pdf.rect(x, yy, sw, sw, style="DF")
         pdf.set_xy(x + sw + 3, yy)
-        pdf.set_font("Helvetica", "", 10)
-        pdf.cell(0, sw, _latin1(f"{y.name} ({y.hex}): a stitch in this yarn"))
+        doc.font(10)
+        pdf.cell(0, sw, doc.fonts.text(f"{y.name} ({y.hex}): a stitch in this yarn"))
         pdf.set_xy(x, yy + sw + 2)
     x, yy = pdf.get_x(), pdf.get_y()
     light = pattern.palette[int(np.argmax(luminance(pattern.palette)))]
@@ -362,13 +485,14 @@ def _key(pdf: Any, pattern: LogicalPattern) -> None:
     pdf.set_xy(x, yy + sw + 2)
 
 
-def _page_map(pdf: Any, tiles: list[ChartTile]) -> None:
+def _page_map(doc: _Document, tiles: list[ChartTile]) -> None:
+    pdf = doc.pdf
     across = max(t.across for t in tiles) + 1
     down = max(t.down for t in tiles) + 1
     box = min(14.0, 150.0 / max(across, down))
     x0 = pdf.l_margin + 10
     y0 = pdf.get_y() + 2
-    pdf.set_font("Helvetica", "", 8)
+    doc.font(8)
     for t in tiles:
         # the chart as knitted: page across 0 at the right, down 0 at the bottom
         x = x0 + (across - 1 - t.across) * box
@@ -377,7 +501,6 @@ def _page_map(pdf: Any, tiles: list[ChartTile]) -> None:
         pdf.set_xy(x, y + box / 2 - 2)
         pdf.cell(box, 4, f"p.{t.page}", align="C")
     pdf.set_xy(pdf.l_margin, y0 + down * box + 4)
-    pdf.set_font("Helvetica", "", 8)
     for d in range(down):
         row = [t for t in tiles if t.down == d]
         text = f"Rows {row[0].r0}-{row[0].r1}: " + "; ".join(
@@ -386,18 +509,42 @@ def _page_map(pdf: Any, tiles: list[ChartTile]) -> None:
         pdf.multi_cell(0, 3.6, text, new_x="LMARGIN", new_y="NEXT")
 
 
+@dataclass(frozen=True)
+class _Grid:
+    """Where one chart page's grid sits (mm): stitch ``t.c0`` at the right, row ``t.r0`` at the
+    bottom."""
+
+    t: ChartTile
+    left: float
+    top: float
+
+    @property
+    def right(self) -> float:
+        return self.left + (self.t.c1 - self.t.c0 + 1) * CELL_MM
+
+    @property
+    def bottom(self) -> float:
+        return self.top + (self.t.r1 - self.t.r0 + 1) * CELL_MM
+
+    def x(self, stitch: int) -> float:
+        """Left edge of ``stitch``'s cell."""
+        return self.right - (stitch - self.t.c0 + 1) * CELL_MM
+
+    def y(self, row: int) -> float:
+        """Top edge of ``row``'s cell."""
+        return self.bottom - (row - self.t.r0 + 1) * CELL_MM
+
+
 def _chart_page(
-    pdf: Any,
+    doc: _Document,
     t: ChartTile,
     tiles: list[ChartTile],
     yarn: NDArray[np.int16],
     purl: NDArray[np.bool_],
-    pattern: LogicalPattern,
-    pw: float,
 ) -> None:
-    c = CELL_MM
-    ncols, nrows = t.c1 - t.c0 + 1, t.r1 - t.r0 + 1
-    pdf.set_font("Helvetica", "B", 11)
+    """One page of the chart: title, cells, grid lines, numbers, and what the shading means."""
+    pdf = doc.pdf
+    doc.font(11, "B")
     pdf.cell(
         0,
         5,
@@ -406,19 +553,42 @@ def _chart_page(
         new_x="LMARGIN",
         new_y="NEXT",
     )
-    # grid: stitch c0 at the right edge of the page's grid, row r0 at its bottom
-    left = MARGIN_MM + LABEL_MM + ((pw - 2 * MARGIN_MM - 2 * LABEL_MM) - ncols * c) / 2
-    top = pdf.get_y() + LABEL_MM + 2
-    right = left + ncols * c
-    bottom = top + nrows * c
-    dark = luminance(pattern.palette) <= 0.35
+    ncols = t.c1 - t.c0 + 1
+    free = doc.pw - 2 * MARGIN_MM - 2 * LABEL_MM
+    g = _Grid(t, MARGIN_MM + LABEL_MM + (free - ncols * CELL_MM) / 2, pdf.get_y() + LABEL_MM + 2)
+    _chart_cells(doc, g, yarn, purl)
+    _chart_lines(doc, g)
+    _chart_numbers(doc, g)
+    doc.font(7)
+    pdf.set_xy(g.left, g.bottom + 5)
+    neighbours = []
+    for dx, dy, word in ((1, 0, "left"), (-1, 0, "right"), (0, 1, "above"), (0, -1, "below")):
+        other = next((o for o in tiles if (o.across, o.down) == (t.across + dx, t.down + dy)), None)
+        if other is not None:
+            neighbours.append(f"page {other.page} {word}")
+    pdf.multi_cell(
+        ncols * CELL_MM,
+        3.2,
+        "Row 1 at the bottom; RS rows right to left (number at right), WS rows left to "
+        "right (number at left). Dot: purl on RS, knit on WS. Shaded: shared with "
+        + (", ".join(neighbours) if neighbours else "no other page")
+        + ".",
+    )
+
+
+def _chart_cells(
+    doc: _Document, g: _Grid, yarn: NDArray[np.int16], purl: NDArray[np.bool_]
+) -> None:
+    """The cells in their yarns' colours (one rectangle per run; the overlap shaded), and the
+    purl dots."""
+    pdf, t, c = doc.pdf, g.t, CELL_MM
+    dark = luminance(doc.pattern.palette) <= 0.35
     shared_cols = {t.c0} if t.c0 > 1 else set()
     shared_cols |= {t.c1} if t.c1 < yarn.shape[1] else set()
     shared_rows = {t.r0} if t.r0 > 1 else set()
     shared_rows |= {t.r1} if t.r1 < yarn.shape[0] else set()
-    # fills: one rectangle per run of one colour in a row (the overlap shaded), then the grid
     for r in range(t.r0, t.r1 + 1):
-        y = bottom - (r - t.r0 + 1) * c
+        y = g.y(r)
         s = t.c0
         while s <= t.c1:
             yi = int(yarn[r - 1, s - 1])
@@ -430,76 +600,65 @@ def _chart_page(
                 and (e + 1 in shared_cols or r in shared_rows) == shade
             ):
                 e += 1
-            rgb = np.array(pattern.yarns[yi].rgb, dtype=float)
+            rgb = np.array(doc.pattern.yarns[yi].rgb, dtype=float)
             if shade:  # the overlap with the neighbouring page
                 rgb = rgb * 0.8 + np.array([120.0, 120.0, 120.0]) * 0.2
             pdf.set_fill_color(*(int(v) for v in rgb))
-            pdf.rect(right - (e - t.c0 + 1) * c, y, (e - s + 1) * c, c, style="F")
+            pdf.rect(g.x(e), y, (e - s + 1) * c, c, style="F")
             s = e + 1
         for dot in (np.flatnonzero(purl[r - 1, t.c0 - 1 : t.c1]) + t.c0).tolist():
-            g = 235 if dark[int(yarn[r - 1, dot - 1])] else 20
-            pdf.set_fill_color(g, g, g)
-            x = right - (dot - t.c0 + 1) * c
-            pdf.ellipse(x + c / 2 - 0.8, y + c / 2 - 0.8, 1.6, 1.6, style="F")
+            v = 235 if dark[int(yarn[r - 1, dot - 1])] else 20
+            pdf.set_fill_color(v, v, v)
+            pdf.ellipse(g.x(dot) + c / 2 - 0.8, y + c / 2 - 0.8, 1.6, 1.6, style="F")
+
+
+def _chart_lines(doc: _Document, g: _Grid) -> None:
+    """Thin lines between cells, bold ones every 10 stitches and rows (counted from stitch 1 /
+    row 1), and the frame."""
+    pdf, t, c = doc.pdf, g.t, CELL_MM
     pdf.set_line_width(0.1)
     pdf.set_draw_color(120, 120, 120)
-    for k in range(ncols + 1):
-        pdf.line(left + k * c, top, left + k * c, bottom)
-    for k in range(nrows + 1):
-        pdf.line(left, top + k * c, right, top + k * c)
-    # bold lines every 10 stitches and rows (counted from stitch 1 / row 1)
+    for k in range(t.c1 - t.c0 + 2):
+        pdf.line(g.left + k * c, g.top, g.left + k * c, g.bottom)
+    for k in range(t.r1 - t.r0 + 2):
+        pdf.line(g.left, g.top + k * c, g.right, g.top + k * c)
     pdf.set_draw_color(0, 0, 0)
     pdf.set_line_width(0.45)
     for s in range(t.c0 - 1, t.c1 + 1):
         if s % 10 == 0:
-            x = right - (s - t.c0 + 1) * c
-            pdf.line(x, top, x, bottom)
+            pdf.line(g.x(s), g.top, g.x(s), g.bottom)
     for r in range(t.r0 - 1, t.r1 + 1):
         if r % 10 == 0:
-            y = bottom - (r - t.r0 + 1) * c
-            pdf.line(left, y, right, y)
+            pdf.line(g.left, g.y(r), g.right, g.y(r))
     pdf.set_line_width(0.3)
-    pdf.rect(left, top, ncols * c, nrows * c)
-    # stitch numbers along top and bottom (every stitch when it fits, else every 5th and 1)
-    pdf.set_font("Helvetica", "", 6)
+    pdf.rect(g.left, g.top, g.right - g.left, g.bottom - g.top)
+
+
+def _chart_numbers(doc: _Document, g: _Grid) -> None:
+    """Stitch numbers along top and bottom (stitch 1, every 5th and the page's ends); row
+    numbers, RS (odd) at the right and WS (even) at the left; section markers at the left."""
+    pdf, t, c = doc.pdf, g.t, CELL_MM
+    doc.font(6)
     for s in range(t.c0, t.c1 + 1):
         if s == 1 or s % 5 == 0 or s in (t.c0, t.c1):
-            x = right - (s - t.c0 + 1) * c
-            pdf.set_xy(x - 1, top - 4)
+            x = g.x(s)
+            pdf.set_xy(x - 1, g.top - 4)
             pdf.cell(c + 2, 3.5, str(s), align="C")
-            pdf.set_xy(x - 1, bottom + 0.5)
+            pdf.set_xy(x - 1, g.bottom + 0.5)
             pdf.cell(c + 2, 3.5, str(s), align="C")
-    # row numbers: RS (odd) at the right, WS (even) at the left; section markers at the left
     for r in range(t.r0, t.r1 + 1):
-        y = bottom - (r - t.r0 + 1) * c
-        pdf.set_font("Helvetica", "B" if r % 10 == 0 else "", 6.5)
+        y = g.y(r)
+        doc.font(6.5, "B" if r % 10 == 0 else "")
         if r % 2 == 1:
-            pdf.set_xy(right + 0.5, y + (c - 3.5) / 2)
+            pdf.set_xy(g.right + 0.5, y + (c - 3.5) / 2)
             pdf.cell(LABEL_MM - 1, 3.5, str(r))
         else:
-            pdf.set_xy(left - LABEL_MM + 0.5, y + (c - 3.5) / 2)
+            pdf.set_xy(g.left - LABEL_MM + 0.5, y + (c - 3.5) / 2)
             pdf.cell(LABEL_MM - 1, 3.5, str(r), align="R")
         if (r - 1) % SECTION_ROWS == 0:
-            pdf.set_font("Helvetica", "B", 7)
-            pdf.set_xy(left - LABEL_MM - 7, y + (c - 3.5) / 2)
+            doc.font(7, "B")
+            pdf.set_xy(g.left - LABEL_MM - 7, y + (c - 3.5) / 2)
             pdf.cell(6.5, 3.5, f"S{(r - 1) // SECTION_ROWS + 1}", align="R")
-    pdf.set_font("Helvetica", "", 7)
-    pdf.set_xy(left, bottom + 5)
-    neighbours = []
-    for dx, dy, word in ((1, 0, "left"), (-1, 0, "right"), (0, 1, "above"), (0, -1, "below")):
-        other = next((o for o in tiles if (o.across, o.down) == (t.across + dx, t.down + dy)), None)
-        if other is not None:
-            neighbours.append(f"page {other.page} {word}")
-    pdf.multi_cell(
-        ncols * c,
-        3.2,
-        _latin1(
-            "Row 1 at the bottom; RS rows right to left (number at right), WS rows left to "
-            "right (number at left). Dot: purl on RS, knit on WS. Shaded: shared with "
-            + (", ".join(neighbours) if neighbours else "no other page")
-            + "."
-        ),
-    )
 
 
 def chart_svg(pattern: LogicalPattern, *, cell: float = 10.0) -> str:

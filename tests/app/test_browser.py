@@ -216,6 +216,22 @@ def test_design_two_pictures_pick_tilt_download(browser, base_url, tmp_path):
     ]
     assert len(minutes) == n and minutes == sorted(minutes), minutes
 
+    # the row tracker follows the pick: large buttons and the N / P keys move the current row,
+    # highlighted in the written rows and outlined on the chart
+    tracker = page.locator("#tracker-card")
+    sync_api.expect(tracker).to_be_visible()
+    sync_api.expect(page.locator("#row-now")).to_have_text(re.compile(r"Row 1 of \d+"))
+    page.click("#row-next")
+    page.click("#row-next")
+    page.click("#tracker-card h2")  # the focus out of any field, so keys reach the tracker
+    page.keyboard.press("n")
+    page.keyboard.press("p")
+    page.keyboard.press("n")
+    sync_api.expect(page.locator("#row-now")).to_have_text(re.compile(r"Row 4 of \d+"))
+    sync_api.expect(page.locator("#tracker-rows li.now")).to_have_text(re.compile(r"^Row 4 \(WS\)"))
+    assert page.locator("#tracker-rows li.now").count() == 1
+    sync_api.expect(page.locator("#row-prev")).to_be_enabled()
+
     # where it fails: the side previews become the diagnostic overlay, and back
     page.check("#where-fails")
     page.wait_for_function(
@@ -567,6 +583,11 @@ def test_a_design_survives_restarts_and_an_eviction(browser, app_process, tmp_pa
     assert cards.count() > 1
     cards.nth(1).click()
     sync_api.expect(cards.nth(1)).to_have_class(re.compile(r"\bsel\b"))
+    # the knitter's row on the picked pattern is part of the session
+    sync_api.expect(page.locator("#tracker-card")).to_be_visible()
+    page.click("#row-next")
+    page.click("#row-next")
+    sync_api.expect(page.locator("#row-now")).to_have_text(re.compile(r"Row 3 of \d+"))
     page.wait_for_timeout(500)  # the pick is stored before its answer; let the answer land
 
     def shown() -> dict:
@@ -577,11 +598,14 @@ def test_a_design_survives_restarts_and_an_eviction(browser, app_process, tmp_pa
             "selected": page.locator(".cand.sel").get_attribute("data-rank"),
             "undo": page.locator("#undo-edit").is_enabled(),
             "bytes": shown_bytes(page, url),
+            "row": page.locator("#row-now").text_content(),
+            "written row": page.locator("#tracker-rows li.now").text_content(),
         }
 
     before = shown()
     assert "suggested edit accepted" in " ".join(before["meta"])
     assert before["selected"] == "2" and before["undo"]
+    assert before["row"].startswith("Row 3 of") and before["written row"].startswith("Row 3 (RS)")
 
     def back(how: str) -> None:
         if how == "evict":
@@ -605,6 +629,7 @@ def test_a_design_survives_restarts_and_an_eviction(browser, app_process, tmp_pa
 
     for how in ("interrupt", "kill", "evict"):
         back(how)
+        sync_api.expect(page.locator("#row-now")).to_have_text(before["row"], timeout=60_000)
         assert shown() == before, how
     # Undo still works after all that: the pictures as uploaded come back
     page.click("#undo-edit")
@@ -667,8 +692,19 @@ def test_phone_width_one_column_nothing_cut_off(browser, base_url, tmp_path):
         assert box and box["x"] >= 0 and box["x"] + box["width"] <= 390, (sel, box)
     side_b = page.locator(".cand").first.locator("img").nth(2).bounding_box()
     assert side_b and side_b["x"] + side_b["width"] <= 390
+    # the row tracker: its large buttons side by side, within the screen, at least 44 px tall
+    sync_api.expect(page.locator(".cand .measures").first).to_be_visible(timeout=120_000)
+    sync_api.expect(page.locator("#tracker-card")).to_be_visible()
+    page.locator("#row-next").scroll_into_view_if_needed()
+    page.click("#row-next")
+    sync_api.expect(page.locator("#row-now")).to_have_text(re.compile(r"Row 2 of \d+"))
+    for sel in ("#row-prev", "#row-next", "#tracker-chart-box", "#tracker-rows"):
+        box = page.locator(sel).bounding_box()
+        assert box and box["x"] >= 0 and box["x"] + box["width"] <= 390, (sel, box)
+    assert page.locator("#row-next").bounding_box()["height"] >= 44
     page.select_option("#n_colors", "3")  # reachable and usable
     sync_api.expect(page.locator("#n_colors")).to_have_value("3")
+    assert page.evaluate("document.documentElement.scrollWidth") <= 390
     context.close()
 
 

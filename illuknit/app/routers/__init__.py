@@ -7,7 +7,8 @@
 * :mod:`~illuknit.app.routers.designs` -- candidates, the pick, tile edits and renders;
 * :mod:`~illuknit.app.routers.suggestions` -- suggested edits of the pictures, accepted or refused;
 * :mod:`~illuknit.app.routers.history` -- undo and redo of accepted edits;
-* :mod:`~illuknit.app.routers.downloads` -- the files a designer takes away.
+* :mod:`~illuknit.app.routers.downloads` -- the files a designer takes away;
+* :mod:`~illuknit.app.routers.tracker` -- the row tracker for the knitter at the needles.
 """
 
 from __future__ import annotations
@@ -21,6 +22,7 @@ from illuknit.app.routers import (
     sessions,
     static,
     suggestions,
+    tracker,
 )
 
 __all__ = ["ROUTERS"]
@@ -35,4 +37,5 @@ ROUTERS = (
     suggestions.router,
     history.router,
     downloads.router,
+    tracker.router,
 )

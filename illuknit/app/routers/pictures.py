@@ -93,6 +93,7 @@ def get_inputs(s: SessionDep) -> dict[str, Any]:
         "rows": n,
         "cols": m,
         # the grid keeps the pictures' proportions at this gauge (units 0.7 as tall as wide)
+        # unless the settings ask for square units
         "finished_size": {**size.as_dict(), "text": size.describe()},
         "yarns": [{"name": y.name, "rgb": y.hex} for y in p.yarns],
         "legend": p.legend(),

@@ -66,6 +66,7 @@ SETTING_WORDS = {
     "resize": "stretch B to A's size",
     "machine": "machine",
     "smooth": "smoothing",
+    "square_units": "square units",
 }
 
 

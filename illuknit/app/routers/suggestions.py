@@ -151,12 +151,12 @@ def accept(request: Request, s: SessionDep, edit_id: str) -> dict[str, Any]:
         s.remember(edit.description)  # the design as it is, for Undo
         if recount:
             s.settings = settings.model_copy(update={"n_colors": colors})
-        from illuknit.core.machine import get_machine
+        from illuknit.app.inputs import sizing_aspect
         from illuknit.pictures.sizing import grid_picture
 
-        # the edit is on the unit grid: kept in the fabric's proportions, so that sizing it
-        # again gives this grid back (not 1 / 0.7 of its rows)
-        aspect = get_machine(s.settings.machine).fabric_gauge.unit_aspect
+        # the edit is on the unit grid: kept in the proportions the grid is sized in, so that
+        # sizing it again gives this grid back (not 1 / 0.7 of its rows)
+        aspect = sizing_aspect(s.settings)
         for slot, rgb in edit.pictures.items():
             old = s.images[slot]
             note = f"suggested edit accepted: {edit.description}"

@@ -39,7 +39,8 @@ function showKnitSummary(k) {
   if (st.width_cm != null) parts.push(`${st.width_cm} × ${st.height_cm} cm`);
   if (st.passes != null) parts.push(`${st.passes} carriage passes`);
   else if (st.knit_passes != null) parts.push(`${st.knit_passes} knit + ${st.transfer_passes || 0} transfer passes`);
-  if (st.time) parts.push(`about ${st.time} to knit`);
+  // the estimate's range (the documented carriage speeds) and the bind-off's part, as the CLI says
+  if (st.time) parts.push(`about ${st.time} to knit` + (st.time_range ? ` (${st.time_range}; bind-off ${st.bind_off_time})` : ""));
   parts.push(`${k.lines} lines`);
   const line = document.createElement("div");
   line.textContent = `Knitout ready · ${parts.join(" · ")}`;
