@@ -60,6 +60,8 @@ _API: dict[str, str] = {
     "solve_design": "illuknit.pipeline.stages",
     "illusion_model": "illuknit.pipeline.stages",
     "quantise_targets": "illuknit.pipeline.stages",
+    "measure_design": "illuknit.pipeline.stages",
+    "retile_design": "illuknit.pipeline.stages",
     "RankedDesign": "illuknit.pipeline.stages",
     "SingleDesign": "illuknit.pipeline.stages",
     "TileDesign": "illuknit.pipeline.stages",

@@ -64,6 +64,7 @@ def _valid_calls(tmp: Path) -> dict[str, tuple[tuple[Any, ...], dict[str, Any]]]
     ms = [Measurement(2, 40.0, 1, "A", "", 1), Measurement(3, 30.0, 1, "A", "", 2)]
     qa = illuknit.quantise_image(np.tile(rgb[:, :1], (1, 6, 1)), yarns=yarns)
     knitout = ";!knitout-2\n;;Carriers: 1 2 3\n"
+    tiled = illuknit.design_tiles(qa, qa, search=illuknit.SearchOptions(candidates=1, pool=1)).best
     return {
         "parse_yarns": (("black,white",), {}),
         "save_pattern": ((p, tmp / "out.json"), {}),
@@ -106,6 +107,8 @@ def _valid_calls(tmp: Path) -> dict[str, tuple[tuple[Any, ...], dict[str, Any]]]
         ),
         "design_headon": ((picture,), {"search": illuknit.SearchOptions(candidates=1, pool=1)}),
         "design_tiles": ((q, q), {"search": illuknit.SearchOptions(candidates=1, pool=1)}),
+        "measure_design": ((tiled.pattern, "double", qa, qa), {}),
+        "retile_design": ((tiled.assignment, {tiled.assignment.pairs[0]: "0/1"}), {}),
         "solve_design": ((picture, picture), {"options": illuknit.SolveOptions(solver="dp")}),
         "illusion_model": ((picture, picture), {}),
         "quantise_targets": ((picture, picture), {}),

@@ -18,58 +18,42 @@ shows there: nothing to read, and its ghosting is how much of the front picture 
 
 from __future__ import annotations
 
-import functools
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from typing import Any
 
-from illuknit.bench.metrics import knit_stats
-
-__all__ = ["ORDERS", "measure_candidate", "order_candidates"]
+__all__ = ["ORDERS", "measure_all", "measure_candidate", "order_candidates"]
 
 #: Ways the page can order candidates: the search's own rank, or a perception.RANK_KEYS order.
 ORDERS = ("rank", "perception", "readability", "contrast", "ghosting", "knit_time")
 
 
 def measure_candidate(pattern: Any, prepared: Any, *, machine: str, knit_time: bool = True) -> Any:
-    """The candidate's :class:`~illuknit.design.tiles.perception.CandidateMeasures` (without the
-    machine's time and passes when not ``knit_time``: how it reads only, in a fraction of a
+    """The candidate's :class:`~illuknit.design.tiles.perception.CandidateMeasures`, measured by
+    the stage :func:`~illuknit.pipeline.stages.measure_design` on the page's machine (without
+    the machine's time and passes when not ``knit_time``: how it reads only, in a fraction of a
     second, for a tile edit measured at once)."""
-    from illuknit.design.tiles import perception
+    from illuknit.design.options import RankOptions
+    from illuknit.pipeline.stages import measure_design
 
     q = prepared.quantised
-    if prepared.mode == "double":
-        pictures, views, ghost = [q["a"].rgb(), q["b"].rgb()], ("A", "B"), True
-    elif prepared.mode == "headon":
-        # all three views: head-on against the front picture, and from above and from below
-        # against the side picture -- or the plain field that stands for it (nothing to read
-        # there; how much of the front picture is left at an angle is its ghosting)
-        from illuknit.design.tiles.perception import seen_targets
+    ranking = RankOptions(machine=machine, knit_time=knit_time)
+    return measure_design(pattern, prepared.mode, q["a"], q.get("b"), ranking=ranking)
 
-        pictures, views, ghost = seen_targets(q["a"], q.get("b")), ("headon", "side"), True
-    elif prepared.mode == "single":
-        pictures, views, ghost = [q["a"].rgb(), q["a"].rgb()], ("A", "B"), False
-    else:  # pragma: no cover - every mode is measured above
-        k: dict[str, Any] = (
-            knit_stats(pattern, machine=machine)
-            if knit_time
-            else {"knit_time_min": None, "carriage_passes": None, "knit_note": ""}
-        )
-        return perception.CandidateMeasures(
-            views=(),
-            readability=(),
-            contrast=(),
-            ghosting=(),
-            knit_minutes=k["knit_time_min"],
-            machine_passes=k["carriage_passes"],
-            knit_note=k["knit_note"],
-        )
-    return perception.measure_candidate(
-        pattern,
-        pictures,
-        views=views,
-        ghost=ghost,
-        knit_time=functools.partial(knit_stats, machine=machine) if knit_time else None,
-    )
+
+def measure_all(
+    patterns: Sequence[Any],
+    prepared: Any,
+    machine: str,
+    progress: Callable[[float, str], None] | None = None,
+) -> list[Any]:
+    """:func:`measure_candidate` of every pattern, saying before each how far it is (the
+    measures job runs this in its worker process, killed by Cancel)."""
+    out = []
+    for k, pattern in enumerate(patterns):
+        if progress is not None:
+            progress(k / len(patterns), f"measuring candidate {k + 1} of {len(patterns)}")
+        out.append(measure_candidate(pattern, prepared, machine=machine))
+    return out
 
 
 def order_candidates(candidates: Sequence[Any], order: str) -> list[Any]:

@@ -42,28 +42,25 @@ def _override_tile(assignment: Any, tile_id: str) -> Any:
 
 
 def pattern_for(candidate: Candidate, overrides: dict[tuple[int, int], str]) -> LogicalPattern:
-    """The candidate's pattern with the designer's per-pair tile overrides applied."""
+    """The candidate's pattern with the designer's per-pair tile overrides applied (the stage
+    :func:`~illuknit.pipeline.stages.retile_design`; a bank number is looked up here, since
+    the page names bank tiles by number)."""
     if not overrides:
         return candidate.pattern
     if candidate.source is None:
         raise AppRequestError(
             "this candidate has no tiles to edit", field="tiles", code="not_editable", status=409
         )
-    from illuknit.design import tiles
+    from illuknit.core.errors import UnknownNameError
+    from illuknit.pipeline.stages import retile_design
 
     assignment = candidate.source
     chosen = {pair: _override_tile(assignment, t) for pair, t in overrides.items()}
-    for pair in chosen:
-        if pair not in assignment.tiles:
-            raise AppRequestError(
-                f"colour {pair[0]} of A never lies over colour {pair[1]} of B in these pictures; "
-                f"occurring pairs: {', '.join(f'{a}/{b}' for a, b in assignment.pairs)}",
-                field="tiles",
-                code="no_pair",
-                status=404,
-            )
     with blame("tiles"):
-        pattern, _ = tiles.compile_tiles(assignment, overrides=chosen)
+        try:
+            pattern, _ = retile_design(assignment, chosen)
+        except UnknownNameError as e:  # a pair the pictures do not have
+            raise AppRequestError(str(e), field="tiles", code="no_pair", status=404) from None
     return pattern
 
 

@@ -12,7 +12,7 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["fmt_number", "summary_text", "write_candidate", "write_edits"]
+__all__ = ["fmt_number", "summary_text", "write_candidate", "write_edits", "write_seen"]
 
 
 def write_candidate(
@@ -25,10 +25,13 @@ def write_candidate(
     seen_targets: list[np.ndarray],
     sources: list[str | None],
     gauge: Any = None,
+    distance: float = 3.0,
+    angle: float = 30.0,
 ) -> tuple[dict[str, Any], list[str]]:
     """Write one ranked candidate's folder; returns its summary row and overlap lines.
 
-    ``gauge`` (an :class:`illuknit.core.gauge.Gauge`) is the fabric's: finished size and previews."""
+    ``gauge`` (an :class:`illuknit.core.gauge.Gauge`) is the fabric's: finished size and previews.
+    ``angle`` and ``distance`` (metres) are the views' in ``seen.png``."""
     from illuknit.core.files import atomic_write_text
     from illuknit.design.tiles.compile import repainted_rgb
     from illuknit.design.tiles.overlaps import group_overlaps
@@ -72,6 +75,7 @@ def write_candidate(
         save_png(upscale(striped, s), sub / f"repainted_{letter}.png")
         save_png(upscale(average, s), sub / f"repainted_{letter}_average.png")
     diagnostics = _write_diagnostics(pattern, seen_targets, sub, mode=mode, scale=s)
+    write_seen(pattern, seen_targets, sub, mode=mode, gauge=gauge, distance=distance, angle=angle)
     fills = cand_json["fills"]
     legend = {
         "views": list(inp.views),
@@ -148,6 +152,57 @@ def _write_diagnostics(
     return out
 
 
+def write_seen(
+    pattern: Any,
+    pictures: list[np.ndarray],
+    sub: Path,
+    *,
+    mode: str,
+    gauge: Any,
+    distance: float,
+    angle: float = 30.0,
+) -> Path:
+    """``seen.png``: per view, what it should show, the render up close at ``angle`` and the
+    same render as a 20/20 eye resolves it from ``distance`` metres (the app's far view,
+    :func:`~illuknit.design.tiles.perception.seen_from`), side by side.
+
+    The views are side A and side B (double view: picture A then B; single view: picture A
+    from both sides), or head-on then side A and B (head-on: the front picture head-on, the
+    side picture or a plain field at an angle)."""
+    from illuknit.core.gauge import CM_PER_INCH
+    from illuknit.design.render.raycast import render_image
+    from illuknit.design.tiles.perception import eye_blur_units, seen_from
+    from illuknit.outputs.previews import contact_sheet, save_png, unit_scale, upscale
+
+    if gauge is None:
+        from illuknit.core.machine import resolve_machine
+
+        gauge = resolve_machine(None).fabric_gauge
+    s = min(8, max(2, unit_scale(pattern.shape, target=320)))  # the renderer's finest
+    per_inch = gauge.stitches_per_10cm * CM_PER_INCH / 10.0
+    sigma = eye_blur_units(distance, gauge=per_inch) * s  # in pixels: s per unit across
+    if mode in ("double", "single"):
+        views = [("side A", angle, pictures[0]), ("side B", -angle, pictures[-1])]
+    else:
+        views = [("head-on", 90.0, pictures[0])]
+        views += [("side A", angle, pictures[1]), ("side B", -angle, pictures[1])]
+    panels = []
+    for name, elevation, picture in views:  # a signed elevation: + side A, - side B
+        near = render_image(pattern, elevation, scale=s)
+        want = np.asarray(picture, dtype=np.uint8)
+        if want.size and not np.ptp(want.reshape(-1, 3), axis=0).any():
+            # a head-on design without a side picture: any plain field will do, whatever
+            # colour stands for it in the measures
+            panels.append((f"{name}: a plain field", np.full_like(near, 235)))
+        else:
+            panels.append((f"{name} should show", upscale(want, s)))
+        panels += [
+            (f"{name} up close", near),
+            (f"{name} from {distance:g} m", seen_from(near, sigma)),
+        ]
+    return save_png(contact_sheet(panels, columns=3), sub / "seen.png")
+
+
 def summary_text(summary: dict[str, Any], overlap_lines: list[str]) -> str:
     lines = [
         f"{summary['mode']}-view tile design, {summary['size']['rows']} x {summary['size']['cols']} units, "
@@ -157,7 +212,7 @@ def summary_text(summary: dict[str, Any], overlap_lines: list[str]) -> str:
         f"best {len(summary['candidates'])} of {summary['searched']} tile designs searched, "
         f"ranked by {summary.get('ranked_by', 'score')}; readability / contrast per view; worst ghosting "
         "and how much of it shows (visible ghosting)",
-        "rank  default  percept  read A  read B  contr A  contr B  ghost  shows  minutes  score    fills of input A | fills of input B",
+        "rank  default  percept  read A  read B  contr A  contr B  ghost  shows  minutes  cost ΔE  fills of input A | fills of input B",
     ]
     for r in summary["candidates"]:
         mark = "  *    " if r["default"] else "       "
@@ -174,9 +229,24 @@ def summary_text(summary: dict[str, Any], overlap_lines: list[str]) -> str:
     lines.append(
         "* = default candidate (its pattern is also ./pattern.json); each is in candidate_K/"
     )
+    lines += _COLUMN_NOTES
     if overlap_lines:
         lines += ["", f"default candidate: {overlap_lines[0]}", *overlap_lines[1:]]
     return "\n".join(lines) + "\n"
+
+
+#: What the columns of summary.txt mean, written under the table.
+_COLUMN_NOTES = [
+    "percept: the perceptual score the default order sorts by (higher first): the worse view's",
+    "  readability, less its contrast's shortfall below the floor (docs/tiles.md);",
+    "read, contr: per view, readability (is the picture there? 1 = all of it) and contrast",
+    "  (how much of its light/dark difference survives; 1 = all, 0 = a flat field);",
+    "ghost, shows: how much of the other picture shows through (0 = none), and the share of",
+    "  the view's light/dark variation it makes; minutes: machine knitting time (--knit-time);",
+    "cost ΔE: the tile search's own cost (colour distance of the fills to the picture colours",
+    "  in CIELAB ΔE, plus stripe and yarn penalties; lower is closer). It never looks at the",
+    "  knitted result, so it is not the order of the ranking.",
+]
 
 
 def fmt_number(x: float | None, digits: int = 3) -> str:

@@ -70,13 +70,15 @@ def run_design(
     knit_time: bool = False,
     simplify: bool = False,
     suggest: bool = False,
+    distance: float = 3.0,
+    angle: float = 30.0,
     progress: Report | None = None,
 ) -> dict[str, Any]:
     """Parse the options, call :func:`~illuknit.pipeline.stages.design_double` (or
     :func:`~illuknit.pipeline.stages.design_headon`) and write every candidate (atomically into
     ``outdir``); with ``knitout`` the default candidate is knit on ``machine``.
-    ``progress(fraction, message)`` hears how far the work is (the command line's bar).
-    Returns the summary dict."""
+    ``progress(fraction, message)`` hears how far the work is (the command line's bar); the
+    designs are judged from ``angle`` degrees and ``distance`` metres. Returns the summary."""
     from illuknit.cli.knitout_bridge import design_unit_aspect, resolve_machine
     from illuknit.core.errors import ImageInputError, OptionError, TileAssignmentError
     from illuknit.core.views import DEFAULT_SPLIT_SHARE
@@ -95,12 +97,8 @@ def run_design(
         raise TileAssignmentError(f"--pool must be at least 1, got {pool}")
     if (simplify or suggest) and (mode != "double" or path_b is None):
         raise OptionError("--simplify and --suggest work on double-view designs (two pictures)")
-    ranking = RankOptions(
-        rank_by=RankBy(rank_by),
-        knit_time=knit_time,
-        machine=machine,
-        overrides=tuple(_parse_overrides(tile).items()),
-    )
+    overrides = tuple(_parse_overrides(tile).items())
+    ranking = RankOptions(RankBy(rank_by), knit_time, machine, overrides, angle, distance)
     spec = resolve_machine(machine)
     search = SearchOptions(
         candidates=candidates,
@@ -109,9 +107,7 @@ def run_design(
         one_sided=one_sided,
         split_bumps=split_bumps or split_share is not None,
         split_share=DEFAULT_SPLIT_SHARE if split_share is None else split_share,
-        edits=PictureEdits.APPLY
-        if simplify
-        else (PictureEdits.SUGGEST if suggest else PictureEdits.NONE),
+        edits=PictureEdits("apply" if simplify else "suggest" if suggest else "none"),
         **({} if pool is None else {"pool": pool}),
     )
     report: Report = progress or (lambda fraction, message: None)
@@ -141,6 +137,7 @@ def run_design(
     return write_design(
         design, outdir, pick=pick, sources=[str(path_a), str(path_b) if path_b else None],
         machine=spec if knitout else None, progress=report, gauge=spec.fabric_gauge,
+        distance=distance, angle=angle,
     )  # fmt: skip
 
 
@@ -153,12 +150,15 @@ def write_design(
     machine: Any = None,
     progress: Report | None = None,
     gauge: Any = None,
+    distance: float = 3.0,
+    angle: float = 30.0,
 ) -> dict[str, Any]:
     """Write a :class:`~illuknit.pipeline.stages.TileDesign` into ``outdir`` (atomically): each
     candidate's folder, the suggested edits, the default candidate's pattern (and, given a
     machine, its knitout program) and the summary. Returns the summary dict. ``gauge`` (the
     fabric's :class:`~illuknit.core.gauge.Gauge`; default the default machine's) gives the
-    finished size."""
+    finished size; ``angle`` and ``distance`` (metres) the views of each candidate's
+    ``seen.png``."""
     from illuknit.core.files import atomic_write_text, staged_dir
     from illuknit.outputs.previews import unit_scale
 
@@ -185,6 +185,8 @@ def write_design(
                 seen_targets=list(design.targets),
                 sources=sources,
                 gauge=gauge,
+                distance=distance,
+                angle=angle,
             )
             rows.append(row)
             if row["default"]:
@@ -411,6 +413,11 @@ def design_options(func: Any) -> Any:
                      "overlaps) and write each as before | after with its effect to OUTDIR/suggestions/."),
         click.option("--simplify", is_flag=True,
                      help="Like --suggest, and design with the edits that raise the worse view's readability."),
+        click.option("--angle", type=FiniteFloat(1, 89), default=30.0, show_default=True,
+                     help="Viewing angle (degrees of elevation) the side views are judged and shown at."),
+        click.option("--distance", type=FiniteFloat(0.1, 1000), default=3.0, show_default=True,
+                     help="Viewing distance in metres: the ranking's measures see what a 20/20 eye resolves from "
+                     "there, and each candidate's seen.png shows it beside the view up close and its picture."),
         click.option("--solver", default="cpsat", show_default=True, help="Solver backend: cpsat, rc2, ..."),
         click.option("--soft-brightness", is_flag=True,
                      help="Prefer, rather than require, keeping each picture's brightness order."),

@@ -88,6 +88,12 @@ def run_single(
             title=title or f"Single-view illusion of {Path(str(image)).name}",
             gauge=spec.fabric_gauge,
         )
+        from illuknit.cli.design_files import write_seen
+
+        say(0.4, "drawing the views up close and from 3 m")
+        paths["seen"] = write_seen(
+            pattern, [q.rgb()], tmp, mode="single", gauge=spec.fabric_gauge, distance=3.0
+        )
         if knitout:
             from illuknit.cli.knitout_bridge import write_program
 

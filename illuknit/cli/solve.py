@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import threading
 import time
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -24,7 +25,9 @@ __all__ = ["run_solve", "solve"]
 
 
 class _LiveProgress:
-    """A rich progress line: elapsed time against the limit, best objective and bound."""
+    """A rich progress line: elapsed time against the limit, best objective and bound; then,
+    once the solver has answered, a spinner with the time spent on each writing stage
+    (:meth:`stage`), so the line moves with the work from start to end."""
 
     def __init__(self, time_limit: float | None, label: str) -> None:
         from rich.console import Console
@@ -62,9 +65,18 @@ class _LiveProgress:
 
     def _tick(self) -> None:
         while not self._stop.wait(0.25):
-            el = time.perf_counter() - self.t0
-            done = min(el, self.limit) if self.limit else None
-            self.progress.update(self.task, completed=done, best=self.best)
+            if self.limit:
+                el = time.perf_counter() - self.t0
+                self.progress.update(self.task, completed=min(el, self.limit), best=self.best)
+            else:
+                self.progress.update(self.task, best=self.best)
+
+    def stage(self, message: str) -> None:
+        """The solve is over: show ``message`` with a spinner and the time spent (no bar: the
+        writing cannot be counted against the time limit)."""
+        self.limit = None
+        self.best = message
+        self.progress.reset(self.task, total=None, best=message)  # the clock restarts
 
     def __call__(self, event: Any) -> None:
         parts = []
@@ -149,32 +161,40 @@ def run_solve(
             written["wcnf"] = Path(where)
         if outdir is None:
             return {"wcnf": where, "model": repr(mdl)}
-    label = f"{solver} on the {model} model"
-    from rich.console import Console
+    from contextlib import nullcontext
 
-    if show_progress and solver != "dp" and Console(stderr=True).is_terminal:
-        with _LiveProgress(time_limit, label) as live:
-            design = solve_design(image_a, image_b, options=options, progress=live, **targets)
-    else:
-        design = solve_design(image_a, image_b, options=options, **targets)
-    report = dict(design.report)
-    if outdir is not None:
-        qa, *rest = design.quantised
-        pictures = {"target A": qa.rgb(), **({"target B": rest[0].rgb()} if rest else {})}
-        title = f"{model} illusion solved by {design.solution.backend}"
-        written.update(
-            _write_outputs(
-                design.pattern,
-                outdir,
-                report=report,
-                title=title,
-                targets=pictures,
-                machine=spec if knitout else None,
-                gauge=spec.fabric_gauge,
+    live = _live_progress(solver, model, time_limit) if show_progress else None
+    with live or nullcontext():
+        design = solve_design(image_a, image_b, options=options, progress=live, **targets)
+        report = dict(design.report)
+        if outdir is not None:
+            qa, *rest = design.quantised
+            pictures = {"target A": qa.rgb(), **({"target B": rest[0].rgb()} if rest else {})}
+            title = f"{model} illusion solved by {design.solution.backend}"
+            written.update(
+                _write_outputs(
+                    design.pattern,
+                    outdir,
+                    report=report,
+                    title=title,
+                    targets=pictures,
+                    machine=spec if knitout else None,
+                    gauge=spec.fabric_gauge,
+                    stage=live.stage if live is not None else None,
+                )
             )
-        )
     _print_report(report, written, outdir)
     return report
+
+
+def _live_progress(solver: str, model: str, time_limit: float | None) -> _LiveProgress | None:
+    """The progress line of a solve, on a terminal only (the dp solver has no time limit to
+    count against: a spinner with the time spent)."""
+    from rich.console import Console
+
+    if not Console(stderr=True).is_terminal:
+        return None
+    return _LiveProgress(None if solver == "dp" else time_limit, f"{solver} on the {model} model")
 
 
 def _export_wcnf(mdl: Any, path: Path, style: str, *, say: bool) -> str:
@@ -202,17 +222,27 @@ def _write_outputs(
     targets: dict[str, Any],
     machine: Any | None,
     gauge: Any = None,
+    stage: Callable[[str], None] | None = None,
 ) -> dict[str, Path]:
-    """Write the pattern's outputs (and, given a machine, its knitout) into ``outdir`` at once."""
+    """Write the pattern's outputs (and, given a machine, its knitout) into ``outdir`` at once;
+    ``stage(message)`` hears each step as it starts (the progress line)."""
     from illuknit.cli.knitout_bridge import write_program
     from illuknit.core.files import staged_dir
     from illuknit.outputs.export import export_pattern
 
+    say = stage or (lambda message: None)
     with staged_dir(outdir) as tmp:
+        say("writing the pattern, previews, chart and pattern PDF")
         paths = export_pattern(
             pattern, tmp, report=report, title=title, targets=targets, gauge=gauge
         )
+        from illuknit.cli.design_files import write_seen
+
+        pictures = list(targets.values())
+        mode = "double" if len(pictures) == 2 else "single"
+        paths["seen"] = write_seen(pattern, pictures, tmp, mode=mode, gauge=gauge, distance=3.0)
         if machine is not None:
+            say("knitting the pattern and checking the knitout")
             paths.update(write_program(pattern, tmp, machine=machine))
     return {k: Path(outdir) / p.name for k, p in paths.items()}
 

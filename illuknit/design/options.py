@@ -229,16 +229,30 @@ class RankOptions:
         The machine the knitting time is measured on (default machine when None).
     overrides : mapping or sequence of pairs
         ``{(colour of A, colour of B): "ROWS"}``: the tile of an overlap pair, as knit.
+    angle : float
+        The viewing angle (degrees of elevation, (0, 90)) the side views are rendered and
+        measured at.
+    distance : float
+        The viewing distance in metres: the measures see the renders through what a 20/20 eye
+        resolves from there at ``machine``'s gauge, then pooled over a fill's stripes
+        (:func:`~illuknit.design.tiles.perception.seen_blur`).
     """
 
     rank_by: RankBy = RankBy.PERCEPTION
     knit_time: bool = False
     machine: str | MachineSpec | None = None
     overrides: tuple[tuple[tuple[int, int], str], ...] = ()
+    angle: float = 30.0
+    distance: float = 3.0
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "rank_by", enum_option(RankBy, "rank_by", self.rank_by))
         flag_option("knit_time", self.knit_time)
+        for name, top in (("angle", 90.0), ("distance", 1000.0)):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not 0 < v <= top:
+                raise OptionError(f"`{name}` must be a number in (0, {top:g}], got {v!r}")
+            object.__setattr__(self, name, float(v))
         resolve_machine(self.machine)
         items = self.overrides.items() if isinstance(self.overrides, dict) else self.overrides
         pairs = []

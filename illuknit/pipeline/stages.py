@@ -12,6 +12,8 @@ stage                  what it returns
 :func:`design_tiles`   the same from pictures already quantised (what the app calls)
 :func:`solve_design`   :class:`SolvedDesign`: the pattern a constraint model and a solver find
                        (paper section 4), with the solver's answer and its report
+:func:`measure_design` how one pattern reads (a design edited by hand), as the ranking measures
+:func:`retile_design`  a tile design compiled again with per-pair tile overrides
 =====================  ========================================================================
 
 Every stage takes frozen option objects (:mod:`illuknit.design.options`), returns a frozen
@@ -65,7 +67,9 @@ __all__ = [
     "design_single",
     "design_tiles",
     "illusion_model",
+    "measure_design",
     "quantise_targets",
+    "retile_design",
     "solve_design",
 ]
 
@@ -600,9 +604,10 @@ def _rank(
     say: Progress,
 ) -> TileDesign:
     """Compile, measure and rank the assignments into a :class:`TileDesign`."""
-    from illuknit.design.tiles.perception import rank_designs, rank_key, seen_targets
+    from illuknit.design.tiles.perception import rank_designs, rank_key, seen_blur, seen_targets
 
     targets = seen_targets(qa, qb)
+    gauge = resolve_machine(ranking.machine).gauge
     ranked = rank_designs(
         found,
         targets,
@@ -612,6 +617,8 @@ def _rank(
         knit_time=_knit_measure(ranking),
         keep=search.candidates,
         progress=lambda f, message: say(0.4 + 0.6 * f, message),
+        angle=ranking.angle,
+        blur=seen_blur(ranking.distance, gauge=gauge),
         params=_split_params(search),
     )
     by = ranking.rank_by
@@ -661,6 +668,108 @@ def _assignment_label(assignment: Any) -> str:
     return (
         "all solid fills" if not stripes else f"{stripes} striped fill{'s' if stripes > 1 else ''}"
     )
+
+
+def measure_design(
+    pattern: LogicalPattern,
+    mode: Literal["double", "headon", "single"],
+    picture_a: QuantisedImage,
+    picture_b: QuantisedImage | None = None,
+    *,
+    ranking: RankOptions | None = None,
+    params: Any = None,
+) -> Any:
+    """How one pattern reads, measured as the ranking of the tile stages measures its designs.
+
+    The measures (:class:`~illuknit.design.tiles.perception.CandidateMeasures`) are taken at
+    ``ranking.angle`` and ``ranking.distance`` against what each view should show: a double
+    view side A ``picture_a`` and side B ``picture_b``, ghosting measured; a head-on design the
+    front ``picture_a`` head-on and at an angle ``picture_b`` (or the plain field standing for
+    it); a single view ``picture_a`` from both sides, nothing to ghost. With
+    ``ranking.knit_time`` the machine's knitting time and passes on ``ranking.machine`` too.
+    A user interface measuring a design edited by hand (a tile override) calls this.
+    ``params`` (:class:`~illuknit.design.render.params.RenderParams`) are the renderer's, as a
+    split-bump search measures its designs with its split share (default: the calibrated ones).
+    """
+    from illuknit.core.pattern import check_pattern
+    from illuknit.design.tiles.perception import measure_candidate, seen_blur, seen_targets
+    from illuknit.pictures.images import QuantisedImage
+
+    check_pattern(pattern)
+    ranking = RankOptions() if ranking is None else ranking
+    _check_type("ranking", ranking, RankOptions)
+    if not isinstance(mode, str) or mode not in ("double", "headon", "single"):
+        raise OptionError(f"`mode` must be double, headon or single, got {mode!r}")
+    for name, q in (("picture_a", picture_a), ("picture_b", picture_b)):
+        if (q is not None or name == "picture_a") and not isinstance(q, QuantisedImage):
+            raise ImageInputError(f"`{name}` must be a QuantisedImage, got {type(q).__name__}")
+        if q is not None and q.shape != pattern.shape:
+            raise ImageInputError(
+                f"`{name}` is {q.shape[0]} x {q.shape[1]} units, the pattern {pattern.shape}"
+            )
+    if mode == "double" and picture_b is None:
+        raise ImageInputError("`picture_b`: a double-view design is measured against two pictures")
+    views: tuple[str, ...] = ("A", "B")
+    if mode == "double":
+        pictures = [picture_a.rgb(), picture_b.rgb()]  # type: ignore[union-attr]
+    elif mode == "headon":
+        pictures, views = seen_targets(picture_a, picture_b), ("headon", "side")
+    else:
+        pictures = [picture_a.rgb(), picture_a.rgb()]
+    return measure_candidate(
+        pattern,
+        pictures,
+        views=views,
+        ghost=mode != "single",
+        knit_time=_knit_measure(ranking),
+        angle=ranking.angle,
+        blur=seen_blur(ranking.distance, gauge=resolve_machine(ranking.machine).gauge),
+        params=params,
+    )
+
+
+def retile_design(
+    assignment: Any, overrides: Mapping[tuple[int, int], Any]
+) -> tuple[LogicalPattern, Any]:
+    """A tile design compiled again with per-pair tile overrides: ``{(colour of A, colour of B):
+    tile}``, a tile being a :class:`~illuknit.design.tiles.tile.Tile` or its rows (``"0/1/0^"``).
+
+    Returns the pattern and the compiler's report (which says whether each override keeps the
+    fills assigned to its pair).
+
+    Raises
+    ------
+    UnknownNameError
+        An override names a pair that never occurs in the pictures.
+    TileBankError
+        An override's rows are not a tile.
+    """
+    from illuknit.core.arguments import check_mapping
+    from illuknit.design.tiles.assignment import TileAssignment
+    from illuknit.design.tiles.compile import compile_tiles
+    from illuknit.design.tiles.tile import Tile
+
+    _check_type("assignment", assignment, TileAssignment)
+    chosen = {}
+    for pair, tile in check_mapping(overrides, "overrides").items():
+        if not (
+            isinstance(pair, tuple)
+            and len(pair) == 2
+            and all(isinstance(v, int) and not isinstance(v, bool) for v in pair)
+        ):
+            raise OptionError(f"`overrides` keys are (colour of A, colour of B), got {pair!r}")
+        if not isinstance(tile, Tile | str):
+            raise OptionError(f"`overrides` tiles are Tiles or rows like '0/1^', got {tile!r}")
+        if pair not in assignment.tiles:
+            from illuknit.core.errors import UnknownNameError
+
+            raise UnknownNameError(
+                "overlap pair (colour of A / colour of B) in these pictures",
+                f"{pair[0]}/{pair[1]}",
+                [f"{a}/{b}" for a, b in assignment.pairs],
+            )
+        chosen[pair] = tile if isinstance(tile, Tile) else Tile.from_rows(tile.split("/"))
+    return compile_tiles(assignment, overrides=chosen)
 
 
 # -- single view ----------------------------------------------------------------------------

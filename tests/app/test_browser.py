@@ -828,3 +828,36 @@ def test_headon_candidates_show_their_measures(browser, base_url, tmp_path):
         assert "reads headon" in text and "ghosting" in text, text
     sync_api.expect(cards.first.locator(".score")).to_contain_text("reads ")
     context.close()
+
+
+def test_cancel_measuring_large_candidates(browser, served, tmp_path):
+    """Measuring 140-unit candidates (knitting each on the machine takes seconds) is cancelled
+    within 2 s: the worker process is killed, the job is cancelled on the server, the bar goes
+    and the page says the candidates are not measured, with a button to measure them."""
+    url, app = served
+    context = browser.new_context(viewport={"width": 1440, "height": 1000})
+    page = context.new_page()
+    page.set_default_timeout(60_000)
+    page.goto(url)
+    page.wait_for_selector("body[data-ready='1']")
+    page.select_option("#machine", "generic540")
+    page.locator("#width_units").fill("140")
+    page.set_input_files("#file-a", str(lettered(tmp_path / "up.png", "UP")))
+    sync_api.expect(page.locator("#meta-a")).to_contain_text("72×48px")
+    page.set_input_files("#file-b", str(lettered(tmp_path / "on.png", "ON")))
+    box = page.locator("#job-measures")
+    sync_api.expect(box.locator(".job-msg")).to_contain_text("measuring", timeout=120_000)
+    sid = page.get_attribute("body", "data-session")
+    job = app.state.store.get(sid).jobs["measures"]
+    assert job.status == "running"
+    t0 = time.monotonic()
+    box.locator("[data-cancel]").click()
+    sync_api.expect(box).to_be_hidden(timeout=2_000)
+    err = page.locator("[data-error-for='measures']")
+    sync_api.expect(err).to_contain_text("Measuring cancelled", timeout=2_000)
+    waited = time.monotonic() - t0
+    assert job.status == "cancelled" and waited < 2.0, (job.status, waited)
+    assert page.locator(".cand .measures").count() == 0
+    sync_api.expect(page.locator("#candidates")).not_to_have_attribute("aria-invalid", "true")
+    sync_api.expect(err.locator("button")).to_have_text("Measure them")
+    context.close()

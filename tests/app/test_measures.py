@@ -73,15 +73,23 @@ def test_every_candidate_is_measured_with_the_librarys_numbers(client, app, meas
     q = session.prepared.quantised
     for c, cand in zip(body["candidates"], session.candidates, strict=True):
         m = c["measures"]
-        # recomputed here with the library's function: the app shows the same numbers
-        ref = perception.measure_candidate(cand.pattern, [q["a"].rgb(), q["b"].rgb()])
+        # recomputed here with the library's function, from the ranking's viewpoint (30
+        # degrees, 3 m at the session machine's gauge): the app shows the same numbers
+        from illuknit.core.machine import resolve_machine
+
+        blur = perception.seen_blur(3.0, gauge=resolve_machine(session.settings.machine).gauge)
+        ref = perception.measure_candidate(
+            cand.pattern, [q["a"].rgb(), q["b"].rgb()], angle=30.0, blur=blur
+        )
         assert m["readability"] == pytest.approx(list(ref.readability), abs=1e-4)
         assert m["worst_ghosting"] == pytest.approx(ref.worst_ghosting, abs=1e-4)
         assert m["visible_ghosting"] == pytest.approx(list(ref.visible_ghosting), abs=1e-4)
         assert m["perceptual_score"] == pytest.approx(ref.perceptual_score, abs=1e-4)
         # and the readability is the bench's render correlation
         renders, _ = angled_renders(cand.pattern)
-        s = picture_scores(renders, q["a"].rgb() / 255.0, q["b"].rgb() / 255.0, double=True)
+        s = picture_scores(
+            renders, q["a"].rgb() / 255.0, q["b"].rgb() / 255.0, double=True, sigma=blur
+        )
         assert m["readability"][0] == pytest.approx(s["render_corr_a"], abs=1e-4)
         assert m["knit_minutes"] > 0 and m["machine_passes"] > 0 and m["knit_note"] == ""
 
@@ -203,12 +211,15 @@ def test_headon_candidates_are_measured_and_ranked_on_all_three_views(client, ap
     scores = [m["perceptual_score"] for m in ms]
     assert scores == sorted(scores, reverse=True)
     session = app.state.store.get(sid)
+    from illuknit.core.machine import resolve_machine
+
     m = perception.measure_candidate(
         session.candidates[0].pattern,
         perception.seen_targets(
             session.prepared.quantised["a"], session.prepared.quantised.get("b")
         ),
         views=("headon", "side"),
+        blur=perception.seen_blur(3.0, gauge=resolve_machine(session.settings.machine).gauge),
     )
     first = next(c for c in cands["candidates"] if c["rank"] == 1)["measures"]
     assert first["readability"] == [None if v is None else round(v, 4) for v in m.readability]

@@ -30,6 +30,9 @@ def test_double_sizes_are_rows_by_columns(tmp_path, capsys):
     assert "9 x 10 units" in text and "10 x 9 units" not in text
     assert (out / "summary.txt").read_text().splitlines()[0].count("9 x 10 units") == 1
     assert "finished size: 7.3 x 4.6 cm" in text  # 20 x 18 stitches at 7 x 9.8 per inch
+    # the far view beside the near one: per side, picture | up close | from 3 m, in one sheet
+    seen = np.asarray(Image.open(out / "candidate_1" / "seen.png"))
+    assert seen.shape[1] > 2.5 * seen.shape[0] / 2  # three panels across, two sides down
 
 
 def test_the_table_fits_the_terminal_and_the_message_lists_every_folder(

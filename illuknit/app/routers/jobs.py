@@ -9,7 +9,7 @@ from illuknit.app import design
 from illuknit.app.jobs import Job, JobRunner
 from illuknit.app.knitting import CheckedKnitout, knit_and_check
 from illuknit.app.lookups import SessionDep, current_pattern, prepared_of, runner_of, store_of
-from illuknit.app.measures import measure_candidate
+from illuknit.app.measures import measure_all
 from illuknit.app.schemas import JobIn
 from illuknit.app.sessions import Session, SessionStore
 from illuknit.core.errors import AppRequestError
@@ -64,8 +64,10 @@ def start_candidates(s: Session, runner: JobRunner, *, isolate: bool = True) -> 
     return runner.submit("candidates", work, revision=rev, on_done=done)
 
 
-def start_measures(s: Session, runner: JobRunner) -> Job:
-    """Readability, ghosting and knitting time of every candidate (kept on the candidates)."""
+def start_measures(s: Session, runner: JobRunner, *, isolate: bool = True) -> Job:
+    """Readability, ghosting and knitting time of every candidate (kept on the candidates).
+    With ``isolate`` the work runs in its own process, killed by Cancel at once (knitting one
+    large candidate takes seconds and cannot be interrupted in-process)."""
     with s.lock:
         candidates = list(s.candidates)
         prepared, machine, rev = s.prepared, s.settings.machine, s.revision
@@ -78,11 +80,10 @@ def start_measures(s: Session, runner: JobRunner) -> Job:
         )
 
     def work(job: Job) -> list[Any]:
-        out = []
-        for k, c in enumerate(candidates):
-            job.report(k / len(candidates), f"measuring candidate {k + 1} of {len(candidates)}")
-            out.append(measure_candidate(c.pattern, prepared, machine=machine))
-        return out
+        patterns = [c.pattern for c in candidates]
+        if not isolate:
+            return measure_all(patterns, prepared, machine, progress=job.report)
+        return job.run_isolated(measure_all, patterns, prepared, machine, progress=(0.0, 1.0))
 
     def done(job: Job) -> None:
         with s.lock:
@@ -176,7 +177,7 @@ def post_job(request: Request, s: SessionDep, runner: RunnerDep, body: JobIn) ->
         if body.kind == "candidates":
             job = start_candidates(s, runner, isolate=request.app.state.config.isolate_search)
         elif body.kind == "measures":
-            job = start_measures(s, runner)
+            job = start_measures(s, runner, isolate=request.app.state.config.isolate_knit)
         elif body.kind == "suggestions":
             job = start_suggestions(
                 s, runner, store_of(request), isolate=request.app.state.config.isolate_search

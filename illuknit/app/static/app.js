@@ -423,7 +423,7 @@ async function refreshInputs({ autorun }) {
 // jobs with progress and cancel
 
 // the page control a job's problems are shown next to
-const jobField = (kind) => (kind === "knit" || kind === "suggestions" ? kind : "candidates");
+const jobField = (kind) => (["knit", "suggestions", "measures"].includes(kind) ? kind : "candidates");
 
 async function startJob(kind, options = {}) {
   clearError(jobField(kind));
@@ -521,6 +521,14 @@ function saidCancelled(kind) {
     showError("suggestions", "Cancelled: press Suggest edits to try again.");
   } else if (kind === "knit") {
     $("#knit-summary").textContent = "Cancelled: press Make knitout to make it again.";
+  } else if (kind === "measures") {
+    const again = document.createElement("button");
+    again.type = "button";
+    again.className = "rerun";
+    again.dataset.rerun = kind;
+    again.textContent = "Measure them";
+    again.addEventListener("click", () => { clearError("measures"); measureCandidates(); });
+    showError("measures", "Measuring cancelled: the candidates are not measured. ", again);
   }
 }
 

@@ -8,6 +8,7 @@
 function clearCandidates(message) {
   state.candidates = [];
   state.selected = null;
+  clearError("measures"); // a cancelled measuring of the old candidates says nothing of new ones
   $("#cands").innerHTML = `<p class="empty"></p>`;
   $("#cands .empty").textContent = message || "Candidates appear here: each is shown from side A, head-on and from side B.";
   for (const v of ["A", "headon", "B"]) $(`#pv-${v}`).removeAttribute("src");

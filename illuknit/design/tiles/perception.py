@@ -86,6 +86,7 @@ __all__ = [
     "rank_candidates",
     "rank_designs",
     "rank_key",
+    "seen_blur",
     "seen_from",
     "seen_targets",
 ]
@@ -362,6 +363,8 @@ def rank_designs(
     knit_time: KnitMeasure | None = None,
     keep: int | None = None,
     progress: Callable[[float, str], None] | None = None,
+    angle: float | None = None,
+    blur: float | None = None,
     params: Any = None,
 ) -> list[RankedCandidate]:
     """Compile every tile candidate, measure how it reads and rank the lot (the best ``keep``).
@@ -385,6 +388,9 @@ def rank_designs(
     progress : callable, optional
         ``progress(fraction, message)`` before each design is compiled and measured; whatever
         it raises stops the ranking (a user interface's cancel).
+    angle, blur : float, optional
+        The viewing angle and the blur (units) each design is measured at, as
+        :func:`measure_candidate` (e.g. :func:`seen_blur` of a viewing distance).
     params : RenderParams, optional
         The renderer's parameters the designs are measured with (e.g. a measured split share).
     """
@@ -406,7 +412,13 @@ def rank_designs(
         compiled.append(compile_tiles(c, overrides=overrides or {}))
         measures.append(
             measure_candidate(
-                compiled[-1][0], pictures, views=views, ghost=len(pictures) == 2, params=params
+                compiled[-1][0],
+                pictures,
+                views=views,
+                ghost=len(pictures) == 2,
+                angle=angle,
+                blur=blur,
+                params=params,
             )
         )
     scores = [c.score for c in found]
@@ -541,6 +553,22 @@ def eye_blur_units(
     detail_mm = 1000.0 * distance_m * math.tan(math.radians(acuity_arcmin / 60.0))
     unit_mm = 2 * 25.4 / gauge
     return detail_mm / unit_mm / (2 * math.sqrt(2 * math.log(2)))
+
+
+def seen_blur(distance_m: float, *, gauge: float = 7.0) -> float:
+    """The blur, in units, the measures see a render through from ``distance_m`` metres.
+
+    What the eye resolves there (:func:`eye_blur_units`) followed by the pooling that makes a
+    fill's stripes read as one region, :data:`~illuknit.design.measures.BLUR_SIGMA` (1.5
+    units): two Gaussian blurs, so ``hypot(BLUR_SIGMA, eye_blur_units(distance_m))``. From a
+    few metres the eye resolves every unit and the pooling alone counts (1.501 units from 3 m
+    at 7 stitches per inch, 1.51 from 10 m); it adds measurably from about 20 m (1.54 units,
+    1.73 from 50 m), and from 88 m the eye's blur is as large as the pooling (2.12 units). docs/tiles.md shows, on the bundled pairs, why the pooling is kept
+    rather than the eye's resolution alone or a multi-scale structural similarity.
+    """
+    import math
+
+    return math.hypot(BLUR_SIGMA, eye_blur_units(distance_m, gauge=gauge))
 
 
 def seen_from(rgb: ArrayLike, sigma_px: float) -> NDArray[np.uint8]:
