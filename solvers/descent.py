@@ -263,7 +263,9 @@ def bound_then_search(
         lag = lagrangian_bound(problem, time_limit=max(0.5, lag_time))
     except KeyboardInterrupt:  # asked to stop: the pattern matters more than the bound
         lag = None
-    starts = None if lag is None else {"lagrangian": (lag.yarn, lag.raised)}
+    starts: dict[str, tuple[NDArray[np.integer], NDArray[np.bool_]]] | None = (
+        None if lag is None else {"lagrangian": (lag.yarn, lag.raised)}
+    )
     left = None if time_limit is None else max(0.5, time_limit - (time.perf_counter() - t0))
     res = optimise_descent(
         problem, time_limit=left, seed=seed, stall=stall, starts=starts, progress=progress
