@@ -31,7 +31,7 @@ from illuknit.core.errors import KcodeError
 from illuknit.formats.kc_ir import KcPass, KcProgram
 from illuknit.formats.kc_passes import read_kc_passes
 
-__all__ = ["BED_NEEDLES", "knitout_to_kc", "write_kcode"]
+__all__ = ["BED_NEEDLES", "knitout_to_kc", "named_kc", "write_kcode"]
 
 BED_NEEDLES = 252
 _MARGIN = 15  # unused needle-selection columns on either side of the bed
@@ -144,6 +144,16 @@ class _Carriage:
                     self.floor_step[side] = not self.floor_step[side]
             new += taken
         return new
+
+
+def named_kc(kc: str, name: str) -> str:
+    """``kc`` (:func:`knitout_to_kc`'s text) naming ``name`` in its line-3 comment instead: the
+    same text :func:`knitout_to_kc` writes for that name, without converting again."""
+    head = kc.split("\n", 3)
+    if len(head) < 4 or not head[2].startswith("// "):
+        raise KcodeError("not a .kc written by knitout_to_kc (no name comment on line 3)")
+    head[2] = f"// {name}"
+    return "\n".join(head)
 
 
 def write_kcode(program: KcProgram, *, name: str) -> str:

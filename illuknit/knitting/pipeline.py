@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import warnings
 from dataclasses import dataclass, fields, replace
+from functools import cached_property
 from typing import Any
 
 from illuknit.core.errors import (
@@ -34,10 +35,12 @@ from illuknit.knit.mixed import long_float_error, schedule_mixed
 from illuknit.knit.options import Catching, KnitOptions
 from illuknit.knit.schedule import Schedule, ScheduleStats, schedule_courses
 from illuknit.knit.stitches import StitchPattern, lower_to_stitches
-from illuknit.knit.timing import TimeEstimate, estimate_knit_time, format_duration
-from illuknit.knitting.carriage import machine_run, machine_stats, runs_on_swg
+from illuknit.knit.timing import MachineRun, TimeEstimate, estimate_knit_time, format_duration
+from illuknit.knitting.carriage import kc_run, machine_run, machine_stats, runs_on_swg
 
 __all__ = [
+    "KC_NAME",
+    "KcFigures",
     "KnitResult",
     "LongFloatWarning",
     "knit_pattern",
@@ -54,6 +57,25 @@ class LongFloatWarning(UserWarning):
 
 #: :class:`~illuknit.knit.schedule.MixedReport` fields that :meth:`KnitResult.summary` reports.
 _SUMMARY_MIXED = ("tuck_joins", "plated_stitches", "carriers", "float_avoidance_transfers")
+
+#: The file name :attr:`KnitResult.kc` names in its comment line.
+KC_NAME = "command.kc"
+
+
+@dataclass(frozen=True)
+class KcFigures:
+    """What the Kniterate runs for a program: its ``.kc`` (the comment line names
+    :data:`KC_NAME`), the ``.kc``'s passes (:func:`~illuknit.knitting.carriage.kc_run`: waste
+    section and the backend's carriage moves included) and the time counted on them."""
+
+    kc: str
+    run: MachineRun
+    time: TimeEstimate
+
+    @property
+    def passes(self) -> int:
+        """The ``.kc``'s passes (its ``>>`` / ``<<`` rows)."""
+        return self.run.passes
 
 
 @dataclass(frozen=True, eq=False)
@@ -88,6 +110,19 @@ class KnitResult:
         """The knitout text (same as ``text``)."""
         return self.text
 
+    @cached_property
+    def kc_figures(self) -> KcFigures | None:
+        """The Kniterate's ``.kc`` of the program, its passes and time (None on a machine
+        without the ``.kc`` format). Converted on first use and kept: seconds on big programs,
+        so :func:`knit_pattern` does not pay it for callers that never ask."""
+        if "kc" not in self.machine.formats:
+            return None
+        from illuknit.formats.kc import knitout_to_kc
+
+        kc = knitout_to_kc(self.text, name=KC_NAME)
+        run = kc_run(kc)
+        return KcFigures(kc, run, estimate_knit_time(self.schedule, run=run, machine=self.machine))
+
     def _longest_float(self) -> tuple[int, str | None]:
         """The longest float over the limit: its length and where it is (carrier, needles,
         course), or ``(0, None)``."""
@@ -101,13 +136,20 @@ class KnitResult:
         )
 
     def summary(self) -> dict[str, Any]:
-        """JSON-ready numbers: size, passes, bound, ratio, time."""
+        """JSON-ready numbers: size, passes, bound, ratio, time.
+
+        The headline ``passes`` and ``time`` are the machine's on every machine: on a Shima the
+        SWG backend's passes (kickbacks, carrier moves and hook passes included); on the
+        Kniterate the ``.kc``'s (:attr:`kc_figures`: waste section and the backend's carriage
+        moves included), with the schedule's kept as ``schedule_passes``, ``schedule_time``,
+        ``schedule_lower_bound`` and ``schedule_ratio``, and ``passes_counted_on`` ``"kc"``.
+        """
         c, w = self.stitches.shape
         fabric = self.machine.fabric_gauge
         size = FinishedSize(w * fabric.stitch_cm, c * fabric.row_cm, fabric)
         wcm, hcm = size.width_cm, size.height_cm
         longest, longest_at = self._longest_float()
-        return {
+        out = {
             "machine": self.machine.name,
             "needles": self.machine.needles,
             "gauge": self.machine.gauge,
@@ -149,6 +191,29 @@ class KnitResult:
                 else {}
             ),
         }
+        return _on_kc(out, self.kc_figures)
+
+
+def _on_kc(summary: dict[str, Any], kc: KcFigures | None) -> dict[str, Any]:
+    """``summary`` with its headline passes and time the ``.kc``'s (unchanged without one)."""
+    if kc is None:
+        return summary
+    out = dict(summary)
+    t = kc.time
+    out["passes"] = kc.passes
+    out["time_seconds"] = round(t.seconds, 1)
+    out["time"] = format_duration(t.seconds)
+    out["time_range"] = t.range_text
+    out["time_range_seconds"] = [round(t.low_seconds, 1), round(t.high_seconds, 1)]
+    out["bind_off_time_seconds"] = round(t.bind_off_seconds, 1)
+    out["bind_off_time"] = format_duration(out["bind_off_time_seconds"])
+    out["schedule_passes"] = summary["passes"]
+    out["schedule_time"] = summary["time"]
+    out["passes_counted_on"] = "kc"
+    # the lower bound and ratio are the schedule's (the .kc adds the waste section)
+    out["schedule_lower_bound"] = out.pop("lower_bound")
+    out["schedule_ratio"] = out.pop("ratio")
+    return out
 
 
 def knit_pattern(
@@ -372,11 +437,13 @@ def _knit_options(options: KnitOptions | None, knobs: dict[str, Any]) -> KnitOpt
 def long_float_warning(result: KnitResult) -> str:
     """What the :class:`LongFloatWarning` of ``result`` says: how many floats
     stay over the float limit, how long the longest is and where (empty when none)."""
-    s = result.summary()
-    if not s["long_floats"]:
+    # not from summary(): that converts a Kniterate program to .kc, which this needs not
+    count = len(result.schedule.long_floats)
+    if not count:
         return ""
+    longest, at = result._longest_float()
     return (
-        f"{s['long_floats']} float(s) longer than the float limit of "
+        f"{count} float(s) longer than the float limit of "
         f"{result.machine.float_limit} needles kept (allowed long floats); the longest, "
-        f"{s['longest_float']} needles: {s['longest_float_at']}"
+        f"{longest} needles: {at}"
     )

@@ -17,7 +17,7 @@ from typing import Any
 
 # one format check for the CLI, the sheet and the app
 from illuknit.formats import check_format, machine_passes
-from illuknit.knit.timing import estimate_knit_time, format_duration
+from illuknit.knit.timing import format_duration
 from illuknit.knitting.pipeline import KnitResult
 
 __all__ = ["MachineSheet", "check_format", "machine_headline", "machine_sheet"]
@@ -74,16 +74,15 @@ def machine_sheet(result: KnitResult, *, name: str = "command.kc") -> MachineShe
     """
     m = result.machine
     files: dict[str, str] = {}
-    if "kc" in m.formats:
-        from illuknit.formats.kc import knitout_to_kc, summarise_kc
-        from illuknit.knitting.carriage import kc_run
+    if result.kc_figures is not None:
+        from illuknit.formats.kc import named_kc, summarise_kc
 
-        kc = knitout_to_kc(result.text, name=name)
+        # the result's own .kc (made once, and the same one its summary counts), named here
+        kc = named_kc(result.kc_figures.kc, name)
         files["kc"] = kc
         facts = summarise_kc(kc)
-        run = kc_run(kc)
-        passes = run.passes
-        estimate = estimate_knit_time(result.schedule, run=run, machine=m)
+        passes = result.kc_figures.passes
+        estimate = result.kc_figures.time
         needles = facts["needles"]
         numbers = list(facts["stitch_numbers"])  # type: ignore[call-overload]
     elif "dat" in m.formats:
@@ -128,6 +127,16 @@ def machine_sheet(result: KnitResult, *, name: str = "command.kc") -> MachineShe
     )
 
 
+#: The schedule's own figures a Kniterate summary keeps beside the ``.kc``'s headline ones.
+_SCHEDULE_KEYS = (
+    "schedule_passes",
+    "schedule_time",
+    "passes_counted_on",
+    "schedule_lower_bound",
+    "schedule_ratio",
+)
+
+
 def machine_headline(summary: dict[str, Any], sheet: MachineSheet) -> dict[str, Any]:
     """``summary`` (a :meth:`~illuknit.knitting.pipeline.KnitResult.summary`) with the sheet's
     facts, its headline ``passes`` and ``time`` the machine's on every machine.
@@ -137,6 +146,12 @@ def machine_headline(summary: dict[str, Any], sheet: MachineSheet) -> dict[str, 
     ``schedule_passes``, ``schedule_time``, ``schedule_lower_bound`` and ``schedule_ratio``, and
     ``passes_counted_on`` says ``"kc"``.
     """
+    if summary.get("passes_counted_on") == "kc":
+        # already the .kc's (KnitResult.summary): the sheet's facts go in before the schedule's
+        # figures, in the order this has always written them
+        late = [k for k in _SCHEDULE_KEYS if k in summary]
+        head = {k: v for k, v in summary.items() if k not in late}
+        return {**head, **sheet.summary, **{k: summary[k] for k in late}}
     out = {**summary, **sheet.summary}
     if "kc" in sheet.files:
         out["schedule_passes"] = summary["passes"]

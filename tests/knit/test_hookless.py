@@ -252,3 +252,23 @@ def test_the_waste_section_is_schedule_steps_written_before_the_piece() -> None:
     text = result.text.split("\n")
     start = text.index(lines[0])
     assert text[start : start + len(lines)] == lines
+
+
+def test_the_library_summary_gives_the_machines_passes_on_every_machine() -> None:
+    from illuknit.formats.dat import knitout_to_dat, read_dat
+    from illuknit.formats.kc import knitout_to_kc, named_kc
+
+    result = knit_pattern(mixed(), machine="kniterate")
+    assert "kc_figures" not in vars(result)  # knit_pattern itself makes no .kc
+    s = result.summary()
+    kc = knitout_to_kc(result.text, name="piece.kc")
+    assert s["passes"] == kc.count("\n>>") + kc.count("\n<<")
+    assert s["passes_counted_on"] == "kc" and s["schedule_passes"] < s["passes"]
+    assert s["schedule_passes"] == result.stats.passes and "lower_bound" not in s
+    assert s["time_seconds"] > 0 and s["time"] != s["schedule_time"]
+    # the one .kc, renamed, is what knitout_to_kc writes for that name
+    assert named_kc(result.kc_figures.kc, "piece.kc") == kc
+    assert machine_sheet(result).summary["machine_passes"] == s["passes"]
+    shima = knit_pattern(mixed(), machine="swg091n2")
+    assert shima.kc_figures is None and "passes_counted_on" not in shima.summary()
+    assert shima.summary()["passes"] == len(read_dat(knitout_to_dat(shima.text)).passes)
