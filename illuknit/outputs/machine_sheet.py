@@ -127,9 +127,9 @@ def machine_sheet(result: KnitResult, *, name: str = "command.kc") -> MachineShe
     )
 
 
-#: The schedule's own figures a Kniterate summary keeps beside the ``.kc``'s headline ones.
+#: The schedule's own figures a Kniterate summary adds beside the ``.kc``'s headline ones
+#: (``schedule_passes`` is a :class:`~illuknit.knit.schedule.ScheduleStats` field already).
 _SCHEDULE_KEYS = (
-    "schedule_passes",
     "schedule_time",
     "passes_counted_on",
     "schedule_lower_bound",
