@@ -830,7 +830,8 @@ def test_headon_candidates_show_their_measures(browser, base_url, tmp_path):
     sync_api.expect(cards.first.locator(".score")).to_contain_text("reads ")
     # measured where the designer looks from: the slider's angle and the far view's distance
     sync_api.expect(page.locator("#measured-at")).to_have_text("Measured at 30° from 3 m")
-    assert all("at 30° from 3 m" in t for t in page.locator(".cand .measures").all_text_contents())
+    shown = page.locator(".cand .measures").all_text_contents()
+    assert all("at 30° from 3\u00a0m" in t for t in shown), shown  # the unit stays with its number
     page.locator("#angle").evaluate(
         "el => { el.value = '50'; el.dispatchEvent(new Event('input', { bubbles: true })); }"
     )
@@ -838,7 +839,7 @@ def test_headon_candidates_show_their_measures(browser, base_url, tmp_path):
     page.click("#measure-here")
     sync_api.expect(page.locator("#measured-at")).to_have_text("Measured at 50° from 6 m")
     sync_api.expect(page.locator(".cand .measures")).to_have_count(cards.count(), timeout=120_000)
-    sync_api.expect(page.locator(".cand .measures").first).to_contain_text("at 50° from 6 m")
+    sync_api.expect(page.locator(".cand .measures").first).to_contain_text("at 50° from 6\u00a0m")
     context.close()
 
 
