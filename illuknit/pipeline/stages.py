@@ -28,6 +28,7 @@ return, so a script calling them reproduces the commands' files (``docs/library.
 from __future__ import annotations
 
 import functools
+import math
 import os
 import time
 from collections.abc import Callable, Mapping, Sequence
@@ -118,8 +119,12 @@ class RankedDesign:
     label: str = ""
 
     def why(self) -> str:
-        """The rank and its key, one line: ``"rank 1 by -perceptual score -0.712, ..."``."""
-        parts = [f"{n} {v:.4g}" for n, v in zip(self.rank_fields, self.rank_key, strict=True)]
+        """The rank and its key, one line: ``"rank 1 by -perceptual score -0.712, ..."``; a
+        field not measured (a knitting time when the ranking did not knit) says so."""
+        parts = [
+            f"{n} {v:.4g}" if math.isfinite(v) else f"{n} not measured"
+            for n, v in zip(self.rank_fields, self.rank_key, strict=True)
+        ]
         return f"rank {self.rank} by " + ", ".join(parts)
 
 

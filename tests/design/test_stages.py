@@ -74,6 +74,7 @@ def test_double_view_designs_are_ranked_with_their_keys():
     assert d.best.rank_fields == RankBy.PERCEPTION.key_fields
     assert d.best.rank_key[0] == -d.best.measures.perceptual_score
     assert d.best.why().startswith("rank 1 by -perceptual score")
+    assert "knitting minutes not measured" in d.best.why()  # not "inf" (no knitting asked)
     by_score = design_double(
         a, b, search=SearchOptions(candidates=3, pool=4), ranking=RankOptions(rank_by="score")
     )
