@@ -27,16 +27,25 @@ __all__ = ["ORDERS", "measure_all", "measure_candidate", "order_candidates"]
 ORDERS = ("rank", "perception", "readability", "contrast", "ghosting", "knit_time")
 
 
-def measure_candidate(pattern: Any, prepared: Any, *, machine: str, knit_time: bool = True) -> Any:
+def measure_candidate(
+    pattern: Any,
+    prepared: Any,
+    *,
+    machine: str,
+    knit_time: bool = True,
+    viewpoint: tuple[float, float] = (30.0, 3.0),
+) -> Any:
     """The candidate's :class:`~illuknit.design.tiles.perception.CandidateMeasures`, measured by
-    the stage :func:`~illuknit.pipeline.stages.measure_design` on the page's machine (without
-    the machine's time and passes when not ``knit_time``: how it reads only, in a fraction of a
-    second, for a tile edit measured at once)."""
+    the stage :func:`~illuknit.pipeline.stages.measure_design` on the page's machine, seen from
+    ``viewpoint`` (angle in degrees, distance in metres; the session's settings), without the
+    machine's time and passes when not ``knit_time``: how it reads only, in a fraction of a
+    second, for a tile edit measured at once."""
     from illuknit.design.options import RankOptions
     from illuknit.pipeline.stages import measure_design
 
     q = prepared.quantised
-    ranking = RankOptions(machine=machine, knit_time=knit_time)
+    angle, distance = viewpoint
+    ranking = RankOptions(machine=machine, knit_time=knit_time, angle=angle, distance=distance)
     return measure_design(pattern, prepared.mode, q["a"], q.get("b"), ranking=ranking)
 
 
@@ -44,15 +53,16 @@ def measure_all(
     patterns: Sequence[Any],
     prepared: Any,
     machine: str,
+    viewpoint: tuple[float, float] = (30.0, 3.0),
     progress: Callable[[float, str], None] | None = None,
 ) -> list[Any]:
-    """:func:`measure_candidate` of every pattern, saying before each how far it is (the
-    measures job runs this in its worker process, killed by Cancel)."""
+    """:func:`measure_candidate` of every pattern from ``viewpoint``, saying before each how far
+    it is (the measures job runs this in its worker process, killed by Cancel)."""
     out = []
     for k, pattern in enumerate(patterns):
         if progress is not None:
             progress(k / len(patterns), f"measuring candidate {k + 1} of {len(patterns)}")
-        out.append(measure_candidate(pattern, prepared, machine=machine))
+        out.append(measure_candidate(pattern, prepared, machine=machine, viewpoint=viewpoint))
     return out
 
 

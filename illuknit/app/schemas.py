@@ -100,6 +100,34 @@ class DesignSettings(BaseModel):
         description="tiles may knit a bump in two yarns, one seen from each side "
         "(double view and head-on; docs/split-bumps.md)",
     )
+    view_angle: float = Field(
+        default=30.0,
+        gt=0,
+        le=90,
+        title="Measured at angle",
+        description="the viewing angle (degrees of elevation) the candidates' readability, "
+        "contrast and ghosting are measured at",
+    )
+    view_distance: float = Field(
+        default=3.0,
+        gt=0,
+        le=1000,
+        title="Measured from",
+        description="the viewing distance in metres the candidates are measured from",
+    )
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        # settings saved (pickled with their session) before a field existed get its default
+        values = state.get("__dict__", {})
+        for key, info in type(self).model_fields.items():
+            if key not in values:
+                values[key] = info.get_default(call_default_factory=True)
+        super().__setstate__(state)
+
+    @property
+    def viewpoint(self) -> tuple[float, float]:
+        """Where the measures look from: (angle in degrees, distance in metres)."""
+        return (self.view_angle, self.view_distance)
 
     def to_json(self) -> dict[str, Any]:
         return self.model_dump(mode="json")

@@ -270,6 +270,17 @@ class Session:
         self.redo_steps.clear()
         self.cancel_design_jobs()
 
+    def remeasure(self) -> None:
+        """The measuring viewpoint changed: the designs stand, their measures were taken from
+        elsewhere. The candidates become unmeasured copies (the undo steps keep the measured
+        ones, with the viewpoint they were measured from), a measures job running stops, and
+        what was undone cannot be redone."""
+        job = self.jobs.get("measures")
+        if job is not None and job.live:
+            job.cancel()
+        self.candidates = [replace(c, measured=None) for c in self.candidates]
+        self.redo_steps.clear()
+
     def cancel_design_jobs(self) -> None:
         """Cancel the work on the current design (its inputs are about to change)."""
         for kind in ("candidates", "knit", "measures", "suggestions"):

@@ -156,11 +156,18 @@ def _tucks_fit(
 
 
 def _starts_beyond(q: Step, a: int, direction: str | None) -> bool:
-    """True when the carrier, last moved by ``q``, enters its next pass from beyond ``a``."""
+    """True when the carrier, last moved by ``q``, enters its next pass from beyond ``a``.
+
+    The carrier stops on the far side of ``q``'s last needle, half a needle on: a ``-`` move
+    to ``a + 1`` (or a ``+`` move to ``a - 1``) leaves it right beside ``a``, between ``a`` and
+    that needle -- where a parked carrier comes back to before a pass that starts away from its
+    last loop -- so the next pass from there lays the whole float from ``a``."""
     if not isinstance(q, Pass):
         return False
     end = q.ops[-1].needle
-    return end >= a if direction == "-" else end <= a
+    if direction == "-":
+        return end >= a - (q.direction == "+")
+    return end <= a + (q.direction == "-")
 
 
 @dataclass(eq=False)

@@ -808,7 +808,8 @@ def test_undo_a_tile_edit_with_the_keyboard(browser, base_url, tmp_path):
 
 def test_headon_candidates_show_their_measures(browser, base_url, tmp_path):
     """A head-on design from one picture: every card says how it reads head-on and how much of
-    the picture is left at an angle."""
+    the picture is left at an angle, and from where; measured again from the preview's angle
+    and distance, the cards say the new viewpoint."""
     context = browser.new_context(viewport={"width": 1440, "height": 1000})
     page = context.new_page()
     page.set_default_timeout(60_000)
@@ -827,6 +828,18 @@ def test_headon_candidates_show_their_measures(browser, base_url, tmp_path):
     for text in page.locator(".cand .measures").all_text_contents():
         assert "reads headon" in text and "ghosting" in text, text
     sync_api.expect(cards.first.locator(".score")).to_contain_text("reads ")
+    # measured where the designer looks from: the slider's angle and the far view's distance
+    sync_api.expect(page.locator("#measured-at")).to_have_text("Measured at 30° from 3 m")
+    shown = page.locator(".cand .measures").all_text_contents()
+    assert all("at 30° from 3\u00a0m" in t for t in shown), shown  # the unit stays with its number
+    page.locator("#angle").evaluate(
+        "el => { el.value = '50'; el.dispatchEvent(new Event('input', { bubbles: true })); }"
+    )
+    page.locator("#distance").fill("6")
+    page.click("#measure-here")
+    sync_api.expect(page.locator("#measured-at")).to_have_text("Measured at 50° from 6 m")
+    sync_api.expect(page.locator(".cand .measures")).to_have_count(cards.count(), timeout=120_000)
+    sync_api.expect(page.locator(".cand .measures").first).to_contain_text("at 50° from 6\u00a0m")
     context.close()
 
 

@@ -18,7 +18,7 @@ from illuknit.check import check_knitout
 from illuknit.core.pattern import LogicalPattern, Yarn, load_pattern
 from illuknit.design.render.params import RenderParams, load_params, save_params
 from illuknit.formats.kc import knitout_to_kc
-from illuknit.knit.ir import OpKind, Pass, PassKind
+from illuknit.knit.ir import OpKind, Pass, PassKind, Role
 from illuknit.knit.options import KnitOptions
 from illuknit.knit.schedule import Schedule
 from illuknit.knit.stitches import PURL, lower_to_stitches
@@ -47,7 +47,7 @@ def _tucks_then_knits(schedule: Schedule) -> None:
     and no transfer moves them in between."""
     steps = [s for s in schedule.steps if isinstance(s, Pass)]
     pending: dict[tuple[str, ...], set[int]] = {}
-    for p in steps:
+    for i, p in enumerate(steps):
         if p.kind is PassKind.XFER:
             moved = {o.needle for o in p.ops}
             assert not any(moved & t for t in pending.values())
@@ -55,6 +55,11 @@ def _tucks_then_knits(schedule: Schedule) -> None:
         made = [o for o in p.ops if o.op is not OpKind.MISS]
         back_tucks = {o.needle for o in made if o.op is OpKind.TUCK and o.bed == "b"}
         if made and len(back_tucks) == len(made):
+            # (Tucks that cut the float into the pass go to the front in the transfer pass
+            # right after it: float tucks, not the bumps'.)
+            nxt = steps[i + 1] if i + 1 < len(steps) else None
+            if nxt is not None and nxt.kind is PassKind.XFER and nxt.role is Role.FLOAT_AVOIDANCE:
+                back_tucks -= {o.needle for o in nxt.ops if o.bed == "b"}
             pending.setdefault(p.carriers, set()).update(back_tucks)
         elif made and p.carriers in pending:
             purled = {o.needle for o in made if o.op is OpKind.KNIT and o.bed == "b"}
@@ -100,6 +105,29 @@ def test_mixed_colourwork_tall_and_split_bumps_are_clean(pattern: str, machine: 
     report = check_knitout(result.program, machine=machine, split_bumps=result.split_bumps > 0)
     assert report.findings == (), [f"{f.line}: {f.code}" for f in report.findings[:5]]
     assert report.pieces == 1
+
+
+def test_the_float_into_a_tall_bump_tuck_pass_is_tucked(
+    tmp_path: Path, swg_backend: Path, kniterate_backend: Path
+) -> None:
+    # One unit row, 13 units: dark knits the two units at the right in the first course and
+    # the split bump's upper course at the left edge in the second. Parked left of the fabric,
+    # it comes back to just beside its last loop and its tall-bump tuck pass lays the float
+    # from there to the bump, 21 needles: float tucks in that tuck pass cut it, on both
+    # machines (it was refused as a long float).
+    yarn = np.array([[0] * 11 + [1] * 2])
+    raised = np.array([[1, 0, 0, 0, 0] + [1] * 8], dtype=bool)
+    p = LogicalPattern(yarn, raised, YARNS[:2], upper=np.where(np.arange(13) == 0, 1, yarn))
+    for machine, backend, suffix in (
+        ("swg091n2", swg_backend, ".dat"),
+        ("kniterate", kniterate_backend, ".kc"),
+    ):
+        result = knit_pattern(p, machine=machine, tall_bumps=True)
+        assert result.schedule.long_floats == ()
+        _tucks_then_knits(result.schedule)
+        report = check_knitout(result.program, machine=machine, split_bumps=True)
+        assert report.findings == (), [f"{f.line}: {f.code}" for f in report.findings[:5]]
+        _run(backend, result.program, tmp_path, suffix)
 
 
 def test_split_bumps_need_the_checker_told() -> None:

@@ -41,6 +41,7 @@ def get_candidates(
             "selected": s.selected if s.candidates else None,
             "order": order,
             "measured": bool(s.candidates) and all(c.measured for c in s.candidates),
+            "measured_at": measured_at(s.settings),
             "candidates": [c.to_json() for c in order_candidates(s.candidates, order)],
         }
 
@@ -54,6 +55,12 @@ def put_selection(s: SessionDep, body: SelectionIn) -> dict[str, Any]:
             s.overrides = {}
             s.knit = None
         return state_json(s)
+
+
+def measured_at(settings: Any) -> dict[str, float]:
+    """Where the measures look from (the session's settings; a new viewpoint drops the
+    measures taken from the old one, so every measure shown was taken from here)."""
+    return {"angle": settings.view_angle, "distance": settings.view_distance}
 
 
 @router.get(
@@ -71,9 +78,16 @@ def _pairs_measured(s: Any, cand: Any) -> dict[str, Any]:
     answer = design.pairs_json(cand, s.overrides)
     answer["measures"] = None if cand.measured is None else cand.measured.to_json()
     answer["edited"] = None
+    answer["measured_at"] = measured_at(s.settings)
     if s.overrides and s.prepared is not None:
         pattern = design.pattern_for(cand, s.overrides)
-        m = measure_candidate(pattern, s.prepared, machine=s.settings.machine, knit_time=False)
+        m = measure_candidate(
+            pattern,
+            s.prepared,
+            machine=s.settings.machine,
+            knit_time=False,
+            viewpoint=s.settings.viewpoint,
+        )
         answer["edited"] = m.to_json()
     return answer
 

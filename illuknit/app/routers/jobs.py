@@ -71,6 +71,7 @@ def start_measures(s: Session, runner: JobRunner, *, isolate: bool = True) -> Jo
     with s.lock:
         candidates = list(s.candidates)
         prepared, machine, rev = s.prepared, s.settings.machine, s.revision
+        viewpoint = s.settings.viewpoint
     if not candidates or prepared is None:
         raise AppRequestError(
             "no candidates to measure yet: find candidates first",
@@ -82,12 +83,18 @@ def start_measures(s: Session, runner: JobRunner, *, isolate: bool = True) -> Jo
     def work(job: Job) -> list[Any]:
         patterns = [c.pattern for c in candidates]
         if not isolate:
-            return measure_all(patterns, prepared, machine, progress=job.report)
-        return job.run_isolated(measure_all, patterns, prepared, machine, progress=(0.0, 1.0))
+            return measure_all(patterns, prepared, machine, viewpoint, progress=job.report)
+        return job.run_isolated(
+            measure_all, patterns, prepared, machine, viewpoint, progress=(0.0, 1.0)
+        )
 
     def done(job: Job) -> None:
         with s.lock:
-            if s.revision == job.revision and s.candidates == candidates:
+            # the very candidates measured (a new viewpoint replaces them by unmeasured copies)
+            same = len(s.candidates) == len(candidates) and all(
+                a is b for a, b in zip(s.candidates, candidates, strict=True)
+            )
+            if s.revision == job.revision and same:
                 for c, m in zip(candidates, job.result, strict=True):
                     c.measured = m
 

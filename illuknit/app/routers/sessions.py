@@ -48,10 +48,19 @@ def put_settings(s: SessionDep, body: SettingsPatch) -> dict[str, Any]:  # type:
         _check_fits(new, changes)
         if new != s.settings:
             s.remember(settings_change(s.settings, new))  # the design as it is, for Undo
+            same_design = new.model_dump(exclude=set(VIEWPOINT)) == s.settings.model_dump(
+                exclude=set(VIEWPOINT)
+            )
             s.settings = new
-            s.bump()
+            if same_design:  # the same candidates, to be measured from somewhere else
+                s.remeasure()
+            else:
+                s.bump()
         return state_json(s)
 
+
+#: The settings that say where the measures look from, not what is designed.
+VIEWPOINT = ("view_angle", "view_distance")
 
 #: How the page names each setting in the list of what Undo takes back.
 SETTING_WORDS = {
@@ -67,6 +76,9 @@ SETTING_WORDS = {
     "machine": "machine",
     "smooth": "smoothing",
     "square_units": "square units",
+    "split_bumps": "split bumps",
+    "view_angle": "measured at angle",
+    "view_distance": "measured from (m)",
 }
 
 

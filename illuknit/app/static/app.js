@@ -64,7 +64,7 @@ const sapi = (method, path, body, opts) => api(method, `/api/sessions/${state.si
 // ---------------------------------------------------------------------------------------------
 // errors next to the control that caused them
 
-const FIELD_ALIASES = { slot: "image_a", session: null, job: null, candidate: "candidates", view: "angle" };
+const FIELD_ALIASES = { slot: "image_a", session: null, job: null, candidate: "candidates", view: "angle", view_angle: "measures", view_distance: "measures" };
 
 function showError(field, message, extra) {
   if (field in FIELD_ALIASES) field = FIELD_ALIASES[field];
@@ -208,6 +208,7 @@ function applyState(s) {
   setValue("#n_colors", st.n_colors);
   setValue("#candidates", st.candidates);
   $("#split_bumps").checked = st.split_bumps;
+  $("#measured-at").textContent = `Measured ${viewpointText({ angle: st.view_angle, distance: st.view_distance })}`;
   $("#split-row").hidden = st.mode === "single"; // one picture: nothing to split
   $("#resize").checked = st.resize;
   if (st.resize) $("#resize-row").hidden = false;

@@ -41,6 +41,31 @@ async function measureCandidates() {
   }
 }
 
+// "at 30° from 3 m": where the measures look from (the session's settings)
+function viewpointText(at) {
+  return `at ${+at.angle.toFixed(1)}° from ${+at.distance.toFixed(2)}\u00a0m`;
+}
+
+// The preview's angle and the far view's distance become the measuring viewpoint (an undoable
+// setting); the candidates are measured again from there. Only on the button: a slider move
+// re-renders the previews, it never re-measures.
+async function measureHere() {
+  const distance = Number($("#distance").value);
+  if (!(distance > 0 && distance <= 1000)) { showError("measures", "Seen from must be a distance in metres, above 0 and at most 1000"); return; }
+  clearError("measures");
+  try {
+    const s = await sapi("PUT", "/settings", { view_angle: state.angle, view_distance: distance });
+    applyState(s);
+  } catch (err) {
+    report(err, "measures");
+    return;
+  }
+  if (state.candidates.length) {
+    await loadCandidates(); // the old numbers are gone: the cards say so while measuring
+    await measureCandidates();
+  }
+}
+
 function measuresText(m) {
   const f = (x) => (x == null ? "–" : x.toFixed(2));
   const parts = [];
@@ -59,6 +84,7 @@ async function loadCandidates() {
   state.candidates = c.candidates;
   state.selected = c.selected;
   state.candRevision = c.revision;
+  state.measuredAt = c.measured_at;
   const box = $("#cands");
   box.textContent = "";
   box.dataset.order = c.order;
@@ -98,7 +124,7 @@ async function loadCandidates() {
     if (cand.measures) {
       const m = document.createElement("div");
       m.className = "measures";
-      m.textContent = measuresText(cand.measures);
+      m.textContent = `${measuresText(cand.measures)} · ${viewpointText(c.measured_at)}`;
       m.title = "readability: how well each side's render matches its picture (1 is best); " +
         "contrast: how much of its light/dark difference survives (1 is all); " +
         "ghosting: how much of the other picture shows through (0 is best)";

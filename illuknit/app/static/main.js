@@ -21,6 +21,7 @@ function wire() {
   $("#machine").addEventListener("change", () => saveSettings({ machine: $("#machine").value }));
   $("#where-fails").addEventListener("change", () => updatePreview());
   $("#distance").addEventListener("change", () => updateFar());
+  $("#measure-here").addEventListener("click", () => measureHere());
   $("#order").addEventListener("change", () => {
     clearError("order");
     if (state.candidates.length) loadCandidates().catch((err) => report(err, "order"));

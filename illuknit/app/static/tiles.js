@@ -119,5 +119,5 @@ function showEditMeasures(p) {
   let verdict = "";
   if (a != null && b != null) verdict = a > b + 1e-4 ? "reads better" : a < b - 1e-4 ? "reads worse" : "reads the same";
   line.className = "edit-measures " + (verdict === "reads better" ? "better" : verdict === "reads worse" ? "worse" : "");
-  line.textContent = `With your tile edits${verdict ? ` it ${verdict}` : ""}: ${now}` + (was ? ` (without them: ${was})` : "");
+  line.textContent = `With your tile edits${verdict ? ` it ${verdict}` : ""} ${viewpointText(p.measured_at)}: ${now}` + (was ? ` (without them: ${was})` : "");
 }
