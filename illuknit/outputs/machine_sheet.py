@@ -138,33 +138,13 @@ _SCHEDULE_KEYS = (
 
 
 def machine_headline(summary: dict[str, Any], sheet: MachineSheet) -> dict[str, Any]:
-    """``summary`` (a :meth:`~illuknit.knitting.pipeline.KnitResult.summary`) with the sheet's
-    facts, its headline ``passes`` and ``time`` the machine's on every machine.
+    """``summary`` (a :meth:`~illuknit.knitting.pipeline.KnitResult.summary`, whose headline
+    ``passes`` and ``time`` are the machine's on every machine) with the sheet's facts.
 
-    On a Shima they already are (the SWG backend's passes); on the Kniterate they become the
-    ``.kc``'s (waste section and the backend's carriage moves included), the schedule's kept as
-    ``schedule_passes``, ``schedule_time``, ``schedule_lower_bound`` and ``schedule_ratio``, and
-    ``passes_counted_on`` says ``"kc"``.
+    On the Kniterate the schedule's own figures (``schedule_time``, ``passes_counted_on``,
+    ``schedule_lower_bound``, ``schedule_ratio``) follow the sheet's facts, in the order this
+    has always written them.
     """
-    if summary.get("passes_counted_on") == "kc":
-        # already the .kc's (KnitResult.summary): the sheet's facts go in before the schedule's
-        # figures, in the order this has always written them
-        late = [k for k in _SCHEDULE_KEYS if k in summary]
-        head = {k: v for k, v in summary.items() if k not in late}
-        return {**head, **sheet.summary, **{k: summary[k] for k in late}}
-    out = {**summary, **sheet.summary}
-    if "kc" in sheet.files:
-        out["schedule_passes"] = summary["passes"]
-        out["schedule_time"] = summary["time"]
-        out["passes"] = out["machine_passes"]
-        out["time_seconds"] = out["machine_time_seconds"]
-        out["time"] = out["machine_time"]
-        out["time_range"] = out["machine_time_range"]
-        out["time_range_seconds"] = out["machine_time_range_seconds"]
-        out["bind_off_time_seconds"] = out["machine_bind_off_time_seconds"]
-        out["bind_off_time"] = format_duration(out["machine_bind_off_time_seconds"])
-        out["passes_counted_on"] = "kc"
-        # the lower bound and ratio are the schedule's (the .kc adds the waste section)
-        out["schedule_lower_bound"] = out.pop("lower_bound")
-        out["schedule_ratio"] = out.pop("ratio")
-    return out
+    late = [k for k in _SCHEDULE_KEYS if k in summary]
+    head = {k: v for k, v in summary.items() if k not in late}
+    return {**head, **sheet.summary, **{k: summary[k] for k in late}}
