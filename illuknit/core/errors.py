@@ -52,6 +52,7 @@ __all__ = [
     "MixedColorworkError",
     "ModelError",
     "OptionError",
+    "OutputOverInputError",
     "OutputPathError",
     "PatternFormatError",
     "PatternValidationError",
@@ -292,6 +293,11 @@ class ResultsVersionError(IlluknitError, ValueError):
 class OutputPathError(IlluknitError, OSError):
     """An output folder or file cannot be written: a file in the way, a read-only file system, no
     permission. The message names the path and the reason."""
+
+
+class OutputOverInputError(OutputPathError):
+    """An output would be written over one of the run's own input files (the same path, a link
+    to it, or the same file by device and inode, a hard link); nothing was written."""
 
 
 class ExecutorError(IlluknitError, RuntimeError):

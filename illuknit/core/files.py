@@ -83,12 +83,13 @@ import stat
 import sys
 import tempfile
 import warnings
-from collections.abc import Iterator
+from collections.abc import Iterable, Iterator
 from contextlib import contextmanager
 from contextvars import ContextVar
+from dataclasses import dataclass
 from pathlib import Path
 
-from illuknit.core.errors import OutputPathError
+from illuknit.core.errors import OutputOverInputError, OutputPathError
 
 __all__ = [
     "KILL_AT_COMMIT_STEP_ENV",
@@ -97,8 +98,11 @@ __all__ = [
     "atomic_write_bytes",
     "atomic_write_text",
     "check_output_dir",
+    "check_outputs_apart",
+    "protecting_inputs",
     "recording_writes",
     "recover_output_dir",
+    "remove_stale_temp_files",
     "resolve_output_dir",
     "staged_dir",
     "write_output_file",
@@ -111,6 +115,11 @@ _LEFTOVER = re.compile(
 #: The test-only fault-injection hook (see the module docstring).
 KILL_AT_COMMIT_STEP_ENV = "ILLUKNIT_TEST_KILL_AT_COMMIT_STEP"
 _MAX_LINKS = 40  # as the kernel's MAXSYMLINKS
+#: A single file's temporary name: ``.<name>.illuknit-<pid>-<random>.tmp`` (the name cut short).
+_TEMP = re.compile(r"^\..*\.illuknit-(?P<pid>[0-9]+)-[A-Za-z0-9_]+\.tmp$", re.DOTALL)
+_TEMP_NAME_KEEP = 100  # characters of the target's name kept in its temporary name
+#: A temporary file of a live process is removed only when it is older than this (seconds).
+_TEMP_ABANDONED_AFTER = 24 * 3600
 _DISK_FULL = {errno.ENOSPC, errno.EDQUOT, errno.EFBIG}
 _JOURNAL_VERSION = 1
 
@@ -160,6 +169,119 @@ def _record(path: Path) -> None:
     log = _written.get()
     if log is not None and not _in_staging(path):
         log.append(path)
+
+
+# -- no output over an input ---------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class _Input:
+    """An input file of this run: as the user named it, where it really is, and its identity."""
+
+    shown: str
+    named: Path  # absolute, its folder resolved, the last link (if any) not followed
+    real: Path  # every link followed
+    ident: tuple[int, int] | None  # (st_dev, st_ino); None when it cannot be stat-ed
+
+
+_inputs: ContextVar[tuple[_Input, ...]] = ContextVar("illuknit_inputs", default=())
+
+
+def _identity(path: str | os.PathLike[str]) -> tuple[int, int] | None:
+    try:
+        st = os.stat(path)
+    except (OSError, ValueError):
+        return None
+    return (st.st_dev, st.st_ino)
+
+
+def _as_input(path: str | os.PathLike[str]) -> _Input:
+    shown = os.fspath(path)
+    absolute = Path(os.path.abspath(shown))
+    named = Path(os.path.realpath(absolute.parent)) / absolute.name
+    return _Input(shown, named, Path(os.path.realpath(absolute)), _identity(absolute))
+
+
+def _over_input(target: Path, *, whole: bool, inputs: tuple[_Input, ...]) -> str | None:
+    """Why writing ``target`` would destroy an input (None: it would not).
+
+    ``whole``: ``target`` is an entry a folder commit replaces as a whole (a folder with all it
+    holds, or a link itself rather than the file it points at).
+    """
+    real = Path(os.path.realpath(target))
+    ident = _identity(target)
+    for inp in inputs:
+        if target in (inp.named, inp.real) or real == inp.real:
+            return f"it is the input file {inp.shown}"
+        if ident is not None and ident == inp.ident:
+            return f"it is the input file {inp.shown} (the same file by a hard link)"
+        if whole and (inp.named.is_relative_to(target) or inp.real.is_relative_to(target)):
+            return f"it holds the input file {inp.shown}"
+    return None
+
+
+def _refuse_over_input(shown: object, target: Path, *, whole: bool = False) -> None:
+    why = _over_input(target, whole=whole, inputs=_inputs.get())
+    if why is not None:
+        other = "output folder" if whole else "output"
+        raise OutputOverInputError(
+            f"refusing to write {shown}: {why}; name another {other} (nothing was written)"
+        )
+
+
+def check_outputs_apart(
+    inputs: Iterable[str | os.PathLike[str]],
+    *,
+    files: Iterable[str | os.PathLike[str]] = (),
+    folders: Iterable[str | os.PathLike[str]] = (),
+) -> None:
+    """Refuse, before anything is written, an output that is one of the ``inputs``.
+
+    An output file is compared with every input file as writing it would land (links
+    followed), and by device and inode (a hard link); an output folder is refused when it is an
+    input file. ``-`` (standard input or output) is skipped. Raises
+    :class:`~illuknit.core.errors.OutputOverInputError` naming both. Which entries a folder
+    commit replaces is known only at its end: :func:`protecting_inputs` guards those.
+
+    >>> check_outputs_apart(["p.json"], files=["p.json"])
+    Traceback (most recent call last):
+    ...
+    illuknit.core.errors.OutputOverInputError: refusing to write p.json: it is the input file p.json; name another output (nothing was written)
+    """
+    ins = tuple(_as_input(p) for p in inputs if os.fspath(p) != STDOUT)
+    for f in files:
+        if os.fspath(f) != STDOUT:
+            why = _over_input(_write_target(Path(f)), whole=False, inputs=ins)
+            if why is not None:
+                raise OutputOverInputError(
+                    f"refusing to write {f}: {why}; name another output (nothing was written)"
+                )
+    for d in folders:
+        why = _over_input(resolve_output_dir(d), whole=True, inputs=ins)
+        if why is not None:
+            raise OutputOverInputError(
+                f"refusing to write into output folder {d}: {why}; name another folder "
+                "(nothing was written)"
+            )
+
+
+@contextmanager
+def protecting_inputs(inputs: Iterable[str | os.PathLike[str]]) -> Iterator[None]:
+    """Within the block, refuse every write that would replace one of ``inputs``.
+
+    :func:`atomic_write_bytes` refuses a file that is an input (links followed, or the same
+    device and inode), and a folder commit (:func:`staged_dir`) refuses, before it moves
+    anything, to replace an entry that is an input or holds one: an input of another name in
+    the output folder is kept, as every file of another name is. Raises
+    :class:`~illuknit.core.errors.OutputOverInputError`.
+    """
+    token = _inputs.set(
+        _inputs.get() + tuple(_as_input(p) for p in inputs if os.fspath(p) != STDOUT)
+    )
+    try:
+        yield
+    finally:
+        _inputs.reset(token)
 
 
 # -- single files --------------------------------------------------------------------------------
@@ -219,27 +341,43 @@ def atomic_write_bytes(path: str | os.PathLike[str], data: bytes) -> Path:
     A symbolic link is written through to its target. Raises
     :class:`~illuknit.core.errors.OutputPathError` (and touches nothing) when ``path`` is a folder, a
     device, a FIFO or a socket, or a link loop; and when writing fails (a full disk), after
-    removing the temporary file: the old file is kept as it was. Returns ``path``.
+    removing the temporary file: the old file is kept as it was. Within
+    :func:`protecting_inputs`, a ``path`` that is one of the inputs is refused
+    (:class:`~illuknit.core.errors.OutputOverInputError`). The temporary file,
+    ``.<name>.illuknit-<pid>-<random>.tmp`` beside the target, is removed on every error, and
+    one that a killed run left behind is removed by the next write into that folder
+    (:func:`remove_stale_temp_files`). Returns ``path``.
     """
     path = Path(path)
     target = _write_target(path)
+    _refuse_over_input(path, target)
     existing = _existing_regular(path, target)
+    staging = _in_staging(target)
     try:
         target.parent.mkdir(parents=True, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
+        if not staging:  # a staging folder is removed as a whole
+            _note_stale_temps(target.parent)
+        fd, tmp = tempfile.mkstemp(
+            prefix=f".{target.name[:_TEMP_NAME_KEEP]}.illuknit-{os.getpid()}-",
+            suffix=".tmp",
+            dir=target.parent,
+        )
     except OSError as exc:
         blocker = _file_in_the_way(target.parent)
         reason = f"{blocker} is a file, not a folder" if blocker else _reason(exc)
         raise OutputPathError(f"cannot write {path}: {reason}") from exc
     try:
+        # The lock tells a later run that this temporary file is alive; it is released when the
+        # file is closed, after the rename.
         with os.fdopen(fd, "wb") as f:
+            _lock_file(fd)
             f.write(data)
             f.flush()
-            if not _in_staging(target):  # a folder commit syncs its staging folder once
+            if not staging:  # a folder commit syncs its staging folder once
                 os.fsync(f.fileno())
-        os.chmod(tmp, stat.S_IMODE(existing.st_mode) if existing else 0o666 & ~_umask())
-        _existing_regular(path, target)  # again, just before the rename
-        os.replace(tmp, target)
+            os.chmod(tmp, stat.S_IMODE(existing.st_mode) if existing else 0o666 & ~_umask())
+            _existing_regular(path, target)  # again, just before the rename
+            os.replace(tmp, target)
     except OutputPathError:
         Path(tmp).unlink(missing_ok=True)
         raise
@@ -252,6 +390,90 @@ def atomic_write_bytes(path: str | os.PathLike[str], data: bytes) -> Path:
         raise
     _record(path)
     return path
+
+
+def _lock_file(fd: int) -> None:
+    if sys.platform != "win32":  # pragma: no branch - no flock on Windows
+        import fcntl
+
+        fcntl.flock(fd, fcntl.LOCK_EX)
+
+
+def _pid_alive(pid: int) -> bool:
+    if pid <= 0:  # 0 and negative numbers would mean process groups to kill()
+        return False
+    if pid == os.getpid():
+        return True
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True  # another user's process
+    except (OSError, OverflowError):
+        return False
+    return True
+
+
+def _remove_if_abandoned(path: Path, pid: int) -> bool:
+    """Remove the temporary file ``path`` when no process writes it any more; whether it did."""
+    try:
+        st = os.lstat(path)
+    except OSError:
+        return False
+    if not stat.S_ISREG(st.st_mode):
+        return False
+    import time
+
+    if _pid_alive(pid) and time.time() - st.st_mtime < _TEMP_ABANDONED_AFTER:
+        return False  # its writer may still be at work (and may not hold the lock yet)
+    try:
+        fd = os.open(path, os.O_RDONLY | os.O_NOFOLLOW | os.O_NONBLOCK)
+    except OSError:
+        return False
+    try:
+        import fcntl
+
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)  # a live writer holds it
+        os.unlink(path)
+    except OSError:
+        return False
+    finally:
+        os.close(fd)
+    return True
+
+
+def remove_stale_temp_files(folder: str | os.PathLike[str]) -> list[Path]:
+    """Remove the temporary files that killed single-file writes left in ``folder``.
+
+    Only illuknit's own (``.<name>.illuknit-<pid>-<random>.tmp``, a regular file) are touched,
+    and only when abandoned: no process holds the lock its writer takes, and that writer (the
+    pid in the name) is gone, or the file is more than a day old. Every
+    :func:`atomic_write_bytes` does this first in its target's folder. Returns what was removed.
+    """
+    if sys.platform == "win32":  # pragma: no cover - no flock: a live writer cannot be told
+        return []
+    try:
+        entries = list(os.scandir(folder))
+    except OSError:
+        return []
+    removed = []
+    for entry in entries:
+        m = _TEMP.match(entry.name)
+        if m and _remove_if_abandoned(Path(entry.path), int(m["pid"])):
+            removed.append(Path(entry.path))
+    return removed
+
+
+def _note_stale_temps(folder: Path) -> None:
+    removed = remove_stale_temp_files(folder)
+    if removed:
+        what = removed[0].name if len(removed) == 1 else f"{len(removed)} temporary files"
+        warnings.warn(
+            f"removed {what} left in {folder} by an interrupted earlier write",
+            OutputRecoveryWarning,
+            stacklevel=3,
+        )
 
 
 def atomic_write_text(path: str | os.PathLike[str], text: str) -> Path:
@@ -509,6 +731,8 @@ def _commit(staging: Path, final: Path) -> None:
     backup = final / f"{_STAGING_PREFIX}{ident}.replaced"
     journal = final / f"{_STAGING_PREFIX}{ident}.journal"
     names = sorted(os.listdir(staging))
+    for name in names:  # before anything moves: never replace an input of this run
+        _refuse_over_input(final / name, final / name, whole=True)
     _fsync_tree(staging)
     _step()
     _write_journal(
