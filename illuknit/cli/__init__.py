@@ -14,13 +14,16 @@ error line names what was written; 130 interrupted.
 from __future__ import annotations
 
 import errno
+import functools
 import importlib
 import io
 import os
+import signal
 import sys
 import warnings
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager, suppress
+from typing import Any
 
 import click
 
@@ -80,6 +83,7 @@ class LazyGroup(click.Group):
         cmd = getattr(importlib.import_module(module), attr)
         if not isinstance(cmd, click.Command):  # pragma: no cover - programming error
             raise TypeError(f"{target} is not a click command")
+        _guard_files(cmd)
         return cmd
 
     def format_commands(self, ctx: click.Context, formatter: click.HelpFormatter) -> None:
@@ -87,6 +91,34 @@ class LazyGroup(click.Group):
         rows = [(name, _HELP.get(name, "")) for name in COMMANDS]
         with formatter.section("Commands"):
             formatter.write_dl(rows)
+
+
+def _guard_files(cmd: click.Command) -> None:
+    """Make ``cmd`` (and a group's subcommands) compare its output paths with its input files
+    before it runs, and refuse any write over an input while it runs
+    (:func:`illuknit.core.files.check_outputs_apart`, :func:`~illuknit.core.files.protecting_inputs`)."""
+    if getattr(cmd, "_illuknit_files_guarded", False):
+        return
+    if isinstance(cmd, click.Group):
+        for sub in cmd.commands.values():
+            _guard_files(sub)
+    elif cmd.callback is not None:
+        cmd.callback = _outputs_apart(cmd.callback)
+    cmd._illuknit_files_guarded = True  # type: ignore[attr-defined]
+
+
+def _outputs_apart(callback: Callable[..., Any]) -> Callable[..., Any]:
+    @functools.wraps(callback)
+    def run(*args: Any, **kwargs: Any) -> Any:
+        from illuknit.cli.options import file_params
+        from illuknit.core.files import check_outputs_apart, protecting_inputs
+
+        inputs, files, folders = file_params(click.get_current_context())
+        check_outputs_apart(inputs, files=files, folders=folders)
+        with protecting_inputs(inputs):
+            return callback(*args, **kwargs)
+
+    return run
 
 
 @click.group(cls=LazyGroup, context_settings={"help_option_names": ["-h", "--help"]})
@@ -130,11 +162,47 @@ def main(argv: list[str] | None = None) -> int:
             sys.exit(2)
 
 
+class _Terminated(BaseException):
+    """SIGTERM or SIGHUP arrived: unwinds like Ctrl-C, so every temporary file is removed."""
+
+    def __init__(self, signum: int) -> None:
+        super().__init__(signum)
+        self.signum = signum
+
+
+def _terminate(signum: int, frame: object) -> None:
+    raise _Terminated(signum)
+
+
+@contextmanager
+def _termination_unwinds() -> Iterator[None]:
+    """Turn SIGTERM and SIGHUP into an exception while a command runs (where their action is
+    the default one: an ignored SIGHUP, under ``nohup``, stays ignored)."""
+    import threading
+
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    old = {}
+    for name in ("SIGTERM", "SIGHUP"):
+        signum = getattr(signal, name, None)
+        if signum is not None and signal.getsignal(signum) == signal.SIG_DFL:
+            old[signum] = signal.signal(signum, _terminate)
+    try:
+        yield
+    finally:
+        for signum, handler in old.items():
+            signal.signal(signum, handler)
+
+
 def _run(argv: list[str] | None) -> int:
     try:
-        with warnings.catch_warnings():
+        with warnings.catch_warnings(), _termination_unwinds():
             warnings.showwarning = _show_note
             rv = cli.main(args=argv, prog_name="illuknit", standalone_mode=False)
+    except _Terminated as e:
+        _echo_err(f"illuknit: stopped by {signal.Signals(e.signum).name}")
+        sys.exit(128 + e.signum)
     except click.exceptions.Exit as e:
         code = int(e.exit_code or 0)
         if code:

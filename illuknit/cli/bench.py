@@ -8,7 +8,7 @@ from typing import Any
 import click
 
 from illuknit.cli.knitout_bridge import machine_option
-from illuknit.cli.options import COUNT, NON_NEGATIVE, POSITIVE
+from illuknit.cli.options import COUNT, NON_NEGATIVE, POSITIVE, InputFile, OutputFolder
 from illuknit.core.errors import UnknownNameError
 
 __all__ = ["bench"]
@@ -122,7 +122,7 @@ def _run_solvers(instances: Any, solvers: list[str], outdir: str, **kw: Any) -> 
 )
 @click.option(
     "--manifest",
-    type=click.Path(dir_okay=False),
+    type=InputFile("manifest", path_type=str),
     default=None,
     help="Instance manifest (default: instances/manifest.toml).",
 )
@@ -162,7 +162,7 @@ def _run_solvers(instances: Any, solvers: list[str], outdir: str, **kw: Any) -> 
     "--wcnf",
     "wcnf_files",
     multiple=True,
-    type=click.Path(dir_okay=False, exists=True),
+    type=InputFile("WCNF", path_type=str),
     help="Solver benchmark on this WCNF file (repeatable; instead of the bundled instances).",
 )
 @click.option(
@@ -189,14 +189,14 @@ def _run_solvers(instances: Any, solvers: list[str], outdir: str, **kw: Any) -> 
 )
 @click.option(
     "--export-wcnf",
-    type=click.Path(file_okay=False),
+    type=OutputFolder(path_type=str),
     default=None,
     help="Write the chosen instances' models as WCNF (2022+) with manifest.json into DIR, then "
     "exit.",
 )
 @click.option(
     "--export-family",
-    type=click.Path(file_okay=False),
+    type=OutputFolder(path_type=str),
     default=None,
     help="Write a MaxSAT Evaluation benchmark family (xz WCNF over sizes 20-100, 2-4 yarns, "
     "logical and knit-aware, README, manifest.json, SHA256SUMS) into DIR, then exit; "
@@ -209,7 +209,7 @@ def _run_solvers(instances: Any, solvers: list[str], outdir: str, **kw: Any) -> 
     "-o",
     "--output",
     "outdir",
-    type=click.Path(file_okay=False),
+    type=OutputFolder(path_type=str),
     default=None,
     help="Results folder.",
 )

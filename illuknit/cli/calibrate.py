@@ -15,7 +15,14 @@ from illuknit.cli.knitout_bridge import (
     resolve_machine,
     write_program,
 )
-from illuknit.cli.options import POSITIVE, FiniteFloat, knitout_option, outdir_option
+from illuknit.cli.options import (
+    POSITIVE,
+    FiniteFloat,
+    InputFile,
+    OutputFile,
+    knitout_option,
+    outdir_option,
+)
 
 __all__ = ["calibrate"]
 
@@ -81,7 +88,7 @@ def calibrate() -> None:
 @click.option(
     "--params",
     "params_file",
-    type=click.Path(dir_okay=False, path_type=Path),
+    type=InputFile("render parameters"),
     default=None,
     help="Current renderer parameters (for the preview and predicted angles).",
 )
@@ -166,11 +173,11 @@ def swatch(
 
 
 @calibrate.command("fit")
-@click.argument("measurements", type=click.Path(dir_okay=False, path_type=Path))
+@click.argument("measurements", type=InputFile("measurements"))
 @click.option(
     "--params",
     "params_file",
-    type=click.Path(dir_okay=False, path_type=Path),
+    type=InputFile("render parameters"),
     default=None,
     help="Base parameters (flat height, unit length, theta, shading) to keep.",
 )
@@ -191,7 +198,7 @@ def swatch(
 @click.option(
     "-o",
     "--output",
-    type=click.Path(dir_okay=False, allow_dash=True, path_type=Path),
+    type=OutputFile(allow_dash=True),
     required=True,
     help="Parameters JSON to write (- for standard output; the report then goes to standard "
     "error).",
@@ -253,7 +260,7 @@ def fit(
 
 
 @calibrate.command("time")
-@click.argument("program", type=click.Path(dir_okay=False, path_type=Path))
+@click.argument("program", type=InputFile("program"))
 @click.option(
     "--minutes",
     type=POSITIVE,
@@ -264,7 +271,7 @@ def fit(
 @click.option(
     "-o",
     "--output",
-    type=click.Path(dir_okay=False, path_type=Path),
+    type=OutputFile(),
     required=True,
     help="Machine file to write (JSON); name it with --machine for later estimates.",
 )

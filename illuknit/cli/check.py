@@ -12,7 +12,7 @@ from pathlib import Path
 import click
 
 from illuknit.cli.knitout_bridge import machine_option
-from illuknit.cli.options import POSITIVE
+from illuknit.cli.options import POSITIVE, InputFile
 from illuknit.core.errors import KnitoutParseError
 
 __all__ = ["check"]
@@ -20,10 +20,10 @@ __all__ = ["check"]
 
 def read_knitout_file(path: Path) -> str:
     """Read a knitout file as UTF-8 text; binary or unreadable files raise KnitoutParseError."""
-    try:
-        data = path.read_bytes()
-    except OSError as e:
-        raise KnitoutParseError(f"{path}: cannot read: {e.strerror or e}") from None
+    from illuknit.core.documents import read_input_bytes
+
+    # a regular file within INPUT_LIMITS["program"]: a pipe or a device is refused unread
+    data = read_input_bytes(path, error=KnitoutParseError, what="program")
     if b"\x00" in data:
         raise KnitoutParseError(
             f"{path}: binary file (contains NUL bytes), not knitout text; "
@@ -45,9 +45,7 @@ def read_knitout_file(path: Path) -> str:
         "or carriers left at the end), with line numbers. Exit code 1 when anything blocks."
     ),
 )
-@click.argument(
-    "program", type=click.Path(exists=True, dir_okay=False, path_type=Path), metavar="PROGRAM.k"
-)
+@click.argument("program", type=InputFile("program"), metavar="PROGRAM.k")
 @click.option("--json", "as_json", is_flag=True, help="Print the report as JSON.")
 @click.option(
     "--simulate",

@@ -19,7 +19,7 @@ import click
 
 from illuknit.cli.design_files import fmt_number, summary_text, write_candidate, write_edits
 from illuknit.cli.knitout_bridge import format_option, long_floats_option, machine_option
-from illuknit.cli.options import FiniteFloat, knitout_option, outdir_option
+from illuknit.cli.options import FiniteFloat, InputFile, knitout_option, outdir_option
 from illuknit.core.gauge import finished_size
 from illuknit.core.progress import Report, work_bar
 from illuknit.design.tiles.perception import DEFAULT_POOL, POOL_SECONDS, RANK_KEYS
@@ -399,7 +399,7 @@ def design_options(func: Any) -> Any:
         click.option("--pool", type=click.IntRange(1, 200), default=None,
                      help=f"How many tile designs to search and rank before writing the best --candidates "
                      f"[default: {DEFAULT_POOL}; designs past --candidates only within {POOL_SECONDS:g} s]."),
-        click.option("--bank", "bank_file", type=click.Path(dir_okay=False, path_type=Path), default=None,
+        click.option("--bank", "bank_file", type=InputFile("tile bank"), default=None,
                      help="Custom tile bank (JSON; see docs/tiles.md)."),
         click.option("--pick", type=click.IntRange(1, 50), default=1, show_default=True,
                      help="Which candidate is the default (copied to OUTDIR/pattern.json)."),
@@ -443,8 +443,8 @@ def design_options(func: Any) -> Any:
 
 
 @click.command("double")
-@click.argument("image_a", type=click.Path(dir_okay=False, path_type=Path))
-@click.argument("image_b", type=click.Path(dir_okay=False, path_type=Path))
+@click.argument("image_a", type=InputFile("picture"))
+@click.argument("image_b", type=InputFile("picture"))
 @design_options
 def double(image_a: Path, image_b: Path, outdir: Path, **kw: Any) -> None:
     """Design a double-view illusion: IMAGE_A seen from above, IMAGE_B from below.

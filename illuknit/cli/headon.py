@@ -8,14 +8,15 @@ from typing import Any
 import click
 
 from illuknit.cli.double import design_options, print_summary, run_design
+from illuknit.cli.options import InputFile
 from illuknit.core.progress import work_bar
 
 __all__ = ["headon"]
 
 
 @click.command("headon")
-@click.argument("front", type=click.Path(dir_okay=False, path_type=Path))
-@click.argument("side", type=click.Path(dir_okay=False, path_type=Path), required=False)
+@click.argument("front", type=InputFile("picture"))
+@click.argument("side", type=InputFile("picture"), required=False)
 @design_options
 def headon(front: Path, side: Path | None, outdir: Path, **kw: Any) -> None:
     """Design a head-on illusion: FRONT is seen looking straight at the fabric; at an angle it

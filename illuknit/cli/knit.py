@@ -11,7 +11,7 @@ from typing import TYPE_CHECKING, Any
 import click
 
 from illuknit.cli.knitout_bridge import long_floats_option, machine_option
-from illuknit.cli.options import COUNT, NON_NEGATIVE, POSITIVE
+from illuknit.cli.options import COUNT, NON_NEGATIVE, POSITIVE, InputFile, OutputFile
 
 if TYPE_CHECKING:
     from illuknit.core.machine import MachineSpec
@@ -99,12 +99,12 @@ def run_knit(
 
 
 @click.command(context_settings={"help_option_names": ["-h", "--help"]})
-@click.argument("pattern", type=click.Path(dir_okay=False, path_type=Path))
+@click.argument("pattern", type=InputFile("pattern"))
 @click.option(
     "-o",
     "--output",
     required=True,
-    type=click.Path(dir_okay=False, allow_dash=True, path_type=Path),
+    type=OutputFile(allow_dash=True),
     help="File to write: knitout (e.g. prog.k) or, with --format dat, a Shima .dat; - for "
     "standard output (the summary then goes to standard error).",
 )

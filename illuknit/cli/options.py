@@ -7,7 +7,10 @@ parsed: one line on stderr and exit code 2, before any work starts.
 
 from __future__ import annotations
 
+import errno
 import math
+import os
+import stat
 from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -25,6 +28,10 @@ __all__ = [
     "POSITIVE",
     "UNITS",
     "FiniteFloat",
+    "InputFile",
+    "OutputFile",
+    "OutputFolder",
+    "file_params",
     "image_options",
     "knitout_option",
     "outdir_option",
@@ -64,6 +71,86 @@ UNITS = click.IntRange(1, 1000)
 OUTDIR_HELP = (
     "Folder to write into (created if needed; files of the same name are replaced, others kept)."
 )
+
+
+class InputFile(click.Path):
+    """A file the command reads: it must exist and be a regular file (``-`` only when
+    ``allow_dash``). A folder, a named pipe, a device or a socket is refused while the options
+    are parsed, without opening it; the library reads it within a size limit
+    (:func:`illuknit.core.documents.open_input_file`). Every command compares its inputs with its
+    outputs before it writes (:func:`file_params`).
+    """
+
+    def __init__(
+        self, what: str = "input", *, allow_dash: bool = False, path_type: type = Path
+    ) -> None:
+        super().__init__(dir_okay=False, allow_dash=allow_dash, path_type=path_type)
+        self.what = what
+
+    def convert(self, value: Any, param: click.Parameter | None, ctx: click.Context | None) -> Any:
+        from illuknit.core.documents import file_kind, shown_path
+
+        if isinstance(value, Path) or (self.allow_dash and value == "-"):
+            return super().convert(value, param, ctx)
+        shown = shown_path(value)
+        try:
+            st = os.stat(value)
+        except FileNotFoundError:
+            self.fail(f"{self.what} file not found: {shown}", param, ctx)
+        except (OSError, ValueError) as e:
+            too_long = isinstance(e, OSError) and e.errno == errno.ENAMETOOLONG
+            why = "the file name is too long for this system" if too_long else _reason(e)
+            self.fail(f"cannot read {self.what} file {shown}: {why}", param, ctx)
+        if not stat.S_ISREG(st.st_mode):
+            self.fail(
+                f"cannot read {self.what} file {shown}: it is {file_kind(st.st_mode)}, "
+                "not a regular file",
+                param,
+                ctx,
+            )
+        return super().convert(value, param, ctx)
+
+
+def _reason(e: Exception) -> str:
+    return (e.strerror if isinstance(e, OSError) else None) or str(e)
+
+
+class OutputFile(click.Path):
+    """A file the command writes (``-``: standard output, when ``allow_dash``)."""
+
+    def __init__(self, *, allow_dash: bool = False, path_type: type = Path) -> None:
+        super().__init__(dir_okay=False, allow_dash=allow_dash, path_type=path_type)
+
+
+class OutputFolder(click.Path):
+    """A folder the command writes into."""
+
+    def __init__(self, *, path_type: type = Path) -> None:
+        super().__init__(file_okay=False, path_type=path_type)
+
+
+def file_params(ctx: click.Context) -> tuple[list[Path], list[Path], list[Path]]:
+    """The (input files, output files, output folders) named on a parsed command line.
+
+    Inputs are the :class:`InputFile` parameters and a ``--machine FILE.json``; outputs the
+    :class:`OutputFile` and :class:`OutputFolder` ones.
+    """
+    inputs: list[Path] = []
+    files: list[Path] = []
+    folders: list[Path] = []
+    for param in ctx.command.params:
+        value = ctx.params.get(param.name or "")
+        values = value if isinstance(value, (tuple, list)) else (value,)
+        paths = [Path(v) for v in values if isinstance(v, (str, Path)) and str(v) != "-"]
+        if isinstance(param.type, InputFile):
+            inputs += paths
+        elif isinstance(param.type, OutputFile):
+            files += paths
+        elif isinstance(param.type, OutputFolder):
+            folders += paths
+        elif param.name == "machine":  # a preset name, or a machine file
+            inputs += [p for p in paths if p.suffix.lower() == ".json"]
+    return inputs, files, folders
 
 
 def image_options(func: Callable[..., Any]) -> Callable[..., Any]:
@@ -137,7 +224,7 @@ def outdir_option(
     return click.option(
         "-o",
         "--outdir",
-        type=click.Path(file_okay=False, path_type=Path),
+        type=OutputFolder(),
         required=required and default is None,
         default=default,
         show_default=default is not None,

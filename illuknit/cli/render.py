@@ -7,7 +7,7 @@ from typing import Any
 
 import click
 
-from illuknit.cli.options import FINITE, outdir_option
+from illuknit.cli.options import FINITE, InputFile, outdir_option
 
 __all__ = ["MAX_FRAME_PIXELS", "MAX_SWEEP_PIXELS", "check_render_size", "render"]
 
@@ -46,7 +46,7 @@ def check_render_size(shape: tuple[int, int], *, scale: int, frames: int) -> Non
 
 
 @click.command("render")
-@click.argument("pattern_file", metavar="PATTERN", type=click.Path(dir_okay=False, path_type=Path))
+@click.argument("pattern_file", metavar="PATTERN", type=InputFile("pattern"))
 @click.option(
     "--angle",
     type=FINITE,  # the range (0, 90] is checked with the other render parameters
@@ -56,7 +56,7 @@ def check_render_size(shape: tuple[int, int], *, scale: int, frames: int) -> Non
 @click.option(
     "--params",
     "params_file",
-    type=click.Path(dir_okay=False, path_type=Path),
+    type=InputFile("render parameters"),
     default=None,
     help="Renderer parameters JSON (heights, unit length, theta, shading); see docs/render.md.",
 )

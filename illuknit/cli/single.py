@@ -8,7 +8,13 @@ from typing import TYPE_CHECKING
 import click
 
 from illuknit.cli.knitout_bridge import format_option, long_floats_option, machine_option
-from illuknit.cli.options import image_options, knitout_option, outdir_option, parse_yarn_option
+from illuknit.cli.options import (
+    InputFile,
+    image_options,
+    knitout_option,
+    outdir_option,
+    parse_yarn_option,
+)
 from illuknit.cli.summary import print_written, summarise_pattern
 from illuknit.core.progress import Report, work_bar
 
@@ -103,7 +109,7 @@ def run_single(
 
 
 @click.command("single")
-@click.argument("image", type=click.Path(dir_okay=False, path_type=Path))
+@click.argument("image", type=InputFile("picture"))
 @image_options
 @click.option(
     "--first",

@@ -18,7 +18,7 @@ from typing import Any
 import click
 
 from illuknit.cli.knitout_bridge import format_option, long_floats_option, machine_option
-from illuknit.cli.options import POSITIVE
+from illuknit.cli.options import POSITIVE, InputFile, OutputFile, OutputFolder
 from illuknit.pictures.sizing import DEFAULT_MAX_WIDTH
 
 __all__ = ["run_solve", "solve"]
@@ -371,8 +371,8 @@ def _list_solvers(ctx: click.Context, _param: click.Parameter, value: bool) -> N
 
 
 @click.command("solve")
-@click.argument("image_a", type=click.Path(dir_okay=False, path_type=Path), required=False)
-@click.argument("image_b", type=click.Path(dir_okay=False, path_type=Path), required=False)
+@click.argument("image_a", type=InputFile("picture"), required=False)
+@click.argument("image_b", type=InputFile("picture"), required=False)
 @click.option(
     "--solver",
     default="auto",
@@ -467,7 +467,7 @@ def _list_solvers(ctx: click.Context, _param: click.Parameter, value: bool) -> N
 @click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True)
 @click.option(
     "--export-wcnf",
-    type=click.Path(dir_okay=False, allow_dash=True, path_type=Path),
+    type=OutputFile(allow_dash=True),
     default=None,
     help="Also (or, without -o, only) write the model as WCNF for an external MaxSAT solver "
     "(- for standard output, without -o).",
@@ -488,7 +488,7 @@ def _list_solvers(ctx: click.Context, _param: click.Parameter, value: bool) -> N
 @click.option(
     "-o",
     "--outdir",
-    type=click.Path(file_okay=False, path_type=Path),
+    type=OutputFolder(),
     default=None,
     help="Folder to write into.",
 )

@@ -9,7 +9,7 @@ import click
 import numpy as np
 from numpy.typing import NDArray
 
-from illuknit.cli.options import outdir_option
+from illuknit.cli.options import InputFile, outdir_option
 from illuknit.design.tiles.bank import TileBank
 from illuknit.design.tiles.tile import Tile
 
@@ -60,7 +60,7 @@ def tile_picture(
 @click.option(
     "--bank",
     "bank_file",
-    type=click.Path(dir_okay=False, path_type=Path),
+    type=InputFile("tile bank"),
     default=None,
     help="A custom tile bank (JSON, see docs/tiles.md) instead of the canonical one.",
 )

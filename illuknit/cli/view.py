@@ -6,14 +6,14 @@ from pathlib import Path
 
 import click
 
-from illuknit.cli.options import outdir_option
+from illuknit.cli.options import InputFile, outdir_option
 from illuknit.cli.summary import print_written, summarise_pattern
 
 __all__ = ["view"]
 
 
 @click.command("view")
-@click.argument("pattern_file", metavar="PATTERN", type=click.Path(dir_okay=False, path_type=Path))
+@click.argument("pattern_file", metavar="PATTERN", type=InputFile("pattern"))
 @outdir_option()
 def view(pattern_file: Path, outdir: Path) -> None:
     """Write previews (head-on, view A, view B, contact sheet), the hand-knitting chart and written

@@ -257,7 +257,8 @@ def check_outputs_apart(
                     f"refusing to write {f}: {why}; name another output (nothing was written)"
                 )
     for d in folders:
-        why = _over_input(resolve_output_dir(d), whole=True, inputs=ins)
+        # only same-named entries of a folder are replaced: those are checked at the commit
+        why = _over_input(resolve_output_dir(d), whole=False, inputs=ins)
         if why is not None:
             raise OutputOverInputError(
                 f"refusing to write into output folder {d}: {why}; name another folder "
@@ -732,7 +733,7 @@ def _commit(staging: Path, final: Path) -> None:
     journal = final / f"{_STAGING_PREFIX}{ident}.journal"
     names = sorted(os.listdir(staging))
     for name in names:  # before anything moves: never replace an input of this run
-        _refuse_over_input(final / name, final / name, whole=True)
+        _refuse_over_input(f"{name} in output folder {final}", final / name, whole=True)
     _fsync_tree(staging)
     _step()
     _write_journal(

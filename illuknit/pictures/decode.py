@@ -26,7 +26,6 @@ import math
 import os
 import warnings
 from dataclasses import dataclass
-from pathlib import Path
 from typing import IO, Any
 
 import numpy as np
@@ -100,9 +99,17 @@ def read_picture(
     ImageInputError
         Missing or unreadable file, not a picture, above :data:`MAX_PIXELS`, or smaller than 2 x 2.
     """
+    label, fp = _open_source(source, name)
+    try:
+        return _read(fp, label, max_side=max_side)
+    finally:
+        if fp is not source and hasattr(fp, "close"):
+            fp.close()
+
+
+def _read(fp: Any, label: str, *, max_side: int | None) -> Picture:
     from PIL import Image, UnidentifiedImageError
 
-    label, fp = _open_source(source, name)
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", Image.DecompressionBombWarning)
@@ -135,12 +142,11 @@ def _open_source(source: Any, name: str | None) -> tuple[str, Any]:
         return name or "picture", io.BytesIO(bytes(source))
     if hasattr(source, "read"):
         return name or str(getattr(source, "name", "picture")), source
-    p = Path(source)
-    if not p.exists():
-        raise ImageInputError(f"image file not found: {p}")
-    if p.is_dir():
-        raise ImageInputError(f"expected an image file, got a folder: {p}")
-    return name or str(p), p
+    from illuknit.core.documents import open_input_file, shown_path
+
+    # a regular file of at most INPUT_LIMITS["picture"] bytes: a pipe or /dev/zero is refused
+    fp = open_input_file(source, error=ImageInputError, what="picture")
+    return name or shown_path(source), fp
 
 
 def _decode(im: Any, *, max_side: int | None) -> tuple[NDArray[np.uint8], list[str]]:
