@@ -9,7 +9,7 @@ from pathlib import Path
 
 import click
 
-from illuknit.cli.options import NON_NEGATIVE, POSITIVE, FiniteFloat
+from illuknit.cli.options import DAYS, FiniteFloat
 from illuknit.core.errors import BackendUnavailableError
 
 
@@ -37,21 +37,21 @@ from illuknit.core.errors import BackendUnavailableError
 )
 @click.option(
     "--keep-days",
-    type=POSITIVE,
+    type=DAYS,
     default=30.0,
     show_default=True,
     help="Delete a saved session unused for this many days.",
 )
 @click.option(
     "--keep-mb",
-    type=FiniteFloat(min=1),
+    type=FiniteFloat(min=1, max=1024 * 1024),
     default=2048.0,
     show_default=True,
     help="Saved sessions together take at most this much disk; the least recently used go first.",
 )
 @click.option(
     "--memory-mb",
-    type=NON_NEGATIVE,
+    type=FiniteFloat(min=0, max=1024 * 1024),
     default=512.0,
     show_default=True,
     help="Sessions together hold at most this much memory; the least recently used leave memory "

@@ -8,7 +8,16 @@ from typing import Any
 import click
 
 from illuknit.cli.knitout_bridge import machine_option
-from illuknit.cli.options import COUNT, NON_NEGATIVE, POSITIVE, InputFile, OutputFolder
+from illuknit.cli.options import (
+    COUNT,
+    JOBS,
+    MEGABYTES,
+    SECONDS,
+    SECONDS_OR_ZERO,
+    SEED,
+    InputFile,
+    OutputFolder,
+)
 from illuknit.core.errors import UnknownNameError
 
 __all__ = ["bench"]
@@ -103,10 +112,10 @@ def _run_solvers(instances: Any, solvers: list[str], outdir: str, **kw: Any) -> 
     "tiles-split, dp-split: with split bumps), 'default' or 'all'.",
 )
 @click.option(
-    "--time-limit", type=POSITIVE, default=None, help="Seconds per cell (overrides the manifest)."
+    "--time-limit", type=SECONDS, default=None, help="Seconds per cell (overrides the manifest)."
 )
 @click.option(
-    "--jobs", "-j", type=COUNT, default=1, show_default=True, help="Parallel worker processes."
+    "--jobs", "-j", type=JOBS, default=1, show_default=True, help="Parallel worker processes."
 )
 @click.option(
     "--executor",
@@ -153,7 +162,7 @@ def _run_solvers(instances: Any, solvers: list[str], outdir: str, **kw: Any) -> 
 )
 @click.option(
     "--memory-mb",
-    type=POSITIVE,
+    type=MEGABYTES,
     default=4096.0,
     show_default=True,
     help="Solver benchmark: resident memory limit of one run.",
@@ -175,14 +184,14 @@ def _run_solvers(instances: Any, solvers: list[str], outdir: str, **kw: Any) -> 
 )
 @click.option(
     "--seed",
-    type=click.IntRange(min=0),
+    type=SEED,
     default=0,
     show_default=True,
     help="Solver benchmark: the first seed.",
 )
 @click.option(
     "--certify-time",
-    type=NON_NEGATIVE,
+    type=SECONDS_OR_ZERO,
     default=None,
     help="Solver benchmark: seconds for each independent SAT check of a claimed optimum or "
     "UNSATISFIABLE that no reference settles (default: the time limit; 0: no checks).",

@@ -16,7 +16,8 @@ from illuknit.cli.knitout_bridge import (
     write_program,
 )
 from illuknit.cli.options import (
-    POSITIVE,
+    LENGTH,
+    MINUTES,
     FiniteFloat,
     InputFile,
     OutputFile,
@@ -181,8 +182,8 @@ def swatch(
     default=None,
     help="Base parameters (flat height, unit length, theta, shading) to keep.",
 )
-@click.option("--flat-height", type=POSITIVE, default=None, help="Override the base flat height.")
-@click.option("--unit-length", type=POSITIVE, default=None, help="Override the base unit length.")
+@click.option("--flat-height", type=LENGTH, default=None, help="Override the base flat height.")
+@click.option("--unit-length", type=LENGTH, default=None, help="Override the base unit length.")
 @click.option(
     "--tall-bumps",
     is_flag=True,
@@ -263,7 +264,7 @@ def fit(
 @click.argument("program", type=InputFile("program"))
 @click.option(
     "--minutes",
-    type=POSITIVE,
+    type=MINUTES,
     required=True,
     help="How long the machine took to knit PROGRAM, start to finish, in minutes.",
 )

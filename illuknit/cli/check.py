@@ -12,7 +12,7 @@ from pathlib import Path
 import click
 
 from illuknit.cli.knitout_bridge import machine_option
-from illuknit.cli.options import POSITIVE, InputFile
+from illuknit.cli.options import NEEDLES, FiniteFloat, InputFile
 from illuknit.core.errors import KnitoutParseError
 
 __all__ = ["check"]
@@ -58,13 +58,13 @@ def read_knitout_file(path: Path) -> str:
 )
 @click.option(
     "--float-limit",
-    type=click.IntRange(min=1),
+    type=NEEDLES,
     default=None,
     help="Longest float, in needles crossed, before a warning [the machine's, 20].",
 )
 @click.option(
     "--max-racking",
-    type=POSITIVE,
+    type=FiniteFloat(min=0, max=100, min_open=True),
     default=None,
     help="Largest allowed |racking| [the machine's, 4].",
 )

@@ -11,7 +11,7 @@ from typing import TYPE_CHECKING, Any
 import click
 
 from illuknit.cli.knitout_bridge import long_floats_option, machine_option
-from illuknit.cli.options import COUNT, NON_NEGATIVE, POSITIVE, InputFile, OutputFile
+from illuknit.cli.options import GAUGE, NEEDLES, PASS_SECONDS, InputFile, OutputFile
 
 if TYPE_CHECKING:
     from illuknit.core.machine import MachineSpec
@@ -111,7 +111,7 @@ def run_knit(
 @machine_option()
 @click.option(
     "--gauge",
-    type=POSITIVE,
+    type=GAUGE,
     default=None,
     help="Needles per inch [the machine's, 7].",
 )
@@ -130,21 +130,21 @@ def run_knit(
 )
 @click.option(
     "--seconds-per-needle",
-    type=NON_NEGATIVE,
+    type=PASS_SECONDS,
     default=None,
     help="A linear time model instead of the machine's carriage speeds: seconds per needle "
     "crossed (with --seconds-per-turn; the other one 0 when not given).",
 )
 @click.option(
     "--seconds-per-turn",
-    type=NON_NEGATIVE,
+    type=PASS_SECONDS,
     default=None,
     help="A linear time model instead of the machine's: fixed seconds per carriage pass "
     "(with --seconds-per-needle).",
 )
 @click.option(
     "--float-limit",
-    type=COUNT,
+    type=NEEDLES,
     default=None,
     help="Longest yarn float in needles for mixed colourwork [the machine's, 20].",
 )
@@ -199,7 +199,7 @@ def run_knit(
 )
 @click.option(
     "--catch-every",
-    type=COUNT,
+    type=NEEDLES,
     default=2,
     show_default=True,
     help="Join colour regions on every N-th course (1 = every course, as in the paper).",

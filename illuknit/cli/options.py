@@ -22,10 +22,24 @@ if TYPE_CHECKING:  # `illuknit check` imports these types without loading numpy
 
 __all__ = [
     "ANGLE",
+    "CENTIMETRES",
+    "COLOR_CHANGES",
     "COUNT",
+    "DAYS",
     "FINITE",
+    "GAUGE",
+    "JOBS",
+    "LARGEST",
+    "LENGTH",
+    "MEGABYTES",
+    "MINUTES",
+    "NEEDLES",
     "NON_NEGATIVE",
+    "PASS_SECONDS",
     "POSITIVE",
+    "SECONDS",
+    "SECONDS_OR_ZERO",
+    "SEED",
     "UNITS",
     "FiniteFloat",
     "InputFile",
@@ -40,10 +54,12 @@ __all__ = [
 
 
 class FiniteFloat(click.FloatRange):
-    """A float option that must be a finite number, optionally within a range.
+    """A float option that must be a finite number, within a range.
 
     ``click.FloatRange`` lets ``nan`` through (every comparison with it is false) and ``inf``
-    through an open-ended range; this type refuses both.
+    through an open-ended range; this type refuses both, and, where no bound is given, any
+    number beyond +-:data:`LARGEST` (no quantity of illuknit's comes near it; a 30-digit number
+    is a slip of the keyboard, and would overflow the arithmetic downstream).
     """
 
     name = "number"
@@ -52,8 +68,14 @@ class FiniteFloat(click.FloatRange):
         rv = super().convert(value, param, ctx)
         if not math.isfinite(rv):
             self.fail(f"{value!r} is not a finite number.", param, ctx)
+        if abs(rv) > LARGEST:
+            self.fail(f"{value!r} is too large (at most {LARGEST:g} in size).", param, ctx)
         return rv
 
+
+#: The largest number, in size, that any float option takes when it states no range of its own.
+LARGEST = 1e12
+_WEEK_SECONDS = 7 * 24 * 3600
 
 #: Any finite number.
 FINITE = FiniteFloat()
@@ -63,10 +85,36 @@ POSITIVE = FiniteFloat(min=0, min_open=True)
 NON_NEGATIVE = FiniteFloat(min=0)
 #: An angle in degrees in (0, 90].
 ANGLE = FiniteFloat(min=0, max=90, min_open=True)
-#: A whole number >= 1 (counts, jobs).
-COUNT = click.IntRange(min=1)
+#: A time limit in seconds: > 0, at most a week.
+SECONDS = FiniteFloat(min=0, max=_WEEK_SECONDS, min_open=True)
+#: Seconds that may be 0 (0: none), at most a week.
+SECONDS_OR_ZERO = FiniteFloat(min=0, max=_WEEK_SECONDS)
+#: Seconds per needle crossed or per carriage pass of a linear time model: 0 to an hour.
+PASS_SECONDS = FiniteFloat(min=0, max=3600)
+#: How long a knit took, in minutes: > 0, at most a week.
+MINUTES = FiniteFloat(min=0, max=_WEEK_SECONDS / 60, min_open=True)
+#: Megabytes of memory or disk: > 0, at most 1 TiB (1,048,576 MB).
+MEGABYTES = FiniteFloat(min=0, max=1024 * 1024, min_open=True)
+#: Days: > 0, at most a century.
+DAYS = FiniteFloat(min=0, max=36500, min_open=True)
+#: Stitches (needles) per inch: > 0, at most 100 (machines knit at 2.5 to 18).
+GAUGE = FiniteFloat(min=0, max=100, min_open=True)
+#: A finished width in centimetres: > 0, at most 10 m.
+CENTIMETRES = FiniteFloat(min=0, max=1000, min_open=True)
+#: A renderer length (flat height, unit length; the unit is the renderer's): > 0, at most 1000.
+LENGTH = FiniteFloat(min=0, max=1000, min_open=True)
+#: A whole number >= 1 (counts, repeats), at most a million.
+COUNT = click.IntRange(min=1, max=1_000_000)
+#: Parallel worker processes: 1 to 1024.
+JOBS = click.IntRange(min=1, max=1024)
+#: A distance in needles (a float limit, a racking, every N-th course): 1 to 10,000.
+NEEDLES = click.IntRange(min=1, max=10_000)
+#: A random seed: 0 to 2**31 - 1 (what every solver backend takes).
+SEED = click.IntRange(min=0, max=2**31 - 1)
 #: A pattern width or height in units (the library's limit).
 UNITS = click.IntRange(1, 1000)
+#: Colour changes in one course: 0 to 2000 (a course of the widest pattern has 2000 stitches).
+COLOR_CHANGES = click.IntRange(0, 2000)
 
 OUTDIR_HELP = (
     "Folder to write into (created if needed; files of the same name are replaced, others kept)."
@@ -170,13 +218,13 @@ def image_options(func: Callable[..., Any]) -> Callable[..., Any]:
         ),
         click.option(
             "--width-cm",
-            type=POSITIVE,
+            type=CENTIMETRES,
             default=None,
             help="Physical width in cm (with --gauge) instead of --width.",
         ),
         click.option(
             "--gauge",
-            type=POSITIVE,
+            type=GAUGE,
             default=None,
             help="Machine or hand gauge in stitches per inch, used with --width-cm and to knit "
             "(--knitout) [the machine's, 7].",

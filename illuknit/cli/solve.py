@@ -18,7 +18,14 @@ from typing import Any
 import click
 
 from illuknit.cli.knitout_bridge import format_option, long_floats_option, machine_option
-from illuknit.cli.options import POSITIVE, InputFile, OutputFile, OutputFolder
+from illuknit.cli.options import (
+    COLOR_CHANGES,
+    SECONDS,
+    SEED,
+    InputFile,
+    OutputFile,
+    OutputFolder,
+)
 from illuknit.pictures.sizing import DEFAULT_MAX_WIDTH
 
 __all__ = ["run_solve", "solve"]
@@ -416,7 +423,7 @@ def _list_solvers(ctx: click.Context, _param: click.Parameter, value: bool) -> N
 )
 @click.option(
     "--max-color-changes",
-    type=click.IntRange(0),
+    type=COLOR_CHANGES,
     default=None,
     help="Hard cap on colour changes per course (knit-aware).",
 )
@@ -459,12 +466,12 @@ def _list_solvers(ctx: click.Context, _param: click.Parameter, value: bool) -> N
 )
 @click.option(
     "--time-limit",
-    type=POSITIVE,
+    type=SECONDS,
     default=60.0,
     show_default=True,
     help="Seconds; the best pattern found is kept.",
 )
-@click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True)
+@click.option("--seed", type=SEED, default=0, show_default=True)
 @click.option(
     "--export-wcnf",
     type=OutputFile(allow_dash=True),

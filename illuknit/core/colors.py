@@ -44,7 +44,8 @@ def parse_color(text: str) -> tuple[int, int, int]:
         rgb = ImageColor.getrgb(s)
     except ValueError:
         raise YarnSpecError(
-            f"unknown yarn colour {text!r}: use '#rrggbb', '#rgb' or a CSS colour name"
+            f"unknown yarn colour {text[:60]!r}{'...' if len(text) > 60 else ''}: use '#rrggbb', "
+            "'#rgb' or a CSS colour name"
         ) from None
     return (int(rgb[0]), int(rgb[1]), int(rgb[2]))
 

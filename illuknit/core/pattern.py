@@ -43,6 +43,7 @@ __all__ = [
     "FORMAT_VERSION",
     "MAX_UNITS",
     "MAX_YARNS",
+    "MAX_YARN_NAME",
     "SPLIT_FORMAT_VERSION",
     "LogicalPattern",
     "Yarn",
@@ -102,6 +103,10 @@ def _has_controls(name: str) -> bool:
     return any(unicodedata.category(ch) == "Cc" or ch in _BIDI_CONTROLS for ch in name)
 
 
+#: The longest yarn name, in characters (it labels charts, instructions and legends).
+MAX_YARN_NAME = 100
+
+
 @dataclass(frozen=True)
 class Yarn:
     """A yarn: a display name and its sRGB colour.
@@ -116,6 +121,11 @@ class Yarn:
     def __post_init__(self) -> None:
         if not isinstance(self.name, str):
             raise YarnSpecError(f"yarn name must be a string, got {type(self.name).__name__}")
+        if len(self.name) > MAX_YARN_NAME:  # before any work on it: a label, not a document
+            raise YarnSpecError(
+                f"yarn name {self.name[:40]!r}... is {len(self.name)} characters long; "
+                f"at most {MAX_YARN_NAME}"
+            )
         name = clean_yarn_name(self.name)
         if not name:
             raise YarnSpecError("yarn name must be a non-empty string")
