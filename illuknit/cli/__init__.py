@@ -148,7 +148,7 @@ def main(argv: list[str] | None = None) -> int:
 
     with recording_writes() as written:
         try:
-            with _guarded_stdout():
+            with _guarded_stdout(), _names_printable():
                 return _run(argv)
         except _StdoutFailed as e:
             _silence_stdout()
@@ -283,7 +283,7 @@ def _guarded_stdout() -> Iterator[None]:
     guarded = _GuardedStdout(
         real.buffer,
         encoding=real.encoding,
-        errors=real.errors,
+        errors=_lenient(real.errors),
         line_buffering=real.line_buffering,
     )
     sys.stdout = guarded
@@ -294,6 +294,30 @@ def _guarded_stdout() -> Iterator[None]:
         sys.stdout = real
         with suppress(OSError, ValueError):
             guarded.detach()  # the buffer stays the real stdout's
+
+
+def _lenient(errors: str | None) -> str:
+    # A file name that is not valid UTF-8 (decoded with surrogate escapes) must print, not raise.
+    return "backslashreplace" if errors in (None, "strict") else errors
+
+
+@contextmanager
+def _names_printable() -> Iterator[None]:
+    """Let standard output and error print file names that are not valid UTF-8 (as ``\\udcff``)
+    while a command runs, whatever stream a caller put there; restored afterwards."""
+    changed = []
+    for stream in (sys.stdout, sys.stderr):
+        errors = getattr(stream, "errors", None)
+        if isinstance(stream, io.TextIOWrapper) and _lenient(errors) != errors:
+            with suppress(ValueError, OSError):
+                stream.reconfigure(errors=_lenient(errors))
+                changed.append((stream, errors))
+    try:
+        yield
+    finally:
+        for stream, errors in changed:
+            with suppress(ValueError, OSError):
+                stream.reconfigure(errors=errors)
 
 
 def _silence_stdout() -> None:

@@ -64,7 +64,16 @@ and commit, and each holds a lock on its own staging folder while it works, so a
 removes the staging folder of a run that is still alive (a killed process's locks are released
 by the kernel).
 
-For tests only: the environment variable ``ILLUKNIT_TEST_KILL_AT_COMMIT_STEP=k`` makes the
+Single files' temporary files (``.<name>.illuknit-<pid>-<random>.tmp``) are removed on every
+error, Ctrl-C included (the command line turns SIGTERM and SIGHUP into the same unwinding); one
+left by a ``kill -9`` is removed by the next write into that folder once it is abandoned: its
+writer holds a lock on it while it lives, and the pid in its name says whether that writer is
+gone (:func:`remove_stale_temp_files`). A temporary file of a live process is never touched
+(except one more than a day old that nobody holds), nor any file of another name.
+
+For tests only: the environment variable ``ILLUKNIT_TEST_SIGNAL_IN_FILE_WRITE=KILL`` (or
+``TERM``) makes the process send itself that signal once a single file's temporary file is
+written, before the rename. The environment variable ``ILLUKNIT_TEST_KILL_AT_COMMIT_STEP=k`` makes the
 process ``SIGKILL`` itself right after the k-th step of a folder commit (steps are counted per
 process: 1 staging synced, 2 journal written, then one per rename, then backup, journal and
 staging removed). ``tests/test_outputs_kill.py`` uses it to kill inside the commit; never set it
@@ -93,6 +102,7 @@ from illuknit.core.errors import OutputOverInputError, OutputPathError
 
 __all__ = [
     "KILL_AT_COMMIT_STEP_ENV",
+    "SIGNAL_IN_FILE_WRITE_ENV",
     "STDOUT",
     "OutputRecoveryWarning",
     "atomic_write_bytes",
@@ -114,6 +124,9 @@ _LEFTOVER = re.compile(
 )
 #: The test-only fault-injection hook (see the module docstring).
 KILL_AT_COMMIT_STEP_ENV = "ILLUKNIT_TEST_KILL_AT_COMMIT_STEP"
+#: The test-only hook of single files: ``KILL`` or ``TERM`` sends that signal to the process
+#: itself once a temporary file is written, before its rename (see the module docstring).
+SIGNAL_IN_FILE_WRITE_ENV = "ILLUKNIT_TEST_SIGNAL_IN_FILE_WRITE"
 _MAX_LINKS = 40  # as the kernel's MAXSYMLINKS
 #: A single file's temporary name: ``.<name>.illuknit-<pid>-<random>.tmp`` (the name cut short).
 _TEMP = re.compile(r"^\..*\.illuknit-(?P<pid>[0-9]+)-[A-Za-z0-9_]+\.tmp$", re.DOTALL)
@@ -376,6 +389,7 @@ def atomic_write_bytes(path: str | os.PathLike[str], data: bytes) -> Path:
             f.flush()
             if not staging:  # a folder commit syncs its staging folder once
                 os.fsync(f.fileno())
+                _signal_for_test()
             os.chmod(tmp, stat.S_IMODE(existing.st_mode) if existing else 0o666 & ~_umask())
             _existing_regular(path, target)  # again, just before the rename
             os.replace(tmp, target)
@@ -391,6 +405,16 @@ def atomic_write_bytes(path: str | os.PathLike[str], data: bytes) -> Path:
         raise
     _record(path)
     return path
+
+
+def _signal_for_test() -> None:
+    """The test-only hook: ``SIGNAL_IN_FILE_WRITE_ENV=KILL`` (or ``TERM``) signals this process."""
+    name = os.environ.get(SIGNAL_IN_FILE_WRITE_ENV)
+    if name:
+        os.kill(os.getpid(), getattr(signal, f"SIG{name}"))
+        import time
+
+        time.sleep(1)  # a caught signal's handler runs here
 
 
 def _lock_file(fd: int) -> None:
