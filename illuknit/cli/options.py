@@ -269,15 +269,18 @@ def outdir_option(
     The folder is checked when the option is parsed (a file in the way, a read-only file system),
     so a long computation does not run only to fail at the end.
     """
+    # No ``default=None`` on a required option: click 8.3 takes an explicit None for a value
+    # given, and the command then ran without a folder (a traceback).
+    extra: dict[str, Any] = {} if default is None else {"default": default}
     return click.option(
         "-o",
         "--outdir",
         type=OutputFolder(),
         required=required and default is None,
-        default=default,
         show_default=default is not None,
         callback=_check_outdir,
         help=help,
+        **extra,
     )
 
 
