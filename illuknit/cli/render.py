@@ -7,7 +7,7 @@ from typing import Any
 
 import click
 
-from illuknit.cli.options import ANGLE, InputFile, outdir_option
+from illuknit.cli.options import FINITE, InputFile, outdir_option
 
 __all__ = ["MAX_FRAME_PIXELS", "MAX_SWEEP_PIXELS", "check_render_size", "render"]
 
@@ -49,7 +49,7 @@ def check_render_size(shape: tuple[int, int], *, scale: int, frames: int) -> Non
 @click.argument("pattern_file", metavar="PATTERN", type=InputFile("pattern"))
 @click.option(
     "--angle",
-    type=ANGLE,
+    type=FINITE,  # the range (0, 90] is checked with the other render parameters
     default=None,
     help="Side-view elevation in degrees, in (0, 90] (default: the params' theta).",
 )

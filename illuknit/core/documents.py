@@ -42,7 +42,7 @@ INPUT_LIMITS: dict[str, int] = {
     "program": 1024 * _MIB,
     "knitout": 1024 * _MIB,
 }
-_SHOWN_MAX = 120  # characters of a file name shown in a message
+_SHOWN_MAX = 200  # characters of a file name shown in a message
 
 
 def shown_path(path: str | os.PathLike[str]) -> str:

@@ -150,6 +150,12 @@ def _umask() -> int:
     return mask
 
 
+def _shown(path: object) -> str:
+    from illuknit.core.documents import shown_path
+
+    return shown_path(os.fspath(path)) if isinstance(path, (str, os.PathLike)) else str(path)
+
+
 def _reason(exc: OSError) -> str:
     return exc.strerror or type(exc).__name__
 
@@ -225,11 +231,11 @@ def _over_input(target: Path, *, whole: bool, inputs: tuple[_Input, ...]) -> str
     ident = _identity(target)
     for inp in inputs:
         if target in (inp.named, inp.real) or real == inp.real:
-            return f"it is the input file {inp.shown}"
+            return f"it is the input file {_shown(inp.shown)}"
         if ident is not None and ident == inp.ident:
-            return f"it is the input file {inp.shown} (the same file by a hard link)"
+            return f"it is the input file {_shown(inp.shown)} (the same file by a hard link)"
         if whole and (inp.named.is_relative_to(target) or inp.real.is_relative_to(target)):
-            return f"it holds the input file {inp.shown}"
+            return f"it holds the input file {_shown(inp.shown)}"
     return None
 
 
@@ -238,7 +244,7 @@ def _refuse_over_input(shown: object, target: Path, *, whole: bool = False) -> N
     if why is not None:
         other = "output folder" if whole else "output"
         raise OutputOverInputError(
-            f"refusing to write {shown}: {why}; name another {other} (nothing was written)"
+            f"refusing to write {_shown(shown)}: {why}; name another {other} (nothing was written)"
         )
 
 
@@ -267,14 +273,14 @@ def check_outputs_apart(
             why = _over_input(_write_target(Path(f)), whole=False, inputs=ins)
             if why is not None:
                 raise OutputOverInputError(
-                    f"refusing to write {f}: {why}; name another output (nothing was written)"
+                    f"refusing to write {_shown(f)}: {why}; name another output (nothing was written)"
                 )
     for d in folders:
         # only same-named entries of a folder are replaced: those are checked at the commit
         why = _over_input(resolve_output_dir(d), whole=False, inputs=ins)
         if why is not None:
             raise OutputOverInputError(
-                f"refusing to write into output folder {d}: {why}; name another folder "
+                f"refusing to write into output folder {_shown(d)}: {why}; name another folder "
                 "(nothing was written)"
             )
 
@@ -324,12 +330,14 @@ def _write_target(path: Path) -> Path:
         except (FileNotFoundError, NotADirectoryError):
             return p
         except OSError as exc:  # ELOOP in a parent folder, no permission
-            raise OutputPathError(f"cannot write {path}: {_reason(exc)}") from exc
+            raise OutputPathError(f"cannot write {_shown(path)}: {_reason(exc)}") from exc
         if not stat.S_ISLNK(st.st_mode):
             return p
         link = os.readlink(p)
         p = Path(link) if os.path.isabs(link) else p.parent / link
-    raise OutputPathError(f"cannot write {path}: too many levels of symbolic links (a link loop)")
+    raise OutputPathError(
+        f"cannot write {_shown(path)}: too many levels of symbolic links (a link loop)"
+    )
 
 
 def _existing_regular(path: Path, target: Path) -> os.stat_result | None:
@@ -339,12 +347,12 @@ def _existing_regular(path: Path, target: Path) -> os.stat_result | None:
     except (FileNotFoundError, NotADirectoryError):
         return None
     except OSError as exc:
-        raise OutputPathError(f"cannot write {path}: {_reason(exc)}") from exc
+        raise OutputPathError(f"cannot write {_shown(path)}: {_reason(exc)}") from exc
     if stat.S_ISREG(st.st_mode):
         return st
     via = "" if target == Path(os.path.abspath(path)) else f" (a link to {target})"
     raise OutputPathError(
-        f"cannot write {path}{via}: it is {_kind(st.st_mode)}, not a regular file; "
+        f"cannot write {_shown(path)}{via}: it is {_kind(st.st_mode)}, not a regular file; "
         "name a regular file (it was left untouched)"
     )
 
@@ -379,7 +387,7 @@ def atomic_write_bytes(path: str | os.PathLike[str], data: bytes) -> Path:
     except OSError as exc:
         blocker = _file_in_the_way(target.parent)
         reason = f"{blocker} is a file, not a folder" if blocker else _reason(exc)
-        raise OutputPathError(f"cannot write {path}: {reason}") from exc
+        raise OutputPathError(f"cannot write {_shown(path)}: {reason}") from exc
     try:
         # The lock tells a later run that this temporary file is alive; it is released when the
         # file is closed, after the rename.
@@ -398,8 +406,8 @@ def atomic_write_bytes(path: str | os.PathLike[str], data: bytes) -> Path:
         raise
     except OSError as exc:
         Path(tmp).unlink(missing_ok=True)
-        kept = f"{path} was kept as it was" if existing else "nothing was written"
-        raise OutputPathError(f"cannot write {path}: {_reason(exc)}; {kept}") from exc
+        kept = f"{_shown(path)} was kept as it was" if existing else "nothing was written"
+        raise OutputPathError(f"cannot write {_shown(path)}: {_reason(exc)}; {kept}") from exc
     except BaseException:
         Path(tmp).unlink(missing_ok=True)
         raise
@@ -548,7 +556,7 @@ def resolve_output_dir(outdir: str | os.PathLike[str]) -> Path:
         return Path(os.path.expanduser(os.fspath(outdir))).resolve()
     except (RuntimeError, OSError) as exc:  # RuntimeError: a link loop (Python < 3.13)
         raise OutputPathError(
-            f"output folder {outdir}: too many levels of symbolic links (a link loop)"
+            f"output folder {_shown(outdir)}: too many levels of symbolic links (a link loop)"
         ) from exc
 
 
@@ -568,10 +576,15 @@ def check_output_dir(outdir: str | os.PathLike[str]) -> Path:
     be written (read-only file system, no permission).
     """
     final = resolve_output_dir(outdir)
-    blocker = _file_in_the_way(final)
+    try:
+        blocker = _file_in_the_way(final)
+    except OSError as exc:  # a name too long for the system
+        raise OutputPathError(
+            f"cannot write to output folder {_shown(outdir)}: {_reason(exc)}"
+        ) from exc
     if blocker is not None:
         where = "is a file" if blocker == final else f"has a file in the way: {blocker}"
-        raise OutputPathError(f"output folder {outdir} {where}; name a folder")
+        raise OutputPathError(f"output folder {_shown(outdir)} {where}; name a folder")
     existing = final
     while not existing.exists():
         existing = existing.parent
@@ -579,7 +592,9 @@ def check_output_dir(outdir: str | os.PathLike[str]) -> Path:
         # access() answers for root too on a read-only mount; statvfs says which reason it is.
         ro = os.statvfs(existing).f_flag & os.ST_RDONLY
         reason = "read-only file system" if ro else "permission denied"
-        raise OutputPathError(f"cannot write to output folder {outdir} ({existing}): {reason}")
+        raise OutputPathError(
+            f"cannot write to output folder {_shown(outdir)} ({existing}): {reason}"
+        )
     return final
 
 
@@ -757,7 +772,7 @@ def _commit(staging: Path, final: Path) -> None:
     journal = final / f"{_STAGING_PREFIX}{ident}.journal"
     names = sorted(os.listdir(staging))
     for name in names:  # before anything moves: never replace an input of this run
-        _refuse_over_input(f"{name} in output folder {final}", final / name, whole=True)
+        _refuse_over_input(final / name, final / name, whole=True)
     _fsync_tree(staging)
     _step()
     _write_journal(
@@ -852,7 +867,7 @@ def recover_output_dir(outdir: str | os.PathLike[str]) -> str | None:
         if isinstance(exc, OutputPathError):
             raise
         raise OutputPathError(
-            f"cannot finish an interrupted write into {outdir}: {_reason(exc)}"
+            f"cannot finish an interrupted write into {_shown(outdir)}: {_reason(exc)}"
         ) from exc
 
 
@@ -875,7 +890,9 @@ def staged_dir(outdir: str | os.PathLike[str]) -> Iterator[Path]:
     try:
         created = _make_dirs(final)
     except OSError as exc:
-        raise OutputPathError(f"cannot create output folder {outdir}: {_reason(exc)}") from exc
+        raise OutputPathError(
+            f"cannot create output folder {_shown(outdir)}: {_reason(exc)}"
+        ) from exc
     try:
         try:
             with _folder_lock(final):
@@ -886,7 +903,7 @@ def staged_dir(outdir: str | os.PathLike[str]) -> Iterator[Path]:
                 lock = _lock_staging(staging)
         except OSError as exc:
             raise OutputPathError(
-                f"cannot write to output folder {outdir}: {_reason(exc)}"
+                f"cannot write to output folder {_shown(outdir)}: {_reason(exc)}"
             ) from exc
         if said:
             warnings.warn(said, OutputRecoveryWarning, stacklevel=3)
@@ -899,7 +916,7 @@ def staged_dir(outdir: str | os.PathLike[str]) -> Iterator[Path]:
                 if isinstance(exc, OutputPathError) or exc.errno not in _DISK_FULL:
                     raise
                 raise OutputPathError(
-                    f"cannot write to output folder {outdir}: {_reason(exc)} "
+                    f"cannot write to output folder {_shown(outdir)}: {_reason(exc)} "
                     "(the folder was left as it was)"
                 ) from exc
             try:
@@ -909,7 +926,7 @@ def staged_dir(outdir: str | os.PathLike[str]) -> Iterator[Path]:
                 if isinstance(exc, OutputPathError):
                     raise
                 raise OutputPathError(
-                    f"cannot write to output folder {outdir}: {_reason(exc)} (left as it was)"
+                    f"cannot write to output folder {_shown(outdir)}: {_reason(exc)} (left as it was)"
                 ) from exc
             _record(final)
         finally:

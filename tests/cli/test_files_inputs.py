@@ -359,3 +359,18 @@ def test_names_that_are_not_utf8_are_written_and_read(files, run_cli, tmp_path):
     assert out.read_bytes().startswith(b";!knitout-2")
     r = run_cli(["view", odd, "-o", Path(os.fsdecode(bytes(tmp_path) + b"/o\xff"))])
     assert r.code == 0 and "Traceback" not in r.err, r
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        lambda f, name: ["knit", f.pattern, "-o", f"{name}.k"],
+        lambda f, name: ["view", f.pattern, "-o", name],
+        lambda f, name: ["view", f.pattern, "-o", f"{name}/sub"],
+        lambda f, name: ["solve", f.pic, "--model", "single", "--export-wcnf", f"{name}.wcnf"],
+    ],
+)
+def test_an_output_name_too_long_is_one_short_line(argv, files, run_cli, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    line = one_error_line(run_cli(argv(files, "a" * 300)))
+    assert "too long" in line and len(line) < 400, line
