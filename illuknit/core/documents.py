@@ -46,15 +46,25 @@ _SHOWN_MAX = 200  # characters of a file name shown in a message
 
 
 def shown_path(path: str | os.PathLike[str]) -> str:
-    """``path`` as a message shows it: bytes that are not UTF-8 as ``\\xNN``, a very long one
-    cut in the middle (``...``), so that an error is one readable line."""
+    """``path`` as a message shows it, on one line: bytes that are not UTF-8 as ``\\xNN``,
+    control characters (a line break, a terminal escape) as ``\\xNN`` too, and a very long one
+    cut in the middle (``...``, with its length).
+
+    >>> shown_path("pic\\x1b[31m.png")
+    'pic\\\\x1b[31m.png'
+    """
     text = os.fspath(path)
     if isinstance(text, bytes):
         text = os.fsdecode(text)
     text = text.encode("utf-8", "surrogateescape").decode("utf-8", "backslashreplace")
+    text = "".join(f"\\x{ord(ch):02x}" if _is_control(ch) else ch for ch in text)
     if len(text) > _SHOWN_MAX:
         text = f"{text[: _SHOWN_MAX // 2]}...{text[-_SHOWN_MAX // 3 :]} ({len(text)} characters)"
     return text
+
+
+def _is_control(ch: str) -> bool:
+    return ord(ch) < 0x20 or 0x7F <= ord(ch) < 0xA0 or ch in "\u2028\u2029"
 
 
 def file_kind(mode: int) -> str:

@@ -23,10 +23,17 @@ from typing import NamedTuple
 import click
 import numpy as np
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 from illuknit.cli import cli
 from illuknit.cli.options import InputFile, OutputFile, OutputFolder
-from illuknit.core.documents import open_input_file, read_input_bytes, read_text_file
+from illuknit.core.documents import (
+    open_input_file,
+    read_input_bytes,
+    read_text_file,
+    shown_path,
+)
 from illuknit.core.errors import (
     ImageInputError,
     KnitoutParseError,
@@ -374,3 +381,32 @@ def test_an_output_name_too_long_is_one_short_line(argv, files, run_cli, tmp_pat
     monkeypatch.chdir(tmp_path)
     line = one_error_line(run_cli(argv(files, "a" * 300)))
     assert "too long" in line and len(line) < 400, line
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.binary(min_size=1, max_size=400))
+def test_any_file_name_is_shown_on_one_printable_line(raw):
+    shown = shown_path(os.fsdecode(raw))
+    shown.encode("utf-8")  # prints anywhere: no lone surrogates left
+    assert not any(ord(ch) < 0x20 or 0x7F <= ord(ch) < 0xA0 for ch in shown)
+    assert len(shown) <= 250
+
+
+@settings(
+    max_examples=60, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture]
+)
+@given(
+    st.lists(st.sampled_from([".", "sub/..", "sub/./..", "./sub/.."]), max_size=4), st.booleans()
+)
+def test_every_spelling_of_the_input_is_refused(tmp_path, detours, other):
+    (tmp_path / "sub").mkdir(exist_ok=True)
+    src = tmp_path / "in.json"
+    src.write_text("x")
+    name = "other.json" if other else "in.json"
+    spelled = Path(tmp_path, *detours, name)
+    if other:
+        check_outputs_apart([src], files=[spelled])
+    else:
+        with pytest.raises(OutputOverInputError):
+            check_outputs_apart([src], files=[spelled])
+    assert src.read_text() == "x"
