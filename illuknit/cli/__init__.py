@@ -8,11 +8,13 @@ Every error that is the user's (bad input, bad options) becomes one line on stde
 tracebacks are for bugs only. Exit codes: 0 done; 1 a command's own verdict (``check``, ``knit``:
 something blocking found); 2 bad input or an output that cannot be written, nothing written; 3 the
 outputs were written but standard output could not be (closed, a full disk, a broken pipe): the
-error line names what was written; 130 interrupted.
+error line names what was written; 130 interrupted (Ctrl-C); 143 and 129 stopped by SIGTERM and
+SIGHUP, which unwind like Ctrl-C so that no temporary file is left behind.
 """
 
 from __future__ import annotations
 
+import contextlib
 import errno
 import functools
 import importlib
@@ -113,9 +115,12 @@ def _outputs_apart(callback: Callable[..., Any]) -> Callable[..., Any]:
         from illuknit.cli.options import file_params
         from illuknit.core.files import check_outputs_apart, protecting_inputs
 
-        inputs, files, folders = file_params(click.get_current_context())
+        ctx = click.get_current_context()
+        inputs, files, folders = file_params(ctx)
         check_outputs_apart(inputs, files=files, folders=folders)
-        with protecting_inputs(inputs):
+        # the app's server has its own shutdown on these signals
+        unwinds = _termination_unwinds() if ctx.command.name != "app" else contextlib.nullcontext()
+        with protecting_inputs(inputs), unwinds:
             return callback(*args, **kwargs)
 
     return run
@@ -197,7 +202,7 @@ def _termination_unwinds() -> Iterator[None]:
 
 def _run(argv: list[str] | None) -> int:
     try:
-        with warnings.catch_warnings(), _termination_unwinds():
+        with warnings.catch_warnings():
             warnings.showwarning = _show_note
             rv = cli.main(args=argv, prog_name="illuknit", standalone_mode=False)
     except _Terminated as e:
