@@ -41,6 +41,7 @@ from pathlib import Path
 
 from illuknit.core.errors import OptionError, SchedulingError, UnknownNameError
 from illuknit.core.gauge import STOCKINETTE_COURSE_ASPECT, Gauge
+from illuknit.core.machine_ranges import check_machine_value, ranges_for
 
 __all__ = [
     "BACKENDS",
@@ -69,6 +70,13 @@ SWG_CARRIERS = tuple(str(i) for i in range(1, 11))
 
 #: Reference backends a machine's knitout can go through (:attr:`MachineSpec.backend`).
 BACKENDS = ("swg", "kniterate")
+
+#: TransferSettings field -> its parameter in :data:`~illuknit.core.machine_ranges.MACHINE_RANGES`
+_TRANSFER_RANGE = {
+    "stitch_number": "transfer_stitch_number",
+    "speed_number": "transfer_speed_number",
+    "roller_advance": "roller_advance",
+}
 
 
 @dataclass(frozen=True)
@@ -108,14 +116,16 @@ class TransferSettings:
     source: str = "the machine's own transfer settings"
 
     def __post_init__(self) -> None:
-        for name, top in (("stitch_number", 35), ("speed_number", None), ("roller_advance", None)):
+        for name in ("stitch_number", "speed_number", "roller_advance"):
             v = getattr(self, name)
             if v is None:
                 continue
             if not isinstance(v, int) or isinstance(v, bool) or v < 0:
                 raise OptionError(f"transfer `{name}` must be a non-negative integer, got {v!r}")
-            if top is not None and v > top:
-                raise OptionError(f"transfer `{name}` must be at most {top}, got {v!r}")
+            # the widest range of any machine; the machine's own is checked by MachineSpec
+            check_machine_value(_TRANSFER_RANGE[name], v, backend=None, where="any machine")
+        if not isinstance(self.source, str):
+            raise OptionError(f"transfer `source` must be a string, got {self.source!r}")
 
     def describe(self) -> dict[str, object]:
         """The settings as JSON-ready values (``None``: the machine's own)."""
@@ -387,6 +397,8 @@ class MachineSpec:
         def positive(name: str, value: float, *, integer: bool = False) -> None:
             if integer and (not isinstance(value, int) or isinstance(value, bool)):
                 raise OptionError(f"`{name}` must be an integer, got {value!r}")
+            if isinstance(value, bool) or not isinstance(value, (int, float)):
+                raise OptionError(f"`{name}` must be a number, got {value!r}")
             if not value > 0:
                 raise OptionError(f"`{name}` must be positive, got {value!r}")
 
@@ -423,8 +435,9 @@ class MachineSpec:
             )
         for name in ("stitch_number", "cast_on_stitch_number", "speed_number"):
             v = getattr(self, name)
-            if v is not None and (not isinstance(v, int) or v < 0):
-                raise OptionError(f"`{name}` must be a non-negative integer or None")
+            if v is not None and (not isinstance(v, int) or isinstance(v, bool) or v < 0):
+                raise OptionError(f"`{name}` must be a non-negative integer or None, got {v!r}")
+        self._check_ranges()
         if "kc" not in self.formats:
             # the SWG backend knows neither x-xfer-stitch-number nor take-down roller extensions
             if self.transfer.stitch_number is not None:
@@ -434,6 +447,25 @@ class MachineSpec:
                 )
             if self.transfer.roller_advance:
                 raise OptionError(f"the {self.name} has no roller-advance setting")
+
+    def _check_ranges(self) -> None:
+        """Every machine value within the range of :data:`~illuknit.core.machine_ranges.
+        MACHINE_RANGES` for this machine's backend (:class:`MachineValueError` otherwise)."""
+        backend = self.runs_on()
+        values: dict[str, object] = {
+            "needles": self.needles,
+            "gauge": self.gauge,
+            "max_racking": self.max_racking,
+            "stitch_number": self.stitch_number,
+            "cast_on_stitch_number": self.cast_on_stitch_number,
+            "speed_number": self.speed_number,
+            "transfer_stitch_number": self.transfer.stitch_number,
+            "transfer_speed_number": self.transfer.speed_number,
+            "roller_advance": self.transfer.roller_advance or None,
+        }
+        for name, value in values.items():
+            if value is not None:
+                check_machine_value(name, value, backend=backend)
 
     # -- derived quantities --------------------------------------------------------------------
     @property
@@ -726,9 +758,11 @@ def machine_from_headers(headers: Mapping[str, str]) -> MachineSpec:
     base = same_model[0] if same_model else DEFAULT_MACHINE
     base = next((m for m in same_model if m.needles == width), base)
     changes: dict[str, float] = {}
-    if width is not None and width != base.needles:
+    # a value out of range is left to the checker's machine-value rule, not taken as the bed
+    ranges = ranges_for(base.runs_on())
+    if width is not None and width != base.needles and ranges["needles"].contains(width):
         changes["needles"] = width
-    if gauge is not None and gauge != base.gauge:
+    if gauge is not None and gauge != base.gauge and ranges["gauge"].contains(gauge):
         changes["gauge"] = gauge
     if not changes:
         return base
