@@ -98,7 +98,7 @@ def check_knitout(
     if max_racking is not None:
         check_number(max_racking, "max_racking", min=0, min_open=True)
     from illuknit.check.fabric import fabric_findings
-    from illuknit.check.rules import check_header, machine_findings, machine_value_findings
+    from illuknit.check.rules import check_header, machine_findings
     from illuknit.check.simulate import simulate_program
     from illuknit.core.machine import resolve_machine
 
@@ -110,11 +110,7 @@ def check_knitout(
     limit = spec.float_limit if float_limit is None else float_limit
     width = bed_width if bed_width is not None else _header_width(program, spec)
     sim = simulate_program(program, max_racking=racking, bed_width=width)
-    findings = [
-        *check_header(program, machine=spec),
-        *machine_value_findings(program, machine=spec),
-        *machine_findings(sim),
-    ]
+    findings = [*check_header(program, machine=spec), *machine_findings(sim)]
     fabric, suppressed = fabric_findings(sim, float_limit=limit, split_bumps=bool(split_bumps))
     findings, suppressed = [*findings, *fabric], {**sim.suppressed, **suppressed}
     vm_summary = None

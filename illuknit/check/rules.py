@@ -66,7 +66,8 @@ def _finding(line: int, code: str, message: str) -> Finding:
 
 
 def check_header(program: KnitoutProgram, *, machine: MachineSpec | None = None) -> list[Finding]:
-    """Findings about the magic line, the header and the file's form.
+    """Findings about the magic line, the header, the file's form and its machine values
+    (:func:`machine_value_findings`).
 
     ``;;Carriers`` and ``;;Machine`` must be those of ``machine`` (default: the SWG091N2 as the
     reference converter takes it, which requires carriers ``1 .. 10``).
@@ -123,6 +124,7 @@ def check_header(program: KnitoutProgram, *, machine: MachineSpec | None = None)
                 m[1], "header-machine", f";;Machine {m[0]!r}: the checker models the {m_spec.name}"
             )
         )
+    out += machine_value_findings(program, machine=m_spec)
     if program.crlf:
         out.append(_finding(1, "crlf", "CRLF line endings; write LF"))
     tabbed = [op.line for op in program.operations if op.tabs]
