@@ -126,13 +126,19 @@ def check_knitout(
         suppressed=suppressed,
         vm=vm_summary,
         machine={
-            "name": spec.name,
+            "name": spec.label if width == spec.needles else _generic(spec, width),
+            "model": spec.name,
             "needles": width,
             "gauge": spec.gauge,
             "max_racking": racking,
             "float_limit": limit,
         },
     )
+
+
+def _generic(spec: MachineSpec, needles: int) -> str:
+    """What a bed of ``needles`` with ``spec``'s rules is (``bed_width`` given to the checker)."""
+    return f"generic {needles}-needle V-bed ({spec.name} rules)"
 
 
 def _header_width(program: KnitoutProgram, spec: MachineSpec) -> int:

@@ -87,7 +87,7 @@ def check_header(program: KnitoutProgram, *, machine: MachineSpec | None = None)
             _finding(
                 1,
                 "header-carriers",
-                f"no ';;Carriers: {carriers}' header (the {m_spec.name} requires exactly this)",
+                f"no ';;Carriers: {carriers}' header (the {m_spec.label} requires exactly this)",
             )
         )
     elif hc[0] != carriers:
@@ -95,7 +95,7 @@ def check_header(program: KnitoutProgram, *, machine: MachineSpec | None = None)
             _finding(
                 hc[1],
                 "header-carriers",
-                f";;Carriers: {hc[0]!r}; the {m_spec.name} requires exactly {carriers!r}",
+                f";;Carriers: {hc[0]!r}; the {m_spec.label} requires exactly {carriers!r}",
             )
         )
     g = program.header("Gauge")
@@ -121,7 +121,7 @@ def check_header(program: KnitoutProgram, *, machine: MachineSpec | None = None)
     if m is not None and m[0] != m_spec.name:
         out.append(
             _finding(
-                m[1], "header-machine", f";;Machine {m[0]!r}: the checker models the {m_spec.name}"
+                m[1], "header-machine", f";;Machine {m[0]!r}: the checker models the {m_spec.label}"
             )
         )
     out += machine_value_findings(program, machine=m_spec)

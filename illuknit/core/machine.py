@@ -7,17 +7,23 @@ them from the spec they are given, and one spec travels with a piece from schedu
 Presets (:data:`MACHINES`, looked up with :func:`get_machine`; ``--machine NAME`` on the CLI):
 
 ``generic540`` (the default)
-    The paper's machine, a 7-gauge Shima Seiki SWG091N2, as the CMU knitout-to-dat converter and
-    the PyPI virtual knitting machine model it: 540 needles per bed, carriers ``"1"`` .. ``"10"``,
-    racking within +/-4. The converter assumes 540 needles when a program has no ``;;Width``
-    header (``knitout-to-dat.js``), so every program written for it fits this bed.
+    A generic 540-needle V-bed with the rules of the paper's machine, a 7-gauge Shima Seiki
+    SWG091N2, as the CMU knitout-to-dat converter and the PyPI virtual knitting machine model it:
+    540 needles per bed, carriers ``"1"`` .. ``"10"``, racking within +/-4. The converter assumes
+    540 needles when a program has no ``;;Width`` header (``knitout-to-dat.js``), so every
+    program written for it fits this bed. No SWG091N2 has 540 needles, so it is called what it
+    is (:attr:`MachineSpec.label`: ``generic 540-needle V-bed (SWG091N2 rules)``); its knitout
+    still says ``;;Machine: SWG091N2``, the model whose rules and backend it follows, and a
+    comment line under the header names the bed.
 ``swg091n2``
     The same machine with its physical needle count. The SWG091N2 is one of Shima Seiki's compact
     WHOLEGARMENT machines (the SWG-N2 series: SWG041N2, SWG061N2, SWG091N2; e.g. asiantex.net,
     2020, "Shima Seiki releases additional data for knitted masks") with a 36-inch (91 cm)
     needle bed: at 7 needles per inch that is 252 needles per bed. Knitout programs published
     for this machine by the CMU Textiles Lab declare ``;;Width: 250``, consistent with it. Pieces
-    wider than 247 stitches (123 units) do not fit this bed.
+    wider than 247 stitches (123 units) do not fit this bed. The only preset called
+    ``SWG091N2`` (:attr:`MachineSpec.real_bed`); with another ``--machine-width`` or ``--gauge``
+    it is a generic bed with its rules.
 
 ``kniterate``
     The Kniterate: 252 needles at 7 gauge (the bed ``knitout-to-kcode.js`` assumes), six carriers
@@ -306,7 +312,9 @@ class MachineSpec:
     Parameters
     ----------
     name : str
-        Machine model written to the ``;;Machine:`` header.
+        Machine model written to the ``;;Machine:`` header: the model whose rules (carriers,
+        racking, backend) the spec follows. People see :attr:`label`, which says whether the
+        spec is that machine or a generic bed with its rules.
     needles : int
         Needles per bed (the ``;;Width:`` header). Needle numbers used are ``0 .. needles - 1``.
     gauge : float
@@ -359,6 +367,10 @@ class MachineSpec:
         that backend makes them), ``"kniterate"`` (``.kc``), or None: not said, taken as
         ``"swg"`` for a machine with the Shima carriers (:data:`SWG_CARRIERS`), else knitout only
         (:meth:`runs_on`).
+    real_bed : tuple of (int, float) or None
+        Needles per bed and gauge of the real machine ``name``: the spec is that machine only
+        when its own ``needles`` and ``gauge`` are these (:attr:`label`); None: no real machine
+        has this bed (a generic bed with ``name``'s rules).
 
     Examples
     --------
@@ -392,6 +404,7 @@ class MachineSpec:
     transfer: TransferSettings = TransferSettings()
     fabric: Gauge | None = None
     backend: str | None = None
+    real_bed: tuple[int, float] | None = None
 
     def __post_init__(self) -> None:
         def positive(name: str, value: float, *, integer: bool = False) -> None:
@@ -469,6 +482,34 @@ class MachineSpec:
 
     # -- derived quantities --------------------------------------------------------------------
     @property
+    def is_real(self) -> bool:
+        """Whether this is the real machine :attr:`name` (its needles and gauge are
+        :attr:`real_bed`), not a generic bed that borrows its rules."""
+        return self.real_bed is not None and (self.needles, self.gauge) == self.real_bed
+
+    @property
+    def label(self) -> str:
+        """What people are told the machine is: the model's name on its real bed, else what it
+        is, e.g. ``generic 540-needle V-bed (SWG091N2 rules)``.
+
+        >>> MACHINES["swg091n2"].label, MACHINES["generic540"].label
+        ('SWG091N2', 'generic 540-needle V-bed (SWG091N2 rules)')
+        >>> MACHINES["swg091n2"].with_width(300).label
+        'generic 300-needle V-bed (SWG091N2 rules)'
+        """
+        if self.is_real:
+            return self.name
+        return f"generic {self.needles}-needle V-bed ({self.name} rules)"
+
+    @property
+    def bed_text(self) -> str:
+        """The bed in a sentence: ``the SWG091N2's bed of 252 needles`` on a real machine,
+        ``the generic 540-needle V-bed (SWG091N2 rules)`` on any other."""
+        if self.is_real:
+            return f"the {self.name}'s bed of {self.needles} needles"
+        return f"the {self.label}"
+
+    @property
     def needle_pitch_cm(self) -> float:
         """Distance between neighbouring needles, in cm."""
         return 2.54 / self.gauge
@@ -544,9 +585,8 @@ class MachineSpec:
         """Raise :class:`~illuknit.core.errors.SchedulingError` unless ``wales`` fit on the bed."""
         if wales > self.max_fabric_width:
             raise SchedulingError(
-                f"piece is {wales} stitches wide but the {self.name} bed of {self.needles} "
-                f"needles holds at most {self.max_fabric_width} (use a narrower pattern or a "
-                "wider --machine)"
+                f"piece is {wales} stitches wide but {self.bed_text} holds at most "
+                f"{self.max_fabric_width} (use a narrower pattern or a wider --machine)"
             )
 
     def check_units(
@@ -559,18 +599,19 @@ class MachineSpec:
         """
         if units > self.max_units:
             raise SchedulingError(
-                f"pattern is {units} units = {2 * units} stitches wide but the {self.name} bed of "
-                f"{self.needles} needles holds at most {self.max_units} units "
-                f"({self.max_fabric_width} stitches); {hint}"
+                f"pattern is {units} units = {2 * units} stitches wide but {self.bed_text} "
+                f"holds at most {self.max_units} units ({self.max_fabric_width} stitches); {hint}"
             )
 
     def with_width(self, needles: int) -> MachineSpec:
         """A copy with another bed width (the ``--machine-width`` option)."""
-        return replace(self, needles=needles, description=f"{self.name} with {needles} needles")
+        spec = replace(self, needles=needles)
+        return replace(spec, description=spec.label)
 
     def with_gauge(self, gauge: float) -> MachineSpec:
         """A copy with another gauge (the ``--gauge`` option)."""
-        return replace(self, gauge=gauge, description=f"{self.name} at gauge {gauge:g}")
+        spec = replace(self, gauge=gauge)
+        return replace(spec, description=f"{spec.label} at gauge {gauge:g}")
 
     def runs_on(self) -> str | None:
         """The reference backend of this machine: :attr:`backend`, or when it is not said,
@@ -584,11 +625,13 @@ class MachineSpec:
 MACHINES: dict[str, MachineSpec] = {
     "generic540": MachineSpec(
         backend="swg",
-        description="7-gauge Shima SWG091N2 as the reference knitout tools model it (540 needles)",
+        description="generic 540-needle V-bed with the 7-gauge Shima SWG091N2's rules, the bed "
+        "the reference knitout tools assume (the real SWG091N2 has 252 needles: swg091n2)",
     ),
     "swg091n2": MachineSpec(
         needles=252,
         backend="swg",
+        real_bed=(252, 7.0),
         description="7-gauge Shima SWG091N2 with its physical 36-inch bed (252 needles)",
     ),
     "kniterate": MachineSpec(
@@ -614,6 +657,7 @@ MACHINES: dict[str, MachineSpec] = {
             ),
         ),
         backend="kniterate",
+        real_bed=(252, 7.0),
         description="Kniterate, 252 needles, 6 carriers (1 draw thread, 6 waste, 2-5 pattern)",
     ),
 }
@@ -621,7 +665,8 @@ MACHINES: dict[str, MachineSpec] = {
 #: Preset used when no machine is named (the bed the reference tools assume).
 DEFAULT_MACHINE_NAME = "generic540"
 
-#: The paper's machine: a 7-gauge Shima SWG091N2 (540 needles as the reference tools model it).
+#: The default machine: a generic 540-needle V-bed with the SWG091N2's rules (the bed the reference
+#: tools assume; the paper's real SWG091N2 is ``MACHINES["swg091n2"]``).
 DEFAULT_MACHINE = MACHINES[DEFAULT_MACHINE_NAME]
 
 #: The Kniterate preset.

@@ -150,7 +150,7 @@ class KnitResult:
         wcm, hcm = size.width_cm, size.height_cm
         longest, longest_at = self._longest_float()
         out = {
-            "machine": self.machine.name,
+            "machine": self.machine.label,
             "needles": self.machine.needles,
             "gauge": self.machine.gauge,
             "wales": w,
@@ -408,7 +408,7 @@ def _schedule(
         if m.inserting_hook or type(e) not in (SchedulingError, CarrierShortageError):
             raise
         reserved = (
-            f"; on the {m.name} carriers {m.draw_carrier} and {m.waste_carrier} hold the draw "
+            f"; on the {m.label} carriers {m.draw_carrier} and {m.waste_carrier} hold the draw "
             f"thread and the waste yarn, leaving {len(plan_machine.carriers)} for the pattern"
         )
         if isinstance(e, CarrierShortageError):
