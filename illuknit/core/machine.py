@@ -58,6 +58,7 @@ __all__ = [
     "MACHINES",
     "SWG_CARRIERS",
     "SWG_TIMING",
+    "BedFitWarning",
     "CarriageTiming",
     "MachineSpec",
     "TransferSettings",
@@ -83,6 +84,11 @@ _TRANSFER_RANGE = {
     "speed_number": "transfer_speed_number",
     "roller_advance": "roller_advance",
 }
+
+
+class BedFitWarning(UserWarning):
+    """A design that fits no bed of the machine it is for, or only a generic bed and not the real
+    machine whose rules it has (:meth:`MachineSpec.fit_note`)."""
 
 
 @dataclass(frozen=True)
@@ -455,11 +461,11 @@ class MachineSpec:
             # the SWG backend knows neither x-xfer-stitch-number nor take-down roller extensions
             if self.transfer.stitch_number is not None:
                 raise OptionError(
-                    f"the {self.name} takes no transfer stitch number (the SWG backend transfers "
+                    f"the {self.label} takes no transfer stitch number (the SWG backend transfers "
                     "at the machine's own transfer stitch); set the transfer speed only"
                 )
             if self.transfer.roller_advance:
-                raise OptionError(f"the {self.name} has no roller-advance setting")
+                raise OptionError(f"the {self.label} has no roller-advance setting")
 
     def _check_ranges(self) -> None:
         """Every machine value within the range of :data:`~illuknit.core.machine_ranges.
@@ -523,7 +529,7 @@ class MachineSpec:
         return Gauge.for_machine(
             self.gauge,
             self.course_aspect,
-            source=f"{self.name}: one stitch per needle at gauge {self.gauge:g}, rows at "
+            source=f"{self.label}: one stitch per needle at gauge {self.gauge:g}, rows at "
             f"{self.course_aspect:g} of a stitch (the 5:7 stocking-stitch ratio; unmeasured, "
             "knit a swatch)",
         )
@@ -603,6 +609,34 @@ class MachineSpec:
                 f"holds at most {self.max_units} units ({self.max_fabric_width} stitches); {hint}"
             )
 
+    def fit_note(self, units: int) -> str | None:
+        """What a designer should know about a pattern ``units`` wide on this machine: that no
+        bed of it holds the pattern (``knit`` would refuse it), or, on a generic bed, that the
+        real machine whose rules it has does not; None when it fits.
+
+        >>> print(MACHINES["generic540"].fit_note(130))
+        the pattern is 130 units = 260 stitches wide: it fits the generic 540-needle V-bed (SWG091N2 rules) but not a real SWG091N2, whose 252 needles hold at most 123 units (--machine swg091n2)
+        >>> MACHINES["generic540"].fit_note(100) is None
+        True
+        """
+        size = f"the pattern is {units} units = {2 * units} stitches wide"
+        if units > self.max_units:
+            return (
+                f"{size}, but {self.bed_text} holds at most {self.max_units} units "
+                f"({self.max_fabric_width} stitches): `illuknit knit` would refuse it; "
+                f"make it at most {self.max_units} units wide or choose a wider "
+                "--machine"
+            )
+        if self.is_real:
+            return None
+        for key, real in MACHINES.items():
+            if real.is_real and real.name == self.name and units > real.max_units:
+                return (
+                    f"{size}: it fits {self.bed_text} but not a real {real.name}, whose "
+                    f"{real.needles} needles hold at most {real.max_units} units (--machine {key})"
+                )
+        return None
+
     def with_width(self, needles: int) -> MachineSpec:
         """A copy with another bed width (the ``--machine-width`` option)."""
         spec = replace(self, needles=needles)
@@ -625,8 +659,8 @@ class MachineSpec:
 MACHINES: dict[str, MachineSpec] = {
     "generic540": MachineSpec(
         backend="swg",
-        description="generic 540-needle V-bed with the 7-gauge Shima SWG091N2's rules, the bed "
-        "the reference knitout tools assume (the real SWG091N2 has 252 needles: swg091n2)",
+        description="generic 540-needle V-bed (SWG091N2 rules), 7 gauge: the bed the reference "
+        "knitout tools assume; the real SWG091N2 has 252 needles (swg091n2)",
     ),
     "swg091n2": MachineSpec(
         needles=252,
@@ -720,7 +754,7 @@ def load_machine_file(path: str | os.PathLike[str]) -> MachineSpec:
         timing = replace(base.timing, **raw)
     except (TypeError, ValueError) as e:
         raise OptionError(f"{path}: bad `timing`: {e}") from None
-    return replace(base, timing=timing, description=f"{base.name} calibrated ({Path(path).name})")
+    return replace(base, timing=timing, description=f"{base.label} calibrated ({Path(path).name})")
 
 
 def get_machine(name: str | MachineSpec | None = None) -> MachineSpec:
