@@ -138,7 +138,9 @@ def write_knitout(schedule: Schedule, *, machine: MachineSpec | None = None) -> 
                 append(f"x-speed-number {speed}")
         if step.kind == "knit" and step.stitch_number not in (None, stitch):
             stitch = step.stitch_number
-            append(f"x-stitch-number {stitch}")
+            # the Kniterate backend takes one character, 0-9 or A-Z (10-35)
+            code = _stitch_code(stitch) if m.runs_on() == "kniterate" else stitch
+            append(f"x-stitch-number {code}")
         lines.extend(step_lines(step))
     if rack != 0:
         append("rack 0")

@@ -184,3 +184,14 @@ def test_cli_refuses_a_machine_value_out_of_range_in_one_line(
 def test_docs_show_the_table() -> None:
     docs = (Path(__file__).parents[2] / "docs" / "knitting.md").read_text()
     assert ranges_markdown() in docs
+
+
+def test_kniterate_stitch_numbers_over_9_are_written_as_letters() -> None:
+    from illuknit.formats.kc import knitout_to_kc
+    from illuknit.knitting import knit_pattern
+
+    yarn = np.tile(np.arange(8) % 2, (4, 1))
+    pattern = LogicalPattern(yarn, np.zeros(yarn.shape, bool), parse_yarns("black,white"))
+    result = knit_pattern(pattern, machine=replace(KNITERATE, stitch_number=12))
+    assert "x-stitch-number C\n" in result.text and "x-stitch-number 12" not in result.text
+    knitout_to_kc(result.text, name="p.kc")  # the backend's grammar: 0-9 or A-Z
