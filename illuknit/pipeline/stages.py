@@ -476,7 +476,7 @@ def _design_pictures(
         edit_colors=min(4, max(n_colors, len(ys))),
         progress=progress,
     )
-    notes = _fit_notes(knit_on if knit_on is not None else ranking.machine, a.shape[1])
+    notes = _fit_notes(knit_on if knit_on is not None else design.ranking.machine, a.shape[1])
     return replace(_with_pictures(design, tuple(pictures)), notes=notes)
 
 
