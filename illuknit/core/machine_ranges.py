@@ -75,7 +75,7 @@ class ValueRange:
 
 #: parameter -> what people meet it as (option, knitout line)
 PARAMETERS: dict[str, str] = {
-    "needles": "needles per bed, ;;Width, --machine-width",
+    "needles": "needles per bed, ;;Width, --machine-width, check --bed-width",
     "gauge": "needles per inch, ;;Gauge, --gauge",
     "max_racking": "largest |racking|, rack",
     "stitch_number": "stitch number, x-stitch-number",

@@ -195,3 +195,11 @@ def test_kniterate_stitch_numbers_over_9_are_written_as_letters() -> None:
     result = knit_pattern(pattern, machine=replace(KNITERATE, stitch_number=12))
     assert "x-stitch-number C\n" in result.text and "x-stitch-number 12" not in result.text
     knitout_to_kc(result.text, name="p.kc")  # the backend's grammar: 0-9 or A-Z
+
+
+def test_check_refuses_a_bed_width_out_of_range(tmp_path, run_cli) -> None:
+    with pytest.raises(MachineValueError, match="`needles`"):
+        check_knitout(HEAD + BODY.format(x=""), bed_width=10**24)
+    (tmp_path / "p.k").write_text(HEAD + BODY.format(x=""))
+    code, _, err = run_cli(["check", tmp_path / "p.k", "--bed-width", "1" * 25])
+    assert code == 2 and err.count("\n") == 1 and "8..2000" in err
