@@ -235,8 +235,9 @@ def knit_pattern(
     ----------
     pattern : LogicalPattern
     machine : str or MachineSpec, optional
-        A preset name (``"swg091n2"``, ``"kniterate"``, ...) or a spec; defaults to the paper's
-        7-gauge SWG091N2 (:data:`~illuknit.core.machine.DEFAULT_MACHINE`). Read by
+        A preset name (``"swg091n2"``, ``"kniterate"``, ...) or a spec; defaults to the generic
+        540-needle V-bed with the SWG091N2's rules
+        (:data:`~illuknit.core.machine.DEFAULT_MACHINE`). Read by
         :func:`~illuknit.core.machine.resolve_machine`.
     options : KnitOptions, optional
         How to knit (defaults: ``KnitOptions()``). With ``allow_long_floats=False`` (the
