@@ -119,7 +119,9 @@ def run_knit(
     "--machine-width",
     type=click.IntRange(min=8),
     default=None,
-    help="Needles per bed [the machine's: 540 for generic540, 252 for swg091n2].",
+    help="Needles per bed [the machine's: 540 for generic540, 252 for swg091n2]; 8-2000 "
+    "(at most 252 on the Kniterate). Any width but the real machine's is a generic bed with "
+    "the preset's rules.",
 )
 @click.option(
     "--cast-on-courses",
