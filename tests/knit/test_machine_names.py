@@ -114,3 +114,9 @@ def test_cli_design_prints_one_note_and_knit_names_the_bed(tmp_path: Path, run_c
     assert code == 0, err
     assert "generic 680-needle V-bed (SWG091N2 rules)" in out + err
     assert "generic 680-needle" in (tmp_path / "w.k").read_text()
+    # a 260-stitch pattern compiles for the generic bed, and says no real SWG091N2 holds it
+    save_pattern(stripes(130), tmp_path / "wide.json")
+    code, out, err = run_cli(["knit", tmp_path / "wide.json", "-o", tmp_path / "wide.k"])
+    assert code == 0, err
+    assert [line for line in err.splitlines() if "not a real SWG091N2" in line]
+    assert f"for {GENERIC}" in out + err
