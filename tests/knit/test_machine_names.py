@@ -120,3 +120,21 @@ def test_cli_design_prints_one_note_and_knit_names_the_bed(tmp_path: Path, run_c
     assert code == 0, err
     assert [line for line in err.splitlines() if "not a real SWG091N2" in line]
     assert f"for {GENERIC}" in out + err
+
+
+def test_a_tile_design_wider_than_its_machine_warns_at_design_time() -> None:
+    from illuknit.core.machine import MachineSpec
+    from illuknit.design.options import RankOptions, SearchOptions
+    from illuknit.pipeline.stages import design_double
+
+    a = np.full((20, 40, 3), 0.9)
+    a[5:15, 10:30] = 0.1
+    b = np.full((20, 40, 3), 0.9)
+    b[2:18, 18:22] = 0.1
+    narrow = MachineSpec(needles=60)  # holds 27 units
+    with pytest.warns(BedFitWarning, match="would refuse"):
+        design = design_double(
+            a, b, width=40, ranking=RankOptions(machine=narrow), search=SearchOptions(candidates=1)
+        )
+    assert len(design.notes) == 1 and "40 units = 80 stitches" in design.notes[0]
+    assert "generic 60-needle V-bed (SWG091N2 rules) holds at most 27 units" in design.notes[0]
