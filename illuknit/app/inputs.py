@@ -297,8 +297,8 @@ def width_of(settings: DesignSettings) -> tuple[int, str]:
     if width > machine.max_units:
         # refused before any work: a pattern that cannot go on the chosen bed is not designed
         raise AppRequestError(
-            f"the piece would be {width} units = {2 * width} stitches wide, but the "
-            f"{machine.name} bed of {machine.needles} needles holds at most {machine.max_units} "
+            f"the piece would be {width} units = {2 * width} stitches wide, but "
+            f"{machine.bed_text} holds at most {machine.max_units} "
             "units; make it narrower or choose a wider machine",
             field=size_field,
             code="too_wide",

@@ -48,20 +48,13 @@ class CheckedKnitout:
     needle_range: tuple[int, int]
 
 
-#: What the page's selector calls each preset: two presets are the same machine (its name in the
-#: knitout headers), told apart by their beds.
-MACHINE_LABELS = {
-    "generic540": "SWG091N2 modelled",
-    "swg091n2": "SWG091N2 physical",
-}
-
-
 def machines_json() -> list[dict[str, Any]]:
     """The machine presets as the page's selector shows them, each under its own label."""
     return [
         {
             "name": key,
-            "label": MACHINE_LABELS.get(key, spec.name),
+            # what the machine is: a real machine's name only on its real bed
+            "label": spec.label,
             "description": spec.description,
             "needles": spec.needles,
             "gauge": spec.gauge,
@@ -98,7 +91,7 @@ def knit_and_check(
             )
     except LongFloatError as e:
         raise AppRequestError(
-            long_float_message(e, spec.name), field="knit", code="long_floats", status=409
+            long_float_message(e, spec.label), field="knit", code="long_floats", status=409
         ) from None
     from illuknit.outputs.machine_sheet import machine_headline, machine_sheet
 
@@ -157,7 +150,7 @@ def machine_file(knit: CheckedKnitout, fmt: str, *, name: str) -> bytes:
     if fmt not in spec.formats:
         takes = " or ".join(f".{f}" for f in spec.formats) or "no machine file illuknit writes"
         raise AppRequestError(
-            f"the {spec.name} takes {takes}, not .{fmt}; choose a machine that takes .{fmt} "
+            f"the {spec.label} takes {takes}, not .{fmt}; choose a machine that takes .{fmt} "
             "and make the knitout again",
             field="machine",
             code="wrong_format",

@@ -63,8 +63,8 @@ def check_knitout(
     max_racking : float or None, keyword-only
         Override of ``machine.max_racking``: largest allowed |racking|.
     bed_width : int or None, keyword-only
-        Override of the needles per bed; None uses the ``;;Width`` header when present, else the
-        machine's.
+        Override of the needles per bed (in the machine's range, else ``MachineValueError``);
+        None uses the ``;;Width`` header when present, else the machine's.
     simulate : bool, keyword-only
         Also run the PyPI knitout-interpreter / virtual-knitting-machine (needs the ``sim`` extra)
         and add its findings with ``source="vm"``. Slow on large programs.
@@ -108,7 +108,7 @@ def check_knitout(
     spec = _judging_machine(program, named)
     racking = spec.max_racking if max_racking is None else max_racking
     limit = spec.float_limit if float_limit is None else float_limit
-    width = bed_width if bed_width is not None else program.width or spec.needles
+    width = _bed_width(program, spec, bed_width)
     sim = simulate_program(program, max_racking=racking, bed_width=width)
     findings = [*check_header(program, machine=spec), *machine_findings(sim)]
     fabric, suppressed = fabric_findings(sim, float_limit=limit, split_bumps=bool(split_bumps))
@@ -125,14 +125,37 @@ def check_knitout(
         n_loops=len(sim.loop_lines),
         suppressed=suppressed,
         vm=vm_summary,
-        machine={
-            "name": spec.name,
-            "needles": width,
-            "gauge": spec.gauge,
-            "max_racking": racking,
-            "float_limit": limit,
-        },
+        machine=_machine_info(spec, width, racking, limit),
     )
+
+
+def _machine_info(spec: MachineSpec, width: int, racking: float, limit: int) -> dict[str, Any]:
+    """The report's machine: ``name`` says what it is (a bed of another width than ``spec``'s,
+    e.g. ``bed_width``, is a generic bed with its rules), ``model`` the ``;;Machine`` rules."""
+    generic = f"generic {width}-needle V-bed ({spec.name} rules)"
+    return {
+        "name": spec.label if width == spec.needles else generic,
+        "model": spec.name,
+        "needles": width,
+        "gauge": spec.gauge,
+        "max_racking": racking,
+        "float_limit": limit,
+    }
+
+
+def _bed_width(program: KnitoutProgram, spec: MachineSpec, bed_width: int | None) -> int:
+    """The bed width to simulate: ``bed_width`` (refused out of the machine's range), else
+    ``;;Width`` when the machine takes it, else the machine's (an absurd ``;;Width`` is a
+    ``machine-value`` error, not a bed to simulate)."""
+    from illuknit.core.machine_ranges import check_machine_value, ranges_for
+
+    if bed_width is not None:
+        check_machine_value("needles", bed_width, backend=spec.runs_on())
+        return bed_width
+    width = program.width
+    if width is None or not ranges_for(spec.runs_on())["needles"].contains(width):
+        return spec.needles
+    return width
 
 
 def _judging_machine(program: KnitoutProgram, named: MachineSpec | None) -> MachineSpec:

@@ -87,8 +87,9 @@ class CheckReport:
         Summary of the PyPI simulator run when ``simulate=True`` (``ran``, ``seconds``,
         ``versions``, ``pieces`` or ``reason`` when it could not run).
     machine : dict or None
-        The machine judged against: ``name``, ``needles``, ``gauge``, ``max_racking``,
-        ``float_limit``.
+        The machine judged against: ``name`` (what it is:
+        :attr:`~illuknit.core.machine.MachineSpec.label`), ``model`` (the ``;;Machine`` whose
+        rules it has), ``needles``, ``gauge``, ``max_racking``, ``float_limit``.
     """
 
     findings: tuple[Finding, ...]

@@ -16,7 +16,7 @@ from illuknit.knitout.parse import KnitoutProgram
 if TYPE_CHECKING:
     from illuknit.core.machine import MachineSpec
 
-__all__ = ["RULES", "SWG_CARRIERS", "check_header", "machine_findings"]
+__all__ = ["RULES", "SWG_CARRIERS", "check_header", "machine_findings", "machine_value_findings"]
 
 #: the only ;;Carriers: value the SWG converter accepts
 SWG_CARRIERS = "1 2 3 4 5 6 7 8 9 10"
@@ -27,6 +27,10 @@ RULES: dict[str, tuple[str, str]] = {
     "header-carriers": ("error", ";;Carriers: missing or not exactly the machine's carriers"),
     "header-value": ("error", "bad ;;Gauge, ;;Width or ;;Position value"),
     "header-machine": ("warning", ";;Machine is not the machine the checker models"),
+    "machine-value": (
+        "error",
+        ";;Width, ;;Gauge or a stitch, speed or roller number outside the machine's range",
+    ),
     "crlf": ("warning", "CRLF line endings (the converter warns)"),
     "tab-separator": ("error", "tokens separated by tabs (the SWG converter accepts spaces only)"),
     "carrier-unknown": ("error", "carrier not listed in the ;;Carriers: header"),
@@ -62,7 +66,8 @@ def _finding(line: int, code: str, message: str) -> Finding:
 
 
 def check_header(program: KnitoutProgram, *, machine: MachineSpec | None = None) -> list[Finding]:
-    """Findings about the magic line, the header and the file's form.
+    """Findings about the magic line, the header, the file's form and its machine values
+    (:func:`machine_value_findings`).
 
     ``;;Carriers`` and ``;;Machine`` must be those of ``machine`` (default: the SWG091N2 as the
     reference converter takes it, which requires carriers ``1 .. 10``).
@@ -82,7 +87,7 @@ def check_header(program: KnitoutProgram, *, machine: MachineSpec | None = None)
             _finding(
                 1,
                 "header-carriers",
-                f"no ';;Carriers: {carriers}' header (the {m_spec.name} requires exactly this)",
+                f"no ';;Carriers: {carriers}' header (the {m_spec.label} requires exactly this)",
             )
         )
     elif hc[0] != carriers:
@@ -90,7 +95,7 @@ def check_header(program: KnitoutProgram, *, machine: MachineSpec | None = None)
             _finding(
                 hc[1],
                 "header-carriers",
-                f";;Carriers: {hc[0]!r}; the {m_spec.name} requires exactly {carriers!r}",
+                f";;Carriers: {hc[0]!r}; the {m_spec.label} requires exactly {carriers!r}",
             )
         )
     g = program.header("Gauge")
@@ -116,9 +121,10 @@ def check_header(program: KnitoutProgram, *, machine: MachineSpec | None = None)
     if m is not None and m[0] != m_spec.name:
         out.append(
             _finding(
-                m[1], "header-machine", f";;Machine {m[0]!r}: the checker models the {m_spec.name}"
+                m[1], "header-machine", f";;Machine {m[0]!r}: the checker models the {m_spec.label}"
             )
         )
+    out += machine_value_findings(program, machine=m_spec)
     if program.crlf:
         out.append(_finding(1, "crlf", "CRLF line endings; write LF"))
     tabbed = [op.line for op in program.operations if op.tabs]
@@ -139,6 +145,71 @@ def _positive_number(s: str) -> bool:
         return float(s) > 0
     except ValueError:
         return False
+
+
+#: knitout extension -> its parameter in :data:`~illuknit.core.machine_ranges.MACHINE_RANGES`
+_EXTENSION_VALUES = {
+    "x-stitch-number": "stitch_number",
+    "x-xfer-stitch-number": "transfer_stitch_number",
+    "x-speed-number": "speed_number",
+    "x-roller-advance": "roller_advance",
+    "x-add-roller-advance": "roller_advance",
+}
+_STITCH_CODES = "0123456789ABCDEFGHIJKLMNOPQRSTUVWXYZ"
+
+
+def machine_value_findings(program: KnitoutProgram, *, machine: MachineSpec) -> list[Finding]:
+    """``machine-value`` errors: a ``;;Width`` or ``;;Gauge`` header, or a stitch, speed or
+    roller number, outside the range ``machine``'s backend takes
+    (:data:`~illuknit.core.machine_ranges.MACHINE_RANGES`; each message names the range and its
+    source). One finding per distinct value, at its first line."""
+    from illuknit.core.machine_ranges import machine_value_problem
+
+    backend = machine.runs_on()
+    out: list[Finding] = []
+    w = program.header("Width")
+    if w is not None and program.width is not None:
+        problem = machine_value_problem("needles", program.width, backend=backend)
+        if problem is not None:
+            out.append(_finding(w[1], "machine-value", f";;Width {_short(w[0])}: {problem}"))
+    g = program.header("Gauge")
+    if g is not None and _positive_number(g[0]):
+        problem = machine_value_problem("gauge", float(g[0]), backend=backend)
+        if problem is not None:
+            out.append(_finding(g[1], "machine-value", f";;Gauge {_short(g[0])}: {problem}"))
+    seen: set[tuple[str, tuple[str, ...]]] = set()
+    for op in program.operations:
+        name = _EXTENSION_VALUES.get(op.op)
+        if name is None or (op.op, op.args) in seen:
+            continue
+        seen.add((op.op, op.args))
+        problem = machine_value_problem(name, _extension_value(op.args, backend), backend=backend)
+        if problem is not None:
+            text = f"{op.op} {_short(' '.join(op.args))}"
+            out.append(_finding(op.line, "machine-value", f"{text}: {problem}"))
+    return out
+
+
+def _extension_value(args: tuple[str, ...], backend: str | None) -> object:
+    """The number an extension's argument stands for (a Kniterate stitch letter A-Z is 10-35),
+    or the raw text when it is none."""
+    raw = " ".join(args)
+    if len(args) != 1:
+        return raw
+    arg = args[0]
+    if backend == "kniterate" and len(arg) == 1 and arg in _STITCH_CODES:
+        return _STITCH_CODES.index(arg)
+    if arg.lstrip("+").isascii() and arg.lstrip("+").isdigit():
+        return int(arg)
+    try:
+        value = float(arg)
+    except ValueError:
+        return raw
+    return int(value) if value.is_integer() else value
+
+
+def _short(text: str) -> str:
+    return text if len(text) <= 24 else text[:21] + "..."
 
 
 def machine_findings(sim: Simulation) -> list[Finding]:

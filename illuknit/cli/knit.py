@@ -46,10 +46,12 @@ def run_knit(
     ``options.allow_long_floats``, which keeps it with a
     :class:`~illuknit.knitting.pipeline.LongFloatWarning`.
     """
+    import warnings
     from dataclasses import replace
 
     from illuknit.cli.knitout_bridge import check_fits, resolve_machine
     from illuknit.core.files import STDOUT, write_output_file
+    from illuknit.core.machine import BedFitWarning
     from illuknit.core.pattern import load_pattern
     from illuknit.formats import check_format, knitout_to_format
     from illuknit.knitting import knit_pattern
@@ -61,6 +63,9 @@ def run_knit(
         spec = spec.with_width(machine_width)
     pattern = load_pattern(pattern_path)
     check_fits(spec, pattern.shape[1], hint="use a narrower pattern or a wider --machine-width")
+    note = spec.fit_note(pattern.shape[1])  # it fits this bed, but maybe no real machine's
+    if note is not None:
+        warnings.warn(note, BedFitWarning, stacklevel=2)  # one `illuknit: note:` line
     changes: dict[str, Any] = {}
     if seconds_per_needle is not None or seconds_per_turn is not None:
         # a linear model of the user's own instead of the carriage speeds
@@ -119,7 +124,9 @@ def run_knit(
     "--machine-width",
     type=click.IntRange(min=8),
     default=None,
-    help="Needles per bed [the machine's: 540 for generic540, 252 for swg091n2].",
+    help="Needles per bed [the machine's: 540 for generic540, 252 for swg091n2]; 8-2000 "
+    "(at most 252 on the Kniterate). Any width but the real machine's is a generic bed with "
+    "the preset's rules.",
 )
 @click.option(
     "--cast-on-courses",

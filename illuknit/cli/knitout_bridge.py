@@ -97,14 +97,15 @@ def machine_option(
             "speed_number",
             click.IntRange(min=0),
             "Speed number of transfer passes "
-            "(x-speed-number) [the machine's: 100 on the Kniterate, the machine's own table on a "
-            "Shima].",
+            "(x-speed-number; 0-15 on a Shima, 0-600 on the Kniterate) [the machine's: 100 on "
+            "the Kniterate, the machine's own table on a Shima].",
         ),
         (
             "--xfer-roller",
             "roller_advance",
             click.IntRange(min=0),
-            "Kniterate roller advance on the first transfer pass of each run of transfers [0].",
+            "Kniterate roller advance on the first transfer pass of each run of transfers "
+            "(0-1000) [0].",
         ),
     ]
 

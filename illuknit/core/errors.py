@@ -12,7 +12,8 @@ picture                :class:`ImageInputError` (target images, too),
 pattern                :class:`PatternValidationError` (an in-memory pattern IR or its arrays)
 option / value         :class:`OptionError` (a keyword or setting out of range or of a wrong
                        type); :class:`UnknownNameError` (a name not in a registry);
-                       :class:`RenderParamsError`
+                       :class:`RenderParamsError`; :class:`MachineValueError` (a machine
+                       value outside its range in :mod:`illuknit.core.machine_ranges`)
 machine rule           :class:`MachineRuleError` (carries the needle / carrier / racking)
 scheduling             :class:`SchedulingError` and its subclasses (a pattern the machine cannot
                        knit, a malformed schedule; :class:`LongFloatError`: a float that stays
@@ -48,6 +49,7 @@ __all__ = [
     "LongFloatError",
     "MachineFileError",
     "MachineRuleError",
+    "MachineValueError",
     "ManifestError",
     "MixedColorworkError",
     "ModelError",
@@ -126,6 +128,21 @@ class UnknownNameError(OptionError, KeyError):
 
     def __str__(self) -> str:  # KeyError would quote the message
         return str(self.args[0])
+
+
+class MachineValueError(OptionError):
+    """A machine value (needles, gauge, stitch, speed, roller, racking) outside the range the
+    machine takes (:data:`illuknit.core.machine_ranges.MACHINE_RANGES`). ``parameter``, ``low``,
+    ``high`` and ``source`` say which value, its range and where the range comes from."""
+
+    def __init__(
+        self, message: str, *, parameter: str, low: float, high: float, source: str
+    ) -> None:
+        super().__init__(message)
+        self.parameter = parameter
+        self.low = low
+        self.high = high
+        self.source = source
 
 
 class BackendUnavailableError(IlluknitError, ImportError):

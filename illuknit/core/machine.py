@@ -7,17 +7,23 @@ them from the spec they are given, and one spec travels with a piece from schedu
 Presets (:data:`MACHINES`, looked up with :func:`get_machine`; ``--machine NAME`` on the CLI):
 
 ``generic540`` (the default)
-    The paper's machine, a 7-gauge Shima Seiki SWG091N2, as the CMU knitout-to-dat converter and
-    the PyPI virtual knitting machine model it: 540 needles per bed, carriers ``"1"`` .. ``"10"``,
-    racking within +/-4. The converter assumes 540 needles when a program has no ``;;Width``
-    header (``knitout-to-dat.js``), so every program written for it fits this bed.
+    A generic 540-needle V-bed with the rules of the paper's machine, a 7-gauge Shima Seiki
+    SWG091N2, as the CMU knitout-to-dat converter and the PyPI virtual knitting machine model it:
+    540 needles per bed, carriers ``"1"`` .. ``"10"``, racking within +/-4. The converter assumes
+    540 needles when a program has no ``;;Width`` header (``knitout-to-dat.js``), so every
+    program written for it fits this bed. No SWG091N2 has 540 needles, so it is called what it
+    is (:attr:`MachineSpec.label`: ``generic 540-needle V-bed (SWG091N2 rules)``); its knitout
+    still says ``;;Machine: SWG091N2``, the model whose rules and backend it follows, and a
+    comment line under the header names the bed.
 ``swg091n2``
     The same machine with its physical needle count. The SWG091N2 is one of Shima Seiki's compact
     WHOLEGARMENT machines (the SWG-N2 series: SWG041N2, SWG061N2, SWG091N2; e.g. asiantex.net,
     2020, "Shima Seiki releases additional data for knitted masks") with a 36-inch (91 cm)
     needle bed: at 7 needles per inch that is 252 needles per bed. Knitout programs published
     for this machine by the CMU Textiles Lab declare ``;;Width: 250``, consistent with it. Pieces
-    wider than 247 stitches (123 units) do not fit this bed.
+    wider than 247 stitches (123 units) do not fit this bed. The only preset called
+    ``SWG091N2`` (:attr:`MachineSpec.real_bed`); with another ``--machine-width`` or ``--gauge``
+    it is a generic bed with its rules.
 
 ``kniterate``
     The Kniterate: 252 needles at 7 gauge (the bed ``knitout-to-kcode.js`` assumes), six carriers
@@ -41,6 +47,7 @@ from pathlib import Path
 
 from illuknit.core.errors import OptionError, SchedulingError, UnknownNameError
 from illuknit.core.gauge import STOCKINETTE_COURSE_ASPECT, Gauge
+from illuknit.core.machine_ranges import check_machine_value, ranges_for
 
 __all__ = [
     "BACKENDS",
@@ -51,6 +58,7 @@ __all__ = [
     "MACHINES",
     "SWG_CARRIERS",
     "SWG_TIMING",
+    "BedFitWarning",
     "CarriageTiming",
     "MachineSpec",
     "TransferSettings",
@@ -69,6 +77,18 @@ SWG_CARRIERS = tuple(str(i) for i in range(1, 11))
 
 #: Reference backends a machine's knitout can go through (:attr:`MachineSpec.backend`).
 BACKENDS = ("swg", "kniterate")
+
+#: TransferSettings field -> its parameter in :data:`~illuknit.core.machine_ranges.MACHINE_RANGES`
+_TRANSFER_RANGE = {
+    "stitch_number": "transfer_stitch_number",
+    "speed_number": "transfer_speed_number",
+    "roller_advance": "roller_advance",
+}
+
+
+class BedFitWarning(UserWarning):
+    """A design that fits no bed of the machine it is for, or only a generic bed and not the real
+    machine whose rules it has (:meth:`MachineSpec.fit_note`)."""
 
 
 @dataclass(frozen=True)
@@ -108,14 +128,16 @@ class TransferSettings:
     source: str = "the machine's own transfer settings"
 
     def __post_init__(self) -> None:
-        for name, top in (("stitch_number", 35), ("speed_number", None), ("roller_advance", None)):
+        for name in ("stitch_number", "speed_number", "roller_advance"):
             v = getattr(self, name)
             if v is None:
                 continue
             if not isinstance(v, int) or isinstance(v, bool) or v < 0:
                 raise OptionError(f"transfer `{name}` must be a non-negative integer, got {v!r}")
-            if top is not None and v > top:
-                raise OptionError(f"transfer `{name}` must be at most {top}, got {v!r}")
+            # the widest range of any machine; the machine's own is checked by MachineSpec
+            check_machine_value(_TRANSFER_RANGE[name], v, backend=None, where="any machine")
+        if not isinstance(self.source, str):
+            raise OptionError(f"transfer `source` must be a string, got {self.source!r}")
 
     def describe(self) -> dict[str, object]:
         """The settings as JSON-ready values (``None``: the machine's own)."""
@@ -296,7 +318,9 @@ class MachineSpec:
     Parameters
     ----------
     name : str
-        Machine model written to the ``;;Machine:`` header.
+        Machine model written to the ``;;Machine:`` header: the model whose rules (carriers,
+        racking, backend) the spec follows. People see :attr:`label`, which says whether the
+        spec is that machine or a generic bed with its rules.
     needles : int
         Needles per bed (the ``;;Width:`` header). Needle numbers used are ``0 .. needles - 1``.
     gauge : float
@@ -349,6 +373,10 @@ class MachineSpec:
         that backend makes them), ``"kniterate"`` (``.kc``), or None: not said, taken as
         ``"swg"`` for a machine with the Shima carriers (:data:`SWG_CARRIERS`), else knitout only
         (:meth:`runs_on`).
+    real_bed : tuple of (int, float) or None
+        Needles per bed and gauge of the real machine ``name``: the spec is that machine only
+        when its own ``needles`` and ``gauge`` are these (:attr:`label`); None: no real machine
+        has this bed (a generic bed with ``name``'s rules).
 
     Examples
     --------
@@ -382,11 +410,14 @@ class MachineSpec:
     transfer: TransferSettings = TransferSettings()
     fabric: Gauge | None = None
     backend: str | None = None
+    real_bed: tuple[int, float] | None = None
 
     def __post_init__(self) -> None:
         def positive(name: str, value: float, *, integer: bool = False) -> None:
             if integer and (not isinstance(value, int) or isinstance(value, bool)):
                 raise OptionError(f"`{name}` must be an integer, got {value!r}")
+            if isinstance(value, bool) or not isinstance(value, (int, float)):
+                raise OptionError(f"`{name}` must be a number, got {value!r}")
             if not value > 0:
                 raise OptionError(f"`{name}` must be positive, got {value!r}")
 
@@ -423,19 +454,67 @@ class MachineSpec:
             )
         for name in ("stitch_number", "cast_on_stitch_number", "speed_number"):
             v = getattr(self, name)
-            if v is not None and (not isinstance(v, int) or v < 0):
-                raise OptionError(f"`{name}` must be a non-negative integer or None")
+            if v is not None and (not isinstance(v, int) or isinstance(v, bool) or v < 0):
+                raise OptionError(f"`{name}` must be a non-negative integer or None, got {v!r}")
+        self._check_ranges()
         if "kc" not in self.formats:
             # the SWG backend knows neither x-xfer-stitch-number nor take-down roller extensions
             if self.transfer.stitch_number is not None:
                 raise OptionError(
-                    f"the {self.name} takes no transfer stitch number (the SWG backend transfers "
+                    f"the {self.label} takes no transfer stitch number (the SWG backend transfers "
                     "at the machine's own transfer stitch); set the transfer speed only"
                 )
             if self.transfer.roller_advance:
-                raise OptionError(f"the {self.name} has no roller-advance setting")
+                raise OptionError(f"the {self.label} has no roller-advance setting")
+
+    def _check_ranges(self) -> None:
+        """Every machine value within the range of :data:`~illuknit.core.machine_ranges.
+        MACHINE_RANGES` for this machine's backend (:class:`MachineValueError` otherwise)."""
+        backend = self.runs_on()
+        values: dict[str, object] = {
+            "needles": self.needles,
+            "gauge": self.gauge,
+            "max_racking": self.max_racking,
+            "stitch_number": self.stitch_number,
+            "cast_on_stitch_number": self.cast_on_stitch_number,
+            "speed_number": self.speed_number,
+            "transfer_stitch_number": self.transfer.stitch_number,
+            "transfer_speed_number": self.transfer.speed_number,
+            "roller_advance": self.transfer.roller_advance or None,
+        }
+        for name, value in values.items():
+            if value is not None:
+                check_machine_value(name, value, backend=backend)
 
     # -- derived quantities --------------------------------------------------------------------
+    @property
+    def is_real(self) -> bool:
+        """Whether this is the real machine :attr:`name` (its needles and gauge are
+        :attr:`real_bed`), not a generic bed that borrows its rules."""
+        return self.real_bed is not None and (self.needles, self.gauge) == self.real_bed
+
+    @property
+    def label(self) -> str:
+        """What people are told the machine is: the model's name on its real bed, else what it
+        is, e.g. ``generic 540-needle V-bed (SWG091N2 rules)``.
+
+        >>> MACHINES["swg091n2"].label, MACHINES["generic540"].label
+        ('SWG091N2', 'generic 540-needle V-bed (SWG091N2 rules)')
+        >>> MACHINES["swg091n2"].with_width(300).label
+        'generic 300-needle V-bed (SWG091N2 rules)'
+        """
+        if self.is_real:
+            return self.name
+        return f"generic {self.needles}-needle V-bed ({self.name} rules)"
+
+    @property
+    def bed_text(self) -> str:
+        """The bed in a sentence: ``the SWG091N2's bed of 252 needles`` on a real machine,
+        ``the generic 540-needle V-bed (SWG091N2 rules)`` on any other."""
+        if self.is_real:
+            return f"the {self.name}'s bed of {self.needles} needles"
+        return f"the {self.label}"
+
     @property
     def needle_pitch_cm(self) -> float:
         """Distance between neighbouring needles, in cm."""
@@ -450,7 +529,7 @@ class MachineSpec:
         return Gauge.for_machine(
             self.gauge,
             self.course_aspect,
-            source=f"{self.name}: one stitch per needle at gauge {self.gauge:g}, rows at "
+            source=f"{self.label}: one stitch per needle at gauge {self.gauge:g}, rows at "
             f"{self.course_aspect:g} of a stitch (the 5:7 stocking-stitch ratio; unmeasured, "
             "knit a swatch)",
         )
@@ -512,9 +591,8 @@ class MachineSpec:
         """Raise :class:`~illuknit.core.errors.SchedulingError` unless ``wales`` fit on the bed."""
         if wales > self.max_fabric_width:
             raise SchedulingError(
-                f"piece is {wales} stitches wide but the {self.name} bed of {self.needles} "
-                f"needles holds at most {self.max_fabric_width} (use a narrower pattern or a "
-                "wider --machine)"
+                f"piece is {wales} stitches wide but {self.bed_text} holds at most "
+                f"{self.max_fabric_width} (use a narrower pattern or a wider --machine)"
             )
 
     def check_units(
@@ -527,18 +605,47 @@ class MachineSpec:
         """
         if units > self.max_units:
             raise SchedulingError(
-                f"pattern is {units} units = {2 * units} stitches wide but the {self.name} bed of "
-                f"{self.needles} needles holds at most {self.max_units} units "
-                f"({self.max_fabric_width} stitches); {hint}"
+                f"pattern is {units} units = {2 * units} stitches wide but {self.bed_text} "
+                f"holds at most {self.max_units} units ({self.max_fabric_width} stitches); {hint}"
             )
+
+    def fit_note(self, units: int) -> str | None:
+        """What a designer should know about a pattern ``units`` wide on this machine: that no
+        bed of it holds the pattern (``knit`` would refuse it), or, on a generic bed, that the
+        real machine whose rules it has does not; None when it fits.
+
+        >>> print(MACHINES["generic540"].fit_note(130))
+        the pattern is 130 units = 260 stitches wide: it fits the generic 540-needle V-bed (SWG091N2 rules) but not a real SWG091N2, whose 252 needles hold at most 123 units (--machine swg091n2)
+        >>> MACHINES["generic540"].fit_note(100) is None
+        True
+        """
+        size = f"the pattern is {units} units = {2 * units} stitches wide"
+        if units > self.max_units:
+            return (
+                f"{size}, but {self.bed_text} holds at most {self.max_units} units "
+                f"({self.max_fabric_width} stitches): `illuknit knit` would refuse it; "
+                f"make it at most {self.max_units} units wide or choose a wider "
+                "--machine"
+            )
+        if self.is_real:
+            return None
+        for key, real in MACHINES.items():
+            if real.is_real and real.name == self.name and units > real.max_units:
+                return (
+                    f"{size}: it fits {self.bed_text} but not a real {real.name}, whose "
+                    f"{real.needles} needles hold at most {real.max_units} units (--machine {key})"
+                )
+        return None
 
     def with_width(self, needles: int) -> MachineSpec:
         """A copy with another bed width (the ``--machine-width`` option)."""
-        return replace(self, needles=needles, description=f"{self.name} with {needles} needles")
+        spec = replace(self, needles=needles)
+        return replace(spec, description=spec.label)
 
     def with_gauge(self, gauge: float) -> MachineSpec:
         """A copy with another gauge (the ``--gauge`` option)."""
-        return replace(self, gauge=gauge, description=f"{self.name} at gauge {gauge:g}")
+        spec = replace(self, gauge=gauge)
+        return replace(spec, description=f"{spec.label} at gauge {gauge:g}")
 
     def runs_on(self) -> str | None:
         """The reference backend of this machine: :attr:`backend`, or when it is not said,
@@ -552,11 +659,13 @@ class MachineSpec:
 MACHINES: dict[str, MachineSpec] = {
     "generic540": MachineSpec(
         backend="swg",
-        description="7-gauge Shima SWG091N2 as the reference knitout tools model it (540 needles)",
+        description="generic 540-needle V-bed (SWG091N2 rules), 7 gauge: the bed the reference "
+        "knitout tools assume; the real SWG091N2 has 252 needles (swg091n2)",
     ),
     "swg091n2": MachineSpec(
         needles=252,
         backend="swg",
+        real_bed=(252, 7.0),
         description="7-gauge Shima SWG091N2 with its physical 36-inch bed (252 needles)",
     ),
     "kniterate": MachineSpec(
@@ -582,6 +691,7 @@ MACHINES: dict[str, MachineSpec] = {
             ),
         ),
         backend="kniterate",
+        real_bed=(252, 7.0),
         description="Kniterate, 252 needles, 6 carriers (1 draw thread, 6 waste, 2-5 pattern)",
     ),
 }
@@ -589,7 +699,8 @@ MACHINES: dict[str, MachineSpec] = {
 #: Preset used when no machine is named (the bed the reference tools assume).
 DEFAULT_MACHINE_NAME = "generic540"
 
-#: The paper's machine: a 7-gauge Shima SWG091N2 (540 needles as the reference tools model it).
+#: The default machine: a generic 540-needle V-bed with the SWG091N2's rules (the bed the reference
+#: tools assume; the paper's real SWG091N2 is ``MACHINES["swg091n2"]``).
 DEFAULT_MACHINE = MACHINES[DEFAULT_MACHINE_NAME]
 
 #: The Kniterate preset.
@@ -643,7 +754,7 @@ def load_machine_file(path: str | os.PathLike[str]) -> MachineSpec:
         timing = replace(base.timing, **raw)
     except (TypeError, ValueError) as e:
         raise OptionError(f"{path}: bad `timing`: {e}") from None
-    return replace(base, timing=timing, description=f"{base.name} calibrated ({Path(path).name})")
+    return replace(base, timing=timing, description=f"{base.label} calibrated ({Path(path).name})")
 
 
 def get_machine(name: str | MachineSpec | None = None) -> MachineSpec:
@@ -726,9 +837,11 @@ def machine_from_headers(headers: Mapping[str, str]) -> MachineSpec:
     base = same_model[0] if same_model else DEFAULT_MACHINE
     base = next((m for m in same_model if m.needles == width), base)
     changes: dict[str, float] = {}
-    if width is not None and width != base.needles:
+    # a value out of range is left to the checker's machine-value rule, not taken as the bed
+    ranges = ranges_for(base.runs_on())
+    if width is not None and width != base.needles and ranges["needles"].contains(width):
         changes["needles"] = width
-    if gauge is not None and gauge != base.gauge:
+    if gauge is not None and gauge != base.gauge and ranges["gauge"].contains(gauge):
         changes["gauge"] = gauge
     if not changes:
         return base

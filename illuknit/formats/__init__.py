@@ -44,7 +44,7 @@ def check_format(machine: MachineSpec, fmt: str) -> None:
     """Refuse (:class:`~illuknit.core.errors.UnknownNameError`) a format ``machine`` cannot take."""
     valid = machine_formats(machine)
     if fmt not in valid:
-        raise UnknownNameError(f"output format for the {machine.name}", fmt, valid)
+        raise UnknownNameError(f"output format for the {machine.label}", fmt, valid)
 
 
 def knitout_to_format(text: str, fmt: str, *, name: str = "program") -> bytes:

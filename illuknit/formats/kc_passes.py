@@ -22,6 +22,7 @@ import re
 from dataclasses import dataclass
 
 from illuknit.core.errors import KcodeError, KnitoutParseError
+from illuknit.core.machine_ranges import machine_value_problem
 from illuknit.formats.kc_ir import (
     CARRIERS,
     SOFT,
@@ -94,6 +95,14 @@ def read_kc_passes(text: str) -> KcProgram:
     )
 
 
+def _in_range(name: str, value: object, what: str, line: int) -> None:
+    """Refuse a machine value outside the Kniterate range of :mod:`illuknit.core.machine_ranges`
+    (the backend takes any number, and the machine would run it)."""
+    problem = machine_value_problem(name, value, backend="kniterate")
+    if problem is not None:
+        raise KcodeError(f"{what[:40]}: {problem}", line=line)
+
+
 def _read_headers(program: KnitoutProgram) -> KcHeaders:
     carriers: list[str] | None = None
     position = "Center"
@@ -104,10 +113,12 @@ def _read_headers(program: KnitoutProgram) -> KcHeaders:
         elif name == "Gauge":
             if not (re.match(r"^\d+\.?\d*$", value) and float(value) > 0):
                 raise KcodeError(f"`Gauge` must be a positive number, got {value!r}", line=line)
+            _in_range("gauge", float(value), f";;Gauge: {value}", line)
         elif name == "Width":
             if not (re.match(r"^\d+$", value) and int(value) > 0):
                 raise KcodeError(f"`Width` must be a positive integer, got {value!r}", line=line)
             width = int(value)
+            _in_range("needles", width, f";;Width: {value}", line)
         elif name == "Position":
             if value not in _POSITIONS:
                 raise KcodeError(
@@ -308,12 +319,14 @@ class _PassReader:
             else:
                 self.xfer_stitch = args[0]
         elif op == "x-speed-number":
-            self.number(op, args)
+            _in_range("speed_number", self.number(op, args), f"{op} {args[0]}", self.line)
             self.speed = args[0]
         elif op == "x-roller-advance":
             self.roller = self.number(op, args)
+            _in_range("roller_advance", self.roller, f"{op} {args[0]}", self.line)
         elif op == "x-add-roller-advance":
             self.add_roller = self.number(op, args)
+            _in_range("roller_advance", abs(self.add_roller), f"{op} {args[0]}", self.line)
             self.roller += self.add_roller
         elif op == "x-carrier-spacing":
             self.carrier_spacing = self.number(op, args)

@@ -13,7 +13,8 @@ import math
 import re
 from dataclasses import dataclass, field
 
-from illuknit.core.errors import MachineRuleError
+from illuknit.core.errors import MachineRuleError, UnsupportedKnitoutError
+from illuknit.core.machine_ranges import machine_value_problem
 from illuknit.formats.swg_ir import (
     CarriageDirection,
     Gripper,
@@ -300,6 +301,7 @@ def read_header(program: KnitoutProgram) -> tuple[int, str]:
         if not (w.isascii() and w.isdigit()) or int(w) == 0:
             raise MachineRuleError(f"';;Width' must be a positive integer, got {w!r}", line=line)
         width = int(w)
+        _in_range("needles", width, f"';;Width: {w}'", line)
     if "Position" in values:
         position, line = values["Position"]
         if position not in ("Left", "Right", "Keep", "Center"):
@@ -310,7 +312,16 @@ def read_header(program: KnitoutProgram) -> tuple[int, str]:
         g, line = values["Gauge"]
         if re.fullmatch(r"\d+\.?\d*", g) is None or float(g) <= 0:
             raise MachineRuleError(f"';;Gauge' must be a positive number, got {g!r}", line=line)
+        _in_range("gauge", float(g), f"';;Gauge: {g}'", line)
     return width, position
+
+
+def _in_range(name: str, value: float, what: str, line: int) -> None:
+    """Refuse a machine value outside the SWG range of :mod:`illuknit.core.machine_ranges`
+    (the backend itself would take it, and the machine would run what it made of it)."""
+    problem = machine_value_problem(name, value, backend="swg")
+    if problem is not None:
+        raise UnsupportedKnitoutError(f"{what[:40]}: {problem}", line=line)
 
 
 def freeze_passes(drafts: list[_Draft]) -> list[MachinePass]:

@@ -7,7 +7,7 @@ import re
 from collections.abc import Callable
 
 from illuknit.core.errors import UnsupportedKnitoutError
-from illuknit.formats.swg_build import _Builder, _Carrier
+from illuknit.formats.swg_build import _Builder, _Carrier, _in_range
 from illuknit.formats.swg_ir import CarriageDirection, Gripper, HookAction, PassType, SlotOp
 from illuknit.knitout.parse import Needle, Operation
 
@@ -194,8 +194,10 @@ def _stitch_size(b: _Builder, op: Operation) -> None:
 def _extension(b: _Builder, op: Operation) -> None:
     if op.op == "x-stitch-number":
         b.stitch = _check_uint(op, b)
+        _in_range("stitch_number", b.stitch, f"{op.op} {op.args[0]}", op.line)
     elif op.op == "x-speed-number":
         b.speed = _check_uint(op, b)
+        _in_range("speed_number", b.speed, f"{op.op} {op.args[0]}", op.line)
     elif op.op == "x-presser-mode":
         if len(op.args) != 1 or op.args[0] not in ("on", "off", "auto"):
             raise b.error(f"x-presser-mode takes on, off or auto, got {' '.join(op.args)!r}")

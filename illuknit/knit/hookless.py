@@ -130,7 +130,7 @@ class YarnEntry:
         waste, draw = self.machine.waste_carrier, self.machine.draw_carrier
         if waste is None or draw is None:
             raise SchedulingError(
-                f"the {self.machine.name} preset names no waste/draw-thread carriers"
+                f"the {self.machine.label} preset names no waste/draw-thread carriers"
             )
         return [waste, draw, *(c for c in first if c not in (waste, draw))]
 
@@ -160,7 +160,7 @@ class YarnEntry:
 def yarn_entry(machine: MachineSpec) -> YarnEntry:
     """The :class:`YarnEntry` of ``machine`` (which must have no inserting hook)."""
     if machine.inserting_hook:
-        raise SchedulingError(f"the {machine.name} brings its yarns in on the inserting hook")
+        raise SchedulingError(f"the {machine.label} brings its yarns in on the inserting hook")
     return YarnEntry(machine)
 
 

@@ -11,6 +11,8 @@ endings. ``rack`` lines are written only when the racking changes; ``x-stitch-nu
 the knitting speed before the next knit pass, and ``x-add-roller-advance`` before the first
 transfer of a run (Kniterate). Comments (``; course 12 ...``) mark where
 each body course starts so that a checker's line numbers can be traced back to pattern rows.
+The first comment under the header says what the machine is (:func:`machine_comment`):
+``;;Machine`` names the model whose rules the program follows, which a generic bed is not.
 """
 
 from __future__ import annotations
@@ -19,7 +21,7 @@ from illuknit.core.machine import MachineSpec
 from illuknit.knit.ir import course_row
 from illuknit.knit.schedule import CarrierAction, Pass, Schedule, Step
 
-__all__ = ["format_racking", "knitout_header", "step_lines", "write_knitout"]
+__all__ = ["format_racking", "knitout_header", "machine_comment", "step_lines", "write_knitout"]
 
 
 def format_racking(r: float) -> str:
@@ -47,6 +49,26 @@ def knitout_header(schedule: Schedule, machine: MachineSpec) -> list[str]:
     return lines
 
 
+def machine_comment(machine: MachineSpec) -> str:
+    """The comment line under the header that says what the machine is. ``;;Machine`` names the
+    model whose rules and reference backend the program follows (the SWG backend ignores it;
+    the PyPI simulator runs only ``SWG091N2`` programs as that model), which on a generic bed
+    is not the machine itself.
+
+    >>> from illuknit.core.machine import MACHINES
+    >>> machine_comment(MACHINES["generic540"])
+    '; machine: generic 540-needle V-bed (SWG091N2 rules); ;;Machine names the model whose rules it follows, not this bed'
+    >>> machine_comment(MACHINES["swg091n2"])
+    "; machine: SWG091N2, the real machine's bed of 252 needles"
+    """
+    if machine.is_real:
+        return f"; machine: {machine.name}, the real machine's bed of {machine.needles} needles"
+    return (
+        f"; machine: {machine.label}; ;;Machine names the model whose rules it follows, "
+        "not this bed"
+    )
+
+
 def write_knitout(schedule: Schedule, *, machine: MachineSpec | None = None) -> str:
     """Knitout-2 program text for a schedule.
 
@@ -64,6 +86,7 @@ def write_knitout(schedule: Schedule, *, machine: MachineSpec | None = None) -> 
     m = schedule.machine if machine is None else machine
     n_rows = schedule.units[0] if schedule.units is not None else None
     lines = knitout_header(schedule, m)
+    lines.append(machine_comment(m))
     lines.append(
         f"; illuknit: {schedule.wales} wales x {schedule.courses} courses, "
         f"wale 0 on needle {schedule.left}; course c is pattern row N-1-c//2"
@@ -115,7 +138,9 @@ def write_knitout(schedule: Schedule, *, machine: MachineSpec | None = None) -> 
                 append(f"x-speed-number {speed}")
         if step.kind == "knit" and step.stitch_number not in (None, stitch):
             stitch = step.stitch_number
-            append(f"x-stitch-number {stitch}")
+            # the Kniterate backend takes one character, 0-9 or A-Z (10-35)
+            code = _stitch_code(stitch) if m.runs_on() == "kniterate" else stitch
+            append(f"x-stitch-number {code}")
         lines.extend(step_lines(step))
     if rack != 0:
         append("rack 0")

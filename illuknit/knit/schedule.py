@@ -522,7 +522,7 @@ def _checked_carriers(
     used = stitches.used_yarns()
     if len(used) > len(machine.carriers):
         raise SchedulingError(
-            f"pattern uses {len(used)} yarns but the {machine.name} has {len(machine.carriers)} carriers"
+            f"pattern uses {len(used)} yarns but the {machine.label} has {len(machine.carriers)} carriers"
         )
     return {y: machine.carriers[i] for i, y in enumerate(used)}
 

@@ -236,9 +236,8 @@ def lower_to_stitches(
     wales = 2 * m
     if wales > machine.max_fabric_width:
         raise SchedulingError(
-            f"pattern is {m} units = {wales} stitches wide but the {machine.name} bed of "
-            f"{machine.needles} needles holds at most {machine.max_fabric_width} "
-            f"(use a narrower pattern or a wider --machine-width)"
+            f"pattern is {m} units = {wales} stitches wide but {machine.bed_text} holds at "
+            f"most {machine.max_fabric_width} (use a narrower pattern or a wider --machine-width)"
         )
     # Bottom row first; each unit row -> two courses, each unit column -> two wales.
     yarn_rows = np.repeat(np.repeat(pattern.yarn[::-1], 2, axis=0), 2, axis=1)

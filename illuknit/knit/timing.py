@@ -228,7 +228,7 @@ class TimingFit:
         t = self.machine.timing
         return (
             f"measured {format_duration(self.measured_seconds)} for {self.passes} passes on the "
-            f"{self.machine.name}; the model said {format_duration(self.before_seconds)}.\n"
+            f"{self.machine.label}; the model said {format_duration(self.before_seconds)}.\n"
             f"carriage travel at {t.knit_speed:g} m/s (transfers {t.transfer_speed:g} m/s, "
             f"overrun {t.overrun_m:g} m): {format_duration(self.travel_seconds)}; the rest is "
             f"{t.pass_overhead_s:.2f} s a pass (reversing, racking, selecting carriers)."

@@ -150,7 +150,7 @@ class KnitResult:
         wcm, hcm = size.width_cm, size.height_cm
         longest, longest_at = self._longest_float()
         out = {
-            "machine": self.machine.name,
+            "machine": self.machine.label,
             "needles": self.machine.needles,
             "gauge": self.machine.gauge,
             "wales": w,
@@ -235,8 +235,9 @@ def knit_pattern(
     ----------
     pattern : LogicalPattern
     machine : str or MachineSpec, optional
-        A preset name (``"swg091n2"``, ``"kniterate"``, ...) or a spec; defaults to the paper's
-        7-gauge SWG091N2 (:data:`~illuknit.core.machine.DEFAULT_MACHINE`). Read by
+        A preset name (``"swg091n2"``, ``"kniterate"``, ...) or a spec; defaults to the generic
+        540-needle V-bed with the SWG091N2's rules
+        (:data:`~illuknit.core.machine.DEFAULT_MACHINE`). Read by
         :func:`~illuknit.core.machine.resolve_machine`.
     options : KnitOptions, optional
         How to knit (defaults: ``KnitOptions()``). With ``allow_long_floats=False`` (the
@@ -408,7 +409,7 @@ def _schedule(
         if m.inserting_hook or type(e) not in (SchedulingError, CarrierShortageError):
             raise
         reserved = (
-            f"; on the {m.name} carriers {m.draw_carrier} and {m.waste_carrier} hold the draw "
+            f"; on the {m.label} carriers {m.draw_carrier} and {m.waste_carrier} hold the draw "
             f"thread and the waste yarn, leaving {len(plan_machine.carriers)} for the pattern"
         )
         if isinstance(e, CarrierShortageError):

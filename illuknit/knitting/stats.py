@@ -91,7 +91,7 @@ def program_run(text: str, machine: str | MachineSpec | None = None) -> MachineR
         from illuknit.formats.kc import knitout_to_kc
 
         return kc_run(knitout_to_kc(text, name="program.kc"))
-    raise OptionError(f"illuknit cannot count the passes the {m.name} runs (no backend)")
+    raise OptionError(f"illuknit cannot count the passes the {m.label} runs (no backend)")
 
 
 def calibrate_knit_time(

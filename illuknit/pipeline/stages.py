@@ -31,6 +31,7 @@ import functools
 import math
 import os
 import time
+import warnings
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from types import MappingProxyType
@@ -40,7 +41,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from illuknit.core.errors import ImageInputError, OptionError, YarnSpecError
-from illuknit.core.machine import MachineSpec, resolve_machine
+from illuknit.core.machine import BedFitWarning, MachineSpec, resolve_machine
 from illuknit.design.options import (
     ModelKind,
     PictureEdits,
@@ -159,6 +160,10 @@ class TileDesign:
     seconds : mapping
         Wall time of the stage's steps: ``"search"`` (the edits and the tile assignments) and
         ``"rank"`` (compiling, measuring and ranking them).
+    notes : tuple of str
+        What the designer should know about the machine: the grid fits no bed of it, or only a
+        generic bed (:meth:`~illuknit.core.machine.MachineSpec.fit_note`); also issued as a
+        :class:`~illuknit.core.machine.BedFitWarning`.
     """
 
     mode: Literal["double", "headon"]
@@ -174,6 +179,7 @@ class TileDesign:
     ranking: RankOptions
     pictures: tuple[NDArray[np.float64], ...] = ()
     seconds: Mapping[str, float] = field(default_factory=dict)
+    notes: tuple[str, ...] = ()
 
     @property
     def best(self) -> RankedDesign:
@@ -184,10 +190,12 @@ class TileDesign:
 @dataclass(frozen=True, eq=False)
 class SingleDesign:
     """What :func:`design_single` returns: the picture as quantised and a design per stripe
-    order, ranked by the worse view's mismatch (the stripe order asked for first on a tie)."""
+    order, ranked by the worse view's mismatch (the stripe order asked for first on a tie);
+    ``notes`` as :attr:`TileDesign.notes`."""
 
     quantised: QuantisedImage
     designs: tuple[RankedDesign, ...]
+    notes: tuple[str, ...] = ()
 
     @property
     def best(self) -> RankedDesign:
@@ -214,6 +222,8 @@ class SolvedDesign:
     quantised : tuple
         The target pictures as quantised (one for the single-view model).
     options : SolveOptions
+    notes : tuple of str
+        As :attr:`TileDesign.notes`.
     """
 
     pattern: LogicalPattern
@@ -222,6 +232,7 @@ class SolvedDesign:
     report: Mapping[str, Any]
     quantised: tuple[QuantisedImage, ...]
     options: SolveOptions = field(default_factory=SolveOptions)
+    notes: tuple[str, ...] = ()
 
 
 # -- shared steps ---------------------------------------------------------------------------
@@ -240,6 +251,16 @@ def _knit_measure(ranking: RankOptions) -> KnitMeasure | None:
 
 def _fit_machine(knit_on: str | MachineSpec | None) -> MachineSpec | None:
     return None if knit_on is None else resolve_machine(knit_on)
+
+
+def _fit_notes(machine: str | MachineSpec | None, units: int) -> tuple[str, ...]:
+    """The design-time note on a grid ``units`` wide for ``machine`` (None: the default), as a
+    :class:`~illuknit.core.machine.BedFitWarning` too (the CLI prints it as one line)."""
+    note = resolve_machine(machine).fit_note(int(units))
+    if note is None:
+        return ()
+    warnings.warn(note, BedFitWarning, stacklevel=3)
+    return (note,)
 
 
 def _check_fits(machine: MachineSpec | None, units: int | None) -> None:
@@ -455,7 +476,8 @@ def _design_pictures(
         edit_colors=min(4, max(n_colors, len(ys))),
         progress=progress,
     )
-    return _with_pictures(design, tuple(pictures))
+    notes = _fit_notes(knit_on if knit_on is not None else design.ranking.machine, a.shape[1])
+    return replace(_with_pictures(design, tuple(pictures)), notes=notes)
 
 
 def _with_pictures(design: TileDesign, pictures: tuple[Any, ...]) -> TileDesign:
@@ -830,7 +852,7 @@ def design_single(
     _check_fits(machine, q.indices.shape[1])
     orders: tuple[Stripe, Stripe] = (first, "light" if first == "dark" else "dark")
     made = [(o, compile_single_view(q, first=o)) for o in orders]
-    return SingleDesign(q, _rank_single(q, made))
+    return SingleDesign(q, _rank_single(q, made), _fit_notes(knit_on, q.indices.shape[1]))
 
 
 def _rank_single(q: Any, made: Sequence[tuple[str, Any]]) -> tuple[RankedDesign, ...]:
@@ -918,8 +940,15 @@ def solve_design(
     if result.solution.stats.get("interrupted"):
         report["note"] = "interrupted with Ctrl-C: the best pattern found so far"
     quantised = (qa,) if qb is None else (qa, qb)
+    notes = _fit_notes(knit_on, pattern.shape[1])
     return SolvedDesign(
-        pattern, result.solution, result.problem, MappingProxyType(report), quantised, options
+        pattern,
+        result.solution,
+        result.problem,
+        MappingProxyType(report),
+        quantised,
+        options,
+        notes,
     )
 
 

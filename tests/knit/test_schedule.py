@@ -175,7 +175,10 @@ def test_more_yarns_than_carriers_is_refused():
     p = LogicalPattern(
         np.repeat(np.arange(n)[:, None], 2, axis=1), np.zeros((n, 2), bool), YARNS[:n]
     )
-    with pytest.raises(SchedulingError, match="11 yarns but the SWG091N2 has 10 carriers"):
+    with pytest.raises(
+        SchedulingError,
+        match=r"11 yarns but the generic 540-needle V-bed \(SWG091N2 rules\) has 10 carriers",
+    ):
         schedule_courses(lower_to_stitches(p))
     # a machine with more carriers takes it
     m = MachineSpec(carriers=tuple(str(i) for i in range(1, 13)))
@@ -185,7 +188,7 @@ def test_more_yarns_than_carriers_is_refused():
 def test_wider_than_the_bed_is_refused_by_the_scheduler_too():
     p = LogicalPattern(np.zeros((2, 10), int), np.zeros((2, 10), bool), YARNS[:1])
     s = lower_to_stitches(p)
-    with pytest.raises(SchedulingError, match="bed of 20 needles"):
+    with pytest.raises(SchedulingError, match="generic 20-needle V-bed"):
         schedule_courses(s, machine=MachineSpec(needles=20))
 
 

@@ -97,7 +97,8 @@ def get_inputs(s: SessionDep) -> dict[str, Any]:
         "finished_size": {**size.as_dict(), "text": size.describe()},
         "yarns": [{"name": y.name, "rgb": y.hex} for y in p.yarns],
         "legend": p.legend(),
-        "notes": list(p.notes),
+        # and what the designer should know about the bed (fits only a generic one, ...)
+        "notes": [*p.notes, *filter(None, [machine.fit_note(m)])],
         "images": {slot: f"/api/sessions/{s.id}/inputs/{slot}.png?r={rev}" for slot in p.quantised},
     }
 
