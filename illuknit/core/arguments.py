@@ -30,6 +30,7 @@ from illuknit.core.errors import (
 __all__ = [
     "MAX_SECONDS",
     "MAX_SEED",
+    "UNIT_ASPECT_RANGE",
     "check_array",
     "check_bool",
     "check_callable",
@@ -42,6 +43,7 @@ __all__ = [
     "check_seconds",
     "check_seed",
     "check_str",
+    "check_unit_aspect",
     "check_views",
     "got",
 ]
@@ -50,6 +52,9 @@ T = TypeVar("T")
 
 #: The longest time limit any call takes, in seconds (a week): longer is a slip of the keyboard.
 MAX_SECONDS = 7 * 24 * 3600.0
+#: A unit's height over its width, the smallest and largest any fabric has (a unit is 2 x 2
+#: stitches; stocking stitch is about 0.7).
+UNIT_ASPECT_RANGE = (0.05, 20.0)
 #: The largest random seed: every backend takes it (CP-SAT's ``random_seed`` is a 32-bit int).
 MAX_SEED = 2**31 - 1
 
@@ -165,6 +170,12 @@ def check_seconds(
 def check_seed(value: object, name: str = "seed") -> int:
     """A random seed: a whole number in [0, :data:`MAX_SEED`]."""
     return check_int(value, name, min=0, max=MAX_SEED)
+
+
+def check_unit_aspect(value: object, name: str = "unit_aspect") -> float:
+    """A unit's height over its width, within :data:`UNIT_ASPECT_RANGE`."""
+    lo, hi = UNIT_ASPECT_RANGE
+    return check_number(value, name, min=lo, max=hi)
 
 
 def check_callable(value: object, name: str, *, optional: bool = True) -> Any:

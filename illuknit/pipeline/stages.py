@@ -395,12 +395,12 @@ def design_headon(
 def _aspect(unit_aspect: float | None) -> float:
     """``unit_aspect`` for the sizing functions, checked; None is a stocking-stitch unit (the
     finished piece keeps the picture's proportions)."""
-    from illuknit.core.arguments import check_number
+    from illuknit.core.arguments import check_unit_aspect
     from illuknit.core.gauge import STOCKINETTE_COURSE_ASPECT
 
     if unit_aspect is None:
         return STOCKINETTE_COURSE_ASPECT
-    return check_number(unit_aspect, "unit_aspect", min=0, min_open=True)
+    return check_unit_aspect(unit_aspect)
 
 
 def _design_pictures(
