@@ -79,7 +79,17 @@ EXEMPT: dict[str, str] = {
 }
 
 #: (callable, argument) -> labels of BAD the argument takes by design, and why.
-ALLOWED: dict[tuple[str, str], tuple[set[str], str]] = {}
+ALLOWED: dict[tuple[str, str], tuple[set[str], str]] = {
+    ("schedule_mixed", "machine"): ({"None"}, "None is the default machine, as everywhere"),
+}
+
+#: Overrides of machine parameters: like MachineSpec's numeric fields, their ranges are the
+#: machine parameter table's (branch ``machine``); only their types are tried here.
+MACHINE_OVERRIDES = {
+    ("check_knitout", "float_limit"),
+    ("check_knitout", "max_racking"),
+    ("check_knitout", "bed_width"),
+}
 
 #: MachineSpec's numeric fields: their ranges are the machine parameter table's (branch
 #: ``machine``, issue 34 item 3); here only None, str and bool are tried on them.
@@ -343,8 +353,9 @@ def fuzz(calls: Calls, names: list[str] | None = None) -> list[Outcome]:
         fn = found[name]
         for param in _arguments(fn):
             for label, value in BAD:
-                numeric = name == "MachineSpec" and param.name in MACHINE_NUMERIC
-                if numeric and label not in MACHINE_TYPE_ONLY:
+                spec = name == "MachineSpec" and param.name in MACHINE_NUMERIC
+                override = (name, param.name) in MACHINE_OVERRIDES
+                if (spec or override) and label not in MACHINE_TYPE_ONLY:
                     continue
                 outcomes.append(try_one(name, fn, calls[name], param, label, value))
     return outcomes

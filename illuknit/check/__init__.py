@@ -18,7 +18,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 from illuknit.check.report import CheckReport, Finding, render_report
-from illuknit.core.arguments import check_number, check_str
+from illuknit.core.arguments import check_bool, check_number, check_str
 from illuknit.core.errors import OptionError
 from illuknit.knitout.parse import KnitoutProgram, parse_knitout
 
@@ -95,6 +95,8 @@ def check_knitout(
     [(42, 'face-float')]
     """
     check_str(text, "text")
+    check_bool(simulate, "simulate")
+    check_bool(split_bumps, "split_bumps")
     if max_racking is not None:
         check_number(max_racking, "max_racking", min=0, min_open=True)
     from illuknit.check.fabric import fabric_findings
