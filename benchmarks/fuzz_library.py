@@ -81,6 +81,10 @@ EXEMPT: dict[str, str] = {
 #: (callable, argument) -> labels of BAD the argument takes by design, and why.
 ALLOWED: dict[tuple[str, str], tuple[set[str], str]] = {
     ("schedule_mixed", "machine"): ({"None"}, "None is the default machine, as everywhere"),
+    ("Model", "problem"): (
+        {label for label, _ in BAD},
+        "an opaque payload that backends may recognise (an IllusionProblem); any object",
+    ),
 }
 
 #: Overrides of machine parameters: like MachineSpec's numeric fields, their ranges are the

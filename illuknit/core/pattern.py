@@ -33,7 +33,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from illuknit.core.arguments import check_path, got
+from illuknit.core.arguments import check_mapping, check_path, got
 from illuknit.core.colors import color_name, hex_color, luminance, parse_color
 from illuknit.core.errors import PatternFormatError, PatternValidationError, YarnSpecError
 from illuknit.core.files import atomic_write_text
@@ -353,6 +353,7 @@ class LogicalPattern:
         object.__setattr__(self, "yarn", _readonly(yarn.astype(np.int16)))
         object.__setattr__(self, "raised", _readonly(raised))
         object.__setattr__(self, "yarns", yarns)
+        check_mapping(self.meta, "meta")
         object.__setattr__(self, "meta", MappingProxyType(dict(self.meta)))
         object.__setattr__(self, "upper", _check_upper(self.upper, self.yarn, raised, len(yarns)))
 

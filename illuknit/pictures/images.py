@@ -204,8 +204,18 @@ class QuantisedImage:
         idx = np.asarray(self.indices)
         if idx.ndim != 2:
             raise ImageInputError(f"`indices` must be 2-D, got shape {idx.shape}")
-        k = len(self.yarns)
-        cols = np.asarray(self.colors, dtype=np.uint8).reshape(-1, 3)
+        if idx.dtype.kind not in "biu":
+            raise ImageInputError(f"`indices` must hold yarn indices, got dtype {idx.dtype}")
+        k = len(check_yarns(self.yarns))
+        cols = check_array(self.colors, "colors", ndim=(1, 2), integer=True)
+        if cols.min() < 0 or cols.max() > 255:
+            raise ImageInputError("`colors` must hold sRGB values in 0..255")
+        if cols.size != 3 * k:
+            raise ImageInputError(f"`colors` must have shape ({k}, 3), got {cols.shape}")
+        cols = cols.astype(np.uint8).reshape(-1, 3)
+        counts = np.asarray(self.counts)
+        if counts.ndim != 1 or counts.dtype.kind not in "iu":  # counted again from `indices`
+            raise ImageInputError(f"`counts` must be a 1-D array of counts, got {got(self.counts)}")
         if cols.shape[0] != k:
             raise ImageInputError(f"`colors` must have shape ({k}, 3), got {cols.shape}")
         if idx.size and (idx.min() < 0 or idx.max() >= k):
