@@ -81,6 +81,7 @@ EXEMPT: dict[str, str] = {
 #: (callable, argument) -> labels of BAD the argument takes by design, and why.
 ALLOWED: dict[tuple[str, str], tuple[set[str], str]] = {
     ("schedule_mixed", "machine"): ({"None"}, "None is the default machine, as everywhere"),
+    ("render_at", "angle"): ({"negative"}, "a signed elevation: -7 is view B at 7 degrees"),
     ("Model", "problem"): (
         {label for label, _ in BAD},
         "an opaque payload that backends may recognise (an IllusionProblem); any object",

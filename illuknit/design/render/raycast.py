@@ -53,7 +53,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from illuknit.core.arguments import check_instance, check_int
+from illuknit.core.arguments import check_choice, check_instance, check_int
 from illuknit.core.colors import linear_from_srgb, srgb_from_linear
 from illuknit.core.errors import OptionError, PatternValidationError, RenderParamsError
 from illuknit.core.pattern import LogicalPattern, check_pattern
@@ -366,6 +366,7 @@ def render_pattern(
     if params is not None:
         check_instance(params, RenderParams, "params", error=RenderParamsError)
     check_int(supersample, "supersample", min=1, max=8)
+    check_choice(view, "view", ("A", "B", "headon"))
     if not isinstance(pattern, LogicalPattern):
         raise PatternValidationError(
             f"`pattern` must be a LogicalPattern, got {type(pattern).__name__}"
