@@ -23,7 +23,7 @@ import numpy as np
 from illuknit.core.arguments import check_instance, check_int
 from illuknit.core.errors import TileAssignmentError, TileBankError
 from illuknit.core.pattern import Yarn, check_yarns
-from illuknit.design.tiles.assign import _yarns_of, assign_tiles
+from illuknit.design.tiles.assign import MAX_ASSIGNMENTS, _yarns_of, assign_tiles
 from illuknit.design.tiles.assignment import TileAssignment, regions_of
 from illuknit.design.tiles.bank import TileBank, ViewPair, canonical_bank
 
@@ -84,7 +84,10 @@ def assign_headon(
         check_instance(bank, TileBank, "bank", error=TileBankError)
     if yarns is not None:
         check_yarns(yarns)
-    check_int(candidates, "candidates", min=1, error=TileAssignmentError)
+    check_int(candidates, "candidates", min=1, max=MAX_ASSIGNMENTS, error=TileAssignmentError)
+    regions_of(front, name="front")
+    if side is not None:
+        regions_of(side, name="side")
     if "views" in options:
         raise TileAssignmentError("assign_headon fixes `views` to ('headon', 'side')")
     if side is None:
