@@ -193,7 +193,7 @@ def parse_yarns(spec: str | Sequence[str]) -> tuple[Yarn, ...]:
         )
     items = [s.strip() for s in raw if s.strip()]
     if not items:
-        raise YarnSpecError("no yarn colours given")
+        raise YarnSpecError(f"`spec` gives no yarn colours, got {got(spec)}")
     yarns = []
     named = set()  # names the user gave (colour names made up from a hex code are renamed quietly)
     for item in items:

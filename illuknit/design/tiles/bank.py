@@ -136,7 +136,7 @@ class TileBank:
             raise TileBankError(f"`tiles` must be a sequence of Tile, got {got(self.tiles)}")
         tiles = tuple(self.tiles)
         if not tiles:
-            raise TileBankError("a tile bank needs at least one tile")
+            raise TileBankError("`tiles` must hold at least one tile")
         object.__setattr__(self, "yarns", yarns)
         object.__setattr__(self, "tiles", tiles)
         object.__setattr__(
