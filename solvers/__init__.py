@@ -320,7 +320,10 @@ def solve(
         The backend cannot solve the model, or the warm start does not apply to it.
     """
     # the names warm_start.WARM_STARTS holds (that module is loaded only when one is made)
-    check_choice(warm_start, "warm_start", ("none", "dp", "descent", "auto"))
+    policies = ("none", "dp", "descent", "auto")
+    if isinstance(warm_start, str) and warm_start not in policies:
+        raise UnknownNameError("warm start", warm_start, policies)
+    check_choice(warm_start, "warm_start", policies)
     check_seconds(time_limit, "time_limit")
     check_seed(seed)
     check_callable(progress, "progress")

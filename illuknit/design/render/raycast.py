@@ -399,7 +399,7 @@ def render_at(
     if params is not None:
         check_instance(params, RenderParams, "params", error=RenderParamsError)
     check_int(supersample, "supersample", min=1, max=8)
-    if isinstance(angle, bool) or not isinstance(angle, int | float) or angle == 0:
+    if isinstance(angle, bool) or not isinstance(angle, int | float) or not 0 < abs(angle) <= 90:
         raise RenderParamsError(
             f"`angle` must be a non-zero number of degrees in [-90, 90], got {angle!r}"
         )
