@@ -815,8 +815,8 @@ def design_single(
     from illuknit.pictures.images import QuantisedImage
 
     check_choice(first, "first", ("dark", "light"))
-    if n_colors is not None:  # a single-view illusion shows 2 or 3 colours
-        check_int(n_colors, "n_colors", min=2, max=3)
+    if n_colors is not None:  # the 2 or 3 a single-view illusion shows: prepare_single_view_image
+        check_int(n_colors, "n_colors", min=1, max=8)
     _check_picture(picture, "picture")
     _check_sizes(width=width, height=height, width_cm=width_cm, gauge=gauge)
     _check_yarns(yarns, count_ok=False)
