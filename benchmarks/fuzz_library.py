@@ -5,7 +5,8 @@ __all__``, the subpackage docs/library.md documents), not from a hand list: each
 call in ``valid_calls`` or a reason in ``EXEMPT``, and ``tests/test_api_arguments.py`` fails when
 a new export has neither. Each argument of each valid call is then replaced, in turn, by each value
 of ``BAD`` (None, a string, NaN, infinity, 10**30, -7, 2.5, True, an object, a 4-D array, an array
-of strings), and the outcome counted:
+of strings; a callable taking ``**options`` also gets one it does not know), and the outcome
+counted:
 
 - **raw**: the call raised something other than an ``IlluknitError`` (a bare TypeError, ...);
 - **blame**: it raised an ``IlluknitError`` whose message does not name the argument;
@@ -374,6 +375,24 @@ def try_one(name: str, fn: Callable[..., Any], call: Any, param: inspect.Paramet
     return Outcome(name, param.name, label, "accepted")
 
 
+def try_unknown_keyword(name: str, fn: Callable[..., Any], call: Any) -> Outcome:
+    """A callable that takes ``**options`` given one it does not know: refused, naming it."""
+    args, kwargs = call
+    try:
+        with warnings.catch_warnings(), _time_limit(TIMEOUT_S):
+            warnings.simplefilter("ignore")
+            fn(*args, **kwargs, bogus_option=1)
+    except _Hung:
+        return Outcome(name, "bogus_option", "keyword", "absurd", "still running")
+    except IlluknitError as exc:
+        if "bogus_option" in str(exc):
+            return Outcome(name, "bogus_option", "keyword", "refused")
+        return Outcome(name, "bogus_option", "keyword", "blame", f"{type(exc).__name__}: {exc}")
+    except Exception as exc:  # the point of the fuzz
+        return Outcome(name, "bogus_option", "keyword", "raw", f"{type(exc).__name__}: {exc}")
+    return Outcome(name, "bogus_option", "keyword", "absurd", "an unknown keyword accepted")
+
+
 def left_to_machine_table(name: str, argument: str, label: str | None) -> bool:
     """Whether the value ``label`` of ``argument`` is a machine parameter's number, whose range
     the machine parameter table checks (branch ``machine``), so not tried here."""
@@ -392,6 +411,9 @@ def fuzz(calls: Calls, names: list[str] | None = None) -> list[Outcome]:
                 if left_to_machine_table(name, param.name, label):
                     continue
                 outcomes.append(try_one(name, fn, calls[name], param, label, value))
+        kinds = {p.kind for p in inspect.signature(fn).parameters.values()}
+        if inspect.Parameter.VAR_KEYWORD in kinds:
+            outcomes.append(try_unknown_keyword(name, fn, calls[name]))
     return outcomes
 
 

@@ -15,13 +15,14 @@ picture is given, the side is one uniform region, so the front picture vanishes 
 
 from __future__ import annotations
 
+import inspect
 from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
 
 from illuknit.core.arguments import check_instance, check_int
-from illuknit.core.errors import TileAssignmentError, TileBankError
+from illuknit.core.errors import TileAssignmentError, TileBankError, UnknownNameError
 from illuknit.core.pattern import Yarn, check_yarns
 from illuknit.design.tiles.assign import MAX_ASSIGNMENTS, _yarns_of, assign_tiles
 from illuknit.design.tiles.assignment import TileAssignment, regions_of
@@ -90,6 +91,10 @@ def assign_headon(
         regions_of(side, name="side")
     if "views" in options:
         raise TileAssignmentError("assign_headon fixes `views` to ('headon', 'side')")
+    known = set(inspect.signature(assign_tiles).parameters) - {"qa", "qb", "views"}
+    for name in options:
+        if name not in known:
+            raise UnknownNameError("assign_tiles option", name, sorted(known))
     if side is None:
         side = uniform_side(front)
     if bank is None:
