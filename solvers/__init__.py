@@ -41,9 +41,17 @@ from dataclasses import replace
 from importlib.metadata import entry_points
 from typing import TYPE_CHECKING, Any, NamedTuple
 
+from illuknit.core.arguments import (
+    check_bool,
+    check_callable,
+    check_choice,
+    check_instance,
+    check_seconds,
+    check_seed,
+    check_str,
+)
 from illuknit.core.errors import (
     BackendUnavailableError,
-    OptionError,
     SolverError,
     UnknownNameError,
 )
@@ -148,7 +156,7 @@ def parse_solver_name(name: str) -> SolverName:
     >>> parse_solver_name("wcnf:maxhs {}")
     SolverName(base='wcnf', argument='maxhs {}')
     """
-    base, sep, arg = name.partition(":")
+    base, sep, arg = check_str(name, "name").partition(":")
     return SolverName(base, arg if sep else None)
 
 
@@ -217,6 +225,8 @@ def get_backend(name: str, *, check_available: bool = True) -> Backend:
     BackendUnavailableError
         The backend's library (or binary) is missing; the message names the extra to install.
     """
+    check_str(name, "name")
+    check_bool(check_available, "check_available")
     backend = _lookup(name)
     if check_available:
         reason = backend.unavailable_reason()
@@ -270,6 +280,10 @@ def resolve_backend(model: Model, solver: str) -> Backend:
     SolverError
         The backend cannot solve ``model``; the message says why.
     """
+    from illuknit.design.models.model import Model  # light: the model is already made
+
+    check_instance(model, Model, "model")
+    check_str(solver, "solver")
     backend = pick_backend(model) if solver == "auto" else get_backend(solver)
     why = backend.why_not(model)
     if why is not None:
@@ -305,8 +319,14 @@ def solve(
     SolverError
         The backend cannot solve the model, or the warm start does not apply to it.
     """
-    if time_limit is not None and not time_limit > 0:
-        raise OptionError(f"`time_limit` must be positive seconds, got {time_limit!r}")
+    # the names warm_start.WARM_STARTS holds (that module is loaded only when one is made)
+    policies = ("none", "dp", "descent", "auto")
+    if isinstance(warm_start, str) and warm_start not in policies:
+        raise UnknownNameError("warm start", warm_start, policies)
+    check_choice(warm_start, "warm_start", policies)
+    check_seconds(time_limit, "time_limit")
+    check_seed(seed)
+    check_callable(progress, "progress")
     backend = resolve_backend(model, solver)
     policy = "none"
     if backend.name not in ("dp", "descent"):

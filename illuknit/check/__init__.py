@@ -18,7 +18,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 from illuknit.check.report import CheckReport, Finding, render_report
-from illuknit.core.arguments import check_number, check_str
+from illuknit.core.arguments import check_bool, check_number, check_str
 from illuknit.core.errors import OptionError
 from illuknit.knitout.parse import KnitoutProgram, parse_knitout
 
@@ -94,7 +94,7 @@ def check_knitout(
     >>> [(f.line, f.code) for f in report.blocking]  # doctest: +SKIP
     [(42, 'face-float')]
     """
-    check_str(text, "text")
+    _check_arguments(text, simulate, split_bumps)
     if max_racking is not None:
         check_number(max_racking, "max_racking", min=0, min_open=True)
     from illuknit.check.fabric import fabric_findings
@@ -166,6 +166,12 @@ def _judging_machine(program: KnitoutProgram, named: MachineSpec | None) -> Mach
     if named is not None:
         return named
     return machine_from_headers({name: value for name, value, _ in reversed(program.headers)})
+
+
+def _check_arguments(text: object, simulate: object, split_bumps: object) -> None:
+    check_str(text, "text")
+    check_bool(simulate, "simulate")
+    check_bool(split_bumps, "split_bumps")
 
 
 def _check_options(

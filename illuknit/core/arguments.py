@@ -28,19 +28,35 @@ from illuknit.core.errors import (
 )
 
 __all__ = [
+    "MAX_SECONDS",
+    "MAX_SEED",
+    "UNIT_ASPECT_RANGE",
     "check_array",
     "check_bool",
+    "check_callable",
+    "check_choice",
     "check_instance",
     "check_int",
     "check_mapping",
     "check_number",
     "check_path",
+    "check_seconds",
+    "check_seed",
     "check_str",
+    "check_unit_aspect",
     "check_views",
     "got",
 ]
 
 T = TypeVar("T")
+
+#: The longest time limit any call takes, in seconds (a week): longer is a slip of the keyboard.
+MAX_SECONDS = 7 * 24 * 3600.0
+#: A unit's height over its width, the smallest and largest any fabric has (a unit is 2 x 2
+#: stitches; stocking stitch is about 0.7).
+UNIT_ASPECT_RANGE = (0.05, 20.0)
+#: The largest random seed: every backend takes it (CP-SAT's ``random_seed`` is a 32-bit int).
+MAX_SEED = 2**31 - 1
 
 
 def got(value: object) -> str:
@@ -139,6 +155,49 @@ def _bounds(lo: float | None, hi: float | None, *, min_open: bool = False) -> st
     if hi is not None:
         return f" <= {hi:g}"
     return ""
+
+
+def check_seconds(
+    value: object, name: str, *, optional: bool = True, error: type[IlluknitError] = OptionError
+) -> float | None:
+    """A time limit: positive finite seconds up to :data:`MAX_SECONDS` (``None``, no limit, when
+    ``optional``)."""
+    if value is None and optional:
+        return None
+    return check_number(value, name, min=0, max=MAX_SECONDS, min_open=True, error=error)
+
+
+def check_seed(value: object, name: str = "seed") -> int:
+    """A random seed: a whole number in [0, :data:`MAX_SEED`]."""
+    return check_int(value, name, min=0, max=MAX_SEED)
+
+
+def check_unit_aspect(value: object, name: str = "unit_aspect") -> float:
+    """A unit's height over its width, within :data:`UNIT_ASPECT_RANGE`."""
+    lo, hi = UNIT_ASPECT_RANGE
+    return check_number(value, name, min=lo, max=hi)
+
+
+def check_callable(value: object, name: str, *, optional: bool = True) -> Any:
+    """A function (a progress callback, ...), or ``None`` when ``optional``."""
+    if (value is None and optional) or callable(value):
+        return value
+    raise OptionError(
+        f"`{name}` must be a function{' or None' if optional else ''}, got {got(value)}"
+    )
+
+
+def check_choice(
+    value: object,
+    name: str,
+    choices: tuple[str, ...],
+    *,
+    error: type[IlluknitError] = OptionError,
+) -> str:
+    """One of the strings ``choices`` (checked as a string first: an array is not compared)."""
+    if isinstance(value, str) and value in choices:
+        return value
+    raise error(f"`{name}` must be one of {', '.join(choices)}, got {got(value)}")
 
 
 def check_str(value: object, name: str) -> str:

@@ -311,6 +311,50 @@ KNITERATE_TIMING = CarriageTiming(
 )
 
 
+def _check_field_types(spec: MachineSpec) -> None:
+    """Each field of ``spec`` of its type, before any range is checked (a field of the wrong
+    type is named, not a TypeError from deep inside)."""
+    from illuknit.core.arguments import check_bool, check_instance, got
+
+    real, whole = (int, float), int
+    kinds: dict[str, tuple[type, ...]] = {
+        "name": (str,),
+        "position": (str,),
+        "yarn_weight": (str,),
+        "description": (str,),
+        "needles": (whole,),
+        "max_racking": (whole,),
+        "float_limit": (whole,),
+        "park_distance": (whole,),
+        "gauge": real,
+        "course_aspect": real,
+        "timing": (CarriageTiming,),
+        "transfer": (TransferSettings,),
+    }
+    optional: dict[str, tuple[type, ...]] = {
+        "stitch_number": (whole,),
+        "cast_on_stitch_number": (whole,),
+        "speed_number": (whole,),
+        "seconds_per_needle": real,
+        "seconds_per_turn": real,
+        "waste_carrier": (str,),
+        "draw_carrier": (str,),
+        "backend": (str,),
+        "fabric": (Gauge,),
+    }
+    for name, cls in (*kinds.items(), *optional.items()):
+        value = getattr(spec, name)
+        if not (value is None and name in optional):
+            check_instance(value, cls, name)
+    check_bool(spec.inserting_hook, "inserting_hook")
+    for name, item in (("carriers", (str, int)), ("formats", (str,))):
+        value = getattr(spec, name)
+        if not isinstance(value, (tuple, list)) or not all(
+            isinstance(v, item) and not isinstance(v, bool) for v in value
+        ):
+            raise OptionError(f"`{name}` must be a tuple of names, got {got(value)}")
+
+
 @dataclass(frozen=True)
 class MachineSpec:
     """A V-bed knitting machine and the settings illuknit knits with.
@@ -413,6 +457,8 @@ class MachineSpec:
     real_bed: tuple[int, float] | None = None
 
     def __post_init__(self) -> None:
+        _check_field_types(self)
+
         def positive(name: str, value: float, *, integer: bool = False) -> None:
             if integer and (not isinstance(value, int) or isinstance(value, bool)):
                 raise OptionError(f"`{name}` must be an integer, got {value!r}")

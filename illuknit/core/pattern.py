@@ -33,7 +33,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from illuknit.core.arguments import check_path, got
+from illuknit.core.arguments import check_mapping, check_path, got
 from illuknit.core.colors import color_name, hex_color, luminance, parse_color
 from illuknit.core.errors import PatternFormatError, PatternValidationError, YarnSpecError
 from illuknit.core.files import atomic_write_text
@@ -203,7 +203,7 @@ def parse_yarns(spec: str | Sequence[str]) -> tuple[Yarn, ...]:
         )
     items = [s.strip() for s in raw if s.strip()]
     if not items:
-        raise YarnSpecError("no yarn colours given")
+        raise YarnSpecError(f"`spec` gives no yarn colours, got {got(spec)}")
     yarns = []
     named = set()  # names the user gave (colour names made up from a hex code are renamed quietly)
     for item in items:
@@ -363,6 +363,7 @@ class LogicalPattern:
         object.__setattr__(self, "yarn", _readonly(yarn.astype(np.int16)))
         object.__setattr__(self, "raised", _readonly(raised))
         object.__setattr__(self, "yarns", yarns)
+        check_mapping(self.meta, "meta")
         object.__setattr__(self, "meta", MappingProxyType(dict(self.meta)))
         object.__setattr__(self, "upper", _check_upper(self.upper, self.yarn, raised, len(yarns)))
 

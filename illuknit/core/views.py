@@ -38,7 +38,7 @@ from typing import Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from illuknit.core.arguments import check_array
+from illuknit.core.arguments import check_array, check_bool, check_choice
 from illuknit.core.errors import ImageInputError, OptionError, PatternValidationError
 from illuknit.core.pattern import LogicalPattern
 
@@ -70,6 +70,8 @@ def _arrays(
     name: str = "pattern_or_yarn",
 ):
     if isinstance(pattern_or_yarn, LogicalPattern):
+        if raised is not None:
+            raise PatternValidationError("pass `raised` only with a yarn array, not a pattern")
         return pattern_or_yarn.yarn, pattern_or_yarn.raised
     c = check_array(
         pattern_or_yarn,
@@ -184,6 +186,7 @@ def _can_see(
     name: str,
     upper: ArrayLike | None = None,
 ) -> NDArray[np.int16]:
+    check_choice(view, "view", VIEWS)
     c, r = _arrays(pattern_or_yarn, raised, name)
     u = _upper(pattern_or_yarn, c, r, upper)
     if view == "A":
@@ -236,9 +239,12 @@ def logical_error(
     """
     check_array(seen, "seen", integer=False)
     check_array(target, "target", integer=False)
+    check_bool(normalize, "normalize")
     s, t = np.asarray(seen), np.asarray(target)
     if s.shape != t.shape:
-        raise ImageInputError(f"`target` must have shape {s.shape}, got {t.shape}")
+        raise ImageInputError(
+            f"`seen` and `target` must have one shape, got {s.shape} and {t.shape}"
+        )
     wrong = s != t
     if mask is not None:
         m = np.asarray(mask, dtype=bool)

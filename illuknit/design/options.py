@@ -25,6 +25,7 @@ from dataclasses import dataclass
 from enum import Enum, StrEnum
 from typing import Any
 
+from illuknit.core.arguments import MAX_SECONDS, MAX_SEED
 from illuknit.core.errors import OptionError
 from illuknit.core.machine import MachineSpec, resolve_machine
 from illuknit.core.views import DEFAULT_SPLIT_SHARE
@@ -46,6 +47,8 @@ __all__ = [
 #: assignment's score does not see how a design reads, and on the bundled double-view pairs the
 #: best-reading design is often past the score's fifth place.
 DEFAULT_POOL = 20
+#: The most of anything counted here (designs searched, courses between joins): more is a slip.
+MAX_COUNT = 1000
 #: Designs past the ones to be written are sought only while the search took less than this.
 POOL_SECONDS = 20.0
 
@@ -73,11 +76,13 @@ def flag_option(name: str, value: Any) -> bool:
     return value
 
 
-def count_option(name: str, value: Any, *, minimum: int) -> int:
-    """``value``, refused unless it is an integer >= ``minimum``."""
+def count_option(name: str, value: Any, *, minimum: int, maximum: int = MAX_COUNT) -> int:
+    """``value``, refused unless it is an integer in [``minimum``, ``maximum``]."""
     if not isinstance(value, int) or isinstance(value, bool) or value < minimum:
         what = "a positive integer" if minimum == 1 else f"an integer >= {minimum}"
         raise OptionError(f"`{name}` must be {what}, got {value!r}")
+    if value > maximum:
+        raise OptionError(f"`{name}` must be at most {maximum}, got {value!r}")
     return value
 
 
@@ -87,6 +92,10 @@ def _seconds(name: str, value: Any) -> float:
         raise OptionError(f"`{name}` must be a number of seconds, got {value!r}")
     if not (math.isfinite(value) and value > 0):
         raise OptionError(f"`{name}` must be positive and finite, got {value!r}")
+    if value > MAX_SECONDS:
+        raise OptionError(
+            f"`{name}` must be at most {MAX_SECONDS:g} seconds (a week), got {value!r}"
+        )
     return float(value)
 
 
@@ -254,6 +263,10 @@ class RankOptions:
                 raise OptionError(f"`{name}` must be a number in (0, {top:g}], got {v!r}")
             object.__setattr__(self, name, float(v))
         resolve_machine(self.machine)
+        if not isinstance(self.overrides, (dict, tuple, list)):
+            raise OptionError(
+                f"`overrides` maps (colour of A, colour of B) to tile rows, got {self.overrides!r}"
+            )
         items = self.overrides.items() if isinstance(self.overrides, dict) else self.overrides
         pairs = []
         for item in items:
@@ -344,4 +357,4 @@ class SolveOptions:
             )
         if self.time_limit is not None:
             _seconds("time_limit", self.time_limit)
-        count_option("seed", self.seed, minimum=0)
+        count_option("seed", self.seed, minimum=0, maximum=MAX_SEED)

@@ -27,7 +27,7 @@ from typing import Literal
 import numpy as np
 from numpy.typing import ArrayLike
 
-from illuknit.core.arguments import check_array
+from illuknit.core.arguments import check_array, check_choice
 from illuknit.core.colors import luminance
 from illuknit.core.errors import ImageInputError
 from illuknit.core.pattern import LogicalPattern, Yarn
@@ -91,7 +91,12 @@ def compile_single_view(
     >>> p.yarn.tolist(), p.raised.astype(int).tolist()
     ([[0, 0], [1, 1], [0, 0]], [[1, 0], [1, 0], [1, 1]])
     """
+    check_choice(first, "first", ("dark", "light"), error=ImageInputError)
     if isinstance(image, QuantisedImage):
+        if yarns is not None:
+            raise ImageInputError(
+                "pass `yarns` only with an index array: a QuantisedImage has them"
+            )
         idx, yarns = np.asarray(image.indices), image.yarns
     else:
         check_array(

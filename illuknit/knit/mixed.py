@@ -64,6 +64,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from illuknit.core.arguments import check_instance
 from illuknit.core.errors import LongFloatError, OptionError, PatternValidationError
 from illuknit.core.machine import DEFAULT_MACHINE, MachineSpec, resolve_machine
 from illuknit.knit.catching import JoinTuck, PlatedStitch, plan_catches, plan_joins
@@ -311,6 +312,8 @@ def schedule_mixed(
     """
     machine = resolve_machine(machine)
     opts = _checked_options(stitches, options)
+    if yarn_entry is not None:
+        check_instance(yarn_entry, YarnEntry, "yarn_entry")
     machine.check_width(stitches.shape[1])
     ctx = _courses(stitches, machine, opts, hookless=yarn_entry is not None)
     em = Emitter(

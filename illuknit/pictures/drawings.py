@@ -333,7 +333,7 @@ DRAWINGS: dict[str, Callable[[Sequence[int]], NDArray[np.bool_]]] = {
 
 def draw_shape(name: str, shape: Sequence[int]) -> NDArray[np.bool_]:
     """The drawn shape ``name`` (one of :data:`DRAWINGS`) at ``shape``."""
-    fn = DRAWINGS.get(name)
+    fn = DRAWINGS.get(check_str(name, "name"))
     if fn is None:
         raise UnknownNameError("drawing", name, sorted(DRAWINGS))
     return fn(shape)
@@ -368,7 +368,8 @@ def skimage_image(
     from illuknit.pictures.images import load_image
     from illuknit.pictures.sizing import size_picture
 
-    file = BUNDLED_IMAGES.get(name)
+    check_bool(crop, "crop")
+    file = BUNDLED_IMAGES.get(check_str(name, "name"))
     if file is None:
         raise UnknownNameError("scikit-image bundled image", name, sorted(BUNDLED_IMAGES))
     path = Path(skimage.data.__file__).parent / file

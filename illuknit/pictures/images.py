@@ -26,7 +26,15 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from illuknit.core.arguments import check_array, check_int, check_number, check_path, got
+from illuknit.core.arguments import (
+    check_array,
+    check_bool,
+    check_int,
+    check_path,
+    check_seed,
+    check_unit_aspect,
+    got,
+)
 from illuknit.core.colors import color_name, hex_color, lab_from_rgb, luminance
 from illuknit.core.errors import ImageInputError
 from illuknit.core.pattern import MAX_UNITS, MAX_YARNS, Yarn, check_yarns
@@ -63,7 +71,7 @@ def load_image(
     if not isinstance(path, bytes):
         check_path(path, "path")
     if max_side is not None:
-        check_int(max_side, "max_side", min=2)
+        check_int(max_side, "max_side", min=2, max=MAX_PIXELS)
     pic = read_picture(path, max_side=max_side)
     for note in pic.notes:
         warnings.warn(f"{pic.source}: {note}", PictureNote, stacklevel=2)
@@ -145,7 +153,8 @@ def resize_to_units(
             raise ImageInputError(
                 f"`{label}` must be a whole number of units between 1 and {MAX_UNITS}, got {got(v)}"
             )
-    unit_aspect = check_number(unit_aspect, "unit_aspect", min=0, min_open=True)
+    unit_aspect = check_unit_aspect(unit_aspect)
+    check_bool(smooth, "smooth")
     if width is None and height is None:
         width, height = w0, max(1, round(h0 / unit_aspect))
     elif height is None:
@@ -195,8 +204,18 @@ class QuantisedImage:
         idx = np.asarray(self.indices)
         if idx.ndim != 2:
             raise ImageInputError(f"`indices` must be 2-D, got shape {idx.shape}")
-        k = len(self.yarns)
-        cols = np.asarray(self.colors, dtype=np.uint8).reshape(-1, 3)
+        if idx.dtype.kind not in "biu":
+            raise ImageInputError(f"`indices` must hold yarn indices, got dtype {idx.dtype}")
+        k = len(check_yarns(self.yarns))
+        cols = check_array(self.colors, "colors", ndim=(1, 2), integer=True)
+        if cols.min() < 0 or cols.max() > 255:
+            raise ImageInputError("`colors` must hold sRGB values in 0..255")
+        if cols.size != 3 * k:
+            raise ImageInputError(f"`colors` must have shape ({k}, 3), got {cols.shape}")
+        cols = cols.astype(np.uint8).reshape(-1, 3)
+        counts = np.asarray(self.counts)
+        if counts.ndim != 1 or counts.dtype.kind not in "iu":  # counted again from `indices`
+            raise ImageInputError(f"`counts` must be a 1-D array of counts, got {got(self.counts)}")
         if cols.shape[0] != k:
             raise ImageInputError(f"`colors` must have shape ({k}, 3), got {cols.shape}")
         if idx.size and (idx.min() < 0 or idx.max() >= k):
@@ -273,7 +292,8 @@ def quantise_image(
         check_int(n_colors, "n_colors", min=1, max=MAX_YARNS)
     if yarns is not None:
         check_yarns(yarns)
-    check_int(seed, "seed", min=0)
+    check_seed(seed)
+    check_bool(allow_quantise, "allow_quantise")
     a = check_image(rgb, name="rgb")
     h, w = a.shape[:2]
     pix8 = np.round(a.reshape(-1, 3) * 255).astype(np.uint8)

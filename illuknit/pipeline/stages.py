@@ -250,7 +250,12 @@ def _knit_measure(ranking: RankOptions) -> KnitMeasure | None:
 
 
 def _fit_machine(knit_on: str | MachineSpec | None) -> MachineSpec | None:
-    return None if knit_on is None else resolve_machine(knit_on)
+    from illuknit.core.arguments import check_instance
+
+    if knit_on is None:
+        return None
+    what = "a machine name or a MachineSpec"
+    return resolve_machine(check_instance(knit_on, (str, MachineSpec), "knit_on", what=what))
 
 
 def _fit_notes(machine: str | MachineSpec | None, units: int) -> tuple[str, ...]:
@@ -302,8 +307,10 @@ def _check_sizes(**sizes: Any) -> None:
     for name, value in sizes.items():
         if value is None:
             continue
-        if name == "width_cm" or name == "gauge":
+        if name == "width_cm":
             check_number(value, name, min=0, min_open=True)
+        elif name == "gauge":  # stitches per inch: the finest machines knit about 20
+            check_number(value, name, min=0, max=100, min_open=True)
         else:
             check_int(value, name, min=1, max=1000)
 
@@ -416,12 +423,12 @@ def design_headon(
 def _aspect(unit_aspect: float | None) -> float:
     """``unit_aspect`` for the sizing functions, checked; None is a stocking-stitch unit (the
     finished piece keeps the picture's proportions)."""
-    from illuknit.core.arguments import check_number
+    from illuknit.core.arguments import check_unit_aspect
     from illuknit.core.gauge import STOCKINETTE_COURSE_ASPECT
 
     if unit_aspect is None:
         return STOCKINETTE_COURSE_ASPECT
-    return check_number(unit_aspect, "unit_aspect", min=0, min_open=True)
+    return check_unit_aspect(unit_aspect)
 
 
 def _design_pictures(
@@ -441,10 +448,11 @@ def _design_pictures(
     unit_aspect: float | None = None,
 ) -> TileDesign:
     """Size, quantise and choose the yarns, then :func:`design_tiles`."""
-    from illuknit.core.arguments import check_bool, check_int
+    from illuknit.core.arguments import check_bool, check_callable, check_int
     from illuknit.pictures.images import quantise_image
     from illuknit.pictures.sizing import size_pair
 
+    check_callable(progress, "progress")
     names = ("picture_a", "picture_b") if mode == "double" else ("front", "side")
     _check_picture(picture_a, names[0])
     _check_picture(picture_b, names[1], optional=mode == "headon")
@@ -506,7 +514,7 @@ def design_tiles(
     (``search.edits``) need the unquantised ``sources`` and re-quantise to at most
     ``edit_colors`` colours (default: the number of yarns, at most 4).
     """
-    from illuknit.core.arguments import check_int
+    from illuknit.core.arguments import check_callable, check_choice, check_int
     from illuknit.design.tiles.bank import canonical_bank, load_bank
     from illuknit.design.tiles.headon import HEADON_VIEWS
     from illuknit.pictures.images import QuantisedImage
@@ -515,8 +523,8 @@ def design_tiles(
     ranking = RankOptions() if ranking is None else ranking
     _check_type("search", search, SearchOptions)
     _check_type("ranking", ranking, RankOptions)
-    if mode not in ("double", "headon"):
-        raise OptionError(f"`mode` must be 'double' or 'headon', got {mode!r}")
+    check_choice(mode, "mode", ("double", "headon"))
+    check_callable(progress, "progress")
     for name, q in (("qa", qa), ("qb", qb)):
         if (q is not None or name == "qa") and not isinstance(q, QuantisedImage):
             raise ImageInputError(f"`{name}` must be a QuantisedImage, got {type(q).__name__}")
@@ -527,7 +535,7 @@ def design_tiles(
     if edit_colors is not None:
         check_int(edit_colors, "edit_colors", min=1, max=8)
     if mode == "double" and qb is None:
-        raise ImageInputError("a double-view design needs two pictures (A and B)")
+        raise ImageInputError("`qb` is needed: a double-view design has two pictures (A and B)")
     say = progress or (lambda _f, _m: None)
     views: Any = ("A", "B") if mode == "double" else HEADON_VIEWS
     ys = tuple(yarns) if yarns is not None else _picture_yarns(qa, qb)
@@ -824,12 +832,13 @@ def design_single(
     view's mismatch (:func:`~illuknit.design.single_view.single_view_errors`), the stripe order
     ``first`` first on a tie. With ``knit_on`` a picture wider than its bed is refused first.
     """
-    from illuknit.core.arguments import check_bool
+    from illuknit.core.arguments import check_bool, check_choice, check_int
     from illuknit.design.single_view import compile_single_view, prepare_single_view_image
     from illuknit.pictures.images import QuantisedImage
 
-    if first not in ("dark", "light"):
-        raise OptionError(f"`first` must be 'dark' or 'light', got {first!r}")
+    check_choice(first, "first", ("dark", "light"))
+    if n_colors is not None:  # the 2 or 3 a single-view illusion shows: prepare_single_view_image
+        check_int(n_colors, "n_colors", min=1, max=8)
     _check_picture(picture, "picture")
     _check_sizes(width=width, height=height, width_cm=width_cm, gauge=gauge)
     _check_yarns(yarns, count_ok=False)
@@ -909,10 +918,12 @@ def solve_design(
     InfeasibleError, SolverError
         As :func:`~illuknit.design.models.illusion_models.solve_illusion`.
     """
+    from illuknit.core.arguments import check_callable
     from illuknit.design.models.illusion_models import solve_illusion
 
     options = SolveOptions() if options is None else options
     _check_type("options", options, SolveOptions)
+    check_callable(progress, "progress")
     qa, qb = _solve_targets(picture_a, picture_b, options, n_colors, yarns, width, stretch,
                             quantise, knit_on, unit_aspect)  # fmt: skip
     result = solve_illusion(
@@ -1017,7 +1028,8 @@ def _solve_targets(
         raise ImageInputError("the single model takes one picture (it is seen from both sides)")
     if not single and picture_b is None:
         raise ImageInputError(
-            f"the {options.model.value} model needs two pictures A and B (or use the single model)"
+            f"`picture_b` is needed: the {options.model.value} model takes two pictures A and B "
+            "(or use the single model)"
         )
     if (yarns is not None and len(yarns) < 2) or n_colors == 1:
         # One yarn knits a plain piece: no picture can appear from any side.

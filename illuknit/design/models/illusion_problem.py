@@ -15,8 +15,9 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from illuknit.core.arguments import check_int
+from illuknit.core.arguments import check_bool, check_instance, check_int
 from illuknit.core.errors import ImageInputError, OptionError, UnknownNameError
+from illuknit.core.pattern import MAX_UNITS, MAX_YARNS
 
 __all__ = [
     "MODEL_KINDS",
@@ -31,6 +32,8 @@ __all__ = [
 
 ModelKind = Literal["logical", "knit-aware", "single"]
 MODEL_KINDS: tuple[str, ...] = ("logical", "knit-aware", "single")
+#: The largest weight of an objective term (larger ones overflow the solvers' integer sums).
+MAX_WEIGHT = 1_000_000
 
 
 @dataclass(frozen=True)
@@ -77,17 +80,31 @@ class KnitWeights:
 
     def __post_init__(self) -> None:
         g = self.float_gap
-        if not isinstance(g, int | np.integer) or isinstance(g, bool) or g < 1:
-            raise OptionError(f"`float_gap` must be a whole number >= 1 unit, got {g!r}")
+        if not isinstance(g, int | np.integer) or isinstance(g, bool) or not 1 <= g <= MAX_UNITS:
+            raise OptionError(
+                f"`float_gap` must be a whole number of units in [1, {MAX_UNITS}], got {g!r}"
+            )
         for name in ("view", "color_change", "transfer", "machine_pass"):
             v = getattr(self, name)
-            if not isinstance(v, int | np.integer) or isinstance(v, bool) or v < 0:
-                raise OptionError(f"weight `{name}` must be an integer >= 0, got {v!r}")
+            if (
+                not isinstance(v, int | np.integer)
+                or isinstance(v, bool)
+                or not 0 <= v <= MAX_WEIGHT
+            ):
+                raise OptionError(
+                    f"weight `{name}` must be an integer in [0, {MAX_WEIGHT}], got {v!r}"
+                )
         if self.view == 0:
             raise OptionError("weight `view` must be positive")
         cap = self.max_color_changes
-        if cap is not None and (not isinstance(cap, int | np.integer) or cap < 0):
-            raise OptionError(f"`max_color_changes` must be an integer >= 0 or None, got {cap!r}")
+        if cap is not None and (
+            not isinstance(cap, int | np.integer)
+            or isinstance(cap, bool)
+            or not 0 <= cap <= MAX_UNITS
+        ):
+            raise OptionError(
+                f"`max_color_changes` must be an integer in [0, {MAX_UNITS}] or None, got {cap!r}"
+            )
 
 
 def parse_weights(text: str | None, *, base: KnitWeights | None = None) -> KnitWeights:
@@ -180,8 +197,12 @@ class IllusionProblem:
     split_bumps: bool = False
 
     def __post_init__(self) -> None:
+        check_instance(self.kind, str, "kind", what=f"a model kind ({', '.join(MODEL_KINDS)})")
         if self.kind not in MODEL_KINDS:
             raise UnknownNameError("model", str(self.kind), MODEL_KINDS)
+        check_bool(self.split_bumps, "split_bumps")
+        check_bool(self.alternate_rows, "alternate_rows")
+        check_instance(self.weights, KnitWeights, "weights")
         if self.split_bumps and self.kind != "logical":
             raise OptionError(
                 "split bumps are modelled in the logical model only (the knit-aware model's "
@@ -192,7 +213,7 @@ class IllusionProblem:
             raise OptionError(
                 f"`alternate_rows` applies to the single-view model only, not {self.kind!r}"
             )
-        k = check_int(self.n_yarns, "n_yarns", min=1)
+        k = check_int(self.n_yarns, "n_yarns", min=1, max=MAX_YARNS)
         a = _index_image(self.target_a, "target_a", k)
         b = _index_image(self.target_b, "target_b", k)
         if a.shape != b.shape:

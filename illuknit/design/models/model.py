@@ -114,6 +114,8 @@ class Model:
     """
 
     def __init__(self, name: str = "model", *, problem: Any = None) -> None:
+        if not isinstance(name, str):
+            raise ModelError(f"`name` must be a string, got {type(name).__name__}")
         self.name = name
         self.problem = problem
         self.pool = VarPool()

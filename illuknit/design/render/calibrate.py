@@ -121,9 +121,9 @@ def calibration_swatch(
                 f"`{label}` must be a non-empty sequence of whole numbers, got {got(sizes)}"
             )
         for v in sizes:
-            check_int(v, f"{label} entries", min=1, error=CalibrationError)
-    check_int(cell_width, "cell_width", min=1, error=CalibrationError)
-    check_int(gap, "gap", min=1, error=CalibrationError)
+            check_int(v, f"{label} entries", min=1, max=MAX_UNITS, error=CalibrationError)
+    check_int(cell_width, "cell_width", min=1, max=MAX_UNITS, error=CalibrationError)
+    check_int(gap, "gap", min=1, max=MAX_UNITS, error=CalibrationError)
     if not isinstance(yarns, str):
         check_yarns(yarns)
     bumps = _sizes(bump_sizes, "bump_sizes")
@@ -135,7 +135,7 @@ def calibration_swatch(
     ys = parse_yarns(yarns) if isinstance(yarns, str) else tuple(yarns)
     if len(ys) != 2:
         raise CalibrationError(f"the swatch needs exactly two yarns (bump, flat), got {len(ys)}")
-    check_int(split_rows, "split_rows", min=0, error=CalibrationError)
+    check_int(split_rows, "split_rows", min=0, max=MAX_UNITS, error=CalibrationError)
     band_h = [2 * n + max(flats) for n in bumps]
     rows = gap + sum(h + gap for h in band_h) + (split_rows + gap if split_rows else 0)
     cols = gap + len(flats) * (cell_width + gap)
@@ -378,7 +378,7 @@ def fit_bump_height(
         )
     if params is not None:
         check_instance(params, RenderParams, "params", error=RenderParamsError)
-    check_int(skipped, "skipped", min=0)
+    check_int(skipped, "skipped", min=0, max=1_000_000)  # rows of a measurement file
     params = RenderParams() if params is None else params
     ms = tuple(measurements)
     if len(ms) < 2:

@@ -36,7 +36,15 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from illuknit.core.arguments import check_instance, check_int, check_number, check_str
+from illuknit.core.arguments import (
+    check_callable,
+    check_instance,
+    check_int,
+    check_number,
+    check_seconds,
+    check_seed,
+    check_str,
+)
 from illuknit.core.colors import lab_from_rgb, linear_from_srgb
 from illuknit.core.errors import ImageInputError, OptionError, RenderParamsError, YarnSpecError
 from illuknit.core.pattern import LogicalPattern, Yarn, check_yarns
@@ -274,6 +282,7 @@ def optimise_design(
         time_limit,
         shapes=(ta_raw.shape, tb_raw.shape),
     )
+    check_callable(callback, "callback")
     ia, ib, ta, tb, pal_lin, pin = _prepared_targets(ta_raw, tb_raw, yarns, mix=mix, pinned=pinned)
     objective = _Objective(ta, tb, pal_lin, params, change_weight, raised_weight)
     z, u, fixed = _initial_logits(ia, ib, len(yarns), pin, seed=seed)
@@ -324,16 +333,16 @@ def _checked_arguments(
     check_yarns(yarns)
     if params is not None:
         check_instance(params, RenderParams, "params", error=RenderParamsError)
-    check_int(steps, "steps", min=1)
-    check_number(learning_rate, "learning_rate", min=0, min_open=True)
-    check_number(binary_weight, "binary_weight", min=0)
-    check_number(change_weight, "change_weight", min=0)
-    check_number(raised_weight, "raised_weight", min=0)
+    # bounds far beyond any useful value: they only refuse slips (10**30 steps never ends)
+    check_int(steps, "steps", min=1, max=100_000)
+    check_number(learning_rate, "learning_rate", min=0, max=100, min_open=True)
+    check_number(binary_weight, "binary_weight", min=0, max=1e6)
+    check_number(change_weight, "change_weight", min=0, max=1e6)
+    check_number(raised_weight, "raised_weight", min=0, max=1e6)
     check_number(final_temperature, "final_temperature", min=0, min_open=True)
     check_str(mix, "mix")
-    check_int(seed, "seed", min=0)
-    if time_limit is not None:
-        check_number(time_limit, "time_limit", min=0, min_open=True)
+    check_seed(seed)
+    check_seconds(time_limit, "time_limit")
     yarns = tuple(yarns)
     if len(yarns) < 2 or not all(isinstance(y, Yarn) for y in yarns):
         raise YarnSpecError("`yarns` must be a sequence of at least two Yarn")

@@ -65,6 +65,10 @@ def check_angle(angle: Any, *, name: str = "theta") -> float:
     return a
 
 
+#: The largest height or length of :class:`RenderParams`.
+MAX_LENGTH = 100.0
+
+
 @dataclass(frozen=True)
 class RenderParams:
     """Geometry and camera of the ray-casting renderer (see the module docstring).
@@ -119,6 +123,12 @@ class RenderParams:
         for name in ("flat_height", "bump_height", "unit_length"):
             if getattr(self, name) <= 0:
                 raise RenderParamsError(f"`{name}` must be positive, got {getattr(self, name)!r}")
+        for name in ("flat_height", "bump_height", "unit_length", "tall_bump_height"):
+            # a fabric's relief is within a few unit lengths; a hundred is a slip of the keyboard
+            if (getattr(self, name) or 0) > MAX_LENGTH:
+                raise RenderParamsError(
+                    f"`{name}` must be at most {MAX_LENGTH:g}, got {getattr(self, name)!r}"
+                )
         if self.bump_height <= self.flat_height:
             raise RenderParamsError(
                 f"`bump_height` must exceed `flat_height` ({self.flat_height}), got {self.bump_height}"

@@ -53,7 +53,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from illuknit.core.arguments import check_instance, check_int
+from illuknit.core.arguments import check_choice, check_instance, check_int
 from illuknit.core.colors import linear_from_srgb, srgb_from_linear
 from illuknit.core.errors import OptionError, PatternValidationError, RenderParamsError
 from illuknit.core.pattern import LogicalPattern, check_pattern
@@ -366,6 +366,7 @@ def render_pattern(
     if params is not None:
         check_instance(params, RenderParams, "params", error=RenderParamsError)
     check_int(supersample, "supersample", min=1, max=8)
+    check_choice(view, "view", ("A", "B", "headon"))
     if not isinstance(pattern, LogicalPattern):
         raise PatternValidationError(
             f"`pattern` must be a LogicalPattern, got {type(pattern).__name__}"
@@ -398,7 +399,7 @@ def render_at(
     if params is not None:
         check_instance(params, RenderParams, "params", error=RenderParamsError)
     check_int(supersample, "supersample", min=1, max=8)
-    if isinstance(angle, bool) or not isinstance(angle, int | float) or angle == 0:
+    if isinstance(angle, bool) or not isinstance(angle, int | float) or not 0 < abs(angle) <= 90:
         raise RenderParamsError(
             f"`angle` must be a non-zero number of degrees in [-90, 90], got {angle!r}"
         )

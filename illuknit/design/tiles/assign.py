@@ -19,10 +19,12 @@ from typing import Any, Literal
 import numpy as np
 
 from illuknit.core.arguments import (
+    MAX_SECONDS,
     check_bool,
     check_instance,
     check_int,
     check_number,
+    check_seconds,
     check_str,
     check_views,
 )
@@ -58,6 +60,10 @@ __all__ = [
     "overlap_pairs",
     "regions_of",
 ]
+
+
+#: The most assignments one search keeps or looks for.
+MAX_ASSIGNMENTS = 1000
 
 
 def _check_inputs(ra: Regions, rb: Regions, bank: TileBank, views: ViewPair) -> None:
@@ -136,15 +142,16 @@ def assign_tiles(
         check_instance(bank, TileBank, "bank", error=TileBankError)
     if yarns is not None:
         check_yarns(yarns)
-    check_int(candidates, "candidates", min=1, error=TileAssignmentError)
+    check_int(candidates, "candidates", min=1, max=MAX_ASSIGNMENTS, error=TileAssignmentError)
     if pool is not None:
-        check_int(pool, "pool", min=1, error=TileAssignmentError)
+        check_int(pool, "pool", min=1, max=MAX_ASSIGNMENTS, error=TileAssignmentError)
     if pool_seconds is not None:
-        check_number(pool_seconds, "pool_seconds", min=0, error=TileAssignmentError)
+        check_number(
+            pool_seconds, "pool_seconds", min=0, max=MAX_SECONDS, error=TileAssignmentError
+        )
     check_str(brightness, "brightness")
     check_str(solver, "solver")
-    if time_limit is not None:
-        check_number(time_limit, "time_limit", min=0, min_open=True)
+    check_seconds(time_limit, "time_limit")
     if weights is not None:
         check_instance(weights, AssignmentWeights, "weights")
     check_views(views)

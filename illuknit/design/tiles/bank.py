@@ -40,7 +40,15 @@ from typing import Any
 
 import numpy as np
 
-from illuknit.core.arguments import check_bool, check_int, check_path, check_views
+from illuknit.core.arguments import (
+    check_bool,
+    check_instance,
+    check_int,
+    check_number,
+    check_path,
+    check_views,
+    got,
+)
 from illuknit.core.colors import parse_color
 from illuknit.core.errors import TileBankError, YarnSpecError
 from illuknit.core.files import atomic_write_text
@@ -117,12 +125,18 @@ class TileBank:
     )
 
     def __post_init__(self) -> None:
-        yarns = tuple(self.yarns)
-        if not yarns or not all(isinstance(y, Yarn) for y in yarns):
-            raise TileBankError("a tile bank needs a non-empty sequence of Yarn")
+        yarns = check_yarns(self.yarns)
+        check_instance(self.name, str, "name", error=TileBankError)
+        check_number(
+            self.split_share, "split_share", min=0.5, max=1, min_open=True, error=TileBankError
+        )
+        if not isinstance(self.tiles, (tuple, list)) or not all(
+            isinstance(t, Tile) for t in self.tiles
+        ):
+            raise TileBankError(f"`tiles` must be a sequence of Tile, got {got(self.tiles)}")
         tiles = tuple(self.tiles)
         if not tiles:
-            raise TileBankError("a tile bank needs at least one tile")
+            raise TileBankError("`tiles` must hold at least one tile")
         object.__setattr__(self, "yarns", yarns)
         object.__setattr__(self, "tiles", tiles)
         object.__setattr__(

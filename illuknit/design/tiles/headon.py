@@ -15,15 +15,16 @@ picture is given, the side is one uniform region, so the front picture vanishes 
 
 from __future__ import annotations
 
+import inspect
 from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
 
 from illuknit.core.arguments import check_instance, check_int
-from illuknit.core.errors import TileAssignmentError, TileBankError
+from illuknit.core.errors import TileAssignmentError, TileBankError, UnknownNameError
 from illuknit.core.pattern import Yarn, check_yarns
-from illuknit.design.tiles.assign import _yarns_of, assign_tiles
+from illuknit.design.tiles.assign import MAX_ASSIGNMENTS, _yarns_of, assign_tiles
 from illuknit.design.tiles.assignment import TileAssignment, regions_of
 from illuknit.design.tiles.bank import TileBank, ViewPair, canonical_bank
 
@@ -84,9 +85,16 @@ def assign_headon(
         check_instance(bank, TileBank, "bank", error=TileBankError)
     if yarns is not None:
         check_yarns(yarns)
-    check_int(candidates, "candidates", min=1, error=TileAssignmentError)
+    check_int(candidates, "candidates", min=1, max=MAX_ASSIGNMENTS, error=TileAssignmentError)
+    regions_of(front, name="front")
+    if side is not None:
+        regions_of(side, name="side")
     if "views" in options:
         raise TileAssignmentError("assign_headon fixes `views` to ('headon', 'side')")
+    known = set(inspect.signature(assign_tiles).parameters) - {"qa", "qb", "views"}
+    for name in options:
+        if name not in known:
+            raise UnknownNameError("assign_tiles option", name, sorted(known))
     if side is None:
         side = uniform_side(front)
     if bank is None:

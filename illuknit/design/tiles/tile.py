@@ -202,7 +202,9 @@ class Tile:
                 f"tile `yarn` must be a non-empty (h, w) array, got shape {y.shape}"
             )
         if r.shape != y.shape:
-            raise TileBankError(f"tile `raised` must have shape {y.shape}, got {r.shape}")
+            raise TileBankError(
+                f"tile `raised` must have the shape of `yarn` {y.shape}, got {r.shape}"
+            )
         if not np.issubdtype(y.dtype, np.integer) or int(y.min()) < 0:
             raise TileBankError("tile `yarn` must hold non-negative integers")
         if r.dtype != np.bool_ and not np.all(np.isin(r, (0, 1))):
@@ -210,6 +212,8 @@ class Tile:
         object.__setattr__(self, "yarn", _readonly(y, np.int16))
         object.__setattr__(self, "raised", _readonly(r, np.bool_))
         object.__setattr__(self, "upper", self._check_upper(self.upper))
+        if not isinstance(self.name, str):
+            raise TileBankError(f"tile `name` must be a string, got {self.name!r}"[:120])
         if not self.name:
             object.__setattr__(self, "name", self.code())
 
