@@ -43,7 +43,7 @@ def put_settings(s: SessionDep, body: SettingsPatch) -> dict[str, Any]:  # type:
     if "yarns" in changes:
         with design.blame("yarns"):
             parse_yarns(list(changes["yarns"]))
-    with s.lock:
+    with s.changing():
         new = DesignSettings.model_validate({**s.settings.model_dump(), **changes})
         _check_fits(new, changes)
         if new != s.settings:
