@@ -403,8 +403,12 @@ async function refreshInputs({ autorun }) {
     ul.className = "legend";
     for (const e of inp.legend[slot]) {
       const li = document.createElement("li");
-      li.innerHTML = `<span class="sw" style="background:${e.image_color}"></span><span class="arrow">→</span>` +
-        `<span class="sw" style="background:${e.yarn_color}"></span><span></span><span class="pct">${(100 * e.share).toFixed(0)}%</span>`;
+      // colours set through the style object, not a style attribute: the page's
+      // Content-Security-Policy allows no inline style
+      li.innerHTML = `<span class="sw"></span><span class="arrow">→</span>` +
+        `<span class="sw"></span><span></span><span class="pct">${(100 * e.share).toFixed(0)}%</span>`;
+      li.children[0].style.background = e.image_color;
+      li.children[2].style.background = e.yarn_color;
       li.children[3].textContent = e.yarn;
       li.title = `picture colour ${e.image_color} becomes yarn ${e.yarn} (${e.yarn_color})`;
       ul.appendChild(li);
