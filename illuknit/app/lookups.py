@@ -82,6 +82,9 @@ def state_json(s: Session) -> dict[str, Any]:
         "id": s.id,
         "revision": s.revision,
         "settings": s.settings.to_json(),
+        # the piece's width in units now (sized from the picture by default), None when the
+        # settings cannot give one (the page shows why next to the control)
+        "width_units": _width_now(s),
         "images": {slot: image_json(s, slot) for slot in s.images},
         "candidates": len(s.candidates),
         "selected": s.selected if s.candidates else None,
@@ -94,6 +97,15 @@ def state_json(s: Session) -> dict[str, Any]:
             "redo": [step.label for step in reversed(s.redo_steps)],
         },
     }
+
+
+def _width_now(s: Session) -> int | None:
+    if s.settings.size_mode == "picture" and "a" not in s.images:
+        return None  # sized from a picture not given yet
+    try:
+        return design.width_of(s.settings, s.images)[0]
+    except AppRequestError:
+        return None
 
 
 def check_slot(slot: str) -> None:

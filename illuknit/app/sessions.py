@@ -457,6 +457,35 @@ class SessionStore:
             with self._lock:
                 self._drop_locked(sid, None)
 
+    def saved(self, limit: int = 50) -> list[dict[str, Any]]:
+        """The sessions a designer can reopen (those holding a picture), most recently used
+        first: ``id``, ``last_seen``, ``mode`` and ``pictures`` (slot -> file name). From the
+        disk when there is one (every change is saved), else from memory."""
+        if self.disk is not None:
+            found = self.disk.summaries(limit)
+        else:
+            with self._lock:
+                sessions = sorted(self._sessions.values(), key=lambda s: -s.last_seen)
+            found = [
+                {
+                    "id": s.id,
+                    "last_seen": s.last_seen,
+                    "settings": s.settings.model_dump(mode="json"),
+                    "images": {k: {"filename": im.filename} for k, im in s.images.items()},
+                }
+                for s in sessions
+                if s.images
+            ][:limit]
+        return [
+            {
+                "id": f["id"],
+                "last_seen": f["last_seen"],
+                "mode": f["settings"].get("mode"),
+                "pictures": {k: im["filename"] for k, im in sorted(f["images"].items())},
+            }
+            for f in found
+        ]
+
     def delete(self, sid: str) -> bool:
         """End session ``sid``: deleted from disk first (a disk that refuses leaves it as it
         was: :class:`~illuknit.app.store.SessionNotSavedError`), then from memory."""

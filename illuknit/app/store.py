@@ -471,6 +471,22 @@ class DiskStore:
             )
         return Loaded(obj, core, {})
 
+    def summaries(self, limit: int = 50) -> list[dict[str, Any]]:
+        """The stored sessions that hold a picture, most recently used first (at most
+        ``limit``): id, created, last_seen and their core (settings, pictures by name)."""
+        with self._lock:
+            rows = self._db.execute(
+                "SELECT id, created, last_seen, core FROM sessions ORDER BY last_seen DESC"
+            ).fetchall()
+        out = []
+        for sid, created, seen, core in rows:
+            plain = json.loads(core)
+            if plain["images"]:
+                out.append({"id": sid, "created": created, "last_seen": seen, **plain})
+            if len(out) == limit:
+                break
+        return out
+
     def last_seq(self) -> int:
         """The highest save number stored (a restarted server numbers its saves after it)."""
         with self._lock:
