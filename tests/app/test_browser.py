@@ -934,3 +934,32 @@ def test_a_new_tab_reopens_a_saved_design(browser, base_url, tmp_path):
     sync_api.expect(fresh.locator("#meta-a")).to_contain_text("kept-work.png")
     fresh.context.close()
     context.close()
+
+
+def test_a_change_the_disk_refuses_is_said_and_not_kept(browser, base_url, tmp_path, monkeypatch):
+    """A full disk: the upload is answered with the cause next to its box, and the page shows
+    the session as it still is (no thumbnail of the refused picture)."""
+    import errno
+
+    from illuknit.app.sessions import Session
+    from illuknit.app.store import not_saved
+
+    context = browser.new_context()
+    page = context.new_page()
+    page.goto(base_url)
+    page.wait_for_selector("body[data-ready='1']")
+
+    def full(self):
+        raise not_saved(OSError(errno.ENOSPC, "No space left on device"), tmp_path)
+
+    monkeypatch.setattr(Session, "save", full)
+    page.set_input_files("#file-a", str(banded(tmp_path / "refused.png", slice(0, 12))))
+    err = page.locator("[data-error-for='image_a']")
+    sync_api.expect(err).to_contain_text("the disk is full")
+    sync_api.expect(err).to_contain_text("not saved")
+    assert page.locator("#thumb-a").is_hidden()
+    assert "refused.png" not in page.locator("#meta-a").text_content()
+    monkeypatch.undo()
+    page.set_input_files("#file-a", str(banded(tmp_path / "kept.png", slice(0, 12))))
+    sync_api.expect(page.locator("#meta-a")).to_contain_text("kept.png")
+    context.close()

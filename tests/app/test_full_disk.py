@@ -175,6 +175,32 @@ def test_a_job_start_refused_by_the_disk_leaves_no_job(served, api, pictures):
     r = c.post(f"/api/sessions/{sid}/jobs", json={"kind": "candidates"})
     assert r.status_code == 507, r.text
     assert c.get(f"/api/sessions/{sid}").json()["jobs"] == {}
+    started = list(app.state.runner._jobs.values())
+    assert started and all(job.cancelled for job in started)  # the work it began is stopped
+
+
+def test_work_a_refused_change_would_cancel_goes_on(served, api, pictures):
+    """An upload cancels the search of the pictures it replaces only once it is saved: a
+    refused upload leaves that search running."""
+    import threading
+
+    c, app = served
+    sid = api.new_session(c)
+    assert api.upload(c, sid, "a", pictures.box_picture()).status_code == 200
+    session = app.state.store.get(sid)
+    release = threading.Event()
+    with session.changing():
+        job = app.state.runner.submit("candidates", lambda job: release.wait(30))
+        session.replace_job("candidates", job)
+    _disk_full(app)
+    r = api.upload(c, sid, "a", pictures.box_picture(top=1))
+    assert r.status_code == 507, r.text
+    assert job.live and not job.cancelled
+    assert c.get(f"/api/sessions/{sid}").json()["jobs"]["candidates"]["id"] == job.id
+    app.state.store.disk._db = app.state.store.disk._db.real  # space again
+    assert api.upload(c, sid, "a", pictures.box_picture(top=1)).status_code == 200
+    assert job.cancelled  # now the change is kept, the search of the old picture stops
+    release.set()
 
 
 def test_ending_a_session_the_disk_refuses_keeps_it(served, api):
