@@ -194,7 +194,12 @@ class Session:
         try:
             self.save()
         except SessionNotSavedError as e:
-            print(f"illuknit app: a job's result {e}", file=sys.stderr, flush=True)
+            print(
+                f"illuknit app: a background job's result is kept in memory but not on disk "
+                f"(the next saved change stores it): {e}",
+                file=sys.stderr,
+                flush=True,
+            )
 
     def replace_job(self, kind: str, job: Any) -> None:
         """Make ``job`` the session's job of ``kind``; polls of the one it replaces follow it.
