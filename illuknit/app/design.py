@@ -48,6 +48,7 @@ from illuknit.app.inputs import (
     slots_for,
     too_large_message,
     width_of,
+    yarns_for_colors,
 )
 from illuknit.app.tile_edits import pairs_json, pattern_for, tile_png
 from illuknit.core.errors import AppRequestError
@@ -84,6 +85,7 @@ __all__ = [
     "too_large_message",
     "warm_up",
     "width_of",
+    "yarns_for_colors",
 ]
 
 YARN_PRESETS: dict[str, tuple[str, ...]] = {

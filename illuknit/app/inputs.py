@@ -36,6 +36,7 @@ __all__ = [
     "slots_for",
     "too_large_message",
     "width_of",
+    "yarns_for_colors",
 ]
 
 #: Default of the one upload limit (bytes), ``AppConfig.max_upload_bytes``: a full-size photograph
@@ -200,7 +201,7 @@ def size_inputs(
     from illuknit.pictures.sizing import size_pair
 
     slots = _require_pictures(images, settings.mode)
-    width, size_field = width_of(settings)
+    width, size_field = width_of(settings, images)
     a = images["a"].rgb
     b = images["b"].rgb if "b" in slots else None
     with blame(size_field):
@@ -271,8 +272,13 @@ def _check_colors(mode: str, n_colors: int, n_yarns: int) -> None:
         )
 
 
-def width_of(settings: DesignSettings) -> tuple[int, str]:
+def width_of(settings: DesignSettings, images: dict[str, Any] | None = None) -> tuple[int, str]:
     """The piece's width in units under ``settings``, and the control that sets it.
+
+    ``size_mode`` "picture" sizes as the command line does with no width given
+    (:func:`~illuknit.pictures.sizing.grid_width`: picture A's width in pixels, at most
+    :data:`~illuknit.pictures.sizing.DEFAULT_MAX_WIDTH` units; that bound before a picture is
+    there), and never wider than the chosen bed.
 
     Raises AppRequestError (on that control) for a width outside 2..MAX_UNITS or wider than the
     chosen machine's bed.
@@ -280,11 +286,17 @@ def width_of(settings: DesignSettings) -> tuple[int, str]:
     from illuknit.core.machine import get_machine
     from illuknit.core.pattern import MAX_UNITS
     from illuknit.pictures.images import units_for_width
+    from illuknit.pictures.sizing import DEFAULT_MAX_WIDTH, grid_width
 
     if settings.size_mode == "physical":
         with blame("width_cm"):
             width = units_for_width(width_cm=settings.width_cm, gauge=settings.gauge)
         size_field = "width_cm"
+    elif settings.size_mode == "picture":
+        a = (images or {}).get("a")
+        width = DEFAULT_MAX_WIDTH if a is None else grid_width(a.size[0]) or DEFAULT_MAX_WIDTH
+        width = max(2, min(width, get_machine(settings.machine).max_units))
+        size_field = "width_units"
     else:
         width, size_field = settings.width_units, "width_units"
     if width < 2 or width > MAX_UNITS:
@@ -345,3 +357,51 @@ def sizing_aspect(settings: DesignSettings) -> float:
     if settings.square_units:
         return 1.0
     return get_machine(settings.machine).fabric_gauge.unit_aspect
+
+
+#: Yarns added when no picture is there to choose from (the page's "Add yarn" offers the same).
+SPARE_YARNS = ("#8a8a8a", "#b3202a", "#1d2b53", "#d9a62e", "#1f4d3a", "#c97b84")
+#: Pixels of each picture the yarn choice looks at (every k-th: the colours, not the detail).
+_YARN_SAMPLE = 40_000
+
+
+def yarns_for_colors(settings: DesignSettings, images: dict[str, Any]) -> tuple[str, ...]:
+    """The yarns of ``settings``, with yarns added when a two-picture mode asks for more colours
+    than there are yarns (``illuknit double --colors 3`` chooses 3 yarns; the app would
+    otherwise stop at "add a yarn").
+
+    The yarns the designer has are kept; the new ones are chosen from the pictures as the
+    command line chooses them (:func:`~illuknit.design.tiles.yarn_choice.choose_yarns`: each
+    picture's darkest and lightest colour first), each time the one farthest (CIELAB) from
+    the yarns there; :data:`SPARE_YARNS` when the pictures offer no other colour.
+    """
+    from illuknit.core.colors import lab_from_rgb
+    from illuknit.design.tiles.yarn_choice import SAME_COLOUR_LAB, choose_yarns
+
+    have = list(settings.yarns)
+    need = settings.n_colors - len(have)
+    if settings.mode == "single" or need <= 0:
+        return tuple(have)
+    with blame("yarns"):
+        rgb = [list(y.rgb) for y in parse_yarns(have)]
+    # the colours only, not the layout: every k-th pixel, two to a row (pictures of any shapes
+    # go into one joint clustering)
+    flat = [im.rgb.reshape(-1, 3) for im in images.values()]
+    flat = [p[:: max(1, len(p) // _YARN_SAMPLE)] for p in flat]
+    pictures = [p[: len(p) // 2 * 2].reshape(-1, 2, 3) for p in flat if len(p) >= 4]
+    offered = [list(y.rgb) for y in choose_yarns(pictures, settings.n_colors)] if pictures else []
+    spares = [list(parse_yarns([c])[0].rgb) for c in SPARE_YARNS]
+    for pool, least in ((offered, SAME_COLOUR_LAB), (spares, 0.0)):
+        while need > 0 and pool:
+            far = np.linalg.norm(
+                lab_from_rgb(np.array(pool, float))[:, None]
+                - lab_from_rgb(np.array(rgb, float))[None],
+                axis=2,
+            ).min(axis=1)
+            best = int(np.argmax(far))
+            if far[best] <= least:
+                break
+            rgb.append(pool.pop(best))
+            have.append("#{:02x}{:02x}{:02x}".format(*rgb[-1]))
+            need -= 1
+    return tuple(have)

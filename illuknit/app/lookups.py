@@ -41,27 +41,24 @@ def runner_of(request: Request) -> JobRunner:
     return runner
 
 
-#: Request methods that change a session: it is stored again after each of them.
-CHANGES = frozenset({"POST", "PUT", "PATCH", "DELETE"})
-
-
 def session_of(request: Request, sid: str) -> Iterator[Session]:
     """The session named in the path (404 ``no_session`` when unknown, 410 ``evicted`` when
     deleted), read back from disk when it is not in memory, and kept in memory while the
-    request works on it. After a request that changes it, the session is stored whole (one
-    transaction) before the answer is sent, so every change a page saw answered survives a
-    restart. (Work finishing in the background stores it again: ``Session.replace_job``.)"""
+    request works on it.
+
+    A route that changes the session does so inside ``with s.changing():``
+    (:meth:`~illuknit.app.sessions.Session.changing`): the change is stored whole (one
+    transaction) before the answer is sent, and kept in memory only once stored, so every
+    change a page saw answered survives a restart and a change answered as failed (a full
+    disk) is not kept. (Work finishing in the background stores it again:
+    ``Session.replace_job``.)"""
     store = store_of(request)
     with store.using(sid) as session:
-        try:
-            yield session
-        finally:
-            if request.method in CHANGES:
-                store.save(session)
+        yield session
 
 
-#: A route parameter that is the session of the path's ``{sid}`` (stored, after a change, before
-#: the answer is sent: the dependency's scope is the route function, not the whole request).
+#: A route parameter that is the session of the path's ``{sid}`` (kept in memory while the route
+#: runs: the dependency's scope is the route function, not the whole request).
 SessionDep = Annotated[Session, Depends(session_of, scope="function")]
 
 
@@ -85,6 +82,9 @@ def state_json(s: Session) -> dict[str, Any]:
         "id": s.id,
         "revision": s.revision,
         "settings": s.settings.to_json(),
+        # the piece's width in units now (sized from the picture by default), None when the
+        # settings cannot give one (the page shows why next to the control)
+        "width_units": _width_now(s),
         "images": {slot: image_json(s, slot) for slot in s.images},
         "candidates": len(s.candidates),
         "selected": s.selected if s.candidates else None,
@@ -97,6 +97,15 @@ def state_json(s: Session) -> dict[str, Any]:
             "redo": [step.label for step in reversed(s.redo_steps)],
         },
     }
+
+
+def _width_now(s: Session) -> int | None:
+    if s.settings.size_mode == "picture" and "a" not in s.images:
+        return None  # sized from a picture not given yet
+    try:
+        return design.width_of(s.settings, s.images)[0]
+    except AppRequestError:
+        return None
 
 
 def check_slot(slot: str) -> None:

@@ -45,10 +45,12 @@ class DesignSettings(BaseModel):
         title="Mode",
         description="single view (one picture), double view or head-on (two pictures)",
     )
-    size_mode: Literal["units", "physical"] = Field(
-        default="units",
+    size_mode: Literal["picture", "units", "physical"] = Field(
+        default="picture",
         title="Size by",
-        description="give the width in units, or as a physical width and a gauge",
+        description="size from the picture as the command line does (picture A's width in "
+        "pixels, at most 100 units), give the width in units, or as a physical width and a "
+        "gauge",
     )
     width_units: int = Field(
         default=60,

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import importlib.util
 import os
+import sys
 import threading
 from collections.abc import AsyncIterator
 from contextlib import asynccontextmanager
@@ -86,7 +87,7 @@ def create_app(config: AppConfig | None = None) -> Any:
 
     from illuknit.app.handlers import install_handlers
     from illuknit.app.jobs import JobRunner
-    from illuknit.app.middleware import SameOriginGuard, UploadLimit
+    from illuknit.app.middleware import SameOriginGuard, SecurityHeaders, UploadLimit
     from illuknit.app.routers import ROUTERS
     from illuknit.app.routers.static import mount_static
     from illuknit.app.sessions import SessionStore
@@ -112,8 +113,10 @@ def create_app(config: AppConfig | None = None) -> Any:
         # first upload is not the one that waits for scikit-image, SciPy and the solvers to load.
         threading.Thread(target=design.warm_up, name="illuknit-warm-up", daemon=True).start()
         yield
-        store.close()  # first: jobs the stop cuts short are stored as interrupted
+        problem = store.close()  # first: jobs the stop cuts short are stored as interrupted
         runner.shutdown()
+        if problem is not None:
+            print(f"illuknit app: {problem}", file=sys.stderr, flush=True)
 
     app = FastAPI(
         title="illuknit design app",
@@ -136,6 +139,8 @@ def create_app(config: AppConfig | None = None) -> Any:
     app.add_middleware(UploadLimit, limit=cfg.max_upload_bytes)
     # added last, so it runs first: a foreign request is refused before its body is read
     app.add_middleware(SameOriginGuard, allowed_hosts=cfg.allowed_hosts)
+    # outermost: every answer, the refusals of the guards above included, carries the headers
+    app.add_middleware(SecurityHeaders)
     install_handlers(app)
     for router in ROUTERS:
         app.include_router(router)

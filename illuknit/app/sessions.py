@@ -17,11 +17,13 @@ those bytes.
 
 from __future__ import annotations
 
+import copy
 import secrets
+import sys
 import threading
 import time
 from collections import OrderedDict
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterable, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass, field, replace
 from typing import Any
@@ -110,9 +112,11 @@ class Session:
     pins: int = field(default=0, repr=False)
     #: no longer the store's copy (evicted from memory): never saved again
     detached: bool = field(default=False, repr=False)
+    #: inside :meth:`changing`: the jobs the change cancels once it is saved (else None)
+    cancel_on_commit: list[Any] | None = field(default=None, repr=False)
 
     #: Attributes that are not the designer's work: never stored.
-    RUNTIME = ("lock", "saver", "pins", "detached")
+    RUNTIME = ("lock", "saver", "pins", "detached", "cancel_on_commit")
 
     #: Replaced job ids remembered per session (a page polls only its latest few).
     SUCCESSORS_KEPT = 64
@@ -138,18 +142,73 @@ class Session:
         self.jobs = {kind: Job.restored(rec) for kind, rec in state.get("jobs", {}).items()}
 
     def save(self) -> None:
-        """Store the session now (nothing when it is kept in memory only, or evicted)."""
+        """Store the session now (nothing when it is kept in memory only, or evicted); raises
+        :class:`~illuknit.app.store.SessionNotSavedError` when the disk refuses."""
         if self.saver is not None and not self.detached:
             self.saver(self)
+
+    @contextmanager
+    def changing(self) -> Iterator[None]:
+        """A change of the session that is kept only once it is saved.
+
+        The block changes the session with its lock held; the session is then stored. If the
+        store refuses (a full disk, a read-only folder:
+        :class:`~illuknit.app.store.SessionNotSavedError`), or the block raises, the session is
+        put back as it was before the block and the error propagates: a change answered as
+        failed is never kept, so no later save writes it. Jobs the change cancels (work on the
+        inputs it replaces) are cancelled only once it is saved; jobs it started are cancelled
+        when it is not kept. A change inside a change is part of the outer one.
+        """
+        with self.lock:
+            if self.cancel_on_commit is not None:
+                yield
+                return
+            before = {k: _copied(v) for k, v in self.__dict__.items() if k not in self.RUNTIME}
+            self.cancel_on_commit = []
+            try:
+                yield
+                self.save()
+            except BaseException:
+                self.cancel_on_commit = None
+                started = [j for j in self.jobs.values() if _not_in(j, before["jobs"].values())]
+                self.__dict__.update(before)
+                for job in started:
+                    job.cancel()
+                raise
+            cancelled, self.cancel_on_commit = self.cancel_on_commit, None
+            for job in cancelled:
+                job.cancel()
+
+    def cancel_job(self, job: Any) -> None:
+        """Cancel ``job`` now, or once the change being made is saved (:meth:`changing`)."""
+        if self.cancel_on_commit is not None:
+            self.cancel_on_commit.append(job)
+        else:
+            job.cancel()
+
+    def _save_after_job(self) -> None:
+        """Store the session with a job's result; a disk that refuses keeps the result in
+        memory (the next saved change stores it), said in one line on the server's stderr."""
+        from illuknit.app.store import SessionNotSavedError
+
+        try:
+            self.save()
+        except SessionNotSavedError as e:
+            print(
+                f"illuknit app: a background job's result is kept in memory but not on disk "
+                f"(the next saved change stores it): {e}",
+                file=sys.stderr,
+                flush=True,
+            )
 
     def replace_job(self, kind: str, job: Any) -> None:
         """Make ``job`` the session's job of ``kind``; polls of the one it replaces follow it.
         The session is stored again when the job ends (its result is part of the session)."""
-        job.when_finished(lambda _job: self.save())
+        job.when_finished(lambda _job: self._save_after_job())
         old = self.jobs.get(kind)
         if old is not None:
             if old.live:
-                old.cancel()
+                self.cancel_job(old)
             self.successors[old.id] = job.id
             while len(self.successors) > self.SUCCESSORS_KEPT:
                 self.successors.pop(next(iter(self.successors)))
@@ -277,7 +336,7 @@ class Session:
         what was undone cannot be redone."""
         job = self.jobs.get("measures")
         if job is not None and job.live:
-            job.cancel()
+            self.cancel_job(job)
         self.candidates = [replace(c, measured=None) for c in self.candidates]
         self.redo_steps.clear()
 
@@ -286,7 +345,7 @@ class Session:
         for kind in ("candidates", "knit", "measures", "suggestions"):
             job = self.jobs.get(kind)
             if job is not None and job.live:
-                job.cancel()
+                self.cancel_job(job)
 
 
 class SessionStore:
@@ -336,7 +395,12 @@ class SessionStore:
             self._make_room_locked(keep=None)
             sid = secrets.token_urlsafe(12)
             session = self._adopt_locked(Session(id=sid))
-        session.save()
+        try:
+            session.save()
+        except BaseException:  # a session that could not be saved is not kept
+            with self._lock:
+                self._sessions.pop(sid, None)
+            raise
         return session
 
     def get(self, sid: str, *, pin: bool = False) -> Session:
@@ -398,11 +462,41 @@ class SessionStore:
             with self._lock:
                 self._drop_locked(sid, None)
 
-    def delete(self, sid: str) -> bool:
-        with self._lock:
-            found = self._drop_locked(sid, None)
+    def saved(self, limit: int = 50) -> list[dict[str, Any]]:
+        """The sessions a designer can reopen (those holding a picture), most recently used
+        first: ``id``, ``last_seen``, ``mode`` and ``pictures`` (slot -> file name). From the
+        disk when there is one (every change is saved), else from memory."""
         if self.disk is not None:
-            found = self.disk.delete(sid) or found
+            found = self.disk.summaries(limit)
+        else:
+            with self._lock:
+                sessions = sorted(self._sessions.values(), key=lambda s: -s.last_seen)
+            found = [
+                {
+                    "id": s.id,
+                    "last_seen": s.last_seen,
+                    "settings": s.settings.model_dump(mode="json"),
+                    "images": {k: {"filename": im.filename} for k, im in s.images.items()},
+                }
+                for s in sessions
+                if s.images
+            ][:limit]
+        return [
+            {
+                "id": f["id"],
+                "last_seen": f["last_seen"],
+                "mode": f["settings"].get("mode"),
+                "pictures": {k: im["filename"] for k, im in sorted(f["images"].items())},
+            }
+            for f in found
+        ]
+
+    def delete(self, sid: str) -> bool:
+        """End session ``sid``: deleted from disk first (a disk that refuses leaves it as it
+        was: :class:`~illuknit.app.store.SessionNotSavedError`), then from memory."""
+        found = self.disk.delete(sid) if self.disk is not None else False
+        with self._lock:
+            found = self._drop_locked(sid, None) or found
         return found
 
     def nbytes(self) -> int:
@@ -438,19 +532,22 @@ class SessionStore:
                 evicted.append(s.id)
         return evicted
 
-    def close(self) -> None:
+    def close(self) -> str | None:
         """The server is stopping: record when each session in memory was last used, and close
         the disk (releasing its folder for the next server). Call it before cancelling the jobs:
-        a job the stop cuts short then comes back *interrupted*, not *cancelled*."""
+        a job the stop cuts short then comes back *interrupted*, not *cancelled*. Answers what
+        the disk refused, in one line (a full disk), else None: every change was saved as it
+        was made, so a refusal here loses nothing."""
         if self.disk is None:
-            return
+            return None
         with self._lock:
             sessions = list(self._sessions.values())
             for s in sessions:  # work cut short by the stop is stored as it was: interrupted
                 s.detached = True
         for s in sessions:
             self.disk.touch(s.id, s.last_seen)
-        self.disk.close()
+        problem: str | None = self.disk.close()
+        return problem
 
     def __len__(self) -> int:
         with self._lock:
@@ -515,6 +612,18 @@ class SessionStore:
         for sid in [s.id for s in self._sessions.values() if now - s.last_seen > self.ttl]:
             if not self._sessions[sid].pins:
                 self._drop_locked(sid, "this session expired after a long time unused")
+
+
+def _copied(value: Any) -> Any:
+    """A session field as it is now: containers copied (a change replaces or fills them in
+    place), everything else shared (pictures, designs and settings are never changed in place)."""
+    if isinstance(value, (dict, list, set)):
+        return copy.copy(value)
+    return value
+
+
+def _not_in(job: Any, jobs: Iterable[Any]) -> bool:
+    return all(job is not other for other in jobs)
 
 
 def _eviction_order(s: Session) -> tuple[bool, float]:

@@ -31,6 +31,8 @@ kept in plain JSON and ``.npy`` beside it, come back without the design made fro
 
 from __future__ import annotations
 
+import contextlib
+import errno
 import hashlib
 import io
 import json
@@ -50,14 +52,16 @@ from typing import Any
 import numpy as np
 
 from illuknit import __version__
-from illuknit.core.errors import OutputPathError
+from illuknit.core.errors import AppRequestError, OutputPathError
 
 __all__ = [
     "BLOB_MIN_BYTES",
     "DataDirInUseError",
     "DiskStore",
     "Retention",
+    "SessionNotSavedError",
     "default_data_dir",
+    "storage_problem",
 ]
 
 #: Arrays at least this big are stored as blobs by hash; smaller ones stay inside the pickle.
@@ -90,6 +94,46 @@ CREATE TABLE IF NOT EXISTS gone (id TEXT PRIMARY KEY, reason TEXT NOT NULL, at R
 
 class DataDirInUseError(OutputPathError):
     """Another running app keeps its sessions in the same data folder."""
+
+
+class SessionNotSavedError(AppRequestError):
+    """A change could not be stored (the disk is full, the folder became read-only, ...): the
+    change is not kept, the session stays as it was saved last. ``code`` names the cause
+    (``disk_full``, ``read_only``, ``busy``, ``disk_error``, ``not_saved``); ``status`` is 507
+    (Insufficient Storage) for a full disk, else 503."""
+
+
+#: SQLite's result codes (the low byte of an extended code) for the causes said in words.
+_SQLITE_FULL, _SQLITE_READONLY, _SQLITE_BUSY, _SQLITE_LOCKED, _SQLITE_IOERR = 13, 8, 5, 6, 10
+
+
+def storage_problem(e: BaseException) -> tuple[str, str, int]:
+    """Why a write to the data folder failed, as (code, words for a designer, HTTP status):
+    from an :class:`OSError`'s errno or an :class:`sqlite3.Error`'s result code and message."""
+    number = getattr(e, "errno", None)
+    code = getattr(e, "sqlite_errorcode", None)
+    code = None if code is None else int(code) & 0xFF
+    text = str(e).lower()
+    if number in (errno.ENOSPC, errno.EDQUOT) or code == _SQLITE_FULL or "disk is full" in text:
+        return "disk_full", "the disk is full", 507
+    if number == errno.EROFS or code == _SQLITE_READONLY or "readonly" in text:
+        return "read_only", "the data folder is read-only", 503
+    if code in (_SQLITE_BUSY, _SQLITE_LOCKED) or "locked" in text:
+        return "busy", "the saved work is locked by another program", 503
+    if number == errno.EIO or code == _SQLITE_IOERR or "i/o error" in text:
+        return "disk_error", "the disk reported an input/output error", 503
+    return "not_saved", f"the disk refused it ({type(e).__name__}: {e})", 503
+
+
+def not_saved(e: BaseException, folder: Path, what: str = "this change") -> SessionNotSavedError:
+    """The error a designer sees when ``what`` could not be stored in ``folder``."""
+    code, words, status = storage_problem(e)
+    return SessionNotSavedError(
+        f"{what} was not saved: {words} ({folder}); your work is as it was before it. "
+        "Free some space or fix the folder, then try again",
+        code=code,
+        status=status,
+    )
 
 
 def default_data_dir() -> Path:
@@ -273,6 +317,21 @@ class DiskStore:
             core = _core_of(session, self._hashes, blobs)
             sid, created, last_seen = session.id, session.created, session.last_seen
         state = buf.getvalue()
+        try:
+            self._write(sid, seq, created, last_seen, core, state, blobs)
+        except (sqlite3.Error, OSError) as e:
+            raise not_saved(e, self.folder) from e
+
+    def _write(
+        self,
+        sid: str,
+        seq: int,
+        created: float,
+        last_seen: float,
+        core: dict[str, Any],
+        state: bytes,
+        blobs: dict[str, Any],
+    ) -> None:
         now = time.time()
         with self._lock, self._transaction() as db:
             row = db.execute("SELECT seq FROM sessions WHERE id = ?", (sid,)).fetchone()
@@ -311,17 +370,23 @@ class DiskStore:
             _drop_unreferenced(db)
 
     def touch(self, sid: str, last_seen: float) -> None:
-        """Record that session ``sid`` was used at ``last_seen`` (for the age bound)."""
-        with self._lock:
+        """Record that session ``sid`` was used at ``last_seen`` (for the age bound). Best
+        effort: on a full or read-only disk the time saved with the session stands."""
+        with self._lock, contextlib.suppress(sqlite3.Error):
             self._db.execute(
-                "UPDATE sessions SET last_seen = max(last_seen, ?) WHERE id = ?", (last_seen, sid)
+                "UPDATE sessions SET last_seen = max(last_seen, ?) WHERE id = ?",
+                (last_seen, sid),
             )
 
     def delete(self, sid: str, reason: str | None = None) -> bool:
         """Delete session ``sid`` (its blobs when no other session holds them); remember
-        ``reason`` for its tab when given. True if it was stored."""
-        with self._lock, self._transaction() as db:
-            return self._delete(db, sid, reason)
+        ``reason`` for its tab when given. True if it was stored. A delete the disk refuses
+        raises :class:`SessionNotSavedError` (the session stays stored)."""
+        try:
+            with self._lock, self._transaction() as db:
+                return self._delete(db, sid, reason)
+        except (sqlite3.Error, OSError) as e:
+            raise not_saved(e, self.folder, "ending this session") from e
 
     def _delete(self, db: sqlite3.Connection, sid: str, reason: str | None) -> bool:
         found = db.execute("DELETE FROM sessions WHERE id = ?", (sid,)).rowcount > 0
@@ -341,39 +406,46 @@ class DiskStore:
     def enforce(self, *, keep: Iterable[str] = (), force: bool = False) -> list[str]:
         """Apply the retention: delete sessions unused for too long, then the least recently used
         until all fit (never those in ``keep``). Answers the ids deleted. At most once a second
-        unless ``force``."""
+        unless ``force``. A disk that refuses even the deletes deletes nothing now (the next
+        save tries again)."""
         now = time.time()
         if not force and now - self._last_retention < 1.0:
             return []
-        keep = set(keep)
-        deleted = []
         with self._lock:
             self._last_retention = now
-            with self._transaction() as db:
-                cutoff = now - self.retention.days * 86400
-                for (sid,) in db.execute(
-                    "SELECT id FROM sessions WHERE last_seen < ? ORDER BY last_seen", (cutoff,)
-                ).fetchall():
-                    if sid not in keep:
-                        why = f"this session was deleted after {_days(self.retention.days)} unused"
-                        self._delete(db, sid, why)
-                        deleted.append(sid)
-                order = db.execute("SELECT id FROM sessions ORDER BY last_seen").fetchall()
-                for (sid,) in order:
-                    if self._used(db) <= self.retention.max_bytes:
-                        break
-                    if sid in keep:
-                        continue
-                    self._delete(
-                        db,
-                        sid,
-                        "this session was deleted to keep the app's saved work under "
-                        f"{_size_text(self.retention.max_bytes)} (the least recently used "
-                        "goes first)",
-                    )
-                    deleted.append(sid)
+            try:
+                with self._transaction() as db:
+                    deleted = self._retire(db, now, set(keep))
+            except (sqlite3.Error, OSError):
+                return []
             if deleted:
-                self._db.execute("PRAGMA incremental_vacuum")
+                with contextlib.suppress(sqlite3.Error):  # the next saves reuse the space
+                    self._db.execute("PRAGMA incremental_vacuum")
+        return deleted
+
+    def _retire(self, db: sqlite3.Connection, now: float, keep: set[str]) -> list[str]:
+        deleted = []
+        cutoff = now - self.retention.days * 86400
+        for (sid,) in db.execute(
+            "SELECT id FROM sessions WHERE last_seen < ? ORDER BY last_seen", (cutoff,)
+        ).fetchall():
+            if sid not in keep:
+                why = f"this session was deleted after {_days(self.retention.days)} unused"
+                self._delete(db, sid, why)
+                deleted.append(sid)
+        order = db.execute("SELECT id FROM sessions ORDER BY last_seen").fetchall()
+        for (sid,) in order:
+            if self._used(db) <= self.retention.max_bytes:
+                break
+            if sid in keep:
+                continue
+            self._delete(
+                db,
+                sid,
+                "this session was deleted to keep the app's saved work under "
+                f"{_size_text(self.retention.max_bytes)} (the least recently used goes first)",
+            )
+            deleted.append(sid)
         return deleted
 
     # -- reading -------------------------------------------------------------------------------
@@ -399,6 +471,22 @@ class DiskStore:
             )
         return Loaded(obj, core, {})
 
+    def summaries(self, limit: int = 50) -> list[dict[str, Any]]:
+        """The stored sessions that hold a picture, most recently used first (at most
+        ``limit``): id, created, last_seen and their core (settings, pictures by name)."""
+        with self._lock:
+            rows = self._db.execute(
+                "SELECT id, created, last_seen, core FROM sessions ORDER BY last_seen DESC"
+            ).fetchall()
+        out = []
+        for sid, created, seen, core in rows:
+            plain = json.loads(core)
+            if plain["images"]:
+                out.append({"id": sid, "created": created, "last_seen": seen, **plain})
+            if len(out) == limit:
+                break
+        return out
+
     def last_seq(self) -> int:
         """The highest save number stored (a restarted server numbers its saves after it)."""
         with self._lock:
@@ -423,13 +511,24 @@ class DiskStore:
         """Size of the store's files on disk (the database and its write-ahead log)."""
         return sum(p.stat().st_size for p in self.folder.glob(self.FILE + "*") if p.is_file())
 
-    def close(self) -> None:
+    def close(self) -> str | None:
+        """Fold the write-ahead log into the database and close it; what went wrong, in one
+        line, when the disk refused (a full disk: the log stays beside the database, and the
+        next start reads it; nothing saved is lost), else None."""
+        problem = None
         with self._lock:
             try:
                 self._db.execute("PRAGMA wal_checkpoint(TRUNCATE)")
+            except (sqlite3.Error, OSError) as e:
+                problem = (
+                    f"the saved sessions in {self.folder} were closed without tidying their "
+                    f"log: {storage_problem(e)[1]} (nothing saved is lost)"
+                )
             finally:
-                self._db.close()
+                with contextlib.suppress(sqlite3.Error):
+                    self._db.close()
                 self._lockfile.close()
+        return problem
 
     # -- internals -----------------------------------------------------------------------------
     def _blob(self, digest: str) -> np.ndarray:
@@ -465,9 +564,21 @@ class _Transaction:
 
     def __exit__(self, kind: Any, value: Any, tb: Any) -> None:
         if kind is None:
-            self.db.execute("COMMIT")
+            try:
+                self.db.execute("COMMIT")
+            except BaseException:
+                self._rollback()
+                raise
         else:
-            self.db.execute("ROLLBACK")
+            self._rollback()
+
+    def _rollback(self) -> None:
+        # SQLite has already rolled back after some errors (a full disk: "database or disk is
+        # full"); a ROLLBACK then fails with "no transaction is active", and must not replace
+        # the error that says why
+        if self.db.in_transaction:
+            with contextlib.suppress(sqlite3.Error):
+                self.db.execute("ROLLBACK")
 
 
 def _drop_unreferenced(db: sqlite3.Connection) -> None:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import ipaddress
 import socket
 import threading
 import webbrowser
@@ -25,7 +26,8 @@ from illuknit.core.errors import BackendUnavailableError
     "--host",
     default="127.0.0.1",
     show_default=True,
-    help="Address to listen on. Keep the loopback default unless you mean to share the app.",
+    help="Address to listen on. Keep the loopback default unless you mean to share the app: "
+    "any other address is warned about; an empty one is the loopback address.",
 )
 @click.option("--open", "open_browser", is_flag=True, help="Open the page in the default browser.")
 @click.option(
@@ -84,25 +86,31 @@ def app(
     from illuknit.app.server import AppConfig
     from illuknit.app.store import default_data_dir
 
+    # Bind first, before the data folder and its database are made: a bad address or a busy
+    # port is one clear error line, and leaves nothing behind.
+    sock, shown, loopback = listen(host, port)
     folder = data_dir if data_dir is not None else default_data_dir()
-    asgi = create_app(
-        AppConfig(
-            data_dir=folder,
-            keep_days=keep_days,
-            keep_bytes=int(keep_mb * 2**20),
-            max_session_bytes=int(memory_mb * 2**20),
-        )
-    )
-    # Bind first, so a busy port is one clear error line rather than a server log.
     try:
-        sock = socket.socket(socket.AF_INET6 if ":" in host else socket.AF_INET, socket.SOCK_STREAM)
-        sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
-        sock.bind((host, port))
-    except OSError as e:
-        raise click.UsageError(f"cannot listen on {host}:{port}: {e.strerror or e}") from None
-    bound = sock.getsockname()[1]
-    shown = "127.0.0.1" if host in ("0.0.0.0", "::") else host
-    url = f"http://{shown}:{bound}/"
+        asgi = create_app(
+            AppConfig(
+                data_dir=folder,
+                keep_days=keep_days,
+                keep_bytes=int(keep_mb * 2**20),
+                max_session_bytes=int(memory_mb * 2**20),
+            )
+        )
+    except BaseException:
+        sock.close()
+        raise
+    url = f"http://{shown}:{sock.getsockname()[1]}/"
+    if not loopback:
+        click.echo(
+            f"illuknit app: WARNING: listening on {sock.getsockname()[0]}, not on this machine "
+            "alone: anyone who can reach it over the network can open the app, see every "
+            "saved design and change it. Stop it (Ctrl-C) unless you mean to share it; "
+            "--host 127.0.0.1 keeps it to this machine.",
+            err=True,
+        )
     click.echo(f"illuknit app: serving {url}  (API docs at {url}docs; Ctrl-C to stop)")
     click.echo(f"illuknit app: sessions are saved in {folder}")
     if open_browser:
@@ -113,3 +121,39 @@ def app(
         server.run(sockets=[sock])
     finally:
         sock.close()
+
+
+#: Every interface: a listening address that is no single interface (a browser cannot open it).
+_ANY = ("0.0.0.0", "::")
+
+
+def listen(host: str, port: int) -> tuple[socket.socket, str, bool]:
+    """A socket bound to ``host``:``port``, the host as a browser's address names it, and
+    whether only this machine can reach it (loopback).
+
+    An empty ``host`` is the loopback address (never every interface, as ``bind`` would take
+    it); a name is resolved; an address that is not one, or a port in use, is a
+    :class:`click.UsageError` naming it.
+    """
+    host = host.strip() or "127.0.0.1"
+    try:
+        family, _, _, _, address = socket.getaddrinfo(
+            host, port, type=socket.SOCK_STREAM, flags=socket.AI_PASSIVE
+        )[0]
+    except (socket.gaierror, UnicodeError, ValueError) as e:
+        raise click.UsageError(
+            f"--host {host!r} is not an address this machine can listen on ({getattr(e, 'strerror', e) or e}); "
+            "use 127.0.0.1 (this machine only) or one of its network addresses"
+        ) from None
+    ip = ipaddress.ip_address(str(address[0]).split("%")[0])
+    sock = socket.socket(family, socket.SOCK_STREAM)
+    try:
+        sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+        sock.bind(address)
+    except OSError as e:
+        sock.close()
+        raise click.UsageError(f"cannot listen on {host}:{port}: {e.strerror or e}") from None
+    shown = "127.0.0.1" if str(ip) in _ANY else str(ip)
+    if ip.version == 6 and str(ip) not in _ANY:
+        shown = f"[{shown}]"
+    return sock, shown, ip.is_loopback

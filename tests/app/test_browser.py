@@ -35,6 +35,9 @@ from illuknit.app import create_app  # noqa: E402
 from illuknit.app.server import AppConfig  # noqa: E402
 
 CHROMIUM = "/usr/bin/chromium"
+# The page runs under its Content-Security-Policy (no 'unsafe-eval'): a wait_for_function
+# predicate is given as a function ("() => ..."), which Playwright calls, never as an expression
+# string, which it would eval in the page (refused by the policy).
 CHROMIUM_ARGS = [
     "--headless",
     "--no-sandbox",
@@ -235,13 +238,13 @@ def test_design_two_pictures_pick_tilt_download(browser, base_url, tmp_path):
     # where it fails: the side previews become the diagnostic overlay, and back
     page.check("#where-fails")
     page.wait_for_function(
-        "document.querySelector('#pv-A').src.includes('diagnostic.png') && "
+        "() => document.querySelector('#pv-A').src.includes('diagnostic.png') && "
         "document.querySelector('#pv-A').complete && document.querySelector('#pv-A').naturalWidth > 0"
     )
     assert "diagnostic.png" in (page.get_attribute("#pv-B", "src") or "")
     assert "render" in (page.get_attribute("#pv-headon", "src") or "")
     page.uncheck("#where-fails")
-    page.wait_for_function("document.querySelector('#pv-A').src.includes('/render?')")
+    page.wait_for_function("() => document.querySelector('#pv-A').src.includes('/render?')")
 
     shot = tmp_path / "app.png"
     page.evaluate("window.scrollTo(0, 0)")  # the sticky top bar over the top of the page
@@ -419,7 +422,8 @@ def test_accept_a_suggested_edit(browser, base_url, tmp_path):
     sync_api.expect(card.locator(".effect")).to_contain_text("worse side reads")
     sync_api.expect(card.locator("img[data-which='after']").first).to_be_visible()
     page.wait_for_function(
-        "Array.from(document.querySelectorAll('.sugg img')).every(i => i.complete && i.naturalWidth > 0)"
+        "() => Array.from(document.querySelectorAll('.sugg img'))"
+        ".every(i => i.complete && i.naturalWidth > 0)"
     )
     edited = [
         t.split(" ")[0].lower()
@@ -565,18 +569,19 @@ def test_a_design_survives_restarts_and_an_eviction(browser, app_process, tmp_pa
     first_suggestion(page).locator("[data-accept]").click()
     # the accept has landed: the edited picture replaced an input (Undo is always on the page)
     page.wait_for_function(
-        "['a', 'b'].some((s) => document.querySelector('#meta-' + s).textContent"
+        "() => ['a', 'b'].some((s) => document.querySelector('#meta-' + s).textContent"
         ".includes('suggested edit accepted'))"
     )
     sync_api.expect(page.locator("#undo-edit")).to_be_enabled()
     page.wait_for_function(
-        "document.querySelectorAll('.cand .measures').length > 0 && "
+        "() => document.querySelectorAll('.cand .measures').length > 0 && "
         "!document.querySelector('#run').disabled",
         timeout=120_000,
     )
     sync_api.expect(measures.first).to_be_visible(timeout=120_000)
     page.wait_for_function(
-        "!document.querySelector('#job-measures') || document.querySelector('#job-measures').hidden",
+        "() => !document.querySelector('#job-measures') || "
+        "document.querySelector('#job-measures').hidden",
         timeout=120_000,
     )
     cards = page.locator(".cand")
@@ -873,4 +878,88 @@ def test_cancel_measuring_large_candidates(browser, served, tmp_path):
     assert page.locator(".cand .measures").count() == 0
     sync_api.expect(page.locator("#candidates")).not_to_have_attribute("aria-invalid", "true")
     sync_api.expect(err.locator("button")).to_have_text("Measure them")
+    context.close()
+
+
+def test_two_pictures_given_at_once_both_keep_their_thumbnails(browser, base_url, tmp_path):
+    """Two pictures given within a second: the first upload's answer arrives late (held back in
+    the page), and still neither thumbnail is left empty: uploads run one at a time, and an
+    older state never replaces a newer one."""
+    context = browser.new_context()
+    page = context.new_page()
+    page.goto(base_url)
+    page.wait_for_selector("body[data-ready='1']")
+    page.evaluate(
+        """() => {
+        const real = window.fetch;
+        window.fetch = async (url, opts) => {
+            const res = await real(url, opts);
+            if (String(url).endsWith('/images/a') && opts && opts.method === 'PUT') {
+                await new Promise((r) => setTimeout(r, 1200));
+            }
+            return res;
+        };
+    }"""
+    )
+    page.set_input_files("#file-a", str(banded(tmp_path / "first.png", slice(0, 20))))
+    page.set_input_files("#file-b", str(banded(tmp_path / "second.png", slice(20, 40))))
+    sync_api.expect(page.locator("#meta-b")).to_contain_text("second.png", timeout=30_000)
+    sync_api.expect(page.locator("#meta-a")).to_contain_text("first.png", timeout=30_000)
+    time.sleep(2.0)  # any late answer has arrived by now
+    shown = "() => ['a', 'b'].every((s) => { const t = document.querySelector('#thumb-' + s);"
+    shown += " return !t.hidden && t.complete && t.naturalWidth > 0; })"
+    page.wait_for_function(shown, timeout=10_000)
+    assert "first.png" in page.locator("#meta-a").text_content()
+    assert "second.png" in page.locator("#meta-b").text_content()
+    context.close()
+
+
+def test_a_new_tab_reopens_a_saved_design(browser, base_url, tmp_path):
+    context = browser.new_context()
+    page = context.new_page()
+    page.goto(base_url)
+    page.wait_for_selector("body[data-ready='1']")
+    page.set_input_files("#file-a", str(banded(tmp_path / "kept-work.png", slice(0, 12))))
+    sync_api.expect(page.locator("#meta-a")).to_contain_text("kept-work.png")
+    sid = page.get_attribute("body", "data-session")
+    fresh = browser.new_context().new_page()  # a new tab: its own, empty design
+    fresh.goto(base_url)
+    fresh.wait_for_selector("body[data-ready='1']")
+    assert fresh.locator("#meta-a").text_content() == ""
+    fresh.click("#saved-box summary")
+    entry = fresh.locator(f"#saved-list button[data-sid='{sid}']")
+    sync_api.expect(entry).to_contain_text("A: kept-work.png")
+    entry.click()
+    fresh.wait_for_selector(f"body[data-session='{sid}'][data-ready='1']")
+    sync_api.expect(fresh.locator("#meta-a")).to_contain_text("kept-work.png")
+    fresh.context.close()
+    context.close()
+
+
+def test_a_change_the_disk_refuses_is_said_and_not_kept(browser, base_url, tmp_path, monkeypatch):
+    """A full disk: the upload is answered with the cause next to its box, and the page shows
+    the session as it still is (no thumbnail of the refused picture)."""
+    import errno
+
+    from illuknit.app.sessions import Session
+    from illuknit.app.store import not_saved
+
+    context = browser.new_context()
+    page = context.new_page()
+    page.goto(base_url)
+    page.wait_for_selector("body[data-ready='1']")
+
+    def full(self):
+        raise not_saved(OSError(errno.ENOSPC, "No space left on device"), tmp_path)
+
+    monkeypatch.setattr(Session, "save", full)
+    page.set_input_files("#file-a", str(banded(tmp_path / "refused.png", slice(0, 12))))
+    err = page.locator("[data-error-for='image_a']")
+    sync_api.expect(err).to_contain_text("the disk is full")
+    sync_api.expect(err).to_contain_text("not saved")
+    assert page.locator("#thumb-a").is_hidden()
+    assert "refused.png" not in page.locator("#meta-a").text_content()
+    monkeypatch.undo()
+    page.set_input_files("#file-a", str(banded(tmp_path / "kept.png", slice(0, 12))))
+    sync_api.expect(page.locator("#meta-a")).to_contain_text("kept.png")
     context.close()

@@ -79,7 +79,10 @@ def test_undo_brings_back_the_design_before_the_accept_and_redo_the_one_after(
     state = client.get(base).json()
     assert state["history"]["undo"][0] == edit["description"] and state["history"]["redo"] == []
     # below it, the changes that made the design: the settings, then the two uploads
-    assert state["history"]["undo"][1] == "change of width (units) 60 -> 24"
+    # (sized from picture A until then: 72 px wide, 72 units by the sizing policy)
+    assert (
+        state["history"]["undo"][1] == "change of size by picture -> units, width (units) 72 -> 24"
+    )
     assert state["history"]["undo"][2:] == [
         "upload of picture B (ON.png)",
         "upload of picture A (UP.png)",
@@ -266,7 +269,10 @@ def test_undo_takes_back_a_tile_edit_an_upload_and_a_setting(client, api, two_wo
     assert client.put(f"{base}/images/b", files=files).status_code == 200
     assert client.put(f"{base}/settings", json={"n_colors": 3}).status_code == 200
     hist = client.get(f"{base}/history").json()["undo"]
-    assert hist[:2] == ["change of colours per picture 2 -> 3", "upload of picture B (OK.png)"]
+    assert hist[:2] == [  # a third colour brings a third yarn, from the pictures
+        "change of colours per picture 2 -> 3, yarns (2 -> 3)",
+        "upload of picture B (OK.png)",
+    ]
     r = client.post(f"{base}/history/undo")
     assert r.json()["state"]["settings"]["n_colors"] == 2
     r = client.post(f"{base}/history/undo")

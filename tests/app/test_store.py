@@ -16,7 +16,13 @@ import pytest
 
 from illuknit.app.jobs import Job
 from illuknit.app.sessions import Session, SessionStore, UploadedImage
-from illuknit.app.store import DataDirInUseError, DiskStore, Retention, default_data_dir
+from illuknit.app.store import (
+    DataDirInUseError,
+    DiskStore,
+    Retention,
+    SessionNotSavedError,
+    default_data_dir,
+)
 
 
 def _picture(seed: int, side: int = 200) -> np.ndarray:
@@ -127,7 +133,7 @@ def test_a_failed_write_leaves_the_previous_save(tmp_path, monkeypatch):
         raise OSError("disk full")
 
     monkeypatch.setattr("illuknit.app.store.zlib.compress", broken)
-    with pytest.raises(OSError):
+    with pytest.raises(SessionNotSavedError, match="disk full"):  # the cause, named
         disk.save(s, seq=2, lock=s.lock)
     back = disk.load("s1").state
     assert back.selected == 2 and np.array_equal(back.images["a"].rgb, _picture(0))

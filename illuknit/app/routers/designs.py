@@ -48,7 +48,7 @@ def get_candidates(
 
 @router.put("/selection", summary="Pick a candidate")
 def put_selection(s: SessionDep, body: SelectionIn) -> dict[str, Any]:
-    with s.lock:
+    with s.changing():
         candidate_of(s, body.candidate)
         if body.candidate != s.selected:
             s.selected = body.candidate
@@ -97,7 +97,7 @@ def _pairs_measured(s: Any, cand: Any) -> dict[str, Any]:
     summary="Use another tile for the overlap pair (a, b) of the picked candidate",
 )
 def put_pair(s: SessionDep, a: int, b: int, body: OverrideIn) -> dict[str, Any]:
-    with s.lock:
+    with s.changing():
         cand = candidate_of(s, None)
         overrides = dict(s.overrides)
         if body.tile is None:

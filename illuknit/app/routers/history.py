@@ -43,7 +43,7 @@ def post_redo(request: Request, s: SessionDep) -> dict[str, Any]:
 def _step(request: Request, s: Session, step: Callable[[Session], str], key: str) -> dict[str, Any]:
     """Undo or redo (``step``) under the session's lock, design the restored state again if it
     has no candidates, and answer ``{key: what, "state": ..., "job": ...}``."""
-    with s.lock:
+    with s.changing():
         what = step(s)
         job = _design_again(request, s)
         answer = {

@@ -177,10 +177,8 @@ def start_knit(
     summary="Start a background job (candidates or knitout); replaces a live job of that kind",
 )
 def post_job(request: Request, s: SessionDep, runner: RunnerDep, body: JobIn) -> dict[str, Any]:
-    with s.lock:
-        old = s.jobs.get(body.kind)
-        if old is not None and old.live:
-            old.cancel()
+    # the job it replaces is cancelled once the new one is saved (Session.replace_job)
+    with s.changing():
         if body.kind == "candidates":
             job = start_candidates(s, runner, isolate=request.app.state.config.isolate_search)
         elif body.kind == "measures":

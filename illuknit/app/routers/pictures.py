@@ -37,7 +37,7 @@ def put_image(
             design.too_large_message(limit), field=field, code="too_large", status=413
         )
     rgb, notes = design.decode_upload(data, file.filename or "", field=field)
-    with s.lock:
+    with s.changing():
         name = file.filename or f"{slot}.png"
         s.remember(f"upload of picture {slot.upper()} ({name})")  # the design as it is, for Undo
         s.images[slot] = UploadedImage(name, len(data), rgb, notes)
@@ -68,7 +68,7 @@ def get_image(s: SessionDep, slot: str) -> Response:
 @router.delete("/images/{slot}", summary="Remove a picture")
 def delete_image(s: SessionDep, slot: str) -> dict[str, Any]:
     check_slot(slot)
-    with s.lock:
+    with s.changing():
         if slot in s.images:
             s.remember(f"removal of picture {slot.upper()}")
             del s.images[slot]

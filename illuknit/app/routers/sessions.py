@@ -25,6 +25,11 @@ def create_session(store: StoreDep) -> dict[str, Any]:
         return state_json(s)
 
 
+@router.get("", summary="Saved designs to reopen (sessions with a picture), newest first")
+def list_sessions(store: StoreDep) -> dict[str, Any]:
+    return {"sessions": store.saved()}
+
+
 @router.get("/{sid}", summary="The session's state")
 def get_session(s: SessionDep) -> dict[str, Any]:
     with s.lock:
@@ -43,11 +48,15 @@ def put_settings(s: SessionDep, body: SettingsPatch) -> dict[str, Any]:  # type:
     if "yarns" in changes:
         with design.blame("yarns"):
             parse_yarns(list(changes["yarns"]))
-    with s.lock:
+    with s.changing():
+        changes = _implied(s.settings, changes)
         new = DesignSettings.model_validate({**s.settings.model_dump(), **changes})
-        _check_fits(new, changes)
+        if "yarns" not in changes and changes.keys() & {"n_colors", "mode"}:
+            # more colours than yarns: yarns are added from the pictures, as the CLI chooses them
+            new = new.model_copy(update={"yarns": design.yarns_for_colors(new, s.images)})
+        _check_fits(new, changes, s.images)
         if new != s.settings:
-            s.remember(settings_change(s.settings, new))  # the design as it is, for Undo
+            s.remember(settings_change(_as_sized(s.settings, s.images), new))  # for Undo
             same_design = new.model_dump(exclude=set(VIEWPOINT)) == s.settings.model_dump(
                 exclude=set(VIEWPOINT)
             )
@@ -96,13 +105,37 @@ def settings_change(old: DesignSettings, new: DesignSettings) -> str:
     return "change of " + ", ".join(parts) if parts else "change of settings"
 
 
-def _check_fits(settings: DesignSettings, changes: dict[str, Any]) -> None:
+def _as_sized(settings: DesignSettings, images: dict[str, Any]) -> DesignSettings:
+    """``settings`` with the width it gives when sized from the picture (so that the words for
+    a change say the width the designer saw, not the unused stored one)."""
+    if settings.size_mode != "picture":
+        return settings
+    try:
+        width, _ = design.width_of(settings, images)
+    except AppRequestError:
+        return settings
+    return settings.model_copy(update={"width_units": width})
+
+
+def _implied(old: DesignSettings, changes: dict[str, Any]) -> dict[str, Any]:
+    """A width typed while the piece is sized from the picture sizes it by that width from
+    then on (units, or physical for a width in cm or a gauge)."""
+    if old.size_mode != "picture" or "size_mode" in changes:
+        return changes
+    if "width_units" in changes:
+        return {**changes, "size_mode": "units"}
+    if changes.keys() & {"width_cm", "gauge"}:
+        return {**changes, "size_mode": "physical"}
+    return changes
+
+
+def _check_fits(settings: DesignSettings, changes: dict[str, Any], images: dict[str, Any]) -> None:
     """Refuse a width the chosen bed cannot knit now, before any work, next to the control the
     designer just changed (the machine, or the width)."""
     if changes.keys().isdisjoint({"machine", "width_units", "width_cm", "gauge", "size_mode"}):
         return
     try:
-        design.width_of(settings)
+        design.width_of(settings, images)
     except AppRequestError as e:
         if e.code == "too_wide" and "machine" in changes:
             e.field = "machine"

@@ -133,7 +133,7 @@ def get_preview(
     summary="Accept a suggestion: its pictures replace the inputs and the candidates are found again",
 )
 def accept(request: Request, s: SessionDep, edit_id: str) -> dict[str, Any]:
-    with s.lock:
+    with s.changing():
         got, edit = edit_of(s, edit_id)
         had, colors = colour_counts(got, edit)
         settings = s.settings
@@ -174,7 +174,7 @@ def accept(request: Request, s: SessionDep, edit_id: str) -> dict[str, Any]:
 
 @router.post("/{edit_id}/refuse", summary="Refuse a suggestion: it is no longer listed")
 def refuse(s: SessionDep, edit_id: str) -> dict[str, Any]:
-    with s.lock:
+    with s.changing():
         edit_of(s, edit_id)
         s.refused.add(edit_id)
         return suggestions_json(s)

@@ -93,7 +93,7 @@ def put_tracker(s: SessionDep, body: TrackerIn) -> dict[str, Any]:
         raise AppRequestError(
             f"row must be 1..{rows}, got {body.row}", field="tracker", code="range"
         )
-    with s.lock:
+    with s.changing():
         s.tracker.pop(key, None)  # the most recently moved last
         s.tracker[key] = body.row
         while len(s.tracker) > TRACKED_PATTERNS:

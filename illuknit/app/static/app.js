@@ -176,6 +176,7 @@ async function startSession() {
   document.body.dataset.session = s.id;
   applyState(s);
   $("#storage-note").textContent = state.info.storage.text;
+  loadSaved();
   for (const [kind, job] of Object.entries(s.jobs || {})) {
     if (job.status === "interrupted") showInterrupted(kind, job);
   }
@@ -186,16 +187,62 @@ async function startSession() {
   if (s.settings.mode === "double") await loadSuggestions();
 }
 
+// ---------------------------------------------------------------------------------------------
+// saved designs: every session with a picture is saved; any tab can reopen one
+
+const MODE_WORDS = { single: "single view", double: "double view", headon: "head-on" };
+
+function ago(seconds) {
+  const s = Math.max(0, Date.now() / 1000 - seconds);
+  if (s < 90) return "just now";
+  if (s < 5400) return `${Math.round(s / 60)} min ago`;
+  if (s < 129600) return `${Math.round(s / 3600)} h ago`;
+  return `${Math.round(s / 86400)} days ago`;
+}
+
+async function loadSaved() {
+  let found;
+  try {
+    found = (await api("GET", "/api/sessions")).sessions;
+  } catch (err) { return; } // the list is a convenience: the design itself is unaffected
+  const list = $("#saved-list");
+  list.textContent = "";
+  for (const d of found) {
+    const li = document.createElement("li");
+    const b = document.createElement("button");
+    b.type = "button";
+    b.dataset.sid = d.id;
+    const names = Object.entries(d.pictures).map(([slot, name]) => `${slot.toUpperCase()}: ${name}`).join(" · ");
+    b.textContent = `${names} — ${MODE_WORDS[d.mode] || d.mode}`;
+    const when = document.createElement("span");
+    when.className = "when";
+    const here = d.id === state.sid;
+    when.textContent = here ? `open in this tab · ${ago(d.last_seen)}` : ago(d.last_seen);
+    b.appendChild(when);
+    if (here) b.setAttribute("aria-current", "true");
+    else b.addEventListener("click", () => { sessionStorage.setItem("illuknit.sid", d.id); location.reload(); });
+    li.appendChild(b);
+    list.appendChild(li);
+  }
+  $("#saved-empty").hidden = found.length > 0;
+  $("#saved-box summary").textContent = `Saved designs (${found.length})`;
+}
+
 function applyState(s) {
+  // answers can arrive out of order (two pictures dropped at once): an older state of this
+  // session never replaces a newer one (it would blank the newer picture's thumbnail)
+  if (s.id === state.sid && s.revision < state.revision) return;
   state.settings = s.settings;
   state.revision = s.revision;
   state.knitReady = s.knit_ready;
   const st = s.settings;
   for (const b of $$("#modes button")) b.setAttribute("aria-checked", String(b.dataset.mode === st.mode));
   for (const b of $$("#size-mode button")) b.setAttribute("aria-checked", String(b.dataset.size === st.size_mode));
-  $("#row-units").hidden = st.size_mode !== "units";
+  $("#row-units").hidden = st.size_mode === "physical";
   $("#row-physical").hidden = st.size_mode !== "physical";
-  setValue("#width_units", st.width_units);
+  $("#size-picture-note").hidden = st.size_mode !== "picture";
+  // sized from the picture: the width it gives (typing one sizes by units from then on)
+  setValue("#width_units", st.size_mode === "picture" ? (s.width_units ?? "") : st.width_units);
   setValue("#machine", st.machine);
   const machine = state.info.machines.find((m) => m.name === st.machine);
   if (machine) {
@@ -272,6 +319,11 @@ async function saveSettings(change) {
   } catch (err) {
     // a refused machine or width leaves the controls showing what the session still has
     if ("machine" in change) setValue("#machine", state.settings.machine);
+    // a change the server could not save (a full disk) is not kept: show what the session has
+    if (err.status >= 500) {
+      const s = await sapi("GET", "").catch(() => null);
+      if (s) applyState(s);
+    }
     report(err, fields[0]);
   }
 }
@@ -321,7 +373,17 @@ function toHex(c) {
 // ---------------------------------------------------------------------------------------------
 // uploads (file picker and drag and drop)
 
-async function upload(slot, file) {
+// Uploads run one at a time, in the order the pictures were given: each answer is the state
+// after its own upload, and the next starts from it.
+let uploads = Promise.resolve();
+
+function upload(slot, file) {
+  $(`#meta-${slot}`).textContent = `waiting to upload ${file.name}…`;
+  uploads = uploads.then(() => uploadNow(slot, file)).catch((err) => report(err, `image_${slot}`));
+  return uploads;
+}
+
+async function uploadNow(slot, file) {
   clearError(`image_${slot}`);
   const limit = state.info.limits.max_upload_bytes;
   if (file.size > limit) {
@@ -403,8 +465,12 @@ async function refreshInputs({ autorun }) {
     ul.className = "legend";
     for (const e of inp.legend[slot]) {
       const li = document.createElement("li");
-      li.innerHTML = `<span class="sw" style="background:${e.image_color}"></span><span class="arrow">→</span>` +
-        `<span class="sw" style="background:${e.yarn_color}"></span><span></span><span class="pct">${(100 * e.share).toFixed(0)}%</span>`;
+      // colours set through the style object, not a style attribute: the page's
+      // Content-Security-Policy allows no inline style
+      li.innerHTML = `<span class="sw"></span><span class="arrow">→</span>` +
+        `<span class="sw"></span><span></span><span class="pct">${(100 * e.share).toFixed(0)}%</span>`;
+      li.children[0].style.background = e.image_color;
+      li.children[2].style.background = e.yarn_color;
       li.children[3].textContent = e.yarn;
       li.title = `picture colour ${e.image_color} becomes yarn ${e.yarn} (${e.yarn_color})`;
       ul.appendChild(li);

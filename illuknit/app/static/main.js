@@ -8,6 +8,7 @@
 function wire() {
   wireDrop("a");
   wireDrop("b");
+  $("#saved-box").addEventListener("toggle", () => { if ($("#saved-box").open) loadSaved(); });
   for (const b of $$("#modes button")) b.addEventListener("click", () => { if (!b.disabled) saveSettings({ mode: b.dataset.mode }); });
   for (const b of $$("#size-mode button")) b.addEventListener("click", () => saveSettings({ size_mode: b.dataset.size }));
   const num = (id, parse) => {

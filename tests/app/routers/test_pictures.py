@@ -221,6 +221,12 @@ def test_more_colors_than_yarns_points_at_n_colors(client, api, pictures):
     sid = api.new_session(client)
     api.upload(client, sid, "a", pictures.box_picture())
     api.upload(client, sid, "b", pictures.box_picture(top=2))
-    client.put(f"/api/sessions/{sid}/settings", json={"mode": "double", "n_colors": 3})
+    # yarns given with the colour count are the designer's: none is added (a colour count
+    # alone adds yarns from the pictures: tests/app/test_first_hour.py)
+    two = ["#1b1b1b", "#f4f0e8"]
+    r = client.put(
+        f"/api/sessions/{sid}/settings", json={"mode": "double", "n_colors": 3, "yarns": two}
+    )
+    assert r.json()["settings"]["yarns"] == two
     r = client.get(f"/api/sessions/{sid}/inputs")
     assert r.status_code == 422 and api.error_of(r)["field"] == "n_colors"
