@@ -334,6 +334,10 @@ def certify_claim(
         by_bound = _bound_certificate(model, int(claimed_cost), min(BOUND_SECONDS, time_limit))
         if by_bound is not None:
             return by_bound
+    # the engine is imported before the fork: the check's time is solving, not importing
+    importlib.import_module(
+        "ortools.sat.python.cp_model" if engine == "cpsat" else "pysat.examples.rc2"
+    )
     res = run_in_child(
         lambda _p: _check(model, claimed_cost, values, time_limit, engine),
         time_limit=time_limit,
