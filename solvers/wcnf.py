@@ -205,6 +205,7 @@ class ExternalWCNFBackend(BackendBase):
                     Status.TIMEOUT, None, None, None, wall, stats, self.name, model.pool
                 )
             tail = (err_text or text.strip())[-200:]
+            _raise_if_out_of_memory(err_text + "\n" + text, proc.returncode)
             stats["message"] = f"solver printed no assignment (exit code {proc.returncode}): {tail}"
             return Solution(Status.ERROR, None, None, None, wall, stats, self.name, model.pool)
         named = np.zeros(model.pool.top + 1, dtype=bool)  # the model's own variables
@@ -233,6 +234,26 @@ class ExternalWCNFBackend(BackendBase):
             )
         st = Status.TIMEOUT if killed else Status.FEASIBLE
         return Solution(st, values, evaluated, None, wall, stats, self.name, model.pool)
+
+
+#: What a program says when an allocation is refused (Python, C++, C, Java).
+OUT_OF_MEMORY = ("MemoryError", "std::bad_alloc", "Cannot allocate memory", "OutOfMemoryError")
+
+
+def _raise_if_out_of_memory(output: str, returncode: int | None) -> None:
+    """Inside a run with a memory limit (an address-space limit the solver inherited), a solver
+    that died saying an allocation was refused ran out of memory: raise ``MemoryError`` so the
+    run is a ``memout``, not an ``error``."""
+    from illuknit.solvers.isolate import child_memory_limit
+
+    if returncode == 0 or child_memory_limit() is None:
+        return
+    said = next((w for w in OUT_OF_MEMORY if w in output), None)
+    if said is not None:
+        raise MemoryError(
+            f"the solver died with {said!r} (exit code {returncode}) under the "
+            f"{child_memory_limit():g} MB limit"
+        )
 
 
 def _file_variables(model: Model) -> int:
