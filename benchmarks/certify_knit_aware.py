@@ -18,7 +18,7 @@ import argparse
 import os
 import time
 
-from illuknit.bench.certify import certify_claim, pb_encoder
+from illuknit.bench.certify import certify_claim
 from illuknit.bench.instances import Instance, instance_model
 from illuknit.core.pattern import parse_yarns
 from illuknit.solvers import solve
@@ -34,8 +34,8 @@ def main() -> None:
     args = ap.parse_args()
     a, b = args.pair.split(",")
     print(
-        f"# knit-aware certification, {args.time_limit:g} s per check, PB encoding "
-        f"{pb_encoder()}, {os.cpu_count()} CPUs, load average {os.getloadavg()[0]:.1f}"
+        f"# knit-aware certification, {args.time_limit:g} s per check, exact engine rc2 per "
+        f"component, {os.cpu_count()} CPUs, load average {os.getloadavg()[0]:.1f}"
     )
     print("size   vars    soft  claim  lagrangian  certificate          seconds")
     for n in (int(s) for s in args.sizes.split(",")):

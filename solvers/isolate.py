@@ -40,7 +40,9 @@ import contextlib
 import faulthandler
 import multiprocessing as mp
 import os
+import shutil
 import signal
+import tempfile
 import time
 import traceback
 from collections.abc import Callable
@@ -91,6 +93,39 @@ class ChildResult:
     late: bool = False
 
 
+_SUBREAPER: bool | None = None
+
+
+def become_subreaper() -> bool:
+    """Make this process a child subreaper (Linux ``prctl(PR_SET_CHILD_SUBREAPER)``): a
+    process a run leaves behind -- a double-forked helper whose parent exited -- is adopted by
+    this process instead of init, so the run's watch still sees it, counts its memory, kills it
+    and reaps it. True when this process is one (once set, it stays)."""
+    global _SUBREAPER
+    if _SUBREAPER is None:
+        _SUBREAPER = False
+        try:
+            import ctypes
+            import sys
+
+            if sys.platform.startswith("linux"):
+                libc = ctypes.CDLL(None, use_errno=True)
+                _SUBREAPER = libc.prctl(36, 1, 0, 0, 0) == 0  # PR_SET_CHILD_SUBREAPER
+        except (OSError, AttributeError):
+            _SUBREAPER = False
+    return _SUBREAPER
+
+
+def _children_of_self() -> set[int]:
+    """Pids of this process's children now (/proc; empty elsewhere)."""
+    try:
+        import psutil
+
+        return {p.pid for p in psutil.Process().children(recursive=False)}
+    except Exception:
+        return set()
+
+
 def _set_memory_backstop(memory_mb: float) -> None:
     """RLIMIT_AS = this process's address space now + ``memory_mb`` (see the module docstring)."""
     try:
@@ -114,10 +149,16 @@ def _child(
     own_group: bool,
     memory_mb: float | None,
     interruptible: bool = True,
+    run_dir: str | None = None,
 ) -> None:
     global _IN_CHILD, _MEMORY_MB
     _IN_CHILD = True
     _MEMORY_MB = memory_mb
+    if run_dir is not None:  # every temporary file of the run (and of what it starts) goes here
+        import tempfile
+
+        tempfile.tempdir = run_dir
+        os.environ["TMPDIR"] = run_dir
     faulthandler.disable()  # a crash is the row's reason, not a traceback on the parent's stderr
     if own_group:
         os.setpgrp()  # one process group: the parent can kill anything the solver starts
@@ -139,8 +180,8 @@ def _child(
 
         value = fn(progress)
         conn.send(("done", value))
-    except MemoryError:
-        conn.send(("memout", "an allocation was refused (MemoryError)"))
+    except MemoryError as e:
+        conn.send(("memout", str(e) or "an allocation was refused (MemoryError)"))
     except BaseException as e:  # the child reports everything; the parent decides
         tb = traceback.format_exception_only(type(e), e)[-1].strip()
         if asked or isinstance(e, KeyboardInterrupt) or "keyboard interrupt" in tb.lower():
@@ -156,8 +197,11 @@ def _child(
 class _Tree:
     """The child's process tree as the parent samples it (psutil; nothing without it)."""
 
-    def __init__(self, pid: int) -> None:
+    def __init__(self, pid: int, others: set[int] | None = None) -> None:
         self.pid = pid
+        #: the caller's children that are not this run's (any other child it adopts is an
+        #: orphan of this run: the caller is a subreaper, see :func:`become_subreaper`)
+        self.others = set() if others is None else set(others)
         self.seen: dict[int, float] = {}  # pid -> create time, for a safe kill later
         self.cpu: dict[int, float] = {}  # pid -> last sampled user + system seconds
         self.peak: float | None = None
@@ -176,7 +220,7 @@ class _Tree:
             return None
         ps = self._psutil
         try:
-            procs = [self.root, *self.root.children(recursive=True)]
+            procs = self.members()
         except ps.Error:
             return None
         total = 0
@@ -194,6 +238,40 @@ class _Tree:
             self.peak = mb if self.peak is None else max(self.peak, mb)
         return mb
 
+    def adopted(self) -> list[Any]:
+        """The run's orphans this (subreaper) process adopted, with their descendants."""
+        out: list[Any] = []
+        for p in self._psutil.Process().children(recursive=False):
+            if p.pid != self.pid and p.pid not in self.others:
+                out.append(p)
+                with contextlib.suppress(self._psutil.Error):
+                    out.extend(p.children(recursive=True))
+        return out
+
+    def members(self) -> list[Any]:
+        """Every process of the run now: the child, its descendants, the adopted orphans."""
+        procs = [self.root]
+        with contextlib.suppress(self._psutil.Error):
+            procs.extend(self.root.children(recursive=True))
+        return procs + self.adopted()
+
+    def reap(self) -> None:
+        """Wait for the adopted orphans killed at the end (they are this process's children
+        now: without a wait they stay zombies)."""
+        end = time.monotonic() + 2.0
+        pending = {pid for pid in self.seen if pid != self.pid and pid not in self.others}
+        while pending and time.monotonic() < end:
+            for pid in list(pending):
+                try:
+                    got, _ = os.waitpid(pid, os.WNOHANG)
+                except ChildProcessError:  # not ours (a grandchild its parent reaps) or gone
+                    pending.discard(pid)
+                    continue
+                if got == pid:
+                    pending.discard(pid)
+            if pending:
+                time.sleep(0.01)
+
     def kill(self, own_group: bool) -> None:
         """SIGKILL the child's group and every process ever seen in the tree (by identity)."""
         with contextlib.suppress(ProcessLookupError, PermissionError):
@@ -205,7 +283,7 @@ class _Tree:
             return
         if self.root is not None:
             with contextlib.suppress(Exception):
-                for p in self.root.children(recursive=True):
+                for p in self.members()[1:]:
                     self.seen.setdefault(p.pid, p.create_time())
         for pid, created in self.seen.items():
             if pid == self.pid:
@@ -299,19 +377,22 @@ def run_in_child(
     ctx = mp.get_context("fork")  # only its Pipe: the child is started with os.fork below
     recv, send = ctx.Pipe(duplex=False)
     own_group = not _IN_CHILD
+    become_subreaper()
+    others = _children_of_self()
+    run_dir = tempfile.mkdtemp(prefix="illuknit-run-")
     t0 = time.perf_counter()
     pid = os.fork()
     if pid == 0:  # the child: never returns into the caller's code
         code = 0
         try:
             recv.close()
-            _child(fn, send, own_group, memory_mb, interruptible)
+            _child(fn, send, own_group, memory_mb, interruptible, run_dir)
         except BaseException:
             code = 1
         finally:
             os._exit(code)
     send.close()
-    watch = _Watch(pid, recv, t0, time_limit, grace, memory_mb, on_event)
+    watch = _Watch(pid, recv, t0, time_limit, grace, memory_mb, on_event, others)
     try:
         watch.run(ask_delay)
     finally:
@@ -319,7 +400,9 @@ def run_in_child(
         watch.tree.kill(own_group)
         if watch.exit_status is None:
             watch.exit_status, watch.cpu_child = _reap(pid, 5.0)
+        watch.tree.reap()
         recv.close()
+        shutil.rmtree(run_dir, ignore_errors=True)  # on every exit path, a kill included
     tree = watch.tree
     cpu = max(
         [c for c in (watch.cpu_child, sum(tree.cpu.values()) or None) if c is not None],
@@ -353,11 +436,12 @@ class _Watch:
         grace: float,
         memory_mb: float | None,
         on_event: ProgressCallback | None,
+        others: set[int] | None = None,
     ) -> None:
         self.pid, self.recv, self.t0 = pid, recv, t0
         self.time_limit, self.grace, self.memory_mb = time_limit, grace, memory_mb
         self.on_event = on_event
-        self.tree = _Tree(pid)
+        self.tree = _Tree(pid, others)
         self.events: list[ProgressEvent] = []
         self.status, self.value, self.reason = "error", None, ""
         self.answered_at: float | None = None

@@ -51,15 +51,44 @@ __all__ = ["ExternalWCNFBackend", "parse_maxsat_output"]
 GRACE = 1.5
 
 
+def _bad(line: str, why: str) -> SolverError:
+    return SolverError(f"solver printed a malformed 'v' line ({why}): {line[:60]!r}")
+
+
+def _read_v_line(line: str, nv: int, lits: list[int]) -> str | None:
+    """One ``v`` line: its binary string (returned), or its literals (added to ``lits``)."""
+    body = line[1:].split()
+    if len(body) == 1 and set(body[0]) <= {"0", "1"} and (len(body[0]) > 1 or nv == 1):
+        if len(body[0]) != nv:
+            raise _bad(line, f"{len(body[0])} values for {nv} variables")
+        return body[0]
+    try:
+        nums = [int(t) for t in body]
+    except ValueError:
+        raise _bad(line, "not a binary string nor literals") from None
+    for x in nums:
+        if x == 0:
+            continue
+        if abs(x) > nv:
+            raise _bad(line, f"literal {x} out of range 1..{nv}")
+    lits.extend(nums)
+    return None
+
+
 def parse_maxsat_output(text: str, nv: int) -> tuple[str | None, int | None, np.ndarray | None]:
     """(status word, last ``o`` cost, bool values indexed by id of length nv + 1) from solver output.
 
-    Raises :class:`SolverError` on a malformed ``v`` line.
+    ``nv`` is the number of variables of the WCNF file the solver read. The ``v`` line is read
+    as strictly as the MaxSAT Evaluation reads it: a binary string must have exactly ``nv``
+    characters, a literal must lie in 1..nv and appear in one polarity only, and the answer is
+    one ``v`` line (a literal list may continue over several lines until its ``0``); anything
+    else raises :class:`SolverError` naming the fault.
     """
     status: str | None = None
     cost: int | None = None
     bits: str | None = None
     lits: list[int] = []
+    closed = False  # a complete answer has been read: a further v line is a second answer
     for raw in text.splitlines():
         line = raw.strip()
         if line.startswith("s "):
@@ -70,27 +99,26 @@ def parse_maxsat_output(text: str, nv: int) -> tuple[str | None, int | None, np.
             except (ValueError, IndexError):
                 raise SolverError(f"solver printed a malformed cost line: {line[:60]!r}") from None
         elif line.startswith("v"):
-            body = line[1:].split()
-            if len(body) == 1 and set(body[0]) <= {"0", "1"} and len(body[0]) > 1:
-                bits = body[0]
-                continue
-            if len(body) == 1 and body[0] in ("0", "1") and nv == 1 and not lits:
-                bits = body[0]
-                continue
-            try:
-                lits.extend(int(t) for t in body)
-            except ValueError:
-                raise SolverError(f"solver printed a malformed 'v' line: {line[:60]!r}") from None
+            if closed or bits is not None:
+                raise _bad(line, "a second 'v' line")
+            if (got := _read_v_line(line, nv, lits)) is not None:
+                if lits:
+                    raise _bad(line, "a binary string after literals")
+                bits = got
+            closed = bool(lits) and lits[-1] == 0
     values = None
     if bits is not None:
         values = np.zeros(nv + 1, dtype=bool)
-        b = np.frombuffer(bits.encode()[:nv], dtype=np.uint8) == ord("1")
-        values[1 : 1 + b.size] = b
+        values[1:] = np.frombuffer(bits.encode(), dtype=np.uint8) == ord("1")
     elif lits:
+        a = np.asarray([x for x in lits if x != 0], dtype=np.int64)
+        both = np.intersect1d(a[a > 0], -a[a < 0])
+        if both.size:
+            raise SolverError(
+                f"solver printed a malformed 'v' line (variable {int(both[0])} in both polarities)"
+            )
         values = np.zeros(nv + 1, dtype=bool)
-        a = np.asarray(lits, dtype=np.int64)
-        a = a[(a > 0) & (a <= nv)]
-        values[a] = True
+        values[a[a > 0]] = True
     return status, cost, values
 
 
@@ -162,7 +190,7 @@ class ExternalWCNFBackend(BackendBase):
             err_text = err_path.read_text(errors="replace").strip()
         wall = time.perf_counter() - t0
         stats: dict[str, object] = {"returncode": proc.returncode, "interrupted": interrupted}
-        nv = model.pool.top
+        nv = _file_variables(model)
         try:
             status_word, cost, values = parse_maxsat_output(text, nv)
         except SolverError as e:
@@ -177,8 +205,13 @@ class ExternalWCNFBackend(BackendBase):
                     Status.TIMEOUT, None, None, None, wall, stats, self.name, model.pool
                 )
             tail = (err_text or text.strip())[-200:]
+            _raise_if_out_of_memory(err_text + "\n" + text, proc.returncode)
             stats["message"] = f"solver printed no assignment (exit code {proc.returncode}): {tail}"
             return Solution(Status.ERROR, None, None, None, wall, stats, self.name, model.pool)
+        named = np.zeros(model.pool.top + 1, dtype=bool)  # the model's own variables
+        k = min(named.size, values.size)
+        named[:k] = values[:k]
+        values = named
         ok, evaluated = model.evaluate(values)
         stats["claimed_cost"] = cost
         if not ok:
@@ -201,6 +234,32 @@ class ExternalWCNFBackend(BackendBase):
             )
         st = Status.TIMEOUT if killed else Status.FEASIBLE
         return Solution(st, values, evaluated, None, wall, stats, self.name, model.pool)
+
+
+#: What a program says when an allocation is refused (Python, C++, C, Java).
+OUT_OF_MEMORY = ("MemoryError", "std::bad_alloc", "Cannot allocate memory", "OutOfMemoryError")
+
+
+def _raise_if_out_of_memory(output: str, returncode: int | None) -> None:
+    """Inside a run with a memory limit (an address-space limit the solver inherited), a solver
+    that died saying an allocation was refused ran out of memory: raise ``MemoryError`` so the
+    run is a ``memout``, not an ``error``."""
+    from illuknit.solvers.isolate import child_memory_limit
+
+    if returncode == 0 or child_memory_limit() is None:
+        return
+    said = next((w for w in OUT_OF_MEMORY if w in output), None)
+    if said is not None:
+        raise MemoryError(
+            f"the solver died with {said!r} (exit code {returncode}) under the "
+            f"{child_memory_limit():g} MB limit"
+        )
+
+
+def _file_variables(model: Model) -> int:
+    """The number of variables of the model's WCNF file (its largest variable id)."""
+    cs = model.to_clauses()
+    return max((abs(int(x)) for c in (*cs.hard, *cs.soft) for x in c), default=0)
 
 
 def _read_lines(

@@ -53,8 +53,19 @@ def _median(xs: Sequence[float]) -> float:
     return ys[n // 2] if n % 2 else 0.5 * (ys[n // 2 - 1] + ys[n // 2])
 
 
+#: Certificates that make a claimed optimum count: the DP's exact optimum, or an independent
+#: exact engine per component (:mod:`illuknit.bench.certify`).
+CONFIRMED = ("reference (dp)", "certified")
+
+
 def _solved(r: dict[str, Any]) -> bool:
-    return r.get("status") == "optimal" and not r.get("flag") and r.get("time_prove") is not None
+    """A proven optimum that survived verification and was certified (never a bare claim)."""
+    return (
+        r.get("status") == "optimal"
+        and not r.get("flag")
+        and r.get("time_prove") is not None
+        and r.get("certificate") in CONFIRMED
+    )
 
 
 def cost_at(r: dict[str, Any], trace: Sequence[tuple[float, Any, Any]], t: float) -> float | None:

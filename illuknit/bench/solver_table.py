@@ -270,8 +270,6 @@ def bench_environment(
     """The limits, the machine and the software of a table (the top of solvers.md)."""
     from importlib.metadata import PackageNotFoundError, version
 
-    from illuknit.bench.certify import pb_encoder
-
     limits = sorted({t.time_limit for t in tasks})
     memories = sorted({t.memory_mb for t in tasks if t.memory_mb is not None})
     software: dict[str, str] = {"python": platform.python_version()}
@@ -295,8 +293,10 @@ def bench_environment(
             "RLIMIT_AS backstop in the child"
             + ("" if cgroup_v2_usable() else "; cgroup v2 not writable on this machine"),
             "certify_time_s": max(limits, default=0) if certify_time is None else certify_time,
-            "certifier": "the Lagrangian lower bound (knit-aware models), then an "
-            f"independent SAT call (Glucose 4) with a {pb_encoder()} encoding",
+            "certifier": "the Lagrangian lower bound (knit-aware models), then every "
+            "component of the formula (union-find over its clauses) solved exactly by an "
+            "engine other than the claimant (RC2; CP-SAT for RC2's own claims), the optima "
+            "summed against the claim",
         },
         "machine": {
             "cpu": _cpu_model(),

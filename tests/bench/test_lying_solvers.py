@@ -1,0 +1,133 @@
+"""The lying-solver zoo (tests/bench/lying_maxsat.py): every way a solver can fail is caught,
+alone and beside RC2; none is believed (issue 35)."""
+
+from __future__ import annotations
+
+import os
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import pytest
+
+from illuknit.bench.instances import Instance
+from illuknit.bench.solver_runs import SolverTask, run_solver_task
+from illuknit.bench.solver_table import make_tasks, run_solver_table
+from illuknit.bench.wcnf_files import export_wcnf_family, read_wcnf
+from illuknit.core.pattern import Yarn
+from illuknit.solvers import solve
+
+LIAR = Path(__file__).parent / "lying_maxsat.py"
+
+
+def liar(mode: str) -> str:
+    return f"wcnf:{sys.executable} {LIAR} {mode} {{}}"
+
+
+@pytest.fixture(scope="module")
+def wcnf_file(tmp_path_factory) -> tuple[str, int]:
+    """A 12 x 10 two-yarn logical model as a plain WCNF file (10 wales, no reference optimum)
+    and its optimum."""
+    yarns = (Yarn("dark", (20, 20, 20)), Yarn("cream", (240, 236, 230)))
+    inst = Instance(
+        "zoo", "double", (12, 10), yarns, 5.0, {"A": {"draw": "heart"}, "B": {"draw": "ecg"}}
+    )
+    out = tmp_path_factory.mktemp("zoo")
+    mf = export_wcnf_family([inst], out, models=["logical"])
+    path = out / mf["files"][0]["file"]
+    return str(path), int(solve(read_wcnf(path), solver="rc2").objective)
+
+
+@pytest.fixture
+def private_tmp(tmp_path, monkeypatch) -> Path:
+    """A temp folder of this test's own (the runs fork from here and inherit it)."""
+    folder = tmp_path / "tmp"
+    folder.mkdir()
+    monkeypatch.setattr(tempfile, "tempdir", str(folder))
+    monkeypatch.setenv("TMPDIR", str(folder))
+    return folder
+
+
+@pytest.mark.parametrize("where", ["first", "middle", "last"])
+def test_a_false_optimum_in_any_wale_is_refuted_alone_and_beside_rc2(wcnf_file, where, tmp_path):
+    path, opt = wcnf_file
+    fake = liar(f"wale-{where}")
+    for solvers in ([fake], [fake, "rc2"]):
+        table = run_solver_table(
+            make_tasks([], solvers, time_limit=20, wcnf_files=[path]), tmp_path
+        )
+        row = next(r for r in table.rows if r["solver"] == fake)
+        assert row["claimed_status"] == "OPTIMUM FOUND" and row["verified_cost"] > opt
+        assert row["certificate"].startswith("refuted") and row["flag"], row
+        assert {s["solver"]: s for s in table.summary}[fake]["solved"] == 0
+
+
+def test_an_honest_optimum_is_certified_and_solved(wcnf_file, tmp_path):
+    path, opt = wcnf_file
+    table = run_solver_table(
+        make_tasks([], [liar("honest"), "rc2"], time_limit=20, wcnf_files=[path]), tmp_path
+    )
+    for row in table.rows:
+        assert row["verified_cost"] == opt and row["certificate"] == "certified", row
+    assert all(s["solved"] == 1 for s in table.summary if s["solver"] != "virtual best")
+
+
+def test_a_false_unsatisfiable_is_refuted(wcnf_file, tmp_path):
+    path, opt = wcnf_file
+    table = run_solver_table(
+        make_tasks([], [liar("false-unsat")], time_limit=20, wcnf_files=[path]), tmp_path
+    )
+    (row,) = table.rows
+    assert row["certificate"] == f"refuted ({opt})" and "UNSATISFIABLE refuted" in row["flag"]
+
+
+@pytest.mark.parametrize(
+    ("mode", "why"),
+    [
+        ("v-long", "values for"),
+        ("v-short", "values for"),
+        ("v-both", "both polarities"),
+        ("v-twice", "a second 'v' line"),
+        ("v-range", "out of range"),
+    ],
+)
+def test_a_malformed_v_line_is_an_error_with_the_reason(wcnf_file, mode, why):
+    path, _ = wcnf_file
+    row = run_solver_task(SolverTask(None, "wcnf", liar(mode), time_limit=20, wcnf=path))["row"]
+    assert row["status"] == "error" and why in row["reason"], row
+    assert row["verified_cost"] is None
+
+
+def test_one_big_allocation_refused_by_the_address_space_limit_is_a_memout(wcnf_file):
+    path, _ = wcnf_file
+    task = SolverTask(None, "wcnf", liar("big-alloc"), time_limit=20, memory_mb=1000, wcnf=path)
+    row = run_solver_task(task)["row"]
+    assert row["status"] == "memout" and "MemoryError" in row["reason"], row
+
+
+def _alive(pid: int) -> bool:
+    try:
+        with open(f"/proc/{pid}/stat") as f:
+            return f.read().split()[2] != "Z"
+    except OSError:
+        return False
+
+
+def test_an_escaped_helper_is_counted_killed_and_reaped(wcnf_file, private_tmp, monkeypatch):
+    path, _ = wcnf_file
+    pidfile = private_tmp.parent / "helper.pid"
+    monkeypatch.setenv("LYING_HELPER_PIDFILE", str(pidfile))
+    task = SolverTask(None, "wcnf", liar("escape"), time_limit=20, memory_mb=400, wcnf=path)
+    row = run_solver_task(task)["row"]
+    assert row["status"] == "memout" and row["peak_rss_mb"] > 400, row
+    helper = int(pidfile.read_text())
+    time.sleep(0.2)
+    assert not _alive(helper) and not Path(f"/proc/{helper}").exists()  # killed and reaped
+
+
+def test_no_temp_folder_outlives_a_run_even_a_killed_one(wcnf_file, private_tmp):
+    path, _ = wcnf_file
+    for mode, limit in (("honest", 20.0), ("early-o", 0.5)):
+        run_solver_task(SolverTask(None, "wcnf", liar(mode), time_limit=limit, wcnf=path))
+    assert os.listdir(private_tmp) == []
