@@ -17,7 +17,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any
 
-from illuknit.check.report import CheckReport, Finding, render_report
+from illuknit.check.report import CheckReport, Finding, float_figures, render_report
 from illuknit.core.arguments import check_number, check_str
 from illuknit.core.errors import OptionError
 from illuknit.knitout.parse import KnitoutProgram, parse_knitout
@@ -132,6 +132,7 @@ def check_knitout(
             "max_racking": racking,
             "float_limit": limit,
         },
+        floats=float_figures(sim.floats, limit),
     )
 
 

@@ -172,6 +172,7 @@ def write_design(
     rows = []
     chosen = None
     overlap_lines: list[str] = []
+    refused: list[Any] = []  # a knitting refusal, raised once the design is written
     with staged_dir(outdir) as tmp:
         for k, d in enumerate(design.designs):
             n = len(design.designs)
@@ -200,7 +201,7 @@ def write_design(
             from illuknit.cli.knitout_bridge import write_program
 
             report(0.94, "knitting the default candidate and checking it")
-            write_program(chosen, tmp, machine=machine)
+            write_program(chosen, tmp, machine=machine, refused=refused)
         summary = {
             "mode": design.mode,
             "yarns": [{"name": y.name, "rgb": y.hex} for y in design.yarns],
@@ -213,9 +214,12 @@ def write_design(
             "edits": [e.to_json() for e in design.edits],
             "default": pick,
             "candidates": rows,
+            **({"program_refused": str(refused[0])} if refused else {}),
         }
         atomic_write_text(tmp / "summary.json", json.dumps(summary, indent=1) + "\n")
         atomic_write_text(tmp / "summary.txt", summary_text(summary, overlap_lines))
+    if refused:
+        raise refused[0]
     return summary
 
 

@@ -375,6 +375,8 @@ def _echo_machine_sheet(s: dict[str, Any], echo: Callable[[str], object] = click
     numbers = ", ".join(map(str, s["stitch_numbers"])) or "machine default"
     lo, hi = s["needle_range"]
     echo(f"  stitch numbers: {numbers}; needles {lo}..{hi}")
+    if "floats" in s:
+        echo(f"  floats: {s['floats']}")
     echo("  " + describe_settings(s))
 
 
