@@ -125,13 +125,9 @@ def check_knitout(
         n_loops=len(sim.loop_lines),
         suppressed=suppressed,
         vm=vm_summary,
-        machine={
-            "name": spec.name,
-            "needles": width,
-            "gauge": spec.gauge,
-            "max_racking": racking,
-            "float_limit": limit,
-        },
+        machine=dict(
+            name=spec.name, needles=width, gauge=spec.gauge, max_racking=racking, float_limit=limit
+        ),
         floats=float_figures(sim.floats, limit),
     )
 

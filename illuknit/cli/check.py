@@ -62,7 +62,7 @@ def read_knitout_file(path: Path) -> str:
     "--float-limit",
     type=click.IntRange(min=1),
     default=None,
-    help="Longest float, in needles crossed, before a warning [the machine's, 20].",
+    help="Longest float, in needles skipped, before a warning [the machine's, 20].",
 )
 @click.option(
     "--max-racking",

@@ -49,6 +49,7 @@ def run_knit(
     from dataclasses import replace
 
     from illuknit.cli.knitout_bridge import check_fits, resolve_machine
+    from illuknit.core.errors import LongFloatError
     from illuknit.core.files import STDOUT, write_output_file
     from illuknit.core.pattern import load_pattern
     from illuknit.formats import check_format, knitout_to_format
@@ -70,7 +71,15 @@ def run_knit(
         changes["float_limit"] = float_limit
     if changes:
         spec = replace(spec, **changes)
-    result = knit_pattern(pattern, machine=spec, options=options)
+    try:
+        result = knit_pattern(pattern, machine=spec, options=options)
+    except LongFloatError as e:
+        from illuknit.knitting.remedies import knit_refusal
+
+        # the remedies measured on this pattern, not guessed
+        raise knit_refusal(
+            pattern, e, machine=spec, options=options, pattern_file=str(pattern_path)
+        ).error from None
     summary = result.summary()
     if check:
         from illuknit.check import check_knitout
@@ -146,7 +155,7 @@ def run_knit(
     "--float-limit",
     type=COUNT,
     default=None,
-    help="Longest yarn float in needles for mixed colourwork [the machine's, 20].",
+    help="Longest yarn float for mixed colourwork, in needles skipped [the machine's, 20].",
 )
 @click.option(
     "--strict-floats",
@@ -294,9 +303,11 @@ def knit(
 def time_line(s: dict[str, Any]) -> str:
     """One line: the estimated time, its range and the bind-off's part of it."""
     basis = "calibrated" if "calibrated on" in s["time_model"] else "preset's"
+    check = f", {s['time_check']}" if "time_check" in s else ""
     return (
-        f"estimated knitting time: {s['time']} ({s['time_range']} at the {basis} carriage "
-        f"speeds), of which the bind-off {s['bind_off_time']} (docs/knitting.md, Time model)"
+        f"estimated knitting time: {s['time']}, of which the bind-off {s['bind_off_time']}; "
+        f"the model's range {s['time_range']} at the {basis} carriage speeds{check}; "
+        "docs/knitting.md, Time model"
     )
 
 
@@ -310,20 +321,12 @@ def _echo_summary(s: dict[str, Any], output_format: str, echo: Callable[[str], o
         f"finished size: about {s['finished_size_text']} at "
         f"{s['finished_size']['gauge']} ({s['finished_size']['gauge_source']})"
     )
+    from illuknit.knitting.pipeline import passes_text
+
     if s.get("passes_counted_on") == "kc":
-        echo(
-            f"passes: {s['passes']} on the {s['machine']} (its machine file: waste section "
-            f"and the backend's carriage moves included); the schedule's "
-            f"{s['schedule_passes']}: knit {s['knit_passes']}, transfer "
-            f"{s['transfer_passes']}, cast-on {s['cast_on_passes']}, bind-off "
-            f"{s['bind_off_passes']}; its lower bound {s['schedule_lower_bound']}"
-        )
+        echo(f"{passes_text(s)}; the schedule's lower bound {s['schedule_lower_bound']}")
     else:
-        echo(
-            f"passes: {s['passes']} (knit {s['knit_passes']}, transfer "
-            f"{s['transfer_passes']}, cast-on {s['cast_on_passes']}, bind-off "
-            f"{s['bind_off_passes']}); lower bound {s['lower_bound']}, ratio {s['ratio']:.2f}"
-        )
+        echo(f"{passes_text(s)}; lower bound {s['lower_bound']}, ratio {s['ratio']:.2f}")
     if s.get("scheduler") == "mixed-colourwork":
         echo(
             f"mixed colourwork: {s['carriers']} carrier(s), {s['tuck_joins']} tuck join(s), "
@@ -368,7 +371,7 @@ def _echo_machine_sheet(s: dict[str, Any], echo: Callable[[str], object] = click
     """What the machine knitter sets up: cones on carriers, stitch numbers, needles, time."""
     echo(
         f"on the {s['machine']}: {s['machine_passes']} passes, about {s['machine_time']} "
-        f"({s['machine_time_range']})"
+        f"(the model's range {s['machine_time_range']})"
     )
     for row in s["carrier_table"]:
         echo(f"  carrier {row['carrier']}: {row['yarn']} ({row['role']})")

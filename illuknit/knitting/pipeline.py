@@ -35,7 +35,13 @@ from illuknit.knit.mixed import long_float_error, schedule_mixed
 from illuknit.knit.options import Catching, KnitOptions
 from illuknit.knit.schedule import Schedule, ScheduleStats, schedule_courses
 from illuknit.knit.stitches import StitchPattern, lower_to_stitches
-from illuknit.knit.timing import MachineRun, TimeEstimate, estimate_knit_time, format_duration
+from illuknit.knit.timing import (
+    MachineRun,
+    TimeEstimate,
+    estimate_knit_time,
+    format_duration,
+    paper_scale_text,
+)
 from illuknit.knitting.carriage import kc_run, machine_run, machine_stats, runs_on_swg
 
 if TYPE_CHECKING:
@@ -50,6 +56,7 @@ __all__ = [
     "LongFloatWarning",
     "knit_pattern",
     "long_float_warning",
+    "passes_text",
     "program_float_facts",
     "program_long_floats",
 ]
@@ -248,6 +255,8 @@ class KnitResult:
             ],
             "time_range": self.time.range_text,
             "time_model": self.time.model,
+            "time_range_is": "the model's range (the documented carriage speeds and overrun)",
+            **({"time_check": paper_scale_text()} if self.time.preset_model else {}),
             "bind_off_time_seconds": round(self.time.bind_off_seconds, 1),
             "bind_off_time": format_duration(self.time.bind_off_seconds),
             "lines": self.text.count("\n"),
@@ -259,7 +268,62 @@ class KnitResult:
                 else {}
             ),
         }
-        return _on_kc(out, self.kc_figures)
+        return _with_pass_splits(_on_kc(out, self.kc_figures), self)
+
+
+def _with_pass_splits(summary: dict[str, Any], result: KnitResult) -> dict[str, Any]:
+    """``summary`` with ``passes_by_kind`` (the headline ``passes`` split by what each pass
+    does; the parts sum to ``passes``) and ``passes_by_part`` (the schedule's own passes split
+    by the part of the piece they knit; the parts sum to ``schedule_passes``, or to ``passes``
+    when the schedule's passes are the headline's). A pass is in one part of each split; the
+    two splits cut the same passes two ways (a bind-off pass is also a knit or a transfer)."""
+    s = summary
+    kc = result.kc_figures
+    kinds: dict[str, int]
+    if kc is not None:
+        kinds = dict(kc.run.kinds)
+    else:
+        kinds = {
+            "knit": s["knit_passes"],
+            "transfer": s["transfer_passes"],
+            "carrier move": s["miss_passes"],
+        }
+        if s.get("schedule_passes") is not None:  # counted on the SWG machine's passes
+            kinds.update({"hook": s["hook_passes"], "kickback": s["kickbacks"]})
+    kinds["other"] = s["passes"] - sum(kinds.values())
+    own = result.schedule.stats
+    parts = {
+        "cast-on": own.cast_on_passes,
+        "body": own.body_passes,
+        "bind-off": own.bind_off_passes,
+    }
+    parts["other"] = own.passes - sum(parts.values())
+    return {
+        **s,
+        "passes_by_kind": {k: v for k, v in kinds.items() if v},
+        "passes_by_part": {k: v for k, v in parts.items() if v},
+        "schedule_passes": own.passes,
+    }
+
+
+def passes_text(summary: dict[str, Any]) -> str:
+    """One line: the headline passes as the sum of their kinds, and the schedule's passes as
+    the sum of the parts of the piece (both add up; see :meth:`KnitResult.summary`)."""
+    s = summary
+    kinds = " + ".join(f"{k} {v}" for k, v in s["passes_by_kind"].items())
+    parts = " + ".join(f"{k} {v}" for k, v in s["passes_by_part"].items())
+    on_kc = s.get("passes_counted_on") == "kc"
+    if s["schedule_passes"] == s["passes"] and not on_kc:
+        return f"passes: {s['passes']} = {kinds}; by part: {parts}"
+    where, adds = (
+        ("its .kc", "the .kc adds the waste section and the backend's carriage moves")
+        if on_kc
+        else ("the machine", "the machine adds hook passes and kickbacks")
+    )
+    return (
+        f"passes: {s['passes']} on {where} = {kinds}; the schedule's {s['schedule_passes']} "
+        f"by part: {parts} ({adds})"
+    )
 
 
 def _on_kc(summary: dict[str, Any], kc: KcFigures | None) -> dict[str, Any]:
@@ -535,6 +599,6 @@ def long_float_warning(result: KnitResult) -> str:
     longest, at = result._longest_float()
     return (
         f"{count} float(s) longer than the float limit of "
-        f"{result.machine.float_limit} needles kept (allowed long floats); the longest, "
-        f"{longest} needles: {at}"
+        f"{result.machine.float_limit} {FLOAT_UNIT} kept (allowed long floats); the longest, "
+        f"{longest} {FLOAT_UNIT}: {at}"
     )
