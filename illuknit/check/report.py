@@ -98,6 +98,9 @@ class CheckReport:
         loops of one carrier): ``longest`` with its ``longest_line`` and ``longest_carrier``,
         ``at_limit`` (exactly ``limit``: allowed, as long as a float may be) and
         ``over_limit`` (the ``long-float`` warnings).
+    bumps : str or None
+        The bumps the program was judged as having, and why (declared by the program or asked
+        for); None for a program that declares none and was not asked about.
     """
 
     findings: tuple[Finding, ...]
@@ -109,6 +112,7 @@ class CheckReport:
     vm: dict[str, Any] | None = None
     machine: dict[str, Any] | None = None
     floats: dict[str, Any] | None = None
+    bumps: str | None = None
 
     def __post_init__(self) -> None:
         if self.pieces < 0:
@@ -164,6 +168,7 @@ class CheckReport:
             "vm": self.vm,
             "machine": self.machine,
             "floats": self.floats,
+            "bumps": self.bumps,
             "findings": [f.to_dict() for f in self.findings],
         }
 
@@ -219,6 +224,8 @@ def render_report(report: CheckReport, *, name: str = "program", max_per_code: i
         )
     if report.floats is not None:
         out.append(float_line(report.floats))
+    if report.bumps is not None:
+        out.append(f"bumps: {escape(report.bumps)}")
     if report.vm is not None:
         if report.vm.get("ran"):
             out.append(

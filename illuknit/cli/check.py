@@ -80,7 +80,8 @@ def read_knitout_file(path: Path) -> str:
     "--split-bumps",
     is_flag=True,
     help="The program knits split bumps (a pattern with two yarns in some bumps): a yarn "
-    "change inside a bump is meant, not an error.",
+    "change inside a bump is meant, not an error. Needed only for a program that does not "
+    "declare them (illuknit's programs do, in a '; illuknit-bumps:' comment line).",
 )
 def check(
     program: Path,
@@ -105,7 +106,7 @@ def check(
             max_racking=max_racking,
             bed_width=bed_width,
             simulate=simulate,
-            split_bumps=split_bumps,
+            split_bumps=True if split_bumps else None,
         )
     except KnitoutParseError as e:
         raise KnitoutParseError(

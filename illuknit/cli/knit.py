@@ -84,7 +84,7 @@ def run_knit(
     if check:
         from illuknit.check import check_knitout
 
-        report = check_knitout(result.text, machine=spec, split_bumps=result.split_bumps > 0)
+        report = check_knitout(result.text, machine=spec)  # it declares its bumps
         summary["check"] = {
             "errors": report.n_blocking,
             "warnings": report.n_warnings,
@@ -336,6 +336,8 @@ def _echo_summary(s: dict[str, Any], output_format: str, echo: Callable[[str], o
             f"{s['kickbacks']} backend kickback(s)"
         )
     echo(time_line(s))
+    if "bumps" in s:
+        echo(f"bumps: {s['bumps']}; illuknit check reads it")
     _echo_machine_sheet(s, echo)
     chk = s.get("check", False)
     if chk is None:

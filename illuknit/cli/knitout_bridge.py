@@ -339,7 +339,7 @@ def write_program(
         refused.append(refusal.error)
         console().print(f"knitout: refused; the design is written, {REFUSAL_NOTE} says why")
         return {"refused": atomic_write_text(outdir / REFUSAL_NOTE, refusal.note)}
-    report = check_knitout(result.program, machine=spec, split_bumps=result.split_bumps > 0)
+    report = check_knitout(result.program, machine=spec)  # it declares its bumps
     sheet = machine_sheet(result, name="program.kc")
     summary = machine_headline(result.summary(), sheet)
     console().print(f"knitout: {_describe(summary)}")
@@ -377,4 +377,6 @@ def _describe(summary: dict[str, object]) -> str:
             parts.append(f"{key.replace('_', ' ')} {val}")
     if "floats" in summary:
         parts.append(f"floats: {summary['floats']}")
+    if "bumps" in summary:
+        parts.append(f"bumps: {summary['bumps']}")
     return ", ".join(parts) or "written"

@@ -42,6 +42,7 @@ from illuknit.knit.timing import (
     format_duration,
     paper_scale_text,
 )
+from illuknit.knitout.bumps import BUMPS_COMMENT, declare_bumps, declared_bumps
 from illuknit.knitting.carriage import kc_run, machine_run, machine_stats, runs_on_swg
 
 if TYPE_CHECKING:
@@ -192,6 +193,13 @@ class KnitResult:
             f"carrier {f.carrier}, needles {f.from_needle} to {f.to_needle}, at {where}",
         )
 
+    def _bumps(self) -> dict[str, str]:
+        """``{"bumps": ...}``: what bumps the program declares (none for plain bumps)."""
+        declared = declared_bumps(self.text)
+        if not declared:
+            return {}
+        return {"bumps": f"{declared.text()}, declared in the program ('{BUMPS_COMMENT}')"}
+
     def _float_summary(self) -> dict[str, Any]:
         """The summary's float figures: the longest float of the program (not only over the
         limit) and the counts at and over the limit, in :data:`FLOAT_UNIT`."""
@@ -262,6 +270,7 @@ class KnitResult:
             "lines": self.text.count("\n"),
             # (only when asked for: the summary of a plain pattern stays as it was)
             **({"split_bumps": self.split_bumps} if self.split_bumps else {}),
+            **self._bumps(),
             **(
                 {"tall_bump_tucks": int(self.stitches.tuck_first.sum())}
                 if self.stitches.tuck_first is not None
@@ -413,6 +422,7 @@ def knit_pattern(
         tall_bumps=opts.tall_bumps,
     )
     text, schedule = _written(_schedule(stitches, m, plan_machine, opts), m)
+    text = declare_bumps(text, split=int(pattern.split.sum()), tall=stitches.tuck_first is not None)
     # One float truth: the floats reported (and refused) are the program's, measured as the
     # checker measures them.
     limit = plan_machine.float_limit
