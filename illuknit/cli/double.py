@@ -50,7 +50,7 @@ def run_design(
     outdir: Path,
     *,
     mode: Literal["double", "headon"] = "double",
-    n_colors: int = 2,
+    n_colors: int | None = None,
     yarns: str | None = None,
     width: int | None = None,
     resize: bool = False,
@@ -111,6 +111,8 @@ def run_design(
         **({} if pool is None else {"pool": pool}),
     )
     report: Report = progress or (lambda fraction, message: None)
+    pictures = [p for p in (path_a, path_b) if p is not None]
+    n_colors, notes = _colour_count(pictures, n_colors, given_yarns=yarns is not None)
     kw: dict[str, Any] = dict(
         n_colors=n_colors,
         yarns=_yarns_option(yarns),
@@ -134,11 +136,68 @@ def run_design(
         raise TileAssignmentError(
             f"--pick must be between 1 and {written} (candidates found), got {pick}"
         )
+    notes += _split_note(design, search)
     return write_design(
         design, outdir, pick=pick, sources=[str(path_a), str(path_b) if path_b else None],
         machine=spec if knitout else None, progress=report, gauge=spec.fabric_gauge,
-        distance=distance, angle=angle,
+        distance=distance, angle=angle, notes=notes,
     )  # fmt: skip
+
+
+#: Most distinct colours a picture may have to count as drawn in flat colours.
+_FLAT_MAX = 8
+
+
+def _flat_colours(path: Path) -> int | None:
+    """How many colours ``path`` is drawn in, when it is drawn in a few flat ones (None for a
+    photo or a drawing with soft edges)."""
+    import numpy as np
+
+    from illuknit.core.errors import ImageInputError
+    from illuknit.pictures.decode import read_picture
+
+    try:
+        rgb = read_picture(path).rgb
+    except ImageInputError:  # unreadable: design_* says so, with the right error
+        return None
+    n = len(np.unique(rgb.reshape(-1, 3), axis=0))
+    return n if n <= _FLAT_MAX else None
+
+
+def _colour_count(
+    pictures: list[Path], n_colors: int | None, *, given_yarns: bool
+) -> tuple[int, list[str]]:
+    """The colours each picture is quantised to, and a note saying what was chosen and how to
+    change it. Given ``--colors``, that; else the pictures' own count when each is drawn in
+    the same 2 to 4 flat colours, else 2 (with a note naming any picture that has more)."""
+    if n_colors is not None:
+        return n_colors, []
+    counts = [_flat_colours(p) for p in pictures]
+    if not given_yarns and counts and len(set(counts)) == 1 and counts[0] in (3, 4):
+        n = counts[0]
+        return n, [f"colours: {n}, the pictures' own count (each is drawn in {n} flat colours); "
+                   "--colors N chooses another"]  # fmt: skip
+    more = [f"{p.name} has {c}" for p, c in zip(pictures, counts, strict=True) if c and c > 2]
+    if given_yarns:
+        return 2, []
+    if more:
+        return 2, [f"colours: each picture quantised to 2 (the default), though {', '.join(more)} "
+                   "flat colours; --colors 3 or 4 keeps more"]  # fmt: skip
+    return 2, []
+
+
+def _split_note(design: Any, search: Any) -> list[str]:
+    """A note when split bumps were allowed but no candidate uses one, and why."""
+    if not search.split_bumps or any(int(d.pattern.split.sum()) for d in design.designs):
+        return []
+    n = len(design.designs)
+    return [
+        f"--split-bumps changed nothing: none of the {n} candidate(s) uses a split bump. At "
+        f"split share {search.split_share:g} (each side sees {100 * search.split_share:.0f} % "
+        "of a split bump's colour from its own course) the tile search found plain tiles at "
+        "least as good for every overlap; a split share measured higher on a swatch "
+        "(--split-share, docs/split-bumps.md) may let it choose them"
+    ]
 
 
 def write_design(
@@ -152,13 +211,14 @@ def write_design(
     gauge: Any = None,
     distance: float = 3.0,
     angle: float = 30.0,
+    notes: list[str] | None = None,
 ) -> dict[str, Any]:
     """Write a :class:`~illuknit.pipeline.stages.TileDesign` into ``outdir`` (atomically): each
     candidate's folder, the suggested edits, the default candidate's pattern (and, given a
     machine, its knitout program) and the summary. Returns the summary dict. ``gauge`` (the
     fabric's :class:`~illuknit.core.gauge.Gauge`; default the default machine's) gives the
     finished size; ``angle`` and ``distance`` (metres) the views of each candidate's
-    ``seen.png``."""
+    ``seen.png``; ``notes`` (what a switch did or did not do) go into the summary."""
     from illuknit.core.files import atomic_write_text, staged_dir
     from illuknit.outputs.previews import unit_scale
 
@@ -215,9 +275,11 @@ def write_design(
             "default": pick,
             "candidates": rows,
             **({"program_refused": str(refused[0])} if refused else {}),
+            "notes": list(notes or ()),
         }
         atomic_write_text(tmp / "summary.json", json.dumps(summary, indent=1) + "\n")
-        atomic_write_text(tmp / "summary.txt", summary_text(summary, overlap_lines))
+        text = summary_text(summary, overlap_lines)
+        atomic_write_text(tmp / "summary.txt", text + "".join(f"note: {n}\n" for n in notes or ()))
     if refused:
         raise refused[0]
     return summary
@@ -378,6 +440,8 @@ def print_summary(summary: dict[str, Any], outdir: Path) -> None:
     files = sorted(p.name for p in outdir.iterdir() if p.is_file())
     con.print(f"  folders: {', '.join(f + '/' for f in folders)}")
     con.print(f"  files: {', '.join(files)}")
+    for note in summary.get("notes", ()):
+        con.print(f"note: {note}", markup=False)
     if "suggestions" in folders:
         con.print(f"  {_edits_found(summary)}")
 
@@ -391,8 +455,9 @@ def _natural(name: str) -> tuple[str, int]:
 def design_options(func: Any) -> Any:
     """Options shared by ``double`` and ``headon``."""
     opts = [
-        click.option("--colors", "n_colors", type=click.IntRange(2, 4), default=2, show_default=True,
-                     help="Colours each picture is quantised to."),
+        click.option("--colors", "n_colors", type=click.IntRange(2, 4), default=None,
+                     help="Colours each picture is quantised to [the pictures' own count when each "
+                     "is drawn in the same 3 or 4 flat colours, else 2; a note says which]."),
         click.option("--yarns", default=None, metavar="N|LIST",
                      help="Number of yarns chosen from the pictures, or a list like 'black,white,#c03030'. Default: --colors."),
         click.option("--width", type=click.IntRange(2, 1000), default=None,
