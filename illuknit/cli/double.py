@@ -80,7 +80,12 @@ def run_design(
     ``progress(fraction, message)`` hears how far the work is (the command line's bar); the
     designs are judged from ``angle`` degrees and ``distance`` metres. Returns the summary."""
     from illuknit.cli.knitout_bridge import design_unit_aspect, resolve_machine
-    from illuknit.core.errors import ImageInputError, OptionError, TileAssignmentError
+    from illuknit.core.errors import (
+        ImageInputError,
+        LongFloatError,
+        OptionError,
+        TileAssignmentError,
+    )
     from illuknit.core.views import DEFAULT_SPLIT_SHARE
     from illuknit.design.options import (
         Brightness,
@@ -137,10 +142,63 @@ def run_design(
             f"--pick must be between 1 and {written} (candidates found), got {pick}"
         )
     notes += _split_note(design, search)
-    return write_design(
-        design, outdir, pick=pick, sources=[str(path_a), str(path_b) if path_b else None],
-        machine=spec if knitout else None, progress=report, gauge=spec.fabric_gauge,
-        distance=distance, angle=angle, notes=notes,
+    try:
+        return write_design(
+            design, outdir, pick=pick, sources=[str(path_a), str(path_b) if path_b else None],
+            machine=spec if knitout else None, progress=report, gauge=spec.fabric_gauge,
+            distance=distance, angle=angle, notes=notes,
+        )  # fmt: skip
+    except LongFloatError as e:
+        if search.split_bumps:
+            report(0.97, "the knitting was refused: trying the default split share")
+        redo: Any = design_double if mode == "double" else design_headon
+        kw["progress"] = lambda f, message: None
+        raise _share_remedy(e, outdir, lambda s: redo(path_a, path_b, **{**kw, "search": s}),
+                            search, spec) from None  # fmt: skip
+
+
+def _share_remedy(error: Any, outdir: Path, redesign: Any, search: Any, machine: Any) -> Any:
+    """``error`` (a knitting refusal of a split-bump design, the folder written) with the
+    default split share measured as a remedy: the design made again at that share and its best
+    candidate knit. Said in the error and in the folder's note; ``error`` itself otherwise."""
+    import warnings
+    from dataclasses import replace
+
+    from illuknit.cli.knitout_bridge import REFUSAL_NOTE
+    from illuknit.core.errors import LongFloatError
+    from illuknit.core.files import atomic_write_text
+    from illuknit.core.views import DEFAULT_SPLIT_SHARE
+    from illuknit.knitting import knit_pattern
+
+    if not search.split_bumps or search.split_share <= DEFAULT_SPLIT_SHARE:
+        return error
+    share = DEFAULT_SPLIT_SHARE
+    best = redesign(replace(search, split_share=share, candidates=1)).designs[0].pattern
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            knit = knit_pattern(best, machine=machine).summary()
+        line = (
+            f"designed again with --split-share {share:g}, it knits (measured: "
+            f"{int(best.split.sum())} split bumps, longest float {knit['longest_float']} "
+            f"needles skipped, {knit['passes']} passes)"
+        )
+    except LongFloatError as again:
+        line = (
+            f"--split-share {share:g} was tried and does not help (a float of {again.length} stays)"
+        )
+    note, summary = outdir / REFUSAL_NOTE, outdir / "summary.json"
+    if note.exists():
+        atomic_write_text(note, note.read_text() + f"{line[0].upper()}{line[1:]}\n")
+    if summary.exists():
+        doc = json.loads(summary.read_text())
+        doc["program_refused"] = f"{error}; {line}"
+        atomic_write_text(summary, json.dumps(doc, indent=1) + "\n")
+    return LongFloatError(
+        f"{error}; {line}",
+        length=error.length, carrier=error.carrier, from_needle=error.from_needle,
+        to_needle=error.to_needle, course=error.course, where=error.where, limit=error.limit,
+        count=error.count,
     )  # fmt: skip
 
 

@@ -373,7 +373,7 @@ def _describe(summary: dict[str, object]) -> str:
         if key in summary:
             parts.append(f"{key.replace('_', ' ')} {summary[key]}")
     for key, val in summary.items():
-        if "time" in key and isinstance(val, (int, float, str)):
+        if "time" in key and key != "time_range_is" and isinstance(val, (int, float, str)):
             parts.append(f"{key.replace('_', ' ')} {val}")
     if "floats" in summary:
         parts.append(f"floats: {summary['floats']}")

@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import json
+import re
 
 import numpy as np
 import pytest
@@ -120,3 +121,20 @@ def test_every_command_with_knitout_takes_allow_long_floats():
     assert {"single", "double", "headon", "solve", "demo", "calibrate swatch"} <= set(with_knitout)
     for name, params in with_knitout.items():
         assert "allow_long_floats" in params, name
+
+
+def test_a_refused_split_bump_design_measures_the_default_share(speckled, tight, tmp_path, run_cli):
+    """A split-bump design refused for a long float is designed again at the default split
+    share and knit: what that gave (it knits, or it is refused too) is in the error line, the
+    folder's note and summary.json, measured, not guessed."""
+    out = tmp_path / "out"
+    args = ["double", *speckled, "-o", out, "--candidates", 1, "--width", 12]
+    code, _, err = run_cli([*args, "--split-share", "1.0", "--knitout", "--machine", tight])
+    assert code == 2, err
+    assert "designed again with --split-share 0.75, it " in err
+    assert re.search(r"it (knits \(measured: \d+ split bumps|is refused too)", err), err
+    note = (out / "program-refused.txt").read_text()
+    assert "Designed again with --split-share 0.75" in note
+    refused = json.loads((out / "summary.json").read_text())["program_refused"]
+    assert "designed again with --split-share 0.75" in refused
+    assert "program.k" not in {p.name for p in out.iterdir()}
