@@ -80,28 +80,14 @@ def run_design(
     ``progress(fraction, message)`` hears how far the work is (the command line's bar); the
     designs are judged from ``angle`` degrees and ``distance`` metres. Returns the summary."""
     from illuknit.cli.knitout_bridge import design_unit_aspect, resolve_machine
-    from illuknit.core.errors import (
-        ImageInputError,
-        LongFloatError,
-        OptionError,
-        TileAssignmentError,
-    )
+    from illuknit.core.errors import ImageInputError, LongFloatError, TileAssignmentError
     from illuknit.core.views import DEFAULT_SPLIT_SHARE
-    from illuknit.design.options import (
-        Brightness,
-        PictureEdits,
-        RankBy,
-        RankOptions,
-        SearchOptions,
-    )
+    from illuknit.design.options import Brightness, PictureEdits, RankBy, RankOptions, SearchOptions
     from illuknit.pipeline.stages import design_double, design_headon
 
-    if candidates < 1:
-        raise TileAssignmentError(f"--candidates must be at least 1, got {candidates}")
-    if pool is not None and pool < 1:
-        raise TileAssignmentError(f"--pool must be at least 1, got {pool}")
-    if (simplify or suggest) and (mode != "double" or path_b is None):
-        raise OptionError("--simplify and --suggest work on double-view designs (two pictures)")
+    _check_counts(
+        candidates, pool, edits=(simplify or suggest) and (mode != "double" or not path_b)
+    )
     overrides = tuple(_parse_overrides(tile).items())
     ranking = RankOptions(RankBy(rank_by), knit_time, machine, overrides, angle, distance)
     spec = resolve_machine(machine)
@@ -130,12 +116,10 @@ def run_design(
         progress=lambda f, message: report(0.7 * f, message),
         unit_aspect=design_unit_aspect(spec),
     )
-    if mode == "double":
-        if path_b is None:
-            raise ImageInputError("a double-view design needs two pictures (A and B)")
-        design = design_double(path_a, path_b, **kw)
-    else:
-        design = design_headon(path_a, path_b, **kw)
+    if mode == "double" and path_b is None:
+        raise ImageInputError("a double-view design needs two pictures (A and B)")
+    redo: Any = design_double if mode == "double" else design_headon
+    design = redo(path_a, path_b, **kw)
     written = len(design.designs)
     if not 1 <= pick <= written:
         raise TileAssignmentError(
@@ -149,12 +133,22 @@ def run_design(
             distance=distance, angle=angle, notes=notes,
         )  # fmt: skip
     except LongFloatError as e:
-        if search.split_bumps:
-            report(0.97, "the knitting was refused: trying the default split share")
-        redo: Any = design_double if mode == "double" else design_headon
+        report(0.97, "the knitting was refused: measuring what knits it")
         kw["progress"] = lambda f, message: None
         raise _share_remedy(e, outdir, lambda s: redo(path_a, path_b, **{**kw, "search": s}),
                             search, spec) from None  # fmt: skip
+
+
+def _check_counts(candidates: int, pool: int | None, *, edits: bool) -> None:
+    """Refuse counts below one, and picture edits where there are no two pictures."""
+    from illuknit.core.errors import OptionError, TileAssignmentError
+
+    if candidates < 1:
+        raise TileAssignmentError(f"--candidates must be at least 1, got {candidates}")
+    if pool is not None and pool < 1:
+        raise TileAssignmentError(f"--pool must be at least 1, got {pool}")
+    if edits:
+        raise OptionError("--simplify and --suggest work on double-view designs (two pictures)")
 
 
 def _share_remedy(error: Any, outdir: Path, redesign: Any, search: Any, machine: Any) -> Any:
