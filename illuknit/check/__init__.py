@@ -17,9 +17,10 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any
 
-from illuknit.check.report import CheckReport, Finding, render_report
+from illuknit.check.report import CheckReport, Finding, float_figures, render_report
 from illuknit.core.arguments import check_bool, check_number, check_str
 from illuknit.core.errors import OptionError
+from illuknit.knitout.bumps import DeclaredBumps, declared_bumps
 from illuknit.knitout.parse import KnitoutProgram, parse_knitout
 
 if TYPE_CHECKING:
@@ -41,7 +42,7 @@ def check_knitout(
     max_racking: float | None = None,
     bed_width: int | None = None,
     simulate: bool = False,
-    split_bumps: bool = False,
+    split_bumps: bool | None = None,
 ) -> CheckReport:
     """Check a knitout program for machine-rule violations and fabric failures.
 
@@ -68,8 +69,11 @@ def check_knitout(
     simulate : bool, keyword-only
         Also run the PyPI knitout-interpreter / virtual-knitting-machine (needs the ``sim`` extra)
         and add its findings with ``source="vm"``. Slow on large programs.
-    split_bumps : bool, keyword-only
-        The program knits split bumps: a yarn change inside a bump is meant (no error).
+    split_bumps : bool or None, keyword-only
+        The program knits split bumps: a yarn change inside a bump is meant (no error). None
+        (the default) reads it from the program: a program that declares its split bumps
+        (:mod:`illuknit.knitout.bumps`, as every program ``knit_pattern`` writes does) is
+        judged as one; the report's ``bumps`` says which and why.
 
     Returns
     -------
@@ -111,21 +115,35 @@ def check_knitout(
     width = _bed_width(program, spec, bed_width)
     sim = simulate_program(program, max_racking=racking, bed_width=width)
     findings = [*check_header(program, machine=spec), *machine_findings(sim)]
-    fabric, suppressed = fabric_findings(sim, float_limit=limit, split_bumps=bool(split_bumps))
-    findings, suppressed = [*findings, *fabric], {**sim.suppressed, **suppressed}
-    vm_summary = None
-    if simulate:
-        vm_findings, vm_summary = _second_opinion(text, program)
-        findings += vm_findings
+    declared = declared_bumps(text)
+    split = bool(declared.split if split_bumps is None else split_bumps)
+    fabric, suppressed = fabric_findings(sim, float_limit=limit, split_bumps=split)
+    vm_findings, vm_summary = _second_opinion(text, program) if simulate else ([], None)
     return CheckReport(
-        findings=tuple(findings),
+        findings=(*findings, *fabric, *vm_findings),
         pieces=sim.pieces,
         n_lines=program.n_lines,
         n_operations=len(program.operations),
         n_loops=len(sim.loop_lines),
-        suppressed=suppressed,
+        suppressed={**sim.suppressed, **suppressed},
         vm=vm_summary,
         machine=_machine_info(spec, width, racking, limit),
+        floats=float_figures(sim.floats, limit),
+        bumps=_bumps_note(declared, split_bumps),
+    )
+
+
+def _bumps_note(declared: DeclaredBumps, split_bumps: bool | None) -> str | None:
+    """What the report says about the bumps it judged, and why (None: plain, undeclared)."""
+    if split_bumps is None:
+        return f"{declared.text()}, as the program declares" if declared else None
+    if not split_bumps and not declared.split:
+        return f"{declared.text()}, as the program declares" if declared else None
+    said = "split bumps" if split_bumps else "no split bumps"
+    if bool(declared.split) != bool(split_bumps):
+        return f"{said} as asked, though the program declares {declared.text()}"
+    return (
+        f"{said}, as asked and as the program declares" if declared.split else f"{said}, as asked"
     )
 
 
@@ -171,7 +189,8 @@ def _judging_machine(program: KnitoutProgram, named: MachineSpec | None) -> Mach
 def _check_arguments(text: object, simulate: object, split_bumps: object) -> None:
     check_str(text, "text")
     check_bool(simulate, "simulate")
-    check_bool(split_bumps, "split_bumps")
+    if split_bumps is not None:
+        check_bool(split_bumps, "split_bumps")
 
 
 def _check_options(

@@ -35,7 +35,8 @@ Neither the SWG converter nor the PyPI simulator reports these (paper section 7,
     A purl (a knit on the back bed) pulled through a loop knit on the front bed -- a bump -- by
     carriers none of which made that loop: the yarn changes inside the bump. That is exactly a
     split bump (``docs/split-bumps.md``), which a pattern must ask for; anywhere else it is a
-    colour in the wrong course. ``check_knitout(..., split_bumps=True)`` (``illuknit check
+    colour in the wrong course. A program that declares its split bumps
+    (:mod:`illuknit.knitout.bumps`) or ``check_knitout(..., split_bumps=True)`` (``illuknit check
     --split-bumps``) accepts it.
 ``tuck-not-cleared`` (warning)
     A tuck on a back needle that holds a loop (a tall bump's tuck) whose loops were transferred
@@ -203,8 +204,8 @@ def _bump_findings(sim: Simulation, *, split_bumps: bool) -> list[tuple[int, str
                     "bump-yarn-change",
                     f"purl at {yc.needle} in carrier {' '.join(yc.carriers)} is pulled through a "
                     f"knit loop of carrier {' '.join(yc.below)}: the yarn changes inside a bump. "
-                    "Only a split bump does that; check with --split-bumps if the pattern has "
-                    "them",
+                    "Only a split bump does that, and this program does not declare split bumps "
+                    "('; illuknit-bumps: split N'); check with --split-bumps if it has them",
                 )
             )
     for ut in sim.uncleared_tucks:

@@ -10,10 +10,14 @@ from __future__ import annotations
 
 import json
 from collections import Counter
+from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-__all__ = ["SEVERITIES", "CheckReport", "Finding", "render_report"]
+if TYPE_CHECKING:
+    from illuknit.check.floats import Float
+
+__all__ = ["SEVERITIES", "CheckReport", "Finding", "float_figures", "float_line", "render_report"]
 
 SEVERITIES = ("error", "warning")
 
@@ -90,6 +94,14 @@ class CheckReport:
         The machine judged against: ``name`` (what it is:
         :attr:`~illuknit.core.machine.MachineSpec.label`), ``model`` (the ``;;Machine`` whose
         rules it has), ``needles``, ``gauge``, ``max_racking``, ``float_limit``.
+    floats : dict or None
+        The program's floats, in needles skipped (``unit``; the slots strictly between two
+        loops of one carrier): ``longest`` with its ``longest_line`` and ``longest_carrier``,
+        ``at_limit`` (exactly ``limit``: allowed, as long as a float may be) and
+        ``over_limit`` (the ``long-float`` warnings).
+    bumps : str or None
+        The bumps the program was judged as having, and why (declared by the program or asked
+        for); None for a program that declares none and was not asked about.
     """
 
     findings: tuple[Finding, ...]
@@ -100,6 +112,8 @@ class CheckReport:
     suppressed: dict[str, int] = field(default_factory=dict)
     vm: dict[str, Any] | None = None
     machine: dict[str, Any] | None = None
+    floats: dict[str, Any] | None = None
+    bumps: str | None = None
 
     def __post_init__(self) -> None:
         if self.pieces < 0:
@@ -154,6 +168,8 @@ class CheckReport:
             "suppressed": dict(self.suppressed),
             "vm": self.vm,
             "machine": self.machine,
+            "floats": self.floats,
+            "bumps": self.bumps,
             "findings": [f.to_dict() for f in self.findings],
         }
 
@@ -207,6 +223,10 @@ def render_report(report: CheckReport, *, name: str = "program", max_per_code: i
             f"[dim]machine {escape(str(m['name']))}: {m['needles']} needles, gauge {m['gauge']:g}, "
             f"racking <= {m['max_racking']:g}, float limit {m['float_limit']}[/dim]"
         )
+    if report.floats is not None:
+        out.append(float_line(report.floats))
+    if report.bumps is not None:
+        out.append(f"bumps: {escape(report.bumps)}")
     if report.vm is not None:
         if report.vm.get("ran"):
             out.append(
@@ -218,3 +238,29 @@ def render_report(report: CheckReport, *, name: str = "program", max_per_code: i
                 f"[dim]PyPI simulator not run: {escape(str(report.vm.get('reason', '')))}[/dim]"
             )
     return "\n".join(out)
+
+
+def float_figures(floats: Sequence[Float], limit: int) -> dict[str, Any]:
+    """The :attr:`CheckReport.floats` of a program whose floats are ``floats``."""
+    longest = max(floats, key=lambda f: f.length, default=None)
+    return {
+        "unit": "needles skipped",
+        "limit": limit,
+        "longest": 0 if longest is None else longest.length,
+        "longest_line": None if longest is None else longest.line,
+        "longest_carrier": None if longest is None else longest.carrier,
+        "at_limit": sum(f.length == limit for f in floats),
+        "over_limit": sum(f.length > limit for f in floats),
+    }
+
+
+def float_line(floats: dict[str, Any]) -> str:
+    """One line of :attr:`CheckReport.floats`: the longest float and the counts at and over
+    the limit, in needles skipped."""
+    if not floats["longest"]:
+        return f"floats: none skips a needle (float limit {floats['limit']} needles skipped)"
+    return (
+        f"floats: longest {floats['longest']} needles skipped (line {floats['longest_line']}, "
+        f"carrier {floats['longest_carrier']}); {floats['at_limit']} at the float limit of "
+        f"{floats['limit']}, {floats['over_limit']} over it"
+    )

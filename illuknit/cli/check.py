@@ -60,7 +60,7 @@ def read_knitout_file(path: Path) -> str:
     "--float-limit",
     type=NEEDLES,
     default=None,
-    help="Longest float, in needles crossed, before a warning [the machine's, 20].",
+    help="Longest float, in needles skipped, before a warning [the machine's, 20].",
 )
 @click.option(
     "--max-racking",
@@ -78,7 +78,8 @@ def read_knitout_file(path: Path) -> str:
     "--split-bumps",
     is_flag=True,
     help="The program knits split bumps (a pattern with two yarns in some bumps): a yarn "
-    "change inside a bump is meant, not an error.",
+    "change inside a bump is meant, not an error. Needed only for a program that does not "
+    "declare them (illuknit's programs do, in a '; illuknit-bumps:' comment line).",
 )
 def check(
     program: Path,
@@ -103,7 +104,7 @@ def check(
             max_racking=max_racking,
             bed_width=bed_width,
             simulate=simulate,
-            split_bumps=split_bumps,
+            split_bumps=True if split_bumps else None,
         )
     except KnitoutParseError as e:
         raise KnitoutParseError(

@@ -50,7 +50,7 @@ def run_design(
     outdir: Path,
     *,
     mode: Literal["double", "headon"] = "double",
-    n_colors: int = 2,
+    n_colors: int | None = None,
     yarns: str | None = None,
     width: int | None = None,
     resize: bool = False,
@@ -80,23 +80,14 @@ def run_design(
     ``progress(fraction, message)`` hears how far the work is (the command line's bar); the
     designs are judged from ``angle`` degrees and ``distance`` metres. Returns the summary."""
     from illuknit.cli.knitout_bridge import design_unit_aspect, resolve_machine
-    from illuknit.core.errors import ImageInputError, OptionError, TileAssignmentError
+    from illuknit.core.errors import ImageInputError, LongFloatError, TileAssignmentError
     from illuknit.core.views import DEFAULT_SPLIT_SHARE
-    from illuknit.design.options import (
-        Brightness,
-        PictureEdits,
-        RankBy,
-        RankOptions,
-        SearchOptions,
-    )
+    from illuknit.design.options import Brightness, PictureEdits, RankBy, RankOptions, SearchOptions
     from illuknit.pipeline.stages import design_double, design_headon
 
-    if candidates < 1:
-        raise TileAssignmentError(f"--candidates must be at least 1, got {candidates}")
-    if pool is not None and pool < 1:
-        raise TileAssignmentError(f"--pool must be at least 1, got {pool}")
-    if (simplify or suggest) and (mode != "double" or path_b is None):
-        raise OptionError("--simplify and --suggest work on double-view designs (two pictures)")
+    _check_counts(
+        candidates, pool, edits=(simplify or suggest) and (mode != "double" or not path_b)
+    )
     overrides = tuple(_parse_overrides(tile).items())
     ranking = RankOptions(RankBy(rank_by), knit_time, machine, overrides, angle, distance)
     spec = resolve_machine(machine)
@@ -111,6 +102,8 @@ def run_design(
         **({} if pool is None else {"pool": pool}),
     )
     report: Report = progress or (lambda fraction, message: None)
+    pictures = [p for p in (path_a, path_b) if p is not None]
+    n_colors, notes = _colour_count(pictures, n_colors, given_yarns=yarns is not None)
     kw: dict[str, Any] = dict(
         n_colors=n_colors,
         yarns=_yarns_option(yarns),
@@ -123,22 +116,140 @@ def run_design(
         progress=lambda f, message: report(0.7 * f, message),
         unit_aspect=design_unit_aspect(spec),
     )
-    if mode == "double":
-        if path_b is None:
-            raise ImageInputError("a double-view design needs two pictures (A and B)")
-        design = design_double(path_a, path_b, **kw)
-    else:
-        design = design_headon(path_a, path_b, **kw)
+    if mode == "double" and path_b is None:
+        raise ImageInputError("a double-view design needs two pictures (A and B)")
+    redo: Any = design_double if mode == "double" else design_headon
+    design = redo(path_a, path_b, **kw)
     written = len(design.designs)
     if not 1 <= pick <= written:
         raise TileAssignmentError(
             f"--pick must be between 1 and {written} (candidates found), got {pick}"
         )
-    return write_design(
-        design, outdir, pick=pick, sources=[str(path_a), str(path_b) if path_b else None],
-        machine=spec if knitout else None, progress=report, gauge=spec.fabric_gauge,
-        distance=distance, angle=angle,
+    notes += _split_note(design, search)
+    try:
+        return write_design(
+            design, outdir, pick=pick, sources=[str(path_a), str(path_b) if path_b else None],
+            machine=spec if knitout else None, progress=report, gauge=spec.fabric_gauge,
+            distance=distance, angle=angle, notes=notes,
+        )  # fmt: skip
+    except LongFloatError as e:
+        report(0.97, "the knitting was refused: measuring what knits it")
+        kw["progress"] = lambda f, message: None
+        raise _share_remedy(e, outdir, lambda s: redo(path_a, path_b, **{**kw, "search": s}),
+                            search, spec) from None  # fmt: skip
+
+
+def _check_counts(candidates: int, pool: int | None, *, edits: bool) -> None:
+    """Refuse counts below one, and picture edits where there are no two pictures."""
+    from illuknit.core.errors import OptionError, TileAssignmentError
+
+    if candidates < 1:
+        raise TileAssignmentError(f"--candidates must be at least 1, got {candidates}")
+    if pool is not None and pool < 1:
+        raise TileAssignmentError(f"--pool must be at least 1, got {pool}")
+    if edits:
+        raise OptionError("--simplify and --suggest work on double-view designs (two pictures)")
+
+
+def _share_remedy(error: Any, outdir: Path, redesign: Any, search: Any, machine: Any) -> Any:
+    """``error`` (a knitting refusal of a split-bump design, the folder written) with the
+    default split share measured as a remedy: the design made again at that share and its best
+    candidate knit. Said in the error and in the folder's note; ``error`` itself otherwise."""
+    import warnings
+    from dataclasses import replace
+
+    from illuknit.cli.knitout_bridge import REFUSAL_NOTE
+    from illuknit.core.errors import LongFloatError
+    from illuknit.core.files import atomic_write_text
+    from illuknit.core.views import DEFAULT_SPLIT_SHARE
+    from illuknit.knitting import knit_pattern
+
+    if not search.split_bumps or search.split_share <= DEFAULT_SPLIT_SHARE:
+        return error
+    share = DEFAULT_SPLIT_SHARE
+    best = redesign(replace(search, split_share=share, candidates=1)).designs[0].pattern
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            knit = knit_pattern(best, machine=machine).summary()
+        line = (
+            f"designed again with --split-share {share:g}, it knits (measured: "
+            f"{int(best.split.sum())} split bumps, longest float {knit['longest_float']} "
+            f"needles skipped, {knit['passes']} passes)"
+        )
+    except LongFloatError as again:
+        line = (
+            f"--split-share {share:g} was tried and does not help (a float of {again.length} stays)"
+        )
+    note, summary = outdir / REFUSAL_NOTE, outdir / "summary.json"
+    if note.exists():
+        atomic_write_text(note, note.read_text() + f"{line[0].upper()}{line[1:]}\n")
+    if summary.exists():
+        doc = json.loads(summary.read_text())
+        doc["program_refused"] = f"{error}; {line}"
+        atomic_write_text(summary, json.dumps(doc, indent=1) + "\n")
+    return LongFloatError(
+        f"{error}; {line}",
+        length=error.length, carrier=error.carrier, from_needle=error.from_needle,
+        to_needle=error.to_needle, course=error.course, where=error.where, limit=error.limit,
+        count=error.count,
     )  # fmt: skip
+
+
+#: Most distinct colours a picture may have to count as drawn in flat colours.
+_FLAT_MAX = 8
+
+
+def _flat_colours(path: Path) -> int | None:
+    """How many colours ``path`` is drawn in, when it is drawn in a few flat ones (None for a
+    photo or a drawing with soft edges)."""
+    import numpy as np
+
+    from illuknit.core.errors import ImageInputError
+    from illuknit.pictures.decode import read_picture
+
+    try:
+        rgb = read_picture(path).rgb
+    except ImageInputError:  # unreadable: design_* says so, with the right error
+        return None
+    n = len(np.unique(rgb.reshape(-1, 3), axis=0))
+    return n if n <= _FLAT_MAX else None
+
+
+def _colour_count(
+    pictures: list[Path], n_colors: int | None, *, given_yarns: bool
+) -> tuple[int, list[str]]:
+    """The colours each picture is quantised to, and a note saying what was chosen and how to
+    change it. Given ``--colors``, that; else the pictures' own count when each is drawn in
+    the same 2 to 4 flat colours, else 2 (with a note naming any picture that has more)."""
+    if n_colors is not None:
+        return n_colors, []
+    counts = [_flat_colours(p) for p in pictures]
+    if not given_yarns and counts and len(set(counts)) == 1 and counts[0] in (3, 4):
+        n = counts[0]
+        return n, [f"colours: {n}, the pictures' own count (each is drawn in {n} flat colours); "
+                   "--colors N chooses another"]  # fmt: skip
+    more = [f"{p.name} has {c}" for p, c in zip(pictures, counts, strict=True) if c and c > 2]
+    if given_yarns:
+        return 2, []
+    if more:
+        return 2, [f"colours: each picture quantised to 2 (the default), though {', '.join(more)} "
+                   "flat colours; --colors 3 or 4 keeps more"]  # fmt: skip
+    return 2, []
+
+
+def _split_note(design: Any, search: Any) -> list[str]:
+    """A note when split bumps were allowed but no candidate uses one, and why."""
+    if not search.split_bumps or any(int(d.pattern.split.sum()) for d in design.designs):
+        return []
+    n = len(design.designs)
+    return [
+        f"--split-bumps changed nothing: none of the {n} candidate(s) uses a split bump. At "
+        f"split share {search.split_share:g} (each side sees {100 * search.split_share:.0f} % "
+        "of a split bump's colour from its own course) the tile search found plain tiles at "
+        "least as good for every overlap; a split share measured higher on a swatch "
+        "(--split-share, docs/split-bumps.md) may let it choose them"
+    ]
 
 
 def write_design(
@@ -152,13 +263,14 @@ def write_design(
     gauge: Any = None,
     distance: float = 3.0,
     angle: float = 30.0,
+    notes: list[str] | None = None,
 ) -> dict[str, Any]:
     """Write a :class:`~illuknit.pipeline.stages.TileDesign` into ``outdir`` (atomically): each
     candidate's folder, the suggested edits, the default candidate's pattern (and, given a
     machine, its knitout program) and the summary. Returns the summary dict. ``gauge`` (the
     fabric's :class:`~illuknit.core.gauge.Gauge`; default the default machine's) gives the
     finished size; ``angle`` and ``distance`` (metres) the views of each candidate's
-    ``seen.png``."""
+    ``seen.png``; ``notes`` (what a switch did or did not do) go into the summary."""
     from illuknit.core.files import atomic_write_text, staged_dir
     from illuknit.outputs.previews import unit_scale
 
@@ -172,6 +284,7 @@ def write_design(
     rows = []
     chosen = None
     overlap_lines: list[str] = []
+    refused: list[Any] = []  # a knitting refusal, raised once the design is written
     with staged_dir(outdir) as tmp:
         for k, d in enumerate(design.designs):
             n = len(design.designs)
@@ -200,7 +313,7 @@ def write_design(
             from illuknit.cli.knitout_bridge import write_program
 
             report(0.94, "knitting the default candidate and checking it")
-            write_program(chosen, tmp, machine=machine)
+            write_program(chosen, tmp, machine=machine, refused=refused)
         summary = {
             "mode": design.mode,
             "yarns": [{"name": y.name, "rgb": y.hex} for y in design.yarns],
@@ -213,9 +326,14 @@ def write_design(
             "edits": [e.to_json() for e in design.edits],
             "default": pick,
             "candidates": rows,
+            **({"program_refused": str(refused[0])} if refused else {}),
+            "notes": list(notes or ()),
         }
         atomic_write_text(tmp / "summary.json", json.dumps(summary, indent=1) + "\n")
-        atomic_write_text(tmp / "summary.txt", summary_text(summary, overlap_lines))
+        text = summary_text(summary, overlap_lines)
+        atomic_write_text(tmp / "summary.txt", text + "".join(f"note: {n}\n" for n in notes or ()))
+    if refused:
+        raise refused[0]
     return summary
 
 
@@ -374,6 +492,8 @@ def print_summary(summary: dict[str, Any], outdir: Path) -> None:
     files = sorted(p.name for p in outdir.iterdir() if p.is_file())
     con.print(f"  folders: {', '.join(f + '/' for f in folders)}")
     con.print(f"  files: {', '.join(files)}")
+    for note in summary.get("notes", ()):
+        con.print(f"note: {note}", markup=False)
     if "suggestions" in folders:
         con.print(f"  {_edits_found(summary)}")
 
@@ -387,8 +507,9 @@ def _natural(name: str) -> tuple[str, int]:
 def design_options(func: Any) -> Any:
     """Options shared by ``double`` and ``headon``."""
     opts = [
-        click.option("--colors", "n_colors", type=click.IntRange(2, 4), default=2, show_default=True,
-                     help="Colours each picture is quantised to."),
+        click.option("--colors", "n_colors", type=click.IntRange(2, 4), default=None,
+                     help="Colours each picture is quantised to [the pictures' own count when each "
+                     "is drawn in the same 3 or 4 flat colours, else 2; a note says which]."),
         click.option("--yarns", default=None, metavar="N|LIST",
                      help="Number of yarns chosen from the pictures, or a list like 'black,white,#c03030'. Default: --colors."),
         click.option("--width", type=click.IntRange(2, 1000), default=None,

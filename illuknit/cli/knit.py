@@ -50,6 +50,7 @@ def run_knit(
     from dataclasses import replace
 
     from illuknit.cli.knitout_bridge import check_fits, resolve_machine
+    from illuknit.core.errors import LongFloatError
     from illuknit.core.files import STDOUT, write_output_file
     from illuknit.core.machine import BedFitWarning
     from illuknit.core.pattern import load_pattern
@@ -75,12 +76,20 @@ def run_knit(
         changes["float_limit"] = float_limit
     if changes:
         spec = replace(spec, **changes)
-    result = knit_pattern(pattern, machine=spec, options=options)
+    try:
+        result = knit_pattern(pattern, machine=spec, options=options)
+    except LongFloatError as e:
+        from illuknit.knitting.remedies import knit_refusal
+
+        # the remedies measured on this pattern, not guessed
+        raise knit_refusal(
+            pattern, e, machine=spec, options=options, pattern_file=str(pattern_path)
+        ).error from None
     summary = result.summary()
     if check:
         from illuknit.check import check_knitout
 
-        report = check_knitout(result.text, machine=spec, split_bumps=result.split_bumps > 0)
+        report = check_knitout(result.text, machine=spec)  # it declares its bumps
         summary["check"] = {
             "errors": report.n_blocking,
             "warnings": report.n_warnings,
@@ -153,7 +162,7 @@ def run_knit(
     "--float-limit",
     type=NEEDLES,
     default=None,
-    help="Longest yarn float in needles for mixed colourwork [the machine's, 20].",
+    help="Longest yarn float for mixed colourwork, in needles skipped [the machine's, 20].",
 )
 @click.option(
     "--strict-floats",
@@ -301,9 +310,11 @@ def knit(
 def time_line(s: dict[str, Any]) -> str:
     """One line: the estimated time, its range and the bind-off's part of it."""
     basis = "calibrated" if "calibrated on" in s["time_model"] else "preset's"
+    check = f", {s['time_check']}" if "time_check" in s else ""
     return (
-        f"estimated knitting time: {s['time']} ({s['time_range']} at the {basis} carriage "
-        f"speeds), of which the bind-off {s['bind_off_time']} (docs/knitting.md, Time model)"
+        f"estimated knitting time: {s['time']}, of which the bind-off {s['bind_off_time']}; "
+        f"the model's range {s['time_range']} at the {basis} carriage speeds{check}; "
+        "docs/knitting.md, Time model"
     )
 
 
@@ -317,20 +328,12 @@ def _echo_summary(s: dict[str, Any], output_format: str, echo: Callable[[str], o
         f"finished size: about {s['finished_size_text']} at "
         f"{s['finished_size']['gauge']} ({s['finished_size']['gauge_source']})"
     )
+    from illuknit.knitting.pipeline import passes_text
+
     if s.get("passes_counted_on") == "kc":
-        echo(
-            f"passes: {s['passes']} on the {s['machine']} (its machine file: waste section "
-            f"and the backend's carriage moves included); the schedule's "
-            f"{s['schedule_passes']}: knit {s['knit_passes']}, transfer "
-            f"{s['transfer_passes']}, cast-on {s['cast_on_passes']}, bind-off "
-            f"{s['bind_off_passes']}; its lower bound {s['schedule_lower_bound']}"
-        )
+        echo(f"{passes_text(s)}; the schedule's lower bound {s['schedule_lower_bound']}")
     else:
-        echo(
-            f"passes: {s['passes']} (knit {s['knit_passes']}, transfer "
-            f"{s['transfer_passes']}, cast-on {s['cast_on_passes']}, bind-off "
-            f"{s['bind_off_passes']}); lower bound {s['lower_bound']}, ratio {s['ratio']:.2f}"
-        )
+        echo(f"{passes_text(s)}; lower bound {s['lower_bound']}, ratio {s['ratio']:.2f}")
     if s.get("scheduler") == "mixed-colourwork":
         echo(
             f"mixed colourwork: {s['carriers']} carrier(s), {s['tuck_joins']} tuck join(s), "
@@ -340,6 +343,8 @@ def _echo_summary(s: dict[str, Any], output_format: str, echo: Callable[[str], o
             f"{s['kickbacks']} backend kickback(s)"
         )
     echo(time_line(s))
+    if "bumps" in s:
+        echo(f"bumps: {s['bumps']}; illuknit check reads it")
     _echo_machine_sheet(s, echo)
     chk = s.get("check", False)
     if chk is None:
@@ -375,13 +380,15 @@ def _echo_machine_sheet(s: dict[str, Any], echo: Callable[[str], object] = click
     """What the machine knitter sets up: cones on carriers, stitch numbers, needles, time."""
     echo(
         f"on the {s['machine']}: {s['machine_passes']} passes, about {s['machine_time']} "
-        f"({s['machine_time_range']})"
+        f"(the model's range {s['machine_time_range']})"
     )
     for row in s["carrier_table"]:
         echo(f"  carrier {row['carrier']}: {row['yarn']} ({row['role']})")
     numbers = ", ".join(map(str, s["stitch_numbers"])) or "machine default"
     lo, hi = s["needle_range"]
     echo(f"  stitch numbers: {numbers}; needles {lo}..{hi}")
+    if "floats" in s:
+        echo(f"  floats: {s['floats']}")
     echo("  " + describe_settings(s))
 
 

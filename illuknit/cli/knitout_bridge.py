@@ -10,9 +10,11 @@ The ``--format`` option (:func:`format_option`) asks for machine files beside ``
 cannot take, or one asked for without ``--knitout``, before any work is done.
 
 One long-float policy (:func:`long_floats_option`): a float that stays longer than the machine's
-float limit after tucking stops the command with one line naming the course and what to change
-(exit code 2, and the output folder is left as it was); ``--allow-long-floats`` writes the program
-anyway, with one ``illuknit: warning:`` line saying how long the longest float is and where.
+float limit after tucking stops the command with one line naming the course and the remedies
+that were tried and knit it (exit code 2); the design commands still write the pattern folder,
+all but the program, with :data:`REFUSAL_NOTE` saying why. ``--allow-long-floats`` writes the
+program anyway, with one ``illuknit: warning:`` line saying how long the longest float is and
+where.
 """
 
 from __future__ import annotations
@@ -24,12 +26,15 @@ from typing import Any
 
 import click
 
+from illuknit.core.errors import LongFloatError
 from illuknit.core.files import atomic_write_text
 from illuknit.core.machine import DEFAULT_MACHINE_NAME, MachineSpec, machine_names
 from illuknit.core.machine import resolve_machine as machine_spec
 from illuknit.core.pattern import LogicalPattern
+from illuknit.knit.options import KnitOptions
 
 __all__ = [
+    "REFUSAL_NOTE",
     "check_fits",
     "design_unit_aspect",
     "format_option",
@@ -41,6 +46,9 @@ __all__ = [
     "transfer_overrides",
     "write_program",
 ]
+
+#: The note a design folder holds instead of ``program.k`` when the knitting was refused.
+REFUSAL_NOTE = "program-refused.txt"
 
 #: where the ``--format`` choices of the running command are kept (click context meta)
 _FORMATS_KEY = "illuknit.machine_files"
@@ -282,6 +290,7 @@ def write_program(
     formats: tuple[str, ...] | None = None,
     allow_long_floats: bool | None = None,
     tall_bumps: bool = False,
+    refused: list[LongFloatError] | None = None,
 ) -> dict[str, Path]:
     """Compile ``pattern`` for ``machine`` to ``program.k`` and write the checker's report beside it.
 
@@ -298,6 +307,10 @@ def write_program(
     A float longer than the machine's float limit raises
     :class:`~illuknit.core.errors.LongFloatError` before anything is written, unless
     ``allow_long_floats`` (default: whether the command was given ``--allow-long-floats``).
+    Given a ``refused`` list, it instead writes :data:`REFUSAL_NOTE` (why, and the remedies
+    measured by :func:`~illuknit.knitting.remedies.knit_refusal`), appends the error (its
+    message naming those remedies) for the caller to raise once the rest of the design is
+    written, and returns ``{"refused": path}``.
     """
     import json
 
@@ -314,10 +327,20 @@ def write_program(
         check_format(spec, fmt)
     if allow_long_floats is None:
         allow_long_floats = long_floats_allowed()
-    result = knit_pattern(
-        pattern, machine=spec, allow_long_floats=allow_long_floats, tall_bumps=tall_bumps
-    )
-    report = check_knitout(result.program, machine=spec, split_bumps=result.split_bumps > 0)
+    try:
+        result = knit_pattern(
+            pattern, machine=spec, allow_long_floats=allow_long_floats, tall_bumps=tall_bumps
+        )
+    except LongFloatError as e:
+        if refused is None:
+            raise
+        from illuknit.knitting.remedies import knit_refusal
+
+        refusal = knit_refusal(pattern, e, machine=spec, options=KnitOptions(tall_bumps=tall_bumps))
+        refused.append(refusal.error)
+        console().print(f"knitout: refused; the design is written, {REFUSAL_NOTE} says why")
+        return {"refused": atomic_write_text(outdir / REFUSAL_NOTE, refusal.note)}
+    report = check_knitout(result.program, machine=spec)  # it declares its bumps
     sheet = machine_sheet(result, name="program.kc")
     summary = machine_headline(result.summary(), sheet)
     console().print(f"knitout: {_describe(summary)}")
@@ -351,6 +374,10 @@ def _describe(summary: dict[str, object]) -> str:
         if key in summary:
             parts.append(f"{key.replace('_', ' ')} {summary[key]}")
     for key, val in summary.items():
-        if "time" in key and isinstance(val, (int, float, str)):
+        if "time" in key and key != "time_range_is" and isinstance(val, (int, float, str)):
             parts.append(f"{key.replace('_', ' ')} {val}")
+    if "floats" in summary:
+        parts.append(f"floats: {summary['floats']}")
+    if "bumps" in summary:
+        parts.append(f"bumps: {summary['bumps']}")
     return ", ".join(parts) or "written"

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import click
 
@@ -84,6 +84,7 @@ def run_single(
             "stripes by design and are not counted)",
         },
     }
+    refused: list[Any] = []  # a knitting refusal, raised once the design is written
     with staged_dir(outdir) as tmp:
         say(0.2, "writing the pattern, previews, chart and instructions")
         paths = export_pattern(
@@ -104,7 +105,9 @@ def run_single(
             from illuknit.cli.knitout_bridge import write_program
 
             say(0.5, "knitting it and checking the program")
-            paths.update(write_program(pattern, tmp, machine=spec))
+            paths.update(write_program(pattern, tmp, machine=spec, refused=refused))
+    if refused:  # the design is written, with the note saying why there is no program
+        raise refused[0]
     return {k: Path(outdir) / p.name for k, p in paths.items()}
 
 

@@ -238,6 +238,7 @@ def _write_outputs(
     from illuknit.outputs.export import export_pattern
 
     say = stage or (lambda message: None)
+    refused: list[Any] = []  # a knitting refusal, raised once the design is written
     with staged_dir(outdir) as tmp:
         say("writing the pattern, previews, chart and pattern PDF")
         paths = export_pattern(
@@ -250,7 +251,9 @@ def _write_outputs(
         paths["seen"] = write_seen(pattern, pictures, tmp, mode=mode, gauge=gauge, distance=3.0)
         if machine is not None:
             say("knitting the pattern and checking the knitout")
-            paths.update(write_program(pattern, tmp, machine=machine))
+            paths.update(write_program(pattern, tmp, machine=machine, refused=refused))
+    if refused:  # the design is written, with the note saying why there is no program
+        raise refused[0]
     return {k: Path(outdir) / p.name for k, p in paths.items()}
 
 

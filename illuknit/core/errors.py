@@ -188,7 +188,7 @@ class LongFloatError(SchedulingError):
     allowed (``allow_long_floats=False``, the default; ``--allow-long-floats`` on the CLI).
 
     The message names where the longest float is and what to change. Attributes describe that
-    float: ``length`` (needles crossed), ``carrier``, ``from_needle``, ``to_needle``, ``course``
+    float: ``length`` (needles skipped), ``carrier``, ``from_needle``, ``to_needle``, ``course``
     (the course index, None at the bind-off) and ``where`` (the course named as the message names
     it); ``limit`` is the float limit and ``count`` how many floats stay long.
     """

@@ -230,10 +230,11 @@ def long_float_error(
     """The error for floats that stay long: how many, the longest, where, what to change."""
     worst = max(long, key=lambda f: f.length)
     where = worst.where(stitches)
+    fewer = "fewer --colors / --yarns, or " if len(stitches.yarns) > 2 else ""
     fix = (
-        "use fewer colour regions per row there (fewer --colors / --yarns, or a smoothed "
-        f"picture), a wider float limit (illuknit knit --float-limit N, now {limit}), or keep "
-        "the long floats (--allow-long-floats)"
+        f"use fewer colour regions per row there ({fewer}a smoothed picture), a wider float "
+        f"limit (illuknit knit --float-limit N, now {limit}), or keep the long floats "
+        "(--allow-long-floats)"
     )
     waste = [f.length for f in long if f.place == "the waste section"]
     if waste:
@@ -243,8 +244,8 @@ def long_float_error(
             f"apart: a float limit below {max(waste)} needs fewer yarns (--colors / --yarns)"
         )
     return LongFloatError(
-        f"{len(long)} float(s) stay longer than the float limit of {limit} needles; the "
-        f"longest, {worst.length} needles of carrier {worst.carrier} (needles "
+        f"{len(long)} float(s) stay longer than the float limit of {limit} needles skipped; "
+        f"the longest, {worst.length} needles skipped of carrier {worst.carrier} (needles "
         f"{worst.from_needle} to {worst.to_needle}), is at {where}: {fix}",
         length=worst.length,
         carrier=worst.carrier,

@@ -37,14 +37,61 @@ from illuknit.knit.ir import PassKind
 from illuknit.knit.schedule import Schedule
 
 __all__ = [
+    "PAPER_SCALE",
     "MachineRun",
+    "PaperScaleCheck",
     "TimeEstimate",
     "TimingFit",
     "calibrate_timing",
     "estimate_knit_time",
     "format_duration",
+    "paper_scale_text",
     "run_seconds",
 ]
+
+
+@dataclass(frozen=True)
+class PaperScaleCheck:
+    """The time model against a knit the paper timed that it was not fitted to.
+
+    ``estimate_seconds`` and ``high_seconds`` are the model's estimate and the slow end of its
+    range for a piece of that size, ``measured_seconds`` the paper's time
+    (``python benchmarks/knit_time.py`` prints them; docs/knitting.md, Time model)."""
+
+    piece: str
+    estimate_seconds: float
+    high_seconds: float
+    measured_seconds: float
+
+    @property
+    def ratio(self) -> float:
+        """Estimate / measured."""
+        return self.estimate_seconds / self.measured_seconds
+
+    @property
+    def high_ratio(self) -> float:
+        """The range's slow end / measured."""
+        return self.high_seconds / self.measured_seconds
+
+
+#: The paper's Van Gogh-size knit (section 9: ten hours on the SWG091N2) against the model's
+#: estimate for the bundled tile design of that size (``astronaut-coffee-3``, 400 x 660
+#: stitches, 3 yarns) on ``generic540``, as ``benchmarks/knit_time.py`` measured it (2026-12).
+PAPER_SCALE = PaperScaleCheck(
+    "the paper's Van Gogh size (400 x 660 stitches, timed at 10 h)",
+    estimate_seconds=4 * 3600 + 39 * 60,
+    high_seconds=6 * 3600 + 16 * 60,
+    measured_seconds=10 * 3600.0,
+)
+
+
+def paper_scale_text(check: PaperScaleCheck = PAPER_SCALE) -> str:
+    """One line: what the paper-scale check says about the model's range."""
+    return (
+        f"not a bound on the real time: at {check.piece} the model gives "
+        f"{check.ratio:.2f}x the measured time, its slow end {check.high_ratio:.2f}x "
+        "(the heart / ECG's 1.00x is fitted)"
+    )
 
 
 @dataclass(frozen=True)
@@ -99,6 +146,12 @@ class TimeEstimate:
 
     def __str__(self) -> str:
         return format_duration(self.seconds)
+
+    @property
+    def preset_model(self) -> bool:
+        """True when the time is the preset's model (not calibrated on a knit, not linear):
+        the one :data:`PAPER_SCALE` checks."""
+        return "calibrated on" not in self.model and not self.model.startswith("linear")
 
     @property
     def range_text(self) -> str:

@@ -16,7 +16,7 @@ from __future__ import annotations
 import warnings
 from dataclasses import dataclass, fields, replace
 from functools import cached_property
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from illuknit.core.errors import (
     CarrierShortageError,
@@ -35,16 +35,30 @@ from illuknit.knit.mixed import long_float_error, schedule_mixed
 from illuknit.knit.options import Catching, KnitOptions
 from illuknit.knit.schedule import Schedule, ScheduleStats, schedule_courses
 from illuknit.knit.stitches import StitchPattern, lower_to_stitches
-from illuknit.knit.timing import MachineRun, TimeEstimate, estimate_knit_time, format_duration
+from illuknit.knit.timing import (
+    MachineRun,
+    TimeEstimate,
+    estimate_knit_time,
+    format_duration,
+    paper_scale_text,
+)
+from illuknit.knitout.bumps import BUMPS_COMMENT, declare_bumps, declared_bumps
 from illuknit.knitting.carriage import kc_run, machine_run, machine_stats, runs_on_swg
 
+if TYPE_CHECKING:
+    from illuknit.check.floats import Float
+
 __all__ = [
+    "FLOAT_UNIT",
     "KC_NAME",
+    "FloatFacts",
     "KcFigures",
     "KnitResult",
     "LongFloatWarning",
     "knit_pattern",
     "long_float_warning",
+    "passes_text",
+    "program_float_facts",
     "program_long_floats",
 ]
 
@@ -60,6 +74,45 @@ _SUMMARY_MIXED = ("tuck_joins", "plated_stitches", "carriers", "float_avoidance_
 
 #: The file name :attr:`KnitResult.kc` names in its comment line.
 KC_NAME = "command.kc"
+
+
+#: The one unit every float figure is in (the checker's, ``docs/knitting.md``, Floats).
+FLOAT_UNIT = "needles skipped"
+
+
+@dataclass(frozen=True)
+class FloatFacts:
+    """A program's floats against its float limit, all in needles skipped (:data:`FLOAT_UNIT`:
+    the needle slots strictly between two consecutive loops of one carrier, the checker's
+    measure, :mod:`illuknit.check.floats`).
+
+    Attributes
+    ----------
+    limit : int
+        The float limit: a float of ``limit`` needles skipped is allowed, one longer is not.
+    longest : LongFloat or None
+        The longest float of the program, placed (None when no float skips a needle).
+    at_limit : int
+        Floats exactly at the limit (allowed, but as long as a float may be; other tools,
+        counting needles spanned or using ``>=``, call these long).
+    long : tuple of LongFloat
+        Floats over the limit (kept only with ``allow_long_floats``).
+    """
+
+    limit: int
+    longest: LongFloat | None
+    at_limit: int
+    long: tuple[LongFloat, ...]
+
+    def text(self, stitches: StitchPattern) -> str:
+        """One line (after ``floats:``): the longest float, where it is, and the counts at and over the limit."""
+        if self.longest is None:
+            return f"no float skips a needle (float limit {self.limit} {FLOAT_UNIT})"
+        f = self.longest
+        return (
+            f"longest {f.length} {FLOAT_UNIT} (carrier {f.carrier}, {f.where(stitches)}); "
+            f"{self.at_limit} at the float limit of {self.limit}, {len(self.long)} over it"
+        )
 
 
 @dataclass(frozen=True)
@@ -95,6 +148,8 @@ class KnitResult:
     split_bumps : int
         Raised units knit as split bumps (``LogicalPattern.upper``); check the program with
         ``check_knitout(..., split_bumps=True)`` when there are any.
+    floats : FloatFacts or None
+        The program's longest float and its floats at and over the float limit.
     """
 
     text: str
@@ -104,6 +159,7 @@ class KnitResult:
     time: TimeEstimate
     machine: MachineSpec
     split_bumps: int = 0
+    floats: FloatFacts | None = None
 
     @property
     def program(self) -> str:
@@ -128,12 +184,42 @@ class KnitResult:
         course), or ``(0, None)``."""
         if not self.schedule.long_floats:
             return 0, None
-        f = max(self.schedule.long_floats, key=lambda x: x.length)
+        return self._float_place(max(self.schedule.long_floats, key=lambda x: x.length))
+
+    def _float_place(self, f: LongFloat) -> tuple[int, str]:
         where = f.where(self.stitches)
         return (
             f.length,
             f"carrier {f.carrier}, needles {f.from_needle} to {f.to_needle}, at {where}",
         )
+
+    def _bumps(self) -> dict[str, str]:
+        """``{"bumps": ...}``: what bumps the program declares (none for plain bumps)."""
+        declared = declared_bumps(self.text)
+        if not declared:
+            return {}
+        return {"bumps": f"{declared.text()}, declared in the program ('{BUMPS_COMMENT}')"}
+
+    def _float_summary(self) -> dict[str, Any]:
+        """The summary's float figures: the longest float of the program (not only over the
+        limit) and the counts at and over the limit, in :data:`FLOAT_UNIT`."""
+        longest, longest_at = self._longest_float()
+        facts = self.floats
+        at_limit = 0
+        text = None
+        if facts is not None:
+            at_limit, text = facts.at_limit, facts.text(self.stitches)
+            if facts.longest is not None and facts.longest.length >= longest:
+                longest, longest_at = self._float_place(facts.longest)
+        return {
+            "float_limit": self.machine.float_limit if facts is None else facts.limit,
+            "float_unit": FLOAT_UNIT,
+            "long_floats": len(self.schedule.long_floats),
+            "floats_at_limit": at_limit,
+            "longest_float": longest,
+            "longest_float_at": longest_at,
+            **({"floats": text} if text is not None else {}),
+        }
 
     def summary(self) -> dict[str, Any]:
         """JSON-ready numbers: size, passes, bound, ratio, time.
@@ -148,7 +234,6 @@ class KnitResult:
         fabric = self.machine.fabric_gauge
         size = FinishedSize(w * fabric.stitch_cm, c * fabric.row_cm, fabric)
         wcm, hcm = size.width_cm, size.height_cm
-        longest, longest_at = self._longest_float()
         out = {
             "machine": self.machine.label,
             "needles": self.machine.needles,
@@ -169,9 +254,7 @@ class KnitResult:
                 if self.schedule.mixed is not None
                 else {}
             ),
-            "long_floats": len(self.schedule.long_floats),
-            "longest_float": longest,
-            "longest_float_at": longest_at,
+            **self._float_summary(),
             "time_seconds": round(self.time.seconds, 1),
             "time": str(self.time),
             "time_range_seconds": [
@@ -180,18 +263,76 @@ class KnitResult:
             ],
             "time_range": self.time.range_text,
             "time_model": self.time.model,
+            "time_range_is": "the model's range (the documented carriage speeds and overrun)",
+            **({"time_check": paper_scale_text()} if self.time.preset_model else {}),
             "bind_off_time_seconds": round(self.time.bind_off_seconds, 1),
             "bind_off_time": format_duration(self.time.bind_off_seconds),
             "lines": self.text.count("\n"),
             # (only when asked for: the summary of a plain pattern stays as it was)
             **({"split_bumps": self.split_bumps} if self.split_bumps else {}),
+            **self._bumps(),
             **(
                 {"tall_bump_tucks": int(self.stitches.tuck_first.sum())}
                 if self.stitches.tuck_first is not None
                 else {}
             ),
         }
-        return _on_kc(out, self.kc_figures)
+        return _with_pass_splits(_on_kc(out, self.kc_figures), self)
+
+
+def _with_pass_splits(summary: dict[str, Any], result: KnitResult) -> dict[str, Any]:
+    """``summary`` with ``passes_by_kind`` (the headline ``passes`` split by what each pass
+    does; the parts sum to ``passes``) and ``passes_by_part`` (the schedule's own passes split
+    by the part of the piece they knit; the parts sum to ``schedule_passes``, or to ``passes``
+    when the schedule's passes are the headline's). A pass is in one part of each split; the
+    two splits cut the same passes two ways (a bind-off pass is also a knit or a transfer)."""
+    s = summary
+    kc = result.kc_figures
+    kinds: dict[str, int]
+    if kc is not None:
+        kinds = dict(kc.run.kinds)
+    else:
+        kinds = {
+            "knit": s["knit_passes"],
+            "transfer": s["transfer_passes"],
+            "carrier move": s["miss_passes"],
+        }
+        if s.get("schedule_passes") is not None:  # counted on the SWG machine's passes
+            kinds.update({"hook": s["hook_passes"], "kickback": s["kickbacks"]})
+    kinds["other"] = s["passes"] - sum(kinds.values())
+    own = result.schedule.stats
+    parts = {
+        "cast-on": own.cast_on_passes,
+        "body": own.body_passes,
+        "bind-off": own.bind_off_passes,
+    }
+    parts["other"] = own.passes - sum(parts.values())
+    return {
+        **s,
+        "passes_by_kind": {k: v for k, v in kinds.items() if v},
+        "passes_by_part": {k: v for k, v in parts.items() if v},
+        "schedule_passes": own.passes,
+    }
+
+
+def passes_text(summary: dict[str, Any]) -> str:
+    """One line: the headline passes as the sum of their kinds, and the schedule's passes as
+    the sum of the parts of the piece (both add up; see :meth:`KnitResult.summary`)."""
+    s = summary
+    kinds = " + ".join(f"{k} {v}" for k, v in s["passes_by_kind"].items())
+    parts = " + ".join(f"{k} {v}" for k, v in s["passes_by_part"].items())
+    on_kc = s.get("passes_counted_on") == "kc"
+    if s["schedule_passes"] == s["passes"] and not on_kc:
+        return f"passes: {s['passes']} = {kinds}; by part: {parts}"
+    where, adds = (
+        ("its .kc", "the .kc adds the waste section and the backend's carriage moves")
+        if on_kc
+        else ("the machine", "the machine adds hook passes and kickbacks")
+    )
+    return (
+        f"passes: {s['passes']} on {where} = {kinds}; the schedule's {s['schedule_passes']} "
+        f"by part: {parts} ({adds})"
+    )
 
 
 def _on_kc(summary: dict[str, Any], kc: KcFigures | None) -> dict[str, Any]:
@@ -282,14 +423,16 @@ def knit_pattern(
         tall_bumps=opts.tall_bumps,
     )
     text, schedule = _written(_schedule(stitches, m, plan_machine, opts), m)
+    text = declare_bumps(text, split=int(pattern.split.sum()), tall=stitches.tuck_first is not None)
     # One float truth: the floats reported (and refused) are the program's, measured as the
     # checker measures them.
     limit = plan_machine.float_limit
-    long = program_long_floats(text, schedule, limit)
+    facts = program_float_facts(text, schedule, limit)
+    long = facts.long
     schedule = replace(schedule, long_floats=long)
     if long and (opts.strict_floats or not opts.allow_long_floats):
         raise long_float_error(long, stitches, limit)
-    result = _measured(text, stitches, schedule, m, split=int(pattern.split.sum()))
+    result = _measured(text, stitches, schedule, m, split=int(pattern.split.sum()), floats=facts)
     if schedule.long_floats:
         warnings.warn(LongFloatWarning(long_float_warning(result)), stacklevel=2)
     return result
@@ -314,10 +457,17 @@ def _written(schedule: Schedule, m: MachineSpec) -> tuple[str, Schedule]:
 
 
 def _measured(
-    text: str, stitches: StitchPattern, schedule: Schedule, m: MachineSpec, *, split: int = 0
+    text: str,
+    stitches: StitchPattern,
+    schedule: Schedule,
+    m: MachineSpec,
+    *,
+    split: int = 0,
+    floats: FloatFacts | None = None,
 ) -> KnitResult:
     """The result with its passes and time: on a Shima, what the machine runs for ``text``
-    (not the schedule's own passes); ``split`` is its count of split bumps."""
+    (not the schedule's own passes); ``split`` is its count of split bumps, ``floats`` its
+    float figures."""
     if runs_on_swg(m):
         run = machine_run(text)
         return KnitResult(
@@ -328,9 +478,10 @@ def _measured(
             estimate_knit_time(schedule, run=run),
             m,
             split,
+            floats,
         )
     return KnitResult(
-        text, stitches, schedule, schedule.stats, estimate_knit_time(schedule), m, split
+        text, stitches, schedule, schedule.stats, estimate_knit_time(schedule), m, split, floats
     )
 
 
@@ -360,13 +511,21 @@ def program_long_floats(text: str, schedule: Schedule, limit: int) -> tuple[Long
     waste section of a machine without an inserting hook): the schedule's operations, one line
     each, end the program, so a float's line names its step and course.
     """
-    from illuknit.check.floats import long_floats
+    return program_float_facts(text, schedule, limit).long
+
+
+def program_float_facts(text: str, schedule: Schedule, limit: int) -> FloatFacts:
+    """The floats of the program ``text`` against ``limit``: the longest, how many sit exactly
+    at the limit and the ones over it, measured as the checker measures them
+    (:func:`illuknit.check.floats.program_floats`: needles skipped) and placed in ``schedule``
+    (see :func:`program_long_floats`)."""
+    from illuknit.check.floats import program_floats
     from illuknit.knitout.parse import parse_knitout
 
     program = parse_knitout(text)
-    found = long_floats(program, limit)
+    found = program_floats(program)
     if not found:
-        return ()
+        return FloatFacts(limit, None, 0, ())
     owner = [
         i
         for i, step in enumerate(schedule.steps)
@@ -375,17 +534,23 @@ def program_long_floats(text: str, schedule: Schedule, limit: int) -> tuple[Long
     lines = [op.line for op in program.operations if op.op in _STEP_OPS]
     offset = len(lines) - len(owner)
     index = {line: k - offset for k, line in enumerate(lines)}
-    out: list[LongFloat] = []
-    for f in found:
+
+    def placed(f: Float) -> LongFloat:
         k = index[f.line]
         if k < 0:
-            out.append(LongFloat(-1, f.carrier, f.from_slot, f.to_slot, None, "the waste section"))
-            continue
+            return LongFloat(-1, f.carrier, f.from_slot, f.to_slot, None, "the waste section")
         step = schedule.steps[owner[k]]
         assert isinstance(step, Pass)
         place = "the cast-on" if step.role is Role.CAST_ON else None
-        out.append(LongFloat(owner[k], f.carrier, f.from_slot, f.to_slot, step.course, place))
-    return tuple(out)
+        return LongFloat(owner[k], f.carrier, f.from_slot, f.to_slot, step.course, place)
+
+    longest = max(found, key=lambda f: f.length)
+    return FloatFacts(
+        limit,
+        placed(longest),
+        sum(f.length == limit for f in found),
+        tuple(placed(f) for f in found if f.length > limit),
+    )
 
 
 def _schedule(
@@ -445,6 +610,6 @@ def long_float_warning(result: KnitResult) -> str:
     longest, at = result._longest_float()
     return (
         f"{count} float(s) longer than the float limit of "
-        f"{result.machine.float_limit} needles kept (allowed long floats); the longest, "
-        f"{longest} needles: {at}"
+        f"{result.machine.float_limit} {FLOAT_UNIT} kept (allowed long floats); the longest, "
+        f"{longest} {FLOAT_UNIT}: {at}"
     )

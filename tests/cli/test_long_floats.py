@@ -1,9 +1,10 @@
 """``--allow-long-floats`` on every command with ``--knitout``: refuse long floats by default
-(one line, exit 2, the output folder left as it was), keep them with one warning line."""
+(one line, exit 2, the design written without its program), keep them with one warning line."""
 
 from __future__ import annotations
 
 import json
+import re
 
 import numpy as np
 import pytest
@@ -35,7 +36,11 @@ def speckled(tmp_path):
     return paths
 
 
-def test_double_refuses_a_long_float_and_writes_nothing(speckled, tight, tmp_path, run_cli):
+def test_double_refuses_a_long_float_and_keeps_the_design(speckled, tight, tmp_path, run_cli):
+    """A knitting refusal never loses the design: the folder is written, all but the program,
+    with a note saying why; the one error line names the remedies measured on this pattern
+    (tall bumps knit it here, or not: whatever was tried is named with what it gave), never
+    'fewer --colors' for a two-colour design."""
     out = tmp_path / "out"
     out.mkdir()
     (out / "keep.txt").write_text("mine")
@@ -44,9 +49,17 @@ def test_double_refuses_a_long_float_and_writes_nothing(speckled, tight, tmp_pat
     assert code == 2, err
     lines = err.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("illuknit: error:")
-    assert "longer than the float limit of 1 needles" in err and "at course " in err
-    assert "--allow-long-floats" in err
-    assert sorted(p.name for p in out.iterdir()) == ["keep.txt"]  # rolled back
+    assert "longer than the float limit of 1 needles skipped" in err and "at course " in err
+    assert "--allow-long-floats" in err and "--tall-bumps" in err and "--colors" not in err
+    names = {p.name for p in out.iterdir()}
+    assert {"keep.txt", "pattern.json", "summary.json", "program-refused.txt"} <= names
+    assert "program.k" not in names
+    note = (out / "program-refused.txt").read_text()
+    assert "--tall-bumps" in note and "--allow-long-floats" in note
+    assert (
+        json.loads((out / "summary.json").read_text())["program_refused"]
+        == (lines[0].partition("error: ")[2])
+    )
 
 
 def test_double_allow_long_floats_warns_how_long_and_where(speckled, tight, tmp_path, run_cli):
@@ -108,3 +121,20 @@ def test_every_command_with_knitout_takes_allow_long_floats():
     assert {"single", "double", "headon", "solve", "demo", "calibrate swatch"} <= set(with_knitout)
     for name, params in with_knitout.items():
         assert "allow_long_floats" in params, name
+
+
+def test_a_refused_split_bump_design_measures_the_default_share(speckled, tight, tmp_path, run_cli):
+    """A split-bump design refused for a long float is designed again at the default split
+    share and knit: what that gave (it knits, or it is refused too) is in the error line, the
+    folder's note and summary.json, measured, not guessed."""
+    out = tmp_path / "out"
+    args = ["double", *speckled, "-o", out, "--candidates", 1, "--width", 12]
+    code, _, err = run_cli([*args, "--split-share", "1.0", "--knitout", "--machine", tight])
+    assert code == 2, err
+    assert "designed again with --split-share 0.75, it " in err
+    assert re.search(r"it (knits \(measured: \d+ split bumps|is refused too)", err), err
+    note = (out / "program-refused.txt").read_text()
+    assert "Designed again with --split-share 0.75" in note
+    refused = json.loads((out / "summary.json").read_text())["program_refused"]
+    assert "designed again with --split-share 0.75" in refused
+    assert "program.k" not in {p.name for p in out.iterdir()}

@@ -130,11 +130,14 @@ def test_the_float_into_a_tall_bump_tuck_pass_is_tucked(
         _run(backend, result.program, tmp_path, suffix)
 
 
-def test_split_bumps_need_the_checker_told() -> None:
+def test_split_bumps_are_declared_and_the_checker_reads_them() -> None:
+    # the program declares its split bumps (illuknit.knitout.bumps): one verdict, no flag
     result = knit_pattern(SPLIT)
-    codes = check_knitout(result.program).codes()
-    assert codes["bump-yarn-change"] == 2 * int(SPLIT.split.sum())  # each purl of each split bump
+    assert check_knitout(result.program).ok
     assert check_knitout(result.program, split_bumps=True).ok
+    # told otherwise, the checker finds each purl of each split bump
+    codes = check_knitout(result.program, split_bumps=False).codes()
+    assert codes["bump-yarn-change"] == 2 * int(SPLIT.split.sum())
     assert "split_bumps" not in knit_pattern(MIXED).summary()
 
 

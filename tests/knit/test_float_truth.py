@@ -1,7 +1,7 @@
 """One float truth: the floats ``knit`` reports are the checker's, on every machine and mode.
 
-``KnitResult.summary()``'s ``long_floats`` / ``longest_float`` and the checker's ``long-float``
-warnings are both measured on the written program (:mod:`illuknit.check.floats`); these tests
+``KnitResult.summary()``'s ``long_floats`` / ``longest_float`` / ``floats_at_limit``, the
+checker's ``long-float`` warnings and its report's ``floats`` are all measured on the written program (:mod:`illuknit.check.floats`); these tests
 hold random patterns, knitted on each preset with every scheduling switch, to that.
 """
 
@@ -65,7 +65,13 @@ def assert_one_float_truth(result) -> None:
     over = [f.length for f in sim.floats if f.length > limit]
     s = result.summary()
     assert s["long_floats"] == len(warned) == len(over)
-    assert s["longest_float"] == max(over, default=0)
+    # the true longest float and the count at the limit, always (not only over the limit),
+    # in one unit, the same in the summary and in the checker's report
+    lengths = [f.length for f in sim.floats]
+    assert s["longest_float"] == max(lengths, default=0) == report.floats["longest"]
+    assert s["floats_at_limit"] == lengths.count(limit) == report.floats["at_limit"]
+    assert s["float_unit"] == report.floats["unit"] == "needles skipped"
+    assert report.floats["over_limit"] == len(over)
     assert [(f.from_needle, f.to_needle) for f in result.schedule.long_floats] == [
         (f.from_slot, f.to_slot) for f in sim.floats if f.length > limit
     ]
@@ -98,3 +104,33 @@ def test_knit_reports_the_floats_the_checker_finds(machine, pattern, mode, limit
     if not m.inserting_hook:  # and the reference Kniterate backend takes it as we convert it
         with tempfile.TemporaryDirectory() as tmp:
             assert assert_same_as_reference(result.text, Path(tmp)) is not None
+
+
+def test_floats_at_the_limit_are_reported_with_the_longest_float(tmp_path):
+    """Two yarns alternating in blocks wider than the float limit: every float sits exactly at
+    the limit. Before, ``longest_float`` read 0 and nothing counted them; now ``knit``, the
+    summary, the set-up sheet and ``check`` all say the longest float and how many sit at the
+    limit, in needles skipped."""
+    from click.testing import CliRunner
+
+    from illuknit.cli import cli
+    from illuknit.core.pattern import save_pattern
+
+    yarn = np.tile(np.repeat([0, 1], 4), (2, 2))  # runs of 4 units = 8 needles
+    pattern = LogicalPattern(yarn, np.zeros_like(yarn, bool), YARNS[:2])
+    m = replace(MACHINES["generic540"], float_limit=8)
+    result = knit_pattern(pattern, machine=m)
+    s = result.summary()
+    lengths = [f.length for f in program_floats(parse_knitout(result.text))]
+    assert s["longest_float"] == max(lengths) == 8 and s["long_floats"] == 0
+    assert s["floats_at_limit"] == lengths.count(8) > 0
+    assert s["floats"].startswith("longest 8 needles skipped")
+    save_pattern(pattern, tmp_path / "p.json")
+    run = CliRunner().invoke(
+        cli, ["knit", str(tmp_path / "p.json"), "-o", str(tmp_path / "p.k"), "--float-limit", "8"]
+    )
+    assert run.exit_code == 0, run.output
+    assert f"floats: {s['floats']}" in run.output
+    run = CliRunner().invoke(cli, ["check", str(tmp_path / "p.k"), "--float-limit", "8"])
+    assert f"{s['floats_at_limit']} at the float limit of 8, 0 over it" in run.output
+    assert "floats: longest 8 needles skipped" in run.output
