@@ -186,18 +186,22 @@ def write_seen(
     else:
         views = [("head-on", 90.0, pictures[0])]
         views += [("side A", angle, pictures[1]), ("side B", -angle, pictures[1])]
+    aspect = gauge.unit_aspect
     panels = []
     for name, elevation, picture in views:  # a signed elevation: + side A, - side B
-        near = render_image(pattern, elevation, scale=s)
+        # in the fabric's proportions, as the picture it should show: the render's
+        # foreshortening at a low angle undone (sin of the elevation), so the two compare
+        sine = float(np.sin(np.radians(abs(elevation))))
+        near = render_image(pattern, elevation, scale=s, unit_aspect=aspect / sine)
         want = np.asarray(picture, dtype=np.uint8)
         if want.size and not np.ptp(want.reshape(-1, 3), axis=0).any():
             # a head-on design without a side picture: any plain field will do, whatever
             # colour stands for it in the measures
             panels.append((f"{name}: a plain field", np.full_like(near, 235)))
         else:
-            panels.append((f"{name} should show", upscale(want, s)))
+            panels.append((f"{name} should show", upscale(want, s, s * aspect)))
         panels += [
-            (f"{name} up close", near),
+            (f"{name} up close" + ("" if sine == 1.0 else " (unforeshortened)"), near),
             (f"{name} from {distance:g} m", seen_from(near, sigma)),
         ]
     return save_png(contact_sheet(panels, columns=3), sub / "seen.png")

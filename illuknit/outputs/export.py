@@ -21,7 +21,7 @@ from illuknit.core.files import atomic_write_text
 from illuknit.core.gauge import Gauge, finished_size
 from illuknit.core.pattern import LogicalPattern, save_pattern
 from illuknit.outputs.chart import chart_png_rgb, written_instructions
-from illuknit.outputs.previews import save_png, write_previews
+from illuknit.outputs.previews import save_png, unit_scale, upscale, write_previews
 from illuknit.pictures.images import QuantisedImage
 
 __all__ = ["export_pattern", "pattern_stats"]
@@ -72,13 +72,19 @@ def export_pattern(
     save_pattern(pattern, out / "pattern.json")
     paths["pattern"] = out / "pattern.json"
     shown = dict(targets or {})
+    # quantised pictures are on the unit grid: drawn, like every preview, in the fabric's
+    # proportions (units gauge.unit_aspect as tall as wide), not one square pixel a unit
+    s = max(2, unit_scale(pattern.shape))
     for name, q in (quantised or {}).items():
         picture = q.rgb()
-        shown.setdefault(name, picture)
+        shown.setdefault(name, picture)  # on the grid: write_previews draws it in proportion
         key = f"quantised_{name.lower().replace(' ', '_')}"
+        if picture.shape[:2] == pattern.shape:
+            picture = upscale(picture, s, s * gauge.unit_aspect)
         paths[key] = save_png(picture, out / f"{key}.png")
     paths.update(write_previews(pattern, out, targets=shown, unit_aspect=gauge.unit_aspect))
-    paths["chart"] = save_png(chart_png_rgb(pattern), out / "chart.png")
+    chart = chart_png_rgb(pattern, unit_aspect=gauge.unit_aspect)
+    paths["chart"] = save_png(chart, out / "chart.png")
     paths["instructions"] = atomic_write_text(
         out / "instructions.txt", written_instructions(pattern, title=title, gauge=gauge)
     )
