@@ -103,7 +103,7 @@ def render(
     a = check_angle(params.theta if angle is None else angle, name="--angle")
     params = params.with_angle(a)
     pattern = load_pattern(pattern_file)
-    s = scale or max(2, unit_scale(pattern.shape))
+    s = scale or min(64, max(2, unit_scale(pattern.shape)))  # --scale's own range
     check_render_size(pattern.shape, scale=s, frames=frames)
     # drawn in the fabric's proportions (the default machine's gauge), foreshortened as seen
     aspect = resolve_machine(None).fabric_gauge.unit_aspect
