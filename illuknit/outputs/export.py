@@ -3,7 +3,8 @@
 ``pattern.json`` (the pattern), ``headon.png`` / ``view_a.png`` / ``view_b.png`` / ``contact.png``
 (previews), ``chart.png``, ``chart.svg``, ``instructions.txt`` and the print-ready
 ``pattern.pdf`` (hand knitting, :mod:`illuknit.outputs.pattern_pdf`), ``legend.json`` (which picture
-colour became which yarn, when known) and ``report.json`` (numbers about the pattern).
+colour became which yarn, when known) and ``report.json`` (numbers about the pattern, and what it
+shows head-on, measured: :func:`illuknit.outputs.captions.headon_likeness`).
 """
 
 from __future__ import annotations
@@ -20,6 +21,7 @@ from numpy.typing import ArrayLike
 from illuknit.core.files import atomic_write_text
 from illuknit.core.gauge import Gauge, finished_size
 from illuknit.core.pattern import LogicalPattern, save_pattern
+from illuknit.outputs.captions import headon_likeness
 from illuknit.outputs.chart import chart_png_rgb, written_instructions
 from illuknit.outputs.previews import save_png, unit_scale, upscale, write_previews
 from illuknit.pictures.images import QuantisedImage
@@ -101,6 +103,7 @@ def export_pattern(
     full = {
         "pattern": pattern_stats(pattern),
         "finished_size": finished_size(pattern.shape, gauge).as_dict(),
+        "headon": headon_likeness(pattern).as_dict(),
         **dict(report or {}),
     }
     paths["report"] = atomic_write_text(

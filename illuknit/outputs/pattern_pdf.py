@@ -312,6 +312,7 @@ class _Document:
 def _cover(doc: _Document, angle: float | None) -> None:
     """Title, finished size, the head-on and both angled previews in the fabric's proportions."""
     from illuknit.design.render import RenderParams, render_views
+    from illuknit.outputs.captions import headon_likeness
     from illuknit.outputs.previews import chart_rgb, rows_per_unit, unit_scale, upscale
 
     pdf, pattern, gauge = doc.pdf, doc.pattern, doc.gauge
@@ -327,8 +328,9 @@ def _cover(doc: _Document, angle: float | None) -> None:
     headon = chart_rgb(pattern, scale=s, unit_aspect=gauge.unit_aspect)
     renders = render_views(pattern, angle=angle)
     sy = rows_per_unit(s, gauge.unit_aspect, angle=theta)
+    likeness = headon_likeness(pattern)
     views = [
-        ("Head-on: stripes", headon),
+        (likeness.caption(), headon),
         (f"Seen from above (top edge) at {theta:g} deg", upscale(renders["A"], s, sy)),
         (f"Seen from below (cast-on edge) at {theta:g} deg", upscale(renders["B"], s, sy)),
     ]
@@ -352,11 +354,23 @@ def _cover(doc: _Document, angle: float | None) -> None:
         yy += h + 16
     pdf.set_y(max(y + 5 + img_h, yy) + 4)
     doc.para(
-        "Head-on the piece shows stripes; look along it from the top or the bottom edge and the "
-        "raised purl ridges hide the rows behind them, and the picture appears. The previews "
-        "are drawn in the fabric's proportions; angled views are foreshortened as they are seen.",
+        _HEADON_WORDS[likeness.shows] + " Look along it from the top or the bottom edge and the "
+        "raised purl ridges hide the rows behind them, and each side's picture appears. The "
+        "previews are drawn in the fabric's proportions; angled views are foreshortened as they "
+        "are seen.",
         9,
     )
+
+
+#: What the cover says head-on shows, measured (:func:`~illuknit.outputs.captions.headon_likeness`).
+_HEADON_WORDS = {
+    "stripes": "Head-on the piece shows stripes.",
+    "same": "Head-on the piece shows the same picture as from either edge.",
+    "both": "Head-on the piece shows both pictures, mixed (the caption gives how alike each is).",
+    "A": "Head-on the piece shows mostly the picture seen from the top edge.",
+    "B": "Head-on the piece shows mostly the picture seen from the cast-on edge.",
+    "own": "Head-on the piece shows a picture of its own.",
+}
 
 
 def _materials(doc: _Document) -> None:

@@ -76,8 +76,13 @@ function measuresText(m) {
   }
   if (m.knit_minutes != null) parts.push(`${m.knit_minutes.toFixed(1)} min to knit`);
   else if (m.knit_note) parts.push(m.knit_note);
+  // a correlation or gain below 0 is a picture seen in negative, not a score below nothing
+  const negative = m.views.length && [...m.readability, m.worse_contrast].some((x) => x != null && x < 0);
+  if (negative) parts.push(NEGATIVE_NOTE);
   return parts.join(" · ");
 }
+
+const NEGATIVE_NOTE = "below 0: that side shows its picture in negative (light and dark swapped)";
 
 async function loadCandidates() {
   const c = await sapi("GET", `/candidates?order=${encodeURIComponent($("#order").value || "rank")}`);
