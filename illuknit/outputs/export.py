@@ -21,6 +21,7 @@ from numpy.typing import ArrayLike
 from illuknit.core.files import atomic_write_text
 from illuknit.core.gauge import Gauge, finished_size
 from illuknit.core.pattern import LogicalPattern, save_pattern
+from illuknit.core.progress import Report
 from illuknit.outputs.captions import headon_likeness
 from illuknit.outputs.chart import chart_png_rgb, written_instructions
 from illuknit.outputs.previews import save_png, unit_scale, upscale, write_previews
@@ -55,15 +56,18 @@ def export_pattern(
     title: str | None = None,
     targets: Mapping[str, ArrayLike] | None = None,
     gauge: Gauge | None = None,
+    progress: Report | None = None,
 ) -> dict[str, Path]:
     """Write the pattern, previews, chart, instructions, legend and report into ``outdir``.
 
     ``outdir`` should be a fresh folder (use :func:`illuknit.core.files.staged_dir` so a failure
     leaves nothing behind). ``gauge`` is the finished fabric's (default: the default machine's,
     :attr:`~illuknit.core.machine.MachineSpec.fabric_gauge`); it sets the finished size written
-    in the report and instructions and the proportions of the previews. Returns name -> path of
-    everything written.
+    in the report and instructions and the proportions of the previews. ``progress(fraction,
+    message)`` hears how far it is (:func:`illuknit.core.progress.work_bar`). Returns name ->
+    path of everything written.
     """
+    say: Report = progress or (lambda fraction, message: None)
     if gauge is None:
         from illuknit.core.machine import DEFAULT_MACHINE
 
@@ -84,7 +88,9 @@ def export_pattern(
         if picture.shape[:2] == pattern.shape:
             picture = upscale(picture, s, s * gauge.unit_aspect)
         paths[key] = save_png(picture, out / f"{key}.png")
+    say(0.1, "drawing the previews")
     paths.update(write_previews(pattern, out, targets=shown, unit_aspect=gauge.unit_aspect))
+    say(0.3, "drawing the chart and writing the instructions")
     chart = chart_png_rgb(pattern, unit_aspect=gauge.unit_aspect)
     paths["chart"] = save_png(chart, out / "chart.png")
     paths["instructions"] = atomic_write_text(
@@ -92,6 +98,7 @@ def export_pattern(
     )
     from illuknit.outputs.pattern_pdf import write_pattern_pdf
 
+    say(0.4, "writing pattern.pdf")
     paths.update(
         write_pattern_pdf(pattern, out, gauge=gauge, title=title or "illuknit illusion pattern")
     )
@@ -100,6 +107,7 @@ def export_pattern(
         paths["legend"] = atomic_write_text(
             out / "legend.json", json.dumps(legend, indent=1) + "\n"
         )
+    say(0.95, "measuring what head-on shows")
     full = {
         "pattern": pattern_stats(pattern),
         "finished_size": finished_size(pattern.shape, gauge).as_dict(),
