@@ -62,9 +62,11 @@ def test_every_slow_command_shows_a_bar_on_a_terminal(monkeypatch, tmp_path):
     buf = io.StringIO()
     monkeypatch.setattr(
         "rich.console.Console",
-        lambda **kw: Console(file=buf, force_terminal=True, width=100)
-        if kw.get("stderr")
-        else Console(file=io.StringIO(), width=100),
+        lambda **kw: (
+            Console(file=buf, force_terminal=True, width=100)
+            if kw.get("stderr")
+            else Console(file=io.StringIO(), width=100)
+        ),
     )
     monkeypatch.setattr(progress_module, "DELAY", 0.0)
     demo = tmp_path / "demo"
