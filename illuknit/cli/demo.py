@@ -41,6 +41,10 @@ def demo(outdir: Path, width: int, knitout: bool, machine: str | None) -> None:
     from illuknit.core.pattern import load_pattern
     from illuknit.core.progress import work_bar
 
+    console().print(
+        f"illuknit demo: a single-view illusion of the bundled heart in a ring, {width} units "
+        f"wide, into {outdir}/"
+    )
     with work_bar("demo") as report:
         paths = run_single(
             demo_image(),
