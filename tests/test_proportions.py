@@ -98,3 +98,45 @@ def test_single_draws_a_round_picture_round(tmp_path):
     assert load_pattern(out / "pattern.json").shape == (round(40 / ASPECT), 40)
     for name in ("quantised_picture", "view_a", "view_b", "seen"):
         _round(disc_shapes(np.asarray(Image.open(out / f"{name}.png"))))
+
+
+def _bbox_aspect(mask: np.ndarray, *, min_count: int = 5) -> float:
+    """Width over height of the rows and columns holding at least ``min_count`` mask pixels
+    (stray anti-aliased text pixels do not count)."""
+    rows = np.flatnonzero(mask.sum(axis=1) >= min_count)
+    cols = np.flatnonzero(mask.sum(axis=0) >= min_count)
+    return (cols[-1] - cols[0] + 1) / (rows[-1] - rows[0] + 1)
+
+
+def test_the_pdf_chart_and_chart_svg_are_in_the_fabrics_proportions(tmp_path):
+    import re
+
+    from illuknit.core.machine import DEFAULT_MACHINE
+    from illuknit.outputs.pattern_pdf import chart_svg, pattern_pdf
+
+    pattern = disc_pattern(width=16, radius=6.0)  # 32 stitches, 46 rows: one chart page
+    svg = chart_svg(pattern, cell=10)
+    rects = [
+        (float(x), float(y), float(w), float(h))
+        for x, y, w, h, fill in re.findall(
+            r'<rect x="([\d.]+)" y="([\d.]+)" width="([\d.]+)" height="([\d.]+)" fill="(#1b1b1b)"',
+            svg,
+        )
+    ]
+    x0, x1 = min(r[0] for r in rects), max(r[0] + r[2] for r in rects)
+    y0, y1 = min(r[1] for r in rects), max(r[1] + r[3] for r in rects)
+    assert (x1 - x0) / (y1 - y0) == pytest.approx(1.0, rel=TOL)
+    if shutil.which("pdftoppm") is None:
+        pytest.skip("pdftoppm (poppler-utils) is not installed")
+    from pypdf import PdfReader
+
+    (tmp_path / "p.pdf").write_bytes(pattern_pdf(pattern, gauge=DEFAULT_MACHINE.fabric_gauge))
+    texts = [p.extract_text() for p in PdfReader(tmp_path / "p.pdf").pages]
+    n = str(next(i for i, t in enumerate(texts) if "Chart page 1 of 1" in t) + 1)
+    pdf, page = str(tmp_path / "p.pdf"), str(tmp_path / "page")
+    subprocess.run(
+        ["pdftoppm", "-r", "100", "-f", n, "-l", n, "-png", "-singlefile", pdf, page], check=True
+    )
+    img = np.asarray(Image.open(page + ".png").convert("RGB")).astype(int)
+    yarn = (np.abs(img - 27) <= 12).all(axis=-1)  # the dark yarn, not the black grid lines
+    assert _bbox_aspect(yarn) == pytest.approx(1.0, rel=TOL)
