@@ -217,9 +217,17 @@ function updateFar() {
     if (want[view]) tg.src = want[view]; else tg.removeAttribute("src");
     $("figcaption", tg.parentElement).textContent = want[view]
       ? `${view === "headon" ? "Head-on" : `Side ${view}`} should show`
-      : `${view === "headon" ? "Head-on" : `Side ${view}`}: ${view === "headon" ? "stripes (no picture)" : "a plain field"}`;
+      : `${view === "headon" ? "Head-on" : `Side ${view}`}: ${view === "headon" ? HEADON_SHOWS[mode] || HEADON_SHOWS.double : "a plain field"}`;
   }
 }
+
+// What head-on shows when no picture is asked of it, as the library measures it
+// (illuknit.outputs.captions): a single view's rows alternate, so head-on is stripes
+// (correlation 0 with either side); a double view shows both pictures mixed (0.5-0.9).
+const HEADON_SHOWS = {
+  single: "stripes (no picture)",
+  double: "no picture of its own: both pictures show, mixed",
+};
 
 function loadLive(view) {
   const img = $(`#pv-${view}`);
