@@ -17,6 +17,7 @@ from PIL import Image
 from illuknit.core.gauge import parse_gauge
 from illuknit.core.pattern import LogicalPattern, parse_yarns
 from illuknit.outputs import pattern_pdf as pdf_module
+from illuknit.outputs.captions import headon_likeness
 from illuknit.outputs.pattern_pdf import CELL_MM, chart_svg, chart_tiles, pattern_pdf, pdf_fonts
 
 pypdf = pytest.importorskip("pypdf", reason="the test extra (pypdf) is not installed")
@@ -71,6 +72,8 @@ def test_single_view_design_writes_a_pattern_pdf(tmp_path: Path, run_cli=None) -
     pages = pdf_pages((out / "pattern.pdf").read_bytes())
     assert_is_a_pattern(pages, pattern, "27.6 sts x 39.4 rows per 10 cm")
     assert (out / "chart.svg").read_text().startswith("<svg")
+    # a single view is stripes head-on, measured (issue 33): the cover says so
+    assert "Head-on: stripes (no picture)" in pages[0]
 
 
 def test_three_colour_double_view_writes_a_pattern_pdf(tmp_path: Path) -> None:
@@ -108,6 +111,11 @@ def test_three_colour_double_view_writes_a_pattern_pdf(tmp_path: Path) -> None:
     pages = pdf_pages((out / "pattern.pdf").read_bytes())
     assert_is_a_pattern(pages, pattern, "22 sts x 30 rows per 10 cm")
     assert "--fabric-gauge: 22x30/10cm" in "\n".join(pages)
+    # head-on a double view shows both its pictures, mixed: the cover once said "stripes"
+    cover = " ".join(pages[0].split())
+    assert "stripes" not in cover, cover
+    likeness = headon_likeness(pattern)
+    assert likeness.shows == "both" and likeness.caption() in cover
 
 
 def test_a_240_stitch_chart_is_tiled_over_printable_pages(tmp_path: Path) -> None:

@@ -52,3 +52,32 @@ def test_work_bar_shows_only_work_that_lasts(monkeypatch):
         report(0.25, "finding tile designs")
         time.sleep(0.5)
     assert "slow" in buf.getvalue() and "finding tile designs" in buf.getvalue()
+
+
+def test_every_slow_command_shows_a_bar_on_a_terminal(monkeypatch, tmp_path):
+    """demo, view, knit and check run 3-13 s: on a terminal each shows a bar (issue 33)."""
+    import illuknit.core.progress as progress_module
+    from illuknit.cli import main
+
+    buf = io.StringIO()
+    monkeypatch.setattr(
+        "rich.console.Console",
+        lambda **kw: (
+            Console(file=buf, force_terminal=True, width=100)
+            if kw.get("stderr")
+            else Console(file=io.StringIO(), width=100)
+        ),
+    )
+    monkeypatch.setattr(progress_module, "DELAY", 0.0)
+    demo = tmp_path / "demo"
+    runs = {
+        "demo": ["demo", "--width", "12", "-o", str(demo)],
+        "view": ["view", str(demo / "pattern.json"), "-o", str(tmp_path / "view")],
+        "knit": ["knit", str(demo / "pattern.json"), "-o", str(tmp_path / "p.k")],
+        "check": ["check", str(tmp_path / "p.k")],
+    }
+    for label, argv in runs.items():
+        buf.truncate(0)
+        buf.seek(0)
+        main(argv)
+        assert label in buf.getvalue(), (label, buf.getvalue()[:300])

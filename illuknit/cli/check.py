@@ -93,11 +93,15 @@ def check(
 ) -> None:
     from illuknit.check import check_knitout, render_report
     from illuknit.core.machine import get_machine
+    from illuknit.core.progress import run_with_bar
 
     spec = None if machine is None else get_machine(machine)
     text = read_knitout_file(program)
     try:
-        report = check_knitout(
+        report = run_with_bar(
+            "check",
+            "checking the program",
+            check_knitout,
             text,
             machine=spec,
             float_limit=float_limit,

@@ -39,16 +39,23 @@ def demo(outdir: Path, width: int, knitout: bool, machine: str | None) -> None:
     """
     from illuknit.cli.single import run_single
     from illuknit.core.pattern import load_pattern
+    from illuknit.core.progress import work_bar
 
-    paths = run_single(
-        demo_image(),
-        outdir,
-        width=width,
-        yarns="Charcoal=#1b1b1b,Cream=#f4f0e8",
-        knitout=knitout,
-        machine=machine,
-        title="illuknit demo: a heart in a ring",
+    console().print(
+        f"illuknit demo: a single-view illusion of the bundled heart in a ring, {width} units "
+        f"wide, into {outdir}/"
     )
+    with work_bar("demo") as report:
+        paths = run_single(
+            demo_image(),
+            outdir,
+            width=width,
+            yarns="Charcoal=#1b1b1b,Cream=#f4f0e8",
+            knitout=knitout,
+            machine=machine,
+            title="illuknit demo: a heart in a ring",
+            progress=report,
+        )
     summarise_pattern(
         load_pattern(paths["pattern"]),
         legend_path=paths.get("legend"),

@@ -186,18 +186,22 @@ def write_seen(
     else:
         views = [("head-on", 90.0, pictures[0])]
         views += [("side A", angle, pictures[1]), ("side B", -angle, pictures[1])]
+    aspect = gauge.unit_aspect
     panels = []
     for name, elevation, picture in views:  # a signed elevation: + side A, - side B
-        near = render_image(pattern, elevation, scale=s)
+        # in the fabric's proportions, as the picture it should show: the render's
+        # foreshortening at a low angle undone (sin of the elevation), so the two compare
+        sine = float(np.sin(np.radians(abs(elevation))))
+        near = render_image(pattern, elevation, scale=s, unit_aspect=aspect / sine)
         want = np.asarray(picture, dtype=np.uint8)
         if want.size and not np.ptp(want.reshape(-1, 3), axis=0).any():
             # a head-on design without a side picture: any plain field will do, whatever
             # colour stands for it in the measures
             panels.append((f"{name}: a plain field", np.full_like(near, 235)))
         else:
-            panels.append((f"{name} should show", upscale(want, s)))
+            panels.append((f"{name} should show", upscale(want, s, s * aspect)))
         panels += [
-            (f"{name} up close", near),
+            (f"{name} up close" + ("" if sine == 1.0 else " (unforeshortened)"), near),
             (f"{name} from {distance:g} m", seen_from(near, sigma)),
         ]
     return save_png(contact_sheet(panels, columns=3), sub / "seen.png")
@@ -240,7 +244,8 @@ _COLUMN_NOTES = [
     "percept: the perceptual score the default order sorts by (higher first): the worse view's",
     "  readability, less its contrast's shortfall below the floor (docs/tiles.md);",
     "read, contr: per view, readability (is the picture there? 1 = all of it) and contrast",
-    "  (how much of its light/dark difference survives; 1 = all, 0 = a flat field);",
+    "  (how much of its light/dark difference survives; 1 = all, 0 = a flat field); either",
+    "  below 0: the view shows its picture in negative (light and dark swapped);",
     "ghost, shows: how much of the other picture shows through (0 = none), and the share of",
     "  the view's light/dark variation it makes; minutes: machine knitting time (--knit-time);",
     "cost ΔE: the tile search's own cost (colour distance of the fills to the picture colours",

@@ -12,6 +12,7 @@ import click
 
 from illuknit.cli.knitout_bridge import long_floats_option, machine_option
 from illuknit.cli.options import GAUGE, NEEDLES, PASS_SECONDS, InputFile, OutputFile
+from illuknit.core.progress import run_with_bar
 
 if TYPE_CHECKING:
     from illuknit.core.machine import MachineSpec
@@ -271,7 +272,10 @@ def knit(
     none switches are the paper's Fig. 20 ablations). Exit code 1 when the checker finds a
     blocking problem, 2 on bad input.
     """
-    summary = run_knit(
+    summary = run_with_bar(
+        "knit",
+        "scheduling, writing and checking the program",
+        run_knit,
         pattern,
         output,
         float_limit=float_limit,

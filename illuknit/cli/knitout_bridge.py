@@ -369,15 +369,25 @@ def write_program(
 
 
 def _describe(summary: dict[str, object]) -> str:
-    parts = [f"machine {summary['machine']}"] if "machine" in summary else []
-    for key in ("passes", "lower_bound", "ratio"):
-        if key in summary:
-            parts.append(f"{key.replace('_', ' ')} {summary[key]}")
-    for key, val in summary.items():
-        if "time" in key and key != "time_range_is" and isinstance(val, (int, float, str)):
-            parts.append(f"{key.replace('_', ' ')} {val}")
+    """One line a person reads: the machine, the passes against their lower bound, the knitting
+    time with the time model's range and the bind-off's part, the floats and the bumps (every
+    figure once; the rest, with the time model, is in knit.json)."""
+    get = summary.get
+    parts = [f"program.k for {get('machine', 'the machine')}"]
+    if "passes" in summary:
+        bound = f" (lower bound {get('lower_bound')})" if "lower_bound" in summary else ""
+        parts.append(f"{get('passes')} carriage passes{bound}")
+    time, span = get("machine_time", get("time")), get("machine_time_range", get("time_range"))
+    if time is not None:
+        text = f"about {time} to knit"
+        if span is not None:
+            text += f" (the time model's range {span})"
+        parts.append(text)
+    bind_off = get("bind_off_time")
+    if bind_off is not None:
+        parts.append(f"of which the bind-off {bind_off}")
     if "floats" in summary:
         parts.append(f"floats: {summary['floats']}")
     if "bumps" in summary:
         parts.append(f"bumps: {summary['bumps']}")
-    return ", ".join(parts) or "written"
+    return ", ".join(parts)

@@ -288,6 +288,15 @@ def _check_outdir(ctx: click.Context, param: click.Parameter, value: Path | None
     from illuknit.core.errors import OutputPathError
     from illuknit.core.files import check_output_dir
 
+    if value is not None and str(value).startswith("-"):
+        # `-o --04` takes "--04" as the folder: an option's name where a folder was left out
+        # (a stray --04.png was once committed so, by a tool given "-" for standard output)
+        raise click.BadParameter(
+            f"{str(value)!r} looks like an option, not a folder (was the folder left out?); "
+            "to use a name starting with '-', give its full path",
+            ctx=ctx,
+            param=param,
+        )
     if value is not None:
         try:
             check_output_dir(value)

@@ -92,10 +92,9 @@ def render(
     """Render PATTERN as a person sees it: view A (from above), view B (from below) and head-on
     PNGs, a contact sheet, and sweep.gif walking from one side through head-on to the other."""
     from illuknit.core.files import staged_dir
+    from illuknit.core.machine import resolve_machine
     from illuknit.core.pattern import load_pattern
-    from illuknit.core.progress import progress
     from illuknit.design.render.params import RenderParams, check_angle, load_params, save_params
-    from illuknit.design.render.raycast import render_image, sweep_angles
     from illuknit.outputs.previews import contact_sheet, save_png, unit_scale
 
     params = load_params(params_file) if params_file is not None else RenderParams()
@@ -104,21 +103,11 @@ def render(
     a = check_angle(params.theta if angle is None else angle, name="--angle")
     params = params.with_angle(a)
     pattern = load_pattern(pattern_file)
-    s = scale or max(2, unit_scale(pattern.shape))
+    s = scale or min(64, max(2, unit_scale(pattern.shape)))  # --scale's own range
     check_render_size(pattern.shape, scale=s, frames=frames)
-    angles = sweep_angles(a, frames)
-    with progress(3 + len(angles), "render") as advance:
-        views = {}
-        for name, at in (("view_a", a), ("view_b", -a), ("headon", 90.0)):
-            views[name] = render_image(pattern, at, params=params, scale=s)
-            advance(description=name)
-        # Frames go A -> head-on -> B and back, so the loop has no jump. Each is kept as a
-        # palette frame (1 byte per pixel), not as RGB.
-        images = []
-        for x in angles:
-            images.append(_gif_frame(render_image(pattern, x, params=params, scale=s)))
-            advance(description=f"sweep {x:+.0f} deg")
-    images += images[-2:0:-1]
+    # drawn in the fabric's proportions (the default machine's gauge), foreshortened as seen
+    aspect = resolve_machine(None).fabric_gauge.unit_aspect
+    views, images = _render_all(pattern, a, params=params, scale=s, frames=frames, aspect=aspect)
     with staged_dir(outdir) as tmp:
         for name, img in views.items():
             save_png(img, tmp / f"{name}.png")
@@ -134,6 +123,41 @@ def render(
         save_params(params, tmp / "params.json")
         written = sorted(p.name for p in tmp.iterdir())
     click.echo(f"wrote {len(written)} files to {outdir}: {', '.join(written)}")
+
+
+def _render_all(
+    pattern: Any, a: float, *, params: Any, scale: int, frames: int, aspect: float
+) -> tuple[dict[str, Any], list[Any]]:
+    """The three views and the sweep's frames (A -> head-on -> B and back, so the loop has no
+    jump), each frame on a canvas as tall as head-on: a piece seen from lower down is shorter."""
+    from illuknit.core.progress import progress
+    from illuknit.design.render.raycast import render_image, sweep_angles
+
+    angles = sweep_angles(a, frames)
+    with progress(3 + len(angles), "render") as advance:
+        views = {}
+        for name, at in (("view_a", a), ("view_b", -a), ("headon", 90.0)):
+            views[name] = render_image(pattern, at, params=params, scale=scale, unit_aspect=aspect)
+            advance(description=name)
+        height = views["headon"].shape[0]
+        # Each frame is kept as a palette frame (1 byte per pixel), not as RGB.
+        images = []
+        for x in angles:
+            img = render_image(pattern, x, params=params, scale=scale, unit_aspect=aspect)
+            images.append(_gif_frame(_on_canvas(img, height)))
+            advance(description=f"sweep {x:+.0f} deg")
+    images += images[-2:0:-1]
+    return views, images
+
+
+def _on_canvas(img: Any, height: int) -> Any:
+    """``img`` centred vertically on a white canvas ``height`` rows tall."""
+    import numpy as np
+
+    canvas = np.full((max(height, img.shape[0]), *img.shape[1:]), 255, dtype=np.uint8)
+    top = (canvas.shape[0] - img.shape[0]) // 2
+    canvas[top : top + img.shape[0]] = img
+    return canvas
 
 
 def _gif_frame(rgb: Any) -> Any:

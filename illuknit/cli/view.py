@@ -20,10 +20,11 @@ def view(pattern_file: Path, outdir: Path) -> None:
     instructions of a pattern file."""
     from illuknit.core.files import staged_dir
     from illuknit.core.pattern import load_pattern
+    from illuknit.core.progress import work_bar
     from illuknit.outputs.export import export_pattern
 
     pattern = load_pattern(pattern_file)
-    with staged_dir(outdir) as tmp:
-        paths = export_pattern(pattern, tmp, report={"source": str(pattern_file)})
+    with work_bar("view") as report, staged_dir(outdir) as tmp:
+        paths = export_pattern(pattern, tmp, report={"source": str(pattern_file)}, progress=report)
     summarise_pattern(pattern)
     print_written(outdir, {k: outdir / p.name for k, p in paths.items()})

@@ -13,8 +13,11 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
+from typing import Any, TypeVar
 
-__all__ = ["Advance", "Report", "progress", "work_bar"]
+T = TypeVar("T")
+
+__all__ = ["DELAY", "Advance", "Report", "progress", "run_with_bar", "work_bar"]
 
 #: ``advance(steps=1, description=None)``: count finished steps, optionally relabel the bar.
 Advance = Callable[..., None]
@@ -73,10 +76,15 @@ def progress(total: int | None, label: str, *, force: bool = False) -> Iterator[
         yield advance
 
 
+#: Seconds a command runs before :func:`work_bar` shows its bar (quicker commands print nothing).
+DELAY = 1.0
+
+
 @contextmanager
-def work_bar(label: str, *, delay: float = 1.0, force: bool = False) -> Iterator[Report]:
+def work_bar(label: str, *, delay: float | None = None, force: bool = False) -> Iterator[Report]:
     """A progress bar on stderr for work reported as fractions, shown once it has run ``delay``
-    seconds (quick work prints nothing) and only when stderr is a terminal (or ``force``).
+    seconds (default :data:`DELAY`; quick work prints nothing) and only when stderr is a
+    terminal (or ``force``). Every command that can run over about 2 s has one.
 
     Yields ``report(fraction, message)``; the bar shows the fraction, the time spent, an
     estimate of the time left once the work can be counted, and the message. It is removed when
@@ -123,7 +131,7 @@ def work_bar(label: str, *, delay: float = 1.0, force: bool = False) -> Iterator
                 bar.start()
                 started[0] = True
 
-    timer = threading.Timer(delay, start)
+    timer = threading.Timer(DELAY if delay is None else delay, start)
     timer.daemon = True
 
     def report(fraction: float, message: str) -> None:
@@ -138,3 +146,13 @@ def work_bar(label: str, *, delay: float = 1.0, force: bool = False) -> Iterator
             started[1] = True
             if started[0]:
                 bar.stop()
+
+
+def run_with_bar(
+    label: str, message: str, work: Callable[..., T], /, *args: Any, **kwargs: Any
+) -> T:
+    """``work(*args, **kwargs)`` under a :func:`work_bar` (its spinner, ``message`` and the time
+    spent) for work that cannot say how far it is."""
+    with work_bar(label) as report:
+        report(0.0, message)
+        return work(*args, **kwargs)

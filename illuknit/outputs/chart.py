@@ -20,7 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from illuknit.core.arguments import check_instance, check_str
+from illuknit.core.arguments import check_instance, check_number, check_str
 from illuknit.core.colors import luminance
 from illuknit.core.gauge import Gauge, finished_size
 from illuknit.core.pattern import LogicalPattern, check_pattern
@@ -136,13 +136,23 @@ def chart_key(pattern: LogicalPattern) -> list[str]:
     return lines
 
 
-def chart_png_rgb(pattern: LogicalPattern, *, cell: int | None = None) -> NDArray[np.uint8]:
+def chart_png_rgb(
+    pattern: LogicalPattern, *, cell: int | None = None, unit_aspect: float | None = None
+) -> NDArray[np.uint8]:
     """A stitch chart as an image: one cell per stitch, purls on the RS dotted, rows numbered.
 
     Row 1 is at the bottom; RS row numbers are written on the right, WS on the left. Below the
-    chart a key shows each yarn's colour and what a dot means (:func:`chart_key`).
+    chart a key shows each yarn's colour and what a dot means (:func:`chart_key`). A cell is
+    ``cell`` pixels wide and ``unit_aspect`` as tall (a stitch's height over its width in the
+    fabric, :attr:`illuknit.core.gauge.Gauge.unit_aspect`; default the default machine's gauge),
+    so the chart has the fabric's proportions: a round motif is round on it.
     """
-    chart = _chart_body(pattern, cell=cell)
+    if unit_aspect is None:
+        from illuknit.core.machine import DEFAULT_MACHINE
+
+        unit_aspect = DEFAULT_MACHINE.fabric_gauge.unit_aspect
+    aspect = check_number(unit_aspect, "unit_aspect", min=0.05, max=20)
+    chart = _chart_body(pattern, cell=cell, aspect=aspect)
     return _with_key(chart, pattern)
 
 
@@ -176,15 +186,16 @@ def _with_key(chart: NDArray[np.uint8], pattern: LogicalPattern) -> NDArray[np.u
     return np.asarray(img)
 
 
-def _chart_body(pattern: LogicalPattern, *, cell: int | None) -> NDArray[np.uint8]:
+def _chart_body(pattern: LogicalPattern, *, cell: int | None, aspect: float) -> NDArray[np.uint8]:
     from PIL import Image, ImageDraw, ImageFont
 
     n, m = pattern.shape
     rows = hand_rows(pattern)
     w, h = 2 * m, 2 * n
     c = cell or int(max(4, min(14, 2400 // max(w, h))))
+    ch = max(2, round(c * aspect))  # cell height: the fabric's proportions
     margin = 40 if c >= 8 else 0
-    img = Image.new("RGB", (w * c + 2 * margin, h * c + 2 * margin), (255, 255, 255))
+    img = Image.new("RGB", (w * c + 2 * margin, h * ch + 2 * margin), (255, 255, 255))
     pal = pattern.palette
     yarn = np.zeros((h, w), dtype=np.int16)
     purl = np.zeros((h, w), dtype=bool)
@@ -192,19 +203,21 @@ def _chart_body(pattern: LogicalPattern, *, cell: int | None) -> NDArray[np.uint
         y = h - r.number  # row 1 at the bottom
         yarn[y] = r.yarn
         purl[y] = r.purl_on_rs
-    big = np.repeat(np.repeat(pal[yarn], c, 0), c, 1)
+    big = np.repeat(np.repeat(pal[yarn], ch, 0), c, 1)
     if c >= 6:  # grid lines
-        big[::c, :, :] = (big[::c, :, :] * 0.7).astype(np.uint8)
+        big[::ch, :, :] = (big[::ch, :, :] * 0.7).astype(np.uint8)
         big[:, ::c, :] = (big[:, ::c, :] * 0.7).astype(np.uint8)
     # Purl dots: one disc rasterised once by Pillow, stamped into every purl cell in the stitch's
     # contrasting tone (a per-stitch ellipse call was the slowest part of writing a chart).
-    rad = max(1, c // 5)
-    stamp = Image.new("1", (c, c), 0)
-    ImageDraw.Draw(stamp).ellipse((c // 2 - rad, c // 2 - rad, c // 2 + rad, c // 2 + rad), fill=1)
+    rad = max(1, min(c, ch) // 5)
+    stamp = Image.new("1", (c, ch), 0)
+    ImageDraw.Draw(stamp).ellipse(
+        (c // 2 - rad, ch // 2 - rad, c // 2 + rad, ch // 2 + rad), fill=1
+    )
     disc = np.asarray(stamp, dtype=bool)
     dot_rgb = np.where((luminance(pal) > 0.35)[:, None], 20, 240).astype(np.uint8)
-    dots = np.repeat(np.repeat(purl, c, 0), c, 1) & np.tile(disc, (h, w))
-    big[dots] = np.repeat(np.repeat(dot_rgb[yarn], c, 0), c, 1)[dots]
+    dots = np.repeat(np.repeat(purl, ch, 0), c, 1) & np.tile(disc, (h, w))
+    big[dots] = np.repeat(np.repeat(dot_rgb[yarn], ch, 0), c, 1)[dots]
     img.paste(Image.fromarray(big), (margin, margin))
     draw = ImageDraw.Draw(img)
     if margin:
@@ -212,11 +225,11 @@ def _chart_body(pattern: LogicalPattern, *, cell: int | None) -> NDArray[np.uint
             font = ImageFont.load_default(size=max(8, min(14, c)))
         except TypeError:
             font = ImageFont.load_default()
-        step = max(1, 16 // c) * 2
+        step = max(1, 16 // ch) * 2
         for r in rows:
             if (r.number - 1) % step and r.number != len(rows):
                 continue
-            y = margin + (h - r.number) * c
+            y = margin + (h - r.number) * ch
             if r.side == "RS":
                 draw.text((margin + w * c + 4, y), str(r.number), fill=(60, 60, 60), font=font)
             else:

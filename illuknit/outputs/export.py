@@ -3,7 +3,8 @@
 ``pattern.json`` (the pattern), ``headon.png`` / ``view_a.png`` / ``view_b.png`` / ``contact.png``
 (previews), ``chart.png``, ``chart.svg``, ``instructions.txt`` and the print-ready
 ``pattern.pdf`` (hand knitting, :mod:`illuknit.outputs.pattern_pdf`), ``legend.json`` (which picture
-colour became which yarn, when known) and ``report.json`` (numbers about the pattern).
+colour became which yarn, when known) and ``report.json`` (numbers about the pattern, and what it
+shows head-on, measured: :func:`illuknit.outputs.captions.headon_likeness`).
 """
 
 from __future__ import annotations
@@ -20,8 +21,10 @@ from numpy.typing import ArrayLike
 from illuknit.core.files import atomic_write_text
 from illuknit.core.gauge import Gauge, finished_size
 from illuknit.core.pattern import LogicalPattern, save_pattern
+from illuknit.core.progress import Report
+from illuknit.outputs.captions import headon_likeness
 from illuknit.outputs.chart import chart_png_rgb, written_instructions
-from illuknit.outputs.previews import save_png, write_previews
+from illuknit.outputs.previews import save_png, unit_scale, upscale, write_previews
 from illuknit.pictures.images import QuantisedImage
 
 __all__ = ["export_pattern", "pattern_stats"]
@@ -53,15 +56,18 @@ def export_pattern(
     title: str | None = None,
     targets: Mapping[str, ArrayLike] | None = None,
     gauge: Gauge | None = None,
+    progress: Report | None = None,
 ) -> dict[str, Path]:
     """Write the pattern, previews, chart, instructions, legend and report into ``outdir``.
 
     ``outdir`` should be a fresh folder (use :func:`illuknit.core.files.staged_dir` so a failure
     leaves nothing behind). ``gauge`` is the finished fabric's (default: the default machine's,
     :attr:`~illuknit.core.machine.MachineSpec.fabric_gauge`); it sets the finished size written
-    in the report and instructions and the proportions of the previews. Returns name -> path of
-    everything written.
+    in the report and instructions and the proportions of the previews. ``progress(fraction,
+    message)`` hears how far it is (:func:`illuknit.core.progress.work_bar`). Returns name ->
+    path of everything written.
     """
+    say: Report = progress or (lambda fraction, message: None)
     if gauge is None:
         from illuknit.core.machine import DEFAULT_MACHINE
 
@@ -72,18 +78,27 @@ def export_pattern(
     save_pattern(pattern, out / "pattern.json")
     paths["pattern"] = out / "pattern.json"
     shown = dict(targets or {})
+    # quantised pictures are on the unit grid: drawn, like every preview, in the fabric's
+    # proportions (units gauge.unit_aspect as tall as wide), not one square pixel a unit
+    s = max(2, unit_scale(pattern.shape))
     for name, q in (quantised or {}).items():
         picture = q.rgb()
-        shown.setdefault(name, picture)
+        shown.setdefault(name, picture)  # on the grid: write_previews draws it in proportion
         key = f"quantised_{name.lower().replace(' ', '_')}"
+        if picture.shape[:2] == pattern.shape:
+            picture = upscale(picture, s, s * gauge.unit_aspect)
         paths[key] = save_png(picture, out / f"{key}.png")
+    say(0.1, "drawing the previews")
     paths.update(write_previews(pattern, out, targets=shown, unit_aspect=gauge.unit_aspect))
-    paths["chart"] = save_png(chart_png_rgb(pattern), out / "chart.png")
+    say(0.3, "drawing the chart and writing the instructions")
+    chart = chart_png_rgb(pattern, unit_aspect=gauge.unit_aspect)
+    paths["chart"] = save_png(chart, out / "chart.png")
     paths["instructions"] = atomic_write_text(
         out / "instructions.txt", written_instructions(pattern, title=title, gauge=gauge)
     )
     from illuknit.outputs.pattern_pdf import write_pattern_pdf
 
+    say(0.4, "writing pattern.pdf")
     paths.update(
         write_pattern_pdf(pattern, out, gauge=gauge, title=title or "illuknit illusion pattern")
     )
@@ -92,9 +107,11 @@ def export_pattern(
         paths["legend"] = atomic_write_text(
             out / "legend.json", json.dumps(legend, indent=1) + "\n"
         )
+    say(0.95, "measuring what head-on shows")
     full = {
         "pattern": pattern_stats(pattern),
         "finished_size": finished_size(pattern.shape, gauge).as_dict(),
+        "headon": headon_likeness(pattern).as_dict(),
         **dict(report or {}),
     }
     paths["report"] = atomic_write_text(

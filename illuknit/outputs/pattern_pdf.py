@@ -62,7 +62,8 @@ __all__ = [
 
 #: Page sizes in mm (width, height), portrait.
 PAGE_SIZES = {"A4": (210.0, 297.0), "Letter": (215.9, 279.4)}
-#: Chart cell size in mm: a printed chart square of about 4.5 mm reads at arm's length.
+#: Chart cell width in mm: a printed chart cell of about 4.5 mm reads at arm's length (its height
+#: is the fabric's: 4.5 mm times the gauge's unit_aspect).
 CELL_MM = 4.5
 #: A section marker every this many rows on the chart.
 SECTION_ROWS = 20
@@ -217,13 +218,20 @@ def _spans(total: int, per_page: int) -> list[tuple[int, int]]:
 
 
 def chart_tiles(
-    stitches: int, rows: int, *, page: str = "A4", cell_mm: float = CELL_MM
+    stitches: int,
+    rows: int,
+    *,
+    page: str = "A4",
+    cell_mm: float = CELL_MM,
+    row_mm: float | None = None,
 ) -> list[ChartTile]:
     """The chart's pages: stitches from the right edge, rows from the bottom, page by page from
-    the bottom right (where knitting starts), across then up."""
+    the bottom right (where knitting starts), across then up. A cell is ``cell_mm`` wide and
+    ``row_mm`` tall (default ``cell_mm``; the chart uses ``cell_mm`` times the gauge's
+    ``unit_aspect``, the fabric's proportions)."""
     pw, ph = PAGE_SIZES[page]
     cols = int((pw - 2 * MARGIN_MM - 2 * LABEL_MM) // cell_mm)
-    nrows = int((ph - 2 * MARGIN_MM - 2 * LABEL_MM - 14) // cell_mm)
+    nrows = int((ph - 2 * MARGIN_MM - 2 * LABEL_MM - 14) // (row_mm or cell_mm))
     tiles: list[ChartTile] = []
     for down, (r0, r1) in enumerate(_spans(rows, nrows)):
         for across, (c0, c1) in enumerate(_spans(stitches, cols)):
@@ -274,6 +282,9 @@ class _Document:
         self.pattern, self.gauge, self.title, self.page = pattern, gauge, title, page
         n, m = pattern.shape
         self.W, self.H = 2 * m, 2 * n
+        #: a chart row's height: a cell in the fabric's proportions (a stitch unit_aspect as
+        #: tall as wide), so a round motif is round on paper
+        self.row_mm = CELL_MM * gauge.unit_aspect
         self.size = finished_size(pattern.shape, gauge)
         self.names = [y.name for y in pattern.yarns]
         self.rows = hand_rows(pattern)
@@ -312,6 +323,7 @@ class _Document:
 def _cover(doc: _Document, angle: float | None) -> None:
     """Title, finished size, the head-on and both angled previews in the fabric's proportions."""
     from illuknit.design.render import RenderParams, render_views
+    from illuknit.outputs.captions import headon_likeness
     from illuknit.outputs.previews import chart_rgb, rows_per_unit, unit_scale, upscale
 
     pdf, pattern, gauge = doc.pdf, doc.pattern, doc.gauge
@@ -327,8 +339,9 @@ def _cover(doc: _Document, angle: float | None) -> None:
     headon = chart_rgb(pattern, scale=s, unit_aspect=gauge.unit_aspect)
     renders = render_views(pattern, angle=angle)
     sy = rows_per_unit(s, gauge.unit_aspect, angle=theta)
+    likeness = headon_likeness(pattern)
     views = [
-        ("Head-on: stripes", headon),
+        (likeness.caption(), headon),
         (f"Seen from above (top edge) at {theta:g} deg", upscale(renders["A"], s, sy)),
         (f"Seen from below (cast-on edge) at {theta:g} deg", upscale(renders["B"], s, sy)),
     ]
@@ -352,11 +365,23 @@ def _cover(doc: _Document, angle: float | None) -> None:
         yy += h + 16
     pdf.set_y(max(y + 5 + img_h, yy) + 4)
     doc.para(
-        "Head-on the piece shows stripes; look along it from the top or the bottom edge and the "
-        "raised purl ridges hide the rows behind them, and the picture appears. The previews "
-        "are drawn in the fabric's proportions; angled views are foreshortened as they are seen.",
+        _HEADON_WORDS[likeness.shows] + " Look along it from the top or the bottom edge and the "
+        "raised purl ridges hide the rows behind them, and each side's picture appears. The "
+        "previews are drawn in the fabric's proportions; angled views are foreshortened as they "
+        "are seen.",
         9,
     )
+
+
+#: What the cover says head-on shows, measured (:func:`~illuknit.outputs.captions.headon_likeness`).
+_HEADON_WORDS = {
+    "stripes": "Head-on the piece shows stripes.",
+    "same": "Head-on the piece shows the same picture as from either edge.",
+    "both": "Head-on the piece shows both pictures, mixed (the caption gives how alike each is).",
+    "A": "Head-on the piece shows mostly the picture seen from the top edge.",
+    "B": "Head-on the piece shows mostly the picture seen from the cast-on edge.",
+    "own": "Head-on the piece shows a picture of its own.",
+}
 
 
 def _materials(doc: _Document) -> None:
@@ -408,8 +433,9 @@ def _materials(doc: _Document) -> None:
     pdf.ln(2)
     doc.heading("How to read the chart")
     doc.para(
-        "Each square is one stitch, in the colour of its yarn. Row 1 is at the bottom (the "
-        "cast-on edge). Right-side (RS, odd) rows are read from right to left and have their "
+        "Each cell is one stitch, in the colour of its yarn, as wide and tall as a stitch of "
+        f"the fabric ({CELL_MM:g} x {doc.row_mm:.1f} mm), so motifs keep their shape. Row 1 is "
+        "at the bottom (the cast-on edge). Right-side (RS, odd) rows are read from right to left and have their "
         "number at the right; wrong-side (WS, even) rows are read from left to right and have "
         "their number at the left. A dot is a stitch that shows as a purl on the right side: "
         "purl it on a RS row, knit it on a WS row. Stitches are numbered from the right edge "
@@ -432,7 +458,7 @@ def _materials(doc: _Document) -> None:
 def _chart_pages(doc: _Document) -> None:
     """The page map, then the chart tiled over pages."""
     yarn, purl = _grids(doc.pattern)
-    tiles = chart_tiles(doc.W, doc.H, page=doc.page)
+    tiles = chart_tiles(doc.W, doc.H, page=doc.page, row_mm=doc.row_mm)
     doc.pdf.add_page()
     doc.heading(f"Chart: {len(tiles)} page{'s' if len(tiles) > 1 else ''}")
     doc.para(
@@ -517,6 +543,7 @@ class _Grid:
     t: ChartTile
     left: float
     top: float
+    row_mm: float = CELL_MM
 
     @property
     def right(self) -> float:
@@ -524,7 +551,7 @@ class _Grid:
 
     @property
     def bottom(self) -> float:
-        return self.top + (self.t.r1 - self.t.r0 + 1) * CELL_MM
+        return self.top + (self.t.r1 - self.t.r0 + 1) * self.row_mm
 
     def x(self, stitch: int) -> float:
         """Left edge of ``stitch``'s cell."""
@@ -532,7 +559,7 @@ class _Grid:
 
     def y(self, row: int) -> float:
         """Top edge of ``row``'s cell."""
-        return self.bottom - (row - self.t.r0 + 1) * CELL_MM
+        return self.bottom - (row - self.t.r0 + 1) * self.row_mm
 
 
 def _chart_page(
@@ -555,7 +582,8 @@ def _chart_page(
     )
     ncols = t.c1 - t.c0 + 1
     free = doc.pw - 2 * MARGIN_MM - 2 * LABEL_MM
-    g = _Grid(t, MARGIN_MM + LABEL_MM + (free - ncols * CELL_MM) / 2, pdf.get_y() + LABEL_MM + 2)
+    left = MARGIN_MM + LABEL_MM + (free - ncols * CELL_MM) / 2
+    g = _Grid(t, left, pdf.get_y() + LABEL_MM + 2, doc.row_mm)
     _chart_cells(doc, g, yarn, purl)
     _chart_lines(doc, g)
     _chart_numbers(doc, g)
@@ -604,12 +632,12 @@ def _chart_cells(
             if shade:  # the overlap with the neighbouring page
                 rgb = rgb * 0.8 + np.array([120.0, 120.0, 120.0]) * 0.2
             pdf.set_fill_color(*(int(v) for v in rgb))
-            pdf.rect(g.x(e), y, (e - s + 1) * c, c, style="F")
+            pdf.rect(g.x(e), y, (e - s + 1) * c, g.row_mm, style="F")
             s = e + 1
         for dot in (np.flatnonzero(purl[r - 1, t.c0 - 1 : t.c1]) + t.c0).tolist():
             v = 235 if dark[int(yarn[r - 1, dot - 1])] else 20
             pdf.set_fill_color(v, v, v)
-            pdf.ellipse(g.x(dot) + c / 2 - 0.8, y + c / 2 - 0.8, 1.6, 1.6, style="F")
+            pdf.ellipse(g.x(dot) + c / 2 - 0.8, y + g.row_mm / 2 - 0.8, 1.6, 1.6, style="F")
 
 
 def _chart_lines(doc: _Document, g: _Grid) -> None:
@@ -621,7 +649,7 @@ def _chart_lines(doc: _Document, g: _Grid) -> None:
     for k in range(t.c1 - t.c0 + 2):
         pdf.line(g.left + k * c, g.top, g.left + k * c, g.bottom)
     for k in range(t.r1 - t.r0 + 2):
-        pdf.line(g.left, g.top + k * c, g.right, g.top + k * c)
+        pdf.line(g.left, g.top + k * g.row_mm, g.right, g.top + k * g.row_mm)
     pdf.set_draw_color(0, 0, 0)
     pdf.set_line_width(0.45)
     for s in range(t.c0 - 1, t.c1 + 1):
@@ -650,25 +678,32 @@ def _chart_numbers(doc: _Document, g: _Grid) -> None:
         y = g.y(r)
         doc.font(6.5, "B" if r % 10 == 0 else "")
         if r % 2 == 1:
-            pdf.set_xy(g.right + 0.5, y + (c - 3.5) / 2)
+            pdf.set_xy(g.right + 0.5, y + (g.row_mm - 3.5) / 2)
             pdf.cell(LABEL_MM - 1, 3.5, str(r))
         else:
-            pdf.set_xy(g.left - LABEL_MM + 0.5, y + (c - 3.5) / 2)
+            pdf.set_xy(g.left - LABEL_MM + 0.5, y + (g.row_mm - 3.5) / 2)
             pdf.cell(LABEL_MM - 1, 3.5, str(r), align="R")
         if (r - 1) % SECTION_ROWS == 0:
             doc.font(7, "B")
-            pdf.set_xy(g.left - LABEL_MM - 7, y + (c - 3.5) / 2)
+            pdf.set_xy(g.left - LABEL_MM - 7, y + (g.row_mm - 3.5) / 2)
             pdf.cell(6.5, 3.5, f"S{(r - 1) // SECTION_ROWS + 1}", align="R")
 
 
-def chart_svg(pattern: LogicalPattern, *, cell: float = 10.0) -> str:
-    """The whole chart as SVG: a square per stitch (runs of one yarn merged), purl dots, stitch
+def chart_svg(
+    pattern: LogicalPattern, *, cell: float = 10.0, unit_aspect: float | None = None
+) -> str:
+    """The whole chart as SVG: a cell per stitch (runs of one yarn merged), purl dots, stitch
     numbers from the right along the top and bottom, row numbers (RS right, WS left), bold lines
-    every 10 stitches and rows."""
+    every 10 stitches and rows. Cells are ``cell`` wide and ``unit_aspect`` as tall (the fabric's
+    proportions; default the default machine's gauge)."""
+    if unit_aspect is None:
+        from illuknit.core.machine import DEFAULT_MACHINE
+
+        unit_aspect = DEFAULT_MACHINE.fabric_gauge.unit_aspect
     yarn, purl = _grids(pattern)
     H, W = yarn.shape
-    pad = 3 * cell
-    width, height = W * cell + 2 * pad, H * cell + 2 * pad
+    pad, rh = 3 * cell, cell * unit_aspect
+    width, height = W * cell + 2 * pad, H * rh + 2 * pad
     out = [
         f'<svg xmlns="http://www.w3.org/2000/svg" width="{width:g}" height="{height:g}" '
         f'viewBox="0 0 {width:g} {height:g}" font-family="Helvetica, Arial, sans-serif" '
@@ -681,7 +716,7 @@ def chart_svg(pattern: LogicalPattern, *, cell: float = 10.0) -> str:
         return pad + (W - s) * cell
 
     def y_of(r: int) -> float:  # top edge of row r (1 = bottom)
-        return pad + (H - r) * cell
+        return pad + (H - r) * rh
 
     for r in range(1, H + 1):
         s = 1
@@ -693,24 +728,24 @@ def chart_svg(pattern: LogicalPattern, *, cell: float = 10.0) -> str:
             fill = pattern.yarns[int(row[s - 1])].hex
             out.append(
                 f'<rect x="{x_of(e):g}" y="{y_of(r):g}" width="{(e - s + 1) * cell:g}" '
-                f'height="{cell:g}" fill="{fill}"/>'
+                f'height="{rh:g}" fill="{fill}"/>'
             )
             s = e + 1
         for dot in (np.flatnonzero(purl[r - 1]) + 1).tolist():
             col = "#ebebeb" if dark[int(row[dot - 1])] else "#141414"
             out.append(
-                f'<circle cx="{x_of(dot) + cell / 2:g}" cy="{y_of(r) + cell / 2:g}" '
-                f'r="{cell * 0.18:g}" fill="{col}"/>'
+                f'<circle cx="{x_of(dot) + cell / 2:g}" cy="{y_of(r) + rh / 2:g}" '
+                f'r="{min(cell, rh) * 0.18:g}" fill="{col}"/>'
             )
     for s in range(0, W + 1):
         x = pad + (W - s) * cell
         wide = s % 10 == 0
         out.append(
-            f'<line x1="{x:g}" y1="{pad:g}" x2="{x:g}" y2="{pad + H * cell:g}" '
+            f'<line x1="{x:g}" y1="{pad:g}" x2="{x:g}" y2="{pad + H * rh:g}" '
             f'stroke="{"#000" if wide else "#888"}" stroke-width="{1.5 if wide else 0.3}"/>'
         )
     for r in range(0, H + 1):
-        y = pad + (H - r) * cell
+        y = pad + (H - r) * rh
         wide = r % 10 == 0
         out.append(
             f'<line x1="{pad:g}" y1="{y:g}" x2="{pad + W * cell:g}" y2="{y:g}" '
@@ -721,10 +756,10 @@ def chart_svg(pattern: LogicalPattern, *, cell: float = 10.0) -> str:
             x = x_of(s) + cell / 2
             out.append(f'<text x="{x:g}" y="{pad - cell * 0.4:g}" text-anchor="middle">{s}</text>')
             out.append(
-                f'<text x="{x:g}" y="{pad + H * cell + cell:g}" text-anchor="middle">{s}</text>'
+                f'<text x="{x:g}" y="{pad + H * rh + cell:g}" text-anchor="middle">{s}</text>'
             )
     for r in range(1, H + 1):
-        y = y_of(r) + cell * 0.8
+        y = y_of(r) + rh * 0.8
         if r % 2:
             out.append(f'<text x="{pad + W * cell + cell * 0.3:g}" y="{y:g}">{r}</text>')
         else:
@@ -746,5 +781,7 @@ def write_pattern_pdf(
     pdf = pattern_pdf(pattern, gauge=gauge, title=title, page=page)
     return {
         "pattern_pdf": atomic_write_bytes(out / "pattern.pdf", pdf),
-        "chart_svg": atomic_write_text(out / "chart.svg", chart_svg(pattern)),
+        "chart_svg": atomic_write_text(
+            out / "chart.svg", chart_svg(pattern, unit_aspect=gauge.unit_aspect)
+        ),
     }

@@ -135,12 +135,13 @@ def contact_sheet(
     ims = [np.asarray(p, dtype=np.uint8) for _, p in panels]
     cols = columns or len(ims)
     rows = (len(ims) + cols - 1) // cols
-    cell_w = max(i.shape[1] for i in ims)
-    cell_h = max(i.shape[0] for i in ims)
     try:
         font = ImageFont.load_default(size=16)
     except TypeError:  # Pillow < 10.1
         font = ImageFont.load_default()
+    # a column is as wide as its widest picture or title, so titles never run into each other
+    cell_w = max(max(i.shape[1] for i in ims), *(int(font.getlength(t)) + 4 for t, _ in panels))
+    cell_h = max(i.shape[0] for i in ims)
     title_h = 24
     W = cols * cell_w + (cols + 1) * pad
     H = rows * (cell_h + title_h) + (rows + 1) * pad

@@ -137,3 +137,16 @@ def test_solve_with_one_yarn_is_an_error(flag, files, run_cli):
     code, _, err = run_cli(["solve", files["PIC"], "--model", "single", *flag, "-o", str(out)])
     assert_one_line(code, err, "at least 2 yarns")
     assert not out.exists()
+
+
+@pytest.mark.parametrize("command", ["view", "render"])
+def test_an_outdir_named_like_an_option_is_refused(command, files, run_cli, monkeypatch):
+    """``-o --04`` once took "--04" as the folder (a file named like an option, ``--04.png``,
+    was committed at the root): a name starting with '-' is refused unless given as a path."""
+    monkeypatch.chdir(files["T"])
+    code, _, err = run_cli([command, files["PAT"], "-o", "--04"])
+    assert_one_line(code, err, "'--04' looks like an option")
+    assert not (files["T"] / "--04").exists()
+    code, _, err = run_cli([command, files["PAT"], "-o", str(files["T"] / "--04")])
+    assert code == 0, err  # a full path is a folder name like any other
+    assert (files["T"] / "--04" / "headon.png").is_file()

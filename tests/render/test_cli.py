@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import math
 
 import numpy as np
 import pytest
@@ -61,7 +62,10 @@ def test_render_writes_pngs_and_gif(tmp_path, pattern_file):
         "view_a.png",
         "view_b.png",
     ]
-    assert Image.open(out / "view_a.png").size == (15, 18)
+    # 6 x 5 units at 3 px a unit across, in the fabric's proportions (a unit 0.7 as tall as
+    # wide), foreshortened at 25 degrees: head-on 13 rows, view A sin(25) of that
+    assert Image.open(out / "headon.png").size == (15, round(18 * 0.7))
+    assert Image.open(out / "view_a.png").size == (15, round(18 * 0.7 * math.sin(math.radians(25))))
     with Image.open(out / "sweep.gif") as gif:
         assert gif.n_frames == 8  # 5 out and 3 back
     assert load_params(out / "params.json").theta == 25

@@ -114,8 +114,16 @@ def get_input_png(s: SessionDep, slot: str) -> Response:
             code="missing",
             status=404,
         )
+    from illuknit.core.machine import get_machine
+    from illuknit.pictures.sizing import grid_picture
+
+    # on the unit grid: drawn in the fabric's proportions (units unit_aspect as tall as wide),
+    # as the renders beside it are, not one square pixel a unit (1.43x too tall)
+    rgb = p.quantised[slot].rgb()
+    aspect = get_machine(s.settings.machine).fabric_gauge.unit_aspect
+    scale = max(2, min(8, 1600 // max(1, rgb.shape[1])))
     return Response(
-        design.png_bytes(p.quantised[slot].rgb()),
+        design.png_bytes(grid_picture(rgb, unit_aspect=aspect, scale=scale)),
         media_type="image/png",
         headers={"Cache-Control": "no-store"},
     )

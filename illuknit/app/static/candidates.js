@@ -76,8 +76,13 @@ function measuresText(m) {
   }
   if (m.knit_minutes != null) parts.push(`${m.knit_minutes.toFixed(1)} min to knit`);
   else if (m.knit_note) parts.push(m.knit_note);
+  // a correlation or gain below 0 is a picture seen in negative, not a score below nothing
+  const negative = m.views.length && [...m.readability, m.worse_contrast].some((x) => x != null && x < 0);
+  if (negative) parts.push(NEGATIVE_NOTE);
   return parts.join(" · ");
 }
+
+const NEGATIVE_NOTE = "below 0: that side shows its picture in negative (light and dark swapped)";
 
 async function loadCandidates() {
   const c = await sapi("GET", `/candidates?order=${encodeURIComponent($("#order").value || "rank")}`);
@@ -212,9 +217,17 @@ function updateFar() {
     if (want[view]) tg.src = want[view]; else tg.removeAttribute("src");
     $("figcaption", tg.parentElement).textContent = want[view]
       ? `${view === "headon" ? "Head-on" : `Side ${view}`} should show`
-      : `${view === "headon" ? "Head-on" : `Side ${view}`}: ${view === "headon" ? "stripes (no picture)" : "a plain field"}`;
+      : `${view === "headon" ? "Head-on" : `Side ${view}`}: ${view === "headon" ? HEADON_SHOWS[mode] || HEADON_SHOWS.double : "a plain field"}`;
   }
 }
+
+// What head-on shows when no picture is asked of it, as the library measures it
+// (illuknit.outputs.captions): a single view's rows alternate, so head-on is stripes
+// (correlation 0 with either side); a double view shows both pictures mixed (0.5-0.9).
+const HEADON_SHOWS = {
+  single: "stripes (no picture)",
+  double: "no picture of its own: both pictures show, mixed",
+};
 
 function loadLive(view) {
   const img = $(`#pv-${view}`);

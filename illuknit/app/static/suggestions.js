@@ -86,7 +86,8 @@ function suggestionCard(s) {
   const words = document.createElement("b");
   words.textContent = `${VERDICT_WORDS[s.verdict] || s.verdict}: `;
   const detail = document.createElement("span");
-  detail.textContent = `${s.effect} (worse side reads ${f(s.readability_before)} → ${f(s.readability_after)}, ghosting ${f(s.ghosting_before)} → ${f(s.ghosting_after)})`;
+  const negative = [s.readability_before, s.readability_after].some((x) => x != null && x < 0);
+  detail.textContent = `${s.effect} (worse side reads ${f(s.readability_before)} → ${f(s.readability_after)}, ghosting ${f(s.ghosting_before)} → ${f(s.ghosting_after)})` + (negative ? ` · ${NEGATIVE_NOTE}` : "");
   effect.append(words, detail);
   effect.title = "readability: how well the worse side, as seen, matches its picture (1 is best); ghosting: how much of the other picture shows through (0 is best)";
   const acts = document.createElement("div");

@@ -53,7 +53,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from illuknit.core.arguments import check_choice, check_instance, check_int
+from illuknit.core.arguments import check_choice, check_instance, check_int, check_number
 from illuknit.core.colors import linear_from_srgb, srgb_from_linear
 from illuknit.core.errors import OptionError, PatternValidationError, RenderParamsError
 from illuknit.core.pattern import LogicalPattern, check_pattern
@@ -435,15 +435,39 @@ def render_image(
     *,
     params: RenderParams | None = None,
     scale: int = 1,
+    unit_aspect: float | None = None,
 ) -> NDArray[np.uint8]:
-    """A picture for people: :func:`render_at` with ``scale`` pixel rows per unit row (so partly
-    hidden units show as partial bands) and each wale widened to ``scale`` pixels.
+    """A picture for people: :func:`render_at` with each wale widened to ``scale`` pixels and
+    several pixel rows per unit row (so partly hidden units show as partial bands).
+
+    Parameters
+    ----------
+    scale : int
+        Pixels per unit across, 1-64 (the renderer resolves at most 8 bands per unit row; finer
+        pictures repeat its rows).
+    unit_aspect : float, optional
+        Height over width of a unit in the fabric (:attr:`illuknit.core.gauge.Gauge.unit_aspect`):
+        the picture is drawn in the fabric's proportions as seen at ``angle``, ``round(N * scale
+        * unit_aspect * sin|angle|)`` rows. None: ``N * scale`` rows, one unit row's projection
+        as tall as the unit is wide.
 
     Returns
     -------
-    ndarray of shape (N * scale, M * scale, 3), uint8
+    ndarray of shape (rows, M * scale, 3), uint8
     """
-    img = render_at(pattern, angle, params=params, supersample=scale)
+    check_int(scale, "scale", min=1, max=64)
+    n = pattern.shape[0] if isinstance(pattern, LogicalPattern) else 1
+    if unit_aspect is None:
+        rows = n * scale
+    else:
+        unit_aspect = check_number(unit_aspect, "unit_aspect", min=0.05, max=20)
+        a = check_number(angle, "angle", min=-90, max=90, error=RenderParamsError)
+        seen = math.sin(math.radians(abs(a)))
+        rows = max(1, round(n * scale * unit_aspect * seen))
+    supersample = int(min(8, max(1, math.ceil(rows / max(n, 1)))))
+    img = render_at(pattern, angle, params=params, supersample=supersample)
+    if img.shape[0] != rows:  # nearest-neighbour to the rows asked for
+        img = img[(np.arange(rows) * img.shape[0]) // rows]
     return np.repeat(img, scale, axis=1)
 
 

@@ -177,7 +177,9 @@ def test_inputs_quantise_and_legend(client, api, pictures):
     q = client.get(inp["images"]["a"])
     assert q.status_code == 200
     arr = np.asarray(Image.open(io.BytesIO(q.content)))
-    assert arr.shape == (17, 18, 3)
+    # the 17 x 18 grid in the fabric's proportions, 8 pixels a unit across: the picture's 2 : 3
+    assert arr.shape == (round(17 * 8 * 0.7), 18 * 8, 3)
+    assert arr.shape[0] / arr.shape[1] == pytest.approx(2 / 3, rel=0.03)
     assert {tuple(c) for c in arr.reshape(-1, 3)} == {(0x1B, 0x1B, 0x1B), (0xF4, 0xF0, 0xE8)}
     r = client.get(f"/api/sessions/{sid}/inputs/b.png")
     assert r.status_code == 404

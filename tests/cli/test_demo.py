@@ -1,0 +1,26 @@
+"""The demo's first lines are for a person (issue 33, item 9): it once opened with 600
+characters of key=value, the time, its range and the bind-off each twice."""
+
+from __future__ import annotations
+
+import re
+import subprocess
+import sys
+
+
+def test_the_demo_opens_with_lines_a_person_reads(tmp_path):
+    run = subprocess.run(
+        [sys.executable, "-m", "illuknit", "demo", "--width", "16", "-o", str(tmp_path / "d")],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    lines = run.stdout.splitlines()
+    assert lines[0].startswith("illuknit demo: a single-view illusion")
+    assert len(lines[0]) - len(str(tmp_path)) < 100
+    knitout = next(line for line in lines if line.startswith("knitout:"))
+    assert len(knitout) <= 200 and "=" not in knitout, knitout
+    # every figure once: the time, the model's range and the bind-off
+    times = re.findall(r"\d+ min \d+ s", knitout)
+    assert len(times) == len(set(times)) == 4, knitout  # time, range (2 ends), bind-off
+    assert "time model's range" in knitout and "seconds" not in knitout
