@@ -17,7 +17,14 @@ from typing import Any, Literal
 
 import click
 
-from illuknit.cli.design_files import fmt_number, summary_text, write_candidate, write_edits
+from illuknit.cli.design_files import (
+    fmt_number,
+    reads_cells,
+    summary_text,
+    verdict_lines,
+    write_candidate,
+    write_edits,
+)
 from illuknit.cli.knitout_bridge import format_option, long_floats_option, machine_option
 from illuknit.cli.options import FiniteFloat, knitout_option, outdir_option
 from illuknit.core.gauge import finished_size
@@ -72,13 +79,16 @@ def run_design(
     suggest: bool = False,
     distance: float = 3.0,
     angle: float = 30.0,
+    read: bool | None = None,
     progress: Report | None = None,
 ) -> dict[str, Any]:
     """Parse the options, call :func:`~illuknit.pipeline.stages.design_double` (or
     :func:`~illuknit.pipeline.stages.design_headon`) and write every candidate (atomically into
     ``outdir``); with ``knitout`` the default candidate is knit on ``machine``.
     ``progress(fraction, message)`` hears how far the work is (the command line's bar); the
-    designs are judged from ``angle`` degrees and ``distance`` metres. Returns the summary."""
+    designs are judged from ``angle`` degrees and ``distance`` metres; ``read`` asks the reader
+    whether each side of the written candidates reads (None: when it is installed). Returns the
+    summary."""
     from illuknit.cli.knitout_bridge import design_unit_aspect, resolve_machine
     from illuknit.core.errors import ImageInputError, OptionError, TileAssignmentError
     from illuknit.core.views import DEFAULT_SPLIT_SHARE
@@ -98,7 +108,13 @@ def run_design(
     if (simplify or suggest) and (mode != "double" or path_b is None):
         raise OptionError("--simplify and --suggest work on double-view designs (two pictures)")
     overrides = tuple(_parse_overrides(tile).items())
-    ranking = RankOptions(RankBy(rank_by), knit_time, machine, overrides, angle, distance)
+    if read is None:
+        from illuknit.design.legibility import reader_available
+
+        read = mode == "double" and reader_available()
+    ranking = RankOptions(
+        RankBy(rank_by), knit_time, machine, overrides, angle, distance, read=bool(read)
+    )
     spec = resolve_machine(machine)
     search = SearchOptions(
         candidates=candidates,
@@ -214,6 +230,8 @@ def write_design(
             "default": pick,
             "candidates": rows,
         }
+        if rows and rows[0].get("legibility"):
+            summary["read_by"] = rows[0]["legibility"]["reader"]
         atomic_write_text(tmp / "summary.json", json.dumps(summary, indent=1) + "\n")
         atomic_write_text(tmp / "summary.txt", summary_text(summary, overlap_lines))
     return summary
@@ -270,7 +288,8 @@ SUMMARY_COLUMNS = (
     "rank",
     "",
     "perceptual",
-    "readability",
+    "reads A / B",
+    "correlation",
     "ghosting (shows)",
     "contrast",
     "knit min",
@@ -285,7 +304,8 @@ def _summary_cells(r: dict[str, Any]) -> dict[str, str]:
         "rank": str(r["rank"]),
         "": "default" if r["default"] else "",
         "perceptual": fmt_number(r["perceptual_score"]),
-        "readability": " / ".join(fmt_number(v) for v in r["readability"]),
+        "reads A / B": " / ".join(reads_cells(r)),
+        "correlation": " / ".join(fmt_number(v) for v in r["readability"]),
         "contrast": " / ".join(fmt_number(v) for v in r["contrast"]),
         "ghosting (shows)": _worst_ghosting(r),
         "knit min": fmt_number(r["knit_minutes"], 1),
@@ -361,6 +381,9 @@ def print_summary(summary: dict[str, Any], outdir: Path) -> None:
             f"({size['width_in']} x {size['height_in']} in) at {size['gauge']} "
             f"({size['gauge_source']})"
         )
+    for line in verdict_lines(summary):
+        if line:
+            con.print(line, markup=False, highlight=False)
     default = next((r for r in summary["candidates"] if r["default"]), None)
     if default is not None:
         for line in _overlap_digest(default["overlaps"]):
@@ -404,8 +427,9 @@ def design_options(func: Any) -> Any:
         click.option("--pick", type=click.IntRange(1, 50), default=1, show_default=True,
                      help="Which candidate is the default (copied to OUTDIR/pattern.json)."),
         click.option("--rank-by", type=click.Choice(RANK_KEYS), default="perception", show_default=True,
-                     help="Order of the candidates: how the views read (perception: worse view's readability, "
-                     "contrast floor, ghosting), the assignment's score, or one measure."),
+                     help="Order of the candidates: how the views read (perception: worse view's correlation, "
+                     "contrast floor, ghosting; legibility: designs whose both sides a reader reads first, "
+                     "needs tesseract), the assignment's score, or one measure."),
         click.option("--knit-time/--no-knit-time", default=False, show_default=True,
                      help="Also knit every candidate and show the machine's knitting time (ties in the ranking)."),
         click.option("--suggest", is_flag=True,
@@ -445,6 +469,9 @@ def design_options(func: Any) -> Any:
 @click.command("double")
 @click.argument("image_a", type=click.Path(dir_okay=False, path_type=Path))
 @click.argument("image_b", type=click.Path(dir_okay=False, path_type=Path))
+@click.option("--read/--no-read", default=None,
+              help="Ask a reader (tesseract OCR) whether each side of the candidates reads from --distance "
+              "[default: when tesseract is installed].")  # fmt: skip
 @design_options
 def double(image_a: Path, image_b: Path, outdir: Path, **kw: Any) -> None:
     """Design a double-view illusion: IMAGE_A seen from above, IMAGE_B from below.
