@@ -108,12 +108,8 @@ def run_design(
     if (simplify or suggest) and (mode != "double" or path_b is None):
         raise OptionError("--simplify and --suggest work on double-view designs (two pictures)")
     overrides = tuple(_parse_overrides(tile).items())
-    if read is None:
-        from illuknit.design.legibility import reader_available
-
-        read = mode == "double" and reader_available()
     ranking = RankOptions(
-        RankBy(rank_by), knit_time, machine, overrides, angle, distance, read=bool(read)
+        RankBy(rank_by), knit_time, machine, overrides, angle, distance, read=_read(read, mode)
     )
     spec = resolve_machine(machine)
     search = SearchOptions(
@@ -235,6 +231,15 @@ def write_design(
         atomic_write_text(tmp / "summary.json", json.dumps(summary, indent=1) + "\n")
         atomic_write_text(tmp / "summary.txt", summary_text(summary, overlap_lines))
     return summary
+
+
+def _read(read: bool | None, mode: str) -> bool:
+    """``--read/--no-read``: None reads a double view's sides when the reader is installed."""
+    if read is not None:
+        return read
+    from illuknit.design.legibility import reader_available
+
+    return mode == "double" and reader_available()
 
 
 def _parse_overrides(specs: tuple[str, ...]) -> dict[tuple[int, int], str]:

@@ -186,7 +186,7 @@ def smallest_legible_width(
         verdicts = [d.legibility for d in design.designs if d.legibility is not None]
         sides = verdicts[0].sides if verdicts else ()
         words = (sides[0].words, sides[1].words) if sides else words
-        size = finished_size(design.quantised["A"].shape, spec.fabric_gauge).as_dict()
+        size = finished_size(design.quantised["A"].shape, spec.fabric_gauge)
         tried.append(
             WidthVerdict(
                 width=int(design.quantised["A"].shape[1]),
@@ -194,14 +194,13 @@ def smallest_legible_width(
                 b_reads=any(v.sides[1].reads for v in verdicts),
                 both_read=any(v.all_read for v in verdicts),
                 sentence=verdicts[0].sentence() if verdicts else "not read",
-                width_cm=float(size["width_cm"]),
+                width_cm=float(size.width_cm),
             )
         )
         if tried[-1].both_read and not keep_going:
             break
     name = f"{spec.name} at {spec.fabric_gauge.stitches_per_10cm:.1f} stitches per 10 cm"
     return LegibleWidths(tuple(tried), words, float(angle), float(distance), name)
-
 
 
 def _check_widths(widths: Sequence[int]) -> list[int]:
