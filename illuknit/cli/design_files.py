@@ -254,7 +254,7 @@ def summary_text(summary: dict[str, Any], overlap_lines: list[str]) -> str:
 
 
 def reads_cells(row: dict[str, Any]) -> tuple[str, str]:
-    """``("yes", "no")``: whether each side reads (``"yes*"``: a picture, by its correlation);
+    """``("yes", "no")``: whether each side reads (``"yes*"``: a picture, by its shapes);
     ``"-"`` when not read."""
     verdict = row.get("legibility")
     if not verdict:
@@ -262,7 +262,7 @@ def reads_cells(row: dict[str, Any]) -> tuple[str, str]:
     cells = []
     for side in verdict["sides"]:
         word = "yes" if side["reads"] else "no"
-        cells.append(word + ("*" if side["judge"] == "correlation" else ""))
+        cells.append(word + ("*" if side["judge"] != "reader" else ""))
     return (cells[0], cells[1])
 
 
@@ -308,7 +308,7 @@ _COLUMN_NOTES = [
     "ghost, shows: how much of the other picture shows through (0 = none), and the share of",
     "  the view's light/dark variation it makes; minutes: machine knitting time (--knit-time);",
     "reads: whether the reader (tesseract OCR) reads the side's words from the viewing distance;",
-    "  yes* / no* on a picture side is the correlation's estimate (at least 0.93), not a reader's;",
+    "  yes* / no* on a picture side is an estimate from its light/dark shapes, not a reader's;",
     "cost ΔE: the tile search's own cost (colour distance of the fills to the picture colours",
     "  in CIELAB ΔE, plus stripe and yarn penalties; lower is closer). It never looks at the",
     "  knitted result, so it is not the order of the ranking.",

@@ -96,10 +96,29 @@ def test_the_weaker_side_is_said_first(a_reads, b_reads, ca, cb):
         assert "side B does not read CAT" in verdict.sentence()
 
 
-def test_a_picture_side_says_its_verdict_is_the_correlations():
-    side = SideReading("B", None, None, False, 0.88)
+def test_a_picture_side_says_its_verdict_is_an_estimate():
+    side = SideReading("B", None, None, False, 0.97, 0.81)
     assert "a picture" in side.sentence() and "not a reader's verdict" in side.sentence()
-    assert side.judge == "correlation" and side.to_json()["reads"] is False
+    assert "81 %" in side.sentence()
+    assert side.judge == "shapes" and side.to_json()["reads"] is False
+
+
+def test_shape_agreement_is_one_for_a_faithful_view_and_falls_for_a_wrong_picture():
+    from illuknit.design.legibility import shape_agreement
+    from illuknit.pictures.drawings import draw_shape
+    from illuknit.pipeline.stages import design_double
+
+    pics = [
+        np.where(draw_shape(n, (30, 30))[..., None], 30, 240).astype(np.uint8).repeat(3, axis=2)
+        for n in ("plus", "circle")
+    ]
+    d = design_double(pics[0], pics[1], width=30, unit_aspect=1.0)
+    p = d.designs[0].pattern
+    own = shape_agreement(p, d.targets[0], "A")
+    other = shape_agreement(p, d.targets[1], "A")
+    assert 0.0 <= other < own <= 1.0
+    with pytest.raises(OptionError, match="`picture`"):
+        shape_agreement(p, d.targets[0][:5], "A")
 
 
 def test_without_the_reader_reading_says_what_to_install(monkeypatch):
