@@ -468,7 +468,7 @@ def read_designs(
     if len(pictures) != 2:
         raise OptionError(f"`pictures` must be the two sides' pictures, got {len(pictures)}")
     said = list(words) if words is not None else words_of(pictures)
-    corr = (
+    corr: list[list[float | None]] = (
         [list(c) for c in correlations]
         if correlations is not None
         else [[None, None] for _ in patterns]
