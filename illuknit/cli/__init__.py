@@ -48,6 +48,7 @@ COMMANDS: dict[str, str] = {
     "check": "illuknit.cli.check:check",
     "tiles": "illuknit.cli.tiles:tiles",
     "double": "illuknit.cli.double:double",
+    "legible": "illuknit.cli.legible:legible",
     "headon": "illuknit.cli.headon:headon",
     "render": "illuknit.cli.render:render",
     "solve": "illuknit.cli.solve:solve",
@@ -67,6 +68,7 @@ _HELP = {
     "check": "Check a knitout program for machine-rule violations and fabric failures.",
     "tiles": "List a tile bank with its fills and draw each tile.",
     "double": "Design a double-view illusion from two pictures with tiles (ranked candidates).",
+    "legible": "The smallest width at which each side of a double view reads (by a reader).",
     "headon": "Design a picture seen head-on that disappears at an angle.",
 }
 

@@ -12,7 +12,15 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["fmt_number", "summary_text", "write_candidate", "write_edits", "write_seen"]
+__all__ = [
+    "fmt_number",
+    "reads_cells",
+    "summary_text",
+    "verdict_lines",
+    "write_candidate",
+    "write_edits",
+    "write_seen",
+]
 
 
 def write_candidate(
@@ -57,6 +65,7 @@ def write_candidate(
         "assignment": cand_json,
         "tiles_report": report_json,
         "measures": meas.to_json(),
+        "legibility": _legibility_json(rc),
         "default": cand.rank == pick,
     }
     ra = repainted_rgb(cand, 0)
@@ -90,6 +99,7 @@ def write_candidate(
         "score": round(cand.score, 2),
         "score_rank": rc.score_rank,
         **_measure_fields(meas),
+        "legibility": _legibility_json(rc),
         "diagnostics": diagnostics,
         "fills_a": [f["fill"] for f in fills if f["input"] == "A"],
         "fills_b": [f["fill"] for f in fills if f["input"] == "B"],
@@ -118,6 +128,12 @@ def write_edits(edits: list[Any], folder: Path, *, scale: int) -> None:
             save_png(upscale(pair, scale), folder / f"{s.name}_{letter}.png")
     data = {"edits": [e.to_json() for e in edits]}
     atomic_write_text(folder / "suggestions.json", json.dumps(data, indent=1) + "\n")
+
+
+def _legibility_json(rc: Any) -> dict[str, Any] | None:
+    """The reader's verdict on a candidate's sides (None when it was not read)."""
+    verdict = getattr(rc, "legibility", None)
+    return None if verdict is None else dict(verdict.to_json())
 
 
 def _measure_fields(m: Any) -> dict[str, Any]:
@@ -213,20 +229,22 @@ def summary_text(summary: dict[str, Any], overlap_lines: list[str]) -> str:
         f"yarns: {', '.join(y['name'] + ' ' + y['rgb'] for y in summary['yarns'])}",
         f"bank {summary['bank']['name']} ({summary['bank']['tiles']} tiles), solver {summary['solver']}",
         "",
+        *verdict_lines(summary),
         f"best {len(summary['candidates'])} of {summary['searched']} tile designs searched, "
-        f"ranked by {summary.get('ranked_by', 'score')}; readability / contrast per view; worst ghosting "
-        "and how much of it shows (visible ghosting)",
-        "rank  default  percept  read A  read B  contr A  contr B  ghost  shows  minutes  cost ΔE  fills of input A | fills of input B",
+        f"ranked by {summary.get('ranked_by', 'score')}; correlation / contrast per view; worst ghosting "
+        "and how much of it shows (visible ghosting); whether the reader reads each side",
+        "rank  default  percept  corr A  corr B  contr A  contr B  ghost  shows  reads A  reads B  minutes  cost ΔE  fills of input A | fills of input B",
     ]
     for r in summary["candidates"]:
         mark = "  *    " if r["default"] else "       "
         rd, ct = r["readability"], r["contrast"]
         ghost = max((abs(g) for g in r["ghosting"] if g is not None), default=None)
         shows = max((g for g in r["visible_ghosting"] if g is not None), default=None)
+        ra, rb = reads_cells(r)
         lines.append(
             f"{r['rank']:>4}  {mark}  {fmt_number(r['perceptual_score']):>7}  {fmt_number(rd[0]):>6}  "
             f"{fmt_number(rd[1]):>6}  {fmt_number(ct[0]):>7}  {fmt_number(ct[1]):>7}  {fmt_number(ghost):>5}  {fmt_number(shows):>5}  "
-            f"{fmt_number(r['knit_minutes'], 1):>7}  {r['score']:>7.2f}  "
+            f"{ra:>7}  {rb:>7}  {fmt_number(r['knit_minutes'], 1):>7}  {r['score']:>7.2f}  "
             f"{'; '.join(r['fills_a'])} | {'; '.join(r['fills_b'])}"
         )
     lines.append("")
@@ -239,15 +257,63 @@ def summary_text(summary: dict[str, Any], overlap_lines: list[str]) -> str:
     return "\n".join(lines) + "\n"
 
 
+def reads_cells(row: dict[str, Any]) -> tuple[str, str]:
+    """``("yes", "no")``: whether each side reads (``"yes*"``: a picture, by its shapes);
+    ``"-"`` when not read."""
+    verdict = row.get("legibility")
+    if not verdict:
+        return ("-", "-")
+    cells = []
+    for side in verdict["sides"]:
+        word = "yes" if side["reads"] else "no"
+        cells.append(word + ("*" if side["judge"] != "reader" else ""))
+    return (cells[0], cells[1])
+
+
+def verdict_lines(summary: dict[str, Any]) -> list[str]:
+    """The reader's verdict on the default candidate, first thing in summary.txt."""
+    default = next((r for r in summary["candidates"] if r["default"]), None)
+    verdict = None if default is None else default.get("legibility")
+    if summary["mode"] != "double":
+        return []
+    if not verdict:
+        return [
+            "not read: whether each side reads was not judged (the reader, tesseract, was not "
+            "asked or is not installed); the correlations below are not a legibility scale",
+            "",
+        ]
+    head = (
+        f"default candidate, read by {verdict['reader']} from {verdict['distance_m']:g} m at "
+        f"{verdict['angle']:g} degrees: {verdict['sentence']}"
+    )
+    out = [head]
+    if not verdict["all_read"]:
+        both = [
+            r["rank"] for r in summary["candidates"] if (r.get("legibility") or {}).get("all_read")
+        ]
+        out.append(
+            f"  it does not read on every side; read on both: candidate(s) "
+            f"{', '.join(map(str, both))} (--pick one, or --rank-by legibility to rank them first)"
+            if both
+            else "  it does not read on every side, nor does any candidate shown: try --rank-by "
+            "legibility, a wider --width, or `illuknit legible` for the smallest width that reads"
+        )
+    return [*out, ""]
+
+
 #: What the columns of summary.txt mean, written under the table.
 _COLUMN_NOTES = [
     "percept: the perceptual score the default order sorts by (higher first): the worse view's",
-    "  readability, less its contrast's shortfall below the floor (docs/tiles.md);",
-    "read, contr: per view, readability (is the picture there? 1 = all of it) and contrast",
-    "  (how much of its light/dark difference survives; 1 = all, 0 = a flat field); either",
-    "  below 0: the view shows its picture in negative (light and dark swapped);",
+    "  correlation, less its contrast's shortfall below the floor (docs/tiles.md);",
+    "corr: per view, the Pearson correlation (-1 to 1) of the blurred render's luminance with its",
+    "  picture's: how much of the light/dark pattern is there. It is not a legibility scale:",
+    "  word sides at 0.92-0.95 can be unreadable (docs/legibility.md); below 0, the view shows",
+    "  its picture in negative (light and dark swapped);",
+    "contr: per view, how much of its light/dark difference survives (1 = all, 0 = a flat field);",
     "ghost, shows: how much of the other picture shows through (0 = none), and the share of",
     "  the view's light/dark variation it makes; minutes: machine knitting time (--knit-time);",
+    "reads: whether the reader (tesseract OCR) reads the side's words from the viewing distance;",
+    "  yes* / no* on a picture side is an estimate from its light/dark shapes, not a reader's;",
     "cost ΔE: the tile search's own cost (colour distance of the fills to the picture colours",
     "  in CIELAB ΔE, plus stripe and yarn penalties; lower is closer). It never looks at the",
     "  knitted result, so it is not the order of the ranking.",

@@ -17,7 +17,14 @@ from typing import Any, Literal
 
 import click
 
-from illuknit.cli.design_files import fmt_number, summary_text, write_candidate, write_edits
+from illuknit.cli.design_files import (
+    fmt_number,
+    reads_cells,
+    summary_text,
+    verdict_lines,
+    write_candidate,
+    write_edits,
+)
 from illuknit.cli.knitout_bridge import format_option, long_floats_option, machine_option
 from illuknit.cli.options import FiniteFloat, InputFile, knitout_option, outdir_option
 from illuknit.core.gauge import finished_size
@@ -72,13 +79,16 @@ def run_design(
     suggest: bool = False,
     distance: float = 3.0,
     angle: float = 30.0,
+    read: bool | None = None,
     progress: Report | None = None,
 ) -> dict[str, Any]:
     """Parse the options, call :func:`~illuknit.pipeline.stages.design_double` (or
     :func:`~illuknit.pipeline.stages.design_headon`) and write every candidate (atomically into
     ``outdir``); with ``knitout`` the default candidate is knit on ``machine``.
     ``progress(fraction, message)`` hears how far the work is (the command line's bar); the
-    designs are judged from ``angle`` degrees and ``distance`` metres. Returns the summary."""
+    designs are judged from ``angle`` degrees and ``distance`` metres; ``read`` asks the reader
+    whether each side of the written candidates reads (None: when it is installed). Returns the
+    summary."""
     from illuknit.cli.knitout_bridge import design_unit_aspect, resolve_machine
     from illuknit.core.errors import ImageInputError, LongFloatError, TileAssignmentError
     from illuknit.core.views import DEFAULT_SPLIT_SHARE
@@ -89,7 +99,9 @@ def run_design(
         candidates, pool, edits=(simplify or suggest) and (mode != "double" or not path_b)
     )
     overrides = tuple(_parse_overrides(tile).items())
-    ranking = RankOptions(RankBy(rank_by), knit_time, machine, overrides, angle, distance)
+    ranking = RankOptions(
+        RankBy(rank_by), knit_time, machine, overrides, angle, distance, read=_read(read, mode)
+    )
     spec = resolve_machine(machine)
     search = SearchOptions(
         candidates=candidates,
@@ -329,12 +341,23 @@ def write_design(
             **({"program_refused": str(refused[0])} if refused else {}),
             "notes": list(notes or ()),
         }
+        if rows and rows[0].get("legibility"):
+            summary["read_by"] = rows[0]["legibility"]["reader"]
         atomic_write_text(tmp / "summary.json", json.dumps(summary, indent=1) + "\n")
         text = summary_text(summary, overlap_lines)
         atomic_write_text(tmp / "summary.txt", text + "".join(f"note: {n}\n" for n in notes or ()))
     if refused:
         raise refused[0]
     return summary
+
+
+def _read(read: bool | None, mode: str) -> bool:
+    """``--read/--no-read``: None reads a double view's sides when the reader is installed."""
+    if read is not None:
+        return read
+    from illuknit.design.legibility import reader_available
+
+    return mode == "double" and reader_available()
 
 
 def _parse_overrides(specs: tuple[str, ...]) -> dict[tuple[int, int], str]:
@@ -388,7 +411,8 @@ SUMMARY_COLUMNS = (
     "rank",
     "",
     "perceptual",
-    "readability",
+    "reads A / B",
+    "correlation",
     "ghosting (shows)",
     "contrast",
     "knit min",
@@ -403,7 +427,8 @@ def _summary_cells(r: dict[str, Any]) -> dict[str, str]:
         "rank": str(r["rank"]),
         "": "default" if r["default"] else "",
         "perceptual": fmt_number(r["perceptual_score"]),
-        "readability": " / ".join(fmt_number(v) for v in r["readability"]),
+        "reads A / B": " / ".join(reads_cells(r)),
+        "correlation": " / ".join(fmt_number(v) for v in r["readability"]),
         "contrast": " / ".join(fmt_number(v) for v in r["contrast"]),
         "ghosting (shows)": _worst_ghosting(r),
         "knit min": fmt_number(r["knit_minutes"], 1),
@@ -479,6 +504,9 @@ def print_summary(summary: dict[str, Any], outdir: Path) -> None:
             f"({size['width_in']} x {size['height_in']} in) at {size['gauge']} "
             f"({size['gauge_source']})"
         )
+    for line in verdict_lines(summary):
+        if line:
+            con.print(line, markup=False, highlight=False)
     default = next((r for r in summary["candidates"] if r["default"]), None)
     if default is not None:
         for line in _overlap_digest(default["overlaps"]):
@@ -525,8 +553,9 @@ def design_options(func: Any) -> Any:
         click.option("--pick", type=click.IntRange(1, 50), default=1, show_default=True,
                      help="Which candidate is the default (copied to OUTDIR/pattern.json)."),
         click.option("--rank-by", type=click.Choice(RANK_KEYS), default="perception", show_default=True,
-                     help="Order of the candidates: how the views read (perception: worse view's readability, "
-                     "contrast floor, ghosting), the assignment's score, or one measure."),
+                     help="Order of the candidates: how the views read (perception: worse view's correlation, "
+                     "contrast floor, ghosting; legibility: designs whose both sides a reader reads first, "
+                     "needs tesseract), the assignment's score, or one measure."),
         click.option("--knit-time/--no-knit-time", default=False, show_default=True,
                      help="Also knit every candidate and show the machine's knitting time (ties in the ranking)."),
         click.option("--suggest", is_flag=True,
@@ -566,6 +595,9 @@ def design_options(func: Any) -> Any:
 @click.command("double")
 @click.argument("image_a", type=InputFile("picture"))
 @click.argument("image_b", type=InputFile("picture"))
+@click.option("--read/--no-read", default=None,
+              help="Ask a reader (tesseract OCR) whether each side of the candidates reads from --distance "
+              "[default: when tesseract is installed].")  # fmt: skip
 @design_options
 def double(image_a: Path, image_b: Path, outdir: Path, **kw: Any) -> None:
     """Design a double-view illusion: IMAGE_A seen from above, IMAGE_B from below.

@@ -128,6 +128,7 @@ class RankBy(StrEnum):
     CONTRAST = "contrast"
     GHOSTING = "ghosting"
     KNIT_TIME = "knit-time"
+    LEGIBILITY = "legibility"
 
     @property
     def key_fields(self) -> tuple[str, ...]:
@@ -148,6 +149,13 @@ _KEY_FIELDS = {
     RankBy.CONTRAST: ("-worse contrast", "-worse readability", "assignment score"),
     RankBy.GHOSTING: ("worst visible ghosting", "-worse readability", "assignment score"),
     RankBy.KNIT_TIME: ("knitting minutes", "-perceptual score", "assignment score"),
+    RankBy.LEGIBILITY: (
+        "-sides that read",
+        "-perceptual score",
+        "worst visible ghosting",
+        "knitting minutes",
+        "assignment score",
+    ),
 }
 
 
@@ -245,6 +253,10 @@ class RankOptions:
         The viewing distance in metres: the measures see the renders through what a 20/20 eye
         resolves from there at ``machine``'s gauge, then pooled over a fill's stripes
         (:func:`~illuknit.design.tiles.perception.seen_blur`).
+    read : bool
+        Also ask a reader (tesseract OCR, :mod:`illuknit.design.legibility`) whether each side
+        of the kept double-view designs reads from ``distance``; ranking by ``LEGIBILITY``
+        reads every design searched. Needs the ``tesseract`` program.
     """
 
     rank_by: RankBy = RankBy.PERCEPTION
@@ -253,10 +265,12 @@ class RankOptions:
     overrides: tuple[tuple[tuple[int, int], str], ...] = ()
     angle: float = 30.0
     distance: float = 3.0
+    read: bool = False
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "rank_by", enum_option(RankBy, "rank_by", self.rank_by))
         flag_option("knit_time", self.knit_time)
+        flag_option("read", self.read)
         for name, top in (("angle", 90.0), ("distance", 1000.0)):
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not 0 < v <= top:

@@ -107,6 +107,9 @@ class RankedDesign:
         Its place by the assignment's own score (tile designs).
     label : str
         A short description.
+    legibility : Legibility or None
+        Whether each side reads, by a reader (:mod:`illuknit.design.legibility`); None when
+        not read (``RankOptions.read`` off, or not a double view).
     """
 
     rank: int
@@ -118,6 +121,7 @@ class RankedDesign:
     report: Any = None
     score_rank: int | None = None
     label: str = ""
+    legibility: Any = None
 
     def why(self) -> str:
         """The rank and its key, one line: ``"rank 1 by -perceptual score -0.712, ..."``; a
@@ -247,6 +251,39 @@ def _knit_measure(ranking: RankOptions) -> KnitMeasure | None:
     if not (ranking.knit_time or ranking.rank_by is RankBy.KNIT_TIME):
         return None
     return functools.partial(knit_stats, machine=ranking.machine)
+
+
+def _reader(
+    mode: str, targets: Sequence[Any], ranking: RankOptions, gauge: float, params: Any
+) -> Any:
+    """The reader's verdict on designs of this pair (:func:`~illuknit.design.legibility.read_designs`
+    bound to its pictures and viewpoint), when the ranking asks for it; None otherwise."""
+    from illuknit.design.legibility import read_designs, reader_available, words_of
+    from illuknit.design.options import RankBy
+
+    legible = ranking.rank_by is RankBy.LEGIBILITY
+    if mode != "double":
+        if legible:
+            raise OptionError("ranking by legibility judges double-view designs (two pictures)")
+        return None
+    if not (ranking.read or legible):
+        return None
+    if not reader_available():
+        from illuknit.core.errors import BackendUnavailableError
+
+        raise BackendUnavailableError(
+            "reading the sides needs the tesseract OCR program (apt-get install tesseract-ocr); "
+            "rank by perception to design without it"
+        )
+    words = words_of(targets)
+
+    def read(patterns: Sequence[Any], measures: Sequence[Any]) -> list[Any]:
+        return read_designs(
+            patterns, targets, correlations=[m.readability for m in measures], words=words,
+            angle=ranking.angle, distance=ranking.distance, gauge=gauge, params=params,
+        )  # fmt: skip
+
+    return read
 
 
 def _fit_machine(knit_on: str | MachineSpec | None) -> MachineSpec | None:
@@ -655,6 +692,7 @@ def _rank(
         angle=ranking.angle,
         blur=seen_blur(ranking.distance, gauge=gauge),
         params=_split_params(search),
+        read=_reader(mode, targets, ranking, gauge, _split_params(search)),
     )
     by = ranking.rank_by
     designs = tuple(
@@ -668,6 +706,7 @@ def _rank(
             report=rc.report,
             score_rank=rc.score_rank,
             label=_assignment_label(rc.assignment),
+            legibility=rc.legibility,
         )
         for k, rc in enumerate(ranked)
     )

@@ -70,7 +70,9 @@ function measuresText(m) {
   const f = (x) => (x == null ? "–" : x.toFixed(2));
   const parts = [];
   if (m.views.length) {
-    parts.push(`reads ${m.views.map((v, i) => `${v} ${f(m.readability[i])}`).join(" · ")}`);
+    // a correlation, not a legibility scale (docs/legibility.md); the weaker side first
+    const order = m.views.map((v, i) => i).sort((i, j) => (m.readability[i] ?? -2) - (m.readability[j] ?? -2));
+    parts.push(`correlation ${order.map((i) => `${m.views[i]} ${f(m.readability[i])}`).join(" · ")}`);
     parts.push(`contrast ${f(m.worse_contrast)}`);
     if (m.ghosting.some((g) => g != null)) parts.push(`ghosting ${f(m.worst_ghosting)} (shows ${f(m.worst_visible_ghosting)})`);
   }
@@ -109,8 +111,10 @@ async function loadCandidates() {
     // the search's own cost has no meaning to a designer: the card says how the design reads
     const ms = cand.measures;
     if (ms && ms.worse_readability != null) {
-      $(".score", head).textContent = `reads ${ms.worse_readability.toFixed(2)}`;
-      $(".score", head).title = "how well the worse side, as seen at an angle, matches its picture (1 is a perfect match)";
+      $(".score", head).textContent = `worse side: correlation ${ms.worse_readability.toFixed(2)}`;
+      $(".score", head).title = "the correlation (-1 to 1) of the worse side's light/dark pattern, as seen at an angle, " +
+        "with its picture's (1: all of it is there). It is not a legibility scale: words at 0.92-0.95 can be " +
+        "unreadable; `illuknit double` and `illuknit legible` ask a reader";
     }
     const triple = document.createElement("div");
     triple.className = "triple";
@@ -130,7 +134,8 @@ async function loadCandidates() {
       const m = document.createElement("div");
       m.className = "measures";
       m.textContent = `${measuresText(cand.measures)} · ${viewpointText(c.measured_at)}`;
-      m.title = "readability: how well each side's render matches its picture (1 is best); " +
+      m.title = "correlation: how much of each side's picture's light/dark pattern its render shows (1 is all; " +
+        "not a legibility scale), the weaker side first; " +
         "contrast: how much of its light/dark difference survives (1 is all); " +
         "ghosting: how much of the other picture shows through (0 is best)";
       card.appendChild(m);

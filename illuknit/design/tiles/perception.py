@@ -103,7 +103,18 @@ CONTRAST_PENALTY = 1.0
 #: note saying why).
 KnitMeasure = Callable[[LogicalPattern], Mapping[str, Any]]
 #: The orders a user may rank candidates by.
-RANK_KEYS = ("perception", "score", "readability", "contrast", "ghosting", "knit-time")
+RANK_KEYS = (
+    "perception",
+    "score",
+    "readability",
+    "contrast",
+    "ghosting",
+    "knit-time",
+    "legibility",
+)
+#: Judges compiled candidates of one pair: for each pattern (with its measures), how many of its
+#: sides read (:func:`illuknit.design.legibility.read_designs` bound to the pair and viewpoint).
+ReadMeasure = Callable[[Sequence[LogicalPattern], Sequence["CandidateMeasures"]], Sequence[Any]]
 #: A unit is marked "wrong" where the fitted render is off by more than this (linear luminance).
 WRONG_THRESHOLD = 0.15
 #: A unit is marked "ghost" where the other picture explains more than this of the residual.
@@ -136,6 +147,7 @@ class CandidateMeasures:
     knit_minutes: float | None = None
     machine_passes: int | None = None
     knit_note: str = field(default="")
+    sides_read: int | None = None
 
     @property
     def worse_readability(self) -> float:
@@ -196,6 +208,7 @@ class CandidateMeasures:
             "knit_minutes": r(self.knit_minutes),
             "machine_passes": self.machine_passes,
             "knit_note": self.knit_note,
+            "sides_read": self.sides_read,
         }
 
 
@@ -320,6 +333,9 @@ def rank_key(m: CandidateMeasures, score: float, by: str) -> tuple[float, ...]:
         return (-m.worse_contrast, -m.worse_readability, score)
     if by == "ghosting":
         return (m.worst_visible_ghosting, -m.worse_readability, score)
+    if by == "legibility":
+        read = -float(m.sides_read) if m.sides_read is not None else 0.0
+        return (read, -m.perceptual_score, m.worst_visible_ghosting, time, score)
     return (time, -m.perceptual_score, score)  # knit-time
 
 
@@ -334,6 +350,8 @@ def rank_candidates(
         raise OptionError(f"rank by one of {', '.join(RANK_KEYS)}, got {by!r}")
     if by == "knit-time" and any(m.knit_minutes is None for m in measures):
         raise OptionError("ranking by knit-time needs the knitting time of every candidate")
+    if by == "legibility" and any(m.sides_read is None for m in measures):
+        raise OptionError("ranking by legibility needs the reader's verdict on every candidate")
     keys = [rank_key(m, s, by) for m, s in zip(measures, scores, strict=True)]
     return sorted(range(len(measures)), key=lambda i: (keys[i], i))
 
@@ -351,6 +369,7 @@ class RankedCandidate:
     report: Any
     measures: CandidateMeasures
     score_rank: int
+    legibility: Any = None
 
 
 def rank_designs(
@@ -366,6 +385,7 @@ def rank_designs(
     angle: float | None = None,
     blur: float | None = None,
     params: Any = None,
+    read: ReadMeasure | None = None,
 ) -> list[RankedCandidate]:
     """Compile every tile candidate, measure how it reads and rank the lot (the best ``keep``).
 
@@ -393,6 +413,11 @@ def rank_designs(
         :func:`measure_candidate` (e.g. :func:`seen_blur` of a viewing distance).
     params : RenderParams, optional
         The renderer's parameters the designs are measured with (e.g. a measured split share).
+    read : ReadMeasure, optional
+        Judges whether each side of a design reads (a reader's verdict,
+        :func:`illuknit.design.legibility.read_designs` bound to the pictures and viewpoint);
+        ranking by ``"legibility"`` needs it and reads every design, otherwise only the kept
+        ones are read. Each returned candidate's ``legibility`` holds the verdict.
     """
     from dataclasses import replace
 
@@ -404,6 +429,8 @@ def rank_designs(
         raise OptionError(f"keep at least one candidate, got keep={keep}")
     if rank_by == "knit-time" and knit_time is None:
         raise OptionError("ranking by knit-time needs knit_time, a function that knits a pattern")
+    if rank_by == "legibility" and read is None:
+        raise OptionError("ranking by legibility needs read, a reader's verdict on each side")
     compiled = []
     measures = []
     for k, c in enumerate(found):
@@ -425,7 +452,12 @@ def rank_designs(
     if knit_time is not None:
         for i in _to_knit(measures, scores, rank_by=rank_by, keep=keep):
             measures[i] = _with_knit_time(measures[i], compiled[i][0], knit_time)
+    verdicts: dict[int, Any] = {}
+    if rank_by == "legibility" and read is not None:
+        verdicts = _read_all(read, range(len(found)), compiled, measures, progress)
     order = rank_candidates(measures, scores, by=rank_by)
+    if read is not None and rank_by != "legibility":
+        verdicts = _read_all(read, order[:keep], compiled, measures, progress)
     return [
         RankedCandidate(
             assignment=replace(found[i], rank=k + 1),
@@ -433,9 +465,29 @@ def rank_designs(
             report=compiled[i][1],
             measures=measures[i],
             score_rank=found[i].rank,
+            legibility=verdicts.get(i),
         )
         for k, i in enumerate(order[:keep])
     ]
+
+
+def _read_all(
+    read: ReadMeasure,
+    which: Sequence[int],
+    compiled: Sequence[Any],
+    measures: list[CandidateMeasures],
+    progress: Callable[[float, str], None] | None,
+) -> dict[int, Any]:
+    """The reader's verdict on the designs ``which``; their measures get ``sides_read``."""
+    from dataclasses import replace
+
+    idx = list(which)
+    if progress is not None:
+        progress(1.0, f"reading both sides of {len(idx)} design(s)")
+    got = read([compiled[i][0] for i in idx], [measures[i] for i in idx])
+    for i, verdict in zip(idx, got, strict=True):
+        measures[i] = replace(measures[i], sides_read=int(verdict.sides_read))
+    return dict(zip(idx, got, strict=True))
 
 
 def seen_targets(qa: Any, qb: Any | None) -> list[NDArray[np.uint8]]:
