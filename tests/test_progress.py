@@ -55,7 +55,7 @@ def test_work_bar_shows_only_work_that_lasts(monkeypatch):
 
 
 def test_every_slow_command_shows_a_bar_on_a_terminal(monkeypatch, tmp_path):
-    """demo, view, knit and check run 3-13 s: on a terminal each shows a bar (issue 33)."""
+    """demo, view, knit, check and tiles run 3-13 s: on a terminal each shows a bar (issue 33)."""
     import illuknit.core.progress as progress_module
     from illuknit.cli import main
 
@@ -75,6 +75,7 @@ def test_every_slow_command_shows_a_bar_on_a_terminal(monkeypatch, tmp_path):
         "view": ["view", str(demo / "pattern.json"), "-o", str(tmp_path / "view")],
         "knit": ["knit", str(demo / "pattern.json"), "-o", str(tmp_path / "p.k")],
         "check": ["check", str(tmp_path / "p.k")],
+        "tiles": ["tiles"],
     }
     for label, argv in runs.items():
         buf.truncate(0)

@@ -93,6 +93,7 @@ def tiles(
 
     from illuknit.core.files import atomic_write_text, staged_dir
     from illuknit.core.pattern import parse_yarns
+    from illuknit.core.progress import run_with_bar
     from illuknit.design.tiles.bank import bank_to_json, canonical_bank, load_bank
     from illuknit.outputs.previews import save_png
 
@@ -101,7 +102,15 @@ def tiles(
     if bank_file is not None:
         bank = load_bank(bank_file, yarns=ys)
     else:
-        bank = canonical_bank(ys, max_height=max_height, views=views, one_sided_stripes=one_sided)  # type: ignore[arg-type]
+        bank = run_with_bar(
+            "tiles",
+            "enumerating the tiles and their fills",
+            canonical_bank,
+            ys,
+            max_height=max_height,
+            views=views,
+            one_sided_stripes=one_sided,
+        )
     con = Console(highlight=False, soft_wrap=True)
     table = Table(title=f"tile bank {bank.name!r}: {len(bank)} tiles", header_style="bold")
     for col in (
