@@ -95,7 +95,7 @@ def agreement(calibrate: list[tuple[float, float, bool]]) -> None:
     n = len(data)
     reads = data[:, 2] > 0.5
     print(
-        f"\npicture measure against the reader: {n} sides of the designs searched, {reads.sum():.0f} read"
+        f"\npicture measure against the reader: {n} sides of the candidates kept, {reads.sum():.0f} read"
     )
     for name, col, floors in (
         ("correlation", 0, (0.80, 0.85, 0.88, 0.90, 0.92, 0.95, 0.97)),
@@ -118,8 +118,11 @@ def balance(everything: bool) -> None:
     insts = [i for i in load_manifest().instances if i.kind == "double"]
     if not everything:
         insts = [i for i in insts if i.size[0] * i.size[1] <= 20_000]
-    print("\nA/B balance of the default design (correlation A / B, |A - B|, weaker side):")
-    print(f"{'instance':<24} " + "  ".join(f"{r:<34}" for r in RANKINGS))
+    print(
+        "\nA/B balance of the default design (correlation A / B, |A - B|, weaker side by it; "
+        "sides that read):"
+    )
+    print(f"{'instance':<24} " + "  ".join(f"{r:<46}" for r in RANKINGS))
     for inst in insts:
         t = instance_targets(inst)
         a, b = t.palette[t.a], t.palette[t.b]
@@ -132,12 +135,18 @@ def balance(everything: bool) -> None:
             r = d.designs[0].measures.readability
             weaker = "A" if r[0] < r[1] else "B"
             said = d.designs[0].legibility
+            shapes = "/".join(
+                "-" if x.agreement is None else f"{100 * x.agreement:.0f}" for x in said.sides
+            )
             cells.append(
                 f"{r[0]:.3f} / {r[1]:.3f}  {abs(r[0] - r[1]):.3f}  {weaker}  "
-                f"reads {said.sides_read}/2{'' if said.sides[0].words else '*'}"
+                f"reads {said.sides_read}/2{'' if said.sides[0].words else '*'} ({shapes} %)"
             )
-        print(f"{inst.name:<24} " + "  ".join(f"{c:<34}" for c in cells))
-    print("(* judged by the shape agreement: the reader reads no words in these pictures)")
+        print(f"{inst.name:<24} " + "  ".join(f"{c:<46}" for c in cells))
+    print(
+        "(* judged by the shape agreement, in % per side A/B: the reader reads no words in these "
+        "pictures)"
+    )
 
 
 def main() -> None:

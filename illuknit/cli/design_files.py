@@ -282,8 +282,10 @@ def verdict_lines(summary: dict[str, Any]) -> list[str]:
             "asked or is not installed); the correlations below are not a legibility scale",
             "",
         ]
+    words = any(side["judge"] == "reader" for side in verdict["sides"])
+    by = f"read by {verdict['reader']}" if words else "judged by its shapes"
     head = (
-        f"default candidate, read by {verdict['reader']} from {verdict['distance_m']:g} m at "
+        f"default candidate, {by} from {verdict['distance_m']:g} m at "
         f"{verdict['angle']:g} degrees: {verdict['sentence']}"
     )
     out = [head]

@@ -49,6 +49,8 @@ def test_summary_says_the_correlation_is_one_and_which_side_does_not_read():
     assert first.startswith("default candidate, read by tesseract from 3 m at 30 degrees")
     assert "side B does not read FROG" in first
     assert "read on both: candidate(s) 2" in text
+    pictures = _summary([_row(1, True, _verdict(True, True, picture=True))])
+    assert verdict_lines(pictures)[0].startswith("default candidate, judged by its shapes from 3 m")
 
 
 def test_summary_says_plainly_when_nothing_was_read():

@@ -111,8 +111,8 @@ async function loadCandidates() {
     // the search's own cost has no meaning to a designer: the card says how the design reads
     const ms = cand.measures;
     if (ms && ms.worse_readability != null) {
-      $(".score", head).textContent = `worse side: correlation ${ms.worse_readability.toFixed(2)}`;
-      $(".score", head).title = "the correlation (-1 to 1) of the worse side's light/dark pattern, as seen at an angle, " +
+      $(".score", head).textContent = `corr ${ms.worse_readability.toFixed(2)}`;
+      $(".score", head).title = "corr: the correlation (-1 to 1) of the worse side's light/dark pattern, as seen at an angle, " +
         "with its picture's (1: all of it is there). It is not a legibility scale: words at 0.92-0.95 can be " +
         "unreadable; `illuknit double` and `illuknit legible` ask a reader";
     }
