@@ -294,7 +294,7 @@ def width_of(settings: DesignSettings, images: dict[str, Any] | None = None) -> 
         size_field = "width_cm"
     elif settings.size_mode == "picture":
         a = (images or {}).get("a")
-        width = DEFAULT_MAX_WIDTH if a is None else grid_width(a.size[0]) or DEFAULT_MAX_WIDTH
+        width = DEFAULT_MAX_WIDTH if a is None else grid_width(a.rgb.shape[1]) or DEFAULT_MAX_WIDTH
         width = max(2, min(width, get_machine(settings.machine).max_units))
         size_field = "width_units"
     else:

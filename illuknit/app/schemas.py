@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from typing import Annotated, Any, Literal
 
-from pydantic import AfterValidator, BaseModel, ConfigDict, Field, create_model
+from pydantic import AfterValidator, BaseModel, ConfigDict, Field, create_model, model_validator
 
 from illuknit.core.machine import DEFAULT_MACHINE_NAME, MACHINES
 from illuknit.core.pattern import MAX_UNITS
@@ -117,6 +117,18 @@ class DesignSettings(BaseModel):
         title="Measured from",
         description="the viewing distance in metres the candidates are measured from",
     )
+
+    @model_validator(mode="before")
+    @classmethod
+    def _sized_by_the_width_given(cls, data: Any) -> Any:
+        """Settings given a width but no ``size_mode`` are sized by that width (a width in
+        units, or a physical one), not from the picture."""
+        if isinstance(data, dict) and "size_mode" not in data:
+            if "width_units" in data:
+                return {**data, "size_mode": "units"}
+            if "width_cm" in data or "gauge" in data:
+                return {**data, "size_mode": "physical"}
+        return data
 
     def __setstate__(self, state: dict[str, Any]) -> None:
         # settings saved (pickled with their session) before a field existed get its default

@@ -175,7 +175,11 @@ def test_design_two_pictures_pick_tilt_download(browser, base_url, tmp_path):
     for view in ("A", "headon", "B"):
         src = page.get_attribute(f"#pv-{view}", "src") or ""
         assert "angle=55" in src, src
-        assert page.evaluate(f"document.querySelector('#pv-{view}').naturalWidth") > 0
+        # body[data-preview-angle] is set by the first view to load: wait for each one
+        page.wait_for_function(
+            f"() => {{ const i = document.querySelector('#pv-{view}'); "
+            "return i.complete && i.naturalWidth > 0; }"
+        )
 
     # make the knitout (a background job with progress), then download it
     page.click("#make-knit")

@@ -115,3 +115,12 @@ def test_saved_designs_without_a_data_folder_come_from_memory(client, api, pictu
     api.upload(client, sid, "a", pictures.box_picture(), name="kept.png")
     listed = client.get("/api/sessions").json()["sessions"]
     assert listed[0]["id"] == sid and listed[0]["pictures"] == {"a": "kept.png"}
+
+
+def test_settings_given_a_width_are_sized_by_it():
+    from illuknit.app.schemas import DesignSettings
+
+    assert DesignSettings().size_mode == "picture"
+    assert DesignSettings(width_units=48).size_mode == "units"
+    assert DesignSettings(width_cm=10.0).size_mode == "physical"
+    assert DesignSettings(width_units=48, size_mode="picture").size_mode == "picture"
