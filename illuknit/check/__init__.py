@@ -64,7 +64,7 @@ def check_knitout(
     max_racking : float or None, keyword-only
         Override of ``machine.max_racking``: largest allowed |racking|.
     bed_width : int or None, keyword-only
-        Override of the needles per bed (in the machine's range, else ``MachineValueError``);
+        Override of the needles per bed (above the machine's range: ``MachineValueError``);
         None uses the ``;;Width`` header when present, else the machine's.
     simulate : bool, keyword-only
         Also run the PyPI knitout-interpreter / virtual-knitting-machine (needs the ``sim`` extra)
@@ -162,16 +162,18 @@ def _machine_info(spec: MachineSpec, width: int, racking: float, limit: int) -> 
 
 
 def _bed_width(program: KnitoutProgram, spec: MachineSpec, bed_width: int | None) -> int:
-    """The bed width to simulate: ``bed_width`` (refused out of the machine's range), else
-    ``;;Width`` when the machine takes it, else the machine's (an absurd ``;;Width`` is a
-    ``machine-value`` error, not a bed to simulate)."""
+    """The bed width to simulate: ``bed_width`` (refused above the machine's range; a bed
+    narrower than any machine's is a checking aid), else ``;;Width`` when the machine takes it,
+    else the machine's (an absurd ``;;Width`` is a ``machine-value`` error, not a bed)."""
     from illuknit.core.machine_ranges import check_machine_value, ranges_for
 
+    needles = ranges_for(spec.runs_on())["needles"]
     if bed_width is not None:
-        check_machine_value("needles", bed_width, backend=spec.runs_on())
+        if bed_width > needles.high:
+            check_machine_value("needles", bed_width, backend=spec.runs_on())
         return bed_width
     width = program.width
-    if width is None or not ranges_for(spec.runs_on())["needles"].contains(width):
+    if width is None or not needles.contains(width):
         return spec.needles
     return width
 

@@ -68,6 +68,7 @@ def run_single(
         quantise=quantise,
         first=first,
         knit_on=spec if knitout else None,
+        machine=spec,
     )
     q, chosen = design.quantised, design.first(first)
     pattern = chosen.pattern

@@ -172,7 +172,9 @@ def run_solve(
 
     live = _live_progress(solver, model, time_limit) if show_progress else None
     with live or nullcontext():
-        design = solve_design(image_a, image_b, options=options, progress=live, **targets)
+        design = solve_design(
+            image_a, image_b, options=options, progress=live, machine=spec, **targets
+        )
         report = dict(design.report)
         if outdir is not None:
             qa, *rest = design.quantised

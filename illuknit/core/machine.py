@@ -503,6 +503,14 @@ class MachineSpec:
             if v is not None and (not isinstance(v, int) or isinstance(v, bool) or v < 0):
                 raise OptionError(f"`{name}` must be a non-negative integer or None, got {v!r}")
         self._check_ranges()
+        rb = self.real_bed
+        if rb is not None and not (
+            isinstance(rb, tuple)
+            and len(rb) == 2
+            and isinstance(rb[0], int)
+            and isinstance(rb[1], (int, float))
+        ):
+            raise OptionError(f"`real_bed` must be (needles, gauge) or None, got {rb!r}")
         if "kc" not in self.formats:
             # the SWG backend knows neither x-xfer-stitch-number nor take-down roller extensions
             if self.transfer.stitch_number is not None:

@@ -183,14 +183,14 @@ def machine_value_problem(
 ) -> str | None:
     """Why ``value`` is not a ``name`` the backend takes (one line naming the parameter, its
     range and source), or None when it is in range or the backend has no range for it.
-    ``where`` names the machine in the message (default: the backend's name)."""
+    ``where`` names the machine in the message (default: ``the`` and the backend's name)."""
     r = ranges_for(backend).get(name)
     if r is None or r.contains(value):
         return None
     kind = "a whole number" if r.integer else "a number"
-    where = where or BACKEND_NAMES[backend or "knitout"]
+    where = where or f"the {BACKEND_NAMES[backend or 'knitout']}"
     return (
-        f"`{name}` ({PARAMETERS[name]}) must be {kind} in {r.text()} on the {where}, "
+        f"`{name}` ({PARAMETERS[name]}) must be {kind} in {r.text()} on {where}, "
         f"got {_shown(value)} ({r.source})"
     )
 

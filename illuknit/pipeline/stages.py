@@ -862,6 +862,7 @@ def design_single(
     quantise: bool = True,
     first: Stripe = "dark",
     knit_on: str | MachineSpec | None = None,
+    machine: str | MachineSpec | None = None,
 ) -> SingleDesign:
     """The single-view pattern of a 2- or 3-colour picture for each stripe order, ranked.
 
@@ -870,11 +871,14 @@ def design_single(
     :class:`~illuknit.pictures.images.QuantisedImage` used as it is. The designs are ranked by the worse
     view's mismatch (:func:`~illuknit.design.single_view.single_view_errors`), the stripe order
     ``first`` first on a tie. With ``knit_on`` a picture wider than its bed is refused first.
+    ``notes`` say when the grid fits no bed of ``machine`` (default ``knit_on``, else the
+    default machine), or only a generic one.
     """
     from illuknit.core.arguments import check_bool, check_choice, check_int
     from illuknit.design.single_view import compile_single_view, prepare_single_view_image
     from illuknit.pictures.images import QuantisedImage
 
+    meant_for = knit_on if machine is None else resolve_machine(machine)  # checked first
     check_choice(first, "first", ("dark", "light"))
     if n_colors is not None:  # the 2 or 3 a single-view illusion shows: prepare_single_view_image
         check_int(n_colors, "n_colors", min=1, max=8)
@@ -900,7 +904,8 @@ def design_single(
     _check_fits(machine, q.indices.shape[1])
     orders: tuple[Stripe, Stripe] = (first, "light" if first == "dark" else "dark")
     made = [(o, compile_single_view(q, first=o)) for o in orders]
-    return SingleDesign(q, _rank_single(q, made), _fit_notes(knit_on, q.indices.shape[1]))
+    notes = _fit_notes(meant_for, q.indices.shape[1])
+    return SingleDesign(q, _rank_single(q, made), notes)
 
 
 def _rank_single(q: Any, made: Sequence[tuple[str, Any]]) -> tuple[RankedDesign, ...]:
@@ -943,6 +948,7 @@ def solve_design(
     quantise: bool = True,
     knit_on: str | MachineSpec | None = None,
     progress: ProgressCallback | None = None,
+    machine: str | MachineSpec | None = None,
 ) -> SolvedDesign:
     """The pattern a constraint model and a solver find for one or two target pictures.
 
@@ -950,7 +956,8 @@ def solve_design(
     ``yarns``; :func:`quantise_targets`), so a colour means the same yarn in both; the model
     (``options.model``: two pictures for ``logical`` and ``knit-aware``, one for ``single``) is
     solved by :func:`~illuknit.design.models.illusion_models.solve_illusion`. ``progress`` receives the
-    solver's improvements. With ``knit_on`` a pattern wider than its bed is refused first.
+    solver's improvements. With ``knit_on`` a pattern wider than its bed is refused first;
+    ``notes`` as :func:`design_single`'s, for ``machine``.
 
     Raises
     ------
@@ -963,6 +970,7 @@ def solve_design(
     options = SolveOptions() if options is None else options
     _check_type("options", options, SolveOptions)
     check_callable(progress, "progress")
+    machine = None if machine is None else resolve_machine(machine)
     qa, qb = _solve_targets(picture_a, picture_b, options, n_colors, yarns, width, stretch,
                             quantise, knit_on, unit_aspect)  # fmt: skip
     result = solve_illusion(
@@ -990,7 +998,7 @@ def solve_design(
     if result.solution.stats.get("interrupted"):
         report["note"] = "interrupted with Ctrl-C: the best pattern found so far"
     quantised = (qa,) if qb is None else (qa, qb)
-    notes = _fit_notes(knit_on, pattern.shape[1])
+    notes = _fit_notes(knit_on if machine is None else machine, pattern.shape[1])  # checked above
     return SolvedDesign(
         pattern,
         result.solution,

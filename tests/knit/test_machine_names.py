@@ -138,3 +138,11 @@ def test_a_tile_design_wider_than_its_machine_warns_at_design_time() -> None:
         )
     assert len(design.notes) == 1 and "40 units = 80 stitches" in design.notes[0]
     assert "generic 60-needle V-bed (SWG091N2 rules) holds at most 27 units" in design.notes[0]
+
+
+def test_single_notes_are_for_the_machine_chosen() -> None:
+    picture = np.full((20, 40, 3), 0.9)
+    picture[5:15, 10:30] = 0.1
+    with pytest.warns(BedFitWarning, match="would refuse"):
+        design = design_single(picture, width=130, machine="swg091n2")
+    assert "the SWG091N2's bed of 252 needles holds at most 123 units" in design.notes[0]

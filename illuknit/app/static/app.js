@@ -149,7 +149,8 @@ async function startSession() {
   for (const m of state.info.machines) {
     const o = document.createElement("option");
     o.value = m.name;
-    o.textContent = `${m.label} · ${m.needles}`; // needles; the line under it says so
+    // a generic bed's label says its needles; a real machine's gets them after its name
+    o.textContent = m.label.includes(`${m.needles}-needle`) ? m.label : `${m.label} · ${m.needles} needles`;
     o.title = m.description;
     $("#machine").appendChild(o);
   }
