@@ -343,7 +343,8 @@ def write_program(
     report = check_knitout(result.program, machine=spec)  # it declares its bumps
     sheet = machine_sheet(result, name="program.kc")
     summary = machine_headline(result.summary(), sheet)
-    console().print(f"knitout: {_describe(summary)}")
+    for line in _describe(summary):
+        console().print(line)
     console().print(f"check: {report.to_text(name='program.k').splitlines()[0]}")
     # convert before writing anything, so a program the machine file cannot hold leaves nothing
     extra = {
@@ -368,26 +369,22 @@ def write_program(
     return files
 
 
-def _describe(summary: dict[str, object]) -> str:
-    """One line a person reads: the machine, the passes against their lower bound, the knitting
-    time with the time model's range and the bind-off's part, the floats and the bumps (every
-    figure once; the rest, with the time model, is in knit.json)."""
+def _describe(summary: dict[str, object]) -> list[str]:
+    """Lines a person reads, each figure once: ``knitout:`` the machine and the passes against
+    their lower bound; ``time:`` the knitting time with the time model's range and the
+    bind-off's part; ``floats:`` and ``bumps:`` (the rest, with the time model, is in knit.json)."""
     get = summary.get
-    parts = [f"program.k for {get('machine', 'the machine')}"]
+    head = f"knitout: program.k for {get('machine', 'the machine')}"
     if "passes" in summary:
         bound = f" (lower bound {get('lower_bound')})" if "lower_bound" in summary else ""
-        parts.append(f"{get('passes')} carriage passes{bound}")
+        head += f", {get('passes')} carriage passes{bound}"
+    lines = [head]
     time, span = get("machine_time", get("time")), get("machine_time_range", get("time_range"))
     if time is not None:
-        text = f"about {time} to knit"
+        text = f"time: about {time} to knit"
         if span is not None:
             text += f" (the time model's range {span})"
-        parts.append(text)
-    bind_off = get("bind_off_time")
-    if bind_off is not None:
-        parts.append(f"of which the bind-off {bind_off}")
-    if "floats" in summary:
-        parts.append(f"floats: {summary['floats']}")
-    if "bumps" in summary:
-        parts.append(f"bumps: {summary['bumps']}")
-    return ", ".join(parts)
+        bind_off = get("bind_off_time")
+        lines.append(text if bind_off is None else f"{text}, of which the bind-off {bind_off}")
+    lines += [f"{key}: {summary[key]}" for key in ("floats", "bumps") if key in summary]
+    return lines

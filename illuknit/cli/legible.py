@@ -7,7 +7,7 @@ from pathlib import Path
 import click
 
 from illuknit.cli.knitout_bridge import machine_option
-from illuknit.cli.options import FiniteFloat
+from illuknit.cli.options import FiniteFloat, InputFile
 from illuknit.core.progress import work_bar
 
 __all__ = ["legible", "parse_widths"]
@@ -29,8 +29,8 @@ def parse_widths(spec: str) -> tuple[int, ...]:
 
 
 @click.command("legible")
-@click.argument("image_a", type=click.Path(dir_okay=False, path_type=Path))
-@click.argument("image_b", type=click.Path(dir_okay=False, path_type=Path))
+@click.argument("image_a", type=InputFile("picture"))
+@click.argument("image_b", type=InputFile("picture"))
 @click.option(
     "--widths",
     default="40,50,60,70,80,100,120",

@@ -97,6 +97,7 @@ OVER_INPUT: dict[str, Callable[[Files], list[object]] | None] = {
     "bench": lambda f: ["bench", "--manifest", f.manifest, "-o", f.manifest],
     "app": None,  # reads no file; its data folder is its own
     "demo": None,  # reads no file
+    "legible": None,  # writes no file
     "single": lambda f: ["single", f.pic, "-o", f.pic],
     "view": lambda f: ["view", f.pattern, "-o", f.pattern],
     "knit": lambda f: ["knit", f.pattern, "-o", f.pattern],
@@ -251,6 +252,7 @@ INPUT_PARAMS: dict[str, Callable[[Files, object], list[object]]] = {
     "check": lambda f, x: ["check", x],
     "tiles --bank": lambda f, x: ["tiles", "--bank", x, "-o", "out"],
     "double": lambda f, x: ["double", f.pic, x, "-o", "out"],
+    "legible": lambda f, x: ["legible", f.pic, x],
     "headon": lambda f, x: ["headon", x, "-o", "out"],
     "render": lambda f, x: ["render", x, "-o", "out"],
     "render --params": lambda f, x: ["render", f.pattern, "--params", x, "-o", "out"],
