@@ -95,10 +95,13 @@ def test_wrong_arguments_are_refused_naming_them(valid, name):
         ("solvers.solve", "seed", "xyz"),
         ("design_single", "knit_on", 3),
         ("view_a", "raised", object()),
+        ("compile_tiles", "overrides", {"x": 0}),
+        ("assign_headon", "side", "xyz"),
     ],
 )
 def test_the_cases_of_issue_34(valid, name, argument, value):
-    """The calls the issue found: each refused with a library error naming the argument."""
+    """The calls the issue found (and hypothesis after it): each refused with a library error
+    naming the argument."""
     fn = PUBLIC[name]
     param = inspect.signature(fn).parameters[argument]
     outcome = fuzz.try_one(name, fn, valid[name], param, fuzz.label_of(value), value)
@@ -154,6 +157,8 @@ CHEAP = sorted(
         "draw_text",
         "draw_shape",
         "compile_single_view",
+        "compile_tiles",
+        "retile_design",
         "written_instructions",
         "canonical_bank",
         "calibration_swatch",

@@ -82,7 +82,7 @@ def _arrays(
         error=PatternValidationError,
     )
     if raised is None:
-        raise PatternValidationError("`raised` is required when passing a yarn array")
+        raise PatternValidationError(f"`raised` is required when `{name}` is a yarn array")
     r = np.asarray(raised, dtype=bool)
     if c.ndim != 2 or r.shape != c.shape:
         raise PatternValidationError(

@@ -107,7 +107,7 @@ def compile_single_view(
             what="a QuantisedImage or a 2-D array of yarn indices",
         )
         if yarns is None:
-            raise ImageInputError("`yarns` is required with a raw index array")
+            raise ImageInputError("`yarns` is required when `image` is an index array")
         idx = np.asarray(image)
         yarns = tuple(yarns)
         if idx.ndim != 2 or not np.issubdtype(idx.dtype, np.integer):

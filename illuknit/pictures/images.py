@@ -317,8 +317,8 @@ def quantise_image(
     else:
         if not allow_quantise:
             raise ImageInputError(
-                f"image has {len(uniq)} colours but only {n_colors} yarn(s); allow quantisation "
-                "or reduce the picture's colours"
+                f"image has {len(uniq)} colours but only {n_colors} yarn(s), and quantising is "
+                "off (`allow_quantise`): allow it or reduce the picture's colours"
             )
         centres, labels = _kmeans_lab(pix8, uniq, inverse, n_colors, seed)
     k = len(centres)

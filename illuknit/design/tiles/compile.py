@@ -17,6 +17,7 @@ per course that the knitting will need.
 
 from __future__ import annotations
 
+import numbers
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from types import MappingProxyType
@@ -25,7 +26,7 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from illuknit.core.arguments import check_instance, check_mapping, check_str
+from illuknit.core.arguments import check_instance, check_mapping, check_str, got
 from illuknit.core.colors import lab_from_rgb
 from illuknit.core.errors import TileAssignmentError
 from illuknit.core.pattern import LogicalPattern
@@ -232,7 +233,7 @@ def compile_tiles(
     """
     check_instance(assignment, TileAssignment, "assignment", error=TileAssignmentError)
     if overrides is not None:
-        check_mapping(overrides, "overrides")
+        _check_overrides(check_mapping(overrides, "overrides"))
     check_str(name, "name")
     if not isinstance(assignment, TileAssignment):
         raise TileAssignmentError(
@@ -254,6 +255,23 @@ def compile_tiles(
     }
     pattern = LogicalPattern(yarn, raised, assignment.yarns, meta, upper=upper)
     return pattern, _report(assignment, pattern)
+
+
+def _check_overrides(overrides: Mapping[Any, Any]) -> None:
+    """Each override an overlap pair of colour indices mapped to a Tile or a rows string."""
+    for pair, tile in overrides.items():
+        if not (
+            isinstance(pair, tuple)
+            and len(pair) == 2
+            and all(isinstance(v, numbers.Integral) and not isinstance(v, bool) for v in pair)
+        ):
+            raise TileAssignmentError(
+                f"`overrides` keys must be overlap pairs (colour of A, colour of B), got {got(pair)}"
+            )
+        if not isinstance(tile, (Tile, str)):
+            raise TileAssignmentError(
+                f"`overrides` values must be a Tile or rows like '0/1/0^', got {got(tile)}"
+            )
 
 
 def _report(assignment: TileAssignment, pattern: LogicalPattern) -> TileReport:
