@@ -38,6 +38,7 @@ __all__ = [
     "ROW_FIELDS",
     "TRACE_FIELDS",
     "SolverTask",
+    "backed_at",
     "build_task_model",
     "flag_rows",
     "run_solver_task",
@@ -77,7 +78,17 @@ ROW_FIELDS = (
     "flag",
     "reason",
 )
-TRACE_FIELDS = ("instance", "model", "solver", "warm_start", "run", "seconds", "cost", "bound")
+TRACE_FIELDS = (
+    "instance",
+    "model",
+    "solver",
+    "warm_start",
+    "run",
+    "seconds",
+    "cost",
+    "bound",
+    "backed",
+)
 
 #: Default memory limit of one run (MB of resident memory of the child's process group).
 DEFAULT_MEMORY_MB = 4096.0
@@ -339,14 +350,23 @@ def _verify(row: dict[str, Any], model: Model, out: dict[str, Any], optimum: int
 
 
 def _timings(row: dict[str, Any], out: dict[str, Any], trace: list[Any]) -> None:
-    firsts = [t for t, o, _ in trace if o is not None]
-    found_at = out["found_at"]
+    """time_first, time_best (both: when an assignment backs a cost, see :func:`backed_at`)
+    and time_prove of a verified answer."""
     if row["verified_cost"] is None:
         return
-    row["time_first"] = _fmt(min(firsts) if firsts else found_at)
-    row["time_best"] = _fmt(found_at)
+    at = backed_at(trace, float(row["verified_cost"]))
+    row["time_first"] = row["time_best"] = _fmt(at if at is not None else out["wall"])
     if row["status"] == Status.OPTIMAL.value and not row["flag"]:
         row["time_prove"] = _fmt(out["wall"])
+
+
+def backed_at(trace: list[Any], verified: float) -> float | None:
+    """The first time the run reported the cost its verified assignment has (the MaxSAT
+    Evaluation's reading of an ``o`` line that the final ``v`` line backs), or None. A reported
+    cost no assignment backs -- lower than the verified one, or never followed by an assignment
+    -- is a claim: it sets no time and scores nothing."""
+    times = [float(t) for t, o, _ in trace if o is not None and float(o) == verified]
+    return min(times) if times else None
 
 
 def _add_flag(row: dict[str, Any], text: str) -> None:

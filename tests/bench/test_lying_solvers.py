@@ -3,6 +3,7 @@ alone and beside RC2; none is believed (issue 35)."""
 
 from __future__ import annotations
 
+import csv
 import os
 import sys
 import tempfile
@@ -12,6 +13,7 @@ from pathlib import Path
 import pytest
 
 from illuknit.bench.instances import Instance
+from illuknit.bench.solver_report import cost_at
 from illuknit.bench.solver_runs import SolverTask, run_solver_task
 from illuknit.bench.solver_table import make_tasks, run_solver_table
 from illuknit.bench.wcnf_files import export_wcnf_family, read_wcnf
@@ -131,3 +133,20 @@ def test_no_temp_folder_outlives_a_run_even_a_killed_one(wcnf_file, private_tmp)
     for mode, limit in (("honest", 20.0), ("early-o", 0.5)):
         run_solver_task(SolverTask(None, "wcnf", liar(mode), time_limit=limit, wcnf=path))
     assert os.listdir(private_tmp) == []
+
+
+def test_an_early_cost_without_an_assignment_is_a_claim_and_never_scores(wcnf_file, tmp_path):
+    path, opt = wcnf_file
+    fake = liar("early-o")
+    table = run_solver_table(
+        make_tasks([], [fake, "rc2"], time_limit=15, wcnf_files=[path]), tmp_path
+    )
+    row = next(r for r in table.rows if r["solver"] == fake)
+    assert row["verified_cost"] == opt and row["time_best"] >= 3.0  # when the v-line backed it
+    with open(tmp_path / "traces.csv") as f:
+        points = [p for p in csv.DictReader(f) if p["solver"] == fake]
+    assert (points[0]["cost"], points[0]["backed"]) == ("1", "claim")
+    assert cost_at(row, [], 1.0) is None and cost_at(row, [], 15.0) == opt
+    summary = {s["solver"]: s for s in table.summary}
+    assert set(summary[fake]) >= {"score@15s (limit)", "certified"}
+    assert "score@60s" not in summary[fake]  # a 15 s run is never scored at 60 s
