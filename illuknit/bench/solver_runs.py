@@ -26,6 +26,7 @@ from typing import Any
 
 import numpy as np
 
+from illuknit.bench.certify import SPLIT_SUFFIX
 from illuknit.bench.instances import Instance, instance_model
 from illuknit.bench.wcnf_files import read_wcnf, read_wcnf_text
 from illuknit.core.errors import IlluknitError
@@ -117,6 +118,17 @@ class SolverTask:
         return (self.instance_name, model, self.solver, self.warm_start, self.run)
 
     @property
+    def split(self) -> bool:
+        """The row's solver gets the formula split into independent components first (the
+        labelled pre-processing option, solver name ``NAME+split``)."""
+        return self.solver.endswith(SPLIT_SUFFIX)
+
+    @property
+    def engine(self) -> str:
+        """The solver's own name, without the pre-processing label."""
+        return self.solver.removesuffix(SPLIT_SUFFIX)
+
+    @property
     def instance_name(self) -> str:
         if self.wcnf is not None:
             return Path(self.wcnf).name
@@ -168,10 +180,14 @@ def _child_solve(model: Model, task: SolverTask, progress: Any = None) -> dict[s
     reported before a kill are not lost."""
     from illuknit.solvers import get_backend, solve
 
-    backend = get_backend(task.solver)
+    backend = get_backend(task.engine)
+    if parse_solver_name(task.engine).base == "rc2":
+        # in this child only: plain RC2 on the formula as given, or after the labelled split
+        backend_class = type(backend)
+        backend_class.split = task.split  # type: ignore[attr-defined]
     sol = solve(
         model,
-        solver=task.solver,
+        solver=task.engine,
         warm_start=task.warm_start,
         time_limit=task.time_limit,
         seed=task.seed,
@@ -190,6 +206,7 @@ def _child_solve(model: Model, task: SolverTask, progress: Any = None) -> dict[s
         "claimed_cost": stats.get("claimed_cost", stats.get("reported_cost", sol.objective)),
         "claimed_status": stats.get("claimed_status", ""),
         "message": str(stats.get("message", "")),
+        "components": stats.get("components"),
         "version": backend.version(),
     }
 
@@ -207,7 +224,9 @@ def not_applicable(model: Model, task: SolverTask) -> str | None:
     from illuknit.solvers import get_backend
     from illuknit.solvers.warm_start import resolve_policy
 
-    backend = get_backend(task.solver, check_available=False)
+    backend = get_backend(task.engine, check_available=False)
+    if task.split and parse_solver_name(task.engine).base != "rc2":
+        return f"the component split ({SPLIT_SUFFIX}) is implemented for rc2 only so far"
     why = backend.why_not(model)
     if why is not None:
         return why
@@ -228,7 +247,7 @@ def base_solver_row(task: SolverTask) -> dict[str, Any]:
         run=task.run,
         seed=task.seed,
         solver=task.solver,
-        oracle=parse_solver_name(task.solver).oracle,
+        oracle=parse_solver_name(task.engine).oracle,
         warm_start=task.warm_start,
         time_limit=task.time_limit,
         memory_mb=task.memory_mb,
@@ -256,7 +275,7 @@ def run_solver_task(task: SolverTask, content: bytes | None = None) -> dict[str,
         row.update(rows=task.instance.size[0], cols=task.instance.size[1])
     row.update(variables=model.pool.top, soft_clauses=model.num_soft, reference_optimum=optimum)
     with contextlib.suppress(Exception):  # an unknown or broken backend: the run says why
-        row["version"] = get_backend(task.solver, check_available=False).version()
+        row["version"] = get_backend(task.engine, check_available=False).version()
     try:
         why = not_applicable(model, task)
     except IlluknitError as e:
@@ -266,7 +285,7 @@ def run_solver_task(task: SolverTask, content: bytes | None = None) -> dict[str,
         row.update(status="n/a", reason=why)
         return {"row": row, "trace": []}
     try:
-        preload_backend(task.solver)
+        preload_backend(task.engine)
     except ImportError as e:  # a broken optional install: the run itself will say more
         row["reason"] = f"preloading failed: {e}"
     events: list[ProgressEvent] = []

@@ -150,3 +150,22 @@ def test_an_early_cost_without_an_assignment_is_a_claim_and_never_scores(wcnf_fi
     summary = {s["solver"]: s for s in table.summary}
     assert set(summary[fake]) >= {"score@15s (limit)", "certified"}
     assert "score@60s" not in summary[fake]  # a 15 s run is never scored at 60 s
+
+
+def test_rc2_is_plain_and_the_split_is_its_own_labelled_row(wcnf_file, monkeypatch):
+    """``rc2`` hands RC2 the formula as given (one component); ``rc2+split`` splits it into
+    components first; a split not implemented for a solver is n/a, said so."""
+    from illuknit.bench.solver_runs import _child_solve
+    from illuknit.solvers.rc2 import RC2Backend
+
+    monkeypatch.setattr(RC2Backend, "split", True)  # restored after the test
+    path, opt = wcnf_file
+    model = read_wcnf(path)
+    for name, split in (("rc2", False), ("rc2+split", True)):
+        out = _child_solve(model, SolverTask(None, "wcnf", name, time_limit=30, wcnf=path))
+        assert RC2Backend.split is split and out["objective"] == opt
+        assert (out["components"] > 1) is split
+    row = run_solver_task(SolverTask(None, "wcnf", "rc2+split", time_limit=30, wcnf=path))["row"]
+    assert row["verified_cost"] == opt and row["solver"] == "rc2+split"
+    other = run_solver_task(SolverTask(None, "wcnf", "cpsat+split", time_limit=30, wcnf=path))
+    assert other["row"]["status"] == "n/a" and "rc2 only" in other["row"]["reason"]
