@@ -353,8 +353,12 @@ def write_plots(
         if (inst, model) in best:
             ax.axhline(best[(inst, model)], color="k", ls="--", lw=0.8, label="best known")
         ax.set_xlabel("seconds")
-        ax.set_ylabel("cost (filled: verified; x: claimed only; dotted: lower bound)")
-        ax.set_title(f"{inst} ({model}): cost over time")
+        ax.set_ylabel("cost")
+        ax.set_title(
+            f"{inst} ({model}): cost over time\n"
+            "line and dot: verified; x: claimed, no assignment; dotted: lower bound",
+            fontsize=9,
+        )
         if ax.get_legend_handles_labels()[0]:
             ax.legend(fontsize=6, ncol=2)
         fig.tight_layout()
