@@ -12,13 +12,14 @@ from pathlib import Path
 
 import pytest
 
+import illuknit.solvers as reg
 from illuknit.bench.instances import Instance
 from illuknit.bench.solver_report import cost_at
 from illuknit.bench.solver_runs import SolverTask, run_solver_task
 from illuknit.bench.solver_table import make_tasks, run_solver_table
 from illuknit.bench.wcnf_files import export_wcnf_family, read_wcnf
 from illuknit.core.pattern import Yarn
-from illuknit.solvers import solve
+from illuknit.solvers import BackendBase, solve
 
 LIAR = Path(__file__).parent / "lying_maxsat.py"
 
@@ -169,3 +170,29 @@ def test_rc2_is_plain_and_the_split_is_its_own_labelled_row(wcnf_file, monkeypat
     assert row["verified_cost"] == opt and row["solver"] == "rc2+split"
     other = run_solver_task(SolverTask(None, "wcnf", "cpsat+split", time_limit=30, wcnf=path))
     assert other["row"]["status"] == "n/a" and "rc2 only" in other["row"]["reason"]
+
+
+class _Squatter(BackendBase):
+    """Makes a temp folder like the external backend's, then ignores every request to stop:
+    only the kill ends it, and nothing of its own cleans up."""
+
+    name = "squatter"
+
+    def solve(self, model, *, time_limit=None, seed=0, progress=None):
+        tempfile.mkdtemp(prefix="illuknit-wcnf-")
+        while True:
+            try:
+                time.sleep(600)
+            except KeyboardInterrupt:
+                continue
+
+
+def test_a_killed_runs_temp_folder_is_removed(private_tmp, monkeypatch):
+    monkeypatch.setitem(reg._registered, "squatter", _Squatter)
+    yarns = (Yarn("dark", (20, 20, 20)), Yarn("cream", (240, 236, 230)))
+    inst = Instance(
+        "t", "double", (6, 6), yarns, 1.0, {"A": {"draw": "plus"}, "B": {"draw": "circle"}}
+    )
+    row = run_solver_task(SolverTask(inst, "logical", "squatter", time_limit=0.5))["row"]
+    assert row["status"] == "timeout" and "killed" in row["reason"]
+    assert os.listdir(private_tmp) == []
