@@ -7,9 +7,13 @@ virtual best solver, and the cactus and cost-over-time plots.
 * **anytime score at t** -- the MaxSAT Evaluation's incomplete-track score: per run
   ``(best known cost + 1) / (cost at t + 1)``, 0 without a verified solution by t (or with a
   flag), averaged over the solver's runs. The best known cost of an (instance, model) is the
-  least verified cost of any run, or the DP optimum. The cost at t is the verified cost once the
-  run's best was found; before that, the last cost its trace reported (the solver's claim --
-  intermediate assignments are not kept, so only the final one is verified).
+  least verified cost of any run, or the DP optimum. **Only verified answers score**: the cost
+  at t is the run's verified cost once an assignment backs it (``time_best``: the first time
+  the run reported that very cost, its final assignment verifying it), never a cost it only
+  claimed (an ``o`` line, a backend's progress report) -- those are drawn in the plots as
+  claims and never scored. Scores are taken at the Evaluation's 60 and 300 s when every run
+  had that long; when the runs' limit is shorter, at that limit instead, and the column says
+  so (``score@10s (limit)``).
 * **virtual best solver** -- per (instance, model) the fastest unflagged proof of any solver.
 * **repetitions** -- with ``--repeat N`` each figure above is taken per repetition and the
   summary gives its median with the spread (min-max) over the repetitions.
@@ -29,13 +33,15 @@ __all__ = [
     "ANYTIME_TIMES",
     "cost_at",
     "environment_markdown",
+    "score_times",
     "solver_summary",
     "summary_markdown",
     "write_plots",
 ]
 
-#: Seconds at which the anytime score is taken (those above a run's time limit use the limit).
-ANYTIME_TIMES = (1.0, 10.0, 60.0)
+#: Seconds at which the anytime score is taken, as in the MaxSAT Evaluation (a time above a
+#: run's limit gives way to a column at the limit, see :func:`score_times`).
+ANYTIME_TIMES = (60.0, 300.0)
 
 
 def _label(r: dict[str, Any]) -> str:
@@ -69,13 +75,24 @@ def _solved(r: dict[str, Any]) -> bool:
 
 
 def cost_at(r: dict[str, Any], trace: Sequence[tuple[float, Any, Any]], t: float) -> float | None:
-    """The run's cost at ``t`` seconds (see the module docstring), or None."""
-    if r.get("flag") or r.get("verified_cost") is None:
+    """The run's verified cost at ``t`` seconds (see the module docstring), or None. ``trace``
+    is not consulted: its costs are claims until an assignment backs them."""
+    del trace
+    if r.get("flag") or r.get("verified_cost") is None or r.get("time_best") is None:
         return None
-    if r.get("time_best") is not None and float(r["time_best"]) <= t:
-        return float(r["verified_cost"])
-    seen = [float(o) for s, o, _ in trace if o is not None and s <= t]
-    return min(seen) if seen else None
+    return float(r["verified_cost"]) if float(r["time_best"]) <= t else None
+
+
+def score_times(rows: Sequence[dict[str, Any]]) -> list[tuple[str, float]]:
+    """(column name, seconds) of the anytime scores of ``rows``: each of :data:`ANYTIME_TIMES`
+    every run had (its limit at least that long), then each shorter limit of the runs,
+    labelled as such."""
+    limits = sorted({float(r["time_limit"]) for r in rows if r.get("time_limit") is not None})
+    if not limits:
+        return [(f"score@{t:g}s", t) for t in ANYTIME_TIMES]
+    out = [(f"score@{t:g}s", t) for t in ANYTIME_TIMES if t <= limits[0]]
+    out += [(f"score@{lim:g}s (limit)", lim) for lim in limits if lim < ANYTIME_TIMES[-1]]
+    return out
 
 
 def _best_known(rows: Sequence[dict[str, Any]]) -> dict[tuple[str, str], float]:
@@ -97,6 +114,7 @@ def solver_summary(
     """
     scored = [r for r in rows if r.get("status") != "n/a"]
     best = _best_known(scored)
+    times = score_times(scored)
     groups: dict[str, list[dict[str, Any]]] = defaultdict(list)
     for r in rows:
         groups[_label(r)].append(r)
@@ -107,7 +125,9 @@ def solver_summary(
         for r in rs:
             reps[int(r.get("run") or 0)].append(r)
         entry: dict[str, Any] = {"solver": label, "runs": len(rs)}
-        per_rep = [_figures(rep, traces, best) for rep in reps.values()] or [_figures([], {}, {})]
+        per_rep = [_figures(rep, traces, best, times) for rep in reps.values()] or [
+            _figures([], {}, {}, times)
+        ]
         for k in per_rep[0]:
             vals = [f[k] for f in per_rep]
             entry[k] = round(_median(vals), 4) if len(vals) > 1 else vals[0]
@@ -129,21 +149,24 @@ def _figures(
     rs: Sequence[dict[str, Any]],
     traces: dict[tuple[Any, ...], list[Any]],
     best: dict[tuple[str, str], float],
+    times: Sequence[tuple[str, float]] = (),
 ) -> dict[str, Any]:
-    """solved, with_solution, PAR-2 and the anytime scores of one repetition's runs."""
+    """solved, certified, with_solution, PAR-2 and the anytime scores (at ``times``, see
+    :func:`score_times`) of one repetition's runs."""
     par2 = [float(r["time_prove"]) if _solved(r) else 2 * float(r["time_limit"]) for r in rs]
     entry: dict[str, Any] = {
         "solved": sum(_solved(r) for r in rs),
+        "certified": sum(r.get("certificate") in CONFIRMED for r in rs),
         "with_solution": sum(r.get("verified_cost") is not None for r in rs),
         "par2": round(sum(par2) / len(par2), 3) if par2 else 0.0,
     }
-    for t in ANYTIME_TIMES:
+    for name, t in times:
         scores = []
         for r in rs:
-            c = cost_at(r, traces.get(_trace_key(r), []), min(t, float(r["time_limit"])))
+            c = cost_at(r, traces.get(_trace_key(r), []), t)
             b = best.get((r["instance"], r["model"]))
             scores.append(0.0 if c is None or b is None else (b + 1) / (c + 1))
-        entry[f"score@{t:g}s"] = round(sum(scores) / len(scores), 4) if scores else 0.0
+        entry[name] = round(sum(scores) / len(scores), 4) if scores else 0.0
     return entry
 
 
@@ -202,6 +225,20 @@ def environment_markdown(env: dict[str, Any]) -> list[str]:
     return [*lines, ""]
 
 
+def certificate_lines(rows: Sequence[dict[str, Any]]) -> list[str]:
+    """What became of the claims (optimum or UNSATISFIABLE): how many were certified, and
+    how; a claim neither certified nor refuted is said to be unchecked, never confirmed."""
+    claims = [r for r in rows if r.get("status") in ("optimal", "infeasible")]
+    if not claims:
+        return ["No run claimed an optimum or UNSATISFIABLE."]
+    by: dict[str, int] = defaultdict(int)
+    for r in claims:
+        by[str(r.get("certificate") or "not checked")] += 1
+    certified = sum(by[c] for c in CONFIRMED)
+    parts = ", ".join(f"{n} {c}" for c, n in sorted(by.items()))
+    return [f"**Claims certified: {certified} of {len(claims)}** ({parts})."]
+
+
 def summary_markdown(
     rows: Sequence[dict[str, Any]],
     summary: Sequence[dict[str, Any]],
@@ -221,7 +258,8 @@ def summary_markdown(
     lines += ["", f"## Flagged runs ({len(flagged)})", ""]
     lines += [f"- {r['instance']} / {r['model']} / {_label(r)}: {r['flag']}" for r in flagged]
     if not flagged:
-        lines.append("none: every claimed optimum and cost was confirmed")
+        lines.append("none")
+    lines += ["", *certificate_lines(rows)]
     cols = [
         "instance",
         "model",
@@ -246,6 +284,30 @@ def summary_markdown(
     lines += ["", "## Runs", "", "| " + " | ".join(cols) + " |", "|---" * len(cols) + "|"]
     lines += ["| " + " | ".join(_cell(r.get(c)) for c in cols) + " |" for r in rows]
     return "\n".join(lines) + "\n"
+
+
+def _cost_curve(ax: Any, r: dict[str, Any], trace: Sequence[Any], colour: str) -> None:
+    """One run on a cost-over-time plot: every claimed cost as an ``x`` (never joined: no
+    assignment backs it), the verified cost from when it is backed to the end of the run as a
+    step line with its point drawn (a single point stays visible), and its lower bounds as a
+    dotted step line."""
+    label = _label(r)
+    claims = [(float(t), float(o)) for t, o, _ in trace if o is not None]
+    if claims:
+        ax.scatter(*zip(*claims, strict=True), marker="x", s=14, color=colour, alpha=0.6)
+    bounds = [(float(t), float(b)) for t, _, b in trace if b is not None]
+    if r.get("bound") is not None:
+        bounds.append((float(r.get("wall_s") or r["time_limit"]), float(r["bound"])))
+    if bounds:
+        bounds.sort()
+        ax.step(*zip(*bounds, strict=True), where="post", ls=":", color=colour, lw=0.9)
+    if r.get("verified_cost") is not None and r.get("time_best") is not None:
+        t0, cost = float(r["time_best"]), float(r["verified_cost"])
+        end = max(t0, float(r.get("wall_s") or t0))
+        ax.step([t0, end], [cost, cost], where="post", color=colour, label=label)
+        ax.plot([t0], [cost], "o", color=colour, ms=4)
+    elif claims or bounds:
+        ax.plot([], [], color=colour, label=f"{label} (nothing verified)")
 
 
 def write_plots(
@@ -283,19 +345,20 @@ def write_plots(
     per: dict[tuple[str, str], list[dict[str, Any]]] = defaultdict(list)
     for r in rows:
         per[(r["instance"], r["model"])].append(r)
+    best = _best_known([r for r in rows if r.get("status") != "n/a"])
     for (inst, model), rs in per.items():
         fig, ax = plt.subplots(figsize=(6, 4))
-        for r in rs:
-            key = _trace_key(r)
-            pts = [(s, float(o)) for s, o, _ in traces.get(key, []) if o is not None]
-            if r.get("verified_cost") is not None and r.get("time_best") is not None:
-                pts.append((float(r["time_best"]), float(r["verified_cost"])))
-            if pts:
-                pts.sort()
-                ax.step([p[0] for p in pts], [p[1] for p in pts], where="post", label=_label(r))
+        for i, r in enumerate(rs):
+            _cost_curve(ax, r, traces.get(_trace_key(r), []), f"C{i % 10}")
+        if (inst, model) in best:
+            ax.axhline(best[(inst, model)], color="k", ls="--", lw=0.8, label="best known")
         ax.set_xlabel("seconds")
         ax.set_ylabel("cost")
-        ax.set_title(f"{inst} ({model}): cost over time")
+        ax.set_title(
+            f"{inst} ({model}): cost over time\n"
+            "line and dot: verified; x: claimed, no assignment; dotted: lower bound",
+            fontsize=9,
+        )
         if ax.get_legend_handles_labels()[0]:
             ax.legend(fontsize=6, ncol=2)
         fig.tight_layout()

@@ -26,6 +26,7 @@ from typing import Any
 
 import numpy as np
 
+from illuknit.bench.certify import SPLIT_SUFFIX
 from illuknit.bench.instances import Instance, instance_model
 from illuknit.bench.wcnf_files import read_wcnf, read_wcnf_text
 from illuknit.core.errors import IlluknitError
@@ -38,6 +39,7 @@ __all__ = [
     "ROW_FIELDS",
     "TRACE_FIELDS",
     "SolverTask",
+    "backed_at",
     "build_task_model",
     "flag_rows",
     "run_solver_task",
@@ -77,7 +79,17 @@ ROW_FIELDS = (
     "flag",
     "reason",
 )
-TRACE_FIELDS = ("instance", "model", "solver", "warm_start", "run", "seconds", "cost", "bound")
+TRACE_FIELDS = (
+    "instance",
+    "model",
+    "solver",
+    "warm_start",
+    "run",
+    "seconds",
+    "cost",
+    "bound",
+    "backed",
+)
 
 #: Default memory limit of one run (MB of resident memory of the child's process group).
 DEFAULT_MEMORY_MB = 4096.0
@@ -104,6 +116,17 @@ class SolverTask:
         """(instance, model, solver, warm start, run): one row of the table."""
         model = self.model if self.wcnf is None else "wcnf"
         return (self.instance_name, model, self.solver, self.warm_start, self.run)
+
+    @property
+    def split(self) -> bool:
+        """The row's solver gets the formula split into independent components first (the
+        labelled pre-processing option, solver name ``NAME+split``)."""
+        return self.solver.endswith(SPLIT_SUFFIX)
+
+    @property
+    def engine(self) -> str:
+        """The solver's own name, without the pre-processing label."""
+        return self.solver.removesuffix(SPLIT_SUFFIX)
 
     @property
     def instance_name(self) -> str:
@@ -157,10 +180,14 @@ def _child_solve(model: Model, task: SolverTask, progress: Any = None) -> dict[s
     reported before a kill are not lost."""
     from illuknit.solvers import get_backend, solve
 
-    backend = get_backend(task.solver)
+    backend = get_backend(task.engine)
+    if parse_solver_name(task.engine).base == "rc2":
+        # in this child only: plain RC2 on the formula as given, or after the labelled split
+        backend_class = type(backend)
+        backend_class.split = task.split  # type: ignore[attr-defined]
     sol = solve(
         model,
-        solver=task.solver,
+        solver=task.engine,
         warm_start=task.warm_start,
         time_limit=task.time_limit,
         seed=task.seed,
@@ -179,6 +206,7 @@ def _child_solve(model: Model, task: SolverTask, progress: Any = None) -> dict[s
         "claimed_cost": stats.get("claimed_cost", stats.get("reported_cost", sol.objective)),
         "claimed_status": stats.get("claimed_status", ""),
         "message": str(stats.get("message", "")),
+        "components": stats.get("components"),
         "version": backend.version(),
     }
 
@@ -196,7 +224,9 @@ def not_applicable(model: Model, task: SolverTask) -> str | None:
     from illuknit.solvers import get_backend
     from illuknit.solvers.warm_start import resolve_policy
 
-    backend = get_backend(task.solver, check_available=False)
+    backend = get_backend(task.engine, check_available=False)
+    if task.split and parse_solver_name(task.engine).base != "rc2":
+        return f"the component split ({SPLIT_SUFFIX}) is implemented for rc2 only so far"
     why = backend.why_not(model)
     if why is not None:
         return why
@@ -217,7 +247,7 @@ def base_solver_row(task: SolverTask) -> dict[str, Any]:
         run=task.run,
         seed=task.seed,
         solver=task.solver,
-        oracle=parse_solver_name(task.solver).oracle,
+        oracle=parse_solver_name(task.engine).oracle,
         warm_start=task.warm_start,
         time_limit=task.time_limit,
         memory_mb=task.memory_mb,
@@ -245,7 +275,7 @@ def run_solver_task(task: SolverTask, content: bytes | None = None) -> dict[str,
         row.update(rows=task.instance.size[0], cols=task.instance.size[1])
     row.update(variables=model.pool.top, soft_clauses=model.num_soft, reference_optimum=optimum)
     with contextlib.suppress(Exception):  # an unknown or broken backend: the run says why
-        row["version"] = get_backend(task.solver, check_available=False).version()
+        row["version"] = get_backend(task.engine, check_available=False).version()
     try:
         why = not_applicable(model, task)
     except IlluknitError as e:
@@ -255,7 +285,7 @@ def run_solver_task(task: SolverTask, content: bytes | None = None) -> dict[str,
         row.update(status="n/a", reason=why)
         return {"row": row, "trace": []}
     try:
-        preload_backend(task.solver)
+        preload_backend(task.engine)
     except ImportError as e:  # a broken optional install: the run itself will say more
         row["reason"] = f"preloading failed: {e}"
     events: list[ProgressEvent] = []
@@ -339,14 +369,23 @@ def _verify(row: dict[str, Any], model: Model, out: dict[str, Any], optimum: int
 
 
 def _timings(row: dict[str, Any], out: dict[str, Any], trace: list[Any]) -> None:
-    firsts = [t for t, o, _ in trace if o is not None]
-    found_at = out["found_at"]
+    """time_first, time_best (both: when an assignment backs a cost, see :func:`backed_at`)
+    and time_prove of a verified answer."""
     if row["verified_cost"] is None:
         return
-    row["time_first"] = _fmt(min(firsts) if firsts else found_at)
-    row["time_best"] = _fmt(found_at)
+    at = backed_at(trace, float(row["verified_cost"]))
+    row["time_first"] = row["time_best"] = _fmt(at if at is not None else out["wall"])
     if row["status"] == Status.OPTIMAL.value and not row["flag"]:
         row["time_prove"] = _fmt(out["wall"])
+
+
+def backed_at(trace: list[Any], verified: float) -> float | None:
+    """The first time the run reported the cost its verified assignment has (the MaxSAT
+    Evaluation's reading of an ``o`` line that the final ``v`` line backs), or None. A reported
+    cost no assignment backs -- lower than the verified one, or never followed by an assignment
+    -- is a claim: it sets no time and scores nothing."""
+    times = [float(t) for t, o, _ in trace if o is not None and float(o) == verified]
+    return min(times) if times else None
 
 
 def _add_flag(row: dict[str, Any], text: str) -> None:

@@ -215,8 +215,16 @@ def run_solver_table(
     for r in results:
         key = row_key(r)
         traces[key] = r["trace"]
+        row = r["row"]
         for s, c, b in r["trace"]:
-            trace_rows.append(dict(zip(TRACE_FIELDS, (*key, round(s, 4), c, b), strict=True)))
+            backed = (
+                c is not None
+                and row.get("time_best") is not None
+                and float(c) == float(row["verified_cost"])
+                and round(s, 3) >= float(row["time_best"])
+            )
+            point = (*key, round(s, 4), c, b, "verified" if backed else "claim")
+            trace_rows.append(dict(zip(TRACE_FIELDS, point, strict=True)))
     summary = solver_summary(rows, traces)
     env = {**env_start, "load_average_end": _load_average()}
     env["solver_versions"] = {r["solver"]: r["version"] for r in rows if r.get("version")}

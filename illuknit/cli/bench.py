@@ -48,8 +48,8 @@ def _run_solvers(instances: Any, solvers: list[str], outdir: str, **kw: Any) -> 
     from illuknit.solvers import get_backend
     from illuknit.solvers.warm_start import WARM_STARTS
 
-    for s in solvers:
-        get_backend(s, check_available=False)  # unknown names fail before any work
+    for s in solvers:  # unknown names fail before any work (NAME+split: NAME's)
+        get_backend(s.removesuffix("+split"), check_available=False)
     for ws in kw["warm_starts"]:
         if ws not in WARM_STARTS:
             raise UnknownNameError("warm start", ws, WARM_STARTS)
