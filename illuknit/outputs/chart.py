@@ -26,7 +26,38 @@ from illuknit.core.gauge import Gauge, finished_size
 from illuknit.core.pattern import LogicalPattern, check_pattern
 from illuknit.outputs.hand_pattern import hand_advice, written_row
 
-__all__ = ["HandRow", "chart_key", "chart_png_rgb", "hand_rows", "written_instructions"]
+__all__ = [
+    "HandRow",
+    "chart_key",
+    "chart_png_rgb",
+    "contrast_ratio",
+    "hand_rows",
+    "ink_on",
+    "written_instructions",
+]
+
+
+def contrast_ratio(a: tuple[int, int, int], b: tuple[int, int, int]) -> float:
+    """WCAG 2 contrast ratio of two sRGB colours: 1 (the same) to 21 (black on white).
+
+    >>> round(contrast_ratio((0, 0, 0), (255, 255, 255)), 1)
+    21.0
+    """
+    la, lb = (float(luminance(np.array(c, dtype=float))) for c in (a, b))
+    return (max(la, lb) + 0.05) / (min(la, lb) + 0.05)
+
+
+def ink_on(rgb: tuple[int, int, int]) -> tuple[int, int, int]:
+    """Black or white, whichever contrasts more with a yarn of colour ``rgb``: the colour the
+    chart's grid lines, hatching and dots are drawn in on that yarn. Its contrast ratio is at
+    least 4.58 on any colour (mid-grey #808080 gets black, 5.3), where a fixed grey line
+    vanishes on a grey yarn.
+
+    >>> ink_on((128, 128, 128)), ink_on((40, 40, 40))
+    ((0, 0, 0), (255, 255, 255))
+    """
+    black, white = (0, 0, 0), (255, 255, 255)
+    return black if contrast_ratio(rgb, black) >= contrast_ratio(rgb, white) else white
 
 
 @dataclass(frozen=True)

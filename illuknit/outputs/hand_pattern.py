@@ -30,10 +30,12 @@ __all__ = [
     "MAX_INTARSIA_BLOCKS",
     "MIN_INTARSIA_BLOCK",
     "HandAdvice",
+    "HandVerdict",
     "RowColourwork",
     "YarnEstimate",
     "compress_repeats",
     "hand_advice",
+    "hand_verdict",
     "row_colourwork",
     "written_row",
     "yarn_estimate",
@@ -340,3 +342,67 @@ def yarn_estimate(
         metres = (counts[i] * loop_cm + carried[i] * gauge.stitch_cm) / 100 * (1 + margin)
         out.append(YarnEstimate(y.name, y.hex, counts[i], metres, metres / metres_per_100g * 100))
     return out
+
+
+#: Assumed hand-knitting speed, stitches a minute, in rows of one yarn: a rule of thumb for an
+#: average knitter (20-30 are commonly quoted), not measured by illuknit.
+PLAIN_STITCHES_PER_MINUTE = 25.0
+#: ... and in rows of two or more yarns (stranded or intarsia): about half as fast.
+COLOUR_STITCHES_PER_MINUTE = 12.0
+#: Minutes each colour change in a row costs on top (drop, pick up, twist, untangle).
+MINUTES_PER_CHANGE = 0.1
+#: A design is for machines only when a row's float exceeds this many stitches (a yarn carried
+#: behind that many stitches needs catching all along: slow, and the carried yarn's bulk at the
+#: back flattens the ridges the illusion needs, paper section 4.1) ...
+MACHINE_ONLY_FLOAT = 24
+#: ... or a row changes colour more than this many times.
+MACHINE_ONLY_CHANGES = 20
+
+
+@dataclass(frozen=True)
+class HandVerdict:
+    """The cover's verdict: estimated hours by hand, the technique and whether hands are
+    sensible at all (``machine_only``), with the sentence that says so."""
+
+    hours: float
+    technique: str
+    machine_only: bool
+    text: str
+
+
+def hand_verdict(pattern: LogicalPattern) -> HandVerdict:
+    """Hours of hand knitting estimated from the stitch counts and colour work (rates
+    :data:`PLAIN_STITCHES_PER_MINUTE`, :data:`COLOUR_STITCHES_PER_MINUTE`,
+    :data:`MINUTES_PER_CHANGE`: estimates), the technique, and whether the design is for
+    machines only (:data:`MACHINE_ONLY_FLOAT`, :data:`MACHINE_ONLY_CHANGES`)."""
+    advice = hand_advice(pattern)
+    width = 2 * pattern.shape[1]
+    minutes = sum(
+        width / PLAIN_STITCHES_PER_MINUTE
+        if r.yarns == 1
+        else width / COLOUR_STITCHES_PER_MINUTE + r.changes * MINUTES_PER_CHANGE
+        for r in advice.rows
+    )
+    hours = minutes / 60
+    floats = max((r.longest_float for r in advice.rows if r.technique == "stranded"), default=0)
+    changes = max(r.changes for r in advice.rows)
+    coloured = sum(r.yarns > 1 for r in advice.rows)
+    machine_only = not advice.knittable or floats > MACHINE_ONLY_FLOAT
+    machine_only |= changes > MACHINE_ONLY_CHANGES
+    rates = (
+        f"(an estimate at {PLAIN_STITCHES_PER_MINUTE:g} stitches a minute in one-yarn rows, "
+        f"{COLOUR_STITCHES_PER_MINUTE:g} in colour rows and {MINUTES_PER_CHANGE * 60:g} s a "
+        "colour change: rules of thumb, not measured)"
+    )
+    words = {"stripes": "stripes of one yarn a row (illusion knitting)"}
+    technique = words.get(advice.technique, f"{advice.technique} colour work")
+    text = f"By hand: about {hours:.0f} hours {rates}; technique: {technique}."
+    if machine_only:
+        text += (
+            f" This design is for machines only: {coloured} of {len(advice.rows)} rows change "
+            f"colour, up to {changes} times a row, with floats up to {floats} stitches. By hand "
+            "that is weeks of catching floats, and the carried yarn's bulk at the back flattens "
+            "the ridges the illusion needs. Knit it on a machine (illuknit knit), or design it "
+            "with fewer colours a row."
+        )
+    return HandVerdict(hours, advice.technique, machine_only, text)
