@@ -396,7 +396,9 @@ def hand_verdict(pattern: LogicalPattern) -> HandVerdict:
     )
     words = {"stripes": "stripes of one yarn a row (illusion knitting)"}
     technique = words.get(advice.technique, f"{advice.technique} colour work")
-    text = f"By hand: about {hours:.0f} hours {rates}; technique: {technique}."
+    whole = round(hours)
+    said = "under an hour" if whole == 0 else f"about {whole} hour{'s' if whole > 1 else ''}"
+    text = f"By hand: {said} {rates}; technique: {technique}."
     if machine_only:
         text += (
             f" This design is for machines only: {coloured} of {len(advice.rows)} rows change "

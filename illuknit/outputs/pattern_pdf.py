@@ -557,7 +557,12 @@ def _chart_pages(doc: _Document) -> None:
     """The page map, then the chart tiled over pages."""
     yarn, upper, dots = _grids(doc.pattern, doc.chart)
     tiles = chart_tiles(yarn.shape[1], yarn.shape[0], page=doc.page, row_mm=doc.row_mm)
-    doc.pdf.add_page()
+    down = max(t.down for t in tiles) + 1
+    needed = 30 + min(14.0, 150.0 / max(max(t.across for t in tiles) + 1, down)) * down + 4 * down
+    if doc.pdf.get_y() + needed > doc.pdf.page_break_trigger:
+        doc.pdf.add_page()  # else the page map shares the key's page
+    else:
+        doc.pdf.ln(4)
     doc.heading(f"Chart: {len(tiles)} page{'s' if len(tiles) > 1 else ''}")
     doc.para(
         "Page map (the chart as knitted: row 1 at the bottom, stitch 1 at the right; knitting "
