@@ -77,6 +77,8 @@ def test_single_view_design_writes_a_pattern_pdf(tmp_path: Path, run_cli=None) -
     assert (out / "chart.svg").read_text().startswith("<svg")
     # a single view is stripes head-on, measured (issue 33): the cover says so
     assert "Head-on: stripes (no picture)" in pages[0]
+    # issue 37: by default a chart square is a ridge unit
+    assert "A square is 2 stitches x 2 rows" in " ".join("\n".join(pages).split())
 
 
 def test_three_colour_double_view_writes_a_pattern_pdf(tmp_path: Path) -> None:
@@ -105,6 +107,8 @@ def test_three_colour_double_view_writes_a_pattern_pdf(tmp_path: Path) -> None:
             "1",
             "--fabric-gauge",
             "22x30/10cm",
+            "--chart",
+            "stitches",
             "-o",
             str(out),
         ]
@@ -114,6 +118,8 @@ def test_three_colour_double_view_writes_a_pattern_pdf(tmp_path: Path) -> None:
     pages = pdf_pages((out / "pattern.pdf").read_bytes())
     assert_is_a_pattern(pages, pattern, "22 sts x 30 rows per 10 cm")
     assert "--fabric-gauge: 22x30/10cm" in "\n".join(pages)
+    flat = " ".join("\n".join(pages).split())  # --chart stitches: a square a stitch
+    assert "Dot: purl on RS, knit on WS" in flat and "A square is 2 stitches" not in flat
     # head-on a double view shows both its pictures, mixed: the cover once said "stripes"
     cover = " ".join(pages[0].split())
     assert "stripes" not in cover, cover
