@@ -15,6 +15,7 @@ stitch that shows as a purl on the right side.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -39,7 +40,7 @@ __all__ = [
 ]
 
 
-def contrast_ratio(a: tuple[int, int, int], b: tuple[int, int, int]) -> float:
+def contrast_ratio(a: Sequence[int], b: Sequence[int]) -> float:
     """WCAG 2 contrast ratio of two sRGB colours: 1 (the same) to 21 (black on white).
 
     >>> round(contrast_ratio((0, 0, 0), (255, 255, 255)), 1)
@@ -49,7 +50,7 @@ def contrast_ratio(a: tuple[int, int, int], b: tuple[int, int, int]) -> float:
     return (max(la, lb) + 0.05) / (min(la, lb) + 0.05)
 
 
-def ink_on(rgb: tuple[int, int, int]) -> tuple[int, int, int]:
+def ink_on(rgb: Sequence[int]) -> tuple[int, int, int]:
     """Black or white, whichever contrasts more with a yarn of colour ``rgb``: the colour the
     chart's grid lines, hatching and dots are drawn in on that yarn. Its contrast ratio is at
     least 4.58 on any colour (mid-grey #808080 gets black, 5.3), where a fixed grey line

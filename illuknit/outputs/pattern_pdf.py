@@ -332,7 +332,7 @@ class _Document:
         pdf.set_creator("illuknit")
         # no time stamp: the same pattern gives the same file (a folder holds one whole design)
         pdf.set_creation_date(datetime(2000, 1, 1, tzinfo=UTC))
-        pdf.footer = self._footer
+        pdf.footer = self._footer  # type: ignore[method-assign]  # fpdf2 calls it per page
         self.pdf = pdf
 
     def _footer(self) -> None:
