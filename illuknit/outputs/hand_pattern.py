@@ -394,8 +394,12 @@ def hand_verdict(pattern: LogicalPattern) -> HandVerdict:
         f"{COLOUR_STITCHES_PER_MINUTE:g} in colour rows and {MINUTES_PER_CHANGE * 60:g} s a "
         "colour change: rules of thumb, not measured)"
     )
-    words = {"stripes": "stripes of one yarn a row (illusion knitting)"}
-    technique = words.get(advice.technique, f"{advice.technique} colour work")
+    technique = {
+        "stripes": "stripes of one yarn a row (illusion knitting)",
+        "stranded": "stranded colour work (floats caught behind the work)",
+        "intarsia": "intarsia (a ball or bobbin a colour block)",
+        "not-sensible": "none fits: rows of 3 or more yarns in blocks too small for intarsia",
+    }[advice.technique]
     whole = round(hours)
     said = "under an hour" if whole == 0 else f"about {whole} hour{'s' if whole > 1 else ''}"
     text = f"By hand: {said} {rates}; technique: {technique}."
