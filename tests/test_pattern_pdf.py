@@ -41,6 +41,11 @@ def assert_is_a_pattern(pages: list[str], pattern: LogicalPattern, gauge_text: s
         "How to read the chart",
         "Key",
         "Written rows",
+        "Skill level",
+        "Finishing",
+        "Wet-block",
+        "To hang and view it",
+        "By hand: ",
         gauge_text,
     ):
         assert needed in " ".join(text.split()), needed

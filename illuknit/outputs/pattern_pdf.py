@@ -477,8 +477,37 @@ def _materials(doc: _Document) -> None:
         f"Cast on {doc.W} stitches with {doc.cast_on_yarn} and follow the chart (or the written "
         f"rows) from row 1 to row {doc.H}; bind off all stitches knitwise."
     )
+    _finishing(doc)
     doc.heading("Key")
     _key(doc)
+
+
+#: Skill level by technique (Craft Yarn Council's skill levels: Easy, Intermediate, Experienced).
+_SKILL = {
+    "stripes": "Easy: knit, purl and a change of yarn every 2 rows; the care is in counting.",
+    "intarsia": "Experienced: intarsia with a bobbin a colour block, on top of the ridges.",
+    "stranded": "Experienced: stranded colour work with floats caught, on top of the ridges.",
+    "not-sensible": "Machine: no hand technique fits the colour rows (see Working it).",
+}
+
+
+def _finishing(doc: _Document) -> None:
+    """Skill level, blocking and finishing, and how to hang and view the piece."""
+    doc.heading("Skill level")
+    doc.para(_SKILL[doc.advice.technique])
+    doc.heading("Finishing")
+    doc.para(
+        "Weave in the ends along the same-coloured stripes on the wrong side. Wet-block: soak "
+        f"the piece, press the water out in a towel and pin it flat to {doc.size.describe()} "
+        "(or your swatch's size); let it dry. Do not press or steam the right side: the purl "
+        "ridges must stand up for the pictures to show."
+    )
+    doc.para(
+        "To hang and view it: hang it with the cast-on edge at the bottom (a rod through a "
+        "sleeve sewn at the top), in light from one side. Walk past it looking along the "
+        "fabric from above, then from below, to see each picture; head-on it shows stripes "
+        "or the mix the cover describes."
+    )
 
 
 def _gauge_section(doc: _Document) -> None:
