@@ -318,6 +318,11 @@ class _Document:
         #: tall as wide), so a round motif is round on paper
         self.row_mm = CELL_MM * gauge.unit_aspect
         self.size = finished_size(pattern.shape, gauge)
+        #: the gauge a hand knitter is told to expect: the estimate when ``gauge`` is one
+        self.hand_gauge = (
+            hand_illusion_gauge(round(gauge.stitches_per_10cm, 1)) if gauge.estimate else gauge
+        )
+        self.hand_size = finished_size(pattern.shape, self.hand_gauge)
         self.names = [y.name for y in pattern.yarns]
         self.rows = hand_rows(pattern)
         self.advice = hand_advice(pattern)
@@ -498,8 +503,8 @@ def _finishing(doc: _Document) -> None:
     doc.heading("Finishing")
     doc.para(
         "Weave in the ends along the same-coloured stripes on the wrong side. Wet-block: soak "
-        f"the piece, press the water out in a towel and pin it flat to {doc.size.describe()} "
-        "(or your swatch's size); let it dry. Do not press or steam the right side: the purl "
+        f"the piece, press the water out in a towel and pin it flat to about "
+        f"{doc.hand_size.describe()} (or the size your swatch gives); let it dry. Do not press or steam the right side: the purl "
         "ridges must stand up for the pictures to show."
     )
     doc.para(
@@ -524,8 +529,7 @@ def _gauge_section(doc: _Document) -> None:
         doc.para(f"Finished size at this gauge: {doc.size.describe()}.")
         hand = gauge
     else:
-        hand = hand_illusion_gauge(round(s, 1))
-        size = finished_size(doc.pattern.shape, hand)
+        hand, size = doc.hand_gauge, doc.hand_size
         doc.para(
             f"The design is drawn for {s:.1f} stitches and {r:.1f} rows = 10 cm (4 in): "
             f"{doc.size.describe()}. That row gauge was not measured. Hand-knitted illusion "
@@ -630,7 +634,8 @@ def _key(doc: _Document) -> None:
         pdf.rect(x, yy, sw, sw, style="DF")
         pdf.set_xy(x + sw + 3, yy)
         doc.font(10)
-        pdf.cell(0, sw, doc.fonts.text(f"{y.name} ({y.hex}): a stitch in this yarn"))
+        what = "2 stitches x 2 rows" if doc.per == 2 else "a stitch"
+        pdf.cell(0, sw, doc.fonts.text(f"{y.name} ({y.hex}): {what} in this yarn"))
         pdf.set_xy(x, yy + sw + 2)
     x, yy = pdf.get_x(), pdf.get_y()
     light = pattern.palette[int(np.argmax(luminance(pattern.palette)))]
