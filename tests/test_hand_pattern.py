@@ -98,6 +98,11 @@ def test_advice_follows_the_blocks():
     big = LogicalPattern(np.array([[0] * 4 + [1] * 4] * 2), np.zeros((2, 8), bool), YARNS3[:2])
     a = hand_advice(big)
     assert a.knittable and a.technique == "intarsia"
+    assert "Bobbins to wind: black 1, firebrick 1." in " ".join(a.lines)  # issue 37 item 5
+    three = LogicalPattern(
+        np.array([[0] * 3 + [1] * 3 + [0] * 3] * 2), np.zeros((2, 9), bool), YARNS3[:2]
+    )
+    assert "Bobbins to wind: black 2, firebrick 1." in " ".join(hand_advice(three).lines)
     # 2-stitch blocks of 3 yarns: neither strandable nor intarsia, said with the numbers
     tiny = LogicalPattern(np.array([[0, 1, 2] * 5] * 2), np.zeros((2, 15), bool), YARNS3)
     a = hand_advice(tiny)

@@ -36,6 +36,7 @@ __all__ = [
     "compress_repeats",
     "hand_advice",
     "hand_verdict",
+    "intarsia_bobbins",
     "row_colourwork",
     "written_row",
     "yarn_estimate",
@@ -202,6 +203,32 @@ def row_colourwork(pattern: LogicalPattern) -> list[RowColourwork]:
     return out
 
 
+def intarsia_bobbins(
+    pattern: LogicalPattern, rows: tuple[RowColourwork, ...] | None = None
+) -> dict[int, int]:
+    """Bobbins to wind per yarn index for the intarsia rows: the most blocks that yarn has in
+    one intarsia row (a block a bobbin).
+
+    >>> from illuknit.core.pattern import parse_yarns
+    >>> p = LogicalPattern(np.array([[0] * 4 + [1] * 4 + [0] * 4]), np.zeros((1, 12), bool),
+    ...                    parse_yarns("black,white"))
+    >>> intarsia_bobbins(p)
+    {0: 2, 1: 1}
+    """
+    rows = tuple(row_colourwork(pattern)) if rows is None else rows
+    n, _ = pattern.shape
+    out: dict[int, int] = {}
+    for r in rows:
+        if r.technique != "intarsia":
+            continue
+        k = r.number - 1
+        yarn = (pattern.yarn if k % 2 == 0 else pattern.upper_yarn)[n - 1 - k // 2]
+        blocks = Counter(int(y) for y, _ in groupby(yarn.tolist()))
+        for y, count in blocks.items():
+            out[y] = max(out.get(y, 0), count)
+    return out
+
+
 @dataclass(frozen=True)
 class HandAdvice:
     """How to knit a pattern by hand, and whether it is sensible to.
@@ -248,11 +275,13 @@ def hand_advice(pattern: LogicalPattern) -> HandAdvice:
         f"{most_changes} colour changes in a row, blocks as narrow as {smallest} stitches."
     ]
     if by["intarsia"]:
+        bobbins = intarsia_bobbins(pattern, rows)
+        wind = ", ".join(f"{pattern.yarns[y].name} {k}" for y, k in sorted(bobbins.items()))
         lines.append(
             f"{by['intarsia']} rows have large blocks (each at least {MIN_INTARSIA_BLOCK} "
             f"stitches, at most {MAX_INTARSIA_BLOCKS} a row): work them in intarsia, each block "
             "from its own ball or bobbin, twisting the yarns at every colour change so the "
-            "blocks stay joined. No yarn is carried across the back."
+            f"blocks stay joined. No yarn is carried across the back. Bobbins to wind: {wind}."
         )
     if by["stranded"]:
         lines.append(
