@@ -102,3 +102,35 @@ def test_chart_has_a_key_for_its_dots_and_yarns():
     below = img[body_h:].reshape(-1, 3)
     for y in Y:  # each yarn's swatch is drawn in the key below the chart
         assert (below == np.array(y.rgb, np.uint8)).all(axis=1).any(), y.name
+
+
+@given(st.tuples(*[st.integers(0, 255)] * 3))
+def test_chart_ink_contrasts_with_every_yarn(rgb):
+    """Grid lines, hatching and dots are drawn in black or white, whichever contrasts more with
+    the yarn: at least 4.5 : 1 (WCAG AA) on any colour, where a fixed grey vanished."""
+    from illuknit.outputs.chart import contrast_ratio, ink_on
+
+    assert contrast_ratio(ink_on(rgb), rgb) >= 4.5
+
+
+def test_chart_png_numbers_stitches_and_both_sides_rows_on_a_mid_grey_yarn():
+    """Issue 37: chart.png has stitch numbers along the bottom, WS row numbers at the left and
+    RS row numbers at the right, and its grid shows on a mid-grey yarn."""
+    grey = parse_yarns("#808080,white")
+    p = LogicalPattern(np.zeros((6, 8), np.int16), np.zeros((6, 8), bool), grey)
+    img = chart_png_rgb(p, cell=12, unit_aspect=1.0).astype(int)
+    margin, w, h = 40, 16 * 12, 12 * 12
+    ink = img.sum(axis=2) < 3 * 100
+    left, right = ink[margin : margin + h, :margin], ink[margin : margin + h, margin + w :]
+    bottom = ink[margin + h + 2 : margin + h + margin - 2, margin : margin + w]
+    rows_with_text = lambda band: int(band.any(axis=1).sum())  # noqa: E731
+    assert rows_with_text(left) > h / 3 and rows_with_text(right) > h / 3
+    assert bottom.any(), "stitch numbers along the bottom"
+    grid = img[margin + 1 : margin + h - 1, margin + 1 : margin + w - 1]
+    # one line in every cell's width: at least 1/12 of the grid drawn in black on the grey
+    assert (grid.sum(axis=2) < 3 * 30).mean() > 1 / 12
+    from illuknit.outputs.chart import chart_row_labels
+
+    labels = chart_row_labels(12, 4)
+    assert {s for _, s in labels} == {"left", "right"}
+    assert all((r % 2 == 1) == (s == "right") for r, s in labels)

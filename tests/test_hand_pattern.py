@@ -98,6 +98,11 @@ def test_advice_follows_the_blocks():
     big = LogicalPattern(np.array([[0] * 4 + [1] * 4] * 2), np.zeros((2, 8), bool), YARNS3[:2])
     a = hand_advice(big)
     assert a.knittable and a.technique == "intarsia"
+    assert "Bobbins to wind: black 1, firebrick 1." in " ".join(a.lines)  # issue 37 item 5
+    three = LogicalPattern(
+        np.array([[0] * 3 + [1] * 3 + [0] * 3] * 2), np.zeros((2, 9), bool), YARNS3[:2]
+    )
+    assert "Bobbins to wind: black 2, firebrick 1." in " ".join(hand_advice(three).lines)
     # 2-stitch blocks of 3 yarns: neither strandable nor intarsia, said with the numbers
     tiny = LogicalPattern(np.array([[0, 1, 2] * 5] * 2), np.zeros((2, 15), bool), YARNS3)
     a = hand_advice(tiny)
@@ -123,3 +128,28 @@ def test_yarn_estimate_adds_up():
     assert abs(est[0].metres - 24 * 3.8 * 0.5 / 100) < 1e-9
     with_margin = yarn_estimate(p, g, margin=0.2, floats=False)
     assert abs(with_margin[0].metres / est[0].metres - 1.2) < 1e-9
+
+
+def test_the_verdict_says_hours_and_when_a_design_is_for_machines_only():
+    """Issue 37 item 2: hours from stitch counts and colour work, rates stated; a design whose
+    rows change colour all along with long floats is for machines only, stripes are not."""
+    from illuknit.outputs.hand_pattern import (
+        PLAIN_STITCHES_PER_MINUTE,
+        hand_verdict,
+    )
+
+    stripes = LogicalPattern(
+        np.repeat(np.arange(10)[:, None] % 2, 20, axis=1), np.zeros((10, 20), bool), YARNS3[:2]
+    )
+    v = hand_verdict(stripes)
+    assert not v.machine_only and v.technique == "stripes"
+    assert abs(v.hours - 40 * 20 / PLAIN_STITCHES_PER_MINUTE / 60) < 1e-9
+    assert "By hand: about 1 hour " in v.text and "rules of thumb" in v.text
+    rng = np.random.default_rng(0)
+    noisy = LogicalPattern(rng.integers(0, 2, (10, 60)), rng.random((10, 60)) < 0.3, YARNS3[:2])
+    v = hand_verdict(noisy)
+    assert v.machine_only and "for machines only" in v.text and v.hours > 1
+    wide = np.zeros((10, 60), np.int16)
+    wide[:, 20:] = 1
+    wide[:, 59] = 0  # a float of 78 stitches in every row
+    assert hand_verdict(LogicalPattern(wide, np.zeros((10, 60), bool), YARNS3[:2])).machine_only

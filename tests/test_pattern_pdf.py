@@ -12,8 +12,11 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 from PIL import Image
 
+from illuknit.core.errors import IlluknitError
 from illuknit.core.gauge import parse_gauge
 from illuknit.core.pattern import LogicalPattern, parse_yarns
 from illuknit.outputs import pattern_pdf as pdf_module
@@ -38,9 +41,14 @@ def assert_is_a_pattern(pages: list[str], pattern: LogicalPattern, gauge_text: s
         "How to read the chart",
         "Key",
         "Written rows",
+        "Skill level",
+        "Finishing",
+        "Wet-block",
+        "To hang and view it",
+        "By hand: ",
         gauge_text,
     ):
-        assert needed in text, needed
+        assert needed in " ".join(text.split()), needed
     assert re.search(r"\d+\.\d x \d+\.\d cm \(\d+\.\d x \d+\.\d in\)", text)
     # materials: every used yarn with a length
     for y in pattern.yarns:
@@ -74,6 +82,8 @@ def test_single_view_design_writes_a_pattern_pdf(tmp_path: Path, run_cli=None) -
     assert (out / "chart.svg").read_text().startswith("<svg")
     # a single view is stripes head-on, measured (issue 33): the cover says so
     assert "Head-on: stripes (no picture)" in pages[0]
+    # issue 37: by default a chart square is a ridge unit
+    assert "A square is 2 stitches x 2 rows" in " ".join("\n".join(pages).split())
 
 
 def test_three_colour_double_view_writes_a_pattern_pdf(tmp_path: Path) -> None:
@@ -102,6 +112,8 @@ def test_three_colour_double_view_writes_a_pattern_pdf(tmp_path: Path) -> None:
             "1",
             "--fabric-gauge",
             "22x30/10cm",
+            "--chart",
+            "stitches",
             "-o",
             str(out),
         ]
@@ -111,6 +123,8 @@ def test_three_colour_double_view_writes_a_pattern_pdf(tmp_path: Path) -> None:
     pages = pdf_pages((out / "pattern.pdf").read_bytes())
     assert_is_a_pattern(pages, pattern, "22 sts x 30 rows per 10 cm")
     assert "--fabric-gauge: 22x30/10cm" in "\n".join(pages)
+    flat = " ".join("\n".join(pages).split())  # --chart stitches: a square a stitch
+    assert "Dot: purl on RS, knit on WS" in flat and "A square is 2 stitches" not in flat
     # head-on a double view shows both its pictures, mixed: the cover once said "stripes"
     cover = " ".join(pages[0].split())
     assert "stripes" not in cover, cover
@@ -129,13 +143,13 @@ def test_a_240_stitch_chart_is_tiled_over_printable_pages(tmp_path: Path) -> Non
     assert letter and all(t.c1 - t.c0 + 1 <= 40 for t in letter)
 
     pattern = small_pattern((20, 120))
-    data = pattern_pdf(pattern, gauge=parse_gauge("22x30/10cm"))
+    data = pattern_pdf(pattern, gauge=parse_gauge("22x30/10cm"), chart="stitches")
     pages = pdf_pages(data)
     chart_pages = [p for p in pages if re.search(r"Chart page \d+ of \d+", p)]
     assert len(chart_pages) == len(chart_tiles(240, 40)) >= 6
     for p in chart_pages:
         flat = " ".join(p.split())
-        assert "Row 1 at the bottom" in flat and "Shaded: shared with page" in flat
+        assert "Row 1 at the bottom" in flat and "Hatched: shared with page" in flat
         numbers = [int(w) for w in re.findall(r"\d+", p.split("\n", 1)[1])]
         # every row number 1..40 once (RS at the right, WS at the left), stitch numbers twice
         assert all(numbers.count(r) >= 1 for r in range(1, 41)), numbers
@@ -203,3 +217,104 @@ def test_characters_no_font_has_become_code_points(monkeypatch: pytest.MonkeyPat
     assert fonts.fallbacks == ()
     assert fonts.text("Ø深蓝 Ελληνικά – x") == "Ø<U+6DF1><U+84DD> Ελληνικά – x"
     assert fonts.missing("深蓝ØA") == ["U+6DF1", "U+84DD"]
+
+
+def test_every_page_has_its_number_and_the_design_name() -> None:
+    """Issue 37: a loose page finds its place: "page N of M" and the design's name on each."""
+    pages = pdf_pages(
+        pattern_pdf(small_pattern((30, 50)), gauge=parse_gauge("22x30/10cm"), title="Owl")
+    )
+    assert len(pages) >= 4
+    for k, text in enumerate(pages, 1):
+        assert f"page {k} of {len(pages)}" in text and "Owl" in text, (k, text[-200:])
+
+
+def test_the_default_chart_is_a_square_a_ridge_and_takes_fewer_pages() -> None:
+    """Issue 37: one square a unit (2 stitches x 2 rows) by default, the stitch chart an option;
+    a 96 x 138 stitch design's chart: 2 pages instead of 6, 200 x 286: 6 instead of 24 (A4)."""
+    row = CELL_MM * 0.7  # a row 0.7 of a stitch tall (the default machine's 5:7 gauge)
+    pages = {size: len(chart_tiles(*size, row_mm=row)) for size in ((48, 69), (96, 138))}
+    assert pages == {(48, 69): 2, (96, 138): 6}
+    pages = {size: len(chart_tiles(*size, row_mm=row)) for size in ((100, 143), (200, 286))}
+    assert pages == {(100, 143): 6, (200, 286): 24}
+    pattern = small_pattern((20, 60))
+    gauge = parse_gauge("22x30/10cm")
+    units, stitches = (
+        pdf_pages(pattern_pdf(pattern, gauge=gauge, chart=c)) for c in ("units", "stitches")
+    )
+    count = lambda pages: sum(bool(re.search(r"Chart page \d+ of", p)) for p in pages)  # noqa: E731
+    assert count(units) == len(chart_tiles(60, 20)) < count(stitches) == len(chart_tiles(120, 40))
+    first = next(p for p in units if "Chart page 1 of" in p)
+    # the page's stitches and every row (a square's RS row at the right, its WS row at the left)
+    assert re.search(r"stitches 1-(\d+) \(from the right\), rows 1-40", first)
+    for j in range(1, 21):  # a square's two rows share a line: "3" at the right, "4" at the left
+        assert re.search(rf"^{2 * j - 1}(S\d+)? ?{2 * j}$", first, re.MULTILINE), j
+    assert "A square is 2 stitches x 2 rows" in " ".join(first.split())
+    with pytest.raises(IlluknitError, match="`chart`"):
+        pattern_pdf(pattern, gauge=gauge, chart="rows")
+
+
+def test_grid_lines_show_on_a_mid_grey_yarn(tmp_path: Path) -> None:
+    """Issue 37: the thin grid lines vanished on a mid-grey yarn (grey on grey); now each is
+    drawn in the ink that contrasts with its yarn."""
+    if shutil.which("pdftoppm") is None:
+        pytest.skip("pdftoppm (poppler-utils) is not installed")
+    grey = LogicalPattern(
+        np.zeros((4, 4), np.int16), np.zeros((4, 4), bool), parse_yarns("#808080")
+    )
+    data = pattern_pdf(grey, gauge=parse_gauge("22x22/10cm"), chart="stitches")
+    pages = pdf_pages(data)
+    at = next(i for i, p in enumerate(pages) if "Chart page 1 of" in p) + 1
+    (tmp_path / "p.pdf").write_bytes(data)
+    subprocess.run(
+        [
+            "pdftoppm",
+            "-r",
+            "200",
+            "-f",
+            str(at),
+            "-l",
+            str(at),
+            "-gray",
+            "-singlefile",
+            str(tmp_path / "p.pdf"),
+            str(tmp_path / "g"),
+        ],
+        check=True,
+    )
+    img = np.asarray(Image.open(tmp_path / "g.pgm")).astype(int)
+    grey_px = np.abs(img - 128) < 10  # the grey cells (not the anti-aliased text)
+    ys = np.flatnonzero(grey_px.sum(axis=1) > 100)
+    xs = np.flatnonzero(grey_px.sum(axis=0) > 100)
+    inside = img[ys.min() + 6 : ys.max() - 6, xs.min() + 6 : xs.max() - 6]
+    # 8 x 8 stitches of 4.5 mm: 7 inner lines each way, each at least a pixel of near-black
+    dark_cols = (inside < 50).mean(axis=0) > 0.5
+    dark_rows = (inside < 50).mean(axis=1) > 0.5
+    runs = lambda a: int((np.diff(a.astype(int)) == 1).sum())  # noqa: E731
+    assert runs(dark_cols) >= 6 and runs(dark_rows) >= 6
+
+
+def test_hand_gauge_swatch_and_no_machine_words() -> None:
+    """Issue 37 item 4: an unmeasured (machine) gauge gives the hand illusion-fabric estimate,
+    a swatch big enough to measure 10 cm in its middle and how to feed it back; no machine
+    words in a hand pattern."""
+    from illuknit.core.machine import DEFAULT_MACHINE
+
+    pages = pdf_pages(pattern_pdf(small_pattern(), gauge=DEFAULT_MACHINE.fabric_gauge))
+    text = " ".join("\n".join(pages).split())
+    for machine_word in ("needle at gauge", "SWG", "V-bed", "540"):
+        assert machine_word not in text, machine_word
+    assert "Hand-knitted illusion fabric" in text and "1.75-1.92" in text
+    m = re.search(r"Gauge swatch \(about 15 x 15 cm\): cast on (\d+) stitches", text)
+    assert m and int(m[1]) * 10 / 27.6 >= 15
+    assert "--fabric-gauge" in text and "By hand:" in pages[0]
+
+
+@given(st.floats(5, 60), st.floats(5, 90))
+def test_a_swatch_measures_10cm_in_its_middle(sts: float, rows: float) -> None:
+    from illuknit.core.gauge import Gauge, swatch_size
+
+    g = Gauge(sts, rows)
+    n, r = swatch_size(g)
+    assert n * g.stitch_cm >= 15 - 1e-9 and r * g.row_cm >= 15 - 1e-9
+    assert n % 2 == 0 and r % 4 == 0

@@ -134,6 +134,16 @@ def machine_option(
             "and the finished size [the machine's: one stitch per needle, rows at 5:7].",
         ),
         click.option(
+            "--chart",
+            "chart",
+            type=click.Choice(["units", "stitches"]),
+            default=None,
+            expose_value=False,
+            callback=remember_fabric,
+            help="What a square of pattern.pdf's chart is: a ridge unit of 2 stitches x 2 rows "
+            "(fewer pages, as bought illusion charts) or one stitch [units].",
+        ),
+        click.option(
             "--square-units",
             "square_units",
             is_flag=True,
@@ -160,6 +170,11 @@ def machine_option(
 def _fabric_options() -> dict[str, Any]:
     ctx = click.get_current_context(silent=True)
     return dict(ctx.meta.get(_FABRIC_KEY, {})) if ctx is not None else {}
+
+
+def chart_kind() -> str:
+    """``--chart``: what a square of the hand pattern's chart is ("units" unless given)."""
+    return str(_fabric_options().get("chart") or "units")
 
 
 def design_unit_aspect(spec: MachineSpec) -> float:

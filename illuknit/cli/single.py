@@ -48,7 +48,7 @@ def run_single(
     the machine the program is knit on; with ``knitout`` a picture wider than the machine's bed
     is refused before compiling. ``progress(fraction, message)`` hears how far it is.
     """
-    from illuknit.cli.knitout_bridge import design_unit_aspect, resolve_machine
+    from illuknit.cli.knitout_bridge import chart_kind, design_unit_aspect, resolve_machine
     from illuknit.core.files import staged_dir
     from illuknit.outputs.export import export_pattern
     from illuknit.pipeline.stages import design_single
@@ -95,6 +95,7 @@ def run_single(
             report=report,
             title=title or f"Single-view illusion of {Path(str(image)).name}",
             gauge=spec.fabric_gauge,
+            chart=chart_kind(),
         )
         from illuknit.cli.design_files import write_seen
 

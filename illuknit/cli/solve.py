@@ -235,7 +235,7 @@ def _write_outputs(
 ) -> dict[str, Path]:
     """Write the pattern's outputs (and, given a machine, its knitout) into ``outdir`` at once;
     ``stage(message)`` hears each step as it starts (the progress line)."""
-    from illuknit.cli.knitout_bridge import write_program
+    from illuknit.cli.knitout_bridge import chart_kind, write_program
     from illuknit.core.files import staged_dir
     from illuknit.outputs.export import export_pattern
 
@@ -244,7 +244,13 @@ def _write_outputs(
     with staged_dir(outdir) as tmp:
         say("writing the pattern, previews, chart and pattern PDF")
         paths = export_pattern(
-            pattern, tmp, report=report, title=title, targets=targets, gauge=gauge
+            pattern,
+            tmp,
+            report=report,
+            title=title,
+            targets=targets,
+            gauge=gauge,
+            chart=chart_kind(),
         )
         from illuknit.cli.design_files import write_seen
 

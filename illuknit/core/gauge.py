@@ -21,6 +21,7 @@ as ``"22x30/10cm"`` (stitches x rows per 10 cm), ``"20x28/4in"`` or ``"5.5x7.5/i
 
 from __future__ import annotations
 
+import math
 import re
 from dataclasses import dataclass
 
@@ -29,11 +30,16 @@ from illuknit.core.errors import OptionError
 __all__ = [
     "CM_PER_INCH",
     "DEFAULT_HAND_GAUGE",
+    "HAND_ILLUSION_ROWS_PER_STITCH",
     "STOCKINETTE_COURSE_ASPECT",
+    "SWATCH_MARGIN_CM",
+    "SWATCH_MEASURE_CM",
     "FinishedSize",
     "Gauge",
     "finished_size",
+    "hand_illusion_gauge",
     "parse_gauge",
+    "swatch_size",
 ]
 
 CM_PER_INCH = 2.54
@@ -54,11 +60,15 @@ class Gauge:
         Stitches across and rows (courses) up 10 cm of fabric, both > 0.
     source : str
         Where the numbers come from (a preset, a swatch), printed with the finished size.
+    estimate : bool
+        True when nobody measured it (a machine's needle pitch, a hand-knitting rule of thumb):
+        a hand pattern then says so and asks for a swatch.
     """
 
     stitches_per_10cm: float
     rows_per_10cm: float
     source: str = ""
+    estimate: bool = False
 
     def __post_init__(self) -> None:
         for name in ("stitches_per_10cm", "rows_per_10cm"):
@@ -75,7 +85,7 @@ class Gauge:
     def for_machine(cls, gauge: float, course_aspect: float, *, source: str = "") -> Gauge:
         """A machine's fabric: one stitch per needle pitch, courses ``course_aspect`` as tall."""
         stitches = gauge * 10 / CM_PER_INCH
-        return cls(stitches, stitches / course_aspect, source)
+        return cls(stitches, stitches / course_aspect, source, estimate=True)
 
     @property
     def stitch_cm(self) -> float:
@@ -106,6 +116,49 @@ class Gauge:
 DEFAULT_HAND_GAUGE = Gauge(
     22.0, 30.0, "DK yarn on 4 mm needles (Craft Yarn Council weight 3; rows at the 5:7 ratio)"
 )
+
+
+#: Rows per stitch of hand-knitted illusion fabric (2 rows stocking stitch, 2 rows with garter
+#: ridges), an estimate from published illusion patterns: 4 sts x 7 rows per inch (1.75; Knit-O-Rama
+#: Designs, "Year of Illusion", swatch of 2 rows stocking and 2 rows garter) and 24 sts x 46 rows
+#: per 10 cm (1.92; Vivian Hoxbro's shadow-knitting jacket on 3 mm needles). The garter rows pull
+#: up, so there are more rows per stitch than stocking stitch's 1.4 (5:7). Until a swatch says
+#: otherwise.
+HAND_ILLUSION_ROWS_PER_STITCH = 1.8
+#: A hand swatch is measured over this many cm each way, in its middle ...
+SWATCH_MEASURE_CM = 10.0
+#: ... with this much fabric around the measured square on every side (garter border included).
+SWATCH_MARGIN_CM = 2.5
+
+
+def hand_illusion_gauge(stitches_per_10cm: float) -> Gauge:
+    """The estimated gauge of hand-knitted illusion fabric at a stitch gauge: rows
+    :data:`HAND_ILLUSION_ROWS_PER_STITCH` per stitch (an estimate: knit a swatch).
+
+    >>> hand_illusion_gauge(22).rows_per_10cm
+    39.6
+    """
+    return Gauge(
+        stitches_per_10cm,
+        round(stitches_per_10cm * HAND_ILLUSION_ROWS_PER_STITCH, 1),
+        f"estimate for hand-knitted illusion fabric: {HAND_ILLUSION_ROWS_PER_STITCH:g} rows a "
+        "stitch (published illusion patterns knit 1.75-1.92)",
+        estimate=True,
+    )
+
+
+def swatch_size(gauge: Gauge) -> tuple[int, int]:
+    """(stitches, rows) of a swatch big enough to measure :data:`SWATCH_MEASURE_CM` both ways in
+    its middle, :data:`SWATCH_MARGIN_CM` to spare on every side: stitches even, rows a
+    multiple of 4 (2 stocking rows and 2 ridge rows).
+
+    >>> swatch_size(Gauge(22, 39.6))
+    (34, 60)
+    """
+    span = SWATCH_MEASURE_CM + 2 * SWATCH_MARGIN_CM
+    stitches = math.ceil(span * gauge.stitches_per_10cm / 10 / 2) * 2
+    rows = math.ceil(span * gauge.rows_per_10cm / 10 / 4) * 4
+    return stitches, rows
 
 
 @dataclass(frozen=True)

@@ -15,7 +15,9 @@ stitch that shows as a purl on the right side.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -26,7 +28,39 @@ from illuknit.core.gauge import Gauge, finished_size
 from illuknit.core.pattern import LogicalPattern, check_pattern
 from illuknit.outputs.hand_pattern import hand_advice, written_row
 
-__all__ = ["HandRow", "chart_key", "chart_png_rgb", "hand_rows", "written_instructions"]
+__all__ = [
+    "HandRow",
+    "chart_key",
+    "chart_png_rgb",
+    "chart_row_labels",
+    "contrast_ratio",
+    "hand_rows",
+    "ink_on",
+    "written_instructions",
+]
+
+
+def contrast_ratio(a: Sequence[int], b: Sequence[int]) -> float:
+    """WCAG 2 contrast ratio of two sRGB colours: 1 (the same) to 21 (black on white).
+
+    >>> round(contrast_ratio((0, 0, 0), (255, 255, 255)), 1)
+    21.0
+    """
+    la, lb = (float(luminance(np.array(c, dtype=float))) for c in (a, b))
+    return (max(la, lb) + 0.05) / (min(la, lb) + 0.05)
+
+
+def ink_on(rgb: Sequence[int]) -> tuple[int, int, int]:
+    """Black or white, whichever contrasts more with a yarn of colour ``rgb``: the colour the
+    chart's grid lines, hatching and dots are drawn in on that yarn. Its contrast ratio is at
+    least 4.58 on any colour (mid-grey #808080 gets black, 5.3), where a fixed grey line
+    vanishes on a grey yarn.
+
+    >>> ink_on((128, 128, 128)), ink_on((40, 40, 40))
+    ((0, 0, 0), (255, 255, 255))
+    """
+    black, white = (0, 0, 0), (255, 255, 255)
+    return black if contrast_ratio(rgb, black) >= contrast_ratio(rgb, white) else white
 
 
 @dataclass(frozen=True)
@@ -187,14 +221,14 @@ def _with_key(chart: NDArray[np.uint8], pattern: LogicalPattern) -> NDArray[np.u
 
 
 def _chart_body(pattern: LogicalPattern, *, cell: int | None, aspect: float) -> NDArray[np.uint8]:
-    from PIL import Image, ImageDraw, ImageFont
+    from PIL import Image, ImageDraw
 
     n, m = pattern.shape
     rows = hand_rows(pattern)
     w, h = 2 * m, 2 * n
     c = cell or int(max(4, min(14, 2400 // max(w, h))))
     ch = max(2, round(c * aspect))  # cell height: the fabric's proportions
-    margin = 40 if c >= 8 else 0
+    margin = 40
     img = Image.new("RGB", (w * c + 2 * margin, h * ch + 2 * margin), (255, 255, 255))
     pal = pattern.palette
     yarn = np.zeros((h, w), dtype=np.int16)
@@ -204,9 +238,12 @@ def _chart_body(pattern: LogicalPattern, *, cell: int | None, aspect: float) -> 
         yarn[y] = r.yarn
         purl[y] = r.purl_on_rs
     big = np.repeat(np.repeat(pal[yarn], ch, 0), c, 1)
-    if c >= 6:  # grid lines
-        big[::ch, :, :] = (big[::ch, :, :] * 0.7).astype(np.uint8)
-        big[:, ::c, :] = (big[:, ::c, :] * 0.7).astype(np.uint8)
+    # grid lines, purl dots: in the ink (black or white) that contrasts with each cell's yarn
+    ink = np.array([ink_on(tuple(int(v) for v in rgb)) for rgb in pal], dtype=np.uint8)
+    inked = np.repeat(np.repeat(ink[yarn], ch, 0), c, 1)
+    if c >= 6:
+        big[::ch] = inked[::ch]
+        big[:, ::c] = inked[:, ::c]
     # Purl dots: one disc rasterised once by Pillow, stamped into every purl cell in the stitch's
     # contrasting tone (a per-stitch ellipse call was the slowest part of writing a chart).
     rad = max(1, min(c, ch) // 5)
@@ -215,23 +252,50 @@ def _chart_body(pattern: LogicalPattern, *, cell: int | None, aspect: float) -> 
         (c // 2 - rad, ch // 2 - rad, c // 2 + rad, ch // 2 + rad), fill=1
     )
     disc = np.asarray(stamp, dtype=bool)
-    dot_rgb = np.where((luminance(pal) > 0.35)[:, None], 20, 240).astype(np.uint8)
     dots = np.repeat(np.repeat(purl, ch, 0), c, 1) & np.tile(disc, (h, w))
-    big[dots] = np.repeat(np.repeat(dot_rgb[yarn], ch, 0), c, 1)[dots]
+    big[dots] = inked[dots]
     img.paste(Image.fromarray(big), (margin, margin))
-    draw = ImageDraw.Draw(img)
-    if margin:
-        try:
-            font = ImageFont.load_default(size=max(8, min(14, c)))
-        except TypeError:
-            font = ImageFont.load_default()
-        step = max(1, 16 // ch) * 2
-        for r in rows:
-            if (r.number - 1) % step and r.number != len(rows):
-                continue
-            y = margin + (h - r.number) * ch
-            if r.side == "RS":
-                draw.text((margin + w * c + 4, y), str(r.number), fill=(60, 60, 60), font=font)
-            else:
-                draw.text((4, y), str(r.number), fill=(60, 60, 60), font=font)
+    _number_chart(ImageDraw.Draw(img), w, h, c, ch, margin)
     return np.asarray(img)
+
+
+def chart_row_labels(rows: int, row_px: int) -> list[tuple[int, str]]:
+    """Which rows ``chart.png`` numbers, and on which side: ``(row, "right")`` for RS (odd)
+    rows, ``(row, "left")`` for WS (even) rows, as hand charts do; every row when rows are 16
+    pixels or taller, else every ``step``-th pair (both of its rows), and the last row.
+
+    >>> chart_row_labels(6, 20)
+    [(1, 'right'), (2, 'left'), (3, 'right'), (4, 'left'), (5, 'right'), (6, 'left')]
+    >>> chart_row_labels(10, 5)[:4]
+    [(1, 'right'), (2, 'left'), (7, 'right'), (8, 'left')]
+    """
+    step = max(1, 16 // row_px) * 2
+    out = []
+    for r in range(1, rows + 1):
+        pair_start = r if r % 2 else r - 1
+        if (pair_start - 1) % step == 0 or r == rows:
+            out.append((r, "right" if r % 2 else "left"))
+    return out
+
+
+def _number_chart(draw: Any, w: int, h: int, c: int, ch: int, margin: int) -> None:
+    """Stitch numbers (from the right edge) along the top and bottom, row numbers at the sides."""
+    from PIL import ImageFont
+
+    try:
+        font = ImageFont.load_default(size=max(9, min(14, 2 * ch, c + 4)))
+    except TypeError:
+        font = ImageFont.load_default()
+    grey = (60, 60, 60)
+    for r, side in chart_row_labels(h, ch):
+        y = margin + (h - r) * ch + ch // 2
+        if side == "right":
+            draw.text((margin + w * c + 4, y), str(r), fill=grey, font=font, anchor="lm")
+        else:
+            draw.text((margin - 4, y), str(r), fill=grey, font=font, anchor="rm")
+    every = 5 if c >= 12 else 10
+    for s in range(1, w + 1):
+        if s == 1 or s % every == 0:
+            x = margin + (w - s) * c + c // 2
+            draw.text((x, margin - 4), str(s), fill=grey, font=font, anchor="ms")
+            draw.text((x, margin + h * ch + 4), str(s), fill=grey, font=font, anchor="mt")

@@ -57,13 +57,15 @@ def export_pattern(
     targets: Mapping[str, ArrayLike] | None = None,
     gauge: Gauge | None = None,
     progress: Report | None = None,
+    chart: str = "units",
 ) -> dict[str, Path]:
     """Write the pattern, previews, chart, instructions, legend and report into ``outdir``.
 
     ``outdir`` should be a fresh folder (use :func:`illuknit.core.files.staged_dir` so a failure
     leaves nothing behind). ``gauge`` is the finished fabric's (default: the default machine's,
     :attr:`~illuknit.core.machine.MachineSpec.fabric_gauge`); it sets the finished size written
-    in the report and instructions and the proportions of the previews. ``progress(fraction,
+    in the report and instructions and the proportions of the previews. ``chart`` is what a
+    square of ``pattern.pdf``'s chart is (:data:`~illuknit.outputs.pattern_pdf.CHART_KINDS`). ``progress(fraction,
     message)`` hears how far it is (:func:`illuknit.core.progress.work_bar`). Returns name ->
     path of everything written.
     """
@@ -91,8 +93,9 @@ def export_pattern(
     say(0.1, "drawing the previews")
     paths.update(write_previews(pattern, out, targets=shown, unit_aspect=gauge.unit_aspect))
     say(0.3, "drawing the chart and writing the instructions")
-    chart = chart_png_rgb(pattern, unit_aspect=gauge.unit_aspect)
-    paths["chart"] = save_png(chart, out / "chart.png")
+    paths["chart"] = save_png(
+        chart_png_rgb(pattern, unit_aspect=gauge.unit_aspect), out / "chart.png"
+    )
     paths["instructions"] = atomic_write_text(
         out / "instructions.txt", written_instructions(pattern, title=title, gauge=gauge)
     )
@@ -100,7 +103,9 @@ def export_pattern(
 
     say(0.4, "writing pattern.pdf")
     paths.update(
-        write_pattern_pdf(pattern, out, gauge=gauge, title=title or "illuknit illusion pattern")
+        write_pattern_pdf(
+            pattern, out, gauge=gauge, title=title or "illuknit illusion pattern", chart=chart
+        )
     )
     if quantised:
         legend = {name: q.legend() for name, q in quantised.items()}

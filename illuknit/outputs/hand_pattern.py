@@ -30,10 +30,13 @@ __all__ = [
     "MAX_INTARSIA_BLOCKS",
     "MIN_INTARSIA_BLOCK",
     "HandAdvice",
+    "HandVerdict",
     "RowColourwork",
     "YarnEstimate",
     "compress_repeats",
     "hand_advice",
+    "hand_verdict",
+    "intarsia_bobbins",
     "row_colourwork",
     "written_row",
     "yarn_estimate",
@@ -200,6 +203,32 @@ def row_colourwork(pattern: LogicalPattern) -> list[RowColourwork]:
     return out
 
 
+def intarsia_bobbins(
+    pattern: LogicalPattern, rows: tuple[RowColourwork, ...] | None = None
+) -> dict[int, int]:
+    """Bobbins to wind per yarn index for the intarsia rows: the most blocks that yarn has in
+    one intarsia row (a block a bobbin).
+
+    >>> from illuknit.core.pattern import parse_yarns
+    >>> p = LogicalPattern(np.array([[0] * 4 + [1] * 4 + [0] * 4]), np.zeros((1, 12), bool),
+    ...                    parse_yarns("black,white"))
+    >>> intarsia_bobbins(p)
+    {0: 2, 1: 1}
+    """
+    rows = tuple(row_colourwork(pattern)) if rows is None else rows
+    n, _ = pattern.shape
+    out: dict[int, int] = {}
+    for r in rows:
+        if r.technique != "intarsia":
+            continue
+        k = r.number - 1
+        yarn = (pattern.yarn if k % 2 == 0 else pattern.upper_yarn)[n - 1 - k // 2]
+        blocks = Counter(int(y) for y, _ in groupby(yarn.tolist()))
+        for y, count in blocks.items():
+            out[y] = max(out.get(y, 0), count)
+    return out
+
+
 @dataclass(frozen=True)
 class HandAdvice:
     """How to knit a pattern by hand, and whether it is sensible to.
@@ -246,11 +275,13 @@ def hand_advice(pattern: LogicalPattern) -> HandAdvice:
         f"{most_changes} colour changes in a row, blocks as narrow as {smallest} stitches."
     ]
     if by["intarsia"]:
+        bobbins = intarsia_bobbins(pattern, rows)
+        wind = ", ".join(f"{pattern.yarns[y].name} {k}" for y, k in sorted(bobbins.items()))
         lines.append(
             f"{by['intarsia']} rows have large blocks (each at least {MIN_INTARSIA_BLOCK} "
             f"stitches, at most {MAX_INTARSIA_BLOCKS} a row): work them in intarsia, each block "
             "from its own ball or bobbin, twisting the yarns at every colour change so the "
-            "blocks stay joined. No yarn is carried across the back."
+            f"blocks stay joined. No yarn is carried across the back. Bobbins to wind: {wind}."
         )
     if by["stranded"]:
         lines.append(
@@ -340,3 +371,73 @@ def yarn_estimate(
         metres = (counts[i] * loop_cm + carried[i] * gauge.stitch_cm) / 100 * (1 + margin)
         out.append(YarnEstimate(y.name, y.hex, counts[i], metres, metres / metres_per_100g * 100))
     return out
+
+
+#: Assumed hand-knitting speed, stitches a minute, in rows of one yarn: a rule of thumb for an
+#: average knitter (20-30 are commonly quoted), not measured by illuknit.
+PLAIN_STITCHES_PER_MINUTE = 25.0
+#: ... and in rows of two or more yarns (stranded or intarsia): about half as fast.
+COLOUR_STITCHES_PER_MINUTE = 12.0
+#: Minutes each colour change in a row costs on top (drop, pick up, twist, untangle).
+MINUTES_PER_CHANGE = 0.1
+#: A design is for machines only when a row's float exceeds this many stitches (a yarn carried
+#: behind that many stitches needs catching all along: slow, and the carried yarn's bulk at the
+#: back flattens the ridges the illusion needs, paper section 4.1) ...
+MACHINE_ONLY_FLOAT = 24
+#: ... or a row changes colour more than this many times.
+MACHINE_ONLY_CHANGES = 20
+
+
+@dataclass(frozen=True)
+class HandVerdict:
+    """The cover's verdict: estimated hours by hand, the technique and whether hands are
+    sensible at all (``machine_only``), with the sentence that says so."""
+
+    hours: float
+    technique: str
+    machine_only: bool
+    text: str
+
+
+def hand_verdict(pattern: LogicalPattern) -> HandVerdict:
+    """Hours of hand knitting estimated from the stitch counts and colour work (rates
+    :data:`PLAIN_STITCHES_PER_MINUTE`, :data:`COLOUR_STITCHES_PER_MINUTE`,
+    :data:`MINUTES_PER_CHANGE`: estimates), the technique, and whether the design is for
+    machines only (:data:`MACHINE_ONLY_FLOAT`, :data:`MACHINE_ONLY_CHANGES`)."""
+    advice = hand_advice(pattern)
+    width = 2 * pattern.shape[1]
+    minutes = sum(
+        width / PLAIN_STITCHES_PER_MINUTE
+        if r.yarns == 1
+        else width / COLOUR_STITCHES_PER_MINUTE + r.changes * MINUTES_PER_CHANGE
+        for r in advice.rows
+    )
+    hours = minutes / 60
+    floats = max((r.longest_float for r in advice.rows if r.technique == "stranded"), default=0)
+    changes = max(r.changes for r in advice.rows)
+    coloured = sum(r.yarns > 1 for r in advice.rows)
+    machine_only = not advice.knittable or floats > MACHINE_ONLY_FLOAT
+    machine_only |= changes > MACHINE_ONLY_CHANGES
+    rates = (
+        f"(an estimate at {PLAIN_STITCHES_PER_MINUTE:g} stitches a minute in one-yarn rows, "
+        f"{COLOUR_STITCHES_PER_MINUTE:g} in colour rows and {MINUTES_PER_CHANGE * 60:g} s a "
+        "colour change: rules of thumb, not measured)"
+    )
+    technique = {
+        "stripes": "stripes of one yarn a row (illusion knitting)",
+        "stranded": "stranded colour work (floats caught behind the work)",
+        "intarsia": "intarsia (a ball or bobbin a colour block)",
+        "not-sensible": "none fits: rows of 3 or more yarns in blocks too small for intarsia",
+    }[advice.technique]
+    whole = round(hours)
+    said = "under an hour" if whole == 0 else f"about {whole} hour{'s' if whole > 1 else ''}"
+    text = f"By hand: {said} {rates}; technique: {technique}."
+    if machine_only:
+        text += (
+            f" This design is for machines only: {coloured} of {len(advice.rows)} rows change "
+            f"colour, up to {changes} times a row, with floats up to {floats} stitches. By hand "
+            "that is weeks of catching floats, and the carried yarn's bulk at the back flattens "
+            "the ridges the illusion needs. Knit it on a machine (illuknit knit), or design it "
+            "with fewer colours a row."
+        )
+    return HandVerdict(hours, advice.technique, machine_only, text)

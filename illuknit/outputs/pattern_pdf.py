@@ -39,14 +39,23 @@ import numpy as np
 from numpy.typing import NDArray
 
 from illuknit.core.colors import luminance
+from illuknit.core.errors import OptionError
 from illuknit.core.files import atomic_write_bytes, atomic_write_text
-from illuknit.core.gauge import Gauge, finished_size
+from illuknit.core.gauge import (
+    SWATCH_MARGIN_CM,
+    SWATCH_MEASURE_CM,
+    Gauge,
+    finished_size,
+    hand_illusion_gauge,
+    swatch_size,
+)
 from illuknit.core.pattern import LogicalPattern
-from illuknit.outputs.chart import hand_rows
-from illuknit.outputs.hand_pattern import hand_advice, written_row, yarn_estimate
+from illuknit.outputs.chart import hand_rows, ink_on
+from illuknit.outputs.hand_pattern import hand_advice, hand_verdict, written_row, yarn_estimate
 
 __all__ = [
     "CELL_MM",
+    "CHART_KINDS",
     "FONT",
     "PAGE_SIZES",
     "SECTION_ROWS",
@@ -65,6 +74,9 @@ PAGE_SIZES = {"A4": (210.0, 297.0), "Letter": (215.9, 279.4)}
 #: Chart cell width in mm: a printed chart cell of about 4.5 mm reads at arm's length (its height
 #: is the fabric's: 4.5 mm times the gauge's unit_aspect).
 CELL_MM = 4.5
+#: What one chart square is: ``"units"`` (one square a ridge: a unit of 2 stitches x 2 rows, the
+#: default, as bought illusion charts draw it) or ``"stitches"`` (one square a stitch).
+CHART_KINDS = ("units", "stitches")
 #: A section marker every this many rows on the chart.
 SECTION_ROWS = 20
 MARGIN_MM = 12.0
@@ -239,13 +251,24 @@ def chart_tiles(
     return tiles
 
 
-def _grids(pattern: LogicalPattern) -> tuple[NDArray[np.int16], NDArray[np.bool_]]:
-    """(yarn, purl on RS) per chart cell, indexed [row number - 1, stitch number - 1] (stitch 1
-    at the right edge, row 1 at the bottom)."""
+def _grids(
+    pattern: LogicalPattern, kind: str = "stitches"
+) -> tuple[NDArray[np.int16], NDArray[np.int16], NDArray[np.bool_]]:
+    """(yarn of the RS row, yarn of the WS row, dotted) per chart square, indexed [row - 1,
+    column - 1] (column 1 at the right edge, row 1 at the bottom). ``kind`` "stitches": a
+    square a stitch, dotted where it shows as a purl on the RS; "units": a square a unit (2
+    stitches x 2 rows), dotted where it is a ridge."""
+    if kind == "units":
+        flip = (slice(None, None, -1), slice(None, None, -1))
+        return (
+            pattern.yarn[flip].astype(np.int16),
+            pattern.upper_yarn[flip].astype(np.int16),
+            pattern.raised[flip].astype(bool),
+        )
     rows = hand_rows(pattern)
     yarn = np.stack([r.yarn[::-1] for r in rows])
     purl = np.stack([r.purl_on_rs[::-1] for r in rows])
-    return yarn, purl
+    return yarn, yarn, purl
 
 
 def _png(rgb: NDArray[np.uint8]) -> io.BytesIO:
@@ -261,11 +284,15 @@ def pattern_pdf(
     title: str = "illuknit illusion pattern",
     page: str = "A4",
     angle: float | None = None,
+    chart: str = "units",
 ) -> bytes:
-    """The pattern as a print-ready PDF (see the module docstring for its pages)."""
+    """The pattern as a print-ready PDF (see the module docstring for its pages). ``chart`` is
+    one of :data:`CHART_KINDS`: a square a unit (default) or a square a stitch."""
     if page not in PAGE_SIZES:
         raise ValueError(f"`page` must be one of {', '.join(PAGE_SIZES)}, got {page!r}")
-    doc = _Document(pattern, gauge, title, page)
+    if chart not in CHART_KINDS:
+        raise OptionError(f"`chart` must be one of {', '.join(CHART_KINDS)}, got {chart!r}")
+    doc = _Document(pattern, gauge, title, page, chart)
     _cover(doc, angle)
     _materials(doc)
     _chart_pages(doc)
@@ -276,16 +303,26 @@ def pattern_pdf(
 class _Document:
     """The PDF being written, its fonts and the facts every page draws on."""
 
-    def __init__(self, pattern: LogicalPattern, gauge: Gauge, title: str, page: str) -> None:
+    def __init__(
+        self, pattern: LogicalPattern, gauge: Gauge, title: str, page: str, chart: str
+    ) -> None:
         from fpdf import FPDF
 
         self.pattern, self.gauge, self.title, self.page = pattern, gauge, title, page
+        self.chart = chart
+        #: stitches (and rows) per chart square
+        self.per = 2 if chart == "units" else 1
         n, m = pattern.shape
         self.W, self.H = 2 * m, 2 * n
         #: a chart row's height: a cell in the fabric's proportions (a stitch unit_aspect as
         #: tall as wide), so a round motif is round on paper
         self.row_mm = CELL_MM * gauge.unit_aspect
         self.size = finished_size(pattern.shape, gauge)
+        #: the gauge a hand knitter is told to expect: the estimate when ``gauge`` is one
+        self.hand_gauge = (
+            hand_illusion_gauge(round(gauge.stitches_per_10cm, 1)) if gauge.estimate else gauge
+        )
+        self.hand_size = finished_size(pattern.shape, self.hand_gauge)
         self.names = [y.name for y in pattern.yarns]
         self.rows = hand_rows(pattern)
         self.advice = hand_advice(pattern)
@@ -300,7 +337,23 @@ class _Document:
         pdf.set_creator("illuknit")
         # no time stamp: the same pattern gives the same file (a folder holds one whole design)
         pdf.set_creation_date(datetime(2000, 1, 1, tzinfo=UTC))
+        pdf.footer = self._footer  # type: ignore[method-assign]  # fpdf2 calls it per page
         self.pdf = pdf
+
+    def _footer(self) -> None:
+        """Every page: the design's name and "page N of M" (a loose page finds its place)."""
+        pdf = self.pdf
+        pdf.set_y(-9)
+        pdf.set_text_color(60, 60, 60)
+        self.font(8)
+        pdf.cell(0, 4, self.fonts.text(self.title), align="L")
+        pdf.set_x(MARGIN_MM)
+        pdf.cell(0, 4, f"page {pdf.page_no()} of {{nb}}", align="R")
+        pdf.set_text_color(0, 0, 0)
+
+    def span(self, first: int, last: int) -> tuple[int, int]:
+        """Chart squares ``first..last`` (columns or rows) as stitches or rows, 1-based."""
+        return self.per * (first - 1) + 1, self.per * last
 
     def font(self, size_pt: float, style: str = "") -> None:
         self.pdf.set_font(self.fonts.family, style, size_pt)
@@ -334,6 +387,7 @@ def _cover(doc: _Document, angle: float | None) -> None:
         f"Finished size: {doc.size.describe()}  -  {doc.W} stitches x {doc.H} rows ({m} x {n} "
         f"units of 2 stitches x 2 rows), at {gauge.describe()}."
     )
+    doc.para(hand_verdict(pattern).text, 9.5)
     s = max(2, unit_scale(pattern.shape, target=400))
     theta = angle if angle is not None else RenderParams().theta
     headon = chart_rgb(pattern, scale=s, unit_aspect=gauge.unit_aspect)
@@ -411,19 +465,7 @@ def _materials(doc: _Document) -> None:
             f"{FONTS_ENV}.",
             8,
         )
-    doc.heading("Gauge")
-    doc.para(
-        f"{gauge.stitches_per_10cm:.1f} stitches and {gauge.rows_per_10cm:.1f} rows = 10 cm "
-        f"(4 in) in the pattern stitch ({gauge.describe()}; {gauge.source})."
-    )
-    doc.para(
-        "Gauge swatch: cast on 40 stitches and work 40 rows, every other pair of rows with the "
-        "wrong-side row knitted (the purl ridges of the pattern), then wash and dry it flat. "
-        "Count the stitches across and the rows up 10 cm in the middle. More stitches than "
-        "above: use larger needles; fewer: smaller. illuknit can size the design to your gauge: "
-        "--fabric-gauge STSxROWS/10cm."
-    )
-    doc.para(f"Finished size at this gauge: {doc.size.describe()}.")
+    _gauge_section(doc)
     doc.heading("Abbreviations")
     for abbr, meaning in ABBREVIATIONS:
         doc.font(10, "B")
@@ -432,18 +474,7 @@ def _materials(doc: _Document) -> None:
         pdf.cell(0, 5, meaning, new_x="LMARGIN", new_y="NEXT")
     pdf.ln(2)
     doc.heading("How to read the chart")
-    doc.para(
-        "Each cell is one stitch, in the colour of its yarn, as wide and tall as a stitch of "
-        f"the fabric ({CELL_MM:g} x {doc.row_mm:.1f} mm), so motifs keep their shape. Row 1 is "
-        "at the bottom (the cast-on edge). Right-side (RS, odd) rows are read from right to left and have their "
-        "number at the right; wrong-side (WS, even) rows are read from left to right and have "
-        "their number at the left. A dot is a stitch that shows as a purl on the right side: "
-        "purl it on a RS row, knit it on a WS row. Stitches are numbered from the right edge "
-        "along the top and bottom; bold lines mark every 10 stitches and 10 rows, and a "
-        f"section marker (S1, S2, ...) starts every {SECTION_ROWS} rows. The chart is split "
-        "over pages as the page map shows; neighbouring pages repeat one stitch column and one "
-        "row (shaded) so you can line them up."
-    )
+    doc.para(_how_to_read(doc))
     doc.heading("Working it")
     for line in doc.advice.lines:
         doc.para(line)
@@ -451,15 +482,120 @@ def _materials(doc: _Document) -> None:
         f"Cast on {doc.W} stitches with {doc.cast_on_yarn} and follow the chart (or the written "
         f"rows) from row 1 to row {doc.H}; bind off all stitches knitwise."
     )
+    _finishing(doc)
     doc.heading("Key")
     _key(doc)
 
 
+#: Skill level by technique (Craft Yarn Council's skill levels: Easy, Intermediate, Experienced).
+_SKILL = {
+    "stripes": "Easy: knit, purl and a change of yarn every 2 rows; the care is in counting.",
+    "intarsia": "Experienced: intarsia with a bobbin a colour block, on top of the ridges.",
+    "stranded": "Experienced: stranded colour work with floats caught, on top of the ridges.",
+    "not-sensible": "Machine: no hand technique fits the colour rows (see Working it).",
+}
+
+
+def _finishing(doc: _Document) -> None:
+    """Skill level, blocking and finishing, and how to hang and view the piece."""
+    doc.heading("Skill level")
+    doc.para(_SKILL[doc.advice.technique])
+    doc.heading("Finishing")
+    doc.para(
+        "Weave in the ends along the same-coloured stripes on the wrong side. Wet-block: soak "
+        f"the piece, press the water out in a towel and pin it flat to about "
+        f"{doc.hand_size.describe()} (or the size your swatch gives); let it dry. Do not press or steam the right side: the purl "
+        "ridges must stand up for the pictures to show."
+    )
+    doc.para(
+        "To hang and view it: hang it with the cast-on edge at the bottom (a rod through a "
+        "sleeve sewn at the top), in light from one side. Walk past it looking along the "
+        "fabric from above, then from below, to see each picture; head-on it shows stripes "
+        "or the mix the cover describes."
+    )
+
+
+def _gauge_section(doc: _Document) -> None:
+    """The gauge the design is sized for, the hand estimate when that gauge was not measured,
+    the swatch (big enough to measure 10 cm in its middle) and how to feed a swatch back."""
+    gauge = doc.gauge
+    doc.heading("Gauge")
+    s, r = gauge.stitches_per_10cm, gauge.rows_per_10cm
+    if not gauge.estimate:
+        doc.para(
+            f"{s:.1f} stitches and {r:.1f} rows = 10 cm (4 in) in the pattern stitch "
+            f"({gauge.describe()}; {gauge.source})."
+        )
+        doc.para(f"Finished size at this gauge: {doc.size.describe()}.")
+        hand = gauge
+    else:
+        hand, size = doc.hand_gauge, doc.hand_size
+        doc.para(
+            f"The design is drawn for {s:.1f} stitches and {r:.1f} rows = 10 cm (4 in): "
+            f"{doc.size.describe()}. That row gauge was not measured. Hand-knitted illusion "
+            f"fabric has more rows to the stitch: about {hand.rows_per_10cm:.1f} rows = 10 cm "
+            "at this stitch gauge (an estimate from published illusion patterns, 1.75-1.92 "
+            f"rows a stitch), so by hand expect about {size.describe()}, the pictures "
+            f"{size.height_cm / doc.size.height_cm:.0%} as tall as drawn, until your swatch "
+            "says otherwise."
+        )
+    sts, rows = swatch_size(hand)
+    span = SWATCH_MEASURE_CM + 2 * SWATCH_MARGIN_CM
+    doc.para(
+        f"Gauge swatch (about {span:g} x {span:g} cm): cast on {sts} stitches and knit 6 rows. "
+        "Then repeat 2 rows stocking stitch (knit on the RS, purl on the WS) and 2 rows garter "
+        "(knit both), knitting the first and last 3 stitches of every row (a garter border "
+        f"against curling), until the swatch has {rows - 6} rows; knit 6 rows and bind off. "
+        f"Wash it and dry it flat. Count the stitches across and the rows up "
+        f"{SWATCH_MEASURE_CM:g} cm in the middle, away from the border. More stitches than "
+        f"{hand.stitches_per_10cm:.1f}: use larger needles; fewer: smaller. Then give your "
+        "counts to illuknit, which sizes the design to them (more rows keep the pictures in "
+        "proportion): --fabric-gauge STSxROWS/10cm, e.g. --fabric-gauge "
+        f"{hand.stitches_per_10cm:.0f}x{hand.rows_per_10cm:.0f}/10cm."
+    )
+
+
+def _how_to_read(doc: _Document) -> str:
+    """The paragraph that explains the chart's squares, numbers and pages."""
+    pages = (
+        "Bold lines mark every 10 stitches and 10 rows, and a section marker (S1, S2, ...) "
+        f"starts every {SECTION_ROWS} rows. The chart is split over pages as the page map "
+        "shows; neighbouring pages repeat one column and one row (hatched) so you can line "
+        "them up. Every page has its number and the design's name at the foot."
+    )
+    if doc.per == 2:
+        return (
+            "Each square is one ridge unit: 2 stitches wide and 2 rows tall, drawn in the "
+            f"fabric's proportions ({CELL_MM:g} x {doc.row_mm:.1f} mm). Row 1 is at the bottom "
+            "(the cast-on edge). A row of squares is two rows of knitting: the right-side row "
+            "(RS, odd, its number at the right) is read from right to left and knitted, 2 "
+            "stitches a square in the square's colour; the wrong-side row (WS, even, its "
+            "number at the left) is read from left to right: purl the 2 stitches of a plain "
+            "square, knit the 2 stitches of a dotted square (they show as a purl ridge on the "
+            "right side). A square split in two colours has its WS row in the top half's "
+            "yarn. Stitches are numbered from the right edge along the top and bottom. " + pages
+        )
+    return (
+        "Each cell is one stitch, in the colour of its yarn, as wide and tall as a stitch of "
+        f"the fabric ({CELL_MM:g} x {doc.row_mm:.1f} mm), so motifs keep their shape. Row 1 is "
+        "at the bottom (the cast-on edge). Right-side (RS, odd) rows are read from right to "
+        "left and have their number at the right; wrong-side (WS, even) rows are read from "
+        "left to right and have their number at the left. A dot is a stitch that shows as a "
+        "purl on the right side: purl it on a RS row, knit it on a WS row. Stitches are "
+        "numbered from the right edge along the top and bottom. " + pages
+    )
+
+
 def _chart_pages(doc: _Document) -> None:
     """The page map, then the chart tiled over pages."""
-    yarn, purl = _grids(doc.pattern)
-    tiles = chart_tiles(doc.W, doc.H, page=doc.page, row_mm=doc.row_mm)
-    doc.pdf.add_page()
+    yarn, upper, dots = _grids(doc.pattern, doc.chart)
+    tiles = chart_tiles(yarn.shape[1], yarn.shape[0], page=doc.page, row_mm=doc.row_mm)
+    down = max(t.down for t in tiles) + 1
+    needed = 30 + min(14.0, 150.0 / max(max(t.across for t in tiles) + 1, down)) * down + 4 * down
+    if doc.pdf.get_y() + needed > doc.pdf.page_break_trigger:
+        doc.pdf.add_page()  # else the page map shares the key's page
+    else:
+        doc.pdf.ln(4)
     doc.heading(f"Chart: {len(tiles)} page{'s' if len(tiles) > 1 else ''}")
     doc.para(
         "Page map (the chart as knitted: row 1 at the bottom, stitch 1 at the right; knitting "
@@ -468,7 +604,7 @@ def _chart_pages(doc: _Document) -> None:
     _page_map(doc, tiles)
     for t in tiles:
         doc.pdf.add_page()
-        _chart_page(doc, t, tiles, yarn, purl)
+        _chart_page(doc, t, tiles, (yarn, upper, dots))
 
 
 def _written_rows(doc: _Document) -> None:
@@ -498,7 +634,8 @@ def _key(doc: _Document) -> None:
         pdf.rect(x, yy, sw, sw, style="DF")
         pdf.set_xy(x + sw + 3, yy)
         doc.font(10)
-        pdf.cell(0, sw, doc.fonts.text(f"{y.name} ({y.hex}): a stitch in this yarn"))
+        what = "2 stitches x 2 rows" if doc.per == 2 else "a stitch"
+        pdf.cell(0, sw, doc.fonts.text(f"{y.name} ({y.hex}): {what} in this yarn"))
         pdf.set_xy(x, yy + sw + 2)
     x, yy = pdf.get_x(), pdf.get_y()
     light = pattern.palette[int(np.argmax(luminance(pattern.palette)))]
@@ -507,7 +644,13 @@ def _key(doc: _Document) -> None:
     pdf.set_fill_color(20, 20, 20)
     pdf.ellipse(x + sw / 2 - 0.9, yy + sw / 2 - 0.9, 1.8, 1.8, style="F")
     pdf.set_xy(x + sw + 3, yy)
-    pdf.cell(0, sw, "dot: purl on a RS row, knit on a WS row (a purl ridge on the right side)")
+    pdf.cell(
+        0,
+        sw,
+        "dot: knit both stitches on the WS row (a purl ridge on the right side)"
+        if doc.per == 2
+        else "dot: purl on a RS row, knit on a WS row (a purl ridge on the right side)",
+    )
     pdf.set_xy(x, yy + sw + 2)
 
 
@@ -529,8 +672,9 @@ def _page_map(doc: _Document, tiles: list[ChartTile]) -> None:
     pdf.set_xy(pdf.l_margin, y0 + down * box + 4)
     for d in range(down):
         row = [t for t in tiles if t.down == d]
-        text = f"Rows {row[0].r0}-{row[0].r1}: " + "; ".join(
-            f"page {t.page} sts {t.c0}-{t.c1}" for t in row
+        r0, r1 = doc.span(row[0].r0, row[0].r1)
+        text = f"Rows {r0}-{r1}: " + "; ".join(
+            "page {} sts {}-{}".format(t.page, *doc.span(t.c0, t.c1)) for t in row
         )
         pdf.multi_cell(0, 3.6, text, new_x="LMARGIN", new_y="NEXT")
 
@@ -562,21 +706,19 @@ class _Grid:
         return self.bottom - (row - self.t.r0 + 1) * self.row_mm
 
 
-def _chart_page(
-    doc: _Document,
-    t: ChartTile,
-    tiles: list[ChartTile],
-    yarn: NDArray[np.int16],
-    purl: NDArray[np.bool_],
-) -> None:
-    """One page of the chart: title, cells, grid lines, numbers, and what the shading means."""
+_Grids = tuple[NDArray[np.int16], NDArray[np.int16], NDArray[np.bool_]]
+
+
+def _chart_page(doc: _Document, t: ChartTile, tiles: list[ChartTile], grids: _Grids) -> None:
+    """One page of the chart: title, cells, grid lines, numbers, and what the hatching means."""
     pdf = doc.pdf
     doc.font(11, "B")
+    s0, s1 = doc.span(t.c0, t.c1)
+    r0, r1 = doc.span(t.r0, t.r1)
     pdf.cell(
         0,
         5,
-        f"Chart page {t.page} of {len(tiles)}: stitches {t.c0}-{t.c1} (from the right), "
-        f"rows {t.r0}-{t.r1}",
+        f"Chart page {t.page} of {len(tiles)}: stitches {s0}-{s1} (from the right), rows {r0}-{r1}",
         new_x="LMARGIN",
         new_y="NEXT",
     )
@@ -584,7 +726,7 @@ def _chart_page(
     free = doc.pw - 2 * MARGIN_MM - 2 * LABEL_MM
     left = MARGIN_MM + LABEL_MM + (free - ncols * CELL_MM) / 2
     g = _Grid(t, left, pdf.get_y() + LABEL_MM + 2, doc.row_mm)
-    _chart_cells(doc, g, yarn, purl)
+    _chart_cells(doc, g, grids)
     _chart_lines(doc, g)
     _chart_numbers(doc, g)
     doc.font(7)
@@ -594,99 +736,109 @@ def _chart_page(
         other = next((o for o in tiles if (o.across, o.down) == (t.across + dx, t.down + dy)), None)
         if other is not None:
             neighbours.append(f"page {other.page} {word}")
+    square = (
+        "A square is 2 stitches x 2 rows: RS row (number at right) knit, WS row (number at "
+        "left) purl, or knit where dotted (a ridge)."
+        if doc.per == 2
+        else "RS rows right to left (number at right), WS rows left to right (number at "
+        "left). Dot: purl on RS, knit on WS."
+    )
     pdf.multi_cell(
-        ncols * CELL_MM,
+        max(ncols * CELL_MM, 120.0),
         3.2,
-        "Row 1 at the bottom; RS rows right to left (number at right), WS rows left to "
-        "right (number at left). Dot: purl on RS, knit on WS. Shaded: shared with "
+        f"Row 1 at the bottom. {square} Hatched: shared with "
         + (", ".join(neighbours) if neighbours else "no other page")
         + ".",
     )
 
 
-def _chart_cells(
-    doc: _Document, g: _Grid, yarn: NDArray[np.int16], purl: NDArray[np.bool_]
-) -> None:
-    """The cells in their yarns' colours (one rectangle per run; the overlap shaded), and the
-    purl dots."""
+def _chart_cells(doc: _Document, g: _Grid, grids: _Grids) -> None:
+    """The squares in their yarns' colours (one rectangle per run; a square whose WS row is in
+    another yarn has its top half in that yarn), each run outlined in the ink that contrasts
+    with its yarn (:func:`~illuknit.outputs.chart.ink_on`), the overlap with the neighbouring
+    pages hatched and the dots, all in that ink."""
     pdf, t, c = doc.pdf, g.t, CELL_MM
-    dark = luminance(doc.pattern.palette) <= 0.35
-    shared_cols = {t.c0} if t.c0 > 1 else set()
-    shared_cols |= {t.c1} if t.c1 < yarn.shape[1] else set()
-    shared_rows = {t.r0} if t.r0 > 1 else set()
-    shared_rows |= {t.r1} if t.r1 < yarn.shape[0] else set()
+    yarn, upper, dots = grids
+    rgbs = [tuple(int(v) for v in y.rgb) for y in doc.pattern.yarns]
+    inks = [ink_on(rgb) for rgb in rgbs]
+    shared_cols = ({t.c0} if t.c0 > 1 else set()) | ({t.c1} if t.c1 < yarn.shape[1] else set())
+    shared_rows = ({t.r0} if t.r0 > 1 else set()) | ({t.r1} if t.r1 < yarn.shape[0] else set())
+    pdf.set_line_width(0.12)
     for r in range(t.r0, t.r1 + 1):
-        y = g.y(r)
-        s = t.c0
+        y, s = g.y(r), t.c0
         while s <= t.c1:
-            yi = int(yarn[r - 1, s - 1])
-            shade = s in shared_cols or r in shared_rows
+            key = (int(yarn[r - 1, s - 1]), int(upper[r - 1, s - 1]))
             e = s
-            while (
-                e < t.c1
-                and int(yarn[r - 1, e]) == yi
-                and (e + 1 in shared_cols or r in shared_rows) == shade
-            ):
+            while e < t.c1 and (int(yarn[r - 1, e]), int(upper[r - 1, e])) == key:
                 e += 1
-            rgb = np.array(doc.pattern.yarns[yi].rgb, dtype=float)
-            if shade:  # the overlap with the neighbouring page
-                rgb = rgb * 0.8 + np.array([120.0, 120.0, 120.0]) * 0.2
-            pdf.set_fill_color(*(int(v) for v in rgb))
-            pdf.rect(g.x(e), y, (e - s + 1) * c, g.row_mm, style="F")
+            x, w = g.x(e), (e - s + 1) * c
+            pdf.set_fill_color(*rgbs[key[0]])
+            pdf.rect(x, y, w, g.row_mm, style="F")
+            if key[1] != key[0]:  # the WS row in another yarn: the top half
+                pdf.set_fill_color(*rgbs[key[1]])
+                pdf.rect(x, y, w, g.row_mm / 2, style="F")
+            pdf.set_draw_color(*inks[key[0]])
+            pdf.rect(x, y, w, g.row_mm, style="D")
+            for k in range(1, e - s + 1):
+                pdf.line(x + k * c, y, x + k * c, y + g.row_mm)
             s = e + 1
-        for dot in (np.flatnonzero(purl[r - 1, t.c0 - 1 : t.c1]) + t.c0).tolist():
-            v = 235 if dark[int(yarn[r - 1, dot - 1])] else 20
-            pdf.set_fill_color(v, v, v)
-            pdf.ellipse(g.x(dot) + c / 2 - 0.8, y + g.row_mm / 2 - 0.8, 1.6, 1.6, style="F")
+        for col in range(t.c0, t.c1 + 1):
+            ink = inks[int(yarn[r - 1, col - 1])]
+            if col in shared_cols or r in shared_rows:  # the overlap: hatched
+                pdf.set_draw_color(*ink)
+                x = g.x(col)
+                pdf.line(x, y + g.row_mm, x + c / 2, y)
+                pdf.line(x + c / 2, y + g.row_mm, x + c, y)
+            if dots[r - 1, col - 1]:
+                pdf.set_fill_color(*ink)
+                pdf.ellipse(g.x(col) + c / 2 - 0.8, y + g.row_mm / 2 - 0.8, 1.6, 1.6, style="F")
 
 
 def _chart_lines(doc: _Document, g: _Grid) -> None:
-    """Thin lines between cells, bold ones every 10 stitches and rows (counted from stitch 1 /
-    row 1), and the frame."""
-    pdf, t, c = doc.pdf, g.t, CELL_MM
-    pdf.set_line_width(0.1)
-    pdf.set_draw_color(120, 120, 120)
-    for k in range(t.c1 - t.c0 + 2):
-        pdf.line(g.left + k * c, g.top, g.left + k * c, g.bottom)
-    for k in range(t.r1 - t.r0 + 2):
-        pdf.line(g.left, g.top + k * g.row_mm, g.right, g.top + k * g.row_mm)
-    pdf.set_draw_color(0, 0, 0)
-    pdf.set_line_width(0.45)
-    for s in range(t.c0 - 1, t.c1 + 1):
-        if s % 10 == 0:
-            pdf.line(g.x(s), g.top, g.x(s), g.bottom)
-    for r in range(t.r0 - 1, t.r1 + 1):
-        if r % 10 == 0:
-            pdf.line(g.left, g.y(r), g.right, g.y(r))
-    pdf.set_line_width(0.3)
-    pdf.rect(g.left, g.top, g.right - g.left, g.bottom - g.top)
+    """Bold lines every 10 stitches and rows (counted from stitch 1 / row 1) and the frame, each
+    black on a white halo so it shows on every yarn (the thin lines are :func:`_chart_cells`')."""
+    pdf, t = doc.pdf, g.t
+    every = 10 // doc.per
+    lines = [(g.x(s), g.top, g.x(s), g.bottom) for s in range(t.c0 - 1, t.c1 + 1) if s % every == 0]
+    lines += [
+        (g.left, g.y(r), g.right, g.y(r)) for r in range(t.r0 - 1, t.r1 + 1) if r % every == 0
+    ]
+    for width, grey in ((0.9, 255), (0.4, 0)):
+        pdf.set_line_width(width)
+        pdf.set_draw_color(grey, grey, grey)
+        for x0, y0, x1, y1 in lines:
+            pdf.line(x0, y0, x1, y1)
+        pdf.rect(g.left, g.top, g.right - g.left, g.bottom - g.top)
 
 
 def _chart_numbers(doc: _Document, g: _Grid) -> None:
-    """Stitch numbers along top and bottom (stitch 1, every 5th and the page's ends); row
-    numbers, RS (odd) at the right and WS (even) at the left; section markers at the left."""
-    pdf, t, c = doc.pdf, g.t, CELL_MM
+    """Stitch numbers along top and bottom (stitch 1, every 10th or 5th and the page's ends);
+    row numbers, RS (odd) at the right and WS (even) at the left (a unit square has both);
+    section markers at the left."""
+    pdf, t, c, per = doc.pdf, g.t, CELL_MM, doc.per
     doc.font(6)
     for s in range(t.c0, t.c1 + 1):
         if s == 1 or s % 5 == 0 or s in (t.c0, t.c1):
+            label = per * (s - 1) + 1 if s == t.c0 else per * s
             x = g.x(s)
             pdf.set_xy(x - 1, g.top - 4)
-            pdf.cell(c + 2, 3.5, str(s), align="C")
+            pdf.cell(c + 2, 3.5, str(label), align="C")
             pdf.set_xy(x - 1, g.bottom + 0.5)
-            pdf.cell(c + 2, 3.5, str(s), align="C")
+            pdf.cell(c + 2, 3.5, str(label), align="C")
     for r in range(t.r0, t.r1 + 1):
-        y = g.y(r)
-        doc.font(6.5, "B" if r % 10 == 0 else "")
-        if r % 2 == 1:
-            pdf.set_xy(g.right + 0.5, y + (g.row_mm - 3.5) / 2)
-            pdf.cell(LABEL_MM - 1, 3.5, str(r))
-        else:
-            pdf.set_xy(g.left - LABEL_MM + 0.5, y + (g.row_mm - 3.5) / 2)
-            pdf.cell(LABEL_MM - 1, 3.5, str(r), align="R")
-        if (r - 1) % SECTION_ROWS == 0:
-            doc.font(7, "B")
-            pdf.set_xy(g.left - LABEL_MM - 7, y + (g.row_mm - 3.5) / 2)
-            pdf.cell(6.5, 3.5, f"S{(r - 1) // SECTION_ROWS + 1}", align="R")
+        y = g.y(r) + (g.row_mm - 3.5) / 2
+        for row in range(per * (r - 1) + 1, per * r + 1):
+            doc.font(6.5, "B" if row % 10 == 0 else "")
+            if row % 2 == 1:
+                pdf.set_xy(g.right + 0.5, y)
+                pdf.cell(LABEL_MM - 1, 3.5, str(row))
+            else:
+                pdf.set_xy(g.left - LABEL_MM + 0.5, y)
+                pdf.cell(LABEL_MM - 1, 3.5, str(row), align="R")
+            if (row - 1) % SECTION_ROWS == 0:
+                doc.font(7, "B")
+                pdf.set_xy(g.left - LABEL_MM - 7, y)
+                pdf.cell(6.5, 3.5, f"S{(row - 1) // SECTION_ROWS + 1}", align="R")
 
 
 def chart_svg(
@@ -700,7 +852,7 @@ def chart_svg(
         from illuknit.core.machine import DEFAULT_MACHINE
 
         unit_aspect = DEFAULT_MACHINE.fabric_gauge.unit_aspect
-    yarn, purl = _grids(pattern)
+    yarn, _, purl = _grids(pattern)
     H, W = yarn.shape
     pad, rh = 3 * cell, cell * unit_aspect
     width, height = W * cell + 2 * pad, H * rh + 2 * pad
@@ -775,10 +927,12 @@ def write_pattern_pdf(
     gauge: Gauge,
     title: str = "illuknit illusion pattern",
     page: str = "A4",
+    chart: str = "units",
 ) -> dict[str, Path]:
-    """Write ``pattern.pdf`` and ``chart.svg`` into ``outdir``; name -> path."""
+    """Write ``pattern.pdf`` (its chart a square a unit or a stitch, :data:`CHART_KINDS`) and
+    ``chart.svg`` (a square a stitch) into ``outdir``; name -> path."""
     out = Path(outdir)
-    pdf = pattern_pdf(pattern, gauge=gauge, title=title, page=page)
+    pdf = pattern_pdf(pattern, gauge=gauge, title=title, page=page, chart=chart)
     return {
         "pattern_pdf": atomic_write_bytes(out / "pattern.pdf", pdf),
         "chart_svg": atomic_write_text(
