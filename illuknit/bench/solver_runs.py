@@ -28,6 +28,7 @@ import numpy as np
 
 from illuknit.bench.certify import SPLIT_SUFFIX
 from illuknit.bench.instances import Instance, instance_model
+from illuknit.bench.pictures import PictureInstance
 from illuknit.bench.wcnf_files import read_wcnf, read_wcnf_text
 from illuknit.core.errors import IlluknitError
 from illuknit.design.models.model import Model
@@ -99,7 +100,8 @@ DEFAULT_MEMORY_MB = 4096.0
 class SolverTask:
     """One solver run: a bench instance (or a WCNF file), a model kind, a solver, a policy."""
 
-    instance: Instance | None = None
+    #: a manifest instance, or a picture pair whose models were built on the client
+    instance: Instance | PictureInstance | None = None
     model: str = "logical"
     solver: str = "rc2"
     warm_start: str = "none"
@@ -140,7 +142,8 @@ def build_task_model(task: SolverTask, content: bytes | None = None) -> tuple[Mo
     """(the task's model, the DP's optimum where the DP is exact on it, else None).
 
     ``content`` is the WCNF file's bytes when they travelled with the task (a Dask worker has no
-    access to the file); the file is read otherwise.
+    access to the file); the file is read otherwise. A picture pair's model was built on the
+    client (:mod:`illuknit.bench.pictures`) and travels with the task.
     """
     if task.wcnf is not None:
         if content is not None:
@@ -149,6 +152,8 @@ def build_task_model(task: SolverTask, content: bytes | None = None) -> tuple[Mo
             ), None
         return read_wcnf(task.wcnf), None
     assert task.instance is not None
+    if isinstance(task.instance, PictureInstance):  # built on the client, shipped built
+        return task.instance.model(task.model)
     return instance_model(task.instance, model=task.model)
 
 
