@@ -186,6 +186,13 @@ def _child_solve(model: Model, task: SolverTask, progress: Any = None) -> dict[s
     from illuknit.solvers import get_backend, solve
 
     backend = get_backend(task.engine)
+    if task.split and parse_solver_name(task.engine).base != "rc2":
+        from illuknit.bench.split import solve_split
+
+        out = solve_split(
+            model, task.engine, time_limit=task.time_limit, seed=task.seed, progress=progress
+        )
+        return {**out, "version": backend.version()}
     if parse_solver_name(task.engine).base == "rc2":
         # in this child only: plain RC2 on the formula as given, or after the labelled split
         backend_class = type(backend)
@@ -230,8 +237,12 @@ def not_applicable(model: Model, task: SolverTask) -> str | None:
     from illuknit.solvers.warm_start import resolve_policy
 
     backend = get_backend(task.engine, check_available=False)
-    if task.split and parse_solver_name(task.engine).base != "rc2":
-        return f"the component split ({SPLIT_SUFFIX}) is implemented for rc2 only so far"
+    if task.split:
+        # each component is a formula of its own: no illusion model, no warm start
+        if task.warm_start != "none":
+            return f"a warm start does not apply to the component split ({SPLIT_SUFFIX})"
+        why = backend.why_not(Model("component"))
+        return None if why is None else f"on a component of the split: {why}"
     why = backend.why_not(model)
     if why is not None:
         return why
