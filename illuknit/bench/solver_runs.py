@@ -28,6 +28,7 @@ import numpy as np
 
 from illuknit.bench.certify import SPLIT_SUFFIX
 from illuknit.bench.instances import Instance, instance_model
+from illuknit.bench.pictures import PictureInstance
 from illuknit.bench.wcnf_files import read_wcnf, read_wcnf_text
 from illuknit.core.errors import IlluknitError
 from illuknit.design.models.model import Model
@@ -99,7 +100,8 @@ DEFAULT_MEMORY_MB = 4096.0
 class SolverTask:
     """One solver run: a bench instance (or a WCNF file), a model kind, a solver, a policy."""
 
-    instance: Instance | None = None
+    #: a manifest instance, or a picture pair whose models were built on the client
+    instance: Instance | PictureInstance | None = None
     model: str = "logical"
     solver: str = "rc2"
     warm_start: str = "none"
@@ -140,7 +142,8 @@ def build_task_model(task: SolverTask, content: bytes | None = None) -> tuple[Mo
     """(the task's model, the DP's optimum where the DP is exact on it, else None).
 
     ``content`` is the WCNF file's bytes when they travelled with the task (a Dask worker has no
-    access to the file); the file is read otherwise.
+    access to the file); the file is read otherwise. A picture pair's model was built on the
+    client (:mod:`illuknit.bench.pictures`) and travels with the task.
     """
     if task.wcnf is not None:
         if content is not None:
@@ -149,6 +152,8 @@ def build_task_model(task: SolverTask, content: bytes | None = None) -> tuple[Mo
             ), None
         return read_wcnf(task.wcnf), None
     assert task.instance is not None
+    if isinstance(task.instance, PictureInstance):  # built on the client, shipped built
+        return task.instance.model(task.model)
     return instance_model(task.instance, model=task.model)
 
 
@@ -181,6 +186,13 @@ def _child_solve(model: Model, task: SolverTask, progress: Any = None) -> dict[s
     from illuknit.solvers import get_backend, solve
 
     backend = get_backend(task.engine)
+    if task.split and parse_solver_name(task.engine).base != "rc2":
+        from illuknit.bench.split import solve_split
+
+        out = solve_split(
+            model, task.engine, time_limit=task.time_limit, seed=task.seed, progress=progress
+        )
+        return {**out, "version": backend.version()}
     if parse_solver_name(task.engine).base == "rc2":
         # in this child only: plain RC2 on the formula as given, or after the labelled split
         backend_class = type(backend)
@@ -225,8 +237,12 @@ def not_applicable(model: Model, task: SolverTask) -> str | None:
     from illuknit.solvers.warm_start import resolve_policy
 
     backend = get_backend(task.engine, check_available=False)
-    if task.split and parse_solver_name(task.engine).base != "rc2":
-        return f"the component split ({SPLIT_SUFFIX}) is implemented for rc2 only so far"
+    if task.split:
+        # each component is a formula of its own: no illusion model, no warm start
+        if task.warm_start != "none":
+            return f"a warm start does not apply to the component split ({SPLIT_SUFFIX})"
+        why = backend.why_not(Model("component"))
+        return None if why is None else f"on a component of the split: {why}"
     why = backend.why_not(model)
     if why is not None:
         return why

@@ -21,6 +21,7 @@ from typing import Any
 
 from illuknit.bench.certify import certify_rows
 from illuknit.bench.instances import Instance
+from illuknit.bench.pictures import PictureInstance
 from illuknit.bench.solver_report import solver_summary, summary_markdown, write_plots
 from illuknit.bench.solver_runs import (
     ROW_FIELDS,
@@ -47,7 +48,7 @@ class SolverTable:
 
 
 def make_tasks(
-    instances: Sequence[Instance],
+    instances: Sequence[Instance | PictureInstance],
     solvers: Sequence[str],
     *,
     models: Sequence[str] = ("logical",),

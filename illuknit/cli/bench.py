@@ -18,7 +18,8 @@ from illuknit.cli.options import (
     InputFile,
     OutputFolder,
 )
-from illuknit.core.errors import UnknownNameError
+from illuknit.core.errors import UnknownNameError, YarnSpecError
+from illuknit.pictures.sizing import DEFAULT_MAX_WIDTH
 
 __all__ = ["bench"]
 
@@ -175,6 +176,39 @@ def _run_solvers(instances: Any, solvers: list[str], outdir: str, **kw: Any) -> 
     help="Solver benchmark on this WCNF file (repeatable; instead of the bundled instances).",
 )
 @click.option(
+    "--pair",
+    "pairs",
+    multiple=True,
+    nargs=2,
+    type=InputFile("picture", path_type=str),
+    metavar="A B",
+    help="Solver benchmark on this picture pair (repeatable; instead of the bundled instances): "
+    "sized and modelled as `illuknit solve A B` would, with the exact reference where the model "
+    "has one.",
+)
+@click.option(
+    "--width",
+    type=click.IntRange(1, 1000),
+    default=None,
+    help=f"With --pair: grid width in units (default: picture width, at most {DEFAULT_MAX_WIDTH}).",
+)
+@click.option(
+    "--colors",
+    "n_colors",
+    type=click.IntRange(2, 8),
+    default=None,
+    help="With --pair: number of yarn colours K.",
+)
+@click.option(
+    "--yarns",
+    default=None,
+    metavar="LIST",
+    help="With --pair: yarn colours, e.g. '#1b1b1b,#f4f0e8' or 'navy,white'.",
+)
+@click.option(
+    "--resize", is_flag=True, help="With --pair: stretch B onto A's grid when their sizes differ."
+)
+@click.option(
     "--repeat",
     type=COUNT,
     default=1,
@@ -236,6 +270,11 @@ def bench(
     warm_starts: str,
     memory_mb: float,
     wcnf_files: tuple[str, ...],
+    pairs: tuple[tuple[str, str], ...],
+    width: int | None,
+    n_colors: int | None,
+    yarns: str | None,
+    resize: bool,
     repeat: int,
     seed: int,
     certify_time: float | None,
@@ -272,17 +311,14 @@ def bench(
     if time_limit is not None and not time_limit > 0:
         raise click.BadParameter(f"must be positive, got {time_limit}", param_hint="--time-limit")
     chosen = select_instances(man, instances)
-    ctx = click.get_current_context()
-    if solvers is not None or wcnf_files:
-        if ctx.get_parameter_source("methods") is not click.core.ParameterSource.DEFAULT:
-            raise click.UsageError(
-                "--methods does not apply to the solver benchmark (--solvers / --wcnf): "
-                "name backends with --solvers"
-            )
-        if repeat < 1:
-            raise click.BadParameter(f"must be at least 1, got {repeat}", param_hint="--repeat")
+    sizing = {"width": width, "n_colors": n_colors, "yarns": yarns, "resize": resize}
+    _check_sizing(pairs, sizing)
+    if solvers is not None or wcnf_files or pairs:
+        _check_solver_options(repeat)
+        if pairs:
+            chosen = _picture_instances(pairs, _split(models), machine, **sizing)
         _run_solvers(
-            [] if wcnf_files else chosen,
+            chosen if pairs or not wcnf_files else [],
             _split(solvers or "rc2"),
             outdir,
             models=_split(models),
@@ -317,6 +353,63 @@ def bench(
         dask_address=dask_address,
         machine=machine,
     )
+
+
+def _check_sizing(pairs: tuple[tuple[str, str], ...], sizing: dict[str, Any]) -> None:
+    """The picture-sizing options apply only to ``--pair`` pictures."""
+    given = [k for k, v in sizing.items() if v not in (None, False)]
+    if given and not pairs:
+        name = "colors" if given[0] == "n_colors" else given[0]
+        raise click.UsageError(f"--{name} sizes pictures: it applies only with --pair A B")
+
+
+def _check_solver_options(repeat: int) -> None:
+    """Options of the solver benchmark that do not fit it, before any work."""
+    ctx = click.get_current_context()
+    if ctx.get_parameter_source("methods") is not click.core.ParameterSource.DEFAULT:
+        raise click.UsageError(
+            "--methods does not apply to the solver benchmark (--solvers / --wcnf / --pair): "
+            "name backends with --solvers"
+        )
+    if repeat < 1:
+        raise click.BadParameter(f"must be at least 1, got {repeat}", param_hint="--repeat")
+
+
+def _picture_instances(
+    pairs: tuple[tuple[str, str], ...],
+    models: list[str],
+    machine: str | None,
+    **sizing: Any,
+) -> list[Any]:
+    """``--pair A B``: the pairs as bench instances, sized as ``illuknit solve`` sizes them
+    (the machine's fabric gauge sets the unit's aspect) and modelled here, on the client."""
+    from illuknit.bench.pictures import picture_instances
+    from illuknit.cli.knitout_bridge import design_unit_aspect, resolve_machine
+    from illuknit.core.pattern import parse_yarns
+
+    ys = parse_yarns(sizing["yarns"]) if sizing["yarns"] else None
+    if ys is not None and len(ys) < 2:
+        raise YarnSpecError(
+            f"an illusion needs at least 2 yarns, got 1 (--yarns {sizing['yarns']})"
+        )
+    found = picture_instances(
+        pairs,
+        models=models,
+        n_colors=sizing["n_colors"],
+        yarns=ys,
+        width=sizing["width"],
+        stretch=sizing["resize"],
+        unit_aspect=design_unit_aspect(resolve_machine(machine)),
+    )
+    for inst in found:
+        refs = ", ".join(
+            f"{kind} {'reference (dp) ' + str(opt) if opt is not None else 'no exact reference'}"
+            for kind, (_, opt) in inst.built.items()
+        )
+        click.echo(
+            f"{inst.name}: {inst.size[0]}x{inst.size[1]} units, {inst.n_yarns} yarns; {refs}"
+        )
+    return found
 
 
 def _list(man: Any) -> None:

@@ -13,9 +13,11 @@ import time
 from pathlib import Path
 
 import pytest
+from PIL import Image, ImageDraw
 
 import illuknit
 from illuknit.bench.instances import load_manifest, select_instances
+from illuknit.bench.pictures import picture_instances
 from illuknit.bench.solver_table import make_tasks, run_solver_table
 from illuknit.bench.wcnf_files import export_wcnf_family
 
@@ -102,10 +104,17 @@ def test_a_real_cluster_gives_the_local_verified_costs(cluster, tmp_path, monkey
     (name,) = [p.name for p in (client_dir / "family").glob("*.wcnf")]
     wcnf = f"family/{name}"
     external = f"wcnf:{sys.executable} {FAKE} {{}}"  # a binary started from a daemonic worker
+    # a picture pair the workers cannot read either: built here, it travels built (--pair)
+    for name, box in (("a.png", (2, 2, 9, 9)), ("b.png", (3, 1, 8, 8))):
+        im = Image.new("RGB", (12, 10), "white")
+        ImageDraw.Draw(im).ellipse(box, fill="black")
+        im.save(client_dir / name)
+    pictures = picture_instances([("a.png", "b.png")])
 
     def table(outdir: str, **kw):
         tasks = make_tasks(quick, ["dp"], time_limit=30)
         tasks += make_tasks([], ["rc2", external], time_limit=30, wcnf_files=[wcnf])
+        tasks += make_tasks(pictures, ["cpsat+split"], time_limit=30)
         return run_solver_table(tasks, outdir, **kw)
 
     local = table("local")
@@ -116,7 +125,9 @@ def test_a_real_cluster_gives_the_local_verified_costs(cluster, tmp_path, monkey
         return {(r["instance"], r["model"], r["solver"]): r["verified_cost"] for r in t.rows}
 
     assert costs(remote) == costs(local)
-    assert len(remote.rows) == len(quick) + 2
+    assert len(remote.rows) == len(quick) + 3
+    pair = next(r for r in remote.rows if r["instance"] == "a+b")
+    assert pair["certificate"] == "reference (dp)" and pair["verified_cost"] is not None
     assert all(r["status"] == "optimal" and not r["flag"] for r in remote.rows), remote.rows
     by_solver = {r["solver"]: r for r in remote.rows if r["model"] == "wcnf"}
     assert by_solver["rc2"]["verified_cost"] == by_solver[external]["verified_cost"]

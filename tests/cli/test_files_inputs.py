@@ -262,6 +262,7 @@ INPUT_PARAMS: dict[str, Callable[[Files, object], list[object]]] = {
     "calibrate swatch --params": lambda f, x: ["calibrate", "swatch", "--params", x, "-o", "o"],
     "bench --manifest": lambda f, x: ["bench", "--manifest", x, "--list"],
     "bench --wcnf": lambda f, x: ["bench", "--wcnf", x, "--list"],
+    "bench --pair": lambda f, x: ["bench", "--pair", f.pic, x, "--solvers", "rc2", "-o", "out"],
     "double --bank": lambda f, x: ["double", f.pic, f.pic_b, "--bank", x, "-o", "out"],
     "headon --bank": lambda f, x: ["headon", f.pic, "--bank", x, "-o", "out"],
     "calibrate fit --params": lambda f, x: [
