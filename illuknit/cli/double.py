@@ -29,6 +29,7 @@ from illuknit.cli.knitout_bridge import format_option, long_floats_option, machi
 from illuknit.cli.options import FiniteFloat, InputFile, knitout_option, outdir_option
 from illuknit.core.gauge import finished_size
 from illuknit.core.progress import Report, work_bar
+from illuknit.design.options import MadeFor
 from illuknit.design.tiles.perception import DEFAULT_POOL, POOL_SECONDS, RANK_KEYS
 from illuknit.pictures.sizing import DEFAULT_MAX_WIDTH
 
@@ -102,7 +103,7 @@ def run_design(
     overrides = tuple(_parse_overrides(tile).items())
     ranking = RankOptions(
         RankBy(rank_by), knit_time, machine, overrides, angle, distance, read=_read(read, mode),
-        made_for=made_for,
+        made_for=MadeFor(made_for),
     )  # fmt: skip
     spec = resolve_machine(machine)
     search = SearchOptions(
@@ -591,7 +592,7 @@ def design_options(func: Any) -> Any:
                      help="Order of the candidates: how the views read (perception: worse view's correlation, "
                      "contrast floor, ghosting; legibility: designs whose both sides a reader reads first, "
                      "needs tesseract), the assignment's score, or one measure."),
-        click.option("--for", "made_for", type=click.Choice(["machine", "hands"]), default="machine",
+        click.option("--for", "made_for", type=click.Choice([m.value for m in MadeFor]), default="machine",
                      show_default=True,
                      help="Who knits it: hands ranks first the designs whose rows a hand knitter can work "
                      "(2 yarns with floats of at most 7 sts, or at most 6 intarsia blocks), then by --rank-by."),
