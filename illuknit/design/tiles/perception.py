@@ -325,6 +325,7 @@ def measure_candidate(
         readability=tuple(read),
         contrast=tuple(contrast),
         ghosting=tuple(ghosting),
+        hand=hand_cost(pattern),
     )
     return _with_knit_time(measured, pattern, knit_time) if knit_time is not None else measured
 
@@ -448,28 +449,24 @@ def rank_designs(
 
     from illuknit.design.tiles.compile import compile_tiles
 
-    if rank_by not in RANK_KEYS:
-        raise OptionError(f"rank by one of {', '.join(RANK_KEYS)}, got {rank_by!r}")
-    if keep is not None and keep < 1:
-        raise OptionError(f"keep at least one candidate, got keep={keep}")
-    if rank_by == "knit-time" and knit_time is None:
-        raise OptionError("ranking by knit-time needs knit_time, a function that knits a pattern")
-    if rank_by == "legibility" and read is None:
-        raise OptionError("ranking by legibility needs read, a reader's verdict on each side")
-    if made_for not in ("machine", "hands"):
-        raise OptionError(f"`made_for` must be machine or hands, got {made_for!r}")
-    hands = made_for == "hands"
+    hands = _check_ranking(rank_by, keep, knit_time, read, made_for)
     compiled = []
     measures = []
     for k, c in enumerate(found):
         if progress is not None:
             progress(k / max(1, len(found)), f"measuring tile design {k + 1} of {len(found)}")
         compiled.append(compile_tiles(c, overrides=overrides or {}))
-        m = measure_candidate(
-            compiled[-1][0], pictures, views=views, ghost=len(pictures) == 2, angle=angle,
-            blur=blur, params=params,
-        )  # fmt: skip
-        measures.append(replace(m, hand=hand_cost(compiled[-1][0])))
+        measures.append(
+            measure_candidate(
+                compiled[-1][0],
+                pictures,
+                views=views,
+                ghost=len(pictures) == 2,
+                angle=angle,
+                blur=blur,
+                params=params,
+            )
+        )
     scores = [c.score for c in found]
     if knit_time is not None:
         for i in _to_knit(measures, scores, rank_by=rank_by, keep=keep, hands=hands):
@@ -491,6 +488,23 @@ def rank_designs(
         )
         for k, i in enumerate(order[:keep])
     ]
+
+
+def _check_ranking(
+    rank_by: str, keep: int | None, knit_time: Any, read: Any, made_for: str
+) -> bool:
+    """:func:`rank_designs`' arguments checked; whether the ranking is for hands."""
+    if rank_by not in RANK_KEYS:
+        raise OptionError(f"rank by one of {', '.join(RANK_KEYS)}, got {rank_by!r}")
+    if keep is not None and keep < 1:
+        raise OptionError(f"keep at least one candidate, got keep={keep}")
+    if rank_by == "knit-time" and knit_time is None:
+        raise OptionError("ranking by knit-time needs knit_time, a function that knits a pattern")
+    if rank_by == "legibility" and read is None:
+        raise OptionError("ranking by legibility needs read, a reader's verdict on each side")
+    if made_for not in ("machine", "hands"):
+        raise OptionError(f"`made_for` must be machine or hands, got {made_for!r}")
+    return made_for == "hands"
 
 
 def _read_all(
