@@ -128,3 +128,17 @@ def test_double_for_hands_prints_and_records_the_hand_cost(tmp_path, capsys):
     assert f"longest float {hand['longest_float']} sts" in text
     shares = [c["hand"]["knittable_share"] for c in summary["candidates"]]
     assert shares == sorted(shares, reverse=True)  # ranked by it first
+
+
+def test_headon_takes_for_hands_and_a_machine_design_says_what_it_costs_by_hand(tmp_path, capsys):
+    front = np.full((8, 12, 3), 240, np.uint8)
+    front[2:6, 3:9] = 20
+    Image.fromarray(front).save(tmp_path / "f.png")
+    main(["headon", str(tmp_path / "f.png"), "--candidates", "1", "--for", "hands",
+          "-o", str(tmp_path / "h")])  # fmt: skip
+    assert json.loads((tmp_path / "h" / "summary.json").read_text())["made_for"] == "hands"
+    assert "by hand (made for hands): rows knittable by hand" in capsys.readouterr().out
+    main(["headon", str(tmp_path / "f.png"), "--candidates", "1", "-o", str(tmp_path / "m")])
+    summary = json.loads((tmp_path / "m" / "summary.json").read_text())
+    assert summary["made_for"] == "machine" and summary["hand"]["rows"] > 0
+    assert "by hand (made for a machine)" in capsys.readouterr().out
