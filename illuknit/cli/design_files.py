@@ -149,6 +149,7 @@ def _measure_fields(m: Any) -> dict[str, Any]:
         "visible_ghosting": j["visible_ghosting"],
         "knit_minutes": j["knit_minutes"],
         "machine_passes": j["machine_passes"],
+        "hand": j.get("hand"),
     }
 
 

@@ -29,6 +29,7 @@ from illuknit.cli.knitout_bridge import format_option, long_floats_option, machi
 from illuknit.cli.options import FiniteFloat, InputFile, knitout_option, outdir_option
 from illuknit.core.gauge import finished_size
 from illuknit.core.progress import Report, work_bar
+from illuknit.design.options import MadeFor
 from illuknit.design.tiles.perception import DEFAULT_POOL, POOL_SECONDS, RANK_KEYS
 from illuknit.pictures.sizing import DEFAULT_MAX_WIDTH
 
@@ -80,6 +81,7 @@ def run_design(
     distance: float = 3.0,
     angle: float = 30.0,
     read: bool | None = None,
+    made_for: str = "machine",
     progress: Report | None = None,
 ) -> dict[str, Any]:
     """Parse the options, call :func:`~illuknit.pipeline.stages.design_double` (or
@@ -87,8 +89,8 @@ def run_design(
     ``outdir``); with ``knitout`` the default candidate is knit on ``machine``.
     ``progress(fraction, message)`` hears how far the work is (the command line's bar); the
     designs are judged from ``angle`` degrees and ``distance`` metres; ``read`` asks the reader
-    whether each side of the written candidates reads (None: when it is installed). Returns the
-    summary."""
+    whether each side of the written candidates reads (None: when it is installed);
+    ``made_for="hands"`` ranks the designs a hand knitter can work first. Returns the summary."""
     from illuknit.cli.knitout_bridge import design_unit_aspect, resolve_machine
     from illuknit.core.errors import ImageInputError, LongFloatError, TileAssignmentError
     from illuknit.core.views import DEFAULT_SPLIT_SHARE
@@ -100,8 +102,9 @@ def run_design(
     )
     overrides = tuple(_parse_overrides(tile).items())
     ranking = RankOptions(
-        RankBy(rank_by), knit_time, machine, overrides, angle, distance, read=_read(read, mode)
-    )
+        RankBy(rank_by), knit_time, machine, overrides, angle, distance, read=_read(read, mode),
+        made_for=MadeFor(made_for),
+    )  # fmt: skip
     spec = resolve_machine(machine)
     search = SearchOptions(
         candidates=candidates,
@@ -340,6 +343,8 @@ def write_design(
             "bank": {"name": design.bank.name, "tiles": len(design.bank)},
             "solver": design.search.solver,
             "ranked_by": design.ranking.rank_by.value,
+            "made_for": design.ranking.made_for.value,
+            "hand": _hand_json(design.designs[pick - 1]),
             "searched": design.searched,
             "edits": [e.to_json() for e in design.edits],
             "default": pick,
@@ -513,6 +518,9 @@ def print_summary(summary: dict[str, Any], outdir: Path) -> None:
     for line in verdict_lines(summary):
         if line:
             con.print(line, markup=False, highlight=False)
+    hand_line = _hand_line(summary)
+    if hand_line:
+        con.print(hand_line, markup=False, highlight=False)
     default = next((r for r in summary["candidates"] if r["default"]), None)
     if default is not None:
         for line in _overlap_digest(default["overlaps"]):
@@ -530,6 +538,28 @@ def print_summary(summary: dict[str, Any], outdir: Path) -> None:
         con.print(f"note: {note}", markup=False)
     if "suggestions" in folders:
         con.print(f"  {_edits_found(summary)}")
+
+
+def _hand_json(d: Any) -> dict[str, Any] | None:
+    hand = getattr(d.measures, "hand", None)
+    return None if hand is None else dict(hand.to_json())
+
+
+def _hand_line(summary: dict[str, Any]) -> str:
+    """The default candidate as a hand knitter works it, one line ("" when not measured)."""
+    hand = summary.get("hand")
+    if not hand:
+        return ""
+    default = next((r for r in summary["candidates"] if r["default"]), None)
+    reads = [] if default is None else [v for v in default["readability"] if v is not None]
+    read = f"{min(reads):.3f}" if reads else "not measured"
+    made = "made for hands" if summary.get("made_for") == "hands" else "made for a machine"
+    return (
+        f"by hand ({made}): rows knittable by hand {hand['knittable_rows']} of {hand['rows']} "
+        f"(2 yarns with floats of at most 7 sts, or at most 6 intarsia blocks), longest float "
+        f"{hand['longest_float']} sts ({hand['catches']} catches), colour changes a row max "
+        f"{hand['max_changes']} / mean {hand['mean_changes']:.1f}; worse-view readability {read}"
+    )
 
 
 def _natural(name: str) -> tuple[str, int]:
@@ -562,6 +592,10 @@ def design_options(func: Any) -> Any:
                      help="Order of the candidates: how the views read (perception: worse view's correlation, "
                      "contrast floor, ghosting; legibility: designs whose both sides a reader reads first, "
                      "needs tesseract), the assignment's score, or one measure."),
+        click.option("--for", "made_for", type=click.Choice([m.value for m in MadeFor]), default="machine",
+                     show_default=True,
+                     help="Who knits it: hands ranks first the designs whose rows a hand knitter can work "
+                     "(2 yarns with floats of at most 7 sts, or at most 6 intarsia blocks), then by --rank-by."),
         click.option("--knit-time/--no-knit-time", default=False, show_default=True,
                      help="Also knit every candidate and show the machine's knitting time (ties in the ranking)."),
         click.option("--suggest", is_flag=True,

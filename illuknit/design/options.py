@@ -33,6 +33,7 @@ from illuknit.design.models.illusion_problem import KnitWeights
 
 __all__ = [
     "Brightness",
+    "MadeFor",
     "ModelKind",
     "PictureEdits",
     "RankBy",
@@ -159,6 +160,19 @@ _KEY_FIELDS = {
 }
 
 
+class MadeFor(StrEnum):
+    """Who knits the design: ``MACHINE`` (the default order, ``rank_by`` alone) or ``HANDS``
+    (the share of rows a hand knitter can work first, :mod:`illuknit.design.hand_cost`, then
+    ``rank_by``'s order)."""
+
+    MACHINE = "machine"
+    HANDS = "hands"
+
+
+#: The rank key's first field when a design is made for hands.
+HAND_KEY_FIELD = "-share of rows knittable by hand"
+
+
 @dataclass(frozen=True)
 class SearchOptions:
     """How tile designs are searched (:func:`~illuknit.design.tiles.assign.assign_tiles`).
@@ -257,6 +271,9 @@ class RankOptions:
         Also ask a reader (tesseract OCR, :mod:`illuknit.design.legibility`) whether each side
         of the kept double-view designs reads from ``distance``; ranking by ``LEGIBILITY``
         reads every design searched. Needs the ``tesseract`` program.
+    made_for : MadeFor or str
+        ``HANDS``: rank first by the share of rows a hand knitter can work
+        (:attr:`~illuknit.design.hand_cost.HandCost.knittable_share`), then by ``rank_by``.
     """
 
     rank_by: RankBy = RankBy.PERCEPTION
@@ -266,9 +283,11 @@ class RankOptions:
     angle: float = 30.0
     distance: float = 3.0
     read: bool = False
+    made_for: MadeFor = MadeFor.MACHINE
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "rank_by", enum_option(RankBy, "rank_by", self.rank_by))
+        object.__setattr__(self, "made_for", enum_option(MadeFor, "made_for", self.made_for))
         flag_option("knit_time", self.knit_time)
         flag_option("read", self.read)
         for name, top in (("angle", 90.0), ("distance", 1000.0)):
@@ -296,6 +315,12 @@ class RankOptions:
                 raise OptionError(f"`overrides` tiles are row strings like '0/1/0^', got {rows!r}")
             pairs.append(((a, b), rows.strip()))
         object.__setattr__(self, "overrides", tuple(sorted(dict(pairs).items())))
+
+    @property
+    def key_fields(self) -> tuple[str, ...]:
+        """What each entry of a design's rank key is under these options."""
+        hands = (HAND_KEY_FIELD,) if self.made_for is MadeFor.HANDS else ()
+        return hands + self.rank_by.key_fields
 
     @property
     def override_map(self) -> dict[tuple[int, int], str]:

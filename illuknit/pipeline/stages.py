@@ -693,15 +693,19 @@ def _rank(
         blur=seen_blur(ranking.distance, gauge=gauge),
         params=_split_params(search),
         read=_reader(mode, targets, ranking, gauge, _split_params(search)),
+        made_for=ranking.made_for.value,
     )
     by = ranking.rank_by
+    hands = ranking.made_for.value == "hands"
     designs = tuple(
         RankedDesign(
             rank=k + 1,
             pattern=rc.pattern,
             measures=rc.measures,
-            rank_key=tuple(float(v) for v in rank_key(rc.measures, rc.assignment.score, by.value)),
-            rank_fields=by.key_fields,
+            rank_key=tuple(
+                float(v) for v in rank_key(rc.measures, rc.assignment.score, by.value, hands=hands)
+            ),
+            rank_fields=ranking.key_fields,
             assignment=rc.assignment,
             report=rc.report,
             score_rank=rc.score_rank,

@@ -44,6 +44,12 @@ passed over a design reading 0.983 for one reading 0.962 on the photo pair, whos
 at 0.038 against 0.024.) ``rank_by`` may also be ``score`` (the assignment's order),
 ``readability``, ``contrast``, ``ghosting`` (least visible ghosting first) or ``knit-time``.
 
+**Made for hands** (``made_for="hands"``): every candidate also carries its hand knitter's cost
+(:func:`illuknit.design.hand_cost.hand_cost`: colour changes a row, floats, yarns and blocks a
+row), and the ranking sorts first by the share of rows a hand knitter can work (stranded with 2
+yarns and floats of at most 7 stitches, or intarsia with at most 6 blocks), then by ``rank_by``'s
+key: among the designs most knittable by hand, the one that reads best.
+
 :func:`diagnostic_rgb` shows *where* a view fails: units whose perceived luminance, after the
 best gain and offset, is far from the picture's (red) and units where the other picture's
 pattern shows through (blue), over the picture in grey.
@@ -60,6 +66,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from illuknit.core.errors import OptionError
 from illuknit.core.pattern import LogicalPattern
+from illuknit.design.hand_cost import HandCost, hand_cost
 from illuknit.design.measures import (
     BLUR_SIGMA,
     RENDER_ANGLE,
@@ -148,6 +155,7 @@ class CandidateMeasures:
     machine_passes: int | None = None
     knit_note: str = field(default="")
     sides_read: int | None = None
+    hand: HandCost | None = None
 
     @property
     def worse_readability(self) -> float:
@@ -209,6 +217,7 @@ class CandidateMeasures:
             "machine_passes": self.machine_passes,
             "knit_note": self.knit_note,
             "sides_read": self.sides_read,
+            "hand": None if self.hand is None else self.hand.to_json(),
         }
 
 
@@ -316,12 +325,20 @@ def measure_candidate(
         readability=tuple(read),
         contrast=tuple(contrast),
         ghosting=tuple(ghosting),
+        hand=hand_cost(pattern),
     )
     return _with_knit_time(measured, pattern, knit_time) if knit_time is not None else measured
 
 
-def rank_key(m: CandidateMeasures, score: float, by: str) -> tuple[float, ...]:
-    """Ascending key: the best candidate sorts first."""
+def rank_key(
+    m: CandidateMeasures, score: float, by: str, *, hands: bool = False
+) -> tuple[float, ...]:
+    """Ascending key: the best candidate sorts first. ``hands``: first the share of rows a hand
+    knitter can work, more first (``m.hand`` is needed)."""
+    if hands:
+        if m.hand is None:
+            raise OptionError("ranking for hands needs the hand cost of every candidate")
+        return (-m.hand.knittable_share, *rank_key(m, score, by))
     time = m.knit_minutes if m.knit_minutes is not None else float("inf")
     if by == "perception":
         return (-m.perceptual_score, m.worst_visible_ghosting, time, score)
@@ -340,9 +357,14 @@ def rank_key(m: CandidateMeasures, score: float, by: str) -> tuple[float, ...]:
 
 
 def rank_candidates(
-    measures: Sequence[CandidateMeasures], scores: Sequence[float], *, by: str = "perception"
+    measures: Sequence[CandidateMeasures],
+    scores: Sequence[float],
+    *,
+    by: str = "perception",
+    hands: bool = False,
 ) -> list[int]:
-    """Indices of the candidates, best first, by the order ``by`` (one of :data:`RANK_KEYS`).
+    """Indices of the candidates, best first, by the order ``by`` (one of :data:`RANK_KEYS`),
+    first by the share of rows knittable by hand when ``hands``.
 
     ``scores`` are the assignment's scores (lower is better), the last tie-break everywhere.
     """
@@ -352,7 +374,7 @@ def rank_candidates(
         raise OptionError("ranking by knit-time needs the knitting time of every candidate")
     if by == "legibility" and any(m.sides_read is None for m in measures):
         raise OptionError("ranking by legibility needs the reader's verdict on every candidate")
-    keys = [rank_key(m, s, by) for m, s in zip(measures, scores, strict=True)]
+    keys = [rank_key(m, s, by, hands=hands) for m, s in zip(measures, scores, strict=True)]
     return sorted(range(len(measures)), key=lambda i: (keys[i], i))
 
 
@@ -386,6 +408,7 @@ def rank_designs(
     blur: float | None = None,
     params: Any = None,
     read: ReadMeasure | None = None,
+    made_for: str = "machine",
 ) -> list[RankedCandidate]:
     """Compile every tile candidate, measure how it reads and rank the lot (the best ``keep``).
 
@@ -418,19 +441,15 @@ def rank_designs(
         :func:`illuknit.design.legibility.read_designs` bound to the pictures and viewpoint);
         ranking by ``"legibility"`` needs it and reads every design, otherwise only the kept
         ones are read. Each returned candidate's ``legibility`` holds the verdict.
+    made_for : {"machine", "hands"}
+        ``"hands"``: rank first by the share of rows knittable by hand (module docstring).
+        Every candidate's measures carry its hand cost either way.
     """
     from dataclasses import replace
 
     from illuknit.design.tiles.compile import compile_tiles
 
-    if rank_by not in RANK_KEYS:
-        raise OptionError(f"rank by one of {', '.join(RANK_KEYS)}, got {rank_by!r}")
-    if keep is not None and keep < 1:
-        raise OptionError(f"keep at least one candidate, got keep={keep}")
-    if rank_by == "knit-time" and knit_time is None:
-        raise OptionError("ranking by knit-time needs knit_time, a function that knits a pattern")
-    if rank_by == "legibility" and read is None:
-        raise OptionError("ranking by legibility needs read, a reader's verdict on each side")
+    hands = _check_ranking(rank_by, keep, knit_time, read, made_for)
     compiled = []
     measures = []
     for k, c in enumerate(found):
@@ -450,12 +469,12 @@ def rank_designs(
         )
     scores = [c.score for c in found]
     if knit_time is not None:
-        for i in _to_knit(measures, scores, rank_by=rank_by, keep=keep):
+        for i in _to_knit(measures, scores, rank_by=rank_by, keep=keep, hands=hands):
             measures[i] = _with_knit_time(measures[i], compiled[i][0], knit_time)
     verdicts: dict[int, Any] = {}
     if rank_by == "legibility" and read is not None:
         verdicts = _read_all(read, range(len(found)), compiled, measures, progress)
-    order = rank_candidates(measures, scores, by=rank_by)
+    order = rank_candidates(measures, scores, by=rank_by, hands=hands)
     if read is not None and rank_by != "legibility":
         verdicts = _read_all(read, order[:keep], compiled, measures, progress)
     return [
@@ -469,6 +488,23 @@ def rank_designs(
         )
         for k, i in enumerate(order[:keep])
     ]
+
+
+def _check_ranking(
+    rank_by: str, keep: int | None, knit_time: Any, read: Any, made_for: str
+) -> bool:
+    """:func:`rank_designs`' arguments checked; whether the ranking is for hands."""
+    if rank_by not in RANK_KEYS:
+        raise OptionError(f"rank by one of {', '.join(RANK_KEYS)}, got {rank_by!r}")
+    if keep is not None and keep < 1:
+        raise OptionError(f"keep at least one candidate, got keep={keep}")
+    if rank_by == "knit-time" and knit_time is None:
+        raise OptionError("ranking by knit-time needs knit_time, a function that knits a pattern")
+    if rank_by == "legibility" and read is None:
+        raise OptionError("ranking by legibility needs read, a reader's verdict on each side")
+    if made_for not in ("machine", "hands"):
+        raise OptionError(f"`made_for` must be machine or hands, got {made_for!r}")
+    return made_for == "hands"
 
 
 def _read_all(
@@ -509,15 +545,16 @@ def _to_knit(
     *,
     rank_by: str,
     keep: int | None,
+    hands: bool = False,
 ) -> list[int]:
     """The candidates whose knitting time can matter: all of them when ranking by it or keeping
     all; otherwise the ``keep`` best, and under ``perception`` (where the time breaks ties) any
     other with the perceptual score of the last one kept."""
     if rank_by == "knit-time" or keep is None or keep >= len(measures):
         return list(range(len(measures)))
-    order = rank_candidates(measures, scores, by=rank_by)
+    order = rank_candidates(measures, scores, by=rank_by, hands=hands)
     kept = set(order[:keep])
-    if rank_by == "perception":
+    if rank_by == "perception" and not hands:
         edge = measures[order[keep - 1]].perceptual_score
         kept |= {i for i, m in enumerate(measures) if m.perceptual_score == edge}
     return sorted(kept)

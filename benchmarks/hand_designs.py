@@ -1,0 +1,93 @@
+"""Issue #37 item 1: a double view made for hands, against the machine (default) design.
+
+For every bundled double-view instance (``instances/manifest.toml``; ``--small`` leaves out the
+330 x 200 piece) the tile designs ``illuknit double`` searches (``--pool``, default
+:data:`~illuknit.design.options.DEFAULT_POOL`) are assigned once, compiled and measured
+(:func:`illuknit.design.tiles.perception.rank_designs`), then ranked twice: as for a machine
+(``made_for="machine"``, the default perception order) and as for hands (``made_for="hands"``:
+the share of rows knittable by hand first, then the same order). Printed for each, per instance:
+the share of rows knittable by hand (:func:`illuknit.design.hand_cost.hand_cost`: a row in one
+yarn, or with 2 yarns and floats of at most 7 stitches, or with at most 6 intarsia blocks), the
+colour changes a row (max / mean), the longest float (stitches) and the worse-view readability;
+and whether the target holds: every row knittable and readability within 0.05 of the machine
+design. Rows are hand rows (2 a unit row), stitches 2 a unit, as the hand pattern counts them.
+
+    python benchmarks/hand_designs.py [--small] [--pool 20]
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+from typing import Any
+
+from illuknit.bench.instances import instance_targets, load_manifest
+from illuknit.design.options import DEFAULT_POOL, POOL_SECONDS
+from illuknit.design.tiles.assign import assign_tiles
+from illuknit.design.tiles.perception import RankedCandidate, rank_designs
+
+#: The issue's readability allowance: the hand design within this of the machine design's.
+READ_ALLOWANCE = 0.05
+
+
+def _cells(r: RankedCandidate) -> str:
+    h = r.measures.hand
+    assert h is not None
+    return (
+        f"{h.knittable_rows:>4}/{h.rows:<4} {h.max_changes:>3}/{h.mean_changes:<4.1f} "
+        f"{h.longest_float:>5} {r.measures.worse_readability:>6.3f}"
+    )
+
+
+def _designs(inst: Any, pool: int) -> tuple[int, RankedCandidate, RankedCandidate]:
+    t = instance_targets(inst)
+    found = assign_tiles(
+        (t.a, t.palette), (t.b, t.palette), yarns=inst.yarns, candidates=5, pool=pool,
+        pool_seconds=POOL_SECONDS,
+    )  # fmt: skip
+    pictures = [t.rgb("A"), t.rgb("B")]
+    machine = rank_designs(found, pictures, keep=1)[0]
+    hands = rank_designs(found, pictures, keep=1, made_for="hands")[0]
+    return len(found), machine, hands
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--small", action="store_true", help="leave out the 330 x 200 piece")
+    ap.add_argument("--pool", type=int, default=DEFAULT_POOL, help="tile designs searched")
+    args = ap.parse_args()
+    insts = [i for i in load_manifest().instances if i.kind == "double"]
+    if args.small:
+        insts = [i for i in insts if i.size[0] * i.size[1] <= 20_000]
+    head = f"{'rows ok':>9} {'chg max/mean':>12} {'float':>5} {'read':>6}"
+    print(
+        f"{args.pool} tile designs searched per pair; rows ok = hand rows knittable (one yarn, "
+        "or 2 yarns with floats <= 7 sts, or <= 6 intarsia blocks); float in stitches; read = "
+        "worse-view readability at the default viewpoint (30 degrees, 3 m)"
+    )
+    print(f"{'instance':<24} {'yarns':>5} {'searched':>8} | machine: {head} | hands: {head} | "
+          "target  seconds")  # fmt: skip
+    missed = []
+    for inst in insts:
+        t0 = time.perf_counter()
+        searched, machine, hands = _designs(inst, args.pool)
+        h = hands.measures.hand
+        assert h is not None
+        drop = machine.measures.worse_readability - hands.measures.worse_readability
+        ok = h.knittable_rows == h.rows and drop <= READ_ALLOWANCE
+        if not ok:
+            missed.append(inst.name)
+        verdict = "met" if ok else ("rows" if h.knittable_rows < h.rows else f"-{drop:.3f}")
+        print(
+            f"{inst.name:<24} {len(inst.yarns):>5} {searched:>8} | machine: {_cells(machine)} | "
+            f"hands: {_cells(hands)} | {verdict:>6}  {time.perf_counter() - t0:7.1f}"
+        )
+    print(
+        "target: every row knittable by hand, readability within "
+        f"{READ_ALLOWANCE} of the machine design -> "
+        + ("met on every pair" if not missed else f"NOT met on {', '.join(missed)}")
+    )
+
+
+if __name__ == "__main__":
+    main()

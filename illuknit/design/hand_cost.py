@@ -1,0 +1,195 @@
+"""What a pattern costs a hand knitter: its rows as worked, bottom up, and which are knittable.
+
+A hand knitter works the chart row by row from the cast-on edge: every unit row is two knitted
+rows (the second in ``LogicalPattern.upper_yarn`` where a split bump changes yarn), every unit
+two stitches wide (docs/hand-knitting.md). Per row :func:`hand_rows` counts the yarns, the
+colour changes, the colour blocks (runs of one yarn), the longest stranded float (the most
+stitches a yarn crosses behind the work between two of its own stitches) and the catches those
+floats need (one every :data:`CATCH_EVERY` stitches of a float longer than that).
+
+A row is **knittable by hand** (:attr:`HandRow.knittable`) when it is worked in one yarn, or
+stranded with at most :data:`MAX_HAND_YARNS` yarns and floats of at most :data:`MAX_FLOAT`
+stitches, or in intarsia with at most :data:`MAX_HAND_BLOCKS` colour blocks (a bobbin each).
+:func:`hand_cost` sums a pattern's rows into a :class:`HandCost`; the share of knittable rows
+is what a design made for hands is ranked by first (:mod:`illuknit.design.tiles.perception`,
+``made_for="hands"``).
+
+>>> import numpy as np
+>>> from illuknit.core.pattern import LogicalPattern, Yarn
+>>> yarns = (Yarn("dark", (0, 0, 0)), Yarn("cream", (240, 240, 230)))
+>>> p = LogicalPattern(np.array([[0, 0, 1, 1, 0, 0]]), np.zeros((1, 6), bool), yarns)
+>>> cost = hand_cost(p)
+>>> cost.knittable_rows, cost.rows, cost.longest_float, cost.max_changes
+(2, 2, 4, 2)
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from itertools import groupby
+from typing import Any
+
+import numpy as np
+
+from illuknit.core.pattern import LogicalPattern, check_pattern
+
+__all__ = [
+    "CATCH_EVERY",
+    "MAX_FLOAT",
+    "MAX_HAND_BLOCKS",
+    "MAX_HAND_YARNS",
+    "HandCost",
+    "HandRow",
+    "hand_cost",
+    "hand_rows",
+]
+
+#: A stranded knitter catches (traps) a float behind the work every this many stitches.
+CATCH_EVERY = 5
+#: The longest float (stitches) a row may carry and still count as knittable stranded.
+MAX_FLOAT = 7
+#: The most yarns a stranded row may carry (one in each hand).
+MAX_HAND_YARNS = 2
+#: The most colour blocks (bobbins hanging at once) an intarsia row may have.
+MAX_HAND_BLOCKS = 6
+
+
+@dataclass(frozen=True)
+class HandRow:
+    """One row as a hand knitter works it.
+
+    Attributes
+    ----------
+    number : int
+        Row number from the cast-on edge (1 first).
+    yarns, changes, blocks : int
+        Distinct yarns, colour changes along the row and runs of one yarn (``changes + 1``).
+    longest_float : int
+        The most stitches a yarn crosses behind the work between two of its stitches (0 for
+        one yarn).
+    catches : int
+        The catches the row's floats need, one every :data:`CATCH_EVERY` stitches.
+    """
+
+    number: int
+    yarns: int
+    changes: int
+    blocks: int
+    longest_float: int
+    catches: int
+
+    @property
+    def stranded_ok(self) -> bool:
+        """Knittable stranded: at most 2 yarns, floats of at most :data:`MAX_FLOAT` stitches."""
+        return self.yarns <= MAX_HAND_YARNS and self.longest_float <= MAX_FLOAT
+
+    @property
+    def intarsia_ok(self) -> bool:
+        """Knittable in intarsia: at most :data:`MAX_HAND_BLOCKS` colour blocks."""
+        return self.blocks <= MAX_HAND_BLOCKS
+
+    @property
+    def knittable(self) -> bool:
+        """One yarn, or knittable stranded, or knittable in intarsia."""
+        return self.yarns == 1 or self.stranded_ok or self.intarsia_ok
+
+
+def _row(number: int, units: np.ndarray) -> HandRow:
+    stitches = np.repeat(np.asarray(units), 2).tolist()
+    runs = [(int(y), len(list(g))) for y, g in groupby(stitches)]
+    longest = catches = pos = 0
+    last_end: dict[int, int] = {}
+    for y, length in runs:
+        if y in last_end:
+            gap = pos - last_end[y]
+            longest = max(longest, gap)
+            catches += (gap - 1) // CATCH_EVERY
+        pos += length
+        last_end[y] = pos
+    return HandRow(number, len(last_end), len(runs) - 1, len(runs), longest, catches)
+
+
+def hand_rows(pattern: LogicalPattern) -> list[HandRow]:
+    """Every row of ``pattern`` as worked by hand, from the cast-on edge (2 per unit row)."""
+    pattern = check_pattern(pattern)
+    n = pattern.shape[0]
+    return [
+        _row(k + 1, (pattern.yarn if k % 2 == 0 else pattern.upper_yarn)[n - 1 - k // 2])
+        for k in range(2 * n)
+    ]
+
+
+@dataclass(frozen=True)
+class HandCost:
+    """A pattern's cost to a hand knitter, summed over its rows (:func:`hand_cost`).
+
+    Attributes
+    ----------
+    rows, knittable_rows : int
+        Rows in all, and rows :attr:`HandRow.knittable`.
+    colour_rows : int
+        Rows with more than one yarn.
+    max_changes : int
+    mean_changes : float
+        Colour changes a row, most and mean over all rows.
+    longest_float : int
+        The longest float of any row (stitches).
+    catches : int
+        Catches all the floats need.
+    max_yarns, max_blocks : int
+        The most yarns and colour blocks in a row.
+    """
+
+    rows: int
+    knittable_rows: int
+    colour_rows: int
+    max_changes: int
+    mean_changes: float
+    longest_float: int
+    catches: int
+    max_yarns: int
+    max_blocks: int
+
+    @property
+    def knittable_share(self) -> float:
+        """The share of rows knittable by hand, in [0, 1]."""
+        return self.knittable_rows / self.rows if self.rows else 1.0
+
+    def describe(self) -> str:
+        """One line: ``rows knittable by hand 228 of 228, longest float 6 sts, ...``."""
+        return (
+            f"rows knittable by hand {self.knittable_rows} of {self.rows}, longest float "
+            f"{self.longest_float} sts ({self.catches} catches), colour changes a row max "
+            f"{self.max_changes} / mean {self.mean_changes:.1f}, up to {self.max_yarns} yarns "
+            f"and {self.max_blocks} blocks a row"
+        )
+
+    def to_json(self) -> dict[str, Any]:
+        return {
+            "rows": self.rows,
+            "knittable_rows": self.knittable_rows,
+            "knittable_share": round(self.knittable_share, 4),
+            "colour_rows": self.colour_rows,
+            "max_changes": self.max_changes,
+            "mean_changes": round(self.mean_changes, 3),
+            "longest_float": self.longest_float,
+            "catches": self.catches,
+            "max_yarns": self.max_yarns,
+            "max_blocks": self.max_blocks,
+        }
+
+
+def hand_cost(pattern: LogicalPattern) -> HandCost:
+    """The hand knitter's cost of ``pattern`` (:func:`hand_rows` summed)."""
+    rows = hand_rows(pattern)
+    return HandCost(
+        rows=len(rows),
+        knittable_rows=sum(r.knittable for r in rows),
+        colour_rows=sum(r.yarns > 1 for r in rows),
+        max_changes=max(r.changes for r in rows),
+        mean_changes=float(np.mean([r.changes for r in rows])),
+        longest_float=max(r.longest_float for r in rows),
+        catches=sum(r.catches for r in rows),
+        max_yarns=max(r.yarns for r in rows),
+        max_blocks=max(r.blocks for r in rows),
+    )

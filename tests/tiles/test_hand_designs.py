@@ -1,0 +1,144 @@
+"""Designs made for hands (issue 37 item 1): the hand knitter's cost of a pattern, the ranking
+that puts knittable rows first, and ``illuknit double --for hands``."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from PIL import Image
+
+from illuknit.cli import main
+from illuknit.core.errors import OptionError
+from illuknit.core.pattern import LogicalPattern, parse_yarns
+from illuknit.design.hand_cost import MAX_FLOAT, hand_cost, hand_rows
+from illuknit.design.options import RankOptions
+from illuknit.design.tiles.perception import CandidateMeasures, rank_candidates, rank_key
+from illuknit.outputs.hand_pattern import row_colourwork
+
+YARNS2 = parse_yarns("black,white")
+YARNS3 = parse_yarns("black,white,#c03030")
+
+
+def _pattern(rows: list[list[int]], yarns=YARNS2) -> LogicalPattern:
+    yarn = np.array(rows, dtype=np.int16)
+    return LogicalPattern(yarn, np.zeros(yarn.shape, bool), yarns)
+
+
+def test_rows_are_counted_as_a_hand_knitter_works_them():
+    # bottom unit row: 4 units of black, 4 of white, 4 of black -> a float of 8 stitches
+    p = _pattern([[0, 1, 0, 1, 0, 1, 0, 1, 0, 1, 0, 1], [0, 0, 0, 0, 1, 1, 1, 1, 0, 0, 0, 0]])
+    rows = hand_rows(p)
+    assert [r.number for r in rows] == [1, 2, 3, 4]
+    first = rows[0]  # the cast-on edge is the chart's last row
+    assert (first.yarns, first.changes, first.blocks, first.longest_float) == (2, 2, 3, 8)
+    assert first.catches == 1  # a float of 8 is caught once, after 5
+    assert not first.stranded_ok and first.intarsia_ok and first.knittable
+    top = rows[2]  # units alternate: 12 blocks of 2 stitches, floats of 2
+    assert (top.changes, top.longest_float) == (11, 2)
+    assert top.stranded_ok and not top.intarsia_ok and top.knittable
+    cost = hand_cost(p)
+    assert (cost.rows, cost.knittable_rows, cost.longest_float, cost.max_changes) == (4, 4, 8, 11)
+    assert cost.mean_changes == pytest.approx((2 + 2 + 11 + 11) / 4)
+
+
+def test_a_row_of_three_yarns_in_small_blocks_is_not_knittable():
+    p = _pattern([[0, 1, 2, 0, 1, 2, 0, 1, 2]], YARNS3)
+    (row, _) = hand_rows(p)
+    assert row.yarns == 3 and row.blocks == 9 and row.longest_float <= MAX_FLOAT
+    assert not row.knittable  # 3 yarns cannot be stranded; 9 blocks are too many bobbins
+    assert hand_cost(p).knittable_share == 0.0
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    st.integers(1, 5).flatmap(
+        lambda n: st.lists(
+            st.lists(st.integers(0, 2), min_size=n, max_size=n), min_size=1, max_size=5
+        )
+    )
+)
+def test_the_cost_agrees_with_the_written_pattern(rows):
+    """The ranking and the hand pattern count the same floats and colour changes."""
+    p = _pattern(rows, YARNS3)
+    mine = hand_rows(p)
+    written = row_colourwork(p)
+    assert len(mine) == len(written) == 2 * len(rows)
+    for a, b in zip(mine, written, strict=True):
+        assert (a.yarns, a.changes, a.blocks, a.longest_float) == (
+            b.yarns,
+            b.changes,
+            b.blocks,
+            b.longest_float,
+        )
+        assert a.knittable == (a.yarns == 1 or a.stranded_ok or a.intarsia_ok)
+    cost = hand_cost(p)
+    assert 0 <= cost.knittable_rows <= cost.rows
+    if all(len(set(r)) == 1 for r in rows):
+        assert cost.knittable_share == 1.0 and cost.longest_float == 0
+
+
+def _measured(read: float, pattern: LogicalPattern) -> CandidateMeasures:
+    return CandidateMeasures(
+        ("A", "B"), (read, read), (0.5, 0.5), (0.0, 0.0), hand=hand_cost(pattern)
+    )
+
+
+def test_for_hands_the_knittable_design_ranks_first_and_then_the_one_that_reads_best():
+    hard = _pattern([[0, 1, 0, 1, 0, 1, 0, 1, 0, 1, 0, 0, 0, 0, 0, 0, 1]])  # float 12, 7 blocks
+    easy = _pattern([[0, 0, 0, 0, 1, 1, 1, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0]])  # 3 blocks
+    measures = [_measured(0.95, hard), _measured(0.80, easy), _measured(0.85, easy)]
+    scores = [0.0, 0.0, 0.0]
+    assert rank_candidates(measures, scores) == [0, 2, 1]  # for a machine: readability
+    assert rank_candidates(measures, scores, hands=True) == [2, 1, 0]
+    assert rank_key(measures[2], 0.0, "perception", hands=True)[0] == -1.0
+    with pytest.raises(OptionError, match="hand cost"):
+        rank_key(CandidateMeasures(("A",), (0.9,), (0.5,), (None,)), 0.0, "score", hands=True)
+
+
+def test_made_for_is_checked_and_names_the_rank_key():
+    ranking = RankOptions(made_for="hands")
+    assert ranking.key_fields[0] == "-share of rows knittable by hand"
+    assert RankOptions().key_fields == RankOptions().rank_by.key_fields
+    with pytest.raises(OptionError, match="made_for"):
+        RankOptions(made_for="feet")
+
+
+def test_double_for_hands_prints_and_records_the_hand_cost(tmp_path, capsys):
+    a = np.full((8, 12, 3), 240, np.uint8)
+    a[2:6, 2:10] = 20
+    b = np.full((8, 12, 3), 20, np.uint8)
+    b[1:7, 5:8] = 240
+    Image.fromarray(a).save(tmp_path / "a.png")
+    Image.fromarray(b).save(tmp_path / "b.png")
+    out = tmp_path / "out"
+    main([
+        "double", str(tmp_path / "a.png"), str(tmp_path / "b.png"), "--candidates", "2",
+        "--for", "hands", "-o", str(out),
+    ])  # fmt: skip
+    text = capsys.readouterr().out
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["made_for"] == "hands"
+    hand = summary["hand"]
+    assert hand["rows"] == 2 * summary["size"]["rows"]
+    assert f"rows knittable by hand {hand['knittable_rows']} of {hand['rows']}" in text
+    assert f"longest float {hand['longest_float']} sts" in text
+    shares = [c["hand"]["knittable_share"] for c in summary["candidates"]]
+    assert shares == sorted(shares, reverse=True)  # ranked by it first
+
+
+def test_headon_takes_for_hands_and_a_machine_design_says_what_it_costs_by_hand(tmp_path, capsys):
+    front = np.full((8, 12, 3), 240, np.uint8)
+    front[2:6, 3:9] = 20
+    Image.fromarray(front).save(tmp_path / "f.png")
+    main(["headon", str(tmp_path / "f.png"), "--candidates", "1", "--for", "hands",
+          "-o", str(tmp_path / "h")])  # fmt: skip
+    assert json.loads((tmp_path / "h" / "summary.json").read_text())["made_for"] == "hands"
+    assert "by hand (made for hands): rows knittable by hand" in capsys.readouterr().out
+    main(["headon", str(tmp_path / "f.png"), "--candidates", "1", "-o", str(tmp_path / "m")])
+    summary = json.loads((tmp_path / "m" / "summary.json").read_text())
+    assert summary["made_for"] == "machine" and summary["hand"]["rows"] > 0
+    assert "by hand (made for a machine)" in capsys.readouterr().out
