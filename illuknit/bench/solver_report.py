@@ -286,6 +286,15 @@ def summary_markdown(
     return "\n".join(lines) + "\n"
 
 
+def _colour(i: int) -> str:
+    """The ``i``-th solver's colour: 20 distinct ones (matplotlib's ``tab20``), so that a portfolio
+    of more than the default cycle's 10 solvers never draws two runs alike."""
+    from matplotlib import colormaps
+    from matplotlib.colors import to_hex
+
+    return str(to_hex(colormaps["tab20"](i % 20)))
+
+
 def _cost_curve(ax: Any, r: dict[str, Any], trace: Sequence[Any], colour: str) -> None:
     """One run on a cost-over-time plot: every claimed cost as an ``x`` (never joined: no
     assignment backs it), the verified cost from when it is backed to the end of the run as a
@@ -330,9 +339,9 @@ def write_plots(
         if _solved(r):
             groups[_label(r)].append(float(r["time_prove"]))
     fig, ax = plt.subplots(figsize=(6, 4))
-    for label, times in sorted(groups.items()):
+    for i, (label, times) in enumerate(sorted(groups.items())):
         ts = sorted(times)
-        ax.step(range(1, len(ts) + 1), ts, where="post", label=label, marker=".")
+        ax.step(range(1, len(ts) + 1), ts, where="post", label=label, marker=".", color=_colour(i))
     ax.set_xlabel("instances solved (proven optimal, verified)")
     ax.set_ylabel("time to prove (s)")
     ax.set_yscale("log")
@@ -349,7 +358,7 @@ def write_plots(
     for (inst, model), rs in per.items():
         fig, ax = plt.subplots(figsize=(6, 4))
         for i, r in enumerate(rs):
-            _cost_curve(ax, r, traces.get(_trace_key(r), []), f"C{i % 10}")
+            _cost_curve(ax, r, traces.get(_trace_key(r), []), _colour(i))
         if (inst, model) in best:
             ax.axhline(best[(inst, model)], color="k", ls="--", lw=0.8, label="best known")
         ax.set_xlabel("seconds")
