@@ -260,7 +260,9 @@ def float_line(floats: dict[str, Any]) -> str:
     if not floats["longest"]:
         return f"floats: none skips a needle (float limit {floats['limit']} needles skipped)"
     return (
-        f"floats: longest {floats['longest']} needles skipped (line {floats['longest_line']}, "
+        f"floats: longest {floats['longest']} "
+        f"{'needle' if floats['longest'] == 1 else 'needles'} skipped "
+        f"(line {floats['longest_line']}, "
         f"carrier {floats['longest_carrier']}); {floats['at_limit']} at the float limit of "
         f"{floats['limit']}, {floats['over_limit']} over it"
     )

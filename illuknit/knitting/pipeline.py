@@ -80,6 +80,11 @@ KC_NAME = "command.kc"
 FLOAT_UNIT = "needles skipped"
 
 
+def _skipped(n: int) -> str:
+    """``FLOAT_UNIT`` read with ``n``: "1 needle skipped", "20 needles skipped"."""
+    return "needle skipped" if n == 1 else FLOAT_UNIT
+
+
 @dataclass(frozen=True)
 class FloatFacts:
     """A program's floats against its float limit, all in needles skipped (:data:`FLOAT_UNIT`:
@@ -110,7 +115,7 @@ class FloatFacts:
             return f"no float skips a needle (float limit {self.limit} {FLOAT_UNIT})"
         f = self.longest
         return (
-            f"longest {f.length} {FLOAT_UNIT} (carrier {f.carrier}, {f.where(stitches)}); "
+            f"longest {f.length} {_skipped(f.length)} (carrier {f.carrier}, {f.where(stitches)}); "
             f"{self.at_limit} at the float limit of {self.limit}, {len(self.long)} over it"
         )
 

@@ -26,3 +26,4 @@ def test_the_demo_opens_with_lines_a_person_reads(tmp_path):
     times = re.findall(r"\d+ min \d+ s", knitout + time)
     assert len(times) == len(set(times)) == 4, time  # time, range (2 ends), bind-off
     assert "time model's range" in time and "seconds" not in time
+    assert not re.search(r"\b1 needles\b", run.stdout), run.stdout  # "1 needle skipped"
