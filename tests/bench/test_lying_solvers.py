@@ -17,29 +17,15 @@ from illuknit.bench.instances import Instance
 from illuknit.bench.solver_report import cost_at
 from illuknit.bench.solver_runs import SolverTask, run_solver_task
 from illuknit.bench.solver_table import make_tasks, run_solver_table
-from illuknit.bench.wcnf_files import export_wcnf_family, read_wcnf
+from illuknit.bench.wcnf_files import read_wcnf
 from illuknit.core.pattern import Yarn
-from illuknit.solvers import BackendBase, solve
+from illuknit.solvers import BackendBase
 
 LIAR = Path(__file__).parent / "lying_maxsat.py"
 
 
 def liar(mode: str) -> str:
     return f"wcnf:{sys.executable} {LIAR} {mode} {{}}"
-
-
-@pytest.fixture(scope="module")
-def wcnf_file(tmp_path_factory) -> tuple[str, int]:
-    """A 12 x 10 two-yarn logical model as a plain WCNF file (10 wales, no reference optimum)
-    and its optimum."""
-    yarns = (Yarn("dark", (20, 20, 20)), Yarn("cream", (240, 236, 230)))
-    inst = Instance(
-        "zoo", "double", (12, 10), yarns, 5.0, {"A": {"draw": "heart"}, "B": {"draw": "ecg"}}
-    )
-    out = tmp_path_factory.mktemp("zoo")
-    mf = export_wcnf_family([inst], out, models=["logical"])
-    path = out / mf["files"][0]["file"]
-    return str(path), int(solve(read_wcnf(path), solver="rc2").objective)
 
 
 @pytest.fixture

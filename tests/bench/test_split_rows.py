@@ -12,28 +12,13 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from illuknit.bench.instances import Instance
 from illuknit.bench.solver_runs import SolverTask, run_solver_task
 from illuknit.bench.solver_table import make_tasks, run_solver_table
 from illuknit.bench.split import component_models, solve_split
-from illuknit.bench.wcnf_files import export_wcnf_family, read_wcnf, read_wcnf_text
-from illuknit.core.pattern import Yarn
+from illuknit.bench.wcnf_files import read_wcnf_text
 from illuknit.solvers import solve
 
 LIAR = Path(__file__).parent / "lying_maxsat.py"
-
-
-@pytest.fixture(scope="module")
-def wcnf_file(tmp_path_factory) -> tuple[str, int]:
-    """A 12 x 10 two-yarn logical model as a plain WCNF file (10 wales) and its optimum."""
-    yarns = (Yarn("dark", (20, 20, 20)), Yarn("cream", (240, 236, 230)))
-    inst = Instance(
-        "split", "double", (12, 10), yarns, 5.0, {"A": {"draw": "heart"}, "B": {"draw": "ecg"}}
-    )
-    out = tmp_path_factory.mktemp("split")
-    mf = export_wcnf_family([inst], out, models=["logical"])
-    path = out / mf["files"][0]["file"]
-    return str(path), int(solve(read_wcnf(path), solver="rc2").objective)
 
 
 @pytest.mark.parametrize("solver", ["cpsat+split", "lsu+split", "fm+split"])
