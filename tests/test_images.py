@@ -97,3 +97,15 @@ def test_quantise_is_deterministic():
     rgb = np.random.default_rng(2).random((16, 16, 3))
     a, b = quantise_image(rgb, n_colors=3), quantise_image(rgb, n_colors=3)
     assert np.array_equal(a.indices, b.indices)
+
+
+def test_flat_color_count_counts_flat_drawings_and_refuses_photos() -> None:
+    from illuknit.pictures.images import flat_color_count
+
+    drawing = np.zeros((60, 90, 3), np.uint8)
+    drawing[:, 30:] = (200, 40, 40)
+    drawing[20:25, 70:] = (250, 250, 250)  # a colour the spread sample may miss
+    assert flat_color_count(drawing) == 3
+    photo = np.random.default_rng(0).integers(0, 256, (60, 90, 3), dtype=np.uint8)
+    assert flat_color_count(photo) is None
+    assert flat_color_count(drawing, most=2) is None

@@ -217,24 +217,15 @@ _FLAT_MAX = 8
 
 def _flat_colours(path: Path) -> int | None:
     """How many colours ``path`` is drawn in, when it is drawn in a few flat ones (None for a
-    photo or a drawing with soft edges)."""
-    import numpy as np
-
+    photo, a drawing with soft edges, or a picture ``design_*`` will refuse with its own error)."""
     from illuknit.core.errors import ImageInputError
     from illuknit.pictures.decode import read_picture
+    from illuknit.pictures.images import flat_color_count
 
     try:
-        rgb = read_picture(path).rgb
-    except ImageInputError:  # unreadable: design_* says so, with the right error
+        return flat_color_count(read_picture(path).rgb, most=_FLAT_MAX)
+    except ImageInputError:
         return None
-    px = rgb.reshape(-1, 3).astype(np.uint32)
-    key = (px[:, 0] << 16) | (px[:, 1] << 8) | px[:, 2]
-    # a spread sample first: a photo shows its many colours there, without sorting every pixel
-    seen = np.unique(key[:: max(1, key.size // 4096)])
-    if seen.size > _FLAT_MAX:
-        return None
-    n = seen.size + np.unique(key[~np.isin(key, seen)]).size
-    return n if n <= _FLAT_MAX else None
 
 
 def _colour_count(
@@ -245,14 +236,14 @@ def _colour_count(
     the same 2 to 4 flat colours, else 2 (with a note naming any picture that has more)."""
     if n_colors is not None:
         return n_colors, []
+    if given_yarns:  # the yarns decide: no picture is read for its colours
+        return 2, []
     counts = [_flat_colours(p) for p in pictures]
-    if not given_yarns and counts and len(set(counts)) == 1 and counts[0] in (3, 4):
+    if counts and len(set(counts)) == 1 and counts[0] in (3, 4):
         n = counts[0]
         return n, [f"colours: {n}, the pictures' own count (each is drawn in {n} flat colours); "
                    "--colors N chooses another"]  # fmt: skip
     more = [f"{p.name} has {c}" for p, c in zip(pictures, counts, strict=True) if c and c > 2]
-    if given_yarns:
-        return 2, []
     if more:
         return 2, [f"colours: each picture quantised to 2 (the default), though {', '.join(more)} "
                    "flat colours; --colors 3 or 4 keeps more"]  # fmt: skip
