@@ -1,14 +1,23 @@
-"""Draw docs/img/architecture.svg from the code: the pipeline's stages, where each lives, its IR.
+"""Draw docs/img/architecture.svg from the code, and write the floor table of docs/architecture.md.
 
-Each box is a stage function looked up by its dotted name; the box shows the function and the
-file that defines it, and each arrow is labelled with the type the function is annotated to return
-(its IR). Renaming or moving a stage, or changing what it returns, changes the picture; a stage
-that no longer exists stops the script. ``python docs/architecture.py --check`` exits 1 when the
-SVG on disk is not what the code draws (the test suite runs it).
+The picture: the pipeline's stages, where each lives, its IR. Each box is a stage function looked
+up by its dotted name; the box shows the function and the file that defines it, and each arrow is
+labelled with the type the function is annotated to return (its IR). Renaming or moving a stage,
+or changing what it returns, changes the picture; a stage that no longer exists stops the script.
+
+The floor table: the floors are ``FLOORS`` of tests/test_layers.py (read here as a literal, so
+the table and the layer test cannot disagree); what lives in each package is :data:`PACKAGES`
+below, one entry per package. A package on a floor without an entry here, an entry for a package
+no floor lists, or a file or folder an entry names (in backticks, ``x.py`` or ``x/``) that is not
+in its package stops the script.
+
+``python docs/architecture.py`` writes both; ``--check`` exits 1 when the SVG or the table on
+disk is not what the code gives (the test suite runs it).
 """
 
 from __future__ import annotations
 
+import ast
 import importlib
 import inspect
 import re
@@ -18,6 +27,51 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 OUT = ROOT / "docs" / "img" / "architecture.svg"
+DOC = ROOT / "docs" / "architecture.md"
+LAYER_TEST = ROOT / "tests" / "test_layers.py"
+TABLE_START = (
+    "<!-- floor table: written by python docs/architecture.py from tests/test_layers.py -->"
+)
+TABLE_END = "<!-- end of floor table -->"
+
+#: What lives in each package of a floor, by package name (the names of ``FLOORS`` in
+#: tests/test_layers.py); a file or folder in backticks is one of the package's own.
+PACKAGES: dict[str, str] = {
+    "core": "the types every floor shares: `LogicalPattern` and its file (`pattern.py`), what a "
+    "viewer sees (`views.py`: `can_see`), colours (`colors.py`), every exception (`errors.py`), the "
+    "machine description `MachineSpec` and its presets (`machine.py`), the ranges of machine "
+    "values with their sources (`machine_ranges.py`), atomic file writing, never over an input "
+    "(`files.py`), reading the user's files within limits (`documents.py`), progress bars "
+    "(`progress.py`), lazy public names (`lazy.py`)",
+    "pictures": "picture input: decoding files (`decode.py`), quantising to yarns (`images.py`), "
+    "sizing one or two pictures to one grid (`sizing.py`), pictures drawn by code (`drawings.py`)",
+    "design": "from pictures to patterns: single view (`single_view.py`), tiles (`tiles/`), "
+    "constraint models (`models/`), the renderer and gradient design (`render/`), and the "
+    "measures designs are ranked by (`measures.py`)",
+    "solvers": "the pluggable solver backends, a top-level folder installed as `illuknit.solvers` "
+    "(the registry and `solve` in `__init__.py`, the `Solution` contract in `base.py`)",
+    "knit": "from a pattern to a machine program: stitches (`stitches.py`), carriage-pass "
+    "schedules (`schedule.py`, `mixed.py`), the knitout writer (`knitout.py`), the time model "
+    "(`timing.py`)",
+    "knitout": "the knitout IR and its parser (`KnitoutProgram`, `Operation`, `Needle`, "
+    "`parse_knitout` in `parse.py`), and the comment line a program declares its split or tall "
+    "bumps in (`bumps.py`)",
+    "check": "the checker: a program run on a simulated machine (`simulate.py`), its rules "
+    "(`rules.py`) and fabric findings (`fabric.py`)",
+    "formats": "the machine files (Shima `.dat`, Kniterate `.kc`) with the passes the SWG machine "
+    "runs (`swg_passes.py`)",
+    "knitting": "the whole knitting path in one call, `knit_pattern` (`pipeline.py`), measured on "
+    "the machine that runs it (`carriage.py` counts the machine's passes with `illuknit.formats`)",
+    "pipeline": "the design stages as one call each, from pictures to ranked designs and what "
+    "knitting them costs (`stages.py`), and the smallest width at which a double view reads "
+    "(`legible.py`)",
+    "outputs": "what a user reads: previews (`previews.py`), the hand-knitting chart and "
+    "instructions (`chart.py`, `hand_pattern.py`, `pattern_pdf.py`), the pattern folder "
+    "(`export.py`), the machine set-up sheet (`machine_sheet.py`)",
+    "cli": "the callers: the command line",
+    "app": "the local web app",
+    "bench": "the benchmark",
+}
 
 #: (dotted stage function, column, row). Columns: 0 single view, 1 tiles, 2 constraint models and
 #: solvers, 3 gradient design; the shared stages span the middle.
@@ -166,18 +220,75 @@ def draw() -> str:
     return "\n".join(out) + "\n"
 
 
+def read_floors() -> tuple[tuple[str, ...], ...]:
+    """``FLOORS`` of tests/test_layers.py, bottom to top (read from its source, not imported)."""
+    for node in ast.parse(LAYER_TEST.read_text(encoding="utf-8")).body:
+        target = node.target if isinstance(node, ast.AnnAssign) else None
+        if isinstance(node, ast.Assign) and len(node.targets) == 1:
+            target = node.targets[0]
+        if isinstance(target, ast.Name) and target.id == "FLOORS" and node.value is not None:
+            floors = ast.literal_eval(node.value)
+            return tuple(tuple(floor) for floor in floors)
+    raise SystemExit(f"{LAYER_TEST.relative_to(ROOT)} defines no FLOORS")
+
+
+def package_dir(name: str) -> Path:
+    """Where a package of the floors lives: ``illuknit/<name>/``, or a top-level folder installed
+    into the package (``solvers/``)."""
+    inside = ROOT / "illuknit" / name
+    return inside if inside.is_dir() or not (ROOT / name).is_dir() else ROOT / name
+
+
+def floor_problems(floors: tuple[tuple[str, ...], ...]) -> list[str]:
+    """Why the floors and :data:`PACKAGES` cannot make a table (empty when they can)."""
+    listed = [name for floor in floors for name in floor]
+    problems = [f"{n}: on a floor but not in PACKAGES" for n in listed if n not in PACKAGES]
+    problems += [f"{n}: in PACKAGES but on no floor" for n in PACKAGES if n not in listed]
+    for name, text in PACKAGES.items():
+        for entry in re.findall(r"`([\w./]+(?:\.py|/))`", text):
+            if not (package_dir(name) / entry).exists():
+                problems.append(f"{name}: names `{entry}`, which {package_dir(name)} lacks")
+    return problems
+
+
+def floor_table() -> str:
+    """The floor table of docs/architecture.md (markdown, bottom floor first)."""
+    floors = read_floors()
+    problems = floor_problems(floors)
+    if problems:
+        raise SystemExit("the floor table cannot be written:\n  " + "\n  ".join(problems))
+    rows = ["| floor | package | what lives there |", "|---|---|---|"]
+    for number, floor in enumerate(floors, start=1):
+        where = ", ".join(f"`{package_dir(n).relative_to(ROOT).as_posix()}/`" for n in floor)
+        rows.append(f"| {number} | {where} | {'; '.join(PACKAGES[n] for n in floor)} |")
+    return "\n".join(rows) + "\n"
+
+
+def with_table(doc: str, table: str) -> str:
+    """``doc`` with the text between the table's two marker lines replaced by ``table``."""
+    start, end = doc.find(TABLE_START), doc.find(TABLE_END)
+    if start < 0 or end < start:
+        raise SystemExit(f"{DOC.relative_to(ROOT)} lacks the floor table's marker lines")
+    head = doc[: start + len(TABLE_START)]
+    return f"{head}\n{table}{doc[end:]}"
+
+
 def main(argv: list[str]) -> int:
     svg = draw()
+    doc = DOC.read_text(encoding="utf-8")
+    new_doc = with_table(doc, floor_table())
     if "--check" in argv:
         current = OUT.read_text(encoding="utf-8") if OUT.exists() else ""
-        if current != svg:
-            print(f"{OUT.relative_to(ROOT)} is out of date: run python docs/architecture.py")
-            return 1
-        return 0
+        stale = [path for path, ok in ((OUT, current == svg), (DOC, doc == new_doc)) if not ok]
+        for path in stale:
+            print(f"{path.relative_to(ROOT)} is out of date: run python docs/architecture.py")
+        return 1 if stale else 0
     OUT.write_text(svg, encoding="utf-8")
-    print(f"wrote {OUT.relative_to(ROOT)}")
+    DOC.write_text(new_doc, encoding="utf-8")
+    print(f"wrote {OUT.relative_to(ROOT)} and the floor table of {DOC.relative_to(ROOT)}")
     return 0
 
 
 if __name__ == "__main__":
+    sys.path.insert(0, str(ROOT))  # this checkout's illuknit, whichever one is installed
     sys.exit(main(sys.argv[1:]))
