@@ -133,7 +133,11 @@ def install_handlers(app: FastAPI) -> None:
 
     @app.exception_handler(Exception)
     async def _bug(request: Request, exc: Exception) -> JSONResponse:
+        # Starlette raises the exception again once this answer is sent, for the server to log
+        # its traceback, and the server then closes the connection: say so, or a client that
+        # keeps connections alive sends its next request into the closed one
         return JSONResponse(
             error_body(f"internal error: {type(exc).__name__}: {exc}", None, "internal"),
             status_code=500,
+            headers={"connection": "close"},
         )
