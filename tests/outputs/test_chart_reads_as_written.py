@@ -84,11 +84,12 @@ def _worked(body: str) -> list[tuple[str, str]]:
     return out
 
 
-def written_stitches(pattern: LogicalPattern) -> Stitches:
-    """Every stitch as the written instructions give it (read back from their text)."""
+def written_stitches(pattern: LogicalPattern, text: str | None = None) -> Stitches:
+    """Every stitch as the written instructions (``text``, default
+    :func:`~illuknit.outputs.chart.written_instructions`) give it, read back from their text."""
     names = [y.name for y in pattern.yarns]
     found: Stitches = {}
-    for line in written_instructions(pattern).splitlines():
+    for line in (text or written_instructions(pattern)).splitlines():
         row = re.match(r"Row (\d+) \((RS|WS)\): (.*)", line)
         if row is None:
             continue
@@ -119,10 +120,13 @@ def _is_dot(pattern: LogicalPattern, rgb: np.ndarray, yarn: int) -> bool:
 # -- chart.png -------------------------------------------------------------------------------
 
 
-def png_stitches(pattern: LogicalPattern, *, cell: int, unit_aspect: float) -> Stitches:
-    """Every stitch as chart.png draws it: the colour of a corner of its square (clear of the
-    grid line and the dot), and whether its centre is dotted."""
-    img = chart_png_rgb(pattern, cell=cell, unit_aspect=unit_aspect)
+def png_stitches(
+    pattern: LogicalPattern, *, cell: int, unit_aspect: float, img: np.ndarray | None = None
+) -> Stitches:
+    """Every stitch as chart.png (``img``, default drawn here) draws it: the colour of a corner
+    of its square (clear of the grid line and the dot), and whether its centre is dotted."""
+    if img is None:
+        img = chart_png_rgb(pattern, cell=cell, unit_aspect=unit_aspect)
     n, m = pattern.shape
     rows, width, margin = 2 * n, 2 * m, 40
     ch = max(2, round(cell * unit_aspect))
@@ -166,6 +170,23 @@ def test_a_flipped_or_mirrored_chart_would_be_caught():
     for flip in (np.flipud, np.fliplr):
         turned = LogicalPattern(flip(p.yarn), flip(p.raised), p.yarns)
         assert png_stitches(turned, cell=12, unit_aspect=1.0) != written
+
+
+def test_the_pattern_folder_s_chart_and_instructions_agree(tmp_path):
+    """What export_pattern writes (chart.png, instructions.txt, chart.svg), read from the files."""
+    from illuknit.core.machine import DEFAULT_MACHINE
+    from illuknit.outputs.export import export_pattern
+
+    pattern = ASYMMETRIC
+    export_pattern(pattern, tmp_path)
+    written = written_stitches(pattern, (tmp_path / "instructions.txt").read_text())
+    assert written == written_stitches(pattern)
+    aspect = DEFAULT_MACHINE.fabric_gauge.unit_aspect
+    img = np.asarray(Image.open(tmp_path / "chart.png").convert("RGB"))
+    # a chart this small is drawn 14 pixels a stitch (chart_png_rgb's default cell)
+    assert np.array_equal(img, chart_png_rgb(pattern, cell=14, unit_aspect=aspect))
+    assert png_stitches(pattern, cell=14, unit_aspect=aspect, img=img) == written
+    assert (tmp_path / "chart.svg").read_text() == chart_svg(pattern, unit_aspect=aspect)
 
 
 # -- chart.svg -------------------------------------------------------------------------------
