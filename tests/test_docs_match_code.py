@@ -37,12 +37,11 @@ def test_the_floor_table_is_the_one_the_floors_give(architecture):
 
 
 def test_the_table_has_a_row_per_floor_of_the_layer_test(architecture):
-    from tests.test_layers import FLOORS
-
-    assert architecture["read_floors"]() == FLOORS
+    floors = runpy.run_path(str(ROOT / "tests" / "test_layers.py"))["FLOORS"]
+    assert architecture["read_floors"]() == floors
     rows = architecture["floor_table"]().splitlines()[2:]
-    assert [int(r.split("|")[1]) for r in rows] == list(range(1, len(FLOORS) + 1))
-    for row, floor in zip(rows, FLOORS, strict=True):
+    assert [int(r.split("|")[1]) for r in rows] == list(range(1, len(floors) + 1))
+    for row, floor in zip(rows, floors, strict=True):
         cells = [c.strip("` ") for c in row.split("|")[2].split(",")]
         assert [c.rstrip("/").rpartition("/")[2] for c in cells] == list(floor), row
 
