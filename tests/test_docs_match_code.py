@@ -1,8 +1,10 @@
 """The docs name what exists: the floor table of docs/architecture.md is the one written from the
-layer test's floors, and every module, file and dotted name the docs cite is still there."""
+layer test's floors, every module, file and dotted name the docs cite is still there, and each
+stage and IR of docs/architecture.md is in the module the doc says it is in."""
 
 from __future__ import annotations
 
+import ast
 import importlib
 import re
 import runpy
@@ -127,3 +129,60 @@ def test_every_module_and_name_a_doc_cites_exists(doc):
     missing = [f for f in dict.fromkeys(files) if not _file_exists(f)]
     missing += [d for d in dict.fromkeys(dotted) if not _dotted_exists(d)]
     assert missing == [], f"{doc.name} cites what is not there"
+
+
+# -- docs/architecture.md: each stage and IR where the doc says it lives -------------------------
+
+ARCHITECTURE = ROOT / "docs" / "architecture.md"
+
+
+def _names_bound(path: Path) -> set[str]:
+    """Every name a module (or every module of a folder) defines, assigns or imports."""
+    names: set[str] = set()
+    for file in [path] if path.is_file() else sorted(path.rglob("*.py")):
+        for node in ast.walk(ast.parse(file.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef | ast.ClassDef):
+                names.add(node.name)
+            elif isinstance(node, ast.Import | ast.ImportFrom):
+                names |= {(a.asname or a.name).rpartition(".")[2] for a in node.names}
+            elif isinstance(node, ast.Assign | ast.AnnAssign):
+                targets = node.targets if isinstance(node, ast.Assign) else [node.target]
+                names |= {t.id for t in targets if isinstance(t, ast.Name)}
+    return names
+
+
+def _cited_paths(cell: str) -> list[Path]:
+    """The files and folders a table cell cites: relative to illuknit/ or the checkout, or (a
+    bare name) beside the one cited before it."""
+    paths: list[Path] = []
+    for token in re.findall(r"`([\w./]+(?:\.py|/))`", cell):
+        bases = [ROOT / "illuknit", ROOT]
+        if paths:
+            bases.append(paths[-1] if paths[-1].is_dir() else paths[-1].parent)
+        found = next((base / token for base in bases if (base / token).exists()), None)
+        assert found is not None, f"docs/architecture.md cites `{token}`, which is not there"
+        paths.append(found)
+    return paths
+
+
+def _stage_rows() -> list[list[str]]:
+    text = ARCHITECTURE.read_text(encoding="utf-8")
+    table = text[text.index("| stage | function | module |") :].split("\n\n")[0]
+    return [[c.strip() for c in row.strip("|").split("|")] for row in table.splitlines()[2:]]
+
+
+@pytest.mark.parametrize("row", _stage_rows(), ids=lambda row: row[0])
+def test_each_stage_is_in_the_module_its_row_names(row):
+    _, functions, modules, _ = row
+    bound = set().union(*(_names_bound(p) for p in _cited_paths(modules)))
+    missing = [f for f in re.findall(r"`([A-Za-z_]\w*)`", functions) if f not in bound]
+    assert missing == [], f"{row[0]}: not in {modules}"
+
+
+def test_each_ir_is_in_the_module_the_doc_names():
+    text = ARCHITECTURE.read_text(encoding="utf-8")
+    found = re.findall(r"\*\*((?:`\w+`(?:,? (?:and )?)?)+)\*\*\s*\(`([\w./]+)`", text)
+    assert len(found) >= 10
+    for names, where in found:
+        bound = _names_bound(_cited_paths(f"`{where}`")[0])
+        assert set(re.findall(r"`(\w+)`", names)) <= bound, (names, where)
