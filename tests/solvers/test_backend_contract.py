@@ -31,6 +31,7 @@ from illuknit.core.errors import BackendUnavailableError, SolverError, UnknownNa
 from illuknit.design.models.illusion_models import KnitWeights, make_problem
 from illuknit.solvers import (
     Backend,
+    ProgressEvent,
     Solution,
     Status,
     available_backends,
@@ -160,6 +161,10 @@ def test_every_backend_solves_what_it_handles_into_a_frozen_solution(name):
     events: list[object] = []
     sol = solve(model, solver=name, time_limit=5.0, seed=1, progress=events.append)
     check_solution(sol, model, backend.name)
+    # what the backend reported as it went is a ProgressEvent each, and the solution's trace
+    assert all(isinstance(e, ProgressEvent) and e.elapsed >= 0 for e in events), events
+    if events:
+        assert sol.trace == tuple((e.elapsed, e.objective, e.bound) for e in events)
 
 
 @pytest.mark.parametrize("name", NAMES, ids=IDS)
