@@ -234,6 +234,7 @@ def valid_calls(tmp: Path) -> Calls:
         "RankOptions": ((), {}),
         "SolveOptions": ((), {}),
         "KnitOptions": ((), {}),
+        "GradientOptions": ((), {}),
         "MachineSpec": ((), {}),
         "Tile": (tile, {}),
         "TileBank": ((yarns, bank.tiles), {}),

@@ -103,6 +103,7 @@ _API: dict[str, str] = {
     "render_pattern": "illuknit.design.render.raycast",
     "render_at": "illuknit.design.render.raycast",
     "optimise_design": "illuknit.design.render.optimise",
+    "GradientOptions": "illuknit.design.render.gradient_options",
     "calibration_swatch": "illuknit.design.render.calibrate",
     "fit_bump_height": "illuknit.design.render.calibrate",
     # constraint models and solvers (docs/solvers.md)
