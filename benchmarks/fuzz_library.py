@@ -235,6 +235,7 @@ def valid_calls(tmp: Path) -> Calls:
         "SolveOptions": ((), {}),
         "KnitOptions": ((), {}),
         "GradientOptions": ((), {}),
+        "AssignOptions": ((), {}),
         "MachineSpec": ((), {}),
         "Tile": (tile, {}),
         "TileBank": ((yarns, bank.tiles), {}),

@@ -94,6 +94,7 @@ _API: dict[str, str] = {
     "load_bank": "illuknit.design.tiles.bank",
     "TileAssignment": "illuknit.design.tiles.assignment",
     "assign_tiles": "illuknit.design.tiles.assign",
+    "AssignOptions": "illuknit.design.tiles.assign",
     "compile_tiles": "illuknit.design.tiles.compile",
     "assign_headon": "illuknit.design.tiles.headon",
     # renderer, gradient design, calibration (docs/render.md)
