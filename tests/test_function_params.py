@@ -51,9 +51,6 @@ ALLOWED: dict[str, int] = {
     "illuknit/bench/runner.py:run_bench": 13,
     "illuknit/bench/solver_table.py:make_tasks": 9,
     "illuknit/core/errors.py:LongFloatError.__init__": 9,
-    "illuknit/outputs/export.py:export_pattern": 9,
-    "illuknit/pictures/sizing.py:size_pair": 10,
-    "illuknit/pictures/sizing.py:prepare_image": 10,
 }
 
 
