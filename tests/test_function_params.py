@@ -48,8 +48,6 @@ ALLOWED: dict[str, int] = {
     "illuknit/design/tiles/perception.py:rank_designs": 13,
     # this branch (params), while in progress
     "illuknit/app/server.py:AppConfig.__init__": 11,
-    "illuknit/bench/runner.py:run_bench": 13,
-    "illuknit/bench/solver_table.py:make_tasks": 9,
     "illuknit/core/errors.py:LongFloatError.__init__": 9,
 }
 
