@@ -47,7 +47,6 @@ ALLOWED: dict[str, int] = {
     # design/tiles/perception.py (branch modules)
     "illuknit/design/tiles/perception.py:rank_designs": 13,
     # this branch (params), while in progress
-    "illuknit/core/errors.py:LongFloatError.__init__": 9,
 }
 
 
