@@ -29,7 +29,7 @@ from __future__ import annotations
 import json
 import shutil
 from collections.abc import Callable, Iterable, Sequence
-from dataclasses import dataclass, field, fields, replace
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -38,6 +38,7 @@ from illuknit.bench.cells import Cell, base_row, execute_cell, finish_row
 from illuknit.bench.instances import Instance
 from illuknit.bench.methods import get_method
 from illuknit.bench.results import cell_dir, load_rows, prepare_results_dir, write_cell
+from illuknit.core.arguments import with_knobs
 from illuknit.core.errors import (
     BackendUnavailableError,
     ExecutorError,
@@ -191,18 +192,6 @@ class BenchOptions:
             raise OptionError(f"`time_limit` must be positive seconds, got {self.time_limit!r}")
 
 
-def bench_options(options: BenchOptions | None, knobs: dict[str, Any]) -> BenchOptions:
-    """``options`` (default ``BenchOptions()``) with the shorthand ``knobs`` in place of its
-    fields: one validation, and an error naming a keyword that is no field."""
-    if options is not None and not isinstance(options, BenchOptions):
-        raise OptionError(f"`options` must be a BenchOptions, got {type(options).__name__}")
-    names = [f.name for f in fields(BenchOptions)]
-    unknown = sorted(set(knobs) - set(names))
-    if unknown:
-        raise OptionError(f"unknown bench option {unknown[0]!r}; valid: {', '.join(names)}")
-    return replace(options or BenchOptions(), **knobs)
-
-
 def run_bench(
     instances: Sequence[Instance],
     methods: Sequence[str],
@@ -239,7 +228,7 @@ def run_bench(
     BenchRun
         ``rows`` holds every finished cell of the folder (this run's and earlier ones).
     """
-    opts = bench_options(options, knobs)
+    opts = with_knobs(BenchOptions, options, knobs, what="bench")
     executor, jobs, time_limit, force = opts.executor, opts.jobs, opts.time_limit, opts.force
     knit_machine = _check_options(methods, opts.machine)
     dask_address, progress, write_outputs = opts.dask_address, opts.progress, opts.write_outputs

@@ -15,7 +15,7 @@ import json
 import os
 import platform
 from collections.abc import Iterable, Sequence
-from dataclasses import dataclass, field, fields, replace
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -31,6 +31,7 @@ from illuknit.bench.solver_runs import (
     flag_rows,
     run_solver_task,
 )
+from illuknit.core.arguments import with_knobs
 from illuknit.core.errors import BackendUnavailableError, ExecutorError, OptionError
 from illuknit.core.files import atomic_write_text
 
@@ -90,14 +91,7 @@ def make_tasks(
     are fields of ``runs`` (:class:`SolverRuns`: ``time_limit``, ``memory_mb``, ``repeat``,
     ``seed``) as a shorthand.
     """
-    if runs is not None and not isinstance(runs, SolverRuns):
-        raise OptionError(f"`runs` must be a SolverRuns, got {type(runs).__name__}")
-    unknown = sorted(set(knobs) - {f.name for f in fields(SolverRuns)})
-    if unknown:
-        raise OptionError(
-            f"unknown run option {unknown[0]!r}; valid: time_limit, memory_mb, repeat, seed"
-        )
-    chosen = replace(runs or SolverRuns(), **knobs)
+    chosen = with_knobs(SolverRuns, runs, knobs, name="runs", what="run")
     time_limit, memory_mb, repeat, seed = (
         chosen.time_limit,
         chosen.memory_mb,

@@ -12,15 +12,14 @@ from __future__ import annotations
 import json
 import os
 from collections.abc import Mapping
-from dataclasses import dataclass, fields, replace
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
 
-from illuknit.core.arguments import check_instance, check_str
-from illuknit.core.errors import OptionError
+from illuknit.core.arguments import check_instance, check_str, with_knobs
 from illuknit.core.files import atomic_write_text
 from illuknit.core.gauge import Gauge, finished_size
 from illuknit.core.pattern import LogicalPattern, save_pattern
@@ -98,12 +97,7 @@ def export_pattern(
     ``progress(fraction, message)`` hears how far it is (:func:`illuknit.core.progress.work_bar`).
     Returns name -> path of everything written.
     """
-    if options is not None and not isinstance(options, ExportOptions):
-        raise OptionError(f"`options` must be an ExportOptions, got {type(options).__name__}")
-    unknown = sorted(set(knobs) - {f.name for f in fields(ExportOptions)})
-    if unknown:
-        raise OptionError(f"unknown export option {unknown[0]!r}; valid: title, gauge, chart")
-    opts = replace(options or ExportOptions(), **knobs)
+    opts = with_knobs(ExportOptions, options, knobs, what="export")
     title, gauge, chart = opts.title, opts.gauge, opts.chart
     say: Report = progress or (lambda fraction, message: None)
     if gauge is None:

@@ -37,14 +37,14 @@ from __future__ import annotations
 import numbers
 import os
 from collections.abc import Sequence
-from dataclasses import dataclass, fields, replace
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from illuknit.core.arguments import check_int, check_unit_aspect, got
-from illuknit.core.errors import ImageInputError, OptionError, PictureSizeMismatchError
+from illuknit.core.arguments import check_int, check_unit_aspect, got, with_knobs
+from illuknit.core.errors import ImageInputError, PictureSizeMismatchError
 from illuknit.core.gauge import STOCKINETTE_COURSE_ASPECT
 from illuknit.core.pattern import MAX_UNITS, Yarn
 from illuknit.pictures.images import (
@@ -187,16 +187,9 @@ class GridSize:
 
 
 def grid_size(size: GridSize | None, knobs: dict[str, Any]) -> GridSize:
-    """``size`` (default ``GridSize()``) with the shorthand ``knobs`` in place of its fields:
-    one validation, and an error naming a keyword that is no field."""
-    if size is not None and not isinstance(size, GridSize):
-        raise OptionError(f"`size` must be a GridSize, got {type(size).__name__}")
-    base = GridSize() if size is None else size
-    names = [f.name for f in fields(GridSize)]
-    unknown = sorted(set(knobs) - set(names))
-    if unknown:
-        raise OptionError(f"unknown grid size option {unknown[0]!r}; valid: {', '.join(names)}")
-    return replace(base, **knobs) if knobs else base
+    """``size`` (default ``GridSize()``) with the shorthand ``knobs`` in place of its fields
+    (:func:`~illuknit.core.arguments.with_knobs`)."""
+    return with_knobs(GridSize, size, knobs, name="size", what="grid size")
 
 
 def _name(source: object, default: str) -> str:

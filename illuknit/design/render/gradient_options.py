@@ -16,10 +16,17 @@ illuknit.core.errors.OptionError: `final_temperature` must lie in (0, 1], got 2
 
 from __future__ import annotations
 
-from dataclasses import dataclass, fields, replace
+from dataclasses import dataclass
 from typing import Any
 
-from illuknit.core.arguments import check_int, check_number, check_seconds, check_seed, check_str
+from illuknit.core.arguments import (
+    check_int,
+    check_number,
+    check_seconds,
+    check_seed,
+    check_str,
+    with_knobs,
+)
 from illuknit.core.errors import OptionError
 
 __all__ = ["MIXES", "GradientOptions", "gradient_options"]
@@ -87,13 +94,5 @@ class GradientOptions:
 
 def gradient_options(options: GradientOptions | None, knobs: dict[str, Any]) -> GradientOptions:
     """``options`` (default ``GradientOptions()``) with the shorthand ``knobs`` in place of its
-    fields: one validation, and an :class:`~illuknit.core.errors.OptionError` naming a keyword
-    that is no field."""
-    if options is not None and not isinstance(options, GradientOptions):
-        raise OptionError(f"`options` must be a GradientOptions, got {type(options).__name__}")
-    base = GradientOptions() if options is None else options
-    names = [f.name for f in fields(GradientOptions)]
-    unknown = sorted(set(knobs) - set(names))
-    if unknown:
-        raise OptionError(f"unknown gradient option {unknown[0]!r}; valid: {', '.join(names)}")
-    return replace(base, **knobs) if knobs else base
+    fields (:func:`~illuknit.core.arguments.with_knobs`)."""
+    return with_knobs(GradientOptions, options, knobs, what="gradient")

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import itertools
 from collections.abc import Sequence
-from dataclasses import dataclass, fields, replace
+from dataclasses import dataclass, replace
 from typing import Any, Literal
 
 import numpy as np
@@ -27,8 +27,9 @@ from illuknit.core.arguments import (
     check_seconds,
     check_str,
     check_views,
+    with_knobs,
 )
-from illuknit.core.errors import ImageInputError, OptionError, TileAssignmentError, TileBankError
+from illuknit.core.errors import ImageInputError, TileAssignmentError, TileBankError
 from illuknit.core.pattern import Yarn, check_yarns
 from illuknit.design.tiles.assign_model import (
     _build_problem,
@@ -129,19 +130,6 @@ class AssignOptions:
             raise err(f"`brightness` must be 'hard' or 'soft', got {self.brightness!r}")
 
 
-def assign_options(options: AssignOptions | None, knobs: dict[str, Any]) -> AssignOptions:
-    """``options`` (default ``AssignOptions()``) with the shorthand ``knobs`` in place of its
-    fields: one validation, and an error naming a keyword that is no field."""
-    if options is not None and not isinstance(options, AssignOptions):
-        raise OptionError(f"`options` must be an AssignOptions, got {type(options).__name__}")
-    base = AssignOptions() if options is None else options
-    names = [f.name for f in fields(AssignOptions)]
-    unknown = sorted(set(knobs) - set(names))
-    if unknown:
-        raise OptionError(f"unknown assignment option {unknown[0]!r}; valid: {', '.join(names)}")
-    return replace(base, **knobs) if knobs else base
-
-
 def assign_tiles(
     qa: Any,
     qb: Any,
@@ -193,7 +181,7 @@ def assign_tiles(
         check_instance(bank, TileBank, "bank", error=TileBankError)
     if yarns is not None:
         check_yarns(yarns)
-    opts = assign_options(options, knobs)
+    opts = with_knobs(AssignOptions, options, knobs, what="assignment")
     if weights is not None:
         check_instance(weights, AssignmentWeights, "weights")
     check_views(views)

@@ -41,7 +41,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from illuknit.core.arguments import check_int, got
+from illuknit.core.arguments import check_int, got, with_knobs
 from illuknit.core.errors import ImageInputError, OptionError
 from illuknit.design.tiles.assignment import Regions, regions_of
 from illuknit.design.tiles.picture_edits import (
@@ -482,9 +482,7 @@ def review_edits(
     edit_fields = {f.name for f in fields(EditOptions)}
     shorthand = {k: v for k, v in knobs.items() if k in edit_fields}
     assign = {k: v for k, v in knobs.items() if k not in edit_fields}
-    if edits is not None and not isinstance(edits, EditOptions):
-        raise OptionError(f"`edits` must be an EditOptions, got {type(edits).__name__}")
-    chosen = replace(edits or EditOptions(), **shorthand)
+    chosen = with_knobs(EditOptions, edits, shorthand, name="edits", what="edit")
     measure: Measure = partial(best_reading, targets=goal, candidates=candidates, **assign)
     options = chosen.as_keywords(sources)
     if progress is not None:
