@@ -234,6 +234,8 @@ def valid_calls(tmp: Path) -> Calls:
         "RankOptions": ((), {}),
         "SolveOptions": ((), {}),
         "KnitOptions": ((), {}),
+        "GradientOptions": ((), {}),
+        "AssignOptions": ((), {}),
         "MachineSpec": ((), {}),
         "Tile": (tile, {}),
         "TileBank": ((yarns, bank.tiles), {}),

@@ -94,6 +94,7 @@ _API: dict[str, str] = {
     "load_bank": "illuknit.design.tiles.bank",
     "TileAssignment": "illuknit.design.tiles.assignment",
     "assign_tiles": "illuknit.design.tiles.assign",
+    "AssignOptions": "illuknit.design.tiles.assign",
     "compile_tiles": "illuknit.design.tiles.compile",
     "assign_headon": "illuknit.design.tiles.headon",
     # renderer, gradient design, calibration (docs/render.md)
@@ -103,6 +104,7 @@ _API: dict[str, str] = {
     "render_pattern": "illuknit.design.render.raycast",
     "render_at": "illuknit.design.render.raycast",
     "optimise_design": "illuknit.design.render.optimise",
+    "GradientOptions": "illuknit.design.render.gradient_options",
     "calibration_swatch": "illuknit.design.render.calibrate",
     "fit_bump_height": "illuknit.design.render.calibrate",
     # constraint models and solvers (docs/solvers.md)

@@ -165,3 +165,22 @@ def test_prepare_image_widths(tmp_path):
     assert prepare_image(rgb, width_cm=10 * 2 * 2.54 / 7, n_colors=2).shape[1] == 10
     with pytest.raises(ImageInputError, match="not both"):
         prepare_image(rgb, width=10, width_cm=5)
+
+
+def test_the_keywords_are_a_shorthand_for_the_grid_size():
+    """``width=40, unit_aspect=1.0`` is ``size=GridSize(width=40, unit_aspect=1.0)``."""
+    from illuknit.core.errors import OptionError
+    from illuknit.pictures.sizing import GridSize
+
+    a = two_tone(100, 200)
+    by_keywords = size_pair(a, width=40, unit_aspect=1.0)
+    by_size = size_pair(a, size=GridSize(width=40, unit_aspect=1.0))
+    assert by_size.shape == by_keywords.shape == (20, 40)
+    assert np.array_equal(by_size.a, by_keywords.a)
+    assert prepare_image(a, size=GridSize(width=40), n_colors=2).indices.shape == (
+        prepare_image(a, width=40, n_colors=2).indices.shape
+    )
+    with pytest.raises(OptionError, match="widht"):
+        size_pair(a, widht=40)
+    with pytest.raises(ImageInputError, match="`width`"):
+        GridSize(width=0)

@@ -20,6 +20,7 @@ import sys
 import threading
 from collections.abc import AsyncIterator
 from contextlib import asynccontextmanager
+from dataclasses import dataclass
 from typing import Any
 
 from illuknit import __version__
@@ -29,45 +30,35 @@ from illuknit.core.errors import BackendUnavailableError
 __all__ = ["AppConfig", "create_app"]
 
 
+@dataclass(frozen=True, kw_only=True)
 class AppConfig:
     """Server limits. Defaults suit one designer on a laptop."""
 
-    def __init__(
-        self,
-        *,
-        max_upload_bytes: int = design.MAX_UPLOAD_BYTES,
-        max_sessions: int = 64,
-        max_session_bytes: int = 512 * 2**20,
-        session_ttl: float = 6 * 3600,
-        workers: int = 2,
-        isolate_knit: bool = True,
-        isolate_search: bool | None = None,
-        allowed_hosts: tuple[str, ...] = (),
-        data_dir: str | os.PathLike[str] | None = None,
-        keep_days: float = 30.0,
-        keep_bytes: int = 2 * 2**30,
-    ) -> None:
-        self.max_upload_bytes = max_upload_bytes
-        self.max_sessions = max_sessions
-        #: Memory all sessions together may hold (pictures, results); least recently used first out.
-        self.max_session_bytes = max_session_bytes
-        self.session_ttl = session_ttl
-        self.workers = workers
-        self.isolate_knit = isolate_knit
-        #: Run the tile search in its own process, killed by Cancel (a solve may take seconds and
-        #: cannot be interrupted in-process); defaults to ``isolate_knit``.
-        self.isolate_search = isolate_knit if isolate_search is None else isolate_search
-        #: Host names besides the bound address that may reach the app (e.g. the machine's name
-        #: when it is shared on a network with ``--host 0.0.0.0``).
-        self.allowed_hosts = allowed_hosts
-        #: Folder the sessions are kept in (``illuknit app`` uses
-        #: :func:`~illuknit.app.store.default_data_dir` unless told ``--data-dir``); None keeps
-        #: them in memory only (stopping the server forgets them).
-        self.data_dir = data_dir
-        #: Retention of the folder: sessions unused for ``keep_days`` are deleted, and the least
-        #: recently used when all together pass ``keep_bytes``.
-        self.keep_days = keep_days
-        self.keep_bytes = keep_bytes
+    max_upload_bytes: int = design.MAX_UPLOAD_BYTES
+    max_sessions: int = 64
+    #: Memory all sessions together may hold (pictures, results); least recently used first out.
+    max_session_bytes: int = 512 * 2**20
+    session_ttl: float = 6 * 3600
+    workers: int = 2
+    isolate_knit: bool = True
+    #: Run the tile search in its own process, killed by Cancel (a solve may take seconds and
+    #: cannot be interrupted in-process); None (the default) follows ``isolate_knit``.
+    isolate_search: bool | None = None
+    #: Host names besides the bound address that may reach the app (e.g. the machine's name
+    #: when it is shared on a network with ``--host 0.0.0.0``).
+    allowed_hosts: tuple[str, ...] = ()
+    #: Folder the sessions are kept in (``illuknit app`` uses
+    #: :func:`~illuknit.app.store.default_data_dir` unless told ``--data-dir``); None keeps
+    #: them in memory only (stopping the server forgets them).
+    data_dir: str | os.PathLike[str] | None = None
+    #: Retention of the folder: sessions unused for ``keep_days`` are deleted, and the least
+    #: recently used when all together pass ``keep_bytes``.
+    keep_days: float = 30.0
+    keep_bytes: int = 2 * 2**30
+
+    def __post_init__(self) -> None:
+        if self.isolate_search is None:
+            object.__setattr__(self, "isolate_search", self.isolate_knit)
 
 
 def _require_web_stack() -> None:

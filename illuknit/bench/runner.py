@@ -38,6 +38,7 @@ from illuknit.bench.cells import Cell, base_row, execute_cell, finish_row
 from illuknit.bench.instances import Instance
 from illuknit.bench.methods import get_method
 from illuknit.bench.results import cell_dir, load_rows, prepare_results_dir, write_cell
+from illuknit.core.arguments import with_knobs
 from illuknit.core.errors import (
     BackendUnavailableError,
     ExecutorError,
@@ -46,7 +47,7 @@ from illuknit.core.errors import (
 )
 from illuknit.core.machine import DEFAULT_MACHINE_NAME, get_machine
 
-__all__ = ["EXECUTORS", "BenchRun", "run_bench", "sort_rows"]
+__all__ = ["EXECUTORS", "BenchOptions", "BenchRun", "run_bench", "sort_rows"]
 
 EXECUTORS = ("local", "dask")
 RETRY_STATUSES = ("skipped", "error")
@@ -146,21 +147,60 @@ def _iter_dask(cells: Sequence[Cell], client: Any, close: Callable[[], None] | N
             close()
 
 
+@dataclass(frozen=True)
+class BenchOptions:
+    """How :func:`run_bench` runs its cells.
+
+    Parameters
+    ----------
+    time_limit : float, optional
+        Seconds per cell, overriding each instance's own limit.
+    jobs : int
+        Parallel worker processes (1: run in this process).
+    executor : {"local", "dask"}
+        ``dask`` sends cells to a Dask cluster: the ``dask_client`` given to :func:`run_bench`,
+        or one at ``dask_address``, or a local cluster of ``jobs`` workers.
+    dask_address : str, optional
+        The Dask scheduler's address.
+    force : bool
+        Discard results of another version, and re-run every cell.
+    progress : bool
+        Show a progress bar (rich, on stderr).
+    write_outputs : bool
+        Write results.csv/json, summary.md, contact sheets and the plot at the end (also after an
+        interruption, for the cells finished so far).
+    machine : str, optional
+        Preset name of the knitting machine patterns are knit on for the pass counts and times
+        (default ``generic540``); unknown names raise before anything runs.
+    """
+
+    time_limit: float | None = None
+    jobs: int = 1
+    executor: str = "local"
+    dask_address: str | None = None
+    force: bool = False
+    progress: bool = True
+    write_outputs: bool = True
+    machine: str | None = None
+
+    def __post_init__(self) -> None:
+        if self.executor not in EXECUTORS:
+            raise UnknownNameError("executor", self.executor, EXECUTORS)
+        if not isinstance(self.jobs, int) or self.jobs < 1:
+            raise OptionError(f"`jobs` must be a positive integer, got {self.jobs!r}")
+        if self.time_limit is not None and not self.time_limit > 0:
+            raise OptionError(f"`time_limit` must be positive seconds, got {self.time_limit!r}")
+
+
 def run_bench(
     instances: Sequence[Instance],
     methods: Sequence[str],
     outdir: str | Path,
     *,
-    time_limit: float | None = None,
-    jobs: int = 1,
-    executor: str = "local",
-    force: bool = False,
-    progress: bool = True,
+    options: BenchOptions | None = None,
     dask_client: Any = None,
-    dask_address: str | None = None,
     on_cell: Callable[[dict[str, Any]], None] | None = None,
-    write_outputs: bool = True,
-    machine: str | None = None,
+    **knobs: Any,
 ) -> BenchRun:
     """Run every instance x method cell not already finished in ``outdir``, then write outputs.
 
@@ -172,32 +212,26 @@ def run_bench(
         runs.
     outdir : path
         Results folder (see the module docstring); reused cells are not run again.
-    time_limit : float, optional
-        Seconds per cell, overriding each instance's own limit.
-    jobs : int
-        Parallel worker processes (1: run in this process).
-    executor : {"local", "dask"}
-        ``dask`` sends cells to a Dask cluster: ``dask_client``, or one at ``dask_address``, or a
-        local cluster of ``jobs`` workers.
-    force : bool
-        Discard results of another version, and re-run every cell.
-    progress : bool
-        Show a progress bar (rich, on stderr).
+    options : BenchOptions, optional
+        How to run (time limit, jobs, executor, force, progress bar, outputs, machine; defaults:
+        ``BenchOptions()``).
+    dask_client : distributed.Client, optional
+        The Dask client of ``executor="dask"`` (else one is made, see :class:`BenchOptions`).
     on_cell : callable, optional
         Called with each finished row (after it is saved).
-    write_outputs : bool
-        Write results.csv/json, summary.md, contact sheets and the plot at the end (also after an
-        interruption, for the cells finished so far).
-    machine : str, optional
-        Preset name of the knitting machine patterns are knit on for the pass counts and times
-        (default ``generic540``); unknown names raise before anything runs.
+    **knobs
+        Shorthand for fields of ``options`` (``run_bench(i, m, out, jobs=2)`` is
+        ``run_bench(i, m, out, options=BenchOptions(jobs=2))``).
 
     Returns
     -------
     BenchRun
         ``rows`` holds every finished cell of the folder (this run's and earlier ones).
     """
-    knit_machine = _check_options(executor, jobs, time_limit, methods, machine)
+    opts = with_knobs(BenchOptions, options, knobs, what="bench")
+    executor, jobs, time_limit, force = opts.executor, opts.jobs, opts.time_limit, opts.force
+    knit_machine = _check_options(methods, opts.machine)
+    dask_address, progress, write_outputs = opts.dask_address, opts.progress, opts.write_outputs
     close = None
     if executor == "dask" and dask_client is None:
         dask_client, close = _connect_dask(dask_address, jobs)
@@ -261,16 +295,9 @@ def _plan(
     return run, todo
 
 
-def _check_options(
-    executor: str, jobs: int, time_limit: float | None, methods: Sequence[str], machine: str | None
-) -> str:
-    """Refuse bad options before any work (see :func:`run_bench`); the knitting machine's name."""
-    if executor not in EXECUTORS:
-        raise UnknownNameError("executor", executor, EXECUTORS)
-    if not isinstance(jobs, int) or jobs < 1:
-        raise OptionError(f"`jobs` must be a positive integer, got {jobs!r}")
-    if time_limit is not None and not time_limit > 0:
-        raise OptionError(f"`time_limit` must be positive seconds, got {time_limit!r}")
+def _check_options(methods: Sequence[str], machine: str | None) -> str:
+    """Refuse unknown methods and machines before any work (see :func:`run_bench`); the knitting
+    machine's name."""
     for m in methods:
         get_method(m)  # unknown names fail before any work
     knit_machine = (machine or DEFAULT_MACHINE_NAME).strip().lower()

@@ -31,10 +31,11 @@ from illuknit.bench.solver_runs import (
     flag_rows,
     run_solver_task,
 )
+from illuknit.core.arguments import with_knobs
 from illuknit.core.errors import BackendUnavailableError, ExecutorError, OptionError
 from illuknit.core.files import atomic_write_text
 
-__all__ = ["SolverTable", "bench_environment", "make_tasks", "run_solver_table"]
+__all__ = ["SolverRuns", "SolverTable", "bench_environment", "make_tasks", "run_solver_table"]
 
 
 @dataclass(frozen=True)
@@ -47,25 +48,56 @@ class SolverTable:
     environment: dict[str, Any] = field(default_factory=dict)
 
 
+@dataclass(frozen=True)
+class SolverRuns:
+    """How each run of :func:`make_tasks`' table is made.
+
+    Parameters
+    ----------
+    time_limit : float
+        Seconds per run.
+    memory_mb : float, optional
+        Memory limit of each run's process (None: none).
+    repeat : int
+        Runs of every combination, with seeds ``seed, seed + 1, ...``.
+    seed : int
+        The first run's seed.
+    """
+
+    time_limit: float = 10.0
+    memory_mb: float | None = None
+    repeat: int = 1
+    seed: int = 0
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.repeat, int) or self.repeat < 1:
+            raise OptionError(f"`repeat` must be a positive integer, got {self.repeat!r}")
+
+
 def make_tasks(
     instances: Sequence[Instance | PictureInstance],
     solvers: Sequence[str],
     *,
     models: Sequence[str] = ("logical",),
     warm_starts: Sequence[str] = ("none",),
-    time_limit: float = 10.0,
-    memory_mb: float | None = None,
     wcnf_files: Sequence[str] = (),
-    repeat: int = 1,
-    seed: int = 0,
+    runs: SolverRuns | None = None,
+    **knobs: Any,
 ) -> list[SolverTask]:
     """Every (instance, model, solver, warm start) combination, then every WCNF file x solver,
-    each ``repeat`` times with seeds ``seed, seed + 1, ...``.
+    each ``runs.repeat`` times with seeds ``runs.seed, runs.seed + 1, ...``.
 
-    Single-view instances get the single-view model once, whatever ``models`` says.
+    Single-view instances get the single-view model once, whatever ``models`` says. ``knobs``
+    are fields of ``runs`` (:class:`SolverRuns`: ``time_limit``, ``memory_mb``, ``repeat``,
+    ``seed``) as a shorthand.
     """
-    if not isinstance(repeat, int) or repeat < 1:
-        raise OptionError(f"`repeat` must be a positive integer, got {repeat!r}")
+    chosen = with_knobs(SolverRuns, runs, knobs, name="runs", what="run")
+    time_limit, memory_mb, repeat, seed = (
+        chosen.time_limit,
+        chosen.memory_mb,
+        chosen.repeat,
+        chosen.seed,
+    )
     extra: dict[str, Any] = {} if memory_mb is None else {"memory_mb": memory_mb}
     tasks = []
     for k in range(repeat):

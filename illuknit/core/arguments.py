@@ -46,6 +46,7 @@ __all__ = [
     "check_unit_aspect",
     "check_views",
     "got",
+    "with_knobs",
 ]
 
 T = TypeVar("T")
@@ -261,3 +262,25 @@ def check_array(
         if integer and not (arr == np.round(arr)).all():
             raise error(f"`{name}` must hold whole numbers (indices), got fractions")
     return arr
+
+
+def with_knobs(
+    cls: type[T], options: T | None, knobs: Mapping[str, Any], *, name: str = "options", what: str
+) -> T:
+    """``options`` (default ``cls()``, a frozen dataclass) with the shorthand ``knobs`` in place
+    of its fields: the keywords a function takes beside its option object
+    (``assign_tiles(qa, qb, candidates=3)``), validated once by ``cls``. ``options`` of another
+    type, and a keyword that is no field of ``cls``, are refused with an
+    :class:`~illuknit.core.errors.OptionError` naming them (``what`` says whose option it is
+    not: "unknown {what} option 'x'; valid: ...")."""
+    from dataclasses import fields, replace
+
+    if options is not None and not isinstance(options, cls):
+        kind = f"{_article(cls.__name__)} {cls.__name__}"
+        raise OptionError(f"`{name}` must be {kind}, got {type(options).__name__}")
+    names = [f.name for f in fields(cls)]  # type: ignore[arg-type]
+    unknown = sorted(set(knobs) - set(names))
+    if unknown:
+        raise OptionError(f"unknown {what} option {unknown[0]!r}; valid: {', '.join(names)}")
+    base = cls() if options is None else options
+    return replace(base, **knobs) if knobs else base  # type: ignore[type-var]

@@ -34,6 +34,9 @@ only in the message.
 
 from __future__ import annotations
 
+from dataclasses import dataclass, replace
+from typing import Any
+
 __all__ = [
     "AppRequestError",
     "BackendUnavailableError",
@@ -41,6 +44,7 @@ __all__ = [
     "CarrierShortageError",
     "DatFormatError",
     "ExecutorError",
+    "FloatSpan",
     "IlluknitError",
     "ImageInputError",
     "InfeasibleError",
@@ -183,35 +187,47 @@ class CarrierShortageError(SchedulingError):
         self.available = available
 
 
+@dataclass(frozen=True)
+class FloatSpan:
+    """One float of a knitted course: ``length`` needles skipped by ``carrier`` from
+    ``from_needle`` to ``to_needle``, in course ``course`` (None at the bind-off)."""
+
+    length: int
+    carrier: str
+    from_needle: int
+    to_needle: int
+    course: int | None
+
+
 class LongFloatError(SchedulingError):
     """A float stays longer than the machine's float limit after tucking, and long floats were not
     allowed (``allow_long_floats=False``, the default; ``--allow-long-floats`` on the CLI).
 
-    The message names where the longest float is and what to change. Attributes describe that
-    float: ``length`` (needles skipped), ``carrier``, ``from_needle``, ``to_needle``, ``course``
-    (the course index, None at the bind-off) and ``where`` (the course named as the message names
-    it); ``limit`` is the float limit and ``count`` how many floats stay long.
+    The message names where the longest float is and what to change. ``span`` is that float
+    (:class:`FloatSpan`), its fields also attributes of the error: ``length`` (needles skipped),
+    ``carrier``, ``from_needle``, ``to_needle``, ``course`` (the course index, None at the
+    bind-off); ``where`` is the course named as the message names it, ``limit`` the float limit
+    and ``count`` how many floats stay long. The span's fields may be given as keywords instead
+    of ``span``.
     """
 
     def __init__(
         self,
         message: str,
         *,
-        length: int,
-        carrier: str,
-        from_needle: int,
-        to_needle: int,
-        course: int | None,
+        span: FloatSpan | None = None,
         where: str,
         limit: int,
         count: int,
+        **span_fields: Any,
     ) -> None:
         super().__init__(message)
-        self.length = length
-        self.carrier = carrier
-        self.from_needle = from_needle
-        self.to_needle = to_needle
-        self.course = course
+        self.span = replace(span, **span_fields) if span is not None else FloatSpan(**span_fields)
+        self.length = self.span.length
+        self.carrier = self.span.carrier
+        self.from_needle = self.span.from_needle
+        self.to_needle = self.span.to_needle
+        self.course = self.span.course
         self.where = where
         self.limit = limit
         self.count = count

@@ -12,12 +12,14 @@ from __future__ import annotations
 import json
 import os
 from collections.abc import Mapping
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
 
+from illuknit.core.arguments import check_instance, check_str, with_knobs
 from illuknit.core.files import atomic_write_text
 from illuknit.core.gauge import Gauge, finished_size
 from illuknit.core.pattern import LogicalPattern, save_pattern
@@ -27,7 +29,7 @@ from illuknit.outputs.chart import chart_png_rgb, written_instructions
 from illuknit.outputs.previews import save_png, unit_scale, upscale, write_previews
 from illuknit.pictures.images import QuantisedImage
 
-__all__ = ["export_pattern", "pattern_stats"]
+__all__ = ["ExportOptions", "export_pattern", "pattern_stats"]
 
 
 def pattern_stats(pattern: LogicalPattern) -> dict[str, Any]:
@@ -47,28 +49,56 @@ def pattern_stats(pattern: LogicalPattern) -> dict[str, Any]:
     }
 
 
+@dataclass(frozen=True)
+class ExportOptions:
+    """How :func:`export_pattern` lays the knitter's documents out.
+
+    Parameters
+    ----------
+    title : str, optional
+        The title of the instructions and ``pattern.pdf`` (a generic one when None).
+    gauge : Gauge, optional
+        The finished fabric's (default: the default machine's,
+        :attr:`~illuknit.core.machine.MachineSpec.fabric_gauge`); it sets the finished size
+        written in the report and instructions and the proportions of the previews.
+    chart : str
+        What a square of ``pattern.pdf``'s chart is
+        (:data:`~illuknit.outputs.pattern_pdf.CHART_KINDS`).
+    """
+
+    title: str | None = None
+    gauge: Gauge | None = None
+    chart: str = "units"
+
+    def __post_init__(self) -> None:
+        if self.title is not None:
+            check_str(self.title, "title")
+        if self.gauge is not None:
+            check_instance(self.gauge, Gauge, "gauge")
+        check_str(self.chart, "chart")
+
+
 def export_pattern(
     pattern: LogicalPattern,
     outdir: str | os.PathLike[str],
     *,
     quantised: Mapping[str, QuantisedImage] | None = None,
     report: Mapping[str, Any] | None = None,
-    title: str | None = None,
     targets: Mapping[str, ArrayLike] | None = None,
-    gauge: Gauge | None = None,
+    options: ExportOptions | None = None,
     progress: Report | None = None,
-    chart: str = "units",
+    **knobs: Any,
 ) -> dict[str, Path]:
     """Write the pattern, previews, chart, instructions, legend and report into ``outdir``.
 
     ``outdir`` should be a fresh folder (use :func:`illuknit.core.files.staged_dir` so a failure
-    leaves nothing behind). ``gauge`` is the finished fabric's (default: the default machine's,
-    :attr:`~illuknit.core.machine.MachineSpec.fabric_gauge`); it sets the finished size written
-    in the report and instructions and the proportions of the previews. ``chart`` is what a
-    square of ``pattern.pdf``'s chart is (:data:`~illuknit.outputs.pattern_pdf.CHART_KINDS`). ``progress(fraction,
-    message)`` hears how far it is (:func:`illuknit.core.progress.work_bar`). Returns name ->
-    path of everything written.
+    leaves nothing behind). ``options`` (:class:`ExportOptions`; its fields ``title``,
+    ``gauge`` and ``chart`` may be given as keywords instead) lays the documents out.
+    ``progress(fraction, message)`` hears how far it is (:func:`illuknit.core.progress.work_bar`).
+    Returns name -> path of everything written.
     """
+    opts = with_knobs(ExportOptions, options, knobs, what="export")
+    title, gauge, chart = opts.title, opts.gauge, opts.chart
     say: Report = progress or (lambda fraction, message: None)
     if gauge is None:
         from illuknit.core.machine import DEFAULT_MACHINE

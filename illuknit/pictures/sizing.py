@@ -34,13 +34,16 @@ pictures give the same grid everywhere. The policy:
 
 from __future__ import annotations
 
+import numbers
 import os
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from illuknit.core.arguments import check_int, check_unit_aspect, got, with_knobs
 from illuknit.core.errors import ImageInputError, PictureSizeMismatchError
 from illuknit.core.gauge import STOCKINETTE_COURSE_ASPECT
 from illuknit.core.pattern import MAX_UNITS, Yarn
@@ -58,8 +61,10 @@ __all__ = [
     "ASPECT_TOLERANCE",
     "DEFAULT_MAX_WIDTH",
     "SMOOTH_ABOVE_COLORS",
+    "GridSize",
     "SizedPair",
     "grid_picture",
+    "grid_size",
     "grid_width",
     "prepare_image",
     "size_pair",
@@ -149,6 +154,44 @@ def _picture(source: str | os.PathLike[str] | ArrayLike) -> NDArray[np.float64]:
     return check_image(source)
 
 
+@dataclass(frozen=True)
+class GridSize:
+    """How big the unit grid is asked to be (step 1 and 2 of the module's policy).
+
+    Parameters
+    ----------
+    width, height : int, optional
+        Width and height in units (1 to ``MAX_UNITS``); see :func:`grid_width`.
+    width_cm, gauge : float, optional
+        Physical width in cm at ``gauge`` stitches per inch (default 7), instead of ``width``.
+    unit_aspect : float
+        Height over width of one unit as knitted (:attr:`illuknit.core.gauge.Gauge.unit_aspect`);
+        1.0 for square units.
+    """
+
+    width: int | None = None
+    height: int | None = None
+    width_cm: float | None = None
+    gauge: float | None = None
+    unit_aspect: float = STOCKINETTE_COURSE_ASPECT
+
+    def __post_init__(self) -> None:
+        for label in ("width", "height"):
+            if getattr(self, label) is not None:
+                check_int(getattr(self, label), label, min=1, max=MAX_UNITS, error=ImageInputError)
+        for label in ("width_cm", "gauge"):
+            v = getattr(self, label)
+            if v is not None and (isinstance(v, bool) or not isinstance(v, numbers.Real)):
+                raise ImageInputError(f"`{label}` must be a number, got {got(v)}")
+        check_unit_aspect(self.unit_aspect)
+
+
+def grid_size(size: GridSize | None, knobs: dict[str, Any]) -> GridSize:
+    """``size`` (default ``GridSize()``) with the shorthand ``knobs`` in place of its fields
+    (:func:`~illuknit.core.arguments.with_knobs`)."""
+    return with_knobs(GridSize, size, knobs, name="size", what="grid size")
+
+
 def _name(source: object, default: str) -> str:
     return os.path.basename(source) if isinstance(source, (str, os.PathLike)) else default
 
@@ -180,14 +223,11 @@ def size_pair(
     a: str | os.PathLike[str] | ArrayLike,
     b: str | os.PathLike[str] | ArrayLike | None = None,
     *,
-    width: int | None = None,
-    height: int | None = None,
-    width_cm: float | None = None,
-    gauge: float | None = None,
+    size: GridSize | None = None,
     stretch: bool = False,
     smooth: bool | None = None,
     names: tuple[str, str] = ("A", "B"),
-    unit_aspect: float = STOCKINETTE_COURSE_ASPECT,
+    **knobs: Any,
 ) -> SizedPair:
     """Resample picture A (and B) to one unit grid under the module's policy.
 
@@ -196,17 +236,18 @@ def size_pair(
     a, b : path or array_like of shape (H, W, 3)
         The pictures: files (read by :func:`~illuknit.pictures.images.load_image`, and named by their
         file names in messages) or sRGB arrays (uint8 or floats in [0, 1]); ``b`` may be None.
-    width, height, width_cm, gauge
-        The grid size; see :func:`grid_width`.
+    size : GridSize, optional
+        The grid size asked for (``width``, ``height``, ``width_cm``, ``gauge``,
+        ``unit_aspect``; see :func:`grid_width`); defaults: ``GridSize()``.
     stretch : bool
         Stretch a B that does not cover A's piece onto A's grid instead of raising.
     smooth : bool, optional
         Force smooth (True) or nearest-neighbour (False) resampling for both pictures.
     names : (str, str)
         How error messages and notes name array pictures (files are named by their file names).
-    unit_aspect : float
-        Height over width of one unit as knitted (:attr:`illuknit.core.gauge.Gauge.unit_aspect`);
-        1.0 for square units.
+    **knobs
+        Shorthand for fields of ``size`` (``size_pair(a, width=40)`` is
+        ``size_pair(a, size=GridSize(width=40))``); they replace those fields of ``size``.
 
     Raises
     ------
@@ -215,9 +256,13 @@ def size_pair(
     ImageInputError
         A width or height out of range, or a picture that is not an image.
     """
+    grid = grid_size(size, knobs)
+    height, unit_aspect = grid.height, grid.unit_aspect
     names = (_name(a, names[0]), _name(b, names[1]))
     ra = _picture(a)
-    w = grid_width(ra.shape[1], width=width, width_cm=width_cm, gauge=gauge, height=height)
+    w = grid_width(
+        ra.shape[1], width=grid.width, width_cm=grid.width_cm, gauge=grid.gauge, height=height
+    )
     sized_a = resize_to_units(
         ra, width=w, height=height, smooth=_smooth(ra, smooth), unit_aspect=unit_aspect
     )
@@ -266,24 +311,14 @@ def grid_picture(rgb: ArrayLike, *, unit_aspect: float, scale: int = 8) -> NDArr
 def prepare_image(
     source: str | os.PathLike[str] | ArrayLike,
     *,
-    width: int | None = None,
-    height: int | None = None,
-    width_cm: float | None = None,
-    gauge: float | None = None,
+    size: GridSize | None = None,
     n_colors: int | None = None,
     yarns: Sequence[Yarn] | None = None,
     allow_quantise: bool = True,
     smooth: bool | None = None,
-    unit_aspect: float = STOCKINETTE_COURSE_ASPECT,
+    **knobs: Any,
 ) -> QuantisedImage:
-    """Load (if a path), size (:func:`size_picture`) and quantise one picture in one call."""
-    small = size_picture(
-        source,
-        width=width,
-        height=height,
-        width_cm=width_cm,
-        gauge=gauge,
-        smooth=smooth,
-        unit_aspect=unit_aspect,
-    )
+    """Load (if a path), size (:func:`size_pair`: ``size`` or its fields as keywords, and
+    ``smooth``) and quantise one picture in one call."""
+    small = size_pair(source, None, size=grid_size(size, knobs), smooth=smooth).a
     return quantise_image(small, n_colors=n_colors, yarns=yarns, allow_quantise=allow_quantise)

@@ -370,3 +370,18 @@ def test_a_solver_backend_missing_from_this_install_is_a_skipped_row(tmp_path, m
     by = {r["method"]: r for r in run.rows}
     assert by["rc2"]["status"] == "skipped" and "'rc2' is not available" in by["rc2"]["reason"]
     assert by["dp"]["status"] == "optimal"
+
+
+def test_the_keywords_are_a_shorthand_for_bench_options(tmp_path):
+    """``jobs=1, progress=False`` is ``options=BenchOptions(...)``; an unknown keyword is
+    refused, named, before anything runs."""
+    from illuknit.bench.runner import BenchOptions
+    from illuknit.core.errors import OptionError
+
+    quiet = BenchOptions(progress=False, write_outputs=False)
+    run = run_bench(instances()[:1], ["fake-copy"], tmp_path / "o", options=quiet)
+    again = run_bench(instances()[:1], ["fake-copy"], tmp_path / "o", progress=False)
+    assert run.ran == again.reused == ["tiny-a/fake-copy"]
+    with pytest.raises(OptionError, match="jobz"):
+        run_bench(instances(), ["fake-copy"], tmp_path / "r", jobz=2)
+    assert not (tmp_path / "r").exists()

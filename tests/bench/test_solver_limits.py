@@ -301,3 +301,14 @@ def test_a_knit_aware_claim_is_settled_by_its_lagrangian_bound_first():
     false = certify_claim(model, opt + 6, time_limit=20)
     assert (true.result, true.method) == ("certified", "Lagrangian lower bound")
     assert false.result == "refuted" and false.cost is not None and false.cost < opt + 6
+
+
+def test_the_keywords_are_a_shorthand_for_solver_runs(tiny):
+    from illuknit.bench.solver_table import SolverRuns
+    from illuknit.core.errors import OptionError
+
+    by_keywords = make_tasks([tiny], ["dp"], time_limit=5, repeat=2, seed=3)
+    by_runs = make_tasks([tiny], ["dp"], runs=SolverRuns(time_limit=5, repeat=2, seed=3))
+    assert by_runs == by_keywords
+    with pytest.raises(OptionError, match="repeats"):
+        make_tasks([tiny], ["dp"], repeats=2)

@@ -125,3 +125,25 @@ def test_pinned_units_keep_their_yarn_and_yarn_mix():
         optimise_design(ta, tb, YARNS, steps=2, mix="lab")
     with pytest.raises(OptionError, match="pinned"):
         optimise_design(ta, tb, YARNS, steps=2, pinned=np.full(ta.shape, 7))
+
+
+def test_the_keywords_are_a_shorthand_for_gradient_options():
+    """``steps=3, mix="yarn"`` is ``options=GradientOptions(steps=3, mix="yarn")``; a keyword
+    replaces the field of ``options``; an unknown one is refused, named."""
+    from illuknit.design.render.gradient_options import GradientOptions
+
+    ta, tb = _texts((6, 8))
+    by_keywords = optimise_design(ta, tb, YARNS, steps=3, mix="yarn")
+    by_options = optimise_design(ta, tb, YARNS, options=GradientOptions(steps=3, mix="yarn"))
+    overridden = optimise_design(
+        ta, tb, YARNS, options=GradientOptions(steps=9), steps=3, mix="yarn"
+    )
+    for res in (by_options, overridden):
+        assert np.array_equal(res.raised_soft, by_keywords.raised_soft)
+        assert np.array_equal(res.pattern.yarn, by_keywords.pattern.yarn)
+    with pytest.raises(OptionError, match="stepz"):
+        optimise_design(ta, tb, YARNS, stepz=3)
+    with pytest.raises(OptionError, match="`options`"):
+        optimise_design(ta, tb, YARNS, options={"steps": 3})
+    with pytest.raises(OptionError, match="`mix`"):
+        GradientOptions(mix="cmyk")

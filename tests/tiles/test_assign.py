@@ -221,3 +221,24 @@ def test_a_pool_past_its_time_stops_at_the_candidates_asked_for():
     assert len(assign_tiles(qa, qb, bank=bank, candidates=2, pool=50, pool_seconds=0)) == 2
     with pytest.raises(TileAssignmentError, match="pool"):
         assign_tiles(qa, qb, bank=bank, pool=0)
+
+
+def test_the_keywords_are_a_shorthand_for_assign_options():
+    """``candidates=2, brightness="soft"`` is ``options=AssignOptions(...)``; unknown keywords
+    and wrong values are refused, named."""
+    from illuknit.core.errors import OptionError
+    from illuknit.design.tiles.assign import AssignOptions
+
+    ia = np.array([[0, 1, 2], [2, 1, 0], [1, 2, 0]]).repeat(4, axis=0)
+    ib = np.array([[1, 0, 0], [0, 1, 1], [0, 0, 1]]).repeat(4, axis=0)
+    ca = np.array([[20, 20, 20], [128, 128, 128], [240, 240, 240]], np.uint8)
+    cb = np.array([[240, 240, 240], [20, 20, 20]], np.uint8)
+    bank = canonical_bank(Y2)
+    by_keywords = assign_tiles((ia, ca), (ib, cb), bank=bank, candidates=2, brightness="soft")
+    options = AssignOptions(candidates=2, brightness="soft")
+    by_options = assign_tiles((ia, ca), (ib, cb), bank=bank, options=options)
+    assert [t.score for t in by_options] == [t.score for t in by_keywords]
+    with pytest.raises(OptionError, match="candidatez"):
+        assign_tiles((ia, ca), (ib, cb), bank=bank, candidatez=2)
+    with pytest.raises(TileAssignmentError, match="`brightness`"):
+        AssignOptions(brightness="firm")

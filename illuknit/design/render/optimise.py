@@ -26,7 +26,6 @@ with probability ``t`` and of yarn ``k`` with probability ``p_k``).
 
 from __future__ import annotations
 
-import math
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
@@ -39,20 +38,22 @@ from numpy.typing import ArrayLike, NDArray
 from illuknit.core.arguments import (
     check_callable,
     check_instance,
-    check_int,
-    check_number,
-    check_seconds,
-    check_seed,
-    check_str,
 )
 from illuknit.core.colors import lab_from_rgb, linear_from_srgb
 from illuknit.core.errors import ImageInputError, OptionError, RenderParamsError, YarnSpecError
 from illuknit.core.pattern import LogicalPattern, Yarn, check_yarns
 from illuknit.core.views import View, can_see, logical_error
 from illuknit.design.render.grad import render_value_and_grad
+from illuknit.design.render.gradient_options import GradientOptions, gradient_options
 from illuknit.design.render.params import RenderParams
 
-__all__ = ["DesignResult", "DesignStep", "optimise_design", "targets_to_indices"]
+__all__ = [
+    "DesignResult",
+    "DesignStep",
+    "GradientOptions",
+    "optimise_design",
+    "targets_to_indices",
+]
 
 
 @dataclass(frozen=True)
@@ -218,17 +219,10 @@ def optimise_design(
     yarns: Sequence[Yarn],
     *,
     params: RenderParams | None = None,
-    steps: int = 200,
-    learning_rate: float = 0.2,
-    binary_weight: float = 0.1,
-    change_weight: float = 0.0,
-    raised_weight: float = 0.0,
-    final_temperature: float = 0.05,
-    mix: str = "rgb",
+    options: GradientOptions | None = None,
     pinned: ArrayLike | None = None,
-    seed: int = 0,
-    time_limit: float | None = None,
     callback: Callable[[DesignStep], None] | None = None,
+    **knobs: Any,
 ) -> DesignResult:
     """Optimise soft heights and yarns so renders at ±theta match two targets, then binarise.
 
@@ -240,128 +234,74 @@ def optimise_design(
         The palette (at least two yarns).
     params : RenderParams, optional
         Geometry and the viewing angle ``theta``.
-    steps, learning_rate : int, float
-        Adam steps, and the step size on the logits.
-    binary_weight : float
-        Final weight of the binariness penalty (ramped up from 0).
-    change_weight, raised_weight : float
-        Weights of the expected share of colour changes along courses (slow to knit) and of the
-        share of raised units (each bump costs knit/purl transfers).
-    final_temperature : float
-        Temperature at the last step (annealed from 1), in (0, 1].
-    mix : {"rgb", "yarn"}
-        What the renderer averages: the yarns' linear-light colours ("rgb": the error a viewer
-        sees, similar yarns count little), or the yarn probabilities themselves ("yarn": every
-        wrong yarn counts the same, as in the logical models; RGB targets are first mapped to
-        their nearest yarns).
+    options : GradientOptions, optional
+        How to optimise (steps, learning rate, weights, annealing, ``mix``, seed, time limit;
+        defaults: ``GradientOptions()``).
     pinned : ndarray of shape (N, M), int, optional
         Yarn fixed per unit, -1 where free.
-    seed : int
-        Seed of the small random initialisation.
-    time_limit : float, optional
-        Stop early after this many seconds.
     callback : callable, optional
         Called with a :class:`DesignStep` after every step.
+    **knobs
+        Shorthand for fields of ``options`` (``optimise_design(a, b, yarns, steps=50)`` is
+        ``optimise_design(a, b, yarns, options=GradientOptions(steps=50))``); they replace
+        those fields of ``options`` when both are given.
 
     Returns
     -------
     DesignResult
     """
     ta_raw, tb_raw = np.asarray(target_a), np.asarray(target_b)
-    yarns, params = _checked_arguments(
-        yarns,
-        params,
-        steps,
-        learning_rate,
-        binary_weight,
-        change_weight,
-        raised_weight,
-        final_temperature,
-        mix,
-        seed,
-        time_limit,
-        shapes=(ta_raw.shape, tb_raw.shape),
-    )
+    yarns, params = _checked_arguments(yarns, params, shapes=(ta_raw.shape, tb_raw.shape))
+    opts = gradient_options(options, knobs)
     check_callable(callback, "callback")
-    ia, ib, ta, tb, pal_lin, pin = _prepared_targets(ta_raw, tb_raw, yarns, mix=mix, pinned=pinned)
-    objective = _Objective(ta, tb, pal_lin, params, change_weight, raised_weight)
-    z, u, fixed = _initial_logits(ia, ib, len(yarns), pin, seed=seed)
+    ia, ib, ta, tb, pal_lin, pin = _prepared_targets(
+        ta_raw, tb_raw, yarns, mix=opts.mix, pinned=pinned
+    )
+    objective = _Objective(ta, tb, pal_lin, params, opts.change_weight, opts.raised_weight)
+    z, u, fixed = _initial_logits(ia, ib, len(yarns), pin, seed=opts.seed)
     start = time.perf_counter()
     history, tau = _descend(
-        objective,
-        z,
-        u,
-        fixed=fixed,
-        steps=steps,
-        learning_rate=learning_rate,
-        binary_weight=binary_weight,
-        final_temperature=final_temperature,
-        callback=callback,
-        time_limit=time_limit,
-        start=start,
+        objective, z, u, fixed=fixed, options=opts, callback=callback, start=start
     )
     meta = {
         "method": "gradient",
         "steps": len(history),
         "theta": params.theta,
-        "binary_weight": binary_weight,
-        "change_weight": change_weight,
-        "raised_weight": raised_weight,
-        "mix": mix,
-        "seed": seed,
+        "binary_weight": opts.binary_weight,
+        "change_weight": opts.change_weight,
+        "raised_weight": opts.raised_weight,
+        "mix": opts.mix,
+        "seed": opts.seed,
     }
-    return _binarised(objective, z, u, tau, binary_weight, (ia, ib), yarns, meta, history, start)
+    soft = (z, u, tau)
+    return _binarised(objective, soft, opts.binary_weight, (ia, ib), yarns, meta, history, start)
 
 
 def _checked_arguments(
     yarns: Sequence[Yarn],
     params: RenderParams | None,
-    steps: int,
-    learning_rate: float,
-    binary_weight: float,
-    change_weight: float,
-    raised_weight: float,
-    final_temperature: float,
-    mix: str,
-    seed: int,
-    time_limit: float | None,
     *,
     shapes: tuple[tuple[int, ...], tuple[int, ...]],
 ) -> tuple[tuple[Yarn, ...], RenderParams]:
-    """Check the types and ranges of :func:`optimise_design`'s arguments (a library error naming
-    each); the yarns as a tuple and the render parameters (the defaults when None)."""
+    """Check :func:`optimise_design`'s yarns, render parameters and target shapes (a library
+    error naming each); the yarns as a tuple and the render parameters (the defaults when None)."""
     check_yarns(yarns)
     if params is not None:
         check_instance(params, RenderParams, "params", error=RenderParamsError)
-    # bounds far beyond any useful value: they only refuse slips (10**30 steps never ends)
-    check_int(steps, "steps", min=1, max=100_000)
-    check_number(learning_rate, "learning_rate", min=0, max=100, min_open=True)
-    check_number(binary_weight, "binary_weight", min=0, max=1e6)
-    check_number(change_weight, "change_weight", min=0, max=1e6)
-    check_number(raised_weight, "raised_weight", min=0, max=1e6)
-    check_number(final_temperature, "final_temperature", min=0, min_open=True)
-    check_str(mix, "mix")
-    check_seed(seed)
-    check_seconds(time_limit, "time_limit")
     yarns = tuple(yarns)
     if len(yarns) < 2 or not all(isinstance(y, Yarn) for y in yarns):
         raise YarnSpecError("`yarns` must be a sequence of at least two Yarn")
-    _check_options(
-        steps=steps,
-        learning_rate=learning_rate,
-        binary_weight=binary_weight,
-        change_weight=change_weight,
-        final_temperature=final_temperature,
-        shapes=shapes,
-    )
+    sa, sb = shapes
+    if sa[:2] != sb[:2] or len(sa) < 2:
+        raise ImageInputError(
+            f"`target_a` and `target_b` must have the same (N, M) shape, got {sa} and {sb}"
+        )
     return yarns, RenderParams() if params is None else params
 
 
 def _binarised(
     objective: _Objective,
-    z: NDArray[np.float64],
-    u: NDArray[np.float64],
-    tau: float,
+    soft: tuple[NDArray[np.float64], NDArray[np.float64], float],
     binary_weight: float,
     targets: tuple[NDArray[Any], NDArray[Any]],
     yarns: tuple[Yarn, ...],
@@ -369,7 +309,9 @@ def _binarised(
     history: list[float],
     start: float,
 ) -> DesignResult:
-    """The soft design rounded to a pattern, and both scored by the same objective."""
+    """The soft design (logits ``z``, ``u`` at temperature ``tau``) rounded to a pattern, and
+    both scored by the same objective."""
+    z, u, tau = soft
     ia, ib = targets
     k = len(yarns)
     loss, render_err, _, _, t, p = objective(z, u, tau, binary_weight)
@@ -455,55 +397,25 @@ def _initial_logits(
     return z, u, fixed
 
 
-def _check_options(
-    *,
-    steps: object,
-    learning_rate: float,
-    binary_weight: float,
-    change_weight: float,
-    final_temperature: float,
-    shapes: tuple[tuple[int, ...], tuple[int, ...]],
-) -> None:
-    """Check :func:`optimise_design`'s target shapes, step count, weights and temperature."""
-    sa, sb = shapes
-    if sa[:2] != sb[:2] or len(sa) < 2:
-        raise ImageInputError(
-            f"`target_a` and `target_b` must have the same (N, M) shape, got {sa} and {sb}"
-        )
-    if isinstance(steps, bool) or not isinstance(steps, int) or steps < 1:
-        raise OptionError(f"`steps` must be a positive integer, got {steps!r}")
-    for name, v in (
-        ("learning_rate", learning_rate),
-        ("binary_weight", binary_weight),
-        ("change_weight", change_weight),
-    ):
-        if not math.isfinite(v) or v < 0 or (name == "learning_rate" and v == 0):
-            raise OptionError(
-                f"`{name}` must be a {'positive' if name == 'learning_rate' else 'non-negative'} number, got {v!r}"
-            )
-    if not 0 < final_temperature <= 1:
-        raise OptionError(f"`final_temperature` must lie in (0, 1], got {final_temperature!r}")
-
-
 def _descend(
     objective: _Objective,
     z: NDArray[np.float64],
     u: NDArray[np.float64],
     *,
     fixed: NDArray[np.bool_] | None,
-    steps: int,
-    learning_rate: float,
-    binary_weight: float,
-    final_temperature: float,
+    options: GradientOptions,
     callback: Callable[[DesignStep], None] | None,
-    time_limit: float | None,
     start: float,
 ) -> tuple[list[float], float]:
-    """Anneal and run Adam on the logits ``z`` and ``u`` (updated in place).
+    """Anneal and run Adam on the logits ``z`` and ``u`` (updated in place), as ``options`` say
+    (steps, learning rate, binariness weight, final temperature, time limit).
 
     Returns the objective at every step and the last temperature. ``fixed`` units' yarn logits
     keep their values (their gradient is masked).
     """
+    steps, learning_rate = options.steps, options.learning_rate
+    binary_weight, final_temperature = options.binary_weight, options.final_temperature
+    time_limit = options.time_limit
     params_vec = [z, u]
     mom = [np.zeros_like(z), np.zeros_like(u)]
     vel = [np.zeros_like(z), np.zeros_like(u)]

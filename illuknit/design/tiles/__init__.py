@@ -26,6 +26,7 @@ _API: dict[str, str] = {
     "bank_to_json": "illuknit.design.tiles.bank",
     "TileAssignment": "illuknit.design.tiles.assignment",
     "assign_tiles": "illuknit.design.tiles.assign",
+    "AssignOptions": "illuknit.design.tiles.assign",
     "TileReport": "illuknit.design.tiles.compile",
     "compile_tiles": "illuknit.design.tiles.compile",
     "repainted_indices": "illuknit.design.tiles.compile",

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import itertools
 from collections.abc import Sequence
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from typing import Any, Literal
 
 import numpy as np
@@ -27,6 +27,7 @@ from illuknit.core.arguments import (
     check_seconds,
     check_str,
     check_views,
+    with_knobs,
 )
 from illuknit.core.errors import ImageInputError, TileAssignmentError, TileBankError
 from illuknit.core.pattern import Yarn, check_yarns
@@ -51,6 +52,7 @@ from illuknit.design.tiles.phases import align_phases
 from illuknit.design.tiles.tile import Fill
 
 __all__ = [
+    "AssignOptions",
     "AssignmentWeights",
     "TileAssignment",
     "align_phases",
@@ -82,33 +84,14 @@ def _check_inputs(ra: Regions, rb: Regions, bank: TileBank, views: ViewPair) -> 
             )
 
 
-def assign_tiles(
-    qa: Any,
-    qb: Any,
-    *,
-    bank: TileBank | None = None,
-    yarns: Sequence[Yarn] | None = None,
-    candidates: int = 5,
-    pool: int | None = None,
-    pool_seconds: float | None = None,
-    brightness: Literal["hard", "soft"] = "hard",
-    solver: str = "cpsat",
-    time_limit: float | None = 10.0,
-    weights: AssignmentWeights | None = None,
-    views: ViewPair = ("A", "B"),
-    explain: bool = True,
-) -> list[TileAssignment]:
-    """The top ``candidates`` (up to ``pool``) tile assignments for a pair of quantised inputs,
-    best score first.
+@dataclass(frozen=True)
+class AssignOptions:
+    """How :func:`assign_tiles` searches: how many assignments, with which backend, how long.
 
     Parameters
     ----------
-    qa, qb : QuantisedImage or (indices (N, M), colors (K, 3))
-        The inputs seen from ``views[0]`` and ``views[1]`` (A from above, B from below).
-    bank : TileBank, optional
-        Defaults to :func:`canonical_bank` of ``yarns`` (or of ``qa.yarns`` + ``qb.yarns``).
     candidates : int
-        How many distinct assignments to return (fewer when fewer exist).
+        How many distinct assignments to return (fewer when fewer exist; 1 to 1000).
     pool : int, optional
         Search on past ``candidates`` for up to this many, to rank them by something the score
         does not see (:func:`illuknit.design.tiles.perception.rank_designs` ``keep=candidates``).
@@ -121,9 +104,65 @@ def assign_tiles(
         A backend name of :mod:`illuknit.solvers` ("cpsat", "rc2", ...).
     time_limit : float, optional
         Seconds per solve.
+
+    The design stages' :class:`~illuknit.design.options.SearchOptions` give theirs as
+    ``AssignOptions(**search.assign_kwargs())``.
+    """
+
+    candidates: int = 5
+    pool: int | None = None
+    pool_seconds: float | None = None
+    brightness: Literal["hard", "soft"] = "hard"
+    solver: str = "cpsat"
+    time_limit: float | None = 10.0
+
+    def __post_init__(self) -> None:
+        err = TileAssignmentError
+        check_int(self.candidates, "candidates", min=1, max=MAX_ASSIGNMENTS, error=err)
+        if self.pool is not None:
+            check_int(self.pool, "pool", min=1, max=MAX_ASSIGNMENTS, error=err)
+        if self.pool_seconds is not None:
+            check_number(self.pool_seconds, "pool_seconds", min=0, max=MAX_SECONDS, error=err)
+        check_str(self.brightness, "brightness")
+        check_str(self.solver, "solver")
+        check_seconds(self.time_limit, "time_limit")
+        if self.brightness not in ("hard", "soft"):
+            raise err(f"`brightness` must be 'hard' or 'soft', got {self.brightness!r}")
+
+
+def assign_tiles(
+    qa: Any,
+    qb: Any,
+    *,
+    bank: TileBank | None = None,
+    yarns: Sequence[Yarn] | None = None,
+    options: AssignOptions | None = None,
+    weights: AssignmentWeights | None = None,
+    views: ViewPair = ("A", "B"),
+    explain: bool = True,
+    **knobs: Any,
+) -> list[TileAssignment]:
+    """The top ``candidates`` (up to ``pool``) tile assignments for a pair of quantised inputs,
+    best score first.
+
+    Parameters
+    ----------
+    qa, qb : QuantisedImage or (indices (N, M), colors (K, 3))
+        The inputs seen from ``views[0]`` and ``views[1]`` (A from above, B from below).
+    bank : TileBank, optional
+        Defaults to :func:`canonical_bank` of ``yarns`` (or of ``qa.yarns`` + ``qb.yarns``).
+    options : AssignOptions, optional
+        How to search (``candidates``, ``pool``, ``pool_seconds``, ``brightness``, ``solver``,
+        ``time_limit``; defaults: ``AssignOptions()``).
     weights : AssignmentWeights, optional
     views : pair of str
         ``("A", "B")`` for double view; ``("headon", "side")`` for the head-on variant.
+    explain : bool
+        When nothing fits, say which overlap pairs cannot be realised (one more solve each).
+    **knobs
+        Shorthand for fields of ``options`` (``assign_tiles(qa, qb, candidates=3)`` is
+        ``assign_tiles(qa, qb, options=AssignOptions(candidates=3))``); they replace those
+        fields of ``options`` when both are given.
 
     Returns
     -------
@@ -142,16 +181,7 @@ def assign_tiles(
         check_instance(bank, TileBank, "bank", error=TileBankError)
     if yarns is not None:
         check_yarns(yarns)
-    check_int(candidates, "candidates", min=1, max=MAX_ASSIGNMENTS, error=TileAssignmentError)
-    if pool is not None:
-        check_int(pool, "pool", min=1, max=MAX_ASSIGNMENTS, error=TileAssignmentError)
-    if pool_seconds is not None:
-        check_number(
-            pool_seconds, "pool_seconds", min=0, max=MAX_SECONDS, error=TileAssignmentError
-        )
-    check_str(brightness, "brightness")
-    check_str(solver, "solver")
-    check_seconds(time_limit, "time_limit")
+    opts = with_knobs(AssignOptions, options, knobs, what="assignment")
     if weights is not None:
         check_instance(weights, AssignmentWeights, "weights")
     check_views(views)
@@ -159,22 +189,16 @@ def assign_tiles(
     ra, rb = regions_of(qa, name="qa"), regions_of(qb, name="qb")
     if bank is None:
         bank = canonical_bank(_default_yarns(qa, qb, yarns), views=views)
-    if not isinstance(candidates, int) or candidates < 1:
-        raise TileAssignmentError(f"`candidates` must be a positive integer, got {candidates!r}")
-    if pool is not None and (not isinstance(pool, int) or pool < 1):
-        raise TileAssignmentError(f"`pool` must be a positive integer, got {pool!r}")
-    if brightness not in ("hard", "soft"):
-        raise TileAssignmentError(f"`brightness` must be 'hard' or 'soft', got {brightness!r}")
     _check_inputs(ra, rb, bank, views)
-    prob = _build_problem(ra, rb, bank, views, brightness, weights or AssignmentWeights())
+    prob = _build_problem(ra, rb, bank, views, opts.brightness, weights or AssignmentWeights())
     return _solve_candidates(
         prob,
-        candidates,
-        solver,
-        time_limit,
+        opts.candidates,
+        opts.solver,
+        opts.time_limit,
         explain=explain,
-        pool=max(candidates, pool or 0),
-        pool_seconds=pool_seconds,
+        pool=max(opts.candidates, opts.pool or 0),
+        pool_seconds=opts.pool_seconds,
     )
 
 

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import inspect
 from collections.abc import Sequence
+from dataclasses import fields
 from typing import Any
 
 import numpy as np
@@ -24,7 +25,7 @@ import numpy as np
 from illuknit.core.arguments import check_instance, check_int
 from illuknit.core.errors import TileAssignmentError, TileBankError, UnknownNameError
 from illuknit.core.pattern import Yarn, check_yarns
-from illuknit.design.tiles.assign import MAX_ASSIGNMENTS, _yarns_of, assign_tiles
+from illuknit.design.tiles.assign import MAX_ASSIGNMENTS, AssignOptions, _yarns_of, assign_tiles
 from illuknit.design.tiles.assignment import TileAssignment, regions_of
 from illuknit.design.tiles.bank import TileBank, ViewPair, canonical_bank
 
@@ -91,7 +92,8 @@ def assign_headon(
         regions_of(side, name="side")
     if "views" in options:
         raise TileAssignmentError("assign_headon fixes `views` to ('headon', 'side')")
-    known = set(inspect.signature(assign_tiles).parameters) - {"qa", "qb", "views"}
+    known = set(inspect.signature(assign_tiles).parameters) - {"qa", "qb", "views", "knobs"}
+    known |= {f.name for f in fields(AssignOptions)}
     for name in options:
         if name not in known:
             raise UnknownNameError("assign_tiles option", name, sorted(known))

@@ -35,12 +35,13 @@ The API a user interface builds on:
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, fields, replace
 from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from illuknit.core.arguments import check_int, got, with_knobs
 from illuknit.core.errors import ImageInputError, OptionError
 from illuknit.design.tiles.assignment import Regions, regions_of
 from illuknit.design.tiles.picture_edits import (
@@ -55,6 +56,7 @@ __all__ = [
     "EDIT_KINDS",
     "EDIT_NAMES",
     "MIN_GAIN",
+    "EditOptions",
     "EditResult",
     "EditReview",
     "Suggestion",
@@ -387,6 +389,51 @@ class EditReview:
         return [r.to_json() for r in self.results]
 
 
+@dataclass(frozen=True)
+class EditOptions:
+    """Which edits :func:`review_edits` looks for (see :func:`suggest_edits`).
+
+    Parameters
+    ----------
+    max_colors : int, optional
+        The most colours a re-quantisation may use (the yarn count the designer allows); without
+        it only one colour fewer is suggested.
+    source_yarns : sequence of Yarn, optional
+        See :func:`requantise_pair`.
+    min_region, min_overlap : int
+        Sizes, in units, below which a region is merged / an overlap pair removed.
+    """
+
+    max_colors: int | None = None
+    source_yarns: tuple[Any, ...] | None = None
+    min_region: int = 4
+    min_overlap: int = 4
+
+    def __post_init__(self) -> None:
+        if self.max_colors is not None:
+            check_int(self.max_colors, "max_colors", min=1, max=MAX_COUNT)
+        if self.source_yarns is not None:
+            if isinstance(self.source_yarns, str) or not isinstance(self.source_yarns, Sequence):
+                raise OptionError(
+                    f"`source_yarns` must be a sequence of Yarn, got {got(self.source_yarns)}"
+                )
+            object.__setattr__(self, "source_yarns", tuple(self.source_yarns))
+        check_int(self.min_region, "min_region", min=1, max=MAX_COUNT)
+        check_int(self.min_overlap, "min_overlap", min=1, max=MAX_COUNT)
+
+    def as_keywords(self, sources: Sequence[ArrayLike] | None) -> dict[str, Any]:
+        """The keywords of :func:`suggest_edits` and :func:`apply_edits` these options set,
+        with the pictures' ``sources``."""
+        return dict(
+            sources=sources, max_colors=self.max_colors, source_yarns=self.source_yarns,
+            min_region=self.min_region, min_overlap=self.min_overlap,
+        )  # fmt: skip
+
+
+#: The most colours, or units of a region, an edit option counts: more is a slip.
+MAX_COUNT = 10**6
+
+
 def review_edits(
     a: Any,
     b: Any,
@@ -394,13 +441,10 @@ def review_edits(
     apply: bool,
     targets: Sequence[ArrayLike] | None = None,
     sources: Sequence[ArrayLike] | None = None,
-    max_colors: int | None = None,
-    source_yarns: Sequence[Any] | None = None,
+    edits: EditOptions | None = None,
     candidates: int = 5,
-    min_region: int = 4,
-    min_overlap: int = 4,
     progress: Callable[[float, str], None] | None = None,
-    **assign: Any,
+    **knobs: Any,
 ) -> EditReview:
     """Suggest edits of a pair of quantised pictures and measure each by its best design.
 
@@ -414,26 +458,33 @@ def review_edits(
         the unedited pictures and keep none (:func:`measure_edits`; ``--suggest``).
     targets : pair of ndarray of shape (N, M, 3), optional
         What the views should show; default the pictures ``a`` and ``b`` themselves.
-    sources, max_colors, source_yarns, min_region, min_overlap
+    sources : pair of ndarray of shape (N, M, 3), optional
         See :func:`suggest_edits`.
-    candidates, assign
-        Tile designs per measurement and the options of
-        :func:`~illuknit.design.tiles.assign.assign_tiles` (bank or yarns, solver, brightness, ...).
+    edits : EditOptions, optional
+        Which edits to look for (``max_colors``, ``source_yarns``, ``min_region``,
+        ``min_overlap``; defaults: ``EditOptions()``).
+    candidates : int
+        Tile designs per measurement.
     progress : callable, optional
         ``progress(fraction, message)`` is called before the edits are found and before each
         measurement (one tile search each), with a rising fraction in [0, 1) and what comes
         next. Whatever it raises stops the review and propagates: that is how a caller (the
         app's cancellable job) cancels it. The results do not depend on it.
+    **knobs
+        Fields of ``edits`` as a shorthand (``max_colors=4`` replaces that field), and the
+        options of :func:`~illuknit.design.tiles.assign.assign_tiles` each measurement's tile
+        search takes (bank or yarns, solver, brightness, ...).
     """
     from functools import partial
 
     ra, rb = _as_regions(a, "a"), _as_regions(b, "b")
     goal = list(targets) if targets is not None else [_rgb(ra), _rgb(rb)]
+    edit_fields = {f.name for f in fields(EditOptions)}
+    shorthand = {k: v for k, v in knobs.items() if k in edit_fields}
+    assign = {k: v for k, v in knobs.items() if k not in edit_fields}
+    chosen = with_knobs(EditOptions, edits, shorthand, name="edits", what="edit")
     measure: Measure = partial(best_reading, targets=goal, candidates=candidates, **assign)
-    options: dict[str, Any] = dict(
-        sources=sources, max_colors=max_colors, source_yarns=source_yarns,
-        min_region=min_region, min_overlap=min_overlap,
-    )  # fmt: skip
+    options = chosen.as_keywords(sources)
     if progress is not None:
         progress(0.0, "finding edits")
     found = [] if apply else suggest_edits(ra, rb, **options)
