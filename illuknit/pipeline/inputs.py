@@ -1,0 +1,142 @@
+"""The checks every design stage makes of its inputs, once, at its entry: the pictures, their
+sizes and yarns, the bank, the option objects, and the bed the grid must fit."""
+
+from __future__ import annotations
+
+import os
+import warnings
+from collections.abc import Mapping
+from dataclasses import replace
+from typing import TYPE_CHECKING, Any
+
+from illuknit.core.errors import ImageInputError, OptionError, YarnSpecError
+from illuknit.core.machine import BedFitWarning, MachineSpec, resolve_machine
+
+if TYPE_CHECKING:
+    from illuknit.core.pattern import LogicalPattern
+
+__all__ = [
+    "check_bank",
+    "check_fits",
+    "check_picture",
+    "check_sizes",
+    "check_type",
+    "check_yarns",
+    "fit_machine",
+    "fit_notes",
+    "source_name",
+    "unit_aspect_or_default",
+    "with_meta",
+]
+
+
+def fit_machine(knit_on: str | MachineSpec | None) -> MachineSpec | None:
+    from illuknit.core.arguments import check_instance
+
+    if knit_on is None:
+        return None
+    what = "a machine name or a MachineSpec"
+    return resolve_machine(check_instance(knit_on, (str, MachineSpec), "knit_on", what=what))
+
+
+def fit_notes(machine: str | MachineSpec | None, units: int) -> tuple[str, ...]:
+    """The design-time note on a grid ``units`` wide for ``machine`` (None: the default), as a
+    :class:`~illuknit.core.machine.BedFitWarning` too (the CLI prints it as one line)."""
+    note = resolve_machine(machine).fit_note(int(units))
+    if note is None:
+        return ()
+    warnings.warn(note, BedFitWarning, stacklevel=3)
+    return (note,)
+
+
+def check_fits(machine: MachineSpec | None, units: int | None) -> None:
+    """Refuse a pattern ``units`` wide that ``machine``'s bed cannot hold, before design work."""
+    if machine is not None and units is not None:
+        machine.check_units(units)
+
+
+def source_name(p: Any) -> str | None:
+    """How a picture is named in reports: its path, or None for an array."""
+    if isinstance(p, (str, bytes)) or hasattr(p, "__fspath__"):
+        return str(p)
+    return None
+
+
+def check_picture(value: Any, name: str, *, optional: bool = False) -> None:
+    """A picture argument: a file path or an sRGB array (None only when ``optional``)."""
+    from illuknit.core.arguments import check_array, check_path, got
+
+    if value is None:
+        if optional:
+            return
+        raise ImageInputError(f"`{name}` must be a picture (a file path or an RGB array), got None")
+    if isinstance(value, (str, os.PathLike)):
+        check_path(value, name)
+    elif not hasattr(value, "indices"):  # a QuantisedImage is checked where it is taken
+        try:
+            check_array(value, name, ndim=(2, 3))
+        except ImageInputError:
+            raise ImageInputError(
+                f"`{name}` must be a picture (a file path or an RGB array), got {got(value)}"
+            ) from None
+
+
+def check_sizes(**sizes: Any) -> None:
+    """Grid sizes in units (``width``, ``height``: 1-1000) and ``width_cm`` (> 0), or None."""
+    from illuknit.core.arguments import check_int, check_number
+
+    for name, value in sizes.items():
+        if value is None:
+            continue
+        if name == "width_cm":
+            check_number(value, name, min=0, min_open=True)
+        elif name == "gauge":  # stitches per inch: the finest machines knit about 20
+            check_number(value, name, min=0, max=100, min_open=True)
+        else:
+            check_int(value, name, min=1, max=1000)
+
+
+def check_yarns(yarns: Any, *, count_ok: bool) -> None:
+    """``yarns``: None, a sequence of Yarn, or (``count_ok``) how many to choose (1-8)."""
+    from illuknit.core.arguments import check_int, got
+    from illuknit.core.pattern import Yarn
+
+    if yarns is None:
+        return
+    if count_ok and isinstance(yarns, int) and not isinstance(yarns, bool):
+        check_int(yarns, "yarns", min=1, max=8, error=YarnSpecError)
+        return
+    if not isinstance(yarns, (list, tuple)) or not yarns:
+        what = "a number of yarns or a sequence of Yarn" if count_ok else "a sequence of Yarn"
+        raise YarnSpecError(f"`yarns` must be {what}, got {got(yarns)}")
+    if not all(isinstance(y, Yarn) for y in yarns):
+        raise YarnSpecError(f"`yarns` must hold Yarn objects, got {got(yarns)}")
+
+
+def check_bank(bank: Any) -> None:
+    from illuknit.core.arguments import got
+    from illuknit.design.tiles.bank import TileBank
+
+    if bank is not None and not isinstance(bank, (TileBank, str, os.PathLike)):
+        raise OptionError(f"`bank` must be a TileBank or a bank file, got {got(bank)}")
+
+
+def unit_aspect_or_default(unit_aspect: float | None) -> float:
+    """``unit_aspect`` for the sizing functions, checked; None is a stocking-stitch unit (the
+    finished piece keeps the picture's proportions)."""
+    from illuknit.core.arguments import check_unit_aspect
+    from illuknit.core.gauge import STOCKINETTE_COURSE_ASPECT
+
+    if unit_aspect is None:
+        return STOCKINETTE_COURSE_ASPECT
+    return check_unit_aspect(unit_aspect)
+
+
+def check_type(name: str, value: Any, cls: type) -> None:
+    if not isinstance(value, cls):
+        raise OptionError(f"`{name}` must be a {cls.__name__}, got {type(value).__name__}")
+
+
+def with_meta(pattern: LogicalPattern, meta: Mapping[str, Any]) -> LogicalPattern:
+    """``pattern`` with ``meta`` added to its metadata."""
+    return replace(pattern, meta={**pattern.meta, **meta})

@@ -1,0 +1,204 @@
+"""Searching and ranking tile designs: the tile assignments of a pair of quantised pictures
+(after the simplifying edits), compiled, measured and ranked into a
+:class:`~illuknit.pipeline.designs.TileDesign`."""
+
+from __future__ import annotations
+
+import functools
+from collections.abc import Sequence
+from types import MappingProxyType
+from typing import TYPE_CHECKING, Any, Literal
+
+from illuknit.core.errors import OptionError
+from illuknit.core.machine import resolve_machine
+from illuknit.design.options import PictureEdits, RankOptions, SearchOptions
+from illuknit.design.tiles.perception import KnitMeasure
+from illuknit.pipeline.designs import Progress, RankedDesign, TileDesign
+
+if TYPE_CHECKING:
+    from illuknit.core.pattern import Yarn
+    from illuknit.design.tiles.bank import TileBank, ViewPair
+
+__all__ = ["knit_measure", "rank_tiles", "search_tiles"]
+
+
+def knit_measure(ranking: RankOptions) -> KnitMeasure | None:
+    """What knitting a design costs on ``ranking.machine``, when the ranking needs it (knitting
+    time asked for, or the order is by knitting time)."""
+    from illuknit.design.options import RankBy
+    from illuknit.knitting.stats import knit_stats
+
+    if not (ranking.knit_time or ranking.rank_by is RankBy.KNIT_TIME):
+        return None
+    return functools.partial(knit_stats, machine=ranking.machine)
+
+
+def _reader(
+    mode: str, targets: Sequence[Any], ranking: RankOptions, gauge: float, params: Any
+) -> Any:
+    """The reader's verdict on designs of this pair (:func:`~illuknit.design.legibility.read_designs`
+    bound to its pictures and viewpoint), when the ranking asks for it; None otherwise."""
+    from illuknit.design.legibility import read_designs, reader_available, words_of
+    from illuknit.design.options import RankBy
+
+    legible = ranking.rank_by is RankBy.LEGIBILITY
+    if mode != "double":
+        if legible:
+            raise OptionError("ranking by legibility judges double-view designs (two pictures)")
+        return None
+    if not (ranking.read or legible):
+        return None
+    if not reader_available():
+        from illuknit.core.errors import BackendUnavailableError
+
+        raise BackendUnavailableError(
+            "reading the sides needs the tesseract OCR program (apt-get install tesseract-ocr); "
+            "rank by perception to design without it"
+        )
+    words = words_of(targets)
+
+    def read(patterns: Sequence[Any], measures: Sequence[Any]) -> list[Any]:
+        return read_designs(
+            patterns, targets, correlations=[m.readability for m in measures], words=words,
+            angle=ranking.angle, distance=ranking.distance, gauge=gauge, params=params,
+        )  # fmt: skip
+
+    return read
+
+
+def search_tiles(
+    qa: Any,
+    qb: Any,
+    mode: str,
+    views: ViewPair,
+    bank: TileBank,
+    search: SearchOptions,
+    sources: Any,
+    edit_colors: int,
+    say: Progress,
+) -> tuple[list[Any], list[Any]]:
+    """The tile assignments (by score), after the simplifying edits (and those edits)."""
+    from illuknit.design.tiles.assign import assign_tiles
+    from illuknit.design.tiles.headon import uniform_side
+    from illuknit.design.tiles.simplify import review_edits
+
+    kw = {"bank": bank, **search.assign_kwargs()}
+    first: Any = qa
+    second: Any = qb if qb is not None else uniform_side(qa)
+    edits: list[Any] = []
+    if search.edits is not PictureEdits.NONE:
+        if mode != "double" or sources is None:
+            raise OptionError(
+                "picture edits work on double-view designs of two pictures (give `sources`)"
+            )
+        review = review_edits(
+            qa,
+            qb,
+            apply=search.edits is PictureEdits.APPLY,
+            targets=[qa.rgb(), qb.rgb()],
+            sources=list(sources),
+            max_colors=edit_colors,
+            **kw,
+        )
+        first, second, edits = review.a, review.b, list(review.results)
+    what = "head-on" if mode == "headon" else f"{len(bank)} tiles in the bank"
+    say(0.1, f"finding tile mappings ({what})")
+    found = assign_tiles(
+        first,
+        second,
+        bank=bank,
+        views=views,
+        candidates=search.candidates,
+        pool=search.pool,
+        pool_seconds=search.pool_seconds,
+        solver=search.solver,
+        brightness=search.brightness.value,
+        time_limit=search.solve_seconds,
+    )
+    return found, edits
+
+
+def rank_tiles(
+    qa: Any,
+    qb: Any,
+    mode: Literal["double", "headon"],
+    views: tuple[str, str],
+    ys: tuple[Yarn, ...],
+    bank: TileBank,
+    found: list[Any],
+    edits: list[Any],
+    search: SearchOptions,
+    ranking: RankOptions,
+    say: Progress,
+) -> TileDesign:
+    """Compile, measure and rank the assignments into a :class:`TileDesign`."""
+    from illuknit.design.tiles.perception import rank_designs, rank_key, seen_blur, seen_targets
+
+    targets = seen_targets(qa, qb)
+    gauge = resolve_machine(ranking.machine).gauge
+    ranked = rank_designs(
+        found,
+        targets,
+        views=("A", "B") if mode == "double" else ("headon", "side"),
+        overrides=ranking.override_map,
+        rank_by=ranking.rank_by.value,
+        knit_time=knit_measure(ranking),
+        keep=search.candidates,
+        progress=lambda f, message: say(0.4 + 0.6 * f, message),
+        angle=ranking.angle,
+        blur=seen_blur(ranking.distance, gauge=gauge),
+        params=split_params(search),
+        read=_reader(mode, targets, ranking, gauge, split_params(search)),
+        made_for=ranking.made_for.value,
+    )
+    by = ranking.rank_by
+    hands = ranking.made_for.value == "hands"
+    designs = tuple(
+        RankedDesign(
+            rank=k + 1,
+            pattern=rc.pattern,
+            measures=rc.measures,
+            rank_key=tuple(
+                float(v) for v in rank_key(rc.measures, rc.assignment.score, by.value, hands=hands)
+            ),
+            rank_fields=ranking.key_fields,
+            assignment=rc.assignment,
+            report=rc.report,
+            score_rank=rc.score_rank,
+            label=_assignment_label(rc.assignment),
+            legibility=rc.legibility,
+        )
+        for k, rc in enumerate(ranked)
+    )
+    quantised = {"A": qa} if qb is None else {"A": qa, "B": qb}
+    return TileDesign(
+        mode=mode,
+        yarns=ys,
+        quantised=MappingProxyType(quantised),
+        views=views,
+        bank=bank,
+        targets=tuple(targets),
+        designs=designs,
+        searched=len(found),
+        edits=tuple(edits),
+        search=search,
+        ranking=ranking,
+    )
+
+
+def split_params(search: SearchOptions) -> Any:
+    """The renderer's parameters the designs are measured with: the default ones, with the
+    search's split share when split bumps are on (None: the defaults)."""
+    if not search.split_bumps:
+        return None
+    from illuknit.design.render.params import RenderParams
+
+    return RenderParams(split_share=search.split_share)
+
+
+def _assignment_label(assignment: Any) -> str:
+    kinds = [f.kind for f in (*assignment.fills_a, *assignment.fills_b) if f is not None]
+    stripes = sum(k != "solid" for k in kinds)
+    return (
+        "all solid fills" if not stripes else f"{stripes} striped fill{'s' if stripes > 1 else ''}"
+    )
