@@ -5,17 +5,18 @@ from __future__ import annotations
 
 import os
 import warnings
-from collections.abc import Mapping
-from dataclasses import replace
+from collections.abc import Collection, Mapping, Sequence
+from dataclasses import dataclass, fields, replace
 from typing import TYPE_CHECKING, Any
 
 from illuknit.core.errors import ImageInputError, OptionError, YarnSpecError
 from illuknit.core.machine import BedFitWarning, MachineSpec, resolve_machine
 
 if TYPE_CHECKING:
-    from illuknit.core.pattern import LogicalPattern
+    from illuknit.core.pattern import LogicalPattern, Yarn
 
 __all__ = [
+    "PictureOptions",
     "check_bank",
     "check_fits",
     "check_picture",
@@ -24,6 +25,7 @@ __all__ = [
     "check_yarns",
     "fit_machine",
     "fit_notes",
+    "picture_options",
     "source_name",
     "unit_aspect_or_default",
     "with_meta",
@@ -140,3 +142,66 @@ def check_type(name: str, value: Any, cls: type) -> None:
 def with_meta(pattern: LogicalPattern, meta: Mapping[str, Any]) -> LogicalPattern:
     """``pattern`` with ``meta`` added to its metadata."""
     return replace(pattern, meta={**pattern.meta, **meta})
+
+
+@dataclass(frozen=True, eq=False)
+class PictureOptions:
+    """How a stage makes its grid of the pictures: their size and their colours.
+
+    A stage takes these as ``pictures=PictureOptions(...)`` or, shorter, as keywords of their
+    own (``design_double(a, b, width=60)`` is ``design_double(a, b,
+    pictures=PictureOptions(width=60))``); a keyword replaces that field of ``pictures`` when
+    both are given. Each stage reads the fields it documents and refuses the others by name.
+    Values are checked by the stage that takes them, naming the field.
+
+    Attributes
+    ----------
+    width, height : int, optional
+        The grid's size in units (default: the picture's, at most 80 units wide).
+    width_cm : float, optional
+        The finished width, sized at ``gauge`` (single view).
+    gauge : float, optional
+        Stitches per inch ``width_cm`` is sized at (default: the machine's).
+    stretch : bool
+        Stretch a second picture of another shape onto the first's grid.
+    unit_aspect : float, optional
+        Height over width of a unit (default: a stocking-stitch unit).
+    n_colors : int, optional
+        The colours each picture is quantised to (the tile stages: 2 when None).
+    yarns : sequence of Yarn or int, optional
+        The yarns, or (tile stages) how many to choose from the pictures.
+    quantise : bool
+        Cluster a picture with more colours than yarns (else refuse it).
+    """
+
+    width: int | None = None
+    height: int | None = None
+    width_cm: float | None = None
+    gauge: float | None = None
+    stretch: bool = False
+    unit_aspect: float | None = None
+    n_colors: int | None = None
+    yarns: Sequence[Yarn] | int | None = None
+    quantise: bool = True
+
+
+def picture_options(
+    pictures: PictureOptions | None, knobs: Mapping[str, Any], *, takes: Collection[str]
+) -> PictureOptions:
+    """``pictures`` (default ``PictureOptions()``) with the shorthand ``knobs`` in place of its
+    fields; a knob or a field set that the stage does not take (``takes``) is refused by name."""
+    if pictures is not None:
+        check_type("pictures", pictures, PictureOptions)
+    base = PictureOptions() if pictures is None else pictures
+    names = {f.name for f in fields(PictureOptions)}
+    for name in knobs:
+        if name not in names:
+            raise OptionError(f"unknown picture option {name!r}; valid: {', '.join(sorted(takes))}")
+    opts = replace(base, **knobs) if knobs else base
+    default = PictureOptions()
+    for name in sorted(names - set(takes)):
+        if getattr(opts, name) != getattr(default, name):
+            raise OptionError(
+                f"`{name}` is not an option of this stage; it takes {', '.join(sorted(takes))}"
+            )
+    return opts

@@ -5,17 +5,19 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from types import MappingProxyType
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, cast
 
 from illuknit.core.machine import MachineSpec, resolve_machine
 from illuknit.pipeline.designs import Picture, RankedDesign, SingleDesign, Stripe
 from illuknit.pipeline.inputs import (
+    PictureOptions,
     check_fits,
     check_picture,
     check_sizes,
     check_yarns,
     fit_machine,
     fit_notes,
+    picture_options,
     unit_aspect_or_default,
 )
 
@@ -23,28 +25,29 @@ if TYPE_CHECKING:
     from illuknit.core.pattern import Yarn
     from illuknit.pictures.images import QuantisedImage
 
-__all__ = ["design_single"]
+__all__ = ["SINGLE_PICTURE_OPTIONS", "design_single"]
+
+#: What the single-view stage reads of :class:`~illuknit.pipeline.inputs.PictureOptions`.
+SINGLE_PICTURE_OPTIONS = (
+    "width", "height", "width_cm", "gauge", "unit_aspect", "n_colors", "yarns", "quantise",
+)  # fmt: skip
 
 
 def design_single(
     picture: Picture | QuantisedImage,
     *,
-    width: int | None = None,
-    height: int | None = None,
-    width_cm: float | None = None,
-    gauge: float | None = None,
-    unit_aspect: float | None = None,
-    yarns: Sequence[Yarn] | None = None,
-    n_colors: int | None = None,
-    quantise: bool = True,
+    pictures: PictureOptions | None = None,
     first: Stripe = "dark",
     knit_on: str | MachineSpec | None = None,
     machine: str | MachineSpec | None = None,
+    **knobs: Any,
 ) -> SingleDesign:
     """The single-view pattern of a 2- or 3-colour picture for each stripe order, ranked.
 
     ``picture`` is a file, an sRGB array (sized by ``width``/``height``/``width_cm`` at
-    ``gauge``, default the machine's, and quantised to ``n_colors`` or onto ``yarns``) or a
+    ``gauge``, default the machine's, with units ``unit_aspect`` high, and quantised to
+    ``n_colors`` or onto ``yarns``, unless ``quantise`` is off: the fields of ``pictures``,
+    :class:`~illuknit.pipeline.inputs.PictureOptions`, also taken as keywords) or a
     :class:`~illuknit.pictures.images.QuantisedImage` used as it is. The designs are ranked by the worse
     view's mismatch (:func:`~illuknit.design.single_view.single_view_errors`), the stripe order
     ``first`` first on a tie. With ``knit_on`` a picture wider than its bed is refused first.
@@ -56,6 +59,10 @@ def design_single(
     from illuknit.pictures.images import QuantisedImage
 
     meant_for = knit_on if machine is None else resolve_machine(machine)  # checked first
+    opts = picture_options(pictures, knobs, takes=SINGLE_PICTURE_OPTIONS)
+    width, height, width_cm, gauge = opts.width, opts.height, opts.width_cm, opts.gauge
+    n_colors, quantise = opts.n_colors, opts.quantise
+    yarns = cast("Sequence[Yarn] | None", opts.yarns)  # a count is refused below
     check_choice(first, "first", ("dark", "light"))
     if n_colors is not None:  # the 2 or 3 a single-view illusion shows: prepare_single_view_image
         check_int(n_colors, "n_colors", min=1, max=8)
@@ -76,7 +83,7 @@ def design_single(
             n_colors=n_colors,
             yarns=None if yarns is None else tuple(yarns),
             allow_quantise=quantise,
-            unit_aspect=unit_aspect_or_default(unit_aspect),
+            unit_aspect=unit_aspect_or_default(opts.unit_aspect),
         )
     check_fits(machine, q.indices.shape[1])
     orders: tuple[Stripe, Stripe] = (first, "light" if first == "dark" else "dark")

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from types import MappingProxyType
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 
@@ -15,6 +15,7 @@ from illuknit.core.machine import MachineSpec, resolve_machine
 from illuknit.design.options import ModelKind, SolveOptions
 from illuknit.pipeline.designs import Picture, SolvedDesign
 from illuknit.pipeline.inputs import (
+    PictureOptions,
     check_fits,
     check_picture,
     check_sizes,
@@ -22,6 +23,7 @@ from illuknit.pipeline.inputs import (
     check_yarns,
     fit_machine,
     fit_notes,
+    picture_options,
     source_name,
     unit_aspect_or_default,
     with_meta,
@@ -33,7 +35,10 @@ if TYPE_CHECKING:
     from illuknit.pictures.images import QuantisedImage
     from illuknit.solvers.base import ProgressCallback
 
-__all__ = ["illusion_model", "quantise_targets", "solve_design"]
+__all__ = ["SOLVE_PICTURE_OPTIONS", "illusion_model", "quantise_targets", "solve_design"]
+
+#: What the constraint-model stage reads of :class:`~illuknit.pipeline.inputs.PictureOptions`.
+SOLVE_PICTURE_OPTIONS = ("width", "stretch", "unit_aspect", "n_colors", "yarns", "quantise")
 
 
 def solve_design(
@@ -41,20 +46,19 @@ def solve_design(
     picture_b: Picture | None = None,
     *,
     options: SolveOptions | None = None,
-    n_colors: int | None = None,
-    yarns: Sequence[Yarn] | None = None,
-    width: int | None = None,
-    stretch: bool = False,
-    unit_aspect: float | None = None,
-    quantise: bool = True,
+    pictures: PictureOptions | None = None,
     knit_on: str | MachineSpec | None = None,
     progress: ProgressCallback | None = None,
     machine: str | MachineSpec | None = None,
+    **knobs: Any,
 ) -> SolvedDesign:
     """The pattern a constraint model and a solver find for one or two target pictures.
 
-    The pictures are sized to one grid and quantised jointly to ``n_colors`` yarns (or onto
-    ``yarns``; :func:`quantise_targets`), so a colour means the same yarn in both; the model
+    The pictures are sized to one grid (``width`` units; ``stretch`` a B of another shape onto
+    A's; units ``unit_aspect`` high) and quantised jointly to ``n_colors`` yarns (or onto
+    ``yarns``; ``quantise`` off refuses a picture with more colours; :func:`quantise_targets`):
+    the fields of ``pictures``, :class:`~illuknit.pipeline.inputs.PictureOptions`, also taken
+    as keywords), so a colour means the same yarn in both; the model
     (``options.model``: two pictures for ``logical`` and ``knit-aware``, one for ``single``) is
     solved by :func:`~illuknit.design.models.illusion_models.solve_illusion`. ``progress`` receives the
     solver's improvements. With ``knit_on`` a pattern wider than its bed is refused first;
@@ -72,8 +76,8 @@ def solve_design(
     check_type("options", options, SolveOptions)
     check_callable(progress, "progress")
     machine = None if machine is None else resolve_machine(machine)
-    qa, qb = _solve_targets(picture_a, picture_b, options, n_colors, yarns, width, stretch,
-                            quantise, knit_on, unit_aspect)  # fmt: skip
+    opts = picture_options(pictures, knobs, takes=SOLVE_PICTURE_OPTIONS)
+    qa, qb = _solve_targets((picture_a, picture_b), options, opts, knit_on)
     result = solve_illusion(
         qa.indices,
         None if qb is None else qb.indices,
@@ -116,13 +120,9 @@ def illusion_model(
     picture_b: Picture | None = None,
     *,
     options: SolveOptions | None = None,
-    n_colors: int | None = None,
-    yarns: Sequence[Yarn] | None = None,
-    width: int | None = None,
-    stretch: bool = False,
-    unit_aspect: float | None = None,
-    quantise: bool = True,
+    pictures: PictureOptions | None = None,
     knit_on: str | MachineSpec | None = None,
+    **knobs: Any,
 ) -> Model:
     """The constraint model :func:`solve_design` solves for the same arguments, unsolved (to
     export it, ``model.to_wcnf()``, or to hand it to :func:`illuknit.solvers.solve`)."""
@@ -130,8 +130,8 @@ def illusion_model(
 
     options = SolveOptions() if options is None else options
     check_type("options", options, SolveOptions)
-    qa, qb = _solve_targets(picture_a, picture_b, options, n_colors, yarns, width, stretch,
-                            quantise, knit_on, unit_aspect)  # fmt: skip
+    opts = picture_options(pictures, knobs, takes=SOLVE_PICTURE_OPTIONS)
+    qa, qb = _solve_targets((picture_a, picture_b), options, opts, knit_on)
     problem = make_problem(
         qa.indices,
         None if qb is None else qb.indices,
@@ -145,20 +145,17 @@ def illusion_model(
 
 
 def _solve_targets(
-    picture_a: Picture,
-    picture_b: Picture | None,
+    given: tuple[Picture, Picture | None],
     options: SolveOptions,
-    n_colors: int | None,
-    yarns: Sequence[Yarn] | None,
-    width: int | None,
-    stretch: bool,
-    quantise: bool,
+    opts: PictureOptions,
     knit_on: str | MachineSpec | None,
-    unit_aspect: float | None = None,
-) -> tuple[Any, Any]:
+) -> tuple[QuantisedImage, QuantisedImage | None]:
     """Check the pictures against the model and the bed, then :func:`quantise_targets`."""
     from illuknit.core.arguments import check_bool, check_int
 
+    picture_a, picture_b = given
+    n_colors, width = opts.n_colors, opts.width
+    yarns = cast("Sequence[Yarn] | None", opts.yarns)  # a count is refused below
     single = options.model is ModelKind.SINGLE
     check_picture(picture_a, "picture_a")
     check_picture(picture_b, "picture_b", optional=True)
@@ -166,8 +163,8 @@ def _solve_targets(
         check_int(n_colors, "n_colors", min=1, max=8)
     check_yarns(yarns, count_ok=False)
     check_sizes(width=width)
-    check_bool(stretch, "stretch")
-    check_bool(quantise, "quantise")
+    check_bool(opts.stretch, "stretch")
+    check_bool(opts.quantise, "quantise")
     if single and picture_b is not None:
         raise ImageInputError("the single model takes one picture (it is seen from both sides)")
     if not single and picture_b is None:
@@ -181,8 +178,8 @@ def _solve_targets(
     machine = fit_machine(knit_on)
     check_fits(machine, width)
     qa, qb = quantise_targets(
-        picture_a, picture_b, width=width, stretch=stretch, n_colors=n_colors, yarns=yarns,
-        quantise=quantise, unit_aspect=unit_aspect,
+        picture_a, picture_b, width=width, stretch=opts.stretch, n_colors=n_colors, yarns=yarns,
+        quantise=opts.quantise, unit_aspect=opts.unit_aspect,
     )  # fmt: skip
     check_fits(machine, qa.indices.shape[1])
     return qa, qb

@@ -42,6 +42,7 @@ from illuknit.pipeline.designs import (
     Stripe,
     TileDesign,
 )
+from illuknit.pipeline.inputs import PictureOptions
 from illuknit.pipeline.measure import measure_design, retile_design
 from illuknit.pipeline.single import design_single
 from illuknit.pipeline.solve import illusion_model, quantise_targets, solve_design
@@ -49,6 +50,7 @@ from illuknit.pipeline.tiles import design_double, design_headon, design_tiles
 
 __all__ = [
     "Picture",
+    "PictureOptions",
     "Progress",
     "RankedDesign",
     "SingleDesign",

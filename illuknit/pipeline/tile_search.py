@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import functools
 from collections.abc import Sequence
+from dataclasses import dataclass
 from types import MappingProxyType
 from typing import TYPE_CHECKING, Any, Literal
 
@@ -16,10 +17,15 @@ from illuknit.design.tiles.perception import KnitMeasure
 from illuknit.pipeline.designs import Progress, RankedDesign, TileDesign
 
 if TYPE_CHECKING:
-    from illuknit.core.pattern import Yarn
-    from illuknit.design.tiles.bank import TileBank, ViewPair
+    from numpy.typing import ArrayLike, NDArray
 
-__all__ = ["knit_measure", "rank_tiles", "search_tiles"]
+    from illuknit.core.pattern import Yarn
+    from illuknit.design.tiles.assignment import Regions, TileAssignment
+    from illuknit.design.tiles.bank import TileBank, ViewPair
+    from illuknit.design.tiles.simplify import EditResult
+    from illuknit.pictures.images import QuantisedImage
+
+__all__ = ["TileJob", "knit_measure", "rank_tiles", "search_tiles"]
 
 
 def knit_measure(ranking: RankOptions) -> KnitMeasure | None:
@@ -66,31 +72,45 @@ def _reader(
     return read
 
 
+@dataclass(frozen=True, eq=False)
+class TileJob:
+    """What searching and ranking the tile designs of one pair of pictures share: the
+    quantised pictures (``qb`` None: a head-on design without a side picture), the kind of
+    design and its views, the bank's yarns and the bank, the options, and who hears progress."""
+
+    qa: QuantisedImage
+    qb: QuantisedImage | None
+    mode: Literal["double", "headon"]
+    views: ViewPair
+    yarns: tuple[Yarn, ...]
+    bank: TileBank
+    search: SearchOptions
+    ranking: RankOptions
+    say: Progress
+
+
 def search_tiles(
-    qa: Any,
-    qb: Any,
-    mode: str,
-    views: ViewPair,
-    bank: TileBank,
-    search: SearchOptions,
-    sources: Any,
-    edit_colors: int,
-    say: Progress,
-) -> tuple[list[Any], list[Any]]:
+    job: TileJob, sources: Sequence[ArrayLike] | None, edit_colors: int
+) -> tuple[list[TileAssignment], list[EditResult]]:
     """The tile assignments (by score), after the simplifying edits (and those edits)."""
     from illuknit.design.tiles.assign import assign_tiles
     from illuknit.design.tiles.headon import uniform_side
     from illuknit.design.tiles.simplify import review_edits
 
+    qa, qb, search, bank = job.qa, job.qb, job.search, job.bank
     kw = {"bank": bank, **search.assign_kwargs()}
-    first: Any = qa
-    second: Any = qb if qb is not None else uniform_side(qa)
-    edits: list[Any] = []
+    # what the assignment is made for: the pictures, or the edited regions of them
+    first: QuantisedImage | Regions = qa
+    second: QuantisedImage | Regions | tuple[NDArray[Any], NDArray[Any]] = (
+        qb if qb is not None else uniform_side(qa)
+    )
+    edits: list[EditResult] = []
     if search.edits is not PictureEdits.NONE:
-        if mode != "double" or sources is None:
+        if job.mode != "double" or sources is None:
             raise OptionError(
                 "picture edits work on double-view designs of two pictures (give `sources`)"
             )
+        assert qb is not None  # a double view has two pictures (design_tiles checks)
         review = review_edits(
             qa,
             qb,
@@ -101,13 +121,13 @@ def search_tiles(
             **kw,
         )
         first, second, edits = review.a, review.b, list(review.results)
-    what = "head-on" if mode == "headon" else f"{len(bank)} tiles in the bank"
-    say(0.1, f"finding tile mappings ({what})")
+    what = "head-on" if job.mode == "headon" else f"{len(bank)} tiles in the bank"
+    job.say(0.1, f"finding tile mappings ({what})")
     found = assign_tiles(
         first,
         second,
         bank=bank,
-        views=views,
+        views=job.views,
         candidates=search.candidates,
         pool=search.pool,
         pool_seconds=search.pool_seconds,
@@ -119,21 +139,12 @@ def search_tiles(
 
 
 def rank_tiles(
-    qa: Any,
-    qb: Any,
-    mode: Literal["double", "headon"],
-    views: tuple[str, str],
-    ys: tuple[Yarn, ...],
-    bank: TileBank,
-    found: list[Any],
-    edits: list[Any],
-    search: SearchOptions,
-    ranking: RankOptions,
-    say: Progress,
+    job: TileJob, found: Sequence[TileAssignment], edits: Sequence[EditResult]
 ) -> TileDesign:
     """Compile, measure and rank the assignments into a :class:`TileDesign`."""
     from illuknit.design.tiles.perception import rank_designs, rank_key, seen_blur, seen_targets
 
+    qa, qb, mode, ranking, search = job.qa, job.qb, job.mode, job.ranking, job.search
     targets = seen_targets(qa, qb)
     gauge = resolve_machine(ranking.machine).gauge
     ranked = rank_designs(
@@ -144,7 +155,7 @@ def rank_tiles(
         rank_by=ranking.rank_by.value,
         knit_time=knit_measure(ranking),
         keep=search.candidates,
-        progress=lambda f, message: say(0.4 + 0.6 * f, message),
+        progress=lambda f, message: job.say(0.4 + 0.6 * f, message),
         angle=ranking.angle,
         blur=seen_blur(ranking.distance, gauge=gauge),
         params=split_params(search),
@@ -173,10 +184,10 @@ def rank_tiles(
     quantised = {"A": qa} if qb is None else {"A": qa, "B": qb}
     return TileDesign(
         mode=mode,
-        yarns=ys,
+        yarns=job.yarns,
         quantised=MappingProxyType(quantised),
-        views=views,
-        bank=bank,
+        views=job.views,
+        bank=job.bank,
         targets=tuple(targets),
         designs=designs,
         searched=len(found),

@@ -11,13 +11,12 @@ from dataclasses import replace
 from types import MappingProxyType
 from typing import TYPE_CHECKING, Any, Literal
 
-from numpy.typing import ArrayLike
-
 from illuknit.core.errors import ImageInputError, OptionError, YarnSpecError
 from illuknit.core.machine import MachineSpec
 from illuknit.design.options import RankOptions, SearchOptions
 from illuknit.pipeline.designs import Picture, Progress, TileDesign
 from illuknit.pipeline.inputs import (
+    PictureOptions,
     check_bank,
     check_fits,
     check_picture,
@@ -26,16 +25,17 @@ from illuknit.pipeline.inputs import (
     check_yarns,
     fit_machine,
     fit_notes,
+    picture_options,
     unit_aspect_or_default,
 )
-from illuknit.pipeline.tile_search import rank_tiles, search_tiles
+from illuknit.pipeline.tile_search import TileJob, rank_tiles, search_tiles
 
 if TYPE_CHECKING:
     from illuknit.core.pattern import Yarn
     from illuknit.design.tiles.bank import TileBank
     from illuknit.pictures.images import QuantisedImage
 
-__all__ = ["design_double", "design_headon", "design_tiles"]
+__all__ = ["TILE_PICTURE_OPTIONS", "design_double", "design_headon", "design_tiles"]
 
 
 def _tile_yarns(yarns: Sequence[Yarn] | int | None, n_colors: int, pictures: list[Any]) -> Any:
@@ -55,29 +55,32 @@ def _tile_yarns(yarns: Sequence[Yarn] | int | None, n_colors: int, pictures: lis
     return choose_yarns(pictures, n)
 
 
+#: What the tile stages read of :class:`~illuknit.pipeline.inputs.PictureOptions`.
+TILE_PICTURE_OPTIONS = ("width", "stretch", "unit_aspect", "n_colors", "yarns")
+
+
 def design_double(
     picture_a: Picture,
     picture_b: Picture,
     *,
-    n_colors: int = 2,
-    yarns: Sequence[Yarn] | int | None = None,
-    width: int | None = None,
-    stretch: bool = False,
-    unit_aspect: float | None = None,
+    pictures: PictureOptions | None = None,
     bank: TileBank | str | os.PathLike[str] | None = None,
     search: SearchOptions | None = None,
     ranking: RankOptions | None = None,
     knit_on: str | MachineSpec | None = None,
     progress: Progress | None = None,
+    **knobs: Any,
 ) -> TileDesign:
     """Ranked double-view tile designs: ``picture_a`` seen from above, ``picture_b`` from below.
 
-    The pictures are sized to one unit grid (:func:`~illuknit.pictures.sizing.size_pair`: ``width``
-    units, at most 80 by default; ``stretch`` a B of another shape onto A's), each quantised to
-    ``n_colors`` colours; the bank (default: the canonical bank) is made of ``yarns`` (a
-    sequence of Yarn, or how many to choose from the pictures; default ``n_colors``). Tile
-    assignments are searched (``search``) and ranked (``ranking``). With ``knit_on`` (a machine
-    name or spec) a pattern wider than its bed is refused before any design work.
+    The pictures (``pictures``, :class:`~illuknit.pipeline.inputs.PictureOptions`, or its fields
+    as keywords: ``width``, ``stretch``, ``unit_aspect``, ``n_colors``, ``yarns``) are sized to
+    one unit grid (:func:`~illuknit.pictures.sizing.size_pair`: ``width`` units, at most 80 by
+    default; ``stretch`` a B of another shape onto A's), each quantised to ``n_colors`` colours
+    (default 2); the bank (default: the canonical bank) is made of ``yarns`` (a sequence of
+    Yarn, or how many to choose from the pictures; default ``n_colors``). Tile assignments are
+    searched (``search``) and ranked (``ranking``). With ``knit_on`` (a machine name or spec) a
+    pattern wider than its bed is refused before any design work.
 
     Raises
     ------
@@ -86,78 +89,67 @@ def design_double(
     SchedulingError
         The pattern is wider than ``knit_on``'s bed.
     """
-    return _design_pictures(
-        "double", picture_a, picture_b, n_colors, yarns, width, stretch, bank, search, ranking,
-        knit_on, progress, unit_aspect=unit_aspect,
-    )  # fmt: skip
+    opts = picture_options(pictures, knobs, takes=TILE_PICTURE_OPTIONS)
+    tiles = {"bank": bank, "search": search, "ranking": ranking, "progress": progress}
+    return _design_pictures("double", (picture_a, picture_b), opts, knit_on, tiles)
 
 
 def design_headon(
     front: Picture,
     side: Picture | None = None,
     *,
-    n_colors: int = 2,
-    yarns: Sequence[Yarn] | int | None = None,
-    width: int | None = None,
-    stretch: bool = False,
-    unit_aspect: float | None = None,
+    pictures: PictureOptions | None = None,
     bank: TileBank | str | os.PathLike[str] | None = None,
     search: SearchOptions | None = None,
     ranking: RankOptions | None = None,
     knit_on: str | MachineSpec | None = None,
     progress: Progress | None = None,
+    **knobs: Any,
 ) -> TileDesign:
     """Ranked head-on tile designs: ``front`` seen looking straight at the fabric, ``side`` (or
     a plain field when None) at an angle from either end. Options as :func:`design_double`."""
-    return _design_pictures(
-        "headon", front, side, n_colors, yarns, width, stretch, bank, search, ranking, knit_on,
-        progress, unit_aspect=unit_aspect,
-    )  # fmt: skip
+    opts = picture_options(pictures, knobs, takes=TILE_PICTURE_OPTIONS)
+    tiles = {"bank": bank, "search": search, "ranking": ranking, "progress": progress}
+    return _design_pictures("headon", (front, side), opts, knit_on, tiles)
 
 
 def _design_pictures(
     mode: Literal["double", "headon"],
-    picture_a: Picture,
-    picture_b: Picture | None,
-    n_colors: int,
-    yarns: Sequence[Yarn] | int | None,
-    width: int | None,
-    stretch: bool,
-    bank: TileBank | str | os.PathLike[str] | None,
-    search: SearchOptions | None,
-    ranking: RankOptions | None,
+    given: tuple[Picture, Picture | None],
+    opts: PictureOptions,
     knit_on: str | MachineSpec | None,
-    progress: Progress | None,
-    *,
-    unit_aspect: float | None = None,
+    tiles: dict[str, Any],
 ) -> TileDesign:
-    """Size, quantise and choose the yarns, then :func:`design_tiles`."""
+    """Size, quantise and choose the yarns, then :func:`design_tiles` (with ``tiles``: the
+    bank, the search, the ranking and the progress)."""
     from illuknit.core.arguments import check_bool, check_callable, check_int
     from illuknit.pictures.images import quantise_image
     from illuknit.pictures.sizing import size_pair
 
-    check_callable(progress, "progress")
+    picture_a, picture_b = given
+    n_colors = 2 if opts.n_colors is None else opts.n_colors
+    check_callable(tiles["progress"], "progress")
     names = ("picture_a", "picture_b") if mode == "double" else ("front", "side")
     check_picture(picture_a, names[0])
     check_picture(picture_b, names[1], optional=mode == "headon")
     check_int(n_colors, "n_colors", min=1, max=8)
-    check_yarns(yarns, count_ok=True)
-    check_sizes(width=width)
-    check_bool(stretch, "stretch")
-    check_bank(bank)
+    check_yarns(opts.yarns, count_ok=True)
+    check_sizes(width=opts.width)
+    check_bool(opts.stretch, "stretch")
+    check_bank(tiles["bank"])
     machine = fit_machine(knit_on)
-    check_fits(machine, width)
+    check_fits(machine, opts.width)
     pair = size_pair(
         picture_a,
         picture_b,
-        width=width,
-        stretch=stretch,
-        unit_aspect=unit_aspect_or_default(unit_aspect),
+        width=opts.width,
+        stretch=opts.stretch,
+        unit_aspect=unit_aspect_or_default(opts.unit_aspect),
     )
     a, b = pair.a, pair.b
     check_fits(machine, a.shape[1])
-    pictures = [a] if b is None else [a, b]
-    ys = _tile_yarns(yarns, n_colors, pictures)
+    sized = [a] if b is None else [a, b]
+    ys = _tile_yarns(opts.yarns, n_colors, sized)
     qa = quantise_image(a, n_colors=n_colors)
     qb = quantise_image(b, n_colors=n_colors) if b is not None else None
     design = design_tiles(
@@ -165,15 +157,12 @@ def _design_pictures(
         qb,
         mode=mode,
         yarns=ys,
-        bank=bank,
-        search=search,
-        ranking=ranking,
         sources=(a, b) if b is not None else None,
         edit_colors=min(4, max(n_colors, len(ys))),
-        progress=progress,
+        **tiles,
     )
     notes = fit_notes(knit_on if knit_on is not None else design.ranking.machine, a.shape[1])
-    return replace(_with_pictures(design, tuple(pictures)), notes=notes)
+    return replace(_with_pictures(design, tuple(sized)), notes=notes)
 
 
 def _with_pictures(design: TileDesign, pictures: tuple[Any, ...]) -> TileDesign:
@@ -189,9 +178,8 @@ def design_tiles(
     bank: TileBank | str | os.PathLike[str] | None = None,
     search: SearchOptions | None = None,
     ranking: RankOptions | None = None,
-    sources: tuple[ArrayLike, ArrayLike] | None = None,
-    edit_colors: int | None = None,
     progress: Progress | None = None,
+    **edit_inputs: Any,
 ) -> TileDesign:
     """Ranked tile designs of pictures already quantised (:func:`~illuknit.pictures.images.quantise_image`).
 
@@ -199,8 +187,9 @@ def design_tiles(
     ``qb`` (or a plain field when None) at an angle. ``bank`` is a TileBank, a bank file
     (:func:`~illuknit.design.tiles.bank.load_bank`, read with ``yarns``) or None: the canonical bank of
     ``yarns`` (default: the pictures' yarns) for those views. Simplifying edits
-    (``search.edits``) need the unquantised ``sources`` and re-quantise to at most
-    ``edit_colors`` colours (default: the number of yarns, at most 4).
+    (``search.edits``) take two keywords more: they need the unquantised ``sources`` (the
+    pictures A and B) and re-quantise to at most ``edit_colors`` colours (default: the number
+    of yarns, at most 4).
     """
     from illuknit.core.arguments import check_callable, check_choice, check_int
     from illuknit.design.tiles.bank import canonical_bank, load_bank
@@ -218,6 +207,7 @@ def design_tiles(
             raise ImageInputError(f"`{name}` must be a QuantisedImage, got {type(q).__name__}")
     check_yarns(yarns, count_ok=False)
     check_bank(bank)
+    sources, edit_colors = _edit_inputs(edit_inputs)
     if sources is not None and not (isinstance(sources, (tuple, list)) and len(sources) == 2):
         raise ImageInputError("`sources` must be the two unquantised pictures (A, B)")
     if edit_colors is not None:
@@ -243,14 +233,23 @@ def design_tiles(
         )
     elif isinstance(bank, (str, os.PathLike)):
         bank = load_bank(bank, yarns=ys)
+    job = TileJob(qa, qb, mode, views, ys, bank, search, ranking, say)
     t0 = time.perf_counter()
-    found, edits = search_tiles(
-        qa, qb, mode, views, bank, search, sources, edit_colors or len(ys), say
-    )
+    found, edits = search_tiles(job, sources, edit_colors or len(ys))
     t1 = time.perf_counter()
-    design = rank_tiles(qa, qb, mode, views, ys, bank, found, edits, search, ranking, say)
+    design = rank_tiles(job, found, edits)
     seconds = {"search": t1 - t0, "rank": time.perf_counter() - t1}
     return replace(design, seconds=MappingProxyType(seconds))
+
+
+def _edit_inputs(given: dict[str, Any]) -> tuple[Any, Any]:  # checked by design_tiles
+    """``sources`` and ``edit_colors`` of :func:`design_tiles` (None when not given); any other
+    keyword is refused by name."""
+    unknown = sorted(set(given) - {"sources", "edit_colors"})
+    if unknown:
+        raise OptionError(f"unknown option {unknown[0]!r} of design_tiles; valid: sources, edit_colors "
+                          "besides its parameters")  # fmt: skip
+    return given.get("sources"), given.get("edit_colors")
 
 
 def _picture_yarns(qa: Any, qb: Any) -> tuple[Yarn, ...]:
