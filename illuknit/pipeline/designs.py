@@ -17,8 +17,10 @@ from illuknit.design.options import RankOptions, SearchOptions, SolveOptions
 
 if TYPE_CHECKING:
     from illuknit.core.pattern import LogicalPattern, Yarn
+    from illuknit.design.legibility import Legibility
     from illuknit.design.models.illusion_problem import IllusionProblem
     from illuknit.design.tiles.bank import TileBank
+    from illuknit.design.tiles.simplify import EditResult
     from illuknit.pictures.images import QuantisedImage
     from illuknit.solvers.base import Solution
 
@@ -71,14 +73,14 @@ class RankedDesign:
 
     rank: int
     pattern: LogicalPattern
-    measures: Any
+    measures: Any  # CandidateMeasures (tile designs) or a mapping (single view)
     rank_key: tuple[float, ...]
     rank_fields: tuple[str, ...]
-    assignment: Any = None
-    report: Any = None
+    assignment: Any = None  # TileAssignment of a tile design
+    report: Any = None  # TileReport of a tile design
     score_rank: int | None = None
     label: str = ""
-    legibility: Any = None
+    legibility: Legibility | None = None
 
     def why(self) -> str:
         """The rank and its key, one line: ``"rank 1 by -perceptual score -0.712, ..."``; a
@@ -135,7 +137,7 @@ class TileDesign:
     targets: tuple[NDArray[np.uint8], ...]
     designs: tuple[RankedDesign, ...]
     searched: int
-    edits: tuple[Any, ...]
+    edits: tuple[EditResult, ...]
     search: SearchOptions
     ranking: RankOptions
     pictures: tuple[NDArray[np.float64], ...] = ()

@@ -5,7 +5,7 @@
 from __future__ import annotations
 
 from collections.abc import Mapping
-from typing import TYPE_CHECKING, Any, Literal
+from typing import TYPE_CHECKING, Literal
 
 from illuknit.core.errors import ImageInputError, OptionError
 from illuknit.core.machine import resolve_machine
@@ -15,6 +15,11 @@ from illuknit.pipeline.tile_search import knit_measure
 
 if TYPE_CHECKING:
     from illuknit.core.pattern import LogicalPattern
+    from illuknit.design.render.params import RenderParams
+    from illuknit.design.tiles.assignment import TileAssignment
+    from illuknit.design.tiles.compile import TileReport
+    from illuknit.design.tiles.perception import CandidateMeasures
+    from illuknit.design.tiles.tile import Tile
     from illuknit.pictures.images import QuantisedImage
 
 __all__ = ["measure_design", "retile_design"]
@@ -27,8 +32,8 @@ def measure_design(
     picture_b: QuantisedImage | None = None,
     *,
     ranking: RankOptions | None = None,
-    params: Any = None,
-) -> Any:
+    params: RenderParams | None = None,
+) -> CandidateMeasures:
     """How one pattern reads, measured as the ranking of the tile stages measures its designs.
 
     The measures (:class:`~illuknit.design.tiles.perception.CandidateMeasures`) are taken at
@@ -79,8 +84,8 @@ def measure_design(
 
 
 def retile_design(
-    assignment: Any, overrides: Mapping[tuple[int, int], Any]
-) -> tuple[LogicalPattern, Any]:
+    assignment: TileAssignment, overrides: Mapping[tuple[int, int], Tile | str]
+) -> tuple[LogicalPattern, TileReport]:
     """A tile design compiled again with per-pair tile overrides: ``{(colour of A, colour of B):
     tile}``, a tile being a :class:`~illuknit.design.tiles.tile.Tile` or its rows (``"0/1/0^"``).
 

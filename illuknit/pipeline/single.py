@@ -22,7 +22,7 @@ from illuknit.pipeline.inputs import (
 )
 
 if TYPE_CHECKING:
-    from illuknit.core.pattern import Yarn
+    from illuknit.core.pattern import LogicalPattern, Yarn
     from illuknit.pictures.images import QuantisedImage
 
 __all__ = ["SINGLE_PICTURE_OPTIONS", "design_single"]
@@ -92,7 +92,9 @@ def design_single(
     return SingleDesign(q, _rank_single(q, made), notes)
 
 
-def _rank_single(q: Any, made: Sequence[tuple[str, Any]]) -> tuple[RankedDesign, ...]:
+def _rank_single(
+    q: QuantisedImage, made: Sequence[tuple[Stripe, LogicalPattern]]
+) -> tuple[RankedDesign, ...]:
     from illuknit.design.single_view import single_view_errors
 
     scored = []

@@ -17,11 +17,15 @@ from illuknit.design.tiles.perception import KnitMeasure
 from illuknit.pipeline.designs import Progress, RankedDesign, TileDesign
 
 if TYPE_CHECKING:
+    import numpy as np
     from numpy.typing import ArrayLike, NDArray
 
-    from illuknit.core.pattern import Yarn
+    from illuknit.core.pattern import LogicalPattern, Yarn
+    from illuknit.design.legibility import Legibility
+    from illuknit.design.render.params import RenderParams
     from illuknit.design.tiles.assignment import Regions, TileAssignment
     from illuknit.design.tiles.bank import TileBank, ViewPair
+    from illuknit.design.tiles.perception import CandidateMeasures, ReadMeasure
     from illuknit.design.tiles.simplify import EditResult
     from illuknit.pictures.images import QuantisedImage
 
@@ -40,8 +44,12 @@ def knit_measure(ranking: RankOptions) -> KnitMeasure | None:
 
 
 def _reader(
-    mode: str, targets: Sequence[Any], ranking: RankOptions, gauge: float, params: Any
-) -> Any:
+    mode: str,
+    targets: Sequence[NDArray[np.uint8]],
+    ranking: RankOptions,
+    gauge: float,
+    params: RenderParams | None,
+) -> ReadMeasure | None:
     """The reader's verdict on designs of this pair (:func:`~illuknit.design.legibility.read_designs`
     bound to its pictures and viewpoint), when the ranking asks for it; None otherwise."""
     from illuknit.design.legibility import read_designs, reader_available, words_of
@@ -63,7 +71,9 @@ def _reader(
         )
     words = words_of(targets)
 
-    def read(patterns: Sequence[Any], measures: Sequence[Any]) -> list[Any]:
+    def read(
+        patterns: Sequence[LogicalPattern], measures: Sequence[CandidateMeasures]
+    ) -> list[Legibility]:
         return read_designs(
             patterns, targets, correlations=[m.readability for m in measures], words=words,
             angle=ranking.angle, distance=ranking.distance, gauge=gauge, params=params,
@@ -197,7 +207,7 @@ def rank_tiles(
     )
 
 
-def split_params(search: SearchOptions) -> Any:
+def split_params(search: SearchOptions) -> RenderParams | None:
     """The renderer's parameters the designs are measured with: the default ones, with the
     search's split share when split bumps are on (None: the defaults)."""
     if not search.split_bumps:
@@ -207,7 +217,7 @@ def split_params(search: SearchOptions) -> Any:
     return RenderParams(split_share=search.split_share)
 
 
-def _assignment_label(assignment: Any) -> str:
+def _assignment_label(assignment: TileAssignment) -> str:
     kinds = [f.kind for f in (*assignment.fills_a, *assignment.fills_b) if f is not None]
     stripes = sum(k != "solid" for k in kinds)
     return (

@@ -31,14 +31,19 @@ from illuknit.pipeline.inputs import (
 from illuknit.pipeline.tile_search import TileJob, rank_tiles, search_tiles
 
 if TYPE_CHECKING:
+    import numpy as np
+    from numpy.typing import NDArray
+
     from illuknit.core.pattern import Yarn
-    from illuknit.design.tiles.bank import TileBank
+    from illuknit.design.tiles.bank import TileBank, ViewPair
     from illuknit.pictures.images import QuantisedImage
 
 __all__ = ["TILE_PICTURE_OPTIONS", "design_double", "design_headon", "design_tiles"]
 
 
-def _tile_yarns(yarns: Sequence[Yarn] | int | None, n_colors: int, pictures: list[Any]) -> Any:
+def _tile_yarns(
+    yarns: Sequence[Yarn] | int | None, n_colors: int, pictures: list[NDArray[np.float64]]
+) -> tuple[Yarn, ...]:
     """The bank's yarns: given, or ``yarns`` (default ``n_colors``) chosen from the pictures."""
     if yarns is not None and not isinstance(yarns, int):
         from illuknit.core.pattern import Yarn
@@ -165,7 +170,7 @@ def _design_pictures(
     return replace(_with_pictures(design, tuple(sized)), notes=notes)
 
 
-def _with_pictures(design: TileDesign, pictures: tuple[Any, ...]) -> TileDesign:
+def _with_pictures(design: TileDesign, pictures: tuple[NDArray[np.float64], ...]) -> TileDesign:
     return replace(design, pictures=pictures)
 
 
@@ -215,7 +220,7 @@ def design_tiles(
     if mode == "double" and qb is None:
         raise ImageInputError("`qb` is needed: a double-view design has two pictures (A and B)")
     say = progress or (lambda _f, _m: None)
-    views: Any = ("A", "B") if mode == "double" else HEADON_VIEWS
+    views: ViewPair = ("A", "B") if mode == "double" else HEADON_VIEWS
     ys = tuple(yarns) if yarns is not None else _picture_yarns(qa, qb)
     say(0.05, "building the tile bank")
     if bank is not None and search.split_bumps:
@@ -252,6 +257,6 @@ def _edit_inputs(given: dict[str, Any]) -> tuple[Any, Any]:  # checked by design
     return given.get("sources"), given.get("edit_colors")
 
 
-def _picture_yarns(qa: Any, qb: Any) -> tuple[Yarn, ...]:
+def _picture_yarns(qa: QuantisedImage, qb: QuantisedImage | None) -> tuple[Yarn, ...]:
     ys = dict.fromkeys((*qa.yarns, *(qb.yarns if qb is not None else ())))
     return tuple(ys)
