@@ -7,7 +7,7 @@ from __future__ import annotations
 import os
 import time
 from collections.abc import Sequence
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from types import MappingProxyType
 from typing import TYPE_CHECKING, Any, Literal
 
@@ -64,6 +64,17 @@ def _tile_yarns(
 TILE_PICTURE_OPTIONS = ("width", "stretch", "unit_aspect", "n_colors", "yarns")
 
 
+@dataclass(frozen=True, eq=False)
+class _TileSearch:
+    """What a tile stage hands on to :func:`design_tiles` unchanged: the bank, the search and
+    ranking options, and who hears progress."""
+
+    bank: TileBank | str | os.PathLike[str] | None
+    search: SearchOptions | None
+    ranking: RankOptions | None
+    progress: Progress | None
+
+
 def design_double(
     picture_a: Picture,
     picture_b: Picture,
@@ -95,7 +106,7 @@ def design_double(
         The pattern is wider than ``knit_on``'s bed.
     """
     opts = picture_options(pictures, knobs, takes=TILE_PICTURE_OPTIONS)
-    tiles = {"bank": bank, "search": search, "ranking": ranking, "progress": progress}
+    tiles = _TileSearch(bank, search, ranking, progress)
     return _design_pictures("double", (picture_a, picture_b), opts, knit_on, tiles)
 
 
@@ -114,7 +125,7 @@ def design_headon(
     """Ranked head-on tile designs: ``front`` seen looking straight at the fabric, ``side`` (or
     a plain field when None) at an angle from either end. Options as :func:`design_double`."""
     opts = picture_options(pictures, knobs, takes=TILE_PICTURE_OPTIONS)
-    tiles = {"bank": bank, "search": search, "ranking": ranking, "progress": progress}
+    tiles = _TileSearch(bank, search, ranking, progress)
     return _design_pictures("headon", (front, side), opts, knit_on, tiles)
 
 
@@ -123,17 +134,16 @@ def _design_pictures(
     given: tuple[Picture, Picture | None],
     opts: PictureOptions,
     knit_on: str | MachineSpec | None,
-    tiles: dict[str, Any],
+    tiles: _TileSearch,
 ) -> TileDesign:
-    """Size, quantise and choose the yarns, then :func:`design_tiles` (with ``tiles``: the
-    bank, the search, the ranking and the progress)."""
+    """Size, quantise and choose the yarns, then :func:`design_tiles`."""
     from illuknit.core.arguments import check_bool, check_callable, check_int
     from illuknit.pictures.images import quantise_image
     from illuknit.pictures.sizing import size_pair
 
     picture_a, picture_b = given
     n_colors = 2 if opts.n_colors is None else opts.n_colors
-    check_callable(tiles["progress"], "progress")
+    check_callable(tiles.progress, "progress")
     names = ("picture_a", "picture_b") if mode == "double" else ("front", "side")
     check_picture(picture_a, names[0])
     check_picture(picture_b, names[1], optional=mode == "headon")
@@ -141,7 +151,7 @@ def _design_pictures(
     check_yarns(opts.yarns, count_ok=True)
     check_sizes(width=opts.width)
     check_bool(opts.stretch, "stretch")
-    check_bank(tiles["bank"])
+    check_bank(tiles.bank)
     machine = fit_machine(knit_on)
     check_fits(machine, opts.width)
     pair = size_pair(
@@ -164,7 +174,10 @@ def _design_pictures(
         yarns=ys,
         sources=(a, b) if b is not None else None,
         edit_colors=min(4, max(n_colors, len(ys))),
-        **tiles,
+        bank=tiles.bank,
+        search=tiles.search,
+        ranking=tiles.ranking,
+        progress=tiles.progress,
     )
     notes = fit_notes(knit_on if knit_on is not None else design.ranking.machine, a.shape[1])
     return replace(_with_pictures(design, tuple(sized)), notes=notes)
