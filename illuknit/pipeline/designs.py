@@ -8,7 +8,7 @@ import math
 import os
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any, Literal
+from typing import TYPE_CHECKING, Any, Generic, Literal, TypeVar
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -19,7 +19,10 @@ if TYPE_CHECKING:
     from illuknit.core.pattern import LogicalPattern, Yarn
     from illuknit.design.legibility import Legibility
     from illuknit.design.models.illusion_problem import IllusionProblem
+    from illuknit.design.tiles.assignment import TileAssignment
     from illuknit.design.tiles.bank import TileBank
+    from illuknit.design.tiles.compile import TileReport
+    from illuknit.design.tiles.perception import CandidateMeasures
     from illuknit.design.tiles.simplify import EditResult
     from illuknit.pictures.images import QuantisedImage
     from illuknit.solvers.base import Solution
@@ -42,16 +45,28 @@ Stripe = Literal["dark", "light"]
 Progress = Callable[[float, str], None]
 
 
+#: What a ranked design's measures are (tile designs: CandidateMeasures; single view: a mapping).
+M = TypeVar("M")
+#: Its tile assignment (tile designs: TileAssignment; single view: None).
+A = TypeVar("A")
+#: Its compiler's report (tile designs: TileReport; single view: None).
+R = TypeVar("R")
+
+
 @dataclass(frozen=True, eq=False)
-class RankedDesign:
+class RankedDesign(Generic[M, A, R]):
     """One design of a ranking: its pattern, its measures and why it ranks where it does.
+
+    Generic in what its measures, its assignment and its report are: a tile design's
+    designs are ``RankedDesign[CandidateMeasures, TileAssignment, TileReport]``, a
+    single-view design's ``RankedDesign[Mapping[str, Any], None, None]``.
 
     Attributes
     ----------
     rank : int
         1 for the best.
     pattern : LogicalPattern
-    measures : Mapping or CandidateMeasures
+    measures : CandidateMeasures or Mapping
         How it reads (tile designs: :class:`~illuknit.design.tiles.perception.CandidateMeasures`;
         single view: the mismatch of each view).
     rank_key : tuple of float
@@ -60,7 +75,7 @@ class RankedDesign:
     rank_fields : tuple of str
     assignment : TileAssignment or None
         The tile assignment it compiles (tile designs), its ``rank`` set to ``rank``.
-    report : object
+    report : TileReport or None
         The compiler's report (tile designs: the tiles report).
     score_rank : int or None
         Its place by the assignment's own score (tile designs).
@@ -73,11 +88,11 @@ class RankedDesign:
 
     rank: int
     pattern: LogicalPattern
-    measures: Any  # CandidateMeasures (tile designs) or a mapping (single view)
+    measures: M
     rank_key: tuple[float, ...]
     rank_fields: tuple[str, ...]
-    assignment: Any = None  # TileAssignment of a tile design
-    report: Any = None  # TileReport of a tile design
+    assignment: A = None  # type: ignore[assignment]  # None: no assignment (single view)
+    report: R = None  # type: ignore[assignment]  # None: no compiler report (single view)
     score_rank: int | None = None
     label: str = ""
     legibility: Legibility | None = None
@@ -90,6 +105,11 @@ class RankedDesign:
             for n, v in zip(self.rank_fields, self.rank_key, strict=True)
         ]
         return f"rank {self.rank} by " + ", ".join(parts)
+
+
+if TYPE_CHECKING:
+    TileRanked = RankedDesign[CandidateMeasures, TileAssignment, TileReport]
+    SingleRanked = RankedDesign[Mapping[str, Any], None, None]
 
 
 @dataclass(frozen=True, eq=False)
@@ -135,7 +155,7 @@ class TileDesign:
     views: tuple[str, str]
     bank: TileBank
     targets: tuple[NDArray[np.uint8], ...]
-    designs: tuple[RankedDesign, ...]
+    designs: tuple[TileRanked, ...]
     searched: int
     edits: tuple[EditResult, ...]
     search: SearchOptions
@@ -145,7 +165,7 @@ class TileDesign:
     notes: tuple[str, ...] = ()
 
     @property
-    def best(self) -> RankedDesign:
+    def best(self) -> TileRanked:
         """The first-ranked design."""
         return self.designs[0]
 
@@ -157,15 +177,15 @@ class SingleDesign:
     ``notes`` as :attr:`TileDesign.notes`."""
 
     quantised: QuantisedImage
-    designs: tuple[RankedDesign, ...]
+    designs: tuple[SingleRanked, ...]
     notes: tuple[str, ...] = ()
 
     @property
-    def best(self) -> RankedDesign:
+    def best(self) -> SingleRanked:
         """The first-ranked design."""
         return self.designs[0]
 
-    def first(self, stripe: Stripe) -> RankedDesign:
+    def first(self, stripe: Stripe) -> SingleRanked:
         """The design whose top stripe row is ``stripe``."""
         return next(d for d in self.designs if d.measures["first"] == stripe)
 
