@@ -37,7 +37,7 @@ def demo(outdir: Path, width: int, knitout: bool, machine: str | None) -> None:
     Writes the pattern, previews, a hand-knitting chart, written instructions and (by default) a
     checked knitout program into OUTDIR, and says where.
     """
-    from illuknit.cli.single import run_single
+    from illuknit.cli.single import SingleRequest, run_single
     from illuknit.core.pattern import load_pattern
     from illuknit.core.progress import work_bar
 
@@ -46,7 +46,7 @@ def demo(outdir: Path, width: int, knitout: bool, machine: str | None) -> None:
         f"wide, into {outdir}/"
     )
     with work_bar("demo") as report:
-        paths = run_single(
+        request = SingleRequest.from_switches(
             demo_image(),
             outdir,
             width=width,
@@ -54,8 +54,8 @@ def demo(outdir: Path, width: int, knitout: bool, machine: str | None) -> None:
             knitout=knitout,
             machine=machine,
             title="illuknit demo: a heart in a ring",
-            progress=report,
         )
+        paths = run_single(request, progress=report)
     summarise_pattern(
         load_pattern(paths["pattern"]),
         legend_path=paths.get("legend"),

@@ -8,9 +8,13 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
+
+if TYPE_CHECKING:
+    from illuknit.core.gauge import Gauge
+    from illuknit.pipeline.designs import RankedDesign, TileDesign
 
 __all__ = [
     "fmt_number",
@@ -24,22 +28,23 @@ __all__ = [
 
 
 def write_candidate(
-    rc: Any,
+    rc: RankedDesign,
     tmp: Path,
-    inp: Any,
+    inp: TileDesign,
     *,
     pick: int,
-    overrides: dict[tuple[int, int], str],
-    seen_targets: list[np.ndarray],
     sources: list[str | None],
-    gauge: Any = None,
+    gauge: Gauge | None = None,
     distance: float = 3.0,
     angle: float = 30.0,
 ) -> tuple[dict[str, Any], list[str]]:
-    """Write one ranked candidate's folder; returns its summary row and overlap lines.
+    """Write one ranked candidate of the design ``inp`` into its folder under ``tmp``; returns
+    its summary row and overlap lines.
 
-    ``gauge`` (an :class:`illuknit.core.gauge.Gauge`) is the fabric's: finished size and previews.
-    ``angle`` and ``distance`` (metres) are the views' in ``seen.png``."""
+    The tiles are written as knit, with the ranking's overrides; the views are measured against
+    what the design's views should show (``inp.targets``). ``gauge`` (an
+    :class:`illuknit.core.gauge.Gauge`) is the fabric's: finished size and previews. ``angle``
+    and ``distance`` (metres) are the views' in ``seen.png``."""
     from illuknit.cli.knitout_bridge import chart_kind
     from illuknit.core.files import atomic_write_text
     from illuknit.design.tiles.compile import repainted_rgb
@@ -48,6 +53,7 @@ def write_candidate(
     from illuknit.outputs.previews import save_png, unit_scale, upscale
 
     mode = inp.mode
+    overrides, seen_targets = inp.ranking.override_map, list(inp.targets)
     names = (
         ("front (head-on)", "side") if mode == "headon" else ("A (from above)", "B (from below)")
     )

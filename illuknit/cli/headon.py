@@ -7,7 +7,7 @@ from typing import Any
 
 import click
 
-from illuknit.cli.double import design_options, print_summary, run_design
+from illuknit.cli.double import DesignRequest, design_options, print_summary, run_design
 from illuknit.cli.options import InputFile
 from illuknit.core.progress import work_bar
 
@@ -27,5 +27,6 @@ def headon(front: Path, side: Path | None, outdir: Path, **kw: Any) -> None:
     a stripe head-on, solid from both sides). Writes ranked candidates like ``illuknit double``.
     """
     with work_bar("headon") as report:
-        summary = run_design(front, side, outdir, mode="headon", progress=report, **kw)
+        request = DesignRequest.from_switches(front, side, outdir, mode="headon", **kw)
+        summary = run_design(request, progress=report)
     print_summary(summary, outdir)

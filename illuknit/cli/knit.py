@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 from collections.abc import Callable
+from dataclasses import dataclass
 from functools import partial
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -18,32 +19,55 @@ if TYPE_CHECKING:
     from illuknit.core.machine import MachineSpec
     from illuknit.knit.options import KnitOptions
 
-__all__ = ["knit", "run_knit"]
+__all__ = ["KnitMachine", "knit", "run_knit"]
+
+
+@dataclass(frozen=True)
+class KnitMachine:
+    """The machine ``illuknit knit`` knits on, as its switches name it: a preset name (or a
+    spec) and what overrides the preset's values.
+
+    Attributes
+    ----------
+    machine : str or MachineSpec, optional
+        The preset (default machine when None).
+    gauge : float, optional
+        Needles per inch.
+    machine_width : int, optional
+        Needles per bed.
+    seconds_per_needle, seconds_per_turn : float, optional
+        A linear time model of the user's own instead of the carriage speeds (the other one 0
+        when only one is given).
+    float_limit : int, optional
+        The longest float, in needles skipped.
+    """
+
+    machine: str | MachineSpec | None = None
+    gauge: float | None = None
+    machine_width: int | None = None
+    seconds_per_needle: float | None = None
+    seconds_per_turn: float | None = None
+    float_limit: int | None = None
 
 
 def run_knit(
     pattern_path: str | Path,
     output: str | Path,
     *,
-    machine: str | MachineSpec | None = None,
-    gauge: float | None = None,
-    machine_width: int | None = None,
+    machine: KnitMachine | str | MachineSpec | None = None,
     options: KnitOptions | None = None,
-    seconds_per_needle: float | None = None,
-    seconds_per_turn: float | None = None,
     check: bool = True,
-    float_limit: int | None = None,
     output_format: str = "knitout",
 ) -> dict[str, Any]:
     """Compile ``pattern_path`` to knitout (or a machine file: ``output_format="dat"``) at
     ``output``; return the summary (and checker verdict).
 
-    ``machine`` is a preset name (or a spec); ``gauge``, ``machine_width`` and the other options
-    override its values. A pattern wider than the bed is refused before compiling; nothing is
-    written when compilation fails. ``output_format`` is ``knitout`` or a machine file the
-    machine takes (``kc`` for the Kniterate). ``options`` says how to knit
-    (:class:`~illuknit.knit.options.KnitOptions`): a float that stays longer than the float
-    limit is refused (:class:`~illuknit.core.errors.LongFloatError`) unless
+    ``machine`` is a preset name, a spec, or a :class:`KnitMachine` whose gauge, width, time
+    model and float limit override its preset's values. A pattern wider than the bed is refused
+    before compiling; nothing is written when compilation fails. ``output_format`` is
+    ``knitout`` or a machine file the machine takes (``kc`` for the Kniterate). ``options``
+    says how to knit (:class:`~illuknit.knit.options.KnitOptions`): a float that stays longer
+    than the float limit is refused (:class:`~illuknit.core.errors.LongFloatError`) unless
     ``options.allow_long_floats``, which keeps it with a
     :class:`~illuknit.knitting.pipeline.LongFloatWarning`.
     """
@@ -59,22 +83,23 @@ def run_knit(
     from illuknit.knitting import knit_pattern
     from illuknit.outputs.machine_sheet import machine_headline, machine_sheet
 
-    spec = resolve_machine(machine, gauge=gauge)
+    m = machine if isinstance(machine, KnitMachine) else KnitMachine(machine)
+    spec = resolve_machine(m.machine, gauge=m.gauge)
     check_format(spec, output_format)
-    if machine_width is not None:
-        spec = spec.with_width(machine_width)
+    if m.machine_width is not None:
+        spec = spec.with_width(m.machine_width)
     pattern = load_pattern(pattern_path)
     check_fits(spec, pattern.shape[1], hint="use a narrower pattern or a wider --machine-width")
     note = spec.fit_note(pattern.shape[1])  # it fits this bed, but maybe no real machine's
     if note is not None:
         warnings.warn(note, BedFitWarning, stacklevel=2)  # one `illuknit: note:` line
     changes: dict[str, Any] = {}
-    if seconds_per_needle is not None or seconds_per_turn is not None:
+    if m.seconds_per_needle is not None or m.seconds_per_turn is not None:
         # a linear model of the user's own instead of the carriage speeds
-        changes["seconds_per_needle"] = seconds_per_needle or 0.0
-        changes["seconds_per_turn"] = seconds_per_turn or 0.0
-    if float_limit is not None:
-        changes["float_limit"] = float_limit
+        changes["seconds_per_needle"] = m.seconds_per_needle or 0.0
+        changes["seconds_per_turn"] = m.seconds_per_turn or 0.0
+    if m.float_limit is not None:
+        changes["float_limit"] = m.float_limit
     if changes:
         spec = replace(spec, **changes)
     try:
@@ -278,7 +303,6 @@ def knit(
         run_knit,
         pattern,
         output,
-        float_limit=float_limit,
         options=_knit_options(
             cast_on_courses=cast_on_courses,
             strict_floats=strict_floats,
@@ -293,11 +317,9 @@ def knit(
             catch_every=catch_every,
             path_planning=path_planning,
         ),
-        machine=machine,
-        gauge=gauge,
-        machine_width=machine_width,
-        seconds_per_needle=seconds_per_needle,
-        seconds_per_turn=seconds_per_turn,
+        machine=KnitMachine(
+            machine, gauge, machine_width, seconds_per_needle, seconds_per_turn, float_limit
+        ),
         check=not no_check,
         output_format=output_format,
     )
@@ -396,29 +418,19 @@ def _echo_machine_sheet(s: dict[str, Any], echo: Callable[[str], object] = click
     echo("  " + describe_settings(s))
 
 
-def _knit_options(
-    *,
-    cast_on_courses: int,
-    strict_floats: bool,
-    allow_long_floats: bool,
-    tuck_passes: bool,
-    float_avoidance_on: bool,
-    no_float_avoidance: bool,
-    catching_on: bool,
-    plate: bool,
-    no_catching: bool,
-    catch_every: int,
-    path_planning: tuple[str, ...],
-    tall_bumps: bool = False,
-) -> KnitOptions:
+def _knit_options(**switches: Any) -> KnitOptions:
     """The knitting options the switches of ``illuknit knit`` ask for (contradictions refused)."""
     from illuknit.knit.options import Catching, KnitOptions, PathPlanning
 
+    s = {"tall_bumps": False, **switches}
+    strict_floats, allow_long_floats = s["strict_floats"], s["allow_long_floats"]
+    no_catching, plate, path_planning = s["no_catching"], s["plate"], s["path_planning"]
+    no_float_avoidance = s["no_float_avoidance"]
     if strict_floats and allow_long_floats:
         raise click.UsageError("--strict-floats and --allow-long-floats contradict each other")
-    if float_avoidance_on and no_float_avoidance:
+    if s["float_avoidance_on"] and no_float_avoidance:
         raise click.UsageError("--float-avoidance and --no-float-avoidance contradict each other")
-    if (catching_on or plate) and no_catching:
+    if (s["catching_on"] or plate) and no_catching:
         what = "--plate" if plate else "--catching"
         raise click.UsageError(f"{what} and --no-catching contradict each other")
     if len(set(path_planning)) > 1:
@@ -426,13 +438,13 @@ def _knit_options(
             f"--path-planning given contradictory values: {', '.join(sorted(set(path_planning)))}"
         )
     return KnitOptions(
-        cast_on_courses=cast_on_courses,
+        cast_on_courses=s["cast_on_courses"],
         strict_floats=strict_floats,
         allow_long_floats=allow_long_floats,
-        tuck_passes=tuck_passes,
-        tall_bumps=tall_bumps,
+        tuck_passes=s["tuck_passes"],
+        tall_bumps=s["tall_bumps"],
         float_avoidance=not no_float_avoidance,
         catching=Catching.OFF if no_catching else (Catching.PLATE if plate else Catching.TUCK),
-        catch_every=catch_every,
+        catch_every=s["catch_every"],
         path_planning=PathPlanning(path_planning[0] if path_planning else "anchor"),
     )

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -17,55 +18,88 @@ from illuknit.cli.options import (
 )
 from illuknit.cli.summary import print_written, summarise_pattern
 from illuknit.core.progress import Report, work_bar
+from illuknit.pipeline.inputs import PictureOptions
 
 if TYPE_CHECKING:
     from illuknit.core.machine import MachineSpec
-    from illuknit.pipeline.stages import Stripe
+    from illuknit.pipeline.designs import Stripe
 
-__all__ = ["run_single", "single"]
+__all__ = ["SingleRequest", "run_single", "single"]
 
 
-def run_single(
-    image: str | Path,
-    outdir: str | Path,
-    *,
-    width: int | None = None,
-    height: int | None = None,
-    width_cm: float | None = None,
-    gauge: float | None = None,
-    yarns: str | None = None,
-    n_colors: int | None = None,
-    quantise: bool = True,
-    first: Stripe = "dark",
-    knitout: bool = False,
-    machine: str | MachineSpec | None = None,
-    title: str | None = None,
-    progress: Report | None = None,
-) -> dict[str, Path]:
-    """Compile ``image`` and write the whole bundle into ``outdir`` (atomically).
+@dataclass(frozen=True, eq=False)
+class SingleRequest:
+    """What ``illuknit single`` (or ``demo``) asks for, parsed once.
 
-    ``gauge`` (default: the machine's) sizes ``width_cm`` and, with ``knitout``, is the gauge of
-    the machine the program is knit on; with ``knitout`` a picture wider than the machine's bed
-    is refused before compiling. ``progress(fraction, message)`` hears how far it is.
+    Attributes
+    ----------
+    picture : path
+    outdir : path
+        The folder written (atomically).
+    sizing : PictureOptions
+        Width, height, width in cm at the machine's gauge, unit aspect, colours, yarns and
+        whether to quantise.
+    first : {"dark", "light"}
+        The colour of the top stripe row.
+    machine : MachineSpec
+        The machine as the command resolved it (at ``--gauge``).
+    knitout : bool
+        Also knit the pattern on ``machine`` and check the program; a picture wider than the
+        machine's bed is then refused before compiling.
+    title : str or None
+        The pattern's title (default: the picture's name).
     """
-    from illuknit.cli.knitout_bridge import chart_kind, design_unit_aspect, resolve_machine
+
+    picture: str | Path
+    outdir: str | Path
+    sizing: PictureOptions
+    first: Stripe
+    machine: MachineSpec
+    knitout: bool = False
+    title: str | None = None
+
+    @classmethod
+    def from_switches(cls, image: str | Path, outdir: str | Path, **switches: Any) -> SingleRequest:
+        """The request of the command line's switches (``--width-cm`` is ``width_cm=``);
+        ``gauge`` (default: the machine's) sizes ``width_cm`` and is the knitting machine's."""
+        from illuknit.cli.knitout_bridge import design_unit_aspect, resolve_machine
+
+        s = {**_SWITCH_DEFAULTS, **switches}
+        unknown = sorted(set(s) - set(_SWITCH_DEFAULTS))
+        if unknown:
+            raise TypeError(f"unknown switch of illuknit single: {unknown[0]}")
+        spec = resolve_machine(s["machine"], gauge=s["gauge"])
+        sizing = PictureOptions(
+            width=s["width"], height=s["height"], width_cm=s["width_cm"], gauge=spec.gauge,
+            unit_aspect=design_unit_aspect(spec), n_colors=s["n_colors"],
+            yarns=parse_yarn_option(s["yarns"]), quantise=s["quantise"],
+        )  # fmt: skip
+        return cls(image, outdir, sizing, s["first"], spec, s["knitout"], s["title"])
+
+
+#: The switches of ``illuknit single`` and their defaults.
+_SWITCH_DEFAULTS: dict[str, Any] = {
+    "width": None, "height": None, "width_cm": None, "gauge": None, "yarns": None,
+    "n_colors": None, "quantise": True, "first": "dark", "knitout": False, "machine": None,
+    "title": None,
+}  # fmt: skip
+
+
+def run_single(request: SingleRequest, *, progress: Report | None = None) -> dict[str, Path]:
+    """Compile ``request.picture`` and write the whole bundle into ``request.outdir``
+    (atomically). ``progress(fraction, message)`` hears how far it is."""
+    from illuknit.cli.knitout_bridge import chart_kind
     from illuknit.core.files import staged_dir
     from illuknit.outputs.export import export_pattern
-    from illuknit.pipeline.stages import design_single
+    from illuknit.pipeline.single import design_single
 
     say: Report = progress or (lambda fraction, message: None)
-    spec = resolve_machine(machine, gauge=gauge)
+    spec, image, outdir, first = request.machine, request.picture, request.outdir, request.first
+    knitout, title = request.knitout, request.title
     say(0.0, "reading, quantising and compiling the picture")
     design = design_single(
         image,
-        width=width,
-        height=height,
-        width_cm=width_cm,
-        gauge=spec.gauge,
-        unit_aspect=design_unit_aspect(spec),
-        n_colors=n_colors,
-        yarns=parse_yarn_option(yarns),
-        quantise=quantise,
+        pictures=request.sizing,
         first=first,
         knit_on=spec if knitout else None,
         machine=spec,
@@ -151,7 +185,7 @@ def single(
     from illuknit.core.pattern import load_pattern
 
     with work_bar("single") as report:
-        paths = run_single(
+        request = SingleRequest.from_switches(
             image,
             outdir,
             width=width,
@@ -164,8 +198,8 @@ def single(
             first=first,
             knitout=knitout,
             machine=machine,
-            progress=report,
         )
+        paths = run_single(request, progress=report)
     summarise_pattern(
         load_pattern(paths["pattern"]),
         legend_path=paths.get("legend"),

@@ -11,9 +11,10 @@ from __future__ import annotations
 
 import threading
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import click
 
@@ -26,9 +27,16 @@ from illuknit.cli.options import (
     OutputFile,
     OutputFolder,
 )
+from illuknit.design.options import SolveOptions
 from illuknit.pictures.sizing import DEFAULT_MAX_WIDTH
+from illuknit.pipeline.inputs import PictureOptions
 
-__all__ = ["run_solve", "solve"]
+if TYPE_CHECKING:
+    from illuknit.core.machine import MachineSpec
+    from illuknit.core.pattern import Yarn
+    from illuknit.design.models.illusion_problem import KnitWeights
+
+__all__ = ["SolveRequest", "run_solve", "solve"]
 
 
 class _LiveProgress:
@@ -94,75 +102,103 @@ class _LiveProgress:
         self.best = ", ".join(parts) or self.best
 
 
-def run_solve(
-    image_a: Path | None,
-    image_b: Path | None,
-    outdir: Path | None,
-    *,
-    model: str = "logical",
-    solver: str = "auto",
-    warm_start: str = "auto",
-    weights: str | None = None,
-    max_color_changes: int | None = None,
-    alternate_rows: bool = False,
-    split_bumps: bool = False,
-    n_colors: int | None = None,
-    yarns: str | None = None,
-    width: int | None = None,
-    resize: bool = False,
-    quantise: bool = True,
-    time_limit: float | None = 60.0,
-    seed: int = 0,
-    export_wcnf: Path | None = None,
-    wcnf_style: str = "new",
-    knitout: bool = False,
-    machine: str | None = None,
-    show_progress: bool = True,
-) -> dict[str, Any]:
-    """Everything ``illuknit solve`` does: parse the options, call
-    :func:`~illuknit.pipeline.stages.solve_design` and write its pattern; returns the report dict.
+@dataclass(frozen=True, eq=False)
+class SolveRequest:
+    """What ``illuknit solve`` asks for, checked and parsed once.
 
-    With ``knitout`` the pattern is knit on ``machine`` (a preset name); a pattern wider than its
-    bed is refused before the model is built.
+    Attributes
+    ----------
+    pictures : pair of Path
+        The target pictures A and B (B None for the single-view model).
+    outdir : Path or None
+        The folder written (None: only the model is exported).
+    options : SolveOptions
+        The model and how it is solved.
+    sizing : PictureOptions
+        Width, stretch, unit aspect, colours, yarns and whether to quantise.
+    machine : MachineSpec
+        The machine as the command resolved it (its gauge sizes the units and the piece).
+    knitout : bool
+        Also knit the pattern on ``machine`` and check the program.
+    export : tuple of (Path or None, str)
+        Where ``--export-wcnf`` writes the model (None: nowhere) and in which WCNF style.
+    show_progress : bool
+        A progress line on a terminal.
     """
-    from illuknit.cli.knitout_bridge import design_unit_aspect, resolve_machine
-    from illuknit.core.files import STDOUT
-    from illuknit.design.options import ModelKind, SolveOptions, WarmStart
-    from illuknit.pipeline.stages import illusion_model, solve_design
 
-    if image_a is None:
-        raise click.UsageError("give the target picture(s): illuknit solve A.png B.png -o OUTDIR")
-    w, ys = _check_solve_options(
-        image_a,
-        image_b,
-        outdir,
-        model=model,
-        weights=weights,
-        max_color_changes=max_color_changes,
-        alternate_rows=alternate_rows,
-        n_colors=n_colors,
-        yarns=yarns,
-        time_limit=time_limit,
-        export_wcnf=export_wcnf,
-    )
-    spec = resolve_machine(machine)
-    options = SolveOptions(
-        model=ModelKind(model),
-        solver=solver,
-        warm_start=WarmStart(warm_start),
-        weights=w,
-        alternate_rows=alternate_rows,
-        split_bumps=split_bumps,
-        time_limit=time_limit,
-        seed=seed,
-    )
-    targets = dict(
-        n_colors=n_colors, yarns=ys, width=width, stretch=resize, quantise=quantise,
-        knit_on=spec if knitout else None, unit_aspect=design_unit_aspect(spec),
-    )  # fmt: skip
+    pictures: tuple[Path, Path | None]
+    outdir: Path | None
+    options: SolveOptions
+    sizing: PictureOptions
+    machine: MachineSpec
+    knitout: bool = False
+    export: tuple[Path | None, str] = (None, "new")
+    show_progress: bool = True
+
+    @classmethod
+    def from_switches(
+        cls, image_a: Path | None, image_b: Path | None, outdir: Path | None, **switches: Any
+    ) -> SolveRequest:
+        """The request of the command line's switches (``--time-limit`` is ``time_limit=``),
+        contradictory or impossible ones refused first."""
+        from illuknit.cli.knitout_bridge import design_unit_aspect, resolve_machine
+        from illuknit.design.options import ModelKind, WarmStart
+
+        s = {**_SWITCH_DEFAULTS, **switches}
+        unknown = sorted(set(s) - set(_SWITCH_DEFAULTS))
+        if unknown:
+            raise TypeError(f"unknown switch of illuknit solve: {unknown[0]}")
+        if image_a is None:
+            raise click.UsageError(
+                "give the target picture(s): illuknit solve A.png B.png -o OUTDIR"
+            )
+        w, ys = _check_solve_options((image_a, image_b), outdir, s)
+        spec = resolve_machine(s["machine"])
+        options = SolveOptions(
+            model=ModelKind(s["model"]), solver=s["solver"], warm_start=WarmStart(s["warm_start"]),
+            weights=w, alternate_rows=s["alternate_rows"], split_bumps=s["split_bumps"],
+            time_limit=s["time_limit"], seed=s["seed"],
+        )  # fmt: skip
+        sizing = PictureOptions(
+            width=s["width"], stretch=s["resize"], unit_aspect=design_unit_aspect(spec),
+            n_colors=s["n_colors"], yarns=ys, quantise=s["quantise"],
+        )  # fmt: skip
+        return cls(
+            (image_a, image_b), outdir, options, sizing, spec, knitout=s["knitout"],
+            export=(s["export_wcnf"], s["wcnf_style"]), show_progress=s["show_progress"],
+        )  # fmt: skip
+
+
+#: The switches of ``illuknit solve`` and their defaults.
+_SWITCH_DEFAULTS: dict[str, Any] = {
+    "model": "logical", "solver": "auto", "warm_start": "auto", "weights": None,
+    "max_color_changes": None, "alternate_rows": False, "split_bumps": False,
+    "n_colors": None, "yarns": None, "width": None, "resize": False, "quantise": True,
+    "time_limit": 60.0, "seed": 0, "export_wcnf": None, "wcnf_style": "new",
+    "knitout": False, "machine": None, "show_progress": True,
+}  # fmt: skip
+
+
+def run_solve(request: SolveRequest) -> dict[str, Any]:
+    """Everything ``illuknit solve`` does once its switches are parsed: call
+    :func:`~illuknit.pipeline.solve.solve_design` as ``request`` asks and write its pattern;
+    returns the report dict.
+
+    With ``request.knitout`` the pattern is knit on ``request.machine``; a pattern wider than
+    its bed is refused before the model is built.
+    """
+    from illuknit.core.files import STDOUT
+    from illuknit.pipeline.solve import illusion_model, solve_design
+
+    options, outdir, spec = request.options, request.outdir, request.machine
+    image_a, image_b = request.pictures
+    knit_on = spec if request.knitout else None
+    export_wcnf, wcnf_style = request.export
     written: dict[str, Path] = {}
     if export_wcnf is not None:
-        mdl = illusion_model(image_a, image_b, options=options, **targets)
+        mdl = illusion_model(
+            image_a, image_b, options=options, pictures=request.sizing, knit_on=knit_on
+        )
         where = _export_wcnf(mdl, export_wcnf, wcnf_style, say=outdir is None)
         if str(export_wcnf) != STDOUT:
             written["wcnf"] = Path(where)
@@ -170,11 +206,13 @@ def run_solve(
             return {"wcnf": where, "model": repr(mdl)}
     from contextlib import nullcontext
 
-    live = _live_progress(solver, model, time_limit) if show_progress else None
+    model, solver = options.model.value, options.solver
+    live = _live_progress(solver, model, options.time_limit) if request.show_progress else None
     with live or nullcontext():
         design = solve_design(
-            image_a, image_b, options=options, progress=live, machine=spec, **targets
-        )
+            image_a, image_b, options=options, pictures=request.sizing, knit_on=knit_on,
+            progress=live, machine=spec,
+        )  # fmt: skip
         report = dict(design.report)
         if outdir is not None:
             qa, *rest = design.quantised
@@ -187,7 +225,7 @@ def run_solve(
                     report=report,
                     title=title,
                     targets=pictures,
-                    machine=spec if knitout else None,
+                    machine=knit_on,
                     gauge=spec.fabric_gauge,
                     stage=live.stage if live is not None else None,
                 )
@@ -266,19 +304,8 @@ def _write_outputs(
 
 
 def _check_solve_options(
-    image_a: Path,
-    image_b: Path | None,
-    outdir: Path | None,
-    *,
-    model: str,
-    weights: str | None,
-    max_color_changes: int | None,
-    alternate_rows: bool,
-    n_colors: int | None,
-    yarns: str | None,
-    time_limit: float | None,
-    export_wcnf: Path | None,
-) -> tuple[Any, Any]:
+    pictures: tuple[Path, Path | None], outdir: Path | None, s: Mapping[str, Any]
+) -> tuple[KnitWeights, tuple[Yarn, ...] | None]:
     """Refuse contradictory or impossible options; the parsed ``(weights, yarns)``."""
     from dataclasses import replace
 
@@ -286,11 +313,15 @@ def _check_solve_options(
     from illuknit.core.pattern import parse_yarns
     from illuknit.design.models.illusion_models import parse_weights
 
+    image_b = pictures[1]
+    model, weights, yarns, n_colors = s["model"], s["weights"], s["yarns"], s["n_colors"]
+    time_limit, export_wcnf = s["time_limit"], s["export_wcnf"]
+    max_color_changes = s["max_color_changes"]
     if model == "single" and image_b is not None:
         raise ImageInputError("--model single takes one picture (it is seen from both sides)")
     if model != "single" and image_b is None:
         raise ImageInputError(f"--model {model} needs two pictures A and B (or use --model single)")
-    if alternate_rows and model != "single":
+    if s["alternate_rows"] and model != "single":
         raise click.BadParameter("applies to --model single only", param_hint="--alternate-rows")
     if outdir is None and export_wcnf is None:
         raise click.UsageError("give -o OUTDIR (or --export-wcnf FILE)")
@@ -517,4 +548,4 @@ def solve(image_a: Path | None, image_b: Path | None, outdir: Path | None, **kw:
     keeps the best pattern found so far. Writes pattern.json, previews, chart, instructions and
     report.json into OUTDIR.
     """
-    run_solve(image_a, image_b, outdir, **kw)
+    run_solve(SolveRequest.from_switches(image_a, image_b, outdir, **kw))

@@ -12,10 +12,13 @@ wall; ``illuknit legible`` prints it before anyone waits for a full design.
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 from illuknit.core.errors import OptionError
+from illuknit.design.options import RankOptions
+from illuknit.pipeline.designs import Picture
+from illuknit.pipeline.inputs import PictureOptions, check_type, picture_options
 
 __all__ = ["DEFAULT_WIDTHS", "LegibleWidths", "WidthVerdict", "smallest_legible_width"]
 
@@ -117,36 +120,37 @@ class LegibleWidths:
 
 
 def smallest_legible_width(
-    picture_a: Any,
-    picture_b: Any,
+    picture_a: Picture,
+    picture_b: Picture,
     *,
     widths: Sequence[int] = DEFAULT_WIDTHS,
-    n_colors: int = 2,
-    angle: float = 30.0,
-    distance: float = 3.0,
-    machine: Any = None,
-    stretch: bool = False,
+    pictures: PictureOptions | None = None,
+    viewpoint: RankOptions | None = None,
     keep_going: bool = False,
     progress: Callable[[float, str], None] | None = None,
+    **knobs: Any,
 ) -> LegibleWidths:
     """The smallest width at which each side of a double view reads, by the reader.
 
     Parameters
     ----------
     picture_a, picture_b
-        The two pictures (file paths or sRGB arrays), as :func:`~illuknit.pipeline.stages.design_double`.
+        The two pictures (file paths or sRGB arrays), as :func:`~illuknit.pipeline.tiles.design_double`.
     widths : sequence of int
         Widths in units to try; they are tried narrowest first.
-    n_colors, stretch
-        As :func:`~illuknit.pipeline.stages.design_double`.
-    angle, distance : float
-        The viewpoint the sides are read from (degrees of elevation, metres).
-    machine : str or MachineSpec, optional
-        Whose gauge sets the finished size and the eye's blur (default machine when None).
+    pictures : PictureOptions, optional
+        ``n_colors`` and ``stretch``, as :func:`~illuknit.pipeline.tiles.design_double`'s.
+    viewpoint : RankOptions, optional
+        ``angle`` and ``distance``, the viewpoint the sides are read from (degrees of elevation,
+        metres; default 30 and 3), and ``machine``, whose gauge sets the finished size and the
+        eye's blur (default machine when None); the designs are ranked by legibility.
     keep_going : bool
         Try every width, not only up to the first where both sides read.
     progress : callable, optional
         ``progress(fraction, message)`` before each width.
+    **knobs
+        Shorthand for the fields above: ``n_colors`` and ``stretch`` of ``pictures``,
+        ``angle``, ``distance`` and ``machine`` of ``viewpoint``.
 
     Raises
     ------
@@ -158,9 +162,14 @@ def smallest_legible_width(
     from illuknit.core.gauge import finished_size
     from illuknit.core.machine import resolve_machine
     from illuknit.design.legibility import reader_available
-    from illuknit.design.options import RankBy, RankOptions, SearchOptions
-    from illuknit.pipeline.stages import design_double
+    from illuknit.design.options import RankBy, SearchOptions
+    from illuknit.pipeline.tiles import design_double
 
+    view = viewpoint if viewpoint is not None else RankOptions()
+    check_type("viewpoint", view, RankOptions)
+    seen = {k: knobs.pop(k) for k in ("angle", "distance", "machine") if k in knobs}
+    view = replace(view, **seen) if seen else view
+    opts = picture_options(pictures, knobs, takes=("n_colors", "stretch"))
     ws = sorted(set(_check_widths(widths)))
     if not reader_available():
         from illuknit.core.errors import BackendUnavailableError
@@ -169,7 +178,8 @@ def smallest_legible_width(
             "finding the smallest legible width needs the tesseract OCR program "
             "(apt-get install tesseract-ocr)"
         )
-    spec = resolve_machine(machine)
+    spec = resolve_machine(view.machine)
+    angle, distance = view.angle, view.distance
     ranking = RankOptions(
         rank_by=RankBy.LEGIBILITY, machine=spec, angle=angle, distance=distance, read=True
     )
@@ -180,7 +190,7 @@ def smallest_legible_width(
         if progress is not None:
             progress(k / len(ws), f"designing and reading {w} units wide")
         design = design_double(
-            picture_a, picture_b, n_colors=n_colors, width=w, stretch=stretch,
+            picture_a, picture_b, pictures=replace(opts, n_colors=opts.n_colors or 2, width=w),
             search=search, ranking=ranking,
         )  # fmt: skip
         verdicts = [d.legibility for d in design.designs if d.legibility is not None]

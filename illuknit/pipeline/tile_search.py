@@ -1,0 +1,225 @@
+"""Searching and ranking tile designs: the tile assignments of a pair of quantised pictures
+(after the simplifying edits), compiled, measured and ranked into a
+:class:`~illuknit.pipeline.designs.TileDesign`."""
+
+from __future__ import annotations
+
+import functools
+from collections.abc import Sequence
+from dataclasses import dataclass
+from types import MappingProxyType
+from typing import TYPE_CHECKING, Any, Literal
+
+from illuknit.core.errors import OptionError
+from illuknit.core.machine import resolve_machine
+from illuknit.design.options import PictureEdits, RankOptions, SearchOptions
+from illuknit.design.tiles.perception import KnitMeasure
+from illuknit.pipeline.designs import Progress, RankedDesign, TileDesign
+
+if TYPE_CHECKING:
+    import numpy as np
+    from numpy.typing import ArrayLike, NDArray
+
+    from illuknit.core.pattern import LogicalPattern, Yarn
+    from illuknit.design.legibility import Legibility
+    from illuknit.design.render.params import RenderParams
+    from illuknit.design.tiles.assignment import Regions, TileAssignment
+    from illuknit.design.tiles.bank import TileBank, ViewPair
+    from illuknit.design.tiles.perception import CandidateMeasures, ReadMeasure
+    from illuknit.design.tiles.simplify import EditResult
+    from illuknit.pictures.images import QuantisedImage
+
+__all__ = ["TileJob", "knit_measure", "rank_tiles", "search_tiles"]
+
+
+def knit_measure(ranking: RankOptions) -> KnitMeasure | None:
+    """What knitting a design costs on ``ranking.machine``, when the ranking needs it (knitting
+    time asked for, or the order is by knitting time)."""
+    from illuknit.design.options import RankBy
+    from illuknit.knitting.stats import knit_stats
+
+    if not (ranking.knit_time or ranking.rank_by is RankBy.KNIT_TIME):
+        return None
+    return functools.partial(knit_stats, machine=ranking.machine)
+
+
+def _reader(
+    mode: str,
+    targets: Sequence[NDArray[np.uint8]],
+    ranking: RankOptions,
+    gauge: float,
+    params: RenderParams | None,
+) -> ReadMeasure | None:
+    """The reader's verdict on designs of this pair (:func:`~illuknit.design.legibility.read_designs`
+    bound to its pictures and viewpoint), when the ranking asks for it; None otherwise."""
+    from illuknit.design.legibility import read_designs, reader_available, words_of
+    from illuknit.design.options import RankBy
+
+    legible = ranking.rank_by is RankBy.LEGIBILITY
+    if mode != "double":
+        if legible:
+            raise OptionError("ranking by legibility judges double-view designs (two pictures)")
+        return None
+    if not (ranking.read or legible):
+        return None
+    if not reader_available():
+        from illuknit.core.errors import BackendUnavailableError
+
+        raise BackendUnavailableError(
+            "reading the sides needs the tesseract OCR program (apt-get install tesseract-ocr); "
+            "rank by perception to design without it"
+        )
+    words = words_of(targets)
+
+    def read(
+        patterns: Sequence[LogicalPattern], measures: Sequence[CandidateMeasures]
+    ) -> list[Legibility]:
+        return read_designs(
+            patterns, targets, correlations=[m.readability for m in measures], words=words,
+            angle=ranking.angle, distance=ranking.distance, gauge=gauge, params=params,
+        )  # fmt: skip
+
+    return read
+
+
+@dataclass(frozen=True, eq=False)
+class TileJob:
+    """What searching and ranking the tile designs of one pair of pictures share: the
+    quantised pictures (``qb`` None: a head-on design without a side picture), the kind of
+    design and its views, the bank's yarns and the bank, the options, and who hears progress."""
+
+    qa: QuantisedImage
+    qb: QuantisedImage | None
+    mode: Literal["double", "headon"]
+    views: ViewPair
+    yarns: tuple[Yarn, ...]
+    bank: TileBank
+    search: SearchOptions
+    ranking: RankOptions
+    say: Progress
+
+
+def search_tiles(
+    job: TileJob, sources: Sequence[ArrayLike] | None, edit_colors: int
+) -> tuple[list[TileAssignment], list[EditResult]]:
+    """The tile assignments (by score), after the simplifying edits (and those edits)."""
+    from illuknit.design.tiles.assign import assign_tiles
+    from illuknit.design.tiles.headon import uniform_side
+    from illuknit.design.tiles.simplify import review_edits
+
+    qa, qb, search, bank = job.qa, job.qb, job.search, job.bank
+    kw = {"bank": bank, **search.assign_kwargs()}
+    # what the assignment is made for: the pictures, or the edited regions of them
+    first: QuantisedImage | Regions = qa
+    second: QuantisedImage | Regions | tuple[NDArray[Any], NDArray[Any]] = (
+        qb if qb is not None else uniform_side(qa)
+    )
+    edits: list[EditResult] = []
+    if search.edits is not PictureEdits.NONE:
+        if job.mode != "double" or sources is None:
+            raise OptionError(
+                "picture edits work on double-view designs of two pictures (give `sources`)"
+            )
+        assert qb is not None  # a double view has two pictures (design_tiles checks)
+        review = review_edits(
+            qa,
+            qb,
+            apply=search.edits is PictureEdits.APPLY,
+            targets=[qa.rgb(), qb.rgb()],
+            sources=list(sources),
+            max_colors=edit_colors,
+            **kw,
+        )
+        first, second, edits = review.a, review.b, list(review.results)
+    what = "head-on" if job.mode == "headon" else f"{len(bank)} tiles in the bank"
+    job.say(0.1, f"finding tile mappings ({what})")
+    found = assign_tiles(
+        first,
+        second,
+        bank=bank,
+        views=job.views,
+        candidates=search.candidates,
+        pool=search.pool,
+        pool_seconds=search.pool_seconds,
+        solver=search.solver,
+        brightness=search.brightness.value,
+        time_limit=search.solve_seconds,
+    )
+    return found, edits
+
+
+def rank_tiles(
+    job: TileJob, found: Sequence[TileAssignment], edits: Sequence[EditResult]
+) -> TileDesign:
+    """Compile, measure and rank the assignments into a :class:`TileDesign`."""
+    from illuknit.design.tiles.perception import rank_designs, rank_key, seen_blur, seen_targets
+
+    qa, qb, mode, ranking, search = job.qa, job.qb, job.mode, job.ranking, job.search
+    targets = seen_targets(qa, qb)
+    gauge = resolve_machine(ranking.machine).gauge
+    ranked = rank_designs(
+        found,
+        targets,
+        views=("A", "B") if mode == "double" else ("headon", "side"),
+        overrides=ranking.override_map,
+        rank_by=ranking.rank_by.value,
+        knit_time=knit_measure(ranking),
+        keep=search.candidates,
+        progress=lambda f, message: job.say(0.4 + 0.6 * f, message),
+        angle=ranking.angle,
+        blur=seen_blur(ranking.distance, gauge=gauge),
+        params=split_params(search),
+        read=_reader(mode, targets, ranking, gauge, split_params(search)),
+        made_for=ranking.made_for.value,
+    )
+    by = ranking.rank_by
+    hands = ranking.made_for.value == "hands"
+    designs = tuple(
+        RankedDesign(
+            rank=k + 1,
+            pattern=rc.pattern,
+            measures=rc.measures,
+            rank_key=tuple(
+                float(v) for v in rank_key(rc.measures, rc.assignment.score, by.value, hands=hands)
+            ),
+            rank_fields=ranking.key_fields,
+            assignment=rc.assignment,
+            report=rc.report,
+            score_rank=rc.score_rank,
+            label=_assignment_label(rc.assignment),
+            legibility=rc.legibility,
+        )
+        for k, rc in enumerate(ranked)
+    )
+    quantised = {"A": qa} if qb is None else {"A": qa, "B": qb}
+    return TileDesign(
+        mode=mode,
+        yarns=job.yarns,
+        quantised=MappingProxyType(quantised),
+        views=job.views,
+        bank=job.bank,
+        targets=tuple(targets),
+        designs=designs,
+        searched=len(found),
+        edits=tuple(edits),
+        search=search,
+        ranking=ranking,
+    )
+
+
+def split_params(search: SearchOptions) -> RenderParams | None:
+    """The renderer's parameters the designs are measured with: the default ones, with the
+    search's split share when split bumps are on (None: the defaults)."""
+    if not search.split_bumps:
+        return None
+    from illuknit.design.render.params import RenderParams
+
+    return RenderParams(split_share=search.split_share)
+
+
+def _assignment_label(assignment: TileAssignment) -> str:
+    kinds = [f.kind for f in (*assignment.fills_a, *assignment.fills_b) if f is not None]
+    stripes = sum(k != "solid" for k in kinds)
+    return (
+        "all solid fills" if not stripes else f"{stripes} striped fill{'s' if stripes > 1 else ''}"
+    )
