@@ -26,6 +26,7 @@ from enum import Enum, StrEnum
 from typing import Any
 
 from illuknit.core.arguments import MAX_SECONDS, MAX_SEED
+from illuknit.core.declared import option
 from illuknit.core.errors import OptionError
 from illuknit.core.machine import MachineSpec, resolve_machine
 from illuknit.core.views import DEFAULT_SPLIT_SHARE
@@ -204,16 +205,47 @@ class SearchOptions:
         Time limit of each assignment solve (None: no limit).
     """
 
-    candidates: int = 5
-    pool: int = DEFAULT_POOL
-    pool_seconds: float = POOL_SECONDS
-    solver: str = "cpsat"
-    brightness: Brightness = Brightness.HARD
-    one_sided: bool = False
-    split_bumps: bool = False
-    split_share: float = DEFAULT_SPLIT_SHARE
-    edits: PictureEdits = PictureEdits.NONE
-    solve_seconds: float | None = 10.0
+    candidates: int = option(5, help="How many ranked candidates to write.", ge=1, le=50)
+    pool: int = option(
+        DEFAULT_POOL,
+        help="How many tile designs to search and rank before writing the best --candidates "
+        f"(designs past --candidates only within {POOL_SECONDS:g} s).",
+        ge=1,
+        le=MAX_COUNT,
+    )
+    pool_seconds: float = option(
+        POOL_SECONDS,
+        help="The designs past the candidates are sought only within this many seconds.",
+        gt=0,
+        le=MAX_SECONDS,
+    )
+    solver: str = option("cpsat", help="Solver backend: cpsat, rc2, ...")
+    brightness: Brightness = option(
+        Brightness.HARD,
+        help="Keep each picture's brightness order (hard) or only prefer to (soft).",
+    )
+    one_sided: bool = option(False, help="Only tiles that are solid from at least one side.")
+    split_bumps: bool = option(
+        False,
+        help="Tiles may hold split bumps: a bump knitted in two yarns, one seen from each side "
+        "(docs/split-bumps.md).",
+    )
+    split_share: float = option(
+        DEFAULT_SPLIT_SHARE,
+        help="Share of a split bump's colour each side sees of its own course, as measured on a "
+        "swatch [default: 0.75, an estimate].",
+        gt=0.5,
+        le=1.0,
+    )
+    edits: PictureEdits = option(
+        PictureEdits.NONE, help="Simplifying edits of the pictures (double view only)."
+    )
+    solve_seconds: float | None = option(
+        10.0,
+        help="Time limit of each assignment solve in seconds (none: no limit).",
+        gt=0,
+        le=MAX_SECONDS,
+    )
 
     def __post_init__(self) -> None:
         if not 1 <= count_option("candidates", self.candidates, minimum=1) <= 50:
@@ -276,14 +308,48 @@ class RankOptions:
         (:attr:`~illuknit.design.hand_cost.HandCost.knittable_share`), then by ``rank_by``.
     """
 
-    rank_by: RankBy = RankBy.PERCEPTION
-    knit_time: bool = False
+    rank_by: RankBy = option(
+        RankBy.PERCEPTION,
+        help="Order of the candidates: how the views read (perception: worse view's "
+        "correlation, contrast floor, ghosting; legibility: designs whose both sides a reader "
+        "reads first, needs tesseract), the assignment's score, or one measure.",
+    )
+    knit_time: bool = option(
+        False,
+        help="Also knit every candidate and show the machine's knitting time (ties in the "
+        "ranking).",
+        flag="--knit-time/--no-knit-time",
+    )
     machine: str | MachineSpec | None = None
     overrides: tuple[tuple[tuple[int, int], str], ...] = ()
-    angle: float = 30.0
-    distance: float = 3.0
-    read: bool = False
-    made_for: MadeFor = MadeFor.MACHINE
+    angle: float = option(
+        30.0,
+        help="Viewing angle (degrees of elevation) the side views are judged and shown at.",
+        gt=0,
+        le=90,
+        title="Measured at angle",
+    )
+    distance: float = option(
+        3.0,
+        help="Viewing distance in metres: the ranking's measures see what a 20/20 eye resolves "
+        "from there, and each candidate's seen.png shows it beside the view up close and its "
+        "picture.",
+        gt=0,
+        le=1000,
+        title="Measured from",
+    )
+    read: bool = option(
+        False,
+        help="Ask a reader (tesseract OCR) whether each side of the candidates reads from "
+        "--distance.",
+        flag="--read/--no-read",
+    )
+    made_for: MadeFor = option(
+        MadeFor.MACHINE,
+        help="Who knits it: hands ranks first the designs whose rows a hand knitter can work "
+        "(2 yarns with floats of at most 7 sts, or at most 6 intarsia blocks), then by --rank-by.",
+        flag="--for",
+    )
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "rank_by", enum_option(RankBy, "rank_by", self.rank_by))
@@ -367,14 +433,41 @@ class SolveOptions:
     seed : int
     """
 
-    model: ModelKind = ModelKind.LOGICAL
-    solver: str = "auto"
-    warm_start: WarmStart = WarmStart.AUTO
+    model: ModelKind = option(
+        ModelKind.LOGICAL,
+        help="logical: fewest mismatched view cells (paper 4.2); knit-aware: also few colour "
+        "changes per course and knit/purl changes; single: one picture seen from both sides, one "
+        "yarn per row (a stripe head-on).",
+    )
+    solver: str = option(
+        "auto",
+        help="Backend: dp, cpsat, rc2[:ORACLE], lsu[:ORACLE], fm, the hermax solvers (uwrmaxsat, "
+        "evalmaxsat, ...; see --list-solvers), descent, gradient, wcnf:COMMAND (an external "
+        "MaxSAT binary; {} is the WCNF path), or auto (the exact DP when it applies, else "
+        "CP-SAT).",
+        metavar="NAME",
+    )
+    warm_start: WarmStart = option(
+        WarmStart.AUTO,
+        help="What the backend starts from: nothing, the DP optimum, or a block descent (part "
+        "of the time limit); auto: descent for the knit-aware model, else dp. The run says which "
+        "it used and who found the pattern.",
+    )
     weights: KnitWeights | None = None
-    alternate_rows: bool = False
-    split_bumps: bool = False
-    time_limit: float | None = 60.0
-    seed: int = 0
+    alternate_rows: bool = option(
+        False,
+        help="Single-view model: neighbouring rows must have different yarns (like `illuknit "
+        "single`).",
+    )
+    split_bumps: bool = option(
+        False,
+        help="Logical model: a bump may be knitted in two yarns, one seen from each side "
+        "(docs/split-bumps.md).",
+    )
+    time_limit: float | None = option(
+        60.0, help="Seconds; the best pattern found is kept.", gt=0, le=MAX_SECONDS
+    )
+    seed: int = option(0, help="Random seed of the solver backend.", ge=0, le=MAX_SEED)
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "model", enum_option(ModelKind, "model", self.model))
