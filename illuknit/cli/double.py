@@ -31,6 +31,7 @@ from illuknit.cli.options import (
     InputFile,
     declared_option,
     knitout_option,
+    old_flag,
     outdir_option,
 )
 from illuknit.core.gauge import finished_size
@@ -592,8 +593,8 @@ def design_options(func: Any) -> Any:
         declared_option(RankOptions, "angle"),
         declared_option(RankOptions, "distance"),
         declared_option(SearchOptions, "solver"),
-        click.option("--soft-brightness", is_flag=True,
-                     help="Prefer, rather than require, keeping each picture's brightness order."),
+        declared_option(SearchOptions, "brightness"),
+        old_flag("--soft-brightness", SearchOptions, "brightness", "soft"),
         declared_option(SearchOptions, "one_sided"),
         declared_option(SearchOptions, "split_bumps"),
         declared_option(SearchOptions, "split_share", default=None, note="Implies --split-bumps."),
@@ -625,5 +626,6 @@ def double(image_a: Path, image_b: Path, outdir: Path, **kw: Any) -> None:
     Exit code 2 with an explanation when no assignment exists.
     """
     with work_bar("double") as report:
+        kw["soft_brightness"] = kw.pop("brightness") == "soft"
         summary = run_design(image_a, image_b, outdir, mode="double", progress=report, **kw)
     print_summary(summary, outdir)

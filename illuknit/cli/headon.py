@@ -27,5 +27,6 @@ def headon(front: Path, side: Path | None, outdir: Path, **kw: Any) -> None:
     a stripe head-on, solid from both sides). Writes ranked candidates like ``illuknit double``.
     """
     with work_bar("headon") as report:
+        kw["soft_brightness"] = kw.pop("brightness") == "soft"
         summary = run_design(front, side, outdir, mode="headon", progress=report, **kw)
     print_summary(summary, outdir)

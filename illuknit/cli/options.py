@@ -50,6 +50,7 @@ __all__ = [
     "file_params",
     "image_options",
     "knitout_option",
+    "old_flag",
     "options_from",
     "options_of",
     "outdir_option",
@@ -407,3 +408,38 @@ def options_of(cls: type, params: Mapping[str, Any]) -> Any:
 
     given = {n: params[n] for n in declared_options(cls) if params.get(n) is not None}
     return cls(**given)
+
+
+def old_flag(old: str, cls: type, name: str, value: Any) -> Decorator:
+    """A former spelling of a declared option, kept for one release: the hidden flag ``old``
+    sets the option ``name`` of ``cls`` to ``value`` (unless the option itself is given), with a
+    :class:`DeprecationWarning` that names the new spelling (``--soft-brightness``:
+    ``--brightness soft``)."""
+    from illuknit.core.declared import declared_options
+
+    new = f"{declared_options(cls)[name].flag} {value}"
+
+    def use(ctx: click.Context, param: click.Parameter, given: bool) -> None:
+        import warnings
+
+        if not given:
+            return
+        with warnings.catch_warnings():
+            warnings.simplefilter("always", DeprecationWarning)  # the user's, not a library's
+            warnings.warn(
+                f"{old} is deprecated and goes in the next release; use {new}",
+                DeprecationWarning,
+                stacklevel=2,
+            )
+        # eager, so it is read before the option: its default, which the option given wins over
+        ctx.default_map = {**(ctx.default_map or {}), name: value}
+
+    return click.option(
+        old,
+        is_flag=True,
+        hidden=True,
+        is_eager=True,
+        expose_value=False,
+        callback=use,
+        help=f"Deprecated: {new}.",
+    )

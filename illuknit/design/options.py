@@ -222,7 +222,7 @@ class SearchOptions:
     solver: str = option("cpsat", help="Solver backend: cpsat, rc2, ...")
     brightness: Brightness = option(
         Brightness.HARD,
-        help="Keep each picture's brightness order (hard) or only prefer to (soft).",
+        help="Keep each picture's brightness order (hard), or only prefer to (soft).",
     )
     one_sided: bool = option(False, help="Only tiles that are solid from at least one side.")
     split_bumps: bool = option(

@@ -122,3 +122,36 @@ def test_a_new_declared_field_reaches_the_cli_and_the_app_unedited():
     with pytest.raises(ValidationError):
         model(bobbles=10)
     assert model(catching="plate").catching == "plate"
+
+
+@pytest.mark.parametrize("command", ["double", "headon"])
+@pytest.mark.parametrize(
+    ("argv", "soft", "warned"),
+    [
+        ([], False, False),
+        (["--brightness", "soft"], True, False),
+        (["--soft-brightness"], True, True),  # the old spelling, for one release
+        (["--soft-brightness", "--brightness", "hard"], False, True),  # the new one wins
+    ],
+)
+def test_soft_brightness_is_an_old_spelling_of_brightness_soft(
+    command, argv, soft, warned, tmp_path, monkeypatch, run_cli
+):
+    import importlib
+
+    seen = {}
+    module = importlib.import_module(f"illuknit.cli.{command}")
+    monkeypatch.setattr(module, "run_design", lambda *a, **kw: seen.update(kw) or {})
+    monkeypatch.setattr(module, "print_summary", lambda *a: None)
+    picture = tmp_path / "a.png"
+    picture.write_bytes(b"")
+    code, _, err = run_cli([command, picture, picture, *argv, "-o", tmp_path / "out"])
+    assert code == 0, err
+    assert seen["soft_brightness"] is soft and "brightness" not in seen
+    assert ("--soft-brightness is deprecated" in err) is warned, err
+    assert "use --brightness soft" in err or not warned
+
+
+def test_the_old_spelling_is_hidden_from_help():
+    shown = CliRunner().invoke(cli, ["double", "--help"]).output
+    assert "--brightness [hard|soft]" in shown and "--soft-brightness" not in shown
