@@ -22,12 +22,17 @@ Examples
 
 from __future__ import annotations
 
+import functools
 import typing
+import warnings
+from collections.abc import Callable
 from dataclasses import MISSING, dataclass, field, fields
 from enum import Enum
 from typing import Any
 
-__all__ = ["Declared", "DeclaredOption", "declared_options", "option"]
+__all__ = ["Declared", "DeclaredOption", "accepts_old_names", "declared_options", "option"]
+
+T = typing.TypeVar("T")
 
 #: The key of a field's metadata that holds its :class:`Declared`.
 METADATA_KEY = "illuknit.option"
@@ -169,18 +174,31 @@ def declared_options(cls: type) -> dict[str, DeclaredOption]:
 
 
 def renamed_keywords(cls: type, kwargs: dict[str, Any]) -> dict[str, Any]:
-    """``kwargs`` with every former spelling of a declared option (:attr:`Declared.old_names`)
-    replaced by its name, with a :class:`DeprecationWarning` for each."""
-    import warnings
-
+    """``kwargs`` with every former spelling of a declared option of ``cls``
+    (:attr:`Declared.old_names`) replaced by its name, with a :class:`DeprecationWarning` each."""
     for name, opt in declared_options(cls).items():
         for old in opt.declared.old_names:
             if old in kwargs:
+                if name in kwargs:
+                    raise TypeError(f"give `{name}` or the deprecated `{old}`, not both")
                 warnings.warn(
-                    f"`{old}` is deprecated; use `{name}` (the old spelling is removed in the "
-                    "next release)",
+                    f"`{old}` is deprecated and goes in the next release; use `{name}`",
                     DeprecationWarning,
                     stacklevel=3,
                 )
                 kwargs[name] = kwargs.pop(old)
     return kwargs
+
+
+def accepts_old_names(cls: type[T]) -> type[T]:
+    """Class decorator: the option class ``cls`` also takes each former keyword spelling of its
+    declared options (:attr:`Declared.old_names`), for one release, with a
+    :class:`DeprecationWarning`."""
+    init: Callable[..., None] = getattr(cls, "__init__")  # noqa: B009
+
+    @functools.wraps(init)
+    def __init__(self: Any, *args: Any, **kwargs: Any) -> None:
+        init(self, *args, **renamed_keywords(cls, kwargs))
+
+    setattr(cls, "__init__", __init__)  # noqa: B010
+    return cls

@@ -26,7 +26,7 @@ from enum import Enum, StrEnum
 from typing import Any
 
 from illuknit.core.arguments import MAX_SECONDS, MAX_SEED
-from illuknit.core.declared import option
+from illuknit.core.declared import accepts_old_names, option
 from illuknit.core.errors import OptionError
 from illuknit.core.machine import MachineSpec, resolve_machine
 from illuknit.core.views import DEFAULT_SPLIT_SHARE
@@ -174,6 +174,7 @@ class MadeFor(StrEnum):
 HAND_KEY_FIELD = "-share of rows knittable by hand"
 
 
+@accepts_old_names
 @dataclass(frozen=True)
 class SearchOptions:
     """How tile designs are searched (:func:`~illuknit.design.tiles.assign.assign_tiles`).
@@ -201,8 +202,9 @@ class SearchOptions:
         course.
     edits : PictureEdits or str
         Simplifying edits of the pictures (double view only).
-    solve_seconds : float, optional
-        Time limit of each assignment solve (None: no limit).
+    time_limit : float, optional
+        Time limit of each assignment solve in seconds (None: no limit); formerly
+        ``solve_seconds`` (still taken, with a :class:`DeprecationWarning`, for one release).
     """
 
     candidates: int = option(5, help="How many ranked candidates to write.", ge=1, le=50)
@@ -240,11 +242,12 @@ class SearchOptions:
     edits: PictureEdits = option(
         PictureEdits.NONE, help="Simplifying edits of the pictures (double view only)."
     )
-    solve_seconds: float | None = option(
+    time_limit: float | None = option(
         10.0,
         help="Time limit of each assignment solve in seconds (none: no limit).",
         gt=0,
         le=MAX_SECONDS,
+        old_names=("solve_seconds",),
     )
 
     def __post_init__(self) -> None:
@@ -254,8 +257,8 @@ class SearchOptions:
         _seconds("pool_seconds", self.pool_seconds)
         if not isinstance(self.solver, str) or not self.solver.strip():
             raise OptionError(f"`solver` must be a backend name, got {self.solver!r}")
-        if self.solve_seconds is not None:
-            _seconds("solve_seconds", self.solve_seconds)
+        if self.time_limit is not None:
+            _seconds("time_limit", self.time_limit)
         flag_option("one_sided", self.one_sided)
         flag_option("split_bumps", self.split_bumps)
         share = self.split_share
@@ -266,6 +269,12 @@ class SearchOptions:
         )
         object.__setattr__(self, "edits", enum_option(PictureEdits, "edits", self.edits))
 
+    @property
+    def solve_seconds(self) -> float | None:
+        """Deprecated spelling of :attr:`time_limit` (one name for a solve's time limit, as
+        :class:`SolveOptions` and :func:`~illuknit.design.tiles.assign.assign_tiles` spell it)."""
+        return self.time_limit
+
     def assign_kwargs(self) -> dict[str, Any]:
         """The keywords of :func:`~illuknit.design.tiles.assign.assign_tiles` these options set."""
         return {
@@ -274,7 +283,7 @@ class SearchOptions:
             "pool_seconds": self.pool_seconds,
             "solver": self.solver,
             "brightness": self.brightness.value,
-            "time_limit": self.solve_seconds,
+            "time_limit": self.time_limit,
         }
 
 

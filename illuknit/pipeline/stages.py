@@ -657,7 +657,7 @@ def _search(
         pool_seconds=search.pool_seconds,
         solver=search.solver,
         brightness=search.brightness.value,
-        time_limit=search.solve_seconds,
+        time_limit=search.time_limit,
     )
     return found, edits
 

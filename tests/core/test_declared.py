@@ -84,3 +84,17 @@ def test_fields_made_without_option_are_not_declared():
     assert list(opts) == ["seed", "limit"]
     assert opts["limit"].base_type is float and opts["limit"].title == "Limit (s)"
     assert opts["seed"].flag == "--seed" and opts["seed"].title == "Seed"
+
+
+def test_search_options_take_solve_seconds_for_one_release():
+    from dataclasses import replace
+
+    with pytest.warns(DeprecationWarning, match="`solve_seconds` is deprecated.*`time_limit`"):
+        old = SearchOptions(solve_seconds=4.0, candidates=2)
+    assert old == SearchOptions(time_limit=4.0, candidates=2)
+    assert old.solve_seconds == 4.0  # still read, as before
+    assert replace(old, pool=3).time_limit == 4.0
+    with pytest.raises(TypeError, match="not both"):
+        SearchOptions(solve_seconds=1.0, time_limit=2.0)
+    with pytest.raises(OptionError, match="time_limit"), pytest.warns(DeprecationWarning):
+        SearchOptions(solve_seconds=-1.0)
