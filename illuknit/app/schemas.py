@@ -16,6 +16,7 @@ from illuknit.core.declared import declared_options
 from illuknit.core.machine import DEFAULT_MACHINE_NAME, MACHINES
 from illuknit.core.pattern import MAX_UNITS
 from illuknit.design.options import RankOptions, SearchOptions
+from illuknit.knit.options import KnitOptions
 
 __all__ = [
     "DesignSettings",
@@ -197,13 +198,8 @@ class JobIn(BaseModel):
         description="candidates, knitout of the picked one, measures of every candidate, or "
         "suggested edits of the pictures (double view)",
     )
-    allow_long_floats: bool = Field(
-        default=False,
-        title="Allow long floats",
-        description="knit job: make the knitout even where a yarn floats further than the "
-        "machine's float limit (the summary says how long and where); by default such a "
-        "pattern is refused with what to change",
-    )
+    # a knit job's: the knitting option, declared on KnitOptions
+    allow_long_floats: bool = declared_field(KnitOptions, "allow_long_floats")
 
 
 class SelectionIn(BaseModel):

@@ -43,22 +43,26 @@ def test_settings_are_frozen_and_round_trip_through_json():
     assert DesignSettings.model_validate(s.to_json()) == s
 
 
-#: The settings declared on the library's option classes: (setting, class, option).
+#: The fields declared on the library's option classes: (model, field, class, option).
 DECLARED = (
-    ("candidates", "SearchOptions", "candidates"),
-    ("split_bumps", "SearchOptions", "split_bumps"),
-    ("view_angle", "RankOptions", "angle"),
-    ("view_distance", "RankOptions", "distance"),
+    ("DesignSettings", "candidates", "illuknit.design.options.SearchOptions", "candidates"),
+    ("DesignSettings", "split_bumps", "illuknit.design.options.SearchOptions", "split_bumps"),
+    ("DesignSettings", "view_angle", "illuknit.design.options.RankOptions", "angle"),
+    ("DesignSettings", "view_distance", "illuknit.design.options.RankOptions", "distance"),
+    ("JobIn", "allow_long_floats", "illuknit.knit.options.KnitOptions", "allow_long_floats"),
 )
 
 
-@pytest.mark.parametrize(("setting", "cls", "name"), DECLARED)
-def test_declared_settings_take_the_library_s_default_and_no_wider_range(setting, cls, name):
-    from illuknit.core.declared import declared_options
-    from illuknit.design import options
+@pytest.mark.parametrize(("model", "field", "cls", "name"), DECLARED)
+def test_declared_fields_take_the_library_s_default_and_no_wider_range(model, field, cls, name):
+    import importlib
 
-    opt = declared_options(getattr(options, cls))[name]
-    info = DesignSettings.model_fields[setting]
+    from illuknit.app import schemas
+    from illuknit.core.declared import declared_options
+
+    module, _, cls_name = cls.rpartition(".")
+    opt = declared_options(getattr(importlib.import_module(module), cls_name))[name]
+    info = getattr(schemas, model).model_fields[field]
     assert info.default == opt.default
     assert info.title == opt.title
     for bound in info.metadata:  # every value the app takes, the library takes
