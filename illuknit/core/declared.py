@@ -76,6 +76,15 @@ class Declared:
         high = self.lt if self.lt is not None else self.le
         return low, high, self.gt is not None, self.lt is not None
 
+    @property
+    def range_text(self) -> str:
+        """The range as an interval: ``"(0, 90]"``, ``"[1, 50]"``."""
+        low, high, low_open, high_open = self.bounds
+        return (
+            f"{'(' if low_open or low is None else '['}{'-inf' if low is None else f'{low:g}'}, "
+            f"{'inf' if high is None else f'{high:g}'}{')' if high_open or high is None else ']'}"
+        )
+
     def contains(self, value: float) -> bool:
         """Whether ``value`` is within the declared range."""
         low, high, low_open, high_open = self.bounds
@@ -159,6 +168,7 @@ def option(
     return field(default=default, metadata={METADATA_KEY: declared})
 
 
+@functools.cache
 def declared_options(cls: type) -> dict[str, DeclaredOption]:
     """The declared options of the dataclass ``cls`` by name, in field order (fields made
     without :func:`option` are left out)."""
@@ -171,6 +181,14 @@ def declared_options(cls: type) -> dict[str, DeclaredOption]:
         default = f.default if f.default is not MISSING else None
         out[f.name] = DeclaredOption(f.name, hints[f.name], default, declared)
     return out
+
+
+def check_declared_range(cls: type, name: str, value: Any, error: type[Exception]) -> None:
+    """Refuse the number ``value`` of the declared option ``name`` of ``cls`` outside its
+    declared range, with ``error`` naming the option and the range."""
+    declared = declared_options(cls)[name].declared
+    if not declared.contains(value):
+        raise error(f"`{name}` must be a number in {declared.range_text}, got {value!r}")
 
 
 def renamed_keywords(cls: type, kwargs: dict[str, Any]) -> dict[str, Any]:

@@ -26,7 +26,7 @@ from enum import Enum, StrEnum
 from typing import Any
 
 from illuknit.core.arguments import MAX_SECONDS, MAX_SEED
-from illuknit.core.declared import accepts_old_names, option
+from illuknit.core.declared import accepts_old_names, check_declared_range, option
 from illuknit.core.errors import OptionError
 from illuknit.core.machine import MachineSpec, resolve_machine
 from illuknit.core.views import DEFAULT_SPLIT_SHARE
@@ -251,8 +251,8 @@ class SearchOptions:
     )
 
     def __post_init__(self) -> None:
-        if not 1 <= count_option("candidates", self.candidates, minimum=1) <= 50:
-            raise OptionError(f"`candidates` must be between 1 and 50, got {self.candidates}")
+        count_option("candidates", self.candidates, minimum=1)
+        check_declared_range(SearchOptions, "candidates", self.candidates, OptionError)
         count_option("pool", self.pool, minimum=1)
         _seconds("pool_seconds", self.pool_seconds)
         if not isinstance(self.solver, str) or not self.solver.strip():
@@ -262,8 +262,9 @@ class SearchOptions:
         flag_option("one_sided", self.one_sided)
         flag_option("split_bumps", self.split_bumps)
         share = self.split_share
-        if isinstance(share, bool) or not isinstance(share, int | float) or not 0.5 < share <= 1:
+        if isinstance(share, bool) or not isinstance(share, int | float):
             raise OptionError(f"`split_share` must be a number in (0.5, 1], got {share!r}")
+        check_declared_range(SearchOptions, "split_share", share, OptionError)
         object.__setattr__(
             self, "brightness", enum_option(Brightness, "brightness", self.brightness)
         )
@@ -365,10 +366,11 @@ class RankOptions:
         object.__setattr__(self, "made_for", enum_option(MadeFor, "made_for", self.made_for))
         flag_option("knit_time", self.knit_time)
         flag_option("read", self.read)
-        for name, top in (("angle", 90.0), ("distance", 1000.0)):
+        for name in ("angle", "distance"):
             v = getattr(self, name)
-            if isinstance(v, bool) or not isinstance(v, (int, float)) or not 0 < v <= top:
-                raise OptionError(f"`{name}` must be a number in (0, {top:g}], got {v!r}")
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or math.isnan(v):
+                raise OptionError(f"`{name}` must be a number, got {v!r}")
+            check_declared_range(RankOptions, name, v, OptionError)
             object.__setattr__(self, name, float(v))
         resolve_machine(self.machine)
         if not isinstance(self.overrides, (dict, tuple, list)):

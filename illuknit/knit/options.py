@@ -25,7 +25,8 @@ from dataclasses import dataclass
 from enum import StrEnum
 
 from illuknit.core.arguments import check_int
-from illuknit.core.declared import option
+from illuknit.core.declared import check_declared_range, option
+from illuknit.core.errors import OptionError
 from illuknit.design.options import MAX_COUNT, count_option, enum_option, flag_option
 
 __all__ = ["Catching", "KnitOptions", "PathPlanning"]
@@ -139,8 +140,10 @@ class KnitOptions:
     )
 
     def __post_init__(self) -> None:
-        check_int(self.cast_on_courses, "cast_on_courses", min=0, max=100)
+        check_int(self.cast_on_courses, "cast_on_courses")
+        check_declared_range(KnitOptions, "cast_on_courses", self.cast_on_courses, OptionError)
         count_option("catch_every", self.catch_every, minimum=1)
+        check_declared_range(KnitOptions, "catch_every", self.catch_every, OptionError)
         for name in (
             "float_avoidance",
             "strict_floats",
