@@ -591,7 +591,8 @@ def design_options(func: Any) -> Any:
         click.option("--simplify", is_flag=True,
                      help="Like --suggest, and design with the edits that raise the worse view's readability."),
         declared_option(RankOptions, "angle"),
-        declared_option(RankOptions, "distance"),
+        declared_option(RankOptions, "distance", note="Each candidate's seen.png shows the "
+                        "view from there beside the view up close and its picture."),
         declared_option(SearchOptions, "solver"),
         declared_option(SearchOptions, "brightness"),
         old_flag("--soft-brightness", SearchOptions, "brightness", "soft"),

@@ -341,9 +341,7 @@ class RankOptions:
     )
     distance: float = option(
         3.0,
-        help="Viewing distance in metres: the ranking's measures see what a 20/20 eye resolves "
-        "from there, and each candidate's seen.png shows it beside the view up close and its "
-        "picture.",
+        help="Viewing distance in metres: the measures see what a 20/20 eye resolves from there.",
         gt=0,
         le=1000,
         title="Measured from",

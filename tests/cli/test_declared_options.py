@@ -37,6 +37,7 @@ GENERATED = {
     ),
     "double ": (RankOptions, ("rank_by", "made_for", "knit_time", "angle", "distance", "read")),
     "headon ": (RankOptions, ("rank_by", "made_for", "knit_time", "angle", "distance")),
+    "legible": (RankOptions, ("angle", "distance")),
 }
 #: Options a command takes as "not given" (None) where the declaration has a default.
 NOT_GIVEN = {"split_share", "read"}
