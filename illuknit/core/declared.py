@@ -25,9 +25,10 @@ from __future__ import annotations
 import functools
 import typing
 import warnings
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import MISSING, dataclass, field, fields
 from enum import Enum
+from types import MappingProxyType, UnionType
 from typing import Any
 
 __all__ = ["Declared", "DeclaredOption", "accepts_old_names", "declared_options", "option"]
@@ -116,7 +117,7 @@ class DeclaredOption:
     def base_type(self) -> Any:
         """The type without ``| None`` (``float | None`` -> ``float``)."""
         args = [a for a in typing.get_args(self.type) if a is not type(None)]
-        if typing.get_origin(self.type) in (typing.Union, _union_type()) and len(args) == 1:
+        if typing.get_origin(self.type) in (typing.Union, UnionType) and len(args) == 1:
             return args[0]
         return self.type
 
@@ -132,12 +133,6 @@ class DeclaredOption:
     def cli_default(self) -> Any:
         """The default as the command line takes it (an enum member's word)."""
         return self.default.value if isinstance(self.default, Enum) else self.default
-
-
-def _union_type() -> Any:
-    import types
-
-    return types.UnionType
 
 
 def option(
@@ -169,9 +164,9 @@ def option(
 
 
 @functools.cache
-def declared_options(cls: type) -> dict[str, DeclaredOption]:
+def declared_options(cls: type) -> Mapping[str, DeclaredOption]:
     """The declared options of the dataclass ``cls`` by name, in field order (fields made
-    without :func:`option` are left out)."""
+    without :func:`option` are left out); read once per class, read-only."""
     hints = typing.get_type_hints(cls)
     out = {}
     for f in fields(cls):
@@ -180,7 +175,7 @@ def declared_options(cls: type) -> dict[str, DeclaredOption]:
             continue
         default = f.default if f.default is not MISSING else None
         out[f.name] = DeclaredOption(f.name, hints[f.name], default, declared)
-    return out
+    return MappingProxyType(out)
 
 
 def check_declared_range(cls: type, name: str, value: Any, error: type[Exception]) -> None:
