@@ -36,6 +36,7 @@ from illuknit.cli.options import (
 )
 from illuknit.core.gauge import finished_size
 from illuknit.core.progress import Report, work_bar
+from illuknit.core.views import DEFAULT_SPLIT_SHARE
 from illuknit.design.options import MadeFor, RankOptions, SearchOptions
 from illuknit.pictures.sizing import DEFAULT_MAX_WIDTH
 
@@ -598,7 +599,8 @@ def design_options(func: Any) -> Any:
         old_flag("--soft-brightness", SearchOptions, "brightness", "soft"),
         declared_option(SearchOptions, "one_sided"),
         declared_option(SearchOptions, "split_bumps"),
-        declared_option(SearchOptions, "split_share", default=None, note="Implies --split-bumps."),
+        declared_option(SearchOptions, "split_share", default=None,
+                        note=f"[default: {DEFAULT_SPLIT_SHARE:g}, an estimate]; implies --split-bumps."),
         click.option("--tile", multiple=True, metavar="A,B=ROWS",
                      help="Override the tile of overlap pair (colour A of the first picture, colour B "
                      "of the second), e.g. '0,1=0/1/0^' (see fills.json for the pairs). Repeatable."),

@@ -235,7 +235,7 @@ class SearchOptions:
     split_share: float = option(
         DEFAULT_SPLIT_SHARE,
         help="Share of a split bump's colour each side sees of its own course, as measured on a "
-        "swatch [default: 0.75, an estimate].",
+        "swatch.",
         gt=0.5,
         le=1.0,
     )

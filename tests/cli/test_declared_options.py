@@ -156,3 +156,10 @@ def test_soft_brightness_is_an_old_spelling_of_brightness_soft(
 def test_the_old_spelling_is_hidden_from_help():
     shown = CliRunner().invoke(cli, ["double", "--help"]).output
     assert "--brightness [hard|soft]" in shown and "--soft-brightness" not in shown
+
+
+def test_calibrate_fit_takes_the_declared_split_share():
+    group = cli.get_command(click.Context(cli), "calibrate")
+    fit = group.get_command(click.Context(group), "fit")
+    param = next(p for p in fit.params if p.name == "split_share")
+    _check(param, declared_options(SearchOptions)["split_share"])
