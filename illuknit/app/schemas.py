@@ -12,8 +12,11 @@ from typing import Annotated, Any, Literal
 
 from pydantic import AfterValidator, BaseModel, ConfigDict, Field, create_model, model_validator
 
+from illuknit.core.declared import declared_options
 from illuknit.core.machine import DEFAULT_MACHINE_NAME, MACHINES
 from illuknit.core.pattern import MAX_UNITS
+from illuknit.design.options import RankOptions, SearchOptions
+from illuknit.knit.options import KnitOptions
 
 __all__ = [
     "DesignSettings",
@@ -21,7 +24,44 @@ __all__ = [
     "OverrideIn",
     "SelectionIn",
     "SettingsPatch",
+    "declared_field",
+    "declared_fields",
 ]
+
+
+def declared_field(cls: type, name: str, **narrower: float) -> Any:
+    """The pydantic field of the declared option ``name`` of the option class ``cls``
+    (:func:`illuknit.core.declared.option`): its default, range, title and help. ``narrower``
+    bounds (``le=12``) may only narrow the declared range: what the app takes, the library
+    takes."""
+    opt = declared_options(cls)[name]
+    d = opt.declared
+    bounds = {k: getattr(d, k) for k in ("ge", "gt", "le", "lt") if getattr(d, k) is not None}
+    for key, value in narrower.items():
+        if key not in ("ge", "gt", "le", "lt") or not d.contains(value):
+            raise ValueError(f"`{key}={value}` does not narrow {cls.__name__}.{name}'s range")
+        bounds[key] = value
+    return Field(default=opt.cli_default, title=opt.title, description=_sentence(d.help), **bounds)
+
+
+def declared_fields(cls: type, only: tuple[str, ...] | None = None) -> dict[str, Any]:
+    """``{name: (type, field)}`` of the declared options of ``cls`` (those in ``only``; default
+    all), for :func:`pydantic.create_model`: an option class as app settings."""
+    opts = declared_options(cls)
+    return {
+        n: (_app_type(opts[n]), declared_field(cls, n)) for n in (opts if only is None else only)
+    }
+
+
+def _app_type(opt: Any) -> Any:
+    """An enum option's type in the app: its words (the JSON the page sends)."""
+    choices = opt.choices
+    return Literal[choices] if choices is not None else opt.type
+
+
+def _sentence(text: str) -> str:
+    """A help sentence as the app's description: lower case first, no full stop."""
+    return (text[:1].lower() + text[1:]).rstrip(".")
 
 
 def _known_machine(name: str) -> str:
@@ -73,9 +113,8 @@ class DesignSettings(BaseModel):
         title="Yarns",
         description="yarn colours, '#rrggbb' or CSS names",
     )
-    candidates: int = Field(
-        default=5, ge=1, le=12, title="Candidates", description="ranked candidates to show"
-    )
+    # the page shows at most 12 candidates; the library writes up to 50
+    candidates: int = declared_field(SearchOptions, "candidates", le=12)
     resize: bool = Field(
         default=False, title="Resize B", description="stretch picture B to picture A's size"
     )
@@ -96,27 +135,10 @@ class DesignSettings(BaseModel):
         "units tall): the piece comes out shorter than the picture by the gauge's row-to-stitch "
         "ratio; by default the grid keeps the picture's proportions in the finished fabric",
     )
-    split_bumps: bool = Field(
-        default=False,
-        title="Split bumps",
-        description="tiles may knit a bump in two yarns, one seen from each side "
-        "(double view and head-on; docs/split-bumps.md)",
-    )
-    view_angle: float = Field(
-        default=30.0,
-        gt=0,
-        le=90,
-        title="Measured at angle",
-        description="the viewing angle (degrees of elevation) the candidates' readability, "
-        "contrast and ghosting are measured at",
-    )
-    view_distance: float = Field(
-        default=3.0,
-        gt=0,
-        le=1000,
-        title="Measured from",
-        description="the viewing distance in metres the candidates are measured from",
-    )
+    split_bumps: bool = declared_field(SearchOptions, "split_bumps")
+    # `view_`: the page's own angle is the preview's, not the one the measures are taken at
+    view_angle: float = declared_field(RankOptions, "angle")
+    view_distance: float = declared_field(RankOptions, "distance")
 
     @model_validator(mode="before")
     @classmethod
@@ -176,13 +198,8 @@ class JobIn(BaseModel):
         description="candidates, knitout of the picked one, measures of every candidate, or "
         "suggested edits of the pictures (double view)",
     )
-    allow_long_floats: bool = Field(
-        default=False,
-        title="Allow long floats",
-        description="knit job: make the knitout even where a yarn floats further than the "
-        "machine's float limit (the summary says how long and where); by default such a "
-        "pattern is refused with what to change",
-    )
+    # a knit job's: the knitting option, declared on KnitOptions
+    allow_long_floats: bool = declared_field(KnitOptions, "allow_long_floats")
 
 
 class SelectionIn(BaseModel):

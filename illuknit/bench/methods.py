@@ -260,7 +260,7 @@ def run_tiles(
         qb,
         yarns=instance.yarns,
         search=SearchOptions(
-            solve_seconds=time_limit,
+            time_limit=time_limit,
             split_bumps=split_bumps,
             split_share=DEFAULT_SPLIT_SHARE if split_share is None else split_share,
         ),

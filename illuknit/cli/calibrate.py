@@ -18,12 +18,13 @@ from illuknit.cli.knitout_bridge import (
 from illuknit.cli.options import (
     LENGTH,
     MINUTES,
-    FiniteFloat,
     InputFile,
     OutputFile,
+    declared_option,
     knitout_option,
     outdir_option,
 )
+from illuknit.design.options import SearchOptions
 
 __all__ = ["calibrate"]
 
@@ -190,11 +191,8 @@ def swatch(
     help="The measurements are of a swatch knit with tall bumps: the fit sets "
     "tall_bump_height and keeps the base bump height.",
 )
-@click.option(
-    "--split-share",
-    type=FiniteFloat(0.5, 1.0, min_open=True),
-    default=None,
-    help="The measured split share (0.5 to 1] to store with the parameters.",
+@declared_option(
+    SearchOptions, "split_share", default=None, note="Stored with the fitted parameters."
 )
 @click.option(
     "-o",

@@ -19,11 +19,18 @@ import click
 
 from illuknit.cli.design_files import fmt_number, reads_cells, verdict_lines
 from illuknit.cli.knitout_bridge import format_option, long_floats_option, machine_option
-from illuknit.cli.options import FiniteFloat, InputFile, knitout_option, outdir_option
+from illuknit.cli.options import (
+    Decorator,
+    InputFile,
+    declared_option,
+    knitout_option,
+    old_flag,
+    outdir_option,
+)
 from illuknit.cli.tile_design import DesignRequest, run_design, write_design
 from illuknit.core.progress import work_bar
-from illuknit.design.options import MadeFor
-from illuknit.design.tiles.perception import DEFAULT_POOL, POOL_SECONDS, RANK_KEYS
+from illuknit.core.views import DEFAULT_SPLIT_SHARE
+from illuknit.design.options import RankOptions, SearchOptions
 from illuknit.pictures.sizing import DEFAULT_MAX_WIDTH
 
 __all__ = ["DesignRequest", "double", "run_design", "write_design"]
@@ -204,7 +211,7 @@ def _natural(name: str) -> tuple[str, int]:
 
 def design_options(func: Any) -> Any:
     """Options shared by ``double`` and ``headon``."""
-    opts = [
+    opts: list[Decorator] = [
         click.option("--colors", "n_colors", type=click.IntRange(2, 4), default=None,
                      help="Colours each picture is quantised to [the pictures' own count when each "
                      "is drawn in the same 3 or 4 flat colours, else 2; a note says which]."),
@@ -213,45 +220,30 @@ def design_options(func: Any) -> Any:
         click.option("--width", type=click.IntRange(2, 1000), default=None,
                      help=f"Pattern width in units (pictures are resized; default: picture width, at most {DEFAULT_MAX_WIDTH})."),
         click.option("--resize", is_flag=True, help="Stretch the second picture onto the first when their aspect ratios differ."),
-        click.option("--candidates", type=click.IntRange(1, 50), default=5, show_default=True,
-                     help="How many ranked candidates to write."),
-        click.option("--pool", type=click.IntRange(1, 200), default=None,
-                     help=f"How many tile designs to search and rank before writing the best --candidates "
-                     f"[default: {DEFAULT_POOL}; designs past --candidates only within {POOL_SECONDS:g} s]."),
+        declared_option(SearchOptions, "candidates"),
+        declared_option(SearchOptions, "pool"),
         click.option("--bank", "bank_file", type=InputFile("tile bank"), default=None,
                      help="Custom tile bank (JSON; see docs/tiles.md)."),
         click.option("--pick", type=click.IntRange(1, 50), default=1, show_default=True,
                      help="Which candidate is the default (copied to OUTDIR/pattern.json)."),
-        click.option("--rank-by", type=click.Choice(RANK_KEYS), default="perception", show_default=True,
-                     help="Order of the candidates: how the views read (perception: worse view's correlation, "
-                     "contrast floor, ghosting; legibility: designs whose both sides a reader reads first, "
-                     "needs tesseract), the assignment's score, or one measure."),
-        click.option("--for", "made_for", type=click.Choice([m.value for m in MadeFor]), default="machine",
-                     show_default=True,
-                     help="Who knits it: hands ranks first the designs whose rows a hand knitter can work "
-                     "(2 yarns with floats of at most 7 sts, or at most 6 intarsia blocks), then by --rank-by."),
-        click.option("--knit-time/--no-knit-time", default=False, show_default=True,
-                     help="Also knit every candidate and show the machine's knitting time (ties in the ranking)."),
+        declared_option(RankOptions, "rank_by"),
+        declared_option(RankOptions, "made_for"),
+        declared_option(RankOptions, "knit_time"),
         click.option("--suggest", is_flag=True,
                      help="Try simplifying edits of the pictures (one colour fewer or more, merge specks, smooth outlines, drop tiny "
                      "overlaps) and write each as before | after with its effect to OUTDIR/suggestions/."),
         click.option("--simplify", is_flag=True,
                      help="Like --suggest, and design with the edits that raise the worse view's readability."),
-        click.option("--angle", type=FiniteFloat(1, 89), default=30.0, show_default=True,
-                     help="Viewing angle (degrees of elevation) the side views are judged and shown at."),
-        click.option("--distance", type=FiniteFloat(0.1, 1000), default=3.0, show_default=True,
-                     help="Viewing distance in metres: the ranking's measures see what a 20/20 eye resolves from "
-                     "there, and each candidate's seen.png shows it beside the view up close and its picture."),
-        click.option("--solver", default="cpsat", show_default=True, help="Solver backend: cpsat, rc2, ..."),
-        click.option("--soft-brightness", is_flag=True,
-                     help="Prefer, rather than require, keeping each picture's brightness order."),
-        click.option("--one-sided", is_flag=True, help="Only tiles that are solid from at least one side."),
-        click.option("--split-bumps", is_flag=True,
-                     help="Tiles may hold split bumps: a bump knitted in two yarns, one seen from each side "
-                     "(docs/split-bumps.md)."),
-        click.option("--split-share", type=FiniteFloat(0.5, 1.0, min_open=True), default=None,
-                     help="Share of a split bump's colour each side sees of its own course, as measured "
-                     "on a swatch [default: 0.75, an estimate]; implies --split-bumps."),
+        declared_option(RankOptions, "angle"),
+        declared_option(RankOptions, "distance", note="Each candidate's seen.png shows the "
+                        "view from there beside the view up close and its picture."),
+        declared_option(SearchOptions, "solver"),
+        declared_option(SearchOptions, "brightness"),
+        old_flag("--soft-brightness", SearchOptions, "brightness", "soft"),
+        declared_option(SearchOptions, "one_sided"),
+        declared_option(SearchOptions, "split_bumps"),
+        declared_option(SearchOptions, "split_share", default=None,
+                        note=f"[default: {DEFAULT_SPLIT_SHARE:g}, an estimate]; implies --split-bumps."),
         click.option("--tile", multiple=True, metavar="A,B=ROWS",
                      help="Override the tile of overlap pair (colour A of the first picture, colour B "
                      "of the second), e.g. '0,1=0/1/0^' (see fills.json for the pairs). Repeatable."),
@@ -269,9 +261,7 @@ def design_options(func: Any) -> Any:
 @click.command("double")
 @click.argument("image_a", type=InputFile("picture"))
 @click.argument("image_b", type=InputFile("picture"))
-@click.option("--read/--no-read", default=None,
-              help="Ask a reader (tesseract OCR) whether each side of the candidates reads from --distance "
-              "[default: when tesseract is installed].")  # fmt: skip
+@declared_option(RankOptions, "read", default=None, note="[default: when tesseract is installed]")
 @design_options
 def double(image_a: Path, image_b: Path, outdir: Path, **kw: Any) -> None:
     """Design a double-view illusion: IMAGE_A seen from above, IMAGE_B from below.

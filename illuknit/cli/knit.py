@@ -12,12 +12,19 @@ from typing import TYPE_CHECKING, Any
 import click
 
 from illuknit.cli.knitout_bridge import long_floats_option, machine_option
-from illuknit.cli.options import GAUGE, NEEDLES, PASS_SECONDS, InputFile, OutputFile
+from illuknit.cli.options import (
+    GAUGE,
+    NEEDLES,
+    PASS_SECONDS,
+    InputFile,
+    OutputFile,
+    declared_option,
+)
 from illuknit.core.progress import run_with_bar
+from illuknit.knit.options import KnitOptions
 
 if TYPE_CHECKING:
     from illuknit.core.machine import MachineSpec
-    from illuknit.knit.options import KnitOptions
 
 __all__ = ["KnitMachine", "knit", "run_knit"]
 
@@ -163,13 +170,7 @@ def run_knit(
     "(at most 252 on the Kniterate). Any width but the real machine's is a generic bed with "
     "the preset's rules.",
 )
-@click.option(
-    "--cast-on-courses",
-    type=click.IntRange(min=0, max=100),
-    default=2,
-    show_default=True,
-    help="Plain courses between the cast-on and the pattern.",
-)
+@declared_option(KnitOptions, "cast_on_courses")
 @click.option(
     "--seconds-per-needle",
     type=PASS_SECONDS,
@@ -190,27 +191,10 @@ def run_knit(
     default=None,
     help="Longest yarn float for mixed colourwork, in needles skipped [the machine's, 20].",
 )
-@click.option(
-    "--strict-floats",
-    is_flag=True,
-    help="Also fail when a course needs more carriers than the machine has to keep floats "
-    "within the limit (default: bridge the shortest gaps with longer floats, then tuck them).",
-)
+@declared_option(KnitOptions, "strict_floats")
 @long_floats_option(expose_value=True)
-@click.option(
-    "--tuck-passes",
-    is_flag=True,
-    help="Tuck a long float of a plated catching pass in a pass of the floating yarn alone "
-    "(fewer long floats, more passes; default: keep them and warn).",
-)
-@click.option(
-    "--tall-bumps",
-    is_flag=True,
-    help="Taller bumps: tuck each bump's purl needle in a pass of its own before the purl "
-    "(more yarn in every raised unit, one more pass per carrier in each purl course; "
-    "docs/split-bumps.md). Measure the new bump height with 'illuknit calibrate swatch "
-    "--tall-bumps'.",
-)
+@declared_option(KnitOptions, "tuck_passes")
+@declared_option(KnitOptions, "tall_bumps")
 @click.option(
     "--float-avoidance",
     "float_avoidance_on",
@@ -239,13 +223,7 @@ def run_knit(
     is_flag=True,
     help="Ablation (paper Fig. 20): nothing joins colour regions.",
 )
-@click.option(
-    "--catch-every",
-    type=NEEDLES,
-    default=2,
-    show_default=True,
-    help="Join colour regions on every N-th course (1 = every course, as in the paper).",
-)
+@declared_option(KnitOptions, "catch_every")
 @click.option(
     "--path-planning",
     "path_planning",
@@ -420,7 +398,7 @@ def _echo_machine_sheet(s: dict[str, Any], echo: Callable[[str], object] = click
 
 def _knit_options(**switches: Any) -> KnitOptions:
     """The knitting options the switches of ``illuknit knit`` ask for (contradictions refused)."""
-    from illuknit.knit.options import Catching, KnitOptions, PathPlanning
+    from illuknit.knit.options import Catching, PathPlanning
 
     s = {"tall_bumps": False, **switches}
     strict_floats, allow_long_floats = s["strict_floats"], s["allow_long_floats"]

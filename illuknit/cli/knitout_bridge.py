@@ -26,6 +26,7 @@ from typing import Any
 
 import click
 
+from illuknit.core.declared import declared_options
 from illuknit.core.errors import LongFloatError
 from illuknit.core.files import atomic_write_text
 from illuknit.core.machine import DEFAULT_MACHINE_NAME, MachineSpec, machine_names
@@ -59,11 +60,7 @@ _TRANSFER_KEY = "illuknit.transfer"
 #: where the running command's ``--fabric-gauge`` / ``--square-units`` are kept
 _FABRIC_KEY = "illuknit.fabric"
 
-LONG_FLOATS_HELP = (
-    "Knit a mixed-colourwork piece even where a float stays longer than the machine's float "
-    "limit after tucking (a course with more colour regions than carriers), with a warning "
-    "saying how long and where (default: refuse, naming the course and what to change)."
-)
+LONG_FLOATS_HELP = declared_options(KnitOptions)["allow_long_floats"].declared.help
 
 
 def machine_option(

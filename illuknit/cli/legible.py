@@ -7,8 +7,9 @@ from pathlib import Path
 import click
 
 from illuknit.cli.knitout_bridge import machine_option
-from illuknit.cli.options import FiniteFloat, InputFile
+from illuknit.cli.options import InputFile, declared_option
 from illuknit.core.progress import work_bar
+from illuknit.design.options import RankOptions
 
 __all__ = ["legible", "parse_widths"]
 
@@ -49,20 +50,8 @@ def parse_widths(spec: str) -> tuple[int, ...]:
 @click.option(
     "--resize", is_flag=True, help="Stretch the second picture onto the first (as `double`)."
 )
-@click.option(
-    "--angle",
-    type=FiniteFloat(1, 89),
-    default=30.0,
-    show_default=True,
-    help="Viewing angle (degrees of elevation) the sides are read at.",
-)
-@click.option(
-    "--distance",
-    type=FiniteFloat(0.1, 1000),
-    default=3.0,
-    show_default=True,
-    help="Viewing distance in metres the sides are read from.",
-)
+@declared_option(RankOptions, "angle")
+@declared_option(RankOptions, "distance")
 @click.option(
     "--all-widths",
     is_flag=True,

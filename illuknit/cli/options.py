@@ -11,7 +11,7 @@ import errno
 import math
 import os
 import stat
-from collections.abc import Callable
+from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -41,13 +41,18 @@ __all__ = [
     "SECONDS_OR_ZERO",
     "SEED",
     "UNITS",
+    "Decorator",
     "FiniteFloat",
     "InputFile",
     "OutputFile",
     "OutputFolder",
+    "declared_option",
     "file_params",
     "image_options",
     "knitout_option",
+    "old_flag",
+    "options_from",
+    "options_of",
     "outdir_option",
     "parse_yarn_option",
 ]
@@ -310,3 +315,131 @@ def knitout_option(
 ) -> Callable[[Callable[..., Any]], Callable[..., Any]]:
     """``--knitout``: also compile the pattern to knitout and check it."""
     return click.option("--knitout", is_flag=True, help=help)
+
+
+# -- options generated from their declarations (illuknit.core.declared) ---------------------
+
+Decorator = Callable[[Callable[..., Any]], Callable[..., Any]]
+
+
+def declared_option(
+    cls: type, name: str, *, default: Any = ..., note: str = "", hidden: bool = False
+) -> Decorator:
+    """The click option of the declared option ``name`` of the option class ``cls``.
+
+    Its flag, help, type (an enum's words as a ``click.Choice``, a bounded int as a
+    ``click.IntRange``, a bounded float as a :class:`FiniteFloat`) and default are the
+    declaration's (:func:`illuknit.core.declared.option`); ``default=None`` makes it "not
+    given" (the command decides), and ``note`` is added to the help (what the option means to
+    this command).
+    """
+    from illuknit.core.declared import declared_options
+
+    opt = declared_options(cls)[name]
+    return click.option(opt.flag, name, hidden=hidden, **click_settings(opt, default, note))
+
+
+def click_settings(opt: Any, default: Any = ..., note: str = "") -> dict[str, Any]:
+    """The keywords of ``click.option`` for the :class:`~illuknit.core.declared.DeclaredOption`
+    ``opt`` (see :func:`declared_option`)."""
+    value = opt.cli_default if default is ... else default
+    kind = opt.base_type
+    help_text = opt.declared.help + (f" {note}" if note else "")
+    out: dict[str, Any] = {"default": value, "help": help_text}
+    if kind is bool:
+        if "/" not in opt.flag:
+            return {"is_flag": True, "help": help_text}
+        return {**out, "show_default": value is not None}
+    out["show_default"] = value is not None
+    if opt.declared.metavar:
+        out["metavar"] = opt.declared.metavar
+    low, high, low_open, high_open = opt.declared.bounds
+    if opt.choices is not None:
+        out["type"] = click.Choice(list(opt.choices))
+    elif kind is int:
+        out["type"] = click.IntRange(
+            None if low is None else int(low), None if high is None else int(high)
+        )
+    elif kind is float:
+        out["type"] = FiniteFloat(_shown(low), _shown(high), min_open=low_open, max_open=high_open)
+    return out
+
+
+def _shown(bound: float | None) -> float | None:
+    """A whole-number bound as an int, so ``--help`` shows ``x<=604800``, not ``604800.0``."""
+    return int(bound) if bound is not None and float(bound).is_integer() else bound
+
+
+def options_from(
+    cls: type,
+    *,
+    only: Sequence[str] | None = None,
+    defaults: Mapping[str, Any] | None = None,
+    notes: Mapping[str, str] | None = None,
+) -> Decorator:
+    """The click options of the declared options of ``cls`` (those named in ``only``, in that
+    order; default all), as one decorator: ``@options_from(SolveOptions, only=("seed",))``.
+    ``defaults`` and ``notes`` are :func:`declared_option`'s, by name."""
+    from illuknit.core.declared import declared_options
+
+    names = list(declared_options(cls) if only is None else only)
+    opts = [
+        declared_option(
+            cls,
+            n,
+            default=(defaults or {}).get(n, ...),
+            note=(notes or {}).get(n, ""),
+        )
+        for n in names
+    ]
+
+    def apply(func: Callable[..., Any]) -> Callable[..., Any]:
+        for opt in reversed(opts):
+            func = opt(func)
+        return func
+
+    return apply
+
+
+def options_of(cls: type, params: Mapping[str, Any]) -> Any:
+    """The option object ``cls`` of the parsed ``params`` (a command's keywords): its declared
+    options that were given a value (not None); the others keep their defaults."""
+    from illuknit.core.declared import declared_options
+
+    given = {n: params[n] for n in declared_options(cls) if params.get(n) is not None}
+    return cls(**given)
+
+
+def old_flag(old: str, cls: type, name: str, value: Any) -> Decorator:
+    """A former spelling of a declared option, kept for one release: the hidden flag ``old``
+    sets the option ``name`` of ``cls`` to ``value`` (unless the option itself is given), with a
+    :class:`DeprecationWarning` that names the new spelling (``--soft-brightness``:
+    ``--brightness soft``)."""
+    from illuknit.core.declared import declared_options
+
+    new = f"{declared_options(cls)[name].flag} {value}"
+
+    def use(ctx: click.Context, param: click.Parameter, given: bool) -> None:
+        import warnings
+
+        if not given:
+            return
+        with warnings.catch_warnings():
+            warnings.simplefilter("always", DeprecationWarning)  # the user's, not a library's
+            warnings.warn(
+                f"{old} is deprecated and goes in the next release; use {new}",
+                DeprecationWarning,
+                stacklevel=2,
+            )
+        # eager, so it is read before the option: its default, which the option given wins over
+        ctx.default_map = {**(ctx.default_map or {}), name: value}
+
+    return click.option(
+        old,
+        is_flag=True,
+        hidden=True,
+        is_eager=True,
+        expose_value=False,
+        callback=use,
+        help=f"Deprecated: {new}.",
+    )

@@ -21,11 +21,10 @@ import click
 from illuknit.cli.knitout_bridge import format_option, long_floats_option, machine_option
 from illuknit.cli.options import (
     COLOR_CHANGES,
-    SECONDS,
-    SEED,
     InputFile,
     OutputFile,
     OutputFolder,
+    declared_option,
 )
 from illuknit.design.options import SolveOptions
 from illuknit.pictures.sizing import DEFAULT_MAX_WIDTH
@@ -422,15 +421,7 @@ def _list_solvers(ctx: click.Context, _param: click.Parameter, value: bool) -> N
 @click.command("solve")
 @click.argument("image_a", type=InputFile("picture"), required=False)
 @click.argument("image_b", type=InputFile("picture"), required=False)
-@click.option(
-    "--solver",
-    default="auto",
-    show_default=True,
-    metavar="NAME",
-    help="Backend: dp, cpsat, rc2[:ORACLE], lsu[:ORACLE], fm, the hermax solvers (uwrmaxsat, "
-    "evalmaxsat, ...; see --list-solvers), descent, gradient, wcnf:COMMAND (an external MaxSAT "
-    "binary; {} is the WCNF path), or auto (the exact DP when it applies, else CP-SAT).",
-)
+@declared_option(SolveOptions, "solver")
 @click.option(
     "--list-solvers",
     is_flag=True,
@@ -439,24 +430,8 @@ def _list_solvers(ctx: click.Context, _param: click.Parameter, value: bool) -> N
     callback=_list_solvers,
     help="List every solver backend with its version and availability, then exit.",
 )
-@click.option(
-    "--warm-start",
-    type=click.Choice(["auto", "none", "dp", "descent"]),
-    default="auto",
-    show_default=True,
-    help="What the backend starts from: nothing, the DP optimum, or a block descent (part of the "
-    "time limit); auto: descent for the knit-aware model, else dp. The run says which it used "
-    "and who found the pattern.",
-)
-@click.option(
-    "--model",
-    type=click.Choice(["logical", "knit-aware", "single"]),
-    default="logical",
-    show_default=True,
-    help="logical: fewest mismatched view cells (paper 4.2); knit-aware: also few colour changes "
-    "per course and knit/purl changes; single: one picture seen from both sides, one yarn per "
-    "row (a stripe head-on).",
-)
+@declared_option(SolveOptions, "warm_start")
+@declared_option(SolveOptions, "model")
 @click.option(
     "--weights",
     default=None,
@@ -469,17 +444,8 @@ def _list_solvers(ctx: click.Context, _param: click.Parameter, value: bool) -> N
     default=None,
     help="Hard cap on colour changes per course (knit-aware).",
 )
-@click.option(
-    "--alternate-rows",
-    is_flag=True,
-    help="Single-view model: neighbouring rows must have different yarns (like `illuknit single`).",
-)
-@click.option(
-    "--split-bumps",
-    is_flag=True,
-    help="Logical model: a bump may be knitted in two yarns, one seen from each side "
-    "(docs/split-bumps.md).",
-)
+@declared_option(SolveOptions, "alternate_rows")
+@declared_option(SolveOptions, "split_bumps")
 @click.option(
     "--colors",
     "n_colors",
@@ -506,14 +472,8 @@ def _list_solvers(ctx: click.Context, _param: click.Parameter, value: bool) -> N
     show_default=True,
     help="Cluster pictures with more colours than yarns.",
 )
-@click.option(
-    "--time-limit",
-    type=SECONDS,
-    default=60.0,
-    show_default=True,
-    help="Seconds; the best pattern found is kept.",
-)
-@click.option("--seed", type=SEED, default=0, show_default=True)
+@declared_option(SolveOptions, "time_limit")
+@declared_option(SolveOptions, "seed")
 @click.option(
     "--export-wcnf",
     type=OutputFile(allow_dash=True),

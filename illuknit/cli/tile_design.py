@@ -94,7 +94,7 @@ class DesignRequest:
 #: is installed, for a double view).
 _SWITCH_DEFAULTS: Mapping[str, Any] = {
     "n_colors": None, "yarns": None, "width": None, "resize": False, "candidates": 5,
-    "pool": None, "bank_file": None, "pick": 1, "solver": "cpsat", "soft_brightness": False,
+    "pool": None, "bank_file": None, "pick": 1, "solver": "cpsat", "brightness": "hard",
     "one_sided": False, "split_bumps": False, "split_share": None, "tile": (),
     "knitout": False, "machine": None, "rank_by": "perception", "knit_time": False,
     "simplify": False, "suggest": False, "distance": 3.0, "angle": 30.0, "read": None,
@@ -127,7 +127,7 @@ def _request(
     search = SearchOptions(
         candidates=s["candidates"],
         solver=s["solver"],
-        brightness=Brightness.SOFT if s["soft_brightness"] else Brightness.HARD,
+        brightness=Brightness(s["brightness"]),
         one_sided=s["one_sided"],
         split_bumps=s["split_bumps"] or s["split_share"] is not None,
         split_share=DEFAULT_SPLIT_SHARE if s["split_share"] is None else s["split_share"],

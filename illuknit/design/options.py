@@ -26,6 +26,7 @@ from enum import Enum, StrEnum
 from typing import Any
 
 from illuknit.core.arguments import MAX_SECONDS, MAX_SEED
+from illuknit.core.declared import accepts_old_names, check_declared_range, option
 from illuknit.core.errors import OptionError
 from illuknit.core.machine import MachineSpec, resolve_machine
 from illuknit.core.views import DEFAULT_SPLIT_SHARE
@@ -173,6 +174,7 @@ class MadeFor(StrEnum):
 HAND_KEY_FIELD = "-share of rows knittable by hand"
 
 
+@accepts_old_names
 @dataclass(frozen=True)
 class SearchOptions:
     """How tile designs are searched (:func:`~illuknit.design.tiles.assign.assign_tiles`).
@@ -200,39 +202,79 @@ class SearchOptions:
         course.
     edits : PictureEdits or str
         Simplifying edits of the pictures (double view only).
-    solve_seconds : float, optional
-        Time limit of each assignment solve (None: no limit).
+    time_limit : float, optional
+        Time limit of each assignment solve in seconds (None: no limit); formerly
+        ``solve_seconds`` (still taken, with a :class:`DeprecationWarning`, for one release).
     """
 
-    candidates: int = 5
-    pool: int = DEFAULT_POOL
-    pool_seconds: float = POOL_SECONDS
-    solver: str = "cpsat"
-    brightness: Brightness = Brightness.HARD
-    one_sided: bool = False
-    split_bumps: bool = False
-    split_share: float = DEFAULT_SPLIT_SHARE
-    edits: PictureEdits = PictureEdits.NONE
-    solve_seconds: float | None = 10.0
+    candidates: int = option(5, help="How many ranked candidates to write.", ge=1, le=50)
+    pool: int = option(
+        DEFAULT_POOL,
+        help="How many tile designs to search and rank before writing the best --candidates "
+        f"(designs past --candidates only within {POOL_SECONDS:g} s).",
+        ge=1,
+        le=MAX_COUNT,
+    )
+    pool_seconds: float = option(
+        POOL_SECONDS,
+        help="The designs past the candidates are sought only within this many seconds.",
+        gt=0,
+        le=MAX_SECONDS,
+    )
+    solver: str = option("cpsat", help="Solver backend: cpsat, rc2, ...")
+    brightness: Brightness = option(
+        Brightness.HARD,
+        help="Keep each picture's brightness order (hard), or only prefer to (soft).",
+    )
+    one_sided: bool = option(False, help="Only tiles that are solid from at least one side.")
+    split_bumps: bool = option(
+        False,
+        help="Tiles may hold split bumps: a bump knitted in two yarns, one seen from each side "
+        "(docs/split-bumps.md).",
+    )
+    split_share: float = option(
+        DEFAULT_SPLIT_SHARE,
+        help="Share of a split bump's colour each side sees of its own course, as measured on a "
+        "swatch.",
+        gt=0.5,
+        le=1.0,
+    )
+    edits: PictureEdits = option(
+        PictureEdits.NONE, help="Simplifying edits of the pictures (double view only)."
+    )
+    time_limit: float | None = option(
+        10.0,
+        help="Time limit of each assignment solve in seconds (none: no limit).",
+        gt=0,
+        le=MAX_SECONDS,
+        old_names=("solve_seconds",),
+    )
 
     def __post_init__(self) -> None:
-        if not 1 <= count_option("candidates", self.candidates, minimum=1) <= 50:
-            raise OptionError(f"`candidates` must be between 1 and 50, got {self.candidates}")
+        count_option("candidates", self.candidates, minimum=1)
+        check_declared_range(SearchOptions, "candidates", self.candidates, OptionError)
         count_option("pool", self.pool, minimum=1)
         _seconds("pool_seconds", self.pool_seconds)
         if not isinstance(self.solver, str) or not self.solver.strip():
             raise OptionError(f"`solver` must be a backend name, got {self.solver!r}")
-        if self.solve_seconds is not None:
-            _seconds("solve_seconds", self.solve_seconds)
+        if self.time_limit is not None:
+            _seconds("time_limit", self.time_limit)
         flag_option("one_sided", self.one_sided)
         flag_option("split_bumps", self.split_bumps)
         share = self.split_share
-        if isinstance(share, bool) or not isinstance(share, int | float) or not 0.5 < share <= 1:
+        if isinstance(share, bool) or not isinstance(share, int | float):
             raise OptionError(f"`split_share` must be a number in (0.5, 1], got {share!r}")
+        check_declared_range(SearchOptions, "split_share", share, OptionError)
         object.__setattr__(
             self, "brightness", enum_option(Brightness, "brightness", self.brightness)
         )
         object.__setattr__(self, "edits", enum_option(PictureEdits, "edits", self.edits))
+
+    @property
+    def solve_seconds(self) -> float | None:
+        """Deprecated spelling of :attr:`time_limit` (one name for a solve's time limit, as
+        :class:`SolveOptions` and :func:`~illuknit.design.tiles.assign.assign_tiles` spell it)."""
+        return self.time_limit
 
     def assign_kwargs(self) -> dict[str, Any]:
         """The keywords of :func:`~illuknit.design.tiles.assign.assign_tiles` these options set."""
@@ -242,7 +284,7 @@ class SearchOptions:
             "pool_seconds": self.pool_seconds,
             "solver": self.solver,
             "brightness": self.brightness.value,
-            "time_limit": self.solve_seconds,
+            "time_limit": self.time_limit,
         }
 
 
@@ -276,24 +318,57 @@ class RankOptions:
         (:attr:`~illuknit.design.hand_cost.HandCost.knittable_share`), then by ``rank_by``.
     """
 
-    rank_by: RankBy = RankBy.PERCEPTION
-    knit_time: bool = False
+    rank_by: RankBy = option(
+        RankBy.PERCEPTION,
+        help="Order of the candidates: how the views read (perception: worse view's "
+        "correlation, contrast floor, ghosting; legibility: designs whose both sides a reader "
+        "reads first, needs tesseract), the assignment's score, or one measure.",
+    )
+    knit_time: bool = option(
+        False,
+        help="Also knit every candidate and show the machine's knitting time (ties in the "
+        "ranking).",
+        flag="--knit-time/--no-knit-time",
+    )
     machine: str | MachineSpec | None = None
     overrides: tuple[tuple[tuple[int, int], str], ...] = ()
-    angle: float = 30.0
-    distance: float = 3.0
-    read: bool = False
-    made_for: MadeFor = MadeFor.MACHINE
+    angle: float = option(
+        30.0,
+        help="Viewing angle (degrees of elevation) the side views are judged and shown at.",
+        gt=0,
+        le=90,
+        title="Measured at angle",
+    )
+    distance: float = option(
+        3.0,
+        help="Viewing distance in metres: the measures see what a 20/20 eye resolves from there.",
+        gt=0,
+        le=1000,
+        title="Measured from",
+    )
+    read: bool = option(
+        False,
+        help="Ask a reader (tesseract OCR) whether each side of the candidates reads from "
+        "--distance.",
+        flag="--read/--no-read",
+    )
+    made_for: MadeFor = option(
+        MadeFor.MACHINE,
+        help="Who knits it: hands ranks first the designs whose rows a hand knitter can work "
+        "(2 yarns with floats of at most 7 sts, or at most 6 intarsia blocks), then by --rank-by.",
+        flag="--for",
+    )
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "rank_by", enum_option(RankBy, "rank_by", self.rank_by))
         object.__setattr__(self, "made_for", enum_option(MadeFor, "made_for", self.made_for))
         flag_option("knit_time", self.knit_time)
         flag_option("read", self.read)
-        for name, top in (("angle", 90.0), ("distance", 1000.0)):
+        for name in ("angle", "distance"):
             v = getattr(self, name)
-            if isinstance(v, bool) or not isinstance(v, (int, float)) or not 0 < v <= top:
-                raise OptionError(f"`{name}` must be a number in (0, {top:g}], got {v!r}")
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or math.isnan(v):
+                raise OptionError(f"`{name}` must be a number, got {v!r}")
+            check_declared_range(RankOptions, name, v, OptionError)
             object.__setattr__(self, name, float(v))
         resolve_machine(self.machine)
         if not isinstance(self.overrides, (dict, tuple, list)):
@@ -367,14 +442,41 @@ class SolveOptions:
     seed : int
     """
 
-    model: ModelKind = ModelKind.LOGICAL
-    solver: str = "auto"
-    warm_start: WarmStart = WarmStart.AUTO
+    model: ModelKind = option(
+        ModelKind.LOGICAL,
+        help="logical: fewest mismatched view cells (paper 4.2); knit-aware: also few colour "
+        "changes per course and knit/purl changes; single: one picture seen from both sides, one "
+        "yarn per row (a stripe head-on).",
+    )
+    solver: str = option(
+        "auto",
+        help="Backend: dp, cpsat, rc2[:ORACLE], lsu[:ORACLE], fm, the hermax solvers (uwrmaxsat, "
+        "evalmaxsat, ...; see --list-solvers), descent, gradient, wcnf:COMMAND (an external "
+        "MaxSAT binary; {} is the WCNF path), or auto (the exact DP when it applies, else "
+        "CP-SAT).",
+        metavar="NAME",
+    )
+    warm_start: WarmStart = option(
+        WarmStart.AUTO,
+        help="What the backend starts from: nothing, the DP optimum, or a block descent (part "
+        "of the time limit); auto: descent for the knit-aware model, else dp. The run says which "
+        "it used and who found the pattern.",
+    )
     weights: KnitWeights | None = None
-    alternate_rows: bool = False
-    split_bumps: bool = False
-    time_limit: float | None = 60.0
-    seed: int = 0
+    alternate_rows: bool = option(
+        False,
+        help="Single-view model: neighbouring rows must have different yarns (like `illuknit "
+        "single`).",
+    )
+    split_bumps: bool = option(
+        False,
+        help="Logical model: a bump may be knitted in two yarns, one seen from each side "
+        "(docs/split-bumps.md).",
+    )
+    time_limit: float | None = option(
+        60.0, help="Seconds; the best pattern found is kept.", gt=0, le=MAX_SECONDS
+    )
+    seed: int = option(0, help="Random seed of the solver backend.", ge=0, le=MAX_SEED)
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "model", enum_option(ModelKind, "model", self.model))

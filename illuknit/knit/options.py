@@ -25,7 +25,9 @@ from dataclasses import dataclass
 from enum import StrEnum
 
 from illuknit.core.arguments import check_int
-from illuknit.design.options import count_option, enum_option, flag_option
+from illuknit.core.declared import check_declared_range, option
+from illuknit.core.errors import OptionError
+from illuknit.design.options import MAX_COUNT, count_option, enum_option, flag_option
 
 __all__ = ["Catching", "KnitOptions", "PathPlanning"]
 
@@ -91,19 +93,57 @@ class KnitOptions:
     mixed-colourwork scheduler) only.
     """
 
-    cast_on_courses: int = 2
-    float_avoidance: bool = True
-    catching: Catching = Catching.TUCK
-    path_planning: PathPlanning = PathPlanning.ANCHOR
-    catch_every: int = 2
-    strict_floats: bool = False
-    tuck_passes: bool = False
-    allow_long_floats: bool = False
-    tall_bumps: bool = False
+    cast_on_courses: int = option(
+        2, help="Plain courses between the cast-on and the pattern.", ge=0, le=100
+    )
+    float_avoidance: bool = option(
+        True, help="Move purls to the front around floats that cross them (the default)."
+    )
+    catching: Catching = option(
+        Catching.TUCK,
+        help="How neighbouring carriers' regions are joined: tuck joins, the paper's plated "
+        "stitches (Algorithm 2), or off (the Fig. 20 ablation).",
+    )
+    path_planning: PathPlanning = option(
+        PathPlanning.ANCHOR,
+        help="Yarn path strategy (paper Algorithm 3); 'none' is the Fig. 20 ablation.",
+    )
+    catch_every: int = option(
+        2,
+        help="Join colour regions on every N-th course (1 = every course, as in the paper).",
+        ge=1,
+        le=MAX_COUNT,
+    )
+    strict_floats: bool = option(
+        False,
+        help="Also fail when a course needs more carriers than the machine has to keep floats "
+        "within the limit (default: bridge the shortest gaps with longer floats, then tuck them).",
+    )
+    tuck_passes: bool = option(
+        False,
+        help="Tuck a long float of a plated catching pass in a pass of the floating yarn alone "
+        "(fewer long floats, more passes; default: keep them and warn).",
+    )
+    allow_long_floats: bool = option(
+        False,
+        help="Knit a mixed-colourwork piece even where a float stays longer than the machine's "
+        "float limit after tucking (a course with more colour regions than carriers), with a "
+        "warning saying how long and where (default: refuse, naming the course and what to "
+        "change).",
+    )
+    tall_bumps: bool = option(
+        False,
+        help="Taller bumps: tuck each bump's purl needle in a pass of its own before the purl "
+        "(more yarn in every raised unit, one more pass per carrier in each purl course; "
+        "docs/split-bumps.md). Measure the new bump height with 'illuknit calibrate swatch "
+        "--tall-bumps'.",
+    )
 
     def __post_init__(self) -> None:
-        check_int(self.cast_on_courses, "cast_on_courses", min=0, max=100)
+        check_int(self.cast_on_courses, "cast_on_courses")
+        check_declared_range(KnitOptions, "cast_on_courses", self.cast_on_courses, OptionError)
         count_option("catch_every", self.catch_every, minimum=1)
+        check_declared_range(KnitOptions, "catch_every", self.catch_every, OptionError)
         for name in (
             "float_avoidance",
             "strict_floats",

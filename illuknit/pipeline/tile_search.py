@@ -143,7 +143,7 @@ def search_tiles(
         pool_seconds=search.pool_seconds,
         solver=search.solver,
         brightness=search.brightness.value,
-        time_limit=search.solve_seconds,
+        time_limit=search.time_limit,
     )
     return found, edits
 

@@ -45,7 +45,7 @@ def explain_infeasible(prob: _Problem, *, solver: str = "cpsat") -> str:
         if _feasible_real(soft, solver):
             lines.append(
                 "the fills that fit cannot keep the brightness order of the inputs; "
-                "allow it to change (--soft-brightness / brightness='soft') or merge colours"
+                "allow it to change (--brightness soft / brightness='soft') or merge colours"
             )
     core = list(prob.pairs)
     if not _feasible_real(_restricted(prob, core), solver):
