@@ -14,7 +14,7 @@ from illuknit.cli import cli
 from illuknit.cli.knitout_bridge import LONG_FLOATS_HELP
 from illuknit.cli.options import FiniteFloat, options_from, options_of
 from illuknit.core.declared import declared_options, option
-from illuknit.design.options import RankOptions, SearchOptions, SolveOptions
+from illuknit.design.options import Brightness, RankOptions, SearchOptions, SolveOptions
 from illuknit.knit.options import KnitOptions
 
 #: Which declared options each command generates, and from which class.
@@ -142,13 +142,13 @@ def test_soft_brightness_is_an_old_spelling_of_brightness_soft(
 
     seen = {}
     module = importlib.import_module(f"illuknit.cli.{command}")
-    monkeypatch.setattr(module, "run_design", lambda *a, **kw: seen.update(kw) or {})
+    monkeypatch.setattr(module, "run_design", lambda request, **kw: seen.update(r=request) or {})
     monkeypatch.setattr(module, "print_summary", lambda *a: None)
     picture = tmp_path / "a.png"
     picture.write_bytes(b"")
     code, _, err = run_cli([command, picture, picture, *argv, "-o", tmp_path / "out"])
     assert code == 0, err
-    assert seen["soft_brightness"] is soft and "brightness" not in seen
+    assert seen["r"].search.brightness is (Brightness.SOFT if soft else Brightness.HARD)
     assert ("--soft-brightness is deprecated" in err) is warned, err
     assert "use --brightness soft" in err or not warned
 

@@ -18,7 +18,7 @@ from illuknit.design.options import Brightness, PictureEdits, RankBy
 
 def test_a_design_request_holds_the_stage_options():
     r = DesignRequest.from_switches(
-        Path("a.png"), Path("b.png"), Path("out"), candidates=3, pool=7, soft_brightness=True,
+        Path("a.png"), Path("b.png"), Path("out"), candidates=3, pool=7, brightness="soft",
         suggest=True, rank_by="score", angle=20.0, width=30, resize=True, yarns="2", read=False,
     )  # fmt: skip
     assert (r.search.candidates, r.search.pool) == (3, 7)
