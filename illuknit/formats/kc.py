@@ -30,6 +30,7 @@ from dataclasses import dataclass, field
 from illuknit.core.errors import KcodeError
 from illuknit.formats.kc_ir import KcPass, KcProgram
 from illuknit.formats.kc_passes import read_kc_passes
+from illuknit.knitout.program import KnitoutProgram
 
 __all__ = ["BED_NEEDLES", "knitout_to_kc", "named_kc", "write_kcode"]
 
@@ -40,12 +41,12 @@ _COLUMNS = BED_NEEDLES + 1  # the selection strings hold one column beyond the l
 _PARKING = {"1": -11.5, "2": -9.5, "3": -9.5, "4": -7.5, "5": -7.5, "6": -7.5}
 
 
-def knitout_to_kc(text: str, *, name: str) -> str:
-    """Convert a knitout program to Kniterate k-code.
+def knitout_to_kc(program: KnitoutProgram | str, *, name: str) -> str:
+    """Convert a knitout program (or its text) to Kniterate k-code.
 
     Parameters
     ----------
-    text : str
+    program : KnitoutProgram or str
         Knitout-2 for the Kniterate: ``;;Carriers: 1 2 3 4 5 6``, yarns in with ``in`` and out
         with ``out`` (no hook), one carrier per stitch, ``x-stitch-number`` for stitch sizes.
     name : str
@@ -61,7 +62,7 @@ def knitout_to_kc(text: str, *, name: str) -> str:
     KcodeError
         If the program cannot be knitted as written on the Kniterate.
     """
-    return write_kcode(read_kc_passes(text), name=name)
+    return write_kcode(read_kc_passes(program), name=name)
 
 
 @dataclass

@@ -25,6 +25,7 @@ from illuknit.formats.swg_ir import (
     pass_kind,
 )
 from illuknit.knitout.parse import KnitoutProgram, Needle
+from illuknit.knitout.program import Bed
 
 __all__ = ["freeze_passes", "read_header"]
 
@@ -217,7 +218,7 @@ class _Builder:
             kick.pause, do_pause = do_pause, False
             self.merge(kick)
             for c in kicks[slot]:
-                self.carriers[c].kick = (Needle("f", slot), back)
+                self.carriers[c].kick = (Needle(Bed.FRONT, slot), back)
         new.pause = new.pause or do_pause
         self.merge(new)
 
@@ -243,7 +244,7 @@ class _Builder:
                     continue
                 way = CarriageDirection.RIGHT
             self.merge(self.draft(PassType.KNIT_TUCK, way, (name,), last_slot, SlotOp.SOFT_MISS))
-            car.kick = (Needle("f", last_slot), way)
+            car.kick = (Needle(Bed.FRONT, last_slot), way)
 
     def take_in(self, cs: tuple[str, ...], d: _Draft) -> None:
         """First use of carriers announced by ``in``/``inhook``: grippers (and hook) bring them."""

@@ -23,6 +23,7 @@ import re
 from illuknit.core.errors import KnitoutParseError
 from illuknit.knitout.program import (
     BEDS,
+    Direction,
     KnitoutProgram,
     Needle,
     Opcode,
@@ -154,7 +155,12 @@ def _parse_uncached(body: str, line: int) -> Operation:
                 f"{op}: unexpected {c!r} where a carrier name belongs", line=line
             )
     return Operation(
-        line, op, direction=direction, needles=tuple(needles), carriers=carriers, tabs=tabs
+        line,
+        op,
+        direction=None if direction is None else Direction(direction),
+        needles=tuple(needles),
+        carriers=carriers,
+        tabs=tabs,
     )
 
 

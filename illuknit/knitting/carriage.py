@@ -18,6 +18,7 @@ from illuknit.core.machine import MachineSpec
 from illuknit.knit.ir import ActionKind, CarrierAction
 from illuknit.knit.schedule import Schedule, ScheduleStats
 from illuknit.knit.timing import MachineRun
+from illuknit.knitout.program import KnitoutProgram
 
 __all__ = ["kc_run", "machine_run", "machine_stats", "runs_on_swg"]
 
@@ -27,11 +28,12 @@ def runs_on_swg(machine: MachineSpec) -> bool:
     return machine.runs_on() == "swg"
 
 
-def machine_run(text: str) -> MachineRun:
-    """Count the SWG machine's passes for a knitout program (exactly the ``.dat``'s rows)."""
+def machine_run(program: KnitoutProgram | str) -> MachineRun:
+    """Count the SWG machine's passes for a knitout program or its text (exactly the
+    ``.dat``'s rows)."""
     from illuknit.formats.swg_passes import machine_passes
 
-    ps = machine_passes(text)
+    ps = machine_passes(program)
     kinds = Counter(p.kind.value for p in ps)
     spans = tuple(p.needle_range[1] - p.needle_range[0] + 1 for p in ps)
     transfers = tuple(p.kind.value in _TRANSFER_KINDS for p in ps)
