@@ -21,11 +21,14 @@ import math
 from dataclasses import dataclass, field
 
 from illuknit.knitout.parse import KnitoutProgram, Needle
+from illuknit.knitout.program import Opcode
 
 __all__ = ["Float", "FloatTracker", "long_floats", "needle_slot", "program_floats"]
 
 #: Operations that leave a loop of their carriers' yarn on a needle.
-LOOP_OPS = frozenset({"knit", "tuck", "split"})
+LOOP_OPS = frozenset({Opcode.KNIT, Opcode.TUCK, Opcode.SPLIT})
+#: Operations after which a carrier's next loop starts afresh.
+_CUTS = frozenset({Opcode.IN, Opcode.INHOOK, Opcode.OUT, Opcode.OUTHOOK})
 
 
 @dataclass(frozen=True)
@@ -78,18 +81,20 @@ class FloatTracker:
 def program_floats(program: KnitoutProgram) -> tuple[Float, ...]:
     """Every float of length >= 1 in ``program``, in line order (see the module docstring)."""
     tracker = FloatTracker()
-    rack = 0.0
+    shift = 0  # back needles' slot shift at the racking in force (see needle_slot)
+    loop, cut = tracker.loop, tracker.cut
     for op in program.operations:
         name = op.op
         if name in LOOP_OPS and op.carriers:
-            slot = needle_slot(op.needle, rack)
+            n = op.needles[0]
+            slot = n.index if n.bed[0] == "f" else n.index + shift
             for c in op.carriers:
-                tracker.loop(op.line, c, slot)
+                loop(op.line, c, slot)
         elif name == "rack" and op.value is not None:
-            rack = op.value
-        elif name in ("in", "inhook", "out", "outhook"):
+            shift = math.floor(op.value)
+        elif name in _CUTS:
             for c in op.carriers:
-                tracker.cut(c)
+                cut(c)
     return tuple(tracker.floats)
 
 

@@ -163,6 +163,9 @@ class _Builder:
     presser: str = "off"
     pause_pending: bool = False
     line: int = 0
+    # the live carriers in carrier order, kept for the carriers they were sorted from
+    _sorted_from: tuple[str, ...] = ()
+    _sorted: list[str] = field(default_factory=list)
 
     def error(self, message: str) -> MachineRuleError:
         return MachineRuleError(f"line {self.line}: {message}", line=self.line)
@@ -225,7 +228,11 @@ class _Builder:
     def kick_others(self, n: Needle, cs: tuple[str, ...]) -> None:
         """Move every other live carrier attached on the far side of ``n`` out of its way."""
         needle_slot = self.slot(n)
-        for name in sorted(self.carriers, key=_CARRIER_ORDER.__getitem__):
+        live = tuple(self.carriers)
+        if live != self._sorted_from:  # carriers came in or went out
+            self._sorted_from = live
+            self._sorted = sorted(live, key=_CARRIER_ORDER.__getitem__)
+        for name in self._sorted:
             car = self.carriers[name]
             if name in cs or car.last is None or car.kick is None:
                 continue

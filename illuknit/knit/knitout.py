@@ -120,9 +120,18 @@ class _Lines:
         self.operations.append(_setting(name, str(value)).at(next(self.line)))
 
     def add(self, operations: Sequence[Operation], step: int | None) -> None:
-        line, append = self.line, self.operations.append
+        # Operation.at inlined: a big program places hundreds of thousands of operations
+        line, append, new, set_fields = (
+            self.line,
+            self.operations.append,
+            object.__new__,
+            object.__setattr__,
+        )
         for op in operations:
-            append(op.at(next(line), step))
+            fields = {**op.__dict__, "line": next(line), "step": step}
+            placed = new(Operation)
+            set_fields(placed, "__dict__", fields)
+            append(placed)
 
     def program(self) -> KnitoutProgram:
         return KnitoutProgram(

@@ -171,9 +171,10 @@ class Operation:
         """This operation on ``line`` with provenance ``step`` (a copy that skips re-checking:
         a program repeats few distinct operations)."""
         op = object.__new__(Operation)
-        op.__dict__.update(self.__dict__)
-        op.__dict__["line"] = line
-        op.__dict__["step"] = step
+        fields = self.__dict__.copy()
+        fields["line"] = line
+        fields["step"] = step
+        object.__setattr__(op, "__dict__", fields)
         return op
 
     def __str__(self) -> str:

@@ -186,11 +186,13 @@ class KnitResult:
         so :func:`knit_pattern` does not pay it for callers that never ask."""
         if "kc" not in self.machine.formats:
             return None
-        from illuknit.formats.kc import knitout_to_kc
+        from illuknit.formats.kc import knitout_to_kc_code
 
-        kc = knitout_to_kc(self.knitout, name=KC_NAME)
-        run = kc_run(kc)
-        return KcFigures(kc, run, estimate_knit_time(self.schedule, run=run, machine=self.machine))
+        code = knitout_to_kc_code(self.knitout, name=KC_NAME)
+        run = kc_run(code)  # the passes it wrote, not its text read back
+        return KcFigures(
+            code.text, run, estimate_knit_time(self.schedule, run=run, machine=self.machine)
+        )
 
     def _longest_float(self) -> tuple[int, str | None]:
         """The longest float over the limit: its length and where it is (carrier, needles,
