@@ -232,11 +232,13 @@ class _Builder:
         if live != self._sorted_from:  # carriers came in or went out
             self._sorted_from = live
             self._sorted = sorted(live, key=_CARRIER_ORDER.__getitem__)
+        carriers, rack_floor = self.carriers, self.rack_floor
         for name in self._sorted:
-            car = self.carriers[name]
+            car = carriers[name]
             if name in cs or car.last is None or car.kick is None:
                 continue
-            last_slot = self.slot(car.last[0])
+            last = car.last[0]  # (self.slot inlined: this runs for every carrier at every op)
+            last_slot = last.index if last.bed[0] == "f" else last.index + rack_floor
             # the yarn hangs just left (-) or right (+) of its last needle
             left_of = last_slot < needle_slot or (
                 last_slot == needle_slot and car.last[1] is CarriageDirection.LEFT

@@ -31,7 +31,7 @@ from illuknit.knit.float_tucks import LongFloat
 from illuknit.knit.hookless import lower_hookless_knitout, yarn_entry
 from illuknit.knit.ir import Pass, Role
 from illuknit.knit.knitout import lower_to_knitout
-from illuknit.knit.mixed import long_float_error, schedule_mixed
+from illuknit.knit.mixed import long_float_error, refuses_long_floats, schedule_mixed
 from illuknit.knit.options import Catching, KnitOptions
 from illuknit.knit.schedule import Schedule, ScheduleStats, schedule_courses
 from illuknit.knit.stitches import StitchPattern, lower_to_stitches
@@ -47,7 +47,7 @@ from illuknit.knitout.program import KnitoutProgram, format_knitout
 from illuknit.knitting.carriage import kc_run, machine_run, machine_stats, runs_on_swg
 
 if TYPE_CHECKING:
-    from illuknit.check.floats import Float
+    from illuknit.knitout.floats import Float
 
 __all__ = [
     "FLOAT_UNIT",
@@ -90,7 +90,7 @@ def _skipped(n: int) -> str:
 class FloatFacts:
     """A program's floats against its float limit, all in needles skipped (:data:`FLOAT_UNIT`:
     the needle slots strictly between two consecutive loops of one carrier, the checker's
-    measure, :mod:`illuknit.check.floats`).
+    measure, :mod:`illuknit.knitout.floats`).
 
     Attributes
     ----------
@@ -442,12 +442,12 @@ def knit_pattern(
         _schedule(stitches, m, plan_machine, opts), m, prelude=() if bumps is None else (bumps,)
     )
     # One float truth: the floats reported (and refused) are the program's, measured as the
-    # checker measures them.
+    # checker measures them (the scheduler was told to keep them: the program decides, once).
     limit = plan_machine.float_limit
     facts = program_float_facts(program, schedule, limit)
     long = facts.long
     schedule = replace(schedule, long_floats=long)
-    if long and (opts.strict_floats or not opts.allow_long_floats):
+    if refuses_long_floats(long, opts):
         raise long_float_error(long, stitches, limit)
     result = _measured(program, stitches, schedule, m, split=int(pattern.split.sum()), floats=facts)
     if schedule.long_floats:
@@ -508,7 +508,7 @@ def program_long_floats(
     program: KnitoutProgram | str, schedule: Schedule, limit: int
 ) -> tuple[LongFloat, ...]:
     """The floats of ``program`` longer than ``limit``, as the checker measures them
-    (:func:`illuknit.check.floats.long_floats`), each placed in ``schedule`` (see
+    (:func:`illuknit.knitout.floats.long_floats`), each placed in ``schedule`` (see
     :func:`program_float_facts`)."""
     return program_float_facts(program, schedule, limit).long
 
@@ -518,7 +518,7 @@ def program_float_facts(
 ) -> FloatFacts:
     """The floats of ``program`` against ``limit``: the longest, how many sit exactly at the
     limit and the ones over it, measured as the checker measures them
-    (:func:`illuknit.check.floats.program_floats`: needles skipped) and placed in ``schedule``
+    (:func:`illuknit.knitout.floats.program_floats`: needles skipped) and placed in ``schedule``
     by provenance: the operation that ends a float names the step it came from
     (:attr:`~illuknit.knitout.program.Operation.step`; none: the waste section).
 
@@ -526,7 +526,7 @@ def program_float_facts(
     text is still taken: parsed, with each operation given its step as the lowering would (the
     schedule's operations, one line each, end the program).
     """
-    from illuknit.check.floats import program_floats
+    from illuknit.knitout.floats import is_long_float, program_floats
 
     if isinstance(program, str):
         program = _with_provenance(program, schedule)
@@ -549,7 +549,7 @@ def program_float_facts(
         limit,
         placed(longest),
         sum(f.length == limit for f in found),
-        tuple(placed(f) for f in found if f.length > limit),
+        tuple(placed(f) for f in found if is_long_float(f.length, limit)),
     )
 
 
