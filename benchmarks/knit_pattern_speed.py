@@ -37,7 +37,7 @@ TARGET_SPEEDUP = 1.5
 CHILD = r"""
 import json, sys, time, warnings
 import numpy as np
-import illuknit.check, illuknit.knitout.floats, illuknit.formats.dat, illuknit.formats.kc
+import illuknit.check, illuknit.formats.dat, illuknit.formats.kc
 import illuknit.formats.kc_passes, illuknit.formats.swg_passes, illuknit.knitting.carriage
 import illuknit.knitting.pipeline, illuknit.knitout.parse
 from illuknit.core.pattern import LogicalPattern, Yarn
