@@ -111,8 +111,9 @@ def compare(before: Path, rows: int, cols: int, machine: str, repeat: int) -> No
         f"  after, formatting the text at the edge (KnitResult.text): {a['text_seconds']:.2f} s;"
         f" speed-up counting it {b['seconds'] / (a['seconds'] + a['text_seconds']):.2f}x"
     )
-    ok = a["parses"] == 0 and speedup >= TARGET_SPEEDUP
-    print(f"  target 0 parses and >= {TARGET_SPEEDUP}x: {'met' if ok else 'NOT met'}")
+    for what, x in (("wall", speedup), ("CPU", b["cpu"] / a["cpu"])):
+        ok = a["parses"] == 0 and x >= TARGET_SPEEDUP
+        print(f"  target 0 parses and >= {TARGET_SPEEDUP}x ({what}): {'met' if ok else 'NOT met'}")
 
 
 def main(argv: list[str] | None = None) -> int:
