@@ -102,3 +102,13 @@ def test_readers_give_the_same_answer_on_the_program_and_on_its_text(result) -> 
 def test_one_rule_for_a_long_float() -> None:
     assert not is_long_float(20, 20)
     assert is_long_float(21, 20)
+
+
+def test_the_float_measure_keeps_its_old_path_for_a_release() -> None:
+    import illuknit.check.floats as old
+    from illuknit.knitout import floats
+
+    with pytest.warns(DeprecationWarning, match="moved to illuknit.knitout.floats"):
+        assert old.program_floats is floats.program_floats
+    with pytest.raises(AttributeError):
+        _ = old.no_such_name
