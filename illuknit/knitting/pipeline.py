@@ -1,4 +1,4 @@
-"""The whole knitting path in one call: pattern -> stitches -> schedule -> knitout (+ stats).
+"""The whole knitting path in one call: pattern -> stitches -> schedule -> knitout program (+ stats).
 
 :func:`knit_pattern` is what ``illuknit knit`` and the ``--knitout`` options of the other commands
 call. One long-float policy for all of them: a float that stays longer than the machine's float
@@ -8,7 +8,7 @@ what to change) unless ``allow_long_floats=True``, which keeps it, reports it in
 :class:`LongFloatWarning` saying how long and where.
 
 It does not run the checker (that is :func:`illuknit.check.check_knitout`, slower); callers
-that want a verdict pass the returned text to it.
+that want a verdict pass it the returned program (``KnitResult.knitout``, read as it is).
 """
 
 from __future__ import annotations
