@@ -51,11 +51,13 @@ PACKAGES: dict[str, str] = {
     "solvers": "the pluggable solver backends, a top-level folder installed as `illuknit.solvers` "
     "(the registry and `solve` in `__init__.py`, the `Solution` contract in `base.py`)",
     "knit": "from a pattern to a machine program: stitches (`stitches.py`), carriage-pass "
-    "schedules (`schedule.py`, `mixed.py`), the knitout writer (`knitout.py`), the time model "
-    "(`timing.py`)",
-    "knitout": "the knitout IR and its parser (`KnitoutProgram`, `Operation`, `Needle`, "
-    "`parse_knitout` in `parse.py`), and the comment line a program declares its split or tall "
-    "bumps in (`bumps.py`)",
+    "schedules (`schedule.py`, `mixed.py`), their lowering to a `KnitoutProgram` (`knitout.py`), "
+    "the time model (`timing.py`)",
+    "knitout": "the knitout program as data, below the scheduler that lowers to it: one typed "
+    "operation vocabulary (`Opcode`, `Bed`, `Direction`, `Needle`, `Operation` with the schedule "
+    "step it came from) and `KnitoutProgram` with `format_knitout`, the one text writer "
+    "(`program.py`); the parser (`parse.py`); what a float is and how long it may be "
+    "(`floats.py`); the comment line a program declares its split or tall bumps in (`bumps.py`)",
     "check": "the checker: a program run on a simulated machine (`simulate.py`), its rules "
     "(`rules.py`) and fabric findings (`fabric.py`)",
     "formats": "the machine files (Shima `.dat`, Kniterate `.kc`) with the passes the SWG machine "

@@ -95,7 +95,7 @@ def knit_and_check(
         ) from None
     from illuknit.outputs.machine_sheet import machine_headline, machine_sheet
 
-    report = check_knitout(result.text, split_bumps=result.split_bumps > 0)
+    report = check_knitout(result.knitout, split_bumps=result.split_bumps > 0)
     sched = result.schedule
     carriers: list[dict[str, Any]] = [
         {

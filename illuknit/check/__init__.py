@@ -9,8 +9,8 @@ Stages, one module each::
          -> [vm.run_vm]                                      (PyPI simulator, second opinion)
          -> report.CheckReport
 
-:func:`check_knitout` runs them all. It reads knitout text only, so it checks programs from any
-generator, not just illuknit's.
+:func:`check_knitout` runs them all. It reads knitout text, so it checks programs from any
+generator, not just illuknit's; a program illuknit made is read as it is, without its text.
 """
 
 from __future__ import annotations
@@ -35,7 +35,7 @@ __all__ = [
 
 
 def check_knitout(
-    text: str,
+    text: str | KnitoutProgram,
     *,
     machine: MachineSpec | str | None = None,
     float_limit: int | None = None,
@@ -53,8 +53,9 @@ def check_knitout(
 
     Parameters
     ----------
-    text : str
-        The knitout program.
+    text : str or KnitoutProgram
+        The knitout program: its text (parsed here: a file's edge) or the program itself
+        (:func:`~illuknit.knitting.knit_pattern`'s ``KnitResult.knitout``), read as it is.
     machine : MachineSpec or str or None, keyword-only
         The machine, or a preset name (:data:`~illuknit.core.machine.MACHINES`); None reads it
         from the program's headers.
@@ -108,17 +109,17 @@ def check_knitout(
 
     _check_options(float_limit=float_limit, max_racking=max_racking, bed_width=bed_width)
     named = None if machine is None else resolve_machine(machine)  # before any parsing
-    program = parse_knitout(text)
+    program = text if isinstance(text, KnitoutProgram) else parse_knitout(text)
     spec = _judging_machine(program, named)
     racking = spec.max_racking if max_racking is None else max_racking
     limit = spec.float_limit if float_limit is None else float_limit
     width = _bed_width(program, spec, bed_width)
     sim = simulate_program(program, max_racking=racking, bed_width=width)
     findings = [*check_header(program, machine=spec), *machine_findings(sim)]
-    declared = declared_bumps(text)
+    declared = declared_bumps(program)
     split = bool(declared.split if split_bumps is None else split_bumps)
     fabric, suppressed = fabric_findings(sim, float_limit=limit, split_bumps=split)
-    vm_findings, vm_summary = _second_opinion(text, program) if simulate else ([], None)
+    vm_findings, vm_summary = _second_opinion(program) if simulate else ([], None)
     return CheckReport(
         findings=(*findings, *fabric, *vm_findings),
         pieces=sim.pieces,
@@ -189,7 +190,8 @@ def _judging_machine(program: KnitoutProgram, named: MachineSpec | None) -> Mach
 
 
 def _check_arguments(text: object, simulate: object, split_bumps: object) -> None:
-    check_str(text, "text")
+    if not isinstance(text, KnitoutProgram):
+        check_str(text, "text")
     check_bool(simulate, "simulate")
     if split_bumps is not None:
         check_bool(split_bumps, "split_bumps")
@@ -210,11 +212,13 @@ def _check_options(
         raise OptionError(f"`bed_width` must be a positive integer, got {bed_width!r}")
 
 
-def _second_opinion(text: str, program: KnitoutProgram) -> tuple[list[Finding], dict[str, Any]]:
-    """The PyPI simulator's findings (``source="vm"``) and the report's summary of its run."""
+def _second_opinion(program: KnitoutProgram) -> tuple[list[Finding], dict[str, Any]]:
+    """The PyPI simulator's findings (``source="vm"``) and the report's summary of its run
+    (it reads text: the program is formatted for it)."""
     from illuknit.check.vm import run_vm
+    from illuknit.knitout.program import format_knitout
 
-    result = run_vm(text, program)
+    result = run_vm(format_knitout(program), program)
     summary = {
         "ran": True,
         "seconds": round(result.seconds, 3),

@@ -49,6 +49,7 @@ from __future__ import annotations
 from illuknit.check.report import Finding
 from illuknit.check.sim_state import MAX_EVENTS_PER_CODE, Drop
 from illuknit.check.simulate import Simulation
+from illuknit.knitout.floats import is_long_float
 
 __all__ = ["FABRIC_RULES", "TAIL_KNITS", "dropped_stitches", "fabric_findings"]
 
@@ -145,7 +146,7 @@ def fabric_findings(
             "carriage): the stitch will not form; alternate direction or park it with miss",
         )
     for fl in sim.floats:
-        if fl.length > float_limit:
+        if is_long_float(fl.length, float_limit):
             add(
                 fl.line,
                 "long-float",

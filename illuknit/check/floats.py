@@ -1,98 +1,24 @@
-"""Floats of a knitout program: the one measure the checker and ``illuknit knit`` both report.
-
-A *float* is the yarn of one carrier between two consecutive loops it makes (knit, tuck or
-split with that carrier). Its length is the number of needle slots strictly between the two
-loops, as the machine sees them: a front needle ``f n`` sits at slot ``n``, a back needle ``b k``
-at slot ``k + floor(R)`` at racking ``R``. A carrier brought in (``in``/``inhook``) or taken out
-(``out``/``outhook``) starts afresh: its next loop has no float before it. ``miss`` moves a
-carrier without a loop, so a carrier parked far away and brought back does not make a float.
-
-:class:`FloatTracker` is that rule. The checker's simulator
-(:func:`~illuknit.check.simulate.simulate_program`) feeds it as it runs a program;
-:func:`program_floats` feeds it from the operations alone (no loops, no beds), which is what
-:func:`~illuknit.knitting.knit_pattern` uses for the ``long_floats`` / ``longest_float`` it reports.
-Both therefore give the same floats, by construction (and a test holds every generated program
-to it).
-"""
+"""Moved to :mod:`illuknit.knitout.floats` (the float measure lives with the program, below the
+scheduler); this name keeps working for one release with a :class:`DeprecationWarning`."""
 
 from __future__ import annotations
 
-import math
-from dataclasses import dataclass, field
+import warnings
+from typing import Any
 
-from illuknit.knitout.parse import KnitoutProgram, Needle
-
-__all__ = ["Float", "FloatTracker", "long_floats", "needle_slot", "program_floats"]
-
-#: Operations that leave a loop of their carriers' yarn on a needle.
-LOOP_OPS = frozenset({"knit", "tuck", "split"})
+_MOVED = frozenset(
+    {"LOOP_OPS", "Float", "FloatTracker", "long_floats", "needle_slot", "program_floats"}
+)
 
 
-@dataclass(frozen=True)
-class Float:
-    """Yarn of ``carrier`` crossing needle slots between two consecutive loops.
+def __getattr__(name: str) -> Any:
+    if name in _MOVED:
+        warnings.warn(
+            f"illuknit.check.floats.{name} moved to illuknit.knitout.floats.{name}",
+            DeprecationWarning,
+            stacklevel=2,
+        )
+        from illuknit.knitout import floats
 
-    ``line`` is the line of the operation that made the far loop.
-    """
-
-    line: int
-    carrier: str
-    from_slot: int
-    to_slot: int
-
-    @property
-    def length(self) -> int:
-        """Number of needle slots strictly between the two loops."""
-        return abs(self.to_slot - self.from_slot) - 1
-
-
-def needle_slot(needle: Needle, racking: float) -> int:
-    """The slot of ``needle`` at ``racking``: front needles at their index, back needles at
-    ``index + floor(racking)``."""
-    return needle.index if needle.is_front else needle.index + math.floor(racking)
-
-
-@dataclass
-class FloatTracker:
-    """Each carrier's last loop slot, and every float of length >= 1 seen so far."""
-
-    last: dict[str, int] = field(default_factory=dict)
-    floats: list[Float] = field(default_factory=list)
-
-    def loop(self, line: int, carrier: str, slot: int) -> Float | None:
-        """``carrier`` made a loop at ``slot``: the float before it (None when shorter than one
-        slot, or when the carrier had no loop since it came in)."""
-        prev = self.last.get(carrier)
-        self.last[carrier] = slot
-        if prev is None or abs(slot - prev) <= 1:
-            return None
-        f = Float(line, carrier, prev, slot)
-        self.floats.append(f)
-        return f
-
-    def cut(self, carrier: str) -> None:
-        """``carrier`` came in or went out: its next loop starts afresh."""
-        self.last.pop(carrier, None)
-
-
-def program_floats(program: KnitoutProgram) -> tuple[Float, ...]:
-    """Every float of length >= 1 in ``program``, in line order (see the module docstring)."""
-    tracker = FloatTracker()
-    rack = 0.0
-    for op in program.operations:
-        name = op.op
-        if name in LOOP_OPS and op.carriers:
-            slot = needle_slot(op.needle, rack)
-            for c in op.carriers:
-                tracker.loop(op.line, c, slot)
-        elif name == "rack" and op.value is not None:
-            rack = op.value
-        elif name in ("in", "inhook", "out", "outhook"):
-            for c in op.carriers:
-                tracker.cut(c)
-    return tuple(tracker.floats)
-
-
-def long_floats(program: KnitoutProgram, limit: int) -> tuple[Float, ...]:
-    """The floats of ``program`` longer than ``limit`` needle slots."""
-    return tuple(f for f in program_floats(program) if f.length > limit)
+        return getattr(floats, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

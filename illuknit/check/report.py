@@ -14,8 +14,10 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
+from illuknit.knitout.floats import is_long_float
+
 if TYPE_CHECKING:
-    from illuknit.check.floats import Float
+    from illuknit.knitout.floats import Float
 
 __all__ = ["SEVERITIES", "CheckReport", "Finding", "float_figures", "float_line", "render_report"]
 
@@ -250,7 +252,7 @@ def float_figures(floats: Sequence[Float], limit: int) -> dict[str, Any]:
         "longest_line": None if longest is None else longest.line,
         "longest_carrier": None if longest is None else longest.carrier,
         "at_limit": sum(f.length == limit for f in floats),
-        "over_limit": sum(f.length > limit for f in floats),
+        "over_limit": sum(is_long_float(f.length, limit) for f in floats),
     }
 
 

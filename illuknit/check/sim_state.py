@@ -4,8 +4,8 @@
 runs a program (the module docstring there says what each part means): the loops on every
 needle, the racking, each carrier (:class:`SimCarrier`), the inserting hook, and a union-find
 over the loop graph. It records machine-rule :class:`Event` s and raw fabric observations
-(:class:`~illuknit.check.floats.Float` via its
-:class:`~illuknit.check.floats.FloatTracker`, :class:`FaceFloat`, :class:`WrongSide`); :class:`CarrierEnd` reports a carrier
+(:class:`~illuknit.knitout.floats.Float` via its
+:class:`~illuknit.knitout.floats.FloatTracker`, :class:`FaceFloat`, :class:`WrongSide`); :class:`CarrierEnd` reports a carrier
 left in at the end.
 """
 
@@ -13,7 +13,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from illuknit.check.floats import FloatTracker, needle_slot
+from illuknit.knitout.floats import FloatTracker, needle_slot
 from illuknit.knitout.parse import Needle
 
 __all__ = [

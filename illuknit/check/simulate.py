@@ -28,7 +28,6 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from illuknit.check.floats import Float
 from illuknit.check.sim_state import (
     MAX_EVENTS_PER_CODE,
     BumpYarnChange,
@@ -41,6 +40,7 @@ from illuknit.check.sim_state import (
     UnclearedTuck,
     WrongSide,
 )
+from illuknit.knitout.floats import Float
 from illuknit.knitout.parse import CARRIER_OPS, STITCH_OPS, KnitoutProgram, Operation
 
 __all__ = ["Simulation", "simulate_program"]

@@ -122,7 +122,7 @@ def run_knit(
     if check:
         from illuknit.check import check_knitout
 
-        report = check_knitout(result.text, machine=spec)  # it declares its bumps
+        report = check_knitout(result.knitout, machine=spec)  # it declares its bumps
         summary["check"] = {
             "errors": report.n_blocking,
             "warnings": report.n_warnings,
@@ -139,7 +139,7 @@ def run_knit(
     if output_format in sheet.files:  # made for the sheet already (the .kc)
         data = sheet.files[output_format].encode("utf-8")
     else:
-        data = knitout_to_format(result.text, output_format, name=name)
+        data = knitout_to_format(result.knitout, output_format, name=name)
     summary["output"] = write_output_file(output, data)
     summary["format"] = output_format
     return summary

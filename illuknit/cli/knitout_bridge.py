@@ -352,7 +352,7 @@ def write_program(
         refused.append(refusal.error)
         console().print(f"knitout: refused; the design is written, {REFUSAL_NOTE} says why")
         return {"refused": atomic_write_text(outdir / REFUSAL_NOTE, refusal.note)}
-    report = check_knitout(result.program, machine=spec)  # it declares its bumps
+    report = check_knitout(result.knitout, machine=spec)  # it declares its bumps
     sheet = machine_sheet(result, name="program.kc")
     summary = machine_headline(result.summary(), sheet)
     for line in _describe(summary):
@@ -360,7 +360,7 @@ def write_program(
     console().print(f"check: {report.to_text(name='program.k').splitlines()[0]}")
     # convert before writing anything, so a program the machine file cannot hold leaves nothing
     extra = {
-        fmt: knitout_to_format(result.program, fmt, name=f"program{FORMAT_SUFFIXES[fmt]}")
+        fmt: knitout_to_format(result.knitout, fmt, name=f"program{FORMAT_SUFFIXES[fmt]}")
         for fmt in formats
         if fmt != "knitout" and fmt not in sheet.files
     }

@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING
 from illuknit.core.errors import UnknownNameError
 from illuknit.formats.swg_ir import MachinePass, MachinePassKind
 from illuknit.formats.swg_passes import machine_passes
+from illuknit.knitout.program import KnitoutProgram, format_knitout
 
 if TYPE_CHECKING:
     from illuknit.core.machine import MachineSpec
@@ -47,8 +48,9 @@ def check_format(machine: MachineSpec, fmt: str) -> None:
         raise UnknownNameError(f"output format for the {machine.label}", fmt, valid)
 
 
-def knitout_to_format(text: str, fmt: str, *, name: str = "program") -> bytes:
-    """The bytes of ``text`` as a file of format ``fmt`` (``knitout``, ``dat`` or ``kc``).
+def knitout_to_format(program: KnitoutProgram | str, fmt: str, *, name: str = "program") -> bytes:
+    """The bytes of ``program`` (a knitout program or its text) as a file of format ``fmt``
+    (``knitout``, ``dat`` or ``kc``).
 
     ``name`` is the file name a ``.kc`` records in its comment line.
 
@@ -61,14 +63,15 @@ def knitout_to_format(text: str, fmt: str, *, name: str = "program") -> bytes:
         :func:`~illuknit.formats.dat.knitout_to_dat`).
     """
     if fmt == "knitout":
+        text = program if isinstance(program, str) else format_knitout(program)
         return text.encode("utf-8")
     if fmt == "dat":
         from illuknit.formats.dat import knitout_to_dat
 
-        return knitout_to_dat(text)
+        return knitout_to_dat(program)
     if fmt == "kc":
         from illuknit.formats.kc import knitout_to_kc
 
-        return knitout_to_kc(text, name=name).encode("utf-8")
+        return knitout_to_kc(program, name=name).encode("utf-8")
 
     raise UnknownNameError("output format", fmt, list(FORMAT_SUFFIXES))

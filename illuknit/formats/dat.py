@@ -40,6 +40,7 @@ from illuknit.formats.swg_ir import (
     SwgPlan,
 )
 from illuknit.formats.swg_passes import plan_swg
+from illuknit.knitout.program import KnitoutProgram
 
 __all__ = [
     "DatFile",
@@ -349,8 +350,9 @@ def read_dat(data: bytes) -> DatFile:
     return DatFile(raster=raster, passes=passes, position=position)
 
 
-def knitout_to_dat(text: str) -> bytes:
-    """Knitout text -> Shima ``.dat`` bytes (identical to the reference SWG backend's).
+def knitout_to_dat(program: KnitoutProgram | str) -> bytes:
+    """A knitout program (or its text) -> Shima ``.dat`` bytes (identical to the reference SWG
+    backend's).
 
     Raises
     ------
@@ -359,4 +361,4 @@ def knitout_to_dat(text: str) -> bytes:
     UnsupportedKnitoutError
         Valid knitout the writer does not implement; no file is better than a wrong one.
     """
-    return encode_dat(raster_from_plan(plan_swg(text)))
+    return encode_dat(raster_from_plan(plan_swg(program)))

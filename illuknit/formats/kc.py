@@ -30,8 +30,18 @@ from dataclasses import dataclass, field
 from illuknit.core.errors import KcodeError
 from illuknit.formats.kc_ir import KcPass, KcProgram
 from illuknit.formats.kc_passes import read_kc_passes
+from illuknit.knitout.program import KnitoutProgram
 
-__all__ = ["BED_NEEDLES", "knitout_to_kc", "named_kc", "write_kcode"]
+__all__ = [
+    "BED_NEEDLES",
+    "KcCode",
+    "KcRow",
+    "knitout_to_kc",
+    "knitout_to_kc_code",
+    "named_kc",
+    "write_kc",
+    "write_kcode",
+]
 
 BED_NEEDLES = 252
 _MARGIN = 15  # unused needle-selection columns on either side of the bed
@@ -40,12 +50,40 @@ _COLUMNS = BED_NEEDLES + 1  # the selection strings hold one column beyond the l
 _PARKING = {"1": -11.5, "2": -9.5, "3": -9.5, "4": -7.5, "5": -7.5, "6": -7.5}
 
 
-def knitout_to_kc(text: str, *, name: str) -> str:
-    """Convert a knitout program to Kniterate k-code.
+@dataclass(frozen=True)
+class KcRow:
+    """One carriage pass of a ``.kc`` (a ``>>`` / ``<<`` line), as written.
+
+    Attributes
+    ----------
+    kind : str
+        Its pass type (``Kn-Kn``, ``Tr-Rr``, ``Tu-Tu``, ...).
+    span : int
+        Carriage travel between the turning points (``/`` .. ``\\`` of its front needle row), in
+        needles.
+    speed : str
+        The speed number it states.
+    """
+
+    kind: str
+    span: int
+    speed: str
+
+
+@dataclass(frozen=True)
+class KcCode:
+    """A ``.kc``: its text and its passes (so its reader need not scrape the text back)."""
+
+    text: str
+    rows: tuple[KcRow, ...]
+
+
+def knitout_to_kc(program: KnitoutProgram | str, *, name: str) -> str:
+    """Convert a knitout program (or its text) to Kniterate k-code.
 
     Parameters
     ----------
-    text : str
+    program : KnitoutProgram or str
         Knitout-2 for the Kniterate: ``;;Carriers: 1 2 3 4 5 6``, yarns in with ``in`` and out
         with ``out`` (no hook), one carrier per stitch, ``x-stitch-number`` for stitch sizes.
     name : str
@@ -61,7 +99,12 @@ def knitout_to_kc(text: str, *, name: str) -> str:
     KcodeError
         If the program cannot be knitted as written on the Kniterate.
     """
-    return write_kcode(read_kc_passes(text), name=name)
+    return knitout_to_kc_code(program, name=name).text
+
+
+def knitout_to_kc_code(program: KnitoutProgram | str, *, name: str) -> KcCode:
+    """:func:`knitout_to_kc` with the passes it writes (:class:`KcCode`)."""
+    return write_kc(read_kc_passes(program), name=name)
 
 
 @dataclass
@@ -158,6 +201,11 @@ def named_kc(kc: str, name: str) -> str:
 
 def write_kcode(program: KcProgram, *, name: str) -> str:
     """Write the passes of ``program`` as k-code text; ``name`` goes in the line-3 comment."""
+    return write_kc(program, name=name).text
+
+
+def write_kc(program: KcProgram, *, name: str) -> KcCode:
+    """:func:`write_kcode`'s text and the carriage passes it writes (:class:`KcCode`)."""
     if not program.passes:
         raise KcodeError("the program knits nothing")
     lo = min(p.lo for p in program.passes)
@@ -366,8 +414,9 @@ def _js_number(x: float) -> str:
     return str(int(x)) if float(x).is_integer() else repr(float(x))
 
 
-def _format(rows: list[_Row], *, name: str) -> str:
+def _format(rows: list[_Row], *, name: str) -> KcCode:
     out = ["HOME", "RACK:0", f"// {name}"]
+    written: list[KcRow] = []
     last_rack = 0.0
     for row in rows:
         if row.pause_message is not None:
@@ -393,6 +442,7 @@ def _format(rows: list[_Row], *, name: str) -> str:
             front = front[:i] + mark + front[i:]
             back = back[:i] + mark + back[i:]
         op = ">>" if row.direction == "+" else "<<"
+        written.append(KcRow(row.kind, max(0, front.find("\\") - front.find("/")), f"{row.speed}"))
         out += [
             "FRNT:" + front,
             "STIF:" + row.stif,
@@ -400,7 +450,7 @@ def _format(rows: list[_Row], *, name: str) -> str:
             "STIR:" + row.stir,
             f"{op} {row.kind} {row.carrier or '0'} {row.speed} {_js_number(row.roller)}",
         ]
-    return "\n".join(out) + "\n"
+    return KcCode("\n".join(out) + "\n", tuple(written))
 
 
 def _check_stops(row: _Row) -> None:

@@ -34,6 +34,7 @@ from illuknit.formats.kc_ir import (
     pass_kind,
 )
 from illuknit.knitout.parse import KnitoutProgram, Needle, Operation, parse_knitout
+from illuknit.knitout.program import Bed
 
 __all__ = ["read_kc_passes"]
 
@@ -53,16 +54,17 @@ def _opposite(direction: str) -> str:
     return "+" if direction == "-" else "-"
 
 
-def read_kc_passes(text: str) -> KcProgram:
-    """Parse knitout text into the Kniterate's carriage passes.
+def read_kc_passes(program: KnitoutProgram | str) -> KcProgram:
+    """A knitout program's Kniterate carriage passes.
 
-    The text is read by the knitout parser (:func:`~illuknit.knitout.parse.parse_knitout`);
-    its operations are then grouped into passes as the backend groups them.
+    Text is read by the knitout parser (:func:`~illuknit.knitout.parse.parse_knitout`) first;
+    the program's operations are then grouped into passes as the backend groups them.
 
     Parameters
     ----------
-    text : str
-        A knitout-2 program for the Kniterate (``;;Carriers: 1 2 3 4 5 6``, ``in``/``out`` only).
+    program : KnitoutProgram or str
+        A knitout-2 program (or its text) for the Kniterate (``;;Carriers: 1 2 3 4 5 6``,
+        ``in``/``out`` only).
 
     Returns
     -------
@@ -74,10 +76,13 @@ def read_kc_passes(text: str) -> KcProgram:
         For knitout the Kniterate backend refuses, or would translate into a wrong file (a line
         that does not parse as knitout included).
     """
-    try:
-        program = parse_knitout(text)
-    except KnitoutParseError as e:
-        raise KcodeError(str(e).removeprefix(f"line {e.line}: "), line=e.line) from None
+    # the line after the last, as the backend counts (the formatted text ends with a newline)
+    end = len(program.split("\n")) if isinstance(program, str) else program.n_lines + 1
+    if isinstance(program, str):
+        try:
+            program = parse_knitout(program)
+        except KnitoutParseError as e:
+            raise KcodeError(str(e).removeprefix(f"line {e.line}: "), line=e.line) from None
     reader = _PassReader()
     for operation in program.operations:
         reader.line = operation.line
@@ -86,7 +91,7 @@ def read_kc_passes(text: str) -> KcProgram:
         reader.apply(operation)
     if reader.carriers:
         left = " ".join(sorted(reader.carriers, key=int))
-        raise KcodeError(f"carriers {left} are never taken out (`out`)", line=len(text.split("\n")))
+        raise KcodeError(f"carriers {left} are never taken out (`out`)", line=end)
     return KcProgram(
         headers=_read_headers(program),
         passes=tuple(reader.passes),
@@ -231,7 +236,7 @@ class _PassReader:
                 kick_pass.pause, do_pause = do_pause, False  # the backend drops its message
                 self.merge(kick_pass)
                 for c in kicks[s]:
-                    self.carriers[c].kick = (Needle("f", s), back)
+                    self.carriers[c].kick = (Needle(Bed.FRONT, s), back)
         if do_pause:
             p.pause, p.pause_message = True, self.pause_message
         if kicks:
@@ -259,7 +264,7 @@ class _PassReader:
             self.merge(
                 self.new_pass(SOFT, (name,), direction, last_slot, KcSlotOp.SOFT_MISS, roller=0)
             )
-            state.kick = (Needle("f", last_slot), direction)
+            state.kick = (Needle(Bed.FRONT, last_slot), direction)
 
     def mark_in(self, carriers: tuple[str, ...], p: KcPass) -> None:
         """Mark ``p`` as bringing ``carriers`` in from the grippers if this is their first use."""

@@ -25,6 +25,7 @@ from illuknit.formats.swg_ir import (
     pass_kind,
 )
 from illuknit.knitout.parse import KnitoutProgram, Needle
+from illuknit.knitout.program import Bed
 
 __all__ = ["freeze_passes", "read_header"]
 
@@ -162,6 +163,9 @@ class _Builder:
     presser: str = "off"
     pause_pending: bool = False
     line: int = 0
+    # the live carriers in carrier order, kept for the carriers they were sorted from
+    _sorted_from: tuple[str, ...] = ()
+    _sorted: list[str] = field(default_factory=list)
 
     def error(self, message: str) -> MachineRuleError:
         return MachineRuleError(f"line {self.line}: {message}", line=self.line)
@@ -217,18 +221,24 @@ class _Builder:
             kick.pause, do_pause = do_pause, False
             self.merge(kick)
             for c in kicks[slot]:
-                self.carriers[c].kick = (Needle("f", slot), back)
+                self.carriers[c].kick = (Needle(Bed.FRONT, slot), back)
         new.pause = new.pause or do_pause
         self.merge(new)
 
     def kick_others(self, n: Needle, cs: tuple[str, ...]) -> None:
         """Move every other live carrier attached on the far side of ``n`` out of its way."""
         needle_slot = self.slot(n)
-        for name in sorted(self.carriers, key=_CARRIER_ORDER.__getitem__):
-            car = self.carriers[name]
+        live = tuple(self.carriers)
+        if live != self._sorted_from:  # carriers came in or went out
+            self._sorted_from = live
+            self._sorted = sorted(live, key=_CARRIER_ORDER.__getitem__)
+        carriers, rack_floor = self.carriers, self.rack_floor
+        for name in self._sorted:
+            car = carriers[name]
             if name in cs or car.last is None or car.kick is None:
                 continue
-            last_slot = self.slot(car.last[0])
+            last = car.last[0]  # (self.slot inlined: this runs for every carrier at every op)
+            last_slot = last.index if last.bed[0] == "f" else last.index + rack_floor
             # the yarn hangs just left (-) or right (+) of its last needle
             left_of = last_slot < needle_slot or (
                 last_slot == needle_slot and car.last[1] is CarriageDirection.LEFT
@@ -243,7 +253,7 @@ class _Builder:
                     continue
                 way = CarriageDirection.RIGHT
             self.merge(self.draft(PassType.KNIT_TUCK, way, (name,), last_slot, SlotOp.SOFT_MISS))
-            car.kick = (Needle("f", last_slot), way)
+            car.kick = (Needle(Bed.FRONT, last_slot), way)
 
     def take_in(self, cs: tuple[str, ...], d: _Draft) -> None:
         """First use of carriers announced by ``in``/``inhook``: grippers (and hook) bring them."""

@@ -103,9 +103,13 @@ def _take_out(b: _Builder, op: Operation) -> None:
         del b.carriers[c]
 
 
+#: Operations without yarn that the machine does as the stitch they name.
+_YARNLESS = {"drop": "knit", "amiss": "tuck"}
+
+
 def _stitch(b: _Builder, op: Operation) -> None:
     """knit, tuck, miss, drop (= knit without yarn) and amiss (= tuck without yarn)."""
-    name = {"drop": "knit", "amiss": "tuck"}.get(op.op, op.op)
+    name = _YARNLESS.get(op.op, op.op)
     n = op.needle
     cs = op.carriers
     if name == "miss" and not cs:

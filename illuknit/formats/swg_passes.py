@@ -16,7 +16,7 @@ that backend writes:
 * ``releasehook`` is its own empty pass (plus an empty carriage move first when the previous pass ran
   the hook's way); ``out``/``outhook`` is a rightward pass at the carrier's last needle.
 
-The stage is pure: :func:`plan_swg` reads knitout text and returns an
+The stage is pure: :func:`plan_swg` reads a knitout program (text is parsed first) and returns an
 :class:`~illuknit.formats.swg_ir.SwgPlan` whose :class:`~illuknit.formats.swg_ir.MachinePass`
 records are frozen (their types live in :mod:`illuknit.formats.swg_ir`). The mutable bookkeeping
 lives in a private builder (:mod:`illuknit.formats.swg_build`), each knitout operation's effect on
@@ -30,12 +30,14 @@ from illuknit.formats.swg_build import _Builder, freeze_passes, read_header
 from illuknit.formats.swg_ir import MachinePass, SwgPlan
 from illuknit.formats.swg_ops import apply_operation
 from illuknit.knitout.parse import parse_knitout
+from illuknit.knitout.program import KnitoutProgram
 
 __all__ = ["machine_passes", "plan_swg"]
 
 
-def plan_swg(text: str) -> SwgPlan:
-    """Knitout text -> the SWG machine's carriage passes and bed placement.
+def plan_swg(program: KnitoutProgram | str) -> SwgPlan:
+    """A knitout program (or its text, parsed first) -> the SWG machine's carriage passes and
+    bed placement.
 
     Raises
     ------
@@ -48,7 +50,8 @@ def plan_swg(text: str) -> SwgPlan:
         Valid knitout this writer does not implement (split via sliders, unknown extensions,
         three or more carriers in one pass).
     """
-    program = parse_knitout(text)
+    if isinstance(program, str):
+        program = parse_knitout(program)
     width, position = read_header(program)
     b = _Builder()
     for op in program.operations:
@@ -66,8 +69,8 @@ def plan_swg(text: str) -> SwgPlan:
     return SwgPlan(passes=tuple(freeze_passes(b.passes)), width=width, position=position)
 
 
-def machine_passes(text: str) -> list[MachinePass]:
-    """The carriage passes the SWG machine runs for a knitout program.
+def machine_passes(program: KnitoutProgram | str) -> list[MachinePass]:
+    """The carriage passes the SWG machine runs for a knitout program (or its text).
 
     Their number equals the pass rows of the reference backend's ``.dat`` (raster height - 19).
 
@@ -78,4 +81,4 @@ def machine_passes(text: str) -> list[MachinePass]:
     >>> [p.kind.value for p in machine_passes(k)]
     ['knit', 'carriage-move', 'hook-release', 'knit']
     """
-    return list(plan_swg(text).passes)
+    return list(plan_swg(program).passes)

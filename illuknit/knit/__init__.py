@@ -5,7 +5,7 @@ One module per stage::
     LogicalPattern -> stitches.lower_to_stitches -> StitchPattern
                    -> schedule.schedule_courses  -> Schedule   (one colour per course)
                    -> mixed.schedule_mixed       -> Schedule   (colour changes inside courses)
-                   -> knitout.write_knitout      -> knitout-2 text
+                   -> knitout.lower_to_knitout   -> KnitoutProgram (write_knitout: its text)
                       timing.estimate_knit_time  -> TimeEstimate
 
 The machine's limits are :class:`illuknit.core.machine.MachineSpec`; the whole path in one call,
@@ -14,7 +14,7 @@ measured on the machine, is :func:`illuknit.knitting.knit_pattern`.
 
 from __future__ import annotations
 
-from illuknit.knit.knitout import write_knitout
+from illuknit.knit.knitout import lower_to_knitout, write_knitout
 from illuknit.knit.mixed import schedule_mixed
 from illuknit.knit.schedule import (
     CarrierAction,
@@ -38,6 +38,7 @@ __all__ = [
     "StitchPattern",
     "TimeEstimate",
     "estimate_knit_time",
+    "lower_to_knitout",
     "lower_to_stitches",
     "schedule_courses",
     "schedule_mixed",

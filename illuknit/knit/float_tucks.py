@@ -43,6 +43,7 @@ from illuknit.knit.ir import (
     flip,
 )
 from illuknit.knit.tuck_planning import LOOP_OPS, Solo, TuckPlan, knit_pass
+from illuknit.knitout.floats import is_long_float
 
 if TYPE_CHECKING:
     from illuknit.knit.stitches import StitchPattern
@@ -127,7 +128,7 @@ def tuck_long_floats(
                 continue
             for c in s.carriers:
                 got = last.get(c)
-                if got is not None and abs(o.needle - got[0]) - 1 > limit:
+                if got is not None and is_long_float(abs(o.needle - got[0]) - 1, limit):
                     plan.plan(i, c, o.needle, got)
                 last[c] = (o.needle, i, i)
         for c in s.carriers:
@@ -161,7 +162,7 @@ def measure_long_floats(
             slot = o.needle + (shift if o.bed is Bed.BACK else 0)
             for c in s.carriers:
                 got = last.get(c)
-                if got is not None and abs(slot - got) - 1 > limit:
+                if got is not None and is_long_float(abs(slot - got) - 1, limit):
                     long.append(LongFloat(i, c, got, slot, s.course))
                 last[c] = slot
     return long

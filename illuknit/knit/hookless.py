@@ -8,7 +8,7 @@ carrier. So :func:`lower_hookless` rewrites a schedule's steps, and :func:`write
 puts a waste section in front of the piece, as the Kniterate backend's ``waste-section.js`` helper
 does. The waste section is made of the schedulers' own steps (:class:`WasteSection`, built by
 :func:`waste_section`, passes of role ``waste``) and written by the same step writer
-(:func:`~illuknit.knit.knitout.step_lines`):
+(:func:`~illuknit.knit.knitout.step_operations`):
 
 1. **bring every yarn in** (waste yarn, draw thread, then the pattern's yarns in order of first
    use): each tucks every k-th front needle of the waste width rightward and back leftward
@@ -39,8 +39,9 @@ from dataclasses import dataclass, replace
 from illuknit.core.errors import SchedulingError
 from illuknit.core.machine import MachineSpec
 from illuknit.knit.ir import ActionKind, Bed, Direction, OpKind, PassKind, Role
-from illuknit.knit.knitout import step_lines, write_knitout
+from illuknit.knit.knitout import Prelude, lower_to_knitout, step_operations
 from illuknit.knit.schedule import CarrierAction, Op, Pass, Schedule, Step
+from illuknit.knitout.program import KnitoutProgram, Operation, format_knitout
 
 __all__ = [
     "WasteSection",
@@ -48,7 +49,9 @@ __all__ = [
     "fabric_needles",
     "first_directions",
     "lower_hookless",
+    "lower_hookless_knitout",
     "waste_knitout",
+    "waste_prelude",
     "waste_section",
     "write_hookless_knitout",
     "yarn_entry",
@@ -276,13 +279,13 @@ def _tuck_pass(c: str, i: int, k: int, lo: int, hi: int, direction: Direction) -
     )
 
 
-def waste_knitout(section: WasteSection) -> list[str]:
-    """Knitout lines of ``section``: its settings (roller advance, stitch number, speed), then
-    each part under a comment naming it."""
-    lines = [
-        f"x-roller-advance {WASTE_ROLLER_ADVANCE}",
-        f"x-stitch-number {WASTE_STITCH_NUMBER}",
-        f"x-speed-number {WASTE_SPEED_NUMBER}",
+def waste_prelude(section: WasteSection) -> list[str | Operation]:
+    """What ``section`` puts between the header and the piece: its settings (roller advance,
+    stitch number, speed), then each part under a comment naming it."""
+    items: list[str | Operation] = [
+        Operation(1, "x-roller-advance", args=(f"{WASTE_ROLLER_ADVANCE}",)),
+        Operation(1, "x-stitch-number", args=(f"{WASTE_STITCH_NUMBER}",)),
+        Operation(1, "x-speed-number", args=(f"{WASTE_SPEED_NUMBER}",)),
     ]
     parts = (
         ("bring the yarns in", section.yarn_in),
@@ -290,18 +293,36 @@ def waste_knitout(section: WasteSection) -> list[str]:
         ("draw thread", section.draw_thread),
     )
     for name, steps in parts:
-        lines.append(f"; {name}")
-        lines += [line for step in steps for line in step_lines(step)]
-    lines.append("; the piece")
-    return lines
+        items.append(f"; {name}")
+        items += [op for step in steps for op in step_operations(step)]
+    items.append("; the piece")
+    return items
+
+
+def waste_knitout(section: WasteSection) -> list[str]:
+    """Knitout lines of ``section`` (:func:`waste_prelude` as text)."""
+    return [item if isinstance(item, str) else str(item) for item in waste_prelude(section)]
+
+
+def lower_hookless_knitout(
+    schedule: Schedule,
+    *,
+    machine: MachineSpec,
+    waste_passes: int = 70,
+    prelude: Prelude = (),
+) -> tuple[KnitoutProgram, Schedule]:
+    """The program for a machine without an inserting hook: header, ``prelude``, waste section,
+    then the piece; and the schedule it runs (:func:`lower_hookless`), whose step indices the
+    piece's operations carry (the waste section's carry none)."""
+    lowered = lower_hookless(schedule, machine=machine)
+    waste = waste_prelude(waste_section(schedule, machine=machine, waste_passes=waste_passes))
+    program = lower_to_knitout(lowered, machine=machine, prelude=[*prelude, *waste])
+    return program, lowered
 
 
 def write_hookless_knitout(
     schedule: Schedule, *, machine: MachineSpec, waste_passes: int = 70
 ) -> str:
     """Knitout for a machine without an inserting hook: header, waste section, then the piece."""
-    lowered = lower_hookless(schedule, machine=machine)
-    lines = write_knitout(lowered, machine=machine).split("\n")
-    body = next(i for i, ln in enumerate(lines) if not ln.startswith(";;") and i > 0)
-    waste = waste_knitout(waste_section(schedule, machine=machine, waste_passes=waste_passes))
-    return "\n".join([*lines[:body], *waste, *lines[body:]])
+    program, _ = lower_hookless_knitout(schedule, machine=machine, waste_passes=waste_passes)
+    return format_knitout(program)

@@ -2,7 +2,8 @@
 
 Every scheduler emits these and every later stage (the knitout writer, the machine pass model,
 the time model) reads them. The vocabularies are enums (:class:`PassKind`, :class:`OpKind`,
-:class:`Bed`, :class:`Role`, :class:`ActionKind`); they are :class:`~enum.StrEnum` members whose
+:class:`Bed`, :class:`Role`, :class:`ActionKind`; :class:`Bed` is the knitout program's own,
+:class:`illuknit.knitout.program.Bed`); they are :class:`~enum.StrEnum` members whose
 values are the knitout tokens, so ``str(OpKind.KNIT) == "knit"`` and a pass still compares equal
 to the plain string it was written with. Constructors accept either form and store the enum.
 
@@ -20,6 +21,7 @@ from typing import Any, Literal
 import numpy as np
 
 from illuknit.core.errors import MachineRuleError, SchedulingError
+from illuknit.knitout.program import Bed
 
 __all__ = [
     "ActionKind",
@@ -60,13 +62,6 @@ class OpKind(StrEnum):
 
 #: Operations a knit pass may hold.
 YARN_OPS = frozenset({OpKind.KNIT, OpKind.TUCK, OpKind.MISS, OpKind.SPLIT})
-
-
-class Bed(StrEnum):
-    """Needle bed: ``f`` front, ``b`` back."""
-
-    FRONT = "f"
-    BACK = "b"
 
 
 class Role(StrEnum):
@@ -139,9 +134,12 @@ class Op:
     to_needle: int | None = None
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "op", _enum(OpKind, self.op, "operation"))
-        object.__setattr__(self, "bed", _enum(Bed, self.bed, "bed"))
-        if self.to_bed is not None:
+        # (the schedulers pass members already: only strings are looked up)
+        if type(self.op) is not OpKind:
+            object.__setattr__(self, "op", _enum(OpKind, self.op, "operation"))
+        if type(self.bed) is not Bed:
+            object.__setattr__(self, "bed", _enum(Bed, self.bed, "bed"))
+        if self.to_bed is not None and type(self.to_bed) is not Bed:
             object.__setattr__(self, "to_bed", _enum(Bed, self.to_bed, "target bed"))
 
 

@@ -81,7 +81,7 @@ from illuknit.knit.path_planning import Park, WorkItem
 from illuknit.knit.schedule import MixedReport, Schedule
 from illuknit.knit.stitches import StitchPattern
 
-__all__ = ["long_float_error", "schedule_mixed"]
+__all__ = ["long_float_error", "refuses_long_floats", "schedule_mixed"]
 
 #: Knits on the last needle of the bind-off chain (as in
 #: :func:`~illuknit.knit.schedule.schedule_courses`).
@@ -224,6 +224,13 @@ def _color_plan(
     return plan, kind
 
 
+def refuses_long_floats(long: Sequence[LongFloat], options: KnitOptions) -> bool:
+    """The one float policy: floats over the limit (:func:`~illuknit.knitout.floats.is_long_float`)
+    are refused unless ``options.allow_long_floats`` (``strict_floats`` refuses them either
+    way). :func:`schedule_mixed` and :func:`~illuknit.knitting.knit_pattern` both decide by it."""
+    return bool(long) and (options.strict_floats or not options.allow_long_floats)
+
+
 def long_float_error(
     long: Sequence[LongFloat], stitches: StitchPattern, limit: int
 ) -> LongFloatError:
@@ -333,7 +340,7 @@ def schedule_mixed(
         tail_stitches=TAIL_STITCHES,
     )
     steps, long = _finished_steps(em, ctx, yarn_entry)
-    if long and (opts.strict_floats or not opts.allow_long_floats):
+    if refuses_long_floats(long, opts):
         raise long_float_error(long, stitches, machine.float_limit)
     body_bound = sum(bounds[ctx.k0 :])
     return Schedule(

@@ -175,7 +175,7 @@ class Schedule:
     long_floats : tuple of LongFloat
         Floats longer than the machine's float limit that the scheduler could not shorten; in a
         :class:`~illuknit.knitting.pipeline.KnitResult`, those of the written program, measured as
-        the checker measures them (:mod:`illuknit.check.floats`).
+        the checker measures them (:mod:`illuknit.knitout.floats`).
     """
 
     steps: tuple[Step, ...]
@@ -294,7 +294,8 @@ def count_kickbacks(steps: Sequence[Step]) -> int:
 
 
 def _knit_ops(needles: Sequence[int], beds: Sequence[str], op: OpKind = OpKind.KNIT) -> list[Op]:
-    return [Op(op, Bed(b), n) for n, b in zip(needles, beds, strict=True)]
+    bed = Bed._value2member_map_  # (Bed(b) is enum's slow call)
+    return [Op(op, bed[b], n) for n, b in zip(needles, beds, strict=True)]  # type: ignore[arg-type]
 
 
 def schedule_courses(

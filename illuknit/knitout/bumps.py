@@ -15,9 +15,12 @@ simulator refuses unknown headers.
 
 from __future__ import annotations
 
+from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
 
-__all__ = ["BUMPS_COMMENT", "DeclaredBumps", "declare_bumps", "declared_bumps"]
+from illuknit.knitout.program import KnitoutProgram
+
+__all__ = ["BUMPS_COMMENT", "DeclaredBumps", "bumps_comment", "declare_bumps", "declared_bumps"]
 
 #: How the declaring comment line starts.
 BUMPS_COMMENT = "; illuknit-bumps:"
@@ -41,23 +44,46 @@ class DeclaredBumps:
         return ", ".join(parts) or "plain bumps"
 
 
+def bumps_comment(*, split: int, tall: bool) -> str | None:
+    """The declaring comment line (None when there are neither split nor tall bumps); the
+    lowering writes it right after the ``;;`` header."""
+    words = ([f"split {split}"] if split else []) + (["tall"] if tall else [])
+    if not words:
+        return None
+    why = "split: a yarn change inside a bump is meant; " if split else ""
+    return f"{BUMPS_COMMENT} {' '.join(words)} ({why}docs/split-bumps.md)"
+
+
 def declare_bumps(text: str, *, split: int, tall: bool) -> str:
     """``text`` with the declaring comment line after its ``;;`` header (``text`` unchanged
     when it has neither split nor tall bumps)."""
-    words = ([f"split {split}"] if split else []) + (["tall"] if tall else [])
-    if not words:
+    note = bumps_comment(split=split, tall=tall)
+    if note is None:
         return text
-    why = "split: a yarn change inside a bump is meant; " if split else ""
-    note = f"{BUMPS_COMMENT} {' '.join(words)} ({why}docs/split-bumps.md)"
     lines = text.split("\n")
     at = next((i for i, line in enumerate(lines) if i and not line.startswith(";;")), len(lines))
     return "\n".join([*lines[:at], note, *lines[at:]])
 
 
-def declared_bumps(text: str) -> DeclaredBumps:
-    """The bumps ``text`` declares: the first declaring line among its leading comment lines
-    (before its first operation); :class:`DeclaredBumps` ``()`` when there is none."""
+def declared_bumps(program: str | KnitoutProgram) -> DeclaredBumps:
+    """The bumps a program (its text or the program) declares: the first declaring line among
+    its leading comment lines (before its first operation); :class:`DeclaredBumps` ``()`` when
+    there is none."""
+    if isinstance(program, KnitoutProgram):
+        first = program.operations[0].line if program.operations else program.n_lines + 1
+        return _declared(text for line, text in program.comments if line < first)
+    return _declared(_leading_comments(program))
+
+
+def _leading_comments(text: str) -> Iterator[str]:
     for line in text.split("\n"):
+        if line.strip() and not line.startswith(";"):
+            return  # the first operation: the header and its comments are over
+        yield line
+
+
+def _declared(lines: Iterable[str]) -> DeclaredBumps:
+    for line in lines:
         if line.startswith(BUMPS_COMMENT):
             words = line[len(BUMPS_COMMENT) :].split("(")[0].split()
             split = 0
@@ -66,6 +92,4 @@ def declared_bumps(text: str) -> DeclaredBumps:
                 nxt = words[i + 1] if i + 1 < len(words) else ""
                 split = int(nxt) if nxt.isdigit() else 1
             return DeclaredBumps(split, "tall" in words)
-        if line.strip() and not line.startswith(";"):
-            break  # the first operation: the header and its comments are over
     return DeclaredBumps()

@@ -3,7 +3,9 @@
 The first stage of the checker. It reads knitout text (knitout-2 as the CMU SWG converter accepts
 it, see ``docs/checker.md``) into a frozen IR: the magic line's version, the comment header
 (``;;Name: value`` lines right after line 1) and one :class:`Operation` per instruction, each with
-its 1-based line number. Comments and blank lines are dropped.
+its 1-based line number, into the IR of :mod:`illuknit.knitout.program` (which this module
+re-exports). Whole-line comments are kept with their lines (so a program ``knit_pattern`` wrote
+formats back to the same text), trailing comments and blank lines are dropped.
 
 Only *syntax* is judged here: a malformed line (unknown opcode, wrong number of arguments, a
 needle or direction that does not parse, binary data) raises :class:`KnitoutParseError` with the
@@ -15,12 +17,19 @@ it as a finding together with every other problem of the file.
 from __future__ import annotations
 
 import functools
-import itertools
 import math
 import re
-from dataclasses import dataclass, field
 
 from illuknit.core.errors import KnitoutParseError
+from illuknit.knitout.program import (
+    BEDS,
+    Direction,
+    KnitoutProgram,
+    Needle,
+    Opcode,
+    Operation,
+    make_needle,
+)
 
 __all__ = [
     "BEDS",
@@ -30,9 +39,6 @@ __all__ = [
     "parse_knitout",
     "parse_needle",
 ]
-
-#: bed prefixes: front, back, front sliders, back sliders
-BEDS = ("f", "b", "fs", "bs")
 
 _NEEDLE_RE = re.compile(r"^(fs|bs|f|b)(-?[0-9]+)$")
 _HEADER_RE = re.compile(r"^;;([^:\s;][^:]*): (.*)$")
@@ -55,155 +61,17 @@ _SHAPES: dict[str, tuple[bool, int, str]] = {
 }
 
 #: opcodes that move carriers and (except miss) make loops
-STITCH_OPS = frozenset({"knit", "tuck", "split", "miss"})
+STITCH_OPS = frozenset({Opcode.KNIT, Opcode.TUCK, Opcode.SPLIT, Opcode.MISS})
 #: opcodes that manage carriers
-CARRIER_OPS = frozenset({"in", "inhook", "releasehook", "out", "outhook"})
+CARRIER_OPS = frozenset({Opcode.IN, Opcode.INHOOK, Opcode.RELEASEHOOK, Opcode.OUT, Opcode.OUTHOOK})
 
 
-@dataclass(frozen=True, order=True)
-class Needle:
-    """One needle: bed prefix (``f``, ``b``, ``fs``, ``bs``) and index (may be negative)."""
-
-    bed: str
-    index: int
-
-    def __post_init__(self) -> None:
-        if self.bed not in BEDS:
-            raise ValueError(f"`bed` must be one of {BEDS}, got {self.bed!r}")
-
-    @property
-    def is_front(self) -> bool:
-        """True for ``f`` and ``fs``."""
-        return self.bed[0] == "f"
-
-    @property
-    def is_slider(self) -> bool:
-        """True for slider needles (``fs``, ``bs``), which hold loops but cannot form them."""
-        return len(self.bed) == 2
-
-    def __str__(self) -> str:
-        return f"{self.bed}{self.index}"
-
-
-@functools.lru_cache(maxsize=8192)  # programs name the same needles over and over
 def parse_needle(token: str) -> Needle | None:
     """Parse ``f12``/``b-3``/``fs4``; None when the token is not a needle."""
     m = _NEEDLE_RE.match(token)
     if m is None:
         return None
-    return Needle(m.group(1), int(m.group(2)))
-
-
-@dataclass(frozen=True)
-class Operation:
-    """One knitout instruction.
-
-    Attributes
-    ----------
-    line : int
-        1-based line number in the source text.
-    op : str
-        Opcode (``knit``, ``xfer``, ``rack``, ``x-stitch-number``, ...).
-    direction : str or None
-        ``"+"`` (rightward, increasing needle numbers) or ``"-"``; None for undirected ops.
-    needles : tuple of Needle
-        0, 1 (knit, tuck, miss, drop, amiss) or 2 (split, xfer) needles, source first.
-    carriers : tuple of str
-        Carrier set in the written order (order matters for plating and for ``in`` sets).
-    value : float or None
-        Racking for ``rack``.
-    args : tuple of str
-        Raw arguments of ``stitch``, ``x-*`` and ``pause``.
-    tabs : bool
-        True when the line separates tokens with tabs (the SWG converter refuses them).
-    """
-
-    line: int
-    op: str
-    direction: str | None = None
-    needles: tuple[Needle, ...] = ()
-    carriers: tuple[str, ...] = ()
-    value: float | None = None
-    args: tuple[str, ...] = ()
-    tabs: bool = False
-
-    def __post_init__(self) -> None:
-        if self.line < 1:
-            raise ValueError(f"`line` must be >= 1, got {self.line}")
-        if self.direction not in (None, "+", "-"):
-            raise ValueError(f"`direction` must be '+', '-' or None, got {self.direction!r}")
-
-    @property
-    def needle(self) -> Needle:
-        """The first (or only) needle."""
-        return self.needles[0]
-
-    def __str__(self) -> str:
-        parts = [self.op]
-        if self.direction is not None:
-            parts.append(self.direction)
-        parts += [str(n) for n in self.needles]
-        parts += list(self.carriers)
-        if self.value is not None:
-            parts.append(_format_number(self.value))
-        parts += list(self.args)
-        return " ".join(parts)
-
-
-@dataclass(frozen=True)
-class KnitoutProgram:
-    """A parsed knitout file.
-
-    Attributes
-    ----------
-    version : int
-        Version from the magic line ``;!knitout-N``.
-    headers : tuple of (str, str, int)
-        ``(name, value, line)`` of each ``;;Name: value`` header line, in file order.
-    operations : tuple of Operation
-        Instructions in file order.
-    n_lines : int
-        Number of lines of the source text.
-    crlf : bool
-        True when the text used CRLF line endings (the converter warns).
-    """
-
-    version: int
-    headers: tuple[tuple[str, str, int], ...] = ()
-    operations: tuple[Operation, ...] = ()
-    n_lines: int = 1
-    crlf: bool = False
-    _header_map: dict[str, tuple[str, int]] = field(
-        default_factory=dict, init=False, repr=False, compare=False
-    )
-
-    def __post_init__(self) -> None:
-        if self.n_lines < 1:
-            raise ValueError(f"`n_lines` must be >= 1, got {self.n_lines}")
-        lines = [op.line for op in self.operations]
-        if any(b <= a for a, b in itertools.pairwise(lines)):
-            raise ValueError("`operations` must be in strictly increasing line order")
-        # first occurrence wins, as in the converter
-        hm: dict[str, tuple[str, int]] = {}
-        for name, value, line in self.headers:
-            hm.setdefault(name, (value, line))
-        object.__setattr__(self, "_header_map", hm)
-
-    def header(self, name: str) -> tuple[str, int] | None:
-        """``(value, line)`` of header ``name`` (first occurrence), or None."""
-        return self._header_map.get(name)
-
-    @property
-    def width(self) -> int | None:
-        """The ``;;Width`` header as a positive integer; None when absent or not one."""
-        w = self.header("Width")
-        if w is None or not (w[0].isascii() and w[0].isdigit()) or int(w[0]) == 0:
-            return None
-        return int(w[0])
-
-
-def _format_number(x: float) -> str:
-    return str(int(x)) if float(x).is_integer() else repr(float(x))
+    return make_needle(m.group(1), int(m.group(2)))
 
 
 def _parse_number(token: str, line: int, what: str) -> float:
@@ -287,7 +155,12 @@ def _parse_uncached(body: str, line: int) -> Operation:
                 f"{op}: unexpected {c!r} where a carrier name belongs", line=line
             )
     return Operation(
-        line, op, direction=direction, needles=tuple(needles), carriers=carriers, tabs=tabs
+        line,
+        op,
+        direction=None if direction is None else Direction(direction),
+        needles=tuple(needles),
+        carriers=carriers,
+        tabs=tabs,
     )
 
 
@@ -349,9 +222,12 @@ def parse_knitout(text: str) -> KnitoutProgram:
         headers.append((hm.group(1), hm.group(2).strip(), i + 1))
         i += 1
     ops: list[Operation] = []
+    comments: list[tuple[int, str]] = []
     for j in range(i, len(lines)):
         body = lines[j].split(";", 1)[0]
         if not body.strip():
+            if lines[j].startswith(";"):
+                comments.append((j + 1, lines[j]))
             continue
         ops.append(_parse_operation(body, j + 1))
     return KnitoutProgram(
@@ -360,6 +236,7 @@ def parse_knitout(text: str) -> KnitoutProgram:
         operations=tuple(ops),
         n_lines=len(lines),
         crlf=crlf,
+        comments=tuple(comments),
     )
 
 

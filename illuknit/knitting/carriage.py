@@ -13,11 +13,17 @@ ten-carrier Shima header). For other machines the schedule's own passes are repo
 from __future__ import annotations
 
 from collections import Counter
+from collections.abc import Sequence
+from typing import TYPE_CHECKING
 
 from illuknit.core.machine import MachineSpec
 from illuknit.knit.ir import ActionKind, CarrierAction
 from illuknit.knit.schedule import Schedule, ScheduleStats
 from illuknit.knit.timing import MachineRun
+from illuknit.knitout.program import KnitoutProgram
+
+if TYPE_CHECKING:
+    from illuknit.formats.kc import KcCode, KcRow
 
 __all__ = ["kc_run", "machine_run", "machine_stats", "runs_on_swg"]
 
@@ -27,39 +33,58 @@ def runs_on_swg(machine: MachineSpec) -> bool:
     return machine.runs_on() == "swg"
 
 
-def machine_run(text: str) -> MachineRun:
-    """Count the SWG machine's passes for a knitout program (exactly the ``.dat``'s rows)."""
+def machine_run(program: KnitoutProgram | str) -> MachineRun:
+    """Count the SWG machine's passes for a knitout program or its text (exactly the
+    ``.dat``'s rows)."""
     from illuknit.formats.swg_passes import machine_passes
 
-    ps = machine_passes(text)
+    ps = machine_passes(program)
     kinds = Counter(p.kind.value for p in ps)
     spans = tuple(p.needle_range[1] - p.needle_range[0] + 1 for p in ps)
     transfers = tuple(p.kind.value in _TRANSFER_KINDS for p in ps)
     return MachineRun(dict(kinds), spans, transfers)
 
 
-def kc_run(kc: str) -> MachineRun:
-    """The Kniterate's passes of a ``.kc`` (:func:`illuknit.formats.kc.knitout_to_kc`): each
-    ``>>`` / ``<<`` row, its carriage travel between the turning points (``/`` .. ``\\`` of the
-    needle row before it, in needles) and the speed number it states."""
-    spans: list[int] = []
-    transfers: list[bool] = []
-    speeds: list[float | None] = []
-    kinds: Counter[str] = Counter()
+def kc_run(kc: KcCode | str) -> MachineRun:
+    """The Kniterate's passes of a ``.kc``: each ``>>`` / ``<<`` row, its carriage travel
+    between the turning points (``/`` .. ``\\`` of the needle row before it, in needles) and the
+    speed number it states. ``kc`` is what :func:`~illuknit.formats.kc.knitout_to_kc_code`
+    returns (its rows as written), or a ``.kc``'s text (read back: a file's edge)."""
+    from illuknit.formats.kc import KcCode, KcRow
+
+    if isinstance(kc, KcCode):
+        return _kc_rows_run(kc.rows)
+    rows: list[KcRow] = []
     row = ""
     for line in kc.split("\n"):
         if line.startswith("FRNT:"):
             row = line
         elif line.startswith((">>", "<<")):
             fields = line.split()
-            kind = fields[1] if len(fields) > 1 else ""
-            # transfers and splits move loops between beds ("Tr" on either side of the type)
-            xfer = "Tr" in kind.split("-")
-            kinds["transfer" if xfer else "knit" if kind != "Tu-Tu" else "soft-miss"] += 1
-            spans.append(max(0, row.find("\\") - row.find("/")) if row else 0)
-            transfers.append(xfer)
-            speeds.append(float(fields[3]) if len(fields) > 3 else None)
-    return MachineRun(dict(kinds), tuple(spans), tuple(transfers), tuple(speeds))
+            rows.append(
+                KcRow(
+                    fields[1] if len(fields) > 1 else "",
+                    max(0, row.find("\\") - row.find("/")) if row else 0,
+                    fields[3] if len(fields) > 3 else "",
+                )
+            )
+    return _kc_rows_run(rows)
+
+
+def _kc_rows_run(rows: Sequence[KcRow]) -> MachineRun:
+    kinds: Counter[str] = Counter()
+    transfers: list[bool] = []
+    for r in rows:
+        # transfers and splits move loops between beds ("Tr" on either side of the type)
+        xfer = "Tr" in r.kind.split("-")
+        kinds["transfer" if xfer else "knit" if r.kind != "Tu-Tu" else "soft-miss"] += 1
+        transfers.append(xfer)
+    return MachineRun(
+        dict(kinds),
+        tuple(r.span for r in rows),
+        tuple(transfers),
+        tuple(float(r.speed) if r.speed else None for r in rows),
+    )
 
 
 _HOOK_KINDS = ("hook-release", "carriage-move", "carrier-out")

@@ -1,4 +1,4 @@
-"""The whole knitting path in one call: pattern -> stitches -> schedule -> knitout (+ stats).
+"""The whole knitting path in one call: pattern -> stitches -> schedule -> knitout program (+ stats).
 
 :func:`knit_pattern` is what ``illuknit knit`` and the ``--knitout`` options of the other commands
 call. One long-float policy for all of them: a float that stays longer than the machine's float
@@ -8,7 +8,7 @@ what to change) unless ``allow_long_floats=True``, which keeps it, reports it in
 :class:`LongFloatWarning` saying how long and where.
 
 It does not run the checker (that is :func:`illuknit.check.check_knitout`, slower); callers
-that want a verdict pass the returned text to it.
+that want a verdict pass it the returned program (``KnitResult.knitout``, read as it is).
 """
 
 from __future__ import annotations
@@ -28,10 +28,9 @@ from illuknit.core.gauge import FinishedSize
 from illuknit.core.machine import MachineSpec, resolve_machine
 from illuknit.core.pattern import LogicalPattern
 from illuknit.knit.float_tucks import LongFloat
-from illuknit.knit.hookless import lower_hookless, write_hookless_knitout, yarn_entry
-from illuknit.knit.ir import Pass, Role
-from illuknit.knit.knitout import write_knitout
-from illuknit.knit.mixed import long_float_error, schedule_mixed
+from illuknit.knit.hookless import lower_hookless_knitout, yarn_entry
+from illuknit.knit.knitout import lower_to_knitout
+from illuknit.knit.mixed import long_float_error, refuses_long_floats, schedule_mixed
 from illuknit.knit.options import Catching, KnitOptions
 from illuknit.knit.schedule import Schedule, ScheduleStats, schedule_courses
 from illuknit.knit.stitches import StitchPattern, lower_to_stitches
@@ -42,11 +41,18 @@ from illuknit.knit.timing import (
     format_duration,
     paper_scale_text,
 )
-from illuknit.knitout.bumps import BUMPS_COMMENT, declare_bumps, declared_bumps
+from illuknit.knitout.bumps import BUMPS_COMMENT, bumps_comment, declared_bumps
+from illuknit.knitout.program import KnitoutProgram, format_knitout
 from illuknit.knitting.carriage import kc_run, machine_run, machine_stats, runs_on_swg
+from illuknit.knitting.floats import (
+    FLOAT_UNIT,
+    FloatFacts,
+    program_float_facts,
+    program_long_floats,
+)
 
 if TYPE_CHECKING:
-    from illuknit.check.floats import Float
+    pass
 
 __all__ = [
     "FLOAT_UNIT",
@@ -76,50 +82,6 @@ _SUMMARY_MIXED = ("tuck_joins", "plated_stitches", "carriers", "float_avoidance_
 KC_NAME = "command.kc"
 
 
-#: The one unit every float figure is in (the checker's, ``docs/knitting.md``, Floats).
-FLOAT_UNIT = "needles skipped"
-
-
-def _skipped(n: int) -> str:
-    """``FLOAT_UNIT`` read with ``n``: "1 needle skipped", "20 needles skipped"."""
-    return "needle skipped" if n == 1 else FLOAT_UNIT
-
-
-@dataclass(frozen=True)
-class FloatFacts:
-    """A program's floats against its float limit, all in needles skipped (:data:`FLOAT_UNIT`:
-    the needle slots strictly between two consecutive loops of one carrier, the checker's
-    measure, :mod:`illuknit.check.floats`).
-
-    Attributes
-    ----------
-    limit : int
-        The float limit: a float of ``limit`` needles skipped is allowed, one longer is not.
-    longest : LongFloat or None
-        The longest float of the program, placed (None when no float skips a needle).
-    at_limit : int
-        Floats exactly at the limit (allowed, but as long as a float may be; other tools,
-        counting needles spanned or using ``>=``, call these long).
-    long : tuple of LongFloat
-        Floats over the limit (kept only with ``allow_long_floats``).
-    """
-
-    limit: int
-    longest: LongFloat | None
-    at_limit: int
-    long: tuple[LongFloat, ...]
-
-    def text(self, stitches: StitchPattern) -> str:
-        """One line (after ``floats:``): the longest float, where it is, and the counts at and over the limit."""
-        if self.longest is None:
-            return f"no float skips a needle (float limit {self.limit} {FLOAT_UNIT})"
-        f = self.longest
-        return (
-            f"longest {f.length} {_skipped(f.length)} (carrier {f.carrier}, {f.where(stitches)}); "
-            f"{self.at_limit} at the float limit of {self.limit}, {len(self.long)} over it"
-        )
-
-
 @dataclass(frozen=True)
 class KcFigures:
     """What the Kniterate runs for a program: its ``.kc`` (the comment line names
@@ -142,8 +104,9 @@ class KnitResult:
 
     Attributes
     ----------
-    text : str
-        The knitout-2 program.
+    knitout : KnitoutProgram
+        The knitout-2 program, as data (each operation with the schedule step it came from);
+        :attr:`text` is its text.
     stitches : StitchPattern
     schedule : Schedule
     stats : ScheduleStats
@@ -157,7 +120,7 @@ class KnitResult:
         The program's longest float and its floats at and over the float limit.
     """
 
-    text: str
+    knitout: KnitoutProgram
     stitches: StitchPattern
     schedule: Schedule
     stats: ScheduleStats
@@ -165,6 +128,12 @@ class KnitResult:
     machine: MachineSpec
     split_bumps: int = 0
     floats: FloatFacts | None = None
+
+    @cached_property
+    def text(self) -> str:
+        """The knitout text of :attr:`knitout`, formatted on first use and kept (the file edge:
+        nothing inside :func:`knit_pattern` reads text)."""
+        return format_knitout(self.knitout)
 
     @property
     def program(self) -> str:
@@ -178,11 +147,13 @@ class KnitResult:
         so :func:`knit_pattern` does not pay it for callers that never ask."""
         if "kc" not in self.machine.formats:
             return None
-        from illuknit.formats.kc import knitout_to_kc
+        from illuknit.formats.kc import knitout_to_kc_code
 
-        kc = knitout_to_kc(self.text, name=KC_NAME)
-        run = kc_run(kc)
-        return KcFigures(kc, run, estimate_knit_time(self.schedule, run=run, machine=self.machine))
+        code = knitout_to_kc_code(self.knitout, name=KC_NAME)
+        run = kc_run(code)  # the passes it wrote, not its text read back
+        return KcFigures(
+            code.text, run, estimate_knit_time(self.schedule, run=run, machine=self.machine)
+        )
 
     def _longest_float(self) -> tuple[int, str | None]:
         """The longest float over the limit: its length and where it is (carrier, needles,
@@ -200,7 +171,7 @@ class KnitResult:
 
     def _bumps(self) -> dict[str, str]:
         """``{"bumps": ...}``: what bumps the program declares (none for plain bumps)."""
-        declared = declared_bumps(self.text)
+        declared = declared_bumps(self.knitout)
         if not declared:
             return {}
         return {"bumps": f"{declared.text()}, declared in the program ('{BUMPS_COMMENT}')"}
@@ -272,7 +243,7 @@ class KnitResult:
             **({"time_check": paper_scale_text()} if self.time.preset_model else {}),
             "bind_off_time_seconds": round(self.time.bind_off_seconds, 1),
             "bind_off_time": format_duration(self.time.bind_off_seconds),
-            "lines": self.text.count("\n"),
+            "lines": self.knitout.n_lines,
             # (only when asked for: the summary of a plain pattern stays as it was)
             **({"split_bumps": self.split_bumps} if self.split_bumps else {}),
             **self._bumps(),
@@ -427,17 +398,19 @@ def knit_pattern(
         cast_on_courses=opts.cast_on_courses,
         tall_bumps=opts.tall_bumps,
     )
-    text, schedule = _written(_schedule(stitches, m, plan_machine, opts), m)
-    text = declare_bumps(text, split=int(pattern.split.sum()), tall=stitches.tuck_first is not None)
+    bumps = bumps_comment(split=int(pattern.split.sum()), tall=stitches.tuck_first is not None)
+    program, schedule = _lowered(
+        _schedule(stitches, m, plan_machine, opts), m, prelude=() if bumps is None else (bumps,)
+    )
     # One float truth: the floats reported (and refused) are the program's, measured as the
-    # checker measures them.
+    # checker measures them (the scheduler was told to keep them: the program decides, once).
     limit = plan_machine.float_limit
-    facts = program_float_facts(text, schedule, limit)
+    facts = program_float_facts(program, schedule, limit)
     long = facts.long
     schedule = replace(schedule, long_floats=long)
-    if long and (opts.strict_floats or not opts.allow_long_floats):
+    if refuses_long_floats(long, opts):
         raise long_float_error(long, stitches, limit)
-    result = _measured(text, stitches, schedule, m, split=int(pattern.split.sum()), floats=facts)
+    result = _measured(program, stitches, schedule, m, split=int(pattern.split.sum()), floats=facts)
     if schedule.long_floats:
         warnings.warn(LongFloatWarning(long_float_warning(result)), stacklevel=2)
     return result
@@ -452,17 +425,19 @@ def _planning_machine(m: MachineSpec) -> MachineSpec:
     return replace(m, carriers=m.pattern_carriers, waste_carrier=None, draw_carrier=None)
 
 
-def _written(schedule: Schedule, m: MachineSpec) -> tuple[str, Schedule]:
-    """The knitout program of ``schedule`` on ``m`` and the schedule it runs: on a machine
-    without an inserting hook, the waste section first and the schedule lowered to match."""
+def _lowered(
+    schedule: Schedule, m: MachineSpec, *, prelude: tuple[str, ...]
+) -> tuple[KnitoutProgram, Schedule]:
+    """The knitout program of ``schedule`` on ``m`` (``prelude`` after its header) and the
+    schedule it runs, whose step indices its operations carry: on a machine without an
+    inserting hook, the waste section first and the schedule lowered to match."""
     if m.inserting_hook:
-        return write_knitout(schedule, machine=m), schedule
-    text = write_hookless_knitout(schedule, machine=m)
-    return text, lower_hookless(schedule, machine=m)
+        return lower_to_knitout(schedule, machine=m, prelude=prelude), schedule
+    return lower_hookless_knitout(schedule, machine=m, prelude=prelude)
 
 
 def _measured(
-    text: str,
+    program: KnitoutProgram,
     stitches: StitchPattern,
     schedule: Schedule,
     m: MachineSpec,
@@ -470,13 +445,13 @@ def _measured(
     split: int = 0,
     floats: FloatFacts | None = None,
 ) -> KnitResult:
-    """The result with its passes and time: on a Shima, what the machine runs for ``text``
+    """The result with its passes and time: on a Shima, what the machine runs for ``program``
     (not the schedule's own passes); ``split`` is its count of split bumps, ``floats`` its
     float figures."""
     if runs_on_swg(m):
-        run = machine_run(text)
+        run = machine_run(program)
         return KnitResult(
-            text,
+            program,
             stitches,
             schedule,
             machine_stats(schedule, run),
@@ -486,75 +461,7 @@ def _measured(
             floats,
         )
     return KnitResult(
-        text, stitches, schedule, schedule.stats, estimate_knit_time(schedule), m, split, floats
-    )
-
-
-#: Knitout operations written one per line for each operation of a schedule's step.
-_STEP_OPS = frozenset(
-    {
-        "knit",
-        "tuck",
-        "split",
-        "miss",
-        "xfer",
-        "drop",
-        "in",
-        "inhook",
-        "releasehook",
-        "out",
-        "outhook",
-    }
-)
-
-
-def program_long_floats(text: str, schedule: Schedule, limit: int) -> tuple[LongFloat, ...]:
-    """The floats of the program ``text`` longer than ``limit``, as the checker measures them
-    (:func:`illuknit.check.floats.long_floats`), each placed in ``schedule``.
-
-    ``text`` is ``schedule`` written as knitout, after anything a machine puts first (the
-    waste section of a machine without an inserting hook): the schedule's operations, one line
-    each, end the program, so a float's line names its step and course.
-    """
-    return program_float_facts(text, schedule, limit).long
-
-
-def program_float_facts(text: str, schedule: Schedule, limit: int) -> FloatFacts:
-    """The floats of the program ``text`` against ``limit``: the longest, how many sit exactly
-    at the limit and the ones over it, measured as the checker measures them
-    (:func:`illuknit.check.floats.program_floats`: needles skipped) and placed in ``schedule``
-    (see :func:`program_long_floats`)."""
-    from illuknit.check.floats import program_floats
-    from illuknit.knitout.parse import parse_knitout
-
-    program = parse_knitout(text)
-    found = program_floats(program)
-    if not found:
-        return FloatFacts(limit, None, 0, ())
-    owner = [
-        i
-        for i, step in enumerate(schedule.steps)
-        for _ in (step.ops if isinstance(step, Pass) else (step,))
-    ]
-    lines = [op.line for op in program.operations if op.op in _STEP_OPS]
-    offset = len(lines) - len(owner)
-    index = {line: k - offset for k, line in enumerate(lines)}
-
-    def placed(f: Float) -> LongFloat:
-        k = index[f.line]
-        if k < 0:
-            return LongFloat(-1, f.carrier, f.from_slot, f.to_slot, None, "the waste section")
-        step = schedule.steps[owner[k]]
-        assert isinstance(step, Pass)
-        place = "the cast-on" if step.role is Role.CAST_ON else None
-        return LongFloat(owner[k], f.carrier, f.from_slot, f.to_slot, step.course, place)
-
-    longest = max(found, key=lambda f: f.length)
-    return FloatFacts(
-        limit,
-        placed(longest),
-        sum(f.length == limit for f in found),
-        tuple(placed(f) for f in found if f.length > limit),
+        program, stitches, schedule, schedule.stats, estimate_knit_time(schedule), m, split, floats
     )
 
 

@@ -87,7 +87,7 @@ def machine_sheet(result: KnitResult, *, name: str = "command.kc") -> MachineShe
         numbers = list(facts["stitch_numbers"])  # type: ignore[call-overload]
     elif "dat" in m.formats:
         # the Shima SWG backend's own passes: its kickbacks, carrier moves and hook passes
-        runs = [p.needle_range for p in machine_passes(result.text)]
+        runs = [p.needle_range for p in machine_passes(result.knitout)]
         passes = len(runs)
         estimate = result.time  # counted on these passes (knit_pattern)
         needles = (min(lo for lo, _ in runs), max(hi for _, hi in runs))

@@ -1,7 +1,7 @@
 """One float truth: the floats ``knit`` reports are the checker's, on every machine and mode.
 
 ``KnitResult.summary()``'s ``long_floats`` / ``longest_float`` / ``floats_at_limit``, the
-checker's ``long-float`` warnings and its report's ``floats`` are all measured on the written program (:mod:`illuknit.check.floats`); these tests
+checker's ``long-float`` warnings and its report's ``floats`` are all measured on the written program (:mod:`illuknit.knitout.floats`); these tests
 hold random patterns, knitted on each preset with every scheduling switch, to that.
 """
 
@@ -19,10 +19,10 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from illuknit.check import check_knitout
-from illuknit.check.floats import program_floats
 from illuknit.check.simulate import simulate_program
 from illuknit.core.machine import MACHINES
 from illuknit.core.pattern import LogicalPattern, parse_yarns
+from illuknit.knitout.floats import program_floats
 from illuknit.knitout.parse import parse_knitout
 from illuknit.knitting import knit_pattern
 

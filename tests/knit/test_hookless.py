@@ -153,8 +153,8 @@ def late_mid_row_yarn(units: int = 40) -> LogicalPattern:
 
 
 def test_a_yarn_entering_mid_row_floats_no_further_than_the_limit(tmp_path: Path) -> None:
-    from illuknit.check.floats import program_floats
     from illuknit.knit.hookless import first_directions
+    from illuknit.knitout.floats import program_floats
     from illuknit.knitout.parse import parse_knitout
 
     result = knit_pattern(late_mid_row_yarn(), machine=KNITERATE)
