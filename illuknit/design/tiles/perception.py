@@ -71,6 +71,7 @@ __all__ = [
     "WRONG_THRESHOLD",
     "CandidateMeasures",
     "KnitMeasure",
+    "MeasureContext",
     "RankedCandidate",
     "diagnostic_rgb",
     "eye_blur_units",
@@ -162,21 +163,52 @@ class RankedCandidate:
     legibility: Any = None
 
 
+@dataclass(frozen=True)
+class MeasureContext:
+    """How :func:`rank_designs` compiles and measures each design: everything but the ranking's
+    own choices (``rank_by``, ``made_for``, ``keep``). Its fields may also be given to
+    :func:`rank_designs` as keywords (``rank_designs(found, pictures, angle=40.0)``).
+
+    Parameters
+    ----------
+    views : sequence of str
+        ``("A", "B")`` (double view: ghosting is measured) or ``("headon", "side")``.
+    overrides : dict, optional
+        Per-pair tile overrides for :func:`illuknit.design.tiles.compile.compile_tiles`.
+    angle, blur : float, optional
+        The viewing angle and the blur (units) each design is measured at, as
+        :func:`measure_candidate` (e.g. :func:`seen_blur` of a viewing distance).
+    params : RenderParams, optional
+        The renderer's parameters the designs are measured with (e.g. a measured split share).
+    knit_time : KnitMeasure, optional
+        Knits a design and measures it on a machine (:func:`measure_candidate`); ranking by
+        ``"knit-time"`` needs it. Only the designs that can reach the ``keep`` best are knit.
+    read : ReadMeasure, optional
+        Judges whether each side of a design reads (a reader's verdict,
+        :func:`illuknit.design.legibility.read_designs` bound to the pictures and viewpoint);
+        ranking by ``"legibility"`` needs it and reads every design, otherwise only the kept
+        ones are read. Each returned candidate's ``legibility`` holds the verdict.
+    """
+
+    views: Sequence[str] = ("A", "B")
+    overrides: Any = None
+    angle: float | None = None
+    blur: float | None = None
+    params: Any = None
+    knit_time: KnitMeasure | None = None
+    read: ReadMeasure | None = None
+
+
 def rank_designs(
     found: Sequence[Any],
     pictures: Sequence[ArrayLike],
     *,
-    views: Sequence[str] = ("A", "B"),
-    overrides: Any = None,
     rank_by: str = "perception",
-    knit_time: KnitMeasure | None = None,
+    made_for: str = "machine",
     keep: int | None = None,
     progress: Callable[[float, str], None] | None = None,
-    angle: float | None = None,
-    blur: float | None = None,
-    params: Any = None,
-    read: ReadMeasure | None = None,
-    made_for: str = "machine",
+    context: MeasureContext | None = None,
+    **knobs: Any,
 ) -> list[RankedCandidate]:
     """Compile every tile candidate, measure how it reads and rank the lot (the best ``keep``).
 
@@ -186,65 +218,40 @@ def rank_designs(
         Candidates from :func:`illuknit.design.tiles.assign.assign_tiles`.
     pictures : sequence of ndarray of shape (N, M, 3)
         The designer's quantised picture per view.
-    views : sequence of str
-        ``("A", "B")`` (double view: ghosting is measured) or ``("headon", "side")``.
-    overrides : dict, optional
-        Per-pair tile overrides for :func:`illuknit.design.tiles.compile.compile_tiles`.
-    rank_by, knit_time
-        See :func:`rank_candidates` and :func:`measure_candidate`; ranking by ``"knit-time"``
-        needs ``knit_time``. Only the designs that can reach the ``keep`` best are knit.
+    rank_by : str
+        One of :data:`RANK_KEYS` (see :func:`rank_candidates`).
+    made_for : {"machine", "hands"}
+        ``"hands"``: rank first by the share of rows knittable by hand (module docstring).
+        Every candidate's measures carry its hand cost either way.
     keep : int, optional
         Return only the best ``keep`` of the ranking (a pool searched wider than it is shown:
         :func:`~illuknit.design.tiles.assign.assign_tiles` ``pool=``).
     progress : callable, optional
         ``progress(fraction, message)`` before each design is compiled and measured; whatever
         it raises stops the ranking (a user interface's cancel).
-    angle, blur : float, optional
-        The viewing angle and the blur (units) each design is measured at, as
-        :func:`measure_candidate` (e.g. :func:`seen_blur` of a viewing distance).
-    params : RenderParams, optional
-        The renderer's parameters the designs are measured with (e.g. a measured split share).
-    read : ReadMeasure, optional
-        Judges whether each side of a design reads (a reader's verdict,
-        :func:`illuknit.design.legibility.read_designs` bound to the pictures and viewpoint);
-        ranking by ``"legibility"`` needs it and reads every design, otherwise only the kept
-        ones are read. Each returned candidate's ``legibility`` holds the verdict.
-    made_for : {"machine", "hands"}
-        ``"hands"``: rank first by the share of rows knittable by hand (module docstring).
-        Every candidate's measures carry its hand cost either way.
+    context : MeasureContext, optional
+        How each design is compiled and measured (views, overrides, angle, blur, renderer
+        parameters, the knitting-time and reading measures); defaults: ``MeasureContext()``.
+    **knobs
+        Shorthand for fields of ``context`` (``rank_designs(f, p, knit_time=measure)`` is
+        ``rank_designs(f, p, context=MeasureContext(knit_time=measure))``); they replace those
+        fields of ``context`` when both are given.
     """
     from dataclasses import replace
 
-    from illuknit.design.tiles.compile import compile_tiles
-
-    hands = _check_ranking(rank_by, keep, knit_time, read, made_for)
-    compiled = []
-    measures = []
-    for k, c in enumerate(found):
-        if progress is not None:
-            progress(k / max(1, len(found)), f"measuring tile design {k + 1} of {len(found)}")
-        compiled.append(compile_tiles(c, overrides=overrides or {}))
-        measures.append(
-            measure_candidate(
-                compiled[-1][0],
-                pictures,
-                views=views,
-                ghost=len(pictures) == 2,
-                angle=angle,
-                blur=blur,
-                params=params,
-            )
-        )
+    ctx = _measure_context(context, knobs)
+    hands = _check_ranking(rank_by, keep, ctx.knit_time, ctx.read, made_for)
+    compiled, measures = _compile_and_measure(found, pictures, ctx, progress)
     scores = [c.score for c in found]
-    if knit_time is not None:
+    if ctx.knit_time is not None:
         for i in _to_knit(measures, scores, rank_by=rank_by, keep=keep, hands=hands):
-            measures[i] = _with_knit_time(measures[i], compiled[i][0], knit_time)
+            measures[i] = _with_knit_time(measures[i], compiled[i][0], ctx.knit_time)
     verdicts: dict[int, Any] = {}
-    if rank_by == "legibility" and read is not None:
-        verdicts = _read_all(read, range(len(found)), compiled, measures, progress)
+    if rank_by == "legibility" and ctx.read is not None:
+        verdicts = _read_all(ctx.read, range(len(found)), compiled, measures, progress)
     order = rank_candidates(measures, scores, by=rank_by, hands=hands)
-    if read is not None and rank_by != "legibility":
-        verdicts = _read_all(read, order[:keep], compiled, measures, progress)
+    if ctx.read is not None and rank_by != "legibility":
+        verdicts = _read_all(ctx.read, order[:keep], compiled, measures, progress)
     return [
         RankedCandidate(
             assignment=replace(found[i], rank=k + 1),
@@ -256,6 +263,49 @@ def rank_designs(
         )
         for k, i in enumerate(order[:keep])
     ]
+
+
+def _measure_context(context: MeasureContext | None, knobs: dict[str, Any]) -> MeasureContext:
+    """``context`` with the shorthand ``knobs`` in place of its fields."""
+    from dataclasses import fields, replace
+
+    if context is not None and not isinstance(context, MeasureContext):
+        raise OptionError(f"`context` must be a MeasureContext, got {type(context).__name__}")
+    base = MeasureContext() if context is None else context
+    names = [f.name for f in fields(MeasureContext)]
+    unknown = sorted(set(knobs) - set(names))
+    if unknown:
+        raise OptionError(f"unknown ranking option {unknown[0]!r}; valid: {', '.join(names)}")
+    return replace(base, **knobs) if knobs else base
+
+
+def _compile_and_measure(
+    found: Sequence[Any],
+    pictures: Sequence[ArrayLike],
+    ctx: MeasureContext,
+    progress: Callable[[float, str], None] | None,
+) -> tuple[list[Any], list[CandidateMeasures]]:
+    """Each candidate compiled (pattern, report) and measured, in ``found``'s order."""
+    from illuknit.design.tiles.compile import compile_tiles
+
+    compiled = []
+    measures = []
+    for k, c in enumerate(found):
+        if progress is not None:
+            progress(k / max(1, len(found)), f"measuring tile design {k + 1} of {len(found)}")
+        compiled.append(compile_tiles(c, overrides=ctx.overrides or {}))
+        measures.append(
+            measure_candidate(
+                compiled[-1][0],
+                pictures,
+                views=ctx.views,
+                ghost=len(pictures) == 2,
+                angle=ctx.angle,
+                blur=ctx.blur,
+                params=ctx.params,
+            )
+        )
+    return compiled, measures
 
 
 def _check_ranking(
