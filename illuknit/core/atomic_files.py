@@ -17,7 +17,6 @@ Single files (:func:`atomic_write_bytes`)
 - ``-`` is standard output in :func:`write_output_file` (the ``-o -`` of commands that write one
   file).
 
-
 Single files' temporary files (``.<name>.illuknit-<pid>-<random>.tmp``) are removed on every
 error, Ctrl-C included (the command line turns SIGTERM and SIGHUP into the same unwinding); one
 left by a ``kill -9`` is removed by the next write into that folder once it is abandoned: its
