@@ -4,7 +4,10 @@ what moved."""
 
 from __future__ import annotations
 
+import importlib
 from pathlib import Path
+
+import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 LIMIT = 600
@@ -50,3 +53,30 @@ def test_the_measure_sees_both_trees_and_counts_every_line(tmp_path):
     (tmp_path / "solvers" / "b.py").write_text("y = 2\n")
     (tmp_path / "illuknit" / "notes.txt").write_text("not a module\n" * 700)
     assert module_lengths(tmp_path) == {"illuknit/sub/a.py": LIMIT + 3, "solvers/b.py": 1}
+
+
+#: Modules split for #36 -> the modules that took their parts; the old module re-exports them.
+SPLIT = {
+    "illuknit.core.machine": ("illuknit.core.machine_spec", "illuknit.core.machine_timing"),
+    "illuknit.core.files": ("illuknit.core.atomic_files", "illuknit.core.output_guard"),
+    "illuknit.core.pattern": ("illuknit.core.yarns",),
+    "illuknit.outputs.pattern_pdf": (
+        "illuknit.outputs.pdf_document",
+        "illuknit.outputs.pdf_materials",
+        "illuknit.outputs.pdf_chart",
+    ),
+    "illuknit.app.store": ("illuknit.app.session_pickle",),
+    "illuknit.app.sessions": ("illuknit.app.design_session",),
+    "illuknit.design.tiles.perception": ("illuknit.design.tiles.candidate_measures",),
+}
+
+
+@pytest.mark.parametrize("old", sorted(SPLIT))
+def test_a_split_module_still_offers_every_public_name_of_its_parts(old):
+    """Splitting a module moves no import path: each public name of a part is the same object
+    under the old module's name."""
+    facade = importlib.import_module(old)
+    for part in SPLIT[old]:
+        module = importlib.import_module(part)
+        missing = [n for n in module.__all__ if getattr(facade, n, None) is not getattr(module, n)]
+        assert missing == [], f"{old} does not re-export these names of {part}"
