@@ -37,12 +37,14 @@ TABLE_END = "<!-- end of floor table -->"
 #: What lives in each package of a floor, by package name (the names of ``FLOORS`` in
 #: tests/test_layers.py); a file or folder in backticks is one of the package's own.
 PACKAGES: dict[str, str] = {
-    "core": "the types every floor shares: `LogicalPattern` and its file (`pattern.py`), what a "
-    "viewer sees (`views.py`: `can_see`), colours (`colors.py`), every exception (`errors.py`), the "
-    "machine description `MachineSpec` and its presets (`machine.py`), the ranges of machine "
-    "values with their sources (`machine_ranges.py`), atomic file writing, never over an input "
-    "(`files.py`), reading the user's files within limits (`documents.py`), progress bars "
-    "(`progress.py`), lazy public names (`lazy.py`)",
+    "core": "the types every floor shares: `LogicalPattern` and its file (`pattern.py`), its "
+    "yarns (`yarns.py`), what a viewer sees (`views.py`: `can_see`), colours (`colors.py`), every "
+    "exception (`errors.py`), the machine description `MachineSpec` and its presets "
+    "(`machine_spec.py`, the carriage's timing in `machine_timing.py`, found by name in "
+    "`machine.py`), the ranges of machine values with their sources (`machine_ranges.py`), atomic "
+    "file writing (`atomic_files.py`, folders in `files.py`), never over an input "
+    "(`output_guard.py`), options declared once (`declared.py`), reading the user's files within "
+    "limits (`documents.py`), progress bars (`progress.py`), lazy public names (`lazy.py`)",
     "pictures": "picture input: decoding files (`decode.py`), quantising to yarns (`images.py`), "
     "sizing one or two pictures to one grid (`sizing.py`), pictures drawn by code (`drawings.py`)",
     "design": "from pictures to patterns: single view (`single_view.py`), tiles (`tiles/`), "
@@ -65,10 +67,13 @@ PACKAGES: dict[str, str] = {
     "knitting": "the whole knitting path in one call, `knit_pattern` (`pipeline.py`), measured on "
     "the machine that runs it (`carriage.py` counts the machine's passes with `illuknit.formats`)",
     "pipeline": "the design stages as one call each, from pictures to ranked designs and what "
-    "knitting them costs (`stages.py`), and the smallest width at which a double view reads "
-    "(`legible.py`)",
+    "knitting them costs, one module a stage (`single.py`, `tiles.py` with its search and ranking "
+    "in `tile_search.py`, `solve.py`, `measure.py`; their results in `designs.py`, the checks and "
+    "`PictureOptions` they share in `inputs.py`; `stages.py` names them all), and the smallest "
+    "width at which a double view reads (`legible.py`)",
     "outputs": "what a user reads: previews (`previews.py`), the hand-knitting chart and "
-    "instructions (`chart.py`, `hand_pattern.py`, `pattern_pdf.py`), the pattern folder "
+    "instructions (`chart.py`, `hand_pattern.py`, `pattern_pdf.py` with its pages in "
+    "`pdf_document.py`, `pdf_materials.py`, `pdf_chart.py`), the pattern folder "
     "(`export.py`), the machine set-up sheet (`machine_sheet.py`)",
     "cli": "the callers: the command line",
     "app": "the local web app",

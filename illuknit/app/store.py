@@ -8,10 +8,10 @@ A session is stored *whole*: everything on the :class:`~illuknit.app.sessions.Se
 (pictures, settings, candidates with their measures, the pick, tile edits, suggested edits,
 undo and redo steps, the records of its jobs, and any field added to it later) is pickled as one
 value, so a new field persists without a change of schema. Arrays of :data:`BLOB_MIN_BYTES` or
-more are kept out of the pickle: each is stored once as an ``.npy`` blob (compressed below
-:data:`COMPRESS_BELOW`) named by the
-SHA-256 of its bytes, so a picture shared by the session and its undo steps, or by two saves, is
-written once. A table of references (session, hash) lets a blob go when no session needs it.
+more are kept out of the pickle (:mod:`illuknit.app.session_pickle`): each is stored once as
+an ``.npy`` blob (compressed below :data:`COMPRESS_BELOW`) named by the SHA-256 of its bytes,
+so a picture shared by the session and its undo steps, or by two saves, is written once. A
+table of references (session, hash) lets a blob go when no session needs it.
 
 Every save is one SQLite transaction in WAL mode with ``synchronous=FULL``: a crash, a ``kill -9``
 or a power cut during a save leaves the session as it was saved last, never half of two saves.
@@ -33,7 +33,6 @@ from __future__ import annotations
 
 import contextlib
 import errno
-import hashlib
 import io
 import json
 import os
@@ -42,7 +41,6 @@ import sqlite3
 import sys
 import threading
 import time
-import weakref
 import zlib
 from collections.abc import Iterable
 from dataclasses import dataclass
@@ -52,6 +50,15 @@ from typing import Any
 import numpy as np
 
 from illuknit import __version__
+from illuknit.app.session_pickle import (
+    BLOB_MIN_BYTES,
+    Loaded,
+    _core_of,
+    _HashCache,
+    _npy_bytes,
+    _Pickler,
+    _Unpickler,
+)
 from illuknit.core.errors import AppRequestError, OutputPathError
 
 __all__ = [
@@ -64,8 +71,6 @@ __all__ = [
     "storage_problem",
 ]
 
-#: Arrays at least this big are stored as blobs by hash; smaller ones stay inside the pickle.
-BLOB_MIN_BYTES = 16 * 1024
 #: Blobs smaller than this are compressed (zlib); bigger ones (pictures) are stored as ``.npy``.
 COMPRESS_BELOW = 2**20
 #: Version of the stored layout (the tables and the pickle's conventions).
@@ -183,80 +188,6 @@ def _size_text(n: int) -> str:
         if n >= size:
             return f"{n / size:.1f}".removesuffix(".0") + f" {unit}"
     return f"{n} bytes"
-
-
-# -- serialising a session -----------------------------------------------------------------------
-
-
-class _HashCache:
-    """SHA-256 of big arrays, remembered per array object (session arrays are never changed in
-    place: the history already shares them), so a save does not hash every picture again."""
-
-    def __init__(self) -> None:
-        self._known: dict[int, tuple[weakref.ref[np.ndarray], str]] = {}
-        self._lock = threading.Lock()
-
-    def npy(self, arr: np.ndarray) -> tuple[str, bytes | None]:
-        """(hash, npy bytes or None when the hash was remembered)."""
-        with self._lock:
-            got = self._known.get(id(arr))
-            if got is not None and got[0]() is arr:
-                return got[1], None
-        data = _npy_bytes(arr)
-        digest = hashlib.sha256(data).hexdigest()
-        with self._lock:
-            if len(self._known) > 4096:
-                self._known = {k: v for k, v in self._known.items() if v[0]() is not None}
-            self._known[id(arr)] = (weakref.ref(arr), digest)
-        return digest, data
-
-
-def _npy_bytes(arr: np.ndarray) -> bytes:
-    buf = io.BytesIO()
-    np.lib.format.write_array(buf, np.asanyarray(arr), allow_pickle=False)
-    return buf.getvalue()
-
-
-class _Pickler(pickle.Pickler):
-    def __init__(self, file: io.BytesIO, blobs: dict[str, Any], hashes: _HashCache) -> None:
-        super().__init__(file, protocol=5)
-        self._blobs = blobs
-        self._hashes = hashes
-
-    def persistent_id(self, obj: Any) -> Any:
-        if type(obj) is np.ndarray and obj.dtype != object and obj.nbytes >= BLOB_MIN_BYTES:
-            digest, data = self._hashes.npy(obj)
-            if digest not in self._blobs or self._blobs[digest] is None:
-                self._blobs[digest] = obj if data is None else data
-            return ("npy", digest)
-        return None
-
-
-class _Unpickler(pickle.Unpickler):
-    def __init__(self, file: io.BytesIO, fetch: Any) -> None:
-        super().__init__(file)
-        self._fetch = fetch
-        self._arrays: dict[str, np.ndarray] = {}
-
-    def persistent_load(self, pid: Any) -> Any:
-        kind, digest = pid
-        if kind != "npy":
-            raise pickle.UnpicklingError(f"unknown stored reference {kind!r}")
-        arr = self._arrays.get(digest)
-        if arr is None:  # an array shared in the session stays shared once loaded
-            arr = self._arrays[digest] = self._fetch(digest)
-        return arr
-
-
-@dataclass
-class Loaded:
-    """A session read back: the object, or only its core (pictures and settings) when the whole
-    state could not be read, with why."""
-
-    state: Any
-    core: dict[str, Any]
-    arrays: dict[str, np.ndarray]
-    problem: str | None = None
 
 
 # -- the store -----------------------------------------------------------------------------------
@@ -583,23 +514,6 @@ class _Transaction:
 
 def _drop_unreferenced(db: sqlite3.Connection) -> None:
     db.execute("DELETE FROM blobs WHERE hash NOT IN (SELECT hash FROM refs)")
-
-
-def _core_of(session: Any, hashes: _HashCache, blobs: dict[str, Any]) -> dict[str, Any]:
-    """What a session is made of in plain JSON (its pictures by hash, its settings): what comes
-    back even if its pickle cannot be read. Its pictures join ``blobs``, whatever their size."""
-    images = {}
-    for slot, im in session.images.items():
-        digest, data = hashes.npy(im.rgb)
-        if blobs.get(digest) is None:
-            blobs[digest] = im.rgb if data is None else data
-        images[slot] = {
-            "filename": im.filename,
-            "sent_bytes": im.sent_bytes,
-            "notes": list(im.notes),
-            "hash": digest,
-        }
-    return {"settings": session.settings.model_dump(mode="json"), "images": images}
 
 
 def _hold_lock(path: Path) -> Any:

@@ -298,3 +298,33 @@ def test_rank_designs_reports_progress_and_a_raising_hook_stops_it():
 
     with pytest.raises(Cancelled):
         rank_designs(pool, [pal[a], pal[b]], progress=cancel)
+
+
+def test_rank_designs_takes_its_measuring_as_a_context_or_as_the_old_keywords():
+    # #36: at most 8 parameters; the measuring settings are one MeasureContext, and its fields
+    # stay accepted as keywords, so callers written for the 13-parameter signature need no change
+    import inspect
+
+    from illuknit.design.tiles.perception import MeasureContext
+
+    assert len(inspect.signature(rank_designs).parameters) <= 8
+    a, b = _disc(16, 5, 8, 5), _disc(16, 5, 8, 11)
+    pal = np.array([[20, 20, 20], [240, 240, 240]], np.uint8)
+    pool = assign_tiles((a, pal), (b, pal), yarns=YARNS, candidates=3)
+    pictures = [pal[a], pal[b]]
+    by_keywords = rank_designs(pool, pictures, angle=40.0, blur=1.0, views=("A", "B"))
+    context = MeasureContext(angle=40.0, blur=1.0)
+    by_context = rank_designs(pool, pictures, context=context)
+    assert [r.measures for r in by_keywords] == [r.measures for r in by_context]
+    assert [r.score_rank for r in by_keywords] == [r.score_rank for r in by_context]
+    # a keyword replaces that field of the context
+    wider = rank_designs(pool, pictures, context=context, blur=2.0)
+    alone = rank_designs(pool, pictures, context=MeasureContext(angle=40.0, blur=2.0))
+    assert [r.measures for r in wider] == [r.measures for r in alone]
+    assert [r.measures for r in wider] != [r.measures for r in by_context]
+    with pytest.raises(OptionError, match="unknown ranking option 'anlge'; valid: views"):
+        rank_designs(pool, pictures, anlge=40.0)
+    with pytest.raises(OptionError, match="`context` must be a MeasureContext"):
+        rank_designs(pool, pictures, context={"angle": 40.0})
+    with pytest.raises(OptionError, match="knit_time"):
+        rank_designs(pool, pictures, rank_by="knit-time", context=context)

@@ -31,7 +31,7 @@ from illuknit.cli import main
 from illuknit.core.files import KILL_AT_COMMIT_STEP_ENV, recover_output_dir
 from illuknit.core.pattern import LogicalPattern, Yarn, save_pattern
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 RANDOM_KILLS = 30
 # The commit of `view` (12 entries, each replacing an old one) has 29 steps: 1 staging synced,
 # 2 journal written, 3-26 the renames, 27 backup removed, 28 journal removed, 29 staging removed.

@@ -24,7 +24,7 @@ from illuknit.core.errors import OutputPathError, PatternFormatError
 from illuknit.core.files import atomic_write_bytes, recover_output_dir, staged_dir
 from illuknit.core.pattern import LogicalPattern, Yarn, load_pattern, save_pattern
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 
 
 def _mknod(path: Path, minor: int) -> bool:

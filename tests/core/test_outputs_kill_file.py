@@ -33,7 +33,7 @@ from illuknit.core.files import (
 )
 from illuknit.core.pattern import LogicalPattern, Yarn, save_pattern
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 RANDOM_KILLS = 4
 
 pytestmark = pytest.mark.skipif(sys.platform == "win32", reason="SIGKILL and flock are POSIX")

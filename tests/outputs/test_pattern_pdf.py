@@ -20,6 +20,7 @@ from illuknit.core.errors import IlluknitError
 from illuknit.core.gauge import parse_gauge
 from illuknit.core.pattern import LogicalPattern, parse_yarns
 from illuknit.outputs import pattern_pdf as pdf_module
+from illuknit.outputs import pdf_document
 from illuknit.outputs.captions import headon_likeness
 from illuknit.outputs.pattern_pdf import CELL_MM, chart_svg, chart_tiles, pattern_pdf, pdf_fonts
 
@@ -211,7 +212,8 @@ def test_yarn_names_outside_latin1_are_written_as_they_are() -> None:
 
 
 def test_characters_no_font_has_become_code_points(monkeypatch: pytest.MonkeyPatch) -> None:
-    monkeypatch.setattr(pdf_module, "FALLBACK_FONTS", ())
+    # the fonts live in pdf_document; pattern_pdf only re-exports them
+    monkeypatch.setattr(pdf_document, "FALLBACK_FONTS", ())
     monkeypatch.delenv(pdf_module.FONTS_ENV, raising=False)
     fonts = pdf_fonts("Ø深蓝 Ελληνικά")
     assert fonts.fallbacks == ()
