@@ -20,7 +20,7 @@ loads either a Backend instance, a Backend class, or a zero-argument factory.
 
 Examples
 --------
->>> from illuknit.design.models.model import Model
+>>> from illuknit.solvers.model import Model
 >>> from illuknit.solvers import solve
 >>> m = Model("tiny")
 >>> a, b = m.var("a"), m.var("b")
@@ -66,7 +66,7 @@ from illuknit.solvers.base import (
 )
 
 if TYPE_CHECKING:
-    from illuknit.design.models.model import Model
+    from illuknit.solvers.model import Model
 
 __all__ = [
     "ENTRY_POINT_GROUP",
@@ -280,7 +280,7 @@ def resolve_backend(model: Model, solver: str) -> Backend:
     SolverError
         The backend cannot solve ``model``; the message says why.
     """
-    from illuknit.design.models.model import Model  # light: the model is already made
+    from illuknit.solvers.model import Model  # light: the model is already made
 
     check_instance(model, Model, "model")
     check_str(solver, "solver")

@@ -1,6 +1,6 @@
 """The contract every solver backend implements: ``Status``, ``Solution``, ``Backend``.
 
-A backend takes an :class:`illuknit.design.models.model.Model` (solver-neutral data) and returns a frozen
+A backend takes an :class:`illuknit.solvers.model.Model` (solver-neutral data) and returns a frozen
 :class:`Solution`:
 
 * ``status`` — :class:`Status`: ``optimal`` (proven), ``feasible`` (an assignment, optimality not
@@ -44,8 +44,8 @@ from numpy.typing import NDArray
 from illuknit.core.errors import UnknownNameError
 
 if TYPE_CHECKING:
-    from illuknit.design.models.model import Model
-    from illuknit.design.models.var_pool import VarPool
+    from illuknit.solvers.model import Model
+    from illuknit.solvers.var_pool import VarPool
 
 __all__ = [
     "ORACLES",

@@ -39,7 +39,7 @@ from illuknit.solvers.base import (
 )
 
 if TYPE_CHECKING:
-    from illuknit.design.models.model import Model
+    from illuknit.solvers.model import Model
 
 __all__ = ["LARGE_MODEL_VARS", "CPSATBackend"]
 

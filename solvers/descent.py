@@ -60,7 +60,7 @@ from illuknit.solvers.dp import DPBackend, solve_dp, values_from_pattern
 from illuknit.solvers.lagrangian import LagrangianResult, lagrangian_bound
 
 if TYPE_CHECKING:
-    from illuknit.design.models.model import Model
+    from illuknit.solvers.model import Model
 
 __all__ = ["DescentBackend", "DescentResult", "bound_then_search", "optimise_descent"]
 

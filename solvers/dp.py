@@ -49,7 +49,7 @@ from illuknit.design.models.illusion_problem import IllusionProblem, raised_cost
 from illuknit.solvers.base import BackendBase, ProgressCallback, ProgressEvent, Solution, Status
 
 if TYPE_CHECKING:
-    from illuknit.design.models.model import Model
+    from illuknit.solvers.model import Model
 
 __all__ = ["DPBackend", "hint_values", "solve_dp", "solve_dp_split"]
 

@@ -22,7 +22,7 @@ from illuknit.design.models.illusion_problem import IllusionProblem
 from illuknit.solvers.base import BackendBase, ProgressCallback, ProgressEvent, Solution, Status
 
 if TYPE_CHECKING:
-    from illuknit.design.models.model import Model
+    from illuknit.solvers.model import Model
 
 __all__ = ["GradientBackend"]
 

@@ -31,10 +31,10 @@ from numpy.typing import NDArray
 
 from illuknit.core.errors import SolverError, UnknownNameError
 from illuknit.design.models.illusion_problem import IllusionProblem
-from illuknit.design.models.model import Model
 from illuknit.solvers.base import Solution, Status
 from illuknit.solvers.descent import bound_then_search, optimise_descent
 from illuknit.solvers.dp import hint_values, values_from_pattern
+from illuknit.solvers.model import Model
 
 __all__ = [
     "WARM_STARTS",

@@ -43,7 +43,7 @@ from illuknit.solvers.base import (
 )
 
 if TYPE_CHECKING:
-    from illuknit.design.models.model import Model
+    from illuknit.solvers.model import Model
 
 __all__ = ["ExternalWCNFBackend", "parse_maxsat_output"]
 

@@ -41,8 +41,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from illuknit.design.models.model import Model
 from illuknit.solvers.isolate import run_in_child
+from illuknit.solvers.model import Model
 
 __all__ = [
     "ENGINES",

@@ -40,7 +40,7 @@ from numpy.typing import NDArray
 
 from illuknit.core.errors import ImageInputError, ManifestError, UnknownNameError, YarnSpecError
 from illuknit.core.pattern import MAX_UNITS, Yarn, parse_yarns
-from illuknit.design.models.model import Model
+from illuknit.solvers.model import Model
 
 __all__ = [
     "DEFAULT_MANIFEST",

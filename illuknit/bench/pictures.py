@@ -19,7 +19,7 @@ from typing import Any
 
 from illuknit.core.errors import OptionError
 from illuknit.core.pattern import Yarn
-from illuknit.design.models.model import Model
+from illuknit.solvers.model import Model
 
 __all__ = ["PictureInstance", "picture_instances"]
 

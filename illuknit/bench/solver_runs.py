@@ -31,10 +31,10 @@ from illuknit.bench.instances import Instance, instance_model
 from illuknit.bench.pictures import PictureInstance
 from illuknit.bench.wcnf_files import read_wcnf, read_wcnf_text
 from illuknit.core.errors import IlluknitError
-from illuknit.design.models.model import Model
 from illuknit.solvers import HERMAX_NAMES, get_backend, parse_solver_name
 from illuknit.solvers.base import ProgressEvent, Status
 from illuknit.solvers.isolate import run_in_child
+from illuknit.solvers.model import Model
 
 __all__ = [
     "ROW_FIELDS",

@@ -54,10 +54,10 @@ from illuknit.design.tiles.perception import KnitMeasure
 if TYPE_CHECKING:
     from illuknit.core.pattern import LogicalPattern, Yarn
     from illuknit.design.models.illusion_problem import IllusionProblem
-    from illuknit.design.models.model import Model
     from illuknit.design.tiles.bank import TileBank, ViewPair
     from illuknit.pictures.images import QuantisedImage
     from illuknit.solvers.base import ProgressCallback, Solution
+    from illuknit.solvers.model import Model
 
 __all__ = [
     "RankedDesign",

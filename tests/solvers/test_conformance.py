@@ -22,7 +22,6 @@ from illuknit.design.models.illusion_models import (
     make_problem,
 )
 from illuknit.design.models.illusion_problem import row_passes
-from illuknit.design.models.model import Model
 from illuknit.solvers import (
     HERMAX_NAMES,
     available_backends,
@@ -30,6 +29,7 @@ from illuknit.solvers import (
     get_backend,
     solve,
 )
+from illuknit.solvers.model import Model
 
 FAKE = Path(__file__).parent / "fake" / "fake_maxsat.py"
 EXTERNAL = f"wcnf:{sys.executable} {FAKE} {{}}"

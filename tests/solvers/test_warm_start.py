@@ -15,10 +15,10 @@ from illuknit.design.models.illusion_models import (
     make_problem,
     solve_illusion,
 )
-from illuknit.design.models.model import Model
 from illuknit.pictures.drawings import draw_ecg, draw_heart
 from illuknit.solvers import BackendBase, Solution, Status, solve
 from illuknit.solvers.dp import solve_dp
+from illuknit.solvers.model import Model
 
 
 def _pair(n: int = 12, m: int = 10) -> tuple[np.ndarray, np.ndarray]:

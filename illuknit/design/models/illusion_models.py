@@ -2,7 +2,7 @@
 
 Three *illusion models* over an N x M grid of units and K yarns -- (a) ``logical``, (b)
 ``knit-aware``, (c) ``single``, the ``kind`` of an :class:`~illuknit.design.models.illusion_problem.IllusionProblem`
--- each encoded here into one solver-neutral *constraint model* (:class:`illuknit.design.models.model.Model`):
+-- each encoded here into one solver-neutral *constraint model* (:class:`illuknit.solvers.model.Model`):
 
 **Variables.** ``("yarn", i, j, k)`` — unit (i, j) is knit in yarn k (one-hot over k);
 ``("raised", i, j)`` — unit (i, j) is a bump. Model (b) adds ``("change", i, j)`` — the yarn
@@ -84,9 +84,9 @@ from illuknit.design.models.illusion_report import (
     pattern_from_solution,
     report_pattern,
 )
-from illuknit.design.models.model import Model
 from illuknit.solvers import solve
 from illuknit.solvers.base import ProgressCallback, Solution
+from illuknit.solvers.model import Model
 
 __all__ = [
     "MODEL_KINDS",

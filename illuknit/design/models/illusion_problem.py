@@ -1,7 +1,7 @@
 """The data of an illusion model: targets, palette, model kind, objective weights.
 
 :class:`IllusionProblem` is what the encoder (:mod:`illuknit.design.models.illusion_models`) turns into a
-:class:`~illuknit.design.models.model.Model` and what the structured backends (:mod:`illuknit.solvers.dp`,
+:class:`~illuknit.solvers.model.Model` and what the structured backends (:mod:`illuknit.solvers.dp`,
 :mod:`illuknit.solvers.descent`, :mod:`illuknit.solvers.gradient`) read directly; the objective
 pieces they share with the encoder (:func:`raised_cost`) live here too, so backends and encoder
 import this module and never each other.
