@@ -51,6 +51,7 @@ __all__ = [
     "ORACLES",
     "Backend",
     "BackendBase",
+    "BackendKind",
     "OracleBackendBase",
     "ProgressCallback",
     "ProgressEvent",
@@ -72,6 +73,20 @@ class Status(StrEnum):
     TIMEOUT = "timeout"
     INFEASIBLE = "infeasible"
     ERROR = "error"
+
+
+class BackendKind(StrEnum):
+    """How a backend searches: what :func:`illuknit.solvers.describe_backends` lists it as."""
+
+    #: a MaxSAT solver on the model's clauses (complete, or anytime when not ``exact``)
+    MAXSAT = "maxsat"
+    #: a constraint-programming solver on the model's native constraints
+    CP = "cp"
+    #: a local search (no proof of optimality)
+    LOCAL_SEARCH = "local search"
+    #: an algorithm of the domain that built the model, reading its payload
+    #: (:class:`illuknit.solvers.model.DomainPayload`)
+    DOMAIN = "domain"
 
 
 @dataclass(frozen=True)
@@ -191,11 +206,20 @@ class Backend(Protocol):
     ``exact`` is True when status ``optimal`` is a proof (heuristics such as ``gradient`` set it
     False and report only ``feasible``/``timeout``); conformance suites that demand optima skip
     backends with ``exact = False``.
+
+    Capabilities are declared flags, which :func:`illuknit.solvers.solve` dispatches on (see
+    :class:`BackendBase` for each): ``kind`` (:class:`BackendKind`), ``exact``, ``proves_bound``,
+    ``accepts_warm_start``, ``accepts_lower_bound`` and ``time_limited``.
     """
 
     name: str
     extra: str | None
+    kind: BackendKind
     exact: bool
+    proves_bound: bool
+    accepts_warm_start: bool
+    accepts_lower_bound: bool
+    time_limited: bool
 
     def handles(self, model: Model) -> bool:
         """Whether this backend can solve ``model`` (e.g. the DP needs an illusion problem)."""
@@ -236,7 +260,15 @@ class BackendBase:
 
     name: str = ""
     extra: str | None = None
+    kind: BackendKind = BackendKind.MAXSAT
+    #: True when status ``optimal`` is a proof
     exact: bool = True
+    #: True when the ``bound`` it reports is a proven lower bound of the objective
+    proves_bound: bool = True
+    #: True when a warm start applies: :func:`illuknit.solvers.solve` runs the warm-start policy
+    #: first and hands its assignment over as ``model.hint`` (False for the algorithms the warm
+    #: starts themselves run)
+    accepts_warm_start: bool = True
     #: True when the solver itself stops at ``time_limit`` and hands back what it has; False
     #: when only a kill from outside stops it (the benchmark then enforces the limit, and says
     #: so in ``--list-solvers``)

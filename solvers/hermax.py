@@ -119,6 +119,7 @@ class HermaxBackend(BackendBase):
         self.name = name
         self.class_path, self.anytime, self.time_limited = HERMAX_SOLVERS[name]
         self.exact = not self.anytime
+        self.proves_bound = self.exact
 
     def solve(
         self,

@@ -20,8 +20,10 @@ Contract
   backend that understands them (CP-SAT) uses them directly; clause backends call
   :meth:`Model.to_clauses`, which encodes them with pysat's ``CardEnc`` (or a sequential weight
   counter for non-unit coefficients) into auxiliary variables numbered above ``pool.top``.
-* ``problem`` holds an optional structured payload (e.g. an ``IllusionProblem``) so specialised
-  backends (the exact DP, the gradient optimiser) can recognise a model they solve directly.
+* ``problem`` holds an optional :class:`DomainPayload`: the structured data a domain built the
+  model from, opaque to this package. A domain that has its own algorithms registers them as
+  backends (:func:`illuknit.solvers.register_backend`) that recognise their payload with
+  ``isinstance`` -- as design does for its illusion models (``illuknit.design.models.backends``).
 * :meth:`Model.to_wcnf` writes the MaxSAT Evaluation format (2022+: hard clauses prefixed ``h``,
   soft clauses by their weight, no ``p`` line); ``style="old"`` writes the pre-2022
   ``p wcnf NV NC TOP`` format. pysat's ``WCNF`` reader accepts both.
@@ -32,16 +34,14 @@ The pool lives in :mod:`illuknit.solvers.var_pool`, the CNF encodings of native 
 
 Naming: in illuknit a *constraint model* is this module's :class:`Model` (solver-neutral
 variables and constraints); an *illusion model* is one of the three ways of asking for an illusion
--- (a) ``logical``, (b) ``knit-aware``, (c) ``single`` -- whose data is an
-:class:`~illuknit.design.models.illusion_problem.IllusionProblem` and whose encoder
-(:func:`illuknit.design.models.illusion_models.build_model`) produces a constraint model.
+whose data (an ``IllusionProblem``, a :class:`DomainPayload`) design encodes into a constraint
+model.
 """
 
 from __future__ import annotations
 
 from collections.abc import Hashable, Iterator, Sequence
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -53,9 +53,27 @@ from illuknit.solvers.var_pool import VarPool
 __all__ = [
     "CardConstraint",
     "ClauseSet",
+    "DomainPayload",
     "LinearConstraint",
     "Model",
 ]
+
+
+class DomainPayload:
+    """Base class of the structured data a domain builds a :class:`Model` from.
+
+    Opaque to the solver layer: the generic backends never read it, and the backends a domain
+    registers recognise their own payload with ``isinstance``. A payload may say what the
+    generic backends can use without knowing the domain (:attr:`separable`).
+    """
+
+    __slots__ = ()
+
+    @property
+    def separable(self) -> bool:
+        """True when the model falls apart into many small independent parts (a portfolio of
+        search strategies then does not pay for itself: CP-SAT runs one worker)."""
+        return False
 
 
 @dataclass(frozen=True)
@@ -109,13 +127,17 @@ class Model:
     ----------
     name : str
         Shown in reports and WCNF comments.
-    problem : object, optional
-        Structured payload that specialised backends may recognise (e.g. ``IllusionProblem``).
+    problem : DomainPayload, optional
+        The data the model was built from, which the backends a domain registers recognise.
     """
 
-    def __init__(self, name: str = "model", *, problem: Any = None) -> None:
+    def __init__(self, name: str = "model", *, problem: DomainPayload | None = None) -> None:
         if not isinstance(name, str):
             raise ModelError(f"`name` must be a string, got {type(name).__name__}")
+        if problem is not None and not isinstance(problem, DomainPayload):
+            raise ModelError(
+                f"`problem` must be a DomainPayload or None, got {type(problem).__name__}"
+            )
         self.name = name
         self.problem = problem
         self.pool = VarPool()

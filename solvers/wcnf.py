@@ -125,6 +125,9 @@ def parse_maxsat_output(text: str, nv: int) -> tuple[str | None, int | None, np.
 class ExternalWCNFBackend(BackendBase):
     """Runs a user-named MaxSAT solver command on a WCNF file."""
 
+    #: the file formats carry no lower bound back
+    proves_bound = False
+
     def __init__(self, command: str, *, style: str = "new") -> None:
         self.command = command.strip()
         self.name = f"wcnf:{self.command}"

@@ -18,6 +18,7 @@ from illuknit.core.errors import (
 )
 from illuknit.core.pattern import LogicalPattern, Yarn
 from illuknit.core.views import can_see
+from illuknit.design.models.backends.dp import solve_dp, values_from_pattern
 from illuknit.design.models.illusion_models import (
     KnitWeights,
     build_model,
@@ -29,7 +30,6 @@ from illuknit.design.models.illusion_models import (
     solve_illusion,
 )
 from illuknit.solvers import solve
-from illuknit.solvers.dp import solve_dp, values_from_pattern
 
 
 def _wale_brute_force(problem) -> int:
@@ -293,9 +293,9 @@ def test_machine_pass_terms_match_brute_force_and_the_descent_objective():
     clauses, against a brute force over every pattern of a 1 x 5 strip and a 2 x 2 grid."""
     import itertools
 
+    from illuknit.design.models.backends.descent_blocks import pattern_cost
+    from illuknit.design.models.backends.dp import values_from_pattern
     from illuknit.design.models.illusion_problem import pass_events
-    from illuknit.solvers.descent_blocks import pattern_cost
-    from illuknit.solvers.dp import values_from_pattern
 
     rng = np.random.default_rng(3)
     for shape, gap in (((1, 5), 1), ((2, 2), 1), ((1, 5), 2)):
@@ -362,8 +362,8 @@ def test_pass_term_equals_a_count_on_the_scheduler_plan(n, m, k, gap, seed):
     """With a pattern pinned, the knit-aware model's optimum (CP-SAT over its auxiliary pass
     variables) is its view, colour and transfer cost plus ``machine_pass`` times the passes
     counted on the scheduler's carrier plan of the decoded pattern."""
+    from illuknit.design.models.backends.descent import pattern_cost
     from illuknit.design.models.illusion_problem import row_passes
-    from illuknit.solvers.descent import pattern_cost
 
     rng = np.random.default_rng(seed)
     yarn = rng.integers(0, k, (n, m))

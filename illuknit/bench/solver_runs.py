@@ -246,7 +246,7 @@ def not_applicable(model: Model, task: SolverTask) -> str | None:
     why = backend.why_not(model)
     if why is not None:
         return why
-    if task.warm_start != "none" and backend.name not in ("dp", "descent"):
+    if task.warm_start != "none" and backend.accepts_warm_start:
         try:
             resolve_policy(task.warm_start, model)
         except SolverError as e:

@@ -5,11 +5,11 @@ from __future__ import annotations
 import numpy as np
 
 from illuknit.core.views import can_see
+from illuknit.design.models.backends.dp import solve_dp
+from illuknit.design.models.backends.gradient import GradientBackend
 from illuknit.design.models.illusion_models import KnitWeights, build_model, make_problem
 from illuknit.pictures.drawings import draw_text
 from illuknit.solvers.base import Backend
-from illuknit.solvers.dp import solve_dp
-from illuknit.solvers.gradient import GradientBackend
 from illuknit.solvers.model import Model
 
 

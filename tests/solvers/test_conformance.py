@@ -230,7 +230,7 @@ def test_time_limit_returns_the_best_found_with_a_bound(name):
     _backend_or_skip(name)
     problem = _random_instance(5, shape=(40, 40), kind="knit-aware")
     model = build_model(problem)
-    from illuknit.solvers.dp import hint_values
+    from illuknit.design.models.backends.dp import hint_values
 
     model.hint = hint_values(problem, model)
     sol = solve(model, solver=name, time_limit=0.5)

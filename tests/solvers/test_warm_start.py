@@ -7,8 +7,9 @@ from typing import ClassVar
 import numpy as np
 import pytest
 
-import illuknit.solvers.dp as dp_mod
+import illuknit.design.models.backends.dp as dp_mod
 from illuknit.core.errors import SolverError, UnknownNameError
+from illuknit.design.models.backends.dp import solve_dp
 from illuknit.design.models.illusion_models import (
     KnitWeights,
     build_model,
@@ -17,7 +18,6 @@ from illuknit.design.models.illusion_models import (
 )
 from illuknit.pictures.drawings import draw_ecg, draw_heart
 from illuknit.solvers import BackendBase, Solution, Status, solve
-from illuknit.solvers.dp import solve_dp
 from illuknit.solvers.model import Model
 
 

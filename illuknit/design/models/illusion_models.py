@@ -43,11 +43,11 @@ A's soft clauses read ``upper`` where view B's read ``yarn``: view A sees ``U[i-
 U[i]``, and ``U == C`` wherever the unit is flat.
 
 Models (a) and (b) without colour-change or pass terms couple only neighbouring units of one wale, so
-:mod:`illuknit.solvers.dp` solves them exactly per wale; model (c) ties each row to one yarn, and
+:mod:`illuknit.design.models.backends.dp` solves them exactly per wale; model (c) ties each row to one yarn, and
 the DP solves it exactly over the row colours (a raised bit then affects two view cells whose
 colours depend only on three consecutive row colours). The structured :class:`IllusionProblem`
 rides along as ``model.problem`` for it. Model (b) with colour-change terms couples the wales;
-:mod:`illuknit.solvers.descent` re-optimises single wales and courses exactly in turn and warm-
+:mod:`illuknit.design.models.backends.descent` re-optimises single wales and courses exactly in turn and warm-
 starts the exact backends.
 """
 
@@ -316,7 +316,7 @@ def solve_illusion(
         A backend name (see :func:`illuknit.solvers.available_backends`) or "auto" (the first
         in preference order that handles the model: the exact DP when it applies).
     warm_start : {"auto", "none", "dp", "descent"}
-        Warm-start policy (:mod:`illuknit.solvers.warm_start`): the DP optimum, or for the
+        Warm-start policy (:mod:`illuknit.design.models.backends.warm_start`): the DP optimum, or for the
         knit-aware model a block descent taking part of ``time_limit``. The result is never worse
         than the warm start, its ``found_by`` says who found it, and its ``wall_time``
         includes the warm start.
