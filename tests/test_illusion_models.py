@@ -412,3 +412,21 @@ def test_knit_aware_pattern_knits_in_fewer_machine_passes_than_the_maxsat_optimu
         res = solve_illusion(t.a, t.b, model=model, solver=solver, yarns=inst.yarns, time_limit=30)
         passes[model] = len(machine_passes(knit_pattern(res.pattern).text))
     assert passes["knit-aware"] < passes["logical"], passes
+
+
+def test_solve_options_and_their_keywords_solve_alike():
+    from illuknit.design.options import SolveOptions
+
+    ta = np.array([[0, 1, 1], [1, 0, 2], [2, 2, 0]])
+    tb = np.array([[1, 1, 0], [0, 2, 2], [2, 0, 1]])
+    options = SolveOptions(model="knit-aware", solver="rc2", warm_start="none", time_limit=None)
+    by_options = solve_illusion(ta, tb, n_yarns=3, options=options)
+    by_keywords = solve_illusion(
+        ta, tb, n_yarns=3, model="knit-aware", solver="rc2", warm_start="none"
+    )
+    assert by_options.solution.objective == by_keywords.solution.objective
+    assert np.array_equal(by_options.pattern.yarn, by_keywords.pattern.yarn)
+    # a keyword takes the place of the option's field
+    assert solve_illusion(ta, tb, n_yarns=3, options=options, solver="dp", model="logical")
+    with pytest.raises(OptionError, match="unknown solve option 'solvr'"):
+        solve_illusion(ta, tb, n_yarns=3, solvr="dp")

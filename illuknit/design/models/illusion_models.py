@@ -54,6 +54,7 @@ starts the exact backends.
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -66,7 +67,13 @@ from illuknit.core.arguments import (
     check_number,
     check_str,
 )
-from illuknit.core.errors import InfeasibleError, SolverError, UnknownNameError, YarnSpecError
+from illuknit.core.errors import (
+    InfeasibleError,
+    OptionError,
+    SolverError,
+    UnknownNameError,
+    YarnSpecError,
+)
 from illuknit.core.pattern import Yarn, check_yarns
 from illuknit.design.models.illusion_problem import (
     MODEL_KINDS,
@@ -84,6 +91,7 @@ from illuknit.design.models.illusion_report import (
     pattern_from_solution,
     report_pattern,
 )
+from illuknit.design.options import SolveOptions
 from illuknit.solvers import solve
 from illuknit.solvers.base import ProgressCallback, Solution
 from illuknit.solvers.model import Model
@@ -288,29 +296,43 @@ def _add_pass_terms(
     model.add_soft_block(-bump_extra.reshape(-1, 1), p)
 
 
+#: The keywords of :func:`solve_illusion` that :class:`~illuknit.design.options.SolveOptions`
+#: groups, and their defaults here (no time limit, unlike the CLI's options).
+_SOLVE_KNOBS: dict[str, Any] = {
+    "model": "logical",
+    "solver": "auto",
+    "warm_start": "auto",
+    "weights": None,
+    "alternate_rows": False,
+    "split_bumps": False,
+    "time_limit": None,
+    "seed": 0,
+}
+
+
 def solve_illusion(
     target_a: ArrayLike,
     target_b: ArrayLike | None = None,
     *,
-    model: str = "logical",
-    solver: str = "auto",
-    warm_start: str = "auto",
-    weights: KnitWeights | None = None,
+    options: SolveOptions | None = None,
     yarns: Sequence[Yarn] | None = None,
     n_yarns: int | None = None,
     pinned: ArrayLike | None = None,
-    alternate_rows: bool = False,
-    split_bumps: bool = False,
-    time_limit: float | None = None,
-    seed: int = 0,
     progress: ProgressCallback | None = None,
+    **knobs: Any,
 ) -> IllusionResult:
     """Build the illusion model, solve it (:func:`illuknit.solvers.solve`), decode the pattern.
+
+    How to solve is ``options`` (a :class:`~illuknit.design.options.SolveOptions`), or its
+    fields given as keywords (``model="knit-aware", time_limit=10``; the parameters below list
+    them with their defaults), which take the place of the fields of ``options``.
 
     Parameters
     ----------
     target_a, target_b : ndarray of shape (N, M), int
         Yarn-index targets (``target_b`` omitted for the single-view model).
+    options : SolveOptions, optional
+        Everything below but the yarns, the pins and ``progress``.
     model : {"logical", "knit-aware", "single"}
     solver : str
         A backend name (see :func:`illuknit.solvers.available_backends`) or "auto" (the first
@@ -333,6 +355,10 @@ def solve_illusion(
     SolverError
         The backend found no pattern.
     """
+    knobs = _solve_knobs(options, knobs)
+    model, solver, warm_start = knobs["model"], knobs["solver"], knobs["warm_start"]
+    weights, time_limit, seed = knobs["weights"], knobs["time_limit"], knobs["seed"]
+    alternate_rows, split_bumps = knobs["alternate_rows"], knobs["split_bumps"]
     check_array(target_a, "target_a", ndim=2, integer=True)
     if target_b is not None:
         check_array(target_b, "target_b", ndim=2, integer=True)
@@ -380,6 +406,28 @@ def solve_illusion(
     check_solution(sol, model)
     pat = pattern_from_solution(prob, sol, yarns=yarns)
     return IllusionResult(pat, sol, prob, report_pattern(pat, prob, sol))
+
+
+def _solve_knobs(options: SolveOptions | None, knobs: dict[str, Any]) -> dict[str, Any]:
+    """Every keyword of :data:`_SOLVE_KNOBS`: from ``knobs``, else ``options``, else the default."""
+    unknown = sorted(set(knobs) - set(_SOLVE_KNOBS))
+    if unknown:
+        valid = ", ".join(_SOLVE_KNOBS)
+        raise OptionError(f"unknown solve option {unknown[0]!r}; valid: {valid}")
+    if options is None:
+        return {**_SOLVE_KNOBS, **knobs}
+    check_instance(options, SolveOptions, "options")
+    given = {
+        "model": options.model.value,
+        "solver": options.solver,
+        "warm_start": options.warm_start.value,
+        "weights": options.weights,
+        "alternate_rows": options.alternate_rows,
+        "split_bumps": options.split_bumps,
+        "time_limit": options.time_limit,
+        "seed": options.seed,
+    }
+    return {**given, **knobs}
 
 
 def check_solution(sol: Solution, model: str) -> None:

@@ -149,9 +149,8 @@ def optimise_descent(
     start_costs: dict[str, int] = {}
     interrupted = False
     try:
-        best = _search(
-            problem, init, best, bound, maj, rng, deadline, stall, start_costs, state, progress, t0
-        )
+        search = _Search(problem, bound, maj, rng, deadline, stall, progress, t0)
+        best = _search(search, init, best, start_costs, state)
     except KeyboardInterrupt:
         interrupted = True
         best = state.get("best", best)  # type: ignore[assignment]
@@ -169,22 +168,35 @@ def optimise_descent(
     )
 
 
+@dataclass(frozen=True)
+class _Search:
+    """What the iterated local search of :func:`optimise_descent` reads and never changes."""
+
+    problem: IllusionProblem
+    #: the DP's lower bound: the search stops when it meets it
+    bound: int
+    #: per unit row, the yarn most common in the targets' row (:func:`_row_majority`)
+    majority: NDArray[np.int64]
+    rng: np.random.Generator
+    deadline: float | None
+    #: perturbations in a row that find nothing better before the search stops
+    stall: int
+    progress: ProgressCallback | None
+    #: the clock reading (``time.perf_counter()``) progress times are measured from
+    t0: float
+
+
 def _search(
-    problem: IllusionProblem,
+    search: _Search,
     init: dict[str, tuple[NDArray[np.integer], NDArray[np.bool_]]],
     best: tuple[NDArray[np.int64], NDArray[np.bool_], int],
-    bound: int,
-    maj: NDArray[np.int64],
-    rng: np.random.Generator,
-    deadline: float | None,
-    stall: int,
     start_costs: dict[str, int],
     state: dict,
-    progress: ProgressCallback | None,
-    t0: float,
 ) -> tuple[NDArray[np.int64], NDArray[np.bool_], int]:
     """The iterated local search of :func:`optimise_descent`; ``state`` tracks counters and the
     best pattern so far (read back after an interrupt)."""
+    problem, bound, maj, rng = search.problem, search.bound, search.majority, search.rng
+    deadline, stall, progress, t0 = search.deadline, search.stall, search.progress, search.t0
     n, m = problem.shape
     state["best"] = best
     total_sweeps = 0
