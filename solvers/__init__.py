@@ -42,7 +42,7 @@ import copy
 import importlib
 import math
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import replace
 from importlib.metadata import entry_points
 from typing import TYPE_CHECKING, Any, NamedTuple
@@ -71,6 +71,7 @@ from illuknit.solvers.base import (
     Status,
     TracePoint,
 )
+from illuknit.solvers.stats import SolveStats, WarmStartInfo
 
 if TYPE_CHECKING:
     from illuknit.solvers.model import Model
@@ -84,8 +85,10 @@ __all__ = [
     "BackendKind",
     "ProgressEvent",
     "Solution",
+    "SolveStats",
     "SolverName",
     "Status",
+    "WarmStartInfo",
     "available_backends",
     "backend_names",
     "describe_backends",
@@ -396,15 +399,21 @@ def solve(
     if info is not None:
         sol = ws_mod.keep_warm_start(model, sol, info)
     else:
-        sol = replace(sol, stats={**sol.stats, "warm_start": {"method": "none"}})
+        sol = replace(sol, stats=SolveStats(sol.stats))
     if sol.status is Status.INFEASIBLE and "infeasible_families" not in sol.stats:
         fams = model.infeasible_families()
         sol = replace(
             sol,
             wall_time=time.perf_counter() - t0,
-            stats={**sol.stats, "infeasible_families": fams},
+            stats=_with_families(sol.stats, fams),
         )
     return sol
+
+
+def _with_families(stats: Mapping[str, Any], families: list[str]) -> SolveStats:
+    """``stats`` (a :class:`SolveStats`) naming the conflicting constraint families too."""
+    assert isinstance(stats, SolveStats)  # solve() made it so just above
+    return replace(stats, infeasible_families=tuple(families))
 
 
 def _found_at(sol: Solution, trace: list[TracePoint]) -> float | None:

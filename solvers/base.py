@@ -42,6 +42,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from illuknit.core.errors import UnknownNameError
+from illuknit.solvers.stats import SolveStats
 
 if TYPE_CHECKING:
     from illuknit.solvers.model import Model
@@ -141,7 +142,14 @@ class Solution:
             v = np.asarray(self.values, dtype=bool)
             v.setflags(write=False)
             object.__setattr__(self, "values", v)
-        object.__setattr__(self, "stats", MappingProxyType(dict(self.stats)))
+        if not isinstance(self.stats, SolveStats):
+            object.__setattr__(self, "stats", MappingProxyType(dict(self.stats)))
+
+    @property
+    def solve_stats(self) -> SolveStats | None:
+        """The typed statistics :func:`illuknit.solvers.solve` recorded in ``stats`` (None for
+        the raw answer of a backend called directly)."""
+        return self.stats if isinstance(self.stats, SolveStats) else None
 
     @property
     def has_values(self) -> bool:

@@ -15,8 +15,8 @@ model's starter, and means ``none`` for a model no starter is registered for.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
-from typing import TYPE_CHECKING, Any, Protocol
+from dataclasses import replace
+from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 from numpy.typing import NDArray
@@ -24,6 +24,7 @@ from numpy.typing import NDArray
 from illuknit.core.errors import SolverError, UnknownNameError
 from illuknit.solvers._moved import moved_module
 from illuknit.solvers.base import Solution, Status
+from illuknit.solvers.stats import SolveStats, WarmStartInfo
 
 if TYPE_CHECKING:
     from illuknit.solvers.model import DomainPayload, Model
@@ -37,43 +38,6 @@ __all__ = [
     "resolve_policy",
     "warm_start_policies",
 ]
-
-
-@dataclass(frozen=True)
-class WarmStartInfo:
-    """What a warm start did.
-
-    Parameters
-    ----------
-    method : str
-        The concrete policy that ran (``"none"`` when none did).
-    objective : int, optional
-        The objective of its assignment.
-    seconds : float
-        How long it took (rounded to the millisecond).
-    bound : float, optional
-        A proven lower bound of the objective it found, handed to backends that
-        ``accepts_lower_bound``.
-    proves_bound : bool
-        True when the warm start looks for a bound at all (its statistics then name the
-        ``bound``, found or not).
-    """
-
-    method: str
-    objective: int | None = None
-    seconds: float = 0.0
-    bound: float | None = None
-    proves_bound: bool = False
-
-    def as_stats(self) -> dict[str, Any]:
-        """The JSON form ``Solution.stats["warm_start"]`` and report.json carry."""
-        out: dict[str, Any] = {"method": self.method}
-        if self.proves_bound:
-            out["bound"] = self.bound
-        if self.objective is not None:
-            out["objective"] = self.objective
-            out["seconds"] = self.seconds
-        return out
 
 
 class WarmStarter(Protocol):
@@ -176,18 +140,18 @@ def keep_warm_start(model: Model, solution: Solution, info: WarmStartInfo) -> So
     values, objective, status = solution.values, solution.objective, solution.status
     found_by, found_at = solution.found_by, solution.found_at
     found_at = None if found_at is None else found_at + ws
-    stats = {**solution.stats, "warm_start": info.as_stats()}
+    kept = False
     if model.hint is not None and status in (Status.FEASIBLE, Status.TIMEOUT):
         hint = np.asarray(model.hint, dtype=bool)
         ok, cost = model.evaluate(hint)
         if ok and (objective is None or cost < objective):
             values, objective = hint, cost
             found_by, found_at = info.method, ws
-            stats["kept_warm_start"] = True
+            kept = True
         elif values is not None and np.array_equal(values[: hint.size], hint[: values.size]):
             # the backend handed the hint back (e.g. RC2's timeout fallback): credit the hint
             found_by, found_at = info.method, ws
-            stats["kept_warm_start"] = True
+            kept = True
     bound = solution.bound
     if info.bound is not None and status in (Status.FEASIBLE, Status.TIMEOUT):
         bound = max(float(info.bound), bound if bound is not None else float("-inf"))
@@ -203,7 +167,7 @@ def keep_warm_start(model: Model, solution: Solution, info: WarmStartInfo) -> So
         objective=objective,
         bound=bound,
         wall_time=solution.wall_time + ws,
-        stats=stats,
+        stats=SolveStats(solution.stats, info, kept),
         found_by=found_by,
         found_at=found_at,
         trace=tuple(trace),

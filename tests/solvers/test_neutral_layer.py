@@ -103,3 +103,16 @@ def test_warm_start_info_keeps_the_report_keys_in_order():
     descent = WarmStartInfo("descent", 3, 0.5, None, proves_bound=True).as_stats()
     assert list(descent) == ["method", "bound", "objective", "seconds"]
     assert WarmStartInfo("none").as_stats() == {"method": "none"}
+
+
+def test_solve_statistics_are_typed_and_read_as_the_report_mapping():
+    a = draw_heart((8, 6)).astype(np.int16)
+    b = draw_ecg((8, 6)).astype(np.int16)
+    sol = solve(build_model(make_problem(a, b)), solver="rc2", warm_start="dp")
+    typed = sol.solve_stats
+    assert typed is not None and typed.warm_start.method == "dp"
+    assert sol.stats["warm_start"] == typed.warm_start.as_stats()
+    assert list(sol.summary()["stats"])[-2:] == ["warm_start", "kept_warm_start"] or (
+        list(sol.summary()["stats"])[-1] == "warm_start"
+    )
+    assert get_backend("rc2").solve(build_model(make_problem(a, b))).solve_stats is None
