@@ -157,7 +157,7 @@ def test_backend_objective_equals_the_model_and_bound_is_at_least_the_dp():
     sol = solve(model, solver="descent", time_limit=3)
     assert sol.status.value in ("feasible", "timeout", "optimal")
     assert model.evaluate(sol.values) == (True, sol.objective)
-    # with machine-pass terms the Lagrangian bound (tests/solvers/test_lagrangian.py) is better
+    # with machine-pass terms the Lagrangian bound (test_lagrangian.py beside this) is better
     assert solve_dp(problem)[2] <= sol.bound <= sol.objective
     dp_start = pattern_cost(problem, *solve_dp(problem)[:2])
     assert sol.objective <= dp_start
