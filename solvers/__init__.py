@@ -235,14 +235,17 @@ def _lookup(name: str) -> Backend:
     if name in _registered:
         return _instantiate(_registered[name])
     base, arg = parsed
-    if base in REGISTRY and (arg is None or base in ORACLE_BACKENDS):
+    if base in REGISTRY:
         module, _, attr = REGISTRY[base].partition(":")
         obj = getattr(importlib.import_module(module), attr)
-        if base in HERMAX_NAMES:
-            return obj(base)  # type: ignore[no-any-return,unused-ignore]
-        if arg is not None:
-            return obj(arg)  # type: ignore[no-any-return,unused-ignore]
-        return _instantiate(obj)
+        # a BackendBase class says itself what it makes of the name and the part after a colon
+        made: Any
+        if isinstance(obj, type) and issubclass(obj, BackendBase):
+            made = obj.from_name(base, arg)
+        else:
+            made = _instantiate(obj) if arg is None else None
+        if made is not None:
+            return made
     eps = _entry_points()
     if name in eps:
         return _instantiate(eps[name].load())

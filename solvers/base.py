@@ -36,7 +36,7 @@ from dataclasses import dataclass, field
 from datetime import UTC, datetime
 from enum import StrEnum
 from types import MappingProxyType
-from typing import TYPE_CHECKING, Any, Protocol, runtime_checkable
+from typing import TYPE_CHECKING, Any, Protocol, Self, runtime_checkable
 
 import numpy as np
 from numpy.typing import NDArray
@@ -290,6 +290,12 @@ class BackendBase:
     #: the PyPI distribution whose version :meth:`version` reports
     distribution: str | None = None
 
+    @classmethod
+    def from_name(cls, name: str, argument: str | None) -> Self | None:
+        """The backend the registry makes for ``name`` (the registered name) and ``argument``
+        (what followed a colon, or None), or None when it takes no such argument."""
+        return cls() if argument is None else None
+
     def why_not(self, model: Model) -> str | None:
         return None
 
@@ -443,6 +449,11 @@ class OracleBackendBase(BackendBase):
 
     default_oracle: str = "g3"
     interruptible_oracle: bool = False
+
+    @classmethod
+    def from_name(cls, name: str, argument: str | None) -> Self | None:
+        """``NAME`` (the default oracle) or ``NAME:ORACLE``."""
+        return cls(argument)
 
     def __init__(self, oracle: str | None = None) -> None:
         oracle = self.default_oracle if oracle is None else oracle

@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import importlib
 import time
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Self
 
 import numpy as np
 
@@ -114,6 +114,11 @@ class HermaxBackend(BackendBase):
     extra = "maxsat"
     requires = ("hermax",)
     distribution = "hermax"
+
+    @classmethod
+    def from_name(cls, name: str, argument: str | None) -> Self | None:
+        """One class, many names: the registered name chooses the hermax solver."""
+        return cls(name) if argument is None else None
 
     def __init__(self, name: str) -> None:
         self.name = name
