@@ -399,7 +399,7 @@ def fallback_assignment(
 
     Returns (values, objective) or (None, None).
     """
-    hint = getattr(model, "hint", None)
+    hint = model.hint
     if hint is not None:
         ok, cost = model.evaluate(hint)
         if ok:
