@@ -21,9 +21,9 @@ import time
 
 from illuknit.bench.instances import Instance, instance_model
 from illuknit.core.pattern import parse_yarns
+from illuknit.design.models.backends.dp import solve_dp
+from illuknit.design.models.backends.lagrangian import additive_bound
 from illuknit.solvers import solve
-from illuknit.solvers.dp import solve_dp
-from illuknit.solvers.lagrangian import additive_bound
 
 YARNS = "dark=#1e1b24,mid=#8c6f5a,light=#efe6d8"
 

@@ -104,8 +104,8 @@ def sweep(limit: float, size: tuple[int, int]) -> None:
 def single(size: tuple[int, int]) -> None:
     """Model (c) (one yarn per course) against the push-button compiler on the heart."""
     from illuknit.core.views import can_see
+    from illuknit.design.models.backends.dp import values_from_pattern
     from illuknit.design.single_view import compile_single_view
-    from illuknit.solvers.dp import values_from_pattern
 
     t = draw_heart(size).astype(np.int16)
     yarns = default_yarns(2)

@@ -48,10 +48,16 @@ PACKAGES: dict[str, str] = {
     "pictures": "picture input: decoding files (`decode.py`), quantising to yarns (`images.py`), "
     "sizing one or two pictures to one grid (`sizing.py`), pictures drawn by code (`drawings.py`)",
     "design": "from pictures to patterns: single view (`single_view.py`), tiles (`tiles/`), "
-    "constraint models (`models/`), the renderer and gradient design (`render/`), and the "
-    "measures designs are ranked by (`measures.py`)",
-    "solvers": "the pluggable solver backends, a top-level folder installed as `illuknit.solvers` "
-    "(the registry and `solve` in `__init__.py`, the `Solution` contract in `base.py`)",
+    "the illusion models (`models/`) with the domain algorithms that register as solver backends "
+    "(`models/backends/`: the DP, block descent, Lagrangian bound, gradient design, warm starts), "
+    "the renderer and gradient design (`render/`), and the measures designs are ranked by "
+    "(`measures.py`)",
+    "solvers": "the solver layer, which knows no knitting: a top-level folder installed as "
+    "`illuknit.solvers`, with the neutral form (the constraint `Model` in `model.py`, its variable "
+    "pool in `var_pool.py`, the CNF encodings in `cnf_encodings.py`), the backends that solve it "
+    "(`cpsat.py`, `rc2.py`, `lsu.py`, `fm.py`, `hermax.py`, `wcnf.py`) with their declared "
+    "capabilities and the `Solution` contract (`base.py`), typed solve statistics (`stats.py`), "
+    "and the registry and `solve` (`__init__.py`) that domain backends register with",
     "knit": "from a pattern to a machine program: stitches (`stitches.py`), carriage-pass "
     "schedules (`schedule.py`, `mixed.py`), their lowering to a `KnitoutProgram` (`knitout.py`), "
     "the time model (`timing.py`)",

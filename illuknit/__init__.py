@@ -108,7 +108,7 @@ _API: dict[str, str] = {
     "calibration_swatch": "illuknit.design.render.calibrate",
     "fit_bump_height": "illuknit.design.render.calibrate",
     # constraint models and solvers (docs/solvers.md)
-    "Model": "illuknit.design.models.model",
+    "Model": "illuknit.solvers.model",
     "KnitWeights": "illuknit.design.models.illusion_models",
     "IllusionProblem": "illuknit.design.models.illusion_models",
     "build_model": "illuknit.design.models.illusion_models",

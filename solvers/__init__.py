@@ -6,21 +6,27 @@ preference order. Backends are imported only when used, so ``import illuknit.sol
 =========  ===============================================================  ==================
 name       what                                                             handles
 =========  ===============================================================  ==================
-dp         exact dynamic programming per wale (illusion models only)         per-wale models
 cpsat      OR-Tools CP-SAT, native cardinality/linear, 2 workers             every model
 rc2        pysat RC2 core-guided MaxSAT (exact)                              every model
 lsu        pysat linear SAT-UNSAT search (anytime upper bounds)              every model
-gradient   descent through the differentiable renderer (heuristic, no bound) illusion models
-descent    exact-block coordinate descent, wales and courses (heuristic)     illusion models
+fm         pysat Fu-Malik core-guided MaxSAT (exact)                         every model
 wcnf:CMD   any MaxSAT solver binary via a WCNF file (``wcnf:"maxhs {}"``)    every model
 =========  ===============================================================  ==================
+
+The package knows no knitting: it solves the neutral form of :mod:`illuknit.solvers.model`. A
+domain with algorithms of its own registers them (:func:`register_backend`, with their place in
+the preference order) -- design registers the illusion models' exact DP (``dp``), block
+descent (``descent``) and gradient design (``gradient``) from
+``illuknit.design.models.backends`` when it loads -- and its warm starts
+(:func:`illuknit.solvers.warm_start.register_warm_start`). Backends declare what they can do as
+flags (:class:`~illuknit.solvers.base.BackendBase`), which :func:`solve` dispatches on.
 
 Third parties add a backend through the entry-point group ``illuknit.solvers``; the entry point
 loads either a Backend instance, a Backend class, or a zero-argument factory.
 
 Examples
 --------
->>> from illuknit.design.models.model import Model
+>>> from illuknit.solvers.model import Model
 >>> from illuknit.solvers import solve
 >>> m = Model("tiny")
 >>> a, b = m.var("a"), m.var("b")
@@ -36,7 +42,7 @@ import copy
 import importlib
 import math
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import replace
 from importlib.metadata import entry_points
 from typing import TYPE_CHECKING, Any, NamedTuple
@@ -58,15 +64,17 @@ from illuknit.core.errors import (
 from illuknit.solvers.base import (
     Backend,
     BackendBase,
+    BackendKind,
     ProgressCallback,
     ProgressEvent,
     Solution,
     Status,
     TracePoint,
 )
+from illuknit.solvers.stats import SolveStats, WarmStartInfo
 
 if TYPE_CHECKING:
-    from illuknit.design.models.model import Model
+    from illuknit.solvers.model import Model
 
 __all__ = [
     "ENTRY_POINT_GROUP",
@@ -74,10 +82,13 @@ __all__ = [
     "REGISTRY",
     "Backend",
     "BackendBase",
+    "BackendKind",
     "ProgressEvent",
     "Solution",
+    "SolveStats",
     "SolverName",
     "Status",
+    "WarmStartInfo",
     "available_backends",
     "backend_names",
     "describe_backends",
@@ -107,15 +118,13 @@ HERMAX_NAMES = (
     "spb-maxsat-c-fps",
 )
 
-#: backend name -> "module:attribute" (a Backend class or factory), in preference order.
+#: backend name -> "module:attribute" (a Backend class or factory), in preference order; the
+#: built-in generic backends, and the ones a domain registers (:func:`register_backend`).
 REGISTRY: dict[str, str] = {
-    "dp": "illuknit.solvers.dp:DPBackend",
     "cpsat": "illuknit.solvers.cpsat:CPSATBackend",
     "rc2": "illuknit.solvers.rc2:RC2Backend",
     "lsu": "illuknit.solvers.lsu:LSUBackend",
     "fm": "illuknit.solvers.fm:FMBackend",
-    "gradient": "illuknit.solvers.gradient:GradientBackend",
-    "descent": "illuknit.solvers.descent:DescentBackend",
     **{name: "illuknit.solvers.hermax:HermaxBackend" for name in HERMAX_NAMES},
 }
 
@@ -160,12 +169,41 @@ def parse_solver_name(name: str) -> SolverName:
     return SolverName(base, arg if sep else None)
 
 
-def register_backend(name: str, backend: Backend | Callable[[], Backend] | str) -> None:
-    """Register a backend under ``name`` (an instance, a factory, or "module:attr")."""
-    if isinstance(backend, str):
-        REGISTRY[name] = backend
-    else:
+def register_backend(
+    name: str,
+    backend: Backend | Callable[[], Backend] | str,
+    *,
+    before: str | None = None,
+    after: str | None = None,
+) -> None:
+    """Register a backend under ``name``: an instance, a factory, or "module:attr" (imported
+    only when used).
+
+    A "module:attr" backend takes its place in the preference order that ``solver="auto"``
+    follows: just ``before`` or ``after`` the backend named so (at the end when neither is given
+    or the name is not registered). Registering a name again replaces it.
+
+    Examples
+    --------
+    >>> register_backend("rc2-again", "illuknit.solvers.rc2:RC2Backend", after="rc2")
+    >>> backend_names()[backend_names().index("rc2") + 1]
+    'rc2-again'
+    >>> del REGISTRY["rc2-again"]
+    """
+    check_str(name, "name")
+    if not isinstance(backend, str):
         _registered[name] = backend
+        return
+    entries = [(n, spec) for n, spec in REGISTRY.items() if n != name]
+    names = [n for n, _ in entries]
+    at = len(entries)
+    if before is not None and before in names:
+        at = names.index(before)
+    elif after is not None and after in names:
+        at = names.index(after) + 1
+    entries.insert(at, (name, backend))
+    REGISTRY.clear()
+    REGISTRY.update(entries)
 
 
 def _entry_points() -> dict[str, Any]:
@@ -197,14 +235,17 @@ def _lookup(name: str) -> Backend:
     if name in _registered:
         return _instantiate(_registered[name])
     base, arg = parsed
-    if base in REGISTRY and (arg is None or base in ORACLE_BACKENDS):
+    if base in REGISTRY:
         module, _, attr = REGISTRY[base].partition(":")
         obj = getattr(importlib.import_module(module), attr)
-        if base in HERMAX_NAMES:
-            return obj(base)  # type: ignore[no-any-return,unused-ignore]
-        if arg is not None:
-            return obj(arg)  # type: ignore[no-any-return,unused-ignore]
-        return _instantiate(obj)
+        # a BackendBase class says itself what it makes of the name and the part after a colon
+        made: Any
+        if isinstance(obj, type) and issubclass(obj, BackendBase):
+            made = obj.from_name(base, arg)
+        else:
+            made = _instantiate(obj) if arg is None else None
+        if made is not None:
+            return made
     eps = _entry_points()
     if name in eps:
         return _instantiate(eps[name].load())
@@ -256,7 +297,9 @@ def describe_backends() -> list[dict[str, str]]:
             b = _lookup(n)
             reason = b.unavailable_reason()
             version = b.version() if reason is None else ""
-            kind = "exact" if b.exact else ("anytime" if n in HERMAX_NAMES else "heuristic")
+            kind = (
+                "exact" if b.exact else ("anytime" if b.kind is BackendKind.MAXSAT else "heuristic")
+            )
         except Exception as e:  # a broken third-party backend is listed with its error
             reason, version, kind = f"cannot load: {e}", "", "?"
         rows.append({"name": n, "kind": kind, "version": version, "available": reason or "yes"})
@@ -280,7 +323,7 @@ def resolve_backend(model: Model, solver: str) -> Backend:
     SolverError
         The backend cannot solve ``model``; the message says why.
     """
-    from illuknit.design.models.model import Model  # light: the model is already made
+    from illuknit.solvers.model import Model  # light: the model is already made
 
     check_instance(model, Model, "model")
     check_str(solver, "solver")
@@ -304,8 +347,9 @@ def solve(
 
     The one orchestration the CLI, the benchmark, the app and :func:`solve_illusion` share:
     resolve the backend once ("auto" picks the first available that handles the model), apply
-    the warm start (:mod:`illuknit.solvers.warm_start`: ``none``, ``dp``, ``descent`` or
-    ``auto``; skipped when the backend is itself the DP or the descent) within ``time_limit``,
+    the warm start (:mod:`illuknit.solvers.warm_start`: ``none``, ``auto`` or a policy the
+    model's domain registers, e.g. ``dp`` or ``descent``; only for a backend that
+    ``accepts_warm_start``) within ``time_limit``,
     solve with the rest of the time, and keep the warm start's answer only where the backend did
     worse, saying so in ``found_by``. ``model`` is not changed (the warm start reaches the
     backend on a copy of it). Every improvement the backend reports lands in
@@ -319,8 +363,9 @@ def solve(
     SolverError
         The backend cannot solve the model, or the warm start does not apply to it.
     """
-    # the names warm_start.WARM_STARTS holds (that module is loaded only when one is made)
-    policies = ("none", "dp", "descent", "auto")
+    from illuknit.solvers import warm_start as ws_mod
+
+    policies = ws_mod.warm_start_policies()
     if isinstance(warm_start, str) and warm_start not in policies:
         raise UnknownNameError("warm start", warm_start, policies)
     check_choice(warm_start, "warm_start", policies)
@@ -329,9 +374,7 @@ def solve(
     check_callable(progress, "progress")
     backend = resolve_backend(model, solver)
     policy = "none"
-    if backend.name not in ("dp", "descent"):
-        from illuknit.solvers import warm_start as ws_mod  # light registry: load on demand
-
+    if backend.accepts_warm_start:
         policy = ws_mod.resolve_policy(warm_start, model)
     info = None
     remaining = time_limit
@@ -342,7 +385,7 @@ def solve(
         model = copy.copy(model)
         model.hint = hint
         if time_limit is not None:
-            remaining = max(0.1 * time_limit, time_limit - info["seconds"])
+            remaining = max(0.1 * time_limit, time_limit - info.seconds)
     trace: list[TracePoint] = []
 
     def record(event: ProgressEvent) -> None:
@@ -352,26 +395,28 @@ def solve(
 
     t0 = time.perf_counter()
     extra: dict[str, Any] = {}
-    if (
-        info is not None
-        and info.get("bound") is not None
-        and getattr(backend, "accepts_lower_bound", False)
-    ):
-        extra["lower_bound"] = math.ceil(info["bound"])  # proven by the warm start
+    if info is not None and info.bound is not None and backend.accepts_lower_bound:
+        extra["lower_bound"] = math.ceil(info.bound)  # proven by the warm start
     sol = backend.solve(model, time_limit=remaining, seed=seed, progress=record, **extra)
     sol = replace(sol, trace=tuple(trace) or sol.trace, found_at=_found_at(sol, trace))
     if info is not None:
         sol = ws_mod.keep_warm_start(model, sol, info)
     else:
-        sol = replace(sol, stats={**sol.stats, "warm_start": {"method": "none"}})
+        sol = replace(sol, stats=SolveStats(sol.stats))
     if sol.status is Status.INFEASIBLE and "infeasible_families" not in sol.stats:
         fams = model.infeasible_families()
         sol = replace(
             sol,
             wall_time=time.perf_counter() - t0,
-            stats={**sol.stats, "infeasible_families": fams},
+            stats=_with_families(sol.stats, fams),
         )
     return sol
+
+
+def _with_families(stats: Mapping[str, Any], families: list[str]) -> SolveStats:
+    """``stats`` (a :class:`SolveStats`) naming the conflicting constraint families too."""
+    assert isinstance(stats, SolveStats)  # solve() made it so just above
+    return replace(stats, infeasible_families=tuple(families))
 
 
 def _found_at(sol: Solution, trace: list[TracePoint]) -> float | None:

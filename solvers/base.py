@@ -1,6 +1,6 @@
 """The contract every solver backend implements: ``Status``, ``Solution``, ``Backend``.
 
-A backend takes an :class:`illuknit.design.models.model.Model` (solver-neutral data) and returns a frozen
+A backend takes an :class:`illuknit.solvers.model.Model` (solver-neutral data) and returns a frozen
 :class:`Solution`:
 
 * ``status`` — :class:`Status`: ``optimal`` (proven), ``feasible`` (an assignment, optimality not
@@ -36,21 +36,23 @@ from dataclasses import dataclass, field
 from datetime import UTC, datetime
 from enum import StrEnum
 from types import MappingProxyType
-from typing import TYPE_CHECKING, Any, Protocol, runtime_checkable
+from typing import TYPE_CHECKING, Any, Protocol, Self, runtime_checkable
 
 import numpy as np
 from numpy.typing import NDArray
 
 from illuknit.core.errors import UnknownNameError
+from illuknit.solvers.stats import SolveStats
 
 if TYPE_CHECKING:
-    from illuknit.design.models.model import Model
-    from illuknit.design.models.var_pool import VarPool
+    from illuknit.solvers.model import Model
+    from illuknit.solvers.var_pool import VarPool
 
 __all__ = [
     "ORACLES",
     "Backend",
     "BackendBase",
+    "BackendKind",
     "OracleBackendBase",
     "ProgressCallback",
     "ProgressEvent",
@@ -72,6 +74,20 @@ class Status(StrEnum):
     TIMEOUT = "timeout"
     INFEASIBLE = "infeasible"
     ERROR = "error"
+
+
+class BackendKind(StrEnum):
+    """How a backend searches: what :func:`illuknit.solvers.describe_backends` lists it as."""
+
+    #: a MaxSAT solver on the model's clauses (complete, or anytime when not ``exact``)
+    MAXSAT = "maxsat"
+    #: a constraint-programming solver on the model's native constraints
+    CP = "cp"
+    #: a local search (no proof of optimality)
+    LOCAL_SEARCH = "local search"
+    #: an algorithm of the domain that built the model, reading its payload
+    #: (:class:`illuknit.solvers.model.DomainPayload`)
+    DOMAIN = "domain"
 
 
 @dataclass(frozen=True)
@@ -126,7 +142,14 @@ class Solution:
             v = np.asarray(self.values, dtype=bool)
             v.setflags(write=False)
             object.__setattr__(self, "values", v)
-        object.__setattr__(self, "stats", MappingProxyType(dict(self.stats)))
+        if not isinstance(self.stats, SolveStats):
+            object.__setattr__(self, "stats", MappingProxyType(dict(self.stats)))
+
+    @property
+    def solve_stats(self) -> SolveStats | None:
+        """The typed statistics :func:`illuknit.solvers.solve` recorded in ``stats`` (None for
+        the raw answer of a backend called directly)."""
+        return self.stats if isinstance(self.stats, SolveStats) else None
 
     @property
     def has_values(self) -> bool:
@@ -191,11 +214,20 @@ class Backend(Protocol):
     ``exact`` is True when status ``optimal`` is a proof (heuristics such as ``gradient`` set it
     False and report only ``feasible``/``timeout``); conformance suites that demand optima skip
     backends with ``exact = False``.
+
+    Capabilities are declared flags, which :func:`illuknit.solvers.solve` dispatches on (see
+    :class:`BackendBase` for each): ``kind`` (:class:`BackendKind`), ``exact``, ``proves_bound``,
+    ``accepts_warm_start``, ``accepts_lower_bound`` and ``time_limited``.
     """
 
     name: str
     extra: str | None
+    kind: BackendKind
     exact: bool
+    proves_bound: bool
+    accepts_warm_start: bool
+    accepts_lower_bound: bool
+    time_limited: bool
 
     def handles(self, model: Model) -> bool:
         """Whether this backend can solve ``model`` (e.g. the DP needs an illusion problem)."""
@@ -236,7 +268,15 @@ class BackendBase:
 
     name: str = ""
     extra: str | None = None
+    kind: BackendKind = BackendKind.MAXSAT
+    #: True when status ``optimal`` is a proof
     exact: bool = True
+    #: True when the ``bound`` it reports is a proven lower bound of the objective
+    proves_bound: bool = True
+    #: True when a warm start applies: :func:`illuknit.solvers.solve` runs the warm-start policy
+    #: first and hands its assignment over as ``model.hint`` (False for the algorithms the warm
+    #: starts themselves run)
+    accepts_warm_start: bool = True
     #: True when the solver itself stops at ``time_limit`` and hands back what it has; False
     #: when only a kill from outside stops it (the benchmark then enforces the limit, and says
     #: so in ``--list-solvers``)
@@ -249,6 +289,12 @@ class BackendBase:
     requires: tuple[str, ...] = ()
     #: the PyPI distribution whose version :meth:`version` reports
     distribution: str | None = None
+
+    @classmethod
+    def from_name(cls, name: str, argument: str | None) -> Self | None:
+        """The backend the registry makes for ``name`` (the registered name) and ``argument``
+        (what followed a colon, or None), or None when it takes no such argument."""
+        return cls() if argument is None else None
 
     def why_not(self, model: Model) -> str | None:
         return None
@@ -353,7 +399,7 @@ def fallback_assignment(
 
     Returns (values, objective) or (None, None).
     """
-    hint = getattr(model, "hint", None)
+    hint = model.hint
     if hint is not None:
         ok, cost = model.evaluate(hint)
         if ok:
@@ -403,6 +449,11 @@ class OracleBackendBase(BackendBase):
 
     default_oracle: str = "g3"
     interruptible_oracle: bool = False
+
+    @classmethod
+    def from_name(cls, name: str, argument: str | None) -> Self | None:
+        """``NAME`` (the default oracle) or ``NAME:ORACLE``."""
+        return cls(argument)
 
     def __init__(self, oracle: str | None = None) -> None:
         oracle = self.default_oracle if oracle is None else oracle

@@ -31,6 +31,7 @@ import numpy as np
 
 from illuknit.solvers.base import (
     BackendBase,
+    BackendKind,
     ProgressCallback,
     ProgressEvent,
     Solution,
@@ -39,7 +40,7 @@ from illuknit.solvers.base import (
 )
 
 if TYPE_CHECKING:
-    from illuknit.design.models.model import Model
+    from illuknit.solvers.model import Model
 
 __all__ = ["LARGE_MODEL_VARS", "CPSATBackend"]
 
@@ -51,6 +52,7 @@ class CPSATBackend(BackendBase):
     """OR-Tools CP-SAT (worker choice by model size; see the module docstring)."""
 
     name = "cpsat"
+    kind = BackendKind.CP
     accepts_lower_bound = True
     requires = ("ortools",)
     distribution = "ortools"
@@ -62,8 +64,8 @@ class CPSATBackend(BackendBase):
     def _workers(self, model: Model) -> tuple[int, list[str]]:
         if self.num_workers is not None:
             return self.num_workers, []
-        per_wale = getattr(model.problem, "per_wale", False)
-        if model.num_vars > LARGE_MODEL_VARS and not per_wale:
+        separable = model.problem is not None and model.problem.separable
+        if model.num_vars > LARGE_MODEL_VARS and not separable:
             return 2, ["max_lp", "quick_restart_no_lp"]
         return 1, []
 

@@ -23,7 +23,7 @@ from illuknit.solvers.base import (
 from illuknit.solvers.isolate import run_in_child
 
 if TYPE_CHECKING:
-    from illuknit.design.models.model import Model
+    from illuknit.solvers.model import Model
 
 __all__ = ["FMBackend"]
 

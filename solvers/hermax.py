@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import importlib
 import time
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Self
 
 import numpy as np
 
@@ -33,7 +33,7 @@ from illuknit.solvers.base import (
 from illuknit.solvers.isolate import run_in_child
 
 if TYPE_CHECKING:
-    from illuknit.design.models.model import Model
+    from illuknit.solvers.model import Model
 
 __all__ = ["HERMAX_SOLVERS", "HermaxBackend"]
 
@@ -115,10 +115,16 @@ class HermaxBackend(BackendBase):
     requires = ("hermax",)
     distribution = "hermax"
 
+    @classmethod
+    def from_name(cls, name: str, argument: str | None) -> Self | None:
+        """One class, many names: the registered name chooses the hermax solver."""
+        return cls(name) if argument is None else None
+
     def __init__(self, name: str) -> None:
         self.name = name
         self.class_path, self.anytime, self.time_limited = HERMAX_SOLVERS[name]
         self.exact = not self.anytime
+        self.proves_bound = self.exact
 
     def solve(
         self,

@@ -33,7 +33,7 @@ from illuknit.solvers.base import (
 )
 
 if TYPE_CHECKING:
-    from illuknit.design.models.model import ClauseSet, Model
+    from illuknit.solvers.model import ClauseSet, Model
 
 __all__ = ["MAX_TOTAL_WEIGHT", "LSUBackend"]
 

@@ -1,162 +1,165 @@
-"""Warm starts for exact backends on illusion models, as an explicit policy.
+"""Warm starts as an explicit policy, solver-neutral: what :func:`illuknit.solvers.solve` runs
+before a backend that accepts one (``Backend.accepts_warm_start``).
 
-=========  ==========================================================================
-policy     what the backend is handed as ``model.hint``
-=========  ==========================================================================
-none       nothing: the backend's answer is its own (the benchmark's default)
-dp         the DP optimum of the model's per-wale part (for the logical and single-view
-           models the exact optimum; for the knit-aware model an assignment whose
-           colour-change terms are ignored, which may break a colour-change cap)
-descent    the block descent of :mod:`illuknit.solvers.descent`, started from the DP
-           optimum, given ``WARM_START_SHARE`` of the time limit (knit-aware model
-           without a cap; elsewhere the DP is already exact and is used instead); with
-           machine-pass terms the Lagrangian bound first, whose pattern is one more start
-           and whose bound is handed to backends that accept a lower bound
-auto       ``descent`` for the knit-aware model with colour terms and no cap, else ``dp``
-=========  ==========================================================================
+The policies themselves belong to the domain that built the model: a domain registers a
+:class:`WarmStarter` for its :class:`~illuknit.solvers.model.DomainPayload` type
+(:func:`register_warm_start`; design's illusion models register ``dp`` and ``descent`` in
+:mod:`illuknit.design.models.backends.warm_start`). This module only finds the starter of a
+model, and afterwards (:func:`keep_warm_start`) keeps the warm start's assignment where the
+backend came back worse or with nothing, saying so: the solution's ``found_by`` then names the
+warm start, not the backend.
 
-After the backend returns, :func:`keep_warm_start` keeps the warm start's assignment when the
-backend came back worse or with nothing, and says so: the solution's ``found_by`` names the warm
-start, not the backend.
+The policy ``none`` (nothing: the backend's answer is its own) always exists; ``auto`` asks the
+model's starter, and means ``none`` for a model no starter is registered for.
 """
 
 from __future__ import annotations
 
-import time
 from dataclasses import replace
-from typing import Any
+from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 from numpy.typing import NDArray
 
 from illuknit.core.errors import SolverError, UnknownNameError
-from illuknit.design.models.illusion_problem import IllusionProblem
-from illuknit.design.models.model import Model
+from illuknit.solvers._moved import moved_module
 from illuknit.solvers.base import Solution, Status
-from illuknit.solvers.descent import bound_then_search, optimise_descent
-from illuknit.solvers.dp import hint_values, values_from_pattern
+from illuknit.solvers.stats import SolveStats, WarmStartInfo
+
+if TYPE_CHECKING:
+    from illuknit.solvers.model import DomainPayload, Model
 
 __all__ = [
-    "WARM_STARTS",
-    "WARM_START_SECONDS",
-    "WARM_START_SHARE",
-    "WarmStart",
+    "WarmStartInfo",
+    "WarmStarter",
     "keep_warm_start",
     "make_warm_start",
+    "register_warm_start",
     "resolve_policy",
+    "warm_start_policies",
 ]
 
-WARM_STARTS: tuple[str, ...] = ("none", "dp", "descent", "auto")
 
-#: Share of the time limit a warm-start descent may take before an exact backend (model (b)).
-#: The descent stops by itself when it stalls (seconds on small models); at paper scale it
-#: improves faster than CP-SAT does from its result, so it gets half.
-WARM_START_SHARE = 0.5
-#: Most seconds of warm-start descent (also without a time limit).
-WARM_START_SECONDS = 60.0
+class WarmStarter(Protocol):
+    """The warm starts of one domain payload type."""
+
+    @property
+    def payload(self) -> type[DomainPayload]:
+        """The payload type of the models it starts (``isinstance(model.problem, payload)``)."""
+        ...
+
+    @property
+    def policies(self) -> tuple[str, ...]:
+        """The policy names it answers to, besides ``none`` and ``auto``."""
+        ...
+
+    @property
+    def needs(self) -> str:
+        """What a model must be for these policies, for messages ("an illusion model")."""
+        ...
+
+    def resolve(self, policy: str, model: Model) -> str:
+        """The concrete policy (``none`` or one of :attr:`policies`) ``policy`` means here."""
+        ...
+
+    def make(
+        self, model: Model, policy: str, *, time_limit: float | None, seed: int
+    ) -> tuple[NDArray[np.bool_], WarmStartInfo]:
+        """The warm start ``policy`` of ``model``: an assignment indexed by variable id."""
+        ...
 
 
-#: ``{"method", "objective", "seconds"[, "bound"]}``: what a warm start did (a plain dict, so it
-#: travels in ``Solution.stats`` and JSON reports unchanged).
-WarmStart = dict[str, Any]
+_starters: list[WarmStarter] = []
+
+
+def register_warm_start(starter: WarmStarter) -> None:
+    """Register the warm starts of a payload type (replacing an earlier one for that type)."""
+    _starters[:] = [s for s in _starters if s.payload is not starter.payload]
+    _starters.append(starter)
+
+
+def warm_start_policies() -> tuple[str, ...]:
+    """Every policy name: ``none``, the registered starters' policies, ``auto``."""
+    names = [p for s in _starters for p in s.policies]
+    return ("none", *dict.fromkeys(names), "auto")
+
+
+def _starter_of(model: Model) -> WarmStarter | None:
+    for s in _starters:
+        if isinstance(model.problem, s.payload):
+            return s
+    return None
 
 
 def resolve_policy(policy: str, model: Model) -> str:
-    """The concrete policy (``none``, ``dp`` or ``descent``) ``policy`` means for ``model``.
+    """The concrete policy (``none`` or a starter's) ``policy`` means for ``model``.
 
     Raises
     ------
     UnknownNameError
-        ``policy`` is not one of :data:`WARM_STARTS`.
+        ``policy`` is not one of :func:`warm_start_policies`.
     SolverError
-        A ``dp``/``descent`` warm start was asked for a model that is not an illusion model.
+        A warm start was asked for a model its starter does not start.
     """
-    if policy not in WARM_STARTS:
-        raise UnknownNameError("warm start", policy, WARM_STARTS)
-    problem = model.problem
+    policies = warm_start_policies()
+    if policy not in policies:
+        raise UnknownNameError("warm start", policy, policies)
     if policy == "none":
         return "none"
-    if not isinstance(problem, IllusionProblem):
+    starter = _starter_of(model)
+    if starter is None or (policy != "auto" and policy not in starter.policies):
         if policy == "auto":
             return "none"
-        raise SolverError(f"warm start {policy!r} needs an illusion model (model {model.name!r})")
-    exact_dp = problem.per_wale or problem.rows_tied
-    if policy == "auto":
-        return "dp" if exact_dp or problem.color_cap is not None else "descent"
-    if policy == "descent" and (exact_dp or problem.color_cap is not None):
-        # the DP is already exact there; the descent cannot keep a hard cap
-        return "dp"
-    return policy
+        needs = next(s.needs for s in _starters if policy in s.policies)
+        raise SolverError(f"warm start {policy!r} needs {needs} (model {model.name!r})")
+    return starter.resolve(policy, model)
 
 
 def make_warm_start(
     model: Model, policy: str, *, time_limit: float | None = None, seed: int = 0
-) -> tuple[NDArray[np.bool_], WarmStart]:
-    """The warm start ``policy`` (``dp`` or ``descent``, see :func:`resolve_policy`) of ``model``.
+) -> tuple[NDArray[np.bool_], WarmStartInfo]:
+    """The warm start ``policy`` (a concrete one, see :func:`resolve_policy`) of ``model``.
 
-    Returns
-    -------
-    values : ndarray of bool, indexed by variable id
-    info : WarmStart
-        For ``descent`` also ``"bound"``: a proven lower bound of the knit-aware model (the
-        better of the DP optimum of the per-wale part and, with machine-pass terms, the
-        Lagrangian bound of :mod:`illuknit.solvers.lagrangian`), which
-        :func:`illuknit.solvers.solve` hands to backends that accept one (CP-SAT, LSU).
+    Raises
+    ------
+    SolverError
+        No starter of ``model`` has the policy ``policy``.
     """
-    problem = model.problem
-    if not isinstance(problem, IllusionProblem) or policy not in ("dp", "descent"):
+    starter = _starter_of(model)
+    if starter is None or policy not in starter.policies:
         raise SolverError(f"no warm start {policy!r} for model {model.name!r}")
-    t0 = time.perf_counter()
-    info: WarmStart = {"method": policy}
-    if policy == "dp":
-        vals = hint_values(problem, model)
-    else:
-        budget = (
-            WARM_START_SECONDS
-            if time_limit is None
-            else min(WARM_START_SECONDS, WARM_START_SHARE * time_limit)
-        )
-        if problem.pass_weight:  # the Lagrangian bound too: the pass terms the DP drops
-            res, _ = bound_then_search(problem, time_limit=budget, seed=seed)
-        else:
-            res = optimise_descent(problem, time_limit=budget, seed=seed)
-        vals = values_from_pattern(model, res.yarn, res.raised)
-        info["bound"] = res.bound
-    _, cost = model.evaluate(vals)
-    info["objective"] = int(cost)
-    info["seconds"] = round(time.perf_counter() - t0, 3)
-    return vals, info
+    return starter.make(model, policy, time_limit=time_limit, seed=seed)
 
 
-def keep_warm_start(model: Model, solution: Solution, info: WarmStart) -> Solution:
+def keep_warm_start(model: Model, solution: Solution, info: WarmStartInfo) -> Solution:
     """``solution`` timed from before the warm start and, if the backend came back worse than
     its warm start (``model.hint``) or with nothing, the warm start's assignment instead
     (``found_by`` the warm start); the bound is the better of the backend's and the warm
-    start's (``info["bound"]``)."""
-    ws = float(info.get("seconds", 0.0))
+    start's (``info.bound``)."""
+    ws = info.seconds
     values, objective, status = solution.values, solution.objective, solution.status
     found_by, found_at = solution.found_by, solution.found_at
     found_at = None if found_at is None else found_at + ws
-    stats = {**solution.stats, "warm_start": dict(info)}
+    kept = False
     if model.hint is not None and status in (Status.FEASIBLE, Status.TIMEOUT):
         hint = np.asarray(model.hint, dtype=bool)
         ok, cost = model.evaluate(hint)
         if ok and (objective is None or cost < objective):
             values, objective = hint, cost
-            found_by, found_at = str(info["method"]), ws
-            stats["kept_warm_start"] = True
+            found_by, found_at = info.method, ws
+            kept = True
         elif values is not None and np.array_equal(values[: hint.size], hint[: values.size]):
             # the backend handed the hint back (e.g. RC2's timeout fallback): credit the hint
-            found_by, found_at = str(info["method"]), ws
-            stats["kept_warm_start"] = True
+            found_by, found_at = info.method, ws
+            kept = True
     bound = solution.bound
-    if info.get("bound") is not None and status in (Status.FEASIBLE, Status.TIMEOUT):
-        bound = max(float(info["bound"]), bound if bound is not None else float("-inf"))
+    if info.bound is not None and status in (Status.FEASIBLE, Status.TIMEOUT):
+        bound = max(float(info.bound), bound if bound is not None else float("-inf"))
         if objective is not None and objective <= bound:
             status = Status.OPTIMAL  # the warm start met a proven lower bound
     trace = [(t + ws, o, b) for t, o, b in solution.trace]
-    if "objective" in info:
-        trace.insert(0, (ws, float(info["objective"]), info.get("bound")))
+    if info.objective is not None:
+        trace.insert(0, (ws, float(info.objective), info.bound))
     return replace(
         solution,
         status=status,
@@ -164,8 +167,12 @@ def keep_warm_start(model: Model, solution: Solution, info: WarmStart) -> Soluti
         objective=objective,
         bound=bound,
         wall_time=solution.wall_time + ws,
-        stats=stats,
+        stats=SolveStats(solution.stats, info, kept),
         found_by=found_by,
         found_at=found_at,
         trace=tuple(trace),
     )
+
+
+# the illusion models' policies and constants lived here until they moved to design
+__getattr__ = moved_module(__name__, "illuknit.design.models.backends.warm_start")

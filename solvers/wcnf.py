@@ -43,7 +43,7 @@ from illuknit.solvers.base import (
 )
 
 if TYPE_CHECKING:
-    from illuknit.design.models.model import Model
+    from illuknit.solvers.model import Model
 
 __all__ = ["ExternalWCNFBackend", "parse_maxsat_output"]
 
@@ -124,6 +124,9 @@ def parse_maxsat_output(text: str, nv: int) -> tuple[str | None, int | None, np.
 
 class ExternalWCNFBackend(BackendBase):
     """Runs a user-named MaxSAT solver command on a WCNF file."""
+
+    #: the file formats carry no lower bound back
+    proves_bound = False
 
     def __init__(self, command: str, *, style: str = "new") -> None:
         self.command = command.strip()

@@ -18,6 +18,7 @@ from illuknit.core.errors import (
 )
 from illuknit.core.pattern import LogicalPattern, Yarn
 from illuknit.core.views import can_see
+from illuknit.design.models.backends.dp import solve_dp, values_from_pattern
 from illuknit.design.models.illusion_models import (
     KnitWeights,
     build_model,
@@ -29,7 +30,6 @@ from illuknit.design.models.illusion_models import (
     solve_illusion,
 )
 from illuknit.solvers import solve
-from illuknit.solvers.dp import solve_dp, values_from_pattern
 
 
 def _wale_brute_force(problem) -> int:
@@ -293,9 +293,9 @@ def test_machine_pass_terms_match_brute_force_and_the_descent_objective():
     clauses, against a brute force over every pattern of a 1 x 5 strip and a 2 x 2 grid."""
     import itertools
 
+    from illuknit.design.models.backends.descent_blocks import pattern_cost
+    from illuknit.design.models.backends.dp import values_from_pattern
     from illuknit.design.models.illusion_problem import pass_events
-    from illuknit.solvers.descent_blocks import pattern_cost
-    from illuknit.solvers.dp import values_from_pattern
 
     rng = np.random.default_rng(3)
     for shape, gap in (((1, 5), 1), ((2, 2), 1), ((1, 5), 2)):
@@ -362,8 +362,8 @@ def test_pass_term_equals_a_count_on_the_scheduler_plan(n, m, k, gap, seed):
     """With a pattern pinned, the knit-aware model's optimum (CP-SAT over its auxiliary pass
     variables) is its view, colour and transfer cost plus ``machine_pass`` times the passes
     counted on the scheduler's carrier plan of the decoded pattern."""
+    from illuknit.design.models.backends.descent import pattern_cost
     from illuknit.design.models.illusion_problem import row_passes
-    from illuknit.solvers.descent import pattern_cost
 
     rng = np.random.default_rng(seed)
     yarn = rng.integers(0, k, (n, m))
@@ -412,3 +412,21 @@ def test_knit_aware_pattern_knits_in_fewer_machine_passes_than_the_maxsat_optimu
         res = solve_illusion(t.a, t.b, model=model, solver=solver, yarns=inst.yarns, time_limit=30)
         passes[model] = len(machine_passes(knit_pattern(res.pattern).text))
     assert passes["knit-aware"] < passes["logical"], passes
+
+
+def test_solve_options_and_their_keywords_solve_alike():
+    from illuknit.design.options import SolveOptions
+
+    ta = np.array([[0, 1, 1], [1, 0, 2], [2, 2, 0]])
+    tb = np.array([[1, 1, 0], [0, 2, 2], [2, 0, 1]])
+    options = SolveOptions(model="knit-aware", solver="rc2", warm_start="none", time_limit=None)
+    by_options = solve_illusion(ta, tb, n_yarns=3, options=options)
+    by_keywords = solve_illusion(
+        ta, tb, n_yarns=3, model="knit-aware", solver="rc2", warm_start="none"
+    )
+    assert by_options.solution.objective == by_keywords.solution.objective
+    assert np.array_equal(by_options.pattern.yarn, by_keywords.pattern.yarn)
+    # a keyword takes the place of the option's field
+    assert solve_illusion(ta, tb, n_yarns=3, options=options, solver="dp", model="logical")
+    with pytest.raises(OptionError, match="unknown solve option 'solvr'"):
+        solve_illusion(ta, tb, n_yarns=3, solvr="dp")

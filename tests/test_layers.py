@@ -20,7 +20,8 @@ ROOT = Path(__file__).resolve().parents[1]
 FLOORS: tuple[tuple[str, ...], ...] = (
     ("core",),
     ("pictures",),
-    ("design", "solvers"),
+    ("solvers",),
+    ("design",),
     ("knitout",),
     ("knit",),
     ("check", "formats"),

@@ -10,8 +10,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from illuknit.core.errors import ModelError
-from illuknit.design.models.model import Model
-from illuknit.design.models.var_pool import VarPool
+from illuknit.solvers.model import Model
+from illuknit.solvers.var_pool import VarPool
 
 
 def test_pool_blocks_and_keys_agree():

@@ -10,12 +10,12 @@ from hypothesis.extra.numpy import arrays
 from illuknit.core.errors import OptionError
 from illuknit.core.pattern import LogicalPattern, parse_yarns
 from illuknit.core.views import can_see
+from illuknit.design.models.backends.dp import solve_dp_split, values_from_pattern
 from illuknit.design.models.illusion_models import build_model, make_problem, solve_illusion
 from illuknit.design.render import render_pattern
 from illuknit.design.render.params import RenderParams
 from illuknit.design.tiles.bank import canonical_bank
 from illuknit.design.tiles.tile import Tile, tile_fills, tile_seen
-from illuknit.solvers.dp import solve_dp_split, values_from_pattern
 
 YARNS = parse_yarns("#1b1b1b,#f4f0e8,#c0392b")
 

@@ -27,7 +27,7 @@ a child process under its own time and memory limits
 answer, never the benchmark.
 
 A knit-aware illusion model is first given its own proof: its Lagrangian lower bound
-(:mod:`illuknit.solvers.lagrangian`, at most :data:`BOUND_SECONDS`) certifies a claim it meets,
+(:mod:`illuknit.design.models.backends.lagrangian`, at most :data:`BOUND_SECONDS`) certifies a claim it meets,
 and a pattern it met that is cheaper than the claim refutes it.
 """
 
@@ -41,8 +41,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from illuknit.design.models.model import Model
 from illuknit.solvers.isolate import run_in_child
+from illuknit.solvers.model import Model
 
 __all__ = [
     "ENGINES",
@@ -335,12 +335,12 @@ def _check(
 
 def _bound_certificate(model: Model, claimed: int, seconds: float) -> Certificate | None:
     """The knit-aware model's own proof, before the exact engine: its Lagrangian lower bound
-    (:mod:`illuknit.solvers.lagrangian`) meeting the claim certifies it, and a pattern the bound
+    (:mod:`illuknit.design.models.backends.lagrangian`) meeting the claim certifies it, and a pattern the bound
     met that is cheaper than the claim (its cost verified on the model) refutes it; None when
     the bound settles nothing or the model is not a knit-aware illusion model."""
+    from illuknit.design.models.backends.dp import values_from_pattern
+    from illuknit.design.models.backends.lagrangian import lagrangian_bound
     from illuknit.design.models.illusion_problem import IllusionProblem
-    from illuknit.solvers.dp import values_from_pattern
-    from illuknit.solvers.lagrangian import lagrangian_bound
 
     problem = model.problem
     if not isinstance(problem, IllusionProblem) or not problem.pass_weight:

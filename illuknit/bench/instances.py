@@ -40,7 +40,7 @@ from numpy.typing import NDArray
 
 from illuknit.core.errors import ImageInputError, ManifestError, UnknownNameError, YarnSpecError
 from illuknit.core.pattern import MAX_UNITS, Yarn, parse_yarns
-from illuknit.design.models.model import Model
+from illuknit.solvers.model import Model
 
 __all__ = [
     "DEFAULT_MANIFEST",
@@ -453,13 +453,14 @@ def instance_model(instance: Instance, *, model: str) -> tuple[Model, int | None
     (Model, int or None)
         The model, and the DP's optimum where the DP is exact on it (else None).
     """
+    from illuknit.design.models.backends.dp import solve_dp
+    from illuknit.design.models.illusion_problem import problem_of
     from illuknit.design.options import ModelKind, SolveOptions
     from illuknit.pipeline.stages import illusion_model
-    from illuknit.solvers.dp import solve_dp
 
     kind = "single" if instance.kind == "single" else model
     a, b, kw = stage_arguments(instance)
     built = illusion_model(a, b, options=SolveOptions(model=ModelKind(kind)), **kw)
-    problem = built.problem
+    problem = problem_of(built)
     optimum = solve_dp(problem)[2] if (problem.per_wale or problem.rows_tied) else None
     return built, optimum

@@ -19,7 +19,7 @@ from typing import Any
 
 from illuknit.core.errors import OptionError
 from illuknit.core.pattern import Yarn
-from illuknit.design.models.model import Model
+from illuknit.solvers.model import Model
 
 __all__ = ["PictureInstance", "picture_instances"]
 
@@ -92,9 +92,10 @@ def picture_instances(
     ImageInputError
         A picture that cannot be read or sized (the message names it).
     """
+    from illuknit.design.models.backends.dp import solve_dp
+    from illuknit.design.models.illusion_problem import problem_of
     from illuknit.design.options import ModelKind, SolveOptions
     from illuknit.pipeline.stages import illusion_model
-    from illuknit.solvers.dp import solve_dp
 
     for kind in models:
         if kind not in PICTURE_MODELS:
@@ -119,7 +120,7 @@ def picture_instances(
             problem = mdl.problem
             exact = problem.per_wale or problem.rows_tied
             built[kind] = (mdl, int(solve_dp(problem)[2]) if exact else None)
-        problem = next(iter(built.values()))[0].problem
+        problem = problem_of(next(iter(built.values()))[0])
         out.append(
             PictureInstance(
                 name=_pair_name(str(a), str(b), taken),

@@ -74,7 +74,7 @@ def smoke_test_backends(
             entry.update(smoke="-", limit="-")
         else:
             backend = get_backend(desc["name"])
-            limited = getattr(backend, "time_limited", True)
+            limited = backend.time_limited
             entry["limit"] = (
                 "yes" if limited else "cannot be time-limited (runs under the external limit)"
             )

@@ -31,10 +31,10 @@ from illuknit.bench.instances import Instance, instance_model
 from illuknit.bench.pictures import PictureInstance
 from illuknit.bench.wcnf_files import read_wcnf, read_wcnf_text
 from illuknit.core.errors import IlluknitError
-from illuknit.design.models.model import Model
 from illuknit.solvers import HERMAX_NAMES, get_backend, parse_solver_name
 from illuknit.solvers.base import ProgressEvent, Status
 from illuknit.solvers.isolate import run_in_child
+from illuknit.solvers.model import Model
 
 __all__ = [
     "ROW_FIELDS",
@@ -246,7 +246,7 @@ def not_applicable(model: Model, task: SolverTask) -> str | None:
     why = backend.why_not(model)
     if why is not None:
         return why
-    if task.warm_start != "none" and backend.name not in ("dp", "descent"):
+    if task.warm_start != "none" and backend.accepts_warm_start:
         try:
             resolve_policy(task.warm_start, model)
         except SolverError as e:

@@ -22,8 +22,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from illuknit.bench.certify import _Flat
-from illuknit.design.models.model import Model
 from illuknit.solvers.base import ProgressEvent, Status
+from illuknit.solvers.model import Model
 
 __all__ = ["component_models", "solve_split"]
 

@@ -1,7 +1,7 @@
 """WCNF files for the solver benchmark: read any MaxSAT Evaluation instance, export ours.
 
 :func:`read_wcnf` parses both dialects of the MaxSAT Evaluation format into a
-:class:`~illuknit.design.models.model.Model` (variables ``("x", i)`` are ids 1..NV): the 2022+ one
+:class:`~illuknit.solvers.model.Model` (variables ``("x", i)`` are ids 1..NV): the 2022+ one
 (``h <lits> 0`` hard, ``<weight> <lits> 0`` soft) and the older ``p wcnf NV NC TOP`` one (a clause
 weighted ``TOP`` is hard). :func:`export_wcnf_family` writes every bundled instance's models as
 2022+ WCNF with a ``manifest.json`` (sizes, the known optimum where the DP proves one, how each
@@ -21,7 +21,7 @@ import numpy as np
 from illuknit.bench.instances import instance_model
 from illuknit.core.errors import PatternFormatError
 from illuknit.core.files import atomic_write_text
-from illuknit.design.models.model import Model
+from illuknit.solvers.model import Model
 
 __all__ = [
     "export_wcnf_family",

@@ -46,8 +46,8 @@ def _split(spec: str) -> list[str]:
 def _run_solvers(instances: Any, solvers: list[str], outdir: str, **kw: Any) -> None:
     """The solver benchmark: check the names, run the table, print the summary."""
     from illuknit.bench.solver_table import make_tasks, run_solver_table
+    from illuknit.design.models.backends.warm_start import WARM_STARTS
     from illuknit.solvers import get_backend
-    from illuknit.solvers.warm_start import WARM_STARTS
 
     for s in solvers:  # unknown names fail before any work (NAME+split: NAME's)
         get_backend(s.removesuffix("+split"), check_available=False)

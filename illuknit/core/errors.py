@@ -90,7 +90,7 @@ class OptionError(IlluknitError, ValueError):
 
 
 class ModelError(IlluknitError, ValueError):
-    """A solver-neutral constraint model (:class:`illuknit.design.models.model.Model`) is built inconsistently:
+    """A solver-neutral constraint model (:class:`illuknit.solvers.model.Model`) is built inconsistently:
     a duplicate variable block, a literal that names no variable, a non-positive weight."""
 
 

@@ -412,7 +412,7 @@ class ModelKind(StrEnum):
 
 
 class WarmStart(StrEnum):
-    """What a solver backend starts from (:mod:`illuknit.solvers.warm_start`)."""
+    """What a solver backend starts from (:mod:`illuknit.design.models.backends.warm_start`)."""
 
     AUTO = "auto"
     NONE = "none"

@@ -31,7 +31,7 @@ from illuknit.pipeline.inputs import (
 
 if TYPE_CHECKING:
     from illuknit.core.pattern import Yarn
-    from illuknit.design.models.model import Model
+    from illuknit.solvers.model import Model
     from illuknit.pictures.images import QuantisedImage
     from illuknit.solvers.base import ProgressCallback
 

@@ -5,12 +5,12 @@ from __future__ import annotations
 import numpy as np
 
 from illuknit.core.views import can_see
+from illuknit.design.models.backends.dp import solve_dp
+from illuknit.design.models.backends.gradient import GradientBackend
 from illuknit.design.models.illusion_models import KnitWeights, build_model, make_problem
-from illuknit.design.models.model import Model
 from illuknit.pictures.drawings import draw_text
 from illuknit.solvers.base import Backend
-from illuknit.solvers.dp import solve_dp
-from illuknit.solvers.gradient import GradientBackend
+from illuknit.solvers.model import Model
 
 
 def test_backend_contract_and_scope():

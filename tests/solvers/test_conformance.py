@@ -22,7 +22,6 @@ from illuknit.design.models.illusion_models import (
     make_problem,
 )
 from illuknit.design.models.illusion_problem import row_passes
-from illuknit.design.models.model import Model
 from illuknit.solvers import (
     HERMAX_NAMES,
     available_backends,
@@ -30,6 +29,7 @@ from illuknit.solvers import (
     get_backend,
     solve,
 )
+from illuknit.solvers.model import Model
 
 FAKE = Path(__file__).parent / "fake" / "fake_maxsat.py"
 EXTERNAL = f"wcnf:{sys.executable} {FAKE} {{}}"
@@ -230,7 +230,7 @@ def test_time_limit_returns_the_best_found_with_a_bound(name):
     _backend_or_skip(name)
     problem = _random_instance(5, shape=(40, 40), kind="knit-aware")
     model = build_model(problem)
-    from illuknit.solvers.dp import hint_values
+    from illuknit.design.models.backends.dp import hint_values
 
     model.hint = hint_values(problem, model)
     sol = solve(model, solver=name, time_limit=0.5)

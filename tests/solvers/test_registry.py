@@ -7,7 +7,6 @@ import pytest
 
 import illuknit.solvers as reg
 from illuknit.core.errors import BackendUnavailableError, SolverError, UnknownNameError
-from illuknit.design.models.model import Model
 from illuknit.solvers import (
     Backend,
     BackendBase,
@@ -17,6 +16,7 @@ from illuknit.solvers import (
     get_backend,
     solve,
 )
+from illuknit.solvers.model import Model
 
 
 def test_unknown_name_lists_the_valid_ones():

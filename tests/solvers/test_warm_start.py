@@ -7,18 +7,18 @@ from typing import ClassVar
 import numpy as np
 import pytest
 
-import illuknit.solvers.dp as dp_mod
+import illuknit.design.models.backends.dp as dp_mod
 from illuknit.core.errors import SolverError, UnknownNameError
+from illuknit.design.models.backends.dp import solve_dp
 from illuknit.design.models.illusion_models import (
     KnitWeights,
     build_model,
     make_problem,
     solve_illusion,
 )
-from illuknit.design.models.model import Model
 from illuknit.pictures.drawings import draw_ecg, draw_heart
 from illuknit.solvers import BackendBase, Solution, Status, solve
-from illuknit.solvers.dp import solve_dp
+from illuknit.solvers.model import Model
 
 
 def _pair(n: int = 12, m: int = 10) -> tuple[np.ndarray, np.ndarray]:

@@ -2,7 +2,7 @@
 
 Three *illusion models* over an N x M grid of units and K yarns -- (a) ``logical``, (b)
 ``knit-aware``, (c) ``single``, the ``kind`` of an :class:`~illuknit.design.models.illusion_problem.IllusionProblem`
--- each encoded here into one solver-neutral *constraint model* (:class:`illuknit.design.models.model.Model`):
+-- each encoded here into one solver-neutral *constraint model* (:class:`illuknit.solvers.model.Model`):
 
 **Variables.** ``("yarn", i, j, k)`` — unit (i, j) is knit in yarn k (one-hot over k);
 ``("raised", i, j)`` — unit (i, j) is a bump. Model (b) adds ``("change", i, j)`` — the yarn
@@ -43,17 +43,18 @@ A's soft clauses read ``upper`` where view B's read ``yarn``: view A sees ``U[i-
 U[i]``, and ``U == C`` wherever the unit is flat.
 
 Models (a) and (b) without colour-change or pass terms couple only neighbouring units of one wale, so
-:mod:`illuknit.solvers.dp` solves them exactly per wale; model (c) ties each row to one yarn, and
+:mod:`illuknit.design.models.backends.dp` solves them exactly per wale; model (c) ties each row to one yarn, and
 the DP solves it exactly over the row colours (a raised bit then affects two view cells whose
 colours depend only on three consecutive row colours). The structured :class:`IllusionProblem`
 rides along as ``model.problem`` for it. Model (b) with colour-change terms couples the wales;
-:mod:`illuknit.solvers.descent` re-optimises single wales and courses exactly in turn and warm-
+:mod:`illuknit.design.models.backends.descent` re-optimises single wales and courses exactly in turn and warm-
 starts the exact backends.
 """
 
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -66,7 +67,13 @@ from illuknit.core.arguments import (
     check_number,
     check_str,
 )
-from illuknit.core.errors import InfeasibleError, SolverError, UnknownNameError, YarnSpecError
+from illuknit.core.errors import (
+    InfeasibleError,
+    OptionError,
+    SolverError,
+    UnknownNameError,
+    YarnSpecError,
+)
 from illuknit.core.pattern import Yarn, check_yarns
 from illuknit.design.models.illusion_problem import (
     MODEL_KINDS,
@@ -84,9 +91,10 @@ from illuknit.design.models.illusion_report import (
     pattern_from_solution,
     report_pattern,
 )
-from illuknit.design.models.model import Model
+from illuknit.design.options import SolveOptions
 from illuknit.solvers import solve
 from illuknit.solvers.base import ProgressCallback, Solution
+from illuknit.solvers.model import Model
 
 __all__ = [
     "MODEL_KINDS",
@@ -288,35 +296,49 @@ def _add_pass_terms(
     model.add_soft_block(-bump_extra.reshape(-1, 1), p)
 
 
+#: The keywords of :func:`solve_illusion` that :class:`~illuknit.design.options.SolveOptions`
+#: groups, and their defaults here (no time limit, unlike the CLI's options).
+_SOLVE_KNOBS: dict[str, Any] = {
+    "model": "logical",
+    "solver": "auto",
+    "warm_start": "auto",
+    "weights": None,
+    "alternate_rows": False,
+    "split_bumps": False,
+    "time_limit": None,
+    "seed": 0,
+}
+
+
 def solve_illusion(
     target_a: ArrayLike,
     target_b: ArrayLike | None = None,
     *,
-    model: str = "logical",
-    solver: str = "auto",
-    warm_start: str = "auto",
-    weights: KnitWeights | None = None,
+    options: SolveOptions | None = None,
     yarns: Sequence[Yarn] | None = None,
     n_yarns: int | None = None,
     pinned: ArrayLike | None = None,
-    alternate_rows: bool = False,
-    split_bumps: bool = False,
-    time_limit: float | None = None,
-    seed: int = 0,
     progress: ProgressCallback | None = None,
+    **knobs: Any,
 ) -> IllusionResult:
     """Build the illusion model, solve it (:func:`illuknit.solvers.solve`), decode the pattern.
+
+    How to solve is ``options`` (a :class:`~illuknit.design.options.SolveOptions`), or its
+    fields given as keywords (``model="knit-aware", time_limit=10``; the parameters below list
+    them with their defaults), which take the place of the fields of ``options``.
 
     Parameters
     ----------
     target_a, target_b : ndarray of shape (N, M), int
         Yarn-index targets (``target_b`` omitted for the single-view model).
+    options : SolveOptions, optional
+        Everything below but the yarns, the pins and ``progress``.
     model : {"logical", "knit-aware", "single"}
     solver : str
         A backend name (see :func:`illuknit.solvers.available_backends`) or "auto" (the first
         in preference order that handles the model: the exact DP when it applies).
     warm_start : {"auto", "none", "dp", "descent"}
-        Warm-start policy (:mod:`illuknit.solvers.warm_start`): the DP optimum, or for the
+        Warm-start policy (:mod:`illuknit.design.models.backends.warm_start`): the DP optimum, or for the
         knit-aware model a block descent taking part of ``time_limit``. The result is never worse
         than the warm start, its ``found_by`` says who found it, and its ``wall_time``
         includes the warm start.
@@ -333,6 +355,10 @@ def solve_illusion(
     SolverError
         The backend found no pattern.
     """
+    knobs = _solve_knobs(options, knobs)
+    model, solver, warm_start = knobs["model"], knobs["solver"], knobs["warm_start"]
+    weights, time_limit, seed = knobs["weights"], knobs["time_limit"], knobs["seed"]
+    alternate_rows, split_bumps = knobs["alternate_rows"], knobs["split_bumps"]
     check_array(target_a, "target_a", ndim=2, integer=True)
     if target_b is not None:
         check_array(target_b, "target_b", ndim=2, integer=True)
@@ -380,6 +406,28 @@ def solve_illusion(
     check_solution(sol, model)
     pat = pattern_from_solution(prob, sol, yarns=yarns)
     return IllusionResult(pat, sol, prob, report_pattern(pat, prob, sol))
+
+
+def _solve_knobs(options: SolveOptions | None, knobs: dict[str, Any]) -> dict[str, Any]:
+    """Every keyword of :data:`_SOLVE_KNOBS`: from ``knobs``, else ``options``, else the default."""
+    unknown = sorted(set(knobs) - set(_SOLVE_KNOBS))
+    if unknown:
+        valid = ", ".join(_SOLVE_KNOBS)
+        raise OptionError(f"unknown solve option {unknown[0]!r}; valid: {valid}")
+    if options is None:
+        return {**_SOLVE_KNOBS, **knobs}
+    check_instance(options, SolveOptions, "options")
+    given = {
+        "model": options.model.value,
+        "solver": options.solver,
+        "warm_start": options.warm_start.value,
+        "weights": options.weights,
+        "alternate_rows": options.alternate_rows,
+        "split_bumps": options.split_bumps,
+        "time_limit": options.time_limit,
+        "seed": options.seed,
+    }
+    return {**given, **knobs}
 
 
 def check_solution(sol: Solution, model: str) -> None:

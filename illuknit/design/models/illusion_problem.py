@@ -1,8 +1,9 @@
 """The data of an illusion model: targets, palette, model kind, objective weights.
 
 :class:`IllusionProblem` is what the encoder (:mod:`illuknit.design.models.illusion_models`) turns into a
-:class:`~illuknit.design.models.model.Model` and what the structured backends (:mod:`illuknit.solvers.dp`,
-:mod:`illuknit.solvers.descent`, :mod:`illuknit.solvers.gradient`) read directly; the objective
+:class:`~illuknit.solvers.model.Model` (it rides along as the model's
+:class:`~illuknit.solvers.model.DomainPayload`) and what design's own backends
+(:mod:`illuknit.design.models.backends`: the DP, the descent, the gradient) read directly; the objective
 pieces they share with the encoder (:func:`raised_cost`) live here too, so backends and encoder
 import this module and never each other.
 """
@@ -16,8 +17,9 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from illuknit.core.arguments import check_bool, check_instance, check_int
-from illuknit.core.errors import ImageInputError, OptionError, UnknownNameError
+from illuknit.core.errors import ImageInputError, OptionError, SolverError, UnknownNameError
 from illuknit.core.pattern import MAX_UNITS, MAX_YARNS
+from illuknit.solvers.model import DomainPayload, Model
 
 __all__ = [
     "MODEL_KINDS",
@@ -26,6 +28,7 @@ __all__ = [
     "make_problem",
     "parse_weights",
     "pass_events",
+    "problem_of",
     "raised_cost",
     "row_passes",
 ]
@@ -165,7 +168,7 @@ def _index_image(a: ArrayLike, name: str, n_yarns: int) -> NDArray[np.int16]:
 
 
 @dataclass(frozen=True, eq=False)
-class IllusionProblem:
+class IllusionProblem(DomainPayload):
     """Targets and settings of an illusion model (the structured payload of its ``Model``).
 
     Parameters
@@ -276,6 +279,24 @@ class IllusionProblem:
             and self.color_cap is None
             and not self.rows_tied
         )
+
+    @property
+    def separable(self) -> bool:
+        """Per wale, the model falls apart into independent wales (:attr:`per_wale`)."""
+        return self.per_wale
+
+
+def problem_of(model: Model) -> IllusionProblem:
+    """The :class:`IllusionProblem` ``model`` was built from (its payload).
+
+    Raises
+    ------
+    SolverError
+        ``model`` is not an illusion model.
+    """
+    if not isinstance(model.problem, IllusionProblem):
+        raise SolverError(f"model {model.name!r} is not an illusion model")
+    return model.problem
 
 
 def make_problem(

@@ -6,7 +6,7 @@ and one for each colour of B such that every occurring pair can be tiled, i.e. t
 tile showing ``fill(a)`` in view A and ``fill(b)`` in view B. The head-on variant uses the same
 model with the views ``("headon", "side")``.
 
-Model (solver-neutral :class:`illuknit.design.models.model.Model`, solved by any backend: CP-SAT by default,
+Model (solver-neutral :class:`illuknit.solvers.model.Model`, solved by any backend: CP-SAT by default,
 MaxSAT (``rc2``) selectable)
 ---------------------------------------------------------------------------------------------
 Variables
@@ -195,7 +195,7 @@ class _Clauses:
 
 def _encode(prob: _Problem):
     """Build the Model; returns (model, decode) with decode(solution) -> (choice_a, choice_b)."""
-    from illuknit.design.models.model import Model
+    from illuknit.solvers.model import Model
 
     m = Model("tile-assignment")
     cl = _Clauses()

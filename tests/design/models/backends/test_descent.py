@@ -9,6 +9,14 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from illuknit.design.models.backends.descent import optimise_descent
+from illuknit.design.models.backends.descent_blocks import (
+    pattern_cost,
+    update_rows,
+    update_units,
+    update_wales,
+)
+from illuknit.design.models.backends.dp import solve_dp, values_from_pattern
 from illuknit.design.models.illusion_models import (
     KnitWeights,
     build_model,
@@ -16,9 +24,6 @@ from illuknit.design.models.illusion_models import (
     solve_illusion,
 )
 from illuknit.solvers import solve
-from illuknit.solvers.descent import optimise_descent
-from illuknit.solvers.descent_blocks import pattern_cost, update_rows, update_units, update_wales
-from illuknit.solvers.dp import solve_dp, values_from_pattern
 
 
 def _problem(rng, n, m, k, *, pin=False):
@@ -152,7 +157,7 @@ def test_backend_objective_equals_the_model_and_bound_is_at_least_the_dp():
     sol = solve(model, solver="descent", time_limit=3)
     assert sol.status.value in ("feasible", "timeout", "optimal")
     assert model.evaluate(sol.values) == (True, sol.objective)
-    # with machine-pass terms the Lagrangian bound (tests/solvers/test_lagrangian.py) is better
+    # with machine-pass terms the Lagrangian bound (test_lagrangian.py beside this) is better
     assert solve_dp(problem)[2] <= sol.bound <= sol.objective
     dp_start = pattern_cost(problem, *solve_dp(problem)[:2])
     assert sol.objective <= dp_start
@@ -180,7 +185,7 @@ def test_knit_aware_solve_is_never_worse_than_its_descent_warm_start():
 
 
 def test_ctrl_c_keeps_the_best_pattern_found_so_far(monkeypatch):
-    import illuknit.solvers.descent as descent_mod
+    import illuknit.design.models.backends.descent as descent_mod
 
     rng = np.random.default_rng(4)
     problem = make_problem(

@@ -10,11 +10,11 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from illuknit.design.models.backends.descent_blocks import pattern_cost
+from illuknit.design.models.backends.dp import solve_dp
+from illuknit.design.models.backends.lagrangian import additive_bound, lagrangian_bound
 from illuknit.design.models.illusion_models import KnitWeights, build_model, make_problem
 from illuknit.solvers import solve
-from illuknit.solvers.descent_blocks import pattern_cost
-from illuknit.solvers.dp import solve_dp
-from illuknit.solvers.lagrangian import additive_bound, lagrangian_bound
 
 
 def _brute_force(problem) -> int:
