@@ -31,9 +31,9 @@ from illuknit.pipeline.inputs import (
 
 if TYPE_CHECKING:
     from illuknit.core.pattern import Yarn
-    from illuknit.solvers.model import Model
     from illuknit.pictures.images import QuantisedImage
     from illuknit.solvers.base import ProgressCallback
+    from illuknit.solvers.model import Model
 
 __all__ = ["SOLVE_PICTURE_OPTIONS", "illusion_model", "quantise_targets", "solve_design"]
 
