@@ -356,6 +356,11 @@ def _names_it(message: str, name: str, value: Any) -> bool:
     # a file that is not there is named by its path, a wrong word of a text by that word
     if not isinstance(value, str):
         return False
+    from illuknit.core.documents import shown_path
+
+    # a file name is shown escaped (control characters as \xNN), as every message shows one
+    if shown_path(value) in message:
+        return True
     words = [value, *re.split(r"[\s,]+", value)]
     return repr(value) in message or any(w and (w in message or repr(w) in message) for w in words)
 

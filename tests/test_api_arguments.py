@@ -204,3 +204,26 @@ def test_garbage_arguments_are_refused_naming_them(valid, data):
         return
     outcome = fuzz.try_one(name, fn, valid[name], param, label, value)
     assert outcome.kind not in ("raw", "blame", "absurd"), outcome
+
+
+@pytest.mark.parametrize(
+    ("message", "value", "names"),
+    [
+        # a file name is shown escaped, as every message shows one (found: load_params("\x1f"))
+        ("render parameters file not found: \\x1f", "\x1f", True),
+        ("render parameters file not found: somewhere.json", "somewhere.json", True),
+        ("something went wrong", "\x1f", False),
+    ],
+)
+def test_a_name_shown_escaped_counts_as_named(message, value, names):
+    assert fuzz._names_it(message, "path", value) is names
+
+
+@pytest.mark.parametrize("spec", ["=", "navy=", "navy= ,#fff"])
+def test_a_yarn_without_a_colour_names_the_spec(spec):
+    # found by the fuzz: parse_yarns("=") said "empty yarn colour string", naming no argument
+    from illuknit.core.errors import YarnSpecError
+    from illuknit.core.yarns import parse_yarns
+
+    with pytest.raises(YarnSpecError, match=r"`spec` names a yarn without a colour"):
+        parse_yarns(spec)

@@ -29,7 +29,7 @@ from collections.abc import Callable, Mapping
 from dataclasses import MISSING, dataclass, field, fields
 from enum import Enum
 from types import MappingProxyType, UnionType
-from typing import Any
+from typing import Any, TypedDict, Unpack
 
 __all__ = ["Declared", "DeclaredOption", "accepts_old_names", "declared_options", "option"]
 
@@ -135,32 +135,22 @@ class DeclaredOption:
         return self.default.value if isinstance(self.default, Enum) else self.default
 
 
-def option(
-    default: Any,
-    *,
-    help: str,
-    ge: float | None = None,
-    gt: float | None = None,
-    le: float | None = None,
-    lt: float | None = None,
-    flag: str | None = None,
-    metavar: str | None = None,
-    title: str | None = None,
-    old_names: tuple[str, ...] = (),
-) -> Any:
+class DeclaredKeywords(TypedDict, total=False):
+    """The keywords of :func:`option` besides ``help`` (see :class:`Declared`)."""
+
+    ge: float | None
+    gt: float | None
+    le: float | None
+    lt: float | None
+    flag: str | None
+    metavar: str | None
+    title: str | None
+    old_names: tuple[str, ...]
+
+
+def option(default: Any, *, help: str, **declared: Unpack[DeclaredKeywords]) -> Any:
     """A dataclass field declaring an option once (see :class:`Declared` for the keywords)."""
-    declared = Declared(
-        help=help,
-        ge=ge,
-        gt=gt,
-        le=le,
-        lt=lt,
-        flag=flag,
-        metavar=metavar,
-        title=title,
-        old_names=old_names,
-    )
-    return field(default=default, metadata={METADATA_KEY: declared})
+    return field(default=default, metadata={METADATA_KEY: Declared(help=help, **declared)})
 
 
 @functools.cache

@@ -161,22 +161,29 @@ def parse_yarns(spec: str | Sequence[str]) -> tuple[Yarn, ...]:
     yarns = []
     named = set()  # names the user gave (colour names made up from a hex code are renamed quietly)
     for item in items:
+        yarns.append(_parse_item(item))
         if "=" in item:
-            name, _, col = item.partition("=")
-            if _has_controls(name):
-                _note(f"control characters removed from the yarn name {name!r}")
-            yarns.append(Yarn.from_string(col, name=name.strip()))
             named.add(yarns[-1].name)
-        else:
-            yarns.append(Yarn.from_string(item))
     out = _dedupe_yarns(tuple(yarns), named=named)
     for note in yarn_notes(out):
         _note(note)
     return out
 
 
-def _note(message: str) -> None:
-    warnings.warn(message, YarnNote, stacklevel=3)
+def _parse_item(item: str) -> Yarn:
+    """One yarn of a spec: ``name=colour`` or ``colour``."""
+    if "=" not in item:
+        return Yarn.from_string(item)
+    name, _, col = item.partition("=")
+    if not col.strip():
+        raise YarnSpecError(f"`spec` names a yarn without a colour: {item!r} (use name=#rrggbb)")
+    if _has_controls(name):
+        _note(f"control characters removed from the yarn name {name!r}", stacklevel=4)
+    return Yarn.from_string(col, name=name.strip())
+
+
+def _note(message: str, *, stacklevel: int = 3) -> None:
+    warnings.warn(message, YarnNote, stacklevel=stacklevel)
 
 
 def yarn_notes(yarns: Sequence[Yarn]) -> list[str]:

@@ -9,7 +9,7 @@ bumps says so in one ``;`` comment line right after its ``;;`` header::
 program with such bumps) and :func:`declared_bumps` reads it
 (:func:`~illuknit.check.check_knitout` does, so one file has one verdict without
 ``--split-bumps``). A comment, not a ``;;X-`` header: both reference backends ignore comment
-lines (the ``.dat`` and ``.kc`` stay byte-identical; tests/test_oracles.py) and the PyPI
+lines (the ``.dat`` and ``.kc`` stay byte-identical; tests/formats/test_oracles.py) and the PyPI
 simulator refuses unknown headers.
 """
 

@@ -33,7 +33,7 @@ def _problem(rng, n, m, k, *, pin=False):
         view=int(rng.integers(1, 5)),
         color_change=int(rng.integers(0, 5)),
         transfer=int(rng.integers(0, 3)),
-        machine_pass=0,  # the pass terms: tests/test_illusion_models.py
+        machine_pass=0,  # the pass terms: tests/design/models/test_illusion_models.py
     )
     pinned = np.where(rng.random((n, m)) < 0.2, rng.integers(0, k, (n, m)), -1) if pin else None
     return make_problem(a, b, n_yarns=k, kind="knit-aware", weights=w, pinned=pinned)

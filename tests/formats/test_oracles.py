@@ -24,6 +24,6 @@ def test_the_backends_are_found_beside_the_checkout_or_where_the_variable_says(m
     from pathlib import Path
 
     expected = (
-        os.environ.get("ILLUKNIT_ORACLES") or Path(__file__).parents[2] / "shared" / "oracles"
+        os.environ.get("ILLUKNIT_ORACLES") or Path(__file__).parents[3] / "shared" / "oracles"
     )
     assert Path(expected).resolve() == ORACLES.resolve()
