@@ -182,7 +182,7 @@ def test_a_long_float_is_refused_for_the_designer_unless_allowed(monkeypatch):
     from illuknit.core.errors import AppRequestError
     from illuknit.core.machine import MachineSpec
     from illuknit.core.pattern import pattern_to_json
-    from tests.knit.test_pipeline import _crowded
+    from tests.knitting.test_pipeline import _crowded
 
     # three carriers, a float limit of one needle: the crowded pattern keeps a float long
     monkeypatch.setitem(

@@ -153,7 +153,7 @@ def test_unschedulable_patterns_get_a_reason_instead_of_numbers():
 
 def test_knit_stats_measure_a_pattern_with_long_floats_and_note_them(monkeypatch):
     from illuknit.core.machine import MACHINES, MachineSpec
-    from tests.knit.test_pipeline import _crowded
+    from tests.knitting.test_pipeline import _crowded
 
     # the bench allows long floats (it compares passes); the note says they are there
     tight = MachineSpec(name="Tight", float_limit=1, carriers=("1", "2", "3"))
