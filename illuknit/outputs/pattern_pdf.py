@@ -8,12 +8,14 @@ What a knitter buying an illusion pattern expects, in this order:
    the gauge, floats, 20 % margin: :func:`illuknit.outputs.hand_pattern.yarn_estimate`), needles for the
    gauge, the gauge swatch; abbreviations; how to read the chart; the technique advice
    (:func:`illuknit.outputs.hand_pattern.hand_advice`); the key.
-3. **Chart**, tiled over A4 or Letter pages at a printable cell size (:data:`CELL_MM`): each page
+3. **Schematic**: the piece to scale, its width and height in cm and inches, the cast-on and
+   bind-off edges, and from where each picture is seen (:mod:`illuknit.outputs.pdf_schematic`).
+4. **Chart**, tiled over A4 or Letter pages at a printable cell size (:data:`CELL_MM`): each page
    repeats one stitch column and one row of its neighbours (shaded), stitch numbers along the top
    and bottom counted from the right edge, row numbers on both sides (RS rows at the right, WS
    rows at the left), bold lines every 10 stitches and rows, a section marker every
    :data:`SECTION_ROWS` rows, and a page map.
-4. **Written rows**, each with its stitch count and its colourwork note.
+5. **Written rows**, each with its stitch count and its colourwork note.
 
 Written with fpdf2: a maintained, pure-Python PDF writer (on top of Pillow, already a
 dependency) that places text, lines, rectangles and PNGs at exact millimetre positions, which a
@@ -54,6 +56,7 @@ from illuknit.outputs.pdf_document import (
     pdf_fonts,
 )
 from illuknit.outputs.pdf_materials import ABBREVIATIONS, _cover, _materials, needles_for_gauge
+from illuknit.outputs.pdf_schematic import _schematic
 
 __all__ = [
     "ABBREVIATIONS",
@@ -99,6 +102,7 @@ def pattern_pdf(
     doc = _Document(pattern, gauge, title, page, chart)
     _cover(doc, angle)
     _materials(doc)
+    _schematic(doc)
     _chart_pages(doc)
     _written_rows(doc)
     return bytes(doc.pdf.output())
