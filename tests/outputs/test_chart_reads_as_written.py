@@ -194,7 +194,7 @@ def test_the_pattern_folder_s_chart_and_instructions_agree(tmp_path):
 
 def svg_stitches(pattern: LogicalPattern, *, cell: float = 10.0) -> Stitches:
     """Every stitch as chart.svg draws it: the run rectangle over it and the dots on it."""
-    svg = chart_svg(pattern, cell=cell, unit_aspect=1.0)
+    svg = chart_svg(pattern, cell=cell, unit_aspect=1.0, chart="stitches")
     n, m = pattern.shape
     rows, width, pad = 2 * n, 2 * m, 3 * cell
     hexes = [y.hex.lower() for y in pattern.yarns]
@@ -217,6 +217,38 @@ def svg_stitches(pattern: LogicalPattern, *, cell: float = 10.0) -> Stitches:
 def test_chart_svg_shows_every_stitch_as_written(name):
     pattern = PATTERNS[name]
     assert svg_stitches(pattern) == written_stitches(pattern)
+
+
+@pytest.mark.parametrize("name", sorted(PATTERNS))
+def test_the_default_chart_svg_shows_every_unit_as_written(name):
+    """chart.svg's default, a square a unit as the PDF draws it: the square in the yarn of its
+    RS row, its top half (class "ws") in the yarn of its WS row when that differs, dotted
+    where the WS row is knit (a ridge); read back against the written rows."""
+    pattern, cell = PATTERNS[name], 10.0
+    svg = chart_svg(pattern, cell=cell, unit_aspect=1.0)
+    written = written_stitches(pattern)
+    n, m = pattern.shape
+    hexes = [y.hex.lower() for y in pattern.yarns]
+    rs: dict[tuple[int, int], int] = {}
+    ws: dict[tuple[int, int], int] = {}
+    for cls, x, y, w, fill in re.findall(
+        r'<rect (class="ws" )?x="([\d.]+)" y="([\d.]+)" width="([\d.]+)" height="[\d.]+" '
+        r'fill="(#\w+)"/>',
+        svg,
+    ):
+        u = n - int((float(y) - 3 * cell) // cell)
+        last = m - round((float(x) - 3 * cell) / cell)
+        for v in range(last - round(float(w) / cell) + 1, last + 1):
+            (ws if cls else rs)[u, v] = hexes.index(fill.lower())
+    dotted = {
+        (n - int((float(cy) - 3 * cell) // cell), m - int((float(cx) - 3 * cell) // cell))
+        for cx, cy in re.findall(r'<circle cx="([\d.]+)" cy="([\d.]+)"', svg)
+    }
+    for u in range(1, n + 1):
+        for v in range(1, m + 1):
+            (rs_yarn, _), (ws_yarn, ridge) = written[2 * u - 1, 2 * v], written[2 * u, 2 * v]
+            assert rs[u, v] == rs_yarn and ws.get((u, v), rs_yarn) == ws_yarn, (u, v)
+            assert ((u, v) in dotted) == ridge, (u, v)
 
 
 # -- the chart pages of pattern.pdf ----------------------------------------------------------
