@@ -1,4 +1,4 @@
-"""A print-ready hand-knitting pattern: ``pattern.pdf`` (and the chart as ``chart.svg``).
+"""A print-ready hand-knitting pattern: ``pattern.pdf`` (and its chart as ``chart.svg``).
 
 What a knitter buying an illusion pattern expects, in this order:
 
@@ -133,13 +133,13 @@ def write_pattern_pdf(
     page: str = "A4",
     chart: str = "units",
 ) -> dict[str, Path]:
-    """Write ``pattern.pdf`` (its chart a square a unit or a stitch, :data:`CHART_KINDS`) and
-    ``chart.svg`` (a square a stitch) into ``outdir``; name -> path."""
+    """Write ``pattern.pdf`` and ``chart.svg``, their chart a square a unit or a stitch
+    (:data:`CHART_KINDS`), into ``outdir``; name -> path."""
     out = Path(outdir)
     pdf = pattern_pdf(pattern, gauge=gauge, title=title, page=page, chart=chart)
     return {
         "pattern_pdf": atomic_write_bytes(out / "pattern.pdf", pdf),
         "chart_svg": atomic_write_text(
-            out / "chart.svg", chart_svg(pattern, unit_aspect=gauge.unit_aspect)
+            out / "chart.svg", chart_svg(pattern, unit_aspect=gauge.unit_aspect, chart=chart)
         ),
     }
