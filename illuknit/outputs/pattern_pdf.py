@@ -41,7 +41,7 @@ from illuknit.core.errors import OptionError
 from illuknit.core.files import atomic_write_bytes, atomic_write_text
 from illuknit.core.gauge import Gauge
 from illuknit.core.pattern import LogicalPattern
-from illuknit.outputs.hand_pattern import written_row
+from illuknit.outputs.hand_pattern import with_border, written_row
 from illuknit.outputs.pdf_chart import SECTION_ROWS, ChartTile, _chart_pages, chart_svg, chart_tiles
 from illuknit.outputs.pdf_document import (
     CELL_MM,
@@ -92,14 +92,19 @@ def pattern_pdf(
     page: str = "A4",
     angle: float | None = None,
     chart: str = "units",
+    border: int = 0,
 ) -> bytes:
     """The pattern as a print-ready PDF (see the module docstring for its pages). ``chart`` is
-    one of :data:`CHART_KINDS`: a square a unit (default) or a square a stitch."""
+    one of :data:`CHART_KINDS`: a square a unit (default) or a square a stitch. ``border`` > 0
+    frames it in garter stitch that many ridge units wide
+    (:func:`~illuknit.outputs.hand_pattern.with_border`: 4 stitches and 4 rows more a unit);
+    the sizes, chart and written rows all include it."""
     if page not in PAGE_SIZES:
         raise ValueError(f"`page` must be one of {', '.join(PAGE_SIZES)}, got {page!r}")
     if chart not in CHART_KINDS:
         raise OptionError(f"`chart` must be one of {', '.join(CHART_KINDS)}, got {chart!r}")
-    doc = _Document(pattern, gauge, title, page, chart)
+    doc = _Document(with_border(pattern, border), gauge, title, page, chart)
+    doc.border = border
     _cover(doc, angle)
     _materials(doc)
     _schematic(doc)
@@ -132,14 +137,15 @@ def write_pattern_pdf(
     title: str = "illuknit illusion pattern",
     page: str = "A4",
     chart: str = "units",
+    border: int = 0,
 ) -> dict[str, Path]:
     """Write ``pattern.pdf`` and ``chart.svg``, their chart a square a unit or a stitch
-    (:data:`CHART_KINDS`), into ``outdir``; name -> path."""
+    (:data:`CHART_KINDS`), both with the garter ``border`` (ridge units) when one is asked
+    for, into ``outdir``; name -> path."""
     out = Path(outdir)
-    pdf = pattern_pdf(pattern, gauge=gauge, title=title, page=page, chart=chart)
+    pdf = pattern_pdf(pattern, gauge=gauge, title=title, page=page, chart=chart, border=border)
+    svg = chart_svg(with_border(pattern, border), unit_aspect=gauge.unit_aspect, chart=chart)
     return {
         "pattern_pdf": atomic_write_bytes(out / "pattern.pdf", pdf),
-        "chart_svg": atomic_write_text(
-            out / "chart.svg", chart_svg(pattern, unit_aspect=gauge.unit_aspect, chart=chart)
-        ),
+        "chart_svg": atomic_write_text(out / "chart.svg", svg),
     }

@@ -38,6 +38,11 @@ def _schematic(doc: _Document) -> None:
     pdf.set_draw_color(0, 0, 0)
     pdf.set_line_width(0.6)
     pdf.rect(x0, y0, w, h, style="DF")
+    if doc.border:  # the pictures inside the border, a lighter field
+        bx, by = w * 2 * doc.border / doc.W, h * 2 * doc.border / doc.H
+        pdf.set_fill_color(255, 255, 255)
+        pdf.set_line_width(0.2)
+        pdf.rect(x0 + bx, y0 + by, w - 2 * bx, h - 2 * by, style="DF")
     _dimensions(doc, (x0, y0, w, h))
     _edges(doc, (x0, y0, w, h))
     pdf.set_y(y0 + h + 22)
@@ -48,11 +53,26 @@ def _schematic(doc: _Document) -> None:
         "says. Block it to the size drawn here; the stitch and row counts stay as charted.",
         9.5,
     )
-    doc.para(
-        "Edges: no selvedge stitches or border are added; every stitch on the chart is part of "
-        "a picture. The sides of ridged illusion fabric curl little, but pin them straight when "
-        "blocking; a sleeve for a hanging rod can be sewn along the bind-off edge.",
-        9.5,
+    doc.para(_edges_text(doc), 9.5)
+
+
+def _edges_text(doc: _Document) -> str:
+    """What the edges are: the garter border and what it adds, or that there is none."""
+    hang = "A sleeve for a hanging rod can be sewn along the bind-off edge."
+    b = doc.border
+    if not b:
+        return (
+            "Edges: no selvedge stitches or border are added; every stitch on the chart is part "
+            "of a picture. The sides of ridged illusion fabric curl little, but pin them "
+            f"straight when blocking. {hang}"
+        )
+    return (
+        f"Border (shaded band): {2 * b} garter stitches at each side (knit on both sides, in "
+        f"the yarn of the stitch beside them, so they add no colour change) and {b} garter "
+        f"ridge{'s' if b > 1 else ''} ({2 * b} rows) at the cast-on and at the bind-off edge, "
+        f"against curling. It adds {4 * b} stitches and {4 * b} rows: the pictures are "
+        f"{doc.W - 4 * b} stitches x {doc.H - 4 * b} rows inside it. The chart and the written "
+        f"rows include it, and the sizes above are with it. {hang}"
     )
 
 
