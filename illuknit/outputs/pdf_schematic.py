@@ -101,10 +101,11 @@ def _edges(doc: _Document, box: tuple[float, float, float, float]) -> None:
     """Which edge is the cast-on and the bind-off, and from where each picture is seen."""
     pdf = doc.pdf
     x0, y0, w, h = box
+    inset = h * 2 * doc.border / doc.H  # the labels inside the border band
     doc.font(9)
-    pdf.set_xy(x0, y0 + 1.5)
+    pdf.set_xy(x0, y0 + inset + 1.5)
     pdf.cell(w, 4, f"bind-off edge (top, row {doc.H})", align="C")
-    pdf.set_xy(x0, y0 + h - 5.5)
+    pdf.set_xy(x0, y0 + h - inset - 5.5)
     pdf.cell(w, 4, "cast-on edge (bottom, row 1)", align="C")
     pdf.set_xy(x0, y0 + h / 2 - 4)
     pdf.multi_cell(w, 4, "right side facing:\nseen head-on", align="C")
