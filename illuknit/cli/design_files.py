@@ -45,7 +45,7 @@ def write_candidate(
     what the design's views should show (``inp.targets``). ``gauge`` (an
     :class:`illuknit.core.gauge.Gauge`) is the fabric's: finished size and previews. ``angle``
     and ``distance`` (metres) are the views' in ``seen.png``."""
-    from illuknit.cli.knitout_bridge import chart_kind
+    from illuknit.cli.knitout_bridge import chart_kind, hand_border
     from illuknit.core.files import atomic_write_text
     from illuknit.design.tiles.compile import repainted_rgb
     from illuknit.design.tiles.overlaps import group_overlaps
@@ -86,6 +86,7 @@ def write_candidate(
         targets={f"{names[0]} repainted": ra, f"{names[1]} repainted": rb},
         gauge=gauge,
         chart=chart_kind(),
+        border=hand_border(),
     )
     for which, letter, striped in ((0, "a", ra), (1, "b", rb)):
         average = repainted_rgb(cand, which, mode="average")

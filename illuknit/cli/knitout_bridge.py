@@ -140,6 +140,7 @@ def machine_option(
             help="What a square of pattern.pdf's chart is: a ridge unit of 2 stitches x 2 rows "
             "(fewer pages, as bought illusion charts) or one stitch [units].",
         ),
+        _border_option(remember_fabric),
         click.option(
             "--square-units",
             "square_units",
@@ -172,6 +173,26 @@ def _fabric_options() -> dict[str, Any]:
 def chart_kind() -> str:
     """``--chart``: what a square of the hand pattern's chart is ("units" unless given)."""
     return str(_fabric_options().get("chart") or "units")
+
+
+def _border_option(callback: Callable[..., Any]) -> Callable[..., Any]:
+    """``--border``, kept on the click context beside ``--chart`` (:func:`hand_border`)."""
+    return click.option(
+        "--border",
+        "border",
+        type=click.IntRange(min=0),
+        default=None,
+        expose_value=False,
+        callback=callback,
+        help="A garter border against curling around the hand pattern, this many ridge units "
+        "wide: 2 selvedge stitches a unit at each side and a garter ridge a unit at the "
+        "cast-on and bind-off edges (4 stitches and 4 rows more a unit) [0: none].",
+    )
+
+
+def hand_border() -> int:
+    """``--border``: the hand pattern's garter border in ridge units (0 unless given)."""
+    return int(_fabric_options().get("border") or 0)
 
 
 def design_unit_aspect(spec: MachineSpec) -> float:

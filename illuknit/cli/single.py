@@ -88,7 +88,7 @@ _SWITCH_DEFAULTS: dict[str, Any] = {
 def run_single(request: SingleRequest, *, progress: Report | None = None) -> dict[str, Path]:
     """Compile ``request.picture`` and write the whole bundle into ``request.outdir``
     (atomically). ``progress(fraction, message)`` hears how far it is."""
-    from illuknit.cli.knitout_bridge import chart_kind
+    from illuknit.cli.knitout_bridge import chart_kind, hand_border
     from illuknit.core.files import staged_dir
     from illuknit.outputs.export import export_pattern
     from illuknit.pipeline.single import design_single
@@ -130,6 +130,7 @@ def run_single(request: SingleRequest, *, progress: Report | None = None) -> dic
             title=title or f"Single-view illusion of {Path(str(image)).name}",
             gauge=spec.fabric_gauge,
             chart=chart_kind(),
+            border=hand_border(),
         )
         from illuknit.cli.design_files import write_seen
 

@@ -272,7 +272,7 @@ def _write_outputs(
 ) -> dict[str, Path]:
     """Write the pattern's outputs (and, given a machine, its knitout) into ``outdir`` at once;
     ``stage(message)`` hears each step as it starts (the progress line)."""
-    from illuknit.cli.knitout_bridge import chart_kind, write_program
+    from illuknit.cli.knitout_bridge import chart_kind, hand_border, write_program
     from illuknit.core.files import staged_dir
     from illuknit.outputs.export import export_pattern
 
@@ -288,6 +288,7 @@ def _write_outputs(
             targets=targets,
             gauge=gauge,
             chart=chart_kind(),
+            border=hand_border(),
         )
         from illuknit.cli.design_files import write_seen
 

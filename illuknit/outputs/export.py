@@ -19,13 +19,14 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from illuknit.core.arguments import check_instance, check_str, with_knobs
+from illuknit.core.arguments import check_instance, check_int, check_str, with_knobs
 from illuknit.core.files import atomic_write_text
 from illuknit.core.gauge import Gauge, finished_size
 from illuknit.core.pattern import LogicalPattern, save_pattern
 from illuknit.core.progress import Report
 from illuknit.outputs.captions import headon_likeness
 from illuknit.outputs.chart import chart_png_rgb, written_instructions
+from illuknit.outputs.hand_pattern import with_border
 from illuknit.outputs.previews import save_png, unit_scale, upscale, write_previews
 from illuknit.pictures.images import QuantisedImage
 
@@ -64,11 +65,17 @@ class ExportOptions:
     chart : str
         What a square of ``pattern.pdf``'s chart is
         (:data:`~illuknit.outputs.pattern_pdf.CHART_KINDS`).
+    border : int
+        A garter border this many ridge units wide around the hand documents (``pattern.pdf``,
+        ``chart.svg``, ``chart.png``, ``instructions.txt``;
+        :func:`~illuknit.outputs.hand_pattern.with_border`): 4 stitches and 4 rows more a
+        unit. 0 (the default): none. ``pattern.json`` and the previews stay the design's.
     """
 
     title: str | None = None
     gauge: Gauge | None = None
     chart: str = "units"
+    border: int = 0
 
     def __post_init__(self) -> None:
         if self.title is not None:
@@ -76,6 +83,7 @@ class ExportOptions:
         if self.gauge is not None:
             check_instance(self.gauge, Gauge, "gauge")
         check_str(self.chart, "chart")
+        check_int(self.border, "border", min=0)
 
 
 def export_pattern(
@@ -93,7 +101,7 @@ def export_pattern(
 
     ``outdir`` should be a fresh folder (use :func:`illuknit.core.files.staged_dir` so a failure
     leaves nothing behind). ``options`` (:class:`ExportOptions`; its fields ``title``,
-    ``gauge`` and ``chart`` may be given as keywords instead) lays the documents out.
+    ``gauge``, ``chart`` and ``border`` may be given as keywords instead) lays the documents out.
     ``progress(fraction, message)`` hears how far it is (:func:`illuknit.core.progress.work_bar`).
     Returns name -> path of everything written.
     """
@@ -123,18 +131,22 @@ def export_pattern(
     say(0.1, "drawing the previews")
     paths.update(write_previews(pattern, out, targets=shown, unit_aspect=gauge.unit_aspect))
     say(0.3, "drawing the chart and writing the instructions")
-    paths["chart"] = save_png(
-        chart_png_rgb(pattern, unit_aspect=gauge.unit_aspect), out / "chart.png"
-    )
+    hand = with_border(pattern, opts.border)  # what the hand documents knit
+    paths["chart"] = save_png(chart_png_rgb(hand, unit_aspect=gauge.unit_aspect), out / "chart.png")
     paths["instructions"] = atomic_write_text(
-        out / "instructions.txt", written_instructions(pattern, title=title, gauge=gauge)
+        out / "instructions.txt", written_instructions(hand, title=title, gauge=gauge)
     )
     from illuknit.outputs.pattern_pdf import write_pattern_pdf
 
     say(0.4, "writing pattern.pdf")
     paths.update(
         write_pattern_pdf(
-            pattern, out, gauge=gauge, title=title or "illuknit illusion pattern", chart=chart
+            pattern,
+            out,
+            gauge=gauge,
+            title=title or "illuknit illusion pattern",
+            chart=chart,
+            border=opts.border,
         )
     )
     if quantised:

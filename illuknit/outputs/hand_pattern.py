@@ -12,6 +12,8 @@
   and when none fits, it says so with the numbers and what would make it knittable (fewer yarns,
   a simplified design, a machine).
 * :func:`yarn_estimate` estimates each yarn's length and weight from its stitch count and gauge.
+* :func:`with_border` frames a pattern in garter stitch against curling: selvedge stitches at
+  both sides and garter ridges at the cast-on and bind-off edges, as the hand documents knit it.
 """
 
 from __future__ import annotations
@@ -22,6 +24,7 @@ from itertools import groupby
 
 import numpy as np
 
+from illuknit.core.arguments import check_int
 from illuknit.core.gauge import Gauge
 from illuknit.core.pattern import LogicalPattern
 
@@ -38,6 +41,7 @@ __all__ = [
     "hand_verdict",
     "intarsia_bobbins",
     "row_colourwork",
+    "with_border",
     "written_row",
     "yarn_estimate",
 ]
@@ -201,6 +205,41 @@ def row_colourwork(pattern: LogicalPattern) -> list[RowColourwork]:
             )
         )
     return out
+
+
+def with_border(pattern: LogicalPattern, units: int) -> LogicalPattern:
+    """``pattern`` framed by a garter border ``units`` ridge units wide (each 2 stitches x 2
+    rows): ``2 * units`` garter stitches at each side (knit on both sides: raised units) in the
+    yarns of the edge stitches beside them, so the border adds no colour change, and ``units``
+    garter ridges (``2 * units`` rows) below the first row and above the last, in the yarn most
+    of that edge row is in. It adds ``4 * units`` stitches and ``4 * units`` rows. The border
+    is for the hand documents (written rows, chart, sizes); the design itself is unchanged.
+
+    >>> from illuknit.core.pattern import parse_yarns
+    >>> p = LogicalPattern(np.array([[0, 1], [1, 1]]), np.zeros((2, 2), bool),
+    ...                    parse_yarns("black,white"))
+    >>> b = with_border(p, 1)
+    >>> b.shape, b.yarn.tolist(), int(b.raised.sum())
+    ((4, 4), [[0, 0, 0, 0], [0, 0, 1, 1], [1, 1, 1, 1], [1, 1, 1, 1]], 12)
+    """
+    check_int(units, "border", min=0)
+    if units == 0:
+        return pattern
+    sides = ((0, 0), (units, units))
+    yarn = np.pad(pattern.yarn, sides, mode="edge")
+    upper = np.pad(pattern.upper_yarn, sides, mode="edge")
+    raised = np.pad(pattern.raised, sides, constant_values=True)
+    top = np.bincount(upper[0]).argmax()  # the bind-off edge follows the top row's WS row
+    bottom = np.bincount(yarn[-1]).argmax()  # the cast-on edge: row 1
+    rows = np.full((units, yarn.shape[1]), top, dtype=yarn.dtype)
+    below = np.full((units, yarn.shape[1]), bottom, dtype=yarn.dtype)
+    flat = np.ones((units, yarn.shape[1]), bool)
+    return LogicalPattern(
+        np.vstack([rows, yarn, below]).astype(pattern.yarn.dtype),
+        np.vstack([flat, raised, flat]),
+        pattern.yarns,
+        upper=np.vstack([rows, upper, below]).astype(pattern.yarn.dtype),
+    )
 
 
 def intarsia_bobbins(

@@ -1,4 +1,4 @@
-"""A print-ready hand-knitting pattern: ``pattern.pdf`` (and the chart as ``chart.svg``).
+"""A print-ready hand-knitting pattern: ``pattern.pdf`` (and its chart as ``chart.svg``).
 
 What a knitter buying an illusion pattern expects, in this order:
 
@@ -8,12 +8,14 @@ What a knitter buying an illusion pattern expects, in this order:
    the gauge, floats, 20 % margin: :func:`illuknit.outputs.hand_pattern.yarn_estimate`), needles for the
    gauge, the gauge swatch; abbreviations; how to read the chart; the technique advice
    (:func:`illuknit.outputs.hand_pattern.hand_advice`); the key.
-3. **Chart**, tiled over A4 or Letter pages at a printable cell size (:data:`CELL_MM`): each page
+3. **Schematic**: the piece to scale, its width and height in cm and inches, the cast-on and
+   bind-off edges, and from where each picture is seen (:mod:`illuknit.outputs.pdf_schematic`).
+4. **Chart**, tiled over A4 or Letter pages at a printable cell size (:data:`CELL_MM`): each page
    repeats one stitch column and one row of its neighbours (shaded), stitch numbers along the top
    and bottom counted from the right edge, row numbers on both sides (RS rows at the right, WS
    rows at the left), bold lines every 10 stitches and rows, a section marker every
    :data:`SECTION_ROWS` rows, and a page map.
-4. **Written rows**, each with its stitch count and its colourwork note.
+5. **Written rows**, each with its stitch count and its colourwork note.
 
 Written with fpdf2: a maintained, pure-Python PDF writer (on top of Pillow, already a
 dependency) that places text, lines, rectangles and PNGs at exact millimetre positions, which a
@@ -39,7 +41,7 @@ from illuknit.core.errors import OptionError
 from illuknit.core.files import atomic_write_bytes, atomic_write_text
 from illuknit.core.gauge import Gauge
 from illuknit.core.pattern import LogicalPattern
-from illuknit.outputs.hand_pattern import written_row
+from illuknit.outputs.hand_pattern import with_border, written_row
 from illuknit.outputs.pdf_chart import SECTION_ROWS, ChartTile, _chart_pages, chart_svg, chart_tiles
 from illuknit.outputs.pdf_document import (
     CELL_MM,
@@ -54,6 +56,7 @@ from illuknit.outputs.pdf_document import (
     pdf_fonts,
 )
 from illuknit.outputs.pdf_materials import ABBREVIATIONS, _cover, _materials, needles_for_gauge
+from illuknit.outputs.pdf_schematic import _schematic
 
 __all__ = [
     "ABBREVIATIONS",
@@ -89,16 +92,22 @@ def pattern_pdf(
     page: str = "A4",
     angle: float | None = None,
     chart: str = "units",
+    border: int = 0,
 ) -> bytes:
     """The pattern as a print-ready PDF (see the module docstring for its pages). ``chart`` is
-    one of :data:`CHART_KINDS`: a square a unit (default) or a square a stitch."""
+    one of :data:`CHART_KINDS`: a square a unit (default) or a square a stitch. ``border`` > 0
+    frames it in garter stitch that many ridge units wide
+    (:func:`~illuknit.outputs.hand_pattern.with_border`: 4 stitches and 4 rows more a unit);
+    the sizes, chart and written rows all include it."""
     if page not in PAGE_SIZES:
         raise ValueError(f"`page` must be one of {', '.join(PAGE_SIZES)}, got {page!r}")
     if chart not in CHART_KINDS:
         raise OptionError(f"`chart` must be one of {', '.join(CHART_KINDS)}, got {chart!r}")
-    doc = _Document(pattern, gauge, title, page, chart)
+    doc = _Document(with_border(pattern, border), gauge, title, page, chart)
+    doc.border = border
     _cover(doc, angle)
     _materials(doc)
+    _schematic(doc)
     _chart_pages(doc)
     _written_rows(doc)
     return bytes(doc.pdf.output())
@@ -128,14 +137,15 @@ def write_pattern_pdf(
     title: str = "illuknit illusion pattern",
     page: str = "A4",
     chart: str = "units",
+    border: int = 0,
 ) -> dict[str, Path]:
-    """Write ``pattern.pdf`` (its chart a square a unit or a stitch, :data:`CHART_KINDS`) and
-    ``chart.svg`` (a square a stitch) into ``outdir``; name -> path."""
+    """Write ``pattern.pdf`` and ``chart.svg``, their chart a square a unit or a stitch
+    (:data:`CHART_KINDS`), both with the garter ``border`` (ridge units) when one is asked
+    for, into ``outdir``; name -> path."""
     out = Path(outdir)
-    pdf = pattern_pdf(pattern, gauge=gauge, title=title, page=page, chart=chart)
+    pdf = pattern_pdf(pattern, gauge=gauge, title=title, page=page, chart=chart, border=border)
+    svg = chart_svg(with_border(pattern, border), unit_aspect=gauge.unit_aspect, chart=chart)
     return {
         "pattern_pdf": atomic_write_bytes(out / "pattern.pdf", pdf),
-        "chart_svg": atomic_write_text(
-            out / "chart.svg", chart_svg(pattern, unit_aspect=gauge.unit_aspect)
-        ),
+        "chart_svg": atomic_write_text(out / "chart.svg", svg),
     }

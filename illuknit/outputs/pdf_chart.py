@@ -1,6 +1,6 @@
 """The pattern PDF's chart: tiled over pages (:func:`chart_tiles`) with a page map, each page
 with its overlap, numbers and section markers; and the whole chart as one SVG
-(:func:`chart_svg`, a square a stitch).
+(:func:`chart_svg`, a square a unit or a stitch, as the PDF's).
 """
 
 from __future__ import annotations
@@ -10,7 +10,6 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from illuknit.core.colors import luminance
 from illuknit.core.pattern import LogicalPattern
 from illuknit.outputs.chart import hand_rows, ink_on
 from illuknit.outputs.pdf_document import CELL_MM, LABEL_MM, MARGIN_MM, PAGE_SIZES, _Document
@@ -299,79 +298,129 @@ def _chart_numbers(doc: _Document, g: _Grid) -> None:
 
 
 def chart_svg(
-    pattern: LogicalPattern, *, cell: float = 10.0, unit_aspect: float | None = None
+    pattern: LogicalPattern,
+    *,
+    cell: float = 10.0,
+    unit_aspect: float | None = None,
+    chart: str = "units",
 ) -> str:
-    """The whole chart as SVG: a cell per stitch (runs of one yarn merged), purl dots, stitch
-    numbers from the right along the top and bottom, row numbers (RS right, WS left), bold lines
-    every 10 stitches and rows. Cells are ``cell`` wide and ``unit_aspect`` as tall (the fabric's
-    proportions; default the default machine's gauge)."""
+    """The whole chart as SVG, as the PDF draws it: ``chart`` "units" (default) a square a unit
+    (2 stitches x 2 rows, dotted where it is a ridge; a square whose WS row is in another yarn
+    has its top half in that yarn) or "stitches" a square a stitch (dotted where it shows as a
+    purl on the RS). Runs of one yarn merged; the thin grid, each run's outline and the dots in
+    the ink that contrasts with the run's yarn (:func:`~illuknit.outputs.chart.ink_on`); bold
+    lines every 10 stitches and rows, black on a white halo; stitch numbers from the right along
+    the top and bottom, row numbers (RS right, WS left). Squares are ``cell`` wide and
+    ``unit_aspect`` as tall (the fabric's proportions; default the default machine's gauge)."""
     if unit_aspect is None:
         from illuknit.core.machine import DEFAULT_MACHINE
 
         unit_aspect = DEFAULT_MACHINE.fabric_gauge.unit_aspect
-    yarn, _, purl = _grids(pattern)
+    yarn, upper, dots = _grids(pattern, chart)
     H, W = yarn.shape
-    pad, rh = 3 * cell, cell * unit_aspect
-    width, height = W * cell + 2 * pad, H * rh + 2 * pad
+    g = _SvgGrid(W, H, cell, cell * unit_aspect, 2 if chart == "units" else 1)
+    width, height = W * cell + 2 * g.pad, H * g.rh + 2 * g.pad
     out = [
         f'<svg xmlns="http://www.w3.org/2000/svg" width="{width:g}" height="{height:g}" '
         f'viewBox="0 0 {width:g} {height:g}" font-family="Helvetica, Arial, sans-serif" '
         f'font-size="{cell * 0.6:g}">',
         '<rect width="100%" height="100%" fill="white"/>',
     ]
-    dark = luminance(pattern.palette) <= 0.35
-
-    def x_of(s: int) -> float:  # left edge of stitch s (1 = right edge)
-        return pad + (W - s) * cell
-
-    def y_of(r: int) -> float:  # top edge of row r (1 = bottom)
-        return pad + (H - r) * rh
-
+    rgbs = [tuple(int(v) for v in y.rgb) for y in pattern.yarns]
+    inks = ["#000" if ink_on(rgb) == (0, 0, 0) else "#fff" for rgb in rgbs]
     for r in range(1, H + 1):
-        s = 1
-        row = yarn[r - 1]
-        while s <= W:
-            e = s
-            while e < W and row[e] == row[s - 1]:
-                e += 1
-            fill = pattern.yarns[int(row[s - 1])].hex
-            out.append(
-                f'<rect x="{x_of(e):g}" y="{y_of(r):g}" width="{(e - s + 1) * cell:g}" '
-                f'height="{rh:g}" fill="{fill}"/>'
-            )
-            s = e + 1
-        for dot in (np.flatnonzero(purl[r - 1]) + 1).tolist():
-            col = "#ebebeb" if dark[int(row[dot - 1])] else "#141414"
-            out.append(
-                f'<circle cx="{x_of(dot) + cell / 2:g}" cy="{y_of(r) + rh / 2:g}" '
-                f'r="{min(cell, rh) * 0.18:g}" fill="{col}"/>'
-            )
-    for s in range(0, W + 1):
-        x = pad + (W - s) * cell
-        wide = s % 10 == 0
-        out.append(
-            f'<line x1="{x:g}" y1="{pad:g}" x2="{x:g}" y2="{pad + H * rh:g}" '
-            f'stroke="{"#000" if wide else "#888"}" stroke-width="{1.5 if wide else 0.3}"/>'
-        )
-    for r in range(0, H + 1):
-        y = pad + (H - r) * rh
-        wide = r % 10 == 0
-        out.append(
-            f'<line x1="{pad:g}" y1="{y:g}" x2="{pad + W * cell:g}" y2="{y:g}" '
-            f'stroke="{"#000" if wide else "#888"}" stroke-width="{1.5 if wide else 0.3}"/>'
-        )
-    for s in range(1, W + 1):
-        if s == 1 or s % 5 == 0:
-            x = x_of(s) + cell / 2
-            out.append(f'<text x="{x:g}" y="{pad - cell * 0.4:g}" text-anchor="middle">{s}</text>')
-            out.append(
-                f'<text x="{x:g}" y="{pad + H * rh + cell:g}" text-anchor="middle">{s}</text>'
-            )
-    for r in range(1, H + 1):
-        y = y_of(r) + rh * 0.8
-        if r % 2:
-            out.append(f'<text x="{pad + W * cell + cell * 0.3:g}" y="{y:g}">{r}</text>')
-        else:
-            out.append(f'<text x="{pad - cell * 0.3:g}" y="{y:g}" text-anchor="end">{r}</text>')
+        out += _svg_row(pattern, g, r, (yarn[r - 1], upper[r - 1], dots[r - 1]), inks)
+    out += _svg_lines_and_numbers(g)
     out.append("</svg>")
     return "\n".join(out) + "\n"
+
+
+@dataclass(frozen=True)
+class _SvgGrid:
+    """chart.svg's geometry: ``W`` x ``H`` squares of ``cell`` x ``rh``, ``per`` stitches (and
+    rows) a square, stitch 1 at the right and row 1 at the bottom."""
+
+    W: int
+    H: int
+    cell: float
+    rh: float
+    per: int
+
+    @property
+    def pad(self) -> float:
+        return 3 * self.cell
+
+    def x(self, s: int) -> float:  # left edge of square s (1 = right edge)
+        return self.pad + (self.W - s) * self.cell
+
+    def y(self, r: int) -> float:  # top edge of row r (1 = bottom)
+        return self.pad + (self.H - r) * self.rh
+
+
+def _svg_row(
+    pattern: LogicalPattern,
+    g: _SvgGrid,
+    r: int,
+    row: tuple[NDArray[np.int16], NDArray[np.int16], NDArray[np.bool_]],
+    inks: list[str],
+) -> list[str]:
+    """One chart row: its runs filled and outlined (thin lines between squares) in their ink,
+    then its dots."""
+    yarn, upper, dots = row
+    out, s, y = [], 1, g.y(r)
+    while s <= g.W:
+        key = (int(yarn[s - 1]), int(upper[s - 1]))
+        e = s
+        while e < g.W and (int(yarn[e]), int(upper[e])) == key:
+            e += 1
+        x, w = g.x(e), (e - s + 1) * g.cell
+        out.append(
+            f'<rect x="{x:g}" y="{y:g}" width="{w:g}" height="{g.rh:g}" '
+            f'fill="{pattern.yarns[key[0]].hex}"/>'
+        )
+        if key[1] != key[0]:  # the WS row in another yarn: the top half
+            out.append(
+                f'<rect class="ws" x="{x:g}" y="{y:g}" width="{w:g}" height="{g.rh / 2:g}" '
+                f'fill="{pattern.yarns[key[1]].hex}"/>'
+            )
+        ink = inks[key[0]]
+        path = f"M{x:g} {y:g}h{w:g}v{g.rh:g}h{-w:g}z" + "".join(
+            f"M{x + k * g.cell:g} {y:g}v{g.rh:g}" for k in range(1, e - s + 1)
+        )
+        out.append(f'<path d="{path}" fill="none" stroke="{ink}" stroke-width="0.3"/>')
+        s = e + 1
+    for dot in (np.flatnonzero(dots) + 1).tolist():
+        out.append(
+            f'<circle cx="{g.x(dot) + g.cell / 2:g}" cy="{y + g.rh / 2:g}" '
+            f'r="{min(g.cell, g.rh) * 0.18:g}" fill="{inks[int(yarn[dot - 1])]}"/>'
+        )
+    return out
+
+
+def _svg_lines_and_numbers(g: _SvgGrid) -> list[str]:
+    """Bold lines every 10 stitches and rows and the frame, black on a white halo; stitch
+    numbers along the top and bottom and row numbers (RS at the right, WS at the left)."""
+    every = 10 // g.per
+    left, right, top, bottom = g.pad, g.pad + g.W * g.cell, g.pad, g.pad + g.H * g.rh
+    d = "".join(f"M{g.x(s) + g.cell:g} {top:g}V{bottom:g}" for s in range(every, g.W, every))
+    d += "".join(f"M{left:g} {g.y(r):g}H{right:g}" for r in range(every, g.H, every))
+    d += f"M{left:g} {top:g}H{right:g}V{bottom:g}H{left:g}z"
+    out = [
+        f'<path d="{d}" fill="none" stroke="{colour}" stroke-width="{width}"/>'
+        for colour, width in (("#fff", 2.5), ("#000", 1.2))
+    ]
+    for s in range(1, g.W + 1):
+        if s == 1 or s % 5 == 0:
+            label, x = g.per * (s - 1) + 1 if s == 1 else g.per * s, g.x(s) + g.cell / 2
+            for y in (top - g.cell * 0.4, bottom + g.cell):
+                out.append(f'<text x="{x:g}" y="{y:g}" text-anchor="middle">{label}</text>')
+    for r in range(1, g.H + 1):
+        for row in range(g.per * (r - 1) + 1, g.per * r + 1):
+            y = g.y(r) + g.rh * (0.8 if g.per == 1 else (0.55 if row % 2 else 0.95))
+            if row % 2:
+                out.append(f'<text x="{right + g.cell * 0.3:g}" y="{y:g}">{row}</text>')
+            else:
+                out.append(
+                    f'<text x="{left - g.cell * 0.3:g}" y="{y:g}" text-anchor="end">{row}</text>'
+                )
+    return out

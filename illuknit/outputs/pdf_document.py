@@ -136,6 +136,8 @@ class _Document:
 
         self.pattern, self.gauge, self.title, self.page = pattern, gauge, title, page
         self.chart = chart
+        #: the garter border's width in ridge units (0: none), already in ``pattern``
+        self.border = 0
         #: stitches (and rows) per chart square
         self.per = 2 if chart == "units" else 1
         n, m = pattern.shape

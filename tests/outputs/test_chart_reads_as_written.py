@@ -25,9 +25,11 @@ from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 from PIL import Image
 
+from illuknit.core.errors import IlluknitError
 from illuknit.core.gauge import parse_gauge
 from illuknit.core.pattern import LogicalPattern, parse_yarns
 from illuknit.outputs.chart import chart_png_rgb, written_instructions
+from illuknit.outputs.hand_pattern import with_border
 from illuknit.outputs.pattern_pdf import chart_svg, pattern_pdf
 
 YARNS = parse_yarns("Red=#d7191c,Teal=#2b83ba,Gold=#fdae61")
@@ -194,7 +196,7 @@ def test_the_pattern_folder_s_chart_and_instructions_agree(tmp_path):
 
 def svg_stitches(pattern: LogicalPattern, *, cell: float = 10.0) -> Stitches:
     """Every stitch as chart.svg draws it: the run rectangle over it and the dots on it."""
-    svg = chart_svg(pattern, cell=cell, unit_aspect=1.0)
+    svg = chart_svg(pattern, cell=cell, unit_aspect=1.0, chart="stitches")
     n, m = pattern.shape
     rows, width, pad = 2 * n, 2 * m, 3 * cell
     hexes = [y.hex.lower() for y in pattern.yarns]
@@ -219,15 +221,49 @@ def test_chart_svg_shows_every_stitch_as_written(name):
     assert svg_stitches(pattern) == written_stitches(pattern)
 
 
+@pytest.mark.parametrize("name", sorted(PATTERNS))
+def test_the_default_chart_svg_shows_every_unit_as_written(name):
+    """chart.svg's default, a square a unit as the PDF draws it: the square in the yarn of its
+    RS row, its top half (class "ws") in the yarn of its WS row when that differs, dotted
+    where the WS row is knit (a ridge); read back against the written rows."""
+    pattern, cell = PATTERNS[name], 10.0
+    svg = chart_svg(pattern, cell=cell, unit_aspect=1.0)
+    written = written_stitches(pattern)
+    n, m = pattern.shape
+    hexes = [y.hex.lower() for y in pattern.yarns]
+    rs: dict[tuple[int, int], int] = {}
+    ws: dict[tuple[int, int], int] = {}
+    for cls, x, y, w, fill in re.findall(
+        r'<rect (class="ws" )?x="([\d.]+)" y="([\d.]+)" width="([\d.]+)" height="[\d.]+" '
+        r'fill="(#\w+)"/>',
+        svg,
+    ):
+        u = n - int((float(y) - 3 * cell) // cell)
+        last = m - round((float(x) - 3 * cell) / cell)
+        for v in range(last - round(float(w) / cell) + 1, last + 1):
+            (ws if cls else rs)[u, v] = hexes.index(fill.lower())
+    dotted = {
+        (n - int((float(cy) - 3 * cell) // cell), m - int((float(cx) - 3 * cell) // cell))
+        for cx, cy in re.findall(r'<circle cx="([\d.]+)" cy="([\d.]+)"', svg)
+    }
+    for u in range(1, n + 1):
+        for v in range(1, m + 1):
+            (rs_yarn, _), (ws_yarn, ridge) = written[2 * u - 1, 2 * v], written[2 * u, 2 * v]
+            assert rs[u, v] == rs_yarn and ws.get((u, v), rs_yarn) == ws_yarn, (u, v)
+            assert ((u, v) in dotted) == ridge, (u, v)
+
+
 # -- the chart pages of pattern.pdf ----------------------------------------------------------
 
 
-def _chart_page_picture(pattern: LogicalPattern, chart: str, tmp_path: Path) -> np.ndarray:
+def _chart_page_picture(
+    pattern: LogicalPattern, chart: str, tmp_path: Path, border: int = 0
+) -> np.ndarray:
     """The first chart page of pattern.pdf, rendered at 150 dpi."""
     pypdf = pytest.importorskip("pypdf", reason="the test extra (pypdf) is not installed")
     if shutil.which("pdftoppm") is None:
         pytest.skip("pdftoppm (poppler-utils) is not installed")
-    data = pattern_pdf(pattern, gauge=parse_gauge("20x20/10cm"), chart=chart)
+    data = pattern_pdf(pattern, gauge=parse_gauge("20x20/10cm"), chart=chart, border=border)
     pages = [p.extract_text() for p in pypdf.PdfReader(io.BytesIO(data)).pages]
     number = next(i for i, text in enumerate(pages) if "Chart page 1 of 1" in text) + 1
     (tmp_path / "p.pdf").write_bytes(data)
@@ -253,10 +289,10 @@ def _squares(img: np.ndarray, pattern: LogicalPattern, rows: int, cols: int):
     return at
 
 
-def pdf_stitches(pattern: LogicalPattern, tmp_path: Path) -> Stitches:
+def pdf_stitches(pattern: LogicalPattern, tmp_path: Path, border: int = 0) -> Stitches:
     """Every stitch as the PDF's chart (a square a stitch) draws it."""
-    img = _chart_page_picture(pattern, "stitches", tmp_path)
-    n, m = pattern.shape
+    img = _chart_page_picture(pattern, "stitches", tmp_path, border)
+    n, m = with_border(pattern, border).shape
     at = _squares(img, pattern, 2 * n, 2 * m)
     found: Stitches = {}
     for r in range(1, 2 * n + 1):
@@ -290,3 +326,37 @@ def test_the_pdf_chart_of_units_shows_every_unit_as_written(name, tmp_path):
             assert _nearest_yarn(pattern, at(u, v, (0.85, 0.15))) == rs_yarn, (u, v)
             assert _nearest_yarn(pattern, at(u, v, (0.15, 0.15))) == ws_yarn, (u, v)
             assert _is_dot(pattern, at(u, v, (0.5, 0.5)), rs_yarn) == ridge, (u, v)
+
+
+# -- the garter border (pattern_pdf(border=...)) ---------------------------------------------
+
+
+@pytest.mark.parametrize("name", sorted(PATTERNS))
+def test_the_border_is_written_and_charted_alike(name, tmp_path):
+    """With a border of 1 ridge unit the PDF's written rows, read back from its text, are the
+    design's stitches framed by 2 garter stitches at each side and 2 garter rows at the cast-on
+    and bind-off edges (4 stitches and 4 rows more), and its chart shows exactly those."""
+    pypdf = pytest.importorskip("pypdf", reason="the test extra (pypdf) is not installed")
+    pattern = PATTERNS[name]
+    n, m = pattern.shape
+    data = pattern_pdf(pattern, gauge=parse_gauge("20x20/10cm"), chart="stitches", border=1)
+    text = "\n".join(p.extract_text() for p in pypdf.PdfReader(io.BytesIO(data)).pages)
+    framed = with_border(pattern, 1)
+    assert framed.shape == (n + 2, m + 2)
+    written = written_stitches(framed, text)
+    assert written == written_stitches(framed)  # as instructions.txt writes the framed rows
+    for (r, s), stitch in written_stitches(pattern).items():
+        assert written[r + 2, s + 2] == stitch, (r, s)  # the design, untouched, inside
+    for (r, s), (_, purl_on_rs) in written.items():
+        if not (2 < r <= 2 * n + 2 and 2 < s <= 2 * m + 2):  # the border: knit every row
+            assert purl_on_rs == (r % 2 == 0), (r, s)
+    flat = " ".join(text.split())
+    assert f"CO {2 * m + 4} sts" in flat and "It adds 4 stitches and 4 rows" in flat
+    assert pdf_stitches(pattern, tmp_path, border=1) == written
+
+
+def test_no_border_leaves_the_written_rows_as_they_were():
+    pattern = PATTERNS["asymmetric"]
+    assert with_border(pattern, 0) is pattern
+    with pytest.raises(IlluknitError, match="`border`"):
+        with_border(pattern, -1)

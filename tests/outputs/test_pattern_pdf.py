@@ -187,13 +187,36 @@ def test_a_240_stitch_chart_is_tiled_over_printable_pages(tmp_path: Path) -> Non
 
 def test_chart_svg_has_every_stitch() -> None:
     pattern = small_pattern((3, 7), k=3)
-    svg = chart_svg(pattern, cell=10)
-    root = ET.fromstring(svg)
     ns = "{http://www.w3.org/2000/svg}"
-    rects = [r for r in root.iter(f"{ns}rect") if r.get("width") != "100%"]
-    assert sum(float(r.get("width")) for r in rects) == pytest.approx(6 * 14 * 10)
-    dots = list(root.iter(f"{ns}circle"))
-    assert len(dots) == 2 * int(pattern.raised.sum())  # each raised unit: 2 purls on the WS row
+    for chart, squares, dotted in (
+        ("stitches", 6 * 14, 2 * int(pattern.raised.sum())),  # a raised unit: 2 purls on RS
+        ("units", 3 * 7, int(pattern.raised.sum())),  # the default: a square a ridge
+    ):
+        root = ET.fromstring(chart_svg(pattern, cell=10, chart=chart))
+        rects = [r for r in root.iter(f"{ns}rect") if r.get("width") != "100%"]
+        rects = [r for r in rects if r.get("class") != "ws"]
+        assert sum(float(r.get("width")) for r in rects) == pytest.approx(squares * 10), chart
+        assert len(list(root.iter(f"{ns}circle"))) == dotted, chart
+    assert chart_svg(pattern) == chart_svg(pattern, chart="units")
+
+
+def test_chart_svg_inks_contrast_with_every_yarn() -> None:
+    """Issue 37 item 3 for chart.svg: no grey grid lines; a run's grid and dots are black on a
+    light or mid-grey yarn and white on a dark one, the bold lines black on a white halo."""
+    shape = (4, 6)
+    rng = np.random.default_rng(0)
+    yarns = parse_yarns("#808080,#1b1b1b")
+    pattern = LogicalPattern(rng.integers(0, 2, shape), np.ones(shape, bool), yarns)
+    svg = chart_svg(pattern)
+    assert "#888" not in svg
+    for fill, ink in (("#808080", "#000"), ("#1b1b1b", "#fff")):
+        runs = re.findall(rf'fill="{fill}"/>\n<path d="[^"]+" fill="none" stroke="([^"]+)"', svg)
+        assert runs and set(runs) == {ink}, fill
+    assert re.search(
+        r'stroke="#fff" stroke-width="2.5"/>\n<path d="[^"]+" fill="none" '
+        r'stroke="#000" stroke-width="1.2"',
+        svg,
+    )
 
 
 def test_yarn_names_outside_latin1_are_written_as_they_are() -> None:
