@@ -30,14 +30,14 @@ __all__ = ["component_models", "solve_split"]
 
 def _clause_model(name: str, hard: list[list[int]], soft: list[list[int]], weights: list[int],
                   nv: int) -> Model:  # fmt: skip
-    from illuknit.bench.wcnf_files import _add_grouped
+    from illuknit.bench.wcnf_files import add_clause_groups
 
     model = Model(name)
     model.pool.block("x", (max(nv, 1),))
     if hard:
-        _add_grouped(model, hard, None)
+        add_clause_groups(model, hard, None)
     if soft:
-        _add_grouped(model, soft, weights)
+        add_clause_groups(model, soft, weights)
     return model
 
 
