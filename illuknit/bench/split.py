@@ -21,7 +21,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from illuknit.bench.certify import _Flat
+from illuknit.bench.certify import FlatFormula
 from illuknit.solvers.base import ProgressEvent, Status
 from illuknit.solvers.model import Model
 
@@ -46,7 +46,7 @@ def component_models(model: Model) -> tuple[list[tuple[Model, NDArray[np.int64]]
     its variables 1..k), the weight of empty soft clauses, whether an empty hard clause makes
     the formula unsatisfiable)."""
     cs = model.to_clauses()
-    flat = _Flat(cs.hard, cs.soft, cs.weights)
+    flat = FlatFormula(cs.hard, cs.soft, cs.weights)
     constant = int(flat.weight[(flat.length == 0) & (flat.weight > 0)].sum())
     unsat = bool(np.any(flat.length[: flat.n_hard] == 0))
     keep = np.flatnonzero(flat.length > 0)
