@@ -273,7 +273,15 @@ class SearchOptions:
     @property
     def solve_seconds(self) -> float | None:
         """Deprecated spelling of :attr:`time_limit` (one name for a solve's time limit, as
-        :class:`SolveOptions` and :func:`~illuknit.design.tiles.assign.assign_tiles` spell it)."""
+        :class:`SolveOptions` and :func:`~illuknit.design.tiles.assign.assign_tiles` spell it);
+        reading it warns (:class:`DeprecationWarning`), for one release."""
+        import warnings
+
+        warnings.warn(
+            "`SearchOptions.solve_seconds` is deprecated; read `time_limit`",
+            DeprecationWarning,
+            stacklevel=2,
+        )
         return self.time_limit
 
     def assign_kwargs(self) -> dict[str, Any]:
