@@ -49,11 +49,11 @@ def add_clause_groups(model: Model, clauses: list[list[int]], weights: list[int]
     for i, c in enumerate(clauses):
         by_len[len(c)].append(i)
     for length, idx in by_len.items():
-        if length == 0 and weights is None:
-            model.add_hard_block(np.zeros((len(idx), 1), dtype=np.int64), family="hard")
+        if length == 0 and weights is not None:
+            model.offset += int(np.asarray([weights[i] for i in idx], dtype=np.int64).sum())
             continue
         if length == 0:
-            model.offset += sum(int(weights[i]) for i in idx)
+            model.add_hard_block(np.zeros((len(idx), 1), dtype=np.int64), family="hard")
             continue
         block = np.asarray([clauses[i] for i in idx], dtype=np.int64)
         if weights is None:
