@@ -232,6 +232,7 @@ def valid_calls(tmp: Path) -> Calls:
         "LogicalPattern": ((p.yarn, p.raised, yarns), {}),
         "Yarn": (("navy", (0, 0, 128)), {}),
         "QuantisedImage": ((q.indices, q.yarns, q.colors), {}),
+        "PictureOptions": ((), {"width": 20}),
         "SearchOptions": ((), {}),
         "RankOptions": ((), {}),
         "SolveOptions": ((), {}),

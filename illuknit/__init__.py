@@ -66,6 +66,7 @@ _API: dict[str, str] = {
     "SingleDesign": "illuknit.pipeline.designs",
     "TileDesign": "illuknit.pipeline.designs",
     "SolvedDesign": "illuknit.pipeline.designs",
+    "PictureOptions": "illuknit.pipeline.inputs",
     "SearchOptions": "illuknit.design.options",
     "RankOptions": "illuknit.design.options",
     "SolveOptions": "illuknit.design.options",

@@ -47,6 +47,7 @@ from illuknit.solvers.model import Model
 __all__ = [
     "ENGINES",
     "Certificate",
+    "FlatFormula",
     "certify_claim",
     "certify_rows",
     "certifying_engine",
@@ -100,7 +101,7 @@ def certifying_engine(solver: str) -> str | None:
     return engine if importlib.util.find_spec(module) is not None else None
 
 
-class _Flat:
+class FlatFormula:
     """The formula as flat arrays (hard clauses, then soft ones): every literal in ``lits``,
     clause ``i`` is ``lits[start[i]:start[i] + length[i]]``; ``weight`` is 0 for a hard clause."""
 
@@ -174,9 +175,9 @@ def formula_components(
     hard: list[list[int]], soft: list[list[int]]
 ) -> list[tuple[list[int], list[int]]]:
     """(hard clause indices, soft clause indices) of each component of the formula: the
-    clauses whose variables are joined through shared clauses (see :meth:`_Flat.labels`). An
+    clauses whose variables are joined through shared clauses (see :meth:`FlatFormula.labels`). An
     empty clause is a component of its own."""
-    flat = _Flat(hard, soft, [1] * len(soft))
+    flat = FlatFormula(hard, soft, [1] * len(soft))
     label = flat.labels()
     order = np.argsort(label, kind="stable")
     cuts = np.flatnonzero(np.diff(label[order])) + 1
@@ -264,7 +265,7 @@ def solve_component(
 ) -> tuple[str, int | None, dict[int, bool]]:
     """Solve one component exactly with ``engine``: (``optimal``/``infeasible``/``unknown``,
     its optimum, the values of its variables)."""
-    flat = _Flat(hard, soft, weights)
+    flat = FlatFormula(hard, soft, weights)
     h, s, w, ids = flat.component(np.arange(flat.length.size))
     status, opt, vals = _solve_local(engine, h, s, w, seconds)
     return status, opt, {int(ids[k - 1]): b for k, b in vals.items() if 0 < k <= ids.size}
@@ -287,7 +288,7 @@ def _check(
     """In the child: every component solved exactly (see the module docstring); plain data."""
     end = time.monotonic() + seconds
     cs = model.to_clauses()
-    flat = _Flat(cs.hard, cs.soft, cs.weights)
+    flat = FlatFormula(cs.hard, cs.soft, cs.weights)
     label = flat.labels()
     order = np.argsort(label, kind="stable")
     comps = np.split(order, np.flatnonzero(np.diff(label[order])) + 1)

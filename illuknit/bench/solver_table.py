@@ -314,7 +314,7 @@ def bench_environment(
     limits = sorted({t.time_limit for t in tasks})
     memories = sorted({t.memory_mb for t in tasks if t.memory_mb is not None})
     software: dict[str, str] = {"python": platform.python_version()}
-    for dist in ("illuknit", "python-sat", "ortools", "hermax", "numpy", "pindakaas", "psutil"):
+    for dist in ("illuknit", "python-sat", "ortools", "hermax", "numpy", "psutil"):
         try:
             software[dist] = version(dist)
         except PackageNotFoundError:

@@ -21,7 +21,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from illuknit.bench.certify import _Flat
+from illuknit.bench.certify import FlatFormula
 from illuknit.solvers.base import ProgressEvent, Status
 from illuknit.solvers.model import Model
 
@@ -30,14 +30,14 @@ __all__ = ["component_models", "solve_split"]
 
 def _clause_model(name: str, hard: list[list[int]], soft: list[list[int]], weights: list[int],
                   nv: int) -> Model:  # fmt: skip
-    from illuknit.bench.wcnf_files import _add_grouped
+    from illuknit.bench.wcnf_files import add_clause_groups
 
     model = Model(name)
     model.pool.block("x", (max(nv, 1),))
     if hard:
-        _add_grouped(model, hard, None)
+        add_clause_groups(model, hard, None)
     if soft:
-        _add_grouped(model, soft, weights)
+        add_clause_groups(model, soft, weights)
     return model
 
 
@@ -46,7 +46,7 @@ def component_models(model: Model) -> tuple[list[tuple[Model, NDArray[np.int64]]
     its variables 1..k), the weight of empty soft clauses, whether an empty hard clause makes
     the formula unsatisfiable)."""
     cs = model.to_clauses()
-    flat = _Flat(cs.hard, cs.soft, cs.weights)
+    flat = FlatFormula(cs.hard, cs.soft, cs.weights)
     constant = int(flat.weight[(flat.length == 0) & (flat.weight > 0)].sum())
     unsat = bool(np.any(flat.length[: flat.n_hard] == 0))
     keep = np.flatnonzero(flat.length > 0)

@@ -3,7 +3,11 @@
 :func:`read_wcnf` parses both dialects of the MaxSAT Evaluation format into a
 :class:`~illuknit.solvers.model.Model` (variables ``("x", i)`` are ids 1..NV): the 2022+ one
 (``h <lits> 0`` hard, ``<weight> <lits> 0`` soft) and the older ``p wcnf NV NC TOP`` one (a clause
-weighted ``TOP`` is hard). :func:`export_wcnf_family` writes every bundled instance's models as
+weighted ``TOP`` is hard). An empty soft clause is, as the Evaluation's rules define the cost
+(the total weight of the soft clauses an assignment falsifies), falsified by every assignment:
+its weight is a constant added to every assignment's cost (the model's ``offset``, which every
+objective, bound and claimed cost the bench reports includes), never a hard clause.
+:func:`export_wcnf_family` writes every bundled instance's models as
 2022+ WCNF with a ``manifest.json`` (sizes, the known optimum where the DP proves one, how each
 file was made), so the family can be shared and run by other tools.
 """
@@ -24,6 +28,7 @@ from illuknit.core.files import atomic_write_text
 from illuknit.solvers.model import Model
 
 __all__ = [
+    "add_clause_groups",
     "export_wcnf_family",
     "model_entry",
     "read_wcnf",
@@ -32,12 +37,21 @@ __all__ = [
 ]
 
 
-def _add_grouped(model: Model, clauses: list[list[int]], weights: list[int] | None) -> None:
-    """Add clauses grouped by length (one block per length keeps the model compact)."""
+def add_clause_groups(model: Model, clauses: list[list[int]], weights: list[int] | None) -> None:
+    """Add ``clauses`` to ``model`` grouped by length (one block per length keeps the model
+    compact): hard clauses when ``weights`` is None, else soft ones weighted ``weights``.
+
+    An empty hard clause makes the model unsatisfiable; an empty soft clause is falsified by
+    every assignment, so its weight goes to ``model.offset`` (a constant cost), never to a hard
+    clause.
+    """
     by_len: dict[int, list[int]] = defaultdict(list)
     for i, c in enumerate(clauses):
         by_len[len(c)].append(i)
     for length, idx in by_len.items():
+        if length == 0 and weights is not None:
+            model.offset += int(np.asarray([weights[i] for i in idx], dtype=np.int64).sum())
+            continue
         if length == 0:
             model.add_hard_block(np.zeros((len(idx), 1), dtype=np.int64), family="hard")
             continue
@@ -49,7 +63,8 @@ def _add_grouped(model: Model, clauses: list[list[int]], weights: list[int] | No
 
 
 def read_wcnf(path: str | Path) -> Model:
-    """The WCNF file at ``path`` as a Model (see the module docstring).
+    """The WCNF file at ``path`` as a Model (see the module docstring; the weight of empty soft
+    clauses is the model's constant ``offset``).
 
     Raises
     ------
@@ -104,8 +119,8 @@ def _parse_wcnf(lines: Iterable[str], name: str, where: str) -> Model:
             weights.append(weight)
     model = Model(name)
     model.pool.block("x", (nv,))
-    _add_grouped(model, hard, None)
-    _add_grouped(model, soft, weights)
+    add_clause_groups(model, hard, None)
+    add_clause_groups(model, soft, weights)
     return model
 
 

@@ -126,6 +126,7 @@ def swatch(
     """Write swatch.json (the pattern), preview.png and measurements.csv (a template)."""
     from illuknit.core.files import atomic_write_text, staged_dir
     from illuknit.core.pattern import save_pattern
+    from illuknit.core.progress import work_bar
     from illuknit.design.render.calibrate import calibration_swatch, measurements_template
     from illuknit.design.render.params import RenderParams, load_params
     from illuknit.design.render.raycast import render_image
@@ -145,25 +146,27 @@ def swatch(
     if knitout:
         check_fits(spec, pattern.shape[1])
     s = 8
-    with staged_dir(outdir) as tmp:
+    steps = 4 if knitout else 3  # the two renders and the knitout are the slow parts
+    with work_bar("calibrate swatch") as report, staged_dir(outdir) as tmp:
         save_pattern(pattern, tmp / "swatch.json")
+        report(0.0, "rendering view A")
+        view_a = render_image(pattern, params.theta, params=params, scale=s)
+        report(1 / steps, "rendering view B")
+        view_b = render_image(pattern, -params.theta, params=params, scale=s)
+        report(2 / steps, "writing the preview and the measurements template")
         sheet = contact_sheet(
             [
                 ("head-on (raised marked)", chart_rgb(pattern, scale=s)),
-                (
-                    f"view A, {params.theta:g} deg",
-                    render_image(pattern, params.theta, params=params, scale=s),
-                ),
-                (
-                    f"view B, {params.theta:g} deg",
-                    render_image(pattern, -params.theta, params=params, scale=s),
-                ),
+                (f"view A, {params.theta:g} deg", view_a),
+                (f"view B, {params.theta:g} deg", view_b),
             ]
         )
         save_png(sheet, tmp / "preview.png")
         atomic_write_text(tmp / "measurements.csv", measurements_template(pattern, params=params))
         if knitout:
+            report(3 / steps, "compiling and checking the knitout program")
             write_program(pattern, tmp, machine=spec, tall_bumps=tall_bumps)
+        report(1.0, "done")
     click.echo(
         f"wrote {outdir}: swatch.json ({pattern.shape[0]} x {pattern.shape[1]} units), preview.png, measurements.csv"
     )

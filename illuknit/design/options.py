@@ -273,7 +273,15 @@ class SearchOptions:
     @property
     def solve_seconds(self) -> float | None:
         """Deprecated spelling of :attr:`time_limit` (one name for a solve's time limit, as
-        :class:`SolveOptions` and :func:`~illuknit.design.tiles.assign.assign_tiles` spell it)."""
+        :class:`SolveOptions` and :func:`~illuknit.design.tiles.assign.assign_tiles` spell it);
+        reading it warns (:class:`DeprecationWarning`), for one release."""
+        import warnings
+
+        warnings.warn(
+            "`SearchOptions.solve_seconds` is deprecated; read `time_limit`",
+            DeprecationWarning,
+            stacklevel=2,
+        )
         return self.time_limit
 
     def assign_kwargs(self) -> dict[str, Any]:
@@ -303,7 +311,7 @@ class RankOptions:
     overrides : mapping or sequence of pairs
         ``{(colour of A, colour of B): "ROWS"}``: the tile of an overlap pair, as knit.
     angle : float
-        The viewing angle (degrees of elevation, (0, 90)) the side views are rendered and
+        The viewing angle (degrees of elevation, [3, 90]) the side views are rendered and
         measured at.
     distance : float
         The viewing distance in metres: the measures see the renders through what a 20/20 eye
@@ -335,7 +343,11 @@ class RankOptions:
     angle: float = option(
         30.0,
         help="Viewing angle (degrees of elevation) the side views are judged and shown at.",
-        gt=0,
+        # the renderer draws a side view in the fabric's proportions by undoing its
+        # foreshortening (unit aspect / sin(angle)), which leaves its unit-aspect range
+        # (0.05..20) below asin(0.7 / 20) = 2.006 degrees at stocking stitch's 0.7; from 3
+        # degrees every gauge up to 1.05 (20 * sin 3 degrees) is drawn
+        ge=3,
         le=90,
         title="Measured at angle",
     )

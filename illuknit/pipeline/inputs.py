@@ -184,6 +184,22 @@ class PictureOptions:
     yarns: Sequence[Yarn] | int | None = None
     quantise: bool = True
 
+    def __post_init__(self) -> None:
+        # checked where they are made too (the fuzz of the exports), naming the field; each
+        # stage still refuses the fields it does not take
+        from illuknit.core.arguments import check_bool, check_int, check_number, check_unit_aspect
+
+        check_sizes(width=self.width, height=self.height, width_cm=self.width_cm, gauge=self.gauge)
+        if self.width_cm is not None:  # 1000 units at 1 stitch per inch are 5080 cm
+            check_number(self.width_cm, "width_cm", min=0, max=10_000, min_open=True)
+        check_bool(self.stretch, "stretch")
+        check_bool(self.quantise, "quantise")
+        if self.unit_aspect is not None:
+            check_unit_aspect(self.unit_aspect)
+        if self.n_colors is not None:
+            check_int(self.n_colors, "n_colors", min=1, max=8)
+        check_yarns(self.yarns, count_ok=True)
+
 
 def picture_options(
     pictures: PictureOptions | None, knobs: Mapping[str, Any], *, takes: Collection[str]
