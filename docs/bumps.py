@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from illuknit.core.pattern import LogicalPattern, Yarn
-from illuknit.knit.ir import OpKind, Pass, PassKind
+from illuknit.knit.ir import Opcode, Pass, PassKind
 from illuknit.knitting import knit_pattern
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -54,8 +54,8 @@ def _hex(rgb: tuple[int, int, int]) -> str:
 def _label(p: Pass) -> str:
     if p.kind is PassKind.XFER:
         return f"course {p.course}: transfer"
-    made = {o.op for o in p.ops if o.op is not OpKind.MISS}
-    what = "tuck" if made == {OpKind.TUCK} else "knit" if made else "move"
+    made = {o.op for o in p.ops if o.op is not Opcode.MISS}
+    what = "tuck" if made == {Opcode.TUCK} else "knit" if made else "move"
     return f"course {p.course}: {what}, carrier {' '.join(p.carriers)}"
 
 
@@ -90,7 +90,7 @@ def draw(split: bool) -> str:
                 continue
             x = LEFT + CELL * (o.needle - needles.start) + CELL / 2
             y = y0 + (10 if o.bed == "b" else 30)
-            if o.op is OpKind.XFER:
+            if o.op is Opcode.XFER:
                 y1 = y0 + (30 if o.bed == "b" else 10)
                 tip = y1 + (-4 if y1 > y else 4)
                 out.append(
@@ -99,11 +99,11 @@ def draw(split: bool) -> str:
                 )
                 continue
             fill = _hex(colour[p.carriers[0]])
-            if o.op is OpKind.KNIT:
+            if o.op is Opcode.KNIT:
                 out.append(
                     f'<circle cx="{x}" cy="{y}" r="6" fill="{fill}" stroke="#333" stroke-width="0.6"/>'
                 )
-            elif o.op is OpKind.TUCK:
+            elif o.op is Opcode.TUCK:
                 out.append(
                     f'<path d="M{x - 6},{y - 6} L{x},{y + 5} L{x + 6},{y - 6}" fill="none" '
                     f'stroke="{fill}" stroke-width="3"/>'

@@ -19,10 +19,10 @@ from __future__ import annotations
 
 import math
 import re
-from dataclasses import dataclass
 
 from illuknit.core.errors import KcodeError, KnitoutParseError
 from illuknit.core.machine_ranges import machine_value_problem
+from illuknit.formats.carriers import KNITERATE_CARRIERS, CarrierBook
 from illuknit.formats.kc_ir import (
     CARRIERS,
     SOFT,
@@ -34,7 +34,7 @@ from illuknit.formats.kc_ir import (
     pass_kind,
 )
 from illuknit.knitout.parse import KnitoutProgram, Needle, Operation, parse_knitout
-from illuknit.knitout.program import Bed
+from illuknit.knitout.program import Direction
 
 __all__ = ["read_kc_passes"]
 
@@ -43,15 +43,8 @@ _STITCH_NUMBER = re.compile(r"^[0-9A-Z]$")
 _POSITIONS = ("Left", "Right", "Keep", "Center")
 
 
-@dataclass
-class _Carrier:
-    last: tuple[Needle, str] | None = None  # where the yarn is attached
-    kick: tuple[Needle, str] | None = None  # where the carrier is parked
-    pending_in: tuple[str, ...] | None = None
-
-
-def _opposite(direction: str) -> str:
-    return "+" if direction == "-" else "-"
+#: a pass's direction ("" for transfers and drops) as the carrier bookkeeping names it
+_YARN = {"+": Direction.RIGHT, "-": Direction.LEFT, "": None}
 
 
 def read_kc_passes(program: KnitoutProgram | str) -> KcProgram:
@@ -142,7 +135,7 @@ class _PassReader:
 
     def __init__(self) -> None:
         self.passes: list[KcPass] = []
-        self.carriers: dict[str, _Carrier] = {}
+        self.carriers = CarrierBook(KNITERATE_CARRIERS)
         self.racking = 0.0
         self.stitch = "5"
         self.xfer_stitch = "3"
@@ -217,26 +210,22 @@ class _PassReader:
         if self.passes and not do_pause and not do_end and self.passes[-1].try_append(p):
             return
         (slot,) = p.slots
-        kicks: dict[int, list[str]] = {}
-        for c in p.carriers:
-            kick = self.carriers[c].kick
-            if self.carriers[c].last is None or kick is None:
-                continue  # being brought in: nothing to kick yet
-            kick_slot = self.slot(kick[0])
-            if kick[1] == p.direction:  # may have stopped anywhere beyond: always kick
-                kicks.setdefault(kick_slot, []).append(c)
-            elif (kick_slot > slot) if kick[1] == "-" else (kick_slot < slot):
-                kicks.setdefault(slot, []).append(c)
+        book = self.carriers
+        kicks = book.kicks_before(p.carriers, _YARN[p.direction], slot, math.floor(self.racking))
         if kicks:
-            back = _opposite(p.direction)
-            for s in sorted(kicks):
+            back = Direction.RIGHT if p.direction == "-" else Direction.LEFT
+            for s in book.kick_order(kicks):
                 kick_pass = self.new_pass(
-                    SOFT, tuple(kicks[s]), back, s, KcSlotOp.SOFT_MISS, roller=0
+                    SOFT,
+                    tuple(kicks[s]),
+                    back.value,
+                    s,
+                    KcSlotOp.SOFT_MISS,
+                    roller=self.kick_roller,
                 )
                 kick_pass.pause, do_pause = do_pause, False  # the backend drops its message
                 self.merge(kick_pass)
-                for c in kicks[s]:
-                    self.carriers[c].kick = (Needle(Bed.FRONT, s), back)
+                book.park(kicks[s], s, back)
         if do_pause:
             p.pause, p.pause_message = True, self.pause_message
         if kicks:
@@ -244,48 +233,43 @@ class _PassReader:
         else:
             self.passes.append(p)
 
+    @property
+    def kick_roller(self) -> float:
+        roller = self.carriers.policy.kick_roller
+        assert roller is not None  # the Kniterate's policy names it
+        return roller
+
     def kick_others(self, n: Needle, carriers: tuple[str, ...]) -> None:
         """Move every other live carrier whose yarn is attached across ``n`` out of its way."""
         if len(self.carriers) <= len(carriers):
             return  # no other carrier is in
-        needle_slot = self.slot(n)
-        for name in sorted(self.carriers, key=int):
-            state = self.carriers[name]
-            if name in carriers or state.last is None or state.kick is None:
-                continue
-            last_slot = self.slot(state.last[0])
-            left_of = last_slot + (-0.1 if state.last[1] == "-" else 0.1) < needle_slot
-            kick_slot = self.slot(state.kick[0])
-            direction = "-" if left_of else "+"
-            if state.kick[1] == direction and (
-                kick_slot <= needle_slot if left_of else kick_slot >= needle_slot
-            ):
-                continue
+        book, rack_floor = self.carriers, math.floor(self.racking)
+        for name, way, slot in book.in_the_way(self.slot(n), carriers, rack_floor):
             self.merge(
-                self.new_pass(SOFT, (name,), direction, last_slot, KcSlotOp.SOFT_MISS, roller=0)
+                self.new_pass(
+                    SOFT, (name,), way.value, slot, KcSlotOp.SOFT_MISS, roller=self.kick_roller
+                )
             )
-            state.kick = (Needle(Bed.FRONT, last_slot), direction)
+            book.park((name,), slot, way)
 
     def mark_in(self, carriers: tuple[str, ...], p: KcPass) -> None:
         """Mark ``p`` as bringing ``carriers`` in from the grippers if this is their first use."""
-        pending: tuple[str, ...] | None = None
+        pending: tuple[str, tuple[str, ...]] | None = None
         for c in carriers:
             if c not in self.carriers:
                 raise self.fail(f"carrier {c} is used but not brought in (`in {c}`)", carrier=c)
             if self.carriers[c].pending_in is not None:
                 pending, self.carriers[c].pending_in = self.carriers[c].pending_in, None
         if pending is not None:
-            if pending != carriers:
+            if pending[1] != carriers:
                 raise self.fail(
                     f"first use of carriers {' '.join(carriers)} does not match "
-                    f"`in {' '.join(pending)}`"
+                    f"`in {' '.join(pending[1])}`"
                 )
             p.gripper = "in"
 
     def set_last(self, carriers: tuple[str, ...], direction: str, n: Needle) -> None:
-        for c in carriers:
-            self.carriers[c].last = (n, direction)
-            self.carriers[c].kick = (n, direction)
+        self.carriers.set_last(carriers, _YARN[direction], n)
 
     # -- operations ----------------------------------------------------------------------------
     def apply(self, operation: Operation) -> None:
@@ -369,8 +353,7 @@ class _PassReader:
                 raise self.fail(f"carrier {c!r} is not one of 1-6", carrier=c)
             if c in self.carriers:
                 raise self.fail(f"carrier {c} is already in", carrier=c)
-        for c in carriers:
-            self.carriers[c] = _Carrier(pending_in=carriers)
+        self.carriers.bring_in("in", carriers)
 
     def take_out(self, carriers: tuple[str, ...]) -> None:
         for c in carriers:
@@ -464,7 +447,5 @@ class _PassReader:
         p.sizes.setdefault(self.slot(t), {})[t.bed] = size
         self.mark_in(carriers, p)
         self.merge(p)
-        for state in self.carriers.values():
-            if state.last is not None and state.last[0] == n:
-                state.last = (t, state.last[1])  # the loop the yarn holds moved to t
+        self.carriers.follow_loop(n, t)  # the loop the yarn holds moved to t
         self.set_last(carriers, direction, n)

@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 
 from illuknit.core.errors import MachineRuleError, UnsupportedKnitoutError
 from illuknit.core.machine_ranges import machine_value_problem
+from illuknit.formats.carriers import SWG_CARRIERS, CarrierBook
 from illuknit.formats.swg_ir import (
     CarriageDirection,
     Gripper,
@@ -25,12 +26,18 @@ from illuknit.formats.swg_ir import (
     pass_kind,
 )
 from illuknit.knitout.parse import KnitoutProgram, Needle
-from illuknit.knitout.program import Bed
+from illuknit.knitout.program import Direction
 
 __all__ = ["freeze_passes", "read_header"]
 
 _CARRIERS = tuple(str(i) for i in range(1, 11))
-_CARRIER_ORDER = {c: i for i, c in enumerate(_CARRIERS)}
+#: the carriage's direction as the carrier bookkeeping names it, and back
+_YARN = {
+    CarriageDirection.RIGHT: Direction.RIGHT,
+    CarriageDirection.LEFT: Direction.LEFT,
+    CarriageDirection.NONE: None,
+}
+_CARRIAGE = {Direction.RIGHT: CarriageDirection.RIGHT, Direction.LEFT: CarriageDirection.LEFT}
 _S = SlotOp
 # (front op, back op) -> the slot op doing both at quarter pitch
 _COMBINE: dict[tuple[SlotOp, SlotOp], SlotOp] = {
@@ -143,18 +150,9 @@ class _Draft:
 
 
 @dataclass(slots=True)
-class _Carrier:
-    name: str
-    pending_in: tuple[str, tuple[str, ...]] | None  # (op, carrier set) until first use
-    used_hook: bool
-    last: tuple[Needle, CarriageDirection] | None = None  # where the yarn is attached
-    kick: tuple[Needle, CarriageDirection] | None = None  # where the carrier is parked
-
-
-@dataclass(slots=True)
 class _Builder:
     passes: list[_Draft] = field(default_factory=list)
-    carriers: dict[str, _Carrier] = field(default_factory=dict)
+    carriers: CarrierBook = field(default_factory=lambda: CarrierBook(SWG_CARRIERS))
     hook: tuple[CarriageDirection, tuple[str, ...]] | None = None
     racking: float = 0.0
     rack_floor: int = 0
@@ -163,9 +161,6 @@ class _Builder:
     presser: str = "off"
     pause_pending: bool = False
     line: int = 0
-    # the live carriers in carrier order, kept for the carriers they were sorted from
-    _sorted_from: tuple[str, ...] = ()
-    _sorted: list[str] = field(default_factory=list)
 
     def error(self, message: str) -> MachineRuleError:
         return MachineRuleError(f"line {self.line}: {message}", line=self.line)
@@ -199,61 +194,27 @@ class _Builder:
         if self.passes and not do_pause and self.passes[-1].try_append(new):
             return
         (pass_slot,) = new.slots
-        kicks: dict[int, list[str]] = {}
-        for c in new.carriers:
-            car = self.carriers[c]
-            if car.last is None or car.kick is None:
-                continue  # being brought in: nothing to kick
-            kick_slot = self.slot(car.kick[0])
-            if car.kick[1] is new.direction:
-                kicks.setdefault(kick_slot, []).append(c)  # stopping distance unknown: kick
-            elif (new.direction is CarriageDirection.RIGHT and kick_slot > pass_slot) or (
-                new.direction is CarriageDirection.LEFT and kick_slot < pass_slot
-            ):
-                kicks.setdefault(pass_slot, []).append(c)
+        book = self.carriers
+        kicks = book.kicks_before(new.carriers, _YARN[new.direction], pass_slot, self.rack_floor)
         if not kicks:
             new.pause = new.pause or do_pause
             self.passes.append(new)
             return
         back = new.direction.opposite
-        for slot in _js_key_order(kicks):
+        for slot in book.kick_order(kicks):
             kick = self.draft(PassType.KNIT_TUCK, back, tuple(kicks[slot]), slot, SlotOp.SOFT_MISS)
             kick.pause, do_pause = do_pause, False
             self.merge(kick)
-            for c in kicks[slot]:
-                self.carriers[c].kick = (Needle(Bed.FRONT, slot), back)
+            book.park(kicks[slot], slot, _YARN[back])
         new.pause = new.pause or do_pause
         self.merge(new)
 
     def kick_others(self, n: Needle, cs: tuple[str, ...]) -> None:
         """Move every other live carrier attached on the far side of ``n`` out of its way."""
-        needle_slot = self.slot(n)
-        live = tuple(self.carriers)
-        if live != self._sorted_from:  # carriers came in or went out
-            self._sorted_from = live
-            self._sorted = sorted(live, key=_CARRIER_ORDER.__getitem__)
-        carriers, rack_floor = self.carriers, self.rack_floor
-        for name in self._sorted:
-            car = carriers[name]
-            if name in cs or car.last is None or car.kick is None:
-                continue
-            last = car.last[0]  # (self.slot inlined: this runs for every carrier at every op)
-            last_slot = last.index if last.bed[0] == "f" else last.index + rack_floor
-            # the yarn hangs just left (-) or right (+) of its last needle
-            left_of = last_slot < needle_slot or (
-                last_slot == needle_slot and car.last[1] is CarriageDirection.LEFT
-            )
-            kick_slot = self.slot(car.kick[0])
-            if left_of:
-                if car.kick[1] is CarriageDirection.LEFT and kick_slot <= needle_slot:
-                    continue
-                way = CarriageDirection.LEFT
-            else:
-                if car.kick[1] is CarriageDirection.RIGHT and kick_slot >= needle_slot:
-                    continue
-                way = CarriageDirection.RIGHT
-            self.merge(self.draft(PassType.KNIT_TUCK, way, (name,), last_slot, SlotOp.SOFT_MISS))
-            car.kick = (Needle(Bed.FRONT, last_slot), way)
+        for name, way, slot in self.carriers.in_the_way(self.slot(n), cs, self.rack_floor):
+            carriage = _CARRIAGE[way]
+            self.merge(self.draft(PassType.KNIT_TUCK, carriage, (name,), slot, SlotOp.SOFT_MISS))
+            self.carriers.park((name,), slot, way)
 
     def take_in(self, cs: tuple[str, ...], d: _Draft) -> None:
         """First use of carriers announced by ``in``/``inhook``: grippers (and hook) bring them."""
@@ -284,14 +245,7 @@ class _Builder:
             self.hook = (d.direction, cs)
 
     def set_last(self, cs: tuple[str, ...], d: CarriageDirection, n: Needle) -> None:
-        for c in cs:
-            self.carriers[c].last = (n, d)
-            self.carriers[c].kick = (n, d)
-
-
-def _js_key_order(slots: dict[int, list[str]]) -> list[int]:
-    """Kick order of the backend: non-negative slots ascending, then negative ones as added."""
-    return sorted(s for s in slots if s >= 0) + [s for s in slots if s < 0]
+        self.carriers.set_last(cs, _YARN[d], n)
 
 
 def read_header(program: KnitoutProgram) -> tuple[int, str]:

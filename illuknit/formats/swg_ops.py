@@ -7,7 +7,7 @@ import re
 from collections.abc import Callable
 
 from illuknit.core.errors import UnsupportedKnitoutError
-from illuknit.formats.swg_build import _Builder, _Carrier, _in_range
+from illuknit.formats.swg_build import _Builder, _in_range
 from illuknit.formats.swg_ir import CarriageDirection, Gripper, HookAction, PassType, SlotOp
 from illuknit.knitout.parse import Needle, Operation
 
@@ -45,8 +45,7 @@ def _bring_in(b: _Builder, op: Operation) -> None:
     for c in op.carriers:
         if c in b.carriers:
             raise b.error(f"cannot bring in carrier {c}: it is already active")
-    for c in op.carriers:
-        b.carriers[c] = _Carrier(c, (op.op, op.carriers), used_hook=op.op == "inhook")
+    b.carriers.bring_in(op.op, op.carriers)
 
 
 def _release_hook(b: _Builder, op: Operation) -> None:
@@ -169,10 +168,7 @@ def _transfer(b: _Builder, op: Operation) -> None:
         )
     b.take_in(cs, d)
     b.merge(d)
-    # a yarn attached to the moved loop is now attached where the loop went
-    for car in b.carriers.values():
-        if car.last is not None and car.last[0] == n:
-            car.last = (t, car.last[1])
+    b.carriers.follow_loop(n, t)  # a yarn attached to the moved loop went with it
     b.set_last(cs, direction, n)
 
 

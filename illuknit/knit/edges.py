@@ -18,7 +18,7 @@ from illuknit.knit.ir import (
     CarrierAction,
     Direction,
     Op,
-    OpKind,
+    Opcode,
     Pass,
     PassKind,
     Role,
@@ -67,7 +67,7 @@ def cast_on_steps(
     """
     down = list(needles)[::-1][0::2]
     up = sorted(set(needles) - set(down))
-    tucks1 = (*(Op(OpKind.TUCK, Bed.FRONT, n) for n in down), Op(OpKind.MISS, Bed.FRONT, left_end))
+    tucks1 = (*(Op(Opcode.TUCK, Bed.FRONT, n) for n in down), Op(Opcode.MISS, Bed.FRONT, left_end))
     steps: list[Step] = [
         CarrierAction(ActionKind.INHOOK, (carrier,)),
         Pass(
@@ -78,9 +78,9 @@ def cast_on_steps(
     if hook == "between":
         steps.append(release)
     if up:
-        tucks2 = tuple(Op(OpKind.TUCK, Bed.FRONT, n) for n in up)
+        tucks2 = tuple(Op(Opcode.TUCK, Bed.FRONT, n) for n in up)
         if right_end is not None:
-            tucks2 += (Op(OpKind.MISS, Bed.FRONT, right_end),)
+            tucks2 += (Op(Opcode.MISS, Bed.FRONT, right_end),)
         steps.append(
             Pass(
                 PassKind.KNIT,
@@ -118,9 +118,9 @@ def bind_off_steps(
     steps: list[Step] = []
     d: Direction = direction
     for n in order[:-1]:
-        chain = [Op(OpKind.KNIT, Bed.FRONT, n)]
+        chain = [Op(Opcode.KNIT, Bed.FRONT, n)]
         if d == direction:
-            chain.append(Op(OpKind.MISS, Bed.FRONT, n + 2 * shift))
+            chain.append(Op(Opcode.MISS, Bed.FRONT, n + 2 * shift))
         steps.append(
             Pass(
                 PassKind.KNIT, tuple(chain), d, (carrier,), 0.0, Role.BIND_OFF, None, stitch_number
@@ -129,14 +129,14 @@ def bind_off_steps(
         steps.append(
             Pass(
                 PassKind.XFER,
-                (Op(OpKind.XFER, Bed.FRONT, n, Bed.BACK, n),),
+                (Op(Opcode.XFER, Bed.FRONT, n, Bed.BACK, n),),
                 None,
                 (),
                 0.0,
                 Role.BIND_OFF,
             )
         )
-        move = (Op(OpKind.XFER, Bed.BACK, n, Bed.FRONT, n + shift),)
+        move = (Op(Opcode.XFER, Bed.BACK, n, Bed.FRONT, n + shift),)
         steps.append(Pass(PassKind.XFER, move, None, (), float(shift), Role.BIND_OFF))
         d = "-" if d == "+" else "+"
     last = order[-1]
@@ -144,7 +144,7 @@ def bind_off_steps(
         steps.append(
             Pass(
                 PassKind.KNIT,
-                (Op(OpKind.KNIT, Bed.FRONT, last),),
+                (Op(Opcode.KNIT, Bed.FRONT, last),),
                 d,
                 (carrier,),
                 0.0,
@@ -155,5 +155,5 @@ def bind_off_steps(
         )
         d = "-" if d == "+" else "+"
     steps.append(CarrierAction(ActionKind.OUTHOOK, (carrier,)))
-    steps.append(Pass(PassKind.DROP, (Op(OpKind.DROP, Bed.FRONT, last),), None, (), 0.0, Role.TAIL))
+    steps.append(Pass(PassKind.DROP, (Op(Opcode.DROP, Bed.FRONT, last),), None, (), 0.0, Role.TAIL))
     return steps

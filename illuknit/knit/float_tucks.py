@@ -35,7 +35,7 @@ from illuknit.knit.ir import (
     Bed,
     CarrierAction,
     Op,
-    OpKind,
+    Opcode,
     Pass,
     PassKind,
     Role,
@@ -198,7 +198,7 @@ def _apply(
                 out.append(
                     Pass(
                         PassKind.KNIT,
-                        (Op(OpKind.MISS, Bed.FRONT, back_to + step),),
+                        (Op(Opcode.MISS, Bed.FRONT, back_to + step),),
                         flip(d),
                         (carrier,),
                         0.0,
@@ -206,9 +206,9 @@ def _apply(
                         s.course,
                     )
                 )
-                trail = (Op(OpKind.MISS, Bed.FRONT, s.ops[0].needle + step),)
+                trail = (Op(Opcode.MISS, Bed.FRONT, s.ops[0].needle + step),)
             sign = 1 if d == "+" else -1
-            tucks_op = tuple(Op(OpKind.TUCK, Bed.BACK, t) for t in sorted(picks, key=sign.__mul__))
+            tucks_op = tuple(Op(Opcode.TUCK, Bed.BACK, t) for t in sorted(picks, key=sign.__mul__))
             out.append(
                 Pass(
                     PassKind.KNIT,
@@ -229,7 +229,7 @@ def _apply(
         if purls:
             out.append(_xfers([(t, Bed.BACK, Bed.FRONT) for t in purls], s.course))
         sign = 1 if s.direction == "+" else -1
-        ops = [*s.ops, *(Op(OpKind.TUCK, Bed.BACK, t) for t in tucks)]
+        ops = [*s.ops, *(Op(Opcode.TUCK, Bed.BACK, t) for t in tucks)]
         # Back and front of one needle are one slot at racking 0: order by needle, and a tuck
         # lands between the pass's own operations (its needles were excluded when choosing).
         ops.sort(key=lambda o: sign * o.needle)
@@ -250,5 +250,5 @@ def _apply(
 
 def _xfers(moves: list[tuple[int, Bed, Bed]], course: int | None) -> Pass:
     """One transfer pass at racking 0: ``(needle, from bed, to bed)`` each."""
-    ops = tuple(Op(OpKind.XFER, frm, n, to, n) for n, frm, to in moves)
+    ops = tuple(Op(Opcode.XFER, frm, n, to, n) for n, frm, to in moves)
     return Pass(PassKind.XFER, ops, None, (), 0.0, Role.FLOAT_AVOIDANCE, course)

@@ -38,7 +38,7 @@ from dataclasses import dataclass, replace
 
 from illuknit.core.errors import SchedulingError
 from illuknit.core.machine import MachineSpec
-from illuknit.knit.ir import ActionKind, Bed, Direction, OpKind, PassKind, Role
+from illuknit.knit.ir import ActionKind, Bed, Direction, Opcode, PassKind, Role
 from illuknit.knit.knitout import Prelude, lower_to_knitout, step_operations
 from illuknit.knit.schedule import CarrierAction, Op, Pass, Schedule, Step
 from illuknit.knitout.program import KnitoutProgram, Operation, format_knitout
@@ -82,7 +82,7 @@ def lower_hookless(schedule: Schedule, *, machine: MachineSpec) -> Schedule:
 def _unplate(p: Pass) -> list[Pass]:
     if any(o.op == "split" for o in p.ops):
         raise SchedulingError("a plated split cannot be knit with one carrier per pass (Kniterate)")
-    tucks = tuple(Op(OpKind.TUCK if o.op == OpKind.KNIT else o.op, o.bed, o.needle) for o in p.ops)
+    tucks = tuple(Op(Opcode.TUCK if o.op == Opcode.KNIT else o.op, o.bed, o.needle) for o in p.ops)
     under = [replace(p, ops=tucks, carriers=(c,)) for c in p.carriers[1:]]
     return [*under, replace(p, carriers=p.carriers[:1])]
 
@@ -249,7 +249,7 @@ def _bed(front: bool) -> Bed:
 
 
 def _knit_pass(
-    carrier: str, direction: Direction, needles: Sequence[tuple[Bed, int]], op: OpKind = OpKind.KNIT
+    carrier: str, direction: Direction, needles: Sequence[tuple[Bed, int]], op: Opcode = Opcode.KNIT
 ) -> Pass:
     """A waste-section pass of ``carrier`` making ``op`` on ``needles`` (in pass order)."""
     ops = tuple(Op(op, bed, n) for bed, n in needles)
@@ -259,7 +259,7 @@ def _knit_pass(
 
 
 def _drops(needles: Sequence[tuple[Bed, int]]) -> Pass:
-    ops = tuple(Op(OpKind.DROP, bed, n) for bed, n in needles)
+    ops = tuple(Op(Opcode.DROP, bed, n) for bed, n in needles)
     return Pass(PassKind.DROP, ops, None, (), 0.0, Role.WASTE)
 
 
@@ -270,10 +270,10 @@ def _tuck_pass(c: str, i: int, k: int, lo: int, hi: int, direction: Direction) -
     yarn to float across.)
     """
     needles = list(range(lo, hi + 1)) if direction == "+" else list(range(hi, lo - 1, -1))
-    ops = [Op(OpKind.TUCK, Bed.FRONT, n) for n in needles if n % k == i]
+    ops = [Op(Opcode.TUCK, Bed.FRONT, n) for n in needles if n % k == i]
     # end at the far edge, so that the next pass starts behind the carriage
     if not ops or needles[-1] % k != i:
-        ops.append(Op(OpKind.MISS, Bed.FRONT, needles[-1]))
+        ops.append(Op(Opcode.MISS, Bed.FRONT, needles[-1]))
     return Pass(
         PassKind.KNIT, tuple(ops), direction, (c,), 0.0, Role.WASTE, None, WASTE_STITCH_NUMBER
     )

@@ -1,11 +1,14 @@
 """The lowest IR: needle operations, carriage passes and carrier actions, typed.
 
 Every scheduler emits these and every later stage (the knitout writer, the machine pass model,
-the time model) reads them. The vocabularies are enums (:class:`PassKind`, :class:`OpKind`,
-:class:`Bed`, :class:`Role`, :class:`ActionKind`; :class:`Bed` is the knitout program's own,
-:class:`illuknit.knitout.program.Bed`); they are :class:`~enum.StrEnum` members whose
-values are the knitout tokens, so ``str(OpKind.KNIT) == "knit"`` and a pass still compares equal
+the time model) reads them. The vocabularies are enums (:class:`PassKind`, :class:`Opcode`,
+:class:`Bed`, :class:`Role`, :class:`ActionKind`; :class:`Opcode` and :class:`Bed` are the knitout
+program's own, :class:`illuknit.knitout.program.Opcode` and :class:`illuknit.knitout.program.Bed`,
+an operation holding one of :data:`NEEDLE_OPS`); they are :class:`~enum.StrEnum` members whose
+values are the knitout tokens, so ``str(Opcode.KNIT) == "knit"`` and a pass still compares equal
 to the plain string it was written with. Constructors accept either form and store the enum.
+(``OpKind``, the schedule's own copy of the needle opcodes, is a deprecated name of
+:class:`Opcode`.)
 
 The course -> pattern row mapping lives here too (:func:`course_row`), because the knitout writer,
 the schedulers' error messages and the checker's trace-back all need the same formula.
@@ -13,6 +16,7 @@ the schedulers' error messages and the checker's trace-back all need the same fo
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 from enum import StrEnum
 from itertools import pairwise
@@ -21,15 +25,16 @@ from typing import Any, Literal
 import numpy as np
 
 from illuknit.core.errors import MachineRuleError, SchedulingError
-from illuknit.knitout.program import Bed
+from illuknit.knitout.program import Bed, Opcode
 
 __all__ = [
+    "NEEDLE_OPS",
     "ActionKind",
     "Bed",
     "CarrierAction",
     "Direction",
     "Op",
-    "OpKind",
+    "Opcode",
     "Pass",
     "PassKind",
     "Role",
@@ -49,19 +54,23 @@ class PassKind(StrEnum):
     DROP = "drop"
 
 
-class OpKind(StrEnum):
-    """Needle operations; the first four use the pass's carriers and direction."""
-
-    KNIT = "knit"
-    TUCK = "tuck"
-    MISS = "miss"
-    SPLIT = "split"
-    XFER = "xfer"
-    DROP = "drop"
-
+#: The needle operations an :class:`Op` holds; the first four use the pass's carriers and direction.
+NEEDLE_OPS = (Opcode.KNIT, Opcode.TUCK, Opcode.MISS, Opcode.SPLIT, Opcode.XFER, Opcode.DROP)
 
 #: Operations a knit pass may hold.
-YARN_OPS = frozenset({OpKind.KNIT, OpKind.TUCK, OpKind.MISS, OpKind.SPLIT})
+YARN_OPS = frozenset(NEEDLE_OPS[:4])
+
+
+def __getattr__(name: str) -> object:
+    if name == "OpKind":  # deprecated: the schedule's copy of the knitout program's opcodes
+        warnings.warn(
+            "illuknit.knit.ir.OpKind is deprecated; use illuknit.knitout.program.Opcode "
+            "(also importable from illuknit.knit.ir)",
+            DeprecationWarning,
+            stacklevel=2,
+        )
+        return Opcode
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 class Role(StrEnum):
@@ -118,16 +127,25 @@ def _enum(cls: type[StrEnum], value: Any, what: str) -> StrEnum:
         raise SchedulingError(f"{what} must be one of {allowed}, got {value!r}") from None
 
 
+def _needle_op(value: Any) -> Opcode:
+    """The needle opcode ``value`` names (a pass checks the ones it is given as members)."""
+    op = Opcode._value2member_map_.get(value)
+    if op not in NEEDLE_OPS:
+        allowed = tuple(o.value for o in NEEDLE_OPS)
+        raise SchedulingError(f"operation must be one of {allowed}, got {value!r}")
+    return op
+
+
 @dataclass(frozen=True, slots=True)
 class Op:
     """One needle operation.
 
-    ``op`` is an :class:`OpKind`; ``knit``/``tuck``/``miss``/``split`` use the pass's carriers
+    ``op`` is one of :data:`NEEDLE_OPS` (an :class:`Opcode`); ``knit``/``tuck``/``miss``/``split`` use the pass's carriers
     and direction. ``bed`` is a :class:`Bed`; ``to_bed``/``to_needle`` name the receiving needle
     of ``xfer`` and ``split``.
     """
 
-    op: OpKind
+    op: Opcode
     bed: Bed
     needle: int
     to_bed: Bed | None = None
@@ -135,8 +153,8 @@ class Op:
 
     def __post_init__(self) -> None:
         # (the schedulers pass members already: only strings are looked up)
-        if type(self.op) is not OpKind:
-            object.__setattr__(self, "op", _enum(OpKind, self.op, "operation"))
+        if type(self.op) is not Opcode:
+            object.__setattr__(self, "op", _needle_op(self.op))
         if type(self.bed) is not Bed:
             object.__setattr__(self, "bed", _enum(Bed, self.bed, "bed"))
         if self.to_bed is not None and type(self.to_bed) is not Bed:
@@ -222,7 +240,7 @@ class Pass:
     @property
     def is_move(self) -> bool:
         """True for a knit pass of misses only: it moves its carriers and makes no loop."""
-        return self.kind is PassKind.KNIT and all(o.op is OpKind.MISS for o in self.ops)
+        return self.kind is PassKind.KNIT and all(o.op is Opcode.MISS for o in self.ops)
 
 
 @dataclass(frozen=True)

@@ -22,7 +22,7 @@ from illuknit.knit.ir import (
     CarrierAction,
     Direction,
     Op,
-    OpKind,
+    Opcode,
     Pass,
     PassKind,
     Role,
@@ -72,7 +72,7 @@ class Emitter:
         for n in sorted(moves):
             to = Bed(moves[n])
             frm = Bed.BACK if to is Bed.FRONT else Bed.FRONT
-            ops.append(Op(OpKind.XFER, frm, n, to, n))
+            ops.append(Op(Opcode.XFER, frm, n, to, n))
             self.bed[n] = to
         self.steps.append(Pass(PassKind.XFER, tuple(ops), None, (), 0.0, role, course))
 
@@ -82,7 +82,7 @@ class Emitter:
         *,
         role: Role,
         course: int | None,
-        op: OpKind = OpKind.KNIT,
+        op: Opcode = Opcode.KNIT,
         extra: Sequence[Op] = (),
     ) -> None:
         """Emit a planned pass (hooking in a never-used carrier around it)."""
@@ -92,7 +92,7 @@ class Emitter:
             self.steps.append(
                 Pass(
                     PassKind.KNIT,
-                    (Op(OpKind.MISS, Bed.FRONT, n),),
+                    (Op(Opcode.MISS, Bed.FRONT, n),),
                     p.direction,
                     p.carriers,
                     0.0,
@@ -106,12 +106,12 @@ class Emitter:
             if new:
                 self.steps.append(CarrierAction(ActionKind.INHOOK, p.carriers))
             ops = tuple(
-                Op(OpKind.TUCK if n in p.tucks else op, Bed(b), n) for n, b in p.stitches
+                Op(Opcode.TUCK if n in p.tucks else op, Bed(b), n) for n, b in p.stitches
             ) + tuple(extra)
             if not p.pretuck:
                 self.join_tucks += len(p.tucks)
             if p.park is not None:
-                ops += (Op(OpKind.MISS, Bed.FRONT, p.park),)
+                ops += (Op(Opcode.MISS, Bed.FRONT, p.park),)
             self.steps.append(
                 Pass(
                     PassKind.KNIT,
@@ -182,12 +182,12 @@ def cast_on(em: Emitter, segments: Sequence[Segment], *, park: Park | None) -> i
             if not lone and needles[-1] == edge:
                 # As in the one-colour cast-on: once the hook is released, park the carrier
                 # right of the fabric so that its first course starts leftward from behind.
-                to = Op(OpKind.MISS, Bed.FRONT, edge + machine.park_distance)
+                to = Op(Opcode.MISS, Bed.FRONT, edge + machine.park_distance)
                 steps.append(Pass(PassKind.KNIT, (to,), "+", (car,), 0.0, Role.PARK, None, cast_sn))
         passes = [s for s in steps if isinstance(s, Pass)]
         em.steps.extend(steps)
         cast_fixed += len(passes)
-        tucked = [op.needle for p in passes for op in p.ops if op.op is OpKind.TUCK]
+        tucked = [op.needle for p in passes for op in p.ops if op.op is Opcode.TUCK]
         em.states[car] = CarrierState(passes[-1].ops[-1].needle, passes[-1].direction, tucked[-1])
     return cast_fixed
 
@@ -296,7 +296,7 @@ def bind_off(
         em.steps.append(
             Pass(
                 PassKind.DROP,
-                tuple(Op(OpKind.DROP, Bed.FRONT, n) for n in sorted(drops)),
+                tuple(Op(Opcode.DROP, Bed.FRONT, n) for n in sorted(drops)),
                 None,
                 (),
                 0.0,
@@ -334,12 +334,12 @@ def _chain_bind_off(
         if p.direction == "+" and owner[order[idx + 1]] == car:
             # Carry the yarn past the next needle so its opposite-direction stitch is made
             # with the carrier behind the carriage.
-            extra = (Op(OpKind.MISS, Bed.FRONT, n + 2),)
+            extra = (Op(Opcode.MISS, Bed.FRONT, n + 2),)
         em.knit(p, role=Role.BIND_OFF, course=None, extra=extra)
         em.steps.append(
             Pass(
                 PassKind.XFER,
-                (Op(OpKind.XFER, Bed.FRONT, n, Bed.BACK, n),),
+                (Op(Opcode.XFER, Bed.FRONT, n, Bed.BACK, n),),
                 None,
                 (),
                 0.0,
@@ -349,7 +349,7 @@ def _chain_bind_off(
         em.steps.append(
             Pass(
                 PassKind.XFER,
-                (Op(OpKind.XFER, Bed.BACK, n, Bed.FRONT, n + 1),),
+                (Op(Opcode.XFER, Bed.BACK, n, Bed.FRONT, n + 1),),
                 None,
                 (),
                 1.0,
@@ -400,9 +400,9 @@ def zigzag_bind_off_steps(
     steps: list[Step] = []
     d: Direction = direction
     for n, nxt in pairwise(order):
-        chain = [Op(OpKind.KNIT, beds[n], n)]
+        chain = [Op(Opcode.KNIT, beds[n], n)]
         if d == direction:
-            chain.append(Op(OpKind.MISS, Bed.FRONT, n + 2 * shift))
+            chain.append(Op(Opcode.MISS, Bed.FRONT, n + 2 * shift))
         steps.append(
             Pass(
                 PassKind.KNIT, tuple(chain), d, (carrier,), 0.0, Role.BIND_OFF, None, stitch_number
@@ -410,7 +410,7 @@ def zigzag_bind_off_steps(
         )
         # back b k faces front f (k + r): f n -> b nxt needs r = n - nxt, b n -> f nxt the other
         rack = float(n - nxt) if beds[n] is Bed.FRONT else float(nxt - n)
-        move = (Op(OpKind.XFER, beds[n], n, beds[nxt], nxt),)
+        move = (Op(Opcode.XFER, beds[n], n, beds[nxt], nxt),)
         steps.append(Pass(PassKind.XFER, move, None, (), rack, Role.BIND_OFF))
         d = flip(d)
     last = order[-1]
@@ -418,7 +418,7 @@ def zigzag_bind_off_steps(
         steps.append(
             Pass(
                 PassKind.KNIT,
-                (Op(OpKind.KNIT, beds[last], last),),
+                (Op(Opcode.KNIT, beds[last], last),),
                 d,
                 (carrier,),
                 0.0,
@@ -430,6 +430,6 @@ def zigzag_bind_off_steps(
         d = flip(d)
     steps.append(CarrierAction(ActionKind.OUTHOOK, (carrier,)))
     steps.append(
-        Pass(PassKind.DROP, (Op(OpKind.DROP, beds[last], last),), None, (), 0.0, Role.TAIL)
+        Pass(PassKind.DROP, (Op(Opcode.DROP, beds[last], last),), None, (), 0.0, Role.TAIL)
     )
     return steps

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
-from illuknit.knit.ir import Bed, CarrierAction, Op, OpKind, Pass, Step
+from illuknit.knit.ir import Bed, CarrierAction, Op, Opcode, Pass, Step
 
 __all__ = ["fold_moves"]
 
@@ -79,7 +79,7 @@ def fold_moves(steps: Sequence[Step]) -> list[Step]:
                     ops = ops[:-1]
                 out[j] = Pass(
                     prev.kind,
-                    (*ops, Op(OpKind.MISS, Bed.FRONT, target)),
+                    (*ops, Op(Opcode.MISS, Bed.FRONT, target)),
                     prev.direction,
                     prev.carriers,
                     prev.racking,

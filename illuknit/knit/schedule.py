@@ -68,7 +68,7 @@ from illuknit.knit.ir import (
     CarrierAction,
     Direction,
     Op,
-    OpKind,
+    Opcode,
     Pass,
     PassKind,
     Role,
@@ -293,7 +293,7 @@ def count_kickbacks(steps: Sequence[Step]) -> int:
     return n
 
 
-def _knit_ops(needles: Sequence[int], beds: Sequence[str], op: OpKind = OpKind.KNIT) -> list[Op]:
+def _knit_ops(needles: Sequence[int], beds: Sequence[str], op: Opcode = Opcode.KNIT) -> list[Op]:
     bed = Bed._value2member_map_  # (Bed(b) is enum's slow call)
     return [Op(op, bed[b], n) for n, b in zip(needles, beds, strict=True)]  # type: ignore[arg-type]
 
@@ -380,7 +380,7 @@ class _CourseKnitter:
         order = self.needles_up if d == "+" else self.needles_up[::-1]
         b = list(beds) if d == "+" else list(beds)[::-1]
         ops = _knit_ops(order, b)
-        ops.append(Op(OpKind.MISS, Bed.FRONT, self.park[d]))
+        ops.append(Op(Opcode.MISS, Bed.FRONT, self.park[d]))
         self.steps.append(Pass(PassKind.KNIT, tuple(ops), d, (car,), 0.0, role, course, sn))
         self.next_dir[car] = "-" if d == "+" else "+"
 
@@ -416,8 +416,8 @@ class _CourseKnitter:
                 prev = target
         bed = dict(zip(self.needles_up, beds, strict=True))
         d = d or "-"
-        ops = [Op(OpKind.TUCK, Bed(bed[n]), n) for n in seq if n in chosen]
-        ops.append(Op(OpKind.MISS, Bed.FRONT, self.park[d]))
+        ops = [Op(Opcode.TUCK, Bed(bed[n]), n) for n in seq if n in chosen]
+        ops.append(Op(Opcode.MISS, Bed.FRONT, self.park[d]))
         sn = machine.stitch_number
         self.steps.append(Pass(PassKind.KNIT, tuple(ops), d, (car,), 0.0, Role.BODY, course, sn))
         self.next_dir[car] = "-" if d == "+" else "+"
@@ -472,9 +472,9 @@ def _body(
         if moving.size:
             transfer_courses += 1
             ops = tuple(
-                Op(OpKind.XFER, Bed.BACK, left + int(w), Bed.FRONT, left + int(w))
+                Op(Opcode.XFER, Bed.BACK, left + int(w), Bed.FRONT, left + int(w))
                 if bed[w]
-                else Op(OpKind.XFER, Bed.FRONT, left + int(w), Bed.BACK, left + int(w))
+                else Op(Opcode.XFER, Bed.FRONT, left + int(w), Bed.BACK, left + int(w))
                 for w in moving
             )
             k.steps.append(Pass(PassKind.XFER, ops, None, (), 0.0, Role.TRANSFER, c))
@@ -547,7 +547,7 @@ def _bind_off(
             Pass(
                 PassKind.XFER,
                 tuple(
-                    Op(OpKind.XFER, Bed.BACK, left + int(w), Bed.FRONT, left + int(w)) for w in back
+                    Op(Opcode.XFER, Bed.BACK, left + int(w), Bed.FRONT, left + int(w)) for w in back
                 ),
                 None,
                 (),

@@ -23,7 +23,7 @@ from dataclasses import dataclass, field
 from itertools import pairwise
 from typing import Any
 
-from illuknit.knit.ir import Bed, CarrierAction, OpKind, Pass, PassKind, Step
+from illuknit.knit.ir import Bed, CarrierAction, Opcode, Pass, PassKind, Step
 
 __all__ = ["LOOP_OPS", "MAX_TUCKS", "TuckPlan", "knit_pass"]
 
@@ -33,7 +33,7 @@ __all__ = ["LOOP_OPS", "MAX_TUCKS", "TuckPlan", "knit_pass"]
 MAX_TUCKS = 2
 
 #: Operations that leave a loop of the carriers' yarn on a needle.
-LOOP_OPS = (OpKind.KNIT, OpKind.TUCK, OpKind.SPLIT)
+LOOP_OPS = (Opcode.KNIT, Opcode.TUCK, Opcode.SPLIT)
 
 
 def knit_pass(
@@ -82,14 +82,14 @@ def _back_after(step: Step, back: set[int]) -> None:
     if not isinstance(step, Pass):
         return
     for o in step.ops:
-        if o.op in (OpKind.KNIT, OpKind.TUCK) and o.bed is Bed.BACK:
+        if o.op in (Opcode.KNIT, Opcode.TUCK) and o.bed is Bed.BACK:
             back.add(o.needle)
-        elif o.op in (OpKind.XFER, OpKind.SPLIT):
+        elif o.op in (Opcode.XFER, Opcode.SPLIT):
             if o.bed is Bed.BACK:
                 back.discard(o.needle)
             if o.to_bed is Bed.BACK and o.to_needle is not None:
                 back.add(o.to_needle)
-        elif o.op is OpKind.DROP and o.bed is Bed.BACK:
+        elif o.op is Opcode.DROP and o.bed is Bed.BACK:
             back.discard(o.needle)
 
 
@@ -235,9 +235,9 @@ class TuckPlan:
             _back_after(s, back)
             if isinstance(s, Pass) and s.kind is PassKind.KNIT:
                 for o in s.ops:
-                    if o.op is OpKind.KNIT:
+                    if o.op is Opcode.KNIT:
                         stitched.setdefault(o.needle, []).append(i)
-                    elif o.op is OpKind.TUCK:
+                    elif o.op is Opcode.TUCK:
                         tucked.setdefault(o.needle, []).append(i)
         # One tuck per needle between two stitches there: the needle then holds its loop and
         # the tucked loops of one pass (two yarns if plated), well within what a needle holds.

@@ -18,7 +18,7 @@ from illuknit.check import check_knitout
 from illuknit.core.pattern import LogicalPattern, Yarn, load_pattern
 from illuknit.design.render.params import RenderParams, load_params, save_params
 from illuknit.formats.kc import knitout_to_kc
-from illuknit.knit.ir import OpKind, Pass, PassKind, Role
+from illuknit.knit.ir import Opcode, Pass, PassKind, Role
 from illuknit.knit.options import KnitOptions
 from illuknit.knit.schedule import Schedule
 from illuknit.knit.stitches import PURL, lower_to_stitches
@@ -52,8 +52,8 @@ def _tucks_then_knits(schedule: Schedule) -> None:
             moved = {o.needle for o in p.ops}
             assert not any(moved & t for t in pending.values())
             continue
-        made = [o for o in p.ops if o.op is not OpKind.MISS]
-        back_tucks = {o.needle for o in made if o.op is OpKind.TUCK and o.bed == "b"}
+        made = [o for o in p.ops if o.op is not Opcode.MISS]
+        back_tucks = {o.needle for o in made if o.op is Opcode.TUCK and o.bed == "b"}
         if made and len(back_tucks) == len(made):
             # (Tucks that cut the float into the pass go to the front in the transfer pass
             # right after it: float tucks, not the bumps'.)
@@ -62,7 +62,7 @@ def _tucks_then_knits(schedule: Schedule) -> None:
                 back_tucks -= {o.needle for o in nxt.ops if o.bed == "b"}
             pending.setdefault(p.carriers, set()).update(back_tucks)
         elif made and p.carriers in pending:
-            purled = {o.needle for o in made if o.op is OpKind.KNIT and o.bed == "b"}
+            purled = {o.needle for o in made if o.op is Opcode.KNIT and o.bed == "b"}
             assert pending.pop(p.carriers) <= purled
     assert not pending
 
@@ -253,8 +253,8 @@ def test_tall_bump_tucks_far_apart_catch_their_float_on_knit_needles() -> None:
         s
         for s in result.schedule.steps
         if isinstance(s, Pass)
-        and {o.op for o in s.ops} == {OpKind.TUCK, OpKind.MISS}
+        and {o.op for o in s.ops} == {Opcode.TUCK, Opcode.MISS}
         and s.course is not None
     ]
-    assert len(tucks) == 1 and {o.bed for o in tucks[0].ops if o.op is OpKind.TUCK} == {"f", "b"}
+    assert len(tucks) == 1 and {o.bed for o in tucks[0].ops if o.op is Opcode.TUCK} == {"f", "b"}
     _tucks_then_knits(result.schedule)

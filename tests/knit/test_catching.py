@@ -14,7 +14,7 @@ from illuknit.core.machine import MachineSpec
 from illuknit.knit.catching import JoinTuck, _boundaries, plan_catches, plan_joins
 from illuknit.knit.color_runs import CoursePlan, Segment
 from illuknit.knit.course_order import course_items, order_and_plan
-from illuknit.knit.ir import Bed, CarrierAction, OpKind, Pass, PassKind, Role
+from illuknit.knit.ir import Bed, CarrierAction, Opcode, Pass, PassKind, Role
 from illuknit.knit.path_planning import CarrierState
 from illuknit.knitting import knit_pattern
 from tests.knit.test_float_tucks import _random_mixed
@@ -33,22 +33,22 @@ def _join_tuck_fates(steps) -> list[tuple[Bed, Bed | None]]:
         rack = s.racking
         for o in s.ops:
             key = (o.bed, o.needle)
-            if o.op in (OpKind.XFER, OpKind.SPLIT) and s.kind is PassKind.XFER:
+            if o.op in (Opcode.XFER, Opcode.SPLIT) and s.kind is PassKind.XFER:
                 assert o.to_bed is not None and o.to_needle is not None
                 held.setdefault((o.to_bed, o.to_needle), []).extend(held.pop(key, []))
-            elif o.op is OpKind.KNIT:
+            elif o.op is Opcode.KNIT:
                 for loop in held.pop(key, []):
                     if loop in fate and fate[loop] is None:
                         fate[loop] = o.bed
                 ids += 1
                 held[key] = [ids]
-            elif o.op is OpKind.TUCK:
+            elif o.op is Opcode.TUCK:
                 ids += 1
                 held.setdefault(key, []).append(ids)
                 if s.role is Role.BODY and o.bed is Bed.FRONT:
                     fate[ids] = None
                     assert rack == 0
-            elif o.op is OpKind.DROP:
+            elif o.op is Opcode.DROP:
                 held.pop(key, None)
     return [(Bed.FRONT, b) for b in fate.values()]
 

@@ -7,7 +7,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from illuknit.knit.edges import cast_on_steps
-from illuknit.knit.ir import ActionKind, CarrierAction, OpKind, Pass, PassKind, Role
+from illuknit.knit.ir import ActionKind, CarrierAction, Opcode, Pass, PassKind, Role
 
 
 @given(
@@ -24,18 +24,18 @@ def test_cast_on_tucks_each_needle_once_and_places_the_hook_release(needles, hoo
     assert len(passes) == (1 if len(needles) == 1 else 2)
     assert all(p.kind is PassKind.KNIT and p.role is Role.CAST_ON for p in passes)
     assert all(p.stitch_number == 7 and p.carriers == ("3",) for p in passes)
-    tucks = [(p.direction, op.needle) for p in passes for op in p.ops if op.op is OpKind.TUCK]
+    tucks = [(p.direction, op.needle) for p in passes for op in p.ops if op.op is Opcode.TUCK]
     assert sorted(n for _, n in tucks) == needles  # every needle exactly once
     down = [n for d, n in tucks if d == "-"]
     up = [n for d, n in tucks if d == "+"]
     assert down == needles[::-1][0::2] and up == sorted(set(needles) - set(down))
     # the leftward pass leaves the carrier at left_end; the rightward at right_end (or last tuck)
-    assert passes[0].direction == "-" and passes[0].ops[-1].op is OpKind.MISS
+    assert passes[0].direction == "-" and passes[0].ops[-1].op is Opcode.MISS
     assert passes[0].ops[-1].needle == -5
     if len(passes) == 2:
         last = passes[1].ops[-1]
         assert (last.op, last.needle) == (
-            (OpKind.TUCK, up[-1]) if right_end is None else (OpKind.MISS, right_end)
+            (Opcode.TUCK, up[-1]) if right_end is None else (Opcode.MISS, right_end)
         )
     releases = [i for i, s in enumerate(steps) if getattr(s, "action", None) == "releasehook"]
     where = {"held": [], "after": [len(steps) - 1], "between": [2]}[hook]

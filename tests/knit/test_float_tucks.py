@@ -14,7 +14,7 @@ from illuknit.check.simulate import simulate_program
 from illuknit.core.machine import MachineSpec
 from illuknit.core.pattern import LogicalPattern, parse_yarns
 from illuknit.knit.float_tucks import tuck_long_floats
-from illuknit.knit.ir import Bed, CarrierAction, Op, OpKind, Pass, PassKind
+from illuknit.knit.ir import Bed, CarrierAction, Op, Opcode, Pass, PassKind
 from illuknit.knitout.parse import parse_knitout
 from illuknit.knitting import knit_pattern
 
@@ -22,7 +22,7 @@ YARNS = parse_yarns("#1b1b1b,#f4f0e8")
 
 
 def knit(needles, d, car="1"):
-    return Pass(PassKind.KNIT, tuple(Op(OpKind.KNIT, Bed.FRONT, n) for n in needles), d, (car,))
+    return Pass(PassKind.KNIT, tuple(Op(Opcode.KNIT, Bed.FRONT, n) for n in needles), d, (car,))
 
 
 def test_a_gap_in_a_pass_gets_tucks_at_most_limit_apart_then_moved_front():
@@ -35,9 +35,9 @@ def test_a_gap_in_a_pass_gets_tucks_at_most_limit_apart_then_moved_front():
     out, long = tuck_long_floats(steps, limit=10, left=1, right=30)
     assert not long
     p = out[-2]
-    tucks = [o.needle for o in p.ops if o.op is OpKind.TUCK]
-    loops = [o.needle for o in p.ops if o.op in (OpKind.KNIT, OpKind.TUCK)]
-    assert tucks and all(o.bed is Bed.BACK for o in p.ops if o.op is OpKind.TUCK)
+    tucks = [o.needle for o in p.ops if o.op is Opcode.TUCK]
+    loops = [o.needle for o in p.ops if o.op in (Opcode.KNIT, Opcode.TUCK)]
+    assert tucks and all(o.bed is Bed.BACK for o in p.ops if o.op is Opcode.TUCK)
     assert all(b - a - 1 <= 10 for a, b in pairwise(loops))
     back = out[-1]
     assert back.kind is PassKind.XFER
@@ -85,7 +85,7 @@ def test_a_plated_pass_whose_other_yarn_comes_from_elsewhere_gets_a_tuck_pass_of
         CarrierAction("releasehook", ("2",)),
         knit(range(1, 31), "+", "1"),  # carrier 1 ends at 30, parked right
         knit([5], "+", "2"),
-        Pass(PassKind.KNIT, (Op(OpKind.KNIT, Bed.FRONT, 2),), "-", ("1", "2")),
+        Pass(PassKind.KNIT, (Op(Opcode.KNIT, Bed.FRONT, 2),), "-", ("1", "2")),
     ]
     out, long = tuck_long_floats(steps, limit=10, left=1, right=30, alone=True)
     assert not long
@@ -94,14 +94,14 @@ def test_a_plated_pass_whose_other_yarn_comes_from_elsewhere_gets_a_tuck_pass_of
         for s in out
         if isinstance(s, Pass)
         and s.kind is PassKind.KNIT
-        and all(o.op is OpKind.TUCK for o in s.ops)
+        and all(o.op is Opcode.TUCK for o in s.ops)
     ]
     assert alone and all(len(s.carriers) == 1 for s in alone)
     # every tuck is moved to the front right after the plated pass
     plated = next(k for k, s in enumerate(out) if isinstance(s, Pass) and len(s.carriers) == 2)
     back = out[plated + 1]
     assert back.kind is PassKind.XFER
-    tucked = {o.needle for s in out if isinstance(s, Pass) for o in s.ops if o.op is OpKind.TUCK}
+    tucked = {o.needle for s in out if isinstance(s, Pass) for o in s.ops if o.op is Opcode.TUCK}
     assert {o.needle for o in back.ops} == tucked
 
 
@@ -151,7 +151,7 @@ def test_without_tuck_passes_the_plated_float_stays_and_is_reported():
         CarrierAction("releasehook", ("2",)),
         knit(range(1, 31), "+", "1"),
         knit([5], "+", "2"),
-        Pass(PassKind.KNIT, (Op(OpKind.KNIT, Bed.FRONT, 2),), "-", ("1", "2")),
+        Pass(PassKind.KNIT, (Op(Opcode.KNIT, Bed.FRONT, 2),), "-", ("1", "2")),
     ]
     out, long = tuck_long_floats(steps, limit=10, left=1, right=30)
     assert out == steps
@@ -162,14 +162,14 @@ def _way_out_past_purls(purls: range, *, purls_back_first: bool = False) -> list
     """Carrier 1 knits 1-30, moves ``purls`` to the back bed, knits 1-2 rightward and parks at
     40, then knits 30 leftward: its yarn is laid from 2 to 30 on the way out, past the purls.
     ``purls_back_first``: float avoidance has moved the purls to the front before that knit."""
-    to_back = Pass(PassKind.XFER, tuple(Op(OpKind.XFER, Bed.FRONT, n, Bed.BACK, n) for n in purls))
+    to_back = Pass(PassKind.XFER, tuple(Op(Opcode.XFER, Bed.FRONT, n, Bed.BACK, n) for n in purls))
     out_and_park = Pass(
         PassKind.KNIT,
-        (Op(OpKind.KNIT, Bed.FRONT, 1), Op(OpKind.KNIT, Bed.FRONT, 2), Op(OpKind.MISS, "f", 40)),
+        (Op(Opcode.KNIT, Bed.FRONT, 1), Op(Opcode.KNIT, Bed.FRONT, 2), Op(Opcode.MISS, "f", 40)),
         "+",
         ("1",),
     )
-    back = Pass(PassKind.XFER, tuple(Op(OpKind.XFER, Bed.BACK, n, Bed.FRONT, n) for n in purls))
+    back = Pass(PassKind.XFER, tuple(Op(Opcode.XFER, Bed.BACK, n, Bed.FRONT, n) for n in purls))
     return [
         CarrierAction("inhook", ("1",)),
         knit(range(30, 0, -1), "-"),
@@ -192,7 +192,7 @@ def test_a_float_laid_on_the_way_out_past_purls_is_tucked_with_the_purls_moved_a
     before, tucking, after = out[k - 1], out[k], out[k + 1]
     assert before.kind is PassKind.XFER
     assert {(o.needle, o.to_bed) for o in before.ops} == {(n, Bed.FRONT) for n in purls}
-    tucks = {o.needle for o in tucking.ops if o.op is OpKind.TUCK}
+    tucks = {o.needle for o in tucking.ops if o.op is Opcode.TUCK}
     assert tucks and not tucks & set(purls)
     assert {(o.needle, o.to_bed) for o in after.ops} == {
         *((t, Bed.FRONT) for t in tucks),
@@ -222,9 +222,9 @@ def test_a_way_out_blocked_by_purls_comes_back_and_tucks_alone_before_the_far_st
     assert not long
     move, tucking, far, back = out[-4:]
     assert move.is_move and move.direction == "-" and move.ops[0].needle == 3
-    assert tucking.direction == "+" and tucking.ops[-1].op is OpKind.MISS
-    tucks = [o.needle for o in tucking.ops if o.op is OpKind.TUCK]
-    assert tucks and all(o.bed is Bed.BACK for o in tucking.ops if o.op is OpKind.TUCK)
+    assert tucking.direction == "+" and tucking.ops[-1].op is Opcode.MISS
+    tucks = [o.needle for o in tucking.ops if o.op is Opcode.TUCK]
+    assert tucks and all(o.bed is Bed.BACK for o in tucking.ops if o.op is Opcode.TUCK)
     assert all(b - a - 1 <= 10 for a, b in pairwise([2, *tucks, 30]))
     assert far == steps[-1] and back.kind is PassKind.XFER
     assert {o.needle for o in back.ops} == set(tucks)

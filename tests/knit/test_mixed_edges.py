@@ -9,7 +9,7 @@ import pytest
 
 from illuknit.check import check_knitout
 from illuknit.core.pattern import LogicalPattern, parse_yarns
-from illuknit.knit.ir import Bed, OpKind, Pass, PassKind, Role
+from illuknit.knit.ir import Bed, Opcode, Pass, PassKind, Role
 from illuknit.knit.mixed_edges import zigzag_beds, zigzag_bind_off_steps
 from illuknit.knitting import knit_pattern
 
@@ -28,7 +28,7 @@ def test_each_loop_moves_onto_the_next_needle_on_the_other_bed_in_one_transfer(d
     for k, x in zip(knits, xfers, strict=True):
         stitch = k.ops[0]
         move = x.ops[0]
-        assert stitch.op is OpKind.KNIT and (stitch.bed, stitch.needle) == (move.bed, move.needle)
+        assert stitch.op is Opcode.KNIT and (stitch.bed, stitch.needle) == (move.bed, move.needle)
         assert move.to_bed is not stitch.bed
         assert move.to_needle == order[order.index(stitch.needle) + 1]
         # aligned at the pass's racking: back needle b k faces front needle f (k + racking)
