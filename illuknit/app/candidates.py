@@ -129,7 +129,7 @@ def _tile_candidates(
     """The best-reading ``count`` of the tile designs ``illuknit double`` searches by default,
     ranked as it ranks them: one call of :func:`~illuknit.pipeline.stages.design_tiles`, inside
     ``run`` (a killable process, so Cancel stops it at once) when one is given."""
-    from illuknit.design.options import RankOptions, SearchOptions
+    from illuknit.design.options import MadeFor, RankOptions, SearchOptions
     from illuknit.pipeline.stages import design_tiles
 
     stage = functools.partial(
@@ -139,7 +139,7 @@ def _tile_candidates(
         mode="headon" if prepared.mode == "headon" else "double",
         yarns=prepared.yarns,
         search=SearchOptions(candidates=count, split_bumps=split_bumps),
-        ranking=RankOptions(made_for=made_for),
+        ranking=RankOptions(made_for=MadeFor(made_for)),
     )
     with blame("n_colors"):
         try:
