@@ -72,16 +72,23 @@ def make_candidates(
     progress: Progress,
     run: Runner | None = None,
     split_bumps: bool = False,
+    made_for: str = "machine",
 ) -> list[Candidate]:
     """Ranked candidates for the prepared inputs; ``progress(fraction, message)`` may cancel.
 
     ``run`` runs the tile search (double view and head-on), by default in this thread;
-    ``split_bumps`` lets its tiles hold split bumps.
+    ``split_bumps`` lets its tiles hold split bumps; ``made_for="hands"`` ranks first the
+    designs a hand knitter can work (:class:`~illuknit.design.options.RankOptions`).
     """
     if prepared.mode == "single":
         return _single_candidates(prepared, progress)
     return _tile_candidates(
-        prepared, count=count, progress=progress, run=run, split_bumps=split_bumps
+        prepared,
+        count=count,
+        progress=progress,
+        run=run,
+        split_bumps=split_bumps,
+        made_for=made_for,
     )
 
 
@@ -117,11 +124,12 @@ def _tile_candidates(
     progress: Progress,
     run: Runner | None = None,
     split_bumps: bool = False,
+    made_for: str = "machine",
 ) -> list[Candidate]:
     """The best-reading ``count`` of the tile designs ``illuknit double`` searches by default,
     ranked as it ranks them: one call of :func:`~illuknit.pipeline.stages.design_tiles`, inside
     ``run`` (a killable process, so Cancel stops it at once) when one is given."""
-    from illuknit.design.options import SearchOptions
+    from illuknit.design.options import MadeFor, RankOptions, SearchOptions
     from illuknit.pipeline.stages import design_tiles
 
     stage = functools.partial(
@@ -131,6 +139,7 @@ def _tile_candidates(
         mode="headon" if prepared.mode == "headon" else "double",
         yarns=prepared.yarns,
         search=SearchOptions(candidates=count, split_bumps=split_bumps),
+        ranking=RankOptions(made_for=MadeFor(made_for)),
     )
     with blame("n_colors"):
         try:
@@ -144,11 +153,29 @@ def _tile_candidates(
             label=d.label,
             score=float(d.assignment.score),
             pattern=d.pattern,
-            details=_assignment_details(d.assignment, d.report),
+            details={**_assignment_details(d.assignment, d.report), **_hand_details(d, made_for)},
             source=d.assignment,
         )
         for d in design.designs
     ]
+
+
+def _hand_details(design: Any, made_for: str) -> dict[str, Any]:
+    """What a hand knitter needs of a candidate made for hands (:class:`~illuknit.design.
+    hand_cost.HandCost`): rows knittable by hand and the longest float; nothing otherwise."""
+    hand = getattr(design.measures, "hand", None) if made_for == "hands" else None
+    if hand is None:
+        return {}
+    return {
+        "made_for": made_for,
+        "hand": {
+            "rows": hand.rows,
+            "knittable_rows": hand.knittable_rows,
+            "longest_float": hand.longest_float,
+            "max_blocks": hand.max_blocks,
+            "text": hand.describe(),
+        },
+    }
 
 
 def _assignment_details(assignment: Any, report: Any) -> dict[str, Any]:

@@ -66,8 +66,9 @@ def measure_all(
     return out
 
 
-def order_candidates(candidates: Sequence[Any], order: str) -> list[Any]:
-    """``candidates`` in ``order`` (see :data:`ORDERS`); by rank until all are measured."""
+def order_candidates(candidates: Sequence[Any], order: str, *, hands: bool = False) -> list[Any]:
+    """``candidates`` in ``order`` (see :data:`ORDERS`); by rank until all are measured. Made
+    for ``hands``: first by the share of rows a hand knitter can work, as the search ranks."""
     from illuknit.design.tiles.perception import rank_candidates
 
     by_rank = sorted(candidates, key=lambda c: c.rank)
@@ -75,6 +76,9 @@ def order_candidates(candidates: Sequence[Any], order: str) -> list[Any]:
         return by_rank
     scores = [c.score if c.score is not None else float(c.rank) for c in by_rank]
     picks = rank_candidates(
-        [c.measured for c in by_rank], scores, by="knit-time" if order == "knit_time" else order
+        [c.measured for c in by_rank],
+        scores,
+        by="knit-time" if order == "knit_time" else order,
+        hands=hands,
     )
     return [by_rank[i] for i in picks]

@@ -8,7 +8,7 @@ and error messages quote the titles, never the identifiers.
 
 from __future__ import annotations
 
-from typing import Annotated, Any, Literal
+from typing import Annotated, Any, Literal, get_args
 
 from pydantic import AfterValidator, BaseModel, ConfigDict, Field, create_model, model_validator
 
@@ -24,6 +24,7 @@ __all__ = [
     "OverrideIn",
     "SelectionIn",
     "SettingsPatch",
+    "choice_control",
     "declared_field",
     "declared_fields",
 ]
@@ -42,6 +43,18 @@ def declared_field(cls: type, name: str, **narrower: float) -> Any:
             raise ValueError(f"`{key}={value}` does not narrow {cls.__name__}.{name}'s range")
         bounds[key] = value
     return Field(default=opt.cli_default, title=opt.title, description=_sentence(d.help), **bounds)
+
+
+def choice_control(model: type[BaseModel], name: str) -> dict[str, Any]:
+    """The page's control of the choice field ``name`` of ``model``: its title, description,
+    words and default, as the declared option gives them (the page builds its menu from this)."""
+    info = model.model_fields[name]
+    return {
+        "title": info.title,
+        "description": info.description,
+        "choices": list(get_args(info.annotation)),
+        "default": info.get_default(),
+    }
 
 
 def declared_fields(cls: type, only: tuple[str, ...] | None = None) -> dict[str, Any]:
@@ -139,6 +152,8 @@ class DesignSettings(BaseModel):
     # `view_`: the page's own angle is the preview's, not the one the measures are taken at
     view_angle: float = declared_field(RankOptions, "angle")
     view_distance: float = declared_field(RankOptions, "distance")
+    # who knits it: hands ranks first the designs a hand knitter can work (`illuknit double --for`)
+    made_for: Literal["machine", "hands"] = declared_field(RankOptions, "made_for")
 
     @model_validator(mode="before")
     @classmethod

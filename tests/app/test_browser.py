@@ -136,7 +136,8 @@ def test_design_two_pictures_pick_tilt_download(browser, base_url, tmp_path):
     # the machine selector: the paper's SWG091N2 with its real bed bounds the width control
     page.select_option("#machine", "swg091n2")
     sync_api.expect(page.locator("#machine-info")).to_contain_text("252 needles")
-    assert page.get_attribute("#width_units", "max") == "123"
+    # (the generic bed's own description names the SWG091N2's 252 needles too: wait for the bound)
+    sync_api.expect(page.locator("#width_units")).to_have_attribute("max", "123")
     page.locator("#width_units").fill("200")
     err_w = page.locator("[data-error-for='width_units']")
     sync_api.expect(err_w).to_contain_text("holds at most 123 units")

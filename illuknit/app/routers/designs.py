@@ -42,7 +42,11 @@ def get_candidates(
             "order": order,
             "measured": bool(s.candidates) and all(c.measured for c in s.candidates),
             "measured_at": measured_at(s.settings),
-            "candidates": [c.to_json() for c in order_candidates(s.candidates, order)],
+            "made_for": s.settings.made_for,
+            "candidates": [
+                c.to_json()
+                for c in order_candidates(s.candidates, order, hands=s.settings.made_for == "hands")
+            ],
         }
 
 

@@ -25,6 +25,7 @@ def start_candidates(s: Session, runner: JobRunner, *, isolate: bool = True) -> 
     prepared = prepared_of(s)
     count = s.settings.candidates
     split_bumps = s.settings.split_bumps
+    made_for = s.settings.made_for
     rev = s.revision
 
     def work(job: Job) -> list[design.Candidate]:
@@ -50,6 +51,7 @@ def start_candidates(s: Session, runner: JobRunner, *, isolate: bool = True) -> 
             progress=job.report,
             run=run if isolate else None,
             split_bumps=split_bumps,
+            made_for=made_for,
         )
 
     def done(job: Job) -> None:

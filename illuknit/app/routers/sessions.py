@@ -88,6 +88,7 @@ SETTING_WORDS = {
     "split_bumps": "split bumps",
     "view_angle": "measured at angle",
     "view_distance": "measured from (m)",
+    "made_for": "made for",
 }
 
 

@@ -10,7 +10,7 @@ from fastapi.staticfiles import StaticFiles
 from illuknit import __version__
 from illuknit.app import design
 from illuknit.app.knitting import machines_json
-from illuknit.app.schemas import DesignSettings
+from illuknit.app.schemas import DesignSettings, choice_control
 from illuknit.core.pattern import MAX_UNITS
 
 __all__ = ["STATIC_DIR", "api_docs_html", "mount_static", "router"]
@@ -63,6 +63,8 @@ def info(request: Request) -> dict[str, Any]:
         "presets": {k: list(v) for k, v in design.YARN_PRESETS.items()},
         "machines": machines_json(),
         "defaults": DesignSettings().to_json(),
+        # menus generated from the declared options they set
+        "controls": {"made_for": choice_control(DesignSettings, "made_for")},
         "storage": storage_json(request),
     }
 

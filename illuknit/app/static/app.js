@@ -146,6 +146,15 @@ async function startSession() {
       b.title += " (not available in this install)";
     }
   }
+  // who knits it: the menu is the declared option's (words, title and help from the server)
+  const madeFor = state.info.controls.made_for;
+  $("#made_for").title = `${madeFor.title}: ${madeFor.description}`;
+  for (const word of madeFor.choices) {
+    const o = document.createElement("option");
+    o.value = word;
+    o.textContent = word === "hands" ? "hand knitting" : word;
+    $("#made_for").appendChild(o);
+  }
   for (const m of state.info.machines) {
     const o = document.createElement("option");
     o.value = m.name;
@@ -256,6 +265,8 @@ function applyState(s) {
   setValue("#n_colors", st.n_colors);
   setValue("#candidates", st.candidates);
   $("#split_bumps").checked = st.split_bumps;
+  setValue("#made_for", st.made_for);
+  $("#made_for").hidden = $("#made-for-label").hidden = st.mode === "single"; // no tiles to choose
   $("#measured-at").textContent = `Measured ${viewpointText({ angle: st.view_angle, distance: st.view_distance })}`;
   $("#split-row").hidden = st.mode === "single"; // one picture: nothing to split
   $("#resize").checked = st.resize;

@@ -84,6 +84,18 @@ function measuresText(m) {
   return parts.join(" · ");
 }
 
+// Made for hands: the hand knitter's figures (rows knittable by hand, longest float).
+function handFigures(cand, madeFor) {
+  const h = (cand.measures && cand.measures.hand) || (cand.details && cand.details.hand);
+  if (madeFor !== "hands" || !h) return null;
+  const d = document.createElement("div");
+  d.className = "hand";
+  d.textContent = `by hand: ${h.knittable_rows} of ${h.rows} rows knittable · longest float ${h.longest_float} sts`;
+  d.title = "rows a hand knitter can work: stranded with 2 yarns and floats of at most 7 stitches, or intarsia with at most 6 blocks";
+  if (h.knittable_rows < h.rows) d.classList.add("warn");
+  return d;
+}
+
 const NEGATIVE_NOTE = "below 0: that side shows its picture in negative (light and dark swapped)";
 
 async function loadCandidates() {
@@ -140,6 +152,8 @@ async function loadCandidates() {
         "ghosting: how much of the other picture shows through (0 is best)";
       card.appendChild(m);
     }
+    const hand = handFigures(cand, c.made_for);
+    if (hand) card.appendChild(hand);
     const fills = cand.details && cand.details.fills;
     if (Array.isArray(fills) && fills.length) {
       const f = document.createElement("div");

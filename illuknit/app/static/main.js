@@ -32,6 +32,7 @@ function wire() {
   $("#n_colors").addEventListener("change", () => saveSettings({ n_colors: Number($("#n_colors").value) }));
   $("#candidates").addEventListener("change", () => saveSettings({ candidates: Math.round(Number($("#candidates").value)) }));
   $("#split_bumps").addEventListener("change", () => saveSettings({ split_bumps: $("#split_bumps").checked }));
+  $("#made_for").addEventListener("change", () => saveSettings({ made_for: $("#made_for").value }));
   $("#resize").addEventListener("change", () => saveSettings({ resize: $("#resize").checked }));
   $("#preset").addEventListener("change", () => {
     const name = $("#preset").value;

@@ -203,6 +203,14 @@ function wireTracker() {
   applyState = function (s, ...rest) {
     const r = apply(s, ...rest);
     if (s && s.settings) $("#square_units").checked = !!s.settings.square_units;
+    // nothing picked on the server (a change of settings cleared the candidates): no tracker to
+    // ask for, though this tab's candidates are still on screen until the new ones come
+    if (s && s.selected === null) {
+      $("#tracker-card").hidden = true;
+      tracker.data = null;
+      seen = "";
+      return r;
+    }
     follow();
     return r;
   };

@@ -1,0 +1,82 @@
+"""The app's "made for" control (issue #37): generated from the declared option, passed to the
+search as ``RankOptions(made_for=...)``, and the cards carry the hand figures when made for hands."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import illuknit.pipeline.stages as stages
+from illuknit.app.candidates import make_candidates
+from illuknit.app.inputs import Prepared
+from illuknit.app.schemas import DesignSettings, SettingsPatch, choice_control
+from illuknit.core.declared import declared_options
+from illuknit.core.pattern import parse_yarns
+from illuknit.design.options import MadeFor, RankOptions
+from illuknit.pictures.images import QuantisedImage
+
+
+class _Searched(Exception):
+    pass
+
+
+def test_the_control_is_the_declared_option():
+    declared = declared_options(RankOptions)["made_for"]
+    control = choice_control(DesignSettings, "made_for")
+    assert control["choices"] == list(declared.choices) == [m.value for m in MadeFor]
+    assert control["default"] == declared.cli_default == DesignSettings().made_for == "machine"
+    assert control["title"] == declared.title
+    assert SettingsPatch(made_for="hands").made_for == "hands"
+    with pytest.raises(ValueError):
+        DesignSettings(made_for="robots")
+
+
+@pytest.mark.parametrize("made_for", ["machine", "hands"])
+def test_made_for_reaches_the_ranking(monkeypatch, made_for):
+    seen = []
+
+    def fake_design_tiles(*args, ranking, **kw):
+        seen.append(ranking)
+        raise _Searched
+
+    monkeypatch.setattr(stages, "design_tiles", fake_design_tiles)
+    yarns = parse_yarns("#1b1b1b,#f4f0e8")
+    pal = np.array([y.rgb for y in yarns], dtype=np.uint8)
+    q = QuantisedImage(np.eye(4, dtype=int), yarns, pal)
+    with pytest.raises(_Searched):
+        make_candidates(
+            Prepared("double", yarns, {"a": q, "b": q}),
+            count=1,
+            progress=lambda f, m: None,
+            made_for=made_for,
+        )
+    assert seen[0].made_for is MadeFor(made_for)
+
+
+def test_made_for_hands_in_the_app(tmp_path, api, pictures):
+    pytest.importorskip("fastapi", reason="the app extra is not installed")
+    from fastapi.testclient import TestClient
+
+    from illuknit.app import create_app
+    from illuknit.app.server import AppConfig
+
+    with TestClient(create_app(AppConfig(isolate_knit=False, data_dir=tmp_path))) as c:
+        assert c.get("/api/info").json()["controls"]["made_for"]["choices"] == ["machine", "hands"]
+        sid = api.new_session(c)
+        assert api.upload(c, sid, "a", pictures.box_picture()).status_code == 200
+        assert api.upload(c, sid, "b", pictures.box_picture(top=2, left=2)).status_code == 200
+        settings = {"mode": "double", "width_units": 12, "candidates": 2, "made_for": "hands"}
+        r = c.put(f"/api/sessions/{sid}/settings", json=settings)
+        assert r.status_code == 200, r.text
+        assert "made for machine -> hands" in r.json()["history"]["undo"][0]
+        assert api.run_job(c, sid, "candidates")["status"] == "done"
+        got = c.get(f"/api/sessions/{sid}/candidates").json()
+        assert got["made_for"] == "hands"
+        for cand in got["candidates"]:
+            hand = cand["details"]["hand"]
+            assert 0 <= hand["knittable_rows"] <= hand["rows"] and hand["longest_float"] >= 0
+        # measured, the order still puts the rows a hand knitter can work first
+        assert api.run_job(c, sid, "measures")["status"] == "done"
+        got = c.get(f"/api/sessions/{sid}/candidates?order=perception").json()
+        shares = [x["measures"]["hand"]["knittable_share"] for x in got["candidates"]]
+        assert shares == sorted(shares, reverse=True)
