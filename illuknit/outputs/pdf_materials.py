@@ -57,13 +57,9 @@ def _cover(doc: _Document, angle: float | None) -> None:
     from illuknit.outputs.previews import chart_rgb, rows_per_unit, unit_scale, upscale
 
     pdf, pattern, gauge = doc.pdf, doc.pattern, doc.gauge
-    n, m = pattern.shape
     pdf.add_page()
     doc.heading(doc.title, 20)
-    doc.para(
-        f"Finished size: {doc.size.describe()}  -  {doc.W} stitches x {doc.H} rows ({m} x {n} "
-        f"units of 2 stitches x 2 rows), at {gauge.describe()}."
-    )
+    doc.para(_cover_size(doc))
     doc.para(hand_verdict(pattern).text, 9.5)
     s = max(2, unit_scale(pattern.shape, target=400))
     theta = angle if angle is not None else RenderParams().theta
@@ -189,6 +185,20 @@ def _finishing(doc: _Document) -> None:
         "sleeve sewn at the top), in light from one side. Walk past it looking along the "
         "fabric from above, then from below, to see each picture; head-on it shows stripes "
         "or the mix the cover describes."
+    )
+
+
+def _cover_size(doc: _Document) -> str:
+    """The cover's finished size: the one the schematic draws (by hand, at the estimated row gauge
+    when the design's gauge was not measured), with the design's gauge beside it."""
+    n, m = doc.pattern.shape
+    counts = f"{doc.W} stitches x {doc.H} rows ({m} x {n} units of 2 stitches x 2 rows)"
+    if not doc.gauge.estimate:
+        return f"Finished size: {doc.size.describe()}  -  {counts}, at {doc.gauge.describe()}."
+    return (
+        f"Finished size by hand: about {doc.hand_size.describe()}  -  {counts}, at "
+        f"{doc.hand_gauge.describe()} (an estimate until your swatch says otherwise; the design "
+        f"is drawn for {doc.size.describe()} at {doc.gauge.describe()})."
     )
 
 

@@ -55,3 +55,5 @@ def test_every_page_reads_as_a_bought_pattern(k: int, tmp_path: Path) -> None:
     assert re.search(rf"{size.height_cm:.1f} cm .*\({size.height_in:.1f} in\)", schematic)
     for words in ("cast-on edge", "bind-off edge", "seen from above", "seen from below"):
         assert words in schematic, words
+    # one finished size in the whole pattern: the cover says the schematic's (by hand)
+    assert f"Finished size by hand: about {size.describe()}" in pages[0]
