@@ -24,6 +24,7 @@ from typing import Any
 from illuknit.bench.instances import instance_targets, load_manifest
 from illuknit.design.options import DEFAULT_POOL, POOL_SECONDS
 from illuknit.design.tiles.assign import assign_tiles
+from illuknit.design.tiles.hand_term import HAND_ROW_CHANGE_PENALTY, hand_weights
 from illuknit.design.tiles.perception import RankedCandidate, rank_designs
 
 #: The issue's readability allowance: the hand design within this of the machine design's.
@@ -39,22 +40,27 @@ def _cells(r: RankedCandidate) -> str:
     )
 
 
-def _designs(inst: Any, pool: int) -> tuple[int, RankedCandidate, RankedCandidate]:
+def _designs(inst: Any, pool: int, weight: float) -> tuple[int, RankedCandidate, RankedCandidate]:
     t = instance_targets(inst)
-    found = assign_tiles(
-        (t.a, t.palette), (t.b, t.palette), yarns=inst.yarns, candidates=5, pool=pool,
-        pool_seconds=POOL_SECONDS,
-    )  # fmt: skip
     pictures = [t.rgb("A"), t.rgb("B")]
-    machine = rank_designs(found, pictures, keep=1)[0]
-    hands = rank_designs(found, pictures, keep=1, made_for="hands")[0]
-    return len(found), machine, hands
+    designs = []
+    for made_for, weights in (("machine", None), ("hands", hand_weights(weight))):
+        found = assign_tiles(
+            (t.a, t.palette), (t.b, t.palette), yarns=inst.yarns, candidates=5, pool=pool,
+            pool_seconds=POOL_SECONDS, weights=weights,
+        )  # fmt: skip
+        designs.append(rank_designs(found, pictures, keep=1, made_for=made_for)[0])
+    return len(found), designs[0], designs[1]
 
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--small", action="store_true", help="leave out the 330 x 200 piece")
     ap.add_argument("--pool", type=int, default=DEFAULT_POOL, help="tile designs searched")
+    ap.add_argument(
+        "--weight", type=float, default=HAND_ROW_CHANGE_PENALTY,
+        help="the hand design's ΔE a colour change a row (0: no row term, ranking only)",
+    )  # fmt: skip
     args = ap.parse_args()
     insts = [i for i in load_manifest().instances if i.kind == "double"]
     if args.small:
@@ -70,7 +76,7 @@ def main() -> None:
     missed = []
     for inst in insts:
         t0 = time.perf_counter()
-        searched, machine, hands = _designs(inst, args.pool)
+        searched, machine, hands = _designs(inst, args.pool, args.weight)
         h = hands.measures.hand
         assert h is not None
         drop = machine.measures.worse_readability - hands.measures.worse_readability

@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING, Any, Literal
 
 from illuknit.core.errors import OptionError
 from illuknit.core.machine import resolve_machine
-from illuknit.design.options import PictureEdits, RankOptions, SearchOptions
+from illuknit.design.options import MadeFor, PictureEdits, RankOptions, SearchOptions
 from illuknit.design.tiles.perception import KnitMeasure
 from illuknit.pipeline.designs import Progress, RankedDesign, TileDesign
 
@@ -109,6 +109,11 @@ def search_tiles(
 
     qa, qb, search, bank = job.qa, job.qb, job.search, job.bank
     kw = {"bank": bank, **search.assign_kwargs()}
+    weights = None
+    if job.ranking.made_for is MadeFor.HANDS:
+        from illuknit.design.tiles.hand_term import hand_weights
+
+        weights = hand_weights()  # the search itself prefers few colour changes a row (#37)
     # what the assignment is made for: the pictures, or the edited regions of them
     first: QuantisedImage | Regions = qa
     second: QuantisedImage | Regions | tuple[NDArray[Any], NDArray[Any]] = (
@@ -144,6 +149,7 @@ def search_tiles(
         solver=search.solver,
         brightness=search.brightness.value,
         time_limit=search.time_limit,
+        weights=weights,
     )
     return found, edits
 
