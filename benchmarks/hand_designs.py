@@ -24,7 +24,11 @@ from typing import Any
 from illuknit.bench.instances import instance_targets, load_manifest
 from illuknit.design.options import DEFAULT_POOL, POOL_SECONDS
 from illuknit.design.tiles.assign import assign_tiles
-from illuknit.design.tiles.hand_term import HAND_ROW_CHANGE_PENALTY, hand_weights
+from illuknit.design.tiles.hand_term import (
+    HAND_ROW_CHANGE_PENALTY,
+    hand_weights,
+    with_hand_candidates,
+)
 from illuknit.design.tiles.perception import RankedCandidate, rank_designs
 
 #: The issue's readability allowance: the hand design within this of the machine design's.
@@ -43,14 +47,19 @@ def _cells(r: RankedCandidate) -> str:
 def _designs(inst: Any, pool: int, weight: float) -> tuple[int, RankedCandidate, RankedCandidate]:
     t = instance_targets(inst)
     pictures = [t.rgb("A"), t.rgb("B")]
-    designs = []
-    for made_for, weights in (("machine", None), ("hands", hand_weights(weight))):
-        found = assign_tiles(
-            (t.a, t.palette), (t.b, t.palette), yarns=inst.yarns, candidates=5, pool=pool,
-            pool_seconds=POOL_SECONDS, weights=weights,
+    found = assign_tiles(
+        (t.a, t.palette), (t.b, t.palette), yarns=inst.yarns, candidates=5, pool=pool,
+        pool_seconds=POOL_SECONDS,
+    )  # fmt: skip
+    machine = rank_designs(found, pictures, keep=1)[0]
+    if weight > 0:  # as the tile stage searches for hands: the row term's designs added
+        hand = assign_tiles(
+            (t.a, t.palette), (t.b, t.palette), yarns=inst.yarns, candidates=5,
+            weights=hand_weights(weight), explain=False,
         )  # fmt: skip
-        designs.append(rank_designs(found, pictures, keep=1, made_for=made_for)[0])
-    return len(found), designs[0], designs[1]
+        found = with_hand_candidates(found, hand)
+    hands = rank_designs(found, pictures, keep=1, made_for="hands")[0]
+    return len(found), machine, hands
 
 
 def main() -> None:

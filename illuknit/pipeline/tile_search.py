@@ -109,11 +109,6 @@ def search_tiles(
 
     qa, qb, search, bank = job.qa, job.qb, job.search, job.bank
     kw = {"bank": bank, **search.assign_kwargs()}
-    weights = None
-    if job.ranking.made_for is MadeFor.HANDS:
-        from illuknit.design.tiles.hand_term import hand_weights
-
-        weights = hand_weights()  # the search itself prefers few colour changes a row (#37)
     # what the assignment is made for: the pictures, or the edited regions of them
     first: QuantisedImage | Regions = qa
     second: QuantisedImage | Regions | tuple[NDArray[Any], NDArray[Any]] = (
@@ -149,8 +144,17 @@ def search_tiles(
         solver=search.solver,
         brightness=search.brightness.value,
         time_limit=search.time_limit,
-        weights=weights,
     )
+    if job.ranking.made_for is MadeFor.HANDS:
+        from illuknit.design.tiles.hand_term import hand_weights, with_hand_candidates
+
+        # and the designs a search that prefers few colour changes a row finds (issue #37)
+        hand = assign_tiles(
+            first, second, bank=bank, views=job.views, candidates=search.candidates,
+            solver=search.solver, brightness=search.brightness.value,
+            time_limit=search.time_limit, weights=hand_weights(), explain=False,
+        )  # fmt: skip
+        found = with_hand_candidates(found, hand)
     return found, edits
 
 

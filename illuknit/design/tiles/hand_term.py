@@ -26,8 +26,8 @@ changes of the ``(p, p')`` meetings. ``w = 0`` (the default, the machine design)
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
-from dataclasses import dataclass
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -44,6 +44,7 @@ __all__ = [
     "internal_changes",
     "row_mismatch",
     "row_signature",
+    "with_hand_candidates",
 ]
 
 #: The ΔE a colour change a hand-knitted row costs in a design made for hands
@@ -56,6 +57,15 @@ Signature = tuple[tuple[int, ...], ...]
 def hand_weights(row_change_penalty: float = HAND_ROW_CHANGE_PENALTY) -> AssignmentWeights:
     """The assignment weights of a design made for hands: the defaults with the row term on."""
     return AssignmentWeights(row_change_penalty=row_change_penalty)
+
+
+def with_hand_candidates(found: Sequence[Any], hand: Sequence[Any]) -> list[Any]:
+    """The assignments of the ordinary search, then those the row term found that it did not
+    (the same fills once): a design made for hands is chosen from both, never from fewer than a
+    machine design is (the term's model is larger, so its search finds fewer in the same time)."""
+    seen = {(a.fills_a, a.fills_b) for a in found}
+    new = [a for a in hand if (a.fills_a, a.fills_b) not in seen]
+    return [*found, *(replace(a, rank=len(found) + k + 1) for k, a in enumerate(new))]
 
 
 def row_signature(tile: Tile) -> Signature:

@@ -17,6 +17,7 @@ from illuknit.design.tiles.hand_term import (
     internal_changes,
     row_mismatch,
     row_signature,
+    with_hand_candidates,
 )
 from illuknit.design.tiles.tile import Tile
 from tests.design.tiles.test_assign import Y2, image_pair
@@ -76,3 +77,16 @@ def test_the_best_design_for_hands_changes_colour_no_more_often(pair):
     scored = {(fa, fb): s for s, fa, fb in brute_force_assignments(qa, qb, bank=bank, weights=w)}
     # the machine optimum measured with the term costs at least as much as the hand optimum
     assert scored[machine.fills_a, machine.fills_b] >= hands.score - 1e-9
+
+
+def test_a_design_for_hands_is_chosen_from_both_searches():
+    ia = np.kron([[0, 1, 0], [1, 0, 1]], np.ones((4, 4), int)).astype(np.int16)
+    ib = np.kron([[0, 0, 1], [1, 1, 0]], np.ones((4, 4), int)).astype(np.int16)
+    grey = np.array([[30, 30, 30], [220, 220, 220]], np.uint8)
+    found = assign_tiles((ia, grey), (ib, grey), yarns=Y2, candidates=2)
+    hand = assign_tiles((ia, grey), (ib, grey), yarns=Y2, candidates=4, weights=hand_weights())
+    both = with_hand_candidates(found, hand)
+    keys = [(a.fills_a, a.fills_b) for a in both]
+    assert both[: len(found)] == found and len(set(keys)) == len(keys)
+    assert set(keys) == {(a.fills_a, a.fills_b) for a in (*found, *hand)}
+    assert [a.rank for a in both] == list(range(1, len(both) + 1))
