@@ -23,10 +23,9 @@ from typing import Any
 
 from illuknit.bench.instances import instance_targets, load_manifest
 from illuknit.design.options import DEFAULT_POOL, POOL_SECONDS
-from illuknit.design.tiles.assign import assign_tiles
+from illuknit.design.tiles.assign import assign_tiles, search_for_hands
 from illuknit.design.tiles.hand_term import (
     HAND_ROW_CHANGE_PENALTY,
-    hand_weights,
     with_hand_candidates,
 )
 from illuknit.design.tiles.perception import RankedCandidate, rank_designs
@@ -53,10 +52,7 @@ def _designs(inst: Any, pool: int, weight: float) -> tuple[int, RankedCandidate,
     )  # fmt: skip
     machine = rank_designs(found, pictures, keep=1)[0]
     if weight > 0:  # as the tile stage searches for hands: the row term's designs added
-        hand = assign_tiles(
-            (t.a, t.palette), (t.b, t.palette), yarns=inst.yarns, candidates=5,
-            weights=hand_weights(weight), explain=False,
-        )  # fmt: skip
+        hand = search_for_hands((t.a, t.palette), (t.b, t.palette), yarns=inst.yarns, candidates=5)
         found = with_hand_candidates(found, hand)
     hands = rank_designs(found, pictures, keep=1, made_for="hands")[0]
     return len(found), machine, hands
@@ -67,8 +63,9 @@ def main() -> None:
     ap.add_argument("--small", action="store_true", help="leave out the 330 x 200 piece")
     ap.add_argument("--pool", type=int, default=DEFAULT_POOL, help="tile designs searched")
     ap.add_argument(
-        "--weight", type=float, default=HAND_ROW_CHANGE_PENALTY,
-        help="the hand design's ΔE a colour change a row (0: no row term, ranking only)",
+        "--no-term", dest="weight", action="store_const", const=0.0,
+        default=HAND_ROW_CHANGE_PENALTY,
+        help="rank the ordinary pool only (without the row term's designs)",
     )  # fmt: skip
     args = ap.parse_args()
     insts = [i for i in load_manifest().instances if i.kind == "double"]

@@ -103,7 +103,7 @@ def search_tiles(
     job: TileJob, sources: Sequence[ArrayLike] | None, edit_colors: int
 ) -> tuple[list[TileAssignment], list[EditResult]]:
     """The tile assignments (by score), after the simplifying edits (and those edits)."""
-    from illuknit.design.tiles.assign import assign_tiles
+    from illuknit.design.tiles.assign import assign_tiles, search_for_hands
     from illuknit.design.tiles.headon import uniform_side
     from illuknit.design.tiles.simplify import review_edits
 
@@ -146,13 +146,13 @@ def search_tiles(
         time_limit=search.time_limit,
     )
     if job.ranking.made_for is MadeFor.HANDS:
-        from illuknit.design.tiles.hand_term import hand_weights, with_hand_candidates
+        from illuknit.design.tiles.hand_term import with_hand_candidates
 
         # and the designs a search that prefers few colour changes a row finds (issue #37)
-        hand = assign_tiles(
+        hand = search_for_hands(
             first, second, bank=bank, views=job.views, candidates=search.candidates,
             solver=search.solver, brightness=search.brightness.value,
-            time_limit=search.time_limit, weights=hand_weights(), explain=False,
+            time_limit=search.time_limit,
         )  # fmt: skip
         found = with_hand_candidates(found, hand)
     return found, edits

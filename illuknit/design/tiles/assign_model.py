@@ -137,7 +137,7 @@ def _build_problem(
     hand = None
     if weights.row_change_penalty > 0:
         hand = hand_term(
-            bank, views, fa, fb, compat, ra.indices, rb.indices, pairs,
+            bank, views, (fa, fb), compat, (ra.indices, rb.indices), pairs,
             weights.row_change_penalty * SCALE,
         )  # fmt: skip
     return _Problem(

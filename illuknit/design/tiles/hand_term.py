@@ -145,10 +145,14 @@ def _meetings(
 
 
 def hand_term(
-    bank: Any, views: Any, fa: Any, fb: Any, compat: NDArray[np.bool_], ia: NDArray[Any],
-    ib: NDArray[Any], pairs: Mapping[tuple[int, int], int], weight: float,
+    bank: Any, views: Any, fills: tuple[Any, Any], compat: NDArray[np.bool_],
+    indices: tuple[NDArray[Any], NDArray[Any]], pairs: Mapping[tuple[int, int], int],
+    weight: float,
 ) -> HandTerm:  # fmt: skip
-    """The term for a problem (``weight`` already in model units: ΔE times SCALE)."""
+    """The term for a problem (``weight`` already in model units: ΔE times SCALE): the fills of
+    the two views, their compatibility, the two region maps and the overlap pairs."""
+    fa, fb = fills
+    ia, ib = indices
     sigs: dict[Signature, int] = {}
     sig_of: dict[tuple[int, int], int] = {}
     for f, g in zip(*np.nonzero(compat), strict=True):
