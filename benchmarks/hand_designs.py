@@ -23,7 +23,11 @@ from typing import Any
 
 from illuknit.bench.instances import instance_targets, load_manifest
 from illuknit.design.options import DEFAULT_POOL, POOL_SECONDS
-from illuknit.design.tiles.assign import assign_tiles
+from illuknit.design.tiles.assign import assign_tiles, search_for_hands
+from illuknit.design.tiles.hand_term import (
+    HAND_ROW_CHANGE_PENALTY,
+    with_hand_candidates,
+)
 from illuknit.design.tiles.perception import RankedCandidate, rank_designs
 
 #: The issue's readability allowance: the hand design within this of the machine design's.
@@ -39,14 +43,17 @@ def _cells(r: RankedCandidate) -> str:
     )
 
 
-def _designs(inst: Any, pool: int) -> tuple[int, RankedCandidate, RankedCandidate]:
+def _designs(inst: Any, pool: int, weight: float) -> tuple[int, RankedCandidate, RankedCandidate]:
     t = instance_targets(inst)
+    pictures = [t.rgb("A"), t.rgb("B")]
     found = assign_tiles(
         (t.a, t.palette), (t.b, t.palette), yarns=inst.yarns, candidates=5, pool=pool,
         pool_seconds=POOL_SECONDS,
     )  # fmt: skip
-    pictures = [t.rgb("A"), t.rgb("B")]
     machine = rank_designs(found, pictures, keep=1)[0]
+    if weight > 0:  # as the tile stage searches for hands: the row term's designs added
+        hand = search_for_hands((t.a, t.palette), (t.b, t.palette), yarns=inst.yarns, candidates=5)
+        found = with_hand_candidates(found, hand)
     hands = rank_designs(found, pictures, keep=1, made_for="hands")[0]
     return len(found), machine, hands
 
@@ -55,6 +62,11 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--small", action="store_true", help="leave out the 330 x 200 piece")
     ap.add_argument("--pool", type=int, default=DEFAULT_POOL, help="tile designs searched")
+    ap.add_argument(
+        "--no-term", dest="weight", action="store_const", const=0.0,
+        default=HAND_ROW_CHANGE_PENALTY,
+        help="rank the ordinary pool only (without the row term's designs)",
+    )  # fmt: skip
     args = ap.parse_args()
     insts = [i for i in load_manifest().instances if i.kind == "double"]
     if args.small:
@@ -70,7 +82,7 @@ def main() -> None:
     missed = []
     for inst in insts:
         t0 = time.perf_counter()
-        searched, machine, hands = _designs(inst, args.pool)
+        searched, machine, hands = _designs(inst, args.pool, args.weight)
         h = hands.measures.hand
         assert h is not None
         drop = machine.measures.worse_readability - hands.measures.worse_readability

@@ -26,7 +26,7 @@ from illuknit.cli.options import (
     OutputFolder,
     declared_option,
 )
-from illuknit.design.options import SolveOptions
+from illuknit.design.options import RankOptions, SolveOptions
 from illuknit.pictures.sizing import DEFAULT_MAX_WIDTH
 from illuknit.pipeline.inputs import PictureOptions
 
@@ -174,7 +174,7 @@ _SWITCH_DEFAULTS: dict[str, Any] = {
     "max_color_changes": None, "alternate_rows": False, "split_bumps": False,
     "n_colors": None, "yarns": None, "width": None, "resize": False, "quantise": True,
     "time_limit": 60.0, "seed": 0, "export_wcnf": None, "wcnf_style": "new",
-    "knitout": False, "machine": None, "show_progress": True,
+    "knitout": False, "machine": None, "show_progress": True, "made_for": "machine",
 }  # fmt: skip
 
 
@@ -312,7 +312,10 @@ def _check_solve_options(
     from illuknit.core.errors import ImageInputError, YarnSpecError
     from illuknit.core.pattern import parse_yarns
     from illuknit.design.models.illusion_models import parse_weights
+    from illuknit.pipeline.solve import HANDS_REFUSAL
 
+    if str(s["made_for"]) == "hands":
+        raise click.BadParameter(HANDS_REFUSAL, param_hint="--for")
     image_b = pictures[1]
     model, weights, yarns, n_colors = s["model"], s["weights"], s["yarns"], s["n_colors"]
     time_limit, export_wcnf = s["time_limit"], s["export_wcnf"]
@@ -475,6 +478,11 @@ def _list_solvers(ctx: click.Context, _param: click.Parameter, value: bool) -> N
 )
 @declared_option(SolveOptions, "time_limit")
 @declared_option(SolveOptions, "seed")
+@declared_option(
+    RankOptions,
+    "made_for",
+    note="The constraint models refuse hands: use double/headon --for hands.",
+)
 @click.option(
     "--export-wcnf",
     type=OutputFile(allow_dash=True),

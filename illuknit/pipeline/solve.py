@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 
-from illuknit.core.errors import ImageInputError, YarnSpecError
+from illuknit.core.errors import ImageInputError, OptionError, YarnSpecError
 from illuknit.core.machine import MachineSpec, resolve_machine
 from illuknit.design.options import ModelKind, SolveOptions
 from illuknit.pipeline.designs import Picture, SolvedDesign
@@ -35,10 +35,36 @@ if TYPE_CHECKING:
     from illuknit.solvers.base import ProgressCallback
     from illuknit.solvers.model import Model
 
-__all__ = ["SOLVE_PICTURE_OPTIONS", "illusion_model", "quantise_targets", "solve_design"]
+__all__ = [
+    "HANDS_REFUSAL",
+    "SOLVE_PICTURE_OPTIONS",
+    "check_made_for",
+    "illusion_model",
+    "quantise_targets",
+    "solve_design",
+]
 
 #: What the constraint-model stage reads of :class:`~illuknit.pipeline.inputs.PictureOptions`.
 SOLVE_PICTURE_OPTIONS = ("width", "stretch", "unit_aspect", "n_colors", "yarns", "quantise")
+
+
+#: Why ``made_for="hands"`` is refused by the constraint models, and what to use instead.
+HANDS_REFUSAL = (
+    "the constraint models (illuknit solve) have no hand knitter's term: for a design made for "
+    "hands use the tile search (illuknit double/headon --for hands, design_double/design_headon "
+    "with RankOptions(made_for=MadeFor.HANDS))"
+)
+
+
+def check_made_for(made_for: Any) -> None:
+    """Refuse ``made_for="hands"`` for the constraint models (:data:`HANDS_REFUSAL`): never
+    silently ignored. ``"machine"`` (or a :class:`~illuknit.design.options.MadeFor`) passes."""
+    from illuknit.design.options import MadeFor, enum_option
+
+    if made_for is None:
+        return
+    if enum_option(MadeFor, "made_for", made_for) is MadeFor.HANDS:
+        raise OptionError(HANDS_REFUSAL)
 
 
 def solve_design(
@@ -62,7 +88,8 @@ def solve_design(
     (``options.model``: two pictures for ``logical`` and ``knit-aware``, one for ``single``) is
     solved by :func:`~illuknit.design.models.illusion_models.solve_illusion`. ``progress`` receives the
     solver's improvements. With ``knit_on`` a pattern wider than its bed is refused first;
-    ``notes`` as :func:`design_single`'s, for ``machine``.
+    ``notes`` as :func:`design_single`'s, for ``machine``. ``made_for="hands"`` (a keyword) is
+    refused (:func:`check_made_for`): the constraint models have no hand knitter's term.
 
     Raises
     ------
@@ -72,6 +99,7 @@ def solve_design(
     from illuknit.core.arguments import check_callable
     from illuknit.design.models.illusion_models import solve_illusion
 
+    check_made_for(knobs.pop("made_for", "machine"))
     options = SolveOptions() if options is None else options
     check_type("options", options, SolveOptions)
     check_callable(progress, "progress")

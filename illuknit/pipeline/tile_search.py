@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING, Any, Literal
 
 from illuknit.core.errors import OptionError
 from illuknit.core.machine import resolve_machine
-from illuknit.design.options import PictureEdits, RankOptions, SearchOptions
+from illuknit.design.options import MadeFor, PictureEdits, RankOptions, SearchOptions
 from illuknit.design.tiles.perception import KnitMeasure
 from illuknit.pipeline.designs import Progress, RankedDesign, TileDesign
 
@@ -103,7 +103,7 @@ def search_tiles(
     job: TileJob, sources: Sequence[ArrayLike] | None, edit_colors: int
 ) -> tuple[list[TileAssignment], list[EditResult]]:
     """The tile assignments (by score), after the simplifying edits (and those edits)."""
-    from illuknit.design.tiles.assign import assign_tiles
+    from illuknit.design.tiles.assign import assign_tiles, search_for_hands
     from illuknit.design.tiles.headon import uniform_side
     from illuknit.design.tiles.simplify import review_edits
 
@@ -145,6 +145,16 @@ def search_tiles(
         brightness=search.brightness.value,
         time_limit=search.time_limit,
     )
+    if job.ranking.made_for is MadeFor.HANDS:
+        from illuknit.design.tiles.hand_term import with_hand_candidates
+
+        # and the designs a search that prefers few colour changes a row finds (issue #37)
+        hand = search_for_hands(
+            first, second, bank=bank, views=job.views, candidates=search.candidates,
+            solver=search.solver, brightness=search.brightness.value,
+            time_limit=search.time_limit,
+        )  # fmt: skip
+        found = with_hand_candidates(found, hand)
     return found, edits
 
 

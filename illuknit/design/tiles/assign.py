@@ -48,6 +48,7 @@ from illuknit.design.tiles.assignment import (
 )
 from illuknit.design.tiles.bank import TileBank, ViewPair, canonical_bank
 from illuknit.design.tiles.explain import explain_infeasible
+from illuknit.design.tiles.hand_term import hand_weights
 from illuknit.design.tiles.phases import align_phases
 from illuknit.design.tiles.tile import Fill
 
@@ -61,6 +62,7 @@ __all__ = [
     "explain_infeasible",
     "overlap_pairs",
     "regions_of",
+    "search_for_hands",
 ]
 
 
@@ -200,6 +202,17 @@ def assign_tiles(
         pool=max(opts.candidates, opts.pool or 0),
         pool_seconds=opts.pool_seconds,
     )
+
+
+def search_for_hands(qa: Any, qb: Any, **kw: Any) -> list[TileAssignment]:
+    """The assignments :func:`assign_tiles` finds with the hand knitter's row term
+    (:func:`~illuknit.design.tiles.hand_term.hand_weights`; ``kw`` its other arguments), or none
+    when its larger model finds nothing within the time limit (3 yarns and many regions): the
+    ordinary search's designs are then all a design made for hands is chosen from."""
+    try:
+        return assign_tiles(qa, qb, weights=hand_weights(), explain=False, **kw)
+    except TileAssignmentError:
+        return []
 
 
 def _yarns_of(*inputs: Any) -> tuple[Yarn, ...]:
