@@ -33,6 +33,7 @@ from illuknit.core.machine import DEFAULT_MACHINE_NAME, MachineSpec, machine_nam
 from illuknit.core.machine import resolve_machine as machine_spec
 from illuknit.core.pattern import LogicalPattern
 from illuknit.knit.options import KnitOptions
+from illuknit.outputs.hand_pattern import MAX_BORDER_UNITS
 
 __all__ = [
     "REFUSAL_NOTE",
@@ -180,7 +181,7 @@ def _border_option(callback: Callable[..., Any]) -> Callable[..., Any]:
     return click.option(
         "--border",
         "border",
-        type=click.IntRange(min=0),
+        type=click.IntRange(0, MAX_BORDER_UNITS),
         default=None,
         expose_value=False,
         callback=callback,

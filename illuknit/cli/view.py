@@ -8,6 +8,7 @@ import click
 
 from illuknit.cli.options import InputFile, outdir_option
 from illuknit.cli.summary import print_written, summarise_pattern
+from illuknit.outputs.hand_pattern import MAX_BORDER_UNITS
 
 __all__ = ["view"]
 
@@ -25,7 +26,7 @@ __all__ = ["view"]
 )
 @click.option(
     "--border",
-    type=click.IntRange(min=0),
+    type=click.IntRange(0, MAX_BORDER_UNITS),
     default=0,
     show_default=True,
     help="A garter border against curling around the hand pattern, this many ridge units wide "

@@ -26,7 +26,7 @@ from illuknit.core.pattern import LogicalPattern, save_pattern
 from illuknit.core.progress import Report
 from illuknit.outputs.captions import headon_likeness
 from illuknit.outputs.chart import chart_png_rgb, written_instructions
-from illuknit.outputs.hand_pattern import with_border
+from illuknit.outputs.hand_pattern import MAX_BORDER_UNITS, with_border
 from illuknit.outputs.previews import save_png, unit_scale, upscale, write_previews
 from illuknit.pictures.images import QuantisedImage
 
@@ -83,7 +83,7 @@ class ExportOptions:
         if self.gauge is not None:
             check_instance(self.gauge, Gauge, "gauge")
         check_str(self.chart, "chart")
-        check_int(self.border, "border", min=0)
+        check_int(self.border, "border", min=0, max=MAX_BORDER_UNITS)
 
 
 def export_pattern(

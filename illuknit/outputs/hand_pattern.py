@@ -207,6 +207,11 @@ def row_colourwork(pattern: LogicalPattern) -> list[RowColourwork]:
     return out
 
 
+#: The widest border :func:`with_border` makes, in ridge units (40 stitches at each side, 40
+#: rows at each end): wider is a second piece, not a border.
+MAX_BORDER_UNITS = 20
+
+
 def with_border(pattern: LogicalPattern, units: int) -> LogicalPattern:
     """``pattern`` framed by a garter border ``units`` ridge units wide (each 2 stitches x 2
     rows): ``2 * units`` garter stitches at each side (knit on both sides: raised units) in the
@@ -222,7 +227,7 @@ def with_border(pattern: LogicalPattern, units: int) -> LogicalPattern:
     >>> b.shape, b.yarn.tolist(), int(b.raised.sum())
     ((4, 4), [[0, 0, 0, 0], [0, 0, 1, 1], [1, 1, 1, 1], [1, 1, 1, 1]], 12)
     """
-    check_int(units, "border", min=0)
+    check_int(units, "border", min=0, max=MAX_BORDER_UNITS)
     if units == 0:
         return pattern
     sides = ((0, 0), (units, units))
