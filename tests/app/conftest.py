@@ -315,3 +315,41 @@ def app_process(tmp_path: Any) -> Iterator[Callable[..., AppProcess]]:
     yield make
     for p in made:
         p.stop("kill")
+
+
+@pytest.fixture
+def search_keywords(monkeypatch: pytest.MonkeyPatch) -> Callable[..., dict[str, Any]]:
+    """Start the app's candidate search on a tiny quantised pair with ``**settings`` and return
+    the keywords it called the tile stage (``design_tiles``) with; the search stops there."""
+    import numpy as np
+
+    import illuknit.pipeline.stages as stages
+    from illuknit.app.candidates import make_candidates
+    from illuknit.app.inputs import Prepared
+    from illuknit.core.pattern import parse_yarns
+    from illuknit.pictures.images import QuantisedImage
+
+    class _Searched(Exception):
+        pass
+
+    def run(**settings: Any) -> dict[str, Any]:
+        seen: dict[str, Any] = {}
+
+        def fake_design_tiles(*args: Any, **kw: Any) -> None:
+            seen.update(kw)
+            raise _Searched
+
+        monkeypatch.setattr(stages, "design_tiles", fake_design_tiles)
+        yarns = parse_yarns("#1b1b1b,#f4f0e8")
+        pal = np.array([y.rgb for y in yarns], dtype=np.uint8)
+        q = QuantisedImage(np.eye(4, dtype=int), yarns, pal)
+        with pytest.raises(_Searched):
+            make_candidates(
+                Prepared("double", yarns, {"a": q, "b": q}),
+                count=1,
+                progress=lambda f, m: None,
+                **settings,
+            )
+        return seen
+
+    return run

@@ -3,21 +3,11 @@ search as ``RankOptions(made_for=...)``, and the cards carry the hand figures wh
 
 from __future__ import annotations
 
-import numpy as np
 import pytest
 
-import illuknit.pipeline.stages as stages
-from illuknit.app.candidates import make_candidates
-from illuknit.app.inputs import Prepared
 from illuknit.app.schemas import DesignSettings, SettingsPatch, choice_control
 from illuknit.core.declared import declared_options
-from illuknit.core.pattern import parse_yarns
 from illuknit.design.options import MadeFor, RankOptions
-from illuknit.pictures.images import QuantisedImage
-
-
-class _Searched(Exception):
-    pass
 
 
 def test_the_control_is_the_declared_option():
@@ -32,25 +22,8 @@ def test_the_control_is_the_declared_option():
 
 
 @pytest.mark.parametrize("made_for", ["machine", "hands"])
-def test_made_for_reaches_the_ranking(monkeypatch, made_for):
-    seen = []
-
-    def fake_design_tiles(*args, ranking, **kw):
-        seen.append(ranking)
-        raise _Searched
-
-    monkeypatch.setattr(stages, "design_tiles", fake_design_tiles)
-    yarns = parse_yarns("#1b1b1b,#f4f0e8")
-    pal = np.array([y.rgb for y in yarns], dtype=np.uint8)
-    q = QuantisedImage(np.eye(4, dtype=int), yarns, pal)
-    with pytest.raises(_Searched):
-        make_candidates(
-            Prepared("double", yarns, {"a": q, "b": q}),
-            count=1,
-            progress=lambda f, m: None,
-            made_for=made_for,
-        )
-    assert seen[0].made_for is MadeFor(made_for)
+def test_made_for_reaches_the_ranking(search_keywords, made_for):
+    assert search_keywords(made_for=made_for)["ranking"].made_for is MadeFor(made_for)
 
 
 def test_made_for_hands_in_the_app(tmp_path, api, pictures):
