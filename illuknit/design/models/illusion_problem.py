@@ -23,6 +23,7 @@ from illuknit.solvers.model import DomainPayload, Model
 
 __all__ = [
     "MODEL_KINDS",
+    "SPLIT_BUMPS_SOLVERS",
     "IllusionProblem",
     "KnitWeights",
     "make_problem",
@@ -32,6 +33,11 @@ __all__ = [
     "raised_cost",
     "row_passes",
 ]
+
+#: Why a heuristic backend refuses a split-bump model, and which backends solve one.
+SPLIT_BUMPS_SOLVERS = (
+    "split bumps are solved by the exact DP and the MaxSAT/CP backends (dp, rc2, cpsat)"
+)
 
 ModelKind = Literal["logical", "knit-aware", "single"]
 MODEL_KINDS: tuple[str, ...] = ("logical", "knit-aware", "single")

@@ -56,7 +56,11 @@ from numpy.typing import NDArray
 from illuknit.design.models.backends.descent_blocks import descend, pattern_cost
 from illuknit.design.models.backends.dp import DPBackend, solve_dp, values_from_pattern
 from illuknit.design.models.backends.lagrangian import LagrangianResult, lagrangian_bound
-from illuknit.design.models.illusion_problem import IllusionProblem, problem_of
+from illuknit.design.models.illusion_problem import (
+    SPLIT_BUMPS_SOLVERS,
+    IllusionProblem,
+    problem_of,
+)
 from illuknit.solvers.base import (
     BackendBase,
     BackendKind,
@@ -319,9 +323,7 @@ class DescentBackend(BackendBase):
         if p.color_cap is not None:
             return "block descent cannot guarantee a hard colour-change cap; use --solver cpsat"
         if p.split_bumps:
-            return (
-                "split bumps are solved by the exact DP and the MaxSAT/CP backends (dp, rc2, cpsat)"
-            )
+            return SPLIT_BUMPS_SOLVERS
         return None
 
     def solve(

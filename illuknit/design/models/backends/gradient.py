@@ -18,7 +18,11 @@ from __future__ import annotations
 import time
 from typing import TYPE_CHECKING, Any
 
-from illuknit.design.models.illusion_problem import IllusionProblem, problem_of
+from illuknit.design.models.illusion_problem import (
+    SPLIT_BUMPS_SOLVERS,
+    IllusionProblem,
+    problem_of,
+)
 from illuknit.solvers.base import (
     BackendBase,
     BackendKind,
@@ -56,9 +60,7 @@ class GradientBackend(BackendBase):
         if p.color_cap is not None:
             return "gradient descent cannot guarantee a hard colour-change cap; use --solver cpsat"
         if p.split_bumps:
-            return (
-                "split bumps are solved by the exact DP and the MaxSAT/CP backends (dp, rc2, cpsat)"
-            )
+            return SPLIT_BUMPS_SOLVERS
         return None
 
     def solve(
