@@ -5,14 +5,16 @@ For every bundled double-view instance (``instances/manifest.toml``; ``--small``
 :data:`~illuknit.design.options.DEFAULT_POOL`) are assigned once, compiled and measured
 (:func:`illuknit.design.tiles.perception.rank_designs`), then ranked twice: as for a machine
 (``made_for="machine"``, the default perception order) and as for hands (``made_for="hands"``:
-the share of rows knittable by hand first, then the same order). Printed for each, per instance:
+the share of rows knittable by hand first, then the same order), the hand ranking over those
+designs and the ones a search for hands adds: the row term's and the shared stripes'
+(:mod:`illuknit.design.tiles.stripes`; ``--stripe`` tries another stripe). Printed for each, per instance:
 the share of rows knittable by hand (:func:`illuknit.design.hand_cost.hand_cost`: a row in one
 yarn, or with 2 yarns and floats of at most 7 stitches, or with at most 6 intarsia blocks), the
 colour changes a row (max / mean), the longest float (stitches) and the worse-view readability;
 and whether the target holds: every row knittable and readability within 0.05 of the machine
 design. Rows are hand rows (2 a unit row), stitches 2 a unit, as the hand pattern counts them.
 
-    python benchmarks/hand_designs.py [--small] [--pool 20]
+    python benchmarks/hand_designs.py [--small] [--pool 20] [--no-stripes | --stripe 0001]
 """
 
 from __future__ import annotations
@@ -22,6 +24,7 @@ import time
 from typing import Any
 
 from illuknit.bench.instances import instance_targets, load_manifest
+from illuknit.core.errors import TileAssignmentError
 from illuknit.design.options import DEFAULT_POOL, POOL_SECONDS
 from illuknit.design.tiles.assign import assign_tiles, search_for_hands
 from illuknit.design.tiles.hand_term import (
@@ -29,6 +32,7 @@ from illuknit.design.tiles.hand_term import (
     with_hand_candidates,
 )
 from illuknit.design.tiles.perception import RankedCandidate, rank_designs
+from illuknit.design.tiles.stripes import search_stripes, stripe_bank, stripe_yarns
 
 #: The issue's readability allowance: the hand design within this of the machine design's.
 READ_ALLOWANCE = 0.05
@@ -43,7 +47,31 @@ def _cells(r: RankedCandidate) -> str:
     )
 
 
-def _designs(inst: Any, pool: int, weight: float) -> tuple[int, RankedCandidate, RankedCandidate]:
+def _stripe_designs(inst: Any, t: Any, pool: int, stripe: str | None) -> list[Any]:
+    """The shared-stripe designs a search for hands adds (``--stripe``: another stripe, its
+    digits 0 and 1 the darkest and lightest yarn, or, with a digit 2 or more, the instance's
+    yarns in order)."""
+    if stripe is None:
+        return search_stripes(
+            (t.a, t.palette), (t.b, t.palette), yarns=inst.yarns, candidates=5, pool=pool,
+            pool_seconds=POOL_SECONDS,
+        )  # fmt: skip
+    rows = tuple(int(c) for c in stripe)
+    yarns = stripe_yarns(inst.yarns) if max(rows) == 1 else inst.yarns[: max(rows) + 1]
+    if len(yarns) < max(rows) + 1:  # a 3-yarn stripe on a 2-yarn pair
+        return []
+    try:
+        return assign_tiles(
+            (t.a, t.palette), (t.b, t.palette), bank=stripe_bank(yarns, stripe=rows),
+            candidates=5, pool=pool, pool_seconds=POOL_SECONDS, explain=False,
+        )  # fmt: skip
+    except TileAssignmentError:
+        return []
+
+
+def _designs(
+    inst: Any, pool: int, weight: float, stripes: str | bool | None
+) -> tuple[int, RankedCandidate, RankedCandidate]:
     t = instance_targets(inst)
     pictures = [t.rgb("A"), t.rgb("B")]
     found = assign_tiles(
@@ -54,6 +82,8 @@ def _designs(inst: Any, pool: int, weight: float) -> tuple[int, RankedCandidate,
     if weight > 0:  # as the tile stage searches for hands: the row term's designs added
         hand = search_for_hands((t.a, t.palette), (t.b, t.palette), yarns=inst.yarns, candidates=5)
         found = with_hand_candidates(found, hand)
+    if stripes is not False:  # and the shared-stripe designs
+        found = with_hand_candidates(found, _stripe_designs(inst, t, pool, stripes or None))
     hands = rank_designs(found, pictures, keep=1, made_for="hands")[0]
     return len(found), machine, hands
 
@@ -66,6 +96,15 @@ def main() -> None:
         "--no-term", dest="weight", action="store_const", const=0.0,
         default=HAND_ROW_CHANGE_PENALTY,
         help="rank the ordinary pool only (without the row term's designs)",
+    )  # fmt: skip
+    ap.add_argument(
+        "--no-stripes", dest="stripes", action="store_const", const=False, default=None,
+        help="leave out the shared-stripe designs (as before they were searched for hands)",
+    )  # fmt: skip
+    ap.add_argument(
+        "--stripe", dest="stripes", metavar="DIGITS",
+        help="another shared stripe, e.g. 0001 (0 darkest, 1 lightest) or 001122 (the "
+        "instance's yarns in order); instances it cannot serve get no stripe design",
     )  # fmt: skip
     args = ap.parse_args()
     insts = [i for i in load_manifest().instances if i.kind == "double"]
@@ -82,7 +121,7 @@ def main() -> None:
     missed = []
     for inst in insts:
         t0 = time.perf_counter()
-        searched, machine, hands = _designs(inst, args.pool, args.weight)
+        searched, machine, hands = _designs(inst, args.pool, args.weight, args.stripes)
         h = hands.measures.hand
         assert h is not None
         drop = machine.measures.worse_readability - hands.measures.worse_readability
@@ -92,7 +131,8 @@ def main() -> None:
         verdict = "met" if ok else ("rows" if h.knittable_rows < h.rows else f"-{drop:.3f}")
         print(
             f"{inst.name:<24} {len(inst.yarns):>5} {searched:>8} | machine: {_cells(machine)} | "
-            f"hands: {_cells(hands)} | {verdict:>6}  {time.perf_counter() - t0:7.1f}"
+            f"hands: {_cells(hands)} {hands.assignment.bank.name:<14} | {verdict:>6}  "
+            f"{time.perf_counter() - t0:7.1f}"
         )
     print(
         "target: every row knittable by hand, readability within "

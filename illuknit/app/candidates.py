@@ -166,6 +166,9 @@ def _hand_details(design: Any, made_for: str) -> dict[str, Any]:
     hand = getattr(design.measures, "hand", None) if made_for == "hands" else None
     if hand is None:
         return {}
+    from illuknit.design.tiles.stripes import STRIPE_BANK_NAME
+
+    stripes = design.assignment.bank.name == STRIPE_BANK_NAME
     return {
         "made_for": made_for,
         "hand": {
@@ -173,7 +176,9 @@ def _hand_details(design: Any, made_for: str) -> dict[str, Any]:
             "knittable_rows": hand.knittable_rows,
             "longest_float": hand.longest_float,
             "max_blocks": hand.max_blocks,
-            "text": hand.describe(),
+            "text": hand.describe()
+            + ("; shared stripes: every row in one yarn" if stripes else ""),
+            "shared_stripes": stripes,
         },
     }
 

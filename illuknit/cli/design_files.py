@@ -107,6 +107,7 @@ def write_candidate(
         "default": cand.rank == pick,
         "score": round(cand.score, 2),
         "score_rank": rc.score_rank,
+        "bank": cand.bank.name,
         **_measure_fields(meas),
         "legibility": _legibility_json(rc),
         "diagnostics": diagnostics,

@@ -194,13 +194,27 @@ def _hand_line(summary: dict[str, Any]) -> str:
     default = next((r for r in summary["candidates"] if r["default"]), None)
     reads = [] if default is None else [v for v in default["readability"] if v is not None]
     read = f"{min(reads):.3f}" if reads else "not measured"
+    from illuknit.design.tiles.stripes import STRIPE_BANK_NAME
+
     made = "made for hands" if summary.get("made_for") == "hands" else "made for a machine"
-    return (
+    if summary["bank"]["name"] == STRIPE_BANK_NAME:
+        made += ", shared stripes: every row in one yarn"
+    line = (
         f"by hand ({made}): rows knittable by hand {hand['knittable_rows']} of {hand['rows']} "
         f"(2 yarns with floats of at most 7 sts, or at most 6 intarsia blocks), longest float "
         f"{hand['longest_float']} sts ({hand['catches']} catches), colour changes a row max "
-        f"{hand['max_changes']} / mean {hand['mean_changes']:.1f}; worse-view readability {read}"
+        f"{hand['max_changes']} / mean {hand['mean_changes']:.1f}; worse-view correlation {read}"
     )
+    machine = summary.get("machine_design")
+    if machine:
+        m = machine["hand"]
+        line += (
+            f"\n  the design made for a machine: rows knittable by hand {m['knittable_rows']} of "
+            f"{m['rows']}, longest float {m['longest_float']} sts, colour changes a row max "
+            f"{m['max_changes']} / mean {m['mean_changes']:.1f}; worse-view correlation "
+            f"{machine['worse_readability']:.3f}"
+        )
+    return line
 
 
 def _natural(name: str) -> tuple[str, int]:

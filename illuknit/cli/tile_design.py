@@ -372,16 +372,18 @@ def write_design(
 
             report(0.94, "knitting the default candidate and checking it")
             write_program(chosen, tmp, machine=machine, refused=refused)
+        picked = design.designs[pick - 1]  # its bank and yarns: a stripe design has its own
         summary = {
             "mode": design.mode,
-            "yarns": [{"name": y.name, "rgb": y.hex} for y in design.yarns],
+            "yarns": [{"name": y.name, "rgb": y.hex} for y in picked.pattern.yarns],
             "size": {"rows": int(qa.shape[0]), "cols": int(qa.shape[1])},
             "finished_size": finished_size(qa.shape, gauge).as_dict(),
-            "bank": {"name": design.bank.name, "tiles": len(design.bank)},
+            "bank": {"name": picked.assignment.bank.name, "tiles": len(picked.assignment.bank)},
             "solver": design.search.solver,
             "ranked_by": design.ranking.rank_by.value,
             "made_for": design.ranking.made_for.value,
-            "hand": _hand_json(design.designs[pick - 1]),
+            "hand": _hand_json(picked),
+            **_machine_json(design.machine_first),
             "searched": design.searched,
             "edits": [e.to_json() for e in design.edits],
             "default": pick,
@@ -430,3 +432,16 @@ def _parse_overrides(specs: tuple[str, ...]) -> dict[tuple[int, int], str]:
 def _hand_json(d: RankedDesign) -> dict[str, Any] | None:
     hand = getattr(d.measures, "hand", None)
     return None if hand is None else dict(hand.to_json())
+
+
+def _machine_json(first: Any) -> dict[str, Any]:
+    """Made for hands: ``{"machine_design": ...}``, the hand cost and worse-side correlation of
+    the design the ranking puts first for a machine (nothing when made for a machine)."""
+    if first is None or first.hand is None:
+        return {}
+    return {
+        "machine_design": {
+            "hand": dict(first.hand.to_json()),
+            "worse_readability": round(float(first.worse_readability), 4),
+        }
+    }

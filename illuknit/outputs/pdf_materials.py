@@ -5,6 +5,9 @@ technique advice, finishing and the key.
 
 from __future__ import annotations
 
+import itertools
+from typing import Any
+
 import numpy as np
 
 from illuknit.core.colors import luminance
@@ -162,17 +165,32 @@ def _materials(doc: _Document) -> None:
 
 #: Skill level by technique (Craft Yarn Council's skill levels: Easy, Intermediate, Experienced).
 _SKILL = {
-    "stripes": "Easy: knit, purl and a change of yarn every 2 rows; the care is in counting.",
+    "stripes": "Easy: knit, purl and a change of yarn every {rows}; the care is in counting.",
     "intarsia": "Experienced: intarsia with a bobbin a colour block, on top of the ridges.",
     "stranded": "Experienced: stranded colour work with floats caught, on top of the ridges.",
     "not-sensible": "Machine: no hand technique fits the colour rows (see Working it).",
 }
 
 
+def _stripe_rows(pattern: Any) -> str:
+    """How many hand rows a stripe of one yarn runs between changes ("2 rows", "2 to 4 rows"),
+    for a design knitted one yarn a row: the runs of hand rows in one yarn, leaving out the
+    first and the last run (cut by the edges) when there are more than two."""
+    n = pattern.shape[0]
+    yarns = [
+        int((pattern.yarn if k % 2 == 0 else pattern.upper_yarn)[n - 1 - k // 2][0])
+        for k in range(2 * n)
+    ]
+    runs = [len(list(g)) for _, g in itertools.groupby(yarns)]
+    inner = runs[1:-1] if len(runs) > 2 else runs
+    lo, hi = min(inner), max(inner)
+    return f"{lo} rows" if lo == hi else f"{lo} to {hi} rows"
+
+
 def _finishing(doc: _Document) -> None:
     """Skill level, blocking and finishing, and how to hang and view the piece."""
     doc.heading("Skill level")
-    doc.para(_SKILL[doc.advice.technique])
+    doc.para(_SKILL[doc.advice.technique].format(rows=_stripe_rows(doc.pattern)))
     doc.heading("Finishing")
     doc.para(
         "Weave in the ends along the same-coloured stripes on the wrong side. Wet-block: soak "

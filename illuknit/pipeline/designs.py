@@ -147,6 +147,10 @@ class TileDesign:
         What the designer should know about the machine: the grid fits no bed of it, or only a
         generic bed (:meth:`~illuknit.core.machine.MachineSpec.fit_note`); also issued as a
         :class:`~illuknit.core.machine.BedFitWarning`.
+    machine_first : CandidateMeasures or None
+        Made for hands (``ranking.made_for``): the measures of the design the same ranking puts
+        first for a machine, among every design searched (what the hand design is compared
+        with); None when made for a machine.
     """
 
     mode: Literal["double", "headon"]
@@ -163,6 +167,7 @@ class TileDesign:
     pictures: tuple[NDArray[np.float64], ...] = ()
     seconds: Mapping[str, float] = field(default_factory=dict)
     notes: tuple[str, ...] = ()
+    machine_first: CandidateMeasures | None = None
 
     @property
     def best(self) -> TileRanked:

@@ -86,7 +86,9 @@ def _reader(
 class TileJob:
     """What searching and ranking the tile designs of one pair of pictures share: the
     quantised pictures (``qb`` None: a head-on design without a side picture), the kind of
-    design and its views, the bank's yarns and the bank, the options, and who hears progress."""
+    design and its views, the bank's yarns and the bank, the options, and who hears progress;
+    ``own_bank``: the bank is the one the design stage built (not the caller's), so a design made
+    for hands may also be sought in the shared-stripe bank."""
 
     qa: QuantisedImage
     qb: QuantisedImage | None
@@ -97,6 +99,7 @@ class TileJob:
     search: SearchOptions
     ranking: RankOptions
     say: Progress
+    own_bank: bool = True
 
 
 def search_tiles(
@@ -155,6 +158,17 @@ def search_tiles(
             time_limit=search.time_limit,
         )  # fmt: skip
         found = with_hand_candidates(found, hand)
+        if job.own_bank and job.mode == "double":
+            from illuknit.design.tiles.stripes import search_stripes
+
+            # and every row in one yarn: the classic shadow-knitting design
+            job.say(0.3, "finding shared-stripe designs (every row one yarn)")
+            stripes = search_stripes(
+                first, second, yarns=job.yarns, candidates=search.candidates, pool=search.pool,
+                pool_seconds=search.pool_seconds, solver=search.solver,
+                brightness=search.brightness.value, time_limit=search.time_limit,
+            )  # fmt: skip
+            found = with_hand_candidates(found, stripes)
     return found, edits
 
 
@@ -214,6 +228,7 @@ def rank_tiles(
         edits=tuple(edits),
         search=search,
         ranking=ranking,
+        machine_first=ranked.machine_first,
     )
 
 

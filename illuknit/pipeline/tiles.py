@@ -241,6 +241,7 @@ def design_tiles(
             "split bumps extend the canonical bank; a bank of your own lists its tiles "
             "(write a split bump as 1^0: yarn 1, then yarn 0)"
         )
+    own_bank = bank is None
     if bank is None:
         bank = canonical_bank(
             ys,
@@ -251,7 +252,7 @@ def design_tiles(
         )
     elif isinstance(bank, (str, os.PathLike)):
         bank = load_bank(bank, yarns=ys)
-    job = TileJob(qa, qb, mode, views, ys, bank, search, ranking, say)
+    job = TileJob(qa, qb, mode, views, ys, bank, search, ranking, say, own_bank)
     t0 = time.perf_counter()
     found, edits = search_tiles(job, sources, edit_colors or len(ys))
     t1 = time.perf_counter()

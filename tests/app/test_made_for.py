@@ -48,6 +48,8 @@ def test_made_for_hands_in_the_app(tmp_path, api, pictures):
         for cand in got["candidates"]:
             hand = cand["details"]["hand"]
             assert 0 <= hand["knittable_rows"] <= hand["rows"] and hand["longest_float"] >= 0
+            # a shared-stripe design (every row one yarn) says so on its card
+            assert hand["shared_stripes"] == ("shared stripes" in hand["text"])
         # measured, the order still puts the rows a hand knitter can work first
         assert api.run_job(c, sid, "measures")["status"] == "done"
         got = c.get(f"/api/sessions/{sid}/candidates?order=perception").json()

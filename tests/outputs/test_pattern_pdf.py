@@ -343,3 +343,18 @@ def test_a_swatch_measures_10cm_in_its_middle(sts: float, rows: float) -> None:
     n, r = swatch_size(g)
     assert n * g.stitch_cm >= 15 - 1e-9 and r * g.row_cm >= 15 - 1e-9
     assert n % 2 == 0 and r % 4 == 0
+
+
+@pytest.mark.parametrize(
+    "stripe, says",
+    [([0, 1], "every 2 rows"), ([0, 0, 1, 1], "every 4 rows"), ([0, 1, 1], "every 2 to 4 rows")],
+)
+def test_the_skill_level_names_the_stripes_the_design_has(stripe, says) -> None:
+    # one yarn a row, unit rows cycling through `stripe` (2 hand rows each)
+    n, m = 13, 6
+    yarn = np.array([[stripe[r % len(stripe)]] * m for r in range(n)])
+    pattern = LogicalPattern(yarn, np.zeros((n, m), bool), parse_yarns("navy,linen"))
+    text = " ".join(
+        " ".join(pdf_pages(pattern_pdf(pattern, gauge=parse_gauge("22x30/10cm")))).split()
+    )
+    assert f"Easy: knit, purl and a change of yarn {says};" in text

@@ -5,7 +5,8 @@ Pipeline (paper sections 4.2 and 6)::
     canonical_bank(yarns) -> assign_tiles(qa, qb, bank=...) -> [TileAssignment, ...]
                           -> compile_tiles(assignment) -> (LogicalPattern, TileReport)
 
-The head-on variant (Fig. 17) is :func:`illuknit.design.tiles.headon.assign_headon`.
+The head-on variant (Fig. 17) is :func:`illuknit.design.tiles.headon.assign_headon`; designs a
+hand knitter works one yarn a row come from :func:`illuknit.design.tiles.stripes.stripe_bank`.
 """
 
 from __future__ import annotations
@@ -35,6 +36,8 @@ _API: dict[str, str] = {
     "AssignmentWeights": "illuknit.design.tiles.assignment",
     "assign_headon": "illuknit.design.tiles.headon",
     "headon_bank": "illuknit.design.tiles.headon",
+    "stripe_bank": "illuknit.design.tiles.stripes",
+    "search_stripes": "illuknit.design.tiles.stripes",
     "Suggestion": "illuknit.design.tiles.simplify",
     "suggest_edits": "illuknit.design.tiles.simplify",
     "review_edits": "illuknit.design.tiles.simplify",

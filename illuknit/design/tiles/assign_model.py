@@ -399,7 +399,8 @@ def _make_assignment(
         t = prob.bank.tile_for(prob.fa[ca[a]], prob.fb[cb[b]], views=prob.views)
         assert t is not None
         tiles[a, b] = t
-    tiles = align_phases(tiles, prob.pairs, prob.views)
+    if not prob.bank.phase_locked:  # a shared stripe stays in the piece's one phase
+        tiles = align_phases(tiles, prob.pairs, prob.views)
     cost = {k: v / SCALE for k, v in parts.items()}
     return TileAssignment(
         prob.bank, prob.views, prob.ra.indices, prob.rb.indices, prob.ra.colors, prob.rb.colors,

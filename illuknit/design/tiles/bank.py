@@ -108,6 +108,12 @@ class TileBank:
         ``"canonical"``, a file name, ...
     split_share : float
         How much of a split bump's near course its fills count (only tiles with split bumps).
+    phase_locked : bool
+        Every tile is laid at the piece's global row phase as it is written: the assignment does
+        not shift a tile's rows to line its stripes up with its neighbours'
+        (:func:`~illuknit.design.tiles.phases.align_phases`). A bank whose tiles share one
+        stripe of yarns (:func:`~illuknit.design.tiles.stripes.stripe_bank`) keeps every row of
+        the piece in one yarn this way.
 
     Attributes
     ----------
@@ -119,6 +125,7 @@ class TileBank:
     tiles: tuple[Tile, ...]
     name: str = "custom"
     split_share: float = DEFAULT_SPLIT_SHARE
+    phase_locked: bool = False
     fills: tuple[dict[FillView, Fill | None], ...] = field(init=False, repr=False)
     _index: dict[ViewPair, dict[tuple[Fill, Fill], tuple[int, ...]]] = field(
         init=False, repr=False, default_factory=dict
@@ -127,6 +134,7 @@ class TileBank:
     def __post_init__(self) -> None:
         yarns = check_yarns(self.yarns)
         check_instance(self.name, str, "name", error=TileBankError)
+        check_instance(self.phase_locked, bool, "phase_locked", error=TileBankError)
         check_number(
             self.split_share, "split_share", min=0.5, max=1, min_open=True, error=TileBankError
         )
@@ -469,11 +477,19 @@ def bank_from_json(
     extends = doc.get("extends")
     if extends not in (None, "canonical"):
         raise TileBankError(f'{source}: `extends` must be "canonical" or absent, got {extends!r}')
+    locked = doc.get("phase_locked", False)
+    if not isinstance(locked, bool):
+        raise TileBankError(f"{source}: `phase_locked` must be true or false, got {locked!r}")
     if extends == "canonical":
+        if locked:
+            raise TileBankError(
+                f"{source}: a bank that extends the canonical one cannot be `phase_locked` "
+                "(the canonical tiles' stripes are lined up by shifting them)"
+            )
         return extend_bank(canonical_bank(ys), tiles)
     if not tiles:
         raise TileBankError(f"{source}: the bank has no tiles")
-    return TileBank(ys, tuple(tiles), name=Path(source).name)
+    return TileBank(ys, tuple(tiles), name=Path(source).name, phase_locked=locked)
 
 
 def bank_to_json(
@@ -491,6 +507,7 @@ def bank_to_json(
         "version": BANK_VERSION,
         "yarns": [{"name": y.name, "rgb": y.hex} for y in bank.yarns],
         "tiles": tiles,
+        **({"phase_locked": True} if bank.phase_locked else {}),
     }
 
 

@@ -60,11 +60,12 @@ def hand_weights(row_change_penalty: float = HAND_ROW_CHANGE_PENALTY) -> Assignm
 
 
 def with_hand_candidates(found: Sequence[Any], hand: Sequence[Any]) -> list[Any]:
-    """The assignments of the ordinary search, then those the row term found that it did not
-    (the same fills once): a design made for hands is chosen from both, never from fewer than a
-    machine design is (the term's model is larger, so its search finds fewer in the same time)."""
-    seen = {(a.fills_a, a.fills_b) for a in found}
-    new = [a for a in hand if (a.fills_a, a.fills_b) not in seen]
+    """The assignments of the ordinary search, then those the row term (or another bank, the
+    shared stripes) found that it did not (the same fills of one bank once): a design made for
+    hands is chosen from both, never from fewer than a machine design is (the term's model is
+    larger, so its search finds fewer in the same time)."""
+    seen = {(a.bank.name, a.fills_a, a.fills_b) for a in found}
+    new = [a for a in hand if (a.bank.name, a.fills_a, a.fills_b) not in seen]
     return [*found, *(replace(a, rank=len(found) + k + 1) for k, a in enumerate(new))]
 
 

@@ -73,6 +73,7 @@ __all__ = [
     "KnitMeasure",
     "MeasureContext",
     "RankedCandidate",
+    "RankedDesigns",
     "diagnostic_rgb",
     "eye_blur_units",
     "measure_candidate",
@@ -163,6 +164,15 @@ class RankedCandidate:
     legibility: Any = None
 
 
+class RankedDesigns(list[RankedCandidate]):
+    """What :func:`rank_designs` returns: the ranked candidates (a list, best first) and, when
+    ranked for hands, ``machine_first``: the measures of the design the same order ranks first
+    for a machine (among every design searched), the comparison a hand knitter is shown; None
+    when ranked for a machine."""
+
+    machine_first: CandidateMeasures | None = None
+
+
 @dataclass(frozen=True)
 class MeasureContext:
     """How :func:`rank_designs` compiles and measures each design: everything but the ranking's
@@ -209,7 +219,7 @@ def rank_designs(
     progress: Callable[[float, str], None] | None = None,
     context: MeasureContext | None = None,
     **knobs: Any,
-) -> list[RankedCandidate]:
+) -> RankedDesigns:
     """Compile every tile candidate, measure how it reads and rank the lot (the best ``keep``).
 
     Parameters
@@ -252,7 +262,7 @@ def rank_designs(
     order = rank_candidates(measures, scores, by=rank_by, hands=hands)
     if ctx.read is not None and rank_by != "legibility":
         verdicts = _read_all(ctx.read, order[:keep], compiled, measures, progress)
-    return [
+    out = RankedDesigns(
         RankedCandidate(
             assignment=replace(found[i], rank=k + 1),
             pattern=compiled[i][0],
@@ -262,7 +272,10 @@ def rank_designs(
             legibility=verdicts.get(i),
         )
         for k, i in enumerate(order[:keep])
-    ]
+    )
+    if hands and order:
+        out.machine_first = measures[rank_candidates(measures, scores, by=rank_by)[0]]
+    return out
 
 
 def _measure_context(context: MeasureContext | None, knobs: dict[str, Any]) -> MeasureContext:
