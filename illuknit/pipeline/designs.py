@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING, Any, Generic, Literal, TypeVar
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from illuknit.design.options import RankOptions, SearchOptions, SolveOptions
+from illuknit.design.options import RankChoice, RankOptions, SearchOptions, SolveOptions
 
 if TYPE_CHECKING:
     from illuknit.core.pattern import LogicalPattern, Yarn
@@ -137,7 +137,11 @@ class TileDesign:
         The simplifying edits measured (``search.edits``), as
         :class:`~illuknit.design.tiles.simplify.EditResult`.
     search, ranking
-        The options the design was made with.
+        The options the design was made with (``ranking.rank_by`` the order used: an
+        ``AUTO`` asked for is resolved, see ``order``).
+    order : RankChoice or None
+        The order the designs were ranked in, the order asked for and why (e.g. the reader's
+        order: both pictures are words); None only for a TileDesign made by hand.
     pictures : tuple of ndarray
         The sized pictures (sRGB floats), before quantisation.
     seconds : mapping
@@ -160,6 +164,7 @@ class TileDesign:
     edits: tuple[EditResult, ...]
     search: SearchOptions
     ranking: RankOptions
+    order: RankChoice | None = None
     pictures: tuple[NDArray[np.float64], ...] = ()
     seconds: Mapping[str, float] = field(default_factory=dict)
     notes: tuple[str, ...] = ()
