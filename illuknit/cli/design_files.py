@@ -18,6 +18,7 @@ if TYPE_CHECKING:
 
 __all__ = [
     "fmt_number",
+    "order_lines",
     "reads_cells",
     "summary_text",
     "verdict_lines",

@@ -25,7 +25,7 @@ if TYPE_CHECKING:
     from illuknit.core.pattern import Yarn
     from illuknit.pipeline.designs import RankedDesign, TileDesign
 
-__all__ = ["DesignRequest", "run_design", "write_design"]
+__all__ = ["DesignRequest", "legible_step", "run_design", "write_design"]
 
 
 @dataclass(frozen=True, eq=False)

@@ -40,7 +40,6 @@ __all__ = [
     "ModelKind",
     "PictureEdits",
     "RankBy",
-    "RankChoice",
     "RankOptions",
     "SearchOptions",
     "SolveOptions",
@@ -130,7 +129,7 @@ class RankBy(StrEnum):
     ``AUTO`` (the default) is no order of its own: where the designs are ranked it becomes
     ``LEGIBILITY`` when both pictures of a double view are words (the reader,
     :func:`~illuknit.design.legibility.words_of`, says so) and tesseract is installed, and
-    ``PERCEPTION`` otherwise; the :class:`RankChoice` says which and why
+    ``PERCEPTION`` otherwise; the :class:`~illuknit.design.rank_choice.RankChoice` says which and why
     (:func:`~illuknit.pipeline.tile_search.choose_order`). On word pairs the correlation
     picks designs one side of which no reader reads (docs/legibility.md).
     """
@@ -148,54 +147,14 @@ class RankBy(StrEnum):
     def key_fields(self) -> tuple[str, ...]:
         """What each entry of a design's rank key is (ascending: the best design sorts first;
         a negated measure is one where higher is better). ``AUTO`` has none until resolved
-        (:class:`RankChoice`): asking is an :class:`~illuknit.core.errors.OptionError`."""
+        (:class:`~illuknit.design.rank_choice.RankChoice`): asking is an
+        :class:`~illuknit.core.errors.OptionError`."""
         if self is RankBy.AUTO:
             raise OptionError(
                 "rank_by auto has no key of its own: it is resolved to legibility or "
                 "perception when the designs are ranked (TileDesign.order says which)"
             )
         return _KEY_FIELDS[self]
-
-
-@dataclass(frozen=True)
-class RankChoice:
-    """The order a ranking used, and why.
-
-    Attributes
-    ----------
-    by : RankBy
-        The order the designs were ranked in (never ``AUTO``).
-    asked : RankBy
-        The order asked for (``AUTO``: chosen by the pictures and the reader).
-    reason : str
-        Why ``by``, in words for a designer: "both pictures are words (WOOL, YARN)", "asked
-        for", "the reader, tesseract, is not installed", ...
-    words : tuple of (str or None), optional
-        What the reader read on each picture (None: a picture, not words), when it was asked.
-    """
-
-    by: RankBy
-    asked: RankBy
-    reason: str
-    words: tuple[str | None, ...] | None = None
-
-    def __post_init__(self) -> None:
-        if self.by is RankBy.AUTO:
-            raise OptionError("a RankChoice's `by` is the order used, not auto")
-
-    def sentence(self) -> str:
-        """``"ranked by the reader (legibility): both pictures are words (WOOL, YARN)"``."""
-        name = "the reader (legibility)" if self.by is RankBy.LEGIBILITY else self.by.value
-        return f"ranked by {name}: {self.reason}"
-
-    def to_json(self) -> dict[str, Any]:
-        return {
-            "by": self.by.value,
-            "asked": self.asked.value,
-            "reason": self.reason,
-            "sentence": self.sentence(),
-            "words": None if self.words is None else list(self.words),
-        }
 
 
 _KEY_FIELDS = {
@@ -363,7 +322,8 @@ class RankOptions:
     ----------
     rank_by : RankBy or str
         ``AUTO`` (default): the reader's order for two pictures of words when tesseract is
-        installed, else perception (:class:`RankChoice`); any other order is used as given.
+        installed, else perception (:class:`~illuknit.design.rank_choice.RankChoice`); any
+        other order is used as given.
     knit_time : bool
         Also knit the designs that can matter and measure the machine's knitting time (it
         breaks ties under ``PERCEPTION``; ``KNIT_TIME`` implies it).

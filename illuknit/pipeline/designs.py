@@ -13,7 +13,8 @@ from typing import TYPE_CHECKING, Any, Generic, Literal, TypeVar
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from illuknit.design.options import RankChoice, RankOptions, SearchOptions, SolveOptions
+from illuknit.design.options import RankOptions, SearchOptions, SolveOptions
+from illuknit.design.rank_choice import RankChoice
 
 if TYPE_CHECKING:
     from illuknit.core.pattern import LogicalPattern, Yarn

@@ -12,14 +12,8 @@ from typing import TYPE_CHECKING, Any, Literal
 
 from illuknit.core.errors import OptionError
 from illuknit.core.machine import resolve_machine
-from illuknit.design.options import (
-    MadeFor,
-    PictureEdits,
-    RankBy,
-    RankChoice,
-    RankOptions,
-    SearchOptions,
-)
+from illuknit.design.options import MadeFor, PictureEdits, RankBy, RankOptions, SearchOptions
+from illuknit.design.rank_choice import RankChoice
 from illuknit.design.tiles.perception import KnitMeasure
 from illuknit.pipeline.designs import Progress, RankedDesign, TileDesign
 

@@ -17,7 +17,8 @@ from PIL import Image, ImageDraw, ImageFont
 
 from illuknit.core.errors import OptionError
 from illuknit.design import legibility
-from illuknit.design.options import RankBy, RankChoice, RankOptions, SearchOptions
+from illuknit.design.options import RankBy, RankOptions, SearchOptions
+from illuknit.design.rank_choice import RankChoice
 from illuknit.pipeline.tile_search import choose_order
 
 #: Two small targets (what choose_order is shown); their content only matters to the reader.
