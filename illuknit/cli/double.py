@@ -261,7 +261,14 @@ def design_options(func: Any) -> Any:
 @click.command("double")
 @click.argument("image_a", type=InputFile("picture"))
 @click.argument("image_b", type=InputFile("picture"))
-@declared_option(RankOptions, "read", default=None, note="[default: when tesseract is installed]")
+@declared_option(
+    RankOptions,
+    "read",
+    default=None,
+    note="[default: when tesseract is installed] "
+    "Word pairs ranked by the reader (--rank-by auto) are read all the same; "
+    "--rank-by perception --no-read reads nothing.",
+)
 @design_options
 def double(image_a: Path, image_b: Path, outdir: Path, **kw: Any) -> None:
     """Design a double-view illusion: IMAGE_A seen from above, IMAGE_B from below.
