@@ -235,6 +235,7 @@ def valid_calls(tmp: Path) -> Calls:
         "PictureOptions": ((), {"width": 20}),
         "SearchOptions": ((), {}),
         "RankOptions": ((), {}),
+        "RankChoice": (("legibility", "auto", "both pictures are words"), {"words": ("A", "B")}),
         "SolveOptions": ((), {}),
         "KnitOptions": ((), {}),
         "GradientOptions": ((), {}),

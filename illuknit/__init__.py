@@ -71,6 +71,7 @@ _API: dict[str, str] = {
     "RankOptions": "illuknit.design.options",
     "SolveOptions": "illuknit.design.options",
     "RankBy": "illuknit.design.options",
+    "RankChoice": "illuknit.design.rank_choice",
     "Brightness": "illuknit.design.options",
     "PictureEdits": "illuknit.design.options",
     "ModelKind": "illuknit.design.options",

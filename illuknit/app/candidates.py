@@ -153,7 +153,11 @@ def _tile_candidates(
             label=d.label,
             score=float(d.assignment.score),
             pattern=d.pattern,
-            details={**_assignment_details(d.assignment, d.report), **_hand_details(d, made_for)},
+            details={
+                **_assignment_details(d.assignment, d.report),
+                **_hand_details(d, made_for),
+                **_reader_details(d, design.order),
+            },
             source=d.assignment,
         )
         for d in design.designs
@@ -181,6 +185,20 @@ def _hand_details(design: Any, made_for: str) -> dict[str, Any]:
             "shared_stripes": stripes,
         },
     }
+
+
+def _reader_details(design: Any, order: Any) -> dict[str, Any]:
+    """The order the search ranked by and why (the search's default: the reader's order for
+    two pictures of words, :func:`~illuknit.pipeline.tile_search.choose_order`), and the
+    reader's verdict on the candidate's sides when it was read."""
+    out: dict[str, Any] = {}
+    if order is not None:
+        out["order"] = order.sentence()
+    if design.legibility is not None:
+        out["reads"] = design.legibility.sentence()
+        out["all_read"] = bool(design.legibility.all_read)
+        out["sides_read"] = int(design.legibility.sides_read)
+    return out
 
 
 def _assignment_details(assignment: Any, report: Any) -> dict[str, Any]:

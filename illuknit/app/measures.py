@@ -68,17 +68,23 @@ def measure_all(
 
 def order_candidates(candidates: Sequence[Any], order: str, *, hands: bool = False) -> list[Any]:
     """``candidates`` in ``order`` (see :data:`ORDERS`); by rank until all are measured. Made
-    for ``hands``: first by the share of rows a hand knitter can work, as the search ranks."""
+    for ``hands``: first by the share of rows a hand knitter can work, as the search ranks.
+    When the search had the reader read every candidate (two pictures of words: its order was
+    the reader's), "perception" (how it reads) puts first those with more sides that read, as
+    the search did, then the perceptual score."""
+    from dataclasses import replace
+
     from illuknit.design.tiles.perception import rank_candidates
 
     by_rank = sorted(candidates, key=lambda c: c.rank)
     if order == "rank" or not by_rank or any(c.measured is None for c in by_rank):
         return by_rank
     scores = [c.score if c.score is not None else float(c.rank) for c in by_rank]
-    picks = rank_candidates(
-        [c.measured for c in by_rank],
-        scores,
-        by="knit-time" if order == "knit_time" else order,
-        hands=hands,
-    )
+    by = "knit-time" if order == "knit_time" else order
+    measured = [c.measured for c in by_rank]
+    read = [(getattr(c, "details", None) or {}).get("sides_read") for c in by_rank]
+    if by == "perception" and all(n is not None for n in read):
+        by = "legibility"
+        measured = [replace(m, sides_read=n) for m, n in zip(measured, read, strict=True)]
+    picks = rank_candidates(measured, scores, by=by, hands=hands)
     return [by_rank[i] for i in picks]

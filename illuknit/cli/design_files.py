@@ -18,6 +18,7 @@ if TYPE_CHECKING:
 
 __all__ = [
     "fmt_number",
+    "order_lines",
     "reads_cells",
     "summary_text",
     "verdict_lines",
@@ -241,6 +242,7 @@ def summary_text(summary: dict[str, Any], overlap_lines: list[str]) -> str:
         f"bank {summary['bank']['name']} ({summary['bank']['tiles']} tiles), solver {summary['solver']}",
         "",
         *verdict_lines(summary),
+        *order_lines(summary),
         f"best {len(summary['candidates'])} of {summary['searched']} tile designs searched, "
         f"ranked by {summary.get('ranked_by', 'score')}; correlation / contrast per view; worst ghosting "
         "and how much of it shows (visible ghosting); whether the reader reads each side",
@@ -266,6 +268,15 @@ def summary_text(summary: dict[str, Any], overlap_lines: list[str]) -> str:
     if overlap_lines:
         lines += ["", f"default candidate: {overlap_lines[0]}", *overlap_lines[1:]]
     return "\n".join(lines) + "\n"
+
+
+def order_lines(summary: dict[str, Any]) -> list[str]:
+    """The order the candidates were ranked in and why, a line (none for an old summary)."""
+    order = summary.get("order")
+    if not order:
+        return []
+    chosen = " [--rank-by auto, the default]" if order["asked"] == "auto" else ""
+    return [f"order: {order['sentence']}{chosen}"]
 
 
 def reads_cells(row: dict[str, Any]) -> tuple[str, str]:
@@ -301,17 +312,35 @@ def verdict_lines(summary: dict[str, Any]) -> list[str]:
     )
     out = [head]
     if not verdict["all_read"]:
-        both = [
-            r["rank"] for r in summary["candidates"] if (r.get("legibility") or {}).get("all_read")
+        out.append(_elsewhere(summary))
+    step = summary.get("next_step")
+    if step:
+        out += [
+            f"  {step['why']}: a wider piece may read. Next, find the smallest width at which "
+            "both sides read (a small search per width, not run here):",
+            f"    {step['command']}",
+            "  then design at that width: illuknit double ... --width N",
         ]
-        out.append(
-            f"  it does not read on every side; read on both: candidate(s) "
-            f"{', '.join(map(str, both))} (--pick one, or --rank-by legibility to rank them first)"
-            if both
-            else "  it does not read on every side, nor does any candidate shown: try --rank-by "
-            "legibility, a wider --width, or `illuknit legible` for the smallest width that reads"
-        )
     return [*out, ""]
+
+
+def _elsewhere(summary: dict[str, Any]) -> str:
+    """Which candidates shown read on both sides, when the default does not."""
+    both = [r["rank"] for r in summary["candidates"] if (r.get("legibility") or {}).get("all_read")]
+    # ranked by the reader alone, the first design has the most sides that read of all searched
+    by_reader = summary.get("ranked_by") == "legibility" and summary.get("made_for") != "hands"
+    if both:
+        rank_first = "" if by_reader else ", or --rank-by legibility to rank them first"
+        return (
+            f"  it does not read on every side; read on both: candidate(s) "
+            f"{', '.join(map(str, both))} (--pick one{rank_first})"
+        )
+    if by_reader:
+        return "  it does not read on every side, nor does any design searched"
+    return (
+        "  it does not read on every side, nor does any candidate shown: try --rank-by "
+        "legibility, a wider --width, or `illuknit legible` for the smallest width that reads"
+    )
 
 
 #: What the columns of summary.txt mean, written under the table.

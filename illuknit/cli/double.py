@@ -17,7 +17,7 @@ from typing import Any
 
 import click
 
-from illuknit.cli.design_files import fmt_number, reads_cells, verdict_lines
+from illuknit.cli.design_files import fmt_number, order_lines, reads_cells, verdict_lines
 from illuknit.cli.knitout_bridge import format_option, long_floats_option, machine_option
 from illuknit.cli.options import (
     Decorator,
@@ -161,7 +161,7 @@ def print_summary(summary: dict[str, Any], outdir: Path) -> None:
             f"({size['width_in']} x {size['height_in']} in) at {size['gauge']} "
             f"({size['gauge_source']})"
         )
-    for line in verdict_lines(summary):
+    for line in [*verdict_lines(summary), *order_lines(summary)]:
         if line:
             con.print(line, markup=False, highlight=False)
     hand_line = _hand_line(summary)
@@ -275,7 +275,14 @@ def design_options(func: Any) -> Any:
 @click.command("double")
 @click.argument("image_a", type=InputFile("picture"))
 @click.argument("image_b", type=InputFile("picture"))
-@declared_option(RankOptions, "read", default=None, note="[default: when tesseract is installed]")
+@declared_option(
+    RankOptions,
+    "read",
+    default=None,
+    note="[default: when tesseract is installed] "
+    "Word pairs ranked by the reader (--rank-by auto) are read all the same; "
+    "--rank-by perception --no-read reads nothing.",
+)
 @design_options
 def double(image_a: Path, image_b: Path, outdir: Path, **kw: Any) -> None:
     """Design a double-view illusion: IMAGE_A seen from above, IMAGE_B from below.

@@ -25,7 +25,7 @@ if TYPE_CHECKING:
     from illuknit.core.pattern import Yarn
     from illuknit.pipeline.designs import RankedDesign, TileDesign
 
-__all__ = ["DesignRequest", "run_design", "write_design"]
+__all__ = ["DesignRequest", "legible_step", "run_design", "write_design"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -96,7 +96,7 @@ _SWITCH_DEFAULTS: Mapping[str, Any] = {
     "n_colors": None, "yarns": None, "width": None, "resize": False, "candidates": 5,
     "pool": None, "bank_file": None, "pick": 1, "solver": "cpsat", "brightness": "hard",
     "one_sided": False, "split_bumps": False, "split_share": None, "tile": (),
-    "knitout": False, "machine": None, "rank_by": "perception", "knit_time": False,
+    "knitout": False, "machine": None, "rank_by": "auto", "knit_time": False,
     "simplify": False, "suggest": False, "distance": 3.0, "angle": 30.0, "read": None,
     "made_for": "machine",
 }  # fmt: skip
@@ -381,6 +381,7 @@ def write_design(
             "bank": {"name": picked.assignment.bank.name, "tiles": len(picked.assignment.bank)},
             "solver": design.search.solver,
             "ranked_by": design.ranking.rank_by.value,
+            **({"order": design.order.to_json()} if design.order is not None else {}),
             "made_for": design.ranking.made_for.value,
             "hand": _hand_json(picked),
             **_machine_json(design.machine_first),
@@ -393,12 +394,60 @@ def write_design(
         }
         if rows and rows[0].get("legibility"):
             summary["read_by"] = rows[0]["legibility"]["reader"]
+        step = legible_step(design, pick, request)
+        if step is not None:
+            summary["next_step"] = step
         atomic_write_text(tmp / "summary.json", json.dumps(summary, indent=1) + "\n")
         text = summary_text(summary, overlap_lines)
         atomic_write_text(tmp / "summary.txt", text + "".join(f"note: {n}\n" for n in notes or ()))
     if refused:
         raise refused[0]
     return summary
+
+
+#: Widths (units) ``illuknit legible`` is offered past a design's own, a few at most.
+_WIDER = (40, 50, 60, 70, 80, 100, 120, 150, 200, 250, 300)
+
+
+def legible_step(design: TileDesign, pick: int, request: DesignRequest) -> dict[str, Any] | None:
+    """When a word side of the design picked (``pick``, from 1) does not read: what to run next, as a
+    command line (``illuknit legible A B --widths ...``, the widths past this design's, with
+    the switches of ``request`` that change what it finds); None when every word side reads
+    or none was read, or another candidate shown reads on every side (``--pick`` it: the
+    summary says so). The width search is only named, never run here."""
+    import shlex
+
+    chosen = design.designs[pick - 1]
+    verdict = chosen.legibility
+    if verdict is None:
+        return None
+    failed = [s for s in verdict.sides if s.words is not None and not s.reads]
+    if not failed or any(d.legibility and d.legibility.all_read for d in design.designs):
+        return None
+    width = int(chosen.pattern.shape[1])
+    wider = [w for w in _WIDER if w > width][:4] or [width + 50, width + 100]
+    a, b = request.pictures
+    words = [shlex.quote(str(a)), shlex.quote(str(b))]
+    words += ["--widths", ",".join(map(str, wider))]
+    n_colors = len(design.quantised["A"].colors)  # as quantised: what `legible` quantises to
+    if n_colors != 2:
+        words += ["--colors", str(n_colors)]
+    if request.sizing.stretch:
+        words.append("--resize")
+    ranking = request.ranking
+    if ranking.angle != 30.0:
+        words += ["--angle", f"{ranking.angle:g}"]
+    if ranking.distance != 3.0:
+        words += ["--distance", f"{ranking.distance:g}"]
+    if isinstance(ranking.machine, str):
+        words += ["--machine", shlex.quote(ranking.machine)]
+    sides = ", ".join(f"side {s.view} does not read {s.words}" for s in failed)
+    return {
+        "why": f"{sides} at {width} units wide",
+        "width": width,
+        "widths": wider,
+        "command": "illuknit legible " + " ".join(words),
+    }
 
 
 def _read(read: bool | None, mode: str) -> bool:

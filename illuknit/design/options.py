@@ -12,6 +12,8 @@ Examples
 20
 >>> RankOptions(rank_by="score").rank_by
 <RankBy.SCORE: 'score'>
+>>> RankOptions().rank_by  # resolved when the designs are ranked (RankChoice)
+<RankBy.AUTO: 'auto'>
 >>> SearchOptions(brightness="firm")
 Traceback (most recent call last):
 ...
@@ -122,8 +124,17 @@ class PictureEdits(StrEnum):
 
 
 class RankBy(StrEnum):
-    """The order of ranked tile designs; :attr:`key_fields` names the parts of its rank key."""
+    """The order of ranked tile designs; :attr:`key_fields` names the parts of its rank key.
 
+    ``AUTO`` (the default) is no order of its own: where the designs are ranked it becomes
+    ``LEGIBILITY`` when both pictures of a double view are words (the reader,
+    :func:`~illuknit.design.legibility.words_of`, says so) and tesseract is installed, and
+    ``PERCEPTION`` otherwise; the :class:`~illuknit.design.rank_choice.RankChoice` says which and why
+    (:func:`~illuknit.pipeline.tile_search.choose_order`). On word pairs the correlation
+    picks designs one side of which no reader reads (docs/legibility.md).
+    """
+
+    AUTO = "auto"
     PERCEPTION = "perception"
     SCORE = "score"
     READABILITY = "readability"
@@ -135,7 +146,14 @@ class RankBy(StrEnum):
     @property
     def key_fields(self) -> tuple[str, ...]:
         """What each entry of a design's rank key is (ascending: the best design sorts first;
-        a negated measure is one where higher is better)."""
+        a negated measure is one where higher is better). ``AUTO`` has none until resolved
+        (:class:`~illuknit.design.rank_choice.RankChoice`): asking is an
+        :class:`~illuknit.core.errors.OptionError`."""
+        if self is RankBy.AUTO:
+            raise OptionError(
+                "rank_by auto has no key of its own: it is resolved to legibility or "
+                "perception when the designs are ranked (TileDesign.order says which)"
+            )
         return _KEY_FIELDS[self]
 
 
@@ -303,6 +321,9 @@ class RankOptions:
     Parameters
     ----------
     rank_by : RankBy or str
+        ``AUTO`` (default): the reader's order for two pictures of words when tesseract is
+        installed, else perception (:class:`~illuknit.design.rank_choice.RankChoice`); any
+        other order is used as given.
     knit_time : bool
         Also knit the designs that can matter and measure the machine's knitting time (it
         breaks ties under ``PERCEPTION``; ``KNIT_TIME`` implies it).
@@ -327,10 +348,12 @@ class RankOptions:
     """
 
     rank_by: RankBy = option(
-        RankBy.PERCEPTION,
-        help="Order of the candidates: how the views read (perception: worse view's "
-        "correlation, contrast floor, ghosting; legibility: designs whose both sides a reader "
-        "reads first, needs tesseract), the assignment's score, or one measure.",
+        RankBy.AUTO,
+        help="Order of the candidates: auto (legibility when both pictures are words and "
+        "tesseract is installed, else perception; the summary says which and why), how the "
+        "views read (perception: worse view's correlation, contrast floor, ghosting; "
+        "legibility: designs whose both sides a reader reads first, needs tesseract), the "
+        "assignment's score, or one measure.",
     )
     knit_time: bool = option(
         False,

@@ -14,6 +14,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from illuknit.design.options import RankOptions, SearchOptions, SolveOptions
+from illuknit.design.rank_choice import RankChoice
 
 if TYPE_CHECKING:
     from illuknit.core.pattern import LogicalPattern, Yarn
@@ -137,7 +138,11 @@ class TileDesign:
         The simplifying edits measured (``search.edits``), as
         :class:`~illuknit.design.tiles.simplify.EditResult`.
     search, ranking
-        The options the design was made with.
+        The options the design was made with (``ranking.rank_by`` the order used: an
+        ``AUTO`` asked for is resolved, see ``order``).
+    order : RankChoice or None
+        The order the designs were ranked in, the order asked for and why (e.g. the reader's
+        order: both pictures are words); None only for a TileDesign made by hand.
     pictures : tuple of ndarray
         The sized pictures (sRGB floats), before quantisation.
     seconds : mapping
@@ -164,6 +169,7 @@ class TileDesign:
     edits: tuple[EditResult, ...]
     search: SearchOptions
     ranking: RankOptions
+    order: RankChoice | None = None
     pictures: tuple[NDArray[np.float64], ...] = ()
     seconds: Mapping[str, float] = field(default_factory=dict)
     notes: tuple[str, ...] = ()

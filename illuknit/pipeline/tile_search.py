@@ -12,7 +12,8 @@ from typing import TYPE_CHECKING, Any, Literal
 
 from illuknit.core.errors import OptionError
 from illuknit.core.machine import resolve_machine
-from illuknit.design.options import MadeFor, PictureEdits, RankOptions, SearchOptions
+from illuknit.design.options import MadeFor, PictureEdits, RankBy, RankOptions, SearchOptions
+from illuknit.design.rank_choice import RankChoice
 from illuknit.design.tiles.perception import KnitMeasure
 from illuknit.pipeline.designs import Progress, RankedDesign, TileDesign
 
@@ -29,13 +30,12 @@ if TYPE_CHECKING:
     from illuknit.design.tiles.simplify import EditResult
     from illuknit.pictures.images import QuantisedImage
 
-__all__ = ["TileJob", "knit_measure", "rank_tiles", "search_tiles"]
+__all__ = ["TileJob", "choose_order", "knit_measure", "rank_tiles", "search_tiles"]
 
 
 def knit_measure(ranking: RankOptions) -> KnitMeasure | None:
     """What knitting a design costs on ``ranking.machine``, when the ranking needs it (knitting
     time asked for, or the order is by knitting time)."""
-    from illuknit.design.options import RankBy
     from illuknit.knitting.stats import knit_stats
 
     if not (ranking.knit_time or ranking.rank_by is RankBy.KNIT_TIME):
@@ -43,19 +43,52 @@ def knit_measure(ranking: RankOptions) -> KnitMeasure | None:
     return functools.partial(knit_stats, machine=ranking.machine)
 
 
+def choose_order(
+    mode: str, targets: Sequence[NDArray[np.uint8]], ranking: RankOptions
+) -> RankChoice:
+    """The order the designs of this pair are ranked in, and why: ``ranking.rank_by`` as given,
+    or for :attr:`~illuknit.design.options.RankBy.AUTO` the reader's order
+    (``LEGIBILITY``) when both pictures of a double view are words and tesseract is installed,
+    ``PERCEPTION`` otherwise. The one place ``AUTO`` is resolved; the pictures are read (one
+    run of the reader) only when it decides."""
+    asked = ranking.rank_by
+    if asked is not RankBy.AUTO:
+        return RankChoice(asked, asked, "as asked")
+    perception = RankBy.PERCEPTION
+    if mode != "double":
+        return RankChoice(perception, asked, "a head-on design (the reader judges double views)")
+    from illuknit.design.legibility import reader_available, words_of
+
+    if not reader_available():
+        return RankChoice(
+            perception, asked, "the reader (tesseract) is not installed, so no side was read "
+            "while ranking; with it (apt-get install tesseract-ocr) word pairs are ranked by "
+            "whether their sides read",
+        )  # fmt: skip
+    words = tuple(words_of(targets))
+    if all(w is not None for w in words):
+        said = ", ".join(str(w) for w in words)
+        return RankChoice(RankBy.LEGIBILITY, asked, f"both pictures are words ({said})", words)
+    which = [v for v, w in zip("AB", words, strict=True) if w is None]
+    what = "neither picture is words (the reader reads no text in them)"
+    if len(which) == 1:
+        what = f"picture {which[0]} is not words (the reader reads no text in it)"
+    return RankChoice(perception, asked, what, words)
+
+
 def _reader(
     mode: str,
     targets: Sequence[NDArray[np.uint8]],
     ranking: RankOptions,
-    gauge: float,
-    params: RenderParams | None,
+    choice: RankChoice,
+    view: tuple[float, RenderParams | None],
 ) -> ReadMeasure | None:
     """The reader's verdict on designs of this pair (:func:`~illuknit.design.legibility.read_designs`
-    bound to its pictures and viewpoint), when the ranking asks for it; None otherwise."""
+    bound to its pictures and viewpoint, on the machine's ``gauge`` with the renderer's
+    ``params``: ``view``), when the ranking asks for it; None otherwise."""
     from illuknit.design.legibility import read_designs, reader_available, words_of
-    from illuknit.design.options import RankBy
 
-    legible = ranking.rank_by is RankBy.LEGIBILITY
+    legible = choice.by is RankBy.LEGIBILITY
     if mode != "double":
         if legible:
             raise OptionError("ranking by legibility judges double-view designs (two pictures)")
@@ -69,7 +102,8 @@ def _reader(
             "reading the sides needs the tesseract OCR program (apt-get install tesseract-ocr); "
             "rank by perception to design without it"
         )
-    words = words_of(targets)
+    words = list(choice.words) if choice.words is not None else words_of(targets)
+    gauge, params = view
 
     def read(
         patterns: Sequence[LogicalPattern], measures: Sequence[CandidateMeasures]
@@ -176,10 +210,14 @@ def rank_tiles(
     job: TileJob, found: Sequence[TileAssignment], edits: Sequence[EditResult]
 ) -> TileDesign:
     """Compile, measure and rank the assignments into a :class:`TileDesign`."""
+    from dataclasses import replace
+
     from illuknit.design.tiles.perception import rank_designs, rank_key, seen_blur, seen_targets
 
-    qa, qb, mode, ranking, search = job.qa, job.qb, job.mode, job.ranking, job.search
+    qa, qb, mode, search = job.qa, job.qb, job.mode, job.search
     targets = seen_targets(qa, qb)
+    choice = choose_order(mode, targets, job.ranking)
+    ranking = replace(job.ranking, rank_by=choice.by)
     gauge = resolve_machine(ranking.machine).gauge
     ranked = rank_designs(
         found,
@@ -193,7 +231,7 @@ def rank_tiles(
         angle=ranking.angle,
         blur=seen_blur(ranking.distance, gauge=gauge),
         params=split_params(search),
-        read=_reader(mode, targets, ranking, gauge, split_params(search)),
+        read=_reader(mode, targets, ranking, choice, (gauge, split_params(search))),
         made_for=ranking.made_for.value,
     )
     by = ranking.rank_by
@@ -229,6 +267,7 @@ def rank_tiles(
         search=search,
         ranking=ranking,
         machine_first=ranked.machine_first,
+        order=choice,
     )
 
 

@@ -223,3 +223,26 @@ def test_headon_candidates_are_measured_and_ranked_on_all_three_views(client, ap
     )
     first = next(c for c in cands["candidates"] if c["rank"] == 1)["measures"]
     assert first["readability"] == [None if v is None else round(v, 4) for v in m.readability]
+
+
+def test_how_it_reads_keeps_the_readers_order_when_the_search_read_every_candidate():
+    from illuknit.design.tiles.perception import CandidateMeasures
+
+    class C:
+        def __init__(self, rank, correlation, sides_read):
+            self.rank, self.score = rank, float(rank)
+            self.measured = CandidateMeasures(
+                views=("A", "B"), readability=(correlation, correlation), contrast=(0.4, 0.4),
+                ghosting=(0.0, 0.0),
+            )  # fmt: skip
+            self.details = {} if sides_read is None else {"sides_read": sides_read}
+
+    # the search's (the reader's) order: rank 1 reads on both sides, yet correlates less
+    read = [C(1, 0.80, 2), C(2, 0.95, 1), C(3, 0.90, 1)]
+    assert [c.rank for c in order_candidates(read, "perception")] == [1, 2, 3]
+    assert [c.rank for c in order_candidates(read, "readability")] == [2, 3, 1]
+    unread = [C(1, 0.80, None), C(2, 0.95, None), C(3, 0.90, None)]
+    assert [c.rank for c in order_candidates(unread, "perception")] == [2, 3, 1]
+    # one candidate not read: the reader's verdict is not complete, perception alone
+    mixed = [C(1, 0.80, 2), C(2, 0.95, None), C(3, 0.90, 1)]
+    assert [c.rank for c in order_candidates(mixed, "perception")] == [2, 3, 1]

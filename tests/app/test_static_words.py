@@ -45,3 +45,19 @@ def test_head_on_captions_say_what_head_on_shows():
     shows = _run("candidates.js", "HEADON_SHOWS")
     assert shows["single"] == "stripes (no picture)"
     assert "both pictures show, mixed" in shows["double"] and "stripes" not in shows["double"]
+
+
+def test_a_card_says_what_the_reader_read_and_the_first_why_its_order():
+    order = "ranked by the reader (legibility): both pictures are words (MILK, HAZE)"
+    reads = "side B does not read HAZE (the reader saw nothing); side A reads MILK"
+    first, other, plain = _run(
+        "candidates.js",
+        "[readerLine({rank: 1, details: "
+        + json.dumps({"order": order, "reads": reads, "all_read": False})
+        + "}), readerLine({rank: 2, details: "
+        + json.dumps({"order": order, "reads": "side A reads MILK", "all_read": True})
+        + "}), readerLine({rank: 1, details: {}})]",
+    )
+    assert first == {"text": f"{reads} · {order}", "warn": True}
+    assert other == {"text": "side A reads MILK", "warn": False}  # the order: on the first only
+    assert plain is None

@@ -96,6 +96,25 @@ function handFigures(cand, madeFor) {
   return d;
 }
 
+// What the reader says of the sides ("side B does not read ..."), and on the search's first
+// design the order the search ranked by and why: {text, warn}, or null when neither is known.
+function readerLine(cand) {
+  const d = cand.details || {};
+  const order = cand.rank === 1 ? d.order : null;
+  if (!d.reads && !order) return null;
+  return { text: [d.reads, order].filter(Boolean).join(" · "), warn: !!d.reads && !d.all_read };
+}
+
+function readerText(cand) {
+  const line = readerLine(cand);
+  if (!line) return null;
+  const div = document.createElement("div");
+  div.className = "reads";
+  div.textContent = line.text;
+  if (line.warn) div.classList.add("warn");
+  return div;
+}
+
 const NEGATIVE_NOTE = "below 0: that side shows its picture in negative (light and dark swapped)";
 
 async function loadCandidates() {
@@ -154,6 +173,9 @@ async function loadCandidates() {
     }
     const hand = handFigures(cand, c.made_for);
     if (hand) card.appendChild(hand);
+    // the reader's verdict (word pairs are ranked by it), and on the default why that order
+    const said = readerText(cand);
+    if (said) card.appendChild(said);
     const fills = cand.details && cand.details.fills;
     if (Array.isArray(fills) && fills.length) {
       const f = document.createElement("div");

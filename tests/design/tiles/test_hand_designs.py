@@ -100,9 +100,11 @@ def test_for_hands_the_knittable_design_ranks_first_and_then_the_one_that_reads_
 
 
 def test_made_for_is_checked_and_names_the_rank_key():
-    ranking = RankOptions(made_for="hands")
+    # an explicit order: the default (auto) has no key until the designs are ranked
+    ranking = RankOptions(rank_by="perception", made_for="hands")
     assert ranking.key_fields[0] == "-share of rows knittable by hand"
-    assert RankOptions().key_fields == RankOptions().rank_by.key_fields
+    machine = RankOptions(rank_by="perception")
+    assert machine.key_fields == machine.rank_by.key_fields
     with pytest.raises(OptionError, match="made_for"):
         RankOptions(made_for="feet")
 
