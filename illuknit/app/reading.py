@@ -32,6 +32,7 @@ if TYPE_CHECKING:
     from illuknit.pipeline.legible import LegibleWidths
 
 __all__ = [
+    "INSTALL",
     "NOT_INSTALLED",
     "WidthsResult",
     "legibility_json",
@@ -43,8 +44,10 @@ __all__ = [
     "widths_to_try",
 ]
 
-#: Why the sides were not read when the reader is missing.
-NOT_INSTALLED = "tesseract is not installed (apt-get install tesseract-ocr)"
+#: Why the sides were not read when the reader is missing (short: every card says it).
+NOT_INSTALLED = "tesseract is not installed"
+#: How to install the reader.
+INSTALL = "apt-get install tesseract-ocr"
 
 
 def reader_failed(error: BaseException) -> bool:
@@ -111,7 +114,7 @@ def require_reader(field: str) -> None:
 
     if not reader_available():
         raise AppRequestError(
-            f"finding the smallest width that reads needs the reader: {NOT_INSTALLED}",
+            f"finding the smallest width that reads needs the reader: {NOT_INSTALLED} ({INSTALL})",
             field=field,
             code="no_reader",
             status=409,

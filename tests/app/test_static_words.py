@@ -45,3 +45,20 @@ def test_head_on_captions_say_what_head_on_shows():
     shows = _run("candidates.js", "HEADON_SHOWS")
     assert shows["single"] == "stripes (no picture)"
     assert "both pictures show, mixed" in shows["double"] and "stripes" not in shows["double"]
+
+
+def test_a_side_judged_by_its_shapes_says_it_is_an_estimate():
+    """The reader's verdict on a card (issue 38): a word side is the reader's sentence, a
+    picture side's shape agreement is said as an estimate, never as a reading."""
+    word, picture, blurred = _run(
+        "candidates.js",
+        "[sideText({view: 'B', judge: 'reader', reads: false, shape_agreement: null, "
+        "sentence: \"side B does not read ELM (the reader saw 'EIM')\"}), "
+        "sideText({view: 'A', judge: 'shapes', reads: true, shape_agreement: 0.913, "
+        "sentence: 'long'}), "
+        "sideText({view: 'A', judge: 'shapes', reads: false, shape_agreement: 0.5, "
+        "sentence: 'long'})]",
+    )
+    assert word == "✗ side B does not read ELM (the reader saw 'EIM')"
+    assert picture == "≈ side A (a picture) likely reads: shapes agree on 91 %, an estimate"
+    assert blurred.startswith("≈ side A (a picture) may not read") and "50 %" in blurred
