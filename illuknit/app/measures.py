@@ -23,8 +23,9 @@ from typing import Any
 
 __all__ = ["ORDERS", "measure_all", "measure_candidate", "order_candidates"]
 
-#: Ways the page can order candidates: the search's own rank, or a perception.RANK_KEYS order.
-ORDERS = ("rank", "perception", "readability", "contrast", "ghosting", "knit_time")
+#: Ways the page can order candidates: the search's own rank, or a perception.RANK_KEYS order
+#: (``legibility``: most sides the reader reads first, then the perceptual score).
+ORDERS = ("rank", "perception", "legibility", "readability", "contrast", "ghosting", "knit_time")
 
 
 def measure_candidate(
@@ -68,15 +69,25 @@ def measure_all(
 
 def order_candidates(candidates: Sequence[Any], order: str, *, hands: bool = False) -> list[Any]:
     """``candidates`` in ``order`` (see :data:`ORDERS`); by rank until all are measured. Made
-    for ``hands``: first by the share of rows a hand knitter can work, as the search ranks."""
+    for ``hands``: first by the share of rows a hand knitter can work, as the search ranks.
+    By ``legibility``, the sides each card's verdict says read (none when not read)."""
+    from dataclasses import replace
+
     from illuknit.design.tiles.perception import rank_candidates
 
     by_rank = sorted(candidates, key=lambda c: c.rank)
     if order == "rank" or not by_rank or any(c.measured is None for c in by_rank):
         return by_rank
     scores = [c.score if c.score is not None else float(c.rank) for c in by_rank]
+    measured = [c.measured for c in by_rank]
+    if order == "legibility":
+        # the cards' verdicts; a design not read (no reader) has no side known to read
+        measured = [
+            replace(m, sides_read=0 if c.legibility is None else c.legibility.sides_read)
+            for m, c in zip(measured, by_rank, strict=True)
+        ]
     picks = rank_candidates(
-        [c.measured for c in by_rank],
+        measured,
         scores,
         by="knit-time" if order == "knit_time" else order,
         hands=hands,

@@ -102,6 +102,7 @@ def test_candidates_re_rank_by_any_measure(client, measured, order):
     key = {
         "rank": lambda c: c["rank"],
         "perception": lambda c: -c["measures"]["perceptual_score"],
+        "legibility": lambda c: (-_sides_read(c), -c["measures"]["perceptual_score"]),
         "readability": lambda c: -c["measures"]["worse_readability"],
         "contrast": lambda c: -c["measures"]["worse_contrast"],
         "ghosting": lambda c: c["measures"]["worst_visible_ghosting"],
@@ -111,12 +112,18 @@ def test_candidates_re_rank_by_any_measure(client, measured, order):
     assert values == sorted(values)
 
 
+def _sides_read(card):
+    """The sides a card's verdict says read (none when the reader was not asked)."""
+    verdict = card["details"].get("legibility") or {}
+    return sum(s["reads"] for s in verdict.get("sides", []))
+
+
 def test_bad_order_and_measuring_nothing_are_refused(client):
     sid = client.post("/api/sessions").json()["id"]
     r = client.get(f"/api/sessions/{sid}/candidates", params={"order": "beauty"})
     assert r.status_code == 422 and r.json()["error"]["field"] == "order"
     assert r.json()["error"]["message"].startswith(
-        "Order must be one of: rank, perception, readability"
+        "Order must be one of: rank, perception, legibility, readability"
     )
     r = client.post(f"/api/sessions/{sid}/jobs", json={"kind": "measures"})
     assert r.status_code == 409 and r.json()["error"]["field"] == "candidates"
@@ -129,6 +136,27 @@ def test_candidates_stay_in_rank_order_until_measured():
 
     cs = [C(2, None), C(1, object())]
     assert [c.rank for c in order_candidates(cs, "perception")] == [1, 2]
+
+
+def test_sides_that_read_come_before_how_it_reads():
+    from illuknit.design.legibility import Legibility, SideReading
+    from illuknit.design.tiles.perception import CandidateMeasures
+
+    def cand(rank, corr, reads):
+        m = CandidateMeasures(
+            views=("A", "B"), readability=(corr, corr), contrast=(0.4, 0.4), ghosting=(0.0, 0.0)
+        )
+        verdict = None
+        if reads is not None:
+            sides = tuple(
+                SideReading(v, "OK", "OK", r, corr) for v, r in zip("AB", reads, strict=True)
+            )
+            verdict = Legibility(sides, 30.0, 3.0)
+        return type("C", (), {"rank": rank, "measured": m, "score": 1.0, "legibility": verdict})
+
+    cs = [cand(1, 0.97, (True, False)), cand(2, 0.90, (True, True)), cand(3, 0.95, None)]
+    assert [c.rank for c in order_candidates(cs, "legibility")] == [2, 1, 3]
+    assert [c.rank for c in order_candidates(cs, "perception")] == [1, 3, 2]
 
 
 def test_diagnostic_overlay_of_each_side(client, app, measured):

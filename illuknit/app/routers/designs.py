@@ -27,12 +27,13 @@ router = APIRouter(prefix="/api/sessions/{sid}", tags=["design"])
 def get_candidates(
     s: SessionDep,
     order: Literal[
-        "rank", "perception", "readability", "contrast", "ghosting", "knit_time"
+        "rank", "perception", "legibility", "readability", "contrast", "ghosting", "knit_time"
     ] = Query(
         "rank",
         title="Order",
-        description="the search's rank, or (once measured) the perceptual score, the worse "
-        "view's readability or contrast, least ghosting, or fastest to knit",
+        description="the search's rank, or (once measured) the perceptual score, the most "
+        "sides the reader reads, the worse view's correlation or contrast, least ghosting, or "
+        "fastest to knit",
     ),
 ) -> dict[str, Any]:
     with s.lock:

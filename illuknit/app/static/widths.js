@@ -109,7 +109,7 @@ function showWidths(got) {
   box.appendChild(wrap);
   const note = document.createElement("p");
   note.className = "hint";
-  note.textContent = "Each width is a small search of 8 designs ranked by the reader; the candidates at that width are ranked by how they read (the correlation) and say, each, whether a reader reads it.";
+  note.textContent = "Each width is a small search of 8 designs ranked by the reader. The candidates found at a width are ranked by how they read (the correlation); each card says whether its sides read, and Rank by: sides that read puts first those that do.";
   box.appendChild(note);
 }
 
