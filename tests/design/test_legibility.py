@@ -173,3 +173,33 @@ def test_a_head_on_design_cannot_be_ranked_by_legibility():
 
     with pytest.raises(OptionError, match="double-view"):
         design_headon(word("OWL")[:, :, :], width=20, ranking=RankOptions(rank_by="legibility"))
+
+
+def test_the_smallest_legible_width_stops_at_the_first_width_that_reads(reader):
+    from illuknit.pipeline.legible import smallest_legible_width
+
+    got = smallest_legible_width(word("MOB"), word("KIT"), widths=(40, 16, 60), unit_aspect=1.0)
+    widths = [v.width for v in got.tried]
+    assert widths[0] == 16 and widths == sorted(widths)  # narrowest first
+    assert got.words == ("MOB", "KIT")
+    if got.both is None:
+        assert widths == [16, 40, 60] and got.sentence().startswith("no width up to 60")
+    else:
+        assert widths[-1] == got.both and got.tried[-1].both_read
+        assert not any(v.both_read for v in got.tried[:-1])
+    for v in got.tried:
+        assert v.both_read <= (v.a_reads and v.b_reads)
+
+
+def test_the_smallest_legible_width_takes_the_grid_proportions_not_the_yarns(monkeypatch):
+    import illuknit.design.legibility as legibility
+    from illuknit.core.pattern import parse_yarns
+    from illuknit.pipeline.legible import smallest_legible_width
+
+    pic = word("MOB")
+    with pytest.raises(OptionError, match="`yarns` is not an option of this stage"):
+        smallest_legible_width(pic, pic, widths=(16,), yarns=parse_yarns("#000000,#ffffff"))
+    # the grid's proportions pass the options' check (a design app sizes by its gauge)
+    monkeypatch.setattr(legibility, "reader_available", lambda: False)
+    with pytest.raises(BackendUnavailableError, match="tesseract"):
+        smallest_legible_width(pic, pic, widths=(16,), unit_aspect=0.7)
