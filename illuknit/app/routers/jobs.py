@@ -1,4 +1,5 @@
-"""Jobs: the long work (candidate search, knitout and its check) in the background."""
+"""Jobs: the long work in the background (candidate search, measures, suggested edits, the
+smallest width that reads, knitout and its check), with progress and cancel."""
 
 import functools
 from collections.abc import Callable
@@ -14,7 +15,7 @@ from illuknit.app.lookups import SessionDep, current_pattern, prepared_of, runne
 from illuknit.app.measures import measure_all
 from illuknit.app.schemas import JobIn
 from illuknit.app.sessions import Session, SessionStore
-from illuknit.core.errors import AppRequestError
+from illuknit.core.errors import AppRequestError, IlluknitError
 
 __all__ = ["router"]
 
@@ -153,7 +154,7 @@ def _read_again(
             patterns,
             prepared,
         )
-    except Exception as e:
+    except (AppRequestError, IlluknitError) as e:
         if not reader_failed(e):
             raise
         return [None] * len(candidates), str(e)
