@@ -42,6 +42,18 @@ def reference_backend(script: str) -> Path:
     pytest.skip(reason)
 
 
+@pytest.fixture(scope="module")
+def reader() -> None:
+    """Skip when tesseract is missing, saying so; under ``CI=true`` fail instead (.ci/run
+    installs it), as the reference backends do (:func:`reference_backend`)."""
+    if shutil.which("tesseract") is not None:
+        return
+    reason = "tesseract is not installed: the reader cannot run (apt-get install tesseract-ocr)"
+    if os.environ.get("CI") == "true":
+        pytest.fail(f"{reason}; under CI=true the reader must run", pytrace=False)
+    pytest.skip(reason)
+
+
 @pytest.fixture(scope="session")
 def swg_backend() -> Path:
     """The reference Shima SWG backend, ``knitout-to-dat.js``."""

@@ -14,10 +14,12 @@ from typing import TYPE_CHECKING, Any
 
 from illuknit.app.controls import blame
 from illuknit.app.inputs import Prepared
-from illuknit.core.errors import AppRequestError
+from illuknit.app.reading import NOT_INSTALLED, legibility_json, reader_failed
+from illuknit.core.errors import AppRequestError, IlluknitError
 from illuknit.core.pattern import LogicalPattern
 
 if TYPE_CHECKING:
+    from illuknit.design.legibility import Legibility
     from illuknit.pipeline.stages import Stripe
 
 __all__ = ["Candidate", "Progress", "Runner", "make_candidates"]
@@ -39,9 +41,16 @@ class Candidate:
     source: Any = None
     #: how it reads and knits (tiles.perception.CandidateMeasures), once the measures job ran
     measured: Any = None
+    #: whether each side reads, by the reader (design.legibility.Legibility; double view only)
+    legibility: Legibility | None = None
+    #: why the sides were not read (no reader, or it failed); None when read or not a double view
+    not_read: str | None = None
 
     def to_json(self) -> dict[str, Any]:
         n, m = self.pattern.shape
+        details = dict(self.details)
+        if self.legibility is not None or self.not_read is not None:
+            details["legibility"] = legibility_json(self.legibility, self.not_read)
         return {
             "rank": self.rank,
             "label": self.label,
@@ -50,7 +59,7 @@ class Candidate:
             "cols": m,
             "yarns": [{"name": y.name, "rgb": y.hex} for y in self.pattern.yarns],
             "raised": int(self.pattern.raised.sum()),
-            "details": self.details,
+            "details": details,
             "measures": None if self.measured is None else self.measured.to_json(),
             "editable": self.source is not None,
         }
@@ -73,23 +82,24 @@ def make_candidates(
     run: Runner | None = None,
     split_bumps: bool = False,
     made_for: str = "machine",
+    machine: str | None = None,
+    viewpoint: tuple[float, float] = (30.0, 3.0),
 ) -> list[Candidate]:
     """Ranked candidates for the prepared inputs; ``progress(fraction, message)`` may cancel.
 
     ``run`` runs the tile search (double view and head-on), by default in this thread;
     ``split_bumps`` lets its tiles hold split bumps; ``made_for="hands"`` ranks first the
-    designs a hand knitter can work (:class:`~illuknit.design.options.RankOptions`).
+    designs a hand knitter can work (:class:`~illuknit.design.options.RankOptions`). The
+    designs are ranked as seen from ``viewpoint`` (angle in degrees, distance in metres) on
+    ``machine`` (its gauge; the default machine when None), and a double view's kept designs
+    are read there when the reader is installed (:mod:`illuknit.app.reading`).
     """
     if prepared.mode == "single":
         return _single_candidates(prepared, progress)
     return _tile_candidates(
-        prepared,
-        count=count,
-        progress=progress,
-        run=run,
-        split_bumps=split_bumps,
-        made_for=made_for,
-    )
+        prepared, count=count, progress=progress, run=run, split_bumps=split_bumps,
+        made_for=made_for, machine=machine, viewpoint=viewpoint,
+    )  # fmt: skip
 
 
 def _single_candidates(prepared: Prepared, progress: Progress) -> list[Candidate]:
@@ -125,25 +135,47 @@ def _tile_candidates(
     run: Runner | None = None,
     split_bumps: bool = False,
     made_for: str = "machine",
+    machine: str | None = None,
+    viewpoint: tuple[float, float] = (30.0, 3.0),
 ) -> list[Candidate]:
     """The best-reading ``count`` of the tile designs ``illuknit double`` searches by default,
     ranked as it ranks them: one call of :func:`~illuknit.pipeline.stages.design_tiles`, inside
-    ``run`` (a killable process, so Cancel stops it at once) when one is given."""
+    ``run`` (a killable process, so Cancel stops it at once) when one is given. A double view's
+    designs are read as ``double`` reads them when tesseract is installed; when it is missing or
+    fails, the search is not lost: the cards say the sides were not read, and why."""
+    from illuknit.design.legibility import reader_available
     from illuknit.design.options import MadeFor, RankOptions, SearchOptions
     from illuknit.pipeline.stages import design_tiles
 
-    stage = functools.partial(
-        design_tiles,
-        prepared.quantised["a"],
-        prepared.quantised.get("b"),
-        mode="headon" if prepared.mode == "headon" else "double",
-        yarns=prepared.yarns,
-        search=SearchOptions(candidates=count, split_bumps=split_bumps),
-        ranking=RankOptions(made_for=MadeFor(made_for)),
-    )
+    angle, distance = viewpoint
+    double = prepared.mode == "double"
+
+    def search(read: bool) -> Any:
+        stage = functools.partial(
+            design_tiles,
+            prepared.quantised["a"],
+            prepared.quantised.get("b"),
+            mode="headon" if prepared.mode == "headon" else "double",
+            yarns=prepared.yarns,
+            search=SearchOptions(candidates=count, split_bumps=split_bumps),
+            ranking=RankOptions(
+                made_for=MadeFor(made_for), machine=machine, angle=angle, distance=distance,
+                read=read,
+            ),
+        )  # fmt: skip
+        return stage(progress=progress) if run is None else run(stage)
+
+    read = double and reader_available()
+    not_read = NOT_INSTALLED if double and not read else None
     with blame("n_colors"):
         try:
-            design = stage(progress=progress) if run is None else run(stage)
+            try:
+                design = search(read)
+            except (AppRequestError, IlluknitError) as e:
+                if not (read and reader_failed(e)):
+                    raise
+                not_read = str(e)  # the reader is broken: the designs stand, unread
+                design = search(False)
         except AppRequestError as e:  # raised in the search's own process: name the control
             e.field = e.field or "n_colors"
             raise
@@ -156,9 +188,11 @@ def _tile_candidates(
             details={
                 **_assignment_details(d.assignment, d.report),
                 **_hand_details(d, made_for),
-                **_reader_details(d, design.order),
+                **_order_details(design.order),
             },
             source=d.assignment,
+            legibility=d.legibility,
+            not_read=not_read,
         )
         for d in design.designs
     ]
@@ -187,18 +221,13 @@ def _hand_details(design: Any, made_for: str) -> dict[str, Any]:
     }
 
 
-def _reader_details(design: Any, order: Any) -> dict[str, Any]:
+def _order_details(order: Any) -> dict[str, Any]:
     """The order the search ranked by and why (the search's default: the reader's order for
-    two pictures of words, :func:`~illuknit.pipeline.tile_search.choose_order`), and the
-    reader's verdict on the candidate's sides when it was read."""
-    out: dict[str, Any] = {}
-    if order is not None:
-        out["order"] = order.sentence()
-    if design.legibility is not None:
-        out["reads"] = design.legibility.sentence()
-        out["all_read"] = bool(design.legibility.all_read)
-        out["sides_read"] = int(design.legibility.sides_read)
-    return out
+    two pictures of words, :func:`~illuknit.pipeline.tile_search.choose_order`); the verdict
+    on each candidate's sides is its :attr:`Candidate.legibility`."""
+    if order is None:
+        return {}
+    return {"order": order.sentence(), "ranked_by": order.by.value}
 
 
 def _assignment_details(assignment: Any, report: Any) -> dict[str, Any]:

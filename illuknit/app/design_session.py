@@ -90,6 +90,8 @@ class Session:
     # earlier and undone designs (history.DesignState), oldest first (see illuknit.app.history)
     undo_steps: list[Any] = field(default_factory=list)
     redo_steps: list[Any] = field(default_factory=list)
+    # the smallest width at which both sides read (reading.WidthsResult, with what it holds for)
+    legible_widths: Any = None
     # the row tracker: the row the knitter is on, per pattern key (illuknit.app.routers.tracker)
     tracker: dict[str, int] = field(default_factory=dict)
     jobs: dict[str, Any] = field(default_factory=dict)  # kind -> Job

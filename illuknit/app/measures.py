@@ -23,8 +23,9 @@ from typing import Any
 
 __all__ = ["ORDERS", "measure_all", "measure_candidate", "order_candidates"]
 
-#: Ways the page can order candidates: the search's own rank, or a perception.RANK_KEYS order.
-ORDERS = ("rank", "perception", "readability", "contrast", "ghosting", "knit_time")
+#: Ways the page can order candidates: the search's own rank, or a perception.RANK_KEYS order
+#: (``legibility``: most sides the reader reads first, then the perceptual score).
+ORDERS = ("rank", "perception", "legibility", "readability", "contrast", "ghosting", "knit_time")
 
 
 def measure_candidate(
@@ -69,9 +70,9 @@ def measure_all(
 def order_candidates(candidates: Sequence[Any], order: str, *, hands: bool = False) -> list[Any]:
     """``candidates`` in ``order`` (see :data:`ORDERS`); by rank until all are measured. Made
     for ``hands``: first by the share of rows a hand knitter can work, as the search ranks.
-    When the search had the reader read every candidate (two pictures of words: its order was
-    the reader's), "perception" (how it reads) puts first those with more sides that read, as
-    the search did, then the perceptual score."""
+    By ``legibility``, the sides each card's verdict says read (none when not read). When the
+    search itself ranked by the reader (two pictures of words), "perception" (how it reads) does
+    too: the sides that read first, as the search did, then the perceptual score."""
     from dataclasses import replace
 
     from illuknit.design.tiles.perception import rank_candidates
@@ -82,9 +83,16 @@ def order_candidates(candidates: Sequence[Any], order: str, *, hands: bool = Fal
     scores = [c.score if c.score is not None else float(c.rank) for c in by_rank]
     by = "knit-time" if order == "knit_time" else order
     measured = [c.measured for c in by_rank]
-    read = [(getattr(c, "details", None) or {}).get("sides_read") for c in by_rank]
-    if by == "perception" and all(n is not None for n in read):
+    searched_by_reader = all(
+        (getattr(c, "details", None) or {}).get("ranked_by") == "legibility" for c in by_rank
+    )
+    if by == "perception" and searched_by_reader and all(c.legibility for c in by_rank):
         by = "legibility"
-        measured = [replace(m, sides_read=n) for m, n in zip(measured, read, strict=True)]
+    if by == "legibility":
+        # the cards' verdicts; a design not read (no reader) has no side known to read
+        measured = [
+            replace(m, sides_read=0 if c.legibility is None else c.legibility.sides_read)
+            for m, c in zip(measured, by_rank, strict=True)
+        ]
     picks = rank_candidates(measured, scores, by=by, hands=hands)
     return [by_rank[i] for i in picks]

@@ -207,14 +207,24 @@ SettingsPatch = _patch_of(DesignSettings, "SettingsPatch")
 class JobIn(BaseModel):
     """Body of ``POST /jobs``."""
 
-    kind: Literal["candidates", "knit", "measures", "suggestions"] = Field(
+    kind: Literal["candidates", "knit", "measures", "suggestions", "widths"] = Field(
         ...,
         title="Job",
-        description="candidates, knitout of the picked one, measures of every candidate, or "
-        "suggested edits of the pictures (double view)",
+        description="candidates, knitout of the picked one, measures of every candidate, "
+        "suggested edits of the pictures (double view), or the smallest width at which both "
+        "sides read (double view; needs tesseract)",
     )
     # a knit job's: the knitting option, declared on KnitOptions
     allow_long_floats: bool = declared_field(KnitOptions, "allow_long_floats")
+    # a widths job's: the widths tried (default: illuknit legible's, those the bed holds)
+    widths: list[Annotated[int, Field(ge=4, le=MAX_UNITS)]] | None = Field(
+        default=None,
+        min_length=1,
+        max_length=20,
+        title="Widths",
+        description="widths in units to try, narrowest first (default 40, 50, 60, 70, 80, "
+        "100, 120: those the machine's bed holds)",
+    )
 
 
 class SelectionIn(BaseModel):

@@ -96,18 +96,18 @@ class SuggestedEdit:
         return "same"
 
     def effect_words(self) -> str:
-        """The edit's effect in words, e.g. "the worse side reads 2 % better; 13 % more of the
-        other picture shows through"."""
+        """The edit's effect in words, e.g. "the worse side's correlation 2 % higher; 13 % more
+        ghosting" (the correlation is not a legibility scale: never "reads better")."""
         from illuknit.design.tiles.simplify import MIN_GAIN
 
         (r0, g0), (r1, g1) = self.before, self.after
         parts = []
         if abs(r1 - r0) <= MIN_GAIN:
-            parts.append("the worse side reads the same")
+            parts.append("the worse side's correlation unchanged")
         else:
             parts.append(
-                f"the worse side reads {abs(r1 - r0) / max(abs(r0), 1e-9):.0%} "
-                f"{'better' if r1 > r0 else 'worse'}"
+                f"the worse side's correlation {abs(r1 - r0) / max(abs(r0), 1e-9):.0%} "
+                f"{'higher' if r1 > r0 else 'lower'}"
             )
         if abs(g1 - g0) <= MIN_GAIN:
             parts.append("ghosting unchanged")

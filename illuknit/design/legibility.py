@@ -110,7 +110,8 @@ def read_images(images: Sequence[ArrayLike]) -> list[Reading]:
     Raises
     ------
     BackendUnavailableError
-        The ``tesseract`` program is not installed.
+        The ``tesseract`` program is not installed, cannot run, or fails (its last line of
+        complaint is the message).
     """
     import os
     import tempfile
@@ -138,13 +139,22 @@ def read_images(images: Sequence[ArrayLike]) -> list[Reading]:
             f.write("\n".join(names) + "\n")
         # --psm 7: each image is one line of text; tsv: words with their confidence, per
         # image (page); one thread: the machine is shared
-        got = subprocess.run(
-            [exe, listing, "stdout", "--psm", "7", "tsv"],
-            capture_output=True,
-            timeout=READ_TIMEOUT + 2.0 * len(arrays),
-            check=False,
-            env={**os.environ, "OMP_THREAD_LIMIT": "1"},
-        )
+        try:
+            got = subprocess.run(
+                [exe, listing, "stdout", "--psm", "7", "tsv"],
+                capture_output=True,
+                timeout=READ_TIMEOUT + 2.0 * len(arrays),
+                check=False,
+                env={**os.environ, "OMP_THREAD_LIMIT": "1"},
+            )
+        except (OSError, subprocess.TimeoutExpired) as e:
+            raise BackendUnavailableError(f"the reader ({exe}) could not run: {e}") from None
+    # a reader that fails (no language data, a broken install) prints nothing to parse: said,
+    # not taken for "the reader saw nothing" on every side
+    if got.returncode != 0:
+        said = got.stderr.decode("utf-8", "replace").strip().splitlines()
+        why = said[-1] if said else f"exit code {got.returncode}"
+        raise BackendUnavailableError(f"the reader ({exe}) failed: {why}")
     return _parse_tsv(got.stdout.decode("utf-8", "replace"), len(arrays))
 
 

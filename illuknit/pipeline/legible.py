@@ -139,7 +139,8 @@ def smallest_legible_width(
     widths : sequence of int
         Widths in units to try; they are tried narrowest first.
     pictures : PictureOptions, optional
-        ``n_colors`` and ``stretch``, as :func:`~illuknit.pipeline.tiles.design_double`'s.
+        ``n_colors``, ``stretch`` and ``unit_aspect`` (the grid's proportions: a design app
+        sizes by its machine's fabric gauge), as :func:`~illuknit.pipeline.tiles.design_double`'s.
     viewpoint : RankOptions, optional
         ``angle`` and ``distance``, the viewpoint the sides are read from (degrees of elevation,
         metres; default 30 and 3), and ``machine``, whose gauge sets the finished size and the
@@ -149,7 +150,8 @@ def smallest_legible_width(
     progress : callable, optional
         ``progress(fraction, message)`` before each width.
     **knobs
-        Shorthand for the fields above: ``n_colors`` and ``stretch`` of ``pictures``,
+        Shorthand for the fields above: ``n_colors``, ``stretch`` and ``unit_aspect`` of
+        ``pictures``,
         ``angle``, ``distance`` and ``machine`` of ``viewpoint``.
 
     Raises
@@ -169,7 +171,7 @@ def smallest_legible_width(
     check_type("viewpoint", view, RankOptions)
     seen = {k: knobs.pop(k) for k in ("angle", "distance", "machine") if k in knobs}
     view = replace(view, **seen) if seen else view
-    opts = picture_options(pictures, knobs, takes=("n_colors", "stretch"))
+    opts = picture_options(pictures, knobs, takes=("n_colors", "stretch", "unit_aspect"))
     ws = sorted(set(_check_widths(widths)))
     if not reader_available():
         from illuknit.core.errors import BackendUnavailableError

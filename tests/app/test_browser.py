@@ -424,7 +424,7 @@ def test_accept_a_suggested_edit(browser, base_url, tmp_path):
     assert page.locator("#suggest-card").is_visible()
     page.click("#suggest")
     card = first_suggestion(page)
-    sync_api.expect(card.locator(".effect")).to_contain_text("worse side reads")
+    sync_api.expect(card.locator(".effect")).to_contain_text("worse side's correlation")
     sync_api.expect(card.locator("img[data-which='after']").first).to_be_visible()
     page.wait_for_function(
         "() => Array.from(document.querySelectorAll('.sugg img'))"

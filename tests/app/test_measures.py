@@ -102,6 +102,7 @@ def test_candidates_re_rank_by_any_measure(client, measured, order):
     key = {
         "rank": lambda c: c["rank"],
         "perception": lambda c: -c["measures"]["perceptual_score"],
+        "legibility": lambda c: (-_sides_read(c), -c["measures"]["perceptual_score"]),
         "readability": lambda c: -c["measures"]["worse_readability"],
         "contrast": lambda c: -c["measures"]["worse_contrast"],
         "ghosting": lambda c: c["measures"]["worst_visible_ghosting"],
@@ -111,12 +112,18 @@ def test_candidates_re_rank_by_any_measure(client, measured, order):
     assert values == sorted(values)
 
 
+def _sides_read(card):
+    """The sides a card's verdict says read (none when the reader was not asked)."""
+    verdict = card["details"].get("legibility") or {}
+    return sum(s["reads"] for s in verdict.get("sides", []))
+
+
 def test_bad_order_and_measuring_nothing_are_refused(client):
     sid = client.post("/api/sessions").json()["id"]
     r = client.get(f"/api/sessions/{sid}/candidates", params={"order": "beauty"})
     assert r.status_code == 422 and r.json()["error"]["field"] == "order"
     assert r.json()["error"]["message"].startswith(
-        "Order must be one of: rank, perception, readability"
+        "Order must be one of: rank, perception, legibility, readability"
     )
     r = client.post(f"/api/sessions/{sid}/jobs", json={"kind": "measures"})
     assert r.status_code == 409 and r.json()["error"]["field"] == "candidates"
@@ -129,6 +136,27 @@ def test_candidates_stay_in_rank_order_until_measured():
 
     cs = [C(2, None), C(1, object())]
     assert [c.rank for c in order_candidates(cs, "perception")] == [1, 2]
+
+
+def test_sides_that_read_come_before_how_it_reads():
+    from illuknit.design.legibility import Legibility, SideReading
+    from illuknit.design.tiles.perception import CandidateMeasures
+
+    def cand(rank, corr, reads):
+        m = CandidateMeasures(
+            views=("A", "B"), readability=(corr, corr), contrast=(0.4, 0.4), ghosting=(0.0, 0.0)
+        )
+        verdict = None
+        if reads is not None:
+            sides = tuple(
+                SideReading(v, "OK", "OK", r, corr) for v, r in zip("AB", reads, strict=True)
+            )
+            verdict = Legibility(sides, 30.0, 3.0)
+        return type("C", (), {"rank": rank, "measured": m, "score": 1.0, "legibility": verdict})
+
+    cs = [cand(1, 0.97, (True, False)), cand(2, 0.90, (True, True)), cand(3, 0.95, None)]
+    assert [c.rank for c in order_candidates(cs, "legibility")] == [2, 1, 3]
+    assert [c.rank for c in order_candidates(cs, "perception")] == [1, 3, 2]
 
 
 def test_diagnostic_overlay_of_each_side(client, app, measured):
@@ -226,16 +254,20 @@ def test_headon_candidates_are_measured_and_ranked_on_all_three_views(client, ap
 
 
 def test_how_it_reads_keeps_the_readers_order_when_the_search_read_every_candidate():
+    from types import SimpleNamespace
+
     from illuknit.design.tiles.perception import CandidateMeasures
 
     class C:
-        def __init__(self, rank, correlation, sides_read):
+        def __init__(self, rank, correlation, sides_read, by="legibility"):
             self.rank, self.score = rank, float(rank)
             self.measured = CandidateMeasures(
                 views=("A", "B"), readability=(correlation, correlation), contrast=(0.4, 0.4),
                 ghosting=(0.0, 0.0),
             )  # fmt: skip
-            self.details = {} if sides_read is None else {"sides_read": sides_read}
+            read = sides_read is not None
+            self.legibility = SimpleNamespace(sides_read=sides_read) if read else None
+            self.details = {"ranked_by": by}
 
     # the search's (the reader's) order: rank 1 reads on both sides, yet correlates less
     read = [C(1, 0.80, 2), C(2, 0.95, 1), C(3, 0.90, 1)]
@@ -246,3 +278,12 @@ def test_how_it_reads_keeps_the_readers_order_when_the_search_read_every_candida
     # one candidate not read: the reader's verdict is not complete, perception alone
     mixed = [C(1, 0.80, 2), C(2, 0.95, None), C(3, 0.90, 1)]
     assert [c.rank for c in order_candidates(mixed, "perception")] == [2, 3, 1]
+    # pictures: read (estimates) but the search ranked by perception, so perception stays
+    pictures = [
+        C(1, 0.80, 2, "perception"),
+        C(2, 0.95, 1, "perception"),
+        C(3, 0.9, 1, "perception"),
+    ]
+    assert [c.rank for c in order_candidates(pictures, "perception")] == [2, 3, 1]
+    # asked for: the sides that read first, whatever the search ranked by
+    assert [c.rank for c in order_candidates(pictures, "legibility")] == [1, 2, 3]

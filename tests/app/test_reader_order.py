@@ -52,7 +52,9 @@ def test_a_word_pair_is_ranked_by_the_reader_in_the_app(tmp_path, api, pictures,
         got = c.get(f"/api/sessions/{sid}/candidates").json()["candidates"]
     first = got[0]["details"]
     assert first["order"].startswith("ranked by the reader (legibility): both pictures are words")
+    assert first["ranked_by"] == "legibility"
     for cand in got:
-        assert "MILK" in cand["details"]["reads"] and isinstance(cand["details"]["all_read"], bool)
-    read = [int(c["details"]["all_read"]) for c in got]
+        verdict = cand["details"]["legibility"]
+        assert "MILK" in verdict["sentence"] and isinstance(verdict["all_read"], bool)
+    read = [int(c["details"]["legibility"]["all_read"]) for c in got]
     assert read == sorted(read, reverse=True)  # the reader's order: both sides first

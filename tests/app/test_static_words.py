@@ -47,17 +47,32 @@ def test_head_on_captions_say_what_head_on_shows():
     assert "both pictures show, mixed" in shows["double"] and "stripes" not in shows["double"]
 
 
-def test_a_card_says_what_the_reader_read_and_the_first_why_its_order():
+def test_the_first_card_says_which_order_the_search_used():
     order = "ranked by the reader (legibility): both pictures are words (MILK, HAZE)"
-    reads = "side B does not read HAZE (the reader saw nothing); side A reads MILK"
     first, other, plain = _run(
         "candidates.js",
-        "[readerLine({rank: 1, details: "
-        + json.dumps({"order": order, "reads": reads, "all_read": False})
-        + "}), readerLine({rank: 2, details: "
-        + json.dumps({"order": order, "reads": "side A reads MILK", "all_read": True})
-        + "}), readerLine({rank: 1, details: {}})]",
+        "[orderLine({rank: 1, details: "
+        + json.dumps({"order": order})
+        + "}), orderLine({rank: 2, details: "
+        + json.dumps({"order": order})
+        + "}), orderLine({rank: 1, details: {}})]",
     )
-    assert first == {"text": f"{reads} · {order}", "warn": True}
-    assert other == {"text": "side A reads MILK", "warn": False}  # the order: on the first only
-    assert plain is None
+    assert first == order
+    assert other is None and plain is None  # the order: on the first card only
+
+
+def test_a_side_judged_by_its_shapes_says_it_is_an_estimate():
+    """The reader's verdict on a card (issue 38): a word side is the reader's sentence, a
+    picture side's shape agreement is said as an estimate, never as a reading."""
+    word, picture, blurred = _run(
+        "candidates.js",
+        "[sideText({view: 'B', judge: 'reader', reads: false, shape_agreement: null, "
+        "sentence: \"side B does not read ELM (the reader saw 'EIM')\"}), "
+        "sideText({view: 'A', judge: 'shapes', reads: true, shape_agreement: 0.913, "
+        "sentence: 'long'}), "
+        "sideText({view: 'A', judge: 'shapes', reads: false, shape_agreement: 0.5, "
+        "sentence: 'long'})]",
+    )
+    assert word == "✗ side B does not read ELM (the reader saw 'EIM')"
+    assert picture == "≈ side A (a picture) likely reads: shapes agree on 91 %, an estimate"
+    assert blurred.startswith("≈ side A (a picture) may not read") and "50 %" in blurred

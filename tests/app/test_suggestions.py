@@ -69,7 +69,7 @@ def test_suggestions_are_listed_most_helpful_first(client, suggested):
     assert keys == sorted(keys)
     for s in got["suggestions"]:
         assert "majority" not in s["description"]  # plain words, no image-processing jargon
-        assert s["effect"].startswith("the worse side reads")
+        assert s["effect"].startswith("the worse side's correlation")
 
 
 @pytest.mark.parametrize(
@@ -95,7 +95,7 @@ def test_a_suggestion_says_whether_it_helps(before, after, verdict):
     if verdict == "worse":
         words = e.effect_words()
         assert e.benefit < 0 and (
-            ("reads" in words and "worse" in words) or "more ghosting" in words
+            ("correlation" in words and "lower" in words) or "more ghosting" in words
         )
 
 

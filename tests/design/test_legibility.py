@@ -29,18 +29,6 @@ from illuknit.design.options import RankBy, RankOptions
 from illuknit.design.tiles.perception import CandidateMeasures, rank_candidates
 
 
-@pytest.fixture(scope="module")
-def reader() -> None:
-    """Skip when tesseract is missing, saying so; under ``CI=true`` fail instead (.ci/run
-    installs it), as the reference backends do (tests/conftest.py)."""
-    if shutil.which("tesseract") is not None:
-        return
-    reason = "tesseract is not installed: the reader cannot run (apt-get install tesseract-ocr)"
-    if os.environ.get("CI") == "true":
-        pytest.fail(f"{reason}; under CI=true the reader must run", pytrace=False)
-    pytest.skip(reason)
-
-
 def word(text: str, size: tuple[int, int] = (360, 130)) -> np.ndarray:
     font = ImageFont.truetype(str(files("illuknit") / "data" / "DejaVuSans-Bold.ttf"), 100)
     box = ImageDraw.Draw(Image.new("L", (1, 1))).textbbox((0, 0), text, font=font)
@@ -127,6 +115,17 @@ def test_without_the_reader_reading_says_what_to_install(monkeypatch):
         read_images([np.zeros((10, 10), np.uint8)])
 
 
+def test_a_reader_that_fails_says_why_instead_of_reading_nothing(tmp_path, monkeypatch):
+    # a broken install (no language data) exits non-zero and prints nothing to parse: that is
+    # said, never taken for "the reader saw nothing" on every side
+    fake = tmp_path / "tesseract"
+    fake.write_text("#!/bin/sh\necho 'Error opening data file eng.traineddata' >&2\nexit 1\n")
+    fake.chmod(0o755)
+    monkeypatch.setenv("PATH", f"{tmp_path}{os.pathsep}{os.environ['PATH']}")
+    with pytest.raises(BackendUnavailableError, match="failed: Error opening data file"):
+        read_images([np.zeros((10, 10), np.uint8)])
+
+
 def test_bad_arguments_are_named():
     from illuknit.core.pattern import LogicalPattern  # noqa: F401  (the IR seen_far takes)
 
@@ -174,3 +173,33 @@ def test_a_head_on_design_cannot_be_ranked_by_legibility():
 
     with pytest.raises(OptionError, match="double-view"):
         design_headon(word("OWL")[:, :, :], width=20, ranking=RankOptions(rank_by="legibility"))
+
+
+def test_the_smallest_legible_width_stops_at_the_first_width_that_reads(reader):
+    from illuknit.pipeline.legible import smallest_legible_width
+
+    got = smallest_legible_width(word("MOB"), word("KIT"), widths=(40, 16, 60), unit_aspect=1.0)
+    widths = [v.width for v in got.tried]
+    assert widths[0] == 16 and widths == sorted(widths)  # narrowest first
+    assert got.words == ("MOB", "KIT")
+    if got.both is None:
+        assert widths == [16, 40, 60] and got.sentence().startswith("no width up to 60")
+    else:
+        assert widths[-1] == got.both and got.tried[-1].both_read
+        assert not any(v.both_read for v in got.tried[:-1])
+    for v in got.tried:
+        assert v.both_read <= (v.a_reads and v.b_reads)
+
+
+def test_the_smallest_legible_width_takes_the_grid_proportions_not_the_yarns(monkeypatch):
+    import illuknit.design.legibility as legibility
+    from illuknit.core.pattern import parse_yarns
+    from illuknit.pipeline.legible import smallest_legible_width
+
+    pic = word("MOB")
+    with pytest.raises(OptionError, match="`yarns` is not an option of this stage"):
+        smallest_legible_width(pic, pic, widths=(16,), yarns=parse_yarns("#000000,#ffffff"))
+    # the grid's proportions pass the options' check (a design app sizes by its gauge)
+    monkeypatch.setattr(legibility, "reader_available", lambda: False)
+    with pytest.raises(BackendUnavailableError, match="tesseract"):
+        smallest_legible_width(pic, pic, widths=(16,), unit_aspect=0.7)

@@ -27,12 +27,13 @@ router = APIRouter(prefix="/api/sessions/{sid}", tags=["design"])
 def get_candidates(
     s: SessionDep,
     order: Literal[
-        "rank", "perception", "readability", "contrast", "ghosting", "knit_time"
+        "rank", "perception", "legibility", "readability", "contrast", "ghosting", "knit_time"
     ] = Query(
         "rank",
         title="Order",
-        description="the search's rank, or (once measured) the perceptual score, the worse "
-        "view's readability or contrast, least ghosting, or fastest to knit",
+        description="the search's rank, or (once measured) the perceptual score, the most "
+        "sides the reader reads, the worse view's correlation or contrast, least ghosting, or "
+        "fastest to knit",
     ),
 ) -> dict[str, Any]:
     with s.lock:
@@ -220,3 +221,25 @@ def diagnosed_pictures(prepared: design.Prepared, view: str) -> tuple[Any, Any]:
         return q["a"].rgb(), None
     own, other = ("a", "b") if view == "A" else ("b", "a")
     return q[own].rgb(), q[other].rgb()
+
+
+@router.get(
+    "/widths",
+    summary="The smallest width at which both sides read (the widths job's answer), per width "
+    "tried",
+)
+def get_widths(s: SessionDep) -> dict[str, Any]:
+    from illuknit.app.reading import widths_key
+    from illuknit.design.legibility import reader_available
+
+    with s.lock:
+        got = s.legible_widths
+        current = got is not None and got.key == widths_key(s.images, s.settings)
+        return {
+            # False without tesseract: the page says so instead of offering the search
+            "reader": reader_available(),
+            # the answer, and whether it holds for the pictures and settings as they are now
+            # (a change of width keeps it: the width is what it answers)
+            "result": None if got is None else got.to_json(),
+            "current": current,
+        }

@@ -1,18 +1,21 @@
-"""Jobs: the long work (candidate search, knitout and its check) in the background."""
+"""Jobs: the long work in the background (candidate search, measures, suggested edits, the
+smallest width that reads, knitout and its check), with progress and cancel."""
 
 import functools
+from collections.abc import Callable
 from typing import Annotated, Any
 
 from fastapi import APIRouter, Depends, Request
 
 from illuknit.app import design
+from illuknit.app.controls import blame
 from illuknit.app.jobs import Job, JobRunner
 from illuknit.app.knitting import CheckedKnitout, knit_and_check
 from illuknit.app.lookups import SessionDep, current_pattern, prepared_of, runner_of, store_of
 from illuknit.app.measures import measure_all
 from illuknit.app.schemas import JobIn
 from illuknit.app.sessions import Session, SessionStore
-from illuknit.core.errors import AppRequestError
+from illuknit.core.errors import AppRequestError, IlluknitError
 
 __all__ = ["router"]
 
@@ -26,6 +29,7 @@ def start_candidates(s: Session, runner: JobRunner, *, isolate: bool = True) -> 
     count = s.settings.candidates
     split_bumps = s.settings.split_bumps
     made_for = s.settings.made_for
+    machine, viewpoint = s.settings.machine, s.settings.viewpoint
     rev = s.revision
 
     def work(job: Job) -> list[design.Candidate]:
@@ -35,12 +39,15 @@ def start_candidates(s: Session, runner: JobRunner, *, isolate: bool = True) -> 
             from illuknit.design.tiles.perception import POOL_SECONDS
 
             bound = POOL_SECONDS + 10.0
+            # the reader comes after the bound: its seconds are said, not hidden in it
+            ranking = getattr(search, "keywords", {}).get("ranking")
+            then = ", then the reader reads both sides" if getattr(ranking, "read", False) else ""
 
             def tick(seconds: float) -> None:
                 job.report(
                     0.1 + 0.3 * min(1.0, seconds / bound),
                     f"finding tile mappings: {seconds:.0f} s so far, done in at most "
-                    f"{bound:.0f} s (usually far less)",
+                    f"{bound:.0f} s (usually far less){then}",
                 )
 
             return job.run_isolated(search, tick=tick, poll=0.1)
@@ -52,6 +59,8 @@ def start_candidates(s: Session, runner: JobRunner, *, isolate: bool = True) -> 
             run=run if isolate else None,
             split_bumps=split_bumps,
             made_for=made_for,
+            machine=machine,
+            viewpoint=viewpoint,
         )
 
     def done(job: Job) -> None:
@@ -82,13 +91,17 @@ def start_measures(s: Session, runner: JobRunner, *, isolate: bool = True) -> Jo
             status=409,
         )
 
-    def work(job: Job) -> list[Any]:
+    def work(job: Job) -> tuple[list[Any], Any]:
         patterns = [c.pattern for c in candidates]
         if not isolate:
-            return measure_all(patterns, prepared, machine, viewpoint, progress=job.report)
-        return job.run_isolated(
-            measure_all, patterns, prepared, machine, viewpoint, progress=(0.0, 1.0)
-        )
+            measured = measure_all(patterns, prepared, machine, viewpoint, progress=job.report)
+        else:
+            measured = job.run_isolated(
+                measure_all, patterns, prepared, machine, viewpoint, progress=(0.0, 0.9)
+            )
+        run = job.run_isolated if isolate else _call
+        read = _read_again(job, run, candidates, prepared, measured, (machine, viewpoint))
+        return measured, read
 
     def done(job: Job) -> None:
         with s.lock:
@@ -97,10 +110,55 @@ def start_measures(s: Session, runner: JobRunner, *, isolate: bool = True) -> Jo
                 a is b for a, b in zip(s.candidates, candidates, strict=True)
             )
             if s.revision == job.revision and same:
-                for c, m in zip(candidates, job.result, strict=True):
+                measured, read = job.result
+                for c, m in zip(candidates, measured, strict=True):
                     c.measured = m
+                if read is not None:
+                    verdicts, why = read
+                    for c, v in zip(candidates, verdicts, strict=True):
+                        c.legibility, c.not_read = v, why
 
     return runner.submit("measures", work, revision=rev, on_done=done)
+
+
+def _call(fn: Callable[..., Any], *args: Any) -> Any:
+    return fn(*args)
+
+
+def _read_again(
+    job: Job,
+    run: Callable[..., Any],
+    candidates: list[design.Candidate],
+    prepared: Any,
+    measured: list[Any],
+    seen: tuple[str, tuple[float, float]],
+) -> tuple[list[Any], str | None] | None:
+    """The reader's verdicts on candidates read from another viewpoint, read again (by ``run``,
+    in the job's worker process or here) on ``seen``'s machine from its viewpoint; None when
+    there is nothing to read again. ``(verdicts, None)``, or, when the reader fails now,
+    ``([None, ...], why)``."""
+    from illuknit.app.reading import read_candidates, reader_failed
+
+    machine, viewpoint = seen
+    old = [c.legibility for c in candidates]
+    if all(v is None or (v.angle, v.distance) == viewpoint for v in old):
+        return None
+    job.report(0.9, f"reading both sides of {len(candidates)} candidate(s) from the new viewpoint")
+    patterns = [c.pattern for c in candidates]
+    correlations = [m.readability for m in measured]
+    try:
+        verdicts = run(
+            functools.partial(
+                read_candidates, machine=machine, viewpoint=viewpoint, correlations=correlations
+            ),
+            patterns,
+            prepared,
+        )
+    except (AppRequestError, IlluknitError) as e:
+        if not reader_failed(e):
+            raise
+        return [None] * len(candidates), str(e)
+    return list(verdicts), None
 
 
 def start_suggestions(
@@ -141,6 +199,56 @@ def start_suggestions(
     return runner.submit("suggestions", work, revision=rev, on_done=done)
 
 
+def start_widths(
+    s: Session, runner: JobRunner, widths: list[int] | None = None, *, isolate: bool = True
+) -> Job:
+    """The smallest width at which both sides of the session's pictures read
+    (:func:`illuknit.app.reading.legible_widths`), kept with the session with the pictures and
+    settings it holds for. Refused at once (409) without two pictures in a double view or
+    without the reader. With ``isolate`` the work runs in its own process, killed by Cancel."""
+    from illuknit.app.reading import (
+        WidthsResult,
+        legible_widths,
+        require_reader,
+        widths_key,
+        widths_to_try,
+    )
+
+    with s.lock:
+        images, settings, rev = dict(s.images), s.settings, s.revision
+    if settings.mode != "double" or not {"a", "b"} <= set(images):
+        raise AppRequestError(
+            "how wide it must be is found for a double view's two pictures: choose Double view "
+            "and give pictures A and B",
+            field="widths",
+            code="not_double",
+            status=409,
+        )
+    require_reader("widths")
+    tried = widths_to_try(settings.machine, widths)
+    key = widths_key(images, settings)
+    a, b = images["a"].rgb, images["b"].rgb
+
+    def work(job: Job) -> WidthsResult:
+        job.report(0.01, f"designing and reading {tried[0]} units wide")
+        if not isolate:
+            with blame("widths"):
+                found = legible_widths(a, b, settings, tried, progress=job.report)
+            return WidthsResult(key, found)
+        try:
+            found = job.run_isolated(legible_widths, a, b, settings, tried, progress=(0.02, 1.0))
+        except AppRequestError as e:  # raised in the worker process: name the control
+            e.field = e.field or "widths"
+            raise
+        return WidthsResult(key, found)
+
+    def done(job: Job) -> None:
+        with s.lock:
+            s.legible_widths = job.result
+
+    return runner.submit("widths", work, revision=rev, on_done=done)
+
+
 def start_knit(
     s: Session, runner: JobRunner, *, isolate: bool, allow_long_floats: bool = False
 ) -> Job:
@@ -176,7 +284,8 @@ def start_knit(
 @router.post(
     "",
     status_code=202,
-    summary="Start a background job (candidates or knitout); replaces a live job of that kind",
+    summary="Start a background job (candidates, measures, suggestions, widths or knitout); "
+    "replaces a live job of that kind",
 )
 def post_job(request: Request, s: SessionDep, runner: RunnerDep, body: JobIn) -> dict[str, Any]:
     # the job it replaces is cancelled once the new one is saved (Session.replace_job)
@@ -185,6 +294,10 @@ def post_job(request: Request, s: SessionDep, runner: RunnerDep, body: JobIn) ->
             job = start_candidates(s, runner, isolate=request.app.state.config.isolate_search)
         elif body.kind == "measures":
             job = start_measures(s, runner, isolate=request.app.state.config.isolate_knit)
+        elif body.kind == "widths":
+            job = start_widths(
+                s, runner, body.widths, isolate=request.app.state.config.isolate_search
+            )
         elif body.kind == "suggestions":
             job = start_suggestions(
                 s, runner, store_of(request), isolate=request.app.state.config.isolate_search

@@ -195,6 +195,7 @@ async function startSession() {
   if (s.candidates) await loadCandidates();
   // a reloaded tab shows the suggested edits it had (and Undo / Redo, from the state)
   if (s.settings.mode === "double") await loadSuggestions();
+  if (s.settings.mode === "double") await loadWidths(); // and how wide it must be, if found
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -245,6 +246,7 @@ function applyState(s) {
   state.settings = s.settings;
   state.revision = s.revision;
   state.knitReady = s.knit_ready;
+  state.width_units = s.width_units; // the piece's width in units now (sized from the picture too)
   const st = s.settings;
   for (const b of $$("#modes button")) b.setAttribute("aria-checked", String(b.dataset.mode === st.mode));
   for (const b of $$("#size-mode button")) b.setAttribute("aria-checked", String(b.dataset.size === st.size_mode));
@@ -275,6 +277,8 @@ function applyState(s) {
   renderYarns(st.yarns);
   const single = st.mode === "single";
   $("#suggest-card").hidden = st.mode !== "double"; // edits of two pictures that share a design
+  $("#widths-card").hidden = $("#widths-link").hidden = st.mode !== "double"; // two pictures, read
+  if (st.mode === "double") refreshWidthsSoon(); // does the answer still hold for these?
   showHistory(s.history);
   $("#drop-b").hidden = single;
   $(".drops").classList.toggle("one", single);
@@ -502,7 +506,7 @@ async function refreshInputs({ autorun }) {
 // jobs with progress and cancel
 
 // the page control a job's problems are shown next to
-const jobField = (kind) => (["knit", "suggestions", "measures"].includes(kind) ? kind : "candidates");
+const jobField = (kind) => (["knit", "suggestions", "measures", "widths"].includes(kind) ? kind : "candidates");
 
 async function startJob(kind, options = {}) {
   clearError(jobField(kind));
@@ -528,6 +532,7 @@ function showJob(kind, job) {
   if (kind === "candidates") $("#run").disabled = !box.hidden;
   if (kind === "knit") $("#make-knit").disabled = !box.hidden;
   if (kind === "suggestions") $("#suggest").disabled = !box.hidden;
+  if (kind === "widths") $("#find-widths").disabled = !box.hidden;
 }
 
 async function pollJob(kind, id) {
@@ -564,6 +569,7 @@ const RERUN = {
   candidates: () => runCandidates(),
   measures: () => measureCandidates(),
   suggestions: () => runSuggestions(),
+  widths: () => runWidths(),
   knit: () => makeKnit(),
 };
 
@@ -600,6 +606,8 @@ function saidCancelled(kind) {
     showError("suggestions", "Cancelled: press Suggest edits to try again.");
   } else if (kind === "knit") {
     $("#knit-summary").textContent = "Cancelled: press Make knitout to make it again.";
+  } else if (kind === "widths") {
+    showError("widths", "Cancelled: press Find the smallest width that reads to try again.");
   } else if (kind === "measures") {
     const again = document.createElement("button");
     again.type = "button";

@@ -96,23 +96,57 @@ function handFigures(cand, madeFor) {
   return d;
 }
 
-// What the reader says of the sides ("side B does not read ..."), and on the search's first
-// design the order the search ranked by and why: {text, warn}, or null when neither is known.
-function readerLine(cand) {
+// On the search's first design, the order the search ranked by and why ("ranked by the reader
+// (legibility): both pictures are words (MILK, HAZE)"); null on the others or when not known.
+function orderLine(cand) {
   const d = cand.details || {};
-  const order = cand.rank === 1 ? d.order : null;
-  if (!d.reads && !order) return null;
-  return { text: [d.reads, order].filter(Boolean).join(" · "), warn: !!d.reads && !d.all_read };
+  return cand.rank === 1 && d.order ? d.order : null;
 }
 
-function readerText(cand) {
-  const line = readerLine(cand);
+function orderText(cand) {
+  const line = orderLine(cand);
   if (!line) return null;
   const div = document.createElement("div");
-  div.className = "reads";
-  div.textContent = line.text;
-  if (line.warn) div.classList.add("warn");
+  div.className = "order muted";
+  div.textContent = line;
   return div;
+}
+
+// One side's verdict on a card: the reader's sentence, or a picture's estimate said as one.
+function sideText(side) {
+  if (side.judge !== "shapes") return `${side.reads ? "✓" : "✗"} ${side.sentence}`;
+  const pct = side.shape_agreement == null ? "–" : `${Math.round(100 * side.shape_agreement)} %`;
+  return `≈ side ${side.view} (a picture) ${side.reads ? "likely reads" : "may not read"}: shapes agree on ${pct}, an estimate`;
+}
+
+// Whether each side reads, by the reader (tesseract), the weaker side first as the server
+// lists them; a picture side is judged by its shapes, an estimate, and says so.
+function readsLine(v, at) {
+  if (!v) return null;
+  const d = document.createElement("div");
+  d.className = "reads";
+  if (!v.read) {
+    d.classList.add("unread");
+    d.textContent = v.sentence;
+    d.title = "whether each side reads is asked of the tesseract OCR program (apt-get install tesseract-ocr); without it the cards show only the correlation, which is not a legibility scale";
+    return d;
+  }
+  for (const side of v.sides) {
+    const s = document.createElement("span");
+    s.className = `side ${side.reads ? "ok" : "no"}${side.judge === "shapes" ? " estimate" : ""}`;
+    s.textContent = sideText(side);
+    s.title = side.sentence;
+    d.appendChild(s);
+  }
+  // read from another viewpoint than the measures (the measures job reads them again)
+  if (at && (v.angle !== at.angle || v.distance_m !== at.distance)) {
+    const n = document.createElement("span");
+    n.className = "muted";
+    n.textContent = `read ${viewpointText({ angle: v.angle, distance: v.distance_m })}`;
+    d.appendChild(n);
+  }
+  d.title = `read by ${v.reader} ${viewpointText({ angle: v.angle, distance: v.distance_m })}, the weaker side first: ${v.sentence}`;
+  return d;
 }
 
 const NEGATIVE_NOTE = "below 0: that side shows its picture in negative (light and dark swapped)";
@@ -171,10 +205,12 @@ async function loadCandidates() {
         "ghosting: how much of the other picture shows through (0 is best)";
       card.appendChild(m);
     }
+    const reads = readsLine(cand.details && cand.details.legibility, c.measured_at);
+    if (reads) card.appendChild(reads);
     const hand = handFigures(cand, c.made_for);
     if (hand) card.appendChild(hand);
-    // the reader's verdict (word pairs are ranked by it), and on the default why that order
-    const said = readerText(cand);
+    // on the search's first design: the order it ranked by and why (word pairs: the reader)
+    const said = orderText(cand);
     if (said) card.appendChild(said);
     const fills = cand.details && cand.details.fills;
     if (Array.isArray(fills) && fills.length) {

@@ -53,6 +53,7 @@ function wire() {
   });
   $("#run").addEventListener("click", runCandidates);
   $("#suggest").addEventListener("click", runSuggestions);
+  $("#find-widths").addEventListener("click", runWidths);
   $("#undo-edit").addEventListener("click", () => stepHistory("undo"));
   $("#redo-edit").addEventListener("click", () => stepHistory("redo"));
   for (const b of $$("[data-cancel]")) b.addEventListener("click", () => cancelJob(b.dataset.cancel));

@@ -87,9 +87,9 @@ function suggestionCard(s) {
   words.textContent = `${VERDICT_WORDS[s.verdict] || s.verdict}: `;
   const detail = document.createElement("span");
   const negative = [s.readability_before, s.readability_after].some((x) => x != null && x < 0);
-  detail.textContent = `${s.effect} (worse side reads ${f(s.readability_before)} → ${f(s.readability_after)}, ghosting ${f(s.ghosting_before)} → ${f(s.ghosting_after)})` + (negative ? ` · ${NEGATIVE_NOTE}` : "");
+  detail.textContent = `${s.effect} (worse side's correlation ${f(s.readability_before)} → ${f(s.readability_after)}, ghosting ${f(s.ghosting_before)} → ${f(s.ghosting_after)})` + (negative ? ` · ${NEGATIVE_NOTE}` : "");
   effect.append(words, detail);
-  effect.title = "readability: how well the worse side, as seen, matches its picture (1 is best); ghosting: how much of the other picture shows through (0 is best)";
+  effect.title = "correlation: how much of the worse side's picture's light/dark pattern its render shows (1 is all; not a legibility scale: the cards say whether a reader reads it); ghosting: how much of the other picture shows through (0 is best)";
   const acts = document.createElement("div");
   acts.className = "acts";
   const yes = Object.assign(document.createElement("button"), {

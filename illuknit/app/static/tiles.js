@@ -117,7 +117,8 @@ function showEditMeasures(p) {
   const was = p.measures ? measuresText({ ...p.measures, knit_minutes: null, knit_note: "" }) : "";
   const a = p.edited.perceptual_score, b = p.measures && p.measures.perceptual_score;
   let verdict = "";
-  if (a != null && b != null) verdict = a > b + 1e-4 ? "reads better" : a < b - 1e-4 ? "reads worse" : "reads the same";
-  line.className = "edit-measures " + (verdict === "reads better" ? "better" : verdict === "reads worse" ? "worse" : "");
+  // the perceptual score (correlation-based), not a reader's verdict: "scores", never "reads"
+  if (a != null && b != null) verdict = a > b + 1e-4 ? "scores higher" : a < b - 1e-4 ? "scores lower" : "scores the same";
+  line.className = "edit-measures " + (verdict === "scores higher" ? "better" : verdict === "scores lower" ? "worse" : "");
   line.textContent = `With your tile edits${verdict ? ` it ${verdict}` : ""} ${viewpointText(p.measured_at)}: ${now}` + (was ? ` (without them: ${was})` : "");
 }
