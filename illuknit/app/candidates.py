@@ -144,13 +144,13 @@ def _tile_candidates(
     designs are read as ``double`` reads them when tesseract is installed; when it is missing or
     fails, the search is not lost: the cards say the sides were not read, and why."""
     from illuknit.design.legibility import reader_available
-    from illuknit.design.options import MadeFor, RankOptions, SearchOptions
+    from illuknit.design.options import MadeFor, RankBy, RankOptions, SearchOptions
     from illuknit.pipeline.stages import design_tiles
 
     angle, distance = viewpoint
     double = prepared.mode == "double"
 
-    def search(read: bool) -> Any:
+    def search(read: bool, order: RankBy = RankBy.AUTO) -> Any:
         stage = functools.partial(
             design_tiles,
             prepared.quantised["a"],
@@ -160,7 +160,7 @@ def _tile_candidates(
             search=SearchOptions(candidates=count, split_bumps=split_bumps),
             ranking=RankOptions(
                 made_for=MadeFor(made_for), machine=machine, angle=angle, distance=distance,
-                read=read,
+                read=read, rank_by=order,
             ),
         )  # fmt: skip
         return stage(progress=progress) if run is None else run(stage)
@@ -175,7 +175,9 @@ def _tile_candidates(
                 if not (read and reader_failed(e)):
                     raise
                 not_read = str(e)  # the reader is broken: the designs stand, unread
-                design = search(False)
+                # by the correlation: the default order would ask the broken reader whether
+                # the pictures are words (choose_order)
+                design = search(False, RankBy.PERCEPTION)
         except AppRequestError as e:  # raised in the search's own process: name the control
             e.field = e.field or "n_colors"
             raise
