@@ -42,6 +42,7 @@ from typing import Any
 import numpy as np
 from PIL import Image, ImageDraw, ImageFont
 
+from illuknit.core.machine import resolve_machine
 from illuknit.design.legibility import PICTURE_FLOOR, reader_available, shape_agreement
 from illuknit.design.options import RankOptions
 from illuknit.pipeline.stages import design_double
@@ -176,7 +177,11 @@ def main() -> None:
             "this benchmark needs the tesseract program: apt-get install tesseract-ocr"
         )
     widths = [int(w) for w in args.widths.split(",")]
-    print("default machine SWG091N2 (7 stitches per inch), read from 3 m at 30 degrees")
+    machine = resolve_machine(None)
+    print(
+        f"default machine: {machine.label} ({machine.gauge:g} stitches per inch), read from 3 m "
+        "at 30 degrees"
+    )
     if not args.no_words:
         report_words(widths, calibrate=not args.no_calibrate)
     if not args.no_balance:
