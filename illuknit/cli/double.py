@@ -280,8 +280,8 @@ def design_options(func: Any) -> Any:
     "read",
     default=None,
     note="[default: when tesseract is installed] "
-    "Word pairs ranked by the reader (--rank-by auto) are read all the same; "
-    "--rank-by perception --no-read reads nothing.",
+    "Word pairs ranked by the reader (--rank-by auto) are read all the same, and the "
+    "summary notes it; --rank-by perception --no-read reads nothing.",
 )
 @design_options
 def double(image_a: Path, image_b: Path, outdir: Path, **kw: Any) -> None:

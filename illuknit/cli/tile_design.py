@@ -181,7 +181,7 @@ def run_design(request: DesignRequest, *, progress: Report | None = None) -> dic
         raise TileAssignmentError(
             f"--pick must be between 1 and {written} (candidates found), got {request.pick}"
         )
-    notes += _split_note(design, request.search)
+    notes += _split_note(design, request.search) + _read_note(design, request.ranking)
     try:
         return write_design(design, request, progress=report, notes=notes)
     except LongFloatError as e:
@@ -303,6 +303,23 @@ def _colour_count(
         return 2, [f"colours: each picture quantised to 2 (the default), though {', '.join(more)} "
                    "flat colours; --colors 3 or 4 keeps more"]  # fmt: skip
     return 2, []
+
+
+def _read_note(design: TileDesign, ranking: RankOptions) -> list[str]:
+    """A note when --no-read changed nothing: the default order found two pictures of words
+    and ranked by the reader, which reads every design."""
+    from illuknit.design.options import RankBy
+
+    order = design.order
+    if ranking.read or order is None or order.asked is not RankBy.AUTO:
+        return []
+    if order.by is not RankBy.LEGIBILITY:
+        return []
+    return [
+        "--no-read changed nothing: both pictures are words, so the default order (--rank-by "
+        "auto) ranked the designs by the reader, which read every one; add --rank-by perception "
+        "to read nothing"
+    ]
 
 
 def _split_note(design: TileDesign, search: SearchOptions) -> list[str]:

@@ -6,24 +6,11 @@ The words here are never the benchmark's (benchmarks/legibility_words.py).
 
 from __future__ import annotations
 
-import os
-import shutil
 from importlib.resources import files
 
 import numpy as np
 import pytest
 from PIL import Image, ImageDraw, ImageFont
-
-
-@pytest.fixture(scope="module")
-def reader() -> None:
-    """Skip when tesseract is missing, saying so; under ``CI=true`` fail instead."""
-    if shutil.which("tesseract") is not None:
-        return
-    reason = "tesseract is not installed: the reader cannot run (apt-get install tesseract-ocr)"
-    if os.environ.get("CI") == "true":
-        pytest.fail(f"{reason}; under CI=true the reader must run", pytrace=False)
-    pytest.skip(reason)
 
 
 def _word(text: str) -> np.ndarray:

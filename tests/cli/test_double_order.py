@@ -7,7 +7,6 @@ The words here are never the benchmark's (benchmarks/legibility_words.py).
 from __future__ import annotations
 
 import json
-import os
 import shlex
 import shutil
 from importlib.resources import files
@@ -15,21 +14,9 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-import pytest
 from PIL import Image, ImageDraw, ImageFont
 
 from illuknit.cli.design_files import order_lines, summary_text, verdict_lines
-
-
-@pytest.fixture(scope="module")
-def reader() -> None:
-    """Skip when tesseract is missing, saying so; under ``CI=true`` fail instead."""
-    if shutil.which("tesseract") is not None:
-        return
-    reason = "tesseract is not installed: the reader cannot run (apt-get install tesseract-ocr)"
-    if os.environ.get("CI") == "true":
-        pytest.fail(f"{reason}; under CI=true the reader must run", pytrace=False)
-    pytest.skip(reason)
 
 
 def _word(path: Path, text: str) -> Path:
@@ -120,6 +107,14 @@ def test_double_ranks_words_by_the_reader_and_says_why(run_cli, tmp_path, reader
     assert summary["order"]["asked"] == "auto" and summary["order"]["words"] == ["FROG", "TOAD"]
     line = "order: ranked by the reader (legibility): both pictures are words (FROG, TOAD)"
     assert line in text and line in got.out
+    assert not [n for n in summary["notes"] if "--no-read" in n]
+    # --no-read cannot stop the reader's order from reading: the output says so
+    quiet = run_cli(["double", a, b, "--width", "40", "--candidates", "2", "--no-read",
+                     "-o", tmp_path / "quiet"])  # fmt: skip
+    assert quiet.code == 0, quiet.err
+    notes = _written(tmp_path / "quiet")[0]["notes"]
+    assert any(n.startswith("--no-read changed nothing") for n in notes), notes
+    assert "--no-read changed nothing" in quiet.out
 
 
 def test_an_explicit_rank_by_wins_over_the_words(run_cli, tmp_path, reader):

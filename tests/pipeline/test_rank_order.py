@@ -7,7 +7,6 @@ The words here are never the benchmark's (benchmarks/legibility_words.py).
 
 from __future__ import annotations
 
-import os
 import shutil
 from importlib.resources import files
 
@@ -23,18 +22,6 @@ from illuknit.pipeline.tile_search import choose_order
 
 #: Two small targets (what choose_order is shown); their content only matters to the reader.
 TARGETS = [np.full((10, 20, 3), 240, np.uint8), np.full((10, 20, 3), 20, np.uint8)]
-
-
-@pytest.fixture(scope="module")
-def reader() -> None:
-    """Skip when tesseract is missing, saying so; under ``CI=true`` fail instead (.ci/run
-    installs it), as the other reader tests do (tests/design/test_legibility.py)."""
-    if shutil.which("tesseract") is not None:
-        return
-    reason = "tesseract is not installed: the reader cannot run (apt-get install tesseract-ocr)"
-    if os.environ.get("CI") == "true":
-        pytest.fail(f"{reason}; under CI=true the reader must run", pytrace=False)
-    pytest.skip(reason)
 
 
 def word(text: str, size: tuple[int, int] = (360, 130)) -> np.ndarray:
