@@ -82,6 +82,35 @@ def browser():
         b.close()
 
 
+def watched_page(browser, width: int, *, height: int = 900, timeout: float = 60_000):
+    """A new page ``width`` x ``height`` px in a context of its own, and the list its errors
+    go to: page errors, console errors and responses of 400 or more (a test ends asserting it
+    is empty). Returns ``(context, page, problems)``."""
+    context = browser.new_context(viewport={"width": width, "height": height})
+    page = context.new_page()
+    page.set_default_timeout(timeout)
+    problems: list[str] = []
+    page.on("pageerror", lambda e: problems.append(f"page error: {e}"))
+    page.on(
+        "console", lambda m: problems.append(f"console: {m.text}") if m.type == "error" else None
+    )
+    page.on(
+        "response",
+        lambda r: (
+            problems.append(f"{r.status} {r.request.method} {r.url}") if r.status >= 400 else None
+        ),
+    )
+    return context, page, problems
+
+
+def upload_up_on(page, tmp_path: Path) -> None:
+    """Picture A says UP, picture B says ON (72 x 48 px each), each upload seen on the page."""
+    page.set_input_files("#file-a", str(lettered(tmp_path / "up.png", "UP")))
+    sync_api.expect(page.locator("#meta-a")).to_contain_text("72×48px")
+    page.set_input_files("#file-b", str(lettered(tmp_path / "on.png", "ON")))
+    sync_api.expect(page.locator("#meta-b")).to_contain_text("72×48px")
+
+
 def banded(path: Path, rows: slice) -> Path:
     """A two-colour picture whose dark part is a band of rows."""
     a = np.full((48, 72, 3), (246, 241, 232), np.uint8)
@@ -404,10 +433,7 @@ def test_accept_a_suggested_edit(browser, base_url, tmp_path):
     page.goto(base_url)
     page.wait_for_selector("body[data-ready='1']")
     page.locator("#width_units").fill("24")
-    page.set_input_files("#file-a", str(lettered(tmp_path / "up.png", "UP")))
-    sync_api.expect(page.locator("#meta-a")).to_contain_text("72×48px")
-    page.set_input_files("#file-b", str(lettered(tmp_path / "on.png", "ON")))
-    sync_api.expect(page.locator("#meta-b")).to_contain_text("72×48px")
+    upload_up_on(page, tmp_path)
     sync_api.expect(page.locator("#grid-info")).to_contain_text("24 × 23 units")
     sync_api.expect(page.locator("#grid-info")).to_contain_text("Finished size about")
     measures = page.locator(".cand .measures")
@@ -685,10 +711,7 @@ def test_phone_width_one_column_nothing_cut_off(browser, base_url, tmp_path):
     page.goto(base_url)
     page.wait_for_selector("body[data-ready='1']")
     page.locator("#width_units").fill("24")
-    page.set_input_files("#file-a", str(lettered(tmp_path / "up.png", "UP")))
-    sync_api.expect(page.locator("#meta-a")).to_contain_text("72×48px")
-    page.set_input_files("#file-b", str(lettered(tmp_path / "on.png", "ON")))
-    sync_api.expect(page.locator("#meta-b")).to_contain_text("72×48px")
+    upload_up_on(page, tmp_path)
     sync_api.expect(page.locator(".cand .measures").first).to_be_visible(timeout=120_000)
     assert page.evaluate("document.documentElement.scrollWidth") <= 390
     assert page.evaluate(OFF_SCREEN) == []
@@ -777,10 +800,7 @@ def test_undo_a_tile_edit_with_the_keyboard(browser, base_url, tmp_path):
     page.goto(base_url)
     page.wait_for_selector("body[data-ready='1']")
     page.locator("#width_units").fill("24")
-    page.set_input_files("#file-a", str(lettered(tmp_path / "up.png", "UP")))
-    sync_api.expect(page.locator("#meta-a")).to_contain_text("72×48px")
-    page.set_input_files("#file-b", str(lettered(tmp_path / "on.png", "ON")))
-    sync_api.expect(page.locator("#meta-b")).to_contain_text("72×48px")
+    upload_up_on(page, tmp_path)
     sync_api.expect(page.locator(".cand .measures").first).to_be_visible(timeout=120_000)
 
     # arrows between candidates, Enter to pick

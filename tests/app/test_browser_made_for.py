@@ -10,28 +10,16 @@ from tests.app.test_browser import (  # noqa: F401  (module fixtures)
     OFF_SCREEN,
     base_url,
     browser,
-    lettered,
     served,
     sync_api,
+    upload_up_on,
+    watched_page,
 )
 
 
 @pytest.mark.parametrize("width", [1440, 390])
 def test_made_for_hands_shows_the_hand_figures(browser, base_url, tmp_path, width):  # noqa: F811
-    context = browser.new_context(viewport={"width": width, "height": 900})
-    page = context.new_page()
-    page.set_default_timeout(60_000)
-    problems: list[str] = []
-    page.on("pageerror", lambda e: problems.append(f"page error: {e}"))
-    page.on(
-        "console", lambda m: problems.append(f"console: {m.text}") if m.type == "error" else None
-    )
-    page.on(
-        "response",
-        lambda r: (
-            problems.append(f"{r.status} {r.request.method} {r.url}") if r.status >= 400 else None
-        ),
-    )
+    context, page, problems = watched_page(browser, width)
     page.goto(base_url)
     page.wait_for_selector("body[data-ready='1']")
     # the menu is the declared option's words
@@ -39,10 +27,7 @@ def test_made_for_hands_shows_the_hand_figures(browser, base_url, tmp_path, widt
     assert words == ["machine", "hands"]
     sync_api.expect(page.locator("#made_for")).to_have_value("machine")
     page.locator("#width_units").fill("24")
-    page.set_input_files("#file-a", str(lettered(tmp_path / "up.png", "UP")))
-    sync_api.expect(page.locator("#meta-a")).to_contain_text("72×48px")
-    page.set_input_files("#file-b", str(lettered(tmp_path / "on.png", "ON")))
-    sync_api.expect(page.locator("#meta-b")).to_contain_text("72×48px")
+    upload_up_on(page, tmp_path)
     page.locator("#made_for").scroll_into_view_if_needed()
     page.select_option("#made_for", "hands")
     hand = page.locator(".cand .hand").first

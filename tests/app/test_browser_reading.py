@@ -11,9 +11,10 @@ from tests.app.test_browser import (  # noqa: F401  (module fixtures)
     OFF_SCREEN,
     base_url,
     browser,
-    lettered,
     served,
     sync_api,
+    upload_up_on,
+    watched_page,
 )
 
 
@@ -25,27 +26,11 @@ def test_cards_say_which_side_reads_and_a_width_that_reads_is_applied(
     width,
     reader,
 ):
-    context = browser.new_context(viewport={"width": width, "height": 900})
-    page = context.new_page()
-    page.set_default_timeout(120_000)
-    problems: list[str] = []
-    page.on("pageerror", lambda e: problems.append(f"page error: {e}"))
-    page.on(
-        "console", lambda m: problems.append(f"console: {m.text}") if m.type == "error" else None
-    )
-    page.on(
-        "response",
-        lambda r: (
-            problems.append(f"{r.status} {r.request.method} {r.url}") if r.status >= 400 else None
-        ),
-    )
+    context, page, problems = watched_page(browser, width, timeout=120_000)
     page.goto(base_url)
     page.wait_for_selector("body[data-ready='1']")
     page.locator("#width_units").fill("24")
-    page.set_input_files("#file-a", str(lettered(tmp_path / "up.png", "UP")))
-    sync_api.expect(page.locator("#meta-a")).to_contain_text("72×48px")
-    page.set_input_files("#file-b", str(lettered(tmp_path / "on.png", "ON")))
-    sync_api.expect(page.locator("#meta-b")).to_contain_text("72×48px")
+    upload_up_on(page, tmp_path)
     # every card: both sides' verdicts, the weaker (a side that does not read) first
     slow = 120_000  # a search and its reading, on a shared machine
     sync_api.expect(page.locator(".cand .reads").first).to_be_visible(timeout=slow)

@@ -8,29 +8,19 @@ The words here are never the benchmark's (benchmarks/legibility_words.py).
 from __future__ import annotations
 
 import shutil
-from importlib.resources import files
 
 import numpy as np
 import pytest
-from PIL import Image, ImageDraw, ImageFont
 
 from illuknit.core.errors import OptionError
 from illuknit.design import legibility
 from illuknit.design.options import RankBy, RankOptions, SearchOptions
 from illuknit.design.rank_choice import RankChoice
 from illuknit.pipeline.tile_search import choose_order
+from tests.design.test_legibility import word
 
 #: Two small targets (what choose_order is shown); their content only matters to the reader.
 TARGETS = [np.full((10, 20, 3), 240, np.uint8), np.full((10, 20, 3), 20, np.uint8)]
-
-
-def word(text: str, size: tuple[int, int] = (360, 130)) -> np.ndarray:
-    font = ImageFont.truetype(str(files("illuknit") / "data" / "DejaVuSans-Bold.ttf"), 100)
-    box = ImageDraw.Draw(Image.new("L", (1, 1))).textbbox((0, 0), text, font=font)
-    im = Image.new("RGB", size, "white")
-    at = ((size[0] - box[2] + box[0]) // 2 - box[0], (size[1] - box[3] + box[1]) // 2 - box[1])
-    ImageDraw.Draw(im).text(at, text, font=font, fill="black")
-    return np.asarray(im)
 
 
 def blob(flip: bool = False) -> np.ndarray:
