@@ -47,6 +47,7 @@ from illuknit.core.pattern import LogicalPattern
 __all__ = [
     "PICTURE_FLOOR",
     "READER",
+    "READER_ENV",
     "Legibility",
     "Reading",
     "SideReading",
@@ -55,6 +56,7 @@ __all__ = [
     "read_images",
     "read_sides",
     "reader_available",
+    "reader_path",
     "seen_far",
     "shape_agreement",
     "words_of",
@@ -78,9 +80,22 @@ TEXT_CONFIDENCE = 80.0
 READ_TIMEOUT = 30.0
 
 
+#: The environment variable that names the reader's program, a path or a command on ``PATH``
+#: (default: ``tesseract``): another install of tesseract than the one on ``PATH``.
+READER_ENV = "ILLUKNIT_READER"
+
+
+def reader_path() -> str | None:
+    """The reader's program, ``$ILLUKNIT_READER`` or ``tesseract``, found as the shell would;
+    None when it is not there to run."""
+    import os
+
+    return shutil.which(os.environ.get(READER_ENV, "").strip() or READER)
+
+
 def reader_available() -> bool:
-    """Whether the reader (the ``tesseract`` program) is installed."""
-    return shutil.which(READER) is not None
+    """Whether the reader (the ``tesseract`` program, or ``$ILLUKNIT_READER``) can be run."""
+    return reader_path() is not None
 
 
 def _normal(text: str) -> str:
@@ -118,10 +133,15 @@ def read_images(images: Sequence[ArrayLike]) -> list[Reading]:
 
     from PIL import Image
 
-    exe = shutil.which(READER)
+    exe = reader_path()
     if exe is None:
         raise BackendUnavailableError(
             "reading a side needs the tesseract OCR program (apt-get install tesseract-ocr)"
+            + (
+                f"; {READER_ENV} names {os.environ[READER_ENV]!r}"
+                if READER_ENV in os.environ
+                else ""
+            )
         )
     arrays = [np.asarray(g) for g in images]
     for a in arrays:

@@ -35,6 +35,18 @@ def _serve(app: Any) -> Iterator[int]:
         thread.join(10)
 
 
+@pytest.fixture(autouse=True)
+def _no_reader_unless_asked(
+    request: pytest.FixtureRequest, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """No reader (tesseract) for the app tests that do not ask for it with the ``reader``
+    fixture: it adds seconds to every search of two word pictures (the letters most of these
+    tests upload), and what it says is tested where it is asked for. ``$ILLUKNIT_READER``
+    names a program that is not there."""
+    if "reader" not in request.fixturenames:
+        monkeypatch.setenv("ILLUKNIT_READER", "tesseract-not-here")
+
+
 @pytest.fixture(scope="session")
 def serve_app() -> Callable[[Any], contextlib.AbstractContextManager[int]]:
     """``with serve_app(app) as port:`` -- the app on uvicorn in a background thread, on a free

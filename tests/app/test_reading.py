@@ -7,7 +7,6 @@ reason where it is missing, failed under ``CI=true``. The words are never the be
 
 from __future__ import annotations
 
-import os
 import shutil
 from typing import Any
 
@@ -48,7 +47,7 @@ def _broken_reader(tmp_path: Any, monkeypatch: pytest.MonkeyPatch) -> None:
     fake = tmp_path / "tesseract"
     fake.write_text("#!/bin/sh\necho 'Error opening data file eng.traineddata' >&2\nexit 1\n")
     fake.chmod(0o755)
-    monkeypatch.setenv("PATH", f"{tmp_path}{os.pathsep}{os.environ['PATH']}")
+    monkeypatch.setenv("ILLUKNIT_READER", str(fake))
 
 
 # -- the verdict's JSON (no reader needed) --------------------------------------------------------

@@ -203,3 +203,17 @@ def test_the_smallest_legible_width_takes_the_grid_proportions_not_the_yarns(mon
     monkeypatch.setattr(legibility, "reader_available", lambda: False)
     with pytest.raises(BackendUnavailableError, match="tesseract"):
         smallest_legible_width(pic, pic, widths=(16,), unit_aspect=0.7)
+
+
+def test_the_reader_is_the_program_illuknit_reader_names(tmp_path, monkeypatch):
+    from illuknit.design.legibility import READER_ENV, reader_available, reader_path
+
+    fake = tmp_path / "my-tesseract"
+    fake.write_text("#!/bin/sh\nexit 1\n")
+    fake.chmod(0o755)
+    monkeypatch.setenv(READER_ENV, str(fake))
+    assert reader_path() == str(fake) and reader_available()
+    monkeypatch.setenv(READER_ENV, "no-such-reader-here")
+    assert reader_path() is None and not reader_available()
+    with pytest.raises(BackendUnavailableError, match="ILLUKNIT_READER names 'no-such-reader"):
+        read_images([np.zeros((8, 8), np.uint8)])
