@@ -197,11 +197,7 @@ def search_tiles(
 
             # and every row in one yarn: the classic shadow-knitting design
             job.say(0.3, "finding shared-stripe designs (every row one yarn)")
-            stripes = search_stripes(
-                first, second, yarns=job.yarns, candidates=search.candidates, pool=search.pool,
-                pool_seconds=search.pool_seconds, solver=search.solver,
-                brightness=search.brightness.value, time_limit=search.time_limit,
-            )  # fmt: skip
+            stripes = search_stripes(first, second, yarns=job.yarns, **search.assign_kwargs())
             found = with_hand_candidates(found, stripes)
     return found, edits
 
