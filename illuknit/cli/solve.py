@@ -156,7 +156,7 @@ class SolveRequest:
         options = SolveOptions(
             model=ModelKind(s["model"]), solver=s["solver"], warm_start=WarmStart(s["warm_start"]),
             weights=w, alternate_rows=s["alternate_rows"], split_bumps=s["split_bumps"],
-            time_limit=s["time_limit"], seed=s["seed"],
+            time_limit=s["time_limit"], seed=s["seed"], made_for=s["made_for"],
         )  # fmt: skip
         sizing = PictureOptions(
             width=s["width"], stretch=s["resize"], unit_aspect=design_unit_aspect(spec),
@@ -312,10 +312,7 @@ def _check_solve_options(
     from illuknit.core.errors import ImageInputError, YarnSpecError
     from illuknit.core.pattern import parse_yarns
     from illuknit.design.models.illusion_models import parse_weights
-    from illuknit.pipeline.solve import HANDS_REFUSAL
 
-    if str(s["made_for"]) == "hands":
-        raise click.BadParameter(HANDS_REFUSAL, param_hint="--for")
     image_b = pictures[1]
     model, weights, yarns, n_colors = s["model"], s["weights"], s["yarns"], s["n_colors"]
     time_limit, export_wcnf = s["time_limit"], s["export_wcnf"]
@@ -388,6 +385,14 @@ def _print_report(report: dict[str, Any], written: dict[str, Path], outdir: Path
         str(report["knit_purl_changes"]),
     )
     c.print(t)
+    if report.get("made_for") == "hands":  # measured on the pattern, not the solver's word
+        h = report["hand"]
+        c.print(
+            f"made for hands: rows knittable by hand {h['knittable_rows']} of {h['rows']} "
+            f"(at most 6 intarsia blocks, or 2 yarns with floats of at most 7 stitches); "
+            f"colour changes a row max {h['max_changes']} / mean {h['mean_changes']:.1f}, "
+            f"longest float {h['longest_float']} sts"
+        )
     if written:
         names = ", ".join(sorted(p.name for p in written.values()))
         c.print(f"wrote {len(written)} files{f' to [bold]{outdir}[/]' if outdir else ''}: {names}")
@@ -481,7 +486,9 @@ def _list_solvers(ctx: click.Context, _param: click.Parameter, value: bool) -> N
 @declared_option(
     RankOptions,
     "made_for",
-    note="The constraint models refuse hands: use double/headon --for hands.",
+    note="Here hands makes every row knittable by hand a hard constraint of the model (at "
+    "most 6 intarsia blocks, or 2 yarns with floats of at most 7 stitches), solved by cpsat or "
+    "rc2; not with --model single (its rows are one yarn already) or --split-bumps.",
 )
 @click.option(
     "--export-wcnf",

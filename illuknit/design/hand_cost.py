@@ -93,6 +93,13 @@ class HandRow:
         """One yarn, or knittable stranded, or knittable in intarsia."""
         return self.yarns == 1 or self.stranded_ok or self.intarsia_ok
 
+    @property
+    def in_intarsia(self) -> bool:
+        """Worked in intarsia: knittable so and not stranded with short floats. Its yarns
+        hang in blocks, a bobbin each, so it carries no float however far apart a yarn's
+        blocks lie."""
+        return self.intarsia_ok and not self.stranded_ok
+
 
 def _row(number: int, units: np.ndarray) -> HandRow:
     stitches = np.repeat(np.asarray(units), 2).tolist()
@@ -133,9 +140,10 @@ class HandCost:
     mean_changes : float
         Colour changes a row, most and mean over all rows.
     longest_float : int
-        The longest float of any row (stitches).
+        The longest float of any row not worked in intarsia (stitches;
+        :attr:`HandRow.in_intarsia`).
     catches : int
-        Catches all the floats need.
+        Catches all those floats need.
     max_yarns, max_blocks : int
         The most yarns and colour blocks in a row.
     """
@@ -182,14 +190,15 @@ class HandCost:
 def hand_cost(pattern: LogicalPattern) -> HandCost:
     """The hand knitter's cost of ``pattern`` (:func:`hand_rows` summed)."""
     rows = hand_rows(pattern)
+    carried = [r for r in rows if not r.in_intarsia]  # the rows whose yarns float
     return HandCost(
         rows=len(rows),
         knittable_rows=sum(r.knittable for r in rows),
         colour_rows=sum(r.yarns > 1 for r in rows),
         max_changes=max(r.changes for r in rows),
         mean_changes=float(np.mean([r.changes for r in rows])),
-        longest_float=max(r.longest_float for r in rows),
-        catches=sum(r.catches for r in rows),
+        longest_float=max((r.longest_float for r in carried), default=0),
+        catches=sum(r.catches for r in carried),
         max_yarns=max(r.yarns for r in rows),
         max_blocks=max(r.blocks for r in rows),
     )

@@ -453,6 +453,7 @@ class WarmStart(StrEnum):
     NONE = "none"
     DP = "dp"
     DESCENT = "descent"
+    HAND = "hand"
 
 
 @dataclass(frozen=True)
@@ -475,6 +476,11 @@ class SolveOptions:
     time_limit : float, optional
         Seconds; the best pattern found is kept.
     seed : int
+    made_for : MadeFor or str
+        ``hands``: every row knittable by hand (at most 6 intarsia blocks, or 2 yarns with
+        floats of at most 7 stitches; :mod:`illuknit.design.hand_cost`), hard constraints of
+        the logical and knit-aware models (not the single-view model, whose rows are one yarn
+        already, nor with split bumps).
     """
 
     model: ModelKind = option(
@@ -512,9 +518,21 @@ class SolveOptions:
         60.0, help="Seconds; the best pattern found is kept.", gt=0, le=MAX_SECONDS
     )
     seed: int = option(0, help="Random seed of the solver backend.", ge=0, le=MAX_SEED)
+    made_for: MadeFor = MadeFor.MACHINE
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "model", enum_option(ModelKind, "model", self.model))
+        object.__setattr__(self, "made_for", enum_option(MadeFor, "made_for", self.made_for))
+        if self.made_for is MadeFor.HANDS and self.model is ModelKind.SINGLE:
+            raise OptionError(
+                "made for hands changes nothing in the single-view model: every row is one "
+                "yarn, knittable by hand already"
+            )
+        if self.made_for is MadeFor.HANDS and self.split_bumps:
+            raise OptionError(
+                "split bumps are not made for hands: a split bump changes yarn inside a unit, "
+                "which the hand knitter's row rule does not model"
+            )
         object.__setattr__(
             self, "warm_start", enum_option(WarmStart, "warm_start", self.warm_start)
         )
@@ -534,3 +552,8 @@ class SolveOptions:
         if self.time_limit is not None:
             _seconds("time_limit", self.time_limit)
         count_option("seed", self.seed, minimum=0, maximum=MAX_SEED)
+
+    @property
+    def for_hands(self) -> bool:
+        """Every row must be knittable by hand (``made_for`` is hands)."""
+        return self.made_for is MadeFor.HANDS

@@ -27,6 +27,7 @@ import numpy as np
 from illuknit.core.arguments import check_int
 from illuknit.core.gauge import Gauge
 from illuknit.core.pattern import LogicalPattern
+from illuknit.design.hand_cost import MAX_FLOAT, MAX_HAND_BLOCKS
 
 __all__ = [
     "CATCH_EVERY",
@@ -149,10 +150,22 @@ class RowColourwork:
     def technique(self) -> str:
         """``"plain"`` (one yarn), ``"intarsia"`` (large blocks: a bobbin each, no floats),
         ``"stranded"`` (two yarns, floats caught every :data:`CATCH_EVERY` stitches) or
-        ``"not-sensible"`` (more yarns than can be stranded, in blocks too small for intarsia)."""
+        ``"not-sensible"`` (more yarns than can be stranded, in blocks too small for intarsia).
+
+        In that order: intarsia for large blocks; stranded for 2 yarns whose floats are short
+        (:data:`~illuknit.design.hand_cost.MAX_FLOAT`); then intarsia for a row of few blocks
+        (:data:`~illuknit.design.hand_cost.MAX_HAND_BLOCKS`) even where one is narrow, rather
+        than a long float carried for a few stitches -- so every row
+        :attr:`~illuknit.design.hand_cost.HandRow.knittable` gets a technique that works it
+        without long floats; then stranded with long floats caught."""
         if self.yarns == 1:
             return "plain"
         if self.shortest_block >= MIN_INTARSIA_BLOCK and self.blocks <= MAX_INTARSIA_BLOCKS:
+            return "intarsia"
+        short = self.longest_float <= MAX_FLOAT
+        if self.yarns <= MAX_STRANDED_YARNS and short:
+            return "stranded"
+        if self.blocks <= MAX_HAND_BLOCKS:
             return "intarsia"
         if self.yarns <= MAX_STRANDED_YARNS:
             return "stranded"
@@ -322,8 +335,9 @@ def hand_advice(pattern: LogicalPattern) -> HandAdvice:
         bobbins = intarsia_bobbins(pattern, rows)
         wind = ", ".join(f"{pattern.yarns[y].name} {k}" for y, k in sorted(bobbins.items()))
         lines.append(
-            f"{by['intarsia']} rows have large blocks (each at least {MIN_INTARSIA_BLOCK} "
-            f"stitches, at most {MAX_INTARSIA_BLOCKS} a row): work them in intarsia, each block "
+            f"{by['intarsia']} rows have few colour blocks (at most {MAX_INTARSIA_BLOCKS} a "
+            f"row, each at least {MIN_INTARSIA_BLOCK} stitches wide, or at most "
+            f"{MAX_HAND_BLOCKS} a row): work them in intarsia, each block "
             "from its own ball or bobbin, twisting the yarns at every colour change so the "
             f"blocks stay joined. No yarn is carried across the back. Bobbins to wind: {wind}."
         )
@@ -461,7 +475,13 @@ def hand_verdict(pattern: LogicalPattern) -> HandVerdict:
     changes = max(r.changes for r in advice.rows)
     coloured = sum(r.yarns > 1 for r in advice.rows)
     machine_only = not advice.knittable or floats > MACHINE_ONLY_FLOAT
-    machine_only |= changes > MACHINE_ONLY_CHANGES
+    # many changes are slow only where long floats must be caught: a stranded row whose floats
+    # are all short is ordinary two-handed colour work however often it changes yarn
+    machine_only |= any(
+        r.changes > MACHINE_ONLY_CHANGES and r.longest_float > MAX_FLOAT
+        for r in advice.rows
+        if r.technique != "intarsia"
+    )
     rates = (
         f"(an estimate at {PLAIN_STITCHES_PER_MINUTE:g} stitches a minute in one-yarn rows, "
         f"{COLOUR_STITCHES_PER_MINUTE:g} in colour rows and {MINUTES_PER_CHANGE * 60:g} s a "

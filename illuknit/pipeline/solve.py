@@ -10,9 +10,9 @@ from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 
-from illuknit.core.errors import ImageInputError, OptionError, YarnSpecError
+from illuknit.core.errors import ImageInputError, YarnSpecError
 from illuknit.core.machine import MachineSpec, resolve_machine
-from illuknit.design.options import ModelKind, SolveOptions
+from illuknit.design.options import MadeFor, ModelKind, SolveOptions
 from illuknit.pipeline.designs import Picture, SolvedDesign
 from illuknit.pipeline.inputs import (
     PictureOptions,
@@ -36,7 +36,6 @@ if TYPE_CHECKING:
     from illuknit.solvers.model import Model
 
 __all__ = [
-    "HANDS_REFUSAL",
     "SOLVE_PICTURE_OPTIONS",
     "check_made_for",
     "illusion_model",
@@ -48,23 +47,17 @@ __all__ = [
 SOLVE_PICTURE_OPTIONS = ("width", "stretch", "unit_aspect", "n_colors", "yarns", "quantise")
 
 
-#: Why ``made_for="hands"`` is refused by the constraint models, and what to use instead.
-HANDS_REFUSAL = (
-    "the constraint models (illuknit solve) have no hand knitter's term: for a design made for "
-    "hands use the tile search (illuknit double/headon --for hands, design_double/design_headon "
-    "with RankOptions(made_for=MadeFor.HANDS))"
-)
+def check_made_for(made_for: Any) -> MadeFor:
+    """``made_for`` as a :class:`~illuknit.design.options.MadeFor` (None means the machine).
 
+    Raises
+    ------
+    OptionError
+        Neither ``machine`` nor ``hands``.
+    """
+    from illuknit.design.options import enum_option
 
-def check_made_for(made_for: Any) -> None:
-    """Refuse ``made_for="hands"`` for the constraint models (:data:`HANDS_REFUSAL`): never
-    silently ignored. ``"machine"`` (or a :class:`~illuknit.design.options.MadeFor`) passes."""
-    from illuknit.design.options import MadeFor, enum_option
-
-    if made_for is None:
-        return
-    if enum_option(MadeFor, "made_for", made_for) is MadeFor.HANDS:
-        raise OptionError(HANDS_REFUSAL)
+    return MadeFor.MACHINE if made_for is None else enum_option(MadeFor, "made_for", made_for)
 
 
 def solve_design(
@@ -88,8 +81,10 @@ def solve_design(
     (``options.model``: two pictures for ``logical`` and ``knit-aware``, one for ``single``) is
     solved by :func:`~illuknit.design.models.illusion_models.solve_illusion`. ``progress`` receives the
     solver's improvements. With ``knit_on`` a pattern wider than its bed is refused first;
-    ``notes`` as :func:`design_single`'s, for ``machine``. ``made_for="hands"`` (a keyword) is
-    refused (:func:`check_made_for`): the constraint models have no hand knitter's term.
+    ``notes`` as :func:`design_single`'s, for ``machine``. ``made_for="hands"`` (a keyword, or
+    ``options.made_for``) makes every row knittable by hand: hard constraints of the model
+    (:attr:`~illuknit.design.models.illusion_problem.IllusionProblem.for_hands`), and the report
+    gains ``hand``, the pattern's :class:`~illuknit.design.hand_cost.HandCost` as measured.
 
     Raises
     ------
@@ -99,9 +94,13 @@ def solve_design(
     from illuknit.core.arguments import check_callable
     from illuknit.design.models.illusion_models import solve_illusion
 
-    check_made_for(knobs.pop("made_for", "machine"))
+    made_for = knobs.pop("made_for", None)
     options = SolveOptions() if options is None else options
     check_type("options", options, SolveOptions)
+    if made_for is not None:
+        from dataclasses import replace
+
+        options = replace(options, made_for=check_made_for(made_for))
     check_callable(progress, "progress")
     machine = None if machine is None else resolve_machine(machine)
     opts = picture_options(pictures, knobs, takes=SOLVE_PICTURE_OPTIONS)
@@ -117,6 +116,7 @@ def solve_design(
         n_yarns=len(qa.yarns),
         alternate_rows=options.alternate_rows,
         split_bumps=options.split_bumps,
+        for_hands=options.for_hands,
         time_limit=options.time_limit,
         seed=options.seed,
         progress=progress,
@@ -168,6 +168,7 @@ def illusion_model(
         weights=options.weights,
         alternate_rows=options.alternate_rows,
         split_bumps=options.split_bumps,
+        for_hands=options.for_hands,
     )
     return build_model(problem)
 

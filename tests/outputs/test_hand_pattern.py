@@ -12,6 +12,8 @@ from hypothesis import strategies as st
 
 from illuknit.core.gauge import parse_gauge
 from illuknit.core.pattern import LogicalPattern, parse_yarns
+from illuknit.design.hand_cost import MAX_FLOAT, MAX_HAND_BLOCKS
+from illuknit.design.hand_cost import hand_rows as cost_rows
 from illuknit.outputs.chart import hand_rows, written_instructions
 from illuknit.outputs.hand_pattern import (
     CATCH_EVERY,
@@ -83,13 +85,17 @@ def test_row_colourwork_counts_match_brute_force(seed, k, n, m):
     p = LogicalPattern(rng.integers(0, k, (n, m)), rng.random((n, m)) < 0.3, YARNS3[:k])
     rows = row_colourwork(p)
     assert len(rows) == 2 * n
-    for row, hr in zip(rows, hand_rows(p), strict=True):
+    for row, hr, cost in zip(rows, hand_rows(p), cost_rows(p), strict=True):
         y = hr.yarn
         assert row.changes == int((np.diff(y) != 0).sum())
         assert row.yarns == len(set(y.tolist()))
         assert row.longest_float == brute_float(y)
         if row.technique == "intarsia":
-            assert row.shortest_block >= MIN_INTARSIA_BLOCK
+            large = row.shortest_block >= MIN_INTARSIA_BLOCK and row.blocks <= 8
+            assert large or row.blocks <= MAX_HAND_BLOCKS
+        if cost.knittable:  # the ranking's rule: the advice works it without long floats
+            assert row.technique != "not-sensible"
+            assert row.technique != "stranded" or row.longest_float <= MAX_FLOAT
 
 
 def test_advice_follows_the_blocks():
@@ -109,14 +115,20 @@ def test_advice_follows_the_blocks():
     assert not a.knittable and a.technique == "not-sensible"
     text = " ".join(a.lines)
     assert "not sensibly knitted by hand" in text and "3 yarns" in text and "2 yarns" in text
-    # 2 yarns in small blocks with long floats: stranded, caught every 5
+    # 2 yarns in many small blocks with long floats: stranded, caught every 5
     long_float = LogicalPattern(
-        np.array([[0] + [1] * 5 + [0] + [1] * 2] * 2), np.zeros((2, 9), bool), YARNS3[:2]
+        np.array([[0] + [1] * 5 + [0, 1] * 3 + [0]] * 2), np.zeros((2, 13), bool), YARNS3[:2]
     )
     a = hand_advice(long_float)
     assert a.technique == "stranded" and f"every {CATCH_EVERY} stitches" in " ".join(a.lines)
     text = written_instructions(long_float)
-    assert "[stranded, 3 colour changes, longest float 10 sts, catch every 5]" in text
+    assert "[stranded, 8 colour changes, longest float 10 sts, catch every 5]" in text
+    # few blocks, one narrow: intarsia (a bobbin for the narrow one), not a 10-stitch float
+    few = LogicalPattern(
+        np.array([[0] + [1] * 5 + [0] + [1] * 2] * 2), np.zeros((2, 9), bool), YARNS3[:2]
+    )
+    assert hand_advice(few).technique == "intarsia"
+    assert "[intarsia, 4 blocks, 3 colour changes]" in written_instructions(few)
 
 
 def test_yarn_estimate_adds_up():
@@ -150,6 +162,16 @@ def test_the_verdict_says_hours_and_when_a_design_is_for_machines_only():
     v = hand_verdict(noisy)
     assert v.machine_only and "for machines only" in v.text and v.hours > 1
     wide = np.zeros((10, 60), np.int16)
-    wide[:, 20:] = 1
-    wide[:, 59] = 0  # a float of 78 stitches in every row
+    wide[:, 1:10:2] = 1
+    wide[:, 10:] = 1
+    wide[:, 59] = 0  # 12 blocks a row and a float of 98 stitches: stranded, caught all along
     assert hand_verdict(LogicalPattern(wide, np.zeros((10, 60), bool), YARNS3[:2])).machine_only
+    # three blocks, the last one unit: intarsia, no float at all -- not for machines only
+    few = np.zeros((10, 60), np.int16)
+    few[:, 20:59] = 1
+    assert not hand_verdict(LogicalPattern(few, np.zeros((10, 60), bool), YARNS3[:2])).machine_only
+    # a yarn change every unit: 59 changes a row, but floats of 2 stitches -- two-handed
+    # stranded work, not for machines only
+    check = np.indices((10, 60)).sum(axis=0) % 2
+    v = hand_verdict(LogicalPattern(check, np.zeros((10, 60), bool), YARNS3[:2]))
+    assert not v.machine_only and v.technique == "stranded"

@@ -128,7 +128,8 @@ def build_model(problem: IllusionProblem) -> Model:
     n, m = problem.shape
     k = problem.n_yarns
     wv = problem.view_weight
-    model = Model(f"illusion-{problem.kind}-{n}x{m}-k{k}", problem=problem)
+    hands = "-hands" if problem.for_hands else ""
+    model = Model(f"illusion-{problem.kind}{hands}-{n}x{m}-k{k}", problem=problem)
     x = model.pool.block("yarn", (n, m, k))
     r = model.pool.block("raised", (n, m))
     # view A reads the second course's yarn: the same variables unless bumps may be split
@@ -189,7 +190,7 @@ def build_model(problem: IllusionProblem) -> Model:
 
     wc = problem.color_weight
     cap = problem.color_cap
-    if (wc or cap is not None) and m > 1:
+    if (wc or cap is not None or problem.for_hands) and m > 1:
         d = model.pool.block("change", (n, m - 1))
         for c in range(k):
             model.add_hard_block(
@@ -201,9 +202,76 @@ def build_model(problem: IllusionProblem) -> Model:
         if cap is not None:
             for i in range(n):
                 model.add_at_most_k(d[i].tolist(), cap, family="colour-change cap per course")
+        if problem.for_hands:
+            _add_hand_rows(model, x, d)
     if problem.pass_weight:
         _add_pass_terms(model, problem, x, r)
     return model
+
+
+def _add_hand_rows(model: Model, x: NDArray[np.int64], d: NDArray[np.int64]) -> None:
+    """Every row knittable by hand (``problem.for_hands``): per unit row a variable
+    ``("stranded", i)`` chooses how it is worked (:class:`~illuknit.design.hand_cost.HandRow`).
+
+    * *intarsia* (``~stranded``): at most ``MAX_HAND_BLOCKS - 1`` colour changes, the linear
+      ``sum(change[i]) + slack * ~stranded[i] <= M - 1``;
+    * *stranded*: at most ``MAX_HAND_YARNS`` yarns (``yarn[i, j, c] -> used[i, c]``, then a
+      linear bound), and no float longer than ``MAX_FLOAT`` stitches: with ``after[i, j, c]``
+      "yarn c is used at unit j or right of it" (``yarn -> after``, ``after[j + 1] ->
+      after[j]``), yarn c at unit j and again at ``j + g + 1`` or beyond must appear in units
+      ``j + 1 .. j + g`` between (``g = MAX_FLOAT // 2 + 1`` units, 2 stitches a unit, is the
+      shortest gap too long to float).
+
+    A unit row is two hand rows of the same yarns (no split bumps), so the two agree.
+    """
+    from illuknit.design.hand_cost import MAX_FLOAT, MAX_HAND_BLOCKS, MAX_HAND_YARNS
+
+    n, m, k = x.shape
+    s = model.pool.block("stranded", (n,))
+    max_changes = MAX_HAND_BLOCKS - 1
+    if m - 1 > max_changes:
+        slack = m - 1 - max_changes
+        for i in range(n):
+            model.add_linear_le(
+                [*d[i].tolist(), -int(s[i])],
+                [1] * (m - 1) + [slack],
+                m - 1,
+                family="hand rows: intarsia blocks",
+            )
+    if k > MAX_HAND_YARNS:
+        used = model.pool.block("row yarn", (n, k))
+        model.add_hard_block(
+            np.stack([-x, np.broadcast_to(used[:, None, :], x.shape)], axis=-1).reshape(-1, 2),
+            family="hand rows: yarns a row",
+        )
+        for i in range(n):
+            model.add_linear_le(
+                [*used[i].tolist(), int(s[i])],
+                [1] * k + [k - MAX_HAND_YARNS],
+                k,
+                family="hand rows: stranded yarns",
+            )
+    g = MAX_FLOAT // 2 + 1
+    if m < g + 2:
+        return  # no gap this long fits between two units of a row
+    after = model.pool.block("yarn after", (n, m, k))
+    model.add_hard_block(
+        np.stack([-x, after], axis=-1).reshape(-1, 2), family="hand rows: yarn after"
+    )
+    model.add_hard_block(
+        np.stack([-after[:, 1:, :], after[:, :-1, :]], axis=-1).reshape(-1, 2),
+        family="hand rows: yarn after",
+    )
+    j = np.arange(m - g - 1)
+    lits = [
+        np.broadcast_to(-s[:, None, None], (n, j.size, k)),
+        -x[:, j, :],
+        -after[:, j + g + 1, :],
+        *(x[:, j + t, :] for t in range(1, g + 1)),
+    ]
+    model.add_hard_block(
+        np.stack(lits, axis=-1).reshape(-1, g + 3), family="hand rows: stranded floats"
+    )
 
 
 def _add_split_terms(
@@ -305,6 +373,7 @@ _SOLVE_KNOBS: dict[str, Any] = {
     "weights": None,
     "alternate_rows": False,
     "split_bumps": False,
+    "for_hands": False,
     "time_limit": None,
     "seed": 0,
 }
@@ -347,6 +416,10 @@ def solve_illusion(
     split_bumps : bool
         Logical model: bumps may knit their second course in another yarn
         (``docs/split-bumps.md``); the pattern then has ``upper``.
+    for_hands : bool
+        Logical and knit-aware models: every row knittable by hand
+        (:attr:`~illuknit.design.models.illusion_problem.IllusionProblem.for_hands`; from
+        ``options.made_for``); solved by the MaxSAT/CP backends from the ``hand`` warm start.
 
     Raises
     ------
@@ -359,6 +432,7 @@ def solve_illusion(
     model, solver, warm_start = knobs["model"], knobs["solver"], knobs["warm_start"]
     weights, time_limit, seed = knobs["weights"], knobs["time_limit"], knobs["seed"]
     alternate_rows, split_bumps = knobs["alternate_rows"], knobs["split_bumps"]
+    for_hands = knobs["for_hands"]
     check_array(target_a, "target_a", ndim=2, integer=True)
     if target_b is not None:
         check_array(target_b, "target_b", ndim=2, integer=True)
@@ -375,6 +449,7 @@ def solve_illusion(
         check_array(pinned, "pinned", ndim=2, integer=True)
     check_bool(alternate_rows, "alternate_rows")
     check_bool(split_bumps, "split_bumps")
+    check_bool(for_hands, "for_hands")
     if time_limit is not None:
         check_number(time_limit, "time_limit", min=0, min_open=True)
     check_int(seed, "seed", min=0)
@@ -391,6 +466,7 @@ def solve_illusion(
         pinned=pinned,
         alternate_rows=alternate_rows,
         split_bumps=split_bumps,
+        for_hands=for_hands,
     )
     if yarns is not None and len(yarns) < prob.n_yarns:
         raise YarnSpecError(f"`yarns` must list {prob.n_yarns} yarns, got {len(yarns)}")
@@ -424,6 +500,7 @@ def _solve_knobs(options: SolveOptions | None, knobs: dict[str, Any]) -> dict[st
         "weights": options.weights,
         "alternate_rows": options.alternate_rows,
         "split_bumps": options.split_bumps,
+        "for_hands": options.for_hands,
         "time_limit": options.time_limit,
         "seed": options.seed,
     }

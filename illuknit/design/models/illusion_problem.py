@@ -22,6 +22,7 @@ from illuknit.core.pattern import MAX_UNITS, MAX_YARNS
 from illuknit.solvers.model import DomainPayload, Model
 
 __all__ = [
+    "HANDS_SOLVERS",
     "MODEL_KINDS",
     "SPLIT_BUMPS_SOLVERS",
     "IllusionProblem",
@@ -37,6 +38,12 @@ __all__ = [
 #: Why a heuristic backend refuses a split-bump model, and which backends solve one.
 SPLIT_BUMPS_SOLVERS = (
     "split bumps are solved by the exact DP and the MaxSAT/CP backends (dp, rc2, cpsat)"
+)
+
+#: Why a backend refuses a model made for hands, and which backends solve one.
+HANDS_SOLVERS = (
+    "a model made for hands couples the units of every row (the hand knitter's row rule); it "
+    "is solved by the MaxSAT/CP backends (cpsat, rc2), warm-started by the hand row descent"
 )
 
 ModelKind = Literal["logical", "knit-aware", "single"]
@@ -194,6 +201,13 @@ class IllusionProblem(DomainPayload):
         Logical model only: a raised unit may knit its second course in another yarn (a split
         bump, ``LogicalPattern.upper``), which view A sees and view B does not
         (:mod:`illuknit.core.views`).
+    for_hands : bool
+        Made for hands (issue #37): every row must be knittable by hand
+        (:attr:`illuknit.design.hand_cost.HandRow.knittable`) -- at most
+        :data:`~illuknit.design.hand_cost.MAX_HAND_BLOCKS` colour blocks (intarsia), or at most
+        :data:`~illuknit.design.hand_cost.MAX_HAND_YARNS` yarns with floats of at most
+        :data:`~illuknit.design.hand_cost.MAX_FLOAT` stitches (stranded). Hard constraints that
+        couple the units of a row, so the per-wale DP no longer applies.
     """
 
     target_a: NDArray[np.int16]
@@ -204,6 +218,7 @@ class IllusionProblem(DomainPayload):
     pinned: NDArray[np.int16] | None = None
     alternate_rows: bool = False
     split_bumps: bool = False
+    for_hands: bool = False
 
     def __post_init__(self) -> None:
         check_instance(self.kind, str, "kind", what=f"a model kind ({', '.join(MODEL_KINDS)})")
@@ -211,12 +226,23 @@ class IllusionProblem(DomainPayload):
             raise UnknownNameError("model", str(self.kind), MODEL_KINDS)
         check_bool(self.split_bumps, "split_bumps")
         check_bool(self.alternate_rows, "alternate_rows")
+        check_bool(self.for_hands, "for_hands")
         check_instance(self.weights, KnitWeights, "weights")
         if self.split_bumps and self.kind != "logical":
             raise OptionError(
                 "split bumps are modelled in the logical model only (the knit-aware model's "
                 "pass terms do not count a split bump's second yarn; the single-view model "
                 f"shows one picture), not {self.kind!r}"
+            )
+        if self.split_bumps and self.for_hands:
+            raise OptionError(
+                "split bumps are not made for hands: a split bump changes yarn between the two "
+                "courses of a unit, which the hand knitter's row constraints do not model"
+            )
+        if self.for_hands and self.kind == "single":
+            raise OptionError(
+                "every row of the single-view model is one yarn, knittable by hand already: "
+                "`for_hands` would change nothing"
             )
         if self.alternate_rows and self.kind != "single":
             raise OptionError(
@@ -284,6 +310,7 @@ class IllusionProblem(DomainPayload):
             and self.pass_weight == 0
             and self.color_cap is None
             and not self.rows_tied
+            and not self.for_hands
         )
 
     @property
@@ -315,11 +342,13 @@ def make_problem(
     pinned: ArrayLike | None = None,
     alternate_rows: bool = False,
     split_bumps: bool = False,
+    for_hands: bool = False,
 ) -> IllusionProblem:
     """An :class:`IllusionProblem`; ``target_b`` defaults to ``target_a`` (single view).
 
     ``n_yarns`` defaults to ``max(target) + 1``. ``alternate_rows`` (single view only): rows
-    alternate yarns. ``split_bumps`` (logical model only): bumps may be split.
+    alternate yarns. ``split_bumps`` (logical model only): bumps may be split. ``for_hands``:
+    every row knittable by hand (:attr:`IllusionProblem.for_hands`).
     """
     a = np.asarray(target_a)
     b = a if target_b is None else np.asarray(target_b)
@@ -337,6 +366,7 @@ def make_problem(
         pin,
         bool(alternate_rows),
         bool(split_bumps),
+        bool(for_hands),
     )
 
 

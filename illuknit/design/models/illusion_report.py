@@ -155,6 +155,11 @@ def report_pattern(
         "knit_purl_changes": knit_purl_changes(pattern.raised),
         "machine_pass_events": _pass_report(pattern, problem),
     }
+    if problem.for_hands:  # what the hand knitter's row rule bought, measured on the pattern
+        from illuknit.design.hand_cost import hand_cost
+
+        rep["made_for"] = "hands"
+        rep["hand"] = hand_cost(pattern).to_json()
     if solution is not None:
         rep["solver"] = solution.summary()
     return rep

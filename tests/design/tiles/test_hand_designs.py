@@ -40,8 +40,12 @@ def test_rows_are_counted_as_a_hand_knitter_works_them():
     top = rows[2]  # units alternate: 12 blocks of 2 stitches, floats of 2
     assert (top.changes, top.longest_float) == (11, 2)
     assert top.stranded_ok and not top.intarsia_ok and top.knittable
+    assert first.in_intarsia and not top.in_intarsia
     cost = hand_cost(p)
-    assert (cost.rows, cost.knittable_rows, cost.longest_float, cost.max_changes) == (4, 4, 8, 11)
+    # the bottom rows are worked in intarsia, a bobbin a block: their 8-stitch gap floats
+    # nothing, so the longest float is the top rows' 2 stitches, and nothing needs catching
+    assert (cost.rows, cost.knittable_rows, cost.longest_float, cost.max_changes) == (4, 4, 2, 11)
+    assert cost.catches == 0
     assert cost.mean_changes == pytest.approx((2 + 2 + 11 + 11) / 4)
 
 

@@ -57,6 +57,7 @@ from illuknit.design.models.backends.descent_blocks import descend, pattern_cost
 from illuknit.design.models.backends.dp import DPBackend, solve_dp, values_from_pattern
 from illuknit.design.models.backends.lagrangian import LagrangianResult, lagrangian_bound
 from illuknit.design.models.illusion_problem import (
+    HANDS_SOLVERS,
     SPLIT_BUMPS_SOLVERS,
     IllusionProblem,
     problem_of,
@@ -320,6 +321,8 @@ class DescentBackend(BackendBase):
         p = model.problem
         if not isinstance(p, IllusionProblem):
             return "block descent solves only illusion models built by illuknit.design.models.illusion_models"
+        if p.for_hands:
+            return HANDS_SOLVERS
         if p.color_cap is not None:
             return "block descent cannot guarantee a hard colour-change cap; use --solver cpsat"
         if p.split_bumps:

@@ -45,7 +45,12 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import NDArray
 
-from illuknit.design.models.illusion_problem import IllusionProblem, problem_of, raised_cost
+from illuknit.design.models.illusion_problem import (
+    HANDS_SOLVERS,
+    IllusionProblem,
+    problem_of,
+    raised_cost,
+)
 from illuknit.solvers.base import (
     BackendBase,
     BackendKind,
@@ -245,6 +250,8 @@ def values_from_pattern(
         vals[model.pool.block_ids("upper")[ii, jj, np.asarray(up, dtype=np.int64)]] = True
     if "change" in model.pool.blocks:
         vals[model.pool.block_ids("change")] = yarn[:, 1:] != yarn[:, :-1]
+    if "stranded" in model.pool.blocks:  # made for hands: how each row is worked
+        _hand_values(vals, model, np.asarray(yarn, dtype=np.int64))
     if "yarn used" in model.pool.blocks:
         k = x.shape[2]
         onehot = yarn[:, :, None] == np.arange(k)[None, None, :]
@@ -267,6 +274,21 @@ def values_from_pattern(
     return vals
 
 
+def _hand_values(vals: NDArray[np.bool_], model: Model, yarn: NDArray[np.int64]) -> None:
+    """The made-for-hands auxiliaries of a yarn grid: a row is worked stranded when it has
+    more colour blocks than intarsia allows; which yarns a row uses, and right of each unit."""
+    from illuknit.design.hand_cost import MAX_HAND_BLOCKS
+
+    k = model.pool.block_ids("yarn").shape[2]
+    onehot = yarn[:, :, None] == np.arange(k)[None, None, :]
+    changes = (yarn[:, 1:] != yarn[:, :-1]).sum(axis=1)
+    vals[model.pool.block_ids("stranded")] = changes > MAX_HAND_BLOCKS - 1
+    if "row yarn" in model.pool.blocks:
+        vals[model.pool.block_ids("row yarn")] = onehot.any(axis=1)
+    if "yarn after" in model.pool.blocks:
+        vals[model.pool.block_ids("yarn after")] = np.cumsum(onehot[:, ::-1], axis=1)[:, ::-1] > 0
+
+
 class DPBackend(BackendBase):
     """Exact dynamic programming: per wale, or over row colours for the single-view model."""
 
@@ -279,6 +301,8 @@ class DPBackend(BackendBase):
         p = model.problem
         if not isinstance(p, IllusionProblem):
             return "the DP solves only illusion models built by illuknit.design.models.illusion_models.build_model"
+        if p.for_hands:
+            return HANDS_SOLVERS
         if p.per_wale or p.rows_tied:
             return None
         return (

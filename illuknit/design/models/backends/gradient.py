@@ -19,6 +19,7 @@ import time
 from typing import TYPE_CHECKING, Any
 
 from illuknit.design.models.illusion_problem import (
+    HANDS_SOLVERS,
     SPLIT_BUMPS_SOLVERS,
     IllusionProblem,
     problem_of,
@@ -57,6 +58,8 @@ class GradientBackend(BackendBase):
             return "the gradient backend solves only illusion models built by illuknit.design.models.illusion_models.build_model"
         if p.n_yarns < 2:
             return "the gradient backend needs at least two yarns"
+        if p.for_hands:
+            return HANDS_SOLVERS
         if p.color_cap is not None:
             return "gradient descent cannot guarantee a hard colour-change cap; use --solver cpsat"
         if p.split_bumps:
