@@ -157,7 +157,9 @@ def _tile_candidates(
             prepared.quantised.get("b"),
             mode="headon" if prepared.mode == "headon" else "double",
             yarns=prepared.yarns,
-            search=SearchOptions(candidates=count, split_bumps=split_bumps),
+            search=SearchOptions(
+                candidates=count, split_bumps=split_bumps, hand_model_seconds=hand_model_seconds()
+            ),
             ranking=RankOptions(
                 made_for=MadeFor(made_for), machine=machine, angle=angle, distance=distance,
                 read=read, rank_by=order,
@@ -185,7 +187,7 @@ def _tile_candidates(
         Candidate(
             rank=d.rank,
             label=d.label,
-            score=float(d.assignment.score),
+            score=None if d.assignment is None else float(d.assignment.score),
             pattern=d.pattern,
             details={
                 **_assignment_details(d.assignment, d.report),
@@ -200,6 +202,34 @@ def _tile_candidates(
     ]
 
 
+#: Names the seconds the app's searches made for hands give the constraint model made for hands
+#: (``SearchOptions.hand_model_seconds``; default :data:`~illuknit.design.options.HAND_MODEL_SECONDS`).
+HAND_MODEL_ENV = "ILLUKNIT_HAND_MODEL_SECONDS"
+
+
+def hand_model_seconds() -> float:
+    """``$ILLUKNIT_HAND_MODEL_SECONDS`` (0 leaves the constraint model out), else the default.
+
+    Raises
+    ------
+    OptionError
+        The variable is set to something that is not a number of seconds in range.
+    """
+    import os
+
+    from illuknit.core.errors import OptionError
+    from illuknit.design.options import HAND_MODEL_SECONDS, SearchOptions
+
+    text = os.environ.get(HAND_MODEL_ENV, "").strip()
+    if not text:
+        return HAND_MODEL_SECONDS
+    try:
+        seconds = float(text)
+    except ValueError:
+        raise OptionError(f"${HAND_MODEL_ENV} must be a number of seconds, got {text!r}") from None
+    return SearchOptions(hand_model_seconds=seconds).hand_model_seconds
+
+
 def _hand_details(design: Any, made_for: str) -> dict[str, Any]:
     """What a hand knitter needs of a candidate made for hands (:class:`~illuknit.design.
     hand_cost.HandCost`): rows knittable by hand and the longest float; nothing otherwise."""
@@ -208,7 +238,8 @@ def _hand_details(design: Any, made_for: str) -> dict[str, Any]:
         return {}
     from illuknit.design.tiles.stripes import STRIPE_BANK_NAME
 
-    stripes = design.assignment.bank.name == STRIPE_BANK_NAME
+    model = design.assignment is None  # the constraint model's design
+    stripes = not model and design.assignment.bank.name == STRIPE_BANK_NAME
     return {
         "made_for": made_for,
         "hand": {
@@ -217,7 +248,8 @@ def _hand_details(design: Any, made_for: str) -> dict[str, Any]:
             "longest_float": hand.longest_float,
             "max_blocks": hand.max_blocks,
             "text": hand.describe()
-            + ("; shared stripes: every row in one yarn" if stripes else ""),
+            + ("; shared stripes: every row in one yarn" if stripes else "")
+            + ("; the constraint model made for hands: no tiles" if model else ""),
             "shared_stripes": stripes,
         },
     }
@@ -233,6 +265,8 @@ def _order_details(order: Any) -> dict[str, Any]:
 
 
 def _assignment_details(assignment: Any, report: Any) -> dict[str, Any]:
+    if assignment is None:  # the constraint model's design made for hands: no tiles
+        return {"method": "constraint model made for hands"}
     rep = report.to_json()
     return {
         "views": list(assignment.views),

@@ -46,6 +46,10 @@ def write_candidate(
     what the design's views should show (``inp.targets``). ``gauge`` (an
     :class:`illuknit.core.gauge.Gauge`) is the fabric's: finished size and previews. ``angle``
     and ``distance`` (metres) are the views' in ``seen.png``."""
+    if rc.assignment is None:  # the constraint model's design made for hands: no tiles
+        return _write_model_candidate(
+            rc, tmp, inp, pick=pick, sources=sources, gauge=gauge, distance=distance, angle=angle
+        )
     from illuknit.cli.knitout_bridge import chart_kind, hand_border
     from illuknit.core.files import atomic_write_text
     from illuknit.design.tiles.compile import repainted_rgb
@@ -121,6 +125,73 @@ def write_candidate(
         "folder": sub.name,
     }
     return row, table.lines() if cand.rank == pick else []
+
+
+def _write_model_candidate(
+    rc: RankedDesign,
+    tmp: Path,
+    inp: TileDesign,
+    *,
+    pick: int,
+    sources: list[str | None],
+    gauge: Gauge | None,
+    distance: float,
+    angle: float,
+) -> tuple[dict[str, Any], list[str]]:
+    """:func:`write_candidate` for a design without a tile assignment (the constraint model's
+    design made for hands, :mod:`illuknit.pipeline.hand_model`): its pattern, previews and
+    diagnostics against what the views should show; no fills, tiles or repainted pictures."""
+    from illuknit.cli.knitout_bridge import chart_kind, hand_border
+    from illuknit.outputs.export import export_pattern
+    from illuknit.outputs.previews import unit_scale
+
+    mode, pattern, meas = inp.mode, rc.pattern, rc.measures
+    sub = tmp / f"candidate_{rc.rank}"
+    names = ("A (from above)", "B (from below)")
+    seen_targets = list(inp.targets)
+    rep = {
+        "mode": mode,
+        "sources": sources,
+        "method": rc.label,
+        "solver": dict(inp.hand_model or {}),
+        "measures": meas.to_json(),
+        "legibility": _legibility_json(rc),
+        "default": rc.rank == pick,
+    }
+    export_pattern(
+        pattern,
+        sub,
+        quantised=inp.quantised,
+        report=rep,
+        title=f"{mode}-view illusion, candidate {rc.rank} ({rc.label})",
+        targets=dict(zip(names, seen_targets, strict=True)),
+        gauge=gauge,
+        chart=chart_kind(),
+        border=hand_border(),
+    )
+    s = max(2, unit_scale(pattern.shape))
+    diagnostics = _write_diagnostics(pattern, seen_targets, sub, mode=mode, scale=s)
+    write_seen(pattern, seen_targets, sub, mode=mode, gauge=gauge, distance=distance, angle=angle)
+    changes = np.count_nonzero(np.diff(pattern.yarn, axis=1), axis=1)
+    row = {
+        "rank": rc.rank,
+        "default": rc.rank == pick,
+        "score": None,
+        "score_rank": None,
+        "bank": None,
+        "method": rc.label,
+        **_measure_fields(meas),
+        "legibility": _legibility_json(rc),
+        "diagnostics": diagnostics,
+        "fills_a": [],
+        "fills_b": [],
+        "error_repainted": None,
+        "error_repainted_interior": None,
+        "color_changes_per_course_max": int(changes.max()) if changes.size else 0,
+        "overlaps": None,
+        "folder": sub.name,
+    }
+    return row, []
 
 
 def write_edits(edits: list[Any], folder: Path, *, scale: int) -> None:
@@ -235,11 +306,36 @@ def write_seen(
     return save_png(contact_sheet(panels, columns=3), sub / "seen.png")
 
 
+def _bank_line(summary: dict[str, Any]) -> str:
+    """The default design's bank and the tile solver, or the method of a design without tiles."""
+    bank = summary["bank"]
+    if bank is None:
+        return f"{summary.get('method', 'no tile bank')}, solver cpsat"
+    return f"bank {bank['name']} ({bank['tiles']} tiles), solver {summary['solver']}"
+
+
+def _hand_model_lines(summary: dict[str, Any]) -> list[str]:
+    """Made for hands: the constraint model's solve and where its design ranked."""
+    hm = summary.get("hand_model")
+    if not hm:
+        return []
+    where = (
+        f"its design ranks {hm['rank']}"
+        if hm.get("rank")
+        else f"its design is not among the {len(summary['candidates'])} shown"
+    )
+    return [
+        f"constraint model made for hands: {hm['status']} after {hm['wall_time']:.1f} s "
+        f"(up to {hm['seconds']:g} s), {hm['objective']} view cells off target; {where}"
+    ]
+
+
 def summary_text(summary: dict[str, Any], overlap_lines: list[str]) -> str:
     lines = [
         f"{summary['mode']}-view tile design, {summary['size']['rows']} x {summary['size']['cols']} units, "
         f"yarns: {', '.join(y['name'] + ' ' + y['rgb'] for y in summary['yarns'])}",
-        f"bank {summary['bank']['name']} ({summary['bank']['tiles']} tiles), solver {summary['solver']}",
+        _bank_line(summary),
+        *_hand_model_lines(summary),
         "",
         *verdict_lines(summary),
         *order_lines(summary),
@@ -257,8 +353,12 @@ def summary_text(summary: dict[str, Any], overlap_lines: list[str]) -> str:
         lines.append(
             f"{r['rank']:>4}  {mark}  {fmt_number(r['perceptual_score']):>7}  {fmt_number(rd[0]):>6}  "
             f"{fmt_number(rd[1]):>6}  {fmt_number(ct[0]):>7}  {fmt_number(ct[1]):>7}  {fmt_number(ghost):>5}  {fmt_number(shows):>5}  "
-            f"{ra:>7}  {rb:>7}  {fmt_number(r['knit_minutes'], 1):>7}  {r['score']:>7.2f}  "
-            f"{'; '.join(r['fills_a'])} | {'; '.join(r['fills_b'])}"
+            f"{ra:>7}  {rb:>7}  {fmt_number(r['knit_minutes'], 1):>7}  {fmt_number(r['score'], 2):>7}  "
+            + (
+                f"{'; '.join(r['fills_a'])} | {'; '.join(r['fills_b'])}"
+                if r.get("bank") is not None or "method" not in r
+                else f"({r['method']}: no tiles)"
+            )
         )
     lines.append("")
     lines.append(

@@ -89,8 +89,9 @@ def _summary_cells(r: dict[str, Any]) -> dict[str, str]:
         "contrast": " / ".join(fmt_number(v) for v in r["contrast"]),
         "ghosting (shows)": _worst_ghosting(r),
         "knit min": fmt_number(r["knit_minutes"], 1),
-        "cost ΔE": f"{r['score']:.1f}",  # the tile search's cost (lower is better)
-        "fills A": "; ".join(r["fills_a"]),
+        # the tile search's cost (lower is better); a design without tiles has none
+        "cost ΔE": "-" if r["score"] is None else f"{r['score']:.1f}",
+        "fills A": "; ".join(r["fills_a"]) or r.get("method", ""),
         "fills B": "; ".join(r["fills_b"]),
     }
 
@@ -168,7 +169,7 @@ def print_summary(summary: dict[str, Any], outdir: Path) -> None:
     if hand_line:
         con.print(hand_line, markup=False, highlight=False)
     default = next((r for r in summary["candidates"] if r["default"]), None)
-    if default is not None:
+    if default is not None and default["overlaps"] is not None:  # None: a design without tiles
         for line in _overlap_digest(default["overlaps"]):
             con.print(line)
     n = len(summary["candidates"])
@@ -197,7 +198,9 @@ def _hand_line(summary: dict[str, Any]) -> str:
     from illuknit.design.tiles.stripes import STRIPE_BANK_NAME
 
     made = "made for hands" if summary.get("made_for") == "hands" else "made for a machine"
-    if summary["bank"]["name"] == STRIPE_BANK_NAME:
+    if summary["bank"] is None:
+        made += f", the {summary.get('method', 'constraint model')}"
+    elif summary["bank"]["name"] == STRIPE_BANK_NAME:
         made += ", shared stripes: every row in one yarn"
     line = (
         f"by hand ({made}): rows knittable by hand {hand['knittable_rows']} of {hand['rows']} "
@@ -205,6 +208,13 @@ def _hand_line(summary: dict[str, Any]) -> str:
         f"{hand['longest_float']} sts ({hand['catches']} catches), colour changes a row max "
         f"{hand['max_changes']} / mean {hand['mean_changes']:.1f}; worse-view correlation {read}"
     )
+    hm = summary.get("hand_model")
+    if hm:
+        where = f"ranks {hm['rank']}" if hm.get("rank") else "is not among those shown"
+        line += (
+            f"\n  the constraint model made for hands ({hm['status']} after "
+            f"{hm['wall_time']:.1f} s): its design {where}"
+        )
     machine = summary.get("machine_design")
     if machine:
         m = machine["hand"]
@@ -282,6 +292,13 @@ def design_options(func: Any) -> Any:
     note="[default: when tesseract is installed] "
     "Word pairs ranked by the reader (--rank-by auto) are read all the same, and the "
     "summary notes it; --rank-by perception --no-read reads nothing.",
+)
+@declared_option(
+    SearchOptions,
+    "hand_model_seconds",
+    default=None,
+    note="[default: 20] With --for hands; its design is ranked with the tile designs and "
+    "written as a candidate like them (no tiles, fills or repainted pictures).",
 )
 @design_options
 def double(image_a: Path, image_b: Path, outdir: Path, **kw: Any) -> None:

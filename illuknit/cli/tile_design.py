@@ -98,7 +98,7 @@ _SWITCH_DEFAULTS: Mapping[str, Any] = {
     "one_sided": False, "split_bumps": False, "split_share": None, "tile": (),
     "knitout": False, "machine": None, "rank_by": "auto", "knit_time": False,
     "simplify": False, "suggest": False, "distance": 3.0, "angle": 30.0, "read": None,
-    "made_for": "machine",
+    "made_for": "machine", "hand_model_seconds": None,
 }  # fmt: skip
 
 
@@ -133,6 +133,11 @@ def _request(
         split_share=DEFAULT_SPLIT_SHARE if s["split_share"] is None else s["split_share"],
         edits=PictureEdits("apply" if s["simplify"] else "suggest" if s["suggest"] else "none"),
         **({} if s["pool"] is None else {"pool": s["pool"]}),
+        **(
+            {}
+            if s["hand_model_seconds"] is None
+            else {"hand_model_seconds": s["hand_model_seconds"]}
+        ),
     )
     sizing = PictureOptions(
         width=s["width"],
@@ -182,6 +187,7 @@ def run_design(request: DesignRequest, *, progress: Report | None = None) -> dic
             f"--pick must be between 1 and {written} (candidates found), got {request.pick}"
         )
     notes += _split_note(design, request.search) + _read_note(design, request.ranking)
+    notes += _hand_model_note(request)
     try:
         return write_design(design, request, progress=report, notes=notes)
     except LongFloatError as e:
@@ -322,6 +328,19 @@ def _read_note(design: TileDesign, ranking: RankOptions) -> list[str]:
     ]
 
 
+def _hand_model_note(request: DesignRequest) -> list[str]:
+    """A note when --hand-model-seconds changed nothing: the design is not made for hands."""
+    from illuknit.design.options import HAND_MODEL_SECONDS
+
+    seconds = request.search.hand_model_seconds
+    if seconds == HAND_MODEL_SECONDS or request.ranking.made_for is MadeFor.HANDS:
+        return []
+    return [
+        "--hand-model-seconds changed nothing: the constraint model made for hands is solved "
+        "only for a double view made for hands (--for hands)"
+    ]
+
+
 def _split_note(design: TileDesign, search: SearchOptions) -> list[str]:
     """A note when split bumps were allowed but no candidate uses one, and why."""
     if not search.split_bumps or any(int(d.pattern.split.sum()) for d in design.designs):
@@ -395,13 +414,14 @@ def write_design(
             "yarns": [{"name": y.name, "rgb": y.hex} for y in picked.pattern.yarns],
             "size": {"rows": int(qa.shape[0]), "cols": int(qa.shape[1])},
             "finished_size": finished_size(qa.shape, gauge).as_dict(),
-            "bank": {"name": picked.assignment.bank.name, "tiles": len(picked.assignment.bank)},
+            **_bank_json(picked),
             "solver": design.search.solver,
             "ranked_by": design.ranking.rank_by.value,
             **({"order": design.order.to_json()} if design.order is not None else {}),
             "made_for": design.ranking.made_for.value,
             "hand": _hand_json(picked),
             **_machine_json(design.machine_first),
+            **({"hand_model": _jsonable(design.hand_model)} if design.hand_model else {}),
             "searched": design.searched,
             "edits": [e.to_json() for e in design.edits],
             "default": pick,
@@ -493,6 +513,24 @@ def _parse_overrides(specs: tuple[str, ...]) -> dict[tuple[int, int], str]:
             )
         out[a, b] = rows.strip()
     return out
+
+
+def _bank_json(picked: RankedDesign) -> dict[str, Any]:
+    """The default design's tile bank, or, for a design without tiles (the constraint model's
+    made for hands), ``bank`` None and its ``method``."""
+    if picked.assignment is None:
+        return {"bank": None, "method": picked.label}
+    bank = picked.assignment.bank
+    return {"bank": {"name": bank.name, "tiles": len(bank)}}
+
+
+def _jsonable(value: Any) -> Any:
+    """Mappings and sequences as JSON's dicts and lists (a solver summary holds tuples)."""
+    if isinstance(value, Mapping):
+        return {str(k): _jsonable(v) for k, v in value.items()}
+    if isinstance(value, list | tuple):
+        return [_jsonable(v) for v in value]
+    return value
 
 
 def _hand_json(d: RankedDesign) -> dict[str, Any] | None:

@@ -55,6 +55,9 @@ DEFAULT_POOL = 20
 MAX_COUNT = 1000
 #: Designs past the ones to be written are sought only while the search took less than this.
 POOL_SECONDS = 20.0
+#: Made for hands, double view: seconds the constraint model made for hands is solved for, beside
+#: the tile search (``SearchOptions.hand_model_seconds``; benchmarks/hand_designs.py measures it).
+HAND_MODEL_SECONDS = 20.0
 
 
 # -- validators (shared with illuknit.knit.options) ----------------------------------------
@@ -223,6 +226,11 @@ class SearchOptions:
     time_limit : float, optional
         Time limit of each assignment solve in seconds (None: no limit); formerly
         ``solve_seconds`` (still taken, with a :class:`DeprecationWarning`, for one release).
+    hand_model_seconds : float
+        Made for hands, double view: also solve the constraint model made for hands (every
+        row knittable by hand a hard constraint, :func:`~illuknit.pipeline.solve.solve_design`
+        with ``made_for="hands"``) for this many seconds on the same grid, and rank its design
+        with the tile designs; 0 leaves it out.
     """
 
     candidates: int = option(5, help="How many ranked candidates to write.", ge=1, le=50)
@@ -267,6 +275,14 @@ class SearchOptions:
         le=MAX_SECONDS,
         old_names=("solve_seconds",),
     )
+    hand_model_seconds: float = option(
+        HAND_MODEL_SECONDS,
+        help="Made for hands: also solve the constraint model made for hands (every row "
+        "knittable by hand) for this many seconds and rank its design with the tile designs "
+        "(0: leave it out).",
+        ge=0,
+        le=MAX_SECONDS,
+    )
 
     def __post_init__(self) -> None:
         count_option("candidates", self.candidates, minimum=1)
@@ -277,6 +293,10 @@ class SearchOptions:
             raise OptionError(f"`solver` must be a backend name, got {self.solver!r}")
         if self.time_limit is not None:
             _seconds("time_limit", self.time_limit)
+        seconds = self.hand_model_seconds
+        if isinstance(seconds, bool) or not isinstance(seconds, int | float):
+            raise OptionError(f"`hand_model_seconds` must be a number, got {seconds!r}")
+        check_declared_range(SearchOptions, "hand_model_seconds", seconds, OptionError)
         flag_option("one_sided", self.one_sided)
         flag_option("split_bumps", self.split_bumps)
         share = self.split_share

@@ -156,6 +156,11 @@ class TileDesign:
         Made for hands (``ranking.made_for``): the measures of the design the same ranking puts
         first for a machine, among every design searched (what the hand design is compared
         with); None when made for a machine.
+    hand_model : mapping or None
+        Made for hands, double view: the constraint model made for hands was solved too
+        (:mod:`illuknit.pipeline.hand_model`): its solver's summary (status, objective,
+        bound, seconds) and ``rank``, where its design ranked among ``designs`` (None: not
+        kept). That design has no tile assignment. None when it was not solved.
     """
 
     mode: Literal["double", "headon"]
@@ -174,6 +179,7 @@ class TileDesign:
     seconds: Mapping[str, float] = field(default_factory=dict)
     notes: tuple[str, ...] = ()
     machine_first: CandidateMeasures | None = None
+    hand_model: Mapping[str, Any] | None = None
 
     @property
     def best(self) -> TileRanked:

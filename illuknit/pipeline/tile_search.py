@@ -249,6 +249,20 @@ def rank_tiles(
         )
         for k, rc in enumerate(ranked)
     )
+    hand_model = None
+    if hands and mode == "double" and search.hand_model_seconds > 0:
+        from illuknit.pipeline.hand_model import hand_model_design, with_hand_model
+
+        extra, solved = hand_model_design(
+            job,
+            targets,
+            ranking,
+            blur=seen_blur(ranking.distance, gauge=gauge),
+            params=split_params(search),
+            read=_reader(mode, targets, ranking, choice, (gauge, split_params(search))),
+        )
+        designs, place = with_hand_model(designs, extra, search.candidates)
+        hand_model = MappingProxyType({**solved, "rank": place})
     quantised = {"A": qa} if qb is None else {"A": qa, "B": qb}
     return TileDesign(
         mode=mode,
@@ -264,6 +278,7 @@ def rank_tiles(
         ranking=ranking,
         machine_first=ranked.machine_first,
         order=choice,
+        hand_model=hand_model,
     )
 
 

@@ -36,15 +36,18 @@ def _serve(app: Any) -> Iterator[int]:
 
 
 @pytest.fixture(autouse=True)
-def _no_reader_unless_asked(
+def _quick_app_searches(
     request: pytest.FixtureRequest, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    """No reader (tesseract) for the app tests that do not ask for it with the ``reader``
-    fixture: it adds seconds to every search of two word pictures (the letters most of these
-    tests upload), and what it says is tested where it is asked for. ``$ILLUKNIT_READER``
-    names a program that is not there."""
+    """Quick searches. No reader (tesseract) for the app tests that do not ask for it with the
+    ``reader`` fixture: it adds seconds to every search of two word pictures (the letters most
+    of these tests upload), and what it says is tested where it is asked for.
+    ``$ILLUKNIT_READER`` names a program that is not there. And searches made for hands give the
+    constraint model 2 s, not 20 (``$ILLUKNIT_HAND_MODEL_SECONDS``)."""
     if "reader" not in request.fixturenames:
         monkeypatch.setenv("ILLUKNIT_READER", "tesseract-not-here")
+    # searches made for hands solve the constraint model for 20 s by default: 2 s here
+    monkeypatch.setenv("ILLUKNIT_HAND_MODEL_SECONDS", "2")
 
 
 @pytest.fixture(scope="session")

@@ -49,7 +49,7 @@ def test_check_made_for_and_the_refusals():
     with pytest.raises(OptionError, match="split bumps"):
         SolveOptions(split_bumps=True, made_for="hands")
     a, b = _pictures()
-    with pytest.raises(SolverError, match="hands-14x20.*couples the units of every row"):
+    with pytest.raises(SolverError, match=r"hands-14x20.*couples the units of every row"):
         solve_design(a, b, options=SolveOptions(solver="dp"), width=20, made_for="hands")
 
 

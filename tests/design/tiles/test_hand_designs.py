@@ -136,6 +136,42 @@ def test_double_for_hands_prints_and_records_the_hand_cost(tmp_path, capsys):
     assert shares == sorted(shares, reverse=True)  # ranked by it first
 
 
+def test_double_for_hands_ranks_the_constraint_models_design_with_the_tile_designs(
+    tmp_path, capsys
+):
+    rng = np.random.default_rng(5)  # speckled pictures: the tile designs change colour often
+    pics = []
+    for name in ("a", "b"):
+        grey = np.where(rng.random((14, 20)) < 0.5, 30, 230).astype(np.uint8)
+        Image.fromarray(np.stack([grey] * 3, -1)).save(tmp_path / f"{name}.png")
+        pics.append(str(tmp_path / f"{name}.png"))
+    out = tmp_path / "out"
+    main(["double", *pics, "--candidates", "3", "--for", "hands", "--no-read",
+          "--hand-model-seconds", "3", "-o", str(out)])  # fmt: skip
+    text = capsys.readouterr().out
+    summary = json.loads((out / "summary.json").read_text())
+    model = summary["hand_model"]
+    assert model["backend"] == "cpsat" and model["seconds"] == 3
+    rows = [c for c in summary["candidates"] if c["bank"] is None]
+    assert len(rows) == 1 and model["rank"] == rows[0]["rank"]  # ranked with the tiles
+    row = rows[0]
+    assert row["method"] == "constraint model made for hands" and row["score"] is None
+    assert row["hand"]["knittable_rows"] == row["hand"]["rows"]  # measured, every row
+    folder = out / row["folder"]
+    assert (folder / "pattern.pdf").is_file() and (folder / "seen.png").is_file()
+    assert not (folder / "fills.json").exists()  # no tiles to list
+    keys = [(-c["hand"]["knittable_share"], -c["perceptual_score"]) for c in summary["candidates"]]
+    assert keys == sorted(keys)  # one order for both kinds of design
+    assert f"the constraint model made for hands ({model['status']}" in text
+    assert "constraint model made for hands:" in (out / "summary.txt").read_text()
+    # not made for hands: the switch changed nothing, and says so
+    main(["double", *pics, "--candidates", "1", "--no-read", "--hand-model-seconds", "3",
+          "-o", str(tmp_path / "m")])  # fmt: skip
+    plain = json.loads((tmp_path / "m" / "summary.json").read_text())
+    assert "hand_model" not in plain
+    assert any("--hand-model-seconds changed nothing" in n for n in plain["notes"])
+
+
 def test_headon_takes_for_hands_and_a_machine_design_says_what_it_costs_by_hand(tmp_path, capsys):
     front = np.full((8, 12, 3), 240, np.uint8)
     front[2:6, 3:9] = 20
