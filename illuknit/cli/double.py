@@ -173,8 +173,9 @@ def print_summary(summary: dict[str, Any], outdir: Path) -> None:
         for line in _overlap_digest(default["overlaps"]):
             con.print(line)
     n = len(summary["candidates"])
+    model = " and the constraint model's design made for hands" if summary.get("hand_model") else ""
     con.print(
-        f"wrote {n} candidate(s), the best-ranked of {summary['searched']} tile design(s) "
+        f"wrote {n} candidate(s), the best-ranked of {summary['searched']} tile design(s){model} "
         f"searched, to [bold]{outdir}[/] (default: candidate_{summary['default']}):"
     )
     folders = sorted((p.name for p in outdir.iterdir() if p.is_dir()), key=_natural)

@@ -36,9 +36,7 @@ def _serve(app: Any) -> Iterator[int]:
 
 
 @pytest.fixture(autouse=True)
-def _quick_app_searches(
-    request: pytest.FixtureRequest, monkeypatch: pytest.MonkeyPatch
-) -> None:
+def _quick_app_searches(request: pytest.FixtureRequest, monkeypatch: pytest.MonkeyPatch) -> None:
     """Quick searches. No reader (tesseract) for the app tests that do not ask for it with the
     ``reader`` fixture: it adds seconds to every search of two word pictures (the letters most
     of these tests upload), and what it says is tested where it is asked for.
