@@ -15,26 +15,44 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import replace
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Protocol
 
-from illuknit.pipeline.designs import RankedDesign
+from illuknit.pipeline.designs import Progress, RankedDesign
 
 if TYPE_CHECKING:
     import numpy as np
     from numpy.typing import NDArray
 
-    from illuknit.design.options import RankOptions
+    from illuknit.core.pattern import Yarn
+    from illuknit.design.options import RankOptions, SearchOptions
     from illuknit.design.render.params import RenderParams
-    from illuknit.pipeline.tile_search import TileJob
+    from illuknit.pictures.images import QuantisedImage
 
-__all__ = ["HAND_MODEL_LABEL", "hand_model_design", "with_hand_model"]
+
+class TileJobLike(Protocol):
+    """What the constraint model reads of a tile stage's job
+    (:class:`~illuknit.pipeline.tile_search.TileJob`)."""
+
+    @property
+    def qa(self) -> QuantisedImage: ...
+    @property
+    def qb(self) -> QuantisedImage | None: ...
+    @property
+    def yarns(self) -> tuple[Yarn, ...]: ...
+    @property
+    def search(self) -> SearchOptions: ...
+    @property
+    def say(self) -> Progress: ...
+
+
+__all__ = ["HAND_MODEL_LABEL", "TileJobLike", "hand_model_design", "with_hand_model"]
 
 #: The label of the constraint model's design among the tile designs.
 HAND_MODEL_LABEL = "constraint model made for hands"
 
 
 def hand_model_design(
-    job: TileJob,
+    job: TileJobLike,
     targets: Sequence[NDArray[np.uint8]],
     ranking: RankOptions,
     *,

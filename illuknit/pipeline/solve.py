@@ -168,8 +168,11 @@ def illusion_model(
         weights=options.weights,
         alternate_rows=options.alternate_rows,
         split_bumps=options.split_bumps,
-        for_hands=options.for_hands,
     )
+    if options.for_hands:
+        from dataclasses import replace
+
+        problem = replace(problem, for_hands=True)
     return build_model(problem)
 
 

@@ -66,7 +66,7 @@ def test_design_registers_its_backends_in_preference_order():
     names = backend_names()
     assert names[:7] == ["dp", "cpsat", "rc2", "lsu", "fm", "gradient", "descent"]
     assert REGISTRY["dp"] == "illuknit.design.models.backends.dp:DPBackend"
-    assert warm_start_policies() == ("none", "dp", "descent", "auto")
+    assert warm_start_policies() == ("none", "dp", "descent", "hand", "auto")
 
 
 def test_capabilities_are_declared_flags():

@@ -54,6 +54,7 @@ starts the exact backends.
 from __future__ import annotations
 
 from collections.abc import Sequence
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -433,28 +434,7 @@ def solve_illusion(
     weights, time_limit, seed = knobs["weights"], knobs["time_limit"], knobs["seed"]
     alternate_rows, split_bumps = knobs["alternate_rows"], knobs["split_bumps"]
     for_hands = knobs["for_hands"]
-    check_array(target_a, "target_a", ndim=2, integer=True)
-    if target_b is not None:
-        check_array(target_b, "target_b", ndim=2, integer=True)
-    check_str(model, "model")
-    check_str(solver, "solver")
-    check_str(warm_start, "warm_start")
-    if weights is not None:
-        check_instance(weights, KnitWeights, "weights")
-    if yarns is not None:
-        check_yarns(yarns)
-    if n_yarns is not None:
-        check_int(n_yarns, "n_yarns", min=1)
-    if pinned is not None:
-        check_array(pinned, "pinned", ndim=2, integer=True)
-    check_bool(alternate_rows, "alternate_rows")
-    check_bool(split_bumps, "split_bumps")
-    check_bool(for_hands, "for_hands")
-    if time_limit is not None:
-        check_number(time_limit, "time_limit", min=0, min_open=True)
-    check_int(seed, "seed", min=0)
-    if model not in MODEL_KINDS:
-        raise UnknownNameError("model", model, MODEL_KINDS)
+    _check_solve_arguments((target_a, target_b, pinned), knobs, yarns, n_yarns)
     if n_yarns is None and yarns is not None:
         n_yarns = len(yarns)
     prob = make_problem(
@@ -466,8 +446,9 @@ def solve_illusion(
         pinned=pinned,
         alternate_rows=alternate_rows,
         split_bumps=split_bumps,
-        for_hands=for_hands,
     )
+    if for_hands:
+        prob = replace(prob, for_hands=True)
     if yarns is not None and len(yarns) < prob.n_yarns:
         raise YarnSpecError(f"`yarns` must list {prob.n_yarns} yarns, got {len(yarns)}")
     mdl = build_model(prob)
@@ -482,6 +463,36 @@ def solve_illusion(
     check_solution(sol, model)
     pat = pattern_from_solution(prob, sol, yarns=yarns)
     return IllusionResult(pat, sol, prob, report_pattern(pat, prob, sol))
+
+
+def _check_solve_arguments(
+    arrays: tuple[ArrayLike, ArrayLike | None, ArrayLike | None],
+    knobs: dict[str, Any],
+    yarns: Sequence[Yarn] | None,
+    n_yarns: int | None,
+) -> None:
+    """:func:`solve_illusion`'s arguments checked: the targets and pins, every knob, the yarns."""
+    target_a, target_b, pinned = arrays
+    check_array(target_a, "target_a", ndim=2, integer=True)
+    if target_b is not None:
+        check_array(target_b, "target_b", ndim=2, integer=True)
+    for name in ("model", "solver", "warm_start"):
+        check_str(knobs[name], name)
+    if knobs["weights"] is not None:
+        check_instance(knobs["weights"], KnitWeights, "weights")
+    if yarns is not None:
+        check_yarns(yarns)
+    if n_yarns is not None:
+        check_int(n_yarns, "n_yarns", min=1)
+    if pinned is not None:
+        check_array(pinned, "pinned", ndim=2, integer=True)
+    for name in ("alternate_rows", "split_bumps", "for_hands"):
+        check_bool(knobs[name], name)
+    if knobs["time_limit"] is not None:
+        check_number(knobs["time_limit"], "time_limit", min=0, min_open=True)
+    check_int(knobs["seed"], "seed", min=0)
+    if knobs["model"] not in MODEL_KINDS:
+        raise UnknownNameError("model", knobs["model"], MODEL_KINDS)
 
 
 def _solve_knobs(options: SolveOptions | None, knobs: dict[str, Any]) -> dict[str, Any]:

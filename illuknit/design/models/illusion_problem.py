@@ -342,13 +342,12 @@ def make_problem(
     pinned: ArrayLike | None = None,
     alternate_rows: bool = False,
     split_bumps: bool = False,
-    for_hands: bool = False,
 ) -> IllusionProblem:
     """An :class:`IllusionProblem`; ``target_b`` defaults to ``target_a`` (single view).
 
     ``n_yarns`` defaults to ``max(target) + 1``. ``alternate_rows`` (single view only): rows
-    alternate yarns. ``split_bumps`` (logical model only): bumps may be split. ``for_hands``:
-    every row knittable by hand (:attr:`IllusionProblem.for_hands`).
+    alternate yarns. ``split_bumps`` (logical model only): bumps may be split. Made for hands:
+    ``dataclasses.replace(problem, for_hands=True)`` (:attr:`IllusionProblem.for_hands`).
     """
     a = np.asarray(target_a)
     b = a if target_b is None else np.asarray(target_b)
@@ -366,7 +365,6 @@ def make_problem(
         pin,
         bool(alternate_rows),
         bool(split_bumps),
-        bool(for_hands),
     )
 
 

@@ -17,9 +17,10 @@ optimum, which ignores the rows); every later move is exact, so the view cost ne
 it.
 
 >>> import numpy as np
+>>> from dataclasses import replace
 >>> from illuknit.design.models.illusion_problem import make_problem
 >>> a = np.array([[0, 1] * 6] * 3)
->>> p = make_problem(a, a, n_yarns=2, for_hands=True)
+>>> p = replace(make_problem(a, a, n_yarns=2), for_hands=True)
 >>> yarn, raised, cost = hand_row_descent(p, np.array(a), np.zeros(a.shape, bool))
 >>> cost  # alternate every unit: floats of 2 stitches, stranded
 0

@@ -8,6 +8,7 @@ the row it replaces."""
 from __future__ import annotations
 
 import itertools
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -57,7 +58,7 @@ def test_the_encoding_admits_exactly_the_knittable_rows(seed, k):
     if rng.random() < 0.5:  # long runs too: intarsia rows, and floats at the limit
         yarn = np.repeat(rng.integers(0, k, size=(n, 3)), [4, 3, 4], axis=1)
     raised = rng.random((n, m)) < 0.3
-    prob = make_problem(yarn, yarn, n_yarns=k, for_hands=True)
+    prob = replace(make_problem(yarn, yarn, n_yarns=k), for_hands=True)
     model = build_model(prob)
     feasible, _ = model.evaluate(values_from_pattern(model, yarn, raised))
     pattern = LogicalPattern(yarn, raised, YARNS[:k])
@@ -68,7 +69,7 @@ def test_the_descent_makes_every_row_knittable_and_each_row_is_its_best():
     rng = np.random.default_rng(7)
     a = (rng.random((10, 24)) < 0.5).astype(int)
     b = (rng.random((10, 24)) < 0.5).astype(int)
-    prob = make_problem(a, b, n_yarns=2, for_hands=True)
+    prob = replace(make_problem(a, b, n_yarns=2), for_hands=True)
     yarn, raised, _ = solve_dp(prob)
     start = LogicalPattern(yarn, raised, YARNS[:2])
     assert not all(r.knittable for r in hand_rows(start))  # the DP ignores the rows
