@@ -4,7 +4,9 @@
 // is stored with the session, per pattern, so a reload or a restart of the app finds it again.
 "use strict";
 
-const tracker = { data: null, busy: false, pending: null };
+// asked: the number of the latest refresh (an older one's answer is dropped); loading: the row
+// shown may be another pattern's until that answer lands, so Next / Previous wait for it
+const tracker = { data: null, busy: false, pending: null, asked: 0, loading: false };
 
 // the chart's cell and the room for row numbers, in CSS pixels (drawn at the screen's resolution)
 const TRACK_CELL = 10;
@@ -12,13 +14,17 @@ const TRACK_MARGIN = 24;
 
 async function trackerRefresh() {
   const card = $("#tracker-card");
+  const asked = ++tracker.asked;
   if (!state.selected) {
     card.hidden = true;
     tracker.data = null;
+    trackerLoading(false);
     return;
   }
+  trackerLoading(true);
   try {
     const data = await sapi("GET", "/tracker");
+    if (asked !== tracker.asked) return; // a newer refresh is on its way
     const old = tracker.data;
     // the same pattern while this tab's own move is on its way: this tab's row stands
     if (old && old.key === data.key && (tracker.busy || tracker.pending !== null)) data.row = old.row;
@@ -30,9 +36,22 @@ async function trackerRefresh() {
     trackerDrawRows();
     trackerShow(false);
   } catch (err) {
+    if (asked !== tracker.asked) return;
     if (err.code === "no_candidates") { card.hidden = true; return; }
     report(err, "tracker");
+  } finally {
+    if (asked === tracker.asked) trackerLoading(false);
   }
+}
+
+// While the picked pattern's rows are on their way, Next / Previous are off (a click would move
+// the row of the pattern shown before); then they follow the row.
+function trackerLoading(on) {
+  tracker.loading = on;
+  $("#tracker-card").setAttribute("aria-busy", on ? "true" : "false");
+  const d = tracker.data;
+  $("#row-prev").disabled = on || !d || d.row <= 1;
+  $("#row-next").disabled = on || !d || d.row >= d.rows;
 }
 
 function trackerDrawRows() {
@@ -123,8 +142,8 @@ function trackerShow(scroll = true) {
   $("#row-now").textContent = `Row ${d.row} of ${d.rows}`;
   $("#row-side").textContent = w.side === "RS" ? "right side: read the chart right to left" : "wrong side: read the chart left to right";
   $("#row-text").textContent = w.text;
-  $("#row-prev").disabled = d.row <= 1;
-  $("#row-next").disabled = d.row >= d.rows;
+  $("#row-prev").disabled = tracker.loading || d.row <= 1;
+  $("#row-next").disabled = tracker.loading || d.row >= d.rows;
   for (const li of $$("#tracker-rows li")) {
     const on = Number(li.dataset.row) === d.row;
     li.classList.toggle("now", on);
@@ -142,7 +161,7 @@ function trackerShow(scroll = true) {
 
 async function trackerGo(row) {
   const d = tracker.data;
-  if (!d) return;
+  if (!d || tracker.loading) return;
   row = Math.min(d.rows, Math.max(1, row));
   if (row === d.row) return;
   d.row = row;
@@ -167,7 +186,7 @@ async function trackerGo(row) {
 }
 
 function trackerKey(e) {
-  if (!tracker.data || $("#tracker-card").hidden) return;
+  if (!tracker.data || tracker.loading || $("#tracker-card").hidden) return;
   const t = e.target;
   const typing = t && (t.tagName === "TEXTAREA" || t.tagName === "SELECT" || (t.tagName === "INPUT" && !["checkbox", "radio", "button"].includes(t.type)) || t.isContentEditable);
   if (typing || e.ctrlKey || e.metaKey || e.altKey) return;
@@ -208,6 +227,8 @@ function wireTracker() {
     if (s && s.selected === null) {
       $("#tracker-card").hidden = true;
       tracker.data = null;
+      tracker.asked++; // a refresh on its way is for the pattern gone
+      trackerLoading(false);
       seen = "";
       return r;
     }
