@@ -52,6 +52,9 @@ class DesignRequest:
         The default candidate (copied to the top of ``outdir``).
     knitout : bool
         Also knit the default candidate and check the program.
+    hand_model_asked : bool
+        ``--hand-model-seconds`` was given (even at its default), so a design not made for
+        hands notes that it changed nothing.
     """
 
     mode: Literal["double", "headon"]
@@ -64,6 +67,7 @@ class DesignRequest:
     bank_file: Path | None = None
     pick: int = 1
     knitout: bool = False
+    hand_model_asked: bool = False
 
     @property
     def sources(self) -> list[str | None]:
@@ -151,6 +155,7 @@ def _request(
     return cls(
         mode, (path_a, path_b), outdir, sizing, search, ranking, spec,
         bank_file=s["bank_file"], pick=s["pick"], knitout=s["knitout"],
+        hand_model_asked=s["hand_model_seconds"] is not None,
     )  # fmt: skip
 
 
@@ -332,8 +337,8 @@ def _hand_model_note(request: DesignRequest) -> list[str]:
     """A note when --hand-model-seconds changed nothing: the design is not made for hands."""
     from illuknit.design.options import HAND_MODEL_SECONDS
 
-    seconds = request.search.hand_model_seconds
-    if seconds == HAND_MODEL_SECONDS or request.ranking.made_for is MadeFor.HANDS:
+    asked = request.hand_model_asked or request.search.hand_model_seconds != HAND_MODEL_SECONDS
+    if not asked or request.ranking.made_for is MadeFor.HANDS:
         return []
     return [
         "--hand-model-seconds changed nothing: the constraint model made for hands is solved "

@@ -4,6 +4,7 @@ that puts knittable rows first, and ``illuknit double --for hands``."""
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -12,6 +13,7 @@ from hypothesis import strategies as st
 from PIL import Image
 
 from illuknit.cli import main
+from illuknit.cli.tile_design import DesignRequest, _hand_model_note
 from illuknit.core.errors import OptionError
 from illuknit.core.pattern import LogicalPattern, parse_yarns
 from illuknit.design.hand_cost import MAX_FLOAT, hand_cost, hand_rows
@@ -170,6 +172,10 @@ def test_double_for_hands_ranks_the_constraint_models_design_with_the_tile_desig
     plain = json.loads((tmp_path / "m" / "summary.json").read_text())
     assert "hand_model" not in plain
     assert any("--hand-model-seconds changed nothing" in n for n in plain["notes"])
+    # the switch given at its default value changed nothing all the same
+    request = DesignRequest.from_switches(*map(Path, pics), tmp_path / "d", hand_model_seconds=20.0)
+    assert request.hand_model_asked and _hand_model_note(request)
+    assert not _hand_model_note(DesignRequest.from_switches(*map(Path, pics), tmp_path / "d"))
 
 
 def test_headon_takes_for_hands_and_a_machine_design_says_what_it_costs_by_hand(tmp_path, capsys):
