@@ -6,7 +6,7 @@ For every bundled double-view instance (``instances/manifest.toml``; ``--small``
 (:func:`illuknit.design.tiles.perception.rank_designs`), then ranked twice: as for a machine
 (``made_for="machine"``, the default perception order) and as for hands (``made_for="hands"``:
 the share of rows knittable by hand first, then the same order), the hand ranking over those
-designs and the ones a search for hands adds: the row term's and the shared stripes'
+designs and the ones a search for hands adds, the shared stripes'
 (:mod:`illuknit.design.tiles.stripes`; ``--stripe`` tries another stripe). Printed for each, per instance:
 the share of rows knittable by hand (:func:`illuknit.design.hand_cost.hand_cost`: a row in one
 yarn, or with 2 yarns and floats of at most 7 stitches, or with at most 6 intarsia blocks), the
@@ -38,11 +38,7 @@ from typing import Any
 from illuknit.bench.instances import instance_targets, load_manifest
 from illuknit.core.errors import TileAssignmentError
 from illuknit.design.options import DEFAULT_POOL, HAND_MODEL_SECONDS, POOL_SECONDS
-from illuknit.design.tiles.assign import assign_tiles, search_for_hands
-from illuknit.design.tiles.hand_term import (
-    HAND_ROW_CHANGE_PENALTY,
-    with_hand_candidates,
-)
+from illuknit.design.tiles.assign import assign_tiles, with_candidates
 from illuknit.design.tiles.perception import RankedCandidate, rank_designs, rank_key
 from illuknit.design.tiles.stripes import search_stripes, stripe_bank, stripe_yarns
 
@@ -98,7 +94,7 @@ def _solve_cells(m: Any) -> str:
 
 
 def _designs(
-    inst: Any, pool: int, weight: float, stripes: str | bool | None
+    inst: Any, pool: int, stripes: str | bool | None
 ) -> tuple[int, RankedCandidate, RankedCandidate]:
     t = instance_targets(inst)
     pictures = [t.rgb("A"), t.rgb("B")]
@@ -107,11 +103,8 @@ def _designs(
         pool_seconds=POOL_SECONDS,
     )  # fmt: skip
     machine = rank_designs(found, pictures, keep=1)[0]
-    if weight > 0:  # as the tile stage searches for hands: the row term's designs added
-        hand = search_for_hands((t.a, t.palette), (t.b, t.palette), yarns=inst.yarns, candidates=5)
-        found = with_hand_candidates(found, hand)
-    if stripes is not False:  # and the shared-stripe designs
-        found = with_hand_candidates(found, _stripe_designs(inst, t, pool, stripes or None))
+    if stripes is not False:  # as the tile stage searches for hands: the shared stripes added
+        found = with_candidates(found, _stripe_designs(inst, t, pool, stripes or None))
     hands = rank_designs(found, pictures, keep=1, made_for="hands")[0]
     return len(found), machine, hands
 
@@ -120,11 +113,6 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--small", action="store_true", help="leave out the 330 x 200 piece")
     ap.add_argument("--pool", type=int, default=DEFAULT_POOL, help="tile designs searched")
-    ap.add_argument(
-        "--no-term", dest="weight", action="store_const", const=0.0,
-        default=HAND_ROW_CHANGE_PENALTY,
-        help="rank the ordinary pool only (without the row term's designs)",
-    )  # fmt: skip
     ap.add_argument(
         "--no-stripes", dest="stripes", action="store_const", const=False, default=None,
         help="leave out the shared-stripe designs (as before they were searched for hands)",
@@ -160,7 +148,7 @@ def main() -> None:
     two: list[bool] = []  # the target's pairs: 2 yarns
     for inst in insts:
         t0 = time.perf_counter()
-        searched, machine, hands = _designs(inst, args.pool, args.weight, args.stripes)
+        searched, machine, hands = _designs(inst, args.pool, args.stripes)
         h = hands.measures.hand
         assert h is not None
         best, by = hands.measures, "tiles"

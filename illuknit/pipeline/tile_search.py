@@ -140,7 +140,7 @@ def search_tiles(
     job: TileJob, sources: Sequence[ArrayLike] | None, edit_colors: int
 ) -> tuple[list[TileAssignment], list[EditResult]]:
     """The tile assignments (by score), after the simplifying edits (and those edits)."""
-    from illuknit.design.tiles.assign import assign_tiles, search_for_hands
+    from illuknit.design.tiles.assign import assign_tiles
     from illuknit.design.tiles.headon import uniform_side
     from illuknit.design.tiles.simplify import review_edits
 
@@ -182,23 +182,14 @@ def search_tiles(
         brightness=search.brightness.value,
         time_limit=search.time_limit,
     )
-    if job.ranking.made_for is MadeFor.HANDS:
-        from illuknit.design.tiles.hand_term import with_hand_candidates
+    if job.ranking.made_for is MadeFor.HANDS and job.own_bank and job.mode == "double":
+        from illuknit.design.tiles.assign import with_candidates
+        from illuknit.design.tiles.stripes import search_stripes
 
-        # and the designs a search that prefers few colour changes a row finds (issue #37)
-        hand = search_for_hands(
-            first, second, bank=bank, views=job.views, candidates=search.candidates,
-            solver=search.solver, brightness=search.brightness.value,
-            time_limit=search.time_limit,
-        )  # fmt: skip
-        found = with_hand_candidates(found, hand)
-        if job.own_bank and job.mode == "double":
-            from illuknit.design.tiles.stripes import search_stripes
-
-            # and every row in one yarn: the classic shadow-knitting design
-            job.say(0.3, "finding shared-stripe designs (every row one yarn)")
-            stripes = search_stripes(first, second, yarns=job.yarns, **search.assign_kwargs())
-            found = with_hand_candidates(found, stripes)
+        # and every row in one yarn: the classic shadow-knitting design (issue #37)
+        job.say(0.3, "finding shared-stripe designs (every row one yarn)")
+        stripes = search_stripes(first, second, yarns=job.yarns, **search.assign_kwargs())
+        found = with_candidates(found, stripes)
     return found, edits
 
 

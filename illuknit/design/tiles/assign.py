@@ -48,7 +48,6 @@ from illuknit.design.tiles.assignment import (
 )
 from illuknit.design.tiles.bank import TileBank, ViewPair, canonical_bank
 from illuknit.design.tiles.explain import explain_infeasible
-from illuknit.design.tiles.hand_term import hand_weights
 from illuknit.design.tiles.phases import align_phases
 from illuknit.design.tiles.tile import Fill
 
@@ -62,7 +61,7 @@ __all__ = [
     "explain_infeasible",
     "overlap_pairs",
     "regions_of",
-    "search_for_hands",
+    "with_candidates",
 ]
 
 
@@ -204,15 +203,16 @@ def assign_tiles(
     )
 
 
-def search_for_hands(qa: Any, qb: Any, **kw: Any) -> list[TileAssignment]:
-    """The assignments :func:`assign_tiles` finds with the hand knitter's row term
-    (:func:`~illuknit.design.tiles.hand_term.hand_weights`; ``kw`` its other arguments), or none
-    when its larger model finds nothing within the time limit (3 yarns and many regions): the
-    ordinary search's designs are then all a design made for hands is chosen from."""
-    try:
-        return assign_tiles(qa, qb, weights=hand_weights(), explain=False, **kw)
-    except TileAssignmentError:
-        return []
+def with_candidates(
+    found: Sequence[TileAssignment], more: Sequence[TileAssignment]
+) -> list[TileAssignment]:
+    """The assignments of the ordinary search, then those another search (another bank: the
+    shared stripes, :mod:`illuknit.design.tiles.stripes`) found that it did not (the same fills
+    of one bank once), ranked on: a design made for hands is chosen from both, never from fewer
+    than a machine design is."""
+    seen = {(a.bank.name, a.fills_a, a.fills_b) for a in found}
+    new = [a for a in more if (a.bank.name, a.fills_a, a.fills_b) not in seen]
+    return [*found, *(replace(a, rank=len(found) + k + 1) for k, a in enumerate(new))]
 
 
 def _yarns_of(*inputs: Any) -> tuple[Yarn, ...]:

@@ -56,7 +56,6 @@ from illuknit.design.tiles.assignment import (
     overlap_pairs,
 )
 from illuknit.design.tiles.bank import TileBank, ViewPair
-from illuknit.design.tiles.hand_term import HandTerm, hand_term
 from illuknit.design.tiles.phases import align_phases
 from illuknit.design.tiles.tile import Fill
 
@@ -84,7 +83,6 @@ class _Problem:
     row_classes: list[tuple[frozenset[int], frozenset[int], int]]  # (A colours, B colours, weight)
     brightness: str
     weights: AssignmentWeights
-    hand: HandTerm | None = None  # the hand knitter's row term (row_change_penalty > 0)
 
 
 def _lum(colors: NDArray[np.uint8]) -> NDArray[np.float64]:
@@ -134,16 +132,10 @@ def _build_problem(
     row_classes = [
         (ka, kb, round(weights.yarn_penalty * SCALE * cnt / n)) for (ka, kb), cnt in classes.items()
     ]
-    hand = None
-    if weights.row_change_penalty > 0:
-        hand = hand_term(
-            bank, views, (fa, fb), compat, (ra.indices, rb.indices), pairs,
-            weights.row_change_penalty * SCALE,
-        )  # fmt: skip
     return _Problem(
         bank, views, ra, rb, pairs, cols_a, cols_b, fa, fb, compat,
         closeness(ra.colors, fa), closeness(rb.colors, fb), stripes(fa), stripes(fb),
-        row_classes, brightness, weights, hand,
+        row_classes, brightness, weights,
     )  # fmt: skip
 
 
@@ -232,8 +224,6 @@ def _encode(prob: _Problem):
             if w > 0:
                 cl.soft([-xb[b, g]], w)
     _yarns_per_course(cl, m, prob, xa, xb)
-    if prob.hand is not None:
-        _row_changes(cl, m, prob.hand, prob.pairs, xa, xb)
     cl.add_to(m)
 
     def block(ca: Mapping[int, int], cb: Mapping[int, int]) -> None:
@@ -305,41 +295,6 @@ def _yarns_per_course(
                         cl.hard([-xb[b, g], u], family="yarns per course")
 
 
-def _row_changes(
-    cl: _Clauses,
-    m: Any,
-    term: HandTerm,
-    pairs: Mapping[tuple[int, int], int],
-    xa: dict[tuple[int, int], int],
-    xb: dict[tuple[int, int], int],
-) -> None:
-    """Few colour changes a hand-knitted row (:mod:`illuknit.design.tiles.hand_term`): a row
-    signature variable per overlap pair, its inside changes and its meetings' changes soft."""
-    sig: dict[tuple[tuple[int, int], int], int] = {}
-    reach: dict[int, list[tuple[int, int]]] = {}
-    for fg, s in term.sig_of.items():
-        reach.setdefault(s, []).append(fg)
-    for p in term.area:
-        if p not in pairs:  # a restricted problem (explain.py) keeps some pairs only
-            continue
-        a, b = p
-        for s, fgs in reach.items():
-            sig[p, s] = m.var(("rowsig", a, b, s))
-            for f, g in fgs:
-                cl.hard([-xa[a, f], -xb[b, g], sig[p, s]], family="row signature")
-            w = term.pair_cost(p, s)
-            if w > 0:
-                cl.soft([-sig[p, s]], w)
-        m.add_exactly_one([sig[p, s] for s in reach], family="row signature")
-    n_sig = len(term.sigs)
-    for pq in term.meets:
-        for s in range(n_sig):
-            for t in range(n_sig):
-                w = term.meet_cost(pq, s, t)
-                if w > 0 and (pq[0], s) in sig and (pq[1], t) in sig:
-                    cl.soft([-sig[pq[0], s], -sig[pq[1], t]], w)
-
-
 def _cost(prob: _Problem, ca: Mapping[int, int], cb: Mapping[int, int]) -> dict[str, int] | None:
     """Integer cost parts of a choice, or None when it breaks a hard constraint."""
     for a, b in prob.pairs:
@@ -382,8 +337,6 @@ def _cost(prob: _Problem, ca: Mapping[int, int], cb: Mapping[int, int]) -> dict[
         "yarns_per_course": yarns,
         "brightness_order": order,
     }
-    if prob.hand is not None:
-        parts["row_changes"] = prob.hand.cost(ca, cb)
     return parts
 
 

@@ -46,12 +46,9 @@ class AssignmentWeights:
     stripe_penalty: float = 8.0
     yarn_penalty: float = 3.0
     order_penalty: float = 50.0
-    #: ΔE per colour change a hand-knitted row makes (0: off, the machine design); see
-    #: :mod:`illuknit.design.tiles.hand_term`. :data:`HAND_WEIGHTS` turn it on.
-    row_change_penalty: float = 0.0
 
     def __post_init__(self) -> None:
-        for k in ("stripe_penalty", "yarn_penalty", "order_penalty", "row_change_penalty"):
+        for k in ("stripe_penalty", "yarn_penalty", "order_penalty"):
             if not getattr(self, k) >= 0:
                 raise TileAssignmentError(f"`{k}` must be >= 0, got {getattr(self, k)!r}")
 

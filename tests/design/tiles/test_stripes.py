@@ -16,6 +16,7 @@ from illuknit.cli import main
 from illuknit.core.errors import TileBankError, YarnSpecError
 from illuknit.core.pattern import parse_yarns
 from illuknit.design.hand_cost import hand_cost
+from illuknit.design.tiles.assign import assign_tiles, with_candidates
 from illuknit.design.tiles.bank import bank_from_json, bank_to_json, canonical_bank
 from illuknit.design.tiles.compile import compile_tiles
 from illuknit.design.tiles.stripes import (
@@ -160,3 +161,17 @@ def test_a_bank_of_your_own_gets_no_stripe_designs(tmp_path, capsys):
           "-o", str(tmp_path / "o")])  # fmt: skip
     summary = json.loads((tmp_path / "o" / "summary.json").read_text())
     assert STRIPE_BANK_NAME not in {c["bank"] for c in summary["candidates"]}
+
+
+def test_a_design_for_hands_is_chosen_from_the_pool_and_the_stripes():
+    ia = np.kron([[0, 1, 0], [1, 0, 1]], np.ones((4, 4), int)).astype(np.int16)
+    ib = np.kron([[0, 0, 1], [1, 1, 0]], np.ones((4, 4), int)).astype(np.int16)
+    grey = np.array([[30, 30, 30], [220, 220, 220]], np.uint8)
+    found = assign_tiles((ia, grey), (ib, grey), yarns=YARNS, candidates=2)
+    stripes = search_stripes((ia, grey), (ib, grey), yarns=YARNS, candidates=3)
+    both = with_candidates(found, [*stripes, *found])  # the pool's own designs come once
+    keys = [(a.bank.name, a.fills_a, a.fills_b) for a in both]
+    assert both[: len(found)] == found and len(set(keys)) == len(keys)
+    assert len(both) == len(found) + len(stripes)
+    assert {a.bank.name for a in both[len(found) :]} == {STRIPE_BANK_NAME}
+    assert [a.rank for a in both] == list(range(1, len(both) + 1))
