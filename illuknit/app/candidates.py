@@ -183,6 +183,7 @@ def _tile_candidates(
         except AppRequestError as e:  # raised in the search's own process: name the control
             e.field = e.field or "n_colors"
             raise
+    instead = _alternative_details(design)
     return [
         Candidate(
             rank=d.rank,
@@ -193,6 +194,7 @@ def _tile_candidates(
                 **_assignment_details(d.assignment, d.report),
                 **_hand_details(d, made_for),
                 **_order_details(design.order),
+                **(instead if d.rank == 1 else {}),
             },
             source=d.assignment,
             legibility=d.legibility,
@@ -253,6 +255,16 @@ def _hand_details(design: Any, made_for: str) -> dict[str, Any]:
             "shared_stripes": stripes,
         },
     }
+
+
+def _alternative_details(design: Any) -> dict[str, Any]:
+    """On the first card: the candidates a user may prefer to it and why
+    (:func:`~illuknit.pipeline.alternatives.alternatives`), each ``{"rank", "text"}``;
+    nothing when there are none."""
+    from illuknit.pipeline.alternatives import alternative_sentences, alternatives
+
+    said = alternative_sentences(alternatives(design))
+    return {"alternatives": [{"rank": r, "text": t} for r, t in said]} if said else {}
 
 
 def _order_details(order: Any) -> dict[str, Any]:

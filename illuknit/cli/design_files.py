@@ -17,6 +17,7 @@ if TYPE_CHECKING:
     from illuknit.pipeline.designs import RankedDesign, TileDesign
 
 __all__ = [
+    "alternative_lines",
     "fmt_number",
     "order_lines",
     "reads_cells",
@@ -338,6 +339,7 @@ def summary_text(summary: dict[str, Any], overlap_lines: list[str]) -> str:
         *_hand_model_lines(summary),
         "",
         *verdict_lines(summary),
+        *alternative_lines(summary),
         *order_lines(summary),
         f"best {len(summary['candidates'])} of {summary['searched']} tile designs searched, "
         f"ranked by {summary.get('ranked_by', 'score')}; correlation / contrast per view; worst ghosting "
@@ -390,6 +392,16 @@ def reads_cells(row: dict[str, Any]) -> tuple[str, str]:
         word = "yes" if side["reads"] else "no"
         cells.append(word + ("*" if side["judge"] != "reader" else ""))
     return (cells[0], cells[1])
+
+
+def alternative_lines(summary: dict[str, Any]) -> list[str]:
+    """The candidates shown that a user may prefer to the default and why
+    (:func:`~illuknit.pipeline.alternatives.alternatives`), each with the switch that picks it."""
+    from illuknit.pipeline.alternatives import alternative_sentences
+
+    said = alternative_sentences(summary)
+    out = [f"{text}: --pick {rank} to make it the default" for rank, text in said]
+    return [*out, ""] if out else []
 
 
 def verdict_lines(summary: dict[str, Any]) -> list[str]:

@@ -17,7 +17,13 @@ from typing import Any
 
 import click
 
-from illuknit.cli.design_files import fmt_number, order_lines, reads_cells, verdict_lines
+from illuknit.cli.design_files import (
+    alternative_lines,
+    fmt_number,
+    order_lines,
+    reads_cells,
+    verdict_lines,
+)
 from illuknit.cli.knitout_bridge import format_option, long_floats_option, machine_option
 from illuknit.cli.options import (
     Decorator,
@@ -162,7 +168,7 @@ def print_summary(summary: dict[str, Any], outdir: Path) -> None:
             f"({size['width_in']} x {size['height_in']} in) at {size['gauge']} "
             f"({size['gauge_source']})"
         )
-    for line in [*verdict_lines(summary), *order_lines(summary)]:
+    for line in [*verdict_lines(summary), *alternative_lines(summary), *order_lines(summary)]:
         if line:
             con.print(line, markup=False, highlight=False)
     hand_line = _hand_line(summary)

@@ -375,6 +375,7 @@ def write_design(
     candidate's ``seen.png``; ``notes`` (what a switch did or did not do) go into the summary."""
     from illuknit.core.files import atomic_write_text, staged_dir
     from illuknit.outputs.previews import unit_scale
+    from illuknit.pipeline.alternatives import alternatives
 
     gauge = request.machine.fabric_gauge
     pick, sources = request.pick, request.sources
@@ -436,6 +437,7 @@ def write_design(
         }
         if rows and rows[0].get("legibility"):
             summary["read_by"] = rows[0]["legibility"]["reader"]
+        summary.update(alternatives(design, pick))
         step = legible_step(design, pick, request)
         if step is not None:
             summary["next_step"] = step

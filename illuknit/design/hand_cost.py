@@ -35,12 +35,16 @@ from illuknit.core.pattern import LogicalPattern, check_pattern
 
 __all__ = [
     "CATCH_EVERY",
+    "COLOUR_STITCHES_PER_MINUTE",
     "MAX_FLOAT",
     "MAX_HAND_BLOCKS",
     "MAX_HAND_YARNS",
+    "MINUTES_PER_CHANGE",
+    "PLAIN_STITCHES_PER_MINUTE",
     "HandCost",
     "HandRow",
     "hand_cost",
+    "hand_hours",
     "hand_rows",
 ]
 
@@ -52,6 +56,13 @@ MAX_FLOAT = 7
 MAX_HAND_YARNS = 2
 #: The most colour blocks (bobbins hanging at once) an intarsia row may have.
 MAX_HAND_BLOCKS = 6
+#: Assumed hand-knitting speed, stitches a minute, in rows of one yarn: a rule of thumb for an
+#: average knitter (20-30 are commonly quoted), not measured by illuknit.
+PLAIN_STITCHES_PER_MINUTE = 25.0
+#: ... and in rows of two or more yarns (stranded or intarsia): about half as fast.
+COLOUR_STITCHES_PER_MINUTE = 12.0
+#: Minutes each colour change in a row costs on top (drop, pick up, twist, untangle).
+MINUTES_PER_CHANGE = 0.1
 
 
 @dataclass(frozen=True)
@@ -202,3 +213,17 @@ def hand_cost(pattern: LogicalPattern) -> HandCost:
         max_yarns=max(r.yarns for r in rows),
         max_blocks=max(r.blocks for r in rows),
     )
+
+
+def hand_hours(pattern: LogicalPattern) -> float:
+    """Hours of hand knitting estimated from the stitch counts and colour work, at the rates
+    :data:`PLAIN_STITCHES_PER_MINUTE` and :data:`COLOUR_STITCHES_PER_MINUTE` and
+    :data:`MINUTES_PER_CHANGE` a colour change (rules of thumb, not measured)."""
+    width = 2 * check_pattern(pattern).shape[1]
+    minutes = sum(
+        width / PLAIN_STITCHES_PER_MINUTE
+        if r.yarns == 1
+        else width / COLOUR_STITCHES_PER_MINUTE + r.changes * MINUTES_PER_CHANGE
+        for r in hand_rows(pattern)
+    )
+    return minutes / 60

@@ -27,7 +27,14 @@ import numpy as np
 from illuknit.core.arguments import check_int
 from illuknit.core.gauge import Gauge
 from illuknit.core.pattern import LogicalPattern
-from illuknit.design.hand_cost import MAX_FLOAT, MAX_HAND_BLOCKS
+from illuknit.design.hand_cost import (
+    COLOUR_STITCHES_PER_MINUTE,
+    MAX_FLOAT,
+    MAX_HAND_BLOCKS,
+    MINUTES_PER_CHANGE,
+    PLAIN_STITCHES_PER_MINUTE,
+    hand_hours,
+)
 
 __all__ = [
     "CATCH_EVERY",
@@ -431,13 +438,6 @@ def yarn_estimate(
     return out
 
 
-#: Assumed hand-knitting speed, stitches a minute, in rows of one yarn: a rule of thumb for an
-#: average knitter (20-30 are commonly quoted), not measured by illuknit.
-PLAIN_STITCHES_PER_MINUTE = 25.0
-#: ... and in rows of two or more yarns (stranded or intarsia): about half as fast.
-COLOUR_STITCHES_PER_MINUTE = 12.0
-#: Minutes each colour change in a row costs on top (drop, pick up, twist, untangle).
-MINUTES_PER_CHANGE = 0.1
 #: A design is for machines only when a row's float exceeds this many stitches (a yarn carried
 #: behind that many stitches needs catching all along: slow, and the carried yarn's bulk at the
 #: back flattens the ridges the illusion needs, paper section 4.1) ...
@@ -458,19 +458,11 @@ class HandVerdict:
 
 
 def hand_verdict(pattern: LogicalPattern) -> HandVerdict:
-    """Hours of hand knitting estimated from the stitch counts and colour work (rates
-    :data:`PLAIN_STITCHES_PER_MINUTE`, :data:`COLOUR_STITCHES_PER_MINUTE`,
-    :data:`MINUTES_PER_CHANGE`: estimates), the technique, and whether the design is for
+    """Hours of hand knitting estimated from the stitch counts and colour work
+    (:func:`~illuknit.design.hand_cost.hand_hours`: rules of thumb), the technique, and whether the design is for
     machines only (:data:`MACHINE_ONLY_FLOAT`, :data:`MACHINE_ONLY_CHANGES`)."""
     advice = hand_advice(pattern)
-    width = 2 * pattern.shape[1]
-    minutes = sum(
-        width / PLAIN_STITCHES_PER_MINUTE
-        if r.yarns == 1
-        else width / COLOUR_STITCHES_PER_MINUTE + r.changes * MINUTES_PER_CHANGE
-        for r in advice.rows
-    )
-    hours = minutes / 60
+    hours = hand_hours(pattern)
     floats = max((r.longest_float for r in advice.rows if r.technique == "stranded"), default=0)
     changes = max(r.changes for r in advice.rows)
     coloured = sum(r.yarns > 1 for r in advice.rows)

@@ -112,6 +112,21 @@ function orderText(cand) {
   return div;
 }
 
+// On the search's first design, the candidates a designer may prefer to it and why (much less
+// of the other picture showing, or much less knitting by hand, reading nearly as well).
+function alternativesText(cand) {
+  const found = cand.rank === 1 && cand.details && cand.details.alternatives;
+  if (!Array.isArray(found) || !found.length) return null;
+  const div = document.createElement("div");
+  div.className = "alternatives";
+  for (const a of found) {
+    const p = document.createElement("p");
+    p.textContent = `${a.text}: pick #${a.rank} to knit it instead`;
+    div.appendChild(p);
+  }
+  return div;
+}
+
 // One side's verdict on a card: the reader's sentence, or a picture's estimate said as one.
 function sideText(side) {
   if (side.judge !== "shapes") return `${side.reads ? "✓" : "✗"} ${side.sentence}`;
@@ -212,6 +227,8 @@ async function loadCandidates() {
     // on the search's first design: the order it ranked by and why (word pairs: the reader)
     const said = orderText(cand);
     if (said) card.appendChild(said);
+    const instead = alternativesText(cand);
+    if (instead) card.appendChild(instead);
     const fills = cand.details && cand.details.fills;
     if (Array.isArray(fills) && fills.length) {
       const f = document.createElement("div");

@@ -62,11 +62,14 @@ from illuknit.design.tiles.candidate_measures import (
 
 __all__ = [
     "ACUITY_ARCMIN",
+    "CLEANER_GHOSTING_MARGIN",
+    "CLEANER_SCORE_ALLOWANCE",
     "CONTRAST_FLOOR",
     "CONTRAST_PENALTY",
     "DEFAULT_POOL",
     "GHOST_THRESHOLD",
     "POOL_SECONDS",
+    "QUICKER_HOURS_SHARE",
     "RANK_KEYS",
     "WRONG_THRESHOLD",
     "CandidateMeasures",
@@ -74,9 +77,11 @@ __all__ = [
     "MeasureContext",
     "RankedCandidate",
     "RankedDesigns",
+    "cleaner_alternative",
     "diagnostic_rgb",
     "eye_blur_units",
     "measure_candidate",
+    "quicker_alternative",
     "rank_candidates",
     "rank_designs",
     "rank_key",
@@ -124,6 +129,88 @@ def rank_key(
         read = -float(m.sides_read) if m.sides_read is not None else 0.0
         return (read, -m.perceptual_score, m.worst_visible_ghosting, time, score)
     return (time, -m.perceptual_score, score)  # knit-time
+
+
+#: A candidate is named as cleaner than the default (:func:`cleaner_alternative`) when the other
+#: picture shows in it at most half as much and at least this much less: a share of its worse
+#: view's variation (``CandidateMeasures.worst_visible_ghosting``)...
+CLEANER_GHOSTING_MARGIN = 0.10
+#: ... and its perceptual score is at most this much lower (issue #37's readability allowance;
+#: :func:`quicker_alternative` too).
+CLEANER_SCORE_ALLOWANCE = 0.05
+#: A candidate is named as quicker by hand (:func:`quicker_alternative`) when it takes at most
+#: this share of the default's estimated hours.
+QUICKER_HOURS_SHARE = 0.75
+
+
+def _nearly_as_good(m: CandidateMeasures, d: CandidateMeasures, *, hands: bool) -> bool:
+    """``m`` reads nearly as well as ``d`` (:data:`CLEANER_SCORE_ALLOWANCE`), no fewer sides
+    where both were read, and with ``hands`` has at least as many rows knittable by hand."""
+    if m.perceptual_score < d.perceptual_score - CLEANER_SCORE_ALLOWANCE:
+        return False
+    if m.sides_read is not None and d.sides_read is not None and m.sides_read < d.sides_read:
+        return False
+    if hands and m.hand is not None and d.hand is not None:
+        return m.hand.knittable_share >= d.hand.knittable_share
+    return True
+
+
+def _best_of(
+    measures: Sequence[CandidateMeasures], found: list[int], *more: Callable[[int], float]
+) -> int | None:
+    """Of the indices ``found``, the best perceptual score (then ``more``'s keys, then the
+    first); None when there is none."""
+    if not found:
+        return None
+    return min(found, key=lambda k: (-measures[k].perceptual_score, *(f(k) for f in more), k))
+
+
+def cleaner_alternative(
+    measures: Sequence[CandidateMeasures], default: int, *, hands: bool = False
+) -> int | None:
+    """The index of a candidate in which the other picture shows much less than in
+    ``measures[default]`` (:data:`CLEANER_GHOSTING_MARGIN`, and at most half) and that reads
+    nearly as well (:data:`CLEANER_SCORE_ALLOWANCE`), neither reading fewer sides (where both
+    were read) nor, with ``hands``, having fewer rows knittable by hand; of those, the best
+    perceptual score. None when there is none: the order already put the cleanest first, or
+    cleaner designs read worse.
+
+    The orders rank by what reads (ghosting breaks ties only), so a design solved for the views
+    alone, like the constraint model's design made for hands, can rank first with much of the
+    other picture in it; the summaries name the alternative (``--pick``)."""
+    d = measures[default]
+    worst = d.worst_visible_ghosting
+    found = [
+        k
+        for k, m in enumerate(measures)
+        if k != default
+        and m.worst_visible_ghosting <= min(worst / 2, worst - CLEANER_GHOSTING_MARGIN)
+        and _nearly_as_good(m, d, hands=hands)
+    ]
+    return _best_of(measures, found, lambda k: measures[k].worst_visible_ghosting)
+
+
+def quicker_alternative(
+    measures: Sequence[CandidateMeasures], hours: Sequence[float], default: int
+) -> int | None:
+    """For a design made for hands: the index of a candidate that takes at most
+    :data:`QUICKER_HOURS_SHARE` of the default's estimated hours of hand knitting (``hours``,
+    one a candidate: :func:`illuknit.design.hand_cost.hand_hours`, the cover's estimate), has as
+    many rows knittable by hand, and reads nearly as well (:data:`CLEANER_SCORE_ALLOWANCE`);
+    of those, the best perceptual score. None when there is none.
+
+    The order for hands ranks by the rows knittable, then by what reads: two designs every row
+    of which a hand knitter can work rank by readability alone, however much more colour work
+    one of them is."""
+    d = measures[default]
+    found = [
+        k
+        for k, m in enumerate(measures)
+        if k != default
+        and hours[k] <= QUICKER_HOURS_SHARE * hours[default]
+        and _nearly_as_good(m, d, hands=True)
+    ]
+    return _best_of(measures, found, lambda k: hours[k])
 
 
 def rank_candidates(

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -15,9 +16,11 @@ from illuknit.core.errors import OptionError
 from illuknit.core.pattern import LogicalPattern, parse_yarns
 from illuknit.design.tiles.assign import assign_tiles
 from illuknit.design.tiles.perception import (
+    CLEANER_GHOSTING_MARGIN,
     CONTRAST_FLOOR,
     RANK_KEYS,
     CandidateMeasures,
+    cleaner_alternative,
     diagnostic_rgb,
     measure_candidate,
     rank_candidates,
@@ -328,3 +331,54 @@ def test_rank_designs_takes_its_measuring_as_a_context_or_as_the_old_keywords():
         rank_designs(pool, pictures, context={"angle": 40.0})
     with pytest.raises(OptionError, match="knit_time"):
         rank_designs(pool, pictures, rank_by="knit-time", context=context)
+
+
+def test_a_cleaner_candidate_is_named_when_the_default_shows_much_of_the_other_picture():
+    ghostly = _m((0.95, 0.944), ghost=(0.8, 0.8))  # shows 0.8 * sqrt(1 - 0.944**2) = 0.26
+    clean = _m((0.96, 0.935), ghost=(0.1, 0.12))  # 0.04, reads nearly as well
+    cleaner_still = _m((0.96, 0.89), ghost=(0.0, 0.0))  # cleaner, but 0.054 below: not offered
+    assert ghostly.worst_visible_ghosting == pytest.approx(0.264, abs=1e-3)
+    assert cleaner_alternative([ghostly, cleaner_still, clean], 0) == 2
+    assert cleaner_alternative([ghostly, cleaner_still], 0) is None
+    # the default already the cleanest, or no candidate cleaner by the margin: none
+    assert cleaner_alternative([clean, ghostly], 0) is None
+    slightly = _m((0.95, 0.944), ghost=(0.5, 0.5))  # half as much, but only 0.1 less
+    assert (
+        ghostly.worst_visible_ghosting - slightly.worst_visible_ghosting < CLEANER_GHOSTING_MARGIN
+    )
+    assert cleaner_alternative([ghostly, slightly], 0) is None
+    little = _m((0.95, 0.944), ghost=(0.2, 0.2))  # 0.066: less by 0.20 (> the margin)
+    assert cleaner_alternative([ghostly, little], 0) == 1
+    # a candidate that reads fewer sides is never offered for less ghosting
+    read_two, read_one = replace(ghostly, sides_read=2), replace(clean, sides_read=1)
+    assert cleaner_alternative([read_two, read_one], 0) is None
+    assert cleaner_alternative([read_two, replace(clean, sides_read=2)], 0) == 1
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    st.lists(
+        st.tuples(st.floats(0.3, 1.0), st.floats(0.3, 1.0), st.floats(0.0, 1.0)),
+        min_size=1,
+        max_size=6,
+    ),
+    st.data(),
+)
+def test_the_cleaner_candidate_is_cleaner_and_reads_nearly_as_well(rows, data):
+    ms = [_m((a, b), ghost=(g, g)) for a, b, g in rows]
+    default = data.draw(st.integers(0, len(ms) - 1))
+    k = cleaner_alternative(ms, default)
+    d = ms[default]
+    ok = [
+        i
+        for i, m in enumerate(ms)
+        if i != default
+        and m.worst_visible_ghosting <= d.worst_visible_ghosting / 2
+        and m.worst_visible_ghosting <= d.worst_visible_ghosting - CLEANER_GHOSTING_MARGIN
+        and m.perceptual_score >= d.perceptual_score - 0.05
+    ]
+    if not ok:
+        assert k is None
+    else:
+        assert k in ok
+        assert ms[k].perceptual_score == max(ms[i].perceptual_score for i in ok)
