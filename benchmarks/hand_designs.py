@@ -10,7 +10,9 @@ designs and the ones a search for hands adds, the shared stripes'
 (:mod:`illuknit.design.tiles.stripes`; ``--stripe`` tries another stripe). Printed for each, per instance:
 the share of rows knittable by hand (:func:`illuknit.design.hand_cost.hand_cost`: a row in one
 yarn, or with 2 yarns and floats of at most 7 stitches, or with at most 6 intarsia blocks), the
-colour changes a row (max / mean), the longest float (stitches) and the worse-view readability;
+colour changes a row (max / mean), the longest float (stitches), the estimated hours of hand
+knitting (:attr:`~illuknit.design.hand_cost.HandCost.hours`, the pattern cover's rules of thumb)
+and the worse-view readability;
 and whether the target holds: every row knittable and readability within 0.05 of the machine
 design. Rows are hand rows (2 a unit row), stitches 2 a unit, as the hand pattern counts them.
 
@@ -89,7 +91,8 @@ def _solve_cells(m: Any) -> str:
     h = m.hand
     return (
         f"{h.knittable_rows:>4}/{h.rows:<4} {h.max_changes:>3}/{h.mean_changes:<4.1f} "
-        f"{h.longest_float:>5} {m.worse_readability:>6.3f} {m.worst_visible_ghosting:>5.3f}"
+        f"{h.longest_float:>5} {h.hours:>5.1f} {m.worse_readability:>6.3f} "
+        f"{m.worst_visible_ghosting:>5.3f}"
     )
 
 
@@ -135,10 +138,11 @@ def main() -> None:
     insts = [i for i in load_manifest().instances if i.kind == "double"]
     if args.small:
         insts = [i for i in insts if i.size[0] * i.size[1] <= 20_000]
-    head = f"{'rows ok':>9} {'chg max/mean':>12} {'float':>5} {'read':>6} {'shows':>5}"
+    head = f"{'rows ok':>9} {'chg max/mean':>12} {'float':>5} {'hours':>5} {'read':>6} {'shows':>5}"
     print(
         f"{args.pool} tile designs searched per pair; rows ok = hand rows knittable (one yarn, "
-        "or 2 yarns with floats <= 7 sts, or <= 6 intarsia blocks); float in stitches; read = "
+        "or 2 yarns with floats <= 7 sts, or <= 6 intarsia blocks); float in stitches; hours: "
+        "of hand knitting, the pattern cover's estimate (rules of thumb); read = "
         "worse-view readability at the default viewpoint (30 degrees, 3 m)"
     )
     print(f"{'instance':<24} {'yarns':>5} {'searched':>8} | machine: {head} | hands, tiles: "

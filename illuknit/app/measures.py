@@ -24,8 +24,18 @@ from typing import Any
 __all__ = ["ORDERS", "measure_all", "measure_candidate", "order_candidates"]
 
 #: Ways the page can order candidates: the search's own rank, or a perception.RANK_KEYS order
-#: (``legibility``: most sides the reader reads first, then the perceptual score).
-ORDERS = ("rank", "perception", "legibility", "readability", "contrast", "ghosting", "knit_time")
+#: (``legibility``: most sides the reader reads first, then the perceptual score; ``hand_time``:
+#: the estimated hours of hand knitting, quickest first).
+ORDERS = (
+    "rank",
+    "perception",
+    "legibility",
+    "readability",
+    "contrast",
+    "ghosting",
+    "knit_time",
+    "hand_time",
+)
 
 
 def measure_candidate(
@@ -81,7 +91,7 @@ def order_candidates(candidates: Sequence[Any], order: str, *, hands: bool = Fal
     if order == "rank" or not by_rank or any(c.measured is None for c in by_rank):
         return by_rank
     scores = [c.score if c.score is not None else float(c.rank) for c in by_rank]
-    by = "knit-time" if order == "knit_time" else order
+    by = order.replace("_", "-")  # knit_time, hand_time: the library's knit-time, hand-time
     measured = [c.measured for c in by_rank]
     searched_by_reader = all(
         (getattr(c, "details", None) or {}).get("ranked_by") == "legibility" for c in by_rank

@@ -17,8 +17,11 @@ if TYPE_CHECKING:
     from illuknit.pipeline.designs import RankedDesign, TileDesign
 
 __all__ = [
+    "HAND_TABLE_HEADS",
     "alternative_lines",
+    "by_hand",
     "fmt_number",
+    "hand_table",
     "order_lines",
     "reads_cells",
     "summary_text",
@@ -367,9 +370,72 @@ def summary_text(summary: dict[str, Any], overlap_lines: list[str]) -> str:
         "* = default candidate (its pattern is also ./pattern.json); each is in candidate_K/"
     )
     lines += _COLUMN_NOTES
+    lines += hand_table(summary)
     if overlap_lines:
         lines += ["", f"default candidate: {overlap_lines[0]}", *overlap_lines[1:]]
     return "\n".join(lines) + "\n"
+
+
+def by_hand(summary: dict[str, Any]) -> bool:
+    """Whether the summary's designs were made for hands or ranked by hand-time: its tables
+    then say what each costs by hand."""
+    return summary.get("made_for") == "hands" or summary.get("ranked_by") == "hand-time"
+
+
+#: The columns of :func:`hand_table`.
+HAND_TABLE_HEADS = (
+    "rank",
+    "default",
+    "knittable rows",
+    "colour rows",
+    "changes a row (mean / max)",
+    "longest float",
+    "catches",
+    "hours",
+)
+
+
+def hand_table(summary: dict[str, Any]) -> list[str]:
+    """Made for hands (:func:`by_hand`): each candidate's rows as a hand knitter works them, a
+    table for summary.txt (none otherwise, or when not measured)."""
+    rows = [r for r in summary["candidates"] if r.get("hand")]
+    if not by_hand(summary) or not rows:
+        return []
+    from illuknit.design.hand_cost import (
+        COLOUR_STITCHES_PER_MINUTE,
+        MINUTES_PER_CHANGE,
+        PLAIN_STITCHES_PER_MINUTE,
+    )
+
+    out = [
+        "",
+        "by hand: the rows of each candidate as a hand knitter works them (2 a unit row, "
+        "2 stitches a unit)",
+        "  ".join(HAND_TABLE_HEADS),
+    ]
+    for r in rows:
+        h = r["hand"]
+        cells = (
+            str(r["rank"]),
+            "*" if r["default"] else "",
+            f"{h['knittable_rows']} of {h['rows']}",
+            f"{h['colour_rows']} of {h['rows']}",
+            f"{h['mean_changes']:.1f} / {h['max_changes']}",
+            f"{h['longest_float']} sts",
+            str(h["catches"]),
+            f"{h['hours']:.1f}",
+        )
+        out.append(
+            "  ".join(c.rjust(len(head)) for c, head in zip(cells, HAND_TABLE_HEADS, strict=True))
+        )
+    out += [
+        "knittable: 2 yarns with floats of at most 7 stitches, or at most 6 intarsia blocks; "
+        "longest float: of the rows not worked in intarsia;",
+        f"hours: estimated at {PLAIN_STITCHES_PER_MINUTE:g} stitches a minute in one yarn, "
+        f"{COLOUR_STITCHES_PER_MINUTE:g} in colour work and {MINUTES_PER_CHANGE:g} min a colour "
+        "change (rules of thumb, not measured; --rank-by hand-time ranks by them)",
+    ]
+    return out
 
 
 def order_lines(summary: dict[str, Any]) -> list[str]:

@@ -19,6 +19,7 @@ import click
 
 from illuknit.cli.design_files import (
     alternative_lines,
+    by_hand,
     fmt_number,
     order_lines,
     reads_cells,
@@ -83,10 +84,24 @@ SUMMARY_COLUMNS = (
     "fills B",
     "cost ΔE",
 )
+#: ... and for a design made for hands (or ranked by hand-time), what it costs by hand, after
+#: how it reads.
+HAND_COLUMNS = ("rows by hand", "hours by hand")
+
+
+def summary_columns(summary: dict[str, Any]) -> tuple[str, ...]:
+    """The columns of ``summary``'s table, most important first."""
+    if not by_hand(summary):
+        return SUMMARY_COLUMNS
+    k = SUMMARY_COLUMNS.index("reads A / B") + 1
+    return (*SUMMARY_COLUMNS[:k], *HAND_COLUMNS, *SUMMARY_COLUMNS[k:])
 
 
 def _summary_cells(r: dict[str, Any]) -> dict[str, str]:
+    hand = r.get("hand")
     return {
+        "rows by hand": "-" if not hand else f"{hand['knittable_rows']} of {hand['rows']}",
+        "hours by hand": "-" if not hand else f"{hand['hours']:.1f}",
         "rank": str(r["rank"]),
         "": "default" if r["default"] else "",
         "perceptual": fmt_number(r["perceptual_score"]),
@@ -111,7 +126,8 @@ def summary_table(summary: dict[str, Any], width: int) -> tuple[Any, list[str]]:
     from rich.table import Table
 
     rows = [_summary_cells(r) for r in summary["candidates"]]
-    columns = list(SUMMARY_COLUMNS)
+    every = summary_columns(summary)
+    columns = list(every)
     title = (
         f"{summary['mode']}-view candidates "
         f"({summary['size']['rows']} x {summary['size']['cols']} units)"
@@ -131,7 +147,7 @@ def summary_table(summary: dict[str, Any], width: int) -> tuple[Any, list[str]]:
         )
         fits = need <= width
         if fits or len(columns) <= 4:
-            return t, [c for c in SUMMARY_COLUMNS if c not in columns]
+            return t, [c for c in every if c not in columns]
         columns.pop()
 
 
@@ -213,7 +229,8 @@ def _hand_line(summary: dict[str, Any]) -> str:
         f"by hand ({made}): rows knittable by hand {hand['knittable_rows']} of {hand['rows']} "
         f"(2 yarns with floats of at most 7 sts, or at most 6 intarsia blocks), longest float "
         f"{hand['longest_float']} sts ({hand['catches']} catches), colour changes a row max "
-        f"{hand['max_changes']} / mean {hand['mean_changes']:.1f}; worse-view correlation {read}"
+        f"{hand['max_changes']} / mean {hand['mean_changes']:.1f}, about "
+        f"{hand['hours']:.1f} hours (estimated); worse-view correlation {read}"
     )
     hm = summary.get("hand_model")
     if hm:
@@ -228,7 +245,8 @@ def _hand_line(summary: dict[str, Any]) -> str:
         line += (
             f"\n  the design made for a machine: rows knittable by hand {m['knittable_rows']} of "
             f"{m['rows']}, longest float {m['longest_float']} sts, colour changes a row max "
-            f"{m['max_changes']} / mean {m['mean_changes']:.1f}; worse-view correlation "
+            f"{m['max_changes']} / mean {m['mean_changes']:.1f}, about {m['hours']:.1f} hours; "
+            "worse-view correlation "
             f"{machine['worse_readability']:.3f}"
         )
     return line

@@ -391,7 +391,8 @@ def _print_report(report: dict[str, Any], written: dict[str, Path], outdir: Path
             f"made for hands: rows knittable by hand {h['knittable_rows']} of {h['rows']} "
             f"(at most 6 intarsia blocks, or 2 yarns with floats of at most 7 stitches); "
             f"colour changes a row max {h['max_changes']} / mean {h['mean_changes']:.1f}, "
-            f"longest float {h['longest_float']} sts"
+            f"longest float {h['longest_float']} sts, about {h['hours']:.1f} hours by hand "
+            "(estimated from the stitch counts and colour work)"
         )
     if written:
         names = ", ".join(sorted(p.name for p in written.values()))

@@ -157,6 +157,10 @@ class HandCost:
         Catches all those floats need.
     max_yarns, max_blocks : int
         The most yarns and colour blocks in a row.
+    stitches : int
+        Stitches a row (two a unit).
+    changes : int
+        Colour changes in all rows.
     """
 
     rows: int
@@ -168,11 +172,27 @@ class HandCost:
     catches: int
     max_yarns: int
     max_blocks: int
+    stitches: int
+    changes: int
 
     @property
     def knittable_share(self) -> float:
         """The share of rows knittable by hand, in [0, 1]."""
         return self.knittable_rows / self.rows if self.rows else 1.0
+
+    @property
+    def hours(self) -> float:
+        """Hours of hand knitting estimated from the stitch counts and colour work: rows of one
+        yarn at :data:`PLAIN_STITCHES_PER_MINUTE`, rows of more at
+        :data:`COLOUR_STITCHES_PER_MINUTE`, and :data:`MINUTES_PER_CHANGE` a colour change
+        (rules of thumb, not measured)."""
+        plain = self.rows - self.colour_rows
+        minutes = (
+            plain * self.stitches / PLAIN_STITCHES_PER_MINUTE
+            + self.colour_rows * self.stitches / COLOUR_STITCHES_PER_MINUTE
+            + self.changes * MINUTES_PER_CHANGE
+        )
+        return minutes / 60
 
     def describe(self) -> str:
         """One line: ``rows knittable by hand 228 of 228, longest float 6 sts, ...``."""
@@ -195,6 +215,9 @@ class HandCost:
             "catches": self.catches,
             "max_yarns": self.max_yarns,
             "max_blocks": self.max_blocks,
+            "stitches": self.stitches,
+            "changes": self.changes,
+            "hours": round(self.hours, 2),
         }
 
 
@@ -212,18 +235,12 @@ def hand_cost(pattern: LogicalPattern) -> HandCost:
         catches=sum(r.catches for r in carried),
         max_yarns=max(r.yarns for r in rows),
         max_blocks=max(r.blocks for r in rows),
+        stitches=2 * pattern.shape[1],
+        changes=sum(r.changes for r in rows),
     )
 
 
 def hand_hours(pattern: LogicalPattern) -> float:
-    """Hours of hand knitting estimated from the stitch counts and colour work, at the rates
-    :data:`PLAIN_STITCHES_PER_MINUTE` and :data:`COLOUR_STITCHES_PER_MINUTE` and
-    :data:`MINUTES_PER_CHANGE` a colour change (rules of thumb, not measured)."""
-    width = 2 * check_pattern(pattern).shape[1]
-    minutes = sum(
-        width / PLAIN_STITCHES_PER_MINUTE
-        if r.yarns == 1
-        else width / COLOUR_STITCHES_PER_MINUTE + r.changes * MINUTES_PER_CHANGE
-        for r in hand_rows(pattern)
-    )
-    return minutes / 60
+    """Hours of hand knitting estimated from the stitch counts and colour work
+    (:attr:`HandCost.hours`: rules of thumb, not measured)."""
+    return hand_cost(pattern).hours

@@ -144,6 +144,7 @@ class RankBy(StrEnum):
     CONTRAST = "contrast"
     GHOSTING = "ghosting"
     KNIT_TIME = "knit-time"
+    HAND_TIME = "hand-time"
     LEGIBILITY = "legibility"
 
     @property
@@ -172,6 +173,7 @@ _KEY_FIELDS = {
     RankBy.CONTRAST: ("-worse contrast", "-worse readability", "assignment score"),
     RankBy.GHOSTING: ("worst visible ghosting", "-worse readability", "assignment score"),
     RankBy.KNIT_TIME: ("knitting minutes", "-perceptual score", "assignment score"),
+    RankBy.HAND_TIME: ("hours by hand", "-perceptual score", "assignment score"),
     RankBy.LEGIBILITY: (
         "-sides that read",
         "-perceptual score",

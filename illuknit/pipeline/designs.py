@@ -154,8 +154,8 @@ class TileDesign:
         :class:`~illuknit.core.machine.BedFitWarning`.
     machine_first : CandidateMeasures or None
         Made for hands (``ranking.made_for``): the measures of the design the same ranking puts
-        first for a machine, among every design searched (what the hand design is compared
-        with); None when made for a machine.
+        first for a machine (by perception when ranked by ``hand-time``), among every design
+        searched (what the hand design is compared with); None when made for a machine.
     hand_model : mapping or None
         Made for hands, double view: the constraint model made for hands was solved too
         (:mod:`illuknit.pipeline.hand_model`): its solver's summary (status, objective,

@@ -107,6 +107,7 @@ def test_candidates_re_rank_by_any_measure(client, measured, order):
         "contrast": lambda c: -c["measures"]["worse_contrast"],
         "ghosting": lambda c: c["measures"]["worst_visible_ghosting"],
         "knit_time": lambda c: c["measures"]["knit_minutes"],
+        "hand_time": lambda c: c["measures"]["hand"]["hours"],
     }[order]
     values = [key(c) for c in got]
     assert values == sorted(values)

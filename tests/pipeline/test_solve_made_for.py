@@ -67,6 +67,8 @@ def test_the_command_writes_a_design_made_for_hands(tmp_path, capsys):
     assert report["made_for"] == "hands"
     assert report["hand"]["knittable_rows"] == report["hand"]["rows"]
     assert (out / "pattern.pdf").is_file()
+    text = " ".join(capsys.readouterr().out.split())
+    assert f"about {report['hand']['hours']:.1f} hours by hand" in text
 
 
 @pytest.mark.parametrize(

@@ -27,13 +27,20 @@ router = APIRouter(prefix="/api/sessions/{sid}", tags=["design"])
 def get_candidates(
     s: SessionDep,
     order: Literal[
-        "rank", "perception", "legibility", "readability", "contrast", "ghosting", "knit_time"
+        "rank",
+        "perception",
+        "legibility",
+        "readability",
+        "contrast",
+        "ghosting",
+        "knit_time",
+        "hand_time",
     ] = Query(
         "rank",
         title="Order",
         description="the search's rank, or (once measured) the perceptual score, the most "
-        "sides the reader reads, the worse view's correlation or contrast, least ghosting, or "
-        "fastest to knit",
+        "sides the reader reads, the worse view's correlation or contrast, least ghosting, "
+        "fastest to knit on the machine, or quickest to knit by hand (estimated hours)",
     ),
 ) -> dict[str, Any]:
     with s.lock:

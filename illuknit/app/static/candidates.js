@@ -84,14 +84,17 @@ function measuresText(m) {
   return parts.join(" · ");
 }
 
-// Made for hands: the hand knitter's figures (rows knittable by hand, longest float).
-function handFigures(cand, madeFor) {
+// Made for hands, or ordered by hand time: the hand knitter's figures (rows knittable by hand,
+// longest float, the estimated hours).
+function handFigures(cand, madeFor, order) {
   const h = (cand.measures && cand.measures.hand) || (cand.details && cand.details.hand);
-  if (madeFor !== "hands" || !h) return null;
+  if ((madeFor !== "hands" && order !== "hand_time") || !h) return null;
   const d = document.createElement("div");
   d.className = "hand";
-  d.textContent = `by hand: ${h.knittable_rows} of ${h.rows} rows knittable · longest float ${h.longest_float} sts`;
-  d.title = "rows a hand knitter can work: stranded with 2 yarns and floats of at most 7 stitches, or intarsia with at most 6 blocks";
+  const hours = h.hours == null ? "" : ` · about ${h.hours.toFixed(1)} h by hand`;
+  d.textContent = `by hand: ${h.knittable_rows} of ${h.rows} rows knittable · longest float ${h.longest_float} sts${hours}`;
+  d.title = "rows a hand knitter can work: stranded with 2 yarns and floats of at most 7 stitches, or intarsia with at most 6 blocks; " +
+    "hours: estimated from the stitch counts and colour work at rules-of-thumb rates (the pattern's cover says which), not measured";
   if (h.knittable_rows < h.rows) d.classList.add("warn");
   return d;
 }
@@ -222,7 +225,7 @@ async function loadCandidates() {
     }
     const reads = readsLine(cand.details && cand.details.legibility, c.measured_at);
     if (reads) card.appendChild(reads);
-    const hand = handFigures(cand, c.made_for);
+    const hand = handFigures(cand, c.made_for, c.order);
     if (hand) card.appendChild(hand);
     // on the search's first design: the order it ranked by and why (word pairs: the reader)
     const said = orderText(cand);

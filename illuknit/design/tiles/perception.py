@@ -22,13 +22,17 @@ ghosting changes one default in eight: heart / ECG at 100 units, readability 0.9
 ghosting 0.012 instead of 0.988 with 0.036; the raw ghosting correlation, charged at 0.25, also
 passed over a design reading 0.983 for one reading 0.962 on the photo pair, whose ghost showed
 at 0.038 against 0.024.) ``rank_by`` may also be ``score`` (the assignment's order),
-``readability``, ``contrast``, ``ghosting`` (least visible ghosting first) or ``knit-time``.
+``readability``, ``contrast``, ``ghosting`` (least visible ghosting first), ``knit-time`` (the
+machine's minutes) or ``hand-time`` (the estimated hours of hand knitting,
+:attr:`illuknit.design.hand_cost.HandCost.hours`; quickest first however it reads, then the
+perceptual score).
 
 **Made for hands** (``made_for="hands"``): every candidate also carries its hand knitter's cost
 (:func:`illuknit.design.hand_cost.hand_cost`: colour changes a row, floats, yarns and blocks a
 row), and the ranking sorts first by the share of rows a hand knitter can work (stranded with 2
 yarns and floats of at most 7 stitches, or intarsia with at most 6 blocks), then by ``rank_by``'s
-key: among the designs most knittable by hand, the one that reads best.
+key: among the designs most knittable by hand, the one that reads best (``hand-time``: the
+quickest by hand).
 
 """
 
@@ -98,6 +102,7 @@ RANK_KEYS = (
     "contrast",
     "ghosting",
     "knit-time",
+    "hand-time",
     "legibility",
 )
 #: Judges compiled candidates of one pair: for each pattern (with its measures), how many of its
@@ -109,11 +114,14 @@ def rank_key(
     m: CandidateMeasures, score: float, by: str, *, hands: bool = False
 ) -> tuple[float, ...]:
     """Ascending key: the best candidate sorts first. ``hands``: first the share of rows a hand
-    knitter can work, more first (``m.hand`` is needed)."""
-    if hands:
+    knitter can work, more first (``m.hand`` is needed, as for ``hand-time``)."""
+    if hands or by == "hand-time":
         if m.hand is None:
-            raise OptionError("ranking for hands needs the hand cost of every candidate")
-        return (-m.hand.knittable_share, *rank_key(m, score, by))
+            why = "for hands" if hands else "by hand-time"
+            raise OptionError(f"ranking {why} needs the hand cost of every candidate")
+        if hands:
+            return (-m.hand.knittable_share, *rank_key(m, score, by))
+        return (m.hand.hours, -m.perceptual_score, score)
     time = m.knit_minutes if m.knit_minutes is not None else float("inf")
     if by == "perception":
         return (-m.perceptual_score, m.worst_visible_ghosting, time, score)
@@ -229,6 +237,8 @@ def rank_candidates(
         raise OptionError(f"rank by one of {', '.join(RANK_KEYS)}, got {by!r}")
     if by == "knit-time" and any(m.knit_minutes is None for m in measures):
         raise OptionError("ranking by knit-time needs the knitting time of every candidate")
+    if by == "hand-time" and any(m.hand is None for m in measures):
+        raise OptionError("ranking by hand-time needs the hand cost of every candidate")
     if by == "legibility" and any(m.sides_read is None for m in measures):
         raise OptionError("ranking by legibility needs the reader's verdict on every candidate")
     keys = [rank_key(m, s, by, hands=hands) for m, s in zip(measures, scores, strict=True)]
@@ -254,8 +264,8 @@ class RankedCandidate:
 class RankedDesigns(list[RankedCandidate]):
     """What :func:`rank_designs` returns: the ranked candidates (a list, best first) and, when
     ranked for hands, ``machine_first``: the measures of the design the same order ranks first
-    for a machine (among every design searched), the comparison a hand knitter is shown; None
-    when ranked for a machine."""
+    for a machine (among every design searched; ``perception`` in place of ``hand-time``), the
+    comparison a hand knitter is shown; None when ranked for a machine."""
 
     machine_first: CandidateMeasures | None = None
 
@@ -361,7 +371,9 @@ def rank_designs(
         for k, i in enumerate(order[:keep])
     )
     if hands and order:
-        out.machine_first = measures[rank_candidates(measures, scores, by=rank_by)[0]]
+        # a machine knitter's order ranks by how it reads or knits, never by hours by hand
+        machine_by = "perception" if rank_by == "hand-time" else rank_by
+        out.machine_first = measures[rank_candidates(measures, scores, by=machine_by)[0]]
     return out
 
 

@@ -13,12 +13,19 @@ from hypothesis import strategies as st
 from PIL import Image
 
 from illuknit.cli import main
-from illuknit.cli.design_files import summary_text
+from illuknit.cli.design_files import HAND_TABLE_HEADS, summary_text
 from illuknit.cli.double import print_summary
 from illuknit.cli.tile_design import DesignRequest, _hand_model_note
 from illuknit.core.errors import OptionError
 from illuknit.core.pattern import LogicalPattern, parse_yarns
-from illuknit.design.hand_cost import MAX_FLOAT, hand_cost, hand_rows
+from illuknit.design.hand_cost import (
+    COLOUR_STITCHES_PER_MINUTE,
+    MAX_FLOAT,
+    MINUTES_PER_CHANGE,
+    PLAIN_STITCHES_PER_MINUTE,
+    hand_cost,
+    hand_rows,
+)
 from illuknit.design.options import RankOptions
 from illuknit.design.tiles.perception import CandidateMeasures, rank_candidates, rank_key
 from illuknit.outputs.hand_pattern import row_colourwork
@@ -85,6 +92,15 @@ def test_the_cost_agrees_with_the_written_pattern(rows):
         assert a.knittable == (a.yarns == 1 or a.stranded_ok or a.intarsia_ok)
     cost = hand_cost(p)
     assert 0 <= cost.knittable_rows <= cost.rows
+    # the hours from the sums are the hours row by row, at the cover's rates
+    width = 2 * len(rows[0])
+    minutes = sum(
+        width / PLAIN_STITCHES_PER_MINUTE
+        if r.yarns == 1
+        else width / COLOUR_STITCHES_PER_MINUTE + r.changes * MINUTES_PER_CHANGE
+        for r in mine
+    )
+    assert cost.hours == pytest.approx(minutes / 60)
     if all(len(set(r)) == 1 for r in rows):
         assert cost.knittable_share == 1.0 and cost.longest_float == 0
 
@@ -105,6 +121,26 @@ def test_for_hands_the_knittable_design_ranks_first_and_then_the_one_that_reads_
     assert rank_key(measures[2], 0.0, "perception", hands=True)[0] == -1.0
     with pytest.raises(OptionError, match="hand cost"):
         rank_key(CandidateMeasures(("A",), (0.9,), (0.5,), (None,)), 0.0, "score", hands=True)
+
+
+def test_hand_time_ranks_the_quickest_by_hand_first_however_it_reads():
+    plain = _pattern([[0] * 12, [1] * 12])  # one yarn a row: quickest
+    busy = _pattern([[0, 1] * 6, [1] * 12])  # a colour row with 11 changes
+    hard = _pattern([[0, 1, 0, 1, 0, 0, 0, 0, 0, 1, 1, 1]] * 2)  # 6 blocks: intarsia
+    measures = [_measured(0.95, busy), _measured(0.70, plain), _measured(0.90, hard)]
+    hours = [m.hand.hours for m in measures]
+    assert hours[1] < hours[0] < hours[2]
+    assert rank_candidates(measures, [0.0] * 3, by="hand-time") == [1, 0, 2]
+    # made for hands, the rows a hand knitter can work still come first
+    assert measures[2].hand.knittable_share == 1.0 == measures[0].hand.knittable_share
+    tied = [_measured(0.80, plain), _measured(0.85, plain)]
+    assert rank_candidates(tied, [0.0, 0.0], by="hand-time", hands=True) == [1, 0]
+    assert RankOptions(rank_by="hand-time", made_for="hands").key_fields[:2] == (
+        "-share of rows knittable by hand",
+        "hours by hand",
+    )
+    with pytest.raises(OptionError, match="hand cost"):
+        rank_key(CandidateMeasures(("A",), (0.9,), (0.5,), (None,)), 0.0, "hand-time")
 
 
 def test_made_for_is_checked_and_names_the_rank_key():
@@ -138,6 +174,29 @@ def test_double_for_hands_prints_and_records_the_hand_cost(tmp_path, capsys):
     assert f"longest float {hand['longest_float']} sts" in text
     shares = [c["hand"]["knittable_share"] for c in summary["candidates"]]
     assert shares == sorted(shares, reverse=True)  # ranked by it first
+    assert f"about {hand['hours']:.1f} hours (estimated)" in text
+    # summary.txt has each candidate's figures by hand, under their own heads
+    lines = (out / "summary.txt").read_text().splitlines()
+    head = lines.index("  ".join(HAND_TABLE_HEADS))
+    for c, line in zip(summary["candidates"], lines[head + 1 :], strict=False):
+        h = c["hand"]
+        assert line.split()[:1] == [str(c["rank"])]
+        assert f"{h['knittable_rows']} of {h['rows']}" in line and line.endswith(
+            f"{h['hours']:.1f}"
+        )
+    # quickest by hand first: the order says so, and the machine's design is how it reads
+    quick = tmp_path / "quick"
+    main([
+        "double", str(tmp_path / "a.png"), str(tmp_path / "b.png"), "--candidates", "3",
+        "--for", "hands", "--rank-by", "hand-time", "--hand-model-seconds", "3", "-o", str(quick),
+    ])  # fmt: skip
+    ranked = json.loads((quick / "summary.json").read_text())
+    assert ranked["ranked_by"] == "hand-time"
+    keys = [(-c["hand"]["knittable_share"], c["hand"]["hours"]) for c in ranked["candidates"]]
+    assert keys == sorted(keys)
+    # a machine design unranked by hours: with the same pool, what perception puts first
+    by_reading = json.loads((out / "summary.json").read_text())["machine_design"]
+    assert ranked["machine_design"]["worse_readability"] == by_reading["worse_readability"]
 
 
 def test_double_for_hands_ranks_the_constraint_models_design_with_the_tile_designs(
