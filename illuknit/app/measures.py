@@ -19,14 +19,14 @@ shows there: nothing to read, and its ghosting is how much of the front picture 
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from typing import Any
+from typing import Any, Literal, get_args
 
-__all__ = ["ORDERS", "measure_all", "measure_candidate", "order_candidates"]
+__all__ = ["ORDERS", "Order", "measure_all", "measure_candidate", "order_candidates"]
 
 #: Ways the page can order candidates: the search's own rank, or a perception.RANK_KEYS order
 #: (``legibility``: most sides the reader reads first, then the perceptual score; ``hand_time``:
 #: the estimated hours of hand knitting, quickest first).
-ORDERS = (
+Order = Literal[
     "rank",
     "perception",
     "legibility",
@@ -35,7 +35,8 @@ ORDERS = (
     "ghosting",
     "knit_time",
     "hand_time",
-)
+]
+ORDERS: tuple[str, ...] = get_args(Order)
 
 
 def measure_candidate(

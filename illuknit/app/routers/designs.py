@@ -1,6 +1,6 @@
 """Designs: the ranked candidates, the designer's pick, per-pair tile edits and renders."""
 
-from typing import Any, Literal
+from typing import Annotated, Any, Literal
 
 import numpy as np
 from fastapi import APIRouter, Query
@@ -14,7 +14,7 @@ from illuknit.app.lookups import (
     prepared_of,
     state_json,
 )
-from illuknit.app.measures import measure_candidate, order_candidates
+from illuknit.app.measures import Order, measure_candidate, order_candidates
 from illuknit.app.schemas import OverrideIn, SelectionIn
 from illuknit.core.errors import AppRequestError
 
@@ -26,22 +26,15 @@ router = APIRouter(prefix="/api/sessions/{sid}", tags=["design"])
 @router.get("/candidates", summary="Ranked candidates, in the order asked for")
 def get_candidates(
     s: SessionDep,
-    order: Literal[
-        "rank",
-        "perception",
-        "legibility",
-        "readability",
-        "contrast",
-        "ghosting",
-        "knit_time",
-        "hand_time",
-    ] = Query(
-        "rank",
-        title="Order",
-        description="the search's rank, or (once measured) the perceptual score, the most "
-        "sides the reader reads, the worse view's correlation or contrast, least ghosting, "
-        "fastest to knit on the machine, or quickest to knit by hand (estimated hours)",
-    ),
+    order: Annotated[
+        Order,
+        Query(
+            title="Order",
+            description="the search's rank, or (once measured) the perceptual score, the most "
+            "sides the reader reads, the worse view's correlation or contrast, least ghosting, "
+            "fastest to knit on the machine, or quickest to knit by hand (estimated hours)",
+        ),
+    ] = "rank",
 ) -> dict[str, Any]:
     with s.lock:
         return {
