@@ -26,7 +26,7 @@ def alternatives(design: TileDesign, pick: int = 1) -> dict[str, dict[str, Any]]
     """The candidates of ``design`` a user may prefer to ``pick`` (from 1): ``"cleaner"``, in
     which much less of the other picture shows, and, made for hands, ``"quicker_by_hand"``,
     much less hand knitting by the cover's estimate
-    (:func:`~illuknit.design.hand_cost.hand_hours`); each reads nearly as well. Each
+    (:attr:`~illuknit.design.hand_cost.HandCost.hours`); each reads nearly as well. Each
     entry has the candidate's ``rank`` and its and the default's figures; none when there is
     no such candidate."""
     from illuknit.design.tiles.perception import cleaner_alternative, quicker_alternative
@@ -46,10 +46,8 @@ def alternatives(design: TileDesign, pick: int = 1) -> dict[str, dict[str, Any]]
             "default_perceptual_score": round(d.perceptual_score, 4),
             "made_for": design.ranking.made_for.value,
         }
-    if hands:
-        from illuknit.design.hand_cost import hand_hours
-
-        hours = [hand_hours(r.pattern) for r in design.designs]
+    if hands and all(m.hand is not None for m in measures):
+        hours = [m.hand.hours for m in measures if m.hand is not None]
         k = quicker_alternative(measures, hours, pick - 1)
         if k is not None:
             m = measures[k]
