@@ -46,6 +46,18 @@ class Candidate:
     #: why the sides were not read (no reader, or it failed); None when read or not a double view
     not_read: str | None = None
 
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        # a candidate stored (pickled with its session) before the hand cost counted its
+        # stitches and hours gets its hand cost counted again from its pattern
+        self.__dict__.update(state)
+        hand = getattr(self.measured, "hand", None)
+        if hand is not None and not hasattr(hand, "stitches"):
+            from dataclasses import replace
+
+            from illuknit.design.hand_cost import hand_cost
+
+            self.measured = replace(self.measured, hand=hand_cost(self.pattern))
+
     def to_json(self) -> dict[str, Any]:
         n, m = self.pattern.shape
         details = dict(self.details)

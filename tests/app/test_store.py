@@ -71,6 +71,36 @@ def test_a_field_added_later_gets_its_default(tmp_path):
     assert back.retired_suggestions == {} and back.images.keys() == {"a", "b"}
 
 
+def test_candidates_measured_before_the_hours_were_counted_get_them(tmp_path):
+    """A candidate whose hand cost was stored without its stitches and hours (saved before
+    they were counted) comes back with the hand cost counted again from its pattern, so the
+    cards and the order by hand time work on it."""
+    from illuknit.app.candidates import Candidate
+    from illuknit.app.measures import order_candidates
+    from illuknit.core.pattern import LogicalPattern, parse_yarns
+    from illuknit.design.hand_cost import hand_cost
+    from illuknit.design.tiles.perception import CandidateMeasures
+
+    yarns = parse_yarns("black,white")
+    cands = []
+    for rank, rows in enumerate(([[0, 1, 1, 0], [1, 1, 0, 0]], [[0, 0, 0, 0], [1, 1, 1, 1]]), 1):
+        p = LogicalPattern(np.array(rows, np.int16), np.zeros((2, 4), bool), yarns)
+        old = hand_cost(p)
+        for name in ("stitches", "changes"):  # as a version before them pickled it
+            del object.__getattribute__(old, "__dict__")[name]
+        m = CandidateMeasures(("A", "B"), (0.9, 0.9), (0.5, 0.5), (0.1, 0.1), hand=old)
+        cands.append(Candidate(rank, "x", 1.0, p, measured=m))
+    s = _session()
+    s.candidates = cands
+    disk = DiskStore(tmp_path)
+    disk.save(s, seq=1, lock=s.lock)
+    back = disk.load(s.id).state
+    for c in back.candidates:
+        assert c.measured.hand == hand_cost(c.pattern)
+        assert c.to_json()["measures"]["hand"]["hours"] == round(c.measured.hand.hours, 2)
+    assert [c.rank for c in order_candidates(back.candidates, "hand_time")] == [2, 1]
+
+
 def test_jobs_running_when_stored_come_back_interrupted():
     s = Session(id="j")
     running, done = Job("candidates"), Job("knit")
