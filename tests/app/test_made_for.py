@@ -55,3 +55,38 @@ def test_made_for_hands_in_the_app(tmp_path, api, pictures):
         got = c.get(f"/api/sessions/{sid}/candidates?order=perception").json()
         shares = [x["measures"]["hand"]["knittable_share"] for x in got["candidates"]]
         assert shares == sorted(shares, reverse=True)
+
+
+def test_the_search_bar_counts_the_hand_models_seconds(tmp_path, api, pictures, monkeypatch):
+    """Made for hands, the search's bound and words include the constraint model's solve, which
+    runs in the search's process (Cancel kills it with the search)."""
+    pytest.importorskip("fastapi", reason="the app extra is not installed")
+    from fastapi.testclient import TestClient
+
+    from illuknit.app import create_app
+    from illuknit.app.jobs import Job
+    from illuknit.app.server import AppConfig
+    from illuknit.design.tiles.perception import POOL_SECONDS
+
+    said: list[str] = []
+
+    def in_process(self, fn, *args, tick=None, **_):  # the words at 3 s, then the search here
+        tick(3.0)
+        said.append(self.message)
+        return fn(*args)
+
+    monkeypatch.setattr(Job, "run_isolated", in_process)
+    monkeypatch.setenv("ILLUKNIT_HAND_MODEL_SECONDS", "2")
+    with TestClient(create_app(AppConfig(isolate_search=True, data_dir=tmp_path))) as c:
+        sid = api.new_session(c)
+        api.upload(c, sid, "a", pictures.box_picture())
+        api.upload(c, sid, "b", pictures.box_picture(top=2, left=2))
+        for made_for in ("hands", "machine"):
+            settings = {"mode": "double", "width_units": 12, "candidates": 1, "made_for": made_for}
+            assert c.put(f"/api/sessions/{sid}/settings", json=settings).status_code == 200
+            assert api.run_job(c, sid, "candidates")["status"] == "done"
+    hands, machine = said
+    assert "solving the constraint model made for hands (up to 2 s)" in hands
+    assert f"done in at most {POOL_SECONDS + 10 + 2:.0f} s" in hands
+    assert "constraint model" not in machine
+    assert f"done in at most {POOL_SECONDS + 10:.0f} s" in machine

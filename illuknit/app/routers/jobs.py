@@ -8,6 +8,7 @@ from typing import Annotated, Any
 from fastapi import APIRouter, Depends, Request
 
 from illuknit.app import design
+from illuknit.app.candidates import hand_model_seconds
 from illuknit.app.controls import blame
 from illuknit.app.jobs import Job, JobRunner
 from illuknit.app.knitting import CheckedKnitout, knit_and_check
@@ -34,11 +35,16 @@ def start_candidates(s: Session, runner: JobRunner, *, isolate: bool = True) -> 
 
     def work(job: Job) -> list[design.Candidate]:
         def run(search: Any) -> Any:
-            # The search stops by the pool's time bound (plus one solve's time limit): the bar
-            # moves with the time spent against that bound, the words say both.
+            # The search stops by the pool's time bound (plus one solve's time limit, and made
+            # for hands the constraint model's): the bar moves with the time spent against that
+            # bound, the words say what is being done.
             from illuknit.design.tiles.perception import POOL_SECONDS
 
-            bound = POOL_SECONDS + 10.0
+            model = hand_model_seconds() if made_for == "hands" and prepared.mode == "double" else 0
+            bound = POOL_SECONDS + 10.0 + model
+            what = "finding tile mappings"
+            if model:
+                what += f" and solving the constraint model made for hands (up to {model:g} s)"
             # the reader comes after the bound: its seconds are said, not hidden in it
             ranking = getattr(search, "keywords", {}).get("ranking")
             then = ", then the reader reads both sides" if getattr(ranking, "read", False) else ""
@@ -46,8 +52,8 @@ def start_candidates(s: Session, runner: JobRunner, *, isolate: bool = True) -> 
             def tick(seconds: float) -> None:
                 job.report(
                     0.1 + 0.3 * min(1.0, seconds / bound),
-                    f"finding tile mappings: {seconds:.0f} s so far, done in at most "
-                    f"{bound:.0f} s (usually far less){then}",
+                    f"{what}: {seconds:.0f} s so far, done in at most {bound:.0f} s (usually far "
+                    f"less){then}",
                 )
 
             return job.run_isolated(search, tick=tick, poll=0.1)
