@@ -15,7 +15,7 @@ from numpy.typing import NDArray
 
 from illuknit.app.controls import blame
 from illuknit.core.errors import AppRequestError
-from illuknit.core.gauge import STOCKINETTE_COURSE_ASPECT
+from illuknit.core.gauge import STOCKINETTE_COURSE_ASPECT, Gauge
 from illuknit.core.pattern import LogicalPattern, pattern_to_json
 
 if TYPE_CHECKING:
@@ -85,8 +85,15 @@ def pattern_json_bytes(pattern: LogicalPattern) -> bytes:
     return (json.dumps(pattern_to_json(pattern), indent=1) + "\n").encode()
 
 
-def previews_zip(pattern: LogicalPattern, prepared: Prepared | None, *, angle: float) -> bytes:
-    """A zip of the library's previews (chart, side views, contact sheet) plus angled renders."""
+def previews_zip(
+    pattern: LogicalPattern,
+    prepared: Prepared | None,
+    *,
+    angle: float,
+    unit_aspect: float = STOCKINETTE_COURSE_ASPECT,
+) -> bytes:
+    """A zip of the library's previews (chart, side views, contact sheet) plus angled renders,
+    drawn in the fabric's proportions (units ``unit_aspect`` as tall as wide)."""
     from illuknit.outputs.previews import upscale, write_previews
 
     targets = {}
@@ -95,30 +102,31 @@ def previews_zip(pattern: LogicalPattern, prepared: Prepared | None, *, angle: f
             targets[f"quantised {slot.upper()}"] = q.rgb()
     buf = io.BytesIO()
     with tempfile.TemporaryDirectory(prefix="illuknit-previews-") as tmp:
-        paths = write_previews(pattern, tmp, targets=targets)
+        paths = write_previews(pattern, tmp, targets=targets, unit_aspect=unit_aspect)
         with zipfile.ZipFile(buf, "w", zipfile.ZIP_DEFLATED) as zf:
             for name, path in paths.items():
                 zf.write(path, f"previews/{os.path.basename(path) or name}")
             # write_previews renders at the calibrated angle; add the angle the page shows
             for view in ("A", "B"):
-                img = render_view(pattern, view, angle=angle)
+                img = render_view(pattern, view, angle=angle, unit_aspect=unit_aspect)
                 s = max(1, 640 // max(img.shape[:2]))
                 zf.writestr(f"previews/render_{view}_{angle:g}deg.png", png_bytes(upscale(img, s)))
     return buf.getvalue()
 
 
-def chart_png(pattern: LogicalPattern) -> bytes:
+def chart_png(pattern: LogicalPattern, *, unit_aspect: float = STOCKINETTE_COURSE_ASPECT) -> bytes:
+    """The chart, its squares in the fabric's proportions (``unit_aspect`` as tall as wide)."""
     from illuknit.outputs.chart import chart_png_rgb
 
-    return png_bytes(chart_png_rgb(pattern))
+    return png_bytes(chart_png_rgb(pattern, unit_aspect=unit_aspect))
 
 
-def instructions_text(pattern: LogicalPattern, *, machine: str | None = None) -> str:
-    """Written instructions, with the finished size at ``machine``'s fabric gauge."""
-    from illuknit.core.machine import get_machine
+def instructions_text(pattern: LogicalPattern, *, gauge: Gauge) -> str:
+    """Written instructions, with the finished size at ``gauge`` (the session's
+    :func:`~illuknit.app.inputs.design_gauge`)."""
     from illuknit.outputs.chart import written_instructions
 
-    return written_instructions(pattern, gauge=get_machine(machine).fabric_gauge)
+    return written_instructions(pattern, gauge=gauge)
 
 
 def pattern_key(pattern: LogicalPattern) -> str:

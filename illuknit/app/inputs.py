@@ -23,6 +23,7 @@ from illuknit.pictures.images import MAX_PIXELS
 
 if TYPE_CHECKING:
     from illuknit.app.schemas import DesignSettings
+    from illuknit.core.gauge import Gauge
 
 __all__ = [
     "MAX_UPLOAD_BYTES",
@@ -30,6 +31,7 @@ __all__ = [
     "MAX_WORKING_SIDE",
     "Prepared",
     "decode_upload",
+    "design_gauge",
     "prepare_inputs",
     "size_inputs",
     "sizing_aspect",
@@ -348,15 +350,25 @@ def _single_view_input(
     return QuantisedImage(q.indices, mapped, q.colors, q.counts), note
 
 
-def sizing_aspect(settings: DesignSettings) -> float:
-    """Height over width of a unit when sizing the pictures to the grid: 1.0 with
-    ``square_units``, else the machine's fabric gauge's (so the finished piece keeps the
-    picture's proportions)."""
+def design_gauge(settings: DesignSettings) -> Gauge:
+    """The gauge the session's design is drawn for: the machine's fabric gauge, or made for
+    hands the gauge the hand pattern gives (:func:`~illuknit.core.gauge.hand_gauge`), as the
+    command line sizes and describes it; the finished size, the grid's pictures, the renders and
+    the documents are at it."""
+    from illuknit.core.gauge import hand_gauge
     from illuknit.core.machine import get_machine
 
+    gauge = get_machine(settings.machine).fabric_gauge
+    return hand_gauge(gauge) if settings.made_for == "hands" else gauge
+
+
+def sizing_aspect(settings: DesignSettings) -> float:
+    """Height over width of a unit when sizing the pictures to the grid: 1.0 with
+    ``square_units``, else :func:`design_gauge`'s (so the finished piece keeps the picture's
+    proportions)."""
     if settings.square_units:
         return 1.0
-    return get_machine(settings.machine).fabric_gauge.unit_aspect
+    return design_gauge(settings).unit_aspect
 
 
 #: Yarns added when no picture is there to choose from (the page's "Add yarn" offers the same).

@@ -140,13 +140,17 @@ def widths_to_try(machine: str, asked: Sequence[int] | None = None) -> tuple[int
 
 def widths_key(images: dict[str, UploadedImage], settings: DesignSettings) -> str:
     """What a widths answer depends on: both pictures and the settings it was found with
-    (colours, stretching, square units, viewpoint, machine), never the width itself."""
+    (colours, stretching, square units, viewpoint, machine, and made for hands, which sizes the
+    grid by the hand gauge), never the width itself."""
     h = hashlib.sha256()
     for slot in ("a", "b"):
         im = images.get(slot)
         h.update(slot.encode() + (b"-" if im is None else im.rgb.tobytes()))
     s = settings
-    h.update(repr((s.n_colors, s.resize, s.square_units, s.viewpoint, s.machine)).encode())
+    # made for a machine the key is what it was before made_for sized anything, so answers
+    # stored then still hold
+    hands = ("hands",) if s.made_for == "hands" else ()
+    h.update(repr((s.n_colors, s.resize, s.square_units, s.viewpoint, s.machine, *hands)).encode())
     return h.hexdigest()[:24]
 
 

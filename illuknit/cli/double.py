@@ -177,8 +177,16 @@ def print_summary(summary: dict[str, Any], outdir: Path) -> None:
     if dropped:
         con.print(f"(columns left out to fit the terminal: {', '.join(repr(c) for c in dropped)};"
                   " the full table is in summary.txt)")  # fmt: skip
-    size = summary.get("finished_size")
-    if size is not None:
+    size, by_hand_size = summary.get("finished_size"), summary.get("hand_finished_size")
+    if by_hand_size is not None:  # made for hands: the pattern's size first, the machine's after
+        until = "; an estimate until your swatch says otherwise" if by_hand_size["estimate"] else ""
+        con.print(
+            f"finished size by hand: about [bold]{_size_text(by_hand_size)}[/] "
+            f"({by_hand_size['gauge_source']}{until})"
+        )
+        if size is not None:
+            con.print(f"  on the machine: {_size_text(size)} ({size['gauge_source']})")
+    elif size is not None:
         con.print(
             f"finished size: [bold]{size['width_cm']} x {size['height_cm']} cm[/] "
             f"({size['width_in']} x {size['height_in']} in) at {size['gauge']} "
@@ -208,6 +216,14 @@ def print_summary(summary: dict[str, Any], outdir: Path) -> None:
         con.print(f"note: {note}", markup=False)
     if "suggestions" in folders:
         con.print(f"  {_edits_found(summary)}")
+
+
+def _size_text(size: dict[str, Any]) -> str:
+    """``"144.9 x 34.6 cm (57.1 x 13.6 in) at 27.6 sts x 49.7 rows per 10 cm ..."``."""
+    return (
+        f"{size['width_cm']} x {size['height_cm']} cm ({size['width_in']} x {size['height_in']} "
+        f"in) at {size['gauge']}"
+    )
 
 
 def _hand_line(summary: dict[str, Any]) -> str:

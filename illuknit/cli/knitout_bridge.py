@@ -196,11 +196,19 @@ def hand_border() -> int:
     return int(_fabric_options().get("border") or 0)
 
 
-def design_unit_aspect(spec: MachineSpec) -> float:
+def design_unit_aspect(spec: MachineSpec, made_for: str = "machine") -> float:
     """Height over width of a unit for sizing a grid: 1.0 with ``--square-units``, else the
-    fabric gauge's (``spec`` from :func:`resolve_machine`, which applies ``--fabric-gauge``)."""
+    fabric gauge's (``spec`` from :func:`resolve_machine`, which applies ``--fabric-gauge``),
+    and made for ``"hands"`` the gauge the hand pattern gives
+    (:func:`~illuknit.core.gauge.hand_gauge`: the estimate for hand-knitted illusion fabric
+    unless a measured ``--fabric-gauge`` is given), so the pictures keep their proportions in
+    the piece knitted by hand."""
     if _fabric_options().get("square_units"):
         return 1.0
+    if made_for == "hands":
+        from illuknit.core.gauge import hand_gauge
+
+        return hand_gauge(spec.fabric_gauge).unit_aspect
     return spec.fabric_gauge.unit_aspect
 
 

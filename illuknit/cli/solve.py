@@ -159,7 +159,8 @@ class SolveRequest:
             time_limit=s["time_limit"], seed=s["seed"], made_for=s["made_for"],
         )  # fmt: skip
         sizing = PictureOptions(
-            width=s["width"], stretch=s["resize"], unit_aspect=design_unit_aspect(spec),
+            width=s["width"], stretch=s["resize"],
+            unit_aspect=design_unit_aspect(spec, str(s["made_for"])),
             n_colors=s["n_colors"], yarns=ys, quantise=s["quantise"],
         )  # fmt: skip
         return cls(
@@ -225,7 +226,9 @@ def run_solve(request: SolveRequest) -> dict[str, Any]:
                     title=title,
                     targets=pictures,
                     machine=knit_on,
-                    gauge=spec.fabric_gauge,
+                    # made for hands: the documents of the piece knitted by hand, at the gauge
+                    # its grid was sized for (knitout_bridge.design_unit_aspect)
+                    gauge=_documents_gauge(spec, options),
                     stage=live.stage if live is not None else None,
                 )
             )
@@ -257,6 +260,16 @@ def _export_wcnf(mdl: Any, path: Path, style: str, *, say: bool) -> str:
             f"{mdl.num_soft} soft clauses before encoding cardinality constraints)"
         )
     return str(where)
+
+
+def _documents_gauge(spec: Any, options: SolveOptions) -> Any:
+    """The gauge the outputs describe: the machine's, or made for hands the hand pattern's
+    (:func:`~illuknit.core.gauge.hand_gauge`), the one the grid was sized for."""
+    from illuknit.core.gauge import hand_gauge
+    from illuknit.design.options import MadeFor
+
+    gauge = spec.fabric_gauge
+    return hand_gauge(gauge) if options.made_for is MadeFor.HANDS else gauge
 
 
 def _write_outputs(

@@ -14,7 +14,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal
 
 from illuknit.cli.design_files import summary_text, write_candidate, write_edits
-from illuknit.core.gauge import finished_size
+from illuknit.core.gauge import Gauge, finished_size, hand_gauge
 from illuknit.core.progress import Report
 from illuknit.design.options import MadeFor, RankOptions, SearchOptions
 from illuknit.pipeline.inputs import PictureOptions
@@ -146,7 +146,7 @@ def _request(
     sizing = PictureOptions(
         width=s["width"],
         stretch=s["resize"],
-        unit_aspect=design_unit_aspect(spec),
+        unit_aspect=design_unit_aspect(spec, s["made_for"]),
         n_colors=s["n_colors"],
         yarns=_yarns_option(s["yarns"]),
     )
@@ -378,6 +378,9 @@ def write_design(
     from illuknit.pipeline.alternatives import alternatives
 
     gauge = request.machine.fabric_gauge
+    # made for hands, the documents (pattern, previews, seen.png) are of the piece knitted by
+    # hand, at the gauge its grid was sized for (cli.knitout_bridge.design_unit_aspect)
+    documents = hand_gauge(gauge) if design.ranking.made_for is MadeFor.HANDS else gauge
     pick, sources = request.pick, request.sources
     machine = request.machine if request.knitout else None
     report: Report = progress or (lambda fraction, message: None)
@@ -397,7 +400,7 @@ def write_design(
                 design,
                 pick=pick,
                 sources=sources,
-                gauge=gauge,
+                gauge=documents,
                 distance=design.ranking.distance,
                 angle=design.ranking.angle,
             )
@@ -420,6 +423,7 @@ def write_design(
             "yarns": [{"name": y.name, "rgb": y.hex} for y in picked.pattern.yarns],
             "size": {"rows": int(qa.shape[0]), "cols": int(qa.shape[1])},
             "finished_size": finished_size(qa.shape, gauge).as_dict(),
+            **_hand_size_json(design, qa.shape, gauge),
             **_bank_json(picked),
             "solver": design.search.solver,
             "ranked_by": design.ranking.rank_by.value,
@@ -538,6 +542,20 @@ def _jsonable(value: Any) -> Any:
     if isinstance(value, list | tuple):
         return [_jsonable(v) for v in value]
     return value
+
+
+def _hand_size_json(design: Any, shape: tuple[int, int], gauge: Gauge) -> dict[str, Any]:
+    """Made for hands: ``{"hand_finished_size": ...}``, the size the hand pattern gives (its
+    gauge, :func:`~illuknit.core.gauge.hand_gauge`, and garter border, ``--border``); nothing
+    when made for a machine."""
+    if design.ranking.made_for is not MadeFor.HANDS:
+        return {}
+    from illuknit.cli.knitout_bridge import hand_border
+
+    framed = (shape[0] + 2 * hand_border(), shape[1] + 2 * hand_border())
+    knitter = hand_gauge(gauge)
+    size = finished_size(framed, knitter).as_dict()
+    return {"hand_finished_size": {**size, "estimate": knitter.estimate}}
 
 
 def _hand_json(d: RankedDesign) -> dict[str, Any] | None:

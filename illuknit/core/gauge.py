@@ -37,6 +37,7 @@ __all__ = [
     "FinishedSize",
     "Gauge",
     "finished_size",
+    "hand_gauge",
     "hand_illusion_gauge",
     "parse_gauge",
     "swatch_size",
@@ -145,6 +146,20 @@ def hand_illusion_gauge(stitches_per_10cm: float) -> Gauge:
         "stitch (published illusion patterns knit 1.75-1.92)",
         estimate=True,
     )
+
+
+def hand_gauge(gauge: Gauge) -> Gauge:
+    """The gauge a hand knitter is told to expect of a design drawn at ``gauge``: the
+    estimate for hand-knitted illusion fabric (:func:`hand_illusion_gauge`) at its stitch gauge
+    when ``gauge`` is itself an estimate (a machine's unmeasured row gauge), else ``gauge`` (a
+    fabric gauge measured on a swatch, ``--fabric-gauge``).
+
+    >>> hand_gauge(Gauge(27.56, 39.37, estimate=True)).rows_per_10cm
+    49.7
+    >>> hand_gauge(Gauge(22, 30)) == Gauge(22, 30)
+    True
+    """
+    return hand_illusion_gauge(round(gauge.stitches_per_10cm, 1)) if gauge.estimate else gauge
 
 
 def swatch_size(gauge: Gauge) -> tuple[int, int]:

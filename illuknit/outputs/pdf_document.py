@@ -19,7 +19,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from illuknit.core.gauge import Gauge, finished_size, hand_illusion_gauge
+from illuknit.core.gauge import Gauge, finished_size, hand_gauge
 from illuknit.core.pattern import LogicalPattern
 from illuknit.outputs.chart import hand_rows
 from illuknit.outputs.hand_pattern import hand_advice
@@ -147,9 +147,9 @@ class _Document:
         self.row_mm = CELL_MM * gauge.unit_aspect
         self.size = finished_size(pattern.shape, gauge)
         #: the gauge a hand knitter is told to expect: the estimate when ``gauge`` is one
-        self.hand_gauge = (
-            hand_illusion_gauge(round(gauge.stitches_per_10cm, 1)) if gauge.estimate else gauge
-        )
+        self.hand_gauge = hand_gauge(gauge)
+        #: ``gauge`` is the hand estimate itself: the grid was sized for hand knitting
+        self.drawn_for_hands = gauge.estimate and self.hand_gauge == gauge
         self.hand_size = finished_size(pattern.shape, self.hand_gauge)
         self.names = [y.name for y in pattern.yarns]
         self.rows = hand_rows(pattern)

@@ -213,6 +213,11 @@ def _cover_size(doc: _Document) -> str:
     counts = f"{doc.W} stitches x {doc.H} rows ({m} x {n} units of 2 stitches x 2 rows)"
     if not doc.gauge.estimate:
         return f"Finished size: {doc.size.describe()}  -  {counts}, at {doc.gauge.describe()}."
+    if doc.drawn_for_hands:
+        return (
+            f"Finished size by hand: about {doc.hand_size.describe()}  -  {counts}, at "
+            f"{doc.hand_gauge.describe()} (an estimate until your swatch says otherwise)."
+        )
     return (
         f"Finished size by hand: about {doc.hand_size.describe()}  -  {counts}, at "
         f"{doc.hand_gauge.describe()} (an estimate until your swatch says otherwise; the design "
@@ -233,6 +238,14 @@ def _gauge_section(doc: _Document) -> None:
         )
         doc.para(f"Finished size at this gauge: {doc.size.describe()}.")
         hand = gauge
+    elif doc.drawn_for_hands:
+        hand = gauge
+        doc.para(
+            f"The design is drawn for hand-knitted illusion fabric: about {s:.1f} stitches and "
+            f"{r:.1f} rows = 10 cm (4 in), an estimate from published illusion patterns "
+            "(1.75-1.92 rows a stitch), not measured. Expect about "
+            f"{doc.size.describe()}, until your swatch says otherwise."
+        )
     else:
         hand, size = doc.hand_gauge, doc.hand_size
         doc.para(

@@ -55,6 +55,20 @@ def test_made_for_hands_in_the_app(tmp_path, api, pictures):
         got = c.get(f"/api/sessions/{sid}/candidates?order=perception").json()
         shares = [x["measures"]["hand"]["knittable_share"] for x in got["candidates"]]
         assert shares == sorted(shares, reverse=True)
+        # sized and described for the piece knitted by hand: a square picture knits square
+        square = pictures.box_picture(24, 24)
+        api.upload(c, sid, "a", square)
+        api.upload(c, sid, "b", square)
+        size = c.get(f"/api/sessions/{sid}/inputs").json()["finished_size"]
+        assert size["by_hand"] and size["estimate"]
+        assert abs(size["height_cm"] - size["width_cm"]) <= size["height_cm"] / 12  # a unit row
+        assert api.run_job(c, sid, "candidates")["status"] == "done"
+        pdf = c.get(f"/api/sessions/{sid}/download/pattern.pdf")
+        assert pdf.status_code == 200
+        words = _pdf_words(pdf.content, tmp_path)
+        if words is not None:
+            assert "The design is drawn for hand-knitted illusion fabric" in words
+            assert f"Finished size by hand: about {size['width_cm']:g} x" in words
 
 
 def test_the_search_bar_counts_the_hand_models_seconds(tmp_path, api, pictures, monkeypatch):
@@ -90,3 +104,34 @@ def test_the_search_bar_counts_the_hand_models_seconds(tmp_path, api, pictures, 
     assert f"done in at most {POOL_SECONDS + 10 + 2:.0f} s" in hands
     assert "constraint model" not in machine
     assert f"done in at most {POOL_SECONDS + 10:.0f} s" in machine
+
+
+def test_made_for_hands_sizes_the_grid_by_the_hand_gauge():
+    """The app sizes a design made for hands as the command line does (the hand pattern's
+    gauge), and a widths answer found for one does not hold for the other."""
+    from illuknit.app.inputs import sizing_aspect
+    from illuknit.app.reading import widths_key
+    from illuknit.core.gauge import hand_gauge
+    from illuknit.core.machine import get_machine
+
+    machine = DesignSettings()
+    hands = DesignSettings(made_for="hands")
+    gauge = get_machine(machine.machine).fabric_gauge
+    assert sizing_aspect(machine) == gauge.unit_aspect
+    assert sizing_aspect(hands) == hand_gauge(gauge).unit_aspect < gauge.unit_aspect
+    assert sizing_aspect(DesignSettings(made_for="hands", square_units=True)) == 1.0
+    assert widths_key({}, machine) != widths_key({}, hands)
+
+
+def _pdf_words(data: bytes, tmp_path) -> str | None:
+    """The PDF's text, whitespace collapsed (None without pdftotext)."""
+    import shutil
+    import subprocess
+
+    tool = shutil.which("pdftotext")
+    if tool is None:
+        return None
+    path = tmp_path / "got.pdf"
+    path.write_bytes(data)
+    out = subprocess.run([tool, str(path), "-"], capture_output=True, text=True, check=True)
+    return " ".join(out.stdout.split())

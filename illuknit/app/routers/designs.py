@@ -155,10 +155,11 @@ def render(
         "at the chosen machine's gauge); default: every detail",
     ),
 ) -> Response:
+    from illuknit.app.inputs import design_gauge
     from illuknit.core.machine import get_machine
 
     pattern = current_pattern(s, candidate)
-    aspect = get_machine(s.settings.machine).fabric_gauge.unit_aspect
+    aspect = design_gauge(s.settings).unit_aspect
     img = design.render_view(pattern, view, angle=angle, unit_aspect=aspect)
     if distance is not None:
         from illuknit.design.tiles.perception import eye_blur_units, seen_from

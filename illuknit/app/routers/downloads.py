@@ -75,7 +75,11 @@ def download(
             code="unknown",
             status=404,
         )
+    from illuknit.app.inputs import design_gauge
+
     pattern = current_pattern(s)
+    with s.lock:  # the gauge the design is drawn for: the machine's, or made for hands the hand's
+        gauge = design_gauge(s.settings)
     stem = f"illuknit-{pattern.shape[0]}x{pattern.shape[1]}"
     if name == "pattern.json":
         return attachment(design.pattern_json_bytes(pattern), f"{stem}.json", "application/json")
@@ -83,24 +87,22 @@ def download(
         with s.lock:
             prepared = s.prepared
         return attachment(
-            design.previews_zip(pattern, prepared, angle=angle),
+            design.previews_zip(pattern, prepared, angle=angle, unit_aspect=gauge.unit_aspect),
             f"{stem}-previews.zip",
             "application/zip",
         )
     if name == "chart.png":
-        return attachment(design.chart_png(pattern), f"{stem}-chart.png", "image/png")
+        chart = design.chart_png(pattern, unit_aspect=gauge.unit_aspect)
+        return attachment(chart, f"{stem}-chart.png", "image/png")
     if name == "instructions.txt":
         return attachment(
-            design.instructions_text(pattern, machine=s.settings.machine).encode(),
+            design.instructions_text(pattern, gauge=gauge).encode(),
             f"{stem}-instructions.txt",
             "text/plain; charset=utf-8",
         )
     if name in ("pattern.pdf", "chart.svg"):
-        from illuknit.core.machine import get_machine
         from illuknit.outputs.pattern_pdf import chart_svg, pattern_pdf
 
-        with s.lock:
-            gauge = get_machine(s.settings.machine).fabric_gauge
         if name == "chart.svg":
             return attachment(chart_svg(pattern).encode(), f"{stem}-chart.svg", "image/svg+xml")
         pdf = pattern_pdf(pattern, gauge=gauge, title="illuknit illusion pattern", angle=angle)

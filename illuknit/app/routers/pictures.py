@@ -78,15 +78,18 @@ def delete_image(s: SessionDep, slot: str) -> dict[str, Any]:
 
 @router.get("/inputs", summary="Quantise the pictures under the settings: sizes and legends")
 def get_inputs(s: SessionDep) -> dict[str, Any]:
+    from illuknit.app.inputs import design_gauge
     from illuknit.core.gauge import finished_size
     from illuknit.core.machine import get_machine
 
     with s.lock:
         p = prepared_of(s)
         rev = s.revision
+        gauge = design_gauge(s.settings)
+        by_hand = s.settings.made_for == "hands"
         machine = get_machine(s.settings.machine)
     n, m = p.shape
-    size = finished_size((n, m), machine.fabric_gauge)
+    size = finished_size((n, m), gauge)
     return {
         "revision": rev,
         "mode": p.mode,
@@ -94,7 +97,13 @@ def get_inputs(s: SessionDep) -> dict[str, Any]:
         "cols": m,
         # the grid keeps the pictures' proportions at this gauge (units 0.7 as tall as wide)
         # unless the settings ask for square units
-        "finished_size": {**size.as_dict(), "text": size.describe()},
+        # made for hands, the size by hand at the hand pattern's estimated gauge
+        "finished_size": {
+            **size.as_dict(),
+            "text": size.describe(),
+            "by_hand": by_hand,
+            "estimate": by_hand and gauge.estimate,
+        },
         "yarns": [{"name": y.name, "rgb": y.hex} for y in p.yarns],
         "legend": p.legend(),
         # and what the designer should know about the bed (fits only a generic one, ...)
@@ -114,13 +123,13 @@ def get_input_png(s: SessionDep, slot: str) -> Response:
             code="missing",
             status=404,
         )
-    from illuknit.core.machine import get_machine
+    from illuknit.app.inputs import design_gauge
     from illuknit.pictures.sizing import grid_picture
 
     # on the unit grid: drawn in the fabric's proportions (units unit_aspect as tall as wide),
     # as the renders beside it are, not one square pixel a unit (1.43x too tall)
     rgb = p.quantised[slot].rgb()
-    aspect = get_machine(s.settings.machine).fabric_gauge.unit_aspect
+    aspect = design_gauge(s.settings).unit_aspect
     scale = max(2, min(8, 1600 // max(1, rgb.shape[1])))
     return Response(
         design.png_bytes(grid_picture(rgb, unit_aspect=aspect, scale=scale)),

@@ -498,7 +498,8 @@ async function refreshInputs({ autorun }) {
   const w = inp.cols, h = inp.rows;
   const size = inp.finished_size;
   $("#grid-info").textContent = `${w} × ${h} units = ${2 * w} stitches × ${2 * h} rows. 1 unit = 2 stitches × 2 rows.` +
-    (size ? ` Finished size about ${size.text} at ${size.gauge}.` : "");
+    (size ? ` Finished size${size.by_hand ? " by hand" : ""} about ${size.text} at ${size.gauge}` +
+      `${size.estimate ? " (an estimate until your swatch says otherwise)" : ""}.` : "");
   if (autorun) runCandidates();
 }
 

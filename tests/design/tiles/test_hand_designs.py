@@ -329,3 +329,53 @@ def test_the_summary_names_a_quicker_design_by_hand():
         "(0.966 against 0.980), every row as knittable: --pick 2 to make it the default"
     )
     assert blank == "" and alternative_lines({}) == []
+
+
+def test_made_for_hands_a_square_picture_knits_square_by_hand(tmp_path, capsys):
+    """Made for hands, the grid is sized for the hand pattern's gauge (the estimate for
+    hand-knitted illusion fabric), so a square picture knits square by hand, and the pattern
+    says it is drawn for that gauge; made for a machine it is square on the machine."""
+    import subprocess
+
+    a = np.full((20, 20, 3), 240, np.uint8)
+    a[5:15, 5:15] = 20
+    b = np.full((20, 20, 3), 20, np.uint8)
+    b[2:18, 8:12] = 240
+    Image.fromarray(a).save(tmp_path / "a.png")
+    Image.fromarray(b).save(tmp_path / "b.png")
+    sizes = {}
+    for made_for in ("hands", "machine"):
+        out = tmp_path / made_for
+        main([
+            "double", str(tmp_path / "a.png"), str(tmp_path / "b.png"), "--candidates", "1",
+            "--width", "20", "--for", made_for, "--hand-model-seconds", "0", "--no-read",
+            "-o", str(out),
+        ])  # fmt: skip
+        sizes[made_for] = json.loads((out / "summary.json").read_text())
+
+    def square(summary, size):  # within the height of a unit row (the grid's rounding)
+        return abs(size["height_cm"] - size["width_cm"]) <= size["height_cm"] / (
+            summary["size"]["rows"] - 1
+        )
+
+    hands = sizes["hands"]["hand_finished_size"]
+    assert square(sizes["hands"], hands) and hands["estimate"] is True
+    machine = sizes["machine"]["finished_size"]
+    assert square(sizes["machine"], machine)
+    assert sizes["hands"]["size"]["rows"] > sizes["machine"]["size"]["rows"]  # shorter rows
+    assert "hand_finished_size" not in sizes["machine"]
+    text = " ".join(capsys.readouterr().out.split())
+    assert f"finished size by hand: about {hands['width_cm']} x {hands['height_cm']} cm" in text
+    # the documents describe the piece knitted by hand
+    report = json.loads((tmp_path / "hands" / "candidate_1" / "report.json").read_text())
+    assert report["finished_size"]["height_cm"] == hands["height_cm"]
+    pdftotext = pytest.importorskip("shutil").which("pdftotext")
+    if pdftotext:
+        words = subprocess.run(
+            [pdftotext, str(tmp_path / "hands" / "pattern.pdf"), "-"],
+            capture_output=True, text=True, check=True,
+        ).stdout  # fmt: skip
+        words = " ".join(words.split())
+        assert "The design is drawn for hand-knitted illusion fabric" in words
+        assert "as tall as drawn" not in words
+        assert f"Finished size by hand: about {hands['width_cm']:g} x" in words
