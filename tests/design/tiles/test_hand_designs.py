@@ -105,6 +105,16 @@ def test_the_cost_agrees_with_the_written_pattern(rows):
         assert cost.knittable_share == 1.0 and cost.longest_float == 0
 
 
+def _save_pair(tmp_path: Path, h: int, w: int) -> None:
+    """``a.png``, a dark box on light, and ``b.png``, a light bar on dark, ``h`` x ``w`` pixels."""
+    a = np.full((h, w, 3), 240, np.uint8)
+    a[h // 4 : 3 * h // 4, w // 6 : 5 * w // 6] = 20
+    b = np.full((h, w, 3), 20, np.uint8)
+    b[h // 8 : 7 * h // 8, 5 * w // 12 : 2 * w // 3] = 240
+    Image.fromarray(a).save(tmp_path / "a.png")
+    Image.fromarray(b).save(tmp_path / "b.png")
+
+
 def _measured(read: float, pattern: LogicalPattern) -> CandidateMeasures:
     return CandidateMeasures(
         ("A", "B"), (read, read), (0.5, 0.5), (0.0, 0.0), hand=hand_cost(pattern)
@@ -154,12 +164,7 @@ def test_made_for_is_checked_and_names_the_rank_key():
 
 
 def test_double_for_hands_prints_and_records_the_hand_cost(tmp_path, capsys):
-    a = np.full((8, 12, 3), 240, np.uint8)
-    a[2:6, 2:10] = 20
-    b = np.full((8, 12, 3), 20, np.uint8)
-    b[1:7, 5:8] = 240
-    Image.fromarray(a).save(tmp_path / "a.png")
-    Image.fromarray(b).save(tmp_path / "b.png")
+    _save_pair(tmp_path, 8, 12)
     out = tmp_path / "out"
     main([
         "double", str(tmp_path / "a.png"), str(tmp_path / "b.png"), "--candidates", "2",
@@ -337,12 +342,7 @@ def test_made_for_hands_a_square_picture_knits_square_by_hand(tmp_path, capsys):
     says it is drawn for that gauge; made for a machine it is square on the machine."""
     import subprocess
 
-    a = np.full((20, 20, 3), 240, np.uint8)
-    a[5:15, 5:15] = 20
-    b = np.full((20, 20, 3), 20, np.uint8)
-    b[2:18, 8:12] = 240
-    Image.fromarray(a).save(tmp_path / "a.png")
-    Image.fromarray(b).save(tmp_path / "b.png")
+    _save_pair(tmp_path, 20, 20)
     sizes = {}
     for made_for in ("hands", "machine"):
         out = tmp_path / made_for
