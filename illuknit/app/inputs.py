@@ -355,11 +355,10 @@ def design_gauge(settings: DesignSettings) -> Gauge:
     hands the gauge the hand pattern gives (:func:`~illuknit.core.gauge.hand_gauge`), as the
     command line sizes and describes it; the finished size, the grid's pictures, the renders and
     the documents are at it."""
-    from illuknit.core.gauge import hand_gauge
+    from illuknit.core.gauge import drawn_gauge
     from illuknit.core.machine import get_machine
 
-    gauge = get_machine(settings.machine).fabric_gauge
-    return hand_gauge(gauge) if settings.made_for == "hands" else gauge
+    return drawn_gauge(get_machine(settings.machine).fabric_gauge, settings.made_for)
 
 
 def sizing_aspect(settings: DesignSettings) -> float:

@@ -205,11 +205,9 @@ def design_unit_aspect(spec: MachineSpec, made_for: str = "machine") -> float:
     the piece knitted by hand."""
     if _fabric_options().get("square_units"):
         return 1.0
-    if made_for == "hands":
-        from illuknit.core.gauge import hand_gauge
+    from illuknit.core.gauge import drawn_gauge
 
-        return hand_gauge(spec.fabric_gauge).unit_aspect
-    return spec.fabric_gauge.unit_aspect
+    return drawn_gauge(spec.fabric_gauge, made_for).unit_aspect
 
 
 def transfer_overrides() -> dict[str, int]:

@@ -26,6 +26,7 @@ from illuknit.cli.options import (
     OutputFolder,
     declared_option,
 )
+from illuknit.core.gauge import drawn_gauge
 from illuknit.design.options import RankOptions, SolveOptions
 from illuknit.pictures.sizing import DEFAULT_MAX_WIDTH
 from illuknit.pipeline.inputs import PictureOptions
@@ -228,7 +229,7 @@ def run_solve(request: SolveRequest) -> dict[str, Any]:
                     machine=knit_on,
                     # made for hands: the documents of the piece knitted by hand, at the gauge
                     # its grid was sized for (knitout_bridge.design_unit_aspect)
-                    gauge=_documents_gauge(spec, options),
+                    gauge=drawn_gauge(spec.fabric_gauge, options.made_for),
                     stage=live.stage if live is not None else None,
                 )
             )
@@ -260,16 +261,6 @@ def _export_wcnf(mdl: Any, path: Path, style: str, *, say: bool) -> str:
             f"{mdl.num_soft} soft clauses before encoding cardinality constraints)"
         )
     return str(where)
-
-
-def _documents_gauge(spec: Any, options: SolveOptions) -> Any:
-    """The gauge the outputs describe: the machine's, or made for hands the hand pattern's
-    (:func:`~illuknit.core.gauge.hand_gauge`), the one the grid was sized for."""
-    from illuknit.core.gauge import hand_gauge
-    from illuknit.design.options import MadeFor
-
-    gauge = spec.fabric_gauge
-    return hand_gauge(gauge) if options.made_for is MadeFor.HANDS else gauge
 
 
 def _write_outputs(

@@ -14,7 +14,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal
 
 from illuknit.cli.design_files import summary_text, write_candidate, write_edits
-from illuknit.core.gauge import Gauge, finished_size, hand_gauge
+from illuknit.core.gauge import Gauge, drawn_gauge, finished_size, hand_gauge
 from illuknit.core.progress import Report
 from illuknit.design.options import MadeFor, RankOptions, SearchOptions
 from illuknit.pipeline.inputs import PictureOptions
@@ -380,7 +380,7 @@ def write_design(
     gauge = request.machine.fabric_gauge
     # made for hands, the documents (pattern, previews, seen.png) are of the piece knitted by
     # hand, at the gauge its grid was sized for (cli.knitout_bridge.design_unit_aspect)
-    documents = hand_gauge(gauge) if design.ranking.made_for is MadeFor.HANDS else gauge
+    documents = drawn_gauge(gauge, design.ranking.made_for)
     pick, sources = request.pick, request.sources
     machine = request.machine if request.knitout else None
     report: Report = progress or (lambda fraction, message: None)

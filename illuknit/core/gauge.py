@@ -36,6 +36,7 @@ __all__ = [
     "SWATCH_MEASURE_CM",
     "FinishedSize",
     "Gauge",
+    "drawn_gauge",
     "finished_size",
     "hand_gauge",
     "hand_illusion_gauge",
@@ -160,6 +161,13 @@ def hand_gauge(gauge: Gauge) -> Gauge:
     True
     """
     return hand_illusion_gauge(round(gauge.stitches_per_10cm, 1)) if gauge.estimate else gauge
+
+
+def drawn_gauge(gauge: Gauge, made_for: str) -> Gauge:
+    """The gauge a design made for ``made_for`` (``"machine"`` or ``"hands"``, a
+    :class:`~illuknit.design.options.MadeFor`) is sized, drawn and described at, ``gauge``
+    being the machine's fabric gauge: ``gauge`` itself, or for hands :func:`hand_gauge`."""
+    return hand_gauge(gauge) if made_for == "hands" else gauge
 
 
 def swatch_size(gauge: Gauge) -> tuple[int, int]:
