@@ -14,7 +14,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal
 
 from illuknit.cli.design_files import summary_text, write_candidate, write_edits
-from illuknit.core.gauge import Gauge, drawn_gauge, finished_size, hand_gauge
+from illuknit.core.gauge import Gauge, drawn_gauge, finished_size
 from illuknit.core.progress import Report
 from illuknit.design.options import MadeFor, RankOptions, SearchOptions
 from illuknit.pipeline.inputs import PictureOptions
@@ -423,7 +423,7 @@ def write_design(
             "yarns": [{"name": y.name, "rgb": y.hex} for y in picked.pattern.yarns],
             "size": {"rows": int(qa.shape[0]), "cols": int(qa.shape[1])},
             "finished_size": finished_size(qa.shape, gauge).as_dict(),
-            **_hand_size_json(design, qa.shape, gauge),
+            **_hand_size_json(design, qa.shape, documents),
             **_bank_json(picked),
             "solver": design.search.solver,
             "ranked_by": design.ranking.rank_by.value,
@@ -544,18 +544,17 @@ def _jsonable(value: Any) -> Any:
     return value
 
 
-def _hand_size_json(design: Any, shape: tuple[int, int], gauge: Gauge) -> dict[str, Any]:
-    """Made for hands: ``{"hand_finished_size": ...}``, the size the hand pattern gives (its
-    gauge, :func:`~illuknit.core.gauge.hand_gauge`, and garter border, ``--border``); nothing
-    when made for a machine."""
+def _hand_size_json(design: Any, shape: tuple[int, int], documents: Gauge) -> dict[str, Any]:
+    """Made for hands: ``{"hand_finished_size": ...}``, the size the hand pattern gives (at
+    ``documents``, the gauge the documents are written at, and with the garter border,
+    ``--border``); nothing when made for a machine."""
     if design.ranking.made_for is not MadeFor.HANDS:
         return {}
     from illuknit.cli.knitout_bridge import hand_border
 
     framed = (shape[0] + 2 * hand_border(), shape[1] + 2 * hand_border())
-    knitter = hand_gauge(gauge)
-    size = finished_size(framed, knitter).as_dict()
-    return {"hand_finished_size": {**size, "estimate": knitter.estimate}}
+    size = finished_size(framed, documents).as_dict()
+    return {"hand_finished_size": {**size, "estimate": documents.estimate}}
 
 
 def _hand_json(d: RankedDesign) -> dict[str, Any] | None:

@@ -115,12 +115,14 @@ def rank_key(
 ) -> tuple[float, ...]:
     """Ascending key: the best candidate sorts first. ``hands``: first the share of rows a hand
     knitter can work, more first (``m.hand`` is needed, as for ``hand-time``)."""
-    if hands or by == "hand-time":
-        if m.hand is None:
-            why = "for hands" if hands else "by hand-time"
-            raise OptionError(f"ranking {why} needs the hand cost of every candidate")
-        if hands:
-            return (-m.hand.knittable_share, *rank_key(m, score, by))
+    if (hands or by == "hand-time") and m.hand is None:
+        why = "for hands" if hands else "by hand-time"
+        raise OptionError(f"ranking {why} needs the hand cost of every candidate")
+    if hands:
+        assert m.hand is not None
+        return (-m.hand.knittable_share, *rank_key(m, score, by))
+    if by == "hand-time":
+        assert m.hand is not None
         return (m.hand.hours, -m.perceptual_score, score)
     time = m.knit_minutes if m.knit_minutes is not None else float("inf")
     if by == "perception":
